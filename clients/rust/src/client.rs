@@ -1,0 +1,557 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! An attached client: registration, claims, events, the cycle handshake and re-attachment
+//! after a server restart.
+
+use crate::connection::{Connection, Ipc, iox2_config};
+use crate::control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
+use crate::cycle::Cycle;
+use crate::error::{AttachError, ControlError, IoError, WaitError};
+use crate::layout::Layout;
+use crate::status::Ioxs;
+use iceoryx2::node::{Node, NodeState, NodeView};
+use iceoryx2::prelude::{CallbackProgression, EventId};
+use iceoryx2::sample::Sample;
+use iceoryx2::sample_mut::SampleMut;
+use procimg_shm_layout::control::{ClientRole, Request, Response, server_node_name};
+use procimg_shm_layout::events::{EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, opfault_event};
+use procimg_shm_layout::{
+    CycleInfo, IMAGE_MAGIC, ImageHeader, MAX_CLIENTS, Mode, OUTPUT_SYNCHRONOUS, OutputHeader,
+};
+use std::collections::{BTreeSet, VecDeque};
+use std::time::{Duration, Instant};
+
+/// How a client attaches.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AttachOptions {
+    /// A name shown in `procimg status`.
+    pub name: String,
+    /// Synchronous (takes part in STARTOP/OPDONE) or asynchronous.
+    pub role: ClientRole,
+    /// IO-Base slice access (`PNIO_CEP_SLICE_ACCESS`): read and write parts of submodules.
+    pub slice_access: bool,
+    /// Refuse to attach unless the server's layout hash is this one.
+    pub expected_layout_hash: Option<u64>,
+    /// How long attaching may take.
+    pub timeout: Duration,
+}
+
+impl AttachOptions {
+    /// A synchronous client: the server waits for its OPDONE every cycle.
+    pub fn synchronous(name: &str) -> AttachOptions {
+        AttachOptions {
+            name: name.to_string(),
+            role: ClientRole::Synchronous,
+            slice_access: true,
+            expected_layout_hash: None,
+            timeout: Duration::from_secs(3),
+        }
+    }
+
+    /// An asynchronous client: reads and writes whenever it likes.
+    pub fn asynchronous(name: &str) -> AttachOptions {
+        AttachOptions {
+            role: ClientRole::Asynchronous,
+            ..AttachOptions::synchronous(name)
+        }
+    }
+
+    /// Sets slice access.
+    pub fn slice_access(mut self, on: bool) -> AttachOptions {
+        self.slice_access = on;
+        self
+    }
+
+    /// Insists on a layout hash.
+    pub fn expect_layout_hash(mut self, hash: u64) -> AttachOptions {
+        self.expected_layout_hash = Some(hash);
+        self
+    }
+}
+
+/// Something that happened, as IO-Base reports through its callbacks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Event {
+    /// The mode changed (`PNIO_CBE_MODE_IND`); one event per step.
+    Mode(Mode),
+    /// This client's OPDONE for `cycle` came too late (`PNIO_CP_CBE_OPFAULT_IND`).
+    OpFault {
+        /// The cycle it missed.
+        cycle: u64,
+    },
+    /// A bus cycle's outputs went out (`PNIO_CP_CBE_NEWCYCLE_IND`).
+    NewCycle,
+    /// The server announced it is stopping.
+    ServerShutdown,
+    /// The client re-attached to a restarted server.
+    Reattached {
+        /// The new server generation.
+        generation: u64,
+    },
+    /// A claim held before a server restart could not be taken again.
+    ClaimLost {
+        /// Submodule index.
+        submodule: usize,
+    },
+}
+
+/// How often a client without STARTOP checks whether the server is still alive.
+const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
+/// How often a client whose server is gone tries to re-attach.
+const REATTACH_PERIOD: Duration = Duration::from_millis(50);
+
+/// A client attached to a procimgd instance.
+pub struct Client {
+    pub(crate) opts: AttachOptions,
+    pub(crate) slot: u32,
+    pub(crate) token: u64,
+    pub(crate) generation: u64,
+    pub(crate) layout: Layout,
+    pub(crate) claims: BTreeSet<usize>,
+    /// The newest input image received (the client's read view).
+    pub(crate) latest: Option<Sample<Ipc, [u8], ImageHeader>>,
+    /// Last cycle handed out by `wait_startop`.
+    last_startop: u64,
+    /// Last OPFAULT cycle seen for this client's slot.
+    last_opfault: u64,
+    events: VecDeque<Event>,
+    last_liveness: Instant,
+    last_reattach: Instant,
+    /// Per submodule: the local input status the client wants sent (IOCS).
+    pub(crate) local_input_iocs: Vec<Ioxs>,
+    pub(crate) read_cache: Option<crate::cache::ReadCache>,
+    pub(crate) write_cache: crate::cache::WriteCache,
+    // Data ports, then the control handle (and its node) last: ports drop before the node.
+    pub(crate) conn: Option<Connection>,
+    pub(crate) control: ControlHandle,
+}
+
+impl Client {
+    /// Attaches to `instance`.
+    pub fn attach(instance: &str, opts: AttachOptions) -> Result<Client, AttachError> {
+        let control = ControlHandle::open(instance, &opts.name)?;
+        let (slot, token, generation) = register(&control, &opts)?;
+        let conn = Connection::open(control.node(), instance, generation, opts.timeout)?;
+        let layout = conn.layout.clone();
+        if let Some(expected) = opts.expected_layout_hash {
+            if expected != layout.hash() {
+                let _ = control.request_done(&Request::Unregister { slot, token });
+                return Err(AttachError::LayoutHash {
+                    instance: instance.to_string(),
+                    expected,
+                    found: layout.hash(),
+                });
+            }
+        }
+        let n = layout.submodules.len();
+        let mut client = Client {
+            opts,
+            slot,
+            token,
+            generation,
+            write_cache: crate::cache::WriteCache::new(&layout),
+            layout,
+            claims: BTreeSet::new(),
+            latest: None,
+            last_startop: 0,
+            last_opfault: 0,
+            events: VecDeque::new(),
+            last_liveness: Instant::now(),
+            last_reattach: Instant::now(),
+            local_input_iocs: vec![Ioxs::Good; n],
+            read_cache: None,
+            conn: Some(conn),
+            control,
+        };
+        client.refresh();
+        if let Some(h) = client.header() {
+            client.last_opfault = h.opfault_cycle[client.slot as usize % MAX_CLIENTS];
+        }
+        Ok(client)
+    }
+
+    /// The instance name.
+    pub fn instance(&self) -> &str {
+        self.control.instance()
+    }
+
+    /// The server's layout.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// This client's slot on the server.
+    pub fn slot(&self) -> u32 {
+        self.slot
+    }
+
+    /// The server generation this client is attached to.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// The control service (status, mode).
+    pub fn control(&self) -> &ControlHandle {
+        &self.control
+    }
+
+    /// Claims the outputs of these submodules (all or none). A claim held by another client is
+    /// refused with an error naming the holder.
+    pub fn claim(&mut self, submodules: &[usize]) -> Result<(), ControlError> {
+        self.control.request_done(&Request::Claim {
+            slot: self.slot,
+            token: self.token,
+            submodules: submodules.iter().map(|&s| s as u32).collect(),
+        })?;
+        self.claims.extend(submodules.iter().copied());
+        Ok(())
+    }
+
+    /// Claims every output submodule of the device named `device`.
+    pub fn claim_device(&mut self, device: &str) -> Result<Vec<usize>, ControlError> {
+        let subs: Vec<usize> = match self.layout.device(device) {
+            Some(d) => self
+                .layout
+                .submodules_of(d)
+                .filter(|&s| self.layout.submodules[s].output_length > 0)
+                .collect(),
+            None => {
+                return Err(ControlError::Refused(
+                    procimg_shm_layout::control::Refusal::BadRequest {
+                        message: format!("no device named \"{device}\" in the layout"),
+                    },
+                ));
+            }
+        };
+        self.claim(&subs)?;
+        Ok(subs)
+    }
+
+    /// Releases claims.
+    pub fn release(&mut self, submodules: &[usize]) -> Result<(), ControlError> {
+        self.control.request_done(&Request::Release {
+            slot: self.slot,
+            token: self.token,
+            submodules: submodules.iter().map(|&s| s as u32).collect(),
+        })?;
+        for s in submodules {
+            self.claims.remove(s);
+        }
+        Ok(())
+    }
+
+    /// Whether this client holds the claim on submodule `s`.
+    pub fn holds(&self, s: usize) -> bool {
+        self.claims.contains(&s)
+    }
+
+    /// Asks for a mode change; confirmed by [`Event::Mode`].
+    pub fn set_mode(&self, mode: Mode) -> Result<(), ControlError> {
+        self.control.set_mode(mode)
+    }
+
+    /// The mode of the newest image.
+    pub fn mode(&self) -> Option<Mode> {
+        self.header().and_then(|h| Mode::from_u32(h.mode))
+    }
+
+    /// The header of the newest image received.
+    pub(crate) fn header(&self) -> Option<&ImageHeader> {
+        self.latest.as_ref().map(|s| s.user_header())
+    }
+
+    /// The cycle info of the newest image received.
+    pub fn cycle_info(&self) -> Option<CycleInfo> {
+        self.header().map(|h| h.cycle)
+    }
+
+    /// Takes the newest input image, if a newer one arrived. Returns whether it did.
+    pub(crate) fn refresh(&mut self) -> bool {
+        let Some(conn) = &self.conn else {
+            return false;
+        };
+        let mut newer = false;
+        while let Ok(Some(sample)) = conn.inputs.receive() {
+            let h = sample.user_header();
+            if h.magic != IMAGE_MAGIC || h.layout_hash != self.layout.hash() {
+                continue;
+            }
+            self.latest = Some(sample);
+            newer = true;
+        }
+        newer
+    }
+
+    /// Collects pending events without waiting.
+    fn drain_events(&mut self) {
+        let Some(conn) = &self.conn else {
+            return;
+        };
+        let (mut mode, mut newcycle, mut shutdown, mut opfault) = (false, false, false, false);
+        let mine = opfault_event(self.slot);
+        let _ = conn.events.try_wait(|a| {
+            let id = a.id.as_value();
+            mode |= id == EVENT_MODE;
+            newcycle |= id == EVENT_NEWCYCLE;
+            shutdown |= id == EVENT_SHUTDOWN;
+            opfault |= id == mine;
+        });
+        if mode || opfault {
+            self.refresh();
+        }
+        if mode {
+            if let Some(m) = self.mode() {
+                self.events.push_back(Event::Mode(m));
+            }
+        }
+        if opfault {
+            let cycle = self
+                .header()
+                .map(|h| h.opfault_cycle[self.slot as usize % MAX_CLIENTS])
+                .filter(|&c| c != 0)
+                .unwrap_or(self.last_startop);
+            self.last_opfault = cycle;
+            self.events.push_back(Event::OpFault { cycle });
+        }
+        if newcycle {
+            self.events.push_back(Event::NewCycle);
+        }
+        if shutdown {
+            self.events.push_back(Event::ServerShutdown);
+            self.disconnect();
+        }
+    }
+
+    /// Returns the events that arrived since the last call, without waiting.
+    pub fn events(&mut self) -> Vec<Event> {
+        self.drain_events();
+        self.events.drain(..).collect()
+    }
+
+    /// Waits for the next STARTOP and returns this cycle: a read-only view of the inputs and
+    /// a writable view of the outputs, both in shared memory. Other events that arrive
+    /// meanwhile are kept for [`Client::events`]. If the server went away, the client tries to
+    /// re-attach until the timeout.
+    pub fn wait_startop(&mut self, timeout: Duration) -> Result<Cycle<'_>, WaitError> {
+        let until = Instant::now() + timeout;
+        loop {
+            if self.conn.is_none() {
+                self.try_reattach()?;
+            }
+            self.drain_events();
+            if self.conn.is_some() && self.refresh() {
+                let cycle = self.header().map_or(0, |h| h.cycle.cycle_number);
+                if cycle > self.last_startop {
+                    self.last_startop = cycle;
+                    return Ok(Cycle::new(self));
+                }
+            }
+            let now = Instant::now();
+            if now >= until {
+                return Err(if self.conn.is_none() {
+                    WaitError::ServerGone {
+                        instance: self.instance().to_string(),
+                    }
+                } else {
+                    WaitError::Timeout(timeout)
+                });
+            }
+            let slice = (until - now).min(LIVENESS_PERIOD);
+            match &self.conn {
+                Some(conn) => {
+                    if !crate::sys::wait_readable(conn.events_fd, slice) {
+                        self.check_server();
+                    }
+                }
+                None => std::thread::sleep(slice.min(REATTACH_PERIOD)),
+            }
+        }
+    }
+
+    /// Drops the data ports: the server is gone.
+    fn disconnect(&mut self) {
+        self.latest = None;
+        self.conn = None;
+    }
+
+    /// Looks (at most every [`LIVENESS_PERIOD`]) whether the server's cycle node is alive.
+    fn check_server(&mut self) {
+        if self.last_liveness.elapsed() < LIVENESS_PERIOD {
+            return;
+        }
+        self.last_liveness = Instant::now();
+        let wanted = format!("{}/cycle", server_node_name(self.instance()));
+        let mut alive = false;
+        let _ = Node::<Ipc>::list(iox2_config(), |state| {
+            if let NodeState::Alive(v) = &state {
+                if v.details()
+                    .as_ref()
+                    .is_some_and(|d| d.name().as_str() == wanted)
+                {
+                    alive = true;
+                    return CallbackProgression::Stop;
+                }
+            }
+            CallbackProgression::Continue
+        });
+        if !alive {
+            self.disconnect();
+        }
+    }
+
+    /// Registers again with a (re)started server and opens its data services.
+    fn try_reattach(&mut self) -> Result<(), WaitError> {
+        if self.last_reattach.elapsed() < REATTACH_PERIOD {
+            return Ok(());
+        }
+        self.last_reattach = Instant::now();
+        let Ok((slot, token, generation)) = register(&self.control, &self.opts) else {
+            return Ok(());
+        };
+        let conn = match Connection::open(
+            self.control.node(),
+            self.instance(),
+            generation,
+            self.opts.timeout,
+        ) {
+            Ok(c) => c,
+            Err(_) => {
+                let _ = self
+                    .control
+                    .request_done(&Request::Unregister { slot, token });
+                return Ok(());
+            }
+        };
+        if conn.layout.hash() != self.layout.hash() {
+            let _ = self
+                .control
+                .request_done(&Request::Unregister { slot, token });
+            return Err(WaitError::LayoutChanged {
+                instance: self.instance().to_string(),
+                was: self.layout.hash(),
+                found: conn.layout.hash(),
+            });
+        }
+        self.slot = slot;
+        self.token = token;
+        self.generation = generation;
+        self.conn = Some(conn);
+        self.last_startop = 0;
+        self.last_opfault = 0;
+        self.events.push_back(Event::Reattached { generation });
+        let claims: Vec<usize> = std::mem::take(&mut self.claims).into_iter().collect();
+        for s in claims {
+            if self.claim(&[s]).is_err() {
+                self.events.push_back(Event::ClaimLost { submodule: s });
+            }
+        }
+        Ok(())
+    }
+
+    /// Loans an output sample whose data starts as the outputs last sent and whose status
+    /// flags are clear.
+    pub(crate) fn loan_output(&self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
+        let conn = self.conn.as_ref().ok_or_else(|| IoError::ServerGone {
+            instance: self.instance().to_string(),
+        })?;
+        let image = self.layout.image();
+        let out_size = image.output_size as usize;
+        let mirror = self.latest.as_ref().and_then(|s| {
+            let at = image.output_mirror_offset as usize;
+            s.payload().get(at..at + out_size)
+        });
+        let len = image.output_payload_size as usize;
+        let sample = conn
+            .outputs
+            .loan_slice_uninit(len)
+            .map_err(|_| IoError::NotDelivered(crate::OUTPUT_BUFFER))?;
+        let mut sample = sample.write_from_fn(|i| match mirror {
+            Some(m) if i < out_size => m[i],
+            _ => 0,
+        });
+        *sample.user_header_mut() = OutputHeader {
+            magic: IMAGE_MAGIC,
+            layout_hash: self.layout.hash(),
+            cycle_number: self.header().map_or(0, |h| h.cycle.cycle_number),
+            client_token: self.token,
+            client_slot: self.slot,
+            flags: 0,
+        };
+        Ok(sample)
+    }
+
+    /// Sends an output sample; as OPDONE when `synchronous`.
+    pub(crate) fn send_output(
+        &self,
+        mut sample: SampleMut<Ipc, [u8], OutputHeader>,
+        opdone_cycle: Option<u64>,
+    ) -> Result<(), IoError> {
+        let conn = self.conn.as_ref().ok_or_else(|| IoError::ServerGone {
+            instance: self.instance().to_string(),
+        })?;
+        if let Some(cycle) = opdone_cycle {
+            let h = sample.user_header_mut();
+            h.cycle_number = cycle;
+            h.flags |= OUTPUT_SYNCHRONOUS;
+        }
+        match sample.send() {
+            Ok(0) | Err(_) => return Err(IoError::NotDelivered(crate::OUTPUT_BUFFER)),
+            Ok(_) => {}
+        }
+        if opdone_cycle.is_some() {
+            let _ = conn
+                .opdone
+                .notify_with_custom_event_id(EventId::new(self.slot as usize));
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Client {
+    fn drop(&mut self) {
+        if self.conn.is_some() {
+            let _ = self.control.request(
+                &Request::Unregister {
+                    slot: self.slot,
+                    token: self.token,
+                },
+                Duration::from_millis(500),
+            );
+        }
+    }
+}
+
+fn register(control: &ControlHandle, opts: &AttachOptions) -> Result<(u32, u64, u64), AttachError> {
+    let instance = control.instance().to_string();
+    let node_id = control.node().id().to_string();
+    let req = Request::Register {
+        name: opts.name.clone(),
+        pid: std::process::id(),
+        role: opts.role,
+        node_id,
+    };
+    match control.request(&req, opts.timeout.min(DEFAULT_CONTROL_TIMEOUT)) {
+        Ok(Response::Registered {
+            slot,
+            token,
+            generation,
+            ..
+        }) => Ok((slot, token, generation)),
+        Ok(Response::Refused(refusal)) => Err(AttachError::Refused { instance, refusal }),
+        Ok(other) => Err(AttachError::Shm {
+            instance,
+            what: "a registration",
+            detail: format!("unexpected answer {other:?}"),
+        }),
+        Err(ControlError::NoServer { .. }) => Err(AttachError::NoServer { instance }),
+        Err(ControlError::NoAnswer { timeout, .. }) => Err(AttachError::Timeout {
+            instance,
+            what: "the registration",
+            timeout,
+        }),
+        Err(e) => Err(AttachError::Shm {
+            instance,
+            what: "a registration",
+            detail: e.to_string(),
+        }),
+    }
+}

@@ -1,0 +1,269 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The iceoryx2 side of a client: its node, the control port, and the data ports of one
+//! server generation.
+
+use crate::error::AttachError;
+use crate::layout::Layout;
+use iceoryx2::config::Config;
+use iceoryx2::node::{Node, NodeBuilder};
+use iceoryx2::port::client::Client as RrClient;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::{
+    AllocationStrategy, BackpressureStrategy, FileDescriptorBased, FileName, NodeName,
+    SemanticString, ServiceName, SignalHandlingMode,
+};
+use iceoryx2::service::builder::event::EventOpenError;
+use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
+use iceoryx2::service::builder::request_response::RequestResponseOpenError;
+use procimg_shm_layout::control;
+use procimg_shm_layout::{IMAGE_MAGIC, ImageHeader, LAYOUT_VERSION, LayoutHeader, OutputHeader};
+use std::os::fd::RawFd;
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+/// The iceoryx2 service variant: inter-process, ports used from one thread.
+pub type Ipc = iceoryx2::service::ipc::Service;
+
+/// iceoryx2's configuration with procimg's file prefix (the server uses the same).
+pub fn iox2_config() -> &'static Config {
+    static CONFIG: OnceLock<Config> = OnceLock::new();
+    CONFIG.get_or_init(|| {
+        let mut c = Config::default();
+        if let Ok(prefix) = FileName::new(control::IOX2_PREFIX.as_bytes()) {
+            c.global.prefix = prefix;
+        }
+        c
+    })
+}
+
+fn shm(instance: &str, what: &'static str, e: impl core::fmt::Debug) -> AttachError {
+    AttachError::Shm {
+        instance: instance.to_string(),
+        what,
+        detail: format!("{e:?}"),
+    }
+}
+
+fn service_name(instance: &str, name: String) -> Result<ServiceName, AttachError> {
+    ServiceName::new(&name).map_err(|e| shm(instance, "a service name", e))
+}
+
+/// A client's node, named after the client.
+pub fn client_node(instance: &str, name: &str) -> Result<Node<Ipc>, AttachError> {
+    let clean: String = name
+        .chars()
+        .map(|c| if c.is_ascii_graphic() { c } else { '_' })
+        .take(64)
+        .collect();
+    let node_name = NodeName::new(&format!("procimg-client/{clean}"))
+        .map_err(|e| shm(instance, "a node name", e))?;
+    NodeBuilder::new()
+        .name(&node_name)
+        .config(iox2_config())
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<Ipc>()
+        .map_err(|e| shm(instance, "a node", e))
+}
+
+/// Opens the instance's control service and a client port on it.
+pub fn open_control(
+    node: &Node<Ipc>,
+    instance: &str,
+) -> Result<RrClient<Ipc, [u8], (), [u8], ()>, AttachError> {
+    let service = node
+        .service_builder(&service_name(instance, control::control_service(instance))?)
+        .request_response::<[u8], [u8]>()
+        .open()
+        .map_err(|e| match e {
+            RequestResponseOpenError::DoesNotExist => AttachError::NoServer {
+                instance: instance.to_string(),
+            },
+            RequestResponseOpenError::InsufficientPermissions => AttachError::AccessDenied {
+                instance: instance.to_string(),
+                detail: "control service".into(),
+            },
+            RequestResponseOpenError::IncompatibleRequestOrResponseType => {
+                AttachError::LayoutVersion {
+                    instance: instance.to_string(),
+                    server: 0,
+                    client: LAYOUT_VERSION,
+                }
+            }
+            e => shm(instance, "the control service", e),
+        })?;
+    service
+        .client_builder()
+        .initial_max_slice_len(4096)
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .map_err(|e| shm(instance, "a control client port", e))
+}
+
+fn pubsub_error(instance: &str, what: &'static str, e: PublishSubscribeOpenError) -> AttachError {
+    match e {
+        PublishSubscribeOpenError::DoesNotExist => AttachError::NoServer {
+            instance: instance.to_string(),
+        },
+        PublishSubscribeOpenError::InsufficientPermissions => AttachError::AccessDenied {
+            instance: instance.to_string(),
+            detail: what.to_string(),
+        },
+        PublishSubscribeOpenError::IncompatibleTypes => AttachError::LayoutVersion {
+            instance: instance.to_string(),
+            server: 0,
+            client: LAYOUT_VERSION,
+        },
+        e => shm(instance, what, e),
+    }
+}
+
+fn event_error(instance: &str, what: &'static str, e: EventOpenError) -> AttachError {
+    match e {
+        EventOpenError::DoesNotExist => AttachError::NoServer {
+            instance: instance.to_string(),
+        },
+        EventOpenError::InsufficientPermissions => AttachError::AccessDenied {
+            instance: instance.to_string(),
+            detail: what.to_string(),
+        },
+        e => shm(instance, what, e),
+    }
+}
+
+/// The data ports of one server generation.
+pub struct Connection {
+    /// Input images.
+    pub inputs: Subscriber<Ipc, [u8], ImageHeader>,
+    /// This client's outputs.
+    pub outputs: Publisher<Ipc, [u8], OutputHeader>,
+    /// STARTOP, NEWCYCLE, MODE, OPFAULT.
+    pub events: Listener<Ipc>,
+    /// The events listener's socket, for precise waits.
+    pub events_fd: RawFd,
+    /// OPDONE.
+    pub opdone: Notifier<Ipc>,
+    /// The layout of this generation.
+    pub layout: Layout,
+}
+
+impl Connection {
+    /// Opens the data services of `generation` and reads its layout.
+    pub fn open(
+        node: &Node<Ipc>,
+        instance: &str,
+        generation: u64,
+        timeout: Duration,
+    ) -> Result<Connection, AttachError> {
+        let layout = read_layout(node, instance, generation, timeout)?;
+        let inputs = node
+            .service_builder(&service_name(
+                instance,
+                control::input_service(instance, generation),
+            )?)
+            .publish_subscribe::<[u8]>()
+            .user_header::<ImageHeader>()
+            .open()
+            .map_err(|e| pubsub_error(instance, "the input image service", e))?
+            .subscriber_builder()
+            .buffer_size(1)
+            .create()
+            .map_err(|e| shm(instance, "an input subscriber", e))?;
+        let outputs = node
+            .service_builder(&service_name(
+                instance,
+                control::output_service(instance, generation),
+            )?)
+            .publish_subscribe::<[u8]>()
+            .user_header::<OutputHeader>()
+            .open()
+            .map_err(|e| pubsub_error(instance, "the output service", e))?
+            .publisher_builder()
+            .initial_max_slice_len(layout.header.output_payload_size as usize)
+            .backpressure_strategy(BackpressureStrategy::DiscardData)
+            .max_loaned_samples(2)
+            .create()
+            .map_err(|e| shm(instance, "an output publisher", e))?;
+        let events = node
+            .service_builder(&service_name(
+                instance,
+                control::cycle_event_service(instance, generation),
+            )?)
+            .event()
+            .open()
+            .map_err(|e| event_error(instance, "the cycle event service", e))?
+            .listener_builder()
+            .create()
+            .map_err(|e| shm(instance, "a cycle event listener", e))?;
+        let opdone = node
+            .service_builder(&service_name(
+                instance,
+                control::opdone_service(instance, generation),
+            )?)
+            .event()
+            .open()
+            .map_err(|e| event_error(instance, "the OPDONE event service", e))?
+            .notifier_builder()
+            .create()
+            .map_err(|e| shm(instance, "an OPDONE notifier", e))?;
+        // SAFETY: the descriptor belongs to `events`, which lives in the same Connection and
+        // outlives every use of the descriptor.
+        let events_fd = unsafe { events.file_descriptor().native_handle() };
+        Ok(Connection {
+            inputs,
+            outputs,
+            events,
+            events_fd,
+            opdone,
+            layout,
+        })
+    }
+}
+
+fn read_layout(
+    node: &Node<Ipc>,
+    instance: &str,
+    generation: u64,
+    timeout: Duration,
+) -> Result<Layout, AttachError> {
+    let sub = node
+        .service_builder(&service_name(
+            instance,
+            control::layout_service(instance, generation),
+        )?)
+        .publish_subscribe::<[u8]>()
+        .user_header::<LayoutHeader>()
+        .open()
+        .map_err(|e| pubsub_error(instance, "the layout service", e))?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| shm(instance, "a layout subscriber", e))?;
+    let until = Instant::now() + timeout;
+    loop {
+        if let Ok(Some(sample)) = sub.receive() {
+            let h = *sample.user_header();
+            if h.magic != IMAGE_MAGIC || h.layout_version != LAYOUT_VERSION {
+                return Err(AttachError::LayoutVersion {
+                    instance: instance.to_string(),
+                    server: h.layout_version,
+                    client: LAYOUT_VERSION,
+                });
+            }
+            return Layout::decode(&h, sample.payload()).ok_or_else(|| AttachError::Shm {
+                instance: instance.to_string(),
+                what: "the layout",
+                detail: "the layout sample is shorter than its header says".into(),
+            });
+        }
+        if Instant::now() >= until {
+            return Err(AttachError::Timeout {
+                instance: instance.to_string(),
+                what: "the layout",
+                timeout,
+            });
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}

@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Requests to the server over the control service, without attaching as a client: what
+//! tools such as `procimg status` use, and what [`crate::Client`] uses underneath.
+
+use crate::connection::{Ipc, client_node, open_control};
+use crate::error::{AttachError, ControlError};
+use iceoryx2::node::Node;
+use iceoryx2::port::client::Client as RrClient;
+use procimg_shm_layout::Mode;
+use procimg_shm_layout::control::{self, Request, Response, StatusReport};
+use std::time::{Duration, Instant};
+
+/// How long a control request waits for its answer by default.
+pub const DEFAULT_CONTROL_TIMEOUT: Duration = Duration::from_secs(2);
+
+/// A connection to an instance's control service.
+pub struct ControlHandle {
+    instance: String,
+    // The port must be dropped before its node.
+    port: RrClient<Ipc, [u8], (), [u8], ()>,
+    node: Node<Ipc>,
+}
+
+impl ControlHandle {
+    /// Opens the control service of `instance`; `name` names this process in the server's
+    /// node list.
+    pub fn open(instance: &str, name: &str) -> Result<ControlHandle, AttachError> {
+        let node = client_node(instance, name)?;
+        let port = open_control(&node, instance)?;
+        Ok(ControlHandle {
+            instance: instance.to_string(),
+            port,
+            node,
+        })
+    }
+
+    /// The instance name.
+    pub fn instance(&self) -> &str {
+        &self.instance
+    }
+
+    /// The node of this handle (clients build their data ports on it).
+    pub(crate) fn node(&self) -> &Node<Ipc> {
+        &self.node
+    }
+
+    /// Sends `req` and waits up to `timeout` for the answer.
+    pub fn request(&self, req: &Request, timeout: Duration) -> Result<Response, ControlError> {
+        let transport = |detail: String| ControlError::Transport {
+            instance: self.instance.clone(),
+            detail,
+        };
+        let bytes = control::encode(req);
+        let sample = self
+            .port
+            .loan_slice_uninit(bytes.len())
+            .map_err(|e| transport(format!("cannot loan a request: {e:?}")))?;
+        let pending = sample
+            .write_from_slice(&bytes)
+            .send()
+            .map_err(|e| transport(format!("cannot send the request: {e:?}")))?;
+        if pending.number_of_server_connections() == 0 {
+            return Err(ControlError::NoServer {
+                instance: self.instance.clone(),
+            });
+        }
+        let until = Instant::now() + timeout;
+        loop {
+            match pending.receive() {
+                Ok(Some(answer)) => {
+                    return control::decode(answer.payload()).map_err(|detail| {
+                        ControlError::Protocol {
+                            instance: self.instance.clone(),
+                            detail,
+                        }
+                    });
+                }
+                Ok(None) => {}
+                Err(e) => return Err(transport(format!("cannot read the answer: {e:?}"))),
+            }
+            if Instant::now() >= until {
+                return Err(ControlError::NoAnswer {
+                    instance: self.instance.clone(),
+                    timeout,
+                });
+            }
+            // Control requests are rare and not on the real-time path: a short sleep between
+            // polls costs nothing that matters.
+            std::thread::sleep(Duration::from_micros(200));
+        }
+    }
+
+    /// Sends a request that is answered with `Done` or a refusal.
+    pub fn request_done(&self, req: &Request) -> Result<(), ControlError> {
+        match self.request(req, DEFAULT_CONTROL_TIMEOUT)? {
+            Response::Done => Ok(()),
+            Response::Refused(r) => Err(ControlError::Refused(r)),
+            other => Err(ControlError::Protocol {
+                instance: self.instance.clone(),
+                detail: format!("{other:?}"),
+            }),
+        }
+    }
+
+    /// The server's state.
+    pub fn status(&self) -> Result<StatusReport, ControlError> {
+        match self.request(&Request::Status, DEFAULT_CONTROL_TIMEOUT)? {
+            Response::Status(s) => Ok(*s),
+            Response::Refused(r) => Err(ControlError::Refused(r)),
+            other => Err(ControlError::Protocol {
+                instance: self.instance.clone(),
+                detail: format!("{other:?}"),
+            }),
+        }
+    }
+
+    /// Asks for a mode change. Like IO-Base's `PNIO_set_mode` it returns at once; the change
+    /// is confirmed by a MODE event (one per step: OFFLINE ↔ OPERATE passes through CLEAR).
+    pub fn set_mode(&self, mode: Mode) -> Result<(), ControlError> {
+        self.request_done(&Request::SetMode { mode })
+    }
+}

@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! One cycle of a synchronous client: between STARTOP and OPDONE.
+//!
+//! The input views are slices of the shared-memory sample the server published (no copy);
+//! the output views are slices of the shared-memory sample this client will send with its
+//! OPDONE. The output sample starts as a copy of the outputs last sent, so a program may
+//! change single bytes or bits.
+
+use crate::access::resolve_write;
+use crate::client::Client;
+use crate::connection::Ipc;
+use crate::error::IoError;
+use crate::io::{ReadResult, read_inputs, stamp};
+use crate::layout::Layout;
+use crate::status::{Ioxs, SubmoduleIoxs, read_status};
+use iceoryx2::sample_mut::SampleMut;
+use procimg_shm_layout::{CycleInfo, Mode, OutputHeader};
+
+/// This cycle's inputs and outputs, valid until [`Cycle::set_opdone`] (or drop, which sends
+/// nothing: the server then counts an OPFAULT for a synchronous client).
+pub struct Cycle<'c> {
+    client: &'c mut Client,
+    output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
+}
+
+impl<'c> Cycle<'c> {
+    pub(crate) fn new(client: &'c mut Client) -> Cycle<'c> {
+        Cycle {
+            client,
+            output: None,
+        }
+    }
+
+    fn payload(&self) -> &[u8] {
+        self.client.latest.as_ref().map_or(&[], |s| s.payload())
+    }
+
+    /// The cycle's timing as the server stamped it at STARTOP.
+    pub fn info(&self) -> CycleInfo {
+        self.client.cycle_info().unwrap_or_default()
+    }
+
+    /// The cycle number k.
+    pub fn number(&self) -> u64 {
+        self.info().cycle_number
+    }
+
+    /// The server's mode in this cycle.
+    pub fn mode(&self) -> Mode {
+        self.client.mode().unwrap_or(Mode::Offline)
+    }
+
+    /// The layout.
+    pub fn layout(&self) -> &Layout {
+        &self.client.layout
+    }
+
+    /// All input data of this cycle, in place in shared memory.
+    pub fn inputs(&self) -> &[u8] {
+        let n = self.client.layout.header.input_size as usize;
+        self.payload().get(..n).unwrap_or(&[])
+    }
+
+    /// The inputs of submodule `s`, in place.
+    pub fn input(&self, s: usize) -> Option<&[u8]> {
+        let e = self.client.layout.submodules.get(s)?;
+        let at = e.input_offset as usize;
+        self.payload().get(at..at + e.input_length as usize)
+    }
+
+    /// The outputs of submodule `s` as they went out last cycle, in place.
+    pub fn outputs_sent(&self, s: usize) -> Option<&[u8]> {
+        let e = self.client.layout.submodules.get(s)?;
+        let at = e.output_mirror_offset as usize;
+        self.payload().get(at..at + e.output_length as usize)
+    }
+
+    /// The status bytes of submodule `s` in this cycle.
+    pub fn status(&self, s: usize) -> Option<SubmoduleIoxs> {
+        let e = self.client.layout.submodules.get(s)?;
+        Some(read_status(self.payload(), e))
+    }
+
+    /// Reads inputs at a logical address (IO-Base `PNIO_data_read` inside the window).
+    pub fn read(
+        &mut self,
+        address: u32,
+        buf: &mut [u8],
+        local: Ioxs,
+    ) -> Result<ReadResult, IoError> {
+        let (res, s) = read_inputs(self.client, self.payload(), address, buf)?;
+        if read_status(self.payload(), &self.client.layout.submodules[s]).input_local != local {
+            let e = self.client.layout.submodules[s];
+            stamp(self.output_sample()?, &e, None, None, Some(local));
+        }
+        Ok(res)
+    }
+
+    fn output_sample(&mut self) -> Result<&mut [u8], IoError> {
+        if self.output.is_none() {
+            self.output = Some(self.client.loan_output()?);
+        }
+        // Just set when it was None.
+        Ok(self.output.as_mut().map_or(&mut [], |s| s.payload_mut()))
+    }
+
+    /// The outputs of submodule `s` for this cycle, writable in place, starting as last
+    /// sent. Marks them written with local status GOOD.
+    pub fn output_mut(&mut self, s: usize) -> Result<&mut [u8], IoError> {
+        let e = *self
+            .client
+            .layout
+            .submodules
+            .get(s)
+            .ok_or(IoError::NotClaimed {
+                submodule: s,
+                address: procimg_shm_layout::NO_ADDRESS,
+            })?;
+        if !self.client.holds(s) {
+            return Err(IoError::NotClaimed {
+                submodule: s,
+                address: e.output_address,
+            });
+        }
+        let payload = self.output_sample()?;
+        stamp(payload, &e, None, Some(Ioxs::Good), None);
+        let cs = e.client_status_offset as usize;
+        payload[cs + 2] |= procimg_shm_layout::CLIENT_WROTE_OUTPUTS;
+        let at = e.output_offset as usize;
+        Ok(&mut payload[at..at + e.output_length as usize])
+    }
+
+    /// Sets the local status (IOPS) of submodule `s`'s outputs for this cycle.
+    pub fn set_output_status(&mut self, s: usize, local: Ioxs) -> Result<(), IoError> {
+        let _ = self.output_mut(s)?;
+        let e = self.client.layout.submodules[s];
+        stamp(self.output_sample()?, &e, None, Some(local), None);
+        Ok(())
+    }
+
+    /// Writes outputs at a logical address (IO-Base `PNIO_data_write` inside the window).
+    /// Returns the remote status of the previous cycle's outputs.
+    pub fn write(&mut self, address: u32, data: &[u8], local: Ioxs) -> Result<Ioxs, IoError> {
+        let r = resolve_write(
+            &self.client.layout.submodules,
+            address,
+            data.len(),
+            self.client.opts.slice_access,
+        )?;
+        let remote = self
+            .status(r.submodule)
+            .map_or(Ioxs::Bad, |st| st.output_remote);
+        let out = self.output_mut(r.submodule).map_err(|e| match e {
+            IoError::NotClaimed { submodule, .. } => IoError::NotClaimed { submodule, address },
+            e => e,
+        })?;
+        out[r.offset..r.offset + r.len].copy_from_slice(data);
+        let e = self.client.layout.submodules[r.submodule];
+        stamp(self.output_sample()?, &e, None, Some(local), None);
+        Ok(remote)
+    }
+
+    /// Sends this cycle's outputs and signals OPDONE (IO-Base `PNIO_CP_set_opdone`). Returns
+    /// the cycle info at OPDONE time: `since_cycle_start_ns` minus STARTOP's is the time the
+    /// client took.
+    pub fn set_opdone(mut self) -> Result<CycleInfo, IoError> {
+        let cycle = self.number();
+        let sample = match self.output.take() {
+            Some(s) => s,
+            None => self.client.loan_output()?,
+        };
+        self.client.send_output(sample, Some(cycle))?;
+        let mut info = self.info();
+        let now = now_ns();
+        info.clock_ns = now;
+        info.since_cycle_start_ns = now.saturating_sub(info.cycle_start_ns);
+        Ok(info)
+    }
+}
+
+/// `CLOCK_MONOTONIC` in ns (the server's clock).
+pub(crate) fn now_ns() -> u64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: a valid, writable timespec; CLOCK_MONOTONIC always exists on Linux.
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
+}

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The server's IO system as a client sees it: devices, submodules, sizes.
+
+use procimg_shm_layout::{DeviceEntry, ImageLayout, LayoutHeader, SubmoduleEntry};
+
+/// The layout of an instance's process image.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// The header as published.
+    pub header: LayoutHeader,
+    /// Devices.
+    pub devices: Vec<DeviceEntry>,
+    /// Submodules, in image order.
+    pub submodules: Vec<SubmoduleEntry>,
+}
+
+impl Layout {
+    /// Decodes a layout sample; `None` if the payload does not hold the tables it announces.
+    pub fn decode(header: &LayoutHeader, payload: &[u8]) -> Option<Layout> {
+        let devices = (0..header.device_count as usize)
+            .map(|i| procimg_shm_layout::decode_device(payload, i))
+            .collect::<Option<Vec<_>>>()?;
+        let submodules = (0..header.submodule_count as usize)
+            .map(|i| procimg_shm_layout::decode_submodule(payload, header.device_count, i))
+            .collect::<Option<Vec<_>>>()?;
+        Some(Layout {
+            header: *header,
+            devices,
+            submodules,
+        })
+    }
+
+    /// Sizes and offsets of the image regions.
+    pub fn image(&self) -> ImageLayout {
+        ImageLayout::from_header(&self.header)
+    }
+
+    /// The layout hash.
+    pub fn hash(&self) -> u64 {
+        self.header.layout_hash
+    }
+
+    /// Station name of device `d` ("?" if out of range).
+    pub fn device_name(&self, d: usize) -> &str {
+        self.devices
+            .get(d)
+            .and_then(|d| d.station_name())
+            .unwrap_or("?")
+    }
+
+    /// Index of the device named `name`.
+    pub fn device(&self, name: &str) -> Option<usize> {
+        (0..self.devices.len()).find(|&d| self.device_name(d) == name)
+    }
+
+    /// Submodule indices of device `d`.
+    pub fn submodules_of(&self, d: usize) -> std::ops::Range<usize> {
+        match self.devices.get(d) {
+            Some(e) => {
+                let first = e.first_submodule as usize;
+                first..first + e.submodule_count as usize
+            }
+            None => 0..0,
+        }
+    }
+
+    /// The submodule of device `name` at `slot`/`subslot`.
+    pub fn find(&self, name: &str, slot: u16, subslot: u16) -> Option<usize> {
+        let d = self.device(name)?;
+        self.submodules_of(d).find(|&s| {
+            let e = &self.submodules[s];
+            e.slot == slot && e.subslot == subslot
+        })
+    }
+
+    /// Every submodule with outputs.
+    pub fn output_submodules(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.submodules.len()).filter(|&s| self.submodules[s].output_length > 0)
+    }
+}

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The Rust client of the procimg process-image server.
+//!
+//! A client attaches to a running `procimgd` by instance name and reads inputs and writes
+//! outputs in place in shared memory. A **synchronous** client takes part in the cycle
+//! handshake of Siemens' IO-Base isochronous interface: it waits for STARTOP, reads this
+//! cycle's inputs, writes its outputs and signals OPDONE; if it is late, it gets OPFAULT. An
+//! **asynchronous** client reads the newest consistent image and writes outputs at any time,
+//! each write applied whole in one cycle. Both can use IO-Base style access by logical
+//! address (`data_read`, `data_write`, the buffered pair).
+//!
+//! ```no_run
+//! use procimg_client::{AttachOptions, Client, Ioxs};
+//! use std::time::Duration;
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let mut client = Client::attach("procimg", AttachOptions::synchronous("my-plc"))?;
+//! let echo = client.layout().find("echo", 1, 1).expect("the demo's echo module");
+//! client.claim(&[echo])?;
+//! loop {
+//!     let mut cycle = client.wait_startop(Duration::from_millis(100))?;
+//!     let n = cycle.number();
+//!     let seen = cycle.input(echo).map(|i| i[0]).unwrap_or(0);   // in place, no copy
+//!     cycle.output_mut(echo)?.fill(n as u8);                       // in place, no copy
+//!     cycle.set_opdone()?;
+//!     let _ = (seen, Ioxs::Good);
+//! }
+//! # }
+//! ```
+#![deny(unsafe_op_in_unsafe_fn)]
+
+pub mod access;
+mod cache;
+mod client;
+mod connection;
+mod control;
+mod cycle;
+mod error;
+mod io;
+mod layout;
+mod status;
+mod sys;
+
+pub use access::{AccessError, Space};
+pub use client::{AttachOptions, Client, Event};
+pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
+pub use cycle::Cycle;
+pub use error::{AttachError, ControlError, IoError, WaitError};
+pub use io::{OutputReadResult, ReadResult};
+pub use layout::Layout;
+pub use procimg_shm_layout::control::{ClientRole, Refusal, StatusReport};
+pub use procimg_shm_layout::{CycleInfo, Mode};
+pub use status::{Ioxs, SubmoduleIoxs};
+
+/// Output samples the server buffers per client between two cycles (see `procimgd`).
+pub const OUTPUT_BUFFER: usize = 8;

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Why a configuration was refused.
+
+use core::fmt;
+use std::path::PathBuf;
+
+/// Why a configuration could not be loaded.
+///
+/// Every message says where (file, 1-based line, key path such as
+/// `device[1].submodule[0].input_address`) and what to do about it.
+#[derive(Debug)]
+pub enum ConfigError {
+    /// The file could not be read.
+    Read {
+        /// The path as given.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// The text is not TOML, or a value has the wrong type, a required key is missing or a key
+    /// is unknown.
+    Syntax {
+        /// Name of the file (or other origin) the text came from.
+        origin: String,
+        /// 1-based line of the error, where known.
+        line: Option<usize>,
+        /// Key path of the error, where known.
+        key: Option<String>,
+        /// What is wrong and what to do.
+        message: String,
+    },
+    /// A value is well-formed but not acceptable.
+    Invalid {
+        /// Name of the file (or other origin) the text came from.
+        origin: String,
+        /// 1-based line of the offending value.
+        line: usize,
+        /// Key path of the offending value.
+        key: String,
+        /// What is wrong and what to do.
+        message: String,
+    },
+}
+
+impl ConfigError {
+    /// The 1-based line the error is on, if it refers to one.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            ConfigError::Read { .. } => None,
+            ConfigError::Syntax { line, .. } => *line,
+            ConfigError::Invalid { line, .. } => Some(*line),
+        }
+    }
+
+    /// The key path the error is about (`cycle_time`, `device[1].submodule[0].input_address`),
+    /// if it refers to one.
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            ConfigError::Read { .. } => None,
+            ConfigError::Syntax { key, .. } => key.as_deref(),
+            ConfigError::Invalid { key, .. } => Some(key),
+        }
+    }
+
+    /// The file name (or other origin) the error is in.
+    pub fn origin(&self) -> String {
+        match self {
+            ConfigError::Read { path, .. } => path.display().to_string(),
+            ConfigError::Syntax { origin, .. } | ConfigError::Invalid { origin, .. } => {
+                origin.clone()
+            }
+        }
+    }
+
+    /// What is wrong and what to do, without file, line and key.
+    pub fn message(&self) -> String {
+        match self {
+            ConfigError::Read { source, .. } => read_message(source),
+            ConfigError::Syntax { message, .. } | ConfigError::Invalid { message, .. } => {
+                message.clone()
+            }
+        }
+    }
+}
+
+fn read_message(source: &std::io::Error) -> String {
+    format!("cannot read the configuration: {source}; check the path and its permissions")
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ConfigError::Read { path, source } => {
+                write!(f, "{}: {}", path.display(), read_message(source))
+            }
+            ConfigError::Syntax {
+                origin,
+                line,
+                key,
+                message,
+            } => {
+                f.write_str(origin)?;
+                if let Some(line) = line {
+                    write!(f, ":{line}")?;
+                }
+                if let Some(key) = key {
+                    write!(f, ": {key}")?;
+                }
+                write!(f, ": {message}")
+            }
+            ConfigError::Invalid {
+                origin,
+                line,
+                key,
+                message,
+            } => write!(f, "{origin}:{line}: {key}: {message}"),
+        }
+    }
+}
+
+impl core::error::Error for ConfigError {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            ConfigError::Read { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,315 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The configuration file: one TOML file describing the server instance, its cycle and the IO
+//! system (devices, submodules, logical addresses).
+//!
+//! [`load`] reads, parses and validates a file; [`parse`] does the same for text in memory;
+//! [`Config::demo`] is the built-in demo ([`DEMO_TOML`], also the documented example). All
+//! checks happen here, before anything starts, and every [`ConfigError`] names the file, the
+//! line and the key path, and says what to do.
+//!
+//! Logical addresses: explicit `input_address`/`output_address` values are placed first; then
+//! every submodule without one gets, in configuration order and for inputs (I space) and
+//! outputs (Q space) independently, the lowest address at which its range fits.
+//!
+//! ```
+//! let config = procimg_runtime::config::parse(
+//!     r#"
+//!     cycle_time = "2ms"
+//!     [[device]]
+//!     name = "io-1"
+//!     vendor_id = 0x0493
+//!     device_id = 0x0001
+//!     [[device.submodule]]
+//!     slot = 1
+//!     subslot = 1
+//!     module_ident = 0x20
+//!     submodule_ident = 0x1
+//!     input_length = 8
+//!     "#,
+//!     "example.toml",
+//! )?;
+//! assert_eq!(config.cycle_ns, 2_000_000);
+//! assert_eq!(config.devices[0].submodules[0].input_address, 0);
+//! # Ok::<(), procimg_runtime::config::ConfigError>(())
+//! ```
+
+mod address;
+mod duration;
+mod error;
+mod raw;
+mod span;
+mod validate;
+
+use std::net::Ipv4Addr;
+use std::path::Path;
+
+pub use address::LAST_ADDRESS;
+pub use duration::{DurationError, format_duration, parse_duration};
+pub use error::ConfigError;
+use procimg_shm_layout::Mode;
+
+/// The built-in demo configuration (three simulated devices on a simulated network), which is
+/// also the commented example configuration.
+pub const DEMO_TOML: &str = include_str!("demo.toml");
+
+/// Origin named in messages about [`DEMO_TOML`].
+pub const DEMO_ORIGIN: &str = "<built-in demo>";
+
+/// Default instance name.
+pub const DEFAULT_INSTANCE: &str = "procimg";
+/// Default cycle time: 1 ms.
+pub const DEFAULT_CYCLE_NS: u64 = 1_000_000;
+/// Cycle times are whole multiples of this (31.25 µs, the PROFINET base clock).
+pub const CYCLE_UNIT_NS: u64 = procimg_shm_layout::CYCLE_COUNT_UNIT_NS;
+/// Longest cycle time: 512 ms.
+pub const MAX_CYCLE_NS: u64 = 512_000_000;
+/// Most devices in one configuration.
+pub const MAX_DEVICES: usize = 256;
+/// Most submodules in one configuration, over all devices.
+pub const MAX_SUBMODULES: usize = 4096;
+
+/// Reads, parses and validates the configuration file at `path`.
+///
+/// Messages name the file as `path` is written.
+pub fn load(path: &Path) -> Result<Config, ConfigError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse(&text, &path.display().to_string())
+}
+
+/// Parses and validates configuration `text`; `origin` names it in messages (a file name).
+pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
+    let cx = validate::Cx { text, origin };
+    let raw = toml::from_str::<raw::RawConfig>(text).map_err(|e| cx.toml_error(&e))?;
+    validate::build(raw, &cx)
+}
+
+/// A validated configuration.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Config {
+    /// Where it came from (the file name as given, or [`DEMO_ORIGIN`]).
+    pub origin: String,
+    /// Name of the server instance (key `instance`, default `"procimg"`): 1 to 32 characters of
+    /// `A-Z a-z 0-9 _ -`.
+    pub instance: String,
+    /// Cycle time in ns (key `cycle_time`, default `"1ms"`): a multiple of 31.25 µs, at most
+    /// 512 ms.
+    pub cycle_ns: u64,
+    /// OPDONE deadline in ns after the cycle start (key `opdone_deadline`, default half the
+    /// cycle time): more than 0 and less than the cycle time.
+    pub opdone_deadline_ns: u64,
+    /// What happens to the outputs of a client that missed the deadline (key
+    /// `late_client_policy`).
+    pub late_policy: LatePolicy,
+    /// When output frames are sent (key `send_outputs`).
+    pub output_timing: OutputTiming,
+    /// Mode at start (key `start_mode`: `"offline"`, `"clear"`, `"operate"` (default)).
+    pub start_mode: Mode,
+    /// The network (key `network`: `"sim"` (default) or an interface name).
+    pub network: Network,
+    /// The cycle thread (table `[cycle_thread]`).
+    pub cycle_thread: CycleThreadConfig,
+    /// Access to the shared memory (table `[access]`).
+    pub access: AccessConfig,
+    /// The IO devices (array of tables `[[device]]`), in configuration order.
+    pub devices: Vec<DeviceConfig>,
+}
+
+impl Config {
+    /// The built-in demo: [`DEMO_TOML`] parsed, with origin [`DEMO_ORIGIN`].
+    pub fn demo() -> Config {
+        // DEMO_TOML is a constant that a test parses; it sets no CPU, the only check that
+        // depends on the machine.
+        parse(DEMO_TOML, DEMO_ORIGIN).expect("the built-in demo configuration is valid")
+    }
+
+    /// Number of submodules over all devices.
+    pub fn submodule_count(&self) -> usize {
+        self.devices.iter().map(|d| d.submodules.len()).sum()
+    }
+}
+
+/// What happens to a late client's outputs (key `late_client_policy`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LatePolicy {
+    /// `"hold-last-outputs"` (default): its submodules keep the last outputs.
+    HoldLastOutputs,
+    /// `"iops-bad"`: its submodules go IOPS BAD.
+    IopsBad,
+}
+
+impl LatePolicy {
+    /// The spelling in the configuration file.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            LatePolicy::HoldLastOutputs => "hold-last-outputs",
+            LatePolicy::IopsBad => "iops-bad",
+        }
+    }
+}
+
+/// When the output frames are sent (key `send_outputs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OutputTiming {
+    /// `"immediately"` (default): once every client is done or the deadline has passed.
+    Immediately,
+    /// `"at-next-cycle-start"`: at the start of the next cycle, for minimal wire jitter.
+    AtNextCycleStart,
+}
+
+impl OutputTiming {
+    /// The spelling in the configuration file.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            OutputTiming::Immediately => "immediately",
+            OutputTiming::AtNextCycleStart => "at-next-cycle-start",
+        }
+    }
+}
+
+/// The network the IO system is on (key `network`).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Network {
+    /// `"sim"` (default): a simulated in-process network with simulated devices.
+    Sim,
+    /// A Linux network interface, by name (1 to 15 bytes, no `/`, `:` or blanks).
+    Interface(String),
+}
+
+impl core::fmt::Display for Network {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Network::Sim => f.write_str("sim"),
+            Network::Interface(name) => f.write_str(name),
+        }
+    }
+}
+
+/// The cycle thread's CPU and scheduling (table `[cycle_thread]`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CycleThreadConfig {
+    /// CPU to pin it to (key `cpu`, default none: not pinned); below the number of CPUs.
+    pub cpu: Option<usize>,
+    /// SCHED_FIFO priority, 1 to 99 (key `priority`, default 80).
+    pub priority: u8,
+    /// Lock all memory with `mlockall` (key `lock_memory`, default true).
+    pub lock_memory: bool,
+}
+
+impl Default for CycleThreadConfig {
+    fn default() -> Self {
+        CycleThreadConfig {
+            cpu: None,
+            priority: 80,
+            lock_memory: true,
+        }
+    }
+}
+
+/// Access to the shared memory (table `[access]`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AccessConfig {
+    /// Permission bits (key `mode`, an octal string, default `"0600"`); only `0o777` bits.
+    pub mode: u32,
+    /// Owning group (key `group`, default none: the server's group); not resolved here.
+    pub group: Option<String>,
+}
+
+impl Default for AccessConfig {
+    fn default() -> Self {
+        AccessConfig {
+            mode: 0o600,
+            group: None,
+        }
+    }
+}
+
+/// One IO device (an entry of `[[device]]`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DeviceConfig {
+    /// NameOfStation (key `name`), unique in the configuration.
+    pub name: String,
+    /// IPv4 address given to the device (key `ip`), if any.
+    pub ip: Option<Ipv4Addr>,
+    /// PROFINET vendor ID (key `vendor_id`).
+    pub vendor_id: u16,
+    /// PROFINET device ID (key `device_id`).
+    pub device_id: u16,
+    /// Device instance (key `instance`, default 1).
+    pub instance: u16,
+    /// Reduction ratio (key `reduction_ratio`, default 1): a power of two, 1 to 512.
+    pub reduction_ratio: u16,
+    /// Watchdog factor (key `watchdog_factor`, default 3): 3 to 255.
+    pub watchdog_factor: u16,
+    /// Behaviour of the simulated device with `network = "sim"` (key `sim`).
+    pub sim: SimBehaviour,
+    /// Its submodules (array of tables `[[device.submodule]]`), in configuration order.
+    pub submodules: Vec<SubmoduleConfig>,
+}
+
+/// How a simulated device behaves (key `sim` of a device).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SimBehaviour {
+    /// `"none"` (default): inputs stay as they are.
+    None,
+    /// `"echo"`: outputs come back as inputs.
+    Echo,
+    /// `"counter"`: inputs count up every cycle.
+    Counter,
+    /// `"digital-io"`: inputs follow outputs bit by bit.
+    DigitalIo,
+}
+
+impl SimBehaviour {
+    /// The spelling in the configuration file.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            SimBehaviour::None => "none",
+            SimBehaviour::Echo => "echo",
+            SimBehaviour::Counter => "counter",
+            SimBehaviour::DigitalIo => "digital-io",
+        }
+    }
+}
+
+/// One submodule of a device (an entry of `[[device.submodule]]`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SubmoduleConfig {
+    /// Application process identifier (key `api`, default 0).
+    pub api: u32,
+    /// Slot (key `slot`).
+    pub slot: u16,
+    /// Subslot (key `subslot`), at least 1.
+    pub subslot: u16,
+    /// Module ident number (key `module_ident`).
+    pub module_ident: u32,
+    /// Submodule ident number (key `submodule_ident`).
+    pub submodule_ident: u32,
+    /// Bytes of input data (key `input_length`, default 0), at most
+    /// [`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`].
+    pub input_length: u16,
+    /// Bytes of output data (key `output_length`, default 0), at most
+    /// [`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`].
+    pub output_length: u16,
+    /// First logical address in the I space (key `input_address`, or assigned), or
+    /// [`procimg_shm_layout::NO_ADDRESS`] if `input_length` is 0.
+    pub input_address: u32,
+    /// First logical address in the Q space (key `output_address`, or assigned), or
+    /// [`procimg_shm_layout::NO_ADDRESS`] if `output_length` is 0.
+    pub output_address: u32,
+    /// RT class, 1 (default) or 3 (key `rt_class`).
+    pub rt_class: u8,
+    /// Parameter records written at connect (key `records`), in configuration order.
+    pub records: Vec<ParameterRecord>,
+}
+
+/// A parameter record (an element of a submodule's `records`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParameterRecord {
+    /// Record index (key `index`).
+    pub index: u16,
+    /// Record data (key `data`, an array of bytes).
+    pub data: Vec<u8>,
+}

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The configuration file as written, before validation: every value that is checked later
+//! keeps its span, so errors can name its line.
+
+use serde::Deserialize;
+use toml::Spanned;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawConfig {
+    pub instance: Option<Spanned<String>>,
+    pub cycle_time: Option<Spanned<String>>,
+    pub opdone_deadline: Option<Spanned<String>>,
+    pub late_client_policy: Option<Spanned<String>>,
+    pub send_outputs: Option<Spanned<String>>,
+    pub start_mode: Option<Spanned<String>>,
+    pub network: Option<Spanned<String>>,
+    pub cycle_thread: Option<RawCycleThread>,
+    pub access: Option<RawAccess>,
+    #[serde(default)]
+    pub device: Vec<Spanned<RawDevice>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawCycleThread {
+    pub cpu: Option<Spanned<usize>>,
+    pub priority: Option<Spanned<u8>>,
+    pub lock_memory: Option<bool>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawAccess {
+    pub mode: Option<Spanned<String>>,
+    pub group: Option<Spanned<String>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawDevice {
+    pub name: Spanned<String>,
+    pub ip: Option<Spanned<String>>,
+    pub vendor_id: u16,
+    pub device_id: u16,
+    pub instance: Option<u16>,
+    pub reduction_ratio: Option<Spanned<u16>>,
+    pub watchdog_factor: Option<Spanned<u16>>,
+    pub sim: Option<Spanned<String>>,
+    #[serde(default)]
+    pub submodule: Vec<Spanned<RawSubmodule>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawSubmodule {
+    pub api: Option<u32>,
+    pub slot: Spanned<u16>,
+    pub subslot: Spanned<u16>,
+    pub module_ident: u32,
+    pub submodule_ident: u32,
+    pub input_length: Option<Spanned<u16>>,
+    pub output_length: Option<Spanned<u16>>,
+    pub input_address: Option<Spanned<u32>>,
+    pub output_address: Option<Spanned<u32>>,
+    pub rt_class: Option<Spanned<u8>>,
+    #[serde(default)]
+    pub records: Vec<RawRecord>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawRecord {
+    pub index: u16,
+    pub data: Vec<u8>,
+}

@@ -1,0 +1,821 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! From the file as written ([`RawConfig`]) to a checked [`Config`].
+
+use std::collections::HashMap;
+use std::net::Ipv4Addr;
+use std::ops::Range;
+
+use procimg_shm_layout::{MAX_SUBMODULE_DATA_LEN, Mode, NO_ADDRESS};
+use toml::Spanned;
+
+use super::address::{self, Item, Space};
+use super::duration::{format_duration, parse_duration};
+use super::error::ConfigError;
+use super::raw::{RawAccess, RawConfig, RawCycleThread, RawDevice, RawSubmodule};
+use super::span::{key_path_at, line_of};
+use super::{
+    AccessConfig, CYCLE_UNIT_NS, Config, CycleThreadConfig, DEFAULT_CYCLE_NS, DEFAULT_INSTANCE,
+    DeviceConfig, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network, OutputTiming,
+    ParameterRecord, SimBehaviour, SubmoduleConfig,
+};
+
+/// The text being parsed and its name, for error messages.
+pub(super) struct Cx<'a> {
+    pub text: &'a str,
+    pub origin: &'a str,
+}
+
+impl Cx<'_> {
+    /// The 1-based line of byte `offset`.
+    pub fn line(&self, offset: usize) -> usize {
+        line_of(self.text, offset)
+    }
+
+    /// An [`ConfigError::Invalid`] about the value at `span`.
+    pub fn invalid(
+        &self,
+        span: Range<usize>,
+        key: impl Into<String>,
+        message: impl Into<String>,
+    ) -> ConfigError {
+        ConfigError::Invalid {
+            origin: self.origin.to_owned(),
+            line: self.line(span.start),
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+
+    /// A [`ConfigError::Syntax`] from a TOML or deserialization error.
+    pub fn toml_error(&self, error: &toml::de::Error) -> ConfigError {
+        let span = error.span();
+        // A key the document does not hold (a duplicate, say) is named by its own text.
+        let bare_key = |s: &Range<usize>| {
+            self.text.get(s.clone()).filter(|k| {
+                !k.is_empty()
+                    && k.chars()
+                        .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+            })
+        };
+        let key = span.as_ref().and_then(|s| {
+            key_path_at(self.text, s.start).or_else(|| bare_key(s).map(str::to_owned))
+        });
+        ConfigError::Syntax {
+            origin: self.origin.to_owned(),
+            line: span.as_ref().map(|s| self.line(s.start)),
+            key,
+            message: explain(error.message()),
+        }
+    }
+
+    fn check<T, V>(
+        &self,
+        value: &Spanned<V>,
+        key: impl Into<String>,
+        result: Result<T, String>,
+    ) -> Result<T, ConfigError> {
+        result.map_err(|message| self.invalid(value.span(), key, message))
+    }
+}
+
+/// Makes a serde/TOML message speak the configuration's language and say what to do.
+fn explain(message: &str) -> String {
+    let mut message = message.trim_end().replace('\n', "; ");
+    for (ty, range) in [
+        ("u8", "an integer from 0 to 255"),
+        ("u16", "an integer from 0 to 65535 (0xFFFF)"),
+        ("u32", "an integer from 0 to 4294967295 (0xFFFFFFFF)"),
+        ("usize", "a non-negative integer"),
+    ] {
+        if let Some(stem) = message.strip_suffix(&format!("expected {ty}")) {
+            message = format!("{stem}expected {range}");
+        }
+    }
+    let hint = if message.starts_with("unknown field") {
+        "remove it or correct its spelling"
+    } else if message.starts_with("missing field") {
+        "add it"
+    } else if message.starts_with("duplicate key") {
+        "give each key once; remove or rename one of them"
+    } else if message.contains("expected a sequence") {
+        "write [[device]] and [[device.submodule]] with double brackets, or give an array"
+    } else if message.starts_with("invalid type") || message.starts_with("invalid value") {
+        "correct the value; `procimgd --print-demo-config` shows an example of every key"
+    } else {
+        "correct the TOML syntax (see https://toml.io)"
+    };
+    format!("{message}; {hint}")
+}
+
+/// Checks `raw` and resolves defaults and addresses.
+pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> {
+    let instance = match raw.instance {
+        Some(v) => {
+            cx.check(&v, "instance", instance_name(v.get_ref()))?;
+            v.into_inner()
+        }
+        None => DEFAULT_INSTANCE.to_owned(),
+    };
+    let cycle_ns = match &raw.cycle_time {
+        Some(v) => cx.check(v, "cycle_time", cycle_time(v.get_ref()))?,
+        None => DEFAULT_CYCLE_NS,
+    };
+    let opdone_deadline_ns = match &raw.opdone_deadline {
+        Some(v) => cx.check(v, "opdone_deadline", deadline(v.get_ref(), cycle_ns))?,
+        None => cycle_ns / 2,
+    };
+    let late_policy = match &raw.late_client_policy {
+        Some(v) => cx.check(
+            v,
+            "late_client_policy",
+            choose(
+                v.get_ref(),
+                "a late-client policy",
+                &[
+                    ("hold-last-outputs", LatePolicy::HoldLastOutputs),
+                    ("iops-bad", LatePolicy::IopsBad),
+                ],
+            ),
+        )?,
+        None => LatePolicy::HoldLastOutputs,
+    };
+    let output_timing = match &raw.send_outputs {
+        Some(v) => cx.check(
+            v,
+            "send_outputs",
+            choose(
+                v.get_ref(),
+                "an output timing",
+                &[
+                    ("immediately", OutputTiming::Immediately),
+                    ("at-next-cycle-start", OutputTiming::AtNextCycleStart),
+                ],
+            ),
+        )?,
+        None => OutputTiming::Immediately,
+    };
+    let start_mode = match &raw.start_mode {
+        Some(v) => cx.check(
+            v,
+            "start_mode",
+            choose(
+                v.get_ref(),
+                "a mode",
+                &[
+                    ("offline", Mode::Offline),
+                    ("clear", Mode::Clear),
+                    ("operate", Mode::Operate),
+                ],
+            ),
+        )?,
+        None => Mode::Operate,
+    };
+    let network = match raw.network {
+        Some(v) if v.get_ref() == "sim" => Network::Sim,
+        Some(v) => {
+            cx.check(&v, "network", interface_name(v.get_ref()))?;
+            Network::Interface(v.into_inner())
+        }
+        None => Network::Sim,
+    };
+    let cycle_thread = match raw.cycle_thread {
+        Some(t) => cycle_thread(t, cx)?,
+        None => CycleThreadConfig::default(),
+    };
+    let access = match raw.access {
+        Some(a) => access(a, cx)?,
+        None => AccessConfig::default(),
+    };
+    let devices = devices(raw.device, cx)?;
+    Ok(Config {
+        origin: cx.origin.to_owned(),
+        instance,
+        cycle_ns,
+        opdone_deadline_ns,
+        late_policy,
+        output_timing,
+        start_mode,
+        network,
+        cycle_thread,
+        access,
+        devices,
+    })
+}
+
+fn instance_name(name: &str) -> Result<(), String> {
+    let fine = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    if name.is_empty() || name.len() > 32 || !name.chars().all(fine) {
+        return Err(format!(
+            "{name:?} is not an instance name; use 1 to 32 characters of A-Z, a-z, 0-9, '_' \
+             and '-', e.g. \"procimg\" or \"line-1\""
+        ));
+    }
+    Ok(())
+}
+
+/// Valid cycle times next to `ns`, as suggestions: the neighbouring multiples of 125 µs (round
+/// numbers), or of 31.25 µs below 125 µs.
+fn cycle_suggestions(ns: u64) -> String {
+    let step = if ns >= 4 * CYCLE_UNIT_NS {
+        4 * CYCLE_UNIT_NS
+    } else {
+        CYCLE_UNIT_NS
+    };
+    let lower = ns / step * step;
+    let upper = lower + step;
+    let mut options = Vec::new();
+    if lower > 0 {
+        options.push(format!("{:?}", format_duration(lower)));
+    }
+    if upper <= MAX_CYCLE_NS {
+        options.push(format!("{:?}", format_duration(upper)));
+    }
+    options.join(" or ")
+}
+
+fn cycle_time(text: &str) -> Result<u64, String> {
+    let ns = parse_duration(text).map_err(|e| format!("{text:?} {e}"))?;
+    if ns == 0 {
+        return Err(format!(
+            "{text:?} is zero; the cycle time is a positive multiple of 31.25 µs, e.g. \"1ms\""
+        ));
+    }
+    if ns > MAX_CYCLE_NS {
+        return Err(format!(
+            "{text:?} is longer than the longest cycle time, 512 ms; use at most \"512ms\""
+        ));
+    }
+    if !ns.is_multiple_of(CYCLE_UNIT_NS) {
+        return Err(format!(
+            "{text:?} is not a multiple of 31.25 µs; use e.g. {}",
+            cycle_suggestions(ns)
+        ));
+    }
+    Ok(ns)
+}
+
+fn deadline(text: &str, cycle_ns: u64) -> Result<u64, String> {
+    let ns = parse_duration(text).map_err(|e| format!("{text:?} {e}"))?;
+    let example = format_duration(cycle_ns / 2);
+    if ns == 0 {
+        return Err(format!(
+            "{text:?} is zero; give the time clients have after the cycle start, e.g. \
+             {example:?} (half the cycle), or leave it out for that default"
+        ));
+    }
+    if ns >= cycle_ns {
+        return Err(format!(
+            "{text:?} is not shorter than the cycle time ({}); give a shorter deadline, e.g. \
+             {example:?} (half the cycle), or leave it out for that default",
+            format_duration(cycle_ns)
+        ));
+    }
+    Ok(ns)
+}
+
+fn choose<T: Copy>(text: &str, what: &str, choices: &[(&str, T)]) -> Result<T, String> {
+    if let Some((_, value)) = choices.iter().find(|(name, _)| *name == text) {
+        return Ok(*value);
+    }
+    let names: Vec<String> = choices.iter().map(|(n, _)| format!("{n:?}")).collect();
+    let list = match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        Some((last, _)) => last.clone(),
+        None => String::new(),
+    };
+    Err(format!("{text:?} is not {what}; use {list}"))
+}
+
+fn interface_name(name: &str) -> Result<(), String> {
+    let bad = |c: char| c == '/' || c == ':' || c.is_whitespace() || c.is_control();
+    if name.is_empty() || name.len() > 15 || name == "." || name == ".." || name.contains(bad) {
+        return Err(format!(
+            "{name:?} is neither \"sim\" nor a network interface name (1 to 15 bytes without \
+             '/', ':' or blanks); give the interface as `ip link` lists it, e.g. \"enp1s0\", or \
+             \"sim\" for the simulated network"
+        ));
+    }
+    Ok(())
+}
+
+fn cycle_thread(raw: RawCycleThread, cx: &Cx<'_>) -> Result<CycleThreadConfig, ConfigError> {
+    let mut config = CycleThreadConfig::default();
+    if let Some(cpu) = raw.cpu {
+        if let Ok(count) = std::thread::available_parallelism() {
+            let count = count.get();
+            if *cpu.get_ref() >= count {
+                return Err(cx.invalid(
+                    cpu.span(),
+                    "cycle_thread.cpu",
+                    format!(
+                        "CPU {} does not exist: this machine has {count} CPUs, 0 to {}; choose \
+                         one of them (best one isolated with isolcpus=) or leave cpu out",
+                        cpu.get_ref(),
+                        count - 1
+                    ),
+                ));
+            }
+        }
+        config.cpu = Some(cpu.into_inner());
+    }
+    if let Some(priority) = raw.priority {
+        if !(1..=99).contains(priority.get_ref()) {
+            return Err(cx.invalid(
+                priority.span(),
+                "cycle_thread.priority",
+                format!(
+                    "{} is not a SCHED_FIFO priority; use 1 to 99 (default 80)",
+                    priority.get_ref()
+                ),
+            ));
+        }
+        config.priority = priority.into_inner();
+    }
+    if let Some(lock) = raw.lock_memory {
+        config.lock_memory = lock;
+    }
+    Ok(config)
+}
+
+fn octal_mode(text: &str) -> Result<u32, String> {
+    let digits = text.strip_prefix("0o").unwrap_or(text);
+    if digits.is_empty() || !digits.bytes().all(|b| (b'0'..=b'7').contains(&b)) {
+        return Err(format!(
+            "{text:?} is not an octal mode; write it like \"0660\" or \"0640\""
+        ));
+    }
+    let significant = digits.trim_start_matches('0');
+    let mode = match u32::from_str_radix(significant, 8) {
+        _ if significant.is_empty() => 0,
+        Ok(mode) if mode <= 0o777 => mode,
+        _ => {
+            return Err(format!(
+                "{text:?} has bits other than the permission bits (0777); give only those, \
+                 e.g. \"0660\""
+            ));
+        }
+    };
+    Ok(mode)
+}
+
+fn group_name(name: &str) -> Result<(), String> {
+    let bad = |c: char| c == ':' || c == '/' || c == ',' || c.is_whitespace() || c.is_control();
+    if name.is_empty() || name.len() > 256 || name.contains(bad) {
+        return Err(format!(
+            "{name:?} is not a group name; give one `getent group` lists, or leave group out"
+        ));
+    }
+    Ok(())
+}
+
+fn access(raw: RawAccess, cx: &Cx<'_>) -> Result<AccessConfig, ConfigError> {
+    let mut config = AccessConfig::default();
+    if let Some(mode) = raw.mode {
+        config.mode = cx.check(&mode, "access.mode", octal_mode(mode.get_ref()))?;
+    }
+    if let Some(group) = raw.group {
+        cx.check(&group, "access.group", group_name(group.get_ref()))?;
+        config.group = Some(group.into_inner());
+    }
+    Ok(config)
+}
+
+/// Checks a PROFINET NameOfStation.
+fn station_name(name: &str) -> Result<(), String> {
+    const HOW: &str = "a station name is 1 to 240 characters: labels of a-z, 0-9 and '-' (1 to \
+                       63 each, not starting or ending with '-') separated by '.', e.g. \
+                       \"io-device-1\"";
+    if name.is_empty() {
+        return Err(format!("the name is empty; {HOW}"));
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|&c| !(c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-' || c == '.'))
+    {
+        let hint = if name.chars().any(|c| c.is_ascii_uppercase()) {
+            format!("; write it in lower case, {:?}", name.to_lowercase())
+        } else {
+            String::new()
+        };
+        return Err(format!("{name:?} contains {c:?}; {HOW}{hint}"));
+    }
+    if name.len() > 240 {
+        return Err(format!("{name:?} is {} characters long; {HOW}", name.len()));
+    }
+    let labels: Vec<&str> = name.split('.').collect();
+    for label in &labels {
+        if label.is_empty() {
+            return Err(format!(
+                "{name:?} has an empty label (a '.' at the start or end, or two in a row); {HOW}"
+            ));
+        }
+        if label.len() > 63 {
+            return Err(format!(
+                "{name:?} has a label longer than 63 characters; {HOW}"
+            ));
+        }
+        if label.starts_with('-') || label.ends_with('-') {
+            return Err(format!(
+                "{name:?} has a label {label:?} starting or ending with '-'; {HOW}"
+            ));
+        }
+    }
+    if labels.first().is_some_and(|first| is_port_name(first)) {
+        return Err(format!(
+            "{name:?} has the form \"port-xyz\" or \"port-xyz-abcde\" reserved for port names; \
+             choose another name"
+        ));
+    }
+    let numeric = |l: &&str| (1..=3).contains(&l.len()) && l.bytes().all(|b| b.is_ascii_digit());
+    if labels.len() == 4 && labels.iter().all(numeric) {
+        return Err(format!(
+            "{name:?} looks like an IPv4 address, which a station name may not; give the \
+             address as `ip` and choose a name such as \"io-device-1\""
+        ));
+    }
+    Ok(())
+}
+
+/// `port-xyz` or `port-xyz-abcde` with digits x..e: reserved for port names (IEC 61158-6-10).
+fn is_port_name(label: &str) -> bool {
+    let Some(rest) = label.strip_prefix("port-") else {
+        return false;
+    };
+    let digits = |s: &str, n: usize| s.len() == n && s.bytes().all(|b| b.is_ascii_digit());
+    match rest.split_once('-') {
+        None => digits(rest, 3),
+        Some((xyz, abcde)) => digits(xyz, 3) && digits(abcde, 5),
+    }
+}
+
+fn device_ip(text: &str) -> Result<Ipv4Addr, String> {
+    let ip: Ipv4Addr = text.parse().map_err(|_| {
+        format!("{text:?} is not an IPv4 address; write it like \"192.168.0.10\", or leave ip out")
+    })?;
+    if ip.is_unspecified() || ip.is_broadcast() || ip.is_multicast() || ip.is_loopback() {
+        return Err(format!(
+            "{text:?} is not an address a device can have; give a unicast address such as \
+             \"192.168.0.10\", or leave ip out"
+        ));
+    }
+    Ok(ip)
+}
+
+fn reduction_ratio(value: u16) -> Result<u16, String> {
+    if !value.is_power_of_two() || value > 512 {
+        return Err(format!(
+            "{value} is not a reduction ratio; use a power of two from 1 to 512 (1, 2, 4, ..., 512)"
+        ));
+    }
+    Ok(value)
+}
+
+fn watchdog_factor(value: u16) -> Result<u16, String> {
+    if !(3..=255).contains(&value) {
+        return Err(format!(
+            "{value} is not a watchdog factor; use 3 to 255 (default 3)"
+        ));
+    }
+    Ok(value)
+}
+
+fn data_length(value: u16, noun: &str) -> Result<u16, String> {
+    if value > MAX_SUBMODULE_DATA_LEN {
+        return Err(format!(
+            "{value} bytes of {noun} data are more than the {MAX_SUBMODULE_DATA_LEN} one \
+             submodule can have (a frame carries at most 1440 bytes of data and status); split \
+             the data over several submodules"
+        ));
+    }
+    Ok(value)
+}
+
+/// A submodule checked on its own, with what address assignment needs.
+struct Draft {
+    key: String,
+    span: Range<usize>,
+    input_address: Option<(u32, Range<usize>)>,
+    output_address: Option<(u32, Range<usize>)>,
+}
+
+fn devices(raw: Vec<Spanned<RawDevice>>, cx: &Cx<'_>) -> Result<Vec<DeviceConfig>, ConfigError> {
+    if let Some(extra) = raw.get(MAX_DEVICES) {
+        return Err(cx.invalid(
+            extra.span(),
+            format!("device[{MAX_DEVICES}]"),
+            format!(
+                "the IO system has {} devices, more than the {MAX_DEVICES} one server supports; \
+                 split it over several server instances",
+                raw.len()
+            ),
+        ));
+    }
+    let mut total = 0usize;
+    for (d, device) in raw.iter().enumerate() {
+        for (s, submodule) in device.get_ref().submodule.iter().enumerate() {
+            total += 1;
+            if total > MAX_SUBMODULES {
+                return Err(cx.invalid(
+                    submodule.span(),
+                    format!("device[{d}].submodule[{s}]"),
+                    format!(
+                        "this is submodule number {total}, over the limit of {MAX_SUBMODULES} \
+                         per server; split the IO system over several server instances"
+                    ),
+                ));
+            }
+        }
+    }
+
+    let mut names: HashMap<String, (usize, usize)> = HashMap::new();
+    let mut devices = Vec::with_capacity(raw.len());
+    let mut drafts: Vec<Vec<Draft>> = Vec::with_capacity(raw.len());
+    for (d, device) in raw.into_iter().enumerate() {
+        let (config, device_drafts) = device_config(d, device.into_inner(), cx, &mut names)?;
+        devices.push(config);
+        drafts.push(device_drafts);
+    }
+
+    for space in [Space::Input, Space::Output] {
+        let mut items = Vec::new();
+        for (device, device_drafts) in devices.iter().zip(&drafts) {
+            for (draft, sub) in device_drafts.iter().zip(&device.submodules) {
+                let (length, explicit) = match space {
+                    Space::Input => (sub.input_length, draft.input_address.clone()),
+                    Space::Output => (sub.output_length, draft.output_address.clone()),
+                };
+                items.push(Item {
+                    key: &draft.key,
+                    device_name: &device.name,
+                    slot: sub.slot,
+                    subslot: sub.subslot,
+                    length,
+                    span: draft.span.clone(),
+                    explicit,
+                });
+            }
+        }
+        let addresses = address::assign(cx, space, &items)?;
+        let targets = devices.iter_mut().flat_map(|d| d.submodules.iter_mut());
+        for (sub, address) in targets.zip(addresses) {
+            match space {
+                Space::Input => sub.input_address = address,
+                Space::Output => sub.output_address = address,
+            }
+        }
+    }
+    Ok(devices)
+}
+
+fn device_config(
+    d: usize,
+    raw: RawDevice,
+    cx: &Cx<'_>,
+    names: &mut HashMap<String, (usize, usize)>,
+) -> Result<(DeviceConfig, Vec<Draft>), ConfigError> {
+    let key = |k: &str| format!("device[{d}].{k}");
+    cx.check(&raw.name, key("name"), station_name(raw.name.get_ref()))?;
+    let line = cx.line(raw.name.span().start);
+    if let Some((other, other_line)) = names.get(raw.name.get_ref()) {
+        return Err(cx.invalid(
+            raw.name.span(),
+            key("name"),
+            format!(
+                "{:?} is already the name of device[{other}] (line {other_line}); give every \
+                 device its own name",
+                raw.name.get_ref()
+            ),
+        ));
+    }
+    names.insert(raw.name.get_ref().clone(), (d, line));
+
+    let ip = match &raw.ip {
+        Some(v) => Some(cx.check(v, key("ip"), device_ip(v.get_ref()))?),
+        None => None,
+    };
+    let reduction_ratio = match &raw.reduction_ratio {
+        Some(v) => cx.check(v, key("reduction_ratio"), reduction_ratio(*v.get_ref()))?,
+        None => 1,
+    };
+    let watchdog_factor = match &raw.watchdog_factor {
+        Some(v) => cx.check(v, key("watchdog_factor"), watchdog_factor(*v.get_ref()))?,
+        None => 3,
+    };
+    let sim = match &raw.sim {
+        Some(v) => cx.check(
+            v,
+            key("sim"),
+            choose(
+                v.get_ref(),
+                "a simulated behaviour",
+                &[
+                    ("echo", SimBehaviour::Echo),
+                    ("counter", SimBehaviour::Counter),
+                    ("digital-io", SimBehaviour::DigitalIo),
+                    ("none", SimBehaviour::None),
+                ],
+            ),
+        )?,
+        None => SimBehaviour::None,
+    };
+
+    let mut seen: HashMap<(u32, u16, u16), (usize, usize)> = HashMap::new();
+    let mut submodules = Vec::with_capacity(raw.submodule.len());
+    let mut drafts = Vec::with_capacity(raw.submodule.len());
+    for (s, sub) in raw.submodule.into_iter().enumerate() {
+        let span = sub.span();
+        let base = format!("device[{d}].submodule[{s}]");
+        let (config, draft) = submodule_config(&base, span, sub.into_inner(), cx, &mut seen, s)?;
+        submodules.push(config);
+        drafts.push(draft);
+    }
+
+    let config = DeviceConfig {
+        name: raw.name.into_inner(),
+        ip,
+        vendor_id: raw.vendor_id,
+        device_id: raw.device_id,
+        instance: raw.instance.unwrap_or(1),
+        reduction_ratio,
+        watchdog_factor,
+        sim,
+        submodules,
+    };
+    Ok((config, drafts))
+}
+
+fn submodule_config(
+    base: &str,
+    span: Range<usize>,
+    raw: RawSubmodule,
+    cx: &Cx<'_>,
+    seen: &mut HashMap<(u32, u16, u16), (usize, usize)>,
+    s: usize,
+) -> Result<(SubmoduleConfig, Draft), ConfigError> {
+    let key = |k: &str| format!("{base}.{k}");
+    let api = raw.api.unwrap_or(0);
+    let slot = *raw.slot.get_ref();
+    let subslot = *raw.subslot.get_ref();
+    if subslot == 0 {
+        return Err(cx.invalid(
+            raw.subslot.span(),
+            key("subslot"),
+            "subslot 0 does not exist; subslots count from 1 (a module's first submodule is \
+             subslot 1)",
+        ));
+    }
+    if let Some((other, other_line)) = seen.get(&(api, slot, subslot)) {
+        return Err(cx.invalid(
+            raw.slot.span(),
+            key("slot"),
+            format!(
+                "slot {slot} subslot {subslot} (api {api}) is already used by submodule[{other}] \
+                 of this device (line {other_line}); give each submodule its own slot and subslot"
+            ),
+        ));
+    }
+    seen.insert((api, slot, subslot), (s, cx.line(raw.slot.span().start)));
+
+    let input_length = match &raw.input_length {
+        Some(v) => cx.check(v, key("input_length"), data_length(*v.get_ref(), "input"))?,
+        None => 0,
+    };
+    let output_length = match &raw.output_length {
+        Some(v) => cx.check(v, key("output_length"), data_length(*v.get_ref(), "output"))?,
+        None => 0,
+    };
+    let rt_class = match &raw.rt_class {
+        Some(v) if matches!(v.get_ref(), 1 | 3) => *v.get_ref(),
+        Some(v) => {
+            return Err(cx.invalid(
+                v.span(),
+                key("rt_class"),
+                format!(
+                    "{} is not an RT class; use 1 (default) or 3 (IRT)",
+                    v.get_ref()
+                ),
+            ));
+        }
+        None => 1,
+    };
+    let records = raw
+        .records
+        .into_iter()
+        .map(|r| ParameterRecord {
+            index: r.index,
+            data: r.data,
+        })
+        .collect();
+    let explicit = |a: &Option<Spanned<u32>>| a.as_ref().map(|v| (*v.get_ref(), v.span()));
+    let draft = Draft {
+        key: base.to_owned(),
+        span,
+        input_address: explicit(&raw.input_address),
+        output_address: explicit(&raw.output_address),
+    };
+    let config = SubmoduleConfig {
+        api,
+        slot,
+        subslot,
+        module_ident: raw.module_ident,
+        submodule_ident: raw.submodule_ident,
+        input_length,
+        output_length,
+        input_address: NO_ADDRESS,
+        output_address: NO_ADDRESS,
+        rt_class,
+        records,
+    };
+    Ok((config, draft))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn station_names() {
+        for good in [
+            "echo",
+            "io-device-1",
+            "plc.line-1",
+            "a",
+            "port-01",
+            "port-0011",
+            "xport-001",
+            "1.2.3",
+            "1.2.3.4.5",
+            "1234.1.1.1",
+            "dev.port-001",
+        ] {
+            assert_eq!(station_name(good), Ok(()), "{good}");
+        }
+        let long_label = "a".repeat(64);
+        let long_name = [
+            "a".repeat(63),
+            "a".repeat(63),
+            "a".repeat(63),
+            "a".repeat(50),
+        ]
+        .join(".");
+        for bad in [
+            "",
+            "Echo",
+            "echo_1",
+            "-echo",
+            "echo-",
+            "a..b",
+            ".a",
+            "a.",
+            "port-001",
+            "port-001-00000",
+            "port-001.plc",
+            "192.168.0.1",
+            "ä",
+            long_label.as_str(),
+            long_name.as_str(),
+        ] {
+            assert!(station_name(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn modes() {
+        assert_eq!(octal_mode("0660"), Ok(0o660));
+        assert_eq!(octal_mode("640"), Ok(0o640));
+        assert_eq!(octal_mode("0o600"), Ok(0o600));
+        assert_eq!(octal_mode("0"), Ok(0));
+        assert_eq!(octal_mode("0000000000000777"), Ok(0o777));
+        for bad in [
+            "",
+            "0o",
+            "0668",
+            "04770",
+            "rw-rw----",
+            "0x1ff",
+            "-660",
+            "7777777777777",
+        ] {
+            assert!(octal_mode(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn interfaces() {
+        assert_eq!(interface_name("enp1s0"), Ok(()));
+        assert_eq!(interface_name("eth0.100"), Ok(()));
+        for bad in ["", "a/b", "a b", "eth0:1", "abcdefghijklmnop", ".", ".."] {
+            assert!(interface_name(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn explanations_have_hints() {
+        assert_eq!(
+            explain("invalid value: integer `70000`, expected u16"),
+            "invalid value: integer `70000`, expected an integer from 0 to 65535 (0xFFFF); \
+             correct the value; `procimgd --print-demo-config` shows an example of every key"
+        );
+        assert!(explain("unknown field `x`, expected `y`").ends_with("correct its spelling"));
+    }
+}

@@ -1,0 +1,451 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! One cycle of the server (DESIGN.md §3), run on the cycle thread.
+//!
+//! Per cycle k: apply queued commands and one mode step; receive inputs from the IO system;
+//! publish the input image as one immutable sample; STARTOP; wait until every armed
+//! synchronous client has sent its OPDONE, or the deadline; OPFAULT to the late ones; merge
+//! outputs; send them; NEWCYCLE; statistics. Nothing here allocates, blocks on a lock or
+//! logs once the engine is built.
+
+use super::shared::{Command, Shared};
+use crate::config::{LatePolicy, OutputTiming};
+use crate::image::{Image, Tables};
+use crate::io::{CycleTime, IoSystem};
+use crate::shm::{CyclePorts, Ipc};
+use crate::stats::StatsRecorder;
+use crate::sys::clock::now_ns;
+use crate::sys::poll::wait_readable;
+use iceoryx2::prelude::EventId;
+use iceoryx2::prelude::FileDescriptorBased;
+use iceoryx2::sample::Sample;
+use procimg_shm_layout::events::{
+    EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, EVENT_STARTOP, opfault_event,
+};
+use procimg_shm_layout::{
+    CLIENT_SET_INPUT_IOCS, CLIENT_SET_OUTPUT_IOPS, CLIENT_WROTE_OUTPUTS, CycleInfo, IMAGE_MAGIC,
+    IOXS_BAD_BY_CONTROLLER, IOXS_GOOD, ImageHeader, MAX_CLIENTS, Mode, OUTPUT_SYNCHRONOUS,
+    OutputHeader, cycle_count,
+};
+use std::os::fd::RawFd;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+
+/// The settings the engine runs with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EngineSettings {
+    /// Cycle time T in ns.
+    pub cycle_ns: u64,
+    /// OPDONE deadline after the cycle start, in ns.
+    pub opdone_deadline_ns: u64,
+    /// What happens to a late client's outputs.
+    pub late_policy: LatePolicy,
+    /// When the outputs go out.
+    pub output_timing: OutputTiming,
+    /// Server generation.
+    pub generation: u64,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct ClientRt {
+    token: u64,
+    active: bool,
+    synchronous: bool,
+    /// Waited for in this cycle. Cleared by an OPFAULT, set again by the client's next
+    /// sample, so a client that died costs one OPFAULT, not one per cycle until it is reaped.
+    armed: bool,
+    /// Its OPDONE for this cycle arrived.
+    done: bool,
+}
+
+struct State {
+    settings: EngineSettings,
+    shared: Arc<Shared>,
+    stats: StatsRecorder,
+    image: Image,
+    header: ImageHeader,
+    clients: [ClientRt; MAX_CLIENTS],
+    /// Per submodule: the output IOPS the owning client set.
+    output_iops: Vec<u8>,
+    /// Per submodule: the input IOCS the clients set.
+    input_iocs: Vec<u8>,
+    /// Per submodule: its owner was late this cycle and the policy is IOPS BAD.
+    late_bad: Vec<bool>,
+    mode: Mode,
+    target: Mode,
+    layout_hash: u64,
+    output_payload_size: usize,
+    cycle: u64,
+    startop_ns: u64,
+    /// Outputs merged but not yet sent (OutputTiming::AtNextCycleStart).
+    outputs_pending: bool,
+}
+
+/// The cycle engine: the ports, the IO system and the state of the cycle.
+pub struct Engine {
+    ports: CyclePorts,
+    opdone_fd: RawFd,
+    io: Box<dyn IoSystem>,
+    st: State,
+}
+
+impl Engine {
+    /// An engine over `ports` and `io`; the server starts in OFFLINE and steps towards
+    /// `Shared::target_mode`.
+    pub fn new(
+        settings: EngineSettings,
+        tables: &Tables,
+        ports: CyclePorts,
+        io: Box<dyn IoSystem>,
+        shared: Arc<Shared>,
+        stats: StatsRecorder,
+    ) -> Engine {
+        let n = tables.submodules.len();
+        let mut header = ImageHeader::new(tables.hash, settings.generation);
+        header.submodule_count = n as u32;
+        header.payload_size = tables.layout.input_payload_size;
+        header.cycle_ns = settings.cycle_ns;
+        header.opdone_deadline_ns = settings.opdone_deadline_ns;
+        let target =
+            Mode::from_u32(shared.target_mode.load(Ordering::Acquire)).unwrap_or(Mode::Offline);
+        shared
+            .counters
+            .mode
+            .store(Mode::Offline.as_u32(), Ordering::Release);
+        // SAFETY: the descriptor belongs to the listener in `ports`, which the engine owns
+        // for as long as it uses the descriptor.
+        let opdone_fd = unsafe { ports.opdone.file_descriptor().native_handle() };
+        Engine {
+            ports,
+            opdone_fd,
+            io,
+            st: State {
+                settings,
+                shared,
+                stats,
+                image: Image::new(tables),
+                header,
+                clients: [ClientRt::default(); MAX_CLIENTS],
+                output_iops: vec![IOXS_BAD_BY_CONTROLLER; n],
+                input_iocs: vec![IOXS_GOOD; n],
+                late_bad: vec![false; n],
+                mode: Mode::Offline,
+                target,
+                layout_hash: tables.hash,
+                output_payload_size: tables.layout.output_payload_size as usize,
+                cycle: 0,
+                startop_ns: 0,
+                outputs_pending: false,
+            },
+        }
+    }
+
+    /// The mode the engine is in.
+    pub fn mode(&self) -> Mode {
+        self.st.mode
+    }
+
+    /// Runs cycle `k`, planned to start at `t0_ns`.
+    pub fn run_cycle(&mut self, k: u64, t0_ns: u64) {
+        let woke = now_ns();
+        let st = &mut self.st;
+        st.cycle = k;
+        st.stats.wakeup(woke.saturating_sub(t0_ns));
+        st.apply_commands();
+        let mode_changed = st.step_mode();
+
+        // 1. Inputs from the IO system; local input status from the clients.
+        let t = CycleTime {
+            cycle: k,
+            now_ns: woke,
+        };
+        self.io.receive(t, st.mode, &mut st.image);
+        st.apply_input_iocs();
+        if st.outputs_pending {
+            self.io.send(t, st.mode, &st.image);
+            st.outputs_pending = false;
+        }
+
+        // 2. Publish the input image.
+        let now = now_ns();
+        st.header.cycle = CycleInfo {
+            cycle_number: k,
+            cycle_start_ns: t0_ns,
+            clock_ns: now,
+            since_cycle_start_ns: now.saturating_sub(t0_ns),
+            cycle_count: cycle_count(k, st.settings.cycle_ns),
+            reserved: 0,
+        };
+        st.header.mode = st.mode.as_u32();
+        if let Ok(mut sample) = self
+            .ports
+            .inputs
+            .loan_slice_uninit(st.image.payload().len())
+        {
+            *sample.user_header_mut() = st.header;
+            let _ = sample.write_from_slice(st.image.payload()).send();
+        }
+
+        // 3. STARTOP (and the mode indication, now that the image carries the new mode).
+        st.startop_ns = now_ns();
+        notify(&self.ports, EVENT_STARTOP);
+        if mode_changed {
+            notify(&self.ports, EVENT_MODE);
+        }
+
+        // 4./5. Wait for OPDONE of the armed synchronous clients, merging outputs as they come.
+        let deadline = t0_ns + st.settings.opdone_deadline_ns;
+        loop {
+            while let Ok(Some(sample)) = self.ports.outputs.receive() {
+                st.merge(&sample);
+            }
+            if st.all_done() {
+                break;
+            }
+            let now = now_ns();
+            if now >= deadline {
+                break;
+            }
+            if wait_readable(self.opdone_fd, deadline - now) {
+                let _ = self.ports.opdone.try_wait(|_| {});
+            }
+        }
+        let _ = self.ports.opdone.try_wait(|_| {});
+        st.opfault_late_clients(&self.ports);
+
+        // 6. Outputs go out, NEWCYCLE.
+        st.prepare_output_status();
+        if st.mode != Mode::Offline {
+            match st.settings.output_timing {
+                OutputTiming::Immediately => {
+                    self.io.send(
+                        CycleTime {
+                            cycle: k,
+                            now_ns: now_ns(),
+                        },
+                        st.mode,
+                        &st.image,
+                    );
+                }
+                OutputTiming::AtNextCycleStart => st.outputs_pending = true,
+            }
+        }
+        st.stats.work(now_ns().saturating_sub(t0_ns));
+        notify(&self.ports, EVENT_NEWCYCLE);
+
+        // 7. Statistics.
+        st.shared.counters.cycles.store(k, Ordering::Release);
+        if k % crate::stats::HANDOFF_CYCLES == 0 {
+            st.stats.hand_over();
+        }
+    }
+
+    /// Counts an overrun (cycles skipped because cycle work ran past the next start).
+    pub fn count_overrun(&self) {
+        self.st
+            .shared
+            .counters
+            .overruns
+            .fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Tells clients the server is going away.
+    pub fn announce_shutdown(&mut self) {
+        self.st.stats.hand_over();
+        notify(&self.ports, EVENT_SHUTDOWN);
+    }
+}
+
+fn notify(ports: &CyclePorts, id: usize) {
+    let _ = ports.events.notify_with_custom_event_id(EventId::new(id));
+}
+
+impl State {
+    fn apply_commands(&mut self) {
+        while let Some(c) = self.shared.commands.pop() {
+            match c {
+                Command::Join {
+                    slot,
+                    token,
+                    synchronous,
+                } => {
+                    if let Some(cl) = self.clients.get_mut(slot as usize) {
+                        *cl = ClientRt {
+                            token,
+                            active: true,
+                            synchronous,
+                            // Waited for from its first OPDONE on: a client that is still
+                            // setting up is not late.
+                            armed: false,
+                            done: false,
+                        };
+                    }
+                }
+                Command::Leave { slot } => {
+                    if let Some(cl) = self.clients.get_mut(slot as usize) {
+                        *cl = ClientRt::default();
+                    }
+                    if let Some(v) = self.header.opfault_cycle.get_mut(slot as usize) {
+                        *v = 0;
+                    }
+                }
+                Command::SetMode(m) => self.target = m,
+            }
+        }
+        for c in &mut self.clients {
+            c.done = false;
+        }
+        self.late_bad.iter_mut().for_each(|b| *b = false);
+    }
+
+    /// Moves one step towards the target mode (OFFLINE and OPERATE pass through CLEAR, as
+    /// IO-Base reports them). Returns whether the mode changed.
+    fn step_mode(&mut self) -> bool {
+        if self.mode == self.target {
+            return false;
+        }
+        let next = match (self.mode, self.target) {
+            (Mode::Offline, Mode::Operate) | (Mode::Operate, Mode::Offline) => Mode::Clear,
+            (_, t) => t,
+        };
+        if next == Mode::Offline {
+            // IO-Base: in OFFLINE, the outputs and local states written are lost.
+            for s in 0..self.output_iops.len() {
+                self.image.outputs_mut(s).fill(0);
+                self.output_iops[s] = IOXS_BAD_BY_CONTROLLER;
+                self.input_iocs[s] = IOXS_GOOD;
+            }
+        }
+        self.mode = next;
+        self.shared
+            .counters
+            .mode
+            .store(next.as_u32(), Ordering::Release);
+        true
+    }
+
+    fn apply_input_iocs(&mut self) {
+        let connected = self.mode != Mode::Offline;
+        for s in 0..self.input_iocs.len() {
+            let e = self.image.submodules()[s];
+            if e.input_length == 0 {
+                continue;
+            }
+            let mut st = self.image.status(s);
+            st.input_iocs = if connected {
+                self.input_iocs[s]
+            } else {
+                IOXS_BAD_BY_CONTROLLER
+            };
+            self.image.set_status(s, st);
+        }
+    }
+
+    fn all_done(&self) -> bool {
+        self.clients
+            .iter()
+            .all(|c| !(c.active && c.synchronous && c.armed) || c.done)
+    }
+
+    fn merge(&mut self, sample: &Sample<Ipc, [u8], OutputHeader>) {
+        let h = *sample.user_header();
+        let payload = sample.payload();
+        let slot = h.client_slot as usize;
+        let valid = h.magic == IMAGE_MAGIC
+            && h.layout_hash == self.layout_hash
+            && payload.len() >= self.output_payload_size
+            && self
+                .clients
+                .get(slot)
+                .is_some_and(|c| c.active && c.token == h.client_token);
+        if !valid {
+            self.shared
+                .counters
+                .rejected_writes
+                .fetch_add(1, Ordering::Relaxed);
+            return;
+        }
+        if h.flags & OUTPUT_SYNCHRONOUS != 0 {
+            let client = &mut self.clients[slot];
+            client.armed = true;
+            if h.cycle_number != self.cycle {
+                // OPDONE of an earlier cycle, arriving late: those outputs are not used.
+                return;
+            }
+            client.done = true;
+            self.stats
+                .handshake(now_ns().saturating_sub(self.startop_ns));
+        }
+        let token = h.client_token;
+        for s in 0..self.output_iops.len() {
+            let e = self.image.submodules()[s];
+            let at = e.client_status_offset as usize;
+            let Some(cs) = payload.get(at..at + 4) else {
+                continue;
+            };
+            let (iops, iocs, flags) = (cs[0], cs[1], cs[2]);
+            if flags == 0 {
+                continue;
+            }
+            if flags & CLIENT_SET_INPUT_IOCS != 0 {
+                self.input_iocs[s] = iocs;
+            }
+            if flags & (CLIENT_WROTE_OUTPUTS | CLIENT_SET_OUTPUT_IOPS) == 0 {
+                continue;
+            }
+            if self.shared.owner(s) != token {
+                self.shared
+                    .counters
+                    .rejected_writes
+                    .fetch_add(1, Ordering::Relaxed);
+                continue;
+            }
+            if flags & CLIENT_WROTE_OUTPUTS != 0 {
+                let from = e.output_offset as usize;
+                let len = e.output_length as usize;
+                if let Some(src) = payload.get(from..from + len) {
+                    self.image.outputs_mut(s).copy_from_slice(src);
+                }
+            }
+            if flags & CLIENT_SET_OUTPUT_IOPS != 0 {
+                self.output_iops[s] = iops;
+            }
+        }
+    }
+
+    fn opfault_late_clients(&mut self, ports: &CyclePorts) {
+        for slot in 0..MAX_CLIENTS {
+            let c = self.clients[slot];
+            if !(c.active && c.synchronous && c.armed) || c.done {
+                continue;
+            }
+            self.clients[slot].armed = false;
+            self.header.opfault_cycle[slot] = self.cycle;
+            let counters = &self.shared.counters;
+            counters.opfaults.fetch_add(1, Ordering::Relaxed);
+            counters.client_opfaults[slot].fetch_add(1, Ordering::Relaxed);
+            notify(ports, opfault_event(slot as u32));
+            if self.settings.late_policy == LatePolicy::IopsBad {
+                for s in 0..self.late_bad.len() {
+                    if self.shared.owner(s) == c.token {
+                        self.late_bad[s] = true;
+                    }
+                }
+            }
+        }
+    }
+
+    fn prepare_output_status(&mut self) {
+        for s in 0..self.output_iops.len() {
+            let e = self.image.submodules()[s];
+            if e.output_length == 0 {
+                continue;
+            }
+            let mut st = self.image.status(s);
+            st.output_iops = match self.mode {
+                Mode::Operate if !self.late_bad[s] => self.output_iops[s],
+                _ => IOXS_BAD_BY_CONTROLLER,
+            };
+            self.image.set_status(s, st);
+        }
+    }
+}

@@ -1,0 +1,8 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The cycle thread and what it runs.
+pub mod engine;
+pub mod shared;
+pub mod thread;
+
+pub use engine::{Engine, EngineSettings};
+pub use shared::{Command, Shared};

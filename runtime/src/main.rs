@@ -1,0 +1,288 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimgd`: the process-image server.
+//!
+//! Loads a configuration (or the built-in demo), starts the real-time cycle thread, serves
+//! clients over iceoryx2 shared memory, and on SIGINT/SIGTERM puts the outputs in a safe
+//! state (CLEAR) before removing its shared memory.
+
+use anyhow::{Context, bail};
+use clap::Parser;
+use procimg_runtime::config::{self, Config, Network};
+use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
+use procimg_runtime::image::Tables;
+use procimg_runtime::io::sim::SimIo;
+use procimg_runtime::server::{Control, ServerInfo};
+use procimg_runtime::shm::{ControlPorts, cleanup_dead_nodes};
+use procimg_runtime::stats::stats_channel;
+use procimg_runtime::sys::rt::lock_memory;
+use procimg_runtime::sys::rt_alloc::RtAllocator;
+use procimg_shm_layout::Mode;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+use tracing::{error, info, warn};
+
+#[global_allocator]
+static ALLOCATOR: RtAllocator = RtAllocator;
+
+mod demo_view;
+
+/// The procimg process-image server.
+#[derive(Parser, Debug)]
+#[command(version, about, long_about = None)]
+struct Args {
+    /// Configuration file (TOML); see `--print-demo-config` for a commented example.
+    #[arg(short, long, value_name = "FILE", required_unless_present_any = ["demo", "print_demo_config"])]
+    config: Option<PathBuf>,
+    /// Run the built-in demo: simulated devices on an in-process network, no root needed.
+    #[arg(long, conflicts_with = "config")]
+    demo: bool,
+    /// Print the built-in demo configuration (a commented example file) and exit.
+    #[arg(long)]
+    print_demo_config: bool,
+    /// Check the configuration, print the resulting image layout and exit.
+    #[arg(long)]
+    check: bool,
+    /// Use this instance name instead of the configuration's.
+    #[arg(long, value_name = "NAME")]
+    instance: Option<String>,
+    /// Do not print the live one-line view of the demo.
+    #[arg(long)]
+    quiet: bool,
+}
+
+fn main() {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    if let Err(e) = run(Args::parse()) {
+        error!("{e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> anyhow::Result<()> {
+    if args.print_demo_config {
+        print!("{}", config::DEMO_TOML);
+        return Ok(());
+    }
+    let mut config = match &args.config {
+        Some(path) => config::load(path)?,
+        None => Config::demo(),
+    };
+    if let Some(name) = args.instance {
+        config.instance = name;
+    }
+    let tables = Tables::from_config(&config).with_context(|| {
+        format!(
+            "{}: the IO system does not fit in a process image",
+            config.origin
+        )
+    })?;
+    if args.check {
+        print_layout(&config, &tables);
+        return Ok(());
+    }
+    check_supported(&config)?;
+    serve(config, tables, args.demo && !args.quiet)
+}
+
+/// Refuses what this build cannot do, before anything starts.
+fn check_supported(config: &Config) -> anyhow::Result<()> {
+    if let Network::Interface(name) = &config.network {
+        bail!(
+            "{}: network = \"{name}\": PROFINET on a real interface is not part of this build \
+             yet; use network = \"sim\"",
+            config.origin
+        );
+    }
+    if config.access.mode & 0o077 != 0 || config.access.group.is_some() {
+        bail!(
+            "{}: [access] mode = \"{:04o}\"{}: the shared-memory layer (iceoryx2 0.10) creates \
+             its files owner-only, so other users or groups cannot attach; use mode = \"0600\" \
+             and run the clients as the server's user",
+            config.origin,
+            config.access.mode,
+            config
+                .access
+                .group
+                .as_ref()
+                .map(|g| format!(", group = \"{g}\""))
+                .unwrap_or_default()
+        );
+    }
+    Ok(())
+}
+
+fn print_layout(config: &Config, tables: &Tables) {
+    println!(
+        "{}: instance \"{}\", cycle {} ns, OPDONE deadline {} ns, {} devices, {} submodules",
+        config.origin,
+        config.instance,
+        config.cycle_ns,
+        config.opdone_deadline_ns,
+        tables.devices.len(),
+        tables.submodules.len()
+    );
+    println!(
+        "image: {} input bytes, {} output bytes, layout hash {:016x}",
+        tables.layout.input_size, tables.layout.output_size, tables.hash
+    );
+    println!(
+        "{:<4} {:<24} {:>5} {:>7} {:>12} {:>12}",
+        "#", "device", "slot", "subslot", "I addr", "Q addr"
+    );
+    for (i, s) in tables.submodules.iter().enumerate() {
+        let range = |a: u32, n: u16| {
+            if n == 0 {
+                "-".to_string()
+            } else {
+                format!("{}..{}", a, a + n as u32 - 1)
+            }
+        };
+        println!(
+            "{:<4} {:<24} {:>5} {:>7} {:>12} {:>12}",
+            i,
+            tables.device_name(s.device as usize),
+            s.slot,
+            s.subslot,
+            range(s.input_address, s.input_length),
+            range(s.output_address, s.output_length)
+        );
+    }
+}
+
+fn generation() -> u64 {
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos() as u64)
+        .unwrap_or(0);
+    now ^ ((std::process::id() as u64) << 40)
+}
+
+fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> {
+    let instance = config.instance.clone();
+    let cleaned = cleanup_dead_nodes(&instance)?;
+    if !cleaned.is_empty() {
+        info!(
+            "removed what {} dead process(es) left in shared memory",
+            cleaned.len()
+        );
+    }
+    if config.cycle_thread.lock_memory {
+        if let Err(w) = lock_memory() {
+            warn!("{w}");
+        }
+    }
+    let generation = generation();
+    let shared = Arc::new(Shared::new(tables.submodules.len()));
+    shared
+        .target_mode
+        .store(config.start_mode.as_u32(), Ordering::Release);
+    let (recorder, collector) = stats_channel();
+    let ports = ControlPorts::create(
+        &instance,
+        generation,
+        &tables,
+        config.cycle_ns,
+        config.opdone_deadline_ns,
+    )?;
+    let settings = EngineSettings {
+        cycle_ns: config.cycle_ns,
+        opdone_deadline_ns: config.opdone_deadline_ns,
+        late_policy: config.late_policy,
+        output_timing: config.output_timing,
+        generation,
+    };
+    let sim_config = config.clone();
+    let (cycle_thread, rt) = cycle::thread::spawn(
+        settings,
+        cycle::thread::ThreadSettings {
+            instance: instance.clone(),
+            cpu: config.cycle_thread.cpu,
+            priority: config.cycle_thread.priority,
+        },
+        tables.clone(),
+        Box::new(move || Box::new(SimIo::new(&sim_config))),
+        shared.clone(),
+        recorder,
+    )?;
+    for w in &rt.warnings {
+        warn!("{w}");
+    }
+    info!(
+        "instance \"{instance}\" cycling every {} µs on {} ({} devices, {} submodules, {} input and \
+         {} output bytes), real-time: {}",
+        config.cycle_ns as f64 / 1000.0,
+        config.network,
+        tables.devices.len(),
+        tables.submodules.len(),
+        tables.layout.input_size,
+        tables.layout.output_size,
+        if rt.realtime { "yes" } else { "no" },
+    );
+    let mut control = Control::new(
+        ServerInfo {
+            instance: instance.clone(),
+            generation,
+            cycle_ns: config.cycle_ns,
+            opdone_deadline_ns: config.opdone_deadline_ns,
+        },
+        tables.clone(),
+        ports,
+        shared.clone(),
+        collector,
+    );
+
+    let term = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(sig, term.clone())
+            .with_context(|| format!("cannot install the handler for signal {sig}"))?;
+    }
+    let mut view = live_view.then(|| demo_view::DemoView::new(&instance, generation, &tables));
+    let mut last_mode = shared.mode();
+    let mut last_view = Instant::now();
+    while !term.load(Ordering::Acquire) {
+        for gone in control.poll() {
+            info!("client {gone} is gone: its claims are released");
+        }
+        let mode = shared.mode();
+        if mode != last_mode {
+            info!("mode {mode}");
+            last_mode = mode;
+        }
+        if let Some(v) = view.as_mut() {
+            if last_view.elapsed() >= Duration::from_secs(1) {
+                last_view = Instant::now();
+                v.print(&control.status());
+            }
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+
+    info!("stopping: outputs to CLEAR first");
+    shared
+        .target_mode
+        .store(Mode::Clear.as_u32(), Ordering::Release);
+    shared.command(Command::SetMode(Mode::Clear));
+    let until = Instant::now() + Duration::from_secs(2);
+    while shared.mode() != Mode::Clear && Instant::now() < until {
+        control.poll();
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    // Two more cycles so the CLEAR outputs are on the wire.
+    std::thread::sleep(Duration::from_nanos(2 * config.cycle_ns));
+    shared.stop.store(true, Ordering::Release);
+    if cycle_thread.join().is_err() {
+        bail!("the cycle thread panicked");
+    }
+    drop(view);
+    drop(control);
+    info!("stopped; shared memory of instance \"{instance}\" released");
+    Ok(())
+}

@@ -1,0 +1,239 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The acyclic side of the server: answers client requests over the control service, keeps
+//! the registry and the claims, reaps clients whose process died, and gathers statistics.
+//! It runs at normal priority and never makes the cycle wait: it talks to the cycle thread
+//! only through [`Shared`].
+
+mod registry;
+
+pub use registry::{ClientEntry, Registry};
+
+use crate::cycle::{Command, Shared};
+use crate::image::Tables;
+use crate::shm::{ControlPorts, Ipc, iox2_config};
+use crate::stats::{StatsCollector, load};
+use iceoryx2::node::{Node, NodeState, NodeView};
+use iceoryx2::port::update_connections::UpdateConnections;
+use iceoryx2::prelude::CallbackProgression;
+use procimg_shm_layout::control::{
+    self, ClaimReport, ClientReport, Refusal, Request, Response, StatusReport,
+};
+use procimg_shm_layout::{MAX_CLIENTS, Mode};
+use std::collections::HashSet;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+/// How often the server looks for clients whose process died.
+const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
+
+/// What the control side knows about the server it belongs to.
+#[derive(Clone, Debug)]
+pub struct ServerInfo {
+    /// Instance name.
+    pub instance: String,
+    /// Server generation.
+    pub generation: u64,
+    /// Cycle time in ns.
+    pub cycle_ns: u64,
+    /// OPDONE deadline in ns.
+    pub opdone_deadline_ns: u64,
+}
+
+/// The control side.
+pub struct Control {
+    info: ServerInfo,
+    tables: Tables,
+    ports: ControlPorts,
+    shared: Arc<Shared>,
+    stats: StatsCollector,
+    registry: Registry,
+    last_liveness: Instant,
+}
+
+impl Control {
+    /// The control side over `ports`.
+    pub fn new(
+        info: ServerInfo,
+        tables: Tables,
+        ports: ControlPorts,
+        shared: Arc<Shared>,
+        stats: StatsCollector,
+    ) -> Control {
+        let registry = Registry::new(info.generation.rotate_left(17));
+        Control {
+            info,
+            tables,
+            ports,
+            shared,
+            stats,
+            registry,
+            last_liveness: Instant::now(),
+        }
+    }
+
+    /// Answers every pending request; every [`LIVENESS_PERIOD`] reaps dead clients. Returns
+    /// the names of clients reaped in this call.
+    pub fn poll(&mut self) -> Vec<String> {
+        while let Ok(Some(active)) = self.ports.server.receive() {
+            let response = match control::decode::<Request>(active.payload()) {
+                Ok(req) => self.handle(req),
+                Err(message) => Response::Refused(Refusal::BadRequest { message }),
+            };
+            let bytes = control::encode(&response);
+            if let Ok(out) = active.loan_slice_uninit(bytes.len()) {
+                let _ = out.write_from_slice(&bytes).send();
+            }
+        }
+        // Delivers the layout (history) to subscribers that attached since the last call.
+        let _ = self.ports.layout.update_connections();
+        self.stats.collect();
+        if self.last_liveness.elapsed() >= LIVENESS_PERIOD {
+            self.last_liveness = Instant::now();
+            return self.reap_dead_clients();
+        }
+        Vec::new()
+    }
+
+    /// Handles one request.
+    pub fn handle(&mut self, req: Request) -> Response {
+        let shared = &*self.shared;
+        let result = match req {
+            Request::Register {
+                name,
+                pid,
+                role,
+                node_id,
+            } => {
+                return match self.registry.register(shared, name, pid, role, node_id) {
+                    Ok((slot, token)) => Response::Registered {
+                        slot,
+                        token,
+                        generation: self.info.generation,
+                        layout_hash: self.tables.hash,
+                    },
+                    Err(r) => Response::Refused(r),
+                };
+            }
+            Request::Unregister { slot, token } => {
+                self.registry.unregister_checked(shared, slot, token)
+            }
+            Request::Claim {
+                slot,
+                token,
+                submodules,
+            } => self
+                .registry
+                .claim(shared, &self.tables.submodules, slot, token, &submodules),
+            Request::Release {
+                slot,
+                token,
+                submodules,
+            } => self.registry.release(shared, slot, token, &submodules),
+            Request::SetMode { mode } => self.set_mode(mode),
+            Request::Status => return Response::Status(Box::new(self.status())),
+        };
+        match result {
+            Ok(()) => Response::Done,
+            Err(r) => Response::Refused(r),
+        }
+    }
+
+    /// Asks the cycle for a mode; refused while an earlier change is still under way.
+    pub fn set_mode(&self, mode: Mode) -> Result<(), Refusal> {
+        let pending = Mode::from_u32(self.shared.target_mode.load(Ordering::Acquire))
+            .unwrap_or(Mode::Offline);
+        if pending != self.shared.mode() {
+            return Err(Refusal::ModeChangePending { pending });
+        }
+        self.shared
+            .target_mode
+            .store(mode.as_u32(), Ordering::Release);
+        self.shared.command(Command::SetMode(mode));
+        Ok(())
+    }
+
+    /// The state of the server.
+    pub fn status(&self) -> StatusReport {
+        let c = &self.shared.counters;
+        let clients = self
+            .registry
+            .clients()
+            .map(|(slot, e)| ClientReport {
+                slot,
+                name: e.name.clone(),
+                pid: e.pid,
+                role: e.role,
+                opfaults: load(&c.client_opfaults[slot as usize % MAX_CLIENTS]),
+                claims: e
+                    .claims
+                    .iter()
+                    .filter_map(|&s| {
+                        let t = self.tables.submodules.get(s as usize)?;
+                        Some(ClaimReport {
+                            submodule: s,
+                            device: self.tables.device_name(t.device as usize).to_string(),
+                            slot: t.slot,
+                            subslot: t.subslot,
+                            output_address: t.output_address,
+                            output_length: t.output_length,
+                        })
+                    })
+                    .collect(),
+            })
+            .collect();
+        StatusReport {
+            instance: self.info.instance.clone(),
+            pid: std::process::id(),
+            generation: self.info.generation,
+            layout_hash: self.tables.hash,
+            mode: self.shared.mode(),
+            cycle_ns: self.info.cycle_ns,
+            opdone_deadline_ns: self.info.opdone_deadline_ns,
+            cycle_count: load(&c.cycles),
+            overruns: load(&c.overruns),
+            opfaults: load(&c.opfaults),
+            realtime: c.realtime.load(Ordering::Relaxed),
+            rt_heap_allocations: crate::sys::rt_alloc::rt_heap_allocations(),
+            wakeup_latency: self.stats.wakeup(),
+            handshake_round_trip: self.stats.handshake(),
+            cycle_work: self.stats.work(),
+            clients,
+        }
+    }
+
+    /// Removes clients whose process is gone, and cleans up what dead processes left.
+    fn reap_dead_clients(&mut self) -> Vec<String> {
+        let mut alive = HashSet::new();
+        let _ = Node::<Ipc>::list(iox2_config(), |state| {
+            match state {
+                NodeState::Alive(v) => {
+                    alive.insert(v.id().to_string());
+                }
+                NodeState::Dead(v) => {
+                    let _ = v.try_remove_stale_resources();
+                }
+                NodeState::Inaccessible(id) | NodeState::Undefined(id) => {
+                    // Cannot tell: keep such clients rather than drop a live one.
+                    alive.insert(id.to_string());
+                }
+            }
+            CallbackProgression::Continue
+        });
+        let dead: Vec<u32> = self
+            .registry
+            .clients()
+            .filter(|(_, c)| !alive.contains(&c.node_id))
+            .map(|(s, _)| s)
+            .collect();
+        dead.into_iter()
+            .filter_map(|slot| self.registry.unregister(&self.shared, slot))
+            .map(|c| format!("{} (pid {})", c.name, c.pid))
+            .collect()
+    }
+
+    /// The registry (for tests and shutdown).
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+}

@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The server's iceoryx2 services and ports.
+//!
+//! Per instance and server generation (see `procimg_shm_layout::control` for the names):
+//! `layout` (publish-subscribe with history: the tables), `inputs` (publish-subscribe: one
+//! input image per cycle), `outputs` (publish-subscribe, clients publish), `cycle-events`
+//! (STARTOP, NEWCYCLE, MODE, OPFAULT) and `opdone` (clients notify). The `control`
+//! request-response service is named after the instance only, so clients reach a restarted
+//! server through the port they already hold.
+
+mod config;
+mod ports;
+
+pub use config::iox2_config;
+
+pub use ports::{ControlPorts, CyclePorts, ShmError, cleanup_dead_nodes, server_node};
+
+/// The iceoryx2 service variant used for everything: inter-process, one thread per port.
+pub type Ipc = iceoryx2::service::ipc::Service;

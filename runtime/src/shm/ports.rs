@@ -1,0 +1,301 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Creating the server's ports, with the quality of service each service needs.
+
+use super::Ipc;
+use crate::image::Tables;
+use iceoryx2::node::{Node, NodeBuilder, NodeState, NodeView};
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::server::Server;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::{
+    Alignment, AllocationStrategy, CallbackProgression, NodeName, ServiceName,
+};
+use procimg_shm_layout::control;
+use procimg_shm_layout::events::EVENT_ID_MAX;
+use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
+
+/// Readers beyond clients that may look at the image (tools such as `procimg io watch`).
+const EXTRA_READERS: usize = 16;
+/// Output samples the server buffers per client between two cycles.
+pub const OUTPUT_BUFFER: usize = 8;
+
+/// Why a shared-memory service or port could not be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum ShmError {
+    /// iceoryx2 refused to create a node, service or port.
+    #[error("cannot create the shared-memory {what} for instance \"{instance}\": {detail}")]
+    Create {
+        /// Instance name.
+        instance: String,
+        /// Which service or port.
+        what: String,
+        /// iceoryx2's error.
+        detail: String,
+    },
+    /// Another server of the same instance is running.
+    #[error(
+        "another procimgd already serves instance \"{instance}\" (its node is alive); stop it \
+         first or give this one another instance name"
+    )]
+    AlreadyRunning {
+        /// Instance name.
+        instance: String,
+    },
+}
+
+fn err(instance: &str, what: impl Into<String>, e: impl core::fmt::Debug) -> ShmError {
+    ShmError::Create {
+        instance: instance.to_string(),
+        what: what.into(),
+        detail: format!("{e:?}"),
+    }
+}
+
+fn name(instance: &str, s: String) -> Result<ServiceName, ShmError> {
+    ServiceName::new(&s).map_err(|e| err(instance, format!("service name {s}"), e))
+}
+
+/// Creates a node for the server of `instance` (one per thread that owns ports).
+pub fn server_node(instance: &str, role: &str) -> Result<Node<Ipc>, ShmError> {
+    let n = format!("{}/{role}", control::server_node_name(instance));
+    let node_name = NodeName::new(&n).map_err(|e| err(instance, format!("node name {n}"), e))?;
+    NodeBuilder::new()
+        .name(&node_name)
+        .config(super::iox2_config())
+        .signal_handling_mode(iceoryx2::prelude::SignalHandlingMode::Disabled)
+        .create::<Ipc>()
+        .map_err(|e| err(instance, "node", e))
+}
+
+/// Removes what dead processes left behind, and checks that no other live server of the same
+/// instance exists. Returns the names of the dead nodes cleaned up.
+pub fn cleanup_dead_nodes(instance: &str) -> Result<Vec<String>, ShmError> {
+    let server_prefix = format!("{}/", control::server_node_name(instance));
+    let mut cleaned = Vec::new();
+    let mut live_server = false;
+    let config = super::iox2_config();
+    let me = std::process::id();
+    let _ = Node::<Ipc>::list(config, |state| {
+        match state {
+            NodeState::Alive(view) => {
+                if let Some(d) = view.details() {
+                    if d.name().as_str().starts_with(&server_prefix)
+                        && d.process_id().value() as u32 != me
+                    {
+                        live_server = true;
+                    }
+                }
+            }
+            NodeState::Dead(view) => {
+                let name = view
+                    .details()
+                    .as_ref()
+                    .map(|d| d.name().as_str().to_string())
+                    .unwrap_or_default();
+                if view.try_remove_stale_resources().is_ok() {
+                    cleaned.push(name);
+                }
+            }
+            _ => {}
+        }
+        CallbackProgression::Continue
+    });
+    if live_server {
+        return Err(ShmError::AlreadyRunning {
+            instance: instance.to_string(),
+        });
+    }
+    Ok(cleaned)
+}
+
+/// The ports the cycle thread owns.
+pub struct CyclePorts {
+    /// The cycle thread's node.
+    pub node: Node<Ipc>,
+    /// Publishes one input image per cycle.
+    pub inputs: Publisher<Ipc, [u8], ImageHeader>,
+    /// Receives the clients' output samples.
+    pub outputs: Subscriber<Ipc, [u8], OutputHeader>,
+    /// Signals STARTOP, NEWCYCLE, MODE and OPFAULT.
+    pub events: Notifier<Ipc>,
+    /// Wakes the cycle thread on OPDONE.
+    pub opdone: Listener<Ipc>,
+}
+
+impl CyclePorts {
+    /// Creates the cycle services of one server generation and the cycle thread's ports.
+    pub fn create(
+        instance: &str,
+        generation: u64,
+        tables: &Tables,
+    ) -> Result<CyclePorts, ShmError> {
+        let node = server_node(instance, "cycle")?;
+        let l = &tables.layout;
+
+        let inputs = node
+            .service_builder(&name(
+                instance,
+                control::input_service(instance, generation),
+            )?)
+            .publish_subscribe::<[u8]>()
+            .user_header::<ImageHeader>()
+            .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
+            .max_publishers(1)
+            .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
+            .subscriber_max_buffer_size(1)
+            .subscriber_max_borrowed_samples(2)
+            .history_size(1)
+            .enable_safe_overflow(true)
+            .create()
+            .map_err(|e| err(instance, "input image service", e))?
+            .publisher_builder()
+            .initial_max_slice_len(l.input_payload_size as usize)
+            .max_loaned_samples(1)
+            .create()
+            .map_err(|e| err(instance, "input image publisher", e))?;
+
+        let outputs = node
+            .service_builder(&name(
+                instance,
+                control::output_service(instance, generation),
+            )?)
+            .publish_subscribe::<[u8]>()
+            .user_header::<OutputHeader>()
+            .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
+            .max_publishers(MAX_CLIENTS)
+            .max_subscribers(1)
+            .subscriber_max_buffer_size(OUTPUT_BUFFER)
+            .subscriber_max_borrowed_samples(2)
+            .history_size(0)
+            .enable_safe_overflow(false)
+            .create()
+            .map_err(|e| err(instance, "output service", e))?
+            .subscriber_builder()
+            .buffer_size(OUTPUT_BUFFER)
+            .create()
+            .map_err(|e| err(instance, "output subscriber", e))?;
+
+        let events = node
+            .service_builder(&name(
+                instance,
+                control::cycle_event_service(instance, generation),
+            )?)
+            .event()
+            .max_notifiers(1)
+            .max_listeners(MAX_CLIENTS + EXTRA_READERS)
+            .event_id_max_value(EVENT_ID_MAX)
+            .create()
+            .map_err(|e| err(instance, "cycle event service", e))?
+            .notifier_builder()
+            .create()
+            .map_err(|e| err(instance, "cycle event notifier", e))?;
+
+        let opdone = node
+            .service_builder(&name(
+                instance,
+                control::opdone_service(instance, generation),
+            )?)
+            .event()
+            .max_notifiers(MAX_CLIENTS)
+            .max_listeners(1)
+            .event_id_max_value(MAX_CLIENTS)
+            .create()
+            .map_err(|e| err(instance, "OPDONE event service", e))?
+            .listener_builder()
+            .create()
+            .map_err(|e| err(instance, "OPDONE listener", e))?;
+
+        Ok(CyclePorts {
+            node,
+            inputs,
+            outputs,
+            events,
+            opdone,
+        })
+    }
+}
+
+/// The ports the acyclic (control) thread owns.
+pub struct ControlPorts {
+    /// The control thread's node.
+    pub node: Node<Ipc>,
+    /// Answers client requests.
+    pub server: Server<Ipc, [u8], (), [u8], ()>,
+    /// Holds the layout sample (history 1) for clients that attach later.
+    pub layout: Publisher<Ipc, [u8], LayoutHeader>,
+}
+
+impl ControlPorts {
+    /// Opens (or creates) the control service, creates the layout service of this generation
+    /// and publishes the layout.
+    pub fn create(
+        instance: &str,
+        generation: u64,
+        tables: &Tables,
+        cycle_ns: u64,
+        opdone_deadline_ns: u64,
+    ) -> Result<ControlPorts, ShmError> {
+        let node = server_node(instance, "control")?;
+        let server = node
+            .service_builder(&name(instance, control::control_service(instance))?)
+            .request_response::<[u8], [u8]>()
+            .max_servers(2)
+            .max_clients(MAX_CLIENTS + EXTRA_READERS)
+            .max_active_requests_per_client(2)
+            .max_response_buffer_size(2)
+            .open_or_create()
+            .map_err(|e| err(instance, "control service", e))?
+            .server_builder()
+            .initial_max_slice_len(4096)
+            .allocation_strategy(AllocationStrategy::PowerOfTwo)
+            .create()
+            .map_err(|e| err(instance, "control server", e))?;
+
+        let devices = tables.devices.len() as u32;
+        let payload_len = tables.layout.layout_payload_size(devices) as usize;
+        let layout = node
+            .service_builder(&name(
+                instance,
+                control::layout_service(instance, generation),
+            )?)
+            .publish_subscribe::<[u8]>()
+            .user_header::<LayoutHeader>()
+            .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
+            .max_publishers(1)
+            .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
+            .subscriber_max_buffer_size(1)
+            .subscriber_max_borrowed_samples(1)
+            .history_size(1)
+            .enable_safe_overflow(true)
+            .create()
+            .map_err(|e| err(instance, "layout service", e))?
+            .publisher_builder()
+            .initial_max_slice_len(payload_len)
+            .create()
+            .map_err(|e| err(instance, "layout publisher", e))?;
+
+        let mut sample = layout
+            .loan_slice_uninit(payload_len)
+            .map_err(|e| err(instance, "layout sample", e))?;
+        *sample.user_header_mut() = tables.layout.header(
+            devices,
+            tables.hash,
+            generation,
+            cycle_ns,
+            opdone_deadline_ns,
+        );
+        let mut bytes = vec![0u8; payload_len];
+        procimg_shm_layout::encode_tables(&mut bytes, &tables.devices, &tables.submodules);
+        let sample = sample.write_from_slice(&bytes);
+        sample
+            .send()
+            .map_err(|e| err(instance, "layout publication", e))?;
+        Ok(ControlPorts {
+            node,
+            server,
+            layout,
+        })
+    }
+}

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `CLOCK_MONOTONIC` in nanoseconds, and the absolute-time sleep the cycle thread waits with.
+
+/// Now on `CLOCK_MONOTONIC`, in ns.
+pub fn now_ns() -> u64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; CLOCK_MONOTONIC always exists on Linux.
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
+}
+
+/// Sleeps until `CLOCK_MONOTONIC` reaches `deadline_ns` (absolute), resuming after signals.
+/// Absolute sleeps do not accumulate drift: cycle k wakes at epoch + k·T however long cycle
+/// k-1 took.
+pub fn sleep_until_ns(deadline_ns: u64) {
+    let ts = libc::timespec {
+        tv_sec: (deadline_ns / 1_000_000_000) as libc::time_t,
+        tv_nsec: (deadline_ns % 1_000_000_000) as libc::c_long,
+    };
+    loop {
+        // SAFETY: `ts` is a valid timespec; the remaining-time pointer may be null with
+        // TIMER_ABSTIME.
+        let rc = unsafe {
+            libc::clock_nanosleep(
+                libc::CLOCK_MONOTONIC,
+                libc::TIMER_ABSTIME,
+                &ts,
+                std::ptr::null_mut(),
+            )
+        };
+        if rc != libc::EINTR {
+            return;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sleeps_until_the_deadline_and_not_much_longer() {
+        let start = now_ns();
+        sleep_until_ns(start + 2_000_000);
+        let woke = now_ns();
+        assert!(woke >= start + 2_000_000);
+        assert!(woke < start + 500_000_000, "slept {} ns", woke - start);
+    }
+
+    #[test]
+    fn a_past_deadline_returns_at_once() {
+        let start = now_ns();
+        sleep_until_ns(start.saturating_sub(1_000_000));
+        assert!(now_ns() - start < 100_000_000);
+    }
+}

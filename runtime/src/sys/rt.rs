@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Real-time set-up of the cycle thread: memory locking, SCHED_FIFO, CPU pinning, stack
+//! pre-faulting. Each step that lacks the privilege is reported, and the thread goes on at
+//! normal priority, so the server runs (with worse timing) without root.
+
+use thread_priority::{
+    RealtimeThreadSchedulePolicy, ScheduleParams, ThreadPriority, ThreadSchedulePolicy,
+};
+
+/// What the set-up achieved.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RtSetup {
+    /// The thread runs under SCHED_FIFO at the configured priority.
+    pub realtime: bool,
+    /// The CPU the thread is pinned to.
+    pub pinned_cpu: Option<usize>,
+    /// All present and future pages of the process are locked in memory.
+    pub memory_locked: bool,
+    /// One line per step that could not be done, saying what is missing.
+    pub warnings: Vec<String>,
+}
+
+/// Locks all current and future pages of the process (`mlockall`), so the cycle never waits
+/// for a page fault. Returns a warning on failure.
+pub fn lock_memory() -> Result<(), String> {
+    // SAFETY: mlockall takes only flags and has no memory-safety preconditions.
+    let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
+    if rc == 0 {
+        Ok(())
+    } else {
+        let err = std::io::Error::last_os_error();
+        Err(format!(
+            "cannot lock memory ({err}): page faults may delay cycles; \
+             grant CAP_IPC_LOCK or raise RLIMIT_MEMLOCK (ulimit -l unlimited)"
+        ))
+    }
+}
+
+/// Makes the calling thread SCHED_FIFO at `priority` (1..=99).
+pub fn set_fifo(priority: u8) -> Result<(), String> {
+    let prio = ThreadPriority::from_posix(ScheduleParams {
+        sched_priority: priority as libc::c_int,
+    });
+    thread_priority::set_thread_priority_and_policy(
+        thread_priority::thread_native_id(),
+        prio,
+        ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo),
+    )
+    .map_err(|e| {
+        format!(
+            "cannot run the cycle thread SCHED_FIFO at priority {priority} ({e}): it runs at \
+             normal priority; grant CAP_SYS_NICE (or run as root), or raise RLIMIT_RTPRIO"
+        )
+    })
+}
+
+/// Pins the calling thread to `cpu`.
+pub fn pin_to(cpu: usize) -> Result<(), String> {
+    if core_affinity::set_for_current(core_affinity::CoreId { id: cpu }) {
+        Ok(())
+    } else {
+        Err(format!(
+            "cannot pin the cycle thread to CPU {cpu}: it may migrate between CPUs; check \
+             that CPU {cpu} is online and in this process's cpuset"
+        ))
+    }
+}
+
+/// Touches `bytes` of stack so that the cycle never faults a stack page in.
+#[inline(never)]
+pub fn prefault_stack() {
+    const BYTES: usize = 256 * 1024;
+    let mut buf = [0u8; BYTES];
+    for i in (0..BYTES).step_by(4096) {
+        // black_box keeps the writes from being optimised away.
+        buf[i] = std::hint::black_box(1);
+    }
+    std::hint::black_box(&buf);
+}
+
+/// Sets up the calling thread as the cycle thread: pinning, then SCHED_FIFO, then stack
+/// pre-faulting. Memory locking is process-wide and done separately by [`lock_memory`].
+pub fn setup_current_thread(cpu: Option<usize>, priority: u8) -> RtSetup {
+    let mut setup = RtSetup::default();
+    if let Some(cpu) = cpu {
+        match pin_to(cpu) {
+            Ok(()) => setup.pinned_cpu = Some(cpu),
+            Err(w) => setup.warnings.push(w),
+        }
+    }
+    match set_fifo(priority) {
+        Ok(()) => setup.realtime = true,
+        Err(w) => setup.warnings.push(w),
+    }
+    prefault_stack();
+    setup
+}

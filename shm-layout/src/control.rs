@@ -1,0 +1,317 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The control protocol: what clients ask the server over the request-response service
+//! `procimg/<instance>/control`, and what it answers. Requests and responses travel as JSON in
+//! byte-slice payloads, so both sides can add optional fields without breaking the other.
+
+use crate::Mode;
+use alloc::format;
+use alloc::string::String;
+use alloc::vec::Vec;
+use serde::{Deserialize, Serialize};
+
+/// Largest encoded request or response.
+pub const MAX_MESSAGE_LEN: usize = 256 * 1024;
+
+/// The request-response service of an instance: the one name that survives server restarts.
+pub fn control_service(instance: &str) -> String {
+    format!("procimg/{instance}/control")
+}
+
+/// The input-image publish-subscribe service of one server generation.
+pub fn input_service(instance: &str, generation: u64) -> String {
+    format!("procimg/{instance}/{generation:016x}/inputs")
+}
+
+/// The layout publish-subscribe service of one server generation.
+pub fn layout_service(instance: &str, generation: u64) -> String {
+    format!("procimg/{instance}/{generation:016x}/layout")
+}
+
+/// The output publish-subscribe service (clients publish, the server subscribes).
+pub fn output_service(instance: &str, generation: u64) -> String {
+    format!("procimg/{instance}/{generation:016x}/outputs")
+}
+
+/// The event service on which the server signals STARTOP, NEWCYCLE, MODE and OPFAULT.
+pub fn cycle_event_service(instance: &str, generation: u64) -> String {
+    format!("procimg/{instance}/{generation:016x}/cycle-events")
+}
+
+/// The event service on which synchronous clients signal OPDONE (event id = their slot).
+pub fn opdone_service(instance: &str, generation: u64) -> String {
+    format!("procimg/{instance}/{generation:016x}/opdone")
+}
+
+/// The iceoryx2 node name of the server of an instance.
+pub fn server_node_name(instance: &str) -> String {
+    format!("procimgd/{instance}")
+}
+
+/// How a client takes part in the cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClientRole {
+    /// Takes part in the STARTOP/OPDONE handshake: the server waits for its OPDONE each cycle.
+    Synchronous,
+    /// Reads and writes at any time; not waited for.
+    Asynchronous,
+}
+
+/// A request from a client.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "request", rename_all = "snake_case")]
+pub enum Request {
+    /// Join the instance; answered with [`Response::Registered`].
+    Register {
+        /// A name for status displays.
+        name: String,
+        /// The client's process id.
+        pid: u32,
+        /// Synchronous or asynchronous.
+        role: ClientRole,
+        /// The iceoryx2 node id of the client, so the server notices when the process dies.
+        node_id: String,
+    },
+    /// Leave the instance; claims are released.
+    Unregister {
+        /// Slot from the registration.
+        slot: u32,
+        /// Token from the registration.
+        token: u64,
+    },
+    /// Claim the outputs of these submodules (indices in the submodule table).
+    Claim {
+        /// Slot from the registration.
+        slot: u32,
+        /// Token from the registration.
+        token: u64,
+        /// Submodule table indices.
+        submodules: Vec<u32>,
+    },
+    /// Release claimed outputs.
+    Release {
+        /// Slot from the registration.
+        slot: u32,
+        /// Token from the registration.
+        token: u64,
+        /// Submodule table indices.
+        submodules: Vec<u32>,
+    },
+    /// Change the mode; confirmed by a MODE event once the cycle has reached it.
+    SetMode {
+        /// The mode wanted.
+        mode: Mode,
+    },
+    /// Report the server's state.
+    Status,
+}
+
+/// The server's answer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "response", rename_all = "snake_case")]
+pub enum Response {
+    /// Registration accepted.
+    Registered {
+        /// The client's slot (0..MAX_CLIENTS).
+        slot: u32,
+        /// Identifies this registration in later requests and in output samples.
+        token: u64,
+        /// The server's generation: the data services are named after it.
+        generation: u64,
+        /// Hash of the server's layout.
+        layout_hash: u64,
+    },
+    /// The request was carried out.
+    Done,
+    /// The request was refused.
+    Refused(Refusal),
+    /// The server's state.
+    Status(Box<StatusReport>),
+}
+
+use alloc::boxed::Box;
+
+/// Why the server refused a request.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "reason", rename_all = "snake_case")]
+pub enum Refusal {
+    /// Every client slot is taken.
+    TooManyClients {
+        /// The limit.
+        max: u32,
+    },
+    /// The slot/token pair is not a current registration.
+    UnknownClient,
+    /// A submodule index is outside the table.
+    NoSuchSubmodule {
+        /// The index.
+        submodule: u32,
+    },
+    /// The submodule has no outputs to claim.
+    NoOutputs {
+        /// The index.
+        submodule: u32,
+    },
+    /// Another client holds the claim.
+    ClaimHeld {
+        /// The index.
+        submodule: u32,
+        /// The holder's name.
+        holder: String,
+        /// The holder's process id.
+        holder_pid: u32,
+        /// The holder's slot.
+        holder_slot: u32,
+    },
+    /// The previous mode change has not been confirmed yet.
+    ModeChangePending {
+        /// The mode being reached.
+        pending: Mode,
+    },
+    /// The request could not be decoded.
+    BadRequest {
+        /// What was wrong.
+        message: String,
+    },
+}
+
+impl core::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Refusal::TooManyClients { max } => write!(
+                f,
+                "the server already has {max} clients attached; detach one and try again"
+            ),
+            Refusal::UnknownClient => f.write_str(
+                "the server does not know this client (it restarted or dropped it); attach again",
+            ),
+            Refusal::NoSuchSubmodule { submodule } => write!(
+                f,
+                "submodule #{submodule} is not in the server's layout; check the configuration"
+            ),
+            Refusal::NoOutputs { submodule } => {
+                write!(f, "submodule #{submodule} has no outputs to claim")
+            }
+            Refusal::ClaimHeld {
+                submodule,
+                holder,
+                holder_pid,
+                holder_slot,
+            } => write!(
+                f,
+                "the outputs of submodule #{submodule} are claimed by client \"{holder}\" \
+                 (pid {holder_pid}, slot {holder_slot}); release them there first"
+            ),
+            Refusal::ModeChangePending { pending } => write!(
+                f,
+                "the change to {pending} is not confirmed yet; wait for its MODE event"
+            ),
+            Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
+        }
+    }
+}
+
+/// Percentiles of a latency histogram, in ns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Percentiles {
+    /// Number of samples.
+    pub count: u64,
+    /// Smallest.
+    pub min_ns: u64,
+    /// Median.
+    pub p50_ns: u64,
+    /// 99th percentile.
+    pub p99_ns: u64,
+    /// 99.9th percentile.
+    pub p999_ns: u64,
+    /// Largest.
+    pub max_ns: u64,
+    /// Mean.
+    pub mean_ns: u64,
+}
+
+/// One claimed output submodule in a status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ClaimReport {
+    /// Submodule table index.
+    pub submodule: u32,
+    /// Station name of its device.
+    pub device: String,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// First logical output address.
+    pub output_address: u32,
+    /// Output bytes.
+    pub output_length: u16,
+}
+
+/// One attached client in a status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ClientReport {
+    /// Slot.
+    pub slot: u32,
+    /// Name it registered with.
+    pub name: String,
+    /// Process id.
+    pub pid: u32,
+    /// Role.
+    pub role: ClientRole,
+    /// OPFAULTs it got.
+    pub opfaults: u64,
+    /// Its claims.
+    pub claims: Vec<ClaimReport>,
+}
+
+/// The server's state, as `procimg status` shows it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StatusReport {
+    /// Instance name.
+    pub instance: String,
+    /// Server process id.
+    pub pid: u32,
+    /// Server generation.
+    pub generation: u64,
+    /// Layout hash.
+    pub layout_hash: u64,
+    /// Current mode.
+    pub mode: Mode,
+    /// Cycle time in ns.
+    pub cycle_ns: u64,
+    /// OPDONE deadline in ns after the cycle start.
+    pub opdone_deadline_ns: u64,
+    /// Cycles run since the server started.
+    pub cycle_count: u64,
+    /// Cycles whose work did not finish within the cycle time (their successors were skipped).
+    pub overruns: u64,
+    /// OPFAULTs given to all clients.
+    pub opfaults: u64,
+    /// Whether the cycle thread runs with real-time scheduling.
+    pub realtime: bool,
+    /// Calls of the system allocator made by the cycle thread while cycling (0 expected).
+    pub rt_heap_allocations: u64,
+    /// Wake-up latency of the cycle thread (actual minus planned cycle start).
+    pub wakeup_latency: Percentiles,
+    /// STARTOP → OPDONE round trip of synchronous clients.
+    pub handshake_round_trip: Percentiles,
+    /// Time from cycle start until the outputs are sent.
+    pub cycle_work: Percentiles,
+    /// Attached clients.
+    pub clients: Vec<ClientReport>,
+}
+
+/// Encodes a message for the control service.
+pub fn encode<T: Serialize>(message: &T) -> Vec<u8> {
+    // Serialising these plain types into a Vec cannot fail.
+    serde_json::to_vec(message).unwrap_or_default()
+}
+
+/// Decodes a message from the control service.
+pub fn decode<'a, T: Deserialize<'a>>(bytes: &'a [u8]) -> Result<T, String> {
+    serde_json::from_slice(bytes).map_err(|e| format!("{e}"))
+}
+
+/// The iceoryx2 file prefix of every procimg service, so its files in `/dev/shm` and
+/// `/tmp/iceoryx2` are recognisable (`procimg_…`) and apart from other iceoryx2 users.
+pub const IOX2_PREFIX: &str = "procimg_";

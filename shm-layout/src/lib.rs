@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The shared-memory layout of a procimg process image.
+//!
+//! `procimgd` publishes three kinds of shared-memory samples through iceoryx2, all described
+//! by the `#[repr(C)]` types of this crate; the Rust client and the C header
+//! (`include/procimg_shm.h`, generated from this source) read them in place:
+//!
+//! * the **layout** sample (one per server generation, kept as history): a [`LayoutHeader`]
+//!   followed by the [`DeviceEntry`] and [`SubmoduleEntry`] tables;
+//! * one **input image** sample per cycle: an [`ImageHeader`] (with this cycle's
+//!   [`CycleInfo`]) as iceoryx2 user header, and a payload holding the input data, one
+//!   [`SubmoduleStatus`] per submodule and a mirror of the outputs as last sent;
+//! * **output** samples from clients: an [`OutputHeader`] and a payload holding the output
+//!   data and one [`ClientSubmoduleStatus`] per submodule.
+//!
+//! [`ImageLayout`] computes where each region lies, the same way on every side. Nothing here
+//! does I/O; all offsets are in bytes from the start of a payload.
+#![no_std]
+#![forbid(unsafe_code)]
+
+#[cfg(feature = "control")]
+extern crate alloc;
+
+#[cfg(feature = "control")]
+pub mod control;
+pub mod events;
+mod hash;
+mod image_layout;
+mod table_codec;
+mod types;
+
+pub use hash::layout_hash;
+pub use image_layout::{ImageLayout, LayoutError, MAX_SUBMODULE_DATA_LEN};
+pub use table_codec::{decode_device, decode_submodule, encode_tables};
+pub use types::*;
