@@ -23,6 +23,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use tracing::{error, info, warn};
 
+/// How often the control side looks for requests: control is not on the real-time path.
+const CONTROL_POLL: Duration = Duration::from_millis(2);
+
 #[global_allocator]
 static ALLOCATOR: RtAllocator = RtAllocator;
 
@@ -262,7 +265,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
                 v.print(&control.status());
             }
         }
-        std::thread::sleep(Duration::from_millis(1));
+        std::thread::sleep(CONTROL_POLL);
     }
 
     info!("stopping: outputs to CLEAR first");

@@ -17,6 +17,8 @@ pub const IMAGE_MAGIC: u64 = 0x3147_4D49_434F_5250;
 pub const LAYOUT_VERSION: u32 = 1;
 /// Most clients attached to one server instance at the same time.
 pub const MAX_CLIENTS: usize = 64;
+/// Mode changes an image header remembers.
+pub const MODE_HISTORY: usize = 4;
 /// A logical address field that holds no address (the submodule has no data in that space).
 pub const NO_ADDRESS: u32 = 0xFFFF_FFFF;
 /// Nanoseconds of one `CycleInfo::cycle_count` unit (the PROFINET base clock, 31.25 µs).
@@ -99,14 +101,18 @@ pub struct ImageHeader {
     pub submodule_count: u32,
     /// Bytes of the sample's payload.
     pub payload_size: u32,
-    /// Reserved, zero.
-    pub reserved: u32,
+    /// Mode changes since the server started; the mode after change n is
+    /// `mode_history[n % MODE_HISTORY]`, so a client that missed MODE events can replay
+    /// every step it did not see.
+    pub mode_changes: u32,
     /// Cycle time in ns.
     pub cycle_ns: u64,
     /// OPDONE deadline, in ns after the cycle start.
     pub opdone_deadline_ns: u64,
     /// For each client slot, the last cycle in which that client got OPFAULT (0: never).
     pub opfault_cycle: [u64; MAX_CLIENTS],
+    /// The modes after the last [`MODE_HISTORY`] changes (see `mode_changes`).
+    pub mode_history: [u32; MODE_HISTORY],
 }
 
 /// One IO device of the IO system.
@@ -292,7 +298,8 @@ const _: () = {
     assert!(offset_of!(ImageHeader, mode) == 72);
     assert!(offset_of!(ImageHeader, cycle_ns) == 88);
     assert!(offset_of!(ImageHeader, opfault_cycle) == 104);
-    assert!(size_of::<ImageHeader>() == 104 + 8 * MAX_CLIENTS);
+    assert!(offset_of!(ImageHeader, mode_history) == 104 + 8 * MAX_CLIENTS);
+    assert!(size_of::<ImageHeader>() == 104 + 8 * MAX_CLIENTS + 4 * MODE_HISTORY);
     assert!(size_of::<DeviceEntry>() == 264 && align_of::<DeviceEntry>() == 4);
     assert!(offset_of!(DeviceEntry, ip_address) == 248);
     assert!(offset_of!(DeviceEntry, watchdog_factor) == 260);
@@ -467,10 +474,11 @@ impl ImageHeader {
             mode: MODE_OFFLINE,
             submodule_count: 0,
             payload_size: 0,
-            reserved: 0,
+            mode_changes: 0,
             cycle_ns: 0,
             opdone_deadline_ns: 0,
             opfault_cycle: [0; MAX_CLIENTS],
+            mode_history: [MODE_OFFLINE; MODE_HISTORY],
         }
     }
 }

@@ -49,6 +49,7 @@ const CONSTANTS: &[&str] = &[
     "EVENT_SHUTDOWN",
     "EVENT_OPFAULT_BASE",
     "EVENT_ID_MAX",
+    "MODE_HISTORY",
 ];
 
 fn crate_dir() -> PathBuf {

@@ -28,6 +28,9 @@ struct Args {
     /// Largest accepted delay, in cycles, between writing a pattern and reading it back.
     #[arg(long, default_value_t = 3)]
     max_delay: u64,
+    /// SCHED_FIFO priority of the loop (0: stay at normal priority).
+    #[arg(long, default_value_t = 70)]
+    priority: u8,
     /// Percentage of OPDONEs that must be in time.
     #[arg(long, default_value_t = 99.9)]
     min_in_time: f64,
@@ -43,6 +46,15 @@ fn pattern(k: u64, len: usize) -> Vec<u8> {
 
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
+    if args.priority > 0 {
+        if let Err(e) = procimg_client::realtime::make_current_thread_realtime(args.priority) {
+            eprintln!(
+                "warning: cannot run SCHED_FIFO at priority {} ({e}); OPDONE may miss the \
+                 deadline under load",
+                args.priority
+            );
+        }
+    }
     let mut client = Client::attach(&args.instance, AttachOptions::synchronous("plc_loop"))
         .context("attaching")?;
     let echo = client

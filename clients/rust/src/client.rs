@@ -15,7 +15,8 @@ use iceoryx2::sample_mut::SampleMut;
 use procimg_shm_layout::control::{ClientRole, Request, Response, server_node_name};
 use procimg_shm_layout::events::{EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, opfault_event};
 use procimg_shm_layout::{
-    CycleInfo, IMAGE_MAGIC, ImageHeader, MAX_CLIENTS, Mode, OUTPUT_SYNCHRONOUS, OutputHeader,
+    CycleInfo, IMAGE_MAGIC, ImageHeader, MAX_CLIENTS, MODE_HISTORY, Mode, OUTPUT_SYNCHRONOUS,
+    OutputHeader,
 };
 use std::collections::{BTreeSet, VecDeque};
 use std::time::{Duration, Instant};
@@ -113,6 +114,8 @@ pub struct Client {
     last_startop: u64,
     /// Last OPFAULT cycle seen for this client's slot.
     last_opfault: u64,
+    /// `ImageHeader::mode_changes` of the last mode change reported.
+    mode_changes_seen: u32,
     events: VecDeque<Event>,
     last_liveness: Instant,
     last_reattach: Instant,
@@ -154,6 +157,7 @@ impl Client {
             latest: None,
             last_startop: 0,
             last_opfault: 0,
+            mode_changes_seen: 0,
             events: VecDeque::new(),
             last_liveness: Instant::now(),
             last_reattach: Instant::now(),
@@ -163,8 +167,12 @@ impl Client {
             control,
         };
         client.refresh();
-        if let Some(h) = client.header() {
-            client.last_opfault = h.opfault_cycle[client.slot as usize % MAX_CLIENTS];
+        if let Some((opfault, changes)) = client
+            .header()
+            .map(|h| (h.opfault_cycle[slot as usize % MAX_CLIENTS], h.mode_changes))
+        {
+            client.last_opfault = opfault;
+            client.mode_changes_seen = changes;
         }
         Ok(client)
     }
@@ -299,9 +307,7 @@ impl Client {
             self.refresh();
         }
         if mode {
-            if let Some(m) = self.mode() {
-                self.events.push_back(Event::Mode(m));
-            }
+            self.replay_mode_changes();
         }
         if opfault {
             let cycle = self
@@ -319,6 +325,24 @@ impl Client {
             self.events.push_back(Event::ServerShutdown);
             self.disconnect();
         }
+    }
+
+    /// Queues one [`Event::Mode`] per mode change since the last one seen, from the image
+    /// header's history: MODE notifications coalesce, the history does not.
+    fn replay_mode_changes(&mut self) {
+        let Some(h) = self.header() else {
+            return;
+        };
+        let (changes, history) = (h.mode_changes, h.mode_history);
+        let missed = changes.wrapping_sub(self.mode_changes_seen) as usize;
+        let first = changes.wrapping_sub(missed.min(MODE_HISTORY) as u32) + 1;
+        for n in 0..missed.min(MODE_HISTORY) as u32 {
+            let at = first.wrapping_add(n) as usize % MODE_HISTORY;
+            if let Some(m) = Mode::from_u32(history[at]) {
+                self.events.push_back(Event::Mode(m));
+            }
+        }
+        self.mode_changes_seen = changes;
     }
 
     /// Returns the events that arrived since the last call, without waiting.
@@ -437,6 +461,7 @@ impl Client {
         self.conn = Some(conn);
         self.last_startop = 0;
         self.last_opfault = 0;
+        self.mode_changes_seen = 0;
         self.events.push_back(Event::Reattached { generation });
         let claims: Vec<usize> = std::mem::take(&mut self.claims).into_iter().collect();
         for s in claims {

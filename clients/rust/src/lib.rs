@@ -38,6 +38,7 @@ mod cycle;
 mod error;
 mod io;
 mod layout;
+pub mod realtime;
 mod status;
 mod sys;
 

@@ -23,8 +23,8 @@ use procimg_shm_layout::events::{
 };
 use procimg_shm_layout::{
     CLIENT_SET_INPUT_IOCS, CLIENT_SET_OUTPUT_IOPS, CLIENT_WROTE_OUTPUTS, CycleInfo, IMAGE_MAGIC,
-    IOXS_BAD_BY_CONTROLLER, IOXS_GOOD, ImageHeader, MAX_CLIENTS, Mode, OUTPUT_SYNCHRONOUS,
-    OutputHeader, cycle_count,
+    IOXS_BAD_BY_CONTROLLER, IOXS_GOOD, ImageHeader, MAX_CLIENTS, MODE_HISTORY, Mode,
+    OUTPUT_SYNCHRONOUS, OutputHeader, cycle_count,
 };
 use std::os::fd::RawFd;
 use std::sync::Arc;
@@ -316,6 +316,9 @@ impl State {
             }
         }
         self.mode = next;
+        self.header.mode_changes = self.header.mode_changes.wrapping_add(1);
+        let at = self.header.mode_changes as usize % MODE_HISTORY;
+        self.header.mode_history[at] = next.as_u32();
         self.shared
             .counters
             .mode

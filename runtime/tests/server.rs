@@ -1,0 +1,324 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Multi-process tests: the real procimgd, clients in this process.
+
+mod support;
+
+use procimg_client::{
+    AttachError, AttachOptions, Client, ControlError, ControlHandle, Event, Ioxs, Mode, Refusal,
+};
+use std::collections::HashMap;
+use std::sync::{Arc, Barrier, Mutex};
+use std::time::{Duration, Instant};
+use support::{Server, pattern, pattern_value};
+
+const STARTOP_TIMEOUT: Duration = Duration::from_millis(500);
+
+#[test]
+fn demo_cycles_at_1ms_in_operate_and_status_reports_it() {
+    let server = Server::demo("status");
+    let control = ControlHandle::open(&server.instance, "test").unwrap();
+    let a = control.status().unwrap();
+    let t = Instant::now();
+    std::thread::sleep(Duration::from_millis(500));
+    let b = control.status().unwrap();
+    let ms = t.elapsed().as_secs_f64() * 1000.0;
+    assert_eq!(b.mode, Mode::Operate);
+    assert_eq!(b.cycle_ns, 1_000_000);
+    let advanced = (b.cycle_count - a.cycle_count) as f64;
+    // At 1 ms the count rises by one per ms (a skipped cycle counts as an overrun instead).
+    let skipped = (b.overruns - a.overruns) as f64;
+    assert!(
+        advanced <= ms + 2.0 && advanced + skipped >= 0.5 * ms,
+        "cycle count advanced by {advanced} in {ms:.1} ms"
+    );
+    assert_eq!(
+        b.rt_heap_allocations, 0,
+        "the cycle thread called the heap allocator"
+    );
+    assert!(b.wakeup_latency.count > 0);
+}
+
+#[test]
+fn attach_errors_say_what_is_wrong() {
+    match Client::attach("no-such-instance-xyz", AttachOptions::asynchronous("t")) {
+        Err(AttachError::NoServer { instance }) => assert_eq!(instance, "no-such-instance-xyz"),
+        Err(e) => panic!("wrong error: {e}"),
+        Ok(_) => panic!("attached to a server that does not exist"),
+    }
+    let server = Server::demo("hash");
+    let opts = AttachOptions::asynchronous("t").expect_layout_hash(0x1234);
+    match Client::attach(&server.instance, opts) {
+        Err(e @ AttachError::LayoutHash { .. }) => {
+            let msg = e.to_string();
+            assert!(msg.contains("0000000000001234"), "{msg}");
+        }
+        Err(e) => panic!("wrong error: {e}"),
+        Ok(_) => panic!("attached despite a different layout hash"),
+    }
+    // The refused client left no registration behind.
+    assert!(server.status().clients.is_empty());
+}
+
+#[test]
+fn a_second_claim_is_refused_naming_the_holder() {
+    let server = Server::demo("claims");
+    let mut a = Client::attach(&server.instance, AttachOptions::asynchronous("holder-a")).unwrap();
+    let mut b = Client::attach(&server.instance, AttachOptions::asynchronous("other-b")).unwrap();
+    let echo = a.layout().find("echo", 1, 1).unwrap();
+    a.claim(&[echo]).unwrap();
+    match b.claim(&[echo]) {
+        Err(ControlError::Refused(Refusal::ClaimHeld {
+            holder, holder_pid, ..
+        })) => {
+            assert_eq!(holder, "holder-a");
+            assert_eq!(holder_pid, std::process::id());
+        }
+        other => panic!("second claim not refused: {other:?}"),
+    }
+    let err = b.claim(&[echo]).unwrap_err().to_string();
+    assert!(err.contains("holder-a"), "{err}");
+    // Writing without the claim is refused on the client side.
+    assert!(b.data_write(0, &[0; 16], Ioxs::Good).is_err());
+    // After release, b gets it.
+    a.release(&[echo]).unwrap();
+    b.claim(&[echo]).unwrap();
+    let st = server.status();
+    let holder = st.clients.iter().find(|c| c.name == "other-b").unwrap();
+    assert_eq!(holder.claims.len(), 1);
+    assert_eq!(holder.claims[0].device, "echo");
+}
+
+#[test]
+fn asynchronous_write_reaches_the_echo_device_whole() {
+    let server = Server::demo("async");
+    let mut c = Client::attach(&server.instance, AttachOptions::asynchronous("async")).unwrap();
+    let echo = c.layout().find("echo", 1, 1).unwrap();
+    c.claim(&[echo]).unwrap();
+    let data: Vec<u8> = (1..=16).collect();
+    c.data_write(0, &data, Ioxs::Good).unwrap();
+    let until = Instant::now() + Duration::from_secs(2);
+    let mut buf = [0u8; 16];
+    loop {
+        let r = c.data_read(0, &mut buf, Ioxs::Good).unwrap();
+        if buf[..] == data[..] {
+            assert_eq!(r.remote, Ioxs::Good);
+            assert_eq!(r.len, 16);
+            break;
+        }
+        assert!(
+            Instant::now() < until,
+            "echo never returned the written bytes: {buf:?}"
+        );
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    // A slice write changes only its bytes.
+    c.data_write(3, &[0xaa, 0xbb], Ioxs::Good).unwrap();
+    let until = Instant::now() + Duration::from_secs(2);
+    loop {
+        let mut out = [0u8; 16];
+        let r = c.output_data_read(0, &mut out).unwrap();
+        if out[3] == 0xaa {
+            assert_eq!(&out[..3], &data[..3]);
+            assert_eq!(out[4], 0xbb);
+            assert_eq!(&out[5..], &data[5..]);
+            assert_eq!(r.local, Ioxs::Good);
+            break;
+        }
+        assert!(Instant::now() < until);
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+#[test]
+fn mode_changes_are_confirmed_step_by_step() {
+    let server = Server::demo("mode");
+    let mut c = Client::attach(&server.instance, AttachOptions::asynchronous("mode")).unwrap();
+    let mut seen = Vec::new();
+    let wait_for = |c: &mut Client, target: Mode, seen: &mut Vec<Mode>| {
+        let until = Instant::now() + Duration::from_secs(3);
+        while !seen.contains(&target) {
+            let _ = c.wait_startop(Duration::from_millis(50));
+            for e in c.events() {
+                if let Event::Mode(m) = e {
+                    seen.push(m);
+                }
+            }
+            assert!(
+                Instant::now() < until,
+                "no MODE event for {target}: {seen:?}"
+            );
+        }
+    };
+    c.set_mode(Mode::Offline).unwrap();
+    wait_for(&mut c, Mode::Offline, &mut seen);
+    assert_eq!(seen, [Mode::Clear, Mode::Offline]);
+    // In OFFLINE the devices are not connected: inputs are BAD.
+    let mut buf = [0u8; 4];
+    let _ = c.wait_startop(Duration::from_millis(50));
+    assert_eq!(
+        c.data_read(16, &mut buf, Ioxs::Good).unwrap().remote,
+        Ioxs::Bad
+    );
+    seen.clear();
+    c.set_mode(Mode::Operate).unwrap();
+    wait_for(&mut c, Mode::Operate, &mut seen);
+    assert_eq!(seen, [Mode::Clear, Mode::Operate]);
+}
+
+/// One synchronous writer and seven readers: every client sees the same data for the same
+/// cycle, inputs always match their cycle, and no image is ever torn.
+#[test]
+fn eight_clients_see_the_same_consistent_untorn_images() {
+    let server = Server::demo("eight");
+    let instance = server.instance.clone();
+    let run_for = Duration::from_secs(2);
+    let seen: Arc<Mutex<Vec<HashMap<u64, Vec<u8>>>>> = Arc::default();
+    let start = Arc::new(Barrier::new(8));
+    let mut threads = Vec::new();
+    for i in 0..8 {
+        let (instance, seen, start) = (instance.clone(), seen.clone(), start.clone());
+        threads.push(std::thread::spawn(move || {
+            let opts = if i == 0 {
+                AttachOptions::synchronous("writer")
+            } else {
+                AttachOptions::asynchronous(&format!("reader-{i}"))
+            };
+            let mut c = Client::attach(&instance, opts).unwrap();
+            let echo = c.layout().find("echo", 1, 1).unwrap();
+            let counter = c.layout().find("counter", 1, 1).unwrap();
+            if i == 0 {
+                c.claim(&[echo]).unwrap();
+            }
+            start.wait();
+            let mut mine = HashMap::new();
+            let mut last = 0;
+            let until = Instant::now() + run_for;
+            while Instant::now() < until {
+                let Ok(mut cycle) = c.wait_startop(STARTOP_TIMEOUT) else {
+                    continue;
+                };
+                let k = cycle.number();
+                assert!(k > last, "cycle numbers must rise: {last} then {k}");
+                last = k;
+                // The counter device sampled k in cycle k: inputs belong to their header.
+                let cnt = cycle.input(counter).unwrap();
+                assert_eq!(u32::from_be_bytes(cnt.try_into().unwrap()), k as u32);
+                let e = cycle.input(echo).unwrap().to_vec();
+                if e != [0u8; 16] {
+                    assert!(
+                        pattern_value(&e).is_some(),
+                        "torn echo input in cycle {k}: {e:02x?}"
+                    );
+                }
+                mine.insert(k, e);
+                if i == 0 {
+                    cycle
+                        .output_mut(echo)
+                        .unwrap()
+                        .copy_from_slice(&pattern(k, 16));
+                    cycle.set_opdone().unwrap();
+                }
+            }
+            seen.lock().unwrap().push(mine);
+        }));
+    }
+    for t in threads {
+        t.join().expect("a client thread failed");
+    }
+    let seen = seen.lock().unwrap();
+    assert_eq!(seen.len(), 8);
+    let mut compared = 0;
+    for (k, data) in &seen[0] {
+        for other in &seen[1..] {
+            if let Some(d) = other.get(k) {
+                assert_eq!(d, data, "clients disagree about cycle {k}");
+                compared += 1;
+            }
+        }
+    }
+    // Every reader saw most cycles the writer saw.
+    assert!(
+        compared > 7 * seen[0].len() / 2,
+        "only {compared} cycle images compared"
+    );
+    assert!(
+        seen[0].len() > 1000,
+        "the writer ran only {} cycles",
+        seen[0].len()
+    );
+}
+
+/// The read path hands out slices of the shared-memory segment itself: their addresses lie in
+/// a mapping of a procimg file in /dev/shm, not in this process's heap.
+#[test]
+fn the_read_path_copies_no_image_bytes() {
+    let server = Server::demo("zerocopy");
+    let mut c = Client::attach(&server.instance, AttachOptions::synchronous("zc")).unwrap();
+    let cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
+    let inputs = cycle.inputs().as_ptr() as usize;
+    let echo = cycle.input(1).unwrap().as_ptr() as usize;
+    let maps = std::fs::read_to_string("/proc/self/maps").unwrap();
+    let in_shm = |addr: usize| {
+        maps.lines().any(|l| {
+            let mut f = l.split_whitespace();
+            let range = f.next().unwrap_or("");
+            let path = l.split_whitespace().nth(5).unwrap_or("");
+            let (a, b) = range.split_once('-').unwrap_or(("0", "0"));
+            let (a, b) = (
+                usize::from_str_radix(a, 16).unwrap_or(0),
+                usize::from_str_radix(b, 16).unwrap_or(0),
+            );
+            addr >= a && addr < b && path.starts_with("/dev/shm/procimg_")
+        })
+    };
+    assert!(
+        in_shm(inputs),
+        "inputs() is not in a /dev/shm/procimg_ mapping"
+    );
+    assert!(
+        in_shm(echo),
+        "input(s) is not in a /dev/shm/procimg_ mapping"
+    );
+    drop(cycle);
+}
+
+#[test]
+fn sigterm_puts_outputs_in_clear_then_removes_the_shared_memory() {
+    let mut server = Server::demo("term");
+    let instance = server.instance.clone();
+    let ready = Arc::new(Barrier::new(2));
+    let waiter = {
+        let (instance, ready) = (instance.clone(), ready.clone());
+        std::thread::spawn(move || {
+            let mut c = Client::attach(&instance, AttachOptions::asynchronous("watcher")).unwrap();
+            let _ = c.wait_startop(STARTOP_TIMEOUT);
+            let _ = c.events();
+            ready.wait();
+            let mut events = Vec::new();
+            let until = Instant::now() + Duration::from_secs(5);
+            while Instant::now() < until && !events.contains(&Event::ServerShutdown) {
+                let _ = c.wait_startop(Duration::from_millis(20));
+                events.extend(c.events());
+            }
+            events
+        })
+    };
+    ready.wait();
+    let status = server.terminate();
+    let events = waiter.join().unwrap();
+    assert!(status.success(), "procimgd exited with {status:?}");
+    let clear = events.iter().position(|e| *e == Event::Mode(Mode::Clear));
+    let shutdown = events.iter().position(|e| *e == Event::ServerShutdown);
+    assert!(clear.is_some() && shutdown.is_some(), "events: {events:?}");
+    assert!(
+        clear < shutdown,
+        "CLEAR must come before shutdown: {events:?}"
+    );
+    // The control service is gone with the server (no client holds it any more).
+    std::thread::sleep(Duration::from_millis(100));
+    match ControlHandle::open(&instance, "after") {
+        Err(AttachError::NoServer { .. }) => {}
+        Err(e) => panic!("unexpected error: {e}"),
+        Ok(_) => panic!("the control service of {instance} still exists"),
+    }
+}

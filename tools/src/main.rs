@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg`: look at and poke a running procimgd.
+
+mod io;
+mod status;
+
+use clap::{Parser, Subcommand};
+use procimg_client::{ControlHandle, Mode};
+
+/// The command line of the procimg process-image server.
+#[derive(Parser)]
+#[command(version, about)]
+struct Cli {
+    /// Server instance.
+    #[arg(
+        long,
+        short,
+        global = true,
+        default_value = "procimg",
+        env = "PROCIMG_INSTANCE"
+    )]
+    instance: String,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Mode, cycle, timing percentiles, clients and their claims.
+    Status {
+        /// One JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Read, write or watch the image by logical address.
+    Io {
+        #[command(subcommand)]
+        op: io::IoCommand,
+    },
+    /// Ask for a mode change (offline, clear, operate) and wait for its confirmation.
+    Mode {
+        /// The mode.
+        mode: Mode,
+    },
+    /// The devices and submodules with their logical addresses.
+    Layout,
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Status { json } => status::run(&cli.instance, json),
+        Command::Io { op } => io::run(&cli.instance, op),
+        Command::Mode { mode } => set_mode(&cli.instance, mode),
+        Command::Layout => io::layout(&cli.instance),
+    };
+    if let Err(e) = result {
+        eprintln!("procimg: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn set_mode(instance: &str, mode: Mode) -> anyhow::Result<()> {
+    let control = ControlHandle::open(instance, "procimg-mode")?;
+    control.set_mode(mode)?;
+    let until = std::time::Instant::now() + std::time::Duration::from_secs(5);
+    loop {
+        let now = control.status()?.mode;
+        if now == mode {
+            println!("{now}");
+            return Ok(());
+        }
+        if std::time::Instant::now() > until {
+            anyhow::bail!("instance \"{instance}\" is still in {now} after 5 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg status`.
+
+use procimg_client::ControlHandle;
+use procimg_shm_layout::control::Percentiles;
+
+pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
+    let control = ControlHandle::open(instance, "procimg-status")?;
+    let s = control.status()?;
+    if json {
+        println!("{}", serde_json::to_string(&s)?);
+        return Ok(());
+    }
+    println!(
+        "instance {} (pid {}, generation {:016x}, layout {:016x})",
+        s.instance, s.pid, s.generation, s.layout_hash
+    );
+    println!(
+        "mode {}  cycle {} µs  OPDONE deadline {} µs  real-time {}",
+        s.mode,
+        s.cycle_ns as f64 / 1000.0,
+        s.opdone_deadline_ns as f64 / 1000.0,
+        if s.realtime { "yes" } else { "no" }
+    );
+    println!(
+        "cycles {}  overruns {}  OPFAULTs {}  heap allocations on the cycle thread {}",
+        s.cycle_count, s.overruns, s.opfaults, s.rt_heap_allocations
+    );
+    line("wake-up latency", &s.wakeup_latency);
+    line("STARTOP→OPDONE", &s.handshake_round_trip);
+    line("cycle work", &s.cycle_work);
+    if s.clients.is_empty() {
+        println!("no clients");
+    } else {
+        println!(
+            "{:<5} {:<20} {:>8} {:<13} {:>8}  claims",
+            "slot", "client", "pid", "role", "OPFAULTs"
+        );
+        for c in &s.clients {
+            let claims: Vec<String> = c
+                .claims
+                .iter()
+                .map(|k| {
+                    format!(
+                        "{} {}/{} Q{}..{}",
+                        k.device,
+                        k.slot,
+                        k.subslot,
+                        k.output_address,
+                        k.output_address + k.output_length as u32 - 1
+                    )
+                })
+                .collect();
+            println!(
+                "{:<5} {:<20} {:>8} {:<13} {:>8}  {}",
+                c.slot,
+                c.name,
+                c.pid,
+                format!("{:?}", c.role).to_lowercase(),
+                c.opfaults,
+                if claims.is_empty() {
+                    "-".into()
+                } else {
+                    claims.join(", ")
+                }
+            );
+        }
+    }
+    Ok(())
+}
+
+fn line(what: &str, p: &Percentiles) {
+    if p.count == 0 {
+        println!("{what:<16} no samples");
+        return;
+    }
+    let us = |ns: u64| ns as f64 / 1000.0;
+    println!(
+        "{what:<16} min {:>7.1}  p50 {:>7.1}  p99 {:>7.1}  p99.9 {:>7.1}  max {:>8.1} µs  ({} samples)",
+        us(p.min_ns),
+        us(p.p50_ns),
+        us(p.p99_ns),
+        us(p.p999_ns),
+        us(p.max_ns),
+        p.count
+    );
+}
