@@ -64,6 +64,9 @@ pub struct Counters {
     pub opfaults: AtomicU64,
     /// Output samples dropped because the sender did not hold the claim.
     pub rejected_writes: AtomicU64,
+    /// Failed receives of client output samples (iceoryx2 could not update a connection,
+    /// e.g. while a dead client's resources are being removed).
+    pub receive_errors: AtomicU64,
     /// The mode the cycle runs in (shm-layout MODE_* value).
     pub mode: AtomicU32,
     /// The cycle thread runs SCHED_FIFO.
@@ -79,6 +82,7 @@ impl Default for Counters {
             overruns: AtomicU64::new(0),
             opfaults: AtomicU64::new(0),
             rejected_writes: AtomicU64::new(0),
+            receive_errors: AtomicU64::new(0),
             mode: AtomicU32::new(0),
             realtime: AtomicBool::new(false),
             client_opfaults: std::array::from_fn(|_| AtomicU64::new(0)),

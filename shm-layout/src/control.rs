@@ -289,8 +289,15 @@ pub struct StatusReport {
     pub opfaults: u64,
     /// Whether the cycle thread runs with real-time scheduling.
     pub realtime: bool,
-    /// Calls of the system allocator made by the cycle thread while cycling (0 expected).
+    /// Calls of the system allocator made by the cycle thread while cycling (0 in steady
+    /// state; iceoryx2 allocates when a client's connection is set up or torn down).
     pub rt_heap_allocations: u64,
+    /// Receives of client outputs that failed (a dead client's connection being removed).
+    #[serde(default)]
+    pub receive_errors: u64,
+    /// Output writes dropped because the sender did not hold the claim.
+    #[serde(default)]
+    pub rejected_writes: u64,
     /// Wake-up latency of the cycle thread (actual minus planned cycle start).
     pub wakeup_latency: Percentiles,
     /// STARTOP → OPDONE round trip of synchronous clients.

@@ -15,6 +15,7 @@ use crate::shm::{CyclePorts, Ipc};
 use crate::stats::StatsRecorder;
 use crate::sys::clock::now_ns;
 use crate::sys::poll::wait_readable;
+use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::EventId;
 use iceoryx2::prelude::FileDescriptorBased;
 use iceoryx2::sample::Sample;
@@ -195,9 +196,7 @@ impl Engine {
         // 4./5. Wait for OPDONE of the armed synchronous clients, merging outputs as they come.
         let deadline = t0_ns + st.settings.opdone_deadline_ns;
         loop {
-            while let Ok(Some(sample)) = self.ports.outputs.receive() {
-                st.merge(&sample);
-            }
+            drain_outputs(&self.ports, st);
             if st.all_done() {
                 break;
             }
@@ -231,6 +230,12 @@ impl Engine {
         }
         st.stats.work(now_ns().saturating_sub(t0_ns));
         notify(&self.ports, EVENT_NEWCYCLE);
+        // Connections to clients that came or went are set up or torn down here, after the
+        // outputs are out, instead of lazily inside the next publish or receive, where the
+        // work (mapping, unmapping segments) would eat into the clients' OPDONE window.
+        let _ = self.ports.inputs.update_connections();
+        let _ = self.ports.outputs.update_connections();
+        let _ = self.ports.events.update_connections();
 
         // 7. Statistics.
         st.shared.counters.cycles.store(k, Ordering::Release);
@@ -252,6 +257,30 @@ impl Engine {
     pub fn announce_shutdown(&mut self) {
         self.st.stats.hand_over();
         notify(&self.ports, EVENT_SHUTDOWN);
+    }
+}
+
+/// Merges every output sample waiting. iceoryx2 fails a whole `receive` when it cannot
+/// update one connection (a dead client's, while it is being cleaned up) even though the
+/// samples of the other clients are there; a few retries get past such a moment without
+/// costing a healthy client its OPDONE.
+fn drain_outputs(ports: &CyclePorts, st: &mut State) {
+    let mut retries = 0;
+    loop {
+        match ports.outputs.receive() {
+            Ok(Some(sample)) => st.merge(&sample),
+            Ok(None) => return,
+            Err(_) => {
+                st.shared
+                    .counters
+                    .receive_errors
+                    .fetch_add(1, Ordering::Relaxed);
+                retries += 1;
+                if retries > 3 {
+                    return;
+                }
+            }
+        }
     }
 }
 

@@ -195,6 +195,8 @@ impl Control {
             opfaults: load(&c.opfaults),
             realtime: c.realtime.load(Ordering::Relaxed),
             rt_heap_allocations: crate::sys::rt_alloc::rt_heap_allocations(),
+            receive_errors: load(&c.receive_errors),
+            rejected_writes: load(&c.rejected_writes),
             wakeup_latency: self.stats.wakeup(),
             handshake_round_trip: self.stats.handshake(),
             cycle_work: self.stats.work(),
