@@ -178,8 +178,8 @@ impl<'c> Cycle<'c> {
     }
 }
 
-/// `CLOCK_MONOTONIC` in ns (the server's clock).
-pub(crate) fn now_ns() -> u64 {
+/// `CLOCK_MONOTONIC` in ns: the clock of `CycleInfo` (the server's clock).
+pub fn now_ns() -> u64 {
     let mut ts = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,

@@ -45,7 +45,7 @@ mod sys;
 pub use access::{AccessError, Space};
 pub use client::{AttachOptions, Client, Event};
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
-pub use cycle::Cycle;
+pub use cycle::{Cycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;

@@ -45,6 +45,11 @@ pub fn mark_current_thread_realtime() {
     REALTIME.with(|r| r.set(true));
 }
 
+/// Ends the real-time marking of the calling thread.
+pub fn clear_current_thread_realtime() {
+    REALTIME.with(|r| r.set(false));
+}
+
 /// Heap (system allocator) allocations made by real-time threads since start.
 pub fn rt_heap_allocations() -> u64 {
     RT_HEAP_ALLOCATIONS.load(Ordering::Relaxed)

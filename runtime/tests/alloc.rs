@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Steady-state cycles allocate nothing: the cycle engine runs on this test's thread, with
+//! procimgd's allocator installed, while a synchronous and an asynchronous client work
+//! against it; over 2000 cycles the thread must not call the system allocator once.
+
+mod support;
+
+use procimg_client::{AttachOptions, Client, Ioxs};
+use procimg_runtime::config::Config;
+use procimg_runtime::cycle::{Engine, EngineSettings, Shared};
+use procimg_runtime::image::Tables;
+use procimg_runtime::io::sim::SimIo;
+use procimg_runtime::server::{Control, ServerInfo};
+use procimg_runtime::shm::{ControlPorts, CyclePorts};
+use procimg_runtime::stats::stats_channel;
+use procimg_runtime::sys::clock::{now_ns, sleep_until_ns};
+use procimg_runtime::sys::rt_alloc::{
+    RtAllocator, clear_current_thread_realtime, mark_current_thread_realtime, pool_allocations,
+    rt_heap_allocations,
+};
+use procimg_shm_layout::Mode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+#[global_allocator]
+static ALLOCATOR: RtAllocator = RtAllocator;
+
+#[test]
+fn steady_state_cycles_allocate_nothing() {
+    let mut config = Config::demo();
+    config.instance = support::unique_instance("alloc");
+    let instance = config.instance.clone();
+    let tables = Tables::from_config(&config).unwrap();
+    let generation = now_ns();
+    let shared = Arc::new(Shared::new(tables.submodules.len()));
+    shared
+        .target_mode
+        .store(Mode::Operate.as_u32(), Ordering::Release);
+    let (recorder, collector) = stats_channel();
+    let stop = Arc::new(AtomicBool::new(false));
+
+    // The control side on its own thread (iceoryx2 ports stay on the thread that made them).
+    let control = {
+        let (tables, shared, stop, instance) = (
+            tables.clone(),
+            shared.clone(),
+            stop.clone(),
+            instance.clone(),
+        );
+        let (ready_tx, ready_rx) = std::sync::mpsc::channel();
+        let handle = std::thread::spawn(move || {
+            let ports =
+                ControlPorts::create(&instance, generation, &tables, 1_000_000, 500_000).unwrap();
+            let info = ServerInfo {
+                instance,
+                generation,
+                cycle_ns: 1_000_000,
+                opdone_deadline_ns: 500_000,
+            };
+            let mut control = Control::new(info, tables, ports, shared, collector);
+            ready_tx.send(()).unwrap();
+            while !stop.load(Ordering::Acquire) {
+                control.poll();
+                std::thread::sleep(Duration::from_millis(1));
+            }
+        });
+        ready_rx.recv().unwrap();
+        handle
+    };
+
+    let ports = CyclePorts::create(&instance, generation, &tables).unwrap();
+    let settings = EngineSettings {
+        cycle_ns: 1_000_000,
+        opdone_deadline_ns: 500_000,
+        late_policy: config.late_policy,
+        output_timing: config.output_timing,
+        generation,
+    };
+    let mut engine = Engine::new(
+        settings,
+        &tables,
+        ports,
+        Box::new(SimIo::new(&config)),
+        shared.clone(),
+        recorder,
+    );
+
+    // A synchronous writer and an asynchronous reader/writer.
+    let clients: Vec<_> = [true, false]
+        .into_iter()
+        .map(|synchronous| {
+            let (instance, stop) = (instance.clone(), stop.clone());
+            std::thread::spawn(move || {
+                let opts = if synchronous {
+                    AttachOptions::synchronous("alloc-sync")
+                } else {
+                    AttachOptions::asynchronous("alloc-async")
+                };
+                let mut c = Client::attach(&instance, opts).unwrap();
+                let sub = if synchronous {
+                    c.layout().find("echo", 1, 1).unwrap()
+                } else {
+                    c.layout().find("dio", 2, 1).unwrap()
+                };
+                c.claim(&[sub]).unwrap();
+                let mut buf = [0u8; 4];
+                let mut n = 0u8;
+                while !stop.load(Ordering::Acquire) {
+                    match c.wait_startop(Duration::from_millis(50)) {
+                        Ok(mut cycle) if synchronous => {
+                            let k = cycle.number();
+                            cycle.output_mut(sub).unwrap().fill(k as u8);
+                            cycle.set_opdone().unwrap();
+                        }
+                        Ok(cycle) => {
+                            drop(cycle);
+                            n = n.wrapping_add(1);
+                            let _ = c.data_write(16, &[n, !n], Ioxs::Good);
+                            let _ = c.data_read(16, &mut buf, Ioxs::Good);
+                        }
+                        Err(_) => {}
+                    }
+                }
+            })
+        })
+        .collect();
+
+    let cycle_ns = 1_000_000;
+    let epoch = now_ns();
+    let run = |engine: &mut Engine, from: u64, to: u64| {
+        for k in from..to {
+            let t0 = epoch + k * cycle_ns;
+            sleep_until_ns(t0);
+            engine.run_cycle(k, t0);
+        }
+    };
+    // Warm-up: clients attach, connect and claim; the mode steps to OPERATE.
+    run(&mut engine, 1, 1000);
+    assert_eq!(engine.mode(), Mode::Operate);
+    let handshakes_before = shared.counters.cycles.load(Ordering::Relaxed);
+
+    mark_current_thread_realtime();
+    let (heap_before, pool_before) = (rt_heap_allocations(), pool_allocations());
+    run(&mut engine, 1000, 3000);
+    let (heap_after, pool_after) = (rt_heap_allocations(), pool_allocations());
+    // Negative control: the counter does see an allocation on this thread.
+    let probe = std::hint::black_box(vec![0u8; 4096]);
+    let heap_probe = rt_heap_allocations();
+    clear_current_thread_realtime();
+    drop(probe);
+
+    stop.store(true, Ordering::Release);
+    for c in clients {
+        c.join().unwrap();
+    }
+    control.join().unwrap();
+
+    assert!(handshakes_before > 0);
+    assert_eq!(
+        heap_after - heap_before,
+        0,
+        "the cycle called the system allocator {} times in 2000 steady-state cycles",
+        heap_after - heap_before
+    );
+    assert!(
+        pool_after - pool_before >= 2000,
+        "iceoryx2's per-loan allocation should have come from the pool ({} times)",
+        pool_after - pool_before
+    );
+    assert_eq!(
+        heap_probe - heap_after,
+        1,
+        "the allocation counter does not count"
+    );
+}
