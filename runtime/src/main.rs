@@ -177,10 +177,10 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
             cleaned.len()
         );
     }
-    if config.cycle_thread.lock_memory {
-        if let Err(w) = lock_memory() {
-            warn!("{w}");
-        }
+    if config.cycle_thread.lock_memory
+        && let Err(w) = lock_memory()
+    {
+        warn!("{w}");
     }
     let generation = generation();
     let shared = Arc::new(Shared::new(tables.submodules.len()));
@@ -259,11 +259,11 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
             info!("mode {mode}");
             last_mode = mode;
         }
-        if let Some(v) = view.as_mut() {
-            if last_view.elapsed() >= Duration::from_secs(1) {
-                last_view = Instant::now();
-                v.print(&control.status());
-            }
+        if let Some(v) = view.as_mut()
+            && last_view.elapsed() >= Duration::from_secs(1)
+        {
+            last_view = Instant::now();
+            v.print(&control.status());
         }
         std::thread::sleep(CONTROL_POLL);
     }

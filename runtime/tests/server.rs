@@ -11,6 +11,9 @@ use std::sync::{Arc, Barrier, Mutex};
 use std::time::{Duration, Instant};
 use support::{Server, pattern, pattern_value};
 
+/// The echo inputs a client saw, by cycle number.
+type EchoByCycle = HashMap<u64, Vec<u8>>;
+
 const STARTOP_TIMEOUT: Duration = Duration::from_millis(500);
 
 #[test]
@@ -172,7 +175,7 @@ fn eight_clients_see_the_same_consistent_untorn_images() {
     let server = Server::demo("eight");
     let instance = server.instance.clone();
     let run_for = Duration::from_secs(2);
-    let seen: Arc<Mutex<Vec<HashMap<u64, Vec<u8>>>>> = Arc::default();
+    let seen: Arc<Mutex<Vec<EchoByCycle>>> = Arc::default();
     let start = Arc::new(Barrier::new(8));
     let mut threads = Vec::new();
     for i in 0..8 {

@@ -63,6 +63,11 @@
 #define PROCIMG_MAX_CLIENTS 64
 
 /**
+ * Mode changes an image header remembers.
+ */
+#define PROCIMG_MODE_HISTORY 4
+
+/**
  * A logical address field that holds no address (the submodule has no data in that space).
  */
 #define PROCIMG_NO_ADDRESS 4294967295
@@ -208,9 +213,11 @@ typedef struct {
    */
   uint32_t payload_size;
   /**
-   * Reserved, zero.
+   * Mode changes since the server started; the mode after change n is
+   * `mode_history[n % MODE_HISTORY]`, so a client that missed MODE events can replay
+   * every step it did not see.
    */
-  uint32_t reserved;
+  uint32_t mode_changes;
   /**
    * Cycle time in ns.
    */
@@ -223,6 +230,10 @@ typedef struct {
    * For each client slot, the last cycle in which that client got OPFAULT (0: never).
    */
   uint64_t opfault_cycle[PROCIMG_MAX_CLIENTS];
+  /**
+   * The modes after the last [`MODE_HISTORY`] changes (see `mode_changes`).
+   */
+  uint32_t mode_history[PROCIMG_MODE_HISTORY];
 } procimg_image_header_t;
 
 /**

@@ -17,7 +17,7 @@ pub fn encode_tables(
     submodules: &[SubmoduleEntry],
 ) -> bool {
     let sub_at = ImageLayout::submodule_table_offset(devices.len() as u32) as usize;
-    let need = sub_at + submodules.len() * size_of::<SubmoduleEntry>();
+    let need = sub_at + core::mem::size_of_val(submodules);
     if buf.len() < need {
         return false;
     }

@@ -111,10 +111,12 @@ fn committed_header_matches_the_rust_source() {
 }
 
 /// `(C type, C field, Rust offset)` for every field C can see, and `(C type, Rust size)`.
-fn layout_facts() -> (
-    Vec<(&'static str, &'static str, usize)>,
-    Vec<(&'static str, usize)>,
-) {
+/// `(C type, C field, Rust offset)`.
+type FieldFacts = Vec<(&'static str, &'static str, usize)>;
+/// `(C type, Rust size)`.
+type SizeFacts = Vec<(&'static str, usize)>;
+
+fn layout_facts() -> (FieldFacts, SizeFacts) {
     macro_rules! fields {
         ($v:ident, $c:literal, $t:ty, [$($f:ident),* $(,)?]) => {
             $( $v.push(($c, stringify!($f), offset_of!($t, $f))); )*
@@ -148,10 +150,11 @@ fn layout_facts() -> (
             mode,
             submodule_count,
             payload_size,
-            reserved,
+            mode_changes,
             cycle_ns,
             opdone_deadline_ns,
-            opfault_cycle
+            opfault_cycle,
+            mode_history
         ]
     );
     fields!(
@@ -293,7 +296,14 @@ fn compile_and_run(compiler: &str, std: &str, ext: &str) {
     let src = dir.join(format!("check.{ext}"));
     std::fs::write(&src, check_program()).unwrap();
     let exe = dir.join("check");
-    let include: &Path = &crate_dir().join("include");
+    // When blessing, check the header just generated (the committed one is being rewritten).
+    let include = if std::env::var_os("PROCIMG_BLESS").is_some() {
+        std::fs::write(dir.join("procimg_shm.h"), generate()).unwrap();
+        dir.clone()
+    } else {
+        crate_dir().join("include")
+    };
+    let include: &Path = &include;
     let out = Command::new(compiler)
         .args([std, "-Wall", "-Wextra", "-Werror", "-pedantic", "-I"])
         .arg(include)

@@ -59,7 +59,7 @@ fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
         .chars()
         .filter(|c| !c.is_whitespace() && *c != ':')
         .collect();
-    if digits.is_empty() || digits.len() % 2 != 0 {
+    if digits.is_empty() || !digits.len().is_multiple_of(2) {
         bail!("{s:?}: give whole bytes in hex, e.g. 01ff");
     }
     (0..digits.len())

@@ -46,14 +46,14 @@ fn pattern(k: u64, len: usize) -> Vec<u8> {
 
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
-    if args.priority > 0 {
-        if let Err(e) = procimg_client::realtime::make_current_thread_realtime(args.priority) {
-            eprintln!(
-                "warning: cannot run SCHED_FIFO at priority {} ({e}); OPDONE may miss the \
-                 deadline under load",
-                args.priority
-            );
-        }
+    if args.priority > 0
+        && let Err(e) = procimg_client::realtime::make_current_thread_realtime(args.priority)
+    {
+        eprintln!(
+            "warning: cannot run SCHED_FIFO at priority {} ({e}); OPDONE may miss the \
+             deadline under load",
+            args.priority
+        );
     }
     let mut client = Client::attach(&args.instance, AttachOptions::synchronous("plc_loop"))
         .context("attaching")?;

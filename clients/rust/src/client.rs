@@ -135,15 +135,15 @@ impl Client {
         let (slot, token, generation) = register(&control, &opts)?;
         let conn = Connection::open(control.node(), instance, generation, opts.timeout)?;
         let layout = conn.layout.clone();
-        if let Some(expected) = opts.expected_layout_hash {
-            if expected != layout.hash() {
-                let _ = control.request_done(&Request::Unregister { slot, token });
-                return Err(AttachError::LayoutHash {
-                    instance: instance.to_string(),
-                    expected,
-                    found: layout.hash(),
-                });
-            }
+        if let Some(expected) = opts.expected_layout_hash
+            && expected != layout.hash()
+        {
+            let _ = control.request_done(&Request::Unregister { slot, token });
+            return Err(AttachError::LayoutHash {
+                instance: instance.to_string(),
+                expected,
+                found: layout.hash(),
+            });
         }
         let n = layout.submodules.len();
         let mut client = Client {
@@ -406,14 +406,13 @@ impl Client {
         let wanted = format!("{}/cycle", server_node_name(self.instance()));
         let mut alive = false;
         let _ = Node::<Ipc>::list(iox2_config(), |state| {
-            if let NodeState::Alive(v) = &state {
-                if v.details()
+            if let NodeState::Alive(v) = &state
+                && v.details()
                     .as_ref()
                     .is_some_and(|d| d.name().as_str() == wanted)
-                {
-                    alive = true;
-                    return CallbackProgression::Stop;
-                }
+            {
+                alive = true;
+                return CallbackProgression::Stop;
             }
             CallbackProgression::Continue
         });

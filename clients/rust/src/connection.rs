@@ -68,11 +68,11 @@ pub fn client_node(instance: &str, name: &str) -> Result<Node<Ipc>, AttachError>
         .map_err(|e| shm(instance, "a node", e))
 }
 
+/// A client port of the control service: JSON requests and responses in byte slices.
+pub type ControlPort = RrClient<Ipc, [u8], (), [u8], ()>;
+
 /// Opens the instance's control service and a client port on it.
-pub fn open_control(
-    node: &Node<Ipc>,
-    instance: &str,
-) -> Result<RrClient<Ipc, [u8], (), [u8], ()>, AttachError> {
+pub fn open_control(node: &Node<Ipc>, instance: &str) -> Result<ControlPort, AttachError> {
     let service = node
         .service_builder(&service_name(instance, control::control_service(instance))?)
         .request_response::<[u8], [u8]>()

@@ -2,10 +2,9 @@
 //! Requests to the server over the control service, without attaching as a client: what
 //! tools such as `procimg status` use, and what [`crate::Client`] uses underneath.
 
-use crate::connection::{Ipc, client_node, open_control};
+use crate::connection::{ControlPort, Ipc, client_node, open_control};
 use crate::error::{AttachError, ControlError};
 use iceoryx2::node::Node;
-use iceoryx2::port::client::Client as RrClient;
 use procimg_shm_layout::Mode;
 use procimg_shm_layout::control::{self, Request, Response, StatusReport};
 use std::time::{Duration, Instant};
@@ -17,7 +16,7 @@ pub const DEFAULT_CONTROL_TIMEOUT: Duration = Duration::from_secs(2);
 pub struct ControlHandle {
     instance: String,
     // The port must be dropped before its node.
-    port: RrClient<Ipc, [u8], (), [u8], ()>,
+    port: ControlPort,
     node: Node<Ipc>,
 }
 

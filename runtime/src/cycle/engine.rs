@@ -239,7 +239,7 @@ impl Engine {
 
         // 7. Statistics.
         st.shared.counters.cycles.store(k, Ordering::Release);
-        if k % crate::stats::HANDOFF_CYCLES == 0 {
+        if k.is_multiple_of(crate::stats::HANDOFF_CYCLES) {
             st.stats.hand_over();
         }
     }

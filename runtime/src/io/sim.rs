@@ -43,7 +43,7 @@ impl SimIo {
                 let n = d.submodules.len();
                 let out: usize = d.submodules.iter().map(|s| s.output_length as usize).sum();
                 let dev = SimDevice {
-                    behaviour: d.sim.clone(),
+                    behaviour: d.sim,
                     reduction_ratio: d.reduction_ratio.max(1) as u64,
                     submodules: first..first + n,
                     received: vec![0; out],
@@ -101,7 +101,7 @@ impl IoSystem for SimIo {
     fn receive(&mut self, t: CycleTime, mode: Mode, image: &mut Image) {
         let connected = mode != Mode::Offline;
         for dev in &self.devices {
-            if connected && t.cycle % dev.reduction_ratio == 0 {
+            if connected && t.cycle.is_multiple_of(dev.reduction_ratio) {
                 dev.produce(t.cycle, image);
             }
             for s in dev.submodules.clone() {
@@ -137,7 +137,7 @@ impl IoSystem for SimIo {
 
     fn send(&mut self, t: CycleTime, _mode: Mode, image: &Image) {
         for dev in &mut self.devices {
-            if t.cycle % dev.reduction_ratio != 0 {
+            if !t.cycle.is_multiple_of(dev.reduction_ratio) {
                 continue;
             }
             let mut at = 0;

@@ -80,12 +80,11 @@ pub fn cleanup_dead_nodes(instance: &str) -> Result<Vec<String>, ShmError> {
     let _ = Node::<Ipc>::list(config, |state| {
         match state {
             NodeState::Alive(view) => {
-                if let Some(d) = view.details() {
-                    if d.name().as_str().starts_with(&server_prefix)
-                        && d.process_id().value() as u32 != me
-                    {
-                        live_server = true;
-                    }
+                if let Some(d) = view.details()
+                    && d.name().as_str().starts_with(&server_prefix)
+                    && d.process_id().value() as u32 != me
+                {
+                    live_server = true;
                 }
             }
             NodeState::Dead(view) => {

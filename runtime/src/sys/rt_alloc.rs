@@ -103,11 +103,12 @@ pub struct RtAllocator;
 unsafe impl GlobalAlloc for RtAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         if is_realtime() {
-            if layout.size() <= BLOCK && layout.align() <= BLOCK {
-                if let Some(i) = take_block() {
-                    POOL_ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-                    return (pool_base() + i * BLOCK) as *mut u8;
-                }
+            if layout.size() <= BLOCK
+                && layout.align() <= BLOCK
+                && let Some(i) = take_block()
+            {
+                POOL_ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+                return (pool_base() + i * BLOCK) as *mut u8;
             }
             RT_HEAP_ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
         }

@@ -86,12 +86,11 @@ impl Server {
     pub fn wait_cycling(&self, timeout: Duration) {
         let until = Instant::now() + timeout;
         loop {
-            if let Ok(c) = ControlHandle::open(&self.instance, "test-wait") {
-                if let Ok(s) = c.status() {
-                    if s.cycle_count > 5 {
-                        return;
-                    }
-                }
+            if let Ok(c) = ControlHandle::open(&self.instance, "test-wait")
+                && let Ok(s) = c.status()
+                && s.cycle_count > 5
+            {
+                return;
             }
             assert!(
                 Instant::now() < until,
