@@ -25,8 +25,10 @@ struct Args {
     /// Station name of the echo device.
     #[arg(long, default_value = "echo")]
     device: String,
-    /// Largest accepted delay, in cycles, between writing a pattern and reading it back.
-    #[arg(long, default_value_t = 3)]
+    /// Largest accepted delay, in cycles, between writing a pattern and reading it back. It
+    /// is 1 when every OPDONE is in time; each OPFAULT in a row adds one (the late outputs are
+    /// not used, the previous ones are held).
+    #[arg(long, default_value_t = 8)]
     max_delay: u64,
     /// SCHED_FIFO priority of the loop (0: stay at normal priority).
     #[arg(long, default_value_t = 70)]

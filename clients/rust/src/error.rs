@@ -30,13 +30,15 @@ pub enum AttachError {
     },
     /// The server uses a different version of the shared-memory layout.
     #[error(
-        "instance \"{instance}\" uses shared-memory layout version {server}, this client \
-         version {client}: rebuild the client against the server's procimg version"
+        "instance \"{instance}\" uses {}, this client layout version {client}: rebuild the \
+         client against the server's procimg version",
+        if *server == 0 { "shared-memory types this client does not know".to_string() }
+        else { format!("shared-memory layout version {server}") }
     )]
     LayoutVersion {
         /// Instance name.
         instance: String,
-        /// The server's version (0 when its types did not even match).
+        /// The server's version (0 when its types did not even match, so it is unknown).
         server: u32,
         /// This client's version.
         client: u32,
