@@ -182,6 +182,14 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     {
         warn!("{w}");
     }
+    // Held open for the server's lifetime: closing it gives up the latency request.
+    let _dma_latency = match procimg_runtime::sys::rt::hold_cpu_dma_latency_zero() {
+        Ok(f) => Some(f),
+        Err(w) => {
+            warn!("{w}");
+            None
+        }
+    };
     let generation = generation();
     let shared = Arc::new(Shared::new(tables.submodules.len()));
     shared

@@ -25,9 +25,10 @@ struct Args {
     /// Station name of the echo device.
     #[arg(long, default_value = "echo")]
     device: String,
-    /// Largest accepted delay, in cycles, between writing a pattern and reading it back. It
-    /// is 1 when every OPDONE is in time; each OPFAULT in a row adds one (the late outputs are
-    /// not used, the previous ones are held).
+    /// Largest accepted delay, in cycles this client handled, between writing a pattern and
+    /// reading it back. It is 1 when every OPDONE is in time; each OPFAULT in a row adds one
+    /// (the late outputs are not used, the previous ones are held). Cycles the server skipped
+    /// (overruns) do not count.
     #[arg(long, default_value_t = 8)]
     max_delay: u64,
     /// SCHED_FIFO priority of the loop (0: stay at normal priority).
@@ -70,6 +71,8 @@ fn main() -> anyhow::Result<()> {
     let len = client.layout().submodules[sub].output_length as usize;
     let _ = echo;
 
+    // Patterns by the sequence number of the handled cycle (not the cycle number: a stall of
+    // the machine skips cycle numbers without delaying the echo).
     let mut written: BTreeMap<u64, Vec<u8>> = BTreeMap::new();
     let (mut done, mut opfaults, mut checked, mut echo_errors) = (0u64, 0u64, 0u64, 0u64);
     let mut delays: BTreeMap<u64, u64> = BTreeMap::new();
@@ -84,16 +87,17 @@ fn main() -> anyhow::Result<()> {
         let input = cycle.input(sub).unwrap_or(&[]).to_vec();
         cycle.output_mut(sub)?.copy_from_slice(&pattern(k, len));
         cycle.set_opdone()?;
-        written.insert(k, pattern(k, len));
-        // From the third cycle on, the echo must show something we wrote recently.
-        if k >= start + args.max_delay {
+        let seq = done;
+        written.insert(seq, pattern(k, len));
+        // From a few cycles in, the echo must show something we wrote recently.
+        if seq >= args.max_delay {
             checked += 1;
             match written
-                .range(k.saturating_sub(args.max_delay)..k)
+                .range(seq.saturating_sub(args.max_delay)..seq)
                 .rev()
                 .find(|(_, p)| **p == input)
             {
-                Some((j, _)) => *delays.entry(k - j).or_default() += 1,
+                Some((j, _)) => *delays.entry(seq - j).or_default() += 1,
                 None => echo_errors += 1,
             }
         }

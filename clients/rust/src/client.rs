@@ -310,13 +310,21 @@ impl Client {
             self.replay_mode_changes();
         }
         if opfault {
-            let cycle = self
+            // The image recording the OPFAULT is published only in the next cycle; until it
+            // arrives, the cycle that faulted is the newest one this client was given.
+            let recorded = self
                 .header()
-                .map(|h| h.opfault_cycle[self.slot as usize % MAX_CLIENTS])
-                .filter(|&c| c != 0)
-                .unwrap_or(self.last_startop);
-            self.last_opfault = cycle;
-            self.events.push_back(Event::OpFault { cycle });
+                .map_or(0, |h| h.opfault_cycle[self.slot as usize % MAX_CLIENTS]);
+            let newest = self.header().map_or(0, |h| h.cycle.cycle_number);
+            let cycle = if recorded > self.last_opfault {
+                recorded
+            } else {
+                newest.max(self.last_startop)
+            };
+            if cycle > self.last_opfault {
+                self.last_opfault = cycle;
+                self.events.push_back(Event::OpFault { cycle });
+            }
         }
         if newcycle {
             self.events.push_back(Event::NewCycle);

@@ -36,6 +36,26 @@ pub fn lock_memory() -> Result<(), String> {
     }
 }
 
+/// Asks the kernel to keep every CPU out of deep idle states (PM QoS `cpu_dma_latency` = 0
+/// µs) for as long as the returned file stays open, as cyclictest does: waking a CPU from a
+/// deep C-state adds tens of microseconds to every cycle's wake-up.
+pub fn hold_cpu_dma_latency_zero() -> Result<std::fs::File, String> {
+    use std::io::Write as _;
+    let path = "/dev/cpu_dma_latency";
+    let mut f = std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .map_err(|e| {
+            format!(
+                "cannot open {path} ({e}): idle CPUs may sleep deeply and wake late; run as \
+                 root or grant write access to {path}"
+            )
+        })?;
+    f.write_all(&0i32.to_ne_bytes())
+        .map_err(|e| format!("cannot write {path} ({e}): idle CPUs may sleep deeply"))?;
+    Ok(f)
+}
+
 /// Makes the calling thread SCHED_FIFO at `priority` (1..=99).
 pub fn set_fifo(priority: u8) -> Result<(), String> {
     let prio = ThreadPriority::from_posix(ScheduleParams {
