@@ -325,3 +325,46 @@ fn sigterm_puts_outputs_in_clear_then_removes_the_shared_memory() {
         Ok(_) => panic!("the control service of {instance} still exists"),
     }
 }
+
+/// NEWCYCLE reaches only clients that asked for it; the whole-output view writes the claimed
+/// submodules and the server ignores the bytes of the others.
+#[test]
+fn newcycle_on_request_and_the_whole_output_view_respects_claims() {
+    let server = Server::demo("newcycle");
+    let mut asks = Client::attach(
+        &server.instance,
+        AttachOptions::synchronous("asks").newcycle(true),
+    )
+    .unwrap();
+    let mut quiet = Client::attach(&server.instance, AttachOptions::asynchronous("quiet")).unwrap();
+    let echo = asks.layout().find("echo", 1, 1).unwrap();
+    asks.claim(&[echo]).unwrap();
+    let mut newcycles = 0;
+    for _ in 0..50 {
+        let mut cycle = asks.wait_startop(STARTOP_TIMEOUT).unwrap();
+        let q = cycle.outputs_mut().unwrap();
+        assert_eq!(q.len(), 18, "the demo has 18 output bytes");
+        q[..16].fill(0x42); // echo, claimed
+        q[16..].fill(0xff); // dio, not claimed: ignored
+        cycle.set_opdone().unwrap();
+        newcycles += asks
+            .events()
+            .iter()
+            .filter(|e| **e == Event::NewCycle)
+            .count();
+        let _ = quiet.wait_startop(Duration::from_millis(1));
+    }
+    assert!(
+        newcycles > 10,
+        "only {newcycles} NEWCYCLE events for the client that asked"
+    );
+    assert!(!quiet.events().contains(&Event::NewCycle));
+    let mut echo_in = [0u8; 16];
+    quiet.data_read(0, &mut echo_in, Ioxs::Good).unwrap();
+    assert_eq!(echo_in, [0x42; 16]);
+    let mut dio_out = [0u8; 2];
+    let r = quiet.output_data_read(16, &mut dio_out).unwrap();
+    assert_eq!(dio_out, [0, 0], "unclaimed outputs were written");
+    assert_eq!(r.local, Ioxs::Bad, "never-written outputs go out invalid");
+    assert!(server.status().rejected_writes == 0);
+}

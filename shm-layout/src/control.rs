@@ -69,6 +69,9 @@ pub enum Request {
         pid: u32,
         /// Synchronous or asynchronous.
         role: ClientRole,
+        /// Wants NEWCYCLE events (IO-Base registers PNIO_CP_CBE_NEWCYCLE_IND only on request).
+        #[serde(default)]
+        newcycle: bool,
         /// The iceoryx2 node id of the client, so the server notices when the process dies.
         node_id: String,
     },

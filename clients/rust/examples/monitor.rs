@@ -31,32 +31,32 @@ fn main() -> anyhow::Result<()> {
     let mut printed = 0;
     while args.lines.is_none_or(|n| printed < n) {
         // Any cycle will do: waiting for one just keeps the image fresh and the loop calm.
-        if let Ok(cycle) = client.wait_startop(Duration::from_millis(100)) {
-            if Instant::now() >= next {
-                next += period;
-                let mut line = format!("cycle {:>9} {:<8}", cycle.number(), cycle.mode().name());
-                let layout = cycle.layout();
-                for d in 0..layout.devices.len() {
-                    let _ = write!(line, " | {}", layout.device_name(d));
-                    for s in layout.submodules_of(d) {
-                        let (Some(input), Some(st)) = (cycle.input(s), cycle.status(s)) else {
-                            continue;
-                        };
-                        if input.is_empty() {
-                            continue;
-                        }
-                        let _ = write!(line, " ");
-                        for b in input.iter().take(8) {
-                            let _ = write!(line, "{b:02x}");
-                        }
-                        if st.input_remote != procimg_client::Ioxs::Good {
-                            line.push_str("(BAD)");
-                        }
+        if let Ok(cycle) = client.wait_startop(Duration::from_millis(100))
+            && Instant::now() >= next
+        {
+            next += period;
+            let mut line = format!("cycle {:>9} {:<8}", cycle.number(), cycle.mode().name());
+            let layout = cycle.layout();
+            for d in 0..layout.devices.len() {
+                let _ = write!(line, " | {}", layout.device_name(d));
+                for s in layout.submodules_of(d) {
+                    let (Some(input), Some(st)) = (cycle.input(s), cycle.status(s)) else {
+                        continue;
+                    };
+                    if input.is_empty() {
+                        continue;
+                    }
+                    let _ = write!(line, " ");
+                    for b in input.iter().take(8) {
+                        let _ = write!(line, "{b:02x}");
+                    }
+                    if st.input_remote != procimg_client::Ioxs::Good {
+                        line.push_str("(BAD)");
                     }
                 }
-                println!("{line}");
-                printed += 1;
             }
+            println!("{line}");
+            printed += 1;
         }
         for e in client.events() {
             match e {

@@ -32,6 +32,8 @@ pub struct AttachOptions {
     pub slice_access: bool,
     /// Refuse to attach unless the server's layout hash is this one.
     pub expected_layout_hash: Option<u64>,
+    /// Deliver [`Event::NewCycle`] (IO-Base's NEWCYCLE is delivered only when registered).
+    pub newcycle: bool,
     /// How long attaching may take.
     pub timeout: Duration,
 }
@@ -44,6 +46,7 @@ impl AttachOptions {
             role: ClientRole::Synchronous,
             slice_access: true,
             expected_layout_hash: None,
+            newcycle: false,
             timeout: Duration::from_secs(3),
         }
     }
@@ -59,6 +62,12 @@ impl AttachOptions {
     /// Sets slice access.
     pub fn slice_access(mut self, on: bool) -> AttachOptions {
         self.slice_access = on;
+        self
+    }
+
+    /// Asks for NEWCYCLE events.
+    pub fn newcycle(mut self, on: bool) -> AttachOptions {
+        self.newcycle = on;
         self
     }
 
@@ -326,7 +335,7 @@ impl Client {
                 self.events.push_back(Event::OpFault { cycle });
             }
         }
-        if newcycle {
+        if newcycle && self.opts.newcycle {
             self.events.push_back(Event::NewCycle);
         }
         if shutdown {
@@ -559,6 +568,7 @@ fn register(control: &ControlHandle, opts: &AttachOptions) -> Result<(u32, u64, 
         name: opts.name.clone(),
         pid: std::process::id(),
         role: opts.role,
+        newcycle: opts.newcycle,
         node_id,
     };
     match control.request(&req, opts.timeout.min(DEFAULT_CONTROL_TIMEOUT)) {

@@ -130,6 +130,27 @@ impl<'c> Cycle<'c> {
         Ok(&mut payload[at..at + e.output_length as usize])
     }
 
+    /// All output data of this cycle, writable in place, starting as last sent (the Q area of
+    /// a PLC's process image). Every submodule this client has claimed is marked written
+    /// with local status GOOD; bytes of submodules it has not claimed are ignored by the
+    /// server.
+    pub fn outputs_mut(&mut self) -> Result<&mut [u8], IoError> {
+        let claimed: Vec<_> = self
+            .client
+            .claims
+            .iter()
+            .filter_map(|&s| self.client.layout.submodules.get(s).copied())
+            .collect();
+        let size = self.client.layout.header.output_size as usize;
+        let payload = self.output_sample()?;
+        for e in claimed {
+            stamp(payload, &e, None, Some(Ioxs::Good), None);
+            let cs = e.client_status_offset as usize;
+            payload[cs + 2] |= procimg_shm_layout::CLIENT_WROTE_OUTPUTS;
+        }
+        Ok(&mut payload[..size])
+    }
+
     /// Sets the local status (IOPS) of submodule `s`'s outputs for this cycle.
     pub fn set_output_status(&mut self, s: usize, local: Ioxs) -> Result<(), IoError> {
         let _ = self.output_mut(s)?;

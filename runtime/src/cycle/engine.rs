@@ -56,6 +56,8 @@ struct ClientRt {
     armed: bool,
     /// Its OPDONE for this cycle arrived.
     done: bool,
+    /// It asked for NEWCYCLE.
+    newcycle: bool,
 }
 
 struct State {
@@ -229,7 +231,10 @@ impl Engine {
             }
         }
         st.stats.work(now_ns().saturating_sub(t0_ns));
-        notify(&self.ports, EVENT_NEWCYCLE);
+        // Only when asked for: every notification wakes every listener.
+        if st.clients.iter().any(|c| c.active && c.newcycle) {
+            notify(&self.ports, EVENT_NEWCYCLE);
+        }
         // Connections to clients that came or went are set up or torn down here, after the
         // outputs are out, instead of lazily inside the next publish or receive, where the
         // work (mapping, unmapping segments) would eat into the clients' OPDONE window.
@@ -296,6 +301,7 @@ impl State {
                     slot,
                     token,
                     synchronous,
+                    newcycle,
                 } => {
                     if let Some(cl) = self.clients.get_mut(slot as usize) {
                         *cl = ClientRt {
@@ -306,6 +312,7 @@ impl State {
                             // setting up is not late.
                             armed: false,
                             done: false,
+                            newcycle,
                         };
                     }
                 }

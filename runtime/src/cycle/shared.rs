@@ -17,6 +17,8 @@ pub enum Command {
         token: u64,
         /// It takes part in the STARTOP/OPDONE handshake.
         synchronous: bool,
+        /// It wants NEWCYCLE events.
+        newcycle: bool,
     },
     /// A client left (or died).
     Leave {

@@ -103,9 +103,13 @@ impl Control {
                 name,
                 pid,
                 role,
+                newcycle,
                 node_id,
             } => {
-                return match self.registry.register(shared, name, pid, role, node_id) {
+                return match self
+                    .registry
+                    .register(shared, name, pid, role, newcycle, node_id)
+                {
                     Ok((slot, token)) => Response::Registered {
                         slot,
                         token,

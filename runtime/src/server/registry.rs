@@ -63,6 +63,7 @@ impl Registry {
         name: String,
         pid: u32,
         role: ClientRole,
+        newcycle: bool,
         node_id: String,
     ) -> Result<(u32, u64), Refusal> {
         let slot = self
@@ -86,6 +87,7 @@ impl Registry {
             slot: slot as u32,
             token,
             synchronous: role == ClientRole::Synchronous,
+            newcycle,
         });
         Ok((slot as u32, token))
     }
