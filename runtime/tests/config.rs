@@ -86,7 +86,7 @@ fn demo_parses_with_the_documented_addresses() {
     assert_eq!(demo.cycle_thread.cpu, None);
     assert_eq!(demo.cycle_thread.priority, 80);
     assert!(demo.cycle_thread.lock_memory);
-    assert_eq!(demo.access.mode, 0o660);
+    assert_eq!(demo.access.mode, 0o600);
     assert_eq!(demo.access.group, None);
     assert_eq!(demo.submodule_count(), 7);
 
@@ -163,7 +163,7 @@ fn empty_file_gives_the_defaults() {
         ),
         (None, 80, true)
     );
-    assert_eq!((c.access.mode, c.access.group), (0o660, None));
+    assert_eq!((c.access.mode, c.access.group), (0o600, None));
     assert!(c.devices.is_empty());
 }
 

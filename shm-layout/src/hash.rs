@@ -5,6 +5,7 @@
 //! against a server whose image differs, instead of reading the wrong bytes.
 
 use crate::image_layout::ImageLayout;
+use crate::table_codec::{device_fields, submodule_fields};
 use crate::types::{DeviceEntry, LAYOUT_VERSION, SubmoduleEntry};
 
 struct Fnv(u64);
@@ -15,9 +16,6 @@ impl Fnv {
             self.0 ^= x as u64;
             self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
         }
-    }
-    fn u16(&mut self, v: u16) {
-        self.bytes(&v.to_le_bytes());
     }
     fn u32(&mut self, v: u32) {
         self.bytes(&v.to_le_bytes());
@@ -46,35 +44,10 @@ pub fn layout_hash(
     }
     h.u32(devices.len() as u32);
     for d in devices {
-        h.bytes(&d.station_name);
-        for v in [d.vendor_id, d.device_id, d.instance, d.reduction_ratio] {
-            h.u16(v);
-        }
-        h.bytes(&d.ip_address);
-        h.u32(d.first_submodule);
-        h.u32(d.submodule_count);
-        h.u16(d.watchdog_factor);
+        device_fields(d, &mut |b| h.bytes(b));
     }
     for s in submodules {
-        for v in [s.device, s.slot, s.subslot, s.rt_class as u16] {
-            h.u16(v);
-        }
-        for v in [
-            s.api,
-            s.module_ident,
-            s.submodule_ident,
-            s.input_address,
-            s.output_address,
-            s.input_length as u32,
-            s.output_length as u32,
-            s.input_offset,
-            s.output_offset,
-            s.output_mirror_offset,
-            s.status_offset,
-            s.client_status_offset,
-        ] {
-            h.u32(v);
-        }
+        submodule_fields(s, &mut |b| h.bytes(b));
     }
     h.0
 }

@@ -16,7 +16,7 @@
 //! [`ImageLayout`] computes where each region lies, the same way on every side. Nothing here
 //! does I/O; all offsets are in bytes from the start of a payload.
 #![no_std]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 #[cfg(feature = "control")]
 extern crate alloc;
@@ -26,6 +26,9 @@ pub mod control;
 pub mod events;
 mod hash;
 mod image_layout;
+#[cfg(feature = "std")]
+#[allow(unsafe_code)]
+pub mod os;
 mod table_codec;
 mod types;
 

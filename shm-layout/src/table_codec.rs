@@ -8,6 +8,50 @@ use crate::image_layout::ImageLayout;
 use crate::types::{DeviceEntry, STATION_NAME_LEN, SubmoduleEntry};
 use core::mem::size_of;
 
+/// Calls `out` with the bytes of every field of a device entry, little-endian, in order.
+pub fn device_fields(d: &DeviceEntry, out: &mut impl FnMut(&[u8])) {
+    out(&d.station_name);
+    for v in [d.vendor_id, d.device_id, d.instance, d.reduction_ratio] {
+        out(&v.to_le_bytes());
+    }
+    out(&d.ip_address);
+    out(&d.first_submodule.to_le_bytes());
+    out(&d.submodule_count.to_le_bytes());
+    out(&d.watchdog_factor.to_le_bytes());
+    out(&d.reserved.to_le_bytes());
+}
+
+/// Calls `out` with the bytes of every field of a submodule entry, little-endian, in order.
+pub fn submodule_fields(s: &SubmoduleEntry, out: &mut impl FnMut(&[u8])) {
+    for v in [s.device, s.slot, s.subslot] {
+        out(&v.to_le_bytes());
+    }
+    out(&[s.rt_class, s.reserved0]);
+    for v in [
+        s.api,
+        s.module_ident,
+        s.submodule_ident,
+        s.input_address,
+        s.output_address,
+    ] {
+        out(&v.to_le_bytes());
+    }
+    out(&s.input_length.to_le_bytes());
+    out(&s.output_length.to_le_bytes());
+    for v in [
+        s.input_offset,
+        s.output_offset,
+        s.output_mirror_offset,
+        s.status_offset,
+        s.client_status_offset,
+        s.reserved1,
+        s.reserved2,
+        s.reserved3,
+    ] {
+        out(&v.to_le_bytes());
+    }
+}
+
 /// Writes both tables into `buf`, which must hold
 /// [`ImageLayout::layout_payload_size`] bytes. Returns `false` (writing nothing past `buf`)
 /// when it is too short.
@@ -23,45 +67,11 @@ pub fn encode_tables(
     }
     let mut w = Cursor { buf, at: 0 };
     for d in devices {
-        w.put(&d.station_name);
-        for v in [d.vendor_id, d.device_id, d.instance, d.reduction_ratio] {
-            w.put(&v.to_le_bytes());
-        }
-        w.put(&d.ip_address);
-        w.put(&d.first_submodule.to_le_bytes());
-        w.put(&d.submodule_count.to_le_bytes());
-        w.put(&d.watchdog_factor.to_le_bytes());
-        w.put(&d.reserved.to_le_bytes());
+        device_fields(d, &mut |b| w.put(b));
     }
     w.at = sub_at;
     for s in submodules {
-        for v in [s.device, s.slot, s.subslot] {
-            w.put(&v.to_le_bytes());
-        }
-        w.put(&[s.rt_class, s.reserved0]);
-        for v in [
-            s.api,
-            s.module_ident,
-            s.submodule_ident,
-            s.input_address,
-            s.output_address,
-        ] {
-            w.put(&v.to_le_bytes());
-        }
-        w.put(&s.input_length.to_le_bytes());
-        w.put(&s.output_length.to_le_bytes());
-        for v in [
-            s.input_offset,
-            s.output_offset,
-            s.output_mirror_offset,
-            s.status_offset,
-            s.client_status_offset,
-            s.reserved1,
-            s.reserved2,
-            s.reserved3,
-        ] {
-            w.put(&v.to_le_bytes());
-        }
+        submodule_fields(s, &mut |b| w.put(b));
     }
     true
 }
@@ -162,6 +172,20 @@ impl<'a> Reader<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    proptest::proptest! {
+        #[test]
+        fn decoding_arbitrary_bytes_never_panics(
+            buf in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..2048),
+            devices in proptest::prelude::any::<u32>(),
+            i in proptest::prelude::any::<usize>(),
+        ) {
+            let _ = decode_device(&buf, i);
+            let _ = decode_device(&buf, i % 8);
+            let _ = decode_submodule(&buf, devices, i);
+            let _ = decode_submodule(&buf, devices % 8, i % 32);
+        }
+    }
 
     #[test]
     fn tables_round_trip() {

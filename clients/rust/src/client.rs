@@ -399,7 +399,8 @@ impl Client {
             let slice = (until - now).min(LIVENESS_PERIOD);
             match &self.conn {
                 Some(conn) => {
-                    if !crate::sys::wait_readable(conn.events_fd, slice) {
+                    let ns = slice.as_nanos().min(u64::MAX as u128) as u64;
+                    if !procimg_shm_layout::os::wait_readable(conn.events_fd, ns) {
                         self.check_server();
                     }
                 }

@@ -200,12 +200,4 @@ impl<'c> Cycle<'c> {
 }
 
 /// `CLOCK_MONOTONIC` in ns: the clock of `CycleInfo` (the server's clock).
-pub fn now_ns() -> u64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: a valid, writable timespec; CLOCK_MONOTONIC always exists on Linux.
-    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
-    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
-}
+pub use procimg_shm_layout::os::monotonic_ns as now_ns;

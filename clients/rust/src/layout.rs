@@ -17,6 +17,13 @@ pub struct Layout {
 impl Layout {
     /// Decodes a layout sample; `None` if the payload does not hold the tables it announces.
     pub fn decode(header: &LayoutHeader, payload: &[u8]) -> Option<Layout> {
+        // Check the counts against the payload before allocating anything for them.
+        let devices_end = header.device_count as u64 * core::mem::size_of::<DeviceEntry>() as u64;
+        let need = devices_end.next_multiple_of(8)
+            + header.submodule_count as u64 * core::mem::size_of::<SubmoduleEntry>() as u64;
+        if need > payload.len() as u64 {
+            return None;
+        }
         let devices = (0..header.device_count as usize)
             .map(|i| procimg_shm_layout::decode_device(payload, i))
             .collect::<Option<Vec<_>>>()?;
@@ -76,5 +83,31 @@ impl Layout {
     /// Every submodule with outputs.
     pub fn output_submodules(&self) -> impl Iterator<Item = usize> + '_ {
         (0..self.submodules.len()).filter(|&s| self.submodules[s].output_length > 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Whatever a layout sample holds, decoding it returns a layout or None: no panic,
+        /// no allocation beyond what the payload can back.
+        #[test]
+        fn decode_never_panics(
+            devices in any::<u32>(),
+            submodules in any::<u32>(),
+            payload in proptest::collection::vec(any::<u8>(), 0..4096),
+        ) {
+            let header = LayoutHeader {
+                device_count: devices % 64,
+                submodule_count: submodules,
+                ..LayoutHeader::default()
+            };
+            let _ = Layout::decode(&header, &payload);
+            let header = LayoutHeader { device_count: devices, submodule_count: submodules % 64, ..header };
+            let _ = Layout::decode(&header, &payload);
+        }
     }
 }

@@ -40,7 +40,6 @@ mod io;
 mod layout;
 pub mod realtime;
 mod status;
-mod sys;
 
 pub use access::{AccessError, Space};
 pub use client::{AttachOptions, Client, Event};

@@ -1,16 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! `CLOCK_MONOTONIC` in nanoseconds, and the absolute-time sleep the cycle thread waits with.
+//! `CLOCK_MONOTONIC` in nanoseconds (shared with the clients), and the absolute-time sleep
+//! the cycle thread waits with.
 
-/// Now on `CLOCK_MONOTONIC`, in ns.
-pub fn now_ns() -> u64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; CLOCK_MONOTONIC always exists on Linux.
-    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
-    ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64
-}
+pub use procimg_shm_layout::os::monotonic_ns as now_ns;
 
 /// Sleeps until `CLOCK_MONOTONIC` reaches `deadline_ns` (absolute), resuming after signals.
 /// Absolute sleeps do not accumulate drift: cycle k wakes at epoch + k·T however long cycle
