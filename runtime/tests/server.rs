@@ -28,10 +28,11 @@ fn demo_cycles_at_1ms_in_operate_and_status_reports_it() {
     assert_eq!(b.mode, Mode::Operate);
     assert_eq!(b.cycle_ns, 1_000_000);
     let advanced = (b.cycle_count - a.cycle_count) as f64;
-    // At 1 ms the count rises by one per ms (a skipped cycle counts as an overrun instead).
-    let skipped = (b.overruns - a.overruns) as f64;
+    // Cycle k is due at epoch + k·1 ms, so the count follows the clock (a cycle lost to an
+    // overrun is skipped, not delayed). The two snapshots are taken by the server while it
+    // answers, a few ms away from this thread's clock readings.
     assert!(
-        advanced <= ms + 2.0 && advanced + skipped >= 0.5 * ms,
+        (ms - 15.0..=ms + 15.0).contains(&advanced),
         "cycle count advanced by {advanced} in {ms:.1} ms"
     );
     assert_eq!(
