@@ -95,21 +95,20 @@ impl Image {
             payload: vec![0; tables.layout.input_payload_size as usize],
             submodules: tables.submodules.clone(),
         };
+        use procimg_shm_layout::{IOXS_BAD_BY_CONTROLLER as BAD, IOXS_GOOD as GOOD};
         for s in 0..image.submodules.len() {
             let e = image.submodules[s];
-            let dataless = e.input_length == 0 && e.output_length == 0;
-            let v = if dataless {
-                procimg_shm_layout::IOXS_GOOD
-            } else {
-                procimg_shm_layout::IOXS_BAD_BY_CONTROLLER
-            };
+            // A direction without data is GOOD (IO-Base: slots without data report GOOD);
+            // a direction with data is BAD until something is exchanged.
+            let input = if e.input_length == 0 { GOOD } else { BAD };
+            let output = if e.output_length == 0 { GOOD } else { BAD };
             image.set_status(
                 s,
                 SubmoduleStatus {
-                    input_iops: v,
-                    input_iocs: v,
-                    output_iops: v,
-                    output_iocs: v,
+                    input_iops: input,
+                    input_iocs: input,
+                    output_iops: output,
+                    output_iocs: output,
                 },
             );
         }

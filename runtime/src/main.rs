@@ -276,13 +276,18 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         std::thread::sleep(CONTROL_POLL);
     }
 
-    info!("stopping: outputs to CLEAR first");
-    shared
-        .target_mode
-        .store(Mode::Clear.as_u32(), Ordering::Release);
-    shared.command(Command::SetMode(Mode::Clear));
+    // Outputs to a safe state first: CLEAR sends them marked invalid. From OFFLINE nothing is
+    // connected and nothing goes out, so the server stays there.
+    let safe = if shared.mode() == Mode::Offline {
+        Mode::Offline
+    } else {
+        Mode::Clear
+    };
+    info!("stopping: outputs to {safe} first");
+    shared.target_mode.store(safe.as_u32(), Ordering::Release);
+    shared.command(Command::SetMode(safe));
     let until = Instant::now() + Duration::from_secs(2);
-    while shared.mode() != Mode::Clear && Instant::now() < until {
+    while shared.mode() != safe && Instant::now() < until {
         control.poll();
         std::thread::sleep(Duration::from_millis(1));
     }

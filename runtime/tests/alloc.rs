@@ -131,6 +131,8 @@ fn steady_state_cycles_allocate_nothing() {
     let run = |engine: &mut Engine, from: u64, to: u64| {
         for k in from..to {
             let t0 = epoch + k * cycle_ns;
+            sleep_until_ns(t0 - 100_000);
+            engine.maintain_connections();
             sleep_until_ns(t0);
             engine.run_cycle(k, t0);
         }

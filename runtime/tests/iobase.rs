@@ -210,3 +210,68 @@ fn late_client_policies() {
         assert!(server.status().opfaults >= 1);
     }
 }
+
+/// A late client that stays silent keeps its outputs BAD under "iops-bad" for as long as it is
+/// silent, and gets them GOOD again with its next OPDONE in time.
+#[test]
+fn iops_bad_lasts_while_the_late_client_is_silent() {
+    let config = format!("late_client_policy = \"iops-bad\"\n{MANUAL_LAYOUT}");
+    let server = Server::with_config("silent", &config);
+    let instance = server.instance.clone();
+    let mut c = Client::attach(&instance, AttachOptions::synchronous("silent")).unwrap();
+    let _ = procimg_client::realtime::make_current_thread_realtime(60);
+    let q = c.layout().find("manual", 4, 1).unwrap();
+    c.claim(&[q]).unwrap();
+    let run = |c: &mut Client, n: usize| {
+        for _ in 0..n {
+            let mut cycle = c.wait_startop(Duration::from_secs(1)).unwrap();
+            cycle.output_mut(q).unwrap().copy_from_slice(&[5, 5, 5, 5]);
+            cycle.set_opdone().unwrap();
+        }
+    };
+    run(&mut c, 20);
+    // Silent for 50 cycles: an observer sees the outputs go out BAD, and stay BAD.
+    let mut observer = Client::attach(&instance, AttachOptions::asynchronous("observer")).unwrap();
+    std::thread::sleep(Duration::from_millis(20));
+    let mut buf = [0u8; 4];
+    let mut bad = 0;
+    for _ in 0..10 {
+        std::thread::sleep(Duration::from_millis(3));
+        if observer.output_data_read(2, &mut buf).unwrap().local == Ioxs::Bad {
+            bad += 1;
+        }
+    }
+    assert_eq!(bad, 10, "the outputs of a silent late client must stay BAD");
+    assert_eq!(buf, [5, 5, 5, 5], "the data is held");
+    // Back in time: GOOD again, as long as it keeps answering (a synchronous client that stops
+    // calling wait_startop is late again).
+    run(&mut c, 20);
+    for _ in 0..5 {
+        run(&mut c, 1);
+        let r = observer.output_data_read(2, &mut buf).unwrap();
+        assert_eq!(r.local, Ioxs::Good);
+    }
+}
+
+/// Outputs whose claim is released go out invalid until someone claims and writes them.
+#[test]
+fn released_outputs_go_out_invalid() {
+    let server = Server::with_config("release", MANUAL_LAYOUT);
+    let mut c = attach(&server, true);
+    c.data_write(10, &[1, 2, 3, 4], Ioxs::Good).unwrap();
+    let wait_for = |c: &mut Client, want: Ioxs| {
+        let until = Instant::now() + Duration::from_secs(2);
+        let mut buf = [0u8; 4];
+        while c.output_data_read(10, &mut buf).unwrap().local != want {
+            assert!(
+                Instant::now() < until,
+                "output status never became {want:?}"
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    };
+    wait_for(&mut c, Ioxs::Good);
+    let q = c.layout().find("manual", 5, 1).unwrap();
+    c.release(&[q]).unwrap();
+    wait_for(&mut c, Ioxs::Bad);
+}

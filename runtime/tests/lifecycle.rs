@@ -107,8 +107,16 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
     std::fs::write(&trigger, b"hang").unwrap();
     wait_for("in-window");
     let _ = std::fs::remove_file(&trigger);
-    // Let the deadline of the hung cycle pass, then kill it inside its window.
+    // Let the deadline of the hung cycle pass: its OPFAULT is counted; then kill it inside its
+    // window.
     std::thread::sleep(Duration::from_millis(20));
+    let hung = server.status();
+    let doomed_hung = hung
+        .clients
+        .iter()
+        .find(|c| c.name == "doomed")
+        .expect("the hung client is still registered")
+        .opfaults;
     let killed_at = Instant::now();
     child.kill().unwrap();
     let _ = child.wait();
@@ -150,24 +158,33 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
         later.cycle_count > after.cycle_count + 150,
         "the server stopped cycling"
     );
-    // One OPFAULT for the cycle the client hung in, none after, none for anybody else.
+    // The killed client: exactly one OPFAULT, for the cycle it hung in; a suspended client is
+    // not waited for again, so the kill and the reaping add none.
     assert_eq!(
-        later.opfaults - before.opfaults,
+        doomed_hung - doomed_before,
         1,
-        "OPFAULTs before {} (doomed {doomed_before}), after {}; bystander faults {bystander_faults:?}",
-        before.opfaults,
-        later.opfaults
+        "OPFAULTs of the hung client"
     );
+    // Every other OPFAULT in the window is the bystander's. On this kind of machine (2 shared
+    // vCPUs, periodic kernel work) a SCHED_FIFO client misses about one deadline in 1000-2000
+    // cycles anyway (docs/PERFORMANCE.md), so over the ~500 cycles here it may miss one or
+    // two, unrelated to the kill. A kill that hurt the other clients would cost them a miss in
+    // cycle after cycle until the reaping, as an earlier version did (9 in such a window).
     let faults = |s: &procimg_client::StatusReport| {
         s.clients
             .iter()
             .find(|c| c.name == "bystander")
             .map_or(0, |c| c.opfaults)
     };
+    let bystander = faults(&later) - faults(&before);
     assert_eq!(
-        faults(&later),
-        faults(&before),
-        "the other client got OPFAULTs: {later:?}"
+        later.opfaults - before.opfaults,
+        1 + bystander,
+        "OPFAULTs for nobody else; bystander faults {bystander_faults:?}"
+    );
+    assert!(
+        bystander <= 3,
+        "the kill cost the other client {bystander} OPFAULTs: {bystander_faults:?}"
     );
 
     // A new client takes the same outputs.
@@ -235,4 +252,54 @@ fn a_running_client_reattaches_within_a_second_of_a_server_restart() {
     assert_eq!(st.clients.len(), 1);
     assert_eq!(st.clients[0].name, "survivor");
     assert_eq!(st.clients[0].claims.len(), 1);
+}
+
+#[test]
+fn an_asynchronous_client_reattaches_and_reports_the_gap() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut server = Server::demo("async-restart");
+    let mut c = Client::attach(
+        &server.instance,
+        AttachOptions::asynchronous("async-survivor"),
+    )
+    .unwrap();
+    let mut buf = [0u8; 4];
+    let until = Instant::now() + Duration::from_secs(2);
+    while c
+        .data_read(16, &mut buf, procimg_client::Ioxs::Good)
+        .is_err()
+    {
+        assert!(Instant::now() < until);
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    server.kill();
+    // Reads stop returning the old image once the server is found gone.
+    let until = Instant::now() + Duration::from_secs(2);
+    loop {
+        match c.data_read(16, &mut buf, procimg_client::Ioxs::Good) {
+            Err(procimg_client::IoError::ServerGone { .. }) => break,
+            _ => assert!(
+                Instant::now() < until,
+                "reads kept succeeding without a server"
+            ),
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    server.restart();
+    let until = Instant::now() + Duration::from_secs(3);
+    while c
+        .data_read(16, &mut buf, procimg_client::Ioxs::Good)
+        .is_err()
+    {
+        assert!(
+            Instant::now() < until,
+            "the asynchronous client never re-attached"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(
+        c.events()
+            .iter()
+            .any(|e| matches!(e, Event::Reattached { .. }))
+    );
 }

@@ -369,3 +369,32 @@ fn newcycle_on_request_and_the_whole_output_view_respects_claims() {
     assert_eq!(r.local, Ioxs::Bad, "never-written outputs go out invalid");
     assert!(server.status().rejected_writes == 0);
 }
+
+/// A cycle whose image another call already fetched (an event, a data_read) is still handed
+/// out by wait_startop: nothing is skipped, so the client does not miss its window.
+#[test]
+fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
+    let server = Server::demo("fetched");
+    let mut c = Client::attach(&server.instance, AttachOptions::synchronous("fetched")).unwrap();
+    for _ in 0..20 {
+        let cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
+        cycle.set_opdone().unwrap();
+        // Let the next cycle start, then fetch its image by another route.
+        std::thread::sleep(Duration::from_millis(1));
+        let mut buf = [0u8; 4];
+        c.data_read(16, &mut buf, Ioxs::Good).unwrap();
+        let seen = c.cycle_info().unwrap().cycle_number;
+        let t = Instant::now();
+        let cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
+        assert_eq!(
+            cycle.number(),
+            seen,
+            "wait_startop skipped the cycle data_read fetched"
+        );
+        assert!(
+            t.elapsed() < Duration::from_micros(900),
+            "it waited for the next cycle"
+        );
+        cycle.set_opdone().unwrap();
+    }
+}

@@ -171,6 +171,8 @@ pub enum Refusal {
         /// The mode being reached.
         pending: Mode,
     },
+    /// The cycle thread's command queue is full (the cycle is stalled); try again.
+    ServerBusy,
     /// The request could not be decoded.
     BadRequest {
         /// What was wrong.
@@ -208,6 +210,9 @@ impl core::fmt::Display for Refusal {
             Refusal::ModeChangePending { pending } => write!(
                 f,
                 "the change to {pending} is not confirmed yet; wait for its MODE event"
+            ),
+            Refusal::ServerBusy => f.write_str(
+                "the server's cycle is not taking commands at the moment (stalled?); try again",
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
         }

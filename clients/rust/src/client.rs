@@ -108,6 +108,10 @@ pub enum Event {
 const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
 /// How often a client whose server is gone tries to re-attach.
 const REATTACH_PERIOD: Duration = Duration::from_millis(50);
+/// How long one step of re-attaching (registration, layout) may take.
+const REATTACH_STEP: Duration = Duration::from_millis(300);
+/// How long without a new image before an asynchronous access checks the server is alive.
+const STALE_IMAGE: Duration = Duration::from_millis(100);
 
 /// A client attached to a procimgd instance.
 pub struct Client {
@@ -124,7 +128,9 @@ pub struct Client {
     /// Last OPFAULT cycle seen for this client's slot.
     last_opfault: u64,
     /// `ImageHeader::mode_changes` of the last mode change reported.
-    mode_changes_seen: u32,
+    mode_changes_seen: Option<u32>,
+    /// When the newest image arrived (to notice a server that stopped publishing).
+    last_image: Instant,
     events: VecDeque<Event>,
     last_liveness: Instant,
     last_reattach: Instant,
@@ -166,7 +172,8 @@ impl Client {
             latest: None,
             last_startop: 0,
             last_opfault: 0,
-            mode_changes_seen: 0,
+            mode_changes_seen: None,
+            last_image: Instant::now(),
             events: VecDeque::new(),
             last_liveness: Instant::now(),
             last_reattach: Instant::now(),
@@ -176,12 +183,11 @@ impl Client {
             control,
         };
         client.refresh();
-        if let Some((opfault, changes)) = client
+        if let Some(opfault) = client
             .header()
-            .map(|h| (h.opfault_cycle[slot as usize % MAX_CLIENTS], h.mode_changes))
+            .map(|h| h.opfault_cycle[slot as usize % MAX_CLIENTS])
         {
             client.last_opfault = opfault;
-            client.mode_changes_seen = changes;
         }
         Ok(client)
     }
@@ -220,6 +226,11 @@ impl Client {
             submodules: submodules.iter().map(|&s| s as u32).collect(),
         })?;
         self.claims.extend(submodules.iter().copied());
+        for &s in submodules {
+            if let Some(v) = self.write_cache.valid.get_mut(s) {
+                *v = false;
+            }
+        }
         Ok(())
     }
 
@@ -250,8 +261,11 @@ impl Client {
             token: self.token,
             submodules: submodules.iter().map(|&s| s as u32).collect(),
         })?;
-        for s in submodules {
-            self.claims.remove(s);
+        for &s in submodules {
+            self.claims.remove(&s);
+            if let Some(v) = self.write_cache.valid.get_mut(s) {
+                *v = false;
+            }
         }
         Ok(())
     }
@@ -294,6 +308,13 @@ impl Client {
             }
             self.latest = Some(sample);
             newer = true;
+        }
+        if newer {
+            self.last_image = Instant::now();
+            // The first image after attaching sets where mode changes are counted from.
+            if self.mode_changes_seen.is_none() {
+                self.mode_changes_seen = self.header().map(|h| h.mode_changes);
+            }
         }
         newer
     }
@@ -351,15 +372,23 @@ impl Client {
             return;
         };
         let (changes, history) = (h.mode_changes, h.mode_history);
-        let missed = changes.wrapping_sub(self.mode_changes_seen) as usize;
+        let Some(seen) = self.mode_changes_seen else {
+            self.mode_changes_seen = Some(changes);
+            return;
+        };
+        let missed = changes.wrapping_sub(seen) as usize;
         let first = changes.wrapping_sub(missed.min(MODE_HISTORY) as u32) + 1;
         for n in 0..missed.min(MODE_HISTORY) as u32 {
             let at = first.wrapping_add(n) as usize % MODE_HISTORY;
             if let Some(m) = Mode::from_u32(history[at]) {
+                if m == Mode::Offline {
+                    // IO-Base: in OFFLINE the outputs written are lost.
+                    self.write_cache.valid.iter_mut().for_each(|v| *v = false);
+                }
                 self.events.push_back(Event::Mode(m));
             }
         }
-        self.mode_changes_seen = changes;
+        self.mode_changes_seen = Some(changes);
     }
 
     /// Returns the events that arrived since the last call, without waiting.
@@ -379,7 +408,10 @@ impl Client {
                 self.try_reattach()?;
             }
             self.drain_events();
-            if self.conn.is_some() && self.refresh() {
+            if self.conn.is_some() {
+                // Another call (an event, a data_read) may have taken the new image already:
+                // what counts is whether it is newer than the last cycle handed out.
+                self.refresh();
                 let cycle = self.header().map_or(0, |h| h.cycle.cycle_number);
                 if cycle > self.last_startop {
                     self.last_startop = cycle;
@@ -409,6 +441,24 @@ impl Client {
         }
     }
 
+    /// For accesses outside the handshake: takes the newest image; when none came for a while,
+    /// checks that the server lives; re-attaches to a restarted one. Errors when there is no
+    /// server to read from.
+    pub(crate) fn ensure_fresh(&mut self) -> Result<(), IoError> {
+        if self.conn.is_none() {
+            let _ = self.try_reattach();
+        }
+        if self.conn.is_some() && !self.refresh() && self.last_image.elapsed() > STALE_IMAGE {
+            self.check_server();
+        }
+        if self.conn.is_none() {
+            return Err(IoError::ServerGone {
+                instance: self.instance().to_string(),
+            });
+        }
+        Ok(())
+    }
+
     /// Drops the data ports: the server is gone.
     fn disconnect(&mut self) {
         self.latest = None;
@@ -423,7 +473,7 @@ impl Client {
         self.last_liveness = Instant::now();
         let wanted = format!("{}/cycle", server_node_name(self.instance()));
         let mut alive = false;
-        let _ = Node::<Ipc>::list(iox2_config(), |state| {
+        let listed = Node::<Ipc>::list(iox2_config(), |state| {
             if let NodeState::Alive(v) = &state
                 && v.details()
                     .as_ref()
@@ -434,7 +484,8 @@ impl Client {
             }
             CallbackProgression::Continue
         });
-        if !alive {
+        // A list that failed part-way proves nothing: keep the connection.
+        if listed.is_ok() && !alive {
             self.disconnect();
         }
     }
@@ -445,14 +496,19 @@ impl Client {
             return Ok(());
         }
         self.last_reattach = Instant::now();
-        let Ok((slot, token, generation)) = register(&self.control, &self.opts) else {
+        // Short timeouts: re-attaching runs inside calls that have timeouts of their own.
+        let quick = AttachOptions {
+            timeout: REATTACH_STEP,
+            ..self.opts.clone()
+        };
+        let Ok((slot, token, generation)) = register(&self.control, &quick) else {
             return Ok(());
         };
         let conn = match Connection::open(
             self.control.node(),
             self.instance(),
             generation,
-            self.opts.timeout,
+            REATTACH_STEP,
         ) {
             Ok(c) => c,
             Err(_) => {
@@ -478,7 +534,8 @@ impl Client {
         self.conn = Some(conn);
         self.last_startop = 0;
         self.last_opfault = 0;
-        self.mode_changes_seen = 0;
+        self.mode_changes_seen = None;
+        self.write_cache.valid.iter_mut().for_each(|v| *v = false);
         self.events.push_back(Event::Reattached { generation });
         let claims: Vec<usize> = std::mem::take(&mut self.claims).into_iter().collect();
         for s in claims {

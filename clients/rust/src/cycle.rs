@@ -122,6 +122,8 @@ impl<'c> Cycle<'c> {
                 address: e.output_address,
             });
         }
+        // Written here, not through the write cache: the cache's copy is no longer current.
+        self.client.write_cache.valid[s] = false;
         let payload = self.output_sample()?;
         stamp(payload, &e, None, Some(Ioxs::Good), None);
         let cs = e.client_status_offset as usize;
@@ -142,6 +144,11 @@ impl<'c> Cycle<'c> {
             .filter_map(|&s| self.client.layout.submodules.get(s).copied())
             .collect();
         let size = self.client.layout.header.output_size as usize;
+        self.client
+            .write_cache
+            .valid
+            .iter_mut()
+            .for_each(|v| *v = false);
         let payload = self.output_sample()?;
         for e in claimed {
             stamp(payload, &e, None, Some(Ioxs::Good), None);

@@ -98,7 +98,7 @@ impl Client {
 
     /// The newest input-image payload, refreshed.
     pub(crate) fn newest_payload(&mut self) -> Result<&[u8], IoError> {
-        self.refresh();
+        self.ensure_fresh()?;
         match &self.latest {
             Some(s) => Ok(s.payload()),
             None => Err(self.no_image()),
@@ -113,17 +113,17 @@ impl Client {
         buf: &mut [u8],
         local: Ioxs,
     ) -> Result<ReadResult, IoError> {
-        self.refresh();
+        self.ensure_fresh()?;
         let payload = match &self.latest {
             Some(s) => s.payload(),
             None => return Err(self.no_image()),
         };
         let (res, s) = read_inputs(self, payload, address, buf)?;
-        let sent = read_status(payload, &self.layout.submodules[s]).input_local;
-        self.local_input_iocs[s] = local;
-        if sent != local {
-            // Rare: the local status changes. Send it on its own so it reaches the device
-            // in the next cycle, as IO-Base specifies.
+        if self.local_input_iocs[s] != local {
+            // Rare: this client changes the local status it asks for. Send it on its own so it
+            // reaches the device in the next cycle, as IO-Base specifies; only on a change, so
+            // reading never turns into a stream of samples.
+            self.local_input_iocs[s] = local;
             self.write_cache.input_iocs[s] = Some(local);
             self.flush_submodules(&[])?;
         }
@@ -165,6 +165,7 @@ impl Client {
     pub fn data_write(&mut self, address: u32, data: &[u8], local: Ioxs) -> Result<Ioxs, IoError> {
         let s = self.write_to_cache(address, data, local)?;
         self.flush_submodules(&[s])?;
+        self.ensure_fresh()?;
         Ok(self.output_remote(s))
     }
 
@@ -250,7 +251,7 @@ impl Client {
         let len = e.output_length as usize;
         if !self.write_cache.valid[r.submodule] {
             // Start from the outputs as last sent, so a partial write keeps the other bytes.
-            self.refresh();
+            self.ensure_fresh()?;
             let mirror_at = e.output_mirror_offset as usize;
             let mirror = self.latest.as_ref().and_then(|l| {
                 l.payload()

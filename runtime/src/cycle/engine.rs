@@ -58,6 +58,8 @@ struct ClientRt {
     done: bool,
     /// It asked for NEWCYCLE.
     newcycle: bool,
+    /// It got an OPFAULT and has not handed in an OPDONE in time since.
+    faulted: bool,
 }
 
 struct State {
@@ -71,8 +73,11 @@ struct State {
     output_iops: Vec<u8>,
     /// Per submodule: the input IOCS the clients set.
     input_iocs: Vec<u8>,
-    /// Per submodule: its owner was late this cycle and the policy is IOPS BAD.
+    /// Per submodule: its owner is late (faulted) and the policy is IOPS BAD.
     late_bad: Vec<bool>,
+    /// Per submodule: the owner token seen last; a change resets the output IOPS to BAD until
+    /// the new owner writes.
+    last_owner: Vec<u64>,
     mode: Mode,
     target: Mode,
     layout_hash: u64,
@@ -131,6 +136,7 @@ impl Engine {
                 output_iops: vec![IOXS_BAD_BY_CONTROLLER; n],
                 input_iocs: vec![IOXS_GOOD; n],
                 late_bad: vec![false; n],
+                last_owner: vec![0; n],
                 mode: Mode::Offline,
                 target,
                 layout_hash: tables.hash,
@@ -154,19 +160,20 @@ impl Engine {
         st.cycle = k;
         st.stats.wakeup(woke.saturating_sub(t0_ns));
         st.apply_commands();
-        let mode_changed = st.step_mode();
-
-        // 1. Inputs from the IO system; local input status from the clients.
         let t = CycleTime {
             cycle: k,
             now_ns: woke,
         };
-        self.io.receive(t, st.mode, &mut st.image);
-        st.apply_input_iocs();
+        // Outputs held back for the cycle start go out in the mode they were made for.
         if st.outputs_pending {
             self.io.send(t, st.mode, &st.image);
             st.outputs_pending = false;
         }
+        let mode_changed = st.step_mode();
+
+        // 1. Inputs from the IO system; local input status from the clients.
+        self.io.receive(t, st.mode, &mut st.image);
+        st.apply_input_iocs();
 
         // 2. Publish the input image.
         let now = now_ns();
@@ -179,27 +186,33 @@ impl Engine {
             reserved: 0,
         };
         st.header.mode = st.mode.as_u32();
-        if let Ok(mut sample) = self
+        let published = match self
             .ports
             .inputs
             .loan_slice_uninit(st.image.payload().len())
         {
-            *sample.user_header_mut() = st.header;
-            let _ = sample.write_from_slice(st.image.payload()).send();
-        }
+            Ok(mut sample) => {
+                *sample.user_header_mut() = st.header;
+                sample.write_from_slice(st.image.payload()).send().is_ok()
+            }
+            Err(_) => false,
+        };
 
         // 3. STARTOP (and the mode indication, now that the image carries the new mode).
         st.startop_ns = now_ns();
-        notify(&self.ports, EVENT_STARTOP);
+        if published {
+            notify(&self.ports, EVENT_STARTOP);
+        }
         if mode_changed {
             notify(&self.ports, EVENT_MODE);
         }
 
         // 4./5. Wait for OPDONE of the armed synchronous clients, merging outputs as they come.
+        // Without a published image there is nothing to answer: nobody is waited for.
         let deadline = t0_ns + st.settings.opdone_deadline_ns;
         loop {
             drain_outputs(&self.ports, st);
-            if st.all_done() {
+            if !published || st.all_done() {
                 break;
             }
             let now = now_ns();
@@ -211,7 +224,10 @@ impl Engine {
             }
         }
         let _ = self.ports.opdone.try_wait(|_| {});
-        st.opfault_late_clients(&self.ports);
+        if published {
+            st.opfault_late_clients(&self.ports);
+        }
+        st.mark_late_outputs();
 
         // 6. Outputs go out, NEWCYCLE.
         st.prepare_output_status();
@@ -235,18 +251,22 @@ impl Engine {
         if st.clients.iter().any(|c| c.active && c.newcycle) {
             notify(&self.ports, EVENT_NEWCYCLE);
         }
-        // Connections to clients that came or went are set up or torn down here, after the
-        // outputs are out, instead of lazily inside the next publish or receive, where the
-        // work (mapping, unmapping segments) would eat into the clients' OPDONE window.
-        let _ = self.ports.inputs.update_connections();
-        let _ = self.ports.outputs.update_connections();
-        let _ = self.ports.events.update_connections();
 
         // 7. Statistics.
         st.shared.counters.cycles.store(k, Ordering::Release);
         if k.is_multiple_of(crate::stats::HANDOFF_CYCLES) {
             st.stats.hand_over();
         }
+    }
+
+    /// Sets up and tears down iceoryx2 connections to clients that came or went. Called just
+    /// before a cycle starts: otherwise iceoryx2 does it lazily inside the next publish or
+    /// receive, where the work (mapping, unmapping segments) eats into the OPDONE window of
+    /// every client.
+    pub fn maintain_connections(&mut self) {
+        let _ = self.ports.inputs.update_connections();
+        let _ = self.ports.outputs.update_connections();
+        let _ = self.ports.events.update_connections();
     }
 
     /// Counts an overrun (cycles skipped because cycle work ran past the next start).
@@ -271,7 +291,9 @@ impl Engine {
 /// costing a healthy client its OPDONE.
 fn drain_outputs(ports: &CyclePorts, st: &mut State) {
     let mut retries = 0;
-    loop {
+    // Bounded, so that a client writing in a tight loop cannot hold the cycle past its
+    // deadline: what is left waits for the next drain.
+    for _ in 0..4 * MAX_CLIENTS {
         match ports.outputs.receive() {
             Ok(Some(sample)) => st.merge(&sample),
             Ok(None) => return,
@@ -313,7 +335,11 @@ impl State {
                             armed: false,
                             done: false,
                             newcycle,
+                            faulted: false,
                         };
+                    }
+                    if let Some(c) = self.shared.counters.client_opfaults.get(slot as usize) {
+                        c.store(0, Ordering::Relaxed);
                     }
                 }
                 Command::Leave { slot } => {
@@ -330,7 +356,15 @@ impl State {
         for c in &mut self.clients {
             c.done = false;
         }
-        self.late_bad.iter_mut().for_each(|b| *b = false);
+        // A submodule whose owner changed (claimed, released, owner gone) goes out invalid
+        // until its new owner writes it.
+        for s in 0..self.last_owner.len() {
+            let owner = self.shared.owner(s);
+            if owner != self.last_owner[s] {
+                self.last_owner[s] = owner;
+                self.output_iops[s] = IOXS_BAD_BY_CONTROLLER;
+            }
+        }
     }
 
     /// Moves one step towards the target mode (OFFLINE and OPERATE pass through CLEAR, as
@@ -411,6 +445,7 @@ impl State {
                 return;
             }
             client.done = true;
+            client.faulted = false;
             self.stats
                 .handshake(now_ns().saturating_sub(self.startop_ns));
         }
@@ -438,6 +473,7 @@ impl State {
                     .fetch_add(1, Ordering::Relaxed);
                 continue;
             }
+            self.last_owner[s] = token;
             if flags & CLIENT_WROTE_OUTPUTS != 0 {
                 let from = e.output_offset as usize;
                 let len = e.output_length as usize;
@@ -458,16 +494,29 @@ impl State {
                 continue;
             }
             self.clients[slot].armed = false;
+            self.clients[slot].faulted = true;
             self.header.opfault_cycle[slot] = self.cycle;
             let counters = &self.shared.counters;
             counters.opfaults.fetch_add(1, Ordering::Relaxed);
             counters.client_opfaults[slot].fetch_add(1, Ordering::Relaxed);
             notify(ports, opfault_event(slot as u32));
-            if self.settings.late_policy == LatePolicy::IopsBad {
-                for s in 0..self.late_bad.len() {
-                    if self.shared.owner(s) == c.token {
-                        self.late_bad[s] = true;
-                    }
+        }
+    }
+
+    /// With `late_client_policy = "iops-bad"`, the submodules of every client that got an
+    /// OPFAULT and has not been in time since go out BAD, for as long as that lasts.
+    fn mark_late_outputs(&mut self) {
+        self.late_bad.iter_mut().for_each(|b| *b = false);
+        if self.settings.late_policy != LatePolicy::IopsBad {
+            return;
+        }
+        for c in &self.clients {
+            if !(c.active && c.synchronous && c.faulted) {
+                continue;
+            }
+            for s in 0..self.late_bad.len() {
+                if self.shared.owner(s) == c.token {
+                    self.late_bad[s] = true;
                 }
             }
         }
@@ -480,8 +529,11 @@ impl State {
                 continue;
             }
             let mut st = self.image.status(s);
+            // Outputs nobody owns are not being written by anyone: they go out invalid, so the
+            // device applies its substitute values.
+            let owned = self.last_owner[s] != 0;
             st.output_iops = match self.mode {
-                Mode::Operate if !self.late_bad[s] => self.output_iops[s],
+                Mode::Operate if owned && !self.late_bad[s] => self.output_iops[s],
                 _ => IOXS_BAD_BY_CONTROLLER,
             };
             self.image.set_status(s, st);

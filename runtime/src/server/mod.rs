@@ -150,10 +150,12 @@ impl Control {
         if pending != self.shared.mode() {
             return Err(Refusal::ModeChangePending { pending });
         }
+        if !self.shared.command(Command::SetMode(mode)) {
+            return Err(Refusal::ServerBusy);
+        }
         self.shared
             .target_mode
             .store(mode.as_u32(), Ordering::Release);
-        self.shared.command(Command::SetMode(mode));
         Ok(())
     }
 
@@ -211,7 +213,7 @@ impl Control {
     /// Removes clients whose process is gone, and cleans up what dead processes left.
     fn reap_dead_clients(&mut self) -> Vec<String> {
         let mut alive = HashSet::new();
-        let _ = Node::<Ipc>::list(iox2_config(), |state| {
+        let listed = Node::<Ipc>::list(iox2_config(), |state| {
             match state {
                 NodeState::Alive(v) => {
                     alive.insert(v.id().to_string());
@@ -226,6 +228,10 @@ impl Control {
             }
             CallbackProgression::Continue
         });
+        if listed.is_err() {
+            // An incomplete list says nothing about the clients left out: reap next time.
+            return Vec::new();
+        }
         let dead: Vec<u32> = self
             .registry
             .clients()

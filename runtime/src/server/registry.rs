@@ -73,7 +73,7 @@ impl Registry {
             .ok_or(Refusal::TooManyClients {
                 max: MAX_CLIENTS as u32,
             })?;
-        let token = self.next_token;
+        let token = random_token().unwrap_or(self.next_token);
         self.next_token = self.next_token.wrapping_add(2);
         self.slots[slot] = Some(ClientEntry {
             token,
@@ -83,12 +83,16 @@ impl Registry {
             node_id,
             claims: BTreeSet::new(),
         });
-        shared.command(Command::Join {
+        let joined = shared.command(Command::Join {
             slot: slot as u32,
             token,
             synchronous: role == ClientRole::Synchronous,
             newcycle,
         });
+        if !joined {
+            self.slots[slot] = None;
+            return Err(Refusal::ServerBusy);
+        }
         Ok((slot as u32, token))
     }
 
@@ -182,4 +186,13 @@ impl Registry {
             holder_slot: slot,
         }
     }
+}
+
+/// A token nobody can guess from what is published (the generation, other tokens): 64 bits
+/// from the kernel's random source; never 0 (which means "unclaimed").
+fn random_token() -> Option<u64> {
+    let mut b = [0u8; 8];
+    // SAFETY: `b` is a valid, writable buffer of the given length.
+    let n = unsafe { libc::getrandom(b.as_mut_ptr().cast(), b.len(), 0) };
+    (n == 8).then(|| u64::from_ne_bytes(b) | 1)
 }
