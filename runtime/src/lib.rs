@@ -12,10 +12,12 @@
 //!           io::IoSystem (sim; PROFINET)
 //!   server::Control (acyclic: requests, claims, liveness, status)
 //! ```
+pub mod capture;
 pub mod config;
 pub mod cycle;
 pub mod image;
 pub mod io;
+pub mod profinet;
 pub mod server;
 pub mod shm;
 pub mod stats;

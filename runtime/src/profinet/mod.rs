@@ -1,0 +1,6 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! PROFINET IO, sans-IO: wire formats as checked views over byte buffers plus `Repr`s that
+//! parse and emit them. No socket, no clock: bytes in, bytes out; the cycle thread and the
+//! acyclic side drive it, tests drive it directly from real captures.
+pub mod iocr_layout;
+pub mod wire;

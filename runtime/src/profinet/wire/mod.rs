@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! PROFINET wire formats, in the smoltcp style.
+//!
+//! Every format has a buffer view (`Packet<T: AsRef<[u8]>>` or a named equivalent) with
+//! `new_unchecked`, `check_len` and `new_checked`, field getters, setters on an `AsMut` impl,
+//! and a `Repr` with `parse`, `buffer_len` and `emit`.
+//!
+//! The contract:
+//! - once `check_len` (or `new_checked`) has returned `Ok`, no getter panics;
+//! - `Repr::parse` never panics, on any input: malformed bytes give [`Error`];
+//! - `Repr::emit` never panics on a buffer of exactly `buffer_len()` bytes;
+//! - byte order is explicit (big-endian on the wire unless a format says otherwise); wire
+//!   bytes are never transmuted.
+pub mod dcp;
+pub mod ethernet;
+pub mod rt;
+
+/// A malformed or truncated frame. Callers count and drop such frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Error;
+
+impl core::fmt::Display for Error {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("malformed PROFINET frame")
+    }
+}
+
+impl core::error::Error for Error {}
+
+/// The result of parsing.
+pub type Result<T> = core::result::Result<T, Error>;
+
+/// A byte range of a fixed field.
+pub(crate) type Field = core::ops::Range<usize>;
+/// The rest of a buffer from an offset.
+pub(crate) type Rest = core::ops::RangeFrom<usize>;
+
+/// Reads a big-endian u16 from a 2-byte slice.
+pub(crate) fn be16(b: &[u8]) -> u16 {
+    u16::from_be_bytes([b[0], b[1]])
+}
+
+/// Reads a big-endian u32 from a 4-byte slice.
+pub(crate) fn be32(b: &[u8]) -> u32 {
+    u32::from_be_bytes([b[0], b[1], b[2], b[3]])
+}
+
+/// A MAC address.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MacAddress(pub [u8; 6]);
+
+impl MacAddress {
+    /// The DCP Identify multicast address 01:0E:CF:00:00:00.
+    pub const DCP_IDENTIFY: MacAddress = MacAddress([0x01, 0x0e, 0xcf, 0x00, 0x00, 0x00]);
+    /// The DCP Hello multicast address 01:0E:CF:00:00:01.
+    pub const DCP_HELLO: MacAddress = MacAddress([0x01, 0x0e, 0xcf, 0x00, 0x00, 0x01]);
+
+    /// From the first 6 bytes of `b` (which must hold them).
+    pub(crate) fn from_slice(b: &[u8]) -> MacAddress {
+        let mut m = [0u8; 6];
+        m.copy_from_slice(&b[..6]);
+        MacAddress(m)
+    }
+
+    /// Whether the group bit is set (multicast or broadcast).
+    pub const fn is_multicast(&self) -> bool {
+        self.0[0] & 1 != 0
+    }
+}
+
+impl core::fmt::Display for MacAddress {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let m = self.0;
+        write!(
+            f,
+            "{:02x}:{:02x}:{:02x}:{:02x}:{:02x}:{:02x}",
+            m[0], m[1], m[2], m[3], m[4], m[5]
+        )
+    }
+}

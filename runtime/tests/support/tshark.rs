@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Every frame procimg emits must decode in Wireshark's PROFINET dissectors without malformed
+//! packets or error-level expert items: this writes frames to a pcap file and asks tshark.
+
+use procimg_runtime::capture::CaptureWriter;
+use std::process::Command;
+use std::time::Duration;
+
+/// One dissected frame: protocol column and info column.
+#[derive(Debug)]
+pub struct Dissected {
+    pub protocol: String,
+    pub info: String,
+}
+
+/// Writes `frames` to a pcap, checks tshark finds nothing malformed and no error-level expert
+/// item, and returns what it made of each frame. Panics with tshark's full dissection of the
+/// offending frames otherwise.
+pub fn dissect_clean(name: &str, frames: &[Vec<u8>]) -> Vec<Dissected> {
+    let dir = std::env::temp_dir().join(format!("procimg-tshark-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{name}.pcap"));
+    let mut w = CaptureWriter::create(&path).unwrap();
+    for (i, f) in frames.iter().enumerate() {
+        w.write(Duration::from_millis(1_700_000_000_000 + i as u64), f)
+            .unwrap();
+    }
+    w.finish().unwrap();
+    let tshark = |args: &[&str]| {
+        let out = Command::new("tshark")
+            .arg("-r")
+            .arg(&path)
+            .args(args)
+            .output()
+            .unwrap_or_else(|e| panic!("cannot run tshark ({e}): apt-get install tshark"));
+        assert!(
+            out.status.success(),
+            "tshark failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    // Error-level expert items have severity PI_ERROR = 0x00800000.
+    let bad = tshark(&[
+        "-Y",
+        "_ws.malformed || _ws.expert.severity >= 8388608",
+        "-T",
+        "fields",
+        "-e",
+        "frame.number",
+    ]);
+    if !bad.trim().is_empty() {
+        let numbers: Vec<&str> = bad.split_whitespace().collect();
+        let filter = format!("frame.number in {{{}}}", numbers.join(" "));
+        let detail = tshark(&["-Y", &filter, "-V"]);
+        panic!("tshark finds frames {numbers:?} of {name} malformed or in error:\n{detail}");
+    }
+    let columns = tshark(&[
+        "-T",
+        "fields",
+        "-e",
+        "_ws.col.Protocol",
+        "-e",
+        "_ws.col.Info",
+    ]);
+    let dissected: Vec<Dissected> = columns
+        .lines()
+        .map(|l| {
+            let (p, i) = l.split_once('\t').unwrap_or((l, ""));
+            Dissected {
+                protocol: p.to_string(),
+                info: i.to_string(),
+            }
+        })
+        .collect();
+    assert_eq!(
+        dissected.len(),
+        frames.len(),
+        "tshark read a different number of frames"
+    );
+    let _ = std::fs::remove_file(&path);
+    dissected
+}
