@@ -11,9 +11,12 @@
 //! - `Repr::emit` never panics on a buffer of exactly `buffer_len()` bytes;
 //! - byte order is explicit (big-endian on the wire unless a format says otherwise); wire
 //!   bytes are never transmuted.
+pub mod common;
 pub mod dcp;
 pub mod ethernet;
 pub mod rt;
+
+pub use common::{BlockHeader, PnioStatus, Uuid};
 
 /// A malformed or truncated frame. Callers count and drop such frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,0 +1,275 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Types several PROFINET formats share: UUIDs, the PNIO block header, PNIOStatus.
+
+use super::{Error, Field, Result, be16};
+
+/// A UUID as 16 bytes in big-endian field order (how PNIO blocks carry it). The DCE/RPC
+/// header carries its first three fields in the PDU's DREP byte order instead; see
+/// [`Uuid::from_drep`] and [`Uuid::to_drep`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Uuid(pub [u8; 16]);
+
+impl Uuid {
+    /// The nil UUID.
+    pub const NIL: Uuid = Uuid([0; 16]);
+
+    /// From its fields.
+    pub const fn from_fields(data1: u32, data2: u16, data3: u16, data4: [u8; 8]) -> Uuid {
+        let a = data1.to_be_bytes();
+        let b = data2.to_be_bytes();
+        let c = data3.to_be_bytes();
+        Uuid([
+            a[0], a[1], a[2], a[3], b[0], b[1], c[0], c[1], data4[0], data4[1], data4[2],
+            data4[3], data4[4], data4[5], data4[6], data4[7],
+        ])
+    }
+
+    /// From 16 bytes in DREP order: `little_endian` swaps data1, data2 and data3.
+    pub fn from_drep(b: &[u8; 16], little_endian: bool) -> Uuid {
+        let mut u = *b;
+        if little_endian {
+            u[0..4].reverse();
+            u[4..6].reverse();
+            u[6..8].reverse();
+        }
+        Uuid(u)
+    }
+
+    /// The 16 bytes in DREP order.
+    pub fn to_drep(&self, little_endian: bool) -> [u8; 16] {
+        Uuid::from_drep(&self.0, little_endian).0
+    }
+
+    /// Whether it is the nil UUID.
+    pub fn is_nil(&self) -> bool {
+        self.0 == [0; 16]
+    }
+}
+
+impl core::fmt::Display for Uuid {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let b = &self.0;
+        write!(
+            f,
+            "{:02x}{:02x}{:02x}{:02x}-{:02x}{:02x}-{:02x}{:02x}-{:02x}{:02x}-{:02x}{:02x}{:02x}{:02x}{:02x}{:02x}",
+            b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], b[8], b[9], b[10], b[11], b[12], b[13],
+            b[14], b[15]
+        )
+    }
+}
+
+mod field {
+    use super::Field;
+    pub const TYPE: Field = 0..2;
+    pub const LENGTH: Field = 2..4;
+    pub const VERSION_HIGH: usize = 4;
+    pub const VERSION_LOW: usize = 5;
+    pub const BODY: usize = 6;
+}
+
+/// Bytes of a block header.
+pub const BLOCK_HEADER_LEN: usize = field::BODY;
+
+/// The header every PNIO block starts with: BlockType, BlockLength (counted from the version
+/// bytes to the end of the block, i.e. total − 4), BlockVersionHigh/Low. Always big-endian.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlockHeader {
+    /// BlockType.
+    pub block_type: u16,
+    /// BlockLength (total − 4).
+    pub length: u16,
+    /// BlockVersionHigh.
+    pub version_high: u8,
+    /// BlockVersionLow.
+    pub version_low: u8,
+}
+
+impl BlockHeader {
+    /// A version 1.0 header for a block whose body (after the 6 header bytes) has `body_len`
+    /// bytes.
+    pub const fn v1(block_type: u16, body_len: usize) -> BlockHeader {
+        BlockHeader {
+            block_type,
+            length: (body_len + 2) as u16,
+            version_high: 1,
+            version_low: 0,
+        }
+    }
+
+    /// Parses the header at the start of `b`; checks the block fits in `b`.
+    pub fn parse(b: &[u8]) -> Result<BlockHeader> {
+        if b.len() < BLOCK_HEADER_LEN {
+            return Err(Error);
+        }
+        let h = BlockHeader {
+            block_type: be16(&b[field::TYPE]),
+            length: be16(&b[field::LENGTH]),
+            version_high: b[field::VERSION_HIGH],
+            version_low: b[field::VERSION_LOW],
+        };
+        if h.length < 2 || h.total_len() > b.len() {
+            return Err(Error);
+        }
+        Ok(h)
+    }
+
+    /// Bytes of the whole block, header included.
+    pub const fn total_len(&self) -> usize {
+        self.length as usize + 4
+    }
+
+    /// Bytes of the body after the header.
+    pub const fn body_len(&self) -> usize {
+        self.total_len() - BLOCK_HEADER_LEN
+    }
+
+    /// Writes the 6 header bytes.
+    pub fn emit(&self, b: &mut [u8]) {
+        b[field::TYPE].copy_from_slice(&self.block_type.to_be_bytes());
+        b[field::LENGTH].copy_from_slice(&self.length.to_be_bytes());
+        b[field::VERSION_HIGH] = self.version_high;
+        b[field::VERSION_LOW] = self.version_low;
+    }
+
+    /// The body of the block at the start of `b` (which `parse` checked holds it).
+    pub fn body<'a>(&self, b: &'a [u8]) -> &'a [u8] {
+        &b[BLOCK_HEADER_LEN..self.total_len()]
+    }
+}
+
+/// Splits a sequence of PNIO blocks: yields each block's header and whole bytes, or one
+/// `Err` and stops when a block does not fit.
+pub fn blocks(mut b: &[u8]) -> impl Iterator<Item = Result<(BlockHeader, &[u8])>> {
+    core::iter::from_fn(move || {
+        if b.is_empty() {
+            return None;
+        }
+        match BlockHeader::parse(b) {
+            Ok(h) => {
+                let (block, rest) = b.split_at(h.total_len());
+                b = rest;
+                Some(Ok((h, block)))
+            }
+            Err(e) => {
+                b = &[];
+                Some(Err(e))
+            }
+        }
+    })
+}
+
+/// PNIOStatus: ErrorCode, ErrorDecode, ErrorCode1, ErrorCode2 (0 0 0 0 = OK). In blocks it is
+/// big-endian; at the RPC level (NDR response header) the 32-bit value is in DREP order with
+/// ErrorCode as the most significant byte.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct PnioStatus {
+    /// ErrorCode (0x81 PNIO, 0xCF RTA error, 0xDB/0xDD/0xDE/0xDF CM/record services...).
+    pub error_code: u8,
+    /// ErrorDecode (0x80 PNIORW, 0x81 PNIO, 0x82 manufacturer specific).
+    pub error_decode: u8,
+    /// ErrorCode1.
+    pub error_code1: u8,
+    /// ErrorCode2.
+    pub error_code2: u8,
+}
+
+impl PnioStatus {
+    /// Success.
+    pub const OK: PnioStatus = PnioStatus {
+        error_code: 0,
+        error_decode: 0,
+        error_code1: 0,
+        error_code2: 0,
+    };
+
+    /// From the 4 big-endian bytes.
+    pub const fn from_bytes(b: [u8; 4]) -> PnioStatus {
+        PnioStatus {
+            error_code: b[0],
+            error_decode: b[1],
+            error_code1: b[2],
+            error_code2: b[3],
+        }
+    }
+
+    /// The 4 big-endian bytes.
+    pub const fn to_bytes(&self) -> [u8; 4] {
+        [
+            self.error_code,
+            self.error_decode,
+            self.error_code1,
+            self.error_code2,
+        ]
+    }
+
+    /// As the 32-bit value (ErrorCode most significant).
+    pub const fn to_u32(&self) -> u32 {
+        u32::from_be_bytes(self.to_bytes())
+    }
+
+    /// From the 32-bit value.
+    pub const fn from_u32(v: u32) -> PnioStatus {
+        PnioStatus::from_bytes(v.to_be_bytes())
+    }
+
+    /// Whether it says OK.
+    pub const fn is_ok(&self) -> bool {
+        self.to_u32() == 0
+    }
+}
+
+impl core::fmt::Display for PnioStatus {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "PNIOStatus {:02x} {:02x} {:02x} {:02x}",
+            self.error_code, self.error_decode, self.error_code1, self.error_code2
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uuid_drep_swaps_the_first_three_fields() {
+        // The PNIO device interface DEA00001-6C97-11D1-8271-00A02442DF7D as a LE RPC header
+        // carries it.
+        let le = [
+            0x01, 0x00, 0xa0, 0xde, 0x97, 0x6c, 0xd1, 0x11, 0x82, 0x71, 0x00, 0xa0, 0x24, 0x42,
+            0xdf, 0x7d,
+        ];
+        let u = Uuid::from_drep(&le, true);
+        assert_eq!(u.to_string(), "dea00001-6c97-11d1-8271-00a02442df7d");
+        assert_eq!(u.to_drep(true), le);
+        assert_eq!(u.to_drep(false), u.0);
+    }
+
+    #[test]
+    fn block_header_round_trip_and_bounds() {
+        // The S7 PrmEnd block header: 0110 001c 0100.
+        let b = [0x01, 0x10, 0x00, 0x1c, 0x01, 0x00];
+        assert!(BlockHeader::parse(&b).is_err(), "the body is missing");
+        let mut full = vec![0u8; 32];
+        full[..6].copy_from_slice(&b);
+        let h = BlockHeader::parse(&full).unwrap();
+        assert_eq!((h.block_type, h.total_len(), h.body_len()), (0x0110, 32, 26));
+        assert_eq!(h, BlockHeader::v1(0x0110, 26));
+        let mut out = [0u8; 6];
+        h.emit(&mut out);
+        assert_eq!(out, b);
+        assert_eq!(blocks(&full).count(), 1);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn block_splitting_never_panics(b in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..512)) {
+            for r in blocks(&b) {
+                if let Ok((h, block)) = r {
+                    proptest::prop_assert_eq!(block.len(), h.total_len());
+                }
+            }
+        }
+    }
+}
