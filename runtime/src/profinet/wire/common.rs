@@ -19,8 +19,8 @@ impl Uuid {
         let b = data2.to_be_bytes();
         let c = data3.to_be_bytes();
         Uuid([
-            a[0], a[1], a[2], a[3], b[0], b[1], c[0], c[1], data4[0], data4[1], data4[2],
-            data4[3], data4[4], data4[5], data4[6], data4[7],
+            a[0], a[1], a[2], a[3], b[0], b[1], c[0], c[1], data4[0], data4[1], data4[2], data4[3],
+            data4[4], data4[5], data4[6], data4[7],
         ])
     }
 
@@ -52,8 +52,22 @@ impl core::fmt::Display for Uuid {
         write!(
             f,
             "{:02x}{:02x}{:02x}{:02x}-{:02x}{:02x}-{:02x}{:02x}-{:02x}{:02x}-{:02x}{:02x}{:02x}{:02x}{:02x}{:02x}",
-            b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7], b[8], b[9], b[10], b[11], b[12], b[13],
-            b[14], b[15]
+            b[0],
+            b[1],
+            b[2],
+            b[3],
+            b[4],
+            b[5],
+            b[6],
+            b[7],
+            b[8],
+            b[9],
+            b[10],
+            b[11],
+            b[12],
+            b[13],
+            b[14],
+            b[15]
         )
     }
 }
@@ -254,7 +268,10 @@ mod tests {
         let mut full = vec![0u8; 32];
         full[..6].copy_from_slice(&b);
         let h = BlockHeader::parse(&full).unwrap();
-        assert_eq!((h.block_type, h.total_len(), h.body_len()), (0x0110, 32, 26));
+        assert_eq!(
+            (h.block_type, h.total_len(), h.body_len()),
+            (0x0110, 32, 26)
+        );
         assert_eq!(h, BlockHeader::v1(0x0110, 26));
         let mut out = [0u8; 6];
         h.emit(&mut out);
