@@ -11,9 +11,14 @@
 //! - `Repr::emit` never panics on a buffer of exactly `buffer_len()` bytes;
 //! - byte order is explicit (big-endian on the wire unless a format says otherwise); wire
 //!   bytes are never transmuted.
+pub mod alarm;
 pub mod common;
+pub mod connect;
+pub mod control;
 pub mod dcp;
 pub mod ethernet;
+pub mod record;
+pub mod rpc;
 pub mod rt;
 
 pub use common::{BlockHeader, PnioStatus, Uuid};

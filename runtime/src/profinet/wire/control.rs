@@ -1,0 +1,676 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Control blocks of the CM protocol: PrmBegin, PrmEnd, ApplicationReady, Release and their
+//! responses.
+//!
+//! Every control block has the same 32 bytes: the [`BlockHeader`] (BlockLength 0x001C,
+//! version 1.0) and a fixed body, all big-endian whatever the RPC DREP:
+//!
+//! ```text
+//! BlockType(2) BlockLength(2)=0x001C Version(2)=0x0100 Reserved(2)=0 ARUUID(16) SessionKey(2)
+//! Reserved-or-AlarmSequenceNumber(2) ControlCommand(2) ControlBlockProperties(2)
+//! ```
+//!
+//! The second reserved field carries the AlarmSequenceNumber in the plug variants (0x0111,
+//! 0x0113 and their responses). The sequence is Connect → PrmEnd (IOC → IOD, opnum 4) →
+//! ApplicationReady (IOD → IOC, opnum 4) → data exchange → Release (IOC → IOD, opnum 1); every
+//! request is answered by the block type with bit 15 set and [`command::DONE`].
+
+use super::common::BLOCK_HEADER_LEN;
+use super::{BlockHeader, Error, Field, Result, Uuid, be16};
+
+/// Block types of the control blocks.
+pub mod block_type {
+    /// IODControlReq PrmEnd (IOC → IOD).
+    pub const PRM_END_REQ: u16 = 0x0110;
+    /// IODControlReq PrmEnd after a plug alarm.
+    pub const PLUG_PRM_END_REQ: u16 = 0x0111;
+    /// IOXControlReq ApplicationReady (IOD → IOC).
+    pub const APPLICATION_READY_REQ: u16 = 0x0112;
+    /// IOXControlReq ApplicationReady after a plug alarm.
+    pub const PLUG_APPLICATION_READY_REQ: u16 = 0x0113;
+    /// IODReleaseReq (IOC → IOD, RPC opnum 1).
+    pub const RELEASE_REQ: u16 = 0x0114;
+    /// PrmBegin request (re-parameterization, advanced startup).
+    pub const PRM_BEGIN_REQ: u16 = 0x0118;
+    /// Response to [`PRM_END_REQ`].
+    pub const PRM_END_RES: u16 = 0x8110;
+    /// Response to [`PLUG_PRM_END_REQ`].
+    pub const PLUG_PRM_END_RES: u16 = 0x8111;
+    /// Response to [`APPLICATION_READY_REQ`].
+    pub const APPLICATION_READY_RES: u16 = 0x8112;
+    /// Response to [`PLUG_APPLICATION_READY_REQ`].
+    pub const PLUG_APPLICATION_READY_RES: u16 = 0x8113;
+    /// Response to [`RELEASE_REQ`].
+    pub const RELEASE_RES: u16 = 0x8114;
+    /// Response to [`PRM_BEGIN_REQ`].
+    pub const PRM_BEGIN_RES: u16 = 0x8118;
+    /// Bit 15: set in every response block type.
+    pub const RESPONSE: u16 = 0x8000;
+
+    /// Whether `t` is one of the control block types above (request or response).
+    pub const fn is_control(t: u16) -> bool {
+        matches!(
+            t & !RESPONSE,
+            PRM_END_REQ
+                | PLUG_PRM_END_REQ
+                | APPLICATION_READY_REQ
+                | PLUG_APPLICATION_READY_REQ
+                | RELEASE_REQ
+                | PRM_BEGIN_REQ
+        )
+    }
+}
+
+/// ControlCommand bits.
+pub mod command {
+    /// PrmEnd: the controller has written all parameters.
+    pub const PRM_END: u16 = 0x0001;
+    /// ApplicationReady: the device is ready for data exchange.
+    pub const APPLICATION_READY: u16 = 0x0002;
+    /// Release: the controller ends the AR.
+    pub const RELEASE: u16 = 0x0004;
+    /// Done: the answer to any of the above.
+    pub const DONE: u16 = 0x0008;
+    /// ReadyForCompanion.
+    pub const READY_FOR_COMPANION: u16 = 0x0010;
+    /// ReadyForRT_CLASS_3.
+    pub const READY_FOR_RT_CLASS_3: u16 = 0x0020;
+    /// PrmBegin: the controller starts re-parameterizing.
+    pub const PRM_BEGIN: u16 = 0x0040;
+}
+
+mod field {
+    use super::Field;
+    pub const RESERVED: Field = 6..8;
+    pub const AR_UUID: Field = 8..24;
+    pub const SESSION_KEY: Field = 24..26;
+    pub const ALARM_SEQUENCE_NUMBER: Field = 26..28;
+    pub const CONTROL_COMMAND: Field = 28..30;
+    pub const PROPERTIES: Field = 30..32;
+}
+
+/// Bytes of a control block, header included.
+pub const BLOCK_LEN: usize = field::PROPERTIES.end;
+/// BlockLength of a control block (total − 4).
+pub const BLOCK_LENGTH: u16 = (BLOCK_LEN - 4) as u16;
+
+/// A view of a control block, from its BlockType on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Packet<T: AsRef<[u8]>> {
+    buffer: T,
+}
+
+impl<T: AsRef<[u8]>> Packet<T> {
+    /// Wraps a buffer without checking it.
+    pub const fn new_unchecked(buffer: T) -> Packet<T> {
+        Packet { buffer }
+    }
+
+    /// Wraps a buffer after [`check_len`](Self::check_len).
+    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
+        let p = Packet::new_unchecked(buffer);
+        p.check_len()?;
+        Ok(p)
+    }
+
+    /// Checks the buffer holds the [`BLOCK_LEN`] bytes of a control block (bytes after them
+    /// are allowed and ignored).
+    pub fn check_len(&self) -> Result<()> {
+        if self.buffer.as_ref().len() < BLOCK_LEN {
+            Err(Error)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// The buffer.
+    pub fn into_inner(self) -> T {
+        self.buffer
+    }
+
+    /// The block header.
+    pub fn header(&self) -> BlockHeader {
+        let b = self.buffer.as_ref();
+        BlockHeader {
+            block_type: be16(&b[0..2]),
+            length: be16(&b[2..4]),
+            version_high: b[4],
+            version_low: b[5],
+        }
+    }
+
+    /// The reserved field after the header (0).
+    pub fn reserved(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::RESERVED])
+    }
+
+    /// ARUUID.
+    pub fn ar_uuid(&self) -> Uuid {
+        let mut u = [0u8; 16];
+        u.copy_from_slice(&self.buffer.as_ref()[field::AR_UUID]);
+        Uuid(u)
+    }
+
+    /// SessionKey.
+    pub fn session_key(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::SESSION_KEY])
+    }
+
+    /// AlarmSequenceNumber in the plug variants; reserved (0) otherwise.
+    pub fn alarm_sequence_number(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::ALARM_SEQUENCE_NUMBER])
+    }
+
+    /// ControlCommand ([`command`] bits).
+    pub fn control_command(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::CONTROL_COMMAND])
+    }
+
+    /// ControlBlockProperties (0).
+    pub fn control_block_properties(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::PROPERTIES])
+    }
+}
+
+impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
+    /// Writes the block header.
+    pub fn set_header(&mut self, h: BlockHeader) {
+        h.emit(&mut self.buffer.as_mut()[..BLOCK_HEADER_LEN]);
+    }
+
+    /// Sets the reserved field after the header.
+    pub fn set_reserved(&mut self, v: u16) {
+        self.buffer.as_mut()[field::RESERVED].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets the ARUUID.
+    pub fn set_ar_uuid(&mut self, v: Uuid) {
+        self.buffer.as_mut()[field::AR_UUID].copy_from_slice(&v.0);
+    }
+
+    /// Sets the SessionKey.
+    pub fn set_session_key(&mut self, v: u16) {
+        self.buffer.as_mut()[field::SESSION_KEY].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets the AlarmSequenceNumber / reserved field.
+    pub fn set_alarm_sequence_number(&mut self, v: u16) {
+        self.buffer.as_mut()[field::ALARM_SEQUENCE_NUMBER].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets the ControlCommand.
+    pub fn set_control_command(&mut self, v: u16) {
+        self.buffer.as_mut()[field::CONTROL_COMMAND].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets the ControlBlockProperties.
+    pub fn set_control_block_properties(&mut self, v: u16) {
+        self.buffer.as_mut()[field::PROPERTIES].copy_from_slice(&v.to_be_bytes());
+    }
+}
+
+/// A control block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ControlBlock {
+    /// BlockType (one of [`block_type`]).
+    pub block_type: u16,
+    /// ARUUID of the AR the block controls.
+    pub ar_uuid: Uuid,
+    /// SessionKey of the AR (from the ARBlockReq).
+    pub session_key: u16,
+    /// AlarmSequenceNumber in the plug variants; 0 otherwise.
+    pub alarm_sequence_number: u16,
+    /// ControlCommand ([`command`] bits).
+    pub command: u16,
+    /// ControlBlockProperties (0).
+    pub properties: u16,
+}
+
+impl ControlBlock {
+    const fn new(block_type: u16, ar_uuid: Uuid, session_key: u16, command: u16) -> ControlBlock {
+        ControlBlock {
+            block_type,
+            ar_uuid,
+            session_key,
+            alarm_sequence_number: 0,
+            command,
+            properties: 0,
+        }
+    }
+
+    /// The PrmEnd request the controller sends after the Connect (and its record writes).
+    pub const fn prm_end(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
+        ControlBlock::new(
+            block_type::PRM_END_REQ,
+            ar_uuid,
+            session_key,
+            command::PRM_END,
+        )
+    }
+
+    /// The ApplicationReady request a device sends to the controller.
+    pub const fn application_ready(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
+        ControlBlock::new(
+            block_type::APPLICATION_READY_REQ,
+            ar_uuid,
+            session_key,
+            command::APPLICATION_READY,
+        )
+    }
+
+    /// The controller's answer to a device's ApplicationReady: 0x8112 with Done.
+    pub const fn application_ready_done(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
+        ControlBlock::new(
+            block_type::APPLICATION_READY_RES,
+            ar_uuid,
+            session_key,
+            command::DONE,
+        )
+    }
+
+    /// The Release request that ends an AR (RPC opnum 1).
+    pub const fn release(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
+        ControlBlock::new(
+            block_type::RELEASE_REQ,
+            ar_uuid,
+            session_key,
+            command::RELEASE,
+        )
+    }
+
+    /// The PrmBegin request that starts a re-parameterization (advanced startup).
+    pub const fn prm_begin(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
+        ControlBlock::new(
+            block_type::PRM_BEGIN_REQ,
+            ar_uuid,
+            session_key,
+            command::PRM_BEGIN,
+        )
+    }
+
+    /// The Done response to `request`: its block type with bit 15 set, its ARUUID, SessionKey
+    /// and AlarmSequenceNumber, [`command::DONE`]. `None` if `request` is not a control
+    /// request.
+    pub const fn done_response_for(request: &ControlBlock) -> Option<ControlBlock> {
+        if !request.is_request() {
+            return None;
+        }
+        Some(ControlBlock {
+            block_type: request.block_type | block_type::RESPONSE,
+            ar_uuid: request.ar_uuid,
+            session_key: request.session_key,
+            alarm_sequence_number: request.alarm_sequence_number,
+            command: command::DONE,
+            properties: 0,
+        })
+    }
+
+    /// Whether the block type is a control request.
+    pub const fn is_request(&self) -> bool {
+        block_type::is_control(self.block_type) && self.block_type & block_type::RESPONSE == 0
+    }
+
+    /// Whether the block type is a control response.
+    pub const fn is_response(&self) -> bool {
+        block_type::is_control(self.block_type) && self.block_type & block_type::RESPONSE != 0
+    }
+
+    /// Whether the command has the Done bit (what a valid response carries).
+    pub const fn is_done(&self) -> bool {
+        self.command & command::DONE != 0
+    }
+
+    /// Whether `self` is the Done response to `request`: the matching response type, the same
+    /// ARUUID and SessionKey, and Done.
+    pub fn answers(&self, request: &ControlBlock) -> bool {
+        request.is_request()
+            && self.block_type == request.block_type | block_type::RESPONSE
+            && self.ar_uuid == request.ar_uuid
+            && self.session_key == request.session_key
+            && self.is_done()
+    }
+
+    /// Parses the control block at the start of `b` (bytes after its 32 are ignored). A block
+    /// type that is not a control block, a BlockLength other than 0x001C or a version other
+    /// than 1.0 give [`Error`]. The leading reserved field is not checked.
+    pub fn parse(b: &[u8]) -> Result<ControlBlock> {
+        let p = Packet::new_checked(b)?;
+        let h = p.header();
+        if !block_type::is_control(h.block_type)
+            || h.length != BLOCK_LENGTH
+            || (h.version_high, h.version_low) != (1, 0)
+        {
+            return Err(Error);
+        }
+        Ok(ControlBlock {
+            block_type: h.block_type,
+            ar_uuid: p.ar_uuid(),
+            session_key: p.session_key(),
+            alarm_sequence_number: p.alarm_sequence_number(),
+            command: p.control_command(),
+            properties: p.control_block_properties(),
+        })
+    }
+
+    /// Bytes of the block: always [`BLOCK_LEN`].
+    pub const fn buffer_len(&self) -> usize {
+        BLOCK_LEN
+    }
+
+    /// Writes the block into the first [`BLOCK_LEN`] bytes of `buf`; [`Error`] if `buf` is
+    /// shorter. The block type is written as it is (only control types parse back).
+    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
+        let b = buf.get_mut(..BLOCK_LEN).ok_or(Error)?;
+        let mut p = Packet::new_unchecked(b);
+        p.set_header(BlockHeader {
+            block_type: self.block_type,
+            length: BLOCK_LENGTH,
+            version_high: 1,
+            version_low: 0,
+        });
+        p.set_reserved(0);
+        p.set_ar_uuid(self.ar_uuid);
+        p.set_session_key(self.session_key);
+        p.set_alarm_sequence_number(self.alarm_sequence_number);
+        p.set_control_command(self.command);
+        p.set_control_block_properties(self.properties);
+        Ok(())
+    }
+
+    /// The block's bytes.
+    pub fn to_bytes(&self) -> [u8; BLOCK_LEN] {
+        let mut b = [0u8; BLOCK_LEN];
+        // Cannot fail: the array has exactly BLOCK_LEN bytes.
+        let _ = self.emit(&mut b);
+        b
+    }
+}
+
+impl core::fmt::Display for ControlBlock {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let name = match self.block_type & !block_type::RESPONSE {
+            block_type::PRM_END_REQ => "PrmEnd",
+            block_type::PLUG_PRM_END_REQ => "PlugPrmEnd",
+            block_type::APPLICATION_READY_REQ => "ApplicationReady",
+            block_type::PLUG_APPLICATION_READY_REQ => "PlugApplicationReady",
+            block_type::RELEASE_REQ => "Release",
+            block_type::PRM_BEGIN_REQ => "PrmBegin",
+            _ => "Control",
+        };
+        let dir = if self.block_type & block_type::RESPONSE != 0 {
+            "res"
+        } else {
+            "req"
+        };
+        write!(
+            f,
+            "{name} {dir} ({:#06x}) AR {} key {} cmd {:#06x}",
+            self.block_type, self.ar_uuid, self.session_key, self.command
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    // The four frames below come from the test data of the `pnio` crate 0.1.0
+    // (core-engineering/pnio-rs, MIT OR Apache-2.0): an S7-1515 talking to the p-net sample
+    // device (captures/cm/*.hex). Bytes from the Ethernet header; the RPC PDU starts at byte
+    // 42, the blocks at byte 142 after the 80-byte RPC and the 20-byte NDR header.
+
+    /// captures/cm/prmend_req.hex: S7 Control PrmEnd (frame 57, DREP LE), 174 bytes.
+    static PRM_END_REQ: [u8; 174] = [
+        0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8, 0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f, 0x08, 0x00, 0x45,
+        0x00, 0x00, 0xa0, 0x7e, 0x5e, 0x00, 0x00, 0x40, 0x11, 0x9f, 0x60, 0xac, 0x10, 0x02, 0x64,
+        0xac, 0x10, 0x02, 0x0a, 0xd5, 0xee, 0x88, 0x94, 0x00, 0x8c, 0xd4, 0x51, 0x04, 0x00, 0x20,
+        0x00, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00, 0xa0, 0xde, 0x97, 0x6c, 0xd1, 0x11, 0x82, 0x71,
+        0x00, 0x01, 0x00, 0x02, 0x04, 0x93, 0x01, 0x00, 0xa0, 0xde, 0x97, 0x6c, 0xd1, 0x11, 0x82,
+        0x71, 0x00, 0xa0, 0x24, 0x42, 0xdf, 0x7d, 0xae, 0xa1, 0xac, 0xd2, 0x32, 0x00, 0x10, 0x10,
+        0xb0, 0x58, 0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00,
+        0x00, 0x02, 0x00, 0x00, 0x00, 0x04, 0x00, 0xff, 0xff, 0xff, 0xff, 0x34, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x20, 0x00, 0x00, 0x00, 0x20, 0x00, 0x00, 0x00, 0x20, 0x00, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x20, 0x00, 0x00, 0x00, 0x01, 0x10, 0x00, 0x1c, 0x01, 0x00, 0x00, 0x00,
+        0xe5, 0xe1, 0xae, 0xcc, 0xb1, 0x33, 0x4b, 0x4d, 0xb1, 0x87, 0xcc, 0x68, 0xb0, 0x21, 0x1e,
+        0xd2, 0x00, 0x02, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00,
+    ];
+
+    /// captures/cm/prmend_res.hex: p-net PrmEnd Done (frame 58, DREP BE), 174 bytes.
+    static PRM_END_RES: [u8; 174] = [
+        0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f, 0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8, 0x08, 0x00, 0x45,
+        0x00, 0x00, 0xa0, 0x90, 0x24, 0x40, 0x00, 0x40, 0x11, 0x4d, 0x9a, 0xac, 0x10, 0x02, 0x0a,
+        0xac, 0x10, 0x02, 0x64, 0x88, 0x94, 0xd5, 0xee, 0x00, 0x8c, 0x5d, 0x2c, 0x04, 0x02, 0x28,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0xde, 0xa0, 0x00, 0x00, 0x6c, 0x97, 0x11, 0xd1, 0x82, 0x71,
+        0x00, 0x01, 0x00, 0x02, 0x04, 0x93, 0xde, 0xa0, 0x00, 0x01, 0x6c, 0x97, 0x11, 0xd1, 0x82,
+        0x71, 0x00, 0xa0, 0x24, 0x42, 0xdf, 0x7d, 0xd2, 0xac, 0xa1, 0xae, 0x00, 0x32, 0x10, 0x10,
+        0xb0, 0x58, 0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x01, 0x00, 0x00, 0x00, 0x02, 0x00, 0x04, 0xff, 0xff, 0xff, 0xff, 0x00, 0x34, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x20, 0x00, 0x00, 0x00, 0x20, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x20, 0x81, 0x10, 0x00, 0x1c, 0x01, 0x00, 0x00, 0x00,
+        0xe5, 0xe1, 0xae, 0xcc, 0xb1, 0x33, 0x4b, 0x4d, 0xb1, 0x87, 0xcc, 0x68, 0xb0, 0x21, 0x1e,
+        0xd2, 0x00, 0x02, 0x00, 0x00, 0x00, 0x08, 0x00, 0x00,
+    ];
+
+    /// captures/cm/appready_req.hex: p-net ApplicationReady to the S7 (frame 59, DREP BE), 174 bytes.
+    static APP_READY_REQ: [u8; 174] = [
+        0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f, 0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8, 0x08, 0x00, 0x45,
+        0x00, 0x00, 0xa0, 0x90, 0x25, 0x40, 0x00, 0x40, 0x11, 0x4d, 0x99, 0xac, 0x10, 0x02, 0x0a,
+        0xac, 0x10, 0x02, 0x64, 0xc0, 0x01, 0x88, 0x94, 0x00, 0x8c, 0x5d, 0x2c, 0x04, 0x00, 0x20,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0xde, 0xa0, 0x00, 0x00, 0x6c, 0x97, 0x11, 0xd1, 0x82, 0x71,
+        0x10, 0x64, 0x01, 0x0e, 0x00, 0x2a, 0xde, 0xa0, 0x00, 0x02, 0x6c, 0x97, 0x11, 0xd1, 0x82,
+        0x71, 0x00, 0xa0, 0x24, 0x42, 0xdf, 0x7d, 0x14, 0xaf, 0x19, 0x8a, 0x12, 0x34, 0x10, 0x56,
+        0x80, 0x79, 0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+        0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x04, 0xff, 0xff, 0xff, 0xff, 0x00, 0x34, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x05, 0x3c, 0x00, 0x00, 0x00, 0x20, 0x00, 0x00, 0x05, 0x3c, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x20, 0x01, 0x12, 0x00, 0x1c, 0x01, 0x00, 0x00, 0x00,
+        0xe5, 0xe1, 0xae, 0xcc, 0xb1, 0x33, 0x4b, 0x4d, 0xb1, 0x87, 0xcc, 0x68, 0xb0, 0x21, 0x1e,
+        0xd2, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00,
+    ];
+
+    /// captures/cm/appready_res.hex: S7 ApplicationReady Done (frame 60, DREP LE), 174 bytes.
+    static APP_READY_RES: [u8; 174] = [
+        0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8, 0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f, 0x08, 0x00, 0x45,
+        0x00, 0x00, 0xa0, 0x7a, 0x32, 0x00, 0x00, 0x40, 0x11, 0xa3, 0x8c, 0xac, 0x10, 0x02, 0x64,
+        0xac, 0x10, 0x02, 0x0a, 0xdc, 0x68, 0xc0, 0x01, 0x00, 0x8c, 0x48, 0x1b, 0x04, 0x02, 0x0a,
+        0x00, 0x10, 0x00, 0x00, 0x00, 0x00, 0x00, 0xa0, 0xde, 0x97, 0x6c, 0xd1, 0x11, 0x82, 0x71,
+        0x10, 0x64, 0x01, 0x0e, 0x00, 0x2a, 0x02, 0x00, 0xa0, 0xde, 0x97, 0x6c, 0xd1, 0x11, 0x82,
+        0x71, 0x00, 0xa0, 0x24, 0x42, 0xdf, 0x7d, 0x8a, 0x19, 0xaf, 0x14, 0x34, 0x12, 0x56, 0x10,
+        0x80, 0x79, 0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8, 0x56, 0x51, 0x00, 0x00, 0x01, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x04, 0x00, 0xff, 0xff, 0xff, 0xff, 0x34, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x20, 0x00, 0x00, 0x00, 0x3c, 0x05, 0x00, 0x00, 0x00,
+        0x00, 0x00, 0x00, 0x20, 0x00, 0x00, 0x00, 0x81, 0x12, 0x00, 0x1c, 0x01, 0x00, 0x00, 0x00,
+        0xe5, 0xe1, 0xae, 0xcc, 0xb1, 0x33, 0x4b, 0x4d, 0xb1, 0x87, 0xcc, 0x68, 0xb0, 0x21, 0x1e,
+        0xd2, 0x00, 0x02, 0x00, 0x00, 0x00, 0x08, 0x00, 0x00,
+    ];
+
+    /// AR of the captured connection, e5e1aecc-b133-4b4d-b187-cc68b0211ed2.
+    const AR: Uuid = Uuid([
+        0xe5, 0xe1, 0xae, 0xcc, 0xb1, 0x33, 0x4b, 0x4d, 0xb1, 0x87, 0xcc, 0x68, 0xb0, 0x21, 0x1e,
+        0xd2,
+    ]);
+
+    /// The blocks of a captured frame, checked against the NDR ActualCount (in DREP order).
+    fn blocks_of(frame: &[u8]) -> &[u8] {
+        let little_endian = frame[42 + 4] & 0xf0 == 0x10;
+        let count: [u8; 4] = frame[138..142].try_into().unwrap();
+        let count = if little_endian {
+            u32::from_le_bytes(count)
+        } else {
+            u32::from_be_bytes(count)
+        };
+        let blocks = &frame[142..];
+        assert_eq!(blocks.len(), count as usize);
+        blocks
+    }
+
+    /// Parses the single block of a capture and checks it emits back byte for byte.
+    fn round_trip_capture(frame: &[u8]) -> ControlBlock {
+        let bytes = blocks_of(frame);
+        let c = ControlBlock::parse(bytes).unwrap();
+        assert_eq!(c.buffer_len(), bytes.len());
+        let mut out = [0xa5u8; BLOCK_LEN];
+        c.emit(&mut out).unwrap();
+        assert_eq!(&out[..], bytes);
+        assert_eq!(c.to_bytes(), out);
+        c
+    }
+
+    #[test]
+    fn prm_end_capture() {
+        let req = round_trip_capture(&PRM_END_REQ);
+        assert_eq!(req.block_type, block_type::PRM_END_REQ);
+        assert_eq!(req.ar_uuid, AR);
+        assert_eq!(
+            req.ar_uuid.to_string(),
+            "e5e1aecc-b133-4b4d-b187-cc68b0211ed2"
+        );
+        assert_eq!(req.session_key, 2);
+        assert_eq!(req.command, command::PRM_END);
+        assert_eq!((req.alarm_sequence_number, req.properties), (0, 0));
+        assert!(req.is_request() && !req.is_response() && !req.is_done());
+        assert_eq!(req, ControlBlock::prm_end(AR, 2));
+
+        let res = round_trip_capture(&PRM_END_RES);
+        assert_eq!(res.block_type, block_type::PRM_END_RES);
+        assert_eq!(res.command, command::DONE);
+        assert!(res.is_response() && res.is_done());
+        assert_eq!(ControlBlock::done_response_for(&req), Some(res));
+        assert!(res.answers(&req));
+        assert!(!req.answers(&req));
+        assert!(!res.answers(&ControlBlock::prm_end(AR, 3)));
+    }
+
+    #[test]
+    fn application_ready_capture() {
+        let req = round_trip_capture(&APP_READY_REQ);
+        assert_eq!(req.block_type, block_type::APPLICATION_READY_REQ);
+        assert_eq!((req.ar_uuid, req.session_key), (AR, 2));
+        assert_eq!(req.command, command::APPLICATION_READY);
+        assert_eq!(req, ControlBlock::application_ready(AR, 2));
+
+        let res = round_trip_capture(&APP_READY_RES);
+        assert_eq!(res, ControlBlock::application_ready_done(AR, 2));
+        assert_eq!(ControlBlock::done_response_for(&req), Some(res));
+        assert_eq!(ControlBlock::done_response_for(&res), None);
+        assert!(res.answers(&req));
+    }
+
+    #[test]
+    fn release_and_prm_begin() {
+        let rel = ControlBlock::release(AR, 7);
+        let b = rel.to_bytes();
+        assert_eq!(&b[..6], &[0x01, 0x14, 0x00, 0x1c, 0x01, 0x00]);
+        assert_eq!(&b[28..], &[0x00, 0x04, 0x00, 0x00]);
+        assert_eq!(ControlBlock::parse(&b), Ok(rel));
+        let done = ControlBlock::done_response_for(&rel).unwrap();
+        assert_eq!(
+            (done.block_type, done.command),
+            (block_type::RELEASE_RES, command::DONE)
+        );
+        let begin = ControlBlock::prm_begin(AR, 7);
+        assert_eq!(
+            ControlBlock::done_response_for(&begin).map(|d| d.block_type),
+            Some(block_type::PRM_BEGIN_RES)
+        );
+        assert_eq!(
+            rel.to_string(),
+            "Release req (0x0114) AR e5e1aecc-b133-4b4d-b187-cc68b0211ed2 key 7 cmd 0x0004"
+        );
+    }
+
+    #[test]
+    fn plug_variants_keep_the_alarm_sequence_number() {
+        let req = ControlBlock {
+            block_type: block_type::PLUG_PRM_END_REQ,
+            alarm_sequence_number: 0x0123,
+            ..ControlBlock::prm_end(AR, 1)
+        };
+        let res = ControlBlock::done_response_for(&req).unwrap();
+        assert_eq!(res.block_type, block_type::PLUG_PRM_END_RES);
+        assert_eq!(res.alarm_sequence_number, 0x0123);
+        assert_eq!(ControlBlock::parse(&res.to_bytes()), Ok(res));
+    }
+
+    #[test]
+    fn malformed() {
+        let good = ControlBlock::prm_end(AR, 2).to_bytes();
+        assert!(ControlBlock::parse(&good[..31]).is_err());
+        assert!(ControlBlock::parse(&[]).is_err());
+        let mut b = good;
+        b[1] = 0x15; // 0x0115 is not a control block
+        assert!(ControlBlock::parse(&b).is_err());
+        let mut b = good;
+        b[3] = 0x1d; // BlockLength 29
+        assert!(ControlBlock::parse(&b).is_err());
+        let mut b = good;
+        b[5] = 1; // version 1.1
+        assert!(ControlBlock::parse(&b).is_err());
+        let mut short = [0u8; 31];
+        assert_eq!(ControlBlock::prm_end(AR, 2).emit(&mut short), Err(Error));
+        // Trailing bytes after the block are ignored.
+        let mut long = good.to_vec();
+        long.extend_from_slice(&[1, 2, 3]);
+        assert_eq!(ControlBlock::parse(&long), Ok(ControlBlock::prm_end(AR, 2)));
+    }
+
+    fn control_type() -> impl Strategy<Value = u16> {
+        prop::sample::select(vec![
+            block_type::PRM_END_REQ,
+            block_type::PLUG_PRM_END_REQ,
+            block_type::APPLICATION_READY_REQ,
+            block_type::PLUG_APPLICATION_READY_REQ,
+            block_type::RELEASE_REQ,
+            block_type::PRM_BEGIN_REQ,
+            block_type::PRM_END_RES,
+            block_type::PLUG_PRM_END_RES,
+            block_type::APPLICATION_READY_RES,
+            block_type::PLUG_APPLICATION_READY_RES,
+            block_type::RELEASE_RES,
+            block_type::PRM_BEGIN_RES,
+        ])
+    }
+
+    fn control_block() -> impl Strategy<Value = ControlBlock> {
+        (control_type(), any::<[u8; 16]>(), any::<[u16; 4]>()).prop_map(|(t, u, [k, a, c, p])| {
+            ControlBlock {
+                block_type: t,
+                ar_uuid: Uuid(u),
+                session_key: k,
+                alarm_sequence_number: a,
+                command: c,
+                properties: p,
+            }
+        })
+    }
+
+    proptest! {
+        #[test]
+        fn parse_never_panics(b in proptest::collection::vec(any::<u8>(), 0..64)) {
+            let _ = ControlBlock::parse(&b);
+            if let Ok(p) = Packet::new_checked(&b[..]) {
+                let _ = (p.header(), p.reserved(), p.ar_uuid(), p.session_key());
+                let _ = (p.alarm_sequence_number(), p.control_command(), p.control_block_properties());
+            }
+        }
+
+        #[test]
+        fn parse_never_panics_on_plausible_blocks(t in control_type(), body in proptest::collection::vec(any::<u8>(), 0..40)) {
+            let mut b = t.to_be_bytes().to_vec();
+            b.extend_from_slice(&[0x00, 0x1c, 0x01, 0x00]);
+            b.extend_from_slice(&body);
+            let r = ControlBlock::parse(&b);
+            prop_assert_eq!(r.is_ok(), b.len() >= BLOCK_LEN);
+        }
+
+        #[test]
+        fn round_trip(c in control_block()) {
+            let b = c.to_bytes();
+            prop_assert_eq!(ControlBlock::parse(&b), Ok(c));
+            if let Some(res) = ControlBlock::done_response_for(&c) {
+                prop_assert!(res.answers(&c));
+                prop_assert_eq!(ControlBlock::parse(&res.to_bytes()), Ok(res));
+            }
+        }
+    }
+}
