@@ -376,6 +376,9 @@ fn newcycle_on_request_and_the_whole_output_view_respects_claims() {
 fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
     let server = Server::demo("fetched");
     let mut c = Client::attach(&server.instance, AttachOptions::synchronous("fetched")).unwrap();
+    // With the bug, wait_startop never handed out the cycle data_read had fetched (it waited
+    // for the next one); now it does, unless a newer cycle arrived in between (then that one).
+    let mut same = 0;
     for _ in 0..20 {
         let cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
         cycle.set_opdone().unwrap();
@@ -384,17 +387,15 @@ fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
         let mut buf = [0u8; 4];
         c.data_read(16, &mut buf, Ioxs::Good).unwrap();
         let seen = c.cycle_info().unwrap().cycle_number;
-        let t = Instant::now();
         let cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
-        assert_eq!(
-            cycle.number(),
-            seen,
-            "wait_startop skipped the cycle data_read fetched"
-        );
-        assert!(
-            t.elapsed() < Duration::from_micros(900),
-            "it waited for the next cycle"
-        );
+        assert!(cycle.number() >= seen, "an older cycle was handed out");
+        if cycle.number() == seen {
+            same += 1;
+        }
         cycle.set_opdone().unwrap();
     }
+    assert!(
+        same >= 15,
+        "the fetched cycle was handed out only {same} times in 20"
+    );
 }
