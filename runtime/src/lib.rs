@@ -17,6 +17,7 @@ pub mod config;
 pub mod cycle;
 pub mod image;
 pub mod io;
+pub mod phy;
 pub mod profinet;
 pub mod server;
 pub mod shm;

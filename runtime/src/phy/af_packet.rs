@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A real network interface through AF_PACKET (pnet's datalink channel), filtered in the
+//! kernel to PROFINET frames.
+
+use super::Nic;
+use crate::profinet::wire::MacAddress;
+use crate::sys::packet_socket::open_profinet_socket;
+use pnet_datalink::{Channel, ChannelType, Config, DataLinkReceiver, DataLinkSender};
+use std::time::Duration;
+
+/// Why an interface could not be opened.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// No interface has that name.
+    #[error(
+        "network interface \"{name}\" does not exist (interfaces: {available}); check `network` in the configuration"
+    )]
+    NoSuchInterface {
+        /// The name asked for.
+        name: String,
+        /// The interfaces there are.
+        available: String,
+    },
+    /// The interface is down.
+    #[error("network interface \"{name}\" is down: bring it up (ip link set {name} up)")]
+    Down {
+        /// The interface.
+        name: String,
+    },
+    /// The interface has no MAC address (not Ethernet).
+    #[error(
+        "network interface \"{name}\" has no MAC address: PROFINET needs an Ethernet interface"
+    )]
+    NoMac {
+        /// The interface.
+        name: String,
+    },
+    /// The process may not open raw sockets.
+    #[error(
+        "no permission to open a raw socket on \"{name}\": run procimgd as root or grant it \
+         CAP_NET_RAW (setcap cap_net_raw,cap_sys_nice,cap_ipc_lock+ep procimgd)"
+    )]
+    NotPermitted {
+        /// The interface.
+        name: String,
+    },
+    /// Anything else the system refused.
+    #[error("cannot open network interface \"{name}\": {source}")]
+    Io {
+        /// The interface.
+        name: String,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+/// An open interface.
+pub struct AfPacket {
+    name: String,
+    mac: MacAddress,
+    tx: Box<dyn DataLinkSender>,
+    rx: Box<dyn DataLinkReceiver>,
+}
+
+impl AfPacket {
+    /// Opens `name`; `recv` waits at most `rx_timeout` for a frame.
+    pub fn open(name: &str, rx_timeout: Duration) -> Result<AfPacket, OpenError> {
+        let interfaces = pnet_datalink::interfaces();
+        let Some(iface) = interfaces.iter().find(|i| i.name == name) else {
+            let available = interfaces
+                .iter()
+                .map(|i| i.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(OpenError::NoSuchInterface {
+                name: name.to_string(),
+                available,
+            });
+        };
+        if !iface.is_up() {
+            return Err(OpenError::Down {
+                name: name.to_string(),
+            });
+        }
+        let mac = match iface.mac {
+            Some(m) if m.octets() != [0; 6] => MacAddress(m.octets()),
+            _ => {
+                return Err(OpenError::NoMac {
+                    name: name.to_string(),
+                });
+            }
+        };
+        let io = |source: std::io::Error| {
+            if matches!(
+                source.raw_os_error(),
+                Some(libc::EPERM) | Some(libc::EACCES)
+            ) {
+                OpenError::NotPermitted {
+                    name: name.to_string(),
+                }
+            } else {
+                OpenError::Io {
+                    name: name.to_string(),
+                    source,
+                }
+            }
+        };
+        let fd = open_profinet_socket().map_err(io)?;
+        let config = Config {
+            read_timeout: Some(rx_timeout),
+            write_timeout: Some(Duration::from_millis(10)),
+            channel_type: ChannelType::Layer2,
+            socket_fd: Some(fd),
+            ..Config::default()
+        };
+        match pnet_datalink::channel(iface, config).map_err(io)? {
+            Channel::Ethernet(tx, rx) => Ok(AfPacket {
+                name: name.to_string(),
+                mac,
+                tx,
+                rx,
+            }),
+            _ => Err(OpenError::Io {
+                name: name.to_string(),
+                source: std::io::Error::other("not an Ethernet channel"),
+            }),
+        }
+    }
+
+    /// The interface name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+}
+
+impl Nic for AfPacket {
+    fn mac(&self) -> MacAddress {
+        self.mac
+    }
+
+    fn send(&mut self, frame: &[u8]) -> std::io::Result<()> {
+        match self.tx.send_to(frame, None) {
+            Some(r) => r,
+            None => Err(std::io::Error::other("the interface took no frame")),
+        }
+    }
+
+    fn recv(&mut self, buf: &mut [u8]) -> std::io::Result<Option<usize>> {
+        loop {
+            match self.rx.next() {
+                Ok(frame) => {
+                    // Our own frames, where the kernel still loops them back.
+                    if frame.len() >= 12 && frame[6..12] == self.mac.0 {
+                        continue;
+                    }
+                    let n = frame.len().min(buf.len());
+                    buf[..n].copy_from_slice(&frame[..n]);
+                    return Ok(Some(n));
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => return Ok(None),
+                Err(e) => return Err(e),
+            }
+        }
+    }
+}

@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Network interfaces behind one small trait: AF_PACKET (through pnet) for real interfaces
+//! and an in-process link for the simulated network. Both carry whole Ethernet frames
+//! (without FCS) and deliver only PROFINET frames (EtherType 0x8892, tagged or not).
+
+pub mod af_packet;
+pub mod sim_link;
+
+use crate::profinet::wire::MacAddress;
+
+/// Largest frame handled (a full-size frame with one VLAN tag, without FCS).
+pub const MAX_FRAME: usize = 1518;
+
+/// A network interface for PROFINET frames. Implementations must not block longer than the
+/// receive timeout they were made with, and must not allocate per frame.
+pub trait Nic: Send {
+    /// The interface's own MAC address.
+    fn mac(&self) -> MacAddress;
+    /// Sends one frame.
+    fn send(&mut self, frame: &[u8]) -> std::io::Result<()>;
+    /// Receives one PROFINET frame into `buf`, if one is there (or arrives within the
+    /// implementation's timeout); returns its length. Frames this interface sent itself are
+    /// not returned.
+    fn recv(&mut self, buf: &mut [u8]) -> std::io::Result<Option<usize>>;
+}
