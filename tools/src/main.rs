@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! `procimg`: look at and poke a running procimgd.
 
+mod capture;
 mod io;
 mod status;
 
@@ -44,6 +45,22 @@ enum Command {
     },
     /// The devices and submodules with their logical addresses.
     Layout,
+    /// Record the PROFINET frames on a network interface (both directions) into a pcap file
+    /// that Wireshark opens. Needs root or CAP_NET_RAW.
+    Capture {
+        /// The network interface.
+        #[arg(long)]
+        iface: String,
+        /// The pcap file to write.
+        #[arg(short, long)]
+        output: std::path::PathBuf,
+        /// Stop after this many frames.
+        #[arg(long)]
+        count: Option<u64>,
+        /// Stop after this many seconds.
+        #[arg(long)]
+        seconds: Option<f64>,
+    },
 }
 
 fn main() {
@@ -53,6 +70,12 @@ fn main() {
         Command::Io { op } => io::run(&cli.instance, op),
         Command::Mode { mode } => set_mode(&cli.instance, mode),
         Command::Layout => io::layout(&cli.instance),
+        Command::Capture {
+            iface,
+            output,
+            count,
+            seconds,
+        } => capture::run(&iface, &output, count, seconds),
     };
     if let Err(e) = result {
         eprintln!("procimg: {e:#}");

@@ -58,13 +58,30 @@ pub enum OpenError {
 pub struct AfPacket {
     name: String,
     mac: MacAddress,
+    /// Deliver frames this host sent too (capture mode).
+    both_directions: bool,
     tx: Box<dyn DataLinkSender>,
     rx: Box<dyn DataLinkReceiver>,
 }
 
 impl AfPacket {
-    /// Opens `name`; `recv` waits at most `rx_timeout` for a frame.
+    /// Opens `name` as a protocol endpoint: `recv` returns the PROFINET frames others sent,
+    /// waiting at most `rx_timeout`.
     pub fn open(name: &str, rx_timeout: Duration) -> Result<AfPacket, OpenError> {
+        AfPacket::open_with(name, rx_timeout, false)
+    }
+
+    /// Opens `name` for capturing: `recv` returns the PROFINET frames of both directions,
+    /// including those this host sends.
+    pub fn open_capture(name: &str, rx_timeout: Duration) -> Result<AfPacket, OpenError> {
+        AfPacket::open_with(name, rx_timeout, true)
+    }
+
+    fn open_with(
+        name: &str,
+        rx_timeout: Duration,
+        both_directions: bool,
+    ) -> Result<AfPacket, OpenError> {
         let interfaces = pnet_datalink::interfaces();
         let Some(iface) = interfaces.iter().find(|i| i.name == name) else {
             let available = interfaces
@@ -105,7 +122,7 @@ impl AfPacket {
                 }
             }
         };
-        let fd = open_profinet_socket().map_err(io)?;
+        let fd = open_profinet_socket(!both_directions).map_err(io)?;
         let config = Config {
             read_timeout: Some(rx_timeout),
             write_timeout: Some(Duration::from_millis(10)),
@@ -117,6 +134,7 @@ impl AfPacket {
             Channel::Ethernet(tx, rx) => Ok(AfPacket {
                 name: name.to_string(),
                 mac,
+                both_directions,
                 tx,
                 rx,
             }),
@@ -150,7 +168,7 @@ impl Nic for AfPacket {
             match self.rx.next() {
                 Ok(frame) => {
                     // Our own frames, where the kernel still loops them back.
-                    if frame.len() >= 12 && frame[6..12] == self.mac.0 {
+                    if !self.both_directions && frame.len() >= 12 && frame[6..12] == self.mac.0 {
                         continue;
                     }
                     let n = frame.len().min(buf.len());

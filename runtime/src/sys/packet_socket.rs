@@ -29,9 +29,11 @@ const fn bpf(code: u16, jt: u8, jf: u8, k: u32) -> libc::sock_filter {
 /// `PACKET_IGNORE_OUTGOING` (Linux 4.20): do not deliver our own outgoing frames back to us.
 const PACKET_IGNORE_OUTGOING: libc::c_int = 23;
 
-/// Opens an AF_PACKET raw socket for all protocols with the PROFINET filter attached. The
-/// caller binds it to an interface and owns the descriptor.
-pub fn open_profinet_socket() -> std::io::Result<RawFd> {
+/// Opens an AF_PACKET raw socket for all protocols with the PROFINET filter attached. With
+/// `ignore_outgoing`, frames sent from this host are not delivered to it (what a protocol
+/// endpoint wants); without, it sees both directions (what a capture wants). The caller binds
+/// it to an interface and owns the descriptor.
+pub fn open_profinet_socket(ignore_outgoing: bool) -> std::io::Result<RawFd> {
     let proto = (libc::ETH_P_ALL as u16).to_be() as libc::c_int;
     // SAFETY: socket(2) with constant arguments; the result is checked.
     let fd = unsafe { libc::socket(libc::AF_PACKET, libc::SOCK_RAW, proto) };
@@ -58,6 +60,9 @@ pub fn open_profinet_socket() -> std::io::Result<RawFd> {
         // SAFETY: closing the descriptor this function opened.
         unsafe { libc::close(fd) };
         return Err(e);
+    }
+    if !ignore_outgoing {
+        return Ok(fd);
     }
     let one: libc::c_int = 1;
     // SAFETY: an int option; failure (older kernels) only means own frames come back, which

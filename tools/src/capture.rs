@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg capture`: records the PROFINET frames on an interface, both directions, into a
+//! pcap file that Wireshark opens.
+
+use anyhow::Context;
+use procimg_runtime::capture::CaptureWriter;
+use procimg_runtime::phy::af_packet::AfPacket;
+use procimg_runtime::phy::{MAX_FRAME, Nic};
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+pub fn run(
+    iface: &str,
+    output: &Path,
+    count: Option<u64>,
+    seconds: Option<f64>,
+) -> anyhow::Result<()> {
+    let mut nic = AfPacket::open_capture(iface, Duration::from_millis(100))?;
+    let mut writer = CaptureWriter::create(output)?;
+    let stop = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(sig, stop.clone())
+            .with_context(|| format!("cannot install the handler for signal {sig}"))?;
+    }
+    let until = seconds.map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0)));
+    eprintln!(
+        "capturing PROFINET frames on {iface} into {}; Ctrl-C stops",
+        output.display()
+    );
+    let mut frames = 0u64;
+    let mut buf = [0u8; MAX_FRAME];
+    while !stop.load(Ordering::Relaxed)
+        && until.is_none_or(|u| Instant::now() < u)
+        && count.is_none_or(|c| frames < c)
+    {
+        if let Some(n) = nic.recv(&mut buf)? {
+            let now = SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .unwrap_or_default();
+            writer.write(now, &buf[..n])?;
+            frames += 1;
+        }
+    }
+    writer.finish()?;
+    println!("{frames} frames written to {}", output.display());
+    Ok(())
+}
