@@ -2,6 +2,7 @@
 //! `procimg`: look at and poke a running procimgd.
 
 mod capture;
+mod dcp;
 mod io;
 mod status;
 
@@ -45,6 +46,14 @@ enum Command {
     },
     /// The devices and submodules with their logical addresses.
     Layout,
+    /// Find PROFINET devices (DCP) and set their name or address. Needs root or CAP_NET_RAW.
+    Dcp {
+        /// The network interface.
+        #[arg(long)]
+        iface: String,
+        #[command(subcommand)]
+        op: dcp::DcpCommand,
+    },
     /// Record the PROFINET frames on a network interface (both directions) into a pcap file
     /// that Wireshark opens. Needs root or CAP_NET_RAW.
     Capture {
@@ -70,6 +79,7 @@ fn main() {
         Command::Io { op } => io::run(&cli.instance, op),
         Command::Mode { mode } => set_mode(&cli.instance, mode),
         Command::Layout => io::layout(&cli.instance),
+        Command::Dcp { iface, op } => dcp::run(&iface, op),
         Command::Capture {
             iface,
             output,

@@ -2,5 +2,6 @@
 //! PROFINET IO, sans-IO: wire formats as checked views over byte buffers plus `Repr`s that
 //! parse and emit them. No socket, no clock: bytes in, bytes out; the cycle thread and the
 //! acyclic side drive it, tests drive it directly from real captures.
+pub mod dcp_client;
 pub mod iocr_layout;
 pub mod wire;

@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg dcp`: find PROFINET devices on a network and give them a name or an address.
+
+use anyhow::{Context, bail};
+use clap::Subcommand;
+use procimg_runtime::phy::af_packet::AfPacket;
+use procimg_runtime::phy::{MAX_FRAME, Nic};
+use procimg_runtime::profinet::dcp_client::{Identify, Set};
+use procimg_runtime::profinet::wire::MacAddress;
+use std::net::Ipv4Addr;
+use std::time::{Duration, Instant};
+
+#[derive(Subcommand)]
+pub enum DcpCommand {
+    /// List the devices that answer an Identify (all, or the one with --name).
+    Scan {
+        /// Only the device with this NameOfStation.
+        #[arg(long)]
+        name: Option<String>,
+        /// How long to collect answers, in ms (devices spread their answers over this).
+        #[arg(long, default_value_t = 1280)]
+        wait_ms: u64,
+    },
+    /// Give the device with MAC address MAC a NameOfStation.
+    SetName {
+        /// The device's MAC address (aa:bb:cc:dd:ee:ff).
+        #[arg(value_parser = parse_mac)]
+        mac: MacAddress,
+        /// The name.
+        name: String,
+        /// Store it permanently (default: until the device restarts).
+        #[arg(long)]
+        permanent: bool,
+    },
+    /// Give the device with MAC address MAC an IPv4 address.
+    SetIp {
+        /// The device's MAC address.
+        #[arg(value_parser = parse_mac)]
+        mac: MacAddress,
+        /// Address.
+        ip: Ipv4Addr,
+        /// Netmask.
+        mask: Ipv4Addr,
+        /// Gateway (default: none, written as the address itself).
+        gateway: Option<Ipv4Addr>,
+        /// Store it permanently.
+        #[arg(long)]
+        permanent: bool,
+    },
+    /// Flash the device's LED so you can find it in the cabinet.
+    Blink {
+        /// The device's MAC address.
+        #[arg(value_parser = parse_mac)]
+        mac: MacAddress,
+    },
+}
+
+fn parse_mac(s: &str) -> Result<MacAddress, String> {
+    let parts: Vec<&str> = s.split([':', '-']).collect();
+    let bytes: Vec<u8> = parts
+        .iter()
+        .filter_map(|p| u8::from_str_radix(p, 16).ok())
+        .collect();
+    match (parts.len(), <[u8; 6]>::try_from(bytes)) {
+        (6, Ok(b)) => Ok(MacAddress(b)),
+        _ => Err(format!("{s:?} is not a MAC address like 02:00:00:00:00:01")),
+    }
+}
+
+fn xid() -> u32 {
+    let t = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    (t.subsec_nanos() ^ std::process::id()) | 1
+}
+
+fn ip_str(b: [u8; 4]) -> String {
+    Ipv4Addr::from(b).to_string()
+}
+
+pub fn run(iface: &str, op: DcpCommand) -> anyhow::Result<()> {
+    let mut nic = AfPacket::open(iface, Duration::from_millis(10))?;
+    let me = nic.mac();
+    let mut buf = [0u8; MAX_FRAME];
+    match op {
+        DcpCommand::Scan { name, wait_ms } => {
+            let mut id = Identify::new(xid());
+            // Response delay factor in 10 ms units: devices spread their answers over it.
+            let rdf = (wait_ms / 10).clamp(1, 6400) as u16;
+            nic.send(&id.request(me, name.as_deref(), rdf)?)?;
+            let until = Instant::now() + Duration::from_millis(wait_ms + 100);
+            while Instant::now() < until {
+                if let Some(n) = nic.recv(&mut buf)? {
+                    id.on_frame(&buf[..n]);
+                }
+            }
+            if id.devices().is_empty() {
+                bail!(
+                    "no device answered on {iface}{}",
+                    name.map(|n| format!(" to the name \"{n}\""))
+                        .unwrap_or_default()
+                );
+            }
+            println!(
+                "{:<18} {:<24} {:<16} {:<16} {:<11} vendor",
+                "MAC", "name", "IP", "mask", "id"
+            );
+            for d in id.devices() {
+                let (ip, mask) =
+                    d.ip.map_or(("-".into(), "-".into()), |(i, m, _)| (ip_str(i), ip_str(m)));
+                let ids =
+                    d.id.map_or("-".into(), |(v, dev)| format!("{v:04x}:{dev:04x}"));
+                println!(
+                    "{:<18} {:<24} {:<16} {:<16} {:<11} {}",
+                    d.mac.to_string(),
+                    d.name.as_deref().unwrap_or("-"),
+                    ip,
+                    mask,
+                    ids,
+                    d.vendor.as_deref().unwrap_or("-")
+                );
+            }
+            Ok(())
+        }
+        DcpCommand::SetName {
+            mac,
+            name,
+            permanent,
+        } => set(&mut nic, Set::name(xid(), mac, &name, permanent)),
+        DcpCommand::SetIp {
+            mac,
+            ip,
+            mask,
+            gateway,
+            permanent,
+        } => set(
+            &mut nic,
+            Set::ip(
+                xid(),
+                mac,
+                ip.octets(),
+                mask.octets(),
+                gateway.unwrap_or(ip).octets(),
+                permanent,
+            ),
+        ),
+        DcpCommand::Blink { mac } => set(&mut nic, Set::signal(xid(), mac)),
+    }
+}
+
+/// Sends a Set and waits for the answer: 1 s, three tries.
+fn set(nic: &mut AfPacket, request: Set) -> anyhow::Result<()> {
+    let frame = request.request(nic.mac())?;
+    let mut buf = [0u8; MAX_FRAME];
+    for _ in 0..3 {
+        nic.send(&frame).context("sending the DCP request")?;
+        let until = Instant::now() + Duration::from_secs(1);
+        while Instant::now() < until {
+            if let Some(n) = nic.recv(&mut buf)?
+                && let Some(outcome) = request.on_frame(&buf[..n])
+            {
+                println!("{outcome}");
+                return match outcome {
+                    procimg_runtime::profinet::dcp_client::SetOutcome::Done => Ok(()),
+                    other => bail!("{other}"),
+                };
+            }
+        }
+    }
+    bail!("the device did not answer in 3 s: check the MAC address and that it is on this network")
+}
