@@ -4,4 +4,5 @@
 //! acyclic side drive it, tests drive it directly from real captures.
 pub mod dcp_client;
 pub mod iocr_layout;
+pub mod rta;
 pub mod wire;

@@ -1779,6 +1779,22 @@ impl RtaSequence {
         }
     }
 
+    /// A channel resumed at known numbers (e.g. to replay a captured session from its middle):
+    /// our next send number and last confirmed one, the peer's expected and last accepted one.
+    pub const fn from_parts(
+        send_next: u16,
+        last_sent: u16,
+        expected: u16,
+        last_received: u16,
+    ) -> RtaSequence {
+        RtaSequence {
+            send_next,
+            last_sent,
+            expected,
+            last_received,
+        }
+    }
+
     /// SendSeqNum of our next (or outstanding) DATA-RTA.
     pub const fn send_seq(&self) -> u16 {
         self.send_next
