@@ -26,7 +26,8 @@
 //! Everything is big-endian. Alarms are not on the cyclic path, so the Reprs own their data.
 
 use super::common::{BLOCK_HEADER_LEN, blocks};
-use super::{BlockHeader, Error, Field, PnioStatus, Rest, Result, be16, be32};
+use super::cursor::{Reader, Writer};
+use super::{BlockHeader, Error, Field, PnioStatus, Rest, Result, be16};
 
 /// FrameID of high-priority alarms.
 pub const FRAME_ID_ALARM_HIGH: u16 = 0xfc01;
@@ -1845,93 +1846,6 @@ impl RtaSequence {
             self.expected = next_seq(send_seq);
         }
         r
-    }
-}
-
-/// A bounds-checked reader: reads past the end give `Error`, never a panic.
-struct Reader<'a> {
-    b: &'a [u8],
-}
-
-impl<'a> Reader<'a> {
-    const fn new(b: &'a [u8]) -> Reader<'a> {
-        Reader { b }
-    }
-
-    fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-        let (head, rest) = self.b.split_at_checked(n).ok_or(Error)?;
-        self.b = rest;
-        Ok(head)
-    }
-
-    fn u8(&mut self) -> Result<u8> {
-        self.take(1)?.first().copied().ok_or(Error)
-    }
-
-    fn u16(&mut self) -> Result<u16> {
-        self.take(2).map(be16)
-    }
-
-    fn u32(&mut self) -> Result<u32> {
-        self.take(4).map(be32)
-    }
-
-    const fn is_empty(&self) -> bool {
-        self.b.is_empty()
-    }
-
-    const fn rest(&self) -> &'a [u8] {
-        self.b
-    }
-}
-
-/// A bounds-checked cursor: writes past the end give `Error`, never a panic.
-struct Writer<'a> {
-    buf: &'a mut [u8],
-    pos: usize,
-}
-
-impl<'a> Writer<'a> {
-    const fn new(buf: &'a mut [u8]) -> Writer<'a> {
-        Writer { buf, pos: 0 }
-    }
-
-    fn put(&mut self, bytes: &[u8]) -> Result<()> {
-        let end = self.pos.checked_add(bytes.len()).ok_or(Error)?;
-        self.buf
-            .get_mut(self.pos..end)
-            .ok_or(Error)?
-            .copy_from_slice(bytes);
-        self.pos = end;
-        Ok(())
-    }
-
-    fn u16(&mut self, v: u16) -> Result<()> {
-        self.put(&v.to_be_bytes())
-    }
-
-    fn u32(&mut self, v: u32) -> Result<()> {
-        self.put(&v.to_be_bytes())
-    }
-
-    /// A v1.0 block header for a body of `body_len` bytes.
-    fn block_header(&mut self, block_type: u16, body_len: usize) -> Result<()> {
-        let length = body_len
-            .checked_add(2)
-            .and_then(|n| u16::try_from(n).ok())
-            .ok_or(Error)?;
-        self.u16(block_type)?;
-        self.u16(length)?;
-        self.put(&[1, 0])
-    }
-
-    /// Checks the buffer was filled exactly.
-    fn finish(self) -> Result<()> {
-        if self.pos == self.buf.len() {
-            Ok(())
-        } else {
-            Err(Error)
-        }
     }
 }
 

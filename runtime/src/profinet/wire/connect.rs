@@ -19,7 +19,8 @@
 //! bytes, or data descriptions that do not match the submodule type.
 
 use super::common::{BLOCK_HEADER_LEN, blocks};
-use super::{BlockHeader, Error, MacAddress, Result, Uuid, be16, be32};
+use super::cursor::{Reader, Writer};
+use super::{BlockHeader, Error, MacAddress, Result, Uuid};
 use crate::profinet::iocr_layout::{CrLayout, SubmoduleIo};
 
 /// Block types of the Connect blocks.
@@ -140,110 +141,6 @@ pub mod submodule {
     pub const DATA_OUTPUT: u16 = 2;
 }
 
-/// A bounds-checked reader over a block body: reads past the end give `Error`.
-struct Reader<'a> {
-    b: &'a [u8],
-}
-
-impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-        let (head, tail) = self.b.split_at_checked(n).ok_or(Error)?;
-        self.b = tail;
-        Ok(head)
-    }
-
-    fn u8(&mut self) -> Result<u8> {
-        let (&first, tail) = self.b.split_first().ok_or(Error)?;
-        self.b = tail;
-        Ok(first)
-    }
-
-    fn u16(&mut self) -> Result<u16> {
-        self.take(2).map(be16)
-    }
-
-    fn u32(&mut self) -> Result<u32> {
-        self.take(4).map(be32)
-    }
-
-    fn uuid(&mut self) -> Result<Uuid> {
-        let mut u = [0u8; 16];
-        u.copy_from_slice(self.take(16)?);
-        Ok(Uuid(u))
-    }
-
-    fn mac(&mut self) -> Result<MacAddress> {
-        self.take(6).map(MacAddress::from_slice)
-    }
-
-    /// A u16 length followed by that many bytes of UTF-8.
-    fn string(&mut self) -> Result<String> {
-        let n = self.u16()?;
-        let s = self.take(usize::from(n))?;
-        core::str::from_utf8(s)
-            .map(str::to_owned)
-            .map_err(|_| Error)
-    }
-
-    /// A u16 count followed by that many items.
-    fn list<T>(&mut self, mut item: impl FnMut(&mut Reader<'a>) -> Result<T>) -> Result<Vec<T>> {
-        let n = self.u16()?;
-        let mut v = Vec::new();
-        for _ in 0..n {
-            v.push(item(self)?);
-        }
-        Ok(v)
-    }
-
-    fn end(&self) -> Result<()> {
-        if self.b.is_empty() {
-            Ok(())
-        } else {
-            Err(Error)
-        }
-    }
-}
-
-/// A bounds-checked cursor: writes past the end give `Error`, never a panic.
-struct Writer<'a> {
-    buf: &'a mut [u8],
-    pos: usize,
-}
-
-impl Writer<'_> {
-    fn put(&mut self, bytes: &[u8]) -> Result<()> {
-        let end = self.pos.checked_add(bytes.len()).ok_or(Error)?;
-        self.buf
-            .get_mut(self.pos..end)
-            .ok_or(Error)?
-            .copy_from_slice(bytes);
-        self.pos = end;
-        Ok(())
-    }
-
-    fn u8(&mut self, v: u8) -> Result<()> {
-        self.put(&[v])
-    }
-
-    fn u16(&mut self, v: u16) -> Result<()> {
-        self.put(&v.to_be_bytes())
-    }
-
-    fn u32(&mut self, v: u32) -> Result<()> {
-        self.put(&v.to_be_bytes())
-    }
-
-    /// A 16-bit count of `n` items.
-    fn count(&mut self, n: usize) -> Result<()> {
-        self.u16(u16::try_from(n).map_err(|_| Error)?)
-    }
-
-    fn string(&mut self, s: &str) -> Result<()> {
-        self.count(s.len())?;
-        self.put(s.as_bytes())
-    }
-}
-
 /// The body of one block type, in and out.
 trait Body: Sized {
     const BLOCK_TYPE: u16;
@@ -257,7 +154,7 @@ fn parse_block<B: Body>(b: &[u8]) -> Result<B> {
     if h.block_type != B::BLOCK_TYPE || (h.version_high, h.version_low) != (1, 0) {
         return Err(Error);
     }
-    let mut r = Reader { b: h.body(b) };
+    let mut r = Reader::new(h.body(b));
     let v = B::read(&mut r)?;
     r.end()?;
     Ok(v)
@@ -285,9 +182,9 @@ fn emit_block<B: Body>(v: &B, buf: &mut [u8]) -> Result<()> {
         version_low: 0,
     }
     .emit(header);
-    let mut w = Writer { buf: body, pos: 0 };
+    let mut w = Writer::new(body);
     v.write(&mut w)?;
-    if w.pos == body_len {
+    if w.position() == body_len {
         Ok(())
     } else {
         Err(Error)
@@ -1056,10 +953,12 @@ impl Body for ArServerBlock {
 
     fn read(r: &mut Reader<'_>) -> Result<Self> {
         let station_name = r.string()?;
-        if r.b.len() > 3 {
+        // Up to 3 padding bytes of any value fill the block to a multiple of 4.
+        let padding = r.rest().len();
+        if padding > 3 {
             return Err(Error);
         }
-        r.b = &[];
+        r.take(padding)?;
         Ok(ArServerBlock { station_name })
     }
 

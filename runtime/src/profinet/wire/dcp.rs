@@ -21,6 +21,7 @@
 //!
 //! Everything is big-endian. DCP is not on the real-time path, so [`Repr`] owns its blocks.
 
+use super::cursor::Writer;
 use super::{Error, Field, MacAddress, Rest, Result, be16, be32};
 
 /// FrameID of a Hello request (device initiative), sent to [`MacAddress::DCP_HELLO`].
@@ -759,24 +760,6 @@ impl Block {
     }
 }
 
-/// A bounds-checked cursor: writes past the end give `Error`, never a panic.
-struct Writer<'a> {
-    buf: &'a mut [u8],
-    pos: usize,
-}
-
-impl Writer<'_> {
-    fn put(&mut self, bytes: &[u8]) -> Result<()> {
-        let end = self.pos.checked_add(bytes.len()).ok_or(Error)?;
-        self.buf
-            .get_mut(self.pos..end)
-            .ok_or(Error)?
-            .copy_from_slice(bytes);
-        self.pos = end;
-        Ok(())
-    }
-}
-
 /// A parsed DCP PDU.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Repr {
@@ -869,16 +852,9 @@ impl Repr {
         p.set_xid(self.xid);
         p.set_response_delay(self.response_delay);
         p.set_data_length(data_len);
-        let mut w = Writer {
-            buf: blocks,
-            pos: 0,
-        };
+        let mut w = Writer::new(blocks);
         self.blocks.iter().try_for_each(|b| b.emit(ctx, &mut w))?;
-        if w.pos == w.buf.len() {
-            Ok(())
-        } else {
-            Err(Error)
-        }
+        w.finish()
     }
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.

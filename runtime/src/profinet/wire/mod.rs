@@ -15,6 +15,7 @@ pub mod alarm;
 pub mod common;
 pub mod connect;
 pub mod control;
+mod cursor;
 pub mod dcp;
 pub mod ethernet;
 pub mod record;

@@ -27,7 +27,8 @@
 
 use super::alarm::enum_with_unknown;
 use super::common::BLOCK_HEADER_LEN;
-use super::{BlockHeader, Error, PnioStatus, Result, Uuid, be16, be32};
+use super::cursor::{Reader, Writer};
+use super::{BlockHeader, Error, PnioStatus, Result, Uuid};
 
 /// BlockType of IODWriteReqHeader.
 pub const BLOCK_TYPE_IOD_WRITE_REQ: u16 = 0x0008;
@@ -406,14 +407,14 @@ pub fn join_write_multiple(writes: &[(IodHeader, &[u8])], buf: &mut [u8]) -> Res
         if h.kind != IodKind::WriteReq || usize::try_from(h.record_data_length) != Ok(d.len()) {
             return Err(Error);
         }
-        let start = w.pos;
+        let start = w.position();
         w.reserve(IOD_HEADER_LEN)
             .and_then(|b| h.emit(b))
             .map_err(|_| Error)?;
         w.put(d)?;
-        w.zeros(pad_len(w.pos - start))?;
+        w.zeros(pad_len(w.position() - start))?;
     }
-    Ok(w.pos)
+    Ok(w.position())
 }
 
 /// [`join_write_multiple`] into a new vector.
@@ -783,92 +784,6 @@ impl core::fmt::Display for RecordError {
             other => write!(f, "record error (ErrorCode {other:#04x}): ")?,
         }
         write!(f, "{} (ErrorCode2 {:#04x})", self.code, self.error_code2)
-    }
-}
-
-/// A bounds-checked reader: reads past the end give `Error`, never a panic.
-struct Reader<'a> {
-    b: &'a [u8],
-}
-
-impl<'a> Reader<'a> {
-    const fn new(b: &'a [u8]) -> Reader<'a> {
-        Reader { b }
-    }
-
-    fn take(&mut self, n: usize) -> Result<&'a [u8]> {
-        let (head, rest) = self.b.split_at_checked(n).ok_or(Error)?;
-        self.b = rest;
-        Ok(head)
-    }
-
-    fn array<const N: usize>(&mut self) -> Result<[u8; N]> {
-        self.take(N)?.try_into().map_err(|_| Error)
-    }
-
-    fn u8(&mut self) -> Result<u8> {
-        self.array::<1>().map(|[b]| b)
-    }
-
-    fn u16(&mut self) -> Result<u16> {
-        self.take(2).map(be16)
-    }
-
-    fn u32(&mut self) -> Result<u32> {
-        self.take(4).map(be32)
-    }
-
-    fn uuid(&mut self) -> Result<Uuid> {
-        self.array().map(Uuid)
-    }
-}
-
-/// A bounds-checked cursor: writes past the end give `Error`, never a panic.
-struct Writer<'a> {
-    buf: &'a mut [u8],
-    pos: usize,
-}
-
-impl<'a> Writer<'a> {
-    const fn new(buf: &'a mut [u8]) -> Writer<'a> {
-        Writer { buf, pos: 0 }
-    }
-
-    /// The next `n` bytes, to be filled by the caller.
-    fn reserve(&mut self, n: usize) -> Result<&mut [u8]> {
-        let end = self.pos.checked_add(n).ok_or(Error)?;
-        let b = self.buf.get_mut(self.pos..end).ok_or(Error)?;
-        self.pos = end;
-        Ok(b)
-    }
-
-    fn put(&mut self, bytes: &[u8]) -> Result<()> {
-        self.reserve(bytes.len())?.copy_from_slice(bytes);
-        Ok(())
-    }
-
-    fn zeros(&mut self, n: usize) -> Result<()> {
-        self.reserve(n)?.fill(0);
-        Ok(())
-    }
-
-    fn u16(&mut self, v: u16) -> Result<()> {
-        self.put(&v.to_be_bytes())
-    }
-
-    fn u32(&mut self, v: u32) -> Result<()> {
-        self.put(&v.to_be_bytes())
-    }
-
-    /// A v1.0 block header for a body of `body_len` bytes.
-    fn block_header(&mut self, block_type: u16, body_len: usize) -> Result<()> {
-        let length = body_len
-            .checked_add(2)
-            .and_then(|n| u16::try_from(n).ok())
-            .ok_or(Error)?;
-        self.u16(block_type)?;
-        self.u16(length)?;
-        self.put(&[1, 0])
     }
 }
 
