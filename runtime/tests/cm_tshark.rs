@@ -4,8 +4,12 @@
 //! from scratch (a Connect and PrmEnd for the demo's echo device, alarm DATA/ACK/ERR) are
 //! dissected by tshark without malformed packets or error-level expert items.
 
+#[path = "../src/profinet/test_fixtures.rs"]
+mod test_fixtures;
 #[path = "support/tshark.rs"]
 mod tshark;
+
+use test_fixtures::capture;
 
 use procimg_runtime::profinet::iocr_layout::{IocrLayout, SubmoduleIo};
 use procimg_runtime::profinet::wire::alarm::{self, AlarmAck, AlarmBlock, Priority, RtaPdu};
@@ -17,24 +21,6 @@ use procimg_runtime::profinet::wire::control::ControlBlock;
 use procimg_runtime::profinet::wire::record::IodHeader;
 use procimg_runtime::profinet::wire::rpc::{self, Header, Pdu, opnum};
 use procimg_runtime::profinet::wire::{MacAddress, PnioStatus, Uuid};
-
-/// A frame from the fixtures (captures of the pnio crate 0.1.0, MIT OR Apache-2.0).
-fn capture(name: &str) -> Vec<u8> {
-    let path = format!(
-        "{}/tests/fixtures/captures/{name}.hex",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let hex: String = text
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .flat_map(|l| l.split_whitespace())
-        .collect();
-    (0..hex.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap())
-        .collect()
-}
 
 /// Ethernet + IPv4 + UDP around `payload` (UDP checksum 0: none, allowed over IPv4).
 fn udp_frame(src: [u8; 4], dst: [u8; 4], sport: u16, dport: u16, payload: &[u8]) -> Vec<u8> {

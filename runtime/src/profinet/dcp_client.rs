@@ -207,27 +207,13 @@ impl Set {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn hex(s: &str) -> Vec<u8> {
-        let s: String = s.split_whitespace().collect();
-        (0..s.len())
-            .step_by(2)
-            .map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap())
-            .collect()
-    }
+    use crate::profinet::test_fixtures::capture;
 
     /// p-net's Identify response and Set response from the S7-1515 capture
     /// (captures/cm/ident_ok_pnet.hex, dcp_set_res.hex; pnio crate 0.1.0, MIT OR Apache-2.0).
     #[test]
     fn captured_answers_are_recognised() {
-        let ident = hex(
-            include_str!("../../tests/fixtures/captures/cm/ident_ok_pnet.hex")
-                .lines()
-                .filter(|l| !l.starts_with('#'))
-                .collect::<Vec<_>>()
-                .join(" ")
-                .as_str(),
-        );
+        let ident = capture("cm/ident_ok_pnet");
         let mut id = Identify::new(0x0300_012c);
         assert!(id.on_frame(&ident));
         assert!(!id.on_frame(&ident), "a device is listed once");
@@ -237,14 +223,7 @@ mod tests {
         assert_eq!(d.mac, MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8]));
         assert!(!Identify::new(1).on_frame(&ident), "another transaction");
 
-        let set_res = hex(
-            include_str!("../../tests/fixtures/captures/cm/dcp_set_res.hex")
-                .lines()
-                .filter(|l| !l.starts_with('#'))
-                .collect::<Vec<_>>()
-                .join(" ")
-                .as_str(),
-        );
+        let set_res = capture("cm/dcp_set_res");
         let set = Set::ip(
             0x0300_012d,
             d.mac,

@@ -5,4 +5,6 @@
 pub mod dcp_client;
 pub mod iocr_layout;
 pub mod rta;
+#[cfg(test)]
+mod test_fixtures;
 pub mod wire;

@@ -237,20 +237,7 @@ mod tests {
     /// A captured frame's RTA PDU bytes (from the FrameID) and its parse. The frames are the
     /// test data of the pnio crate 0.1.0 (MIT OR Apache-2.0), copied in tests/fixtures.
     fn rta(name: &str) -> (Vec<u8>, RtaPdu) {
-        let path = format!(
-            "{}/tests/fixtures/captures/alarm/{name}.hex",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let text = std::fs::read_to_string(path).unwrap();
-        let hex: String = text
-            .lines()
-            .filter(|l| !l.starts_with('#'))
-            .flat_map(|l| l.split_whitespace())
-            .collect();
-        let frame: Vec<u8> = (0..hex.len())
-            .step_by(2)
-            .map(|i| u8::from_str_radix(&hex[i..i + 2], 16).unwrap())
-            .collect();
+        let frame = crate::profinet::test_fixtures::capture(&format!("alarm/{name}"));
         let at = ethernet::Frame::new_checked(&frame[..])
             .unwrap()
             .header_len();

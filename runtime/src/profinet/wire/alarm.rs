@@ -1853,6 +1853,7 @@ impl RtaSequence {
 mod tests {
     use super::super::ethernet::{ETHERTYPE_PROFINET, Frame};
     use super::*;
+    use crate::profinet::test_fixtures::hex;
     use proptest::prelude::*;
 
     // The captures below come from the test data of the `pnio` crate 0.1.0
@@ -1941,13 +1942,6 @@ mod tests {
         "ec1c5d61e73c8cf319cd19f88100a0008892fe01000000001401fffffffe0004",
         "cf81fd11",
     );
-
-    fn hex(s: &str) -> Vec<u8> {
-        (0..s.len())
-            .step_by(2)
-            .map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap())
-            .collect()
-    }
 
     /// Parses a captured frame's RTA PDU and checks it re-emits to the PDU bytes (padding
     /// excluded). Returns the Repr.

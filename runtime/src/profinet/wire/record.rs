@@ -790,6 +790,7 @@ impl core::fmt::Display for RecordError {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::profinet::test_fixtures::hex;
     use proptest::prelude::*;
 
     // The captures below come from the test data of the `pnio` crate 0.1.0
@@ -864,13 +865,6 @@ mod tests {
         0x4b4d,
         [0xb1, 0x87, 0xcc, 0x68, 0xb0, 0x21, 0x1e, 0xd2],
     );
-
-    fn hex(s: &str) -> Vec<u8> {
-        (0..s.len())
-            .step_by(2)
-            .map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap())
-            .collect()
-    }
 
     /// Splits the header off `b` and checks it re-emits to its 64 bytes.
     fn header(b: &[u8]) -> (IodHeader, &[u8], &[u8]) {
