@@ -11,26 +11,7 @@ use std::time::{Duration, Instant};
 
 #[path = "support/netns.rs"]
 mod netns;
-use netns::TestNet;
-
-fn is_root() -> bool {
-    // SAFETY: geteuid has no preconditions.
-    unsafe { libc::geteuid() == 0 }
-}
-
-fn frame(dst: MacAddress, src: MacAddress, ethertype: u16, payload: &[u8]) -> Vec<u8> {
-    let eth = ethernet::Repr {
-        dst,
-        src,
-        vlan: None,
-        ethertype,
-    };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend_from_slice(payload);
-    f.resize(f.len().max(60), 0);
-    f
-}
+use netns::{TestNet, frame, is_root};
 
 fn recv_within(nic: &mut AfPacket, t: Duration) -> Option<Vec<u8>> {
     let until = Instant::now() + t;

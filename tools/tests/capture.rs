@@ -8,29 +8,15 @@ mod netns;
 #[path = "../../runtime/tests/support/tshark.rs"]
 mod tshark;
 
-use netns::TestNet;
+use netns::{TestNet, frame, is_root};
 use procimg_runtime::phy::Nic;
 use procimg_runtime::phy::af_packet::AfPacket;
 use procimg_runtime::profinet::wire::MacAddress;
 use procimg_runtime::profinet::wire::dcp;
-use procimg_runtime::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_runtime::profinet::wire::ethernet::ETHERTYPE_PROFINET;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::Duration;
-
-fn frame(dst: MacAddress, src: MacAddress, ethertype: u16, payload: &[u8]) -> Vec<u8> {
-    let eth = ethernet::Repr {
-        dst,
-        src,
-        vlan: None,
-        ethertype,
-    };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend_from_slice(payload);
-    f.resize(f.len().max(60), 0);
-    f
-}
 
 fn send_in(net: &TestNet, side: usize, frames: Vec<(bool, u16, Vec<u8>)>) {
     net.in_ns(side, move |ifname| {
@@ -51,8 +37,7 @@ fn send_in(net: &TestNet, side: usize, frames: Vec<(bool, u16, Vec<u8>)>) {
 
 #[test]
 fn capture_records_both_directions_of_profinet_only() {
-    // SAFETY: geteuid has no preconditions.
-    if unsafe { libc::geteuid() } != 0 {
+    if !is_root() {
         eprintln!("skipped: network namespaces need root");
         return;
     }

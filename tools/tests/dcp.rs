@@ -128,8 +128,7 @@ fn procimg(net: &TestNet, args: &[&str]) -> (bool, String, String) {
 
 #[test]
 fn scan_set_and_blink_a_device() {
-    // SAFETY: geteuid has no preconditions.
-    if unsafe { libc::geteuid() } != 0 {
+    if !netns::is_root() {
         eprintln!("skipped: network namespaces need root");
         return;
     }

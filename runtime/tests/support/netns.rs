@@ -3,7 +3,30 @@
 //! (also when it fails). Shared by the runtime's and the tools' tests.
 #![allow(dead_code)]
 
+use procimg_runtime::profinet::wire::MacAddress;
+use procimg_runtime::profinet::wire::ethernet;
 use std::process::Command;
+
+/// Whether the test runs as root (namespaces and raw sockets need it).
+pub fn is_root() -> bool {
+    // SAFETY: geteuid has no preconditions.
+    unsafe { libc::geteuid() == 0 }
+}
+
+/// An untagged Ethernet frame around `payload`, padded to the Ethernet minimum.
+pub fn frame(dst: MacAddress, src: MacAddress, ethertype: u16, payload: &[u8]) -> Vec<u8> {
+    let eth = ethernet::Repr {
+        dst,
+        src,
+        vlan: None,
+        ethertype,
+    };
+    let mut f = vec![0u8; eth.buffer_len()];
+    eth.emit(&mut f);
+    f.extend_from_slice(payload);
+    f.resize(f.len().max(60), 0);
+    f
+}
 
 pub fn ip(args: &[&str]) {
     let out = Command::new("ip")
