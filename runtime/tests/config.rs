@@ -105,10 +105,13 @@ fn demo_parses_with_the_documented_addresses() {
         assert_eq!(d.vendor_id, 0x0493);
         assert_eq!(d.device_id, i as u16 + 1);
         assert_eq!(d.ip, Some(Ipv4Addr::new(192, 168, 0, 11 + i as u8)));
+        // The simulated devices run at normal priority: a generous watchdog.
         assert_eq!(
             (d.instance, d.reduction_ratio, d.watchdog_factor),
-            (1, 1, 3)
+            (1, 1, 100)
         );
+        // Ident numbers spelt out; tests/gsdml.rs checks them against runtime/gsdml/.
+        assert_eq!(d.gsdml, None);
         let dap = &d.submodules[0];
         assert_eq!((dap.slot, dap.subslot), (0, 1));
         assert_eq!((dap.module_ident, dap.submodule_ident), (1, 1));
@@ -1029,6 +1032,8 @@ proptest! {
                 "(vendor_id|device_id|slot|subslot|module_ident|submodule_ident|input_length|output_length|input_address|output_address|rt_class|priority|cpu|api|reduction_ratio|watchdog_factor|instance) = -?[0-9]{1,11}",
                 "(input_address|output_address) = 0xFFFFFF[0-9A-F]{2}",
                 "records = \\[\\{ index = [0-9]{1,6}, data = \\[[0-9]{1,3}\\] \\}\\]",
+                Just("gsdml = \"tests/fixtures/gsdml/sample-16real-32bool.xml\"".to_owned()),
+                "(module|submodule|dap) = \"(in1|in2|out3|out4|M1|M1_SM|DAP1|DAP1_IF|pnio DAP|x)\"",
                 "[a-z_\\[\\]={}\" .0-9]{0,20}",
             ],
             0..40,

@@ -4,6 +4,8 @@
 use core::fmt;
 use std::path::PathBuf;
 
+use super::gsdml::GsdmlError;
+
 /// Why a configuration could not be loaded.
 ///
 /// Every message says where (file, 1-based line, key path such as
@@ -40,6 +42,19 @@ pub enum ConfigError {
         /// What is wrong and what to do.
         message: String,
     },
+    /// A GSDML file the configuration names cannot be read or has something the import
+    /// cannot use.
+    Gsdml {
+        /// Name of the configuration file (or other origin).
+        origin: String,
+        /// 1-based line of the key that led to the GSDML file (`gsdml`, `module`).
+        line: usize,
+        /// Key path of that key.
+        key: String,
+        /// What is wrong with the GSDML file, with its name and line (boxed: it is larger
+        /// than the other variants).
+        error: Box<GsdmlError>,
+    },
 }
 
 impl ConfigError {
@@ -48,7 +63,7 @@ impl ConfigError {
         match self {
             ConfigError::Read { .. } => None,
             ConfigError::Syntax { line, .. } => *line,
-            ConfigError::Invalid { line, .. } => Some(*line),
+            ConfigError::Invalid { line, .. } | ConfigError::Gsdml { line, .. } => Some(*line),
         }
     }
 
@@ -58,7 +73,7 @@ impl ConfigError {
         match self {
             ConfigError::Read { .. } => None,
             ConfigError::Syntax { key, .. } => key.as_deref(),
-            ConfigError::Invalid { key, .. } => Some(key),
+            ConfigError::Invalid { key, .. } | ConfigError::Gsdml { key, .. } => Some(key),
         }
     }
 
@@ -66,9 +81,9 @@ impl ConfigError {
     pub fn origin(&self) -> String {
         match self {
             ConfigError::Read { path, .. } => path.display().to_string(),
-            ConfigError::Syntax { origin, .. } | ConfigError::Invalid { origin, .. } => {
-                origin.clone()
-            }
+            ConfigError::Syntax { origin, .. }
+            | ConfigError::Invalid { origin, .. }
+            | ConfigError::Gsdml { origin, .. } => origin.clone(),
         }
     }
 
@@ -79,6 +94,7 @@ impl ConfigError {
             ConfigError::Syntax { message, .. } | ConfigError::Invalid { message, .. } => {
                 message.clone()
             }
+            ConfigError::Gsdml { error, .. } => error.to_string(),
         }
     }
 }
@@ -114,6 +130,12 @@ impl fmt::Display for ConfigError {
                 key,
                 message,
             } => write!(f, "{origin}:{line}: {key}: {message}"),
+            ConfigError::Gsdml {
+                origin,
+                line,
+                key,
+                error,
+            } => write!(f, "{origin}:{line}: {key}: {error}"),
         }
     }
 }
@@ -122,6 +144,7 @@ impl core::error::Error for ConfigError {
     fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
         match self {
             ConfigError::Read { source, .. } => Some(source),
+            ConfigError::Gsdml { error, .. } => Some(&**error),
             _ => None,
         }
     }

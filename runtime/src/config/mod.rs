@@ -7,6 +7,12 @@
 //! checks happen here, before anything starts, and every [`ConfigError`] names the file, the
 //! line and the key path, and says what to do.
 //!
+//! A device can be described by its GSDML file instead of by ident numbers: with `gsdml` on
+//! the device and `module` on its submodules, the ident numbers, IO lengths and default
+//! parameter records come from the file, and the device access point's own submodules
+//! (slot 0: the DAP submodule, the interface and the ports) are added unless slot 0 is
+//! listed. See [`gsdml`] for what is read from the file.
+//!
 //! Logical addresses: explicit `input_address`/`output_address` values are placed first; then
 //! every submodule without one gets, in configuration order and for inputs (I space) and
 //! outputs (Q space) independently, the lowest address at which its range fits.
@@ -36,12 +42,14 @@
 mod address;
 mod duration;
 mod error;
+pub mod gsdml;
+mod import;
 mod raw;
 mod span;
 mod validate;
 
 use std::net::Ipv4Addr;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub use address::LAST_ADDRESS;
 pub use duration::{DurationError, format_duration, parse_duration};
@@ -70,18 +78,28 @@ pub const MAX_SUBMODULES: usize = 4096;
 
 /// Reads, parses and validates the configuration file at `path`.
 ///
-/// Messages name the file as `path` is written.
+/// Messages name the file as `path` is written; relative `gsdml` paths start at the file's
+/// directory.
 pub fn load(path: &Path) -> Result<Config, ConfigError> {
     let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
         path: path.to_path_buf(),
         source,
     })?;
-    parse(&text, &path.display().to_string())
+    let dir = path.parent().unwrap_or(Path::new(""));
+    parse_in_dir(&text, &path.display().to_string(), dir)
 }
 
 /// Parses and validates configuration `text`; `origin` names it in messages (a file name).
+///
+/// Relative `gsdml` paths start at the current directory.
 pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
-    let cx = validate::Cx { text, origin };
+    parse_in_dir(text, origin, Path::new(""))
+}
+
+/// [`parse`], with relative `gsdml` paths starting at `dir` (the directory of the file the
+/// text came from).
+pub fn parse_in_dir(text: &str, origin: &str, dir: &Path) -> Result<Config, ConfigError> {
+    let cx = validate::Cx { text, origin, dir };
     let raw = toml::from_str::<raw::RawConfig>(text).map_err(|e| cx.toml_error(&e))?;
     validate::build(raw, &cx)
 }
@@ -233,10 +251,13 @@ pub struct DeviceConfig {
     pub name: String,
     /// IPv4 address given to the device (key `ip`), if any.
     pub ip: Option<Ipv4Addr>,
-    /// PROFINET vendor ID (key `vendor_id`).
+    /// PROFINET vendor ID (key `vendor_id`, or the GSDML file's).
     pub vendor_id: u16,
-    /// PROFINET device ID (key `device_id`).
+    /// PROFINET device ID (key `device_id`, or the GSDML file's).
     pub device_id: u16,
+    /// The GSDML file and device access point the device was described with (keys `gsdml`
+    /// and `dap`), if any.
+    pub gsdml: Option<GsdmlSource>,
     /// Device instance (key `instance`, default 1).
     pub instance: u16,
     /// Reduction ratio (key `reduction_ratio`, default 1): a power of two, 1 to 512.
@@ -247,6 +268,16 @@ pub struct DeviceConfig {
     pub sim: SimBehaviour,
     /// Its submodules (array of tables `[[device.submodule]]`), in configuration order.
     pub submodules: Vec<SubmoduleConfig>,
+}
+
+/// Where a device's description came from (keys `gsdml` and `dap` of a device).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GsdmlSource {
+    /// The GSDML file as opened: the `gsdml` path, joined to the configuration file's
+    /// directory if relative.
+    pub path: PathBuf,
+    /// The ID of the device access point (`DeviceAccessPointItem/@ID`).
+    pub dap: String,
 }
 
 /// How a simulated device behaves (key `sim` of a device).
@@ -277,21 +308,21 @@ impl SimBehaviour {
 /// One submodule of a device (an entry of `[[device.submodule]]`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SubmoduleConfig {
-    /// Application process identifier (key `api`, default 0).
+    /// Application process identifier (key `api`, or the GSDML submodule's, default 0).
     pub api: u32,
     /// Slot (key `slot`).
     pub slot: u16,
-    /// Subslot (key `subslot`), at least 1.
+    /// Subslot (key `subslot`, or the GSDML submodule's own), at least 1.
     pub subslot: u16,
-    /// Module ident number (key `module_ident`).
+    /// Module ident number (key `module_ident`, or from the GSDML `module`).
     pub module_ident: u32,
-    /// Submodule ident number (key `submodule_ident`).
+    /// Submodule ident number (key `submodule_ident`, or from the GSDML `module`).
     pub submodule_ident: u32,
-    /// Bytes of input data (key `input_length`, default 0), at most
-    /// [`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`].
+    /// Bytes of input data (key `input_length`, or from the GSDML `module`, default 0), at
+    /// most [`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`].
     pub input_length: u16,
-    /// Bytes of output data (key `output_length`, default 0), at most
-    /// [`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`].
+    /// Bytes of output data (key `output_length`, or from the GSDML `module`, default 0), at
+    /// most [`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`].
     pub output_length: u16,
     /// First logical address in the I space (key `input_address`, or assigned), or
     /// [`procimg_shm_layout::NO_ADDRESS`] if `input_length` is 0.
@@ -301,7 +332,8 @@ pub struct SubmoduleConfig {
     pub output_address: u32,
     /// RT class, 1 (default) or 3 (key `rt_class`).
     pub rt_class: u8,
-    /// Parameter records written at connect (key `records`), in configuration order.
+    /// Parameter records written at connect (key `records`, or the GSDML module's defaults),
+    /// in configuration order.
     pub records: Vec<ParameterRecord>,
 }
 

@@ -41,8 +41,10 @@ pub(super) struct RawAccess {
 pub(super) struct RawDevice {
     pub name: Spanned<String>,
     pub ip: Option<Spanned<String>>,
-    pub vendor_id: u16,
-    pub device_id: u16,
+    pub vendor_id: Option<Spanned<u16>>,
+    pub device_id: Option<Spanned<u16>>,
+    pub gsdml: Option<Spanned<String>>,
+    pub dap: Option<Spanned<String>>,
     pub instance: Option<u16>,
     pub reduction_ratio: Option<Spanned<u16>>,
     pub watchdog_factor: Option<Spanned<u16>>,
@@ -54,18 +56,21 @@ pub(super) struct RawDevice {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub(super) struct RawSubmodule {
-    pub api: Option<u32>,
+    pub api: Option<Spanned<u32>>,
     pub slot: Spanned<u16>,
-    pub subslot: Spanned<u16>,
-    pub module_ident: u32,
-    pub submodule_ident: u32,
+    pub subslot: Option<Spanned<u16>>,
+    pub module: Option<Spanned<String>>,
+    pub submodule: Option<Spanned<String>>,
+    pub module_ident: Option<Spanned<u32>>,
+    pub submodule_ident: Option<Spanned<u32>>,
     pub input_length: Option<Spanned<u16>>,
     pub output_length: Option<Spanned<u16>>,
     pub input_address: Option<Spanned<u32>>,
     pub output_address: Option<Spanned<u32>>,
     pub rt_class: Option<Spanned<u8>>,
-    #[serde(default)]
-    pub records: Vec<RawRecord>,
+    /// `None` when left out (then a GSDML module's records apply), `Some(vec![])` for
+    /// `records = []`.
+    pub records: Option<Vec<RawRecord>>,
 }
 
 #[derive(Debug, Deserialize)]

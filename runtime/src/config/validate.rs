@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 use std::net::Ipv4Addr;
 use std::ops::Range;
+use std::path::Path;
 
 use procimg_shm_layout::{MAX_SUBMODULE_DATA_LEN, Mode, NO_ADDRESS};
 use toml::Spanned;
@@ -11,18 +12,22 @@ use toml::Spanned;
 use super::address::{self, Item, Space};
 use super::duration::{format_duration, parse_duration};
 use super::error::ConfigError;
+use super::gsdml::{GsdmlError, Submodule};
+use super::import::{self, DeviceImport, Files, Found, Lookup};
 use super::raw::{RawAccess, RawConfig, RawCycleThread, RawDevice, RawSubmodule};
 use super::span::{key_path_at, line_of};
 use super::{
     AccessConfig, CYCLE_UNIT_NS, Config, CycleThreadConfig, DEFAULT_CYCLE_NS, DEFAULT_INSTANCE,
-    DeviceConfig, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network, OutputTiming,
-    ParameterRecord, SimBehaviour, SubmoduleConfig,
+    DeviceConfig, GsdmlSource, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network,
+    OutputTiming, ParameterRecord, SimBehaviour, SubmoduleConfig,
 };
 
 /// The text being parsed and its name, for error messages.
 pub(super) struct Cx<'a> {
     pub text: &'a str,
     pub origin: &'a str,
+    /// Where relative GSDML paths start.
+    pub dir: &'a Path,
 }
 
 impl Cx<'_> {
@@ -44,6 +49,23 @@ impl Cx<'_> {
             key: key.into(),
             message: message.into(),
         }
+    }
+
+    /// A [`ConfigError::Gsdml`]: the GSDML file reached through the value at `span` has a
+    /// problem.
+    pub fn gsdml_error(&self, span: Range<usize>, key: &str, error: GsdmlError) -> ConfigError {
+        ConfigError::Gsdml {
+            origin: self.origin.to_owned(),
+            line: self.line(span.start),
+            key: key.to_owned(),
+            error: Box::new(error),
+        }
+    }
+
+    /// A [`ConfigError::Invalid`] for a required key missing from the table at `span`, with
+    /// the wording of the TOML layer's own message for missing keys.
+    fn missing(&self, span: Range<usize>, table: &str, key: &str, hint: &str) -> ConfigError {
+        self.invalid(span, table, format!("missing field `{key}`; {hint}"))
     }
 
     /// A [`ConfigError::Syntax`] from a TOML or deserialization error.
@@ -528,10 +550,28 @@ fn devices(raw: Vec<Spanned<RawDevice>>, cx: &Cx<'_>) -> Result<Vec<DeviceConfig
     }
 
     let mut names: HashMap<String, (usize, usize)> = HashMap::new();
+    let mut files = Files::new(cx.dir);
     let mut devices = Vec::with_capacity(raw.len());
     let mut drafts: Vec<Vec<Draft>> = Vec::with_capacity(raw.len());
+    let mut total = 0usize;
     for (d, device) in raw.into_iter().enumerate() {
-        let (config, device_drafts) = device_config(d, device.into_inner(), cx, &mut names)?;
+        let span = device.span();
+        let (config, device_drafts) =
+            device_config(d, span, device.into_inner(), cx, &mut names, &mut files)?;
+        // The DAP submodules a GSDML file adds count too.
+        total += config.submodules.len();
+        if total > MAX_SUBMODULES {
+            let at = device_drafts.first().map_or(0..0, |dr| dr.span.clone());
+            return Err(cx.invalid(
+                at,
+                format!("device[{d}].gsdml"),
+                format!(
+                    "with the device access point submodules its GSDML file adds, the IO \
+                     system has {total} submodules, over the limit of {MAX_SUBMODULES} per \
+                     server; split it over several server instances"
+                ),
+            ));
+        }
         devices.push(config);
         drafts.push(device_drafts);
     }
@@ -569,9 +609,11 @@ fn devices(raw: Vec<Spanned<RawDevice>>, cx: &Cx<'_>) -> Result<Vec<DeviceConfig
 
 fn device_config(
     d: usize,
+    span: Range<usize>,
     raw: RawDevice,
     cx: &Cx<'_>,
     names: &mut HashMap<String, (usize, usize)>,
+    files: &mut Files,
 ) -> Result<(DeviceConfig, Vec<Draft>), ConfigError> {
     let key = |k: &str| format!("device[{d}].{k}");
     cx.check(&raw.name, key("name"), station_name(raw.name.get_ref()))?;
@@ -588,6 +630,58 @@ fn device_config(
         ));
     }
     names.insert(raw.name.get_ref().clone(), (d, line));
+
+    let import = match &raw.gsdml {
+        Some(gsdml) => Some(import::device(d, gsdml, raw.dap.as_ref(), files, cx)?),
+        None => {
+            if let Some(dap) = &raw.dap {
+                return Err(cx.invalid(
+                    dap.span(),
+                    key("dap"),
+                    "`dap` picks a device access point of the device's GSDML file, and this \
+                     device has none; add `gsdml = \"path/to/GSDML-....xml\"`, or leave dap out",
+                ));
+            }
+            None
+        }
+    };
+    let identity =
+        |value: &Option<Spanned<u16>>, name: &str, attribute: &str| match (value, &import) {
+            (Some(v), None) => Ok(*v.get_ref()),
+            (Some(v), Some(imp)) => {
+                let theirs = match attribute {
+                    "VendorID" => imp.gsdml.vendor_id,
+                    _ => imp.gsdml.device_id,
+                };
+                if *v.get_ref() == theirs {
+                    Ok(theirs)
+                } else {
+                    Err(cx.invalid(
+                        v.span(),
+                        key(name),
+                        format!(
+                            "{:#06x} differs from the {attribute} {theirs:#06x} of {} (line {}); \
+                         correct it, or leave {name} out to take the GSDML file's",
+                            v.get_ref(),
+                            imp.path.display(),
+                            imp.gsdml.identity_line
+                        ),
+                    ))
+                }
+            }
+            (None, Some(imp)) => Ok(match attribute {
+                "VendorID" => imp.gsdml.vendor_id,
+                _ => imp.gsdml.device_id,
+            }),
+            (None, None) => Err(cx.missing(
+                span.clone(),
+                &format!("device[{d}]"),
+                name,
+                "add it, or give the device's GSDML file with `gsdml`",
+            )),
+        };
+    let vendor_id = identity(&raw.vendor_id, "vendor_id", "VendorID")?;
+    let device_id = identity(&raw.device_id, "device_id", "DeviceID")?;
 
     let ip = match &raw.ip {
         Some(v) => Some(cx.check(v, key("ip"), device_ip(v.get_ref()))?),
@@ -622,10 +716,60 @@ fn device_config(
     let mut seen: HashMap<(u32, u16, u16), (usize, usize)> = HashMap::new();
     let mut submodules = Vec::with_capacity(raw.submodule.len());
     let mut drafts = Vec::with_capacity(raw.submodule.len());
+
+    // A device described by a GSDML file gets its DAP's submodules in slot 0, unless the
+    // configuration says itself what is in slot 0.
+    if let Some(imp) = &import
+        && !raw
+            .submodule
+            .iter()
+            .any(|s| *s.get_ref().slot.get_ref() == 0)
+    {
+        for (subslot, sub) in import::dap_submodules(imp, cx)? {
+            let lengths = imp
+                .gsdml
+                .io_lengths(sub)
+                .map_err(|e| imp.error_here(cx, e))?;
+            let records = imp.gsdml.records(sub).map_err(|e| imp.error_here(cx, e))?;
+            for (length, noun) in [(lengths.input, "input"), (lengths.output, "output")] {
+                data_length(length, noun).map_err(|m| {
+                    cx.invalid(imp.span.clone(), &imp.key, dap_message(imp, sub, m))
+                })?;
+            }
+            submodules.push(SubmoduleConfig {
+                api: sub.api,
+                slot: 0,
+                subslot,
+                module_ident: imp.dap().module_ident,
+                submodule_ident: sub.submodule_ident,
+                input_length: lengths.input,
+                output_length: lengths.output,
+                input_address: NO_ADDRESS,
+                output_address: NO_ADDRESS,
+                rt_class: 1,
+                records,
+            });
+            drafts.push(Draft {
+                key: imp.key.clone(),
+                span: imp.span.clone(),
+                input_address: None,
+                output_address: None,
+            });
+        }
+    }
+
     for (s, sub) in raw.submodule.into_iter().enumerate() {
         let span = sub.span();
         let base = format!("device[{d}].submodule[{s}]");
-        let (config, draft) = submodule_config(&base, span, sub.into_inner(), cx, &mut seen, s)?;
+        let (config, draft) = submodule_config(
+            &base,
+            span,
+            sub.into_inner(),
+            cx,
+            &mut seen,
+            s,
+            import.as_ref(),
+        )?;
         submodules.push(config);
         drafts.push(draft);
     }
@@ -633,8 +777,12 @@ fn device_config(
     let config = DeviceConfig {
         name: raw.name.into_inner(),
         ip,
-        vendor_id: raw.vendor_id,
-        device_id: raw.device_id,
+        vendor_id,
+        device_id,
+        gsdml: import.as_ref().map(|imp| GsdmlSource {
+            path: imp.path.clone(),
+            dap: imp.dap().id.clone(),
+        }),
         instance: raw.instance.unwrap_or(1),
         reduction_ratio,
         watchdog_factor,
@@ -644,6 +792,55 @@ fn device_config(
     Ok((config, drafts))
 }
 
+fn dap_message(imp: &DeviceImport, sub: &Submodule, message: String) -> String {
+    format!(
+        "the device access point's submodule {:?} ({}:{}): {message}",
+        sub.id,
+        imp.path.display(),
+        sub.line
+    )
+}
+
+/// `imported` unless the configuration gives the value too, in which case the two agree.
+fn agree<T: PartialEq + Copy + core::fmt::Display>(
+    cx: &Cx<'_>,
+    explicit: Option<&Spanned<T>>,
+    key: String,
+    imported: T,
+    what: &str,
+) -> Result<T, ConfigError> {
+    match explicit {
+        Some(v) if *v.get_ref() != imported => {
+            let name = key.rsplit('.').next().unwrap_or(&key).to_owned();
+            Err(cx.invalid(
+                v.span(),
+                key,
+                format!(
+                    "{} differs from {imported}, {what}; correct it, or leave {name} out to \
+                     take the GSDML file's",
+                    v.get_ref()
+                ),
+            ))
+        }
+        _ => Ok(imported),
+    }
+}
+
+/// A number shown as hex with at least `width` digits, for ident numbers.
+#[derive(Clone, Copy, PartialEq)]
+struct Hex(u32, usize);
+
+impl core::fmt::Display for Hex {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{:#0width$x}", self.0, width = self.1 + 2)
+    }
+}
+
+fn hex_spanned(v: &Option<Spanned<u32>>) -> Option<Spanned<Hex>> {
+    v.as_ref()
+        .map(|v| Spanned::new(v.span(), Hex(*v.get_ref(), 8)))
+}
+
 fn submodule_config(
     base: &str,
     span: Range<usize>,
@@ -651,19 +848,73 @@ fn submodule_config(
     cx: &Cx<'_>,
     seen: &mut HashMap<(u32, u16, u16), (usize, usize)>,
     s: usize,
+    import: Option<&DeviceImport>,
 ) -> Result<(SubmoduleConfig, Draft), ConfigError> {
     let key = |k: &str| format!("{base}.{k}");
-    let api = raw.api.unwrap_or(0);
+    let found: Option<(Found<'_>, &DeviceImport)> = match (&raw.module, import) {
+        (Some(module), Some(imp)) => {
+            let lookup = Lookup {
+                base,
+                module,
+                submodule: raw.submodule.as_ref(),
+                slot: &raw.slot,
+                subslot: raw.subslot.as_ref(),
+            };
+            Some((import::find(imp, &lookup, cx)?, imp))
+        }
+        (Some(module), None) => {
+            return Err(cx.invalid(
+                module.span(),
+                key("module"),
+                "`module` names a module of the device's GSDML file, and this device has none; \
+                 add `gsdml = \"path/to/GSDML-....xml\"` to the device, or give module_ident, \
+                 submodule_ident and the lengths instead",
+            ));
+        }
+        (None, _) => {
+            if let Some(submodule) = &raw.submodule {
+                return Err(cx.invalid(
+                    submodule.span(),
+                    key("submodule"),
+                    "`submodule` picks a submodule of the GSDML module given with `module`; add \
+                     `module`, or leave submodule out",
+                ));
+            }
+            None
+        }
+    };
+
     let slot = *raw.slot.get_ref();
-    let subslot = *raw.subslot.get_ref();
+    let (subslot, subslot_span, subslot_key) = match (&raw.subslot, &found) {
+        (Some(v), _) => (*v.get_ref(), v.span(), key("subslot")),
+        (None, Some((f, _))) => (
+            f.subslot,
+            raw.module.as_ref().map_or(span.clone(), Spanned::span),
+            key("module"),
+        ),
+        (None, None) => {
+            return Err(cx.missing(span, base, "subslot", "add it"));
+        }
+    };
     if subslot == 0 {
         return Err(cx.invalid(
-            raw.subslot.span(),
-            key("subslot"),
+            subslot_span,
+            subslot_key,
             "subslot 0 does not exist; subslots count from 1 (a module's first submodule is \
              subslot 1)",
         ));
     }
+
+    let api = match &found {
+        Some((f, _)) => agree(
+            cx,
+            raw.api.as_ref(),
+            key("api"),
+            f.sub.api,
+            &format!("the API of {}", f.submodule),
+        )?,
+        None => raw.api.as_ref().map_or(0, |v| *v.get_ref()),
+    };
     if let Some((other, other_line)) = seen.get(&(api, slot, subslot)) {
         return Err(cx.invalid(
             raw.slot.span(),
@@ -676,14 +927,96 @@ fn submodule_config(
     }
     seen.insert((api, slot, subslot), (s, cx.line(raw.slot.span().start)));
 
-    let input_length = match &raw.input_length {
-        Some(v) => cx.check(v, key("input_length"), data_length(*v.get_ref(), "input"))?,
-        None => 0,
+    let (module_ident, submodule_ident) = match &found {
+        Some((f, _)) => (
+            agree(
+                cx,
+                hex_spanned(&raw.module_ident).as_ref(),
+                key("module_ident"),
+                Hex(f.module_ident, 8),
+                &format!("the ModuleIdentNumber of {}", f.module),
+            )?
+            .0,
+            agree(
+                cx,
+                hex_spanned(&raw.submodule_ident).as_ref(),
+                key("submodule_ident"),
+                Hex(f.sub.submodule_ident, 8),
+                &format!("the SubmoduleIdentNumber of {}", f.submodule),
+            )?
+            .0,
+        ),
+        None => {
+            let Some(module_ident) = &raw.module_ident else {
+                return Err(cx.missing(
+                    span,
+                    base,
+                    "module_ident",
+                    "add it, or name the GSDML module with `module`",
+                ));
+            };
+            let Some(submodule_ident) = &raw.submodule_ident else {
+                return Err(cx.missing(
+                    span,
+                    base,
+                    "submodule_ident",
+                    "add it, or name the GSDML module with `module`",
+                ));
+            };
+            (*module_ident.get_ref(), *submodule_ident.get_ref())
+        }
     };
-    let output_length = match &raw.output_length {
-        Some(v) => cx.check(v, key("output_length"), data_length(*v.get_ref(), "output"))?,
-        None => 0,
+
+    let explicit_input = match &raw.input_length {
+        Some(v) => Some(cx.check(v, key("input_length"), data_length(*v.get_ref(), "input"))?),
+        None => None,
     };
+    let explicit_output = match &raw.output_length {
+        Some(v) => Some(cx.check(v, key("output_length"), data_length(*v.get_ref(), "output"))?),
+        None => None,
+    };
+    let (input_length, output_length) = match &found {
+        None => (explicit_input.unwrap_or(0), explicit_output.unwrap_or(0)),
+        Some((f, imp)) => {
+            let module_span = raw.module.as_ref().map_or(span.clone(), Spanned::span);
+            match imp.gsdml.io_lengths(f.sub) {
+                Ok(lengths) => {
+                    for (length, noun) in [(lengths.input, "input"), (lengths.output, "output")] {
+                        data_length(length, noun).map_err(|m| {
+                            cx.invalid(
+                                module_span.clone(),
+                                key("module"),
+                                format!("{}: {m}", f.submodule),
+                            )
+                        })?;
+                    }
+                    (
+                        agree(
+                            cx,
+                            raw.input_length.as_ref(),
+                            key("input_length"),
+                            lengths.input,
+                            &format!("the input length of {}", f.submodule),
+                        )?,
+                        agree(
+                            cx,
+                            raw.output_length.as_ref(),
+                            key("output_length"),
+                            lengths.output,
+                            &format!("the output length of {}", f.submodule),
+                        )?,
+                    )
+                }
+                // The configuration's own lengths stand in for data items this import
+                // cannot size.
+                Err(_) if explicit_input.is_some() && explicit_output.is_some() => {
+                    (explicit_input.unwrap_or(0), explicit_output.unwrap_or(0))
+                }
+                Err(e) => return Err(cx.gsdml_error(module_span, &key("module"), e)),
+            }
+        }
+    };
+
     let rt_class = match &raw.rt_class {
         Some(v) if matches!(v.get_ref(), 1 | 3) => *v.get_ref(),
         Some(v) => {
@@ -698,14 +1031,20 @@ fn submodule_config(
         }
         None => 1,
     };
-    let records = raw
-        .records
-        .into_iter()
-        .map(|r| ParameterRecord {
-            index: r.index,
-            data: r.data,
-        })
-        .collect();
+    let records = match (raw.records, &found) {
+        (Some(records), _) => records
+            .into_iter()
+            .map(|r| ParameterRecord {
+                index: r.index,
+                data: r.data,
+            })
+            .collect(),
+        (None, Some((f, imp))) => imp.gsdml.records(f.sub).map_err(|e| {
+            let module_span = raw.module.as_ref().map_or(span.clone(), Spanned::span);
+            cx.gsdml_error(module_span, &key("module"), e)
+        })?,
+        (None, None) => Vec::new(),
+    };
     let explicit = |a: &Option<Spanned<u32>>| a.as_ref().map(|v| (*v.get_ref(), v.span()));
     let draft = Draft {
         key: base.to_owned(),
@@ -717,8 +1056,8 @@ fn submodule_config(
         api,
         slot,
         subslot,
-        module_ident: raw.module_ident,
-        submodule_ident: raw.submodule_ident,
+        module_ident,
+        submodule_ident,
         input_length,
         output_length,
         input_address: NO_ADDRESS,

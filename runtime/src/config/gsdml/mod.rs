@@ -1,0 +1,1160 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! GSDML device descriptions (PROFINET GSDML V2.x, the XML file a device vendor ships):
+//! what a controller needs from them to configure a device.
+//!
+//! [`Gsdml::load`] and [`Gsdml::parse`] read the device identity, the device access points
+//! ([`Dap`]: the module in slot 0 with its own submodules, among them the interface and port
+//! submodules), the modules ([`Module`]) and the submodules ([`Submodule`]) with their ident
+//! numbers and where they may be plugged. [`Gsdml::io_lengths`] sums a submodule's IO data
+//! items; [`Gsdml::records`] builds its parameter records with their default values, the
+//! records a controller writes at connect.
+//!
+//! Elements are matched by local name, whatever the namespace prefix, and anything else
+//! (graphics, diagnosis, value lists, languages other than the primary one, elements of newer
+//! schema versions) is skipped. IO lengths and records are worked out when asked for, so a
+//! module this import cannot handle only matters when it is used. Any input gives a result or
+//! a [`GsdmlError`] naming the file, the line, the element and the attribute; nothing panics.
+//!
+//! ```
+//! use procimg_runtime::config::gsdml::Gsdml;
+//!
+//! let text = r#"<ISO15745Profile><ProfileBody>
+//!   <DeviceIdentity VendorID="0x0493" DeviceID="0x0001"/>
+//!   <ApplicationProcess>
+//!     <DeviceAccessPointList>
+//!       <DeviceAccessPointItem ID="DAP" ModuleIdentNumber="0x1">
+//!         <VirtualSubmoduleList>
+//!           <VirtualSubmoduleItem ID="DAP_SM" SubmoduleIdentNumber="0x1"/>
+//!         </VirtualSubmoduleList>
+//!       </DeviceAccessPointItem>
+//!     </DeviceAccessPointList>
+//!     <ModuleList>
+//!       <ModuleItem ID="M" ModuleIdentNumber="0x20">
+//!         <VirtualSubmoduleList>
+//!           <VirtualSubmoduleItem ID="M_SM" SubmoduleIdentNumber="0x1">
+//!             <IOData><Input><DataItem DataType="Unsigned32"/></Input></IOData>
+//!           </VirtualSubmoduleItem>
+//!         </VirtualSubmoduleList>
+//!       </ModuleItem>
+//!     </ModuleList>
+//!   </ApplicationProcess>
+//! </ProfileBody></ISO15745Profile>"#;
+//! let gsdml = Gsdml::parse(text, "GSDML-V2.4-example-20250101.xml")?;
+//! assert_eq!((gsdml.vendor_id, gsdml.device_id), (0x0493, 0x0001));
+//! let lengths = gsdml.io_lengths(&gsdml.modules[0].submodules[0])?;
+//! assert_eq!((lengths.input, lengths.output), (4, 0));
+//! # Ok::<(), procimg_runtime::config::gsdml::GsdmlError>(())
+//! ```
+
+mod data;
+
+use core::fmt;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use roxmltree::{Document, Node, ParsingOptions};
+
+pub use data::ValueList;
+use data::{IO_TYPES, MAX_RECORD_LEN, MAX_RECORDS_LEN, RefValue, SizeError};
+
+use super::ParameterRecord;
+
+/// The largest GSDML file read (real ones, with many languages, reach a few MB).
+pub const MAX_FILE_LEN: u64 = 64 << 20;
+
+/// Most XML nodes parsed, which bounds the memory a broken or hostile file can take.
+const NODES_LIMIT: u32 = 4_000_000;
+
+/// Most values one value list may stand for where they are listed one by one (the subslots
+/// of a DAP submodule added automatically).
+pub(super) const MAX_LISTED_VALUES: usize = 256;
+
+/// Why a GSDML file could not be read or used.
+///
+/// Messages name the file (as given), the 1-based line, the element and the attribute, and
+/// say what to do.
+#[derive(Debug)]
+pub enum GsdmlError {
+    /// The file could not be read.
+    Read {
+        /// The path as given.
+        path: PathBuf,
+        /// What the operating system said.
+        source: std::io::Error,
+    },
+    /// The file is not what a GSDML file has to be at the byte level: larger than
+    /// [`MAX_FILE_LEN`], not UTF-8 (or a declared ISO-8859-1), or not well-formed XML.
+    Xml {
+        /// The file name as shown.
+        origin: String,
+        /// 1-based line of the problem, where known.
+        line: Option<usize>,
+        /// What is wrong and what to do.
+        message: String,
+    },
+    /// An element or attribute the import needs is missing or has a value it cannot use.
+    Invalid {
+        /// The file name as shown.
+        origin: String,
+        /// 1-based line of the element or attribute.
+        line: usize,
+        /// Local name of the element, e.g. `DataItem`.
+        element: String,
+        /// Name of the attribute, if the problem is one.
+        attribute: Option<String>,
+        /// What is wrong and what to do.
+        message: String,
+    },
+}
+
+impl GsdmlError {
+    /// The 1-based line in the GSDML file, if the error refers to one.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            GsdmlError::Read { .. } => None,
+            GsdmlError::Xml { line, .. } => *line,
+            GsdmlError::Invalid { line, .. } => Some(*line),
+        }
+    }
+}
+
+impl fmt::Display for GsdmlError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GsdmlError::Read { path, source } => write!(
+                f,
+                "{}: cannot read the GSDML file: {source}; check the path (relative paths \
+                 start at the configuration file's directory) and its permissions",
+                path.display()
+            ),
+            GsdmlError::Xml {
+                origin,
+                line,
+                message,
+            } => {
+                f.write_str(origin)?;
+                if let Some(line) = line {
+                    write!(f, ":{line}")?;
+                }
+                write!(f, ": {message}")
+            }
+            GsdmlError::Invalid {
+                origin,
+                line,
+                element,
+                attribute,
+                message,
+            } => {
+                write!(f, "{origin}:{line}: <{element}>")?;
+                if let Some(attribute) = attribute {
+                    write!(f, " {attribute}")?;
+                }
+                write!(f, ": {message}")
+            }
+        }
+    }
+}
+
+impl core::error::Error for GsdmlError {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            GsdmlError::Read { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+/// A GSDML file, as far as a controller needs it.
+#[derive(Clone, Debug)]
+pub struct Gsdml {
+    /// The file name as shown in messages.
+    pub origin: String,
+    /// `DeviceIdentity/@VendorID`.
+    pub vendor_id: u16,
+    /// `DeviceIdentity/@DeviceID`.
+    pub device_id: u16,
+    /// `DeviceIdentity/VendorName/@Value`, if given.
+    pub vendor_name: Option<String>,
+    /// Line of `<DeviceIdentity>`.
+    pub identity_line: usize,
+    /// The device access points (`DeviceAccessPointItem`), in file order; at least one.
+    pub daps: Vec<Dap>,
+    /// The modules (`ModuleList/ModuleItem`), in file order.
+    pub modules: Vec<Module>,
+    /// The pluggable submodules (`SubmoduleList/SubmoduleItem`), in file order.
+    pub submodules: Vec<Submodule>,
+}
+
+/// A device access point (`DeviceAccessPointItem`): the module in slot 0 that makes the
+/// device reachable, with the modules it takes.
+#[derive(Clone, Debug)]
+pub struct Dap {
+    /// `@ID`, unique in the file.
+    pub id: String,
+    /// Its name (`ModuleInfo/Name`, from the primary language's texts).
+    pub name: Option<String>,
+    /// Line of the element.
+    pub line: usize,
+    /// `@ModuleIdentNumber`.
+    pub module_ident: u32,
+    /// `@FixedInSlots` (default 0): the slot the DAP is in.
+    pub fixed_in_slots: ValueList,
+    /// `@PhysicalSlots`: the slots the device has, if given.
+    pub physical_slots: Option<ValueList>,
+    /// `UseableModules/ModuleItemRef`: the modules this DAP takes and where.
+    pub useable_modules: Vec<PlugRef>,
+    /// Its submodules: the `VirtualSubmoduleList` items, then the
+    /// `SystemDefinedSubmoduleList` interface and port submodules.
+    pub submodules: Vec<Submodule>,
+}
+
+/// A module (`ModuleItem`).
+#[derive(Clone, Debug)]
+pub struct Module {
+    /// `@ID`, unique in the file.
+    pub id: String,
+    /// Its name (`ModuleInfo/Name`, from the primary language's texts).
+    pub name: Option<String>,
+    /// Line of the element.
+    pub line: usize,
+    /// `@ModuleIdentNumber`.
+    pub module_ident: u32,
+    /// Its built-in submodules (`VirtualSubmoduleList`), in file order.
+    pub submodules: Vec<Submodule>,
+    /// `UseableSubmodules/SubmoduleItemRef`: pluggable submodules it takes, and where.
+    pub useable_submodules: Vec<PlugRef>,
+}
+
+/// Where a module (`ModuleItemRef`) or pluggable submodule (`SubmoduleItemRef`) may be
+/// plugged.
+#[derive(Clone, Debug)]
+pub struct PlugRef {
+    /// `@ModuleItemTarget` or `@SubmoduleItemTarget`: the ID of the module or submodule.
+    pub target: String,
+    /// Line of the element.
+    pub line: usize,
+    /// `@AllowedInSlots` / `@AllowedInSubslots`.
+    pub allowed: Option<ValueList>,
+    /// `@FixedInSlots` / `@FixedInSubslots`.
+    pub fixed: Option<ValueList>,
+    /// `@UsedInSlots` / `@UsedInSubslots`.
+    pub used: Option<ValueList>,
+}
+
+impl PlugRef {
+    /// Whether it may go in `position` (slot or subslot); `None` if no position is listed.
+    pub fn allows(&self, position: u32) -> Option<bool> {
+        let lists = [&self.allowed, &self.fixed, &self.used];
+        if lists.iter().all(|l| l.is_none()) {
+            return None;
+        }
+        Some(
+            lists
+                .iter()
+                .flat_map(|l| l.iter())
+                .any(|l| l.contains(position)),
+        )
+    }
+
+    /// The positions it may go in, for messages ("1..4 7").
+    pub fn positions(&self) -> String {
+        let lists: Vec<String> = [&self.fixed, &self.used, &self.allowed]
+            .iter()
+            .flat_map(|l| l.iter())
+            .map(ValueList::to_string)
+            .collect();
+        if lists.is_empty() {
+            "any".to_owned()
+        } else {
+            lists.join(" ")
+        }
+    }
+}
+
+/// What kind of submodule a [`Submodule`] is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SubmoduleKind {
+    /// A built-in submodule of a module or DAP (`VirtualSubmoduleItem`).
+    Virtual,
+    /// A pluggable submodule (`SubmoduleList/SubmoduleItem`).
+    Pluggable,
+    /// The PROFINET interface of a DAP (`InterfaceSubmoduleItem`).
+    Interface,
+    /// A port of a DAP (`PortSubmoduleItem`).
+    Port,
+}
+
+impl SubmoduleKind {
+    /// The element name.
+    pub const fn element(self) -> &'static str {
+        match self {
+            SubmoduleKind::Virtual => "VirtualSubmoduleItem",
+            SubmoduleKind::Pluggable => "SubmoduleItem",
+            SubmoduleKind::Interface => "InterfaceSubmoduleItem",
+            SubmoduleKind::Port => "PortSubmoduleItem",
+        }
+    }
+}
+
+/// A submodule, with its IO data and parameter records (read with [`Gsdml::io_lengths`] and
+/// [`Gsdml::records`]).
+#[derive(Clone, Debug)]
+pub struct Submodule {
+    /// `@ID`.
+    pub id: String,
+    /// Its name (`ModuleInfo/Name` or `@TextId`, from the primary language's texts).
+    pub name: Option<String>,
+    /// What kind it is.
+    pub kind: SubmoduleKind,
+    /// Line of the element.
+    pub line: usize,
+    /// `@SubmoduleIdentNumber`.
+    pub submodule_ident: u32,
+    /// `@API` (default 0).
+    pub api: u32,
+    /// The subslots it is fixed in: `@FixedInSubslots` of a virtual submodule (default 1),
+    /// `@SubslotNumber` of an interface (default 32768, 0x8000) or port; `None` for a
+    /// pluggable submodule, whose subslots its module's [`PlugRef`] gives.
+    pub subslots: Option<ValueList>,
+    io: Vec<IoItem>,
+    records: Vec<RecordItem>,
+}
+
+/// Bytes of IO data of a submodule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub struct IoLengths {
+    /// Bytes of input data (`IOData/Input`).
+    pub input: u16,
+    /// Bytes of output data (`IOData/Output`).
+    pub output: u16,
+}
+
+/// A `DataItem` of `IOData/Input` or `IOData/Output`.
+#[derive(Clone, Debug)]
+struct IoItem {
+    output: bool,
+    data_type: Option<String>,
+    length: Option<String>,
+    line: usize,
+    length_line: usize,
+}
+
+/// An entry of a `RecordDataList`.
+#[derive(Clone, Debug)]
+enum RecordItem {
+    Parameter(ParameterItem),
+    /// An `F_ParameterRecordDataItem` (PROFIsafe), at this line.
+    Safety(usize),
+}
+
+/// A `ParameterRecordDataItem`, attributes as text; checked by [`Gsdml::records`].
+#[derive(Clone, Debug)]
+struct ParameterItem {
+    line: usize,
+    /// `@Access`, if given: written at connect only if it includes `prm`.
+    access: Option<String>,
+    index: Attr,
+    length: Attr,
+    transfer_sequence: Attr,
+    parts: Vec<Part>,
+}
+
+/// A `Const` or `Ref` of a parameter record.
+#[derive(Clone, Debug)]
+struct Part {
+    is_ref: bool,
+    line: usize,
+    attrs: HashMap<&'static str, Attr>,
+}
+
+/// An attribute's value and line, if present.
+#[derive(Clone, Debug, Default)]
+struct Attr {
+    value: Option<String>,
+    line: usize,
+}
+
+const REF_ATTRS: [&str; 7] = [
+    "DataType",
+    "ByteOffset",
+    "BitOffset",
+    "BitLength",
+    "Length",
+    "DefaultValue",
+    "Data",
+];
+
+impl Gsdml {
+    /// Reads and parses the GSDML file at `path`; messages name it as `path` is written.
+    pub fn load(path: &Path) -> Result<Gsdml, GsdmlError> {
+        let origin = path.display().to_string();
+        let read = |source| GsdmlError::Read {
+            path: path.to_path_buf(),
+            source,
+        };
+        let len = std::fs::metadata(path).map_err(read)?.len();
+        if len > MAX_FILE_LEN {
+            return Err(GsdmlError::Xml {
+                origin,
+                line: None,
+                message: format!(
+                    "the file has {len} bytes, more than the {MAX_FILE_LEN} a GSDML file may \
+                     have here; check that this is the device's GSDML file"
+                ),
+            });
+        }
+        let bytes = std::fs::read(path).map_err(read)?;
+        let text = decode(&bytes, &origin)?;
+        Gsdml::parse(&text, &origin)
+    }
+
+    /// Parses GSDML `text`; `origin` names it in messages (a file name).
+    pub fn parse(text: &str, origin: &str) -> Result<Gsdml, GsdmlError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        let options = ParsingOptions {
+            allow_dtd: false,
+            nodes_limit: NODES_LIMIT,
+            ..ParsingOptions::default()
+        };
+        let doc = Document::parse_with_options(text, options).map_err(|e| GsdmlError::Xml {
+            origin: origin.to_owned(),
+            line: Some(e.pos().row as usize),
+            message: format!(
+                "not well-formed XML: {e}; a GSDML file is XML as the vendor ships it, check \
+                 that the file is complete and unedited"
+            ),
+        })?;
+        Reader::new(&doc, text, origin).gsdml()
+    }
+
+    /// The DAP with ID (or else name) `id_or_name`.
+    pub fn dap(&self, id_or_name: &str) -> Option<&Dap> {
+        self.daps.iter().find(|d| d.id == id_or_name).or_else(|| {
+            self.daps
+                .iter()
+                .find(|d| d.name.as_deref() == Some(id_or_name))
+        })
+    }
+
+    /// The module with ID `id`.
+    pub fn module(&self, id: &str) -> Option<&Module> {
+        self.modules.iter().find(|m| m.id == id)
+    }
+
+    /// The pluggable submodule with ID `id`.
+    pub fn pluggable(&self, id: &str) -> Option<&Submodule> {
+        self.submodules.iter().find(|s| s.id == id)
+    }
+
+    fn invalid(
+        &self,
+        line: usize,
+        element: &str,
+        attribute: Option<&str>,
+        message: String,
+    ) -> GsdmlError {
+        GsdmlError::Invalid {
+            origin: self.origin.clone(),
+            line,
+            element: element.to_owned(),
+            attribute: attribute.map(str::to_owned),
+            message,
+        }
+    }
+
+    /// The IO data lengths of `submodule`: the sizes of the `DataItem`s of its
+    /// `IOData/Input` and `IOData/Output`, added up.
+    pub fn io_lengths(&self, submodule: &Submodule) -> Result<IoLengths, GsdmlError> {
+        let mut sums = [0u64; 2];
+        for item in &submodule.io {
+            let Some(data_type) = item.data_type.as_deref() else {
+                return Err(self.invalid(
+                    item.line,
+                    "DataItem",
+                    Some("DataType"),
+                    "missing; every data item has a data type".to_owned(),
+                ));
+            };
+            let length = match &item.length {
+                Some(text) => Some(data::number(text).ok_or_else(|| {
+                    self.invalid(
+                        item.length_line,
+                        "DataItem",
+                        Some("Length"),
+                        format!("{text:?} is not a number of bytes"),
+                    )
+                })?),
+                None => None,
+            };
+            let size = data::io_size(data_type, length).map_err(|e| match e {
+                SizeError::NeedsLength => self.invalid(
+                    item.line,
+                    "DataItem",
+                    Some("Length"),
+                    format!("missing; a {data_type} data item needs its Length in bytes"),
+                ),
+                SizeError::Unknown => self.invalid(
+                    item.line,
+                    "DataItem",
+                    Some("DataType"),
+                    format!(
+                        "{data_type:?} is not an IO data type this import knows ({IO_TYPES}); \
+                         give input_length and output_length in the configuration instead"
+                    ),
+                ),
+            })?;
+            let sum = &mut sums[usize::from(item.output)];
+            *sum = sum.saturating_add(size);
+        }
+        let fit = |sum: u64, what: &str| {
+            u16::try_from(sum).map_err(|_| {
+                self.invalid(
+                    submodule.line,
+                    submodule.kind.element(),
+                    None,
+                    format!("its {what} data add up to {sum} bytes, more than a frame can carry"),
+                )
+            })
+        };
+        Ok(IoLengths {
+            input: fit(sums[0], "input")?,
+            output: fit(sums[1], "output")?,
+        })
+    }
+
+    /// The parameter records of `submodule` with their default values, as a controller
+    /// writes them at connect: each `ParameterRecordDataItem` as `@Length` zero bytes,
+    /// overwritten by its `Const` and `Ref` elements in file order, values big-endian. Records
+    /// with a non-zero `@TransferSequence` come first, in that order; the others follow in
+    /// file order. Records with an `@Access` that does not include `prm` (read or write only,
+    /// such as data objects) are left out.
+    pub fn records(&self, submodule: &Submodule) -> Result<Vec<ParameterRecord>, GsdmlError> {
+        let mut records = Vec::new();
+        let mut total = 0u64;
+        for item in &submodule.records {
+            let item = match item {
+                RecordItem::Parameter(p) => p,
+                RecordItem::Safety(line) => {
+                    return Err(self.invalid(
+                        *line,
+                        "F_ParameterRecordDataItem",
+                        None,
+                        "this is a PROFIsafe submodule, whose F-parameter record carries a \
+                         CRC this import does not compute; give the submodule's records in \
+                         the configuration instead"
+                            .to_owned(),
+                    ));
+                }
+            };
+            // Records only to be read or written later (data objects) are not part of the
+            // start-up parameterization.
+            if let Some(access) = &item.access
+                && !access.split(';').any(|a| a.trim() == "prm")
+            {
+                continue;
+            }
+            let el = "ParameterRecordDataItem";
+            let index = self.number_attr(&item.index, el, "Index", item.line, 0xFFFF)?;
+            let length = self.number_attr(&item.length, el, "Length", item.line, MAX_RECORD_LEN)?;
+            let sequence = match item.transfer_sequence.value {
+                Some(_) => self.number_attr(
+                    &item.transfer_sequence,
+                    el,
+                    "TransferSequence",
+                    item.line,
+                    0xFFFF,
+                )?,
+                None => 0,
+            };
+            total += length;
+            if total > MAX_RECORDS_LEN {
+                return Err(self.invalid(
+                    item.line,
+                    el,
+                    Some("Length"),
+                    format!(
+                        "the submodule's records add up to more than {MAX_RECORDS_LEN} bytes; \
+                         check the GSDML file, or give the records in the configuration instead"
+                    ),
+                ));
+            }
+            // `length` is at most MAX_RECORD_LEN, so this allocation is bounded.
+            let mut data = vec![0u8; length as usize];
+            for part in &item.parts {
+                self.apply(&mut data, part)?;
+            }
+            records.push((
+                sequence,
+                ParameterRecord {
+                    index: index as u16,
+                    data,
+                },
+            ));
+        }
+        // Stable: equal keys keep file order.
+        records.sort_by_key(|&(sequence, _)| (sequence == 0, sequence));
+        Ok(records.into_iter().map(|(_, r)| r).collect())
+    }
+
+    fn number_attr(
+        &self,
+        attr: &Attr,
+        element: &str,
+        name: &str,
+        element_line: usize,
+        max: u64,
+    ) -> Result<u64, GsdmlError> {
+        let Some(text) = &attr.value else {
+            return Err(self.invalid(
+                element_line,
+                element,
+                Some(name),
+                "missing; the import needs it".to_owned(),
+            ));
+        };
+        match data::number(text) {
+            Some(n) if n <= max => Ok(n),
+            _ => Err(self.invalid(
+                attr.line,
+                element,
+                Some(name),
+                format!("{text:?} is not a number from 0 to {max}"),
+            )),
+        }
+    }
+
+    fn apply(&self, record: &mut [u8], part: &Part) -> Result<(), GsdmlError> {
+        let element = if part.is_ref { "Ref" } else { "Const" };
+        let get = |name: &str| part.attrs.get(name).and_then(|a| a.value.as_deref());
+        let line_of = |name: &str| part.attrs.get(name).map_or(part.line, |a| a.line);
+        let opt_number = |name: &'static str| -> Result<Option<u64>, GsdmlError> {
+            match get(name) {
+                None => Ok(None),
+                Some(text) => data::number(text).map(Some).ok_or_else(|| {
+                    self.invalid(
+                        line_of(name),
+                        element,
+                        Some(name),
+                        format!("{text:?} is not a number"),
+                    )
+                }),
+            }
+        };
+        let byte_offset = opt_number("ByteOffset")?.unwrap_or(0);
+        let result = if part.is_ref {
+            let Some(data_type) = get("DataType") else {
+                return Err(self.invalid(
+                    part.line,
+                    element,
+                    Some("DataType"),
+                    "missing; every Ref has a data type".to_owned(),
+                ));
+            };
+            let Some(default) = get("DefaultValue") else {
+                return Err(self.invalid(
+                    part.line,
+                    element,
+                    Some("DefaultValue"),
+                    "missing; the import writes each parameter's default value".to_owned(),
+                ));
+            };
+            let value = RefValue {
+                data_type,
+                byte_offset,
+                bit_offset: opt_number("BitOffset")?,
+                bit_length: opt_number("BitLength")?,
+                length: opt_number("Length")?,
+                default,
+            };
+            data::write_ref(record, &value)
+        } else {
+            let text = get("Data").unwrap_or("");
+            let bytes = data::const_bytes(text)
+                .map_err(|m| self.invalid(line_of("Data"), element, Some("Data"), m))?;
+            data::write_const(record, byte_offset, &bytes)
+        };
+        result.map_err(|e| {
+            self.invalid(
+                line_of(e.attribute),
+                element,
+                Some(e.attribute),
+                format!(
+                    "{}; correct the GSDML file or give the submodule's records in the \
+                     configuration instead",
+                    e.message
+                ),
+            )
+        })
+    }
+}
+
+/// The text of a GSDML file: UTF-8 (with or without BOM), or ISO-8859-1 where the XML
+/// declaration says so.
+fn decode(bytes: &[u8], origin: &str) -> Result<String, GsdmlError> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    match std::str::from_utf8(bytes) {
+        Ok(text) => Ok(text.to_owned()),
+        Err(e) => {
+            let head = String::from_utf8_lossy(&bytes[..bytes.len().min(200)]).to_lowercase();
+            let latin1 = head.starts_with("<?xml")
+                && (head.contains("iso-8859-1") || head.contains("iso8859-1"));
+            if latin1 {
+                // ISO-8859-1 bytes are the first 256 code points.
+                return Ok(bytes.iter().map(|&b| char::from(b)).collect());
+            }
+            let line = bytes[..e.valid_up_to()]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1;
+            Err(GsdmlError::Xml {
+                origin: origin.to_owned(),
+                line: Some(line),
+                message: "the file is not UTF-8 text; GSDML files are UTF-8 XML, convert it \
+                          (e.g. with iconv) or use the file as the vendor ships it"
+                    .to_owned(),
+            })
+        }
+    }
+}
+
+/// Byte offsets of line starts, for lines of nodes in large files without rescanning.
+struct Lines(Vec<usize>);
+
+impl Lines {
+    fn new(text: &str) -> Lines {
+        let starts = core::iter::once(0)
+            .chain(
+                text.bytes()
+                    .enumerate()
+                    .filter(|&(_, b)| b == b'\n')
+                    .map(|(i, _)| i + 1),
+            )
+            .collect();
+        Lines(starts)
+    }
+
+    fn line(&self, offset: usize) -> usize {
+        self.0.partition_point(|&start| start <= offset).max(1)
+    }
+}
+
+/// Walks the document once into a [`Gsdml`].
+struct Reader<'a, 'input> {
+    doc: &'a Document<'input>,
+    lines: Lines,
+    origin: &'a str,
+    texts: HashMap<&'a str, &'a str>,
+}
+
+fn local<'a, 'input>(node: Node<'a, 'input>) -> &'a str {
+    node.tag_name().name()
+}
+
+fn children<'a, 'input>(
+    node: Node<'a, 'input>,
+    name: &'static str,
+) -> impl Iterator<Item = Node<'a, 'input>> {
+    node.children()
+        .filter(move |c| c.is_element() && local(*c) == name)
+}
+
+fn child<'a, 'input>(node: Node<'a, 'input>, name: &'static str) -> Option<Node<'a, 'input>> {
+    children(node, name).next()
+}
+
+/// The element at `path` below `node`, each step the first child of that name.
+fn descend<'a, 'input>(node: Node<'a, 'input>, path: &[&'static str]) -> Option<Node<'a, 'input>> {
+    path.iter().try_fold(node, |n, name| child(n, name))
+}
+
+impl<'a, 'input> Reader<'a, 'input> {
+    fn new(doc: &'a Document<'input>, text: &str, origin: &'a str) -> Self {
+        Reader {
+            doc,
+            lines: Lines::new(text),
+            origin,
+            texts: HashMap::new(),
+        }
+    }
+
+    fn line(&self, node: Node<'_, '_>) -> usize {
+        self.lines.line(node.range().start)
+    }
+
+    fn attr_line(&self, node: Node<'_, '_>, name: &str) -> usize {
+        match node.attribute_node(name) {
+            Some(a) => self.lines.line(a.range().start),
+            None => self.line(node),
+        }
+    }
+
+    fn attr(&self, node: Node<'_, '_>, name: &str) -> Attr {
+        Attr {
+            value: node.attribute(name).map(str::to_owned),
+            line: self.attr_line(node, name),
+        }
+    }
+
+    fn invalid(&self, node: Node<'_, '_>, attribute: Option<&str>, message: String) -> GsdmlError {
+        let line = match attribute {
+            Some(a) => self.attr_line(node, a),
+            None => self.line(node),
+        };
+        GsdmlError::Invalid {
+            origin: self.origin.to_owned(),
+            line,
+            element: local(node).to_owned(),
+            attribute: attribute.map(str::to_owned),
+            message,
+        }
+    }
+
+    fn required_child(
+        &self,
+        node: Node<'a, 'input>,
+        name: &'static str,
+    ) -> Result<Node<'a, 'input>, GsdmlError> {
+        child(node, name).ok_or_else(|| {
+            self.invalid(
+                node,
+                None,
+                format!(
+                    "has no <{name}>, which every GSDML file has; check that this is a \
+                     device's GSDML file"
+                ),
+            )
+        })
+    }
+
+    fn required(&self, node: Node<'a, 'input>, name: &str) -> Result<&'a str, GsdmlError> {
+        node.attribute(name).ok_or_else(|| {
+            self.invalid(
+                node,
+                Some(name),
+                "missing; every GSDML file has it here".to_owned(),
+            )
+        })
+    }
+
+    /// A required numeric attribute of at most `max`.
+    fn number(&self, node: Node<'a, 'input>, name: &str, max: u64) -> Result<u64, GsdmlError> {
+        let text = self.required(node, name)?;
+        match data::number(text) {
+            Some(n) if n <= max => Ok(n),
+            _ => Err(self.invalid(
+                node,
+                Some(name),
+                format!("{text:?} is not a number from 0 to {max:#x}"),
+            )),
+        }
+    }
+
+    fn value_list(
+        &self,
+        node: Node<'a, 'input>,
+        name: &str,
+    ) -> Result<Option<ValueList>, GsdmlError> {
+        match node.attribute(name) {
+            None => Ok(None),
+            Some(text) => ValueList::parse(text).map(Some).ok_or_else(|| {
+                self.invalid(
+                    node,
+                    Some(name),
+                    format!("{text:?} is not a value list such as \"1..4 7\""),
+                )
+            }),
+        }
+    }
+
+    /// The primary-language text of `text_id`.
+    fn text(&self, text_id: Option<&str>) -> Option<String> {
+        text_id
+            .and_then(|id| self.texts.get(id))
+            .map(|t| (*t).to_owned())
+    }
+
+    /// The name of an item: the text of `ModuleInfo/Name/@TextId`.
+    fn name(&self, item: Node<'a, 'input>) -> Option<String> {
+        let name = descend(item, &["ModuleInfo", "Name"])?;
+        self.text(name.attribute("TextId"))
+    }
+
+    fn gsdml(mut self) -> Result<Gsdml, GsdmlError> {
+        let root = self.doc.root_element();
+        if local(root) != "ISO15745Profile" {
+            return Err(self.invalid(
+                root,
+                None,
+                format!(
+                    "the document is a <{}>, not a GSDML file (<ISO15745Profile>); give the \
+                     device's GSDML file",
+                    local(root)
+                ),
+            ));
+        }
+        let body = self.required_child(root, "ProfileBody")?;
+        let identity = self.required_child(body, "DeviceIdentity")?;
+        let vendor_id = self.number(identity, "VendorID", 0xFFFF)? as u16;
+        let device_id = self.number(identity, "DeviceID", 0xFFFF)? as u16;
+        let vendor_name = child(identity, "VendorName")
+            .and_then(|n| n.attribute("Value"))
+            .map(str::to_owned);
+        let process = self.required_child(body, "ApplicationProcess")?;
+        if let Some(primary) = descend(process, &["ExternalTextList", "PrimaryLanguage"]) {
+            for text in children(primary, "Text") {
+                if let (Some(id), Some(value)) = (text.attribute("TextId"), text.attribute("Value"))
+                {
+                    self.texts.entry(id).or_insert(value);
+                }
+            }
+        }
+
+        let mut ids: HashMap<String, usize> = HashMap::new();
+        let mut unique = |reader: &Self, node: Node<'a, 'input>, id: &str| {
+            let line = reader.line(node);
+            match ids.insert(id.to_owned(), line) {
+                Some(first) => Err(reader.invalid(
+                    node,
+                    Some("ID"),
+                    format!(
+                        "{id:?} is already the ID of the item on line {first}; IDs are unique \
+                         in a GSDML file"
+                    ),
+                )),
+                None => Ok(()),
+            }
+        };
+
+        let list = self.required_child(process, "DeviceAccessPointList")?;
+        let mut daps = Vec::new();
+        for item in children(list, "DeviceAccessPointItem") {
+            let id = self.required(item, "ID")?;
+            unique(&self, item, id)?;
+            let mut submodules = Vec::new();
+            if let Some(list) = child(item, "VirtualSubmoduleList") {
+                for sub in children(list, "VirtualSubmoduleItem") {
+                    submodules.push(self.submodule(sub, SubmoduleKind::Virtual)?);
+                }
+            }
+            if let Some(list) = child(item, "SystemDefinedSubmoduleList") {
+                for sub in list.children().filter(Node::is_element) {
+                    let kind = match local(sub) {
+                        "InterfaceSubmoduleItem" => SubmoduleKind::Interface,
+                        "PortSubmoduleItem" => SubmoduleKind::Port,
+                        _ => continue,
+                    };
+                    submodules.push(self.submodule(sub, kind)?);
+                }
+            }
+            let useable_modules = match child(item, "UseableModules") {
+                Some(list) => children(list, "ModuleItemRef")
+                    .map(|r| self.plug_ref(r, "ModuleItemTarget", "Slots"))
+                    .collect::<Result<_, _>>()?,
+                None => Vec::new(),
+            };
+            daps.push(Dap {
+                id: id.to_owned(),
+                name: self.name(item),
+                line: self.line(item),
+                module_ident: self.number(item, "ModuleIdentNumber", 0xFFFF_FFFF)? as u32,
+                fixed_in_slots: self
+                    .value_list(item, "FixedInSlots")?
+                    .unwrap_or_else(|| ValueList::single(0)),
+                physical_slots: self.value_list(item, "PhysicalSlots")?,
+                useable_modules,
+                submodules,
+            });
+        }
+        if daps.is_empty() {
+            return Err(self.invalid(
+                list,
+                None,
+                "has no <DeviceAccessPointItem>; a GSDML file describes at least one device \
+                 access point"
+                    .to_owned(),
+            ));
+        }
+
+        let mut modules = Vec::new();
+        if let Some(list) = child(process, "ModuleList") {
+            for item in children(list, "ModuleItem") {
+                let id = self.required(item, "ID")?;
+                unique(&self, item, id)?;
+                let mut submodules = Vec::new();
+                if let Some(list) = child(item, "VirtualSubmoduleList") {
+                    for sub in children(list, "VirtualSubmoduleItem") {
+                        submodules.push(self.submodule(sub, SubmoduleKind::Virtual)?);
+                    }
+                }
+                let useable_submodules = match child(item, "UseableSubmodules") {
+                    Some(list) => children(list, "SubmoduleItemRef")
+                        .map(|r| self.plug_ref(r, "SubmoduleItemTarget", "Subslots"))
+                        .collect::<Result<_, _>>()?,
+                    None => Vec::new(),
+                };
+                modules.push(Module {
+                    id: id.to_owned(),
+                    name: self.name(item),
+                    line: self.line(item),
+                    module_ident: self.number(item, "ModuleIdentNumber", 0xFFFF_FFFF)? as u32,
+                    submodules,
+                    useable_submodules,
+                });
+            }
+        }
+
+        let mut submodules = Vec::new();
+        if let Some(list) = child(process, "SubmoduleList") {
+            for item in children(list, "SubmoduleItem") {
+                submodules.push(self.submodule(item, SubmoduleKind::Pluggable)?);
+            }
+        }
+
+        Ok(Gsdml {
+            origin: self.origin.to_owned(),
+            vendor_id,
+            device_id,
+            vendor_name,
+            identity_line: self.line(identity),
+            daps,
+            modules,
+            submodules,
+        })
+    }
+
+    fn plug_ref(
+        &self,
+        node: Node<'a, 'input>,
+        target: &str,
+        positions: &str,
+    ) -> Result<PlugRef, GsdmlError> {
+        Ok(PlugRef {
+            target: self.required(node, target)?.to_owned(),
+            line: self.line(node),
+            allowed: self.value_list(node, &format!("AllowedIn{positions}"))?,
+            fixed: self.value_list(node, &format!("FixedIn{positions}"))?,
+            used: self.value_list(node, &format!("UsedIn{positions}"))?,
+        })
+    }
+
+    fn submodule(
+        &self,
+        node: Node<'a, 'input>,
+        kind: SubmoduleKind,
+    ) -> Result<Submodule, GsdmlError> {
+        let subslots = match kind {
+            SubmoduleKind::Virtual => Some(
+                self.value_list(node, "FixedInSubslots")?
+                    .unwrap_or_else(|| ValueList::single(1)),
+            ),
+            SubmoduleKind::Pluggable => None,
+            SubmoduleKind::Interface => Some(match node.attribute("SubslotNumber") {
+                Some(_) => ValueList::single(self.number(node, "SubslotNumber", 0xFFFF)? as u32),
+                None => ValueList::single(0x8000),
+            }),
+            SubmoduleKind::Port => {
+                Some(ValueList::single(
+                    self.number(node, "SubslotNumber", 0xFFFF)? as u32,
+                ))
+            }
+        };
+        let name = match kind {
+            SubmoduleKind::Interface | SubmoduleKind::Port => self.text(node.attribute("TextId")),
+            _ => self.name(node),
+        };
+        let api = match node.attribute("API") {
+            Some(_) => self.number(node, "API", 0xFFFF_FFFF)? as u32,
+            None => 0,
+        };
+        let mut io = Vec::new();
+        if let Some(data) = child(node, "IOData") {
+            for (direction, output) in [("Input", false), ("Output", true)] {
+                for list in children(data, direction) {
+                    for item in children(list, "DataItem") {
+                        io.push(IoItem {
+                            output,
+                            data_type: item.attribute("DataType").map(str::to_owned),
+                            length: item.attribute("Length").map(str::to_owned),
+                            line: self.attr_line(item, "DataType"),
+                            length_line: self.attr_line(item, "Length"),
+                        });
+                    }
+                }
+            }
+        }
+        let mut records = Vec::new();
+        if let Some(list) = child(node, "RecordDataList") {
+            for item in list.children().filter(Node::is_element) {
+                match local(item) {
+                    "ParameterRecordDataItem" => {
+                        let parts = item
+                            .children()
+                            .filter(|c| c.is_element() && matches!(local(*c), "Const" | "Ref"))
+                            .map(|c| Part {
+                                is_ref: local(c) == "Ref",
+                                line: self.line(c),
+                                attrs: REF_ATTRS
+                                    .iter()
+                                    .filter(|a| c.has_attribute(**a))
+                                    .map(|&a| (a, self.attr(c, a)))
+                                    .collect(),
+                            })
+                            .collect();
+                        records.push(RecordItem::Parameter(ParameterItem {
+                            line: self.line(item),
+                            access: item.attribute("Access").map(str::to_owned),
+                            index: self.attr(item, "Index"),
+                            length: self.attr(item, "Length"),
+                            transfer_sequence: self.attr(item, "TransferSequence"),
+                            parts,
+                        }));
+                    }
+                    "F_ParameterRecordDataItem" => {
+                        records.push(RecordItem::Safety(self.line(item)))
+                    }
+                    _ => {}
+                }
+            }
+        }
+        Ok(Submodule {
+            id: self.required(node, "ID")?.to_owned(),
+            name,
+            kind,
+            line: self.line(node),
+            submodule_ident: self.number(node, "SubmoduleIdentNumber", 0xFFFF_FFFF)? as u32,
+            api,
+            subslots,
+            io,
+            records,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines() {
+        let l = Lines::new("a\nbc\n\nd");
+        assert_eq!(l.line(0), 1);
+        assert_eq!(l.line(1), 1);
+        assert_eq!(l.line(2), 2);
+        assert_eq!(l.line(5), 3);
+        assert_eq!(l.line(6), 4);
+        assert_eq!(l.line(999), 4);
+    }
+
+    #[test]
+    fn latin1_is_decoded_where_declared() {
+        let bytes = b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<a b=\"\xE4\"/>";
+        assert_eq!(
+            decode(bytes, "x").unwrap(),
+            "<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<a b=\"\u{e4}\"/>"
+        );
+        let e = decode(b"<?xml version=\"1.0\"?>\n\n<a b=\"\xE4\"/>", "x").unwrap_err();
+        assert_eq!(e.line(), Some(3));
+        assert_eq!(decode(b"\xEF\xBB\xBF<a/>", "x").unwrap(), "<a/>");
+    }
+}
