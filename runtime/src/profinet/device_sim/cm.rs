@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Connection management over RPC: the calls of the PNIO device interface (Connect, Release,
+//! Read, Write, Control) executed against the device's state, and the answer to its own
+//! ApplicationReady call.
+
+use super::ar::Ar;
+use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
+use super::{APP_READY_DELAY_NS, DeviceAction, SimDevice, SimDeviceState, records, rpc};
+use crate::profinet::wire::PnioStatus;
+use crate::profinet::wire::alarm::AbortCode;
+use crate::profinet::wire::control::{self, ControlBlock};
+use crate::profinet::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE};
+use crate::profinet::wire::rpc::{self as wire_rpc, Header, Ndr, PacketType, opnum};
+use std::net::SocketAddrV4;
+
+/// ErrorCodes of the RPC services.
+const ERROR_CODE_RELEASE: u8 = 0xdc;
+const ERROR_CODE_CONTROL: u8 = 0xdd;
+/// ErrorCode1 of a faulty IODControlReq (PrmEnd), PrmBegin, and IODReleaseReq; ErrorCode2
+/// is the index of the field (5 ARUUID, 6 SessionKey, 8 ControlCommand, 9 properties).
+const FAULTY_PRM_END: u8 = 0x14;
+const FAULTY_PRM_BEGIN: u8 = 0x18;
+const FAULTY_RELEASE: u8 = 0x28;
+/// The DCE status of a reject for a request too short to carry the NDR header.
+const NCA_PROTO_ERROR: u32 = 0x1c01_000b;
+
+/// A status `Dx 81 c1 c2` of an RPC service.
+pub(super) const fn pnio(error_code: u8, c1: u8, c2: u8) -> PnioStatus {
+    PnioStatus {
+        error_code,
+        error_decode: 0x81,
+        error_code1: c1,
+        error_code2: c2,
+    }
+}
+
+impl SimDevice {
+    /// Executes a whole request and answers it.
+    pub(super) fn call(
+        &mut self,
+        h: &Header,
+        body: &[u8],
+        from: SocketAddrV4,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) {
+        if h.interface != wire_rpc::DEVICE_INTERFACE {
+            self.rpc.reject(h, from, rpc::NCA_UNKNOWN_INTERFACE, out);
+            return;
+        }
+        let error_code = match h.opnum {
+            opnum::CONNECT => connect::ERROR_CODE_CONNECT,
+            opnum::RELEASE => ERROR_CODE_RELEASE,
+            opnum::READ | opnum::READ_IMPLICIT => ERROR_CODE_READ,
+            opnum::WRITE => ERROR_CODE_WRITE,
+            opnum::CONTROL => ERROR_CODE_CONTROL,
+            _ => {
+                self.rpc.reject(h, from, rpc::NCA_OP_RANGE_ERROR, out);
+                return;
+            }
+        };
+        let Ok((Ndr::Request(ndr), blocks)) =
+            wire_rpc::parse_body(PacketType::Request, h.little_endian, body)
+        else {
+            self.rpc.reject(h, from, NCA_PROTO_ERROR, out);
+            return;
+        };
+        let args = usize::try_from(ndr.args_length).unwrap_or(usize::MAX);
+        let blocks = match blocks.get(..args) {
+            Some(b) if ndr.actual_count == ndr.args_length && ndr.offset == 0 => b,
+            _ => {
+                let s = pnio(error_code, CMRPC, connect::CMRPC_ARGS_LENGTH);
+                self.rpc.respond(h, from, s, ndr.args_maximum, &[], out);
+                return;
+            }
+        };
+        let (status, res) = match h.opnum {
+            opnum::CONNECT => self.connect(blocks, from, now_ns, out),
+            opnum::RELEASE => self.release(blocks),
+            opnum::READ | opnum::READ_IMPLICIT => records::read(
+                h.opnum == opnum::READ_IMPLICIT,
+                self.ar.as_ref().map(|a| (a.ar_uuid, &a.records)),
+                &self.submodules,
+                &self.im0,
+                blocks,
+            ),
+            opnum::WRITE => records::write(
+                self.ar.as_mut().map(|a| records::ArRecords {
+                    ar_uuid: a.ar_uuid,
+                    records: &mut a.records,
+                }),
+                &self.submodules,
+                blocks,
+            ),
+            _ => self.control(blocks, now_ns),
+        };
+        self.rpc
+            .respond(h, from, status, ndr.args_maximum, &res, out);
+    }
+
+    fn connect(
+        &mut self,
+        blocks: &[u8],
+        from: SocketAddrV4,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> (PnioStatus, Vec<u8>) {
+        let plan = match connect::validate(blocks) {
+            Ok(p) => p,
+            Err(s) => return (s, Vec::new()),
+        };
+        if let Some(existing) = &self.ar {
+            if existing.ar_uuid == plan.ar.ar_uuid {
+                // A re-run of the AR the device still holds: it ends, and this Connect is
+                // refused; the controller's next attempt finds the device free (p-net).
+                self.abort_ar(AbortCode::RerunAbortsExisting, out);
+                return (refuse(CMDEV, CMDEV_STATE_CONFLICT), Vec::new());
+            }
+            return (refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES), Vec::new());
+        }
+        let (fits, diff) = connect::module_diff(&plan.expected, &self.submodules);
+        let ids = connect::frame_ids(&plan);
+        let Some(res) = connect::response_blocks(
+            &plan,
+            self.id.mac,
+            &self.id.name,
+            ids.0,
+            ids.1,
+            diff.as_ref(),
+        ) else {
+            return (refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES), Vec::new());
+        };
+        let controller = SocketAddrV4::new(*from.ip(), plan.rpc_port.unwrap_or(wire_rpc::RPC_PORT));
+        self.ar = Some(Ar::new(&plan, &fits, diff, ids, controller, now_ns));
+        (PnioStatus::OK, res)
+    }
+
+    /// PrmEnd (and PrmBegin) from the controller.
+    fn control(&mut self, blocks: &[u8], now_ns: u64) -> (PnioStatus, Vec<u8>) {
+        let fail = |c1, c2| (pnio(ERROR_CODE_CONTROL, c1, c2), Vec::new());
+        let Ok(c) = ControlBlock::parse(blocks) else {
+            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
+        };
+        if blocks.len() != control::BLOCK_LEN {
+            return fail(CMRPC, connect::CMRPC_ARGS_LENGTH);
+        }
+        let (faulty, command) = match c.block_type {
+            control::block_type::PRM_END_REQ => (FAULTY_PRM_END, control::command::PRM_END),
+            control::block_type::PRM_BEGIN_REQ => (FAULTY_PRM_BEGIN, control::command::PRM_BEGIN),
+            _ => return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
+        };
+        let Some(ar) = self.ar.as_mut().filter(|a| a.ar_uuid == c.ar_uuid) else {
+            return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
+        };
+        if c.session_key != ar.session_key {
+            return fail(faulty, 6);
+        }
+        if c.command != command {
+            return fail(faulty, 8);
+        }
+        if c.properties != 0 {
+            return fail(faulty, 9);
+        }
+        match (c.block_type, ar.state) {
+            (control::block_type::PRM_END_REQ, SimDeviceState::Connected) => {
+                ar.state = SimDeviceState::Parameterized;
+                ar.provider.start(now_ns);
+                ar.app_ready_due = Some(now_ns.saturating_add(APP_READY_DELAY_NS));
+            }
+            (control::block_type::PRM_BEGIN_REQ, SimDeviceState::Data) => {
+                // Re-parameterization: records may be written again until the next PrmEnd;
+                // the CRs keep running.
+                ar.state = SimDeviceState::Connected;
+            }
+            _ => return fail(CMDEV, CMDEV_STATE_CONFLICT),
+        }
+        match ControlBlock::done_response_for(&c) {
+            Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
+            None => fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
+        }
+    }
+
+    fn release(&mut self, blocks: &[u8]) -> (PnioStatus, Vec<u8>) {
+        let fail = |c1, c2| (pnio(ERROR_CODE_RELEASE, c1, c2), Vec::new());
+        let Ok(c) = ControlBlock::parse(blocks) else {
+            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
+        };
+        if c.block_type != control::block_type::RELEASE_REQ {
+            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
+        }
+        if blocks.len() != control::BLOCK_LEN {
+            return fail(CMRPC, connect::CMRPC_ARGS_LENGTH);
+        }
+        let Some(ar) = self.ar.as_ref().filter(|a| a.ar_uuid == c.ar_uuid) else {
+            return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
+        };
+        if c.session_key != ar.session_key {
+            return fail(FAULTY_RELEASE, 6);
+        }
+        if c.command != control::command::RELEASE {
+            return fail(FAULTY_RELEASE, 8);
+        }
+        self.ar = None;
+        match ControlBlock::done_response_for(&c) {
+            Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
+            None => fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
+        }
+    }
+
+    /// A PDU that may answer our ApplicationReady.
+    pub(super) fn client_pdu(
+        &mut self,
+        h: &Header,
+        body: &[u8],
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) {
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        let Some(call) = ar.app_ready.as_mut() else {
+            return;
+        };
+        match call.on_pdu(h, body, now_ns, out) {
+            rpc::CallOutcome::Confirmed => {
+                ar.app_ready = None;
+                ar.state = SimDeviceState::Data;
+                ar.cmi_deadline = None;
+                ar.consumer.arm(now_ns);
+            }
+            rpc::CallOutcome::Failed => self.abort_ar(AbortCode::RpcClientCallNegative, out),
+            rpc::CallOutcome::Pending | rpc::CallOutcome::NotOurs => {}
+        }
+    }
+}

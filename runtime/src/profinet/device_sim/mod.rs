@@ -1,0 +1,561 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A simulated PROFINET IO device (RT class 1), sans-IO: what `procimgd --demo` puts on its
+//! in-process network so that the controller runs its real protocol end to end without root
+//! or hardware.
+//!
+//! It behaves like a standard device towards a controller: it answers DCP (Identify with the
+//! requested response delay, Get, Set IP / NameOfStation / Signal / reset), serves the PNIO
+//! RPC interface on UDP 34964 in either NDR byte order (Connect with full validation and a
+//! ModuleDiffBlock when the plugged submodules differ, Write and WriteMultiple, Read and
+//! ReadImplicit, PrmEnd/PrmBegin, Release; duplicates, fragments, ping), sends the
+//! ApplicationReady CControl to the controller and retransmits it until answered, produces
+//! the input CR and consumes the output CR at the offsets the controller chose, supervises
+//! the output CR with the data hold watchdog, and acknowledges alarms on both RTA channels.
+//! Its inputs come from its [`SimBehaviour`] ([`behaviour`]).
+//!
+//! No socket and no clock inside: feed it every Ethernet frame on the link
+//! ([`SimDevice::on_frame`]), every UDP datagram to its IP ([`SimDevice::on_datagram`]) and
+//! call [`SimDevice::poll`] at [`SimDevice::next_deadline_ns`]; put the [`DeviceAction`]s it
+//! returns on the link. Times are `CLOCK_MONOTONIC` nanoseconds.
+//!
+//! ```text
+//!            Connect ok                 PrmEnd              AppReady sent
+//!   Idle ───────────────▶ Connected ─────────────▶ Parameterized ──────────▶ WaitAppReadyConfirm
+//!    ▲                        ▲                    (input CR starts)               │ response Done
+//!    │ Release, abort         │ PrmBegin                                           ▼
+//!    └────────────────────────┴──────────────────────────────────────────────── Data
+//!   abort = data hold timer expired, CMI activity timeout, ApplicationReady unanswered or
+//!   refused, ERR-RTA from the controller, alarm retries exhausted, station name/IP changed
+//!   or reset by DCP, a Connect re-running the AR
+//! ```
+//!
+//! The input CR runs from PrmEnd on (as p-net does) with DataStatus 0x35; its IOPS and IOCS
+//! stay BAD until the controller confirmed the ApplicationReady, then turn GOOD. The consumer
+//! watchdog starts with the first valid output frame, at the latest when data exchange
+//! begins.
+
+mod ar;
+pub mod behaviour;
+mod cm;
+mod connect;
+mod cyclic;
+mod dcp;
+mod records;
+mod rpc;
+#[cfg(test)]
+mod tests;
+
+use crate::config::SimBehaviour;
+use crate::profinet::wire::alarm::{
+    self, AbortCode, AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType,
+    Priority, RtaPdu,
+};
+use crate::profinet::wire::control::ControlBlock;
+use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
+use crate::profinet::wire::record::Im0;
+use crate::profinet::wire::rpc::{self as wire_rpc, Header, PacketType};
+use crate::profinet::wire::rt::FrameIdClass;
+use crate::profinet::wire::{MacAddress, Uuid};
+use ar::Ar;
+use std::net::SocketAddrV4;
+
+/// What the simulated device is and what is plugged into it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SimDeviceSpec {
+    /// NameOfStation at start (DCP may change it).
+    pub name: String,
+    /// The device's MAC address.
+    pub mac: MacAddress,
+    /// IP address at start; `None` is 0.0.0.0 until a DCP Set IP.
+    pub ip: Option<[u8; 4]>,
+    /// VendorID.
+    pub vendor_id: u16,
+    /// DeviceID.
+    pub device_id: u16,
+    /// Device instance (the object UUID's instance, GSDML ObjectUUID_LocalIndex).
+    pub instance: u16,
+    /// The submodules really plugged.
+    pub submodules: Vec<SimSubmodule>,
+    /// How the inputs follow the outputs.
+    pub behaviour: SimBehaviour,
+    /// The I&M0 record (index 0xAFF0) of every submodule.
+    pub im0: Im0,
+}
+
+/// One plugged submodule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SimSubmodule {
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// ModuleIdentNumber of the module in the slot.
+    pub module_ident: u32,
+    /// SubmoduleIdentNumber.
+    pub submodule_ident: u32,
+    /// Input bytes.
+    pub input_length: u16,
+    /// Output bytes.
+    pub output_length: u16,
+}
+
+/// Something the device puts on the network.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum DeviceAction {
+    /// An Ethernet frame to put on the link (at least 60 bytes, without FCS).
+    Frame(Vec<u8>),
+    /// A UDP datagram (RPC) from the device's IP and `from_port`.
+    Datagram {
+        /// Destination.
+        to: SocketAddrV4,
+        /// Source port.
+        from_port: u16,
+        /// The UDP payload.
+        payload: Vec<u8>,
+    },
+}
+
+/// Where the device's AR stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SimDeviceState {
+    /// No AR.
+    Idle,
+    /// Connect accepted; parameters may be written until PrmEnd.
+    Connected,
+    /// PrmEnd answered; the input CR runs, the ApplicationReady is about to go out.
+    Parameterized,
+    /// ApplicationReady sent, waiting for the controller's confirmation.
+    WaitAppReadyConfirm,
+    /// ApplicationReady confirmed: data exchange with GOOD status.
+    Data,
+}
+
+/// How long after PrmEnd the ApplicationReady goes out: the application's time to take over
+/// its parameters, and time for the controller to see the PrmEnd response first.
+const APP_READY_DELAY_NS: u64 = 1_000_000;
+/// The smallest Ethernet frame without FCS; shorter frames are padded.
+const MIN_FRAME_LEN: usize = 60;
+
+/// An Ethernet frame around a PROFINET PDU, tagged if `tci` is given, padded to 60 bytes.
+fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]) -> Vec<u8> {
+    let eth = ethernet::Repr {
+        dst,
+        src,
+        vlan: tci.map(VlanTag::from_tci),
+        ethertype: ETHERTYPE_PROFINET,
+    };
+    let mut f = vec![0u8; eth.buffer_len()];
+    eth.emit(&mut f);
+    f.extend_from_slice(pdu);
+    if f.len() < MIN_FRAME_LEN {
+        f.resize(MIN_FRAME_LEN, 0);
+    }
+    f
+}
+
+/// A simulated PROFINET IO device.
+pub struct SimDevice {
+    id: dcp::Identity,
+    submodules: Vec<SimSubmodule>,
+    behaviour: SimBehaviour,
+    im0: Im0,
+    dcp: dcp::Responder,
+    rpc: rpc::Server,
+    ar: Option<Ar>,
+    frames_produced: u64,
+    activities: u32,
+    last_abort: Option<AbortCode>,
+    signals: u32,
+    acks: Vec<AlarmAck>,
+}
+
+impl SimDevice {
+    /// A device as `spec` describes it, without an AR.
+    pub fn new(spec: SimDeviceSpec) -> SimDevice {
+        let ip = spec.ip.unwrap_or([0; 4]);
+        let mask = if ip == [0; 4] {
+            [0; 4]
+        } else {
+            [255, 255, 255, 0]
+        };
+        SimDevice {
+            id: dcp::Identity {
+                mac: spec.mac,
+                name: spec.name,
+                ip,
+                mask,
+                gateway: [0; 4],
+                vendor_id: spec.vendor_id,
+                device_id: spec.device_id,
+                instance: spec.instance,
+                type_of_station: "procimg simulated device".into(),
+            },
+            submodules: spec.submodules,
+            behaviour: spec.behaviour,
+            im0: spec.im0,
+            dcp: dcp::Responder::default(),
+            rpc: rpc::Server::default(),
+            ar: None,
+            frames_produced: 0,
+            activities: 0,
+            last_abort: None,
+            signals: 0,
+            acks: Vec::new(),
+        }
+    }
+
+    /// Sets the DeviceVendor (type of station) text DCP reports; "procimg simulated device"
+    /// by default.
+    pub fn set_type_of_station(&mut self, text: &str) {
+        self.id.type_of_station = text.to_string();
+    }
+
+    /// The IP address (0.0.0.0 when none is set).
+    pub fn ip(&self) -> [u8; 4] {
+        self.id.ip
+    }
+
+    /// The NameOfStation (empty when none is set).
+    pub fn name(&self) -> &str {
+        &self.id.name
+    }
+
+    /// The MAC address.
+    pub fn mac(&self) -> MacAddress {
+        self.id.mac
+    }
+
+    /// Where the AR stands.
+    pub fn state(&self) -> SimDeviceState {
+        self.ar.as_ref().map_or(SimDeviceState::Idle, |a| a.state)
+    }
+
+    /// The ARUUID of the current AR.
+    pub fn ar_uuid(&self) -> Option<Uuid> {
+        self.ar.as_ref().map(|a| a.ar_uuid)
+    }
+
+    /// Why the last AR ended other than by Release, if one did.
+    pub fn last_abort(&self) -> Option<AbortCode> {
+        self.last_abort
+    }
+
+    /// Input CR frames produced since the device was made.
+    pub fn frames_produced(&self) -> u64 {
+        self.frames_produced
+    }
+
+    /// DCP Signal requests received (each one would flash the LED).
+    pub fn signal_count(&self) -> u32 {
+        self.signals
+    }
+
+    /// The AlarmAcks the controller sent for our alarms, oldest first.
+    pub fn alarm_acks(&self) -> &[AlarmAck] {
+        &self.acks
+    }
+
+    fn ar_submodule(&self, api: u32, slot: u16, subslot: u16) -> Option<&ar::ArSubmodule> {
+        self.ar.as_ref()?.submodules.iter().find(|s| {
+            let e = &s.expected;
+            (e.api, e.slot, e.subslot) == (api, slot, subslot)
+        })
+    }
+
+    /// The outputs a submodule of the AR last received and whether they are valid (the
+    /// controller in RUN, their IOPS GOOD, the submodule the expected one).
+    pub fn outputs(&self, api: u32, slot: u16, subslot: u16) -> Option<(&[u8], bool)> {
+        self.ar_submodule(api, slot, subslot)
+            .map(|s| (&s.outputs[..], s.outputs_valid))
+    }
+
+    /// The inputs a submodule of the AR last produced.
+    pub fn inputs(&self, api: u32, slot: u16, subslot: u16) -> Option<&[u8]> {
+        self.ar_submodule(api, slot, subslot).map(|s| &s.inputs[..])
+    }
+
+    /// The controller's IOCS for a submodule's inputs, from its last output frame.
+    pub fn controller_iocs(&self, api: u32, slot: u16, subslot: u16) -> Option<u8> {
+        self.ar_submodule(api, slot, subslot)
+            .map(|s| s.controller_iocs)
+    }
+
+    /// Takes an Ethernet frame seen on the link; what is not for us is ignored.
+    pub fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
+        let Ok(eth) = ethernet::Frame::new_checked(frame) else {
+            return;
+        };
+        if eth.ethertype() != ETHERTYPE_PROFINET {
+            return;
+        }
+        let (dst, src, mac) = (eth.dst(), eth.src(), self.id.mac);
+        if dst != mac && dst != MacAddress::DCP_IDENTIFY {
+            return;
+        }
+        let pdu = eth.payload();
+        let Some(&[hi, lo]) = pdu.get(..2) else {
+            return;
+        };
+        let frame_id = u16::from_be_bytes([hi, lo]);
+        match FrameIdClass::of(frame_id) {
+            FrameIdClass::Dcp if dcp::is_request_frame_id(frame_id) => {
+                let changes = self.dcp.on_pdu(&mut self.id, dst, src, pdu, now_ns, out);
+                self.after_dcp(changes, out);
+            }
+            FrameIdClass::AlarmHigh | FrameIdClass::AlarmLow if dst == mac => {
+                self.on_rta(src, pdu, now_ns, out)
+            }
+            class if class.is_cyclic() && dst == mac => self.on_cyclic(src, pdu, now_ns),
+            _ => {}
+        }
+    }
+
+    fn after_dcp(&mut self, changes: dcp::Changes, out: &mut Vec<DeviceAction>) {
+        if changes.signal {
+            self.signals = self.signals.saturating_add(1);
+        }
+        // The AR is bound to the station's name and address: a change ends it (CMINA).
+        if changes.reset {
+            self.abort_ar(AbortCode::ResetToFactory, out);
+        } else if changes.name || changes.ip {
+            self.abort_ar(AbortCode::StationNameChanged, out);
+        }
+    }
+
+    fn on_rta(&mut self, src: MacAddress, pdu: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
+        let mac = self.id.mac;
+        let Some(ar) = self.ar.as_mut().filter(|a| a.controller_mac() == src) else {
+            return;
+        };
+        let Ok(packet) = alarm::Packet::new_checked(pdu) else {
+            return;
+        };
+        let Ok(pdu) = RtaPdu::parse(&packet) else {
+            return;
+        };
+        let abort = ar.alarms.on_pdu(&pdu, mac, now_ns, out);
+        self.acks.append(&mut ar.alarms.acks);
+        if let Some(a) = abort {
+            self.end_ar(a.code);
+        }
+    }
+
+    fn on_cyclic(&mut self, src: MacAddress, pdu: &[u8], now_ns: u64) {
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        if let Some(c_sdu) = ar.consumer.accept(src, pdu, now_ns) {
+            ar.consume(c_sdu);
+        }
+    }
+
+    /// Takes a UDP datagram from `from` to our port `to_port`.
+    pub fn on_datagram(
+        &mut self,
+        from: SocketAddrV4,
+        to_port: u16,
+        payload: &[u8],
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) {
+        // Without an address the device has no UDP endpoint.
+        if self.id.ip == [0; 4] {
+            return;
+        }
+        let packet = wire_rpc::Packet::new_unchecked(payload);
+        let Ok(header) = Header::parse(&packet) else {
+            return;
+        };
+        let Some(body) = payload
+            .get(wire_rpc::HEADER_LEN..)
+            .and_then(|b| b.get(..usize::from(header.body_len)))
+        else {
+            return;
+        };
+        let server = to_port == wire_rpc::RPC_PORT;
+        match header.packet_type {
+            PacketType::Request if server => {
+                if let Some((h, body)) = self.rpc.request(&header, body, from, out) {
+                    self.call(&h, &body, from, now_ns, out);
+                }
+            }
+            PacketType::Ping if server => self.rpc.ping(&header, from, out),
+            PacketType::Ack if server => self.rpc.ack(&header),
+            PacketType::Response
+            | PacketType::Fault
+            | PacketType::Reject
+            | PacketType::Working
+            | PacketType::NoCall => self.client_pdu(&header, body, now_ns, out),
+            _ => {}
+        }
+    }
+
+    /// A new activity UUID for a client call: version 1 layout with our MAC as the node and a
+    /// counter as the time, so it is unique per device and call without a random source.
+    fn new_activity(&mut self) -> Uuid {
+        self.activities = self.activities.wrapping_add(1);
+        let m = self.id.mac.0;
+        Uuid::from_fields(
+            self.activities,
+            0,
+            0x1000,
+            [0x80, 0x00, m[0], m[1], m[2], m[3], m[4], m[5]],
+        )
+    }
+
+    /// Runs the timers: delayed DCP responses, the ApplicationReady and its retransmission,
+    /// input CR frames, the watchdogs, alarm retransmissions.
+    pub fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
+        self.dcp.poll(now_ns, out);
+        let mac = self.id.mac;
+        let activity = if self
+            .ar
+            .as_ref()
+            .is_some_and(|a| a.app_ready_due.is_some_and(|d| now_ns >= d))
+        {
+            Some(self.new_activity())
+        } else {
+            None
+        };
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        if ar.cmi_deadline.is_some_and(|d| now_ns >= d) {
+            self.abort_ar(AbortCode::CmiTimeout, out);
+            return;
+        }
+        if ar.consumer.deadline().is_some_and(|d| now_ns >= d) {
+            self.abort_ar(AbortCode::ConsumerDhtExpired, out);
+            return;
+        }
+        let alarm_abort = ar.alarms.poll(mac, now_ns, out);
+        if let Some(a) = alarm_abort {
+            // The channel sent its ERR-RTA itself.
+            self.end_ar(a.code);
+            return;
+        }
+        if let Some(activity) = activity {
+            ar.app_ready_due = None;
+            let diff = ar
+                .module_diff
+                .as_ref()
+                .and_then(|d| d.to_vec().ok())
+                .unwrap_or_default();
+            let call = rpc::ClientCall::control(
+                ControlBlock::application_ready(ar.ar_uuid, ar.session_key),
+                &diff,
+                ar.initiator_object,
+                activity,
+                ar.controller,
+            );
+            let Some(mut call) = call else {
+                self.abort_ar(AbortCode::RpcClientCallNegative, out);
+                return;
+            };
+            call.transmit(now_ns, out);
+            ar.app_ready = Some(call);
+            ar.state = SimDeviceState::WaitAppReadyConfirm;
+        }
+        if let Some(call) = ar.app_ready.as_mut()
+            && !call.poll(now_ns, out)
+        {
+            self.abort_ar(AbortCode::RpcClientCallNegative, out);
+            return;
+        }
+        if let Some(cc) = ar.provider.take_due(now_ns) {
+            let k = self.frames_produced;
+            self.frames_produced += 1;
+            out.push(DeviceAction::Frame(ar.produce(self.behaviour, k, mac, cc)));
+        }
+    }
+
+    /// When [`poll`](Self::poll) needs calling next, if anything is pending.
+    pub fn next_deadline_ns(&self) -> Option<u64> {
+        [
+            self.dcp.next_deadline_ns(),
+            self.ar.as_ref().and_then(Ar::deadline),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
+    /// Raises a process alarm (high priority, manufacturer-specific USI 0x0000–0x7FFF with
+    /// `data`) for a submodule of the AR in data exchange. `false` when there is no such AR
+    /// or submodule or the USI is not manufacturer-specific. The controller's AlarmAck shows
+    /// up in [`alarm_acks`](Self::alarm_acks).
+    #[allow(clippy::too_many_arguments)]
+    pub fn raise_process_alarm(
+        &mut self,
+        api: u32,
+        slot: u16,
+        subslot: u16,
+        usi: u16,
+        data: &[u8],
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> bool {
+        let mac = self.id.mac;
+        if usi >= 0x8000 {
+            return false;
+        }
+        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+            return false;
+        };
+        let Some(s) = ar.submodules.iter().find(|s| {
+            let e = &s.expected;
+            s.proper && (e.api, e.slot, e.subslot) == (api, slot, subslot)
+        }) else {
+            return false;
+        };
+        let n = AlarmNotification {
+            priority: Priority::High,
+            alarm_type: AlarmType::Process,
+            api,
+            slot,
+            subslot,
+            module_ident: s.expected.module_ident,
+            submodule_ident: s.expected.submodule_ident,
+            specifier: AlarmSpecifier {
+                sequence_number: ar.alarms.sequence,
+                ..AlarmSpecifier::default()
+            },
+            maintenance: None,
+            item: Some(AlarmItem::Other {
+                usi,
+                data: data.to_vec(),
+            }),
+        };
+        ar.alarms.sequence = (ar.alarms.sequence + 1) & AlarmSpecifier::SEQUENCE_MASK;
+        let abort = ar.alarms.send(
+            Priority::High,
+            vec![AlarmBlock::Notification(n)],
+            mac,
+            now_ns,
+            out,
+        );
+        if let Some(a) = abort {
+            self.end_ar(a.code);
+        }
+        true
+    }
+
+    /// Ends the AR from our side: ERR-RTA to the controller, back to Idle.
+    fn abort_ar(&mut self, code: AbortCode, out: &mut Vec<DeviceAction>) {
+        let mac = self.id.mac;
+        if let Some(mut ar) = self.ar.take() {
+            ar.alarms.abort(code, mac, out);
+            self.last_abort = Some(code);
+        }
+    }
+
+    /// The AR ended without a further ERR-RTA from us (the controller aborted it, or the
+    /// alarm channel already sent one).
+    fn end_ar(&mut self, code: AbortCode) {
+        if self.ar.take().is_some() {
+            self.last_abort = Some(code);
+        }
+    }
+}

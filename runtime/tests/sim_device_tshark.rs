@@ -1,0 +1,400 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Everything the simulated PROFINET device emits in a full bring-up must decode in
+//! Wireshark's dissectors without malformed packets or error-level expert items: DCP
+//! answers, RPC responses (positive, negative, with a ModuleDiffBlock, reject, no-call,
+//! FACK), the ApplicationReady request, cyclic input frames and alarm frames.
+//!
+//! The controller's side is the S7-1515's captured requests where there are some (test data
+//! of the `pnio` crate 0.1.0, MIT OR Apache-2.0) and requests built with our codecs.
+
+#[path = "../src/profinet/test_fixtures.rs"]
+#[allow(dead_code)]
+mod test_fixtures;
+#[path = "support/tshark.rs"]
+mod tshark;
+#[path = "support/udp.rs"]
+mod udp;
+
+use procimg_runtime::config::SimBehaviour;
+use procimg_runtime::profinet::dcp_client;
+use procimg_runtime::profinet::device_sim::{
+    DeviceAction, SimDevice, SimDeviceSpec, SimDeviceState, SimSubmodule,
+};
+use procimg_runtime::profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority, RtaPdu};
+use procimg_runtime::profinet::wire::connect::ConnectRequest;
+use procimg_runtime::profinet::wire::control::ControlBlock;
+use procimg_runtime::profinet::wire::dcp;
+use procimg_runtime::profinet::wire::record::{Im0, IodHeader};
+use procimg_runtime::profinet::wire::rpc::{self, Header, PacketType, Pdu, flags1, opnum};
+use procimg_runtime::profinet::wire::{MacAddress, PnioStatus, ethernet};
+use std::net::{Ipv4Addr, SocketAddrV4};
+use test_fixtures::capture;
+use udp::udp_frame;
+
+const S7_MAC: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f]);
+const DEVICE_MAC: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8]);
+const S7_IP: Ipv4Addr = Ipv4Addr::new(172, 16, 2, 100);
+const DEVICE_IP: [u8; 4] = [172, 16, 2, 10];
+const S7_CLIENT: SocketAddrV4 = SocketAddrV4::new(S7_IP, 54766);
+const MS: u64 = 1_000_000;
+
+/// The captured RPC PDU of a frame (bytes 42.. after Ethernet, IPv4 and UDP).
+fn rpc_capture(name: &str) -> Vec<u8> {
+    capture(name)[42..].to_vec()
+}
+
+/// The p-net sample device of the captures: what the S7's Connect expects is plugged.
+fn device(drop_slot: Option<u16>) -> SimDevice {
+    let payload = rpc_capture("cm/connect_req");
+    let req = ConnectRequest::parse(Pdu::parse(&payload).unwrap().blocks).unwrap();
+    let submodules = req
+        .expected
+        .iter()
+        .flat_map(|b| b.modules.iter())
+        .filter(|m| Some(m.slot) != drop_slot)
+        .flat_map(|m| {
+            m.submodules.iter().map(|s| SimSubmodule {
+                api: m.api,
+                slot: m.slot,
+                subslot: s.subslot,
+                module_ident: m.module_ident,
+                submodule_ident: s.submodule_ident,
+                input_length: s.input_length(),
+                output_length: s.output_length(),
+            })
+        })
+        .collect();
+    let im0 = {
+        let res = rpc_capture("alarm/im0_read_res");
+        let (_, data, _) = IodHeader::split(Pdu::parse(&res).unwrap().blocks).unwrap();
+        Im0::parse(data).unwrap()
+    };
+    SimDevice::new(SimDeviceSpec {
+        name: "rt-labs-dev".into(),
+        mac: DEVICE_MAC,
+        ip: None,
+        vendor_id: 0x0493,
+        device_id: 0x0002,
+        instance: 1,
+        submodules,
+        behaviour: SimBehaviour::Echo,
+        im0,
+    })
+}
+
+/// Collects what the device emits, as Ethernet frames.
+struct Wire {
+    frames: Vec<Vec<u8>>,
+}
+
+impl Wire {
+    fn take(&mut self, out: &mut Vec<DeviceAction>) -> Vec<DeviceAction> {
+        for a in out.iter() {
+            self.frames.push(match a {
+                DeviceAction::Frame(f) => f.clone(),
+                DeviceAction::Datagram {
+                    to,
+                    from_port,
+                    payload,
+                } => udp_frame(DEVICE_IP, to.ip().octets(), *from_port, to.port(), payload),
+            });
+        }
+        std::mem::take(out)
+    }
+}
+
+fn datagram(actions: &[DeviceAction]) -> (SocketAddrV4, Vec<u8>) {
+    actions
+        .iter()
+        .find_map(|a| match a {
+            DeviceAction::Datagram { to, payload, .. } => Some((*to, payload.clone())),
+            DeviceAction::Frame(_) => None,
+        })
+        .expect("a datagram")
+}
+
+fn frame_of(dst: MacAddress, tci: u16, pdu: &[u8]) -> Vec<u8> {
+    let eth = ethernet::Repr {
+        dst,
+        src: S7_MAC,
+        vlan: Some(ethernet::VlanTag::from_tci(tci)),
+        ethertype: ethernet::ETHERTYPE_PROFINET,
+    };
+    let mut f = vec![0u8; eth.buffer_len()];
+    eth.emit(&mut f);
+    f.extend_from_slice(pdu);
+    f.resize(f.len().max(60), 0);
+    f
+}
+
+#[test]
+fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
+    let mut dev = device(None);
+    let mut wire = Wire { frames: Vec::new() };
+    let mut out = Vec::new();
+
+    // DCP: Identify by name (at once), Identify All (after its delay), Get, Set IP (the
+    // captured request), Signal.
+    let ident = dcp::Repr::identify_by_name(0x0300_012c, 1, "rt-labs-dev");
+    dev.on_frame(
+        &dcp_client::frame(MacAddress::DCP_IDENTIFY, S7_MAC, &ident).unwrap(),
+        0,
+        &mut out,
+    );
+    let all = dcp::Repr::identify_all(2, 0x80);
+    dev.on_frame(
+        &dcp_client::frame(MacAddress::DCP_IDENTIFY, S7_MAC, &all).unwrap(),
+        0,
+        &mut out,
+    );
+    let delay = dev.next_deadline_ns().unwrap();
+    dev.poll(delay, &mut out);
+    let get = dcp::Repr::get(
+        3,
+        &[
+            dcp::code::MAC_ADDRESS,
+            dcp::code::FULL_IP_SUITE,
+            (0x02, 0x09),
+        ],
+    );
+    dev.on_frame(
+        &dcp_client::frame(DEVICE_MAC, S7_MAC, &get).unwrap(),
+        0,
+        &mut out,
+    );
+    dev.on_frame(&capture("cm/dcp_set_req"), 0, &mut out);
+    let signal = dcp::Repr::signal(4);
+    dev.on_frame(
+        &dcp_client::frame(DEVICE_MAC, S7_MAC, &signal).unwrap(),
+        0,
+        &mut out,
+    );
+    assert_eq!(wire.take(&mut out).len(), 5);
+    assert_eq!(dev.ip(), DEVICE_IP);
+
+    // A refused Connect (input CR FrameID out of its range), then the real one.
+    let mut bad = rpc_capture("cm/connect_req");
+    bad[100 + 95 + 18..100 + 95 + 20].copy_from_slice(&[0x00, 0x01]);
+    bad[55] ^= 0xff; // another activity: not a duplicate of the real Connect
+    dev.on_datagram(S7_CLIENT, rpc::RPC_PORT, &bad, 0, &mut out);
+    dev.on_datagram(
+        S7_CLIENT,
+        rpc::RPC_PORT,
+        &rpc_capture("cm/connect_req"),
+        0,
+        &mut out,
+    );
+    dev.on_datagram(
+        S7_CLIENT,
+        rpc::RPC_PORT,
+        &rpc_capture("cm/write_req"),
+        MS,
+        &mut out,
+    );
+    let ar_uuid = dev.ar_uuid().unwrap();
+    let mut im0 = rpc_capture("alarm/im0_read_req");
+    im0[108..124].copy_from_slice(&ar_uuid.0);
+    let im0_client = SocketAddrV4::new(S7_IP, 56789);
+    dev.on_datagram(im0_client, rpc::RPC_PORT, &im0, MS, &mut out);
+    // A ping for an unknown call and a request on an unknown interface.
+    let connect_header =
+        Header::parse(&rpc::Packet::new_checked(&rpc_capture("cm/connect_req")[..]).unwrap())
+            .unwrap();
+    let ping = Header {
+        packet_type: PacketType::Ping,
+        sequence_number: 40,
+        body_len: 0,
+        ..connect_header
+    };
+    let mut ping_pdu = vec![0u8; 80];
+    ping.emit(&mut ping_pdu).unwrap();
+    dev.on_datagram(S7_CLIENT, rpc::RPC_PORT, &ping_pdu, MS, &mut out);
+    let mut unknown = rpc_capture("cm/prmend_req");
+    unknown[24] ^= 0x55;
+    unknown[64] = 50;
+    let other_client = SocketAddrV4::new(S7_IP, 50000);
+    dev.on_datagram(other_client, rpc::RPC_PORT, &unknown, MS, &mut out);
+    // A Write in two fragments on another activity: a FACK, then the response.
+    let write = {
+        let h = IodHeader::write_request(1, ar_uuid, 0, 3, 1, 123, 4);
+        let mut b = h.to_bytes().to_vec();
+        b.extend_from_slice(&[0, 0, 0, 1]);
+        let mut activity = connect_header.activity;
+        activity.0[0] ^= 0xff;
+        let h = Header {
+            activity,
+            sequence_number: 0,
+            opnum: opnum::WRITE,
+            ..connect_header
+        };
+        rpc::emit_request(&h, 1340, &b).unwrap()
+    };
+    let header = Header::parse(&rpc::Packet::new_checked(&write[..]).unwrap()).unwrap();
+    for (n, part) in write[80..].chunks(48).enumerate() {
+        let last = 80 + (n + 1) * 48 >= write.len();
+        let h = Header {
+            flags1: flags1::IDEMPOTENT
+                | flags1::FRAGMENT
+                | if last { flags1::LAST_FRAGMENT } else { 0 },
+            fragment_number: n as u16,
+            body_len: part.len() as u16,
+            ..header
+        };
+        let mut pdu = vec![0u8; 80];
+        h.emit(&mut pdu).unwrap();
+        pdu.extend_from_slice(part);
+        dev.on_datagram(other_client, rpc::RPC_PORT, &pdu, MS, &mut out);
+    }
+    dev.on_datagram(
+        S7_CLIENT,
+        rpc::RPC_PORT,
+        &rpc_capture("cm/prmend_req"),
+        2 * MS,
+        &mut out,
+    );
+    let n = wire.take(&mut out).len();
+    assert!(n >= 9, "{n}");
+
+    // The ApplicationReady; the first input frames (status BAD); the S7's confirmation.
+    let t = dev.next_deadline_ns().unwrap();
+    dev.poll(t, &mut out);
+    let t = dev.next_deadline_ns().unwrap();
+    dev.poll(t, &mut out);
+    let actions = wire.take(&mut out);
+    let (to, app_ready) = datagram(&actions);
+    assert_eq!(to, SocketAddrV4::new(S7_IP, rpc::RPC_PORT));
+    let app = Pdu::parse(&app_ready).unwrap();
+    let res = rpc::emit_response(
+        &app.header.reply(0),
+        PnioStatus::OK,
+        app.ndr.maximum_count(),
+        &ControlBlock::application_ready_done(ar_uuid, 2).to_bytes(),
+    )
+    .unwrap();
+    dev.on_datagram(SocketAddrV4::new(S7_IP, 56424), 0xc001, &res, t, &mut out);
+    assert_eq!(dev.state(), SimDeviceState::Data);
+
+    // Data exchange: the S7's output frames, our input frames; a process alarm, the S7's
+    // transport ACK and AlarmAck, our ACK.
+    let mut now = t;
+    for (i, name) in ["rt/rtc_cpu_8001", "rt/echo_cpu_8001"].iter().enumerate() {
+        now += 16 * MS;
+        dev.on_frame(&capture(name), now, &mut out);
+        now = dev.next_deadline_ns().unwrap();
+        dev.poll(now, &mut out);
+        assert!(!out.is_empty(), "frame {i}");
+    }
+    assert!(dev.raise_process_alarm(0, 1, 1, 0x0010, &[1], now, &mut out));
+    let actions = wire.take(&mut out);
+    let notif = actions
+        .iter()
+        .find_map(|a| match a {
+            DeviceAction::Frame(f) if f[18..20] == [0xfc, 0x01] => Some(f.clone()),
+            _ => None,
+        })
+        .unwrap();
+    let notif = RtaPdu::parse(
+        &procimg_runtime::profinet::wire::alarm::Packet::new_checked(&notif[18..]).unwrap(),
+    )
+    .unwrap();
+    let h = notif.header;
+    let ack = RtaPdu::ack(
+        Priority::High,
+        h.src_endpoint,
+        h.dst_endpoint,
+        0xfffe,
+        h.send_seq,
+    );
+    dev.on_frame(
+        &frame_of(DEVICE_MAC, 0xc000, &ack.to_vec().unwrap()),
+        now,
+        &mut out,
+    );
+    let alarm_ack = AlarmAck::for_notification(notif.notification().unwrap(), PnioStatus::OK);
+    let data = RtaPdu::data(
+        Priority::High,
+        h.src_endpoint,
+        h.dst_endpoint,
+        0xffff,
+        h.send_seq,
+        vec![AlarmBlock::Ack(alarm_ack)],
+    );
+    dev.on_frame(
+        &frame_of(DEVICE_MAC, 0xc000, &data.to_vec().unwrap()),
+        now,
+        &mut out,
+    );
+    assert_eq!(dev.alarm_acks().len(), 1);
+
+    // Release.
+    let release = ControlBlock::release(ar_uuid, 2).to_bytes();
+    let h = Header {
+        sequence_number: 3,
+        opnum: opnum::RELEASE,
+        ..connect_header
+    };
+    dev.on_datagram(
+        S7_CLIENT,
+        rpc::RPC_PORT,
+        &rpc::emit_request(&h, 32, &release).unwrap(),
+        now,
+        &mut out,
+    );
+    assert_eq!(dev.state(), SimDeviceState::Idle);
+    wire.take(&mut out);
+
+    // Another device with slot 3 missing: a Connect response with a ModuleDiffBlock, its
+    // ApplicationReady with the ModuleDiffBlock, and the ERR-RTA of its data hold watchdog.
+    let mut short = device(Some(3));
+    short.on_frame(&capture("cm/dcp_set_req"), 0, &mut out);
+    out.clear();
+    short.on_datagram(
+        S7_CLIENT,
+        rpc::RPC_PORT,
+        &rpc_capture("cm/connect_req"),
+        0,
+        &mut out,
+    );
+    short.on_datagram(
+        S7_CLIENT,
+        rpc::RPC_PORT,
+        &rpc_capture("cm/prmend_req"),
+        0,
+        &mut out,
+    );
+    short.on_frame(&capture("rt/rtc_cpu_8001"), 0, &mut out);
+    let mut t = 0;
+    while short.state() != SimDeviceState::Idle {
+        t = short.next_deadline_ns().unwrap();
+        short.poll(t, &mut out);
+    }
+    assert!(t < 200 * MS, "the watchdog ended the AR");
+    let frames_before = wire.frames.len();
+    wire.take(&mut out);
+    assert!(wire.frames.len() > frames_before + 3);
+
+    let d = tshark::dissect_clean("sim-device", &wire.frames);
+    let protocols: std::collections::BTreeSet<&str> =
+        d.iter().map(|f| f.protocol.as_str()).collect();
+    assert!(
+        d.iter()
+            .all(|f| f.protocol.starts_with("PN") || f.protocol == "DCERPC"),
+        "{d:#?}"
+    );
+    for p in ["PN-DCP", "PNIO-CM", "PNIO", "PNIO-AL"] {
+        assert!(protocols.contains(p), "no {p} among {protocols:?}");
+    }
+    let info: Vec<&str> = d.iter().map(|f| f.info.as_str()).collect();
+    for needle in [
+        "Connect response",
+        "ModuleDiffBlock",
+        "Application Ready",
+        "Prm End",
+        "Release",
+    ] {
+        assert!(
+            info.iter().any(|i| i.contains(needle)),
+            "no {needle:?} in {info:#?}"
+        );
+    }
+}
