@@ -12,14 +12,17 @@
 //!           io::IoSystem (sim; PROFINET)
 //!   server::Control (acyclic: requests, claims, liveness, status)
 //! ```
+pub mod acyclic;
 pub mod capture;
 pub mod config;
 pub mod cycle;
 pub mod image;
 pub mod io;
+pub mod network;
 pub mod phy;
 pub mod profinet;
 pub mod server;
 pub mod shm;
+pub mod simnet;
 pub mod stats;
 pub mod sys;

@@ -7,10 +7,10 @@
 
 use anyhow::{Context, bail};
 use clap::Parser;
-use procimg_runtime::config::{self, Config, Network};
+use procimg_runtime::config::{self, Config};
 use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
-use procimg_runtime::io::sim::SimIo;
+use procimg_runtime::network::PnioSystem;
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::{ControlPorts, cleanup_dead_nodes};
 use procimg_runtime::stats::stats_channel;
@@ -97,13 +97,6 @@ fn run(args: Args) -> anyhow::Result<()> {
 
 /// Refuses what this build cannot do, before anything starts.
 fn check_supported(config: &Config) -> anyhow::Result<()> {
-    if let Network::Interface(name) = &config.network {
-        bail!(
-            "{}: network = \"{name}\": PROFINET on a real interface is not part of this build \
-             yet; use network = \"sim\"",
-            config.origin
-        );
-    }
     if config.access.mode & 0o077 != 0 || config.access.group.is_some() {
         bail!(
             "{}: [access] mode = \"{:04o}\"{}: the shared-memory layer (iceoryx2 0.10) creates \
@@ -210,7 +203,8 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         output_timing: config.output_timing,
         generation,
     };
-    let sim_config = config.clone();
+    let mut pnio = PnioSystem::start(&config, shared.clone(), None)?;
+    let io = pnio.io.take().context("the IO system was already taken")?;
     let (cycle_thread, rt) = cycle::thread::spawn(
         settings,
         cycle::thread::ThreadSettings {
@@ -219,7 +213,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
             priority: config.cycle_thread.priority,
         },
         tables.clone(),
-        Box::new(move || Box::new(SimIo::new(&sim_config))),
+        io,
         shared.clone(),
         recorder,
     )?;
@@ -250,6 +244,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         collector,
     );
 
+    control.set_network(pnio.states.clone(), pnio.channel.clone());
     let term = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         signal_hook::flag::register(sig, term.clone())
@@ -297,6 +292,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     if cycle_thread.join().is_err() {
         bail!("the cycle thread panicked");
     }
+    pnio.join();
     drop(view);
     drop(control);
     info!("stopped; shared memory of instance \"{instance}\" released");

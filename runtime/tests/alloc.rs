@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Steady-state cycles allocate nothing: the cycle engine runs on this test's thread, with
-//! procimgd's allocator installed, while a synchronous and an asynchronous client work
-//! against it; over 2000 cycles the thread must not call the system allocator once.
+//! procimgd's allocator installed and the demo's PROFINET IO system (the controller on its
+//! thread, the simulated devices exchanging cyclic frames), while a synchronous and an
+//! asynchronous client work against it; over 2000 cycles the thread must not call the
+//! system allocator once.
 
 mod support;
 
@@ -9,7 +11,7 @@ use procimg_client::{AttachOptions, Client, Ioxs};
 use procimg_runtime::config::Config;
 use procimg_runtime::cycle::{Engine, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
-use procimg_runtime::io::sim::SimIo;
+use procimg_runtime::network::PnioSystem;
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::{ControlPorts, CyclePorts};
 use procimg_runtime::stats::stats_channel;
@@ -77,14 +79,9 @@ fn steady_state_cycles_allocate_nothing() {
         output_timing: config.output_timing,
         generation,
     };
-    let mut engine = Engine::new(
-        settings,
-        &tables,
-        ports,
-        Box::new(SimIo::new(&config)),
-        shared.clone(),
-        recorder,
-    );
+    let mut pnio = PnioSystem::start(&config, shared.clone(), None).unwrap();
+    let io = (pnio.io.take().unwrap())();
+    let mut engine = Engine::new(settings, &tables, ports, io, shared.clone(), recorder);
 
     // A synchronous writer and an asynchronous reader/writer.
     let clients: Vec<_> = [true, false]
@@ -142,10 +139,14 @@ fn steady_state_cycles_allocate_nothing() {
     assert_eq!(engine.mode(), Mode::Operate);
     let handshakes_before = shared.counters.cycles.load(Ordering::Relaxed);
 
+    let frames = || pnio.channel.counters.cyclic_frames.load(Ordering::Relaxed);
+    let frames_before = frames();
+
     mark_current_thread_realtime();
     let (heap_before, pool_before) = (rt_heap_allocations(), pool_allocations());
     run(&mut engine, 1000, 3000);
     let (heap_after, pool_after) = (rt_heap_allocations(), pool_allocations());
+    let frames_after = frames();
     // Negative control: the counter does see an allocation on this thread.
     let probe = std::hint::black_box(vec![0u8; 4096]);
     let heap_probe = rt_heap_allocations();
@@ -157,8 +158,17 @@ fn steady_state_cycles_allocate_nothing() {
         c.join().unwrap();
     }
     control.join().unwrap();
+    shared.stop.store(true, Ordering::Release);
+    drop(engine);
+    pnio.join();
 
     assert!(handshakes_before > 0);
+    // Three devices, a frame each per cycle: the cycle really exchanged PROFINET frames.
+    assert!(
+        frames_after - frames_before > 3 * 1500,
+        "only {} cyclic frames in 2000 cycles",
+        frames_after - frames_before
+    );
     assert_eq!(
         heap_after - heap_before,
         0,

@@ -17,6 +17,7 @@ name = "manual"
 vendor_id = 0x002a
 device_id = 0x0001
 sim = "echo"
+watchdog_factor = 100
 [[device.submodule]]
 slot = 1
 subslot = 1

@@ -272,6 +272,35 @@ pub struct ClientReport {
     pub claims: Vec<ClaimReport>,
 }
 
+/// One IO device in a status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DeviceReport {
+    /// NameOfStation.
+    pub name: String,
+    /// Where it is in its life: offline, deactivated, searching, setting-ip, connecting,
+    /// parameterizing, waiting-for-application-ready, running or failed.
+    pub state: String,
+}
+
+/// What arrived at the network interface, as the cycle thread counted it.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct NetworkReport {
+    /// Cyclic frames taken into the image.
+    pub cyclic_frames: u64,
+    /// Frames too short or malformed for what they claimed to be (dropped).
+    pub malformed: u64,
+    /// Frames with a FrameID no AR uses, from a foreign MAC, or not PROFINET (dropped).
+    pub unknown: u64,
+    /// Cyclic frames with an old CycleCounter (dropped).
+    pub stale: u64,
+    /// Frames dropped for lack of buffer or queue space.
+    pub dropped: u64,
+    /// Frames the interface refused to send.
+    pub send_errors: u64,
+    /// Consumer watchdog expiries (devices lost).
+    pub watchdog_expiries: u64,
+}
+
 /// The server's state, as `procimg status` shows it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StatusReport {
@@ -314,6 +343,12 @@ pub struct StatusReport {
     pub cycle_work: Percentiles,
     /// Attached clients.
     pub clients: Vec<ClientReport>,
+    /// The IO devices, in configuration order.
+    #[serde(default)]
+    pub devices: Vec<DeviceReport>,
+    /// Network interface counters.
+    #[serde(default)]
+    pub network: NetworkReport,
 }
 
 /// Encodes a message for the control service.

@@ -29,6 +29,24 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
     line("wake-up latency", &s.wakeup_latency);
     line("STARTOP→OPDONE", &s.handshake_round_trip);
     line("cycle work", &s.cycle_work);
+    let devices: Vec<String> = s
+        .devices
+        .iter()
+        .map(|d| format!("{} {}", d.name, d.state))
+        .collect();
+    println!("devices: {}", devices.join(", "));
+    let n = &s.network;
+    println!(
+        "network: {} cyclic frames; dropped: {} malformed, {} unknown, {} stale, {} no buffer; \
+         {} send errors, {} watchdog expiries",
+        n.cyclic_frames,
+        n.malformed,
+        n.unknown,
+        n.stale,
+        n.dropped,
+        n.send_errors,
+        n.watchdog_expiries
+    );
     if s.clients.is_empty() {
         println!("no clients");
     } else {

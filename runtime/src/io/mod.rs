@@ -5,7 +5,7 @@
 //! [`IoSystem::send`] when the cycle's outputs are complete. Implementations run on the cycle
 //! thread: they must not allocate, block or log inside these calls.
 
-pub mod sim;
+pub mod pnio;
 
 use crate::image::Image;
 use procimg_shm_layout::Mode;

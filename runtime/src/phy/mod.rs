@@ -4,6 +4,7 @@
 //! (without FCS) and deliver only PROFINET frames (EtherType 0x8892, tagged or not).
 
 pub mod af_packet;
+pub mod datagram;
 pub mod sim_link;
 
 use crate::profinet::wire::MacAddress;

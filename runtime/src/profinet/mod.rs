@@ -2,7 +2,9 @@
 //! PROFINET IO, sans-IO: wire formats as checked views over byte buffers plus `Repr`s that
 //! parse and emit them. No socket, no clock: bytes in, bytes out; the cycle thread and the
 //! acyclic side drive it, tests drive it directly from real captures.
+pub mod controller;
 pub mod dcp_client;
+pub mod device_sim;
 pub mod iocr_layout;
 pub mod rta;
 #[cfg(test)]

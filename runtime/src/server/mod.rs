@@ -8,15 +8,18 @@ mod registry;
 
 pub use registry::{ClientEntry, Registry};
 
+use crate::acyclic::DeviceStates;
 use crate::cycle::{Command, Shared};
 use crate::image::Tables;
+use crate::io::pnio::channel::Channel;
 use crate::shm::{ControlPorts, Ipc, iox2_config};
 use crate::stats::{StatsCollector, load};
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::CallbackProgression;
 use procimg_shm_layout::control::{
-    self, ClaimReport, ClientReport, Refusal, Request, Response, StatusReport,
+    self, ClaimReport, ClientReport, DeviceReport, NetworkReport, Refusal, Request, Response,
+    StatusReport,
 };
 use procimg_shm_layout::{MAX_CLIENTS, Mode};
 use std::collections::HashSet;
@@ -49,6 +52,7 @@ pub struct Control {
     stats: StatsCollector,
     registry: Registry,
     last_liveness: Instant,
+    network: Option<(Arc<DeviceStates>, Arc<Channel>)>,
 }
 
 impl Control {
@@ -69,6 +73,7 @@ impl Control {
             stats,
             registry,
             last_liveness: Instant::now(),
+            network: None,
         }
     }
 
@@ -207,6 +212,43 @@ impl Control {
             handshake_round_trip: self.stats.handshake(),
             cycle_work: self.stats.work(),
             clients,
+            devices: self.device_reports(),
+            network: self.network_report(),
+        }
+    }
+
+    /// Lets status reports show the PROFINET side: device states and interface counters.
+    pub fn set_network(&mut self, states: Arc<DeviceStates>, channel: Arc<Channel>) {
+        self.network = Some((states, channel));
+    }
+
+    fn device_reports(&self) -> Vec<DeviceReport> {
+        (0..self.tables.devices.len())
+            .map(|d| DeviceReport {
+                name: self.tables.device_name(d).to_string(),
+                state: self
+                    .network
+                    .as_ref()
+                    .and_then(|(s, _)| s.get(d))
+                    .map_or("offline", |s| s.as_str())
+                    .to_string(),
+            })
+            .collect()
+    }
+
+    fn network_report(&self) -> NetworkReport {
+        let Some((_, ch)) = &self.network else {
+            return NetworkReport::default();
+        };
+        let c = &ch.counters;
+        NetworkReport {
+            cyclic_frames: load(&c.cyclic_frames),
+            malformed: load(&c.malformed),
+            unknown: load(&c.unknown),
+            stale: load(&c.stale),
+            dropped: load(&c.dropped),
+            send_errors: load(&c.send_errors),
+            watchdog_expiries: load(&c.watchdog_expiries),
         }
     }
 

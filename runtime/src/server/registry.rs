@@ -192,7 +192,5 @@ impl Registry {
 /// from the kernel's random source; never 0 (which means "unclaimed").
 fn random_token() -> Option<u64> {
     let mut b = [0u8; 8];
-    // SAFETY: `b` is a valid, writable buffer of the given length.
-    let n = unsafe { libc::getrandom(b.as_mut_ptr().cast(), b.len(), 0) };
-    (n == 8).then(|| u64::from_ne_bytes(b) | 1)
+    crate::sys::random::fill(&mut b).then(|| u64::from_ne_bytes(b) | 1)
 }

@@ -4,5 +4,6 @@
 pub mod clock;
 pub mod packet_socket;
 pub mod poll;
+pub mod random;
 pub mod rt;
 pub mod rt_alloc;

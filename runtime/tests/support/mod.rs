@@ -64,6 +64,7 @@ impl Server {
             config,
         };
         server.wait_cycling(Duration::from_secs(10));
+        server.wait_devices_running(Duration::from_secs(10));
         server
     }
 
@@ -95,6 +96,26 @@ impl Server {
             assert!(
                 Instant::now() < until,
                 "procimgd for {} did not start",
+                self.instance
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// Waits until every device is in data exchange (the simulated ones come up through
+    /// DCP, Connect, PrmEnd and ApplicationReady like real ones).
+    pub fn wait_devices_running(&self, timeout: Duration) {
+        let until = Instant::now() + timeout;
+        loop {
+            if let Ok(c) = ControlHandle::open(&self.instance, "test-wait")
+                && let Ok(s) = c.status()
+                && s.devices.iter().all(|d| d.state == "running")
+            {
+                return;
+            }
+            assert!(
+                Instant::now() < until,
+                "the devices of {} did not come up",
                 self.instance
             );
             std::thread::sleep(Duration::from_millis(20));

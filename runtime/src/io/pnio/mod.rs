@@ -1,0 +1,367 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! PROFINET IO on the cycle thread: the network interface, the cyclic frames of every AR
+//! the controller has set up, and the consumer watchdogs. Everything else (DCP, RPC,
+//! alarms) is the controller's, on the acyclic side; its frames pass through [`Channel`].
+//!
+//! Per cycle, [`IoSystem::receive`] drains the interface: cyclic frames of a running AR go
+//! straight into the image (data, IOPS, IOCS); acyclic PROFINET frames are handed over;
+//! anything malformed, unknown or stale is counted and dropped. Then every AR whose
+//! watchdog ran out is stopped, its inputs marked BAD and the controller told.
+//! [`IoSystem::send`] writes one output frame per AR due in this cycle, and the frames the
+//! controller queued.
+
+pub mod channel;
+
+use super::{CycleTime, IoSystem};
+use crate::image::Image;
+use crate::phy::{MAX_FRAME, Nic};
+use crate::profinet::controller::cyclic::CyclicAr;
+use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use crate::profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
+use channel::{Channel, FromCycle, NetCounters, ToCycle};
+use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
+use std::sync::Arc;
+
+/// How long a started exchange may wait for the device's first frame: devices begin
+/// sending only once their ApplicationReady is answered, after the record writes and PrmEnd
+/// (the controller gives up on its own if that never happens).
+const FIRST_FRAME_GRACE_NS: u64 = 5_000_000_000;
+
+/// Frames taken from the interface per cycle at most, so that a flood cannot hold the
+/// cycle; what is left is read in the next cycle (or dropped by the kernel).
+const MAX_FRAMES_PER_CYCLE: usize = 512;
+
+/// The run-time state of one AR's exchange.
+struct Running {
+    ar: Box<CyclicAr>,
+    /// When the last accepted input frame arrived (or the exchange started).
+    last_rx_ns: u64,
+    /// CycleCounter of the last accepted input frame.
+    last_counter: Option<u16>,
+    /// The controller was told data started.
+    reported: bool,
+}
+
+/// The PROFINET IO system of the cycle thread.
+pub struct PnioIo {
+    nic: Box<dyn Nic>,
+    channel: Arc<Channel>,
+    /// Per device: its running exchange.
+    running: Vec<Option<Running>>,
+    /// Per device: the submodule table range, to mark a stopped device's inputs BAD.
+    device_submodules: Vec<core::ops::Range<usize>>,
+    /// Exchanges to hand back whose report did not fit the queue yet (capacity reserved).
+    /// Boxed because they arrive and leave boxed: unboxing would free on this thread.
+    #[allow(clippy::vec_box)]
+    retired: Vec<Box<CyclicAr>>,
+    /// Reports that did not fit the queue yet (capacity reserved).
+    pending: Vec<FromCycle>,
+    rx: Box<[u8; MAX_FRAME]>,
+    /// 31.25 µs units per cycle, for the CycleCounter.
+    cycle_units: u64,
+}
+
+impl PnioIo {
+    /// An IO system over `nic` for devices whose submodules occupy `device_submodules` of
+    /// the submodule table.
+    pub fn new(
+        nic: Box<dyn Nic>,
+        channel: Arc<Channel>,
+        device_submodules: Vec<core::ops::Range<usize>>,
+        cycle_ns: u64,
+    ) -> PnioIo {
+        let n = device_submodules.len();
+        PnioIo {
+            nic,
+            channel,
+            running: (0..n).map(|_| None).collect(),
+            device_submodules,
+            retired: Vec::with_capacity(4 * n + 8),
+            pending: Vec::with_capacity(4 * n + 8),
+            rx: Box::new([0; MAX_FRAME]),
+            cycle_units: (cycle_ns / crate::config::CYCLE_UNIT_NS).max(1),
+        }
+    }
+
+    fn report(&mut self, r: FromCycle) {
+        if let Err(r) = self.channel.from_cycle.push(r) {
+            match r {
+                FromCycle::Retired(ar) if self.retired.len() < self.retired.capacity() => {
+                    self.retired.push(ar)
+                }
+                FromCycle::Received(buf) => {
+                    NetCounters::count(&self.channel.counters.dropped);
+                    let _ = self.channel.free.push(buf);
+                }
+                r if self.pending.len() < self.pending.capacity() => self.pending.push(r),
+                // Cannot happen with the reserved capacity; dropping here would free on the
+                // real-time thread, so the exchange is leaked instead.
+                FromCycle::Retired(ar) => core::mem::forget(ar),
+                _ => {}
+            }
+        }
+    }
+
+    fn flush_reports(&mut self) {
+        while let Some(r) = self.pending.pop() {
+            if let Err(r) = self.channel.from_cycle.push(r) {
+                self.pending.push(r);
+                return;
+            }
+        }
+        while let Some(ar) = self.retired.pop() {
+            if let Err(FromCycle::Retired(ar)) =
+                self.channel.from_cycle.push(FromCycle::Retired(ar))
+            {
+                self.retired.push(ar);
+                return;
+            }
+        }
+    }
+
+    fn stop(&mut self, device: usize, image: Option<&mut Image>) {
+        if let Some(r) = self.running.get_mut(device).and_then(Option::take) {
+            self.report(FromCycle::Retired(r.ar));
+        }
+        if let (Some(image), Some(range)) = (image, self.device_submodules.get(device)) {
+            mark_disconnected(image, range.clone());
+        }
+    }
+
+    fn apply_commands(&mut self, t: CycleTime, image: &mut Image) {
+        while let Some(c) = self.channel.to_cycle.pop() {
+            match c {
+                ToCycle::Start(ar) => {
+                    let d = ar.device;
+                    if d >= self.running.len() {
+                        self.report(FromCycle::Retired(ar));
+                        continue;
+                    }
+                    self.stop(d, None);
+                    self.running[d] = Some(Running {
+                        ar,
+                        last_rx_ns: t.now_ns,
+                        last_counter: None,
+                        reported: false,
+                    });
+                }
+                ToCycle::Stop { device } => self.stop(device, Some(image)),
+                ToCycle::Send(buf) => {
+                    if self.nic.send(buf.bytes()).is_err() {
+                        NetCounters::count(&self.channel.counters.send_errors);
+                    }
+                    let _ = self.channel.free.push(buf);
+                }
+            }
+        }
+    }
+
+    fn take_frame(&mut self, len: usize, now_ns: u64, image: &mut Image) {
+        let counters = &self.channel.counters;
+        let frame = &self.rx[..len.min(MAX_FRAME)];
+        let Ok(eth) = ethernet::Frame::new_checked(frame) else {
+            NetCounters::count(&counters.malformed);
+            return;
+        };
+        if eth.ethertype() != ETHERTYPE_PROFINET {
+            NetCounters::count(&counters.unknown);
+            return;
+        }
+        let payload = eth.payload();
+        let Some(id) = payload.get(..2).map(|b| u16::from_be_bytes([b[0], b[1]])) else {
+            NetCounters::count(&counters.malformed);
+            return;
+        };
+        if !FrameIdClass::of(id).is_cyclic() {
+            // DCP, alarms: the controller's business.
+            match self.channel.free.pop() {
+                Some(mut buf) => {
+                    buf.data[..frame.len()].copy_from_slice(frame);
+                    buf.len = frame.len();
+                    self.report(FromCycle::Received(buf));
+                }
+                None => NetCounters::count(&counters.dropped),
+            }
+            return;
+        }
+        let src = eth.src();
+        let Some(d) = self
+            .running
+            .iter()
+            .position(|r| r.as_ref().is_some_and(|r| r.ar.input.frame_id == id))
+        else {
+            NetCounters::count(&counters.unknown);
+            return;
+        };
+        let Some(run) = self.running[d].as_mut() else {
+            return;
+        };
+        if run.ar.peer != src {
+            NetCounters::count(&counters.unknown);
+            return;
+        }
+        let Ok(packet) = rt::Packet::new_checked(payload, run.ar.input.data_length) else {
+            NetCounters::count(&counters.malformed);
+            return;
+        };
+        let Ok(repr) = rt::Repr::parse(&packet) else {
+            NetCounters::count(&counters.malformed);
+            return;
+        };
+        if let Some(last) = run.last_counter
+            && !cycle_counter_is_newer(repr.cycle_counter, last)
+        {
+            NetCounters::count(&counters.stale);
+            return;
+        }
+        run.last_counter = Some(repr.cycle_counter);
+        run.last_rx_ns = now_ns;
+        NetCounters::count(&counters.cyclic_frames);
+        let data = packet.data();
+        let usable = repr.data_usable();
+        for o in &run.ar.input.objects {
+            let (Some(src), Some(&iops)) = (data.get(o.data..o.data + o.len), data.get(o.iops))
+            else {
+                continue;
+            };
+            if o.len > 0 && usable {
+                let dst = image.inputs_mut(o.submodule);
+                if dst.len() == src.len() {
+                    dst.copy_from_slice(src);
+                }
+            }
+            let mut st = image.status(o.submodule);
+            st.input_iops = if usable { iops } else { IOXS_BAD };
+            image.set_status(o.submodule, st);
+        }
+        for c in &run.ar.input.iocs {
+            if let Some(&iocs) = data.get(c.offset) {
+                let mut st = image.status(c.submodule);
+                st.output_iocs = if usable { iocs } else { IOXS_BAD };
+                image.set_status(c.submodule, st);
+            }
+        }
+        if !run.reported && usable {
+            run.reported = true;
+            let (device, epoch) = (run.ar.device, run.ar.epoch);
+            self.report(FromCycle::DataStarted { device, epoch });
+        }
+    }
+
+    fn check_watchdogs(&mut self, now_ns: u64, image: &mut Image) {
+        for d in 0..self.running.len() {
+            // The watchdog is armed by the first frame, as the consumer side of the standard has it.
+            let expired = self.running[d].as_ref().is_some_and(|r| {
+                let limit = match r.last_counter {
+                    Some(_) => r.ar.timing.watchdog_ns(),
+                    None => r.ar.timing.watchdog_ns().max(FIRST_FRAME_GRACE_NS),
+                };
+                now_ns.saturating_sub(r.last_rx_ns) > limit
+            });
+            if expired {
+                let epoch = self.running[d].as_ref().map_or(0, |r| r.ar.epoch);
+                NetCounters::count(&self.channel.counters.watchdog_expiries);
+                self.stop(d, Some(image));
+                self.report(FromCycle::WatchdogExpired { device: d, epoch });
+            }
+        }
+    }
+}
+
+/// Marks a device's submodules as not exchanged: inputs and the device's consumer status
+/// BAD, except directions without data, which stay GOOD as IO-Base specifies.
+fn mark_disconnected(image: &mut Image, range: core::ops::Range<usize>) {
+    for s in range {
+        let e = image.submodules()[s];
+        let st = image.status(s);
+        image.set_status(
+            s,
+            SubmoduleStatus {
+                input_iops: if e.input_length > 0 {
+                    IOXS_BAD
+                } else {
+                    IOXS_GOOD
+                },
+                output_iocs: if e.output_length > 0 {
+                    IOXS_BAD
+                } else {
+                    IOXS_GOOD
+                },
+                ..st
+            },
+        );
+    }
+}
+
+impl IoSystem for PnioIo {
+    fn receive(&mut self, t: CycleTime, mode: Mode, image: &mut Image) {
+        self.flush_reports();
+        self.apply_commands(t, image);
+        if mode == Mode::Offline {
+            // OFFLINE exchanges nothing, from its first cycle on: the controller releases
+            // the ARs on its own time, but the image says so at once.
+            for d in 0..self.device_submodules.len() {
+                self.stop(d, Some(image));
+            }
+        }
+        let mut frames = 0;
+        while frames < MAX_FRAMES_PER_CYCLE {
+            match self.nic.recv(&mut self.rx[..]) {
+                Ok(Some(n)) => {
+                    frames += 1;
+                    self.take_frame(n, t.now_ns, image);
+                }
+                Ok(None) | Err(_) => break,
+            }
+        }
+        self.check_watchdogs(t.now_ns, image);
+    }
+
+    fn send(&mut self, t: CycleTime, mode: Mode, image: &Image) {
+        let counter = t.cycle.wrapping_mul(self.cycle_units) as u16;
+        // In CLEAR the provider is stopped: the device applies its substitute values.
+        let status = match mode {
+            Mode::Operate => data_status::OPERATE,
+            _ => data_status::CLEAR,
+        };
+        for r in self.running.iter_mut().flatten() {
+            if !t
+                .cycle
+                .is_multiple_of(u64::from(r.ar.timing.every_cycles.max(1)))
+            {
+                continue;
+            }
+            let sdu = r.ar.payload_offset() + 2;
+            let CyclicAr { output, frame, .. } = &mut *r.ar;
+            let Some(c_sdu) = frame.get_mut(sdu..sdu + output.data_length) else {
+                continue;
+            };
+            for o in &output.objects {
+                let out = image.outputs(o.submodule);
+                if let Some(dst) = c_sdu.get_mut(o.data..o.data + o.len)
+                    && dst.len() == out.len()
+                {
+                    dst.copy_from_slice(out);
+                }
+                if let Some(b) = c_sdu.get_mut(o.iops) {
+                    *b = image.status(o.submodule).output_iops;
+                }
+            }
+            for c in &output.iocs {
+                if let Some(b) = c_sdu.get_mut(c.offset) {
+                    *b = image.status(c.submodule).input_iocs;
+                }
+            }
+            let trailer = sdu + output.data_length;
+            if let Some(t) = frame.get_mut(trailer..trailer + 4) {
+                t.copy_from_slice(&[(counter >> 8) as u8, counter as u8, status, 0]);
+            }
+            if self.nic.send(frame).is_err() {
+                NetCounters::count(&self.channel.counters.send_errors);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod hostile_tests;

@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Puts the PROFINET IO system together for a configuration: the interface (real, or the
+//! simulated plant), the controller on its acyclic thread, and the factory of the cycle
+//! thread's IO system.
+
+use crate::acyclic::{self, ControllerCommand, DeviceStates};
+use crate::config::{Config, Network};
+use crate::cycle::Shared;
+use crate::cycle::thread::IoFactory;
+use crate::io::pnio::PnioIo;
+use crate::io::pnio::channel::Channel;
+use crate::phy::Nic;
+use crate::phy::af_packet::{AfPacket, OpenError};
+use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
+use crate::phy::sim_link;
+use crate::profinet::controller::plan::{ControllerIdentity, DevicePlan, PlanError};
+use crate::profinet::controller::{Controller, DeviceEvent};
+use crate::profinet::wire::MacAddress;
+use std::net::Ipv4Addr;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::sync::mpsc::Sender;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+/// The controller's address on the simulated network.
+pub const SIM_CONTROLLER_IP: Ipv4Addr = Ipv4Addr::new(192, 168, 0, 1);
+/// The controller's MAC address on the simulated network.
+pub const SIM_CONTROLLER_MAC: MacAddress = MacAddress([0x02, 0x50, 0x49, 0xff, 0x00, 0x01]);
+/// How long the cycle thread's receive may block: not at all.
+const NIC_RX_TIMEOUT: Duration = Duration::ZERO;
+
+/// Why the IO system could not be started.
+#[derive(Debug, thiserror::Error)]
+pub enum NetworkError {
+    /// A device cannot be planned.
+    #[error("{origin}: {source}")]
+    Plan {
+        /// Configuration file.
+        origin: String,
+        /// What is wrong.
+        source: PlanError,
+    },
+    /// The interface could not be opened.
+    #[error(transparent)]
+    Open(#[from] OpenError),
+    /// The interface has no IPv4 address.
+    #[error(
+        "network interface \"{0}\" has no IPv4 address: give it one in the devices' subnet \
+         (ip addr add 192.168.0.1/24 dev {0})"
+    )]
+    NoAddress(String),
+    /// Port 34964 is taken.
+    #[error(transparent)]
+    Bind(#[from] BindError),
+    /// A thread could not be started.
+    #[error("cannot start the {0} thread: {1}")]
+    Thread(&'static str, std::io::Error),
+}
+
+/// The running PROFINET side.
+pub struct PnioSystem {
+    /// Builds the cycle thread's IO system (call once, on the cycle thread).
+    pub io: Option<IoFactory>,
+    /// Commands for the controller.
+    pub commands: Sender<ControllerCommand>,
+    /// Device states.
+    pub states: Arc<DeviceStates>,
+    /// Interface counters.
+    pub channel: Arc<Channel>,
+    threads: Vec<JoinHandle<()>>,
+    plant_stop: Arc<AtomicBool>,
+}
+
+impl PnioSystem {
+    /// Starts the controller for `config` (and, with `network = "sim"`, the simulated plant).
+    /// The controller follows the mode of `shared` and ends when `shared.stop` is set.
+    pub fn start(
+        config: &Config,
+        shared: Arc<Shared>,
+        events: Option<Sender<DeviceEvent>>,
+    ) -> Result<PnioSystem, NetworkError> {
+        let plans = DevicePlan::all(config).map_err(|source| NetworkError::Plan {
+            origin: config.origin.clone(),
+            source,
+        })?;
+        let plant_stop = Arc::new(AtomicBool::new(false));
+        let mut threads = Vec::new();
+        let (nic, udp, mac, ip): (Box<dyn Nic>, Box<dyn Datagrams>, MacAddress, Ipv4Addr) =
+            match &config.network {
+                Network::Sim => {
+                    let (ours, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
+                    let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
+                    let devices = crate::simnet::devices(config);
+                    threads.push(
+                        crate::simnet::spawn(devices, plant, peer, plant_stop.clone())
+                            .map_err(|e| NetworkError::Thread("simulated plant", e))?,
+                    );
+                    (
+                        Box::new(ours),
+                        Box::new(udp),
+                        SIM_CONTROLLER_MAC,
+                        SIM_CONTROLLER_IP,
+                    )
+                }
+                Network::Interface(name) => {
+                    let nic = AfPacket::open(name, NIC_RX_TIMEOUT)?;
+                    let ip = interface_ipv4(name)
+                        .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
+                    let udp = UdpDatagrams::bind(ip)?;
+                    let mac = nic.mac();
+                    (Box::new(nic), Box::new(udp), mac, ip)
+                }
+            };
+        let id = ControllerIdentity {
+            mac,
+            ip,
+            station_name: controller_station_name(&config.instance),
+            vendor_id: 0x0493,
+            device_id: 0x0fff,
+            instance: 1,
+        };
+        let device_submodules = plans
+            .iter()
+            .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
+            .collect();
+        let names = plans.iter().map(|p| p.name.clone()).collect();
+        let states = Arc::new(DeviceStates::new(plans.len()));
+        let channel = Arc::new(Channel::new());
+        let boot_time = (crate::sys::clock::now_ns() / 1_000_000_000) as u32;
+        let controller = Controller::new(id, plans, boot_time);
+        let (commands, command_rx) = std::sync::mpsc::channel();
+        threads.push(
+            acyclic::spawn(acyclic::AcyclicSetup {
+                controller,
+                channel: channel.clone(),
+                datagrams: udp,
+                shared,
+                states: states.clone(),
+                commands: command_rx,
+                events,
+                names,
+            })
+            .map_err(|e| NetworkError::Thread("PROFINET controller", e))?,
+        );
+        let cycle_ns = config.cycle_ns;
+        let ch = channel.clone();
+        Ok(PnioSystem {
+            io: Some(Box::new(move || {
+                Box::new(PnioIo::new(nic, ch, device_submodules, cycle_ns))
+            })),
+            commands,
+            states,
+            channel,
+            threads,
+            plant_stop,
+        })
+    }
+
+    /// Waits for the controller (which ends with the cycle) and stops the simulated plant.
+    pub fn join(self) {
+        self.plant_stop
+            .store(true, std::sync::atomic::Ordering::Release);
+        for t in self.threads {
+            let _ = t.join();
+        }
+    }
+}
+
+/// The controller's NameOfStation, from the instance name: lower case, other characters as
+/// '-', as DCP names allow.
+fn controller_station_name(instance: &str) -> String {
+    let s: String = instance
+        .chars()
+        .map(|c| match c.to_ascii_lowercase() {
+            c @ ('a'..='z' | '0'..='9' | '-') => c,
+            _ => '-',
+        })
+        .collect();
+    format!("procimgd-{}", s.trim_matches('-'))
+}
+
+/// The first IPv4 address of interface `name`.
+fn interface_ipv4(name: &str) -> Option<Ipv4Addr> {
+    pnet_datalink::interfaces()
+        .into_iter()
+        .find(|i| i.name == name)?
+        .ips
+        .into_iter()
+        .find_map(|ip| match ip.ip() {
+            std::net::IpAddr::V4(v4) => Some(v4),
+            _ => None,
+        })
+}

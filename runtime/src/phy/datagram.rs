@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! UDP for the PROFINET connection services (port 34964): a real socket, or an in-process
+//! network for the simulated devices. The acyclic side uses it; the cycle thread never does.
+
+use crate::profinet::wire::rpc::RPC_PORT;
+use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
+use std::time::Duration;
+
+/// Datagrams to and from port 34964.
+pub trait Datagrams: Send {
+    /// Sends `payload` to `to` from our port 34964.
+    fn send_to(&mut self, to: SocketAddrV4, payload: &[u8]) -> std::io::Result<()>;
+    /// Waits up to `timeout` for a datagram; its length and sender.
+    fn recv_from(
+        &mut self,
+        buf: &mut [u8],
+        timeout: Duration,
+    ) -> std::io::Result<Option<(usize, SocketAddrV4)>>;
+}
+
+/// Why the RPC socket could not be opened.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "cannot bind UDP port {RPC_PORT} on {addr} for the PROFINET connection services: {source}; \
+     is another PROFINET stack (or procimgd instance) running on this host?"
+)]
+pub struct BindError {
+    /// Address tried.
+    pub addr: Ipv4Addr,
+    /// The OS error.
+    pub source: std::io::Error,
+}
+
+/// A real UDP socket on port 34964.
+pub struct UdpDatagrams {
+    socket: UdpSocket,
+}
+
+impl UdpDatagrams {
+    /// Binds port 34964 on `addr` (the interface's address, or 0.0.0.0).
+    pub fn bind(addr: Ipv4Addr) -> Result<UdpDatagrams, BindError> {
+        let socket = UdpSocket::bind(SocketAddrV4::new(addr, RPC_PORT))
+            .map_err(|source| BindError { addr, source })?;
+        Ok(UdpDatagrams { socket })
+    }
+}
+
+impl Datagrams for UdpDatagrams {
+    fn send_to(&mut self, to: SocketAddrV4, payload: &[u8]) -> std::io::Result<()> {
+        self.socket.send_to(payload, to).map(|_| ())
+    }
+
+    fn recv_from(
+        &mut self,
+        buf: &mut [u8],
+        timeout: Duration,
+    ) -> std::io::Result<Option<(usize, SocketAddrV4)>> {
+        self.socket
+            .set_read_timeout(Some(timeout.max(Duration::from_micros(100))))?;
+        match self.socket.recv_from(buf) {
+            Ok((n, std::net::SocketAddr::V4(from))) => Ok(Some((n, from))),
+            Ok(_) => Ok(None),
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) =>
+            {
+                Ok(None)
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// A datagram in the simulated network.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SimDatagram {
+    /// Sender.
+    pub from: SocketAddrV4,
+    /// Receiver.
+    pub to: SocketAddrV4,
+    /// Bytes.
+    pub payload: Vec<u8>,
+}
+
+/// The controller's end of the simulated UDP network.
+pub struct SimDatagrams {
+    own: Ipv4Addr,
+    tx: Sender<SimDatagram>,
+    rx: Receiver<SimDatagram>,
+}
+
+/// The other end: what the simulated devices use.
+pub struct SimDatagramPeer {
+    /// Datagrams the controller sent.
+    pub rx: Receiver<SimDatagram>,
+    /// Datagrams for the controller.
+    pub tx: Sender<SimDatagram>,
+}
+
+/// A simulated UDP network between the controller at `own` and the simulated devices.
+pub fn sim_network(own: Ipv4Addr) -> (SimDatagrams, SimDatagramPeer) {
+    let (to_peer, from_controller) = channel();
+    let (to_controller, from_peer) = channel();
+    (
+        SimDatagrams {
+            own,
+            tx: to_peer,
+            rx: from_peer,
+        },
+        SimDatagramPeer {
+            rx: from_controller,
+            tx: to_controller,
+        },
+    )
+}
+
+impl Datagrams for SimDatagrams {
+    fn send_to(&mut self, to: SocketAddrV4, payload: &[u8]) -> std::io::Result<()> {
+        // Once the simulated plant has stopped (shutdown), datagrams go nowhere, as on a
+        // network whose devices were switched off.
+        let _ = self.tx.send(SimDatagram {
+            from: SocketAddrV4::new(self.own, RPC_PORT),
+            to,
+            payload: payload.to_vec(),
+        });
+        Ok(())
+    }
+
+    fn recv_from(
+        &mut self,
+        buf: &mut [u8],
+        timeout: Duration,
+    ) -> std::io::Result<Option<(usize, SocketAddrV4)>> {
+        match self.rx.recv_timeout(timeout) {
+            Ok(d) => {
+                let n = d.payload.len().min(buf.len());
+                buf[..n].copy_from_slice(&d.payload[..n]);
+                Ok(Some((n, d.from)))
+            }
+            Err(RecvTimeoutError::Timeout) => Ok(None),
+            Err(RecvTimeoutError::Disconnected) => {
+                // The simulated devices are gone (shutdown): behave like a quiet network.
+                std::thread::sleep(timeout);
+                Ok(None)
+            }
+        }
+    }
+}

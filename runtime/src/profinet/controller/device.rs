@@ -1,0 +1,919 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The life of one device's AR, sans-IO: identify by name → set IP when needed → Connect →
+//! write the parameter records → PrmEnd → wait for the device's ApplicationReady → data
+//! exchange; on any failure, back off and start again.
+
+use super::cyclic::CyclicAr;
+use super::plan::{ControllerIdentity, DevicePlan};
+use super::rpc_call::{Answer, RpcCall};
+use super::{Action, DeviceEvent, DeviceState, RecordRequest, RecordResult};
+use crate::profinet::dcp_client::{self, Identify, Set, SetOutcome};
+use crate::profinet::rta::{RtaChannel, RtaEvent};
+use crate::profinet::wire::alarm::{self, AlarmAck, AlarmBlock, Priority, RtaPdu};
+use crate::profinet::wire::connect::ConnectResponse;
+use crate::profinet::wire::control::ControlBlock;
+use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
+use crate::profinet::wire::record::{self, IodHeader};
+use crate::profinet::wire::rpc::{self, opnum};
+use crate::profinet::wire::{MacAddress, PnioStatus, Uuid};
+use std::collections::VecDeque;
+use std::net::{Ipv4Addr, SocketAddrV4};
+
+/// How long Identify responses are awaited.
+const IDENTIFY_WINDOW_NS: u64 = 500_000_000;
+/// How long a DCP Set may take.
+const SET_TIMEOUT_NS: u64 = 1_000_000_000;
+/// How long the device may take from PrmEnd to ApplicationReady.
+const APP_READY_TIMEOUT_NS: u64 = 20_000_000_000;
+/// First and largest back-off after a failure.
+const BACKOFF_MIN_NS: u64 = 250_000_000;
+const BACKOFF_MAX_NS: u64 = 4_000_000_000;
+/// DCP ResponseDelayFactor of an Identify by name: one device answers, so no spreading.
+const IDENTIFY_DELAY_FACTOR: u16 = 1;
+
+/// The established AR.
+struct Ar {
+    uuid: Uuid,
+    session_key: u16,
+    activity: Uuid,
+    seq: u32,
+    peer_mac: MacAddress,
+    alarm_high: RtaChannel,
+    alarm_low: RtaChannel,
+    /// WriteMultiple/Read sequence number (IODHeader SeqNumber).
+    record_seq: u16,
+}
+
+enum Step {
+    Idle,
+    Identify {
+        since: u64,
+        id: Identify,
+    },
+    SetIp {
+        since: u64,
+        set: Set,
+    },
+    Connect(RpcCall),
+    Write(RpcCall),
+    PrmEnd(RpcCall),
+    WaitAppReady {
+        since: u64,
+    },
+    Running,
+    Record {
+        call: RpcCall,
+        request: RecordRequest,
+    },
+    Release(RpcCall),
+    Backoff {
+        until: u64,
+    },
+}
+
+/// One device.
+pub struct DeviceAr {
+    pub(super) plan: DevicePlan,
+    state: DeviceState,
+    step: Step,
+    /// The device should be connected (mode not OFFLINE and not deactivated).
+    wanted: bool,
+    /// Deactivated by a client.
+    pub(super) deactivated: bool,
+    mac: Option<MacAddress>,
+    ip: Option<Ipv4Addr>,
+    ar: Option<Ar>,
+    epoch: u32,
+    session_key: u16,
+    failures: u32,
+    /// It has been running before and then failed: its next start is a return.
+    failed_after_running: bool,
+    xid: u32,
+    records: VecDeque<RecordRequest>,
+}
+
+impl DeviceAr {
+    /// A device waiting to be wanted.
+    pub fn new(plan: DevicePlan) -> DeviceAr {
+        let xid = 0x0100_0000 | ((plan.device as u32) << 12);
+        DeviceAr {
+            plan,
+            state: DeviceState::Offline,
+            step: Step::Idle,
+            wanted: false,
+            deactivated: false,
+            mac: None,
+            ip: None,
+            ar: None,
+            epoch: 0,
+            session_key: 0,
+            failures: 0,
+            failed_after_running: false,
+            xid,
+            records: VecDeque::new(),
+        }
+    }
+
+    /// The device's state.
+    pub fn state(&self) -> DeviceState {
+        self.state
+    }
+
+    fn set_state(&mut self, s: DeviceState, out: &mut Vec<Action>) {
+        if self.state != s {
+            self.state = s;
+            out.push(Action::Event(DeviceEvent::State {
+                device: self.plan.device,
+                state: s,
+            }));
+        }
+    }
+
+    /// Whether it should be connected: starts or stops the AR.
+    pub fn set_wanted(
+        &mut self,
+        wanted: bool,
+        id: &ControllerIdentity,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        let wanted = wanted && !self.deactivated;
+        if wanted == self.wanted {
+            return;
+        }
+        self.wanted = wanted;
+        if wanted {
+            self.failures = 0;
+            self.start(id, now, out);
+        } else {
+            self.release(id, now, out);
+        }
+    }
+
+    fn start(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+        self.xid = self.xid.wrapping_add(1);
+        let req = Identify::new(self.xid);
+        match req.request(id.mac, Some(&self.plan.name), IDENTIFY_DELAY_FACTOR) {
+            Ok(frame) => out.push(Action::Frame(frame)),
+            Err(_) => return self.fail("the DCP Identify request could not be built", now, out),
+        }
+        self.step = Step::Identify {
+            since: now,
+            id: req,
+        };
+        self.set_state(DeviceState::Searching, out);
+    }
+
+    /// Ends the AR: Release to the device if it has one, stop the cyclic exchange.
+    fn release(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+        let _ = id;
+        out.push(Action::Stop {
+            device: self.plan.device,
+        });
+        if let (Some(mut ar), Some(ip)) = (self.ar.take(), self.ip) {
+            let block = ControlBlock::release(ar.uuid, ar.session_key).to_bytes();
+            ar.seq += 1;
+            if let Ok(call) = RpcCall::new(
+                self.plan.object_uuid(),
+                ar.activity,
+                ar.seq,
+                opnum::RELEASE,
+                &block,
+                0,
+                now,
+            ) {
+                out.push(Action::Datagram {
+                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+                    payload: call.pdu.clone(),
+                });
+                self.step = Step::Release(call);
+            }
+        } else {
+            self.step = Step::Idle;
+        }
+        self.fail_records("the device was released", out);
+        let s = if self.deactivated {
+            DeviceState::Deactivated
+        } else {
+            DeviceState::Offline
+        };
+        self.set_state(s, out);
+    }
+
+    fn fail(&mut self, why: &str, now: u64, out: &mut Vec<Action>) {
+        out.push(Action::Stop {
+            device: self.plan.device,
+        });
+        self.ar = None;
+        self.fail_records(why, out);
+        let was_running = self.state == DeviceState::Running;
+        if was_running {
+            self.failed_after_running = true;
+            out.push(Action::Event(DeviceEvent::Failure {
+                device: self.plan.device,
+                reason: why.to_string(),
+            }));
+        } else {
+            out.push(Action::Event(DeviceEvent::Problem {
+                device: self.plan.device,
+                reason: why.to_string(),
+            }));
+        }
+        let backoff = (BACKOFF_MIN_NS << self.failures.min(8)).min(BACKOFF_MAX_NS);
+        self.failures = self.failures.saturating_add(1);
+        self.step = Step::Backoff {
+            until: now + backoff,
+        };
+        self.set_state(DeviceState::Failed, out);
+    }
+
+    fn fail_records(&mut self, why: &str, out: &mut Vec<Action>) {
+        if let Step::Record { request, .. } = core::mem::replace(&mut self.step, Step::Idle) {
+            self.records.push_front(request);
+        }
+        while let Some(r) = self.records.pop_front() {
+            out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                request: r,
+                result: Err(why.to_string()),
+            })));
+        }
+    }
+
+    /// Queues a record read or write; it runs while the AR is in data exchange.
+    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<Action>) {
+        if self.state != DeviceState::Running {
+            out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                request: r,
+                result: Err(format!(
+                    "device {:?} is {}, not in data exchange; retry when it is",
+                    self.plan.name, self.state
+                )),
+            })));
+            return;
+        }
+        self.records.push_back(r);
+    }
+
+    /// The next timer.
+    pub fn deadline(&self) -> Option<u64> {
+        // Alarm channels retransmit on a 100 ms grid; the owner polls at least that often.
+        let alarms = None;
+        let step = match &self.step {
+            Step::Identify { since, .. } => Some(since + IDENTIFY_WINDOW_NS),
+            Step::SetIp { since, .. } => Some(since + SET_TIMEOUT_NS),
+            Step::Connect(c)
+            | Step::Write(c)
+            | Step::PrmEnd(c)
+            | Step::Release(c)
+            | Step::Record { call: c, .. } => Some(c.deadline_ns()),
+            Step::WaitAppReady { since } => Some(since + APP_READY_TIMEOUT_NS),
+            Step::Backoff { until } => Some(*until),
+            Step::Idle | Step::Running => None,
+        };
+        step.or(alarms)
+    }
+
+    /// Timers and queued work.
+    pub fn poll(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+        let mut rta = Vec::new();
+        if let Some(ar) = self.ar.as_mut() {
+            ar.alarm_high.poll(now, &mut rta);
+            ar.alarm_low.poll(now, &mut rta);
+        }
+        self.on_rta_events(rta, id, now, out);
+        match &mut self.step {
+            Step::Identify {
+                since, id: ident, ..
+            } if now >= *since + IDENTIFY_WINDOW_NS => {
+                let found = ident.devices().first().cloned();
+                match found {
+                    Some(d) => self.identified(d, id, now, out),
+                    None => {
+                        let why = format!(
+                            "no device named {:?} answered DCP Identify; check the name, \
+                             the cabling and that the device is powered",
+                            self.plan.name
+                        );
+                        self.fail(&why, now, out)
+                    }
+                }
+            }
+            Step::SetIp { since, .. } if now >= *since + SET_TIMEOUT_NS => {
+                self.fail("the device did not answer DCP Set IP", now, out)
+            }
+            Step::Connect(c)
+            | Step::Write(c)
+            | Step::PrmEnd(c)
+            | Step::Release(c)
+            | Step::Record { call: c, .. } => {
+                if c.retry_due(now) {
+                    c.resent(now);
+                    if let Some(ip) = self.ip {
+                        out.push(Action::Datagram {
+                            to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+                            payload: c.pdu.clone(),
+                        });
+                    }
+                } else if c.expired(now) {
+                    let op = opnum::name(c.opnum).unwrap_or("RPC");
+                    if matches!(self.step, Step::Release(_)) {
+                        self.step = Step::Idle;
+                    } else {
+                        let why = format!("the device did not answer the {op} request");
+                        self.fail(&why, now, out);
+                    }
+                }
+            }
+            Step::WaitAppReady { since } if now >= *since + APP_READY_TIMEOUT_NS => {
+                self.fail("the device sent no ApplicationReady after PrmEnd", now, out);
+            }
+            Step::Backoff { until } if now >= *until => {
+                if self.wanted {
+                    self.start(id, now, out);
+                } else {
+                    self.step = Step::Idle;
+                }
+            }
+            Step::Running => self.next_record(now, out),
+            _ => {}
+        }
+    }
+
+    fn identified(
+        &mut self,
+        d: dcp_client::DeviceInfo,
+        id: &ControllerIdentity,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        self.mac = Some(d.mac);
+        let current = d.ip.map(|(ip, _, _)| Ipv4Addr::from(ip));
+        match (self.plan.ip, current) {
+            (Some(want), have) if have != Some(want) => {
+                self.xid = self.xid.wrapping_add(1);
+                let mask = [255, 255, 255, 0];
+                // Without a router the gateway is the device's own address, as an S7 sets it.
+                let set = Set::ip(self.xid, d.mac, want.octets(), mask, want.octets(), false);
+                match set.request(id.mac) {
+                    Ok(frame) => out.push(Action::Frame(frame)),
+                    Err(_) => return self.fail("the DCP Set request could not be built", now, out),
+                }
+                self.step = Step::SetIp { since: now, set };
+                self.set_state(DeviceState::SettingIp, out);
+            }
+            (want, have) => {
+                let Some(ip) = want.or(have).filter(|ip| !ip.is_unspecified()) else {
+                    return self.fail(
+                        "the device has no IP address and none is configured; set `ip` for it",
+                        now,
+                        out,
+                    );
+                };
+                self.ip = Some(ip);
+                self.connect(id, now, out);
+            }
+        }
+    }
+
+    fn connect(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+        let (Some(ip), Some(mac)) = (self.ip, self.mac) else {
+            return self.fail("no address to connect to", now, out);
+        };
+        self.session_key = self.session_key.wrapping_add(1);
+        self.epoch = self.epoch.wrapping_add(1);
+        let uuid = Uuid(crate::sys::random::uuid_v4());
+        let activity = Uuid(crate::sys::random::uuid_v4());
+        let req = self.plan.connect_request(id, uuid, self.session_key);
+        let Ok(blocks) = req.try_emit() else {
+            return self.fail("the Connect request could not be built", now, out);
+        };
+        let Ok(call) = RpcCall::new(
+            self.plan.object_uuid(),
+            activity,
+            0,
+            opnum::CONNECT,
+            &blocks,
+            0,
+            now,
+        ) else {
+            return self.fail("the Connect request does not fit one RPC PDU", now, out);
+        };
+        let (hi, lo) = (req.alarm_cr.rta_timeout_factor, req.alarm_cr.rta_retries);
+        let local = req.alarm_cr.local_alarm_reference;
+        self.ar = Some(Ar {
+            uuid,
+            session_key: self.session_key,
+            activity,
+            seq: 0,
+            peer_mac: mac,
+            // The remote endpoint is known from the response; set again there.
+            alarm_high: RtaChannel::new(Priority::High, local, 0, hi, lo),
+            alarm_low: RtaChannel::new(Priority::Low, local, 0, hi, lo),
+            record_seq: 0,
+        });
+        out.push(Action::Datagram {
+            to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+            payload: call.pdu.clone(),
+        });
+        self.step = Step::Connect(call);
+        self.set_state(DeviceState::Connecting, out);
+    }
+
+    /// A DCP or alarm frame from the interface.
+    pub fn on_frame(
+        &mut self,
+        frame: &[u8],
+        id: &ControllerIdentity,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        match &mut self.step {
+            Step::Identify { id: ident, .. } => {
+                // A name is unique on the network: the first answer is the device.
+                if ident.on_frame(frame)
+                    && let Some(d) = ident.devices().first().cloned()
+                {
+                    self.identified(d, id, now, out);
+                }
+                return;
+            }
+            Step::SetIp { set, .. } => {
+                match set.on_frame(frame) {
+                    Some(SetOutcome::Done) => {
+                        self.ip = self.plan.ip;
+                        self.connect(id, now, out);
+                    }
+                    Some(other) => {
+                        let why = format!("DCP Set IP refused: {other}");
+                        self.fail(&why, now, out);
+                    }
+                    None => {}
+                }
+                return;
+            }
+            _ => {}
+        }
+        // Alarms of our AR.
+        let Some(ar) = self.ar.as_mut() else { return };
+        let Ok(eth) = ethernet::Frame::new_checked(frame) else {
+            return;
+        };
+        if eth.src() != ar.peer_mac {
+            return;
+        }
+        let Ok(packet) = alarm::Packet::new_checked(eth.payload()) else {
+            return;
+        };
+        let Ok(pdu) = RtaPdu::parse(&packet) else {
+            return;
+        };
+        let mut events = Vec::new();
+        match pdu.priority {
+            Priority::High => ar.alarm_high.receive(&pdu, now, &mut events),
+            Priority::Low => ar.alarm_low.receive(&pdu, now, &mut events),
+        }
+        self.on_rta_events(events, id, now, out);
+    }
+
+    fn on_rta_events(
+        &mut self,
+        events: Vec<RtaEvent>,
+        id: &ControllerIdentity,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        for e in events {
+            match e {
+                RtaEvent::Send(pdu) => {
+                    let Some(ar) = self.ar.as_ref() else { continue };
+                    if let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu) {
+                        out.push(Action::Frame(f));
+                    }
+                }
+                RtaEvent::Deliver(blocks) => {
+                    for b in blocks {
+                        if let AlarmBlock::Notification(n) = b {
+                            // Acknowledge as IO-Base does once the indication is delivered.
+                            let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
+                            if let Some(ar) = self.ar.as_mut() {
+                                let mut more = Vec::new();
+                                let ch = match n.priority {
+                                    Priority::High => &mut ar.alarm_high,
+                                    Priority::Low => &mut ar.alarm_low,
+                                };
+                                ch.send(vec![AlarmBlock::Ack(ack)], now, &mut more);
+                                for m in more {
+                                    if let RtaEvent::Send(pdu) = m
+                                        && let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu)
+                                    {
+                                        out.push(Action::Frame(f));
+                                    }
+                                }
+                            }
+                            out.push(Action::Event(DeviceEvent::Alarm {
+                                device: self.plan.device,
+                                notification: Box::new(n),
+                            }));
+                        }
+                    }
+                }
+                RtaEvent::Confirmed => {}
+                RtaEvent::Abort { code, local } => {
+                    let why = if local {
+                        format!("the alarm channel failed ({code:?}); the AR was aborted")
+                    } else {
+                        format!("the device aborted the AR ({code:?})")
+                    };
+                    self.fail(&why, now, out);
+                    return;
+                }
+            }
+        }
+    }
+
+    /// An RPC answer from the device's address.
+    pub fn on_datagram(
+        &mut self,
+        datagram: &[u8],
+        id: &ControllerIdentity,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) -> bool {
+        let call = match &self.step {
+            Step::Connect(c)
+            | Step::Write(c)
+            | Step::PrmEnd(c)
+            | Step::Release(c)
+            | Step::Record { call: c, .. } => c,
+            _ => return false,
+        };
+        let Some(answer) = call.answer(datagram) else {
+            return false;
+        };
+        let (status, blocks) = match answer {
+            Answer::Response { status, blocks } => (status, blocks),
+            Answer::Refused(code) => {
+                let why = format!(
+                    "the device's RPC layer refused the {} call (status {code:#010x})",
+                    opnum::name(call.opnum).unwrap_or("RPC")
+                );
+                if matches!(self.step, Step::Release(_)) {
+                    self.step = Step::Idle;
+                } else {
+                    self.fail(&why, now, out);
+                }
+                return true;
+            }
+        };
+        match core::mem::replace(&mut self.step, Step::Idle) {
+            Step::Connect(_) => self.connected(status, &blocks, id, now, out),
+            Step::Write(_) => {
+                let failed = write_failure(status, &blocks);
+                match failed {
+                    None => self.prm_end(now, out),
+                    Some(why) => self.fail(&why, now, out),
+                }
+            }
+            Step::PrmEnd(_) => {
+                let ok = status.is_ok()
+                    && self.ar.as_ref().is_some_and(|ar| {
+                        ControlBlock::parse(&blocks).is_ok_and(|b| {
+                            b.answers(&ControlBlock::prm_end(ar.uuid, ar.session_key))
+                        })
+                    });
+                if ok {
+                    self.step = Step::WaitAppReady { since: now };
+                    self.set_state(DeviceState::WaitingForApplicationReady, out);
+                } else {
+                    let why = format!("PrmEnd failed: {}", rpc::describe(status));
+                    self.fail(&why, now, out);
+                }
+            }
+            Step::Record { request, .. } => {
+                let result = record_result(&request, status, &blocks);
+                out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                    request,
+                    result,
+                })));
+                self.step = Step::Running;
+                self.next_record(now, out);
+            }
+            Step::Release(_) => self.step = Step::Idle,
+            other => self.step = other,
+        }
+        true
+    }
+
+    fn connected(
+        &mut self,
+        status: PnioStatus,
+        blocks: &[u8],
+        id: &ControllerIdentity,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        if !status.is_ok() {
+            let why = format!("Connect refused: {}", rpc::describe(status));
+            return self.fail(&why, now, out);
+        }
+        let Ok(res) = ConnectResponse::parse(blocks) else {
+            return self.fail("the Connect response is malformed", now, out);
+        };
+        let Some(ar) = self.ar.as_mut() else { return };
+        if res.ar.ar_uuid != ar.uuid || res.ar.session_key != ar.session_key {
+            return self.fail(
+                "the Connect response names another AR; the device may be connected to \
+                 another controller",
+                now,
+                out,
+            );
+        }
+        ar.peer_mac = res.ar.responder_mac;
+        let remote = res.alarm_cr.local_alarm_reference;
+        let (f, r) = (1, 3);
+        ar.alarm_high = RtaChannel::new(Priority::High, self.plan.device as u16, remote, f, r);
+        ar.alarm_low = RtaChannel::new(Priority::Low, self.plan.device as u16, remote, f, r);
+        if let Some(diff) = res.module_diff.clone() {
+            out.push(Action::Event(DeviceEvent::ModuleDiff {
+                device: self.plan.device,
+                diff,
+            }));
+        }
+        let frame_ids = (
+            res.frame_id(1).unwrap_or(self.plan.frame_ids.0),
+            res.frame_id(2).unwrap_or(self.plan.frame_ids.1),
+        );
+        let cyclic = CyclicAr::new(&self.plan, self.epoch, id.mac, ar.peer_mac, frame_ids);
+        out.push(Action::Start(Box::new(cyclic)));
+        self.set_state(DeviceState::Parameterizing, out);
+        self.write_records(now, out);
+    }
+
+    fn write_records(&mut self, now: u64, out: &mut Vec<Action>) {
+        let Some(ar) = self.ar.as_mut() else { return };
+        if self.plan.records.is_empty() {
+            return self.prm_end(now, out);
+        }
+        let mut headers = Vec::with_capacity(self.plan.records.len());
+        for r in &self.plan.records {
+            ar.record_seq = ar.record_seq.wrapping_add(1);
+            headers.push(IodHeader::write_request(
+                ar.record_seq,
+                ar.uuid,
+                r.api,
+                r.slot,
+                r.subslot,
+                r.index,
+                r.data.len() as u32,
+            ));
+        }
+        let body = if headers.len() == 1 {
+            let mut b = headers[0].to_bytes().to_vec();
+            b.extend_from_slice(&self.plan.records[0].data);
+            Ok(b)
+        } else {
+            let writes: Vec<(IodHeader, &[u8])> = headers
+                .iter()
+                .zip(&self.plan.records)
+                .map(|(h, r)| (*h, &r.data[..]))
+                .collect();
+            record::join_write_multiple_to_vec(&writes).map(|data| {
+                let outer = IodHeader::write_multiple(0, ar.uuid, data.len() as u32);
+                let mut b = outer.to_bytes().to_vec();
+                b.extend_from_slice(&data);
+                b
+            })
+        };
+        let Ok(body) = body else {
+            return self.fail("the parameter records do not fit a Write request", now, out);
+        };
+        self.call(opnum::WRITE, &body, now, out, Step::Write);
+    }
+
+    fn prm_end(&mut self, now: u64, out: &mut Vec<Action>) {
+        let Some(ar) = self.ar.as_ref() else { return };
+        let block = ControlBlock::prm_end(ar.uuid, ar.session_key).to_bytes();
+        self.call(opnum::CONTROL, &block, now, out, Step::PrmEnd);
+    }
+
+    fn call(
+        &mut self,
+        op: u16,
+        blocks: &[u8],
+        now: u64,
+        out: &mut Vec<Action>,
+        step: fn(RpcCall) -> Step,
+    ) {
+        let (Some(ar), Some(ip)) = (self.ar.as_mut(), self.ip) else {
+            return;
+        };
+        ar.seq += 1;
+        match RpcCall::new(
+            self.plan.object_uuid(),
+            ar.activity,
+            ar.seq,
+            op,
+            blocks,
+            0,
+            now,
+        ) {
+            Ok(call) => {
+                out.push(Action::Datagram {
+                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+                    payload: call.pdu.clone(),
+                });
+                self.step = step(call);
+            }
+            Err(_) => self.fail("a request does not fit one RPC PDU", now, out),
+        }
+    }
+
+    fn next_record(&mut self, now: u64, out: &mut Vec<Action>) {
+        let Some(request) = self.records.pop_front() else {
+            return;
+        };
+        let Some(ar) = self.ar.as_mut() else { return };
+        ar.record_seq = ar.record_seq.wrapping_add(1);
+        let (op, body, more) = match &request.write {
+            Some(data) => {
+                let h = IodHeader::write_request(
+                    ar.record_seq,
+                    ar.uuid,
+                    request.api,
+                    request.slot,
+                    request.subslot,
+                    request.index,
+                    data.len() as u32,
+                );
+                let mut b = h.to_bytes().to_vec();
+                b.extend_from_slice(data);
+                (opnum::WRITE, b, 0)
+            }
+            None => {
+                let h = IodHeader::read_request(
+                    ar.record_seq,
+                    ar.uuid,
+                    request.api,
+                    request.slot,
+                    request.subslot,
+                    request.index,
+                    request.max_len,
+                );
+                (opnum::READ, h.to_bytes().to_vec(), request.max_len)
+            }
+        };
+        let (Some(ip), Some(ar)) = (self.ip, self.ar.as_mut()) else {
+            return;
+        };
+        ar.seq += 1;
+        match RpcCall::new(
+            self.plan.object_uuid(),
+            ar.activity,
+            ar.seq,
+            op,
+            &body,
+            more,
+            now,
+        ) {
+            Ok(call) => {
+                out.push(Action::Datagram {
+                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+                    payload: call.pdu.clone(),
+                });
+                self.step = Step::Record { call, request };
+            }
+            Err(_) => out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                request,
+                result: Err("the record does not fit one RPC PDU".into()),
+            }))),
+        }
+    }
+
+    /// The device's ApplicationReady for our AR: the answer block, or `None` if it is not
+    /// for this device.
+    pub fn on_application_ready(
+        &mut self,
+        block: &ControlBlock,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) -> Option<ControlBlock> {
+        let ar = self.ar.as_ref()?;
+        if block.ar_uuid != ar.uuid {
+            return None;
+        }
+        let answer = ControlBlock::application_ready_done(ar.uuid, ar.session_key);
+        if matches!(self.step, Step::WaitAppReady { .. }) {
+            self.step = Step::Running;
+            self.failures = 0;
+            self.set_state(DeviceState::Running, out);
+            if self.failed_after_running {
+                self.failed_after_running = false;
+                out.push(Action::Event(DeviceEvent::Return {
+                    device: self.plan.device,
+                }));
+            }
+            self.next_record(now, out);
+        }
+        Some(answer)
+    }
+
+    /// The cycle thread saw no input frames for the watchdog time.
+    pub fn on_watchdog(&mut self, epoch: u32, now: u64, out: &mut Vec<Action>) {
+        if epoch == self.epoch && self.ar.is_some() {
+            let why = format!(
+                "no cyclic data from the device for {} ms (DataHoldFactor {}); the AR was \
+                 given up and will be set up again",
+                self.plan.timing.watchdog_ns() / 1_000_000,
+                self.plan.timing.data_hold_factor
+            );
+            self.fail(&why, now, out);
+        }
+    }
+
+    /// The ApplicationReady is due from this device's AR (for the ApplicationReady
+    /// handler: which device has the AR).
+    pub fn ar_uuid(&self) -> Option<Uuid> {
+        self.ar.as_ref().map(|a| a.uuid)
+    }
+}
+
+/// An Ethernet frame around an RTA PDU: tagged with the priority of its channel.
+fn rta_frame(src: MacAddress, dst: MacAddress, pdu: &RtaPdu) -> Option<Vec<u8>> {
+    let pcp = match pdu.priority {
+        Priority::High => 6,
+        Priority::Low => 5,
+    };
+    let eth = ethernet::Repr {
+        dst,
+        src,
+        vlan: Some(VlanTag {
+            pcp,
+            dei: false,
+            vid: 0,
+        }),
+        ethertype: ETHERTYPE_PROFINET,
+    };
+    let mut f = vec![0u8; eth.buffer_len()];
+    eth.emit(&mut f);
+    f.extend(pdu.to_vec().ok()?);
+    if f.len() < 60 {
+        f.resize(60, 0);
+    }
+    Some(f)
+}
+
+/// Why a Write (single or multiple) failed, or `None` when every record was taken.
+fn write_failure(status: PnioStatus, blocks: &[u8]) -> Option<String> {
+    if !status.is_ok() {
+        return Some(format!(
+            "writing the parameter records failed: {}",
+            rpc::describe(status)
+        ));
+    }
+    let Ok((outer, _, rest)) = IodHeader::split(blocks) else {
+        return Some("the Write response is malformed".into());
+    };
+    if outer.is_write_multiple() {
+        let Ok((_, inner)) = record::split_write_multiple_response(blocks) else {
+            return Some("the WriteMultiple response is malformed".into());
+        };
+        for h in inner {
+            if !h.status.is_ok() {
+                return Some(format!(
+                    "the device refused parameter record {:#06x} of slot {} subslot {:#06x}: {}",
+                    h.index,
+                    h.slot,
+                    h.subslot,
+                    rpc::describe(h.status)
+                ));
+            }
+        }
+    } else if !outer.status.is_ok() {
+        return Some(format!(
+            "the device refused parameter record {:#06x}: {}",
+            outer.index,
+            rpc::describe(outer.status)
+        ));
+    }
+    let _ = rest;
+    None
+}
+
+fn record_result(
+    request: &RecordRequest,
+    status: PnioStatus,
+    blocks: &[u8],
+) -> Result<Vec<u8>, String> {
+    if !status.is_ok() {
+        return Err(rpc::describe(status));
+    }
+    let (h, data, _) =
+        IodHeader::split(blocks).map_err(|_| "the record response is malformed".to_string())?;
+    if request.write.is_some() {
+        if !h.status.is_ok() {
+            return Err(rpc::describe(h.status));
+        }
+        return Ok(Vec::new());
+    }
+    Ok(data.to_vec())
+}

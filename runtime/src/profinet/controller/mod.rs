@@ -1,0 +1,356 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO controller, sans-IO: one state machine per configured device (see [`device`]),
+//! the RPC server side for the devices' ApplicationReady, and the routing of frames and
+//! datagrams to the right device.
+//!
+//! Feed it Ethernet frames ([`Controller::on_frame`]), UDP datagrams of port 34964
+//! ([`Controller::on_datagram`]), the cycle thread's reports ([`Controller::on_watchdog`],
+//! [`Controller::on_data_started`]) and the time ([`Controller::poll`]); it answers with
+//! [`Action`]s: frames and datagrams to send, cyclic exchanges to start or stop, and events
+//! for clients and the log. No socket, no clock, no thread inside.
+
+pub mod cyclic;
+pub mod device;
+pub mod plan;
+pub mod rpc_call;
+
+use super::wire::PnioStatus;
+use super::wire::alarm::AlarmNotification;
+use super::wire::connect::ModuleDiffBlock;
+use super::wire::control::ControlBlock;
+use super::wire::rpc::{self, Header, Ndr, PacketType, opnum};
+use cyclic::CyclicAr;
+use device::DeviceAr;
+use plan::{ControllerIdentity, DevicePlan};
+use std::net::SocketAddrV4;
+
+/// Where a device is in its life.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DeviceState {
+    /// Not wanted: the controller is OFFLINE.
+    Offline,
+    /// Deactivated by a client.
+    Deactivated,
+    /// Looking for it by name (DCP Identify).
+    Searching,
+    /// Giving it its IP address (DCP Set).
+    SettingIp,
+    /// Connect sent.
+    Connecting,
+    /// Writing its parameter records.
+    Parameterizing,
+    /// PrmEnd done; waiting for its ApplicationReady.
+    WaitingForApplicationReady,
+    /// Data exchange.
+    Running,
+    /// Something failed; it is tried again after a back-off.
+    Failed,
+}
+
+impl DeviceState {
+    /// A word for messages and status.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            DeviceState::Offline => "offline",
+            DeviceState::Deactivated => "deactivated",
+            DeviceState::Searching => "searching",
+            DeviceState::SettingIp => "setting-ip",
+            DeviceState::Connecting => "connecting",
+            DeviceState::Parameterizing => "parameterizing",
+            DeviceState::WaitingForApplicationReady => "waiting-for-application-ready",
+            DeviceState::Running => "running",
+            DeviceState::Failed => "failed",
+        }
+    }
+}
+
+impl core::fmt::Display for DeviceState {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// A record read or write a client asked for.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RecordRequest {
+    /// The client's reference, echoed in the result.
+    pub reference: u64,
+    /// Device index.
+    pub device: usize,
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// Record index.
+    pub index: u16,
+    /// Read: the most bytes wanted.
+    pub max_len: u32,
+    /// Write: the data; `None` for a read.
+    pub write: Option<Vec<u8>>,
+}
+
+/// The outcome of a [`RecordRequest`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RecordResult {
+    /// The request.
+    pub request: RecordRequest,
+    /// The data read (empty for a write), or why it failed.
+    pub result: Result<Vec<u8>, String>,
+}
+
+/// What happened to a device, for clients and the log.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DeviceEvent {
+    /// Its state changed.
+    State {
+        /// Device index.
+        device: usize,
+        /// New state.
+        state: DeviceState,
+    },
+    /// It was in data exchange and failed (IO-Base DEV_FAILURE).
+    Failure {
+        /// Device index.
+        device: usize,
+        /// Why.
+        reason: String,
+    },
+    /// It is back in data exchange after a failure (IO-Base DEV_RETURN).
+    Return {
+        /// Device index.
+        device: usize,
+    },
+    /// Bringing it up failed (it was not yet running).
+    Problem {
+        /// Device index.
+        device: usize,
+        /// Why.
+        reason: String,
+    },
+    /// Its real configuration differs from the expected one.
+    ModuleDiff {
+        /// Device index.
+        device: usize,
+        /// The difference, as the device reported it.
+        diff: ModuleDiffBlock,
+    },
+    /// It sent an alarm (already acknowledged).
+    Alarm {
+        /// Device index.
+        device: usize,
+        /// The notification.
+        notification: Box<AlarmNotification>,
+    },
+    /// A record read or write finished.
+    Record(RecordResult),
+}
+
+/// What the controller asks its driver to do.
+#[derive(Debug)]
+pub enum Action {
+    /// Send this Ethernet frame.
+    Frame(Vec<u8>),
+    /// Send this UDP datagram from port 34964.
+    Datagram {
+        /// Destination.
+        to: SocketAddrV4,
+        /// The RPC PDU.
+        payload: Vec<u8>,
+    },
+    /// Start (or replace) a device's cyclic exchange.
+    Start(Box<CyclicAr>),
+    /// Stop a device's cyclic exchange.
+    Stop {
+        /// Device index.
+        device: usize,
+    },
+    /// Tell clients and the log.
+    Event(DeviceEvent),
+}
+
+/// The controller.
+pub struct Controller {
+    id: ControllerIdentity,
+    devices: Vec<DeviceAr>,
+    /// ServerBootTime in our RPC responses.
+    boot_time: u32,
+    wanted: bool,
+}
+
+impl Controller {
+    /// A controller for `plans`, all devices offline.
+    pub fn new(id: ControllerIdentity, plans: Vec<DevicePlan>, boot_time: u32) -> Controller {
+        Controller {
+            id,
+            devices: plans.into_iter().map(DeviceAr::new).collect(),
+            boot_time,
+            wanted: false,
+        }
+    }
+
+    /// The controller's identity.
+    pub fn identity(&self) -> &ControllerIdentity {
+        &self.id
+    }
+
+    /// The state of every device.
+    pub fn states(&self) -> impl Iterator<Item = DeviceState> + '_ {
+        self.devices.iter().map(DeviceAr::state)
+    }
+
+    /// The plan of device `d`.
+    pub fn plan(&self, d: usize) -> Option<&DevicePlan> {
+        self.devices.get(d).map(|d| &d.plan)
+    }
+
+    /// Online (CLEAR or OPERATE: every active device is brought up) or OFFLINE (every AR
+    /// released).
+    pub fn set_online(&mut self, online: bool, now: u64, out: &mut Vec<Action>) {
+        self.wanted = online;
+        for d in &mut self.devices {
+            d.set_wanted(online, &self.id, now, out);
+        }
+    }
+
+    /// Activates or deactivates one device (IO-Base `PNIO_device_activate`). `false` when
+    /// there is no such device.
+    pub fn activate(
+        &mut self,
+        device: usize,
+        active: bool,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) -> bool {
+        let Some(d) = self.devices.get_mut(device) else {
+            return false;
+        };
+        if active {
+            d.deactivated = false;
+            d.set_wanted(self.wanted, &self.id, now, out);
+        } else {
+            d.deactivated = true;
+            d.set_wanted(false, &self.id, now, out);
+        }
+        true
+    }
+
+    /// Queues a record read or write.
+    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<Action>) {
+        match self.devices.get_mut(r.device) {
+            Some(d) => d.record(r, out),
+            None => {
+                let why = format!("there is no device {} in the configuration", r.device);
+                out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                    request: r,
+                    result: Err(why),
+                })));
+            }
+        }
+    }
+
+    /// An acyclic PROFINET frame (DCP response, alarm).
+    pub fn on_frame(&mut self, frame: &[u8], now: u64, out: &mut Vec<Action>) {
+        for d in &mut self.devices {
+            d.on_frame(frame, &self.id, now, out);
+        }
+    }
+
+    /// A UDP datagram that arrived at port 34964 from `from`.
+    pub fn on_datagram(
+        &mut self,
+        from: SocketAddrV4,
+        datagram: &[u8],
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        let Ok(packet) = rpc::Packet::new_checked(datagram) else {
+            return;
+        };
+        let Ok(h) = Header::parse(&packet) else {
+            return;
+        };
+        if h.packet_type == PacketType::Request {
+            self.on_request(from, &h, packet.body(), now, out);
+            return;
+        }
+        for d in &mut self.devices {
+            if d.on_datagram(datagram, &self.id, now, out) {
+                return;
+            }
+        }
+    }
+
+    /// A call to our controller interface: the devices' ApplicationReady.
+    fn on_request(
+        &mut self,
+        from: SocketAddrV4,
+        h: &Header,
+        body: &[u8],
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        if h.interface != rpc::CONTROLLER_INTERFACE || h.opnum != opnum::CONTROL {
+            return;
+        }
+        let Ok((Ndr::Request(ndr), blocks)) =
+            rpc::parse_body(PacketType::Request, h.little_endian, body)
+        else {
+            return;
+        };
+        let Ok(block) = ControlBlock::parse(blocks) else {
+            return;
+        };
+        if !block.is_request() {
+            return;
+        }
+        let answer = self
+            .devices
+            .iter_mut()
+            .find_map(|d| d.on_application_ready(&block, now, out));
+        let (status, blocks) = match answer {
+            Some(a) => (PnioStatus::OK, a.to_bytes().to_vec()),
+            // An AR we do not know (CMRPC: AR UUID unknown): refused, so the device drops it.
+            None => (PnioStatus::from_bytes([0xdd, 0x81, 0x40, 0x05]), Vec::new()),
+        };
+        // Little-endian like every PDU of ours, whatever order the request came in (the S7's
+        // choice as well).
+        let reply = Header {
+            little_endian: true,
+            ..h.reply(self.boot_time)
+        };
+        if let Ok(pdu) = rpc::emit_response(&reply, status, ndr.args_maximum, &blocks) {
+            out.push(Action::Datagram {
+                to: from,
+                payload: pdu,
+            });
+        }
+    }
+
+    /// The cycle thread gave up device `device`'s AR of `epoch`.
+    pub fn on_watchdog(&mut self, device: usize, epoch: u32, now: u64, out: &mut Vec<Action>) {
+        if let Some(d) = self.devices.get_mut(device) {
+            d.on_watchdog(epoch, now, out);
+        }
+    }
+
+    /// The first valid frame of device `device`'s AR arrived.
+    pub fn on_data_started(&mut self, device: usize, epoch: u32) {
+        let _ = (device, epoch);
+    }
+
+    /// Timers.
+    pub fn poll(&mut self, now: u64, out: &mut Vec<Action>) {
+        for d in &mut self.devices {
+            d.poll(&self.id, now, out);
+        }
+    }
+
+    /// When [`poll`](Self::poll) is due next, at the latest.
+    pub fn deadline(&self) -> Option<u64> {
+        self.devices.iter().filter_map(DeviceAr::deadline).min()
+    }
+}
+#[cfg(test)]
+mod capture_tests;

@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The simulated plant of `network = "sim"`: every configured device as a simulated
+//! PROFINET device on an in-process Ethernet link and UDP network, in a thread of its own at
+//! normal priority. The controller reaches them exactly as it reaches real devices: DCP,
+//! RPC, alarms and cyclic frames, byte for byte.
+
+use crate::config::Config;
+use crate::phy::Nic;
+use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
+use crate::phy::sim_link::LinkEnd;
+use crate::profinet::device_sim::{DeviceAction, SimDevice, SimDeviceSpec, SimSubmodule};
+use crate::profinet::wire::MacAddress;
+use crate::profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
+use crate::sys::clock::{now_ns, sleep_until_ns};
+use std::net::SocketAddrV4;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
+
+/// The longest the plant sleeps between looks at the link.
+const MAX_SLEEP_NS: u64 = 500_000;
+
+/// The MAC address of simulated device `d`: locally administered, 02:50:49:00:<d>.
+pub fn device_mac(d: usize) -> MacAddress {
+    let d = d as u16;
+    MacAddress([0x02, 0x50, 0x49, 0x00, (d >> 8) as u8, d as u8])
+}
+
+/// The address a simulated device has of its own when the configuration gives it none:
+/// 192.168.1.10 and up, as if set up in the field.
+pub fn own_ip(d: usize) -> [u8; 4] {
+    [192, 168, 1 + (d / 200) as u8, 10 + (d % 200) as u8]
+}
+
+/// The simulated devices of `config`, named: those with a configured `ip` come without an
+/// address (the controller gives it to them by DCP, as to a new device), the others with one
+/// of their own ([`own_ip`]).
+pub fn devices(config: &Config) -> Vec<SimDevice> {
+    config
+        .devices
+        .iter()
+        .enumerate()
+        .map(|(d, dev)| {
+            SimDevice::new(SimDeviceSpec {
+                name: dev.name.clone(),
+                mac: device_mac(d),
+                ip: dev.ip.is_none().then(|| own_ip(d)),
+                vendor_id: dev.vendor_id,
+                device_id: dev.device_id,
+                instance: dev.instance,
+                submodules: dev
+                    .submodules
+                    .iter()
+                    .map(|s| SimSubmodule {
+                        api: s.api,
+                        slot: s.slot,
+                        subslot: s.subslot,
+                        module_ident: s.module_ident,
+                        submodule_ident: s.submodule_ident,
+                        input_length: s.input_length,
+                        output_length: s.output_length,
+                    })
+                    .collect(),
+                behaviour: dev.sim,
+                im0: Im0 {
+                    vendor_id: dev.vendor_id,
+                    order_id: blank_padded("PROCIMG-SIM").unwrap_or([b' '; 20]),
+                    serial_number: blank_padded(&format!("SIM{d:05}")).unwrap_or([b' '; 16]),
+                    hardware_revision: 1,
+                    software_revision: SoftwareRevision {
+                        prefix: b'V',
+                        functional_enhancement: 1,
+                        bug_fix: 0,
+                        internal_change: 0,
+                    },
+                    revision_counter: 0,
+                    profile_id: 0,
+                    profile_specific_type: 0,
+                    im_version: (1, 1),
+                    im_supported: 0,
+                },
+            })
+        })
+        .collect()
+}
+
+/// Runs `devices` on `link` and `udp` until `stop`. The thread runs at normal priority, out
+/// of the way of the cycle thread; the scheduler may delay it by milliseconds, so simulated
+/// devices want a larger `watchdog_factor` than real ones (the demo's is 100).
+pub fn spawn(
+    mut devices: Vec<SimDevice>,
+    mut link: LinkEnd,
+    udp: SimDatagramPeer,
+    stop: Arc<AtomicBool>,
+) -> std::io::Result<JoinHandle<()>> {
+    std::thread::Builder::new()
+        .name("procimg-simnet".into())
+        .spawn(move || {
+            let mut buf = [0u8; crate::phy::MAX_FRAME];
+            let mut out = Vec::new();
+            while !stop.load(Ordering::Acquire) {
+                let now = now_ns();
+                while let Ok(Some(n)) = link.recv(&mut buf) {
+                    for d in &mut devices {
+                        d.on_frame(&buf[..n], now, &mut out);
+                        deliver(&mut out, d, &mut link, &udp);
+                    }
+                }
+                while let Ok(g) = udp.rx.try_recv() {
+                    if let Some(d) = devices.iter_mut().find(|d| d.ip() == g.to.ip().octets()) {
+                        d.on_datagram(g.from, g.to.port(), &g.payload, now, &mut out);
+                        deliver(&mut out, d, &mut link, &udp);
+                    }
+                }
+                let mut next = now + MAX_SLEEP_NS;
+                for d in &mut devices {
+                    d.poll(now, &mut out);
+                    deliver(&mut out, d, &mut link, &udp);
+                    if let Some(t) = d.next_deadline_ns() {
+                        next = next.min(t);
+                    }
+                }
+                sleep_until_ns(next.max(now + 20_000));
+            }
+        })
+}
+
+fn deliver(out: &mut Vec<DeviceAction>, d: &SimDevice, link: &mut LinkEnd, udp: &SimDatagramPeer) {
+    for a in out.drain(..) {
+        match a {
+            DeviceAction::Frame(f) => {
+                let _ = link.send(&f);
+            }
+            DeviceAction::Datagram {
+                to,
+                from_port,
+                payload,
+            } => {
+                let _ = udp.tx.send(SimDatagram {
+                    from: SocketAddrV4::new(d.ip().into(), from_port),
+                    to,
+                    payload,
+                });
+            }
+        }
+    }
+}
