@@ -668,9 +668,7 @@ impl DeviceAr {
             ));
         }
         let body = if headers.len() == 1 {
-            let mut b = headers[0].to_bytes().to_vec();
-            b.extend_from_slice(&self.plan.records[0].data);
-            Ok(b)
+            Ok(with_data(&headers[0], &self.plan.records[0].data))
         } else {
             let writes: Vec<(IodHeader, &[u8])> = headers
                 .iter()
@@ -678,10 +676,10 @@ impl DeviceAr {
                 .map(|(h, r)| (*h, &r.data[..]))
                 .collect();
             record::join_write_multiple_to_vec(&writes).map(|data| {
-                let outer = IodHeader::write_multiple(0, ar.uuid, data.len() as u32);
-                let mut b = outer.to_bytes().to_vec();
-                b.extend_from_slice(&data);
-                b
+                with_data(
+                    &IodHeader::write_multiple(0, ar.uuid, data.len() as u32),
+                    &data,
+                )
             })
         };
         let Ok(body) = body else {
@@ -696,6 +694,35 @@ impl DeviceAr {
         self.call(opnum::CONTROL, &block, now, out, Step::PrmEnd);
     }
 
+    /// Sends `blocks` as the next call of the AR's activity; the call, or `None` when there
+    /// is no AR or the request does not fit one RPC PDU.
+    fn send_call(
+        &mut self,
+        op: u16,
+        blocks: &[u8],
+        more: u32,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) -> Option<RpcCall> {
+        let (ar, ip) = (self.ar.as_mut()?, self.ip?);
+        ar.seq += 1;
+        let call = RpcCall::new(
+            self.plan.object_uuid(),
+            ar.activity,
+            ar.seq,
+            op,
+            blocks,
+            more,
+            now,
+        )
+        .ok()?;
+        out.push(Action::Datagram {
+            to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+            payload: call.pdu.clone(),
+        });
+        Some(call)
+    }
+
     fn call(
         &mut self,
         op: u16,
@@ -704,27 +731,9 @@ impl DeviceAr {
         out: &mut Vec<Action>,
         step: fn(RpcCall) -> Step,
     ) {
-        let (Some(ar), Some(ip)) = (self.ar.as_mut(), self.ip) else {
-            return;
-        };
-        ar.seq += 1;
-        match RpcCall::new(
-            self.plan.object_uuid(),
-            ar.activity,
-            ar.seq,
-            op,
-            blocks,
-            0,
-            now,
-        ) {
-            Ok(call) => {
-                out.push(Action::Datagram {
-                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
-                    payload: call.pdu.clone(),
-                });
-                self.step = step(call);
-            }
-            Err(_) => self.fail("a request does not fit one RPC PDU", now, out),
+        match self.send_call(op, blocks, 0, now, out) {
+            Some(call) => self.step = step(call),
+            None => self.fail("a request does not fit one RPC PDU", now, out),
         }
     }
 
@@ -745,9 +754,7 @@ impl DeviceAr {
                     request.index,
                     data.len() as u32,
                 );
-                let mut b = h.to_bytes().to_vec();
-                b.extend_from_slice(data);
-                (opnum::WRITE, b, 0)
+                (opnum::WRITE, with_data(&h, data), 0)
             }
             None => {
                 let h = IodHeader::read_request(
@@ -762,27 +769,9 @@ impl DeviceAr {
                 (opnum::READ, h.to_bytes().to_vec(), request.max_len)
             }
         };
-        let (Some(ip), Some(ar)) = (self.ip, self.ar.as_mut()) else {
-            return;
-        };
-        ar.seq += 1;
-        match RpcCall::new(
-            self.plan.object_uuid(),
-            ar.activity,
-            ar.seq,
-            op,
-            &body,
-            more,
-            now,
-        ) {
-            Ok(call) => {
-                out.push(Action::Datagram {
-                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
-                    payload: call.pdu.clone(),
-                });
-                self.step = Step::Record { call, request };
-            }
-            Err(_) => out.push(Action::Event(DeviceEvent::Record(RecordResult {
+        match self.send_call(op, &body, more, now, out) {
+            Some(call) => self.step = Step::Record { call, request },
+            None => out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request,
                 result: Err("the record does not fit one RPC PDU".into()),
             }))),
@@ -860,6 +849,13 @@ fn rta_frame(src: MacAddress, dst: MacAddress, pdu: &RtaPdu) -> Option<Vec<u8>> 
         f.resize(60, 0);
     }
     Some(f)
+}
+
+/// An IOD header followed by its record data.
+fn with_data(header: &IodHeader, data: &[u8]) -> Vec<u8> {
+    let mut b = header.to_bytes().to_vec();
+    b.extend_from_slice(data);
+    b
 }
 
 /// Why a Write (single or multiple) failed, or `None` when every record was taken.
