@@ -6,7 +6,9 @@
 use crate::cycle::Shared;
 use crate::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use crate::phy::datagram::Datagrams;
-use crate::profinet::controller::{Action, Controller, DeviceEvent, DeviceState, RecordRequest};
+use crate::profinet::controller::{
+    Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
+};
 use crate::sys::clock::now_ns;
 use procimg_shm_layout::Mode;
 use std::sync::Arc;
@@ -30,6 +32,8 @@ pub enum ControllerCommand {
     },
     /// Read or write a record.
     Record(RecordRequest),
+    /// Send the AlarmAck of a delivered alarm.
+    AcknowledgeAlarm(AlarmTicket),
 }
 
 /// Device states as the control side reads them.
@@ -148,6 +152,9 @@ pub fn spawn(setup: AcyclicSetup) -> std::io::Result<JoinHandle<()>> {
                             controller.activate(device, active, now, &mut out);
                         }
                         ControllerCommand::Record(r) => controller.record(r, &mut out),
+                        ControllerCommand::AcknowledgeAlarm(t) => {
+                            controller.acknowledge_alarm(t, now, &mut out);
+                        }
                     }
                 }
                 while let Some(r) = channel.from_cycle.pop() {
@@ -248,11 +255,18 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
             states.set(*device, *state);
             tracing::debug!("device {:?}: {state}", name(*device));
         }
-        DeviceEvent::Failure { device, reason } => {
-            tracing::warn!("device {:?} failed: {reason}", name(*device))
-        }
+        DeviceEvent::Failure {
+            device,
+            reason,
+            planned: false,
+        } => tracing::warn!("device {:?} failed: {reason}", name(*device)),
+        DeviceEvent::Failure {
+            device,
+            reason,
+            planned: true,
+        } => tracing::info!("device {:?} left data exchange: {reason}", name(*device)),
         DeviceEvent::Return { device } => {
-            tracing::info!("device {:?} is back in data exchange", name(*device))
+            tracing::info!("device {:?} is in data exchange", name(*device))
         }
         DeviceEvent::Problem { device, reason } => {
             tracing::warn!("device {:?}: {reason}", name(*device))
@@ -269,6 +283,7 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
         DeviceEvent::Alarm {
             device,
             notification,
+            ..
         } => tracing::info!(
             "device {:?}: alarm {:?} at slot {} subslot {:#06x}",
             name(*device),
@@ -280,7 +295,12 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
             "device {:?}: record {:#06x} done: {:?}",
             name(r.request.device),
             r.request.index,
-            r.result.as_ref().map(Vec::len)
+            r.result.as_ref().map(|d| d.data.len())
+        ),
+        DeviceEvent::Activation { device, active } => tracing::info!(
+            "device {:?} {}",
+            name(*device),
+            if *active { "activated" } else { "deactivated" }
         ),
     }
 }

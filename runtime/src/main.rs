@@ -11,7 +11,7 @@ use procimg_runtime::config::{self, Config};
 use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
 use procimg_runtime::network::PnioSystem;
-use procimg_runtime::server::{Control, ServerInfo};
+use procimg_runtime::server::{Control, ControllerLink, ServerInfo};
 use procimg_runtime::shm::{ControlPorts, cleanup_dead_nodes};
 use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::rt::lock_memory;
@@ -203,7 +203,8 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         output_timing: config.output_timing,
         generation,
     };
-    let mut pnio = PnioSystem::start(&config, shared.clone(), None)?;
+    let (events, event_rx) = std::sync::mpsc::channel();
+    let mut pnio = PnioSystem::start(&config, shared.clone(), Some(events))?;
     let io = pnio.io.take().context("the IO system was already taken")?;
     let (cycle_thread, rt) = cycle::thread::spawn(
         settings,
@@ -244,7 +245,14 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         collector,
     );
 
-    control.set_network(pnio.states.clone(), pnio.channel.clone());
+    control.set_network(
+        pnio.states.clone(),
+        pnio.channel.clone(),
+        ControllerLink {
+            commands: pnio.commands.clone(),
+            events: event_rx,
+        },
+    );
     let term = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         signal_hook::flag::register(sig, term.clone())
@@ -268,7 +276,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
             last_view = Instant::now();
             v.print(&control.status());
         }
-        std::thread::sleep(CONTROL_POLL);
+        control.idle(CONTROL_POLL);
     }
 
     // Outputs to a safe state first: CLEAR sends them marked invalid. From OFFLINE nothing is

@@ -2,9 +2,11 @@
 //! The controller and the cycle thread's PROFINET IO system against the simulated devices of
 //! the demo, in simulated time, in one process: every device comes up through DCP, Connect,
 //! PrmEnd and ApplicationReady; outputs written into the image come back from the echo
-//! device; a device whose frames stop is failed by the watchdog (inputs BAD) and comes back
-//! without help; OFFLINE releases every AR. Every frame and datagram that crossed the simulated network, in both
-//! directions, must dissect clean in Wireshark.
+//! device; an alarm is delivered and its AlarmAck waits for the acknowledgement; a record
+//! read of I&M0 returns the device's identity; a device whose frames stop is failed by the
+//! watchdog (inputs BAD) and comes back without help; OFFLINE releases every AR. Every frame
+//! and datagram that crossed the simulated network, in both directions, must dissect clean in
+//! Wireshark.
 
 #[path = "support/tshark.rs"]
 mod tshark;
@@ -19,9 +21,13 @@ use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
 use procimg_runtime::profinet::controller::plan::{ControllerIdentity, DevicePlan};
-use procimg_runtime::profinet::controller::{Action, Controller, DeviceEvent, DeviceState};
+use procimg_runtime::profinet::controller::{
+    Action, Controller, DeviceEvent, DeviceState, RecordRequest,
+};
 use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
 use procimg_runtime::profinet::wire::MacAddress;
+use procimg_runtime::profinet::wire::alarm::AlarmType;
+use procimg_runtime::profinet::wire::record::Im0;
 use procimg_runtime::profinet::wire::rpc::RPC_PORT;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::SocketAddrV4;
@@ -252,6 +258,15 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
         w.step(k);
         assert!(k < 2000, "devices not up after 2 s: {:?}", w.states());
     }
+    // Every device's start of data exchange is a station return, as IO-Base reports it.
+    for d in 0..w.states().len() {
+        assert!(
+            w.events
+                .iter()
+                .any(|e| matches!(e, DeviceEvent::Return { device } if *device == d)),
+            "no DEV_RETURN for device {d}"
+        );
+    }
 
     // Outputs go out GOOD and come back from the echo device.
     let pattern: Vec<u8> = (1..=16).collect();
@@ -278,9 +293,99 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     let c1 = u32::from_be_bytes(w.image.inputs(counter).try_into().unwrap());
     assert!(c1 > c0, "the counter did not count: {c0} then {c1}");
 
+    // A process alarm of the echo device is delivered, and its AlarmAck waits for the
+    // acknowledgement (IO-Base: until the alarm callback returned).
+    let echo_device = tables.submodules[echo].device as usize;
+    let mut dev_out = Vec::new();
+    assert!(w.devices[echo_device].raise_process_alarm(
+        0,
+        1,
+        1,
+        0x0042,
+        &[0xde, 0xad],
+        k * MS,
+        &mut dev_out
+    ));
+    let answers = w.device_actions(echo_device, dev_out, k * MS);
+    w.controller_actions(answers, k * MS);
+    let until = k + 100;
+    let ticket = loop {
+        let alarm = w.events.iter().find_map(|e| match e {
+            DeviceEvent::Alarm {
+                device,
+                notification,
+                ticket,
+            } if *device == echo_device => Some((notification.clone(), *ticket)),
+            _ => None,
+        });
+        if let Some((n, t)) = alarm {
+            assert_eq!((n.slot, n.subslot), (1, 1));
+            assert_eq!(n.alarm_type, AlarmType::Process);
+            break t;
+        }
+        k += 1;
+        w.step(k);
+        assert!(k < until, "the alarm did not arrive");
+    };
+    for _ in 0..300 {
+        k += 1;
+        w.step(k);
+    }
+    assert!(
+        w.devices[echo_device].alarm_acks().is_empty(),
+        "AlarmAck sent before the acknowledgement"
+    );
+    let mut out = Vec::new();
+    assert!(w.controller.acknowledge_alarm(ticket, k * MS, &mut out));
+    w.controller_actions(out, k * MS);
+    let until = k + 100;
+    while w.devices[echo_device].alarm_acks().is_empty() {
+        k += 1;
+        w.step(k);
+        assert!(k < until, "no AlarmAck reached the device");
+    }
+    let mut out = Vec::new();
+    assert!(
+        !w.controller.acknowledge_alarm(ticket, k * MS, &mut out),
+        "an alarm was acknowledged twice"
+    );
+
+    // A record read of I&M0 returns the device's identity, with the reference echoed.
+    let mut out = Vec::new();
+    w.controller.record(
+        RecordRequest {
+            reference: 77,
+            device: echo_device,
+            api: 0,
+            slot: 0,
+            subslot: 1,
+            index: 0xAFF0,
+            max_len: 4096,
+            write: None,
+        },
+        &mut out,
+    );
+    w.controller_actions(out, k * MS);
+    let until = k + 100;
+    let result = loop {
+        if let Some(r) = w.events.iter().find_map(|e| match e {
+            DeviceEvent::Record(r) if r.request.reference == 77 => Some(r.clone()),
+            _ => None,
+        }) {
+            break r;
+        }
+        k += 1;
+        w.step(k);
+        assert!(k < until, "the record read did not finish");
+    };
+    let data = result.result.expect("the I&M0 read failed").data;
+    let im0 = Im0::parse(&data).expect("the I&M0 record does not parse");
+    assert_eq!(im0.vendor_id, 0x0493);
+
     // The counter device's frames are lost: the watchdog (100 cycles in the demo) fails it,
     // its inputs go BAD; the others run on.
     w.cut = Some(counter_device);
+    let before_cut = w.events.len();
     for _ in 0..150 {
         k += 1;
         w.step(k);
@@ -295,8 +400,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     // The network heals: the device comes back by itself.
     w.cut = None;
     let until = k + 5000;
-    while !w
-        .events
+    while !w.events[before_cut..]
         .iter()
         .any(|e| matches!(e, DeviceEvent::Return { device } if *device == counter_device))
     {
@@ -318,6 +422,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     );
 
     // OFFLINE: every AR released, the devices back to idle.
+    let offline_at = w.events.len();
     let mut out = Vec::new();
     w.controller.set_online(false, k * MS, &mut out);
     w.controller_actions(out, k * MS);
@@ -327,10 +432,21 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     }
     assert!(w.states().iter().all(|s| *s == DeviceState::Offline));
     assert!(w.devices.iter().all(|d| d.ar_uuid().is_none()));
+    // Leaving data exchange on OFFLINE is a station failure for every device.
+    for d in 0..w.states().len() {
+        assert!(
+            w.events[offline_at..]
+                .iter()
+                .any(|e| matches!(e, DeviceEvent::Failure { device, .. } if *device == d)),
+            "no DEV_FAILURE for device {d} on OFFLINE"
+        );
+    }
 
     let dissected = tshark::dissect_clean("controller-bringup", &w.wire);
     for call in [
         "Connect request",
+        "Read request",
+        "Alarm Ack",
         "Prm End",
         "Application Ready",
         "Release request",

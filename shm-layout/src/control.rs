@@ -107,6 +107,87 @@ pub enum Request {
     },
     /// Report the server's state.
     Status,
+    /// Announce a notification subscriber. Broadcasts and confirmations reach any subscriber;
+    /// announcing is what makes the server wait for this one's alarm acknowledgements, and
+    /// what shows it in the status.
+    Subscribe {
+        /// The subscriber's id (random, chosen by the subscriber).
+        subscriber: u64,
+        /// A name for status displays and messages.
+        name: String,
+        /// The subscriber's process id.
+        pid: u32,
+        /// The iceoryx2 node id of the subscriber, so the server notices when it dies.
+        node_id: String,
+        /// The server waits for this subscriber's [`Request::AcknowledgeAlarm`] before it
+        /// acknowledges an alarm to the device (IO-Base: when the alarm callback returns).
+        acknowledge_alarms: bool,
+    },
+    /// Withdraw a subscriber; alarms waiting for it are acknowledged if nobody else waits.
+    Unsubscribe {
+        /// The subscriber's id.
+        subscriber: u64,
+    },
+    /// Read a record; answered with [`Response::Accepted`], the data follows as a
+    /// [`Notification::Record`](crate::services::Notification::Record) to `reply_to`.
+    RecordRead {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Echoed in the confirmation.
+        reference: u64,
+        /// Device index.
+        device: u32,
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// Record index.
+        index: u16,
+        /// The most bytes wanted.
+        max_len: u32,
+    },
+    /// Write a record; answered with [`Response::Accepted`], the result follows as a
+    /// [`Notification::Record`](crate::services::Notification::Record) to `reply_to`.
+    RecordWrite {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Echoed in the confirmation.
+        reference: u64,
+        /// Device index.
+        device: u32,
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// Record index.
+        index: u16,
+        /// The record.
+        data: Vec<u8>,
+    },
+    /// Activate or deactivate a device (IO-Base `PNIO_device_activate`); not in OFFLINE.
+    /// Confirmed by a [`Notification::Activation`](crate::services::Notification::Activation)
+    /// to `reply_to`.
+    ActivateDevice {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Device index.
+        device: u32,
+        /// Activate (`true`) or deactivate.
+        active: bool,
+    },
+    /// Acknowledge an alarm this subscriber was given with `ack_expected`.
+    AcknowledgeAlarm {
+        /// The subscriber's id.
+        subscriber: u64,
+        /// The alarm's id.
+        alarm: u64,
+    },
+    /// The state of every device; answered with [`Response::Diagnosis`].
+    Diagnosis,
 }
 
 /// The server's answer.
@@ -130,7 +211,13 @@ pub enum Response {
     Refused(Refusal),
     /// The server's state.
     Status(Box<StatusReport>),
+    /// The job was taken; its confirmation follows as a notification.
+    Accepted,
+    /// The devices' state.
+    Diagnosis(Box<DiagnosisReport>),
 }
+
+use crate::services::DiagnosisReport;
 
 use alloc::boxed::Box;
 
@@ -173,6 +260,32 @@ pub enum Refusal {
     },
     /// The cycle thread's command queue is full (the cycle is stalled); try again.
     ServerBusy,
+    /// There is no device with this index in the layout.
+    NoSuchDevice {
+        /// The index.
+        device: u32,
+    },
+    /// The requester has as many record jobs open as it may.
+    TooManyJobs {
+        /// The limit.
+        max: u32,
+    },
+    /// The record is longer than a job may carry.
+    RecordTooLong {
+        /// Its length.
+        len: u32,
+        /// The limit.
+        max: u32,
+    },
+    /// The request needs the controller online (CLEAR or OPERATE).
+    Offline,
+    /// No subscriber with this id is announced.
+    UnknownSubscriber,
+    /// No alarm with this id waits for this subscriber's acknowledgement.
+    UnknownAlarm {
+        /// The alarm's id.
+        alarm: u64,
+    },
     /// The request could not be decoded.
     BadRequest {
         /// What was wrong.
@@ -213,6 +326,30 @@ impl core::fmt::Display for Refusal {
             ),
             Refusal::ServerBusy => f.write_str(
                 "the server's cycle is not taking commands at the moment (stalled?); try again",
+            ),
+            Refusal::NoSuchDevice { device } => write!(
+                f,
+                "there is no device #{device} in the server's layout; `procimg status` lists them"
+            ),
+            Refusal::TooManyJobs { max } => write!(
+                f,
+                "{max} record jobs of this requester are still open; wait for their confirmations"
+            ),
+            Refusal::RecordTooLong { len, max } => write!(
+                f,
+                "a record of {len} bytes is longer than the {max} bytes a job carries"
+            ),
+            Refusal::Offline => {
+                f.write_str("the controller is OFFLINE; set the mode to CLEAR or OPERATE first")
+            }
+            Refusal::UnknownSubscriber => f.write_str(
+                "the server does not know this subscriber (it restarted or dropped it); \
+                 subscribe again",
+            ),
+            Refusal::UnknownAlarm { alarm } => write!(
+                f,
+                "alarm #{alarm} is not waiting for this subscriber's acknowledgement \
+                 (already acknowledged, or timed out)"
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
         }
@@ -349,6 +486,22 @@ pub struct StatusReport {
     /// Network interface counters.
     #[serde(default)]
     pub network: NetworkReport,
+    /// Announced notification subscribers.
+    #[serde(default)]
+    pub subscribers: Vec<SubscriberReport>,
+}
+
+/// One announced notification subscriber in a status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SubscriberReport {
+    /// Name it announced.
+    pub name: String,
+    /// Process id.
+    pub pid: u32,
+    /// Whether alarms wait for its acknowledgement.
+    pub acknowledges_alarms: bool,
+    /// Alarms waiting for its acknowledgement now.
+    pub alarms_waiting: u32,
 }
 
 /// Encodes a message for the control service.

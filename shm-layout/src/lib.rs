@@ -29,6 +29,11 @@ mod image_layout;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod os;
+/// The controller services' messages (JSON, like the control protocol): not in the C header.
+///
+/// cbindgen:ignore
+#[cfg(feature = "control")]
+pub mod services;
 mod table_codec;
 mod types;
 

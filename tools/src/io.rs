@@ -46,7 +46,7 @@ pub enum IoCommand {
     },
 }
 
-fn parse_u32(s: &str) -> Result<u32, String> {
+pub(crate) fn parse_u32(s: &str) -> Result<u32, String> {
     let r = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
         Some(hex) => u32::from_str_radix(hex, 16),
         None => s.parse(),
@@ -54,7 +54,7 @@ fn parse_u32(s: &str) -> Result<u32, String> {
     r.map_err(|e| format!("{s:?} is not an address: {e}"))
 }
 
-fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
+pub(crate) fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
     let digits: String = s
         .chars()
         .filter(|c| !c.is_whitespace() && *c != ':')
@@ -70,7 +70,7 @@ fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
         .collect()
 }
 
-fn hex(b: &[u8]) -> String {
+pub(crate) fn hex(b: &[u8]) -> String {
     b.iter()
         .map(|x| format!("{x:02x}"))
         .collect::<Vec<_>>()

@@ -4,6 +4,7 @@
 mod capture;
 mod dcp;
 mod io;
+mod services;
 mod status;
 
 use clap::{Parser, Subcommand};
@@ -46,6 +47,38 @@ enum Command {
     },
     /// The devices and submodules with their logical addresses.
     Layout,
+    /// Read or write a record of a device (asynchronous job, waited for).
+    Record {
+        #[command(subcommand)]
+        op: services::RecordCommand,
+    },
+    /// Print device events, alarms and confirmations as they come.
+    Events {
+        /// One JSON object per line.
+        #[arg(long)]
+        json: bool,
+        /// Take part in alarm acknowledgement: the device's alarm is acknowledged once it
+        /// was printed.
+        #[arg(long)]
+        ack: bool,
+        /// Stop after this many.
+        #[arg(long)]
+        count: Option<u64>,
+        /// Stop after this many seconds.
+        #[arg(long)]
+        seconds: Option<f64>,
+    },
+    /// Activate or deactivate a device and wait for the confirmation.
+    Device {
+        #[command(subcommand)]
+        op: DeviceCommand,
+    },
+    /// The state of every device: state, activation, last error, module differences.
+    Diag {
+        /// JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Find PROFINET devices (DCP) and set their name or address. Needs root or CAP_NET_RAW.
     Dcp {
         /// The network interface.
@@ -72,6 +105,20 @@ enum Command {
     },
 }
 
+#[derive(Subcommand)]
+enum DeviceCommand {
+    /// Connect the device again (not in OFFLINE).
+    Activate {
+        /// Station name.
+        name: String,
+    },
+    /// Release the device's connection and leave it alone.
+    Deactivate {
+        /// Station name.
+        name: String,
+    },
+}
+
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -79,6 +126,18 @@ fn main() {
         Command::Io { op } => io::run(&cli.instance, op),
         Command::Mode { mode } => set_mode(&cli.instance, mode),
         Command::Layout => io::layout(&cli.instance),
+        Command::Record { op } => services::record(&cli.instance, op),
+        Command::Events {
+            json,
+            ack,
+            count,
+            seconds,
+        } => services::events(&cli.instance, json, ack, count, seconds),
+        Command::Device { op } => match op {
+            DeviceCommand::Activate { name } => services::activate(&cli.instance, &name, true),
+            DeviceCommand::Deactivate { name } => services::activate(&cli.instance, &name, false),
+        },
+        Command::Diag { json } => services::diag(&cli.instance, json),
         Command::Dcp { iface, op } => dcp::run(&iface, op),
         Command::Capture {
             iface,

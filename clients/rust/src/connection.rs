@@ -39,7 +39,7 @@ pub fn iox2_config() -> &'static Config {
     })
 }
 
-fn shm(instance: &str, what: &'static str, e: impl core::fmt::Debug) -> AttachError {
+pub(crate) fn shm(instance: &str, what: &'static str, e: impl core::fmt::Debug) -> AttachError {
     AttachError::Shm {
         instance: instance.to_string(),
         what,
@@ -47,7 +47,7 @@ fn shm(instance: &str, what: &'static str, e: impl core::fmt::Debug) -> AttachEr
     }
 }
 
-fn service_name(instance: &str, name: String) -> Result<ServiceName, AttachError> {
+pub(crate) fn service_name(instance: &str, name: String) -> Result<ServiceName, AttachError> {
     ServiceName::new(&name).map_err(|e| shm(instance, "a service name", e))
 }
 
@@ -125,7 +125,11 @@ pub fn open_control(node: &Node<Ipc>, instance: &str) -> Result<ControlPort, Att
         .map_err(|e| shm(instance, "a control client port", e))
 }
 
-fn pubsub_error(instance: &str, what: &'static str, e: PublishSubscribeOpenError) -> AttachError {
+pub(crate) fn pubsub_error(
+    instance: &str,
+    what: &'static str,
+    e: PublishSubscribeOpenError,
+) -> AttachError {
     match e {
         PublishSubscribeOpenError::DoesNotExist => AttachError::NoServer {
             instance: instance.to_string(),
@@ -143,7 +147,7 @@ fn pubsub_error(instance: &str, what: &'static str, e: PublishSubscribeOpenError
     }
 }
 
-fn event_error(instance: &str, what: &'static str, e: EventOpenError) -> AttachError {
+pub(crate) fn event_error(instance: &str, what: &'static str, e: EventOpenError) -> AttachError {
     match e {
         EventOpenError::DoesNotExist => AttachError::NoServer {
             instance: instance.to_string(),

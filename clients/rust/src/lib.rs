@@ -39,6 +39,7 @@ mod error;
 mod io;
 mod layout;
 pub mod realtime;
+mod services;
 mod status;
 
 pub use access::{AccessError, Space};
@@ -49,7 +50,12 @@ pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_shm_layout::control::{ClientRole, Refusal, StatusReport};
+pub use procimg_shm_layout::services::{
+    AlarmReport, DeviceDiagnosis, DiagnosisReport, Notification, RecordConfirmation, RecordStatus,
+    SubmoduleDiff,
+};
 pub use procimg_shm_layout::{CycleInfo, Mode};
+pub use services::{RecordError, RecordTarget, ServiceOptions, Services};
 pub use status::{Ioxs, SubmoduleIoxs};
 
 /// Output samples the server buffers per client between two cycles (see `procimgd`).

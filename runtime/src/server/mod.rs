@@ -5,8 +5,10 @@
 //! only through [`Shared`].
 
 mod registry;
+pub mod services;
 
 pub use registry::{ClientEntry, Registry};
+pub use services::{ControllerLink, RecordJob, Services};
 
 use crate::acyclic::DeviceStates;
 use crate::cycle::{Command, Shared};
@@ -15,8 +17,11 @@ use crate::io::pnio::channel::Channel;
 use crate::shm::{ControlPorts, Ipc, iox2_config};
 use crate::stats::{StatsCollector, load};
 use iceoryx2::node::{Node, NodeState, NodeView};
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::server::Server;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::CallbackProgression;
+use procimg_shm_layout::LayoutHeader;
 use procimg_shm_layout::control::{
     self, ClaimReport, ClientReport, DeviceReport, NetworkReport, Refusal, Request, Response,
     StatusReport,
@@ -47,12 +52,16 @@ pub struct ServerInfo {
 pub struct Control {
     info: ServerInfo,
     tables: Tables,
-    ports: ControlPorts,
+    server: Server<Ipc, [u8], (), [u8], ()>,
+    layout: Publisher<Ipc, [u8], LayoutHeader>,
+    services: Services,
     shared: Arc<Shared>,
     stats: StatsCollector,
     registry: Registry,
     last_liveness: Instant,
     network: Option<(Arc<DeviceStates>, Arc<Channel>)>,
+    // Dropped after the ports above, which live on it.
+    _node: Node<Ipc>,
 }
 
 impl Control {
@@ -65,10 +74,24 @@ impl Control {
         stats: StatsCollector,
     ) -> Control {
         let registry = Registry::new(info.generation.rotate_left(17));
+        let ControlPorts {
+            node,
+            server,
+            layout,
+            notifications,
+            notify,
+        } = ports;
+        let names = (0..tables.devices.len())
+            .map(|d| tables.device_name(d).to_string())
+            .collect();
+        let services = Services::new(notifications, notify, names, info.generation);
         Control {
             info,
             tables,
-            ports,
+            server,
+            layout,
+            services,
+            _node: node,
             shared,
             stats,
             registry,
@@ -80,7 +103,7 @@ impl Control {
     /// Answers every pending request; every [`LIVENESS_PERIOD`] reaps dead clients. Returns
     /// the names of clients reaped in this call.
     pub fn poll(&mut self) -> Vec<String> {
-        while let Ok(Some(active)) = self.ports.server.receive() {
+        while let Ok(Some(active)) = self.server.receive() {
             let response = match control::decode::<Request>(active.payload()) {
                 Ok(req) => self.handle(req),
                 Err(message) => Response::Refused(Refusal::BadRequest { message }),
@@ -91,7 +114,7 @@ impl Control {
             }
         }
         // Delivers the layout (history) to subscribers that attached since the last call.
-        let _ = self.ports.layout.update_connections();
+        let _ = self.layout.update_connections();
         self.stats.collect();
         if self.last_liveness.elapsed() >= LIVENESS_PERIOD {
             self.last_liveness = Instant::now();
@@ -141,11 +164,87 @@ impl Control {
             } => self.registry.release(shared, slot, token, &submodules),
             Request::SetMode { mode } => self.set_mode(mode),
             Request::Status => return Response::Status(Box::new(self.status())),
+            Request::Subscribe {
+                subscriber,
+                name,
+                pid,
+                node_id,
+                acknowledge_alarms,
+            } => {
+                self.services
+                    .subscribe(subscriber, name, pid, node_id, acknowledge_alarms);
+                Ok(())
+            }
+            Request::Unsubscribe { subscriber } => self.services.unsubscribe(subscriber),
+            Request::RecordRead {
+                reply_to,
+                reference,
+                device,
+                api,
+                slot,
+                subslot,
+                index,
+                max_len,
+            } => {
+                return accepted(self.services.record(RecordJob {
+                    reply_to,
+                    reference,
+                    device,
+                    api,
+                    slot,
+                    subslot,
+                    index,
+                    max_len,
+                    write: None,
+                }));
+            }
+            Request::RecordWrite {
+                reply_to,
+                reference,
+                device,
+                api,
+                slot,
+                subslot,
+                index,
+                data,
+            } => {
+                return accepted(self.services.record(RecordJob {
+                    reply_to,
+                    reference,
+                    device,
+                    api,
+                    slot,
+                    subslot,
+                    index,
+                    max_len: 0,
+                    write: Some(data),
+                }));
+            }
+            Request::ActivateDevice {
+                reply_to,
+                device,
+                active,
+            } => {
+                let online = self.shared.mode() != Mode::Offline
+                    || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
+                self.services.activate(reply_to, device, active, online)
+            }
+            Request::AcknowledgeAlarm { subscriber, alarm } => {
+                self.services.acknowledge(subscriber, alarm)
+            }
+            Request::Diagnosis => {
+                return Response::Diagnosis(Box::new(self.services.diagnosis()));
+            }
         };
         match result {
             Ok(()) => Response::Done,
             Err(r) => Response::Refused(r),
         }
+    }
+
+    /// Waits up to `wait` for what the controller reports and hands it to the subscribers.
+    pub fn idle(&mut self, wait: Duration) {
+        self.services.poll(wait);
     }
 
     /// Asks the cycle for a mode; refused while an earlier change is still under way.
@@ -214,12 +313,20 @@ impl Control {
             clients,
             devices: self.device_reports(),
             network: self.network_report(),
+            subscribers: self.services.subscribers(),
         }
     }
 
-    /// Lets status reports show the PROFINET side: device states and interface counters.
-    pub fn set_network(&mut self, states: Arc<DeviceStates>, channel: Arc<Channel>) {
+    /// Connects the control side to the PROFINET side: device states and interface counters
+    /// for status reports, and the controller for the client services.
+    pub fn set_network(
+        &mut self,
+        states: Arc<DeviceStates>,
+        channel: Arc<Channel>,
+        link: ControllerLink,
+    ) {
         self.network = Some((states, channel));
+        self.services.set_link(link);
     }
 
     fn device_reports(&self) -> Vec<DeviceReport> {
@@ -280,14 +387,24 @@ impl Control {
             .filter(|(_, c)| !alive.contains(&c.node_id))
             .map(|(s, _)| s)
             .collect();
-        dead.into_iter()
+        let mut gone: Vec<String> = dead
+            .into_iter()
             .filter_map(|slot| self.registry.unregister(&self.shared, slot))
             .map(|c| format!("{} (pid {})", c.name, c.pid))
-            .collect()
+            .collect();
+        gone.extend(self.services.reap(&alive));
+        gone
     }
 
     /// The registry (for tests and shutdown).
     pub fn registry(&self) -> &Registry {
         &self.registry
+    }
+}
+
+fn accepted(r: Result<(), Refusal>) -> Response {
+    match r {
+        Ok(()) => Response::Accepted,
+        Err(r) => Response::Refused(r),
     }
 }

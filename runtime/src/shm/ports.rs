@@ -12,9 +12,9 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::{
     Alignment, AllocationStrategy, CallbackProgression, NodeName, ServiceName,
 };
-use procimg_shm_layout::control;
 use procimg_shm_layout::events::EVENT_ID_MAX;
 use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
+use procimg_shm_layout::{control, services};
 
 /// Readers beyond clients that may look at the image (tools such as `procimg io watch`).
 const EXTRA_READERS: usize = 16;
@@ -224,6 +224,10 @@ pub struct ControlPorts {
     pub server: Server<Ipc, [u8], (), [u8], ()>,
     /// Holds the layout sample (history 1) for clients that attach later.
     pub layout: Publisher<Ipc, [u8], LayoutHeader>,
+    /// Device events, alarms and confirmations for subscribers.
+    pub notifications: Publisher<Ipc, [u8], ()>,
+    /// Wakes subscribers when notifications were published.
+    pub notify: Notifier<Ipc>,
 }
 
 impl ControlPorts {
@@ -291,10 +295,42 @@ impl ControlPorts {
         sample
             .send()
             .map_err(|e| err(instance, "layout publication", e))?;
+        let notifications = node
+            .service_builder(&name(instance, services::notification_service(instance))?)
+            .publish_subscribe::<[u8]>()
+            // Two: a dead predecessor's port may linger until its node is cleaned up.
+            .max_publishers(2)
+            .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
+            .subscriber_max_buffer_size(services::NOTIFICATION_BUFFER)
+            .subscriber_max_borrowed_samples(1)
+            .history_size(0)
+            // A subscriber that falls behind loses its oldest notifications; the server
+            // never waits for one.
+            .enable_safe_overflow(true)
+            .open_or_create()
+            .map_err(|e| err(instance, "notification service", e))?
+            .publisher_builder()
+            .initial_max_slice_len(1024)
+            .allocation_strategy(AllocationStrategy::PowerOfTwo)
+            .create()
+            .map_err(|e| err(instance, "notification publisher", e))?;
+        let notify = node
+            .service_builder(&name(instance, services::notify_event_service(instance))?)
+            .event()
+            .max_notifiers(2)
+            .max_listeners(MAX_CLIENTS + EXTRA_READERS)
+            .event_id_max_value(services::EVENT_NOTIFICATIONS)
+            .open_or_create()
+            .map_err(|e| err(instance, "notify event service", e))?
+            .notifier_builder()
+            .create()
+            .map_err(|e| err(instance, "notify event notifier", e))?;
         Ok(ControlPorts {
             node,
             server,
             layout,
+            notifications,
+            notify,
         })
     }
 }

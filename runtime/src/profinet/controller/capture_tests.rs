@@ -7,7 +7,9 @@
 //! them: the DCP Xid, the RPC activity UUID, the ARUUID, the SessionKey, the
 //! ServerBootTime of our ApplicationReady response and the CycleCounter of cyclic frames.
 //! The DCP Set goes out untagged where the S7 tags it with priority 0, so the comparison
-//! starts at the FrameID there.
+//! starts at the FrameID there. The S7 sends its alarm frames from its interface MAC address
+//! and everything else from its port's; one controller MAC serves all here, so the source
+//! address of the alarm frames is not compared.
 
 use super::plan::{ControllerIdentity, DevicePlan};
 use super::{Action, Controller, DeviceState};
@@ -280,8 +282,62 @@ fn the_controller_brings_up_the_pnet_sample_as_the_s7_did() {
     .apply(&captured, true);
     assert_eq!(answer, expected, "ApplicationReady response");
     assert_eq!(c.states().next(), Some(DeviceState::Running));
+    out.clear();
+
+    alarm_ack_equals_the_capture(&mut c, &mut out);
 
     cyclic_frames_equal_the_captures(&config, ar);
+}
+
+/// p-net's process alarm, the first of the AR: the transport ACK goes out at once, the
+/// AlarmAck when the alarm is acknowledged; both equal the S7's frames byte for byte.
+fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
+    let ms = 1_000_000u64;
+    // Our MAC in the S7's alarm frames (see the module comment).
+    let s7_alarm = |name: &str| {
+        let mut f = capture(name);
+        f[6..12].copy_from_slice(&S7_MAC.0);
+        f
+    };
+    c.on_frame(&capture("alarm/alarm_process_notif"), 700 * ms, out);
+    let ack_rta = frame(out);
+    assert_eq!(
+        ack_rta,
+        s7_alarm("alarm/alarm_ack_rta_high_cpu"),
+        "transport ACK of the alarm"
+    );
+    let ticket = out
+        .iter()
+        .find_map(|a| match a {
+            Action::Event(super::DeviceEvent::Alarm {
+                notification,
+                ticket,
+                ..
+            }) => {
+                assert_eq!((notification.slot, notification.subslot), (1, 1));
+                Some(*ticket)
+            }
+            _ => None,
+        })
+        .expect("the alarm is delivered");
+    out.clear();
+    c.poll(800 * ms, out);
+    assert!(
+        !out.iter().any(|a| matches!(a, Action::Frame(_))),
+        "the AlarmAck went out before the acknowledgement: {out:?}"
+    );
+    assert!(c.acknowledge_alarm(ticket, 900 * ms, out));
+    assert_eq!(
+        frame(out),
+        s7_alarm("alarm/alarm_ack_high_cpu"),
+        "AlarmAck DATA"
+    );
+    c.on_frame(&capture("alarm/alarm_ack_rta_high_dev"), 910 * ms, out);
+    assert!(
+        !out.iter().any(|a| matches!(a, Action::Frame(_))),
+        "the device's ACK needs no answer: {out:?}"
+    );
+    assert_eq!(c.states().next(), Some(DeviceState::Running));
 }
 
 /// The output frame the cycle builds equals the S7's (CycleCounter aside); the device's

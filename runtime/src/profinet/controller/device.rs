@@ -6,10 +6,15 @@
 use super::cyclic::CyclicAr;
 use super::plan::{ControllerIdentity, DevicePlan};
 use super::rpc_call::{Answer, RpcCall};
-use super::{Action, DeviceEvent, DeviceState, RecordRequest, RecordResult};
+use super::{
+    Action, AlarmTicket, DeviceEvent, DeviceState, RecordData, RecordFailure, RecordRequest,
+    RecordResult,
+};
 use crate::profinet::dcp_client::{self, Identify, Set, SetOutcome};
 use crate::profinet::rta::{RtaChannel, RtaEvent};
-use crate::profinet::wire::alarm::{self, AlarmAck, AlarmBlock, Priority, RtaPdu};
+use crate::profinet::wire::alarm::{
+    self, AlarmAck, AlarmBlock, AlarmNotification, Priority, RtaPdu,
+};
 use crate::profinet::wire::connect::ConnectResponse;
 use crate::profinet::wire::control::ControlBlock;
 use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
@@ -42,6 +47,16 @@ struct Ar {
     alarm_low: RtaChannel,
     /// WriteMultiple/Read sequence number (IODHeader SeqNumber).
     record_seq: u16,
+    /// The delivered alarm of each priority whose AlarmAck waits for the clients
+    /// (`[high, low]`).
+    unacked: [Option<Box<AlarmNotification>>; 2],
+}
+
+const fn priority_slot(p: Priority) -> usize {
+    match p {
+        Priority::High => 0,
+        Priority::Low => 1,
+    }
 }
 
 enum Step {
@@ -86,8 +101,6 @@ pub struct DeviceAr {
     epoch: u32,
     session_key: u16,
     failures: u32,
-    /// It has been running before and then failed: its next start is a return.
-    failed_after_running: bool,
     xid: u32,
     records: VecDeque<RecordRequest>,
 }
@@ -108,7 +121,6 @@ impl DeviceAr {
             epoch: 0,
             session_key: 0,
             failures: 0,
-            failed_after_running: false,
             xid,
             records: VecDeque::new(),
         }
@@ -192,6 +204,20 @@ impl DeviceAr {
             self.step = Step::Idle;
         }
         self.fail_records("the device was released", out);
+        if self.state == DeviceState::Running {
+            // IO-Base reports every end of data exchange as a station failure, a wanted
+            // one (deactivation, OFFLINE) included.
+            let reason = if self.deactivated {
+                "deactivated by a client"
+            } else {
+                "released: the controller went OFFLINE"
+            };
+            out.push(Action::Event(DeviceEvent::Failure {
+                device: self.plan.device,
+                reason: reason.into(),
+                planned: true,
+            }));
+        }
         let s = if self.deactivated {
             DeviceState::Deactivated
         } else {
@@ -208,10 +234,10 @@ impl DeviceAr {
         self.fail_records(why, out);
         let was_running = self.state == DeviceState::Running;
         if was_running {
-            self.failed_after_running = true;
             out.push(Action::Event(DeviceEvent::Failure {
                 device: self.plan.device,
                 reason: why.to_string(),
+                planned: false,
             }));
         } else {
             out.push(Action::Event(DeviceEvent::Problem {
@@ -234,7 +260,7 @@ impl DeviceAr {
         while let Some(r) = self.records.pop_front() {
             out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request: r,
-                result: Err(why.to_string()),
+                result: Err(RecordFailure::no_connection(why)),
             })));
         }
     }
@@ -244,10 +270,10 @@ impl DeviceAr {
         if self.state != DeviceState::Running {
             out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request: r,
-                result: Err(format!(
+                result: Err(RecordFailure::no_connection(format!(
                     "device {:?} is {}, not in data exchange; retry when it is",
                     self.plan.name, self.state
-                )),
+                ))),
             })));
             return;
         }
@@ -410,6 +436,7 @@ impl DeviceAr {
             alarm_high: RtaChannel::new(Priority::High, local, 0, hi, lo),
             alarm_low: RtaChannel::new(Priority::Low, local, 0, hi, lo),
             record_seq: 0,
+            unacked: [None, None],
         });
         out.push(Action::Datagram {
             to: SocketAddrV4::new(ip, rpc::RPC_PORT),
@@ -493,26 +520,20 @@ impl DeviceAr {
                 RtaEvent::Deliver(blocks) => {
                     for b in blocks {
                         if let AlarmBlock::Notification(n) = b {
-                            // Acknowledge as IO-Base does once the indication is delivered.
-                            let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
-                            if let Some(ar) = self.ar.as_mut() {
-                                let mut more = Vec::new();
-                                let ch = match n.priority {
-                                    Priority::High => &mut ar.alarm_high,
-                                    Priority::Low => &mut ar.alarm_low,
-                                };
-                                ch.send(vec![AlarmBlock::Ack(ack)], now, &mut more);
-                                for m in more {
-                                    if let RtaEvent::Send(pdu) = m
-                                        && let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu)
-                                    {
-                                        out.push(Action::Frame(f));
-                                    }
-                                }
-                            }
+                            let Some(ar) = self.ar.as_mut() else { continue };
+                            let priority = n.priority;
+                            let n = Box::new(n);
+                            // The device sends the next alarm of a priority only after the
+                            // AlarmAck of this one, so one slot per priority is enough.
+                            ar.unacked[priority_slot(priority)] = Some(n.clone());
                             out.push(Action::Event(DeviceEvent::Alarm {
                                 device: self.plan.device,
-                                notification: Box::new(n),
+                                notification: n,
+                                ticket: AlarmTicket {
+                                    device: self.plan.device,
+                                    epoch: self.epoch,
+                                    priority,
+                                },
                             }));
                         }
                     }
@@ -773,7 +794,17 @@ impl DeviceAr {
             Some(call) => self.step = Step::Record { call, request },
             None => out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request,
-                result: Err("the record does not fit one RPC PDU".into()),
+                result: Err(RecordFailure {
+                    status: PnioStatus {
+                        error_code: 0xDF,
+                        error_decode: 0x80,
+                        error_code1: 0xB1,
+                        error_code2: 0,
+                    },
+                    add_value1: 0,
+                    add_value2: 0,
+                    reason: "the record does not fit one RPC PDU".into(),
+                }),
             }))),
         }
     }
@@ -795,12 +826,11 @@ impl DeviceAr {
             self.step = Step::Running;
             self.failures = 0;
             self.set_state(DeviceState::Running, out);
-            if self.failed_after_running {
-                self.failed_after_running = false;
-                out.push(Action::Event(DeviceEvent::Return {
-                    device: self.plan.device,
-                }));
-            }
+            // Every start of data exchange is a station return, the first one included, as
+            // IO-Base reports it.
+            out.push(Action::Event(DeviceEvent::Return {
+                device: self.plan.device,
+            }));
             self.next_record(now, out);
         }
         Some(answer)
@@ -817,6 +847,40 @@ impl DeviceAr {
             );
             self.fail(&why, now, out);
         }
+    }
+
+    /// Sends the AlarmAck of the alarm `ticket` names, if it still waits for one.
+    pub fn acknowledge_alarm(
+        &mut self,
+        ticket: AlarmTicket,
+        id: &ControllerIdentity,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) -> bool {
+        if ticket.epoch != self.epoch {
+            return false;
+        }
+        let Some(ar) = self.ar.as_mut() else {
+            return false;
+        };
+        let Some(n) = ar.unacked[priority_slot(ticket.priority)].take() else {
+            return false;
+        };
+        let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
+        let ch = match ticket.priority {
+            Priority::High => &mut ar.alarm_high,
+            Priority::Low => &mut ar.alarm_low,
+        };
+        let mut sent = Vec::new();
+        ch.send(vec![AlarmBlock::Ack(ack)], now, &mut sent);
+        for e in sent {
+            if let RtaEvent::Send(pdu) = e
+                && let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu)
+            {
+                out.push(Action::Frame(f));
+            }
+        }
+        true
     }
 
     /// The ApplicationReady is due from this device's AR (for the ApplicationReady
@@ -845,8 +909,10 @@ fn rta_frame(src: MacAddress, dst: MacAddress, pdu: &RtaPdu) -> Option<Vec<u8>> 
     let mut f = vec![0u8; eth.buffer_len()];
     eth.emit(&mut f);
     f.extend(pdu.to_vec().ok()?);
-    if f.len() < 60 {
-        f.resize(60, 0);
+    // Padded so that the frame is still of minimum size once a switch removes the tag, as
+    // PROFINET controllers send tagged frames.
+    if f.len() < 64 {
+        f.resize(64, 0);
     }
     Some(f)
 }
@@ -899,17 +965,39 @@ fn record_result(
     request: &RecordRequest,
     status: PnioStatus,
     blocks: &[u8],
-) -> Result<Vec<u8>, String> {
+) -> Result<RecordData, RecordFailure> {
+    let header = IodHeader::split(blocks);
+    let (add_value1, add_value2) = header
+        .as_ref()
+        .map_or((0, 0), |(h, _, _)| (h.add_value1, h.add_value2));
+    let failure = |status: PnioStatus| RecordFailure {
+        status,
+        add_value1,
+        add_value2,
+        reason: rpc::describe(status),
+    };
     if !status.is_ok() {
-        return Err(rpc::describe(status));
+        return Err(failure(status));
     }
-    let (h, data, _) =
-        IodHeader::split(blocks).map_err(|_| "the record response is malformed".to_string())?;
+    let Ok((h, data, _)) = header else {
+        return Err(RecordFailure {
+            reason: "the record response is malformed".into(),
+            ..RecordFailure::no_connection("")
+        });
+    };
     if request.write.is_some() {
         if !h.status.is_ok() {
-            return Err(rpc::describe(h.status));
+            return Err(failure(h.status));
         }
-        return Ok(Vec::new());
+        return Ok(RecordData {
+            data: Vec::new(),
+            add_value1,
+            add_value2,
+        });
     }
-    Ok(data.to_vec())
+    Ok(RecordData {
+        data: data.to_vec(),
+        add_value1,
+        add_value2,
+    })
 }

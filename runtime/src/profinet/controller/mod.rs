@@ -15,7 +15,7 @@ pub mod plan;
 pub mod rpc_call;
 
 use super::wire::PnioStatus;
-use super::wire::alarm::AlarmNotification;
+use super::wire::alarm::{AlarmNotification, Priority};
 use super::wire::connect::ModuleDiffBlock;
 use super::wire::control::ControlBlock;
 use super::wire::rpc::{self, Header, Ndr, PacketType, opnum};
@@ -91,13 +91,67 @@ pub struct RecordRequest {
     pub write: Option<Vec<u8>>,
 }
 
+/// Why a record job failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RecordFailure {
+    /// The PNIOStatus of the answer, or (0xC0, 0x80, 0xA3, 0) when there was no connection
+    /// or it broke, as IO-Base reports it.
+    pub status: PnioStatus,
+    /// AdditionalValue1 of the answer.
+    pub add_value1: u16,
+    /// AdditionalValue2 of the answer.
+    pub add_value2: u16,
+    /// The failure in words.
+    pub reason: String,
+}
+
+impl RecordFailure {
+    /// There is no connection to the device, or it broke.
+    pub fn no_connection(reason: impl Into<String>) -> RecordFailure {
+        RecordFailure {
+            status: PnioStatus {
+                error_code: 0xC0,
+                error_decode: 0x80,
+                error_code1: 0xA3,
+                error_code2: 0,
+            },
+            add_value1: 0,
+            add_value2: 0,
+            reason: reason.into(),
+        }
+    }
+}
+
+/// A record job that succeeded.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RecordData {
+    /// The record read (empty for a write).
+    pub data: Vec<u8>,
+    /// AdditionalValue1 (for a read, 1 means the record holds more than was read).
+    pub add_value1: u16,
+    /// AdditionalValue2.
+    pub add_value2: u16,
+}
+
 /// The outcome of a [`RecordRequest`].
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RecordResult {
     /// The request.
     pub request: RecordRequest,
-    /// The data read (empty for a write), or why it failed.
-    pub result: Result<Vec<u8>, String>,
+    /// The data read, or why it failed.
+    pub result: Result<RecordData, RecordFailure>,
+}
+
+/// Names an alarm whose AlarmAck waits for [`Controller::acknowledge_alarm`]: the device
+/// sends no further alarm of this priority until it has it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct AlarmTicket {
+    /// Device index.
+    pub device: usize,
+    /// The AR the alarm came on (an AR set up later does not take its ack).
+    pub epoch: u32,
+    /// The alarm's priority (one outstanding alarm per priority).
+    pub priority: Priority,
 }
 
 /// What happened to a device, for clients and the log.
@@ -110,14 +164,17 @@ pub enum DeviceEvent {
         /// New state.
         state: DeviceState,
     },
-    /// It was in data exchange and failed (IO-Base DEV_FAILURE).
+    /// It left data exchange: it failed, or it was deactivated or released (IO-Base
+    /// DEV_FAILURE).
     Failure {
         /// Device index.
         device: usize,
         /// Why.
         reason: String,
+        /// Asked for (deactivation, OFFLINE) rather than a fault.
+        planned: bool,
     },
-    /// It is back in data exchange after a failure (IO-Base DEV_RETURN).
+    /// It entered data exchange, the first time or again (IO-Base DEV_RETURN).
     Return {
         /// Device index.
         device: usize,
@@ -136,12 +193,21 @@ pub enum DeviceEvent {
         /// The difference, as the device reported it.
         diff: ModuleDiffBlock,
     },
-    /// It sent an alarm (already acknowledged).
+    /// It sent an alarm; acknowledge it with [`Controller::acknowledge_alarm`].
     Alarm {
         /// Device index.
         device: usize,
         /// The notification.
         notification: Box<AlarmNotification>,
+        /// What acknowledges it.
+        ticket: AlarmTicket,
+    },
+    /// A client's activation or deactivation was taken (IO-Base `PNIO_CBE_DEV_ACT_CONF`).
+    Activation {
+        /// Device index.
+        device: usize,
+        /// Activated or deactivated.
+        active: bool,
     },
     /// A record read or write finished.
     Record(RecordResult),
@@ -233,7 +299,23 @@ impl Controller {
             d.deactivated = true;
             d.set_wanted(false, &self.id, now, out);
         }
+        out.push(Action::Event(DeviceEvent::Activation { device, active }));
         true
+    }
+
+    /// Sends the AlarmAck of the alarm `ticket` names (positive, as IO-Base does when the
+    /// alarm callback returns). `false` when that alarm is no longer waiting (acknowledged
+    /// already, or its AR is gone).
+    pub fn acknowledge_alarm(
+        &mut self,
+        ticket: AlarmTicket,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) -> bool {
+        match self.devices.get_mut(ticket.device) {
+            Some(d) => d.acknowledge_alarm(ticket, &self.id, now, out),
+            None => false,
+        }
     }
 
     /// Queues a record read or write.
@@ -244,7 +326,7 @@ impl Controller {
                 let why = format!("there is no device {} in the configuration", r.device);
                 out.push(Action::Event(DeviceEvent::Record(RecordResult {
                     request: r,
-                    result: Err(why),
+                    result: Err(RecordFailure::no_connection(why)),
                 })));
             }
         }

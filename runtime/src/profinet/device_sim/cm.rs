@@ -5,11 +5,14 @@
 
 use super::ar::Ar;
 use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
-use super::{APP_READY_DELAY_NS, DeviceAction, SimDevice, SimDeviceState, records, rpc};
+use super::{
+    APP_READY_DELAY_NS, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, SimDevice, SimDeviceState,
+    records, rpc,
+};
 use crate::profinet::wire::PnioStatus;
 use crate::profinet::wire::alarm::AbortCode;
 use crate::profinet::wire::control::{self, ControlBlock};
-use crate::profinet::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE};
+use crate::profinet::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
 use crate::profinet::wire::rpc::{self as wire_rpc, Header, Ndr, PacketType, opnum};
 use std::net::SocketAddrV4;
 
@@ -96,6 +99,21 @@ impl SimDevice {
         };
         self.rpc
             .respond(h, from, status, ndr.args_maximum, &res, out);
+        if h.opnum == opnum::WRITE && status.is_ok() {
+            self.alarm_on_request(blocks, now_ns, out);
+        }
+    }
+
+    /// A write of [`SIM_ALARM_INDEX`] makes the device raise a process alarm on that
+    /// submodule with the written bytes, so that alarms can be tried without hardware.
+    fn alarm_on_request(&mut self, blocks: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
+        let Ok((h, data, _)) = IodHeader::split(blocks) else {
+            return;
+        };
+        if h.index == SIM_ALARM_INDEX && !h.is_write_multiple() {
+            let data = data.to_vec();
+            self.raise_process_alarm(h.api, h.slot, h.subslot, SIM_ALARM_USI, &data, now_ns, out);
+        }
     }
 
     fn connect(

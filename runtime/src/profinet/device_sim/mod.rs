@@ -135,6 +135,11 @@ pub enum SimDeviceState {
 /// How long after PrmEnd the ApplicationReady goes out: the application's time to take over
 /// its parameters, and time for the controller to see the PrmEnd response first.
 const APP_READY_DELAY_NS: u64 = 1_000_000;
+/// Writing this (manufacturer-specific) record index of a submodule makes the device raise a
+/// process alarm on it, carrying the written bytes: alarms to try without hardware.
+pub const SIM_ALARM_INDEX: u16 = 0x7FF0;
+/// The UserStructureIdentifier of such an alarm (manufacturer-specific).
+pub const SIM_ALARM_USI: u16 = 0x0001;
 /// The smallest Ethernet frame without FCS; shorter frames are padded.
 const MIN_FRAME_LEN: usize = 60;
 

@@ -1,0 +1,605 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The controller services of the control side: record jobs, device activation, alarm
+//! delivery with acknowledgement, device events and diagnosis. Requests come from clients
+//! over the control service and go to the PROFINET thread as [`ControllerCommand`]s; what the
+//! controller reports comes back as [`DeviceEvent`]s and goes out as [`Notification`]s.
+//!
+//! Alarm acknowledgement follows IO-Base: the device's alarm is acknowledged when the
+//! clients that take part have handled it (IO-Base: when the alarm callback returns), at
+//! once when none takes part, and after [`ALARM_ACK_TIMEOUT_MS`] at the latest, so that one
+//! hung client cannot hold back a device's alarms for good.
+
+use crate::acyclic::ControllerCommand;
+use crate::profinet::controller::{
+    AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
+};
+use crate::profinet::wire::PnioStatus;
+use crate::profinet::wire::alarm::{AlarmNotification, Priority};
+use crate::shm::Ipc;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::prelude::EventId;
+use procimg_shm_layout::control::{self, Refusal, SubscriberReport};
+use procimg_shm_layout::services::{
+    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, EVENT_NOTIFICATIONS,
+    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, SubmoduleDiff,
+};
+use std::collections::{HashMap, HashSet, VecDeque};
+use std::sync::mpsc::{Receiver, Sender};
+use std::time::{Duration, Instant};
+
+/// What the control side holds of the PROFINET thread.
+pub struct ControllerLink {
+    /// Commands for the controller.
+    pub commands: Sender<ControllerCommand>,
+    /// What the controller reports.
+    pub events: Receiver<DeviceEvent>,
+}
+
+/// An announced subscriber.
+struct Subscriber {
+    name: String,
+    pid: u32,
+    node_id: String,
+    acknowledges: bool,
+}
+
+/// An alarm whose AlarmAck waits for subscribers.
+struct PendingAlarm {
+    id: u64,
+    ticket: AlarmTicket,
+    waiting: Vec<u64>,
+    deadline: Instant,
+}
+
+/// A record job on its way.
+struct Job {
+    reply_to: u64,
+    reference: u64,
+}
+
+/// What the diagnosis reports of a device beyond its state.
+#[derive(Default)]
+struct DeviceRecord {
+    state: String,
+    inactive: bool,
+    last_error: String,
+    failures: u64,
+    module_diff: Vec<SubmoduleDiff>,
+}
+
+/// A record request as a client gave it.
+pub struct RecordJob {
+    /// Who gets the confirmation.
+    pub reply_to: u64,
+    /// Echoed in the confirmation.
+    pub reference: u64,
+    /// Device index.
+    pub device: u32,
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// Record index.
+    pub index: u16,
+    /// Read: the most bytes wanted.
+    pub max_len: u32,
+    /// Write: the data.
+    pub write: Option<Vec<u8>>,
+}
+
+/// The controller services.
+pub struct Services {
+    link: Option<ControllerLink>,
+    publisher: Publisher<Ipc, [u8], ()>,
+    notifier: Notifier<Ipc>,
+    names: Vec<String>,
+    devices: Vec<DeviceRecord>,
+    subscribers: HashMap<u64, Subscriber>,
+    alarms: Vec<PendingAlarm>,
+    next_alarm: u64,
+    jobs: HashMap<u64, Job>,
+    next_job: u64,
+    activations: Vec<VecDeque<u64>>,
+    lost_notifications: u64,
+}
+
+impl Services {
+    /// The services of server `generation` for the devices `names`, publishing on
+    /// `publisher` and waking subscribers through `notifier`. Subscribers left from a
+    /// previous server learn that they must announce themselves again.
+    pub fn new(
+        publisher: Publisher<Ipc, [u8], ()>,
+        notifier: Notifier<Ipc>,
+        names: Vec<String>,
+        generation: u64,
+    ) -> Services {
+        let devices = names
+            .iter()
+            .map(|_| DeviceRecord {
+                state: DeviceState::Offline.as_str().into(),
+                ..DeviceRecord::default()
+            })
+            .collect();
+        let mut s = Services {
+            link: None,
+            publisher,
+            notifier,
+            activations: names.iter().map(|_| VecDeque::new()).collect(),
+            names,
+            devices,
+            subscribers: HashMap::new(),
+            alarms: Vec::new(),
+            next_alarm: 1,
+            jobs: HashMap::new(),
+            next_job: 1,
+            lost_notifications: 0,
+        };
+        s.publish(&Notification::ServerStarted { generation });
+        s
+    }
+
+    /// Connects the services to the controller.
+    pub fn set_link(&mut self, link: ControllerLink) {
+        self.link = Some(link);
+    }
+
+    fn device(&self, device: u32) -> Result<usize, Refusal> {
+        let d = device as usize;
+        if d < self.names.len() {
+            Ok(d)
+        } else {
+            Err(Refusal::NoSuchDevice { device })
+        }
+    }
+
+    fn command(&self, c: ControllerCommand) -> Result<(), Refusal> {
+        match &self.link {
+            Some(l) => l.commands.send(c).map_err(|_| Refusal::ServerBusy),
+            None => Err(Refusal::ServerBusy),
+        }
+    }
+
+    /// Announces a subscriber (again: its settings are replaced).
+    pub fn subscribe(
+        &mut self,
+        subscriber: u64,
+        name: String,
+        pid: u32,
+        node_id: String,
+        acknowledge_alarms: bool,
+    ) {
+        self.subscribers.insert(
+            subscriber,
+            Subscriber {
+                name,
+                pid,
+                node_id,
+                acknowledges: acknowledge_alarms,
+            },
+        );
+        if !acknowledge_alarms {
+            self.release_waits(subscriber);
+        }
+    }
+
+    /// Withdraws a subscriber.
+    pub fn unsubscribe(&mut self, subscriber: u64) -> Result<(), Refusal> {
+        self.subscribers
+            .remove(&subscriber)
+            .ok_or(Refusal::UnknownSubscriber)?;
+        self.release_waits(subscriber);
+        Ok(())
+    }
+
+    /// Forgets subscribers whose process is gone (`alive`: the live iceoryx2 node ids).
+    pub fn reap(&mut self, alive: &HashSet<String>) -> Vec<String> {
+        let dead: Vec<u64> = self
+            .subscribers
+            .iter()
+            .filter(|(_, s)| !alive.contains(&s.node_id))
+            .map(|(&id, _)| id)
+            .collect();
+        dead.into_iter()
+            .filter_map(|id| {
+                let s = self.subscribers.remove(&id)?;
+                self.release_waits(id);
+                Some(format!("{} (pid {})", s.name, s.pid))
+            })
+            .collect()
+    }
+
+    /// Starts a record job.
+    pub fn record(&mut self, job: RecordJob) -> Result<(), Refusal> {
+        let device = self.device(job.device)?;
+        let len = job
+            .write
+            .as_ref()
+            .map_or(job.max_len, |d| u32::try_from(d.len()).unwrap_or(u32::MAX));
+        if len > MAX_RECORD_LEN {
+            return Err(Refusal::RecordTooLong {
+                len,
+                max: MAX_RECORD_LEN,
+            });
+        }
+        let open = self
+            .jobs
+            .values()
+            .filter(|j| j.reply_to == job.reply_to)
+            .count();
+        if open >= MAX_RECORD_JOBS {
+            return Err(Refusal::TooManyJobs {
+                max: MAX_RECORD_JOBS as u32,
+            });
+        }
+        let id = self.next_job;
+        self.command(ControllerCommand::Record(RecordRequest {
+            reference: id,
+            device,
+            api: job.api,
+            slot: job.slot,
+            subslot: job.subslot,
+            index: job.index,
+            max_len: job.max_len,
+            write: job.write,
+        }))?;
+        self.next_job += 1;
+        self.jobs.insert(
+            id,
+            Job {
+                reply_to: job.reply_to,
+                reference: job.reference,
+            },
+        );
+        Ok(())
+    }
+
+    /// Activates or deactivates a device; `online` says whether the controller is (or is
+    /// becoming) CLEAR or OPERATE.
+    pub fn activate(
+        &mut self,
+        reply_to: u64,
+        device: u32,
+        active: bool,
+        online: bool,
+    ) -> Result<(), Refusal> {
+        let d = self.device(device)?;
+        if !online {
+            return Err(Refusal::Offline);
+        }
+        self.command(ControllerCommand::Activate { device: d, active })?;
+        if let Some(q) = self.activations.get_mut(d) {
+            q.push_back(reply_to);
+        }
+        Ok(())
+    }
+
+    /// A subscriber acknowledges an alarm.
+    pub fn acknowledge(&mut self, subscriber: u64, alarm: u64) -> Result<(), Refusal> {
+        if !self.subscribers.contains_key(&subscriber) {
+            return Err(Refusal::UnknownSubscriber);
+        }
+        let Some(i) = self
+            .alarms
+            .iter()
+            .position(|a| a.id == alarm && a.waiting.contains(&subscriber))
+        else {
+            return Err(Refusal::UnknownAlarm { alarm });
+        };
+        self.alarms[i].waiting.retain(|&s| s != subscriber);
+        if self.alarms[i].waiting.is_empty() {
+            let a = self.alarms.swap_remove(i);
+            let _ = self.command(ControllerCommand::AcknowledgeAlarm(a.ticket));
+        }
+        Ok(())
+    }
+
+    /// Stops waiting for `subscriber`'s acknowledgements.
+    fn release_waits(&mut self, subscriber: u64) {
+        for a in &mut self.alarms {
+            a.waiting.retain(|&s| s != subscriber);
+        }
+        self.acknowledge_settled();
+    }
+
+    /// Acknowledges the alarms nobody waits for any more.
+    fn acknowledge_settled(&mut self) {
+        let mut i = 0;
+        while i < self.alarms.len() {
+            if self.alarms[i].waiting.is_empty() {
+                let a = self.alarms.swap_remove(i);
+                let _ = self.command(ControllerCommand::AcknowledgeAlarm(a.ticket));
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// Handles what the controller reported and the acknowledgement timeouts; `wait` is the
+    /// longest time to wait for a first report.
+    pub fn poll(&mut self, wait: Duration) {
+        let mut events = Vec::new();
+        match &self.link {
+            Some(l) => {
+                if let Ok(e) = l.events.recv_timeout(wait) {
+                    events.push(e);
+                    events.extend(l.events.try_iter());
+                }
+            }
+            None => std::thread::sleep(wait),
+        }
+        for e in events {
+            self.on_event(e);
+        }
+        let now = Instant::now();
+        let mut late = Vec::new();
+        for a in &mut self.alarms {
+            if now >= a.deadline {
+                late.append(&mut a.waiting);
+            }
+        }
+        if !late.is_empty() {
+            let names: Vec<String> = late
+                .iter()
+                .filter_map(|s| self.subscribers.get(s))
+                .map(|s| format!("{} (pid {})", s.name, s.pid))
+                .collect();
+            tracing::warn!(
+                "alarm not acknowledged within {ALARM_ACK_TIMEOUT_MS} ms by {}; \
+                 acknowledged to the device without them",
+                names.join(", ")
+            );
+            self.acknowledge_settled();
+        }
+    }
+
+    fn on_event(&mut self, e: DeviceEvent) {
+        let name = |d: usize| self.names.get(d).cloned().unwrap_or_default();
+        match e {
+            DeviceEvent::State { device, state } => {
+                if let Some(r) = self.devices.get_mut(device) {
+                    r.state = state.as_str().into();
+                    if state == DeviceState::Running {
+                        r.last_error.clear();
+                    }
+                }
+                self.publish(&Notification::DeviceState {
+                    device: device as u32,
+                    name: name(device),
+                    state: state.as_str().into(),
+                });
+            }
+            DeviceEvent::Failure { device, reason, .. } => {
+                if let Some(r) = self.devices.get_mut(device) {
+                    r.failures += 1;
+                    r.last_error = reason.clone();
+                }
+                self.publish(&Notification::DeviceFailure {
+                    device: device as u32,
+                    name: name(device),
+                    reason,
+                });
+            }
+            DeviceEvent::Return { device } => self.publish(&Notification::DeviceReturn {
+                device: device as u32,
+                name: name(device),
+            }),
+            DeviceEvent::Problem { device, reason } => {
+                if let Some(r) = self.devices.get_mut(device) {
+                    r.last_error = reason;
+                }
+            }
+            DeviceEvent::ModuleDiff { device, diff } => {
+                let submodules: Vec<SubmoduleDiff> = diff
+                    .submodules()
+                    .map(|(api, slot, subslot, st)| SubmoduleDiff {
+                        api,
+                        slot,
+                        subslot,
+                        state: st.0,
+                        text: format!("{st:?}"),
+                    })
+                    .collect();
+                if let Some(r) = self.devices.get_mut(device) {
+                    r.module_diff = submodules.clone();
+                }
+                self.publish(&Notification::ModuleDiff {
+                    device: device as u32,
+                    name: name(device),
+                    submodules,
+                });
+            }
+            DeviceEvent::Alarm {
+                device,
+                notification,
+                ticket,
+            } => self.on_alarm(device, &notification, ticket),
+            DeviceEvent::Record(r) => self.on_record(r),
+            DeviceEvent::Activation { device, active } => {
+                if let Some(r) = self.devices.get_mut(device) {
+                    r.inactive = !active;
+                }
+                if let Some(reply_to) = self.activations.get_mut(device).and_then(|q| q.pop_front())
+                {
+                    self.publish(&Notification::Activation {
+                        reply_to,
+                        device: device as u32,
+                        active,
+                        ok: true,
+                    });
+                }
+            }
+        }
+    }
+
+    fn on_alarm(&mut self, device: usize, n: &AlarmNotification, ticket: AlarmTicket) {
+        let id = self.next_alarm;
+        self.next_alarm += 1;
+        let mut block = vec![0u8; n.buffer_len()];
+        // The fixed part of the block: header (6), AlarmType, API, slot, subslot, module and
+        // submodule ident, AlarmSpecifier; what follows is the user data.
+        const FIXED: usize = 6 + 2 + 4 + 2 + 2 + 4 + 4 + 2;
+        let payload = match n.emit(&mut block) {
+            Ok(()) => block.get(FIXED..).unwrap_or_default().to_vec(),
+            Err(_) => Vec::new(),
+        };
+        let name = self.names.get(device).cloned().unwrap_or_default();
+        let report = AlarmReport {
+            id,
+            device: device as u32,
+            text: alarm_text(&name, n),
+            device_name: name,
+            high_priority: n.priority == Priority::High,
+            alarm_type: n.alarm_type.into(),
+            api: n.api,
+            slot: n.slot,
+            subslot: n.subslot,
+            module_ident: n.module_ident,
+            submodule_ident: n.submodule_ident,
+            specifier: n.specifier.to_u16(),
+            payload,
+        };
+        let waiting: Vec<u64> = self
+            .subscribers
+            .iter()
+            .filter(|(_, s)| s.acknowledges)
+            .map(|(&id, _)| id)
+            .collect();
+        self.publish(&Notification::Alarm(report));
+        if waiting.is_empty() {
+            let _ = self.command(ControllerCommand::AcknowledgeAlarm(ticket));
+        } else {
+            self.alarms.push(PendingAlarm {
+                id,
+                ticket,
+                waiting,
+                deadline: Instant::now() + Duration::from_millis(ALARM_ACK_TIMEOUT_MS),
+            });
+        }
+    }
+
+    fn on_record(&mut self, r: RecordResult) {
+        let Some(job) = self.jobs.remove(&r.request.reference) else {
+            return;
+        };
+        let q = &r.request;
+        let (status, data, message) = match r.result {
+            Ok(d) => (
+                RecordStatus {
+                    add_value1: d.add_value1,
+                    add_value2: d.add_value2,
+                    ..RecordStatus::OK
+                },
+                d.data,
+                String::new(),
+            ),
+            Err(f) => (record_status(&f), Vec::new(), f.reason),
+        };
+        self.publish(&Notification::Record {
+            reply_to: job.reply_to,
+            confirmation: RecordConfirmation {
+                reference: job.reference,
+                device: q.device as u32,
+                api: q.api,
+                slot: q.slot,
+                subslot: q.subslot,
+                index: q.index,
+                write: q.write.is_some(),
+                status,
+                data,
+                message,
+            },
+        });
+    }
+
+    fn publish(&mut self, n: &Notification) {
+        let bytes = control::encode(n);
+        let sent = self
+            .publisher
+            .loan_slice_uninit(bytes.len())
+            .ok()
+            .and_then(|s| s.write_from_slice(&bytes).send().ok());
+        if sent.is_none() {
+            self.lost_notifications += 1;
+            return;
+        }
+        let _ = self
+            .notifier
+            .notify_with_custom_event_id(EventId::new(EVENT_NOTIFICATIONS));
+    }
+
+    /// The devices' state.
+    pub fn diagnosis(&self) -> DiagnosisReport {
+        DiagnosisReport {
+            devices: self
+                .devices
+                .iter()
+                .enumerate()
+                .map(|(d, r)| DeviceDiagnosis {
+                    device: d as u32,
+                    name: self.names[d].clone(),
+                    state: r.state.clone(),
+                    active: !r.inactive,
+                    last_error: r.last_error.clone(),
+                    failures: r.failures,
+                    module_diff: r.module_diff.clone(),
+                })
+                .collect(),
+        }
+    }
+
+    /// The announced subscribers.
+    pub fn subscribers(&self) -> Vec<SubscriberReport> {
+        let mut v: Vec<SubscriberReport> = self
+            .subscribers
+            .iter()
+            .map(|(id, s)| SubscriberReport {
+                name: s.name.clone(),
+                pid: s.pid,
+                acknowledges_alarms: s.acknowledges,
+                alarms_waiting: self
+                    .alarms
+                    .iter()
+                    .filter(|a| a.waiting.contains(id))
+                    .count() as u32,
+            })
+            .collect();
+        v.sort_by(|a, b| (a.pid, &a.name).cmp(&(b.pid, &b.name)));
+        v
+    }
+
+    /// Notifications that could not be published (no shared memory for them).
+    pub fn lost_notifications(&self) -> u64 {
+        self.lost_notifications
+    }
+}
+
+fn record_status(f: &RecordFailure) -> RecordStatus {
+    let PnioStatus {
+        error_code,
+        error_decode,
+        error_code1,
+        error_code2,
+    } = f.status;
+    RecordStatus {
+        error_code,
+        error_decode,
+        error_code1,
+        error_code2,
+        add_value1: f.add_value1,
+        add_value2: f.add_value2,
+    }
+}
+
+fn alarm_text(device: &str, n: &AlarmNotification) -> String {
+    let mut t = format!(
+        "{} alarm from {device:?}, API {} slot {} subslot {:#06x} (sequence {})",
+        n.alarm_type, n.api, n.slot, n.subslot, n.specifier.sequence_number
+    );
+    if let Some(d) = n.diagnosis() {
+        t.push_str(&format!(": {d:?}"));
+    }
+    t
+}

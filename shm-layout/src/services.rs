@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The controller services clients use besides the process image: record read/write jobs,
+//! device activation, alarms with acknowledgement, device events and diagnosis.
+//!
+//! Requests go over the control service (see [`crate::control::Request`]); what happens later
+//! arrives on the notification service `procimg/<instance>/notifications`, one JSON
+//! [`Notification`] per sample, with a wake-up on the event service
+//! `procimg/<instance>/notify-events`. Alarms and device events go to every subscriber;
+//! confirmations carry the `reply_to` of the subscriber that asked, so every subscriber sees
+//! only its own. Both services outlive a server restart, like the control service: a
+//! subscriber keeps its ports and learns of the new server from [`Notification::ServerStarted`].
+
+use alloc::format;
+use alloc::string::String;
+use alloc::vec::Vec;
+use serde::{Deserialize, Serialize};
+
+/// The notification publish-subscribe service of an instance.
+pub fn notification_service(instance: &str) -> String {
+    format!("procimg/{instance}/notifications")
+}
+
+/// The event service that wakes subscribers when notifications were published.
+pub fn notify_event_service(instance: &str) -> String {
+    format!("procimg/{instance}/notify-events")
+}
+
+/// Event id on the notify-event service: notifications are waiting.
+pub const EVENT_NOTIFICATIONS: usize = 1;
+
+/// Notifications a subscriber buffers; older ones are lost when it falls further behind
+/// (the subscriber counts them).
+pub const NOTIFICATION_BUFFER: usize = 256;
+
+/// Record jobs one subscriber may have open at a time (IO-Base's PN Driver allows 16).
+pub const MAX_RECORD_JOBS: usize = 16;
+
+/// Largest record a job reads or writes (one RPC PDU without fragmentation).
+pub const MAX_RECORD_LEN: u32 = 4096;
+
+/// How long the server waits for the acknowledging subscribers of an alarm before it
+/// acknowledges the alarm to the device itself.
+pub const ALARM_ACK_TIMEOUT_MS: u64 = 5000;
+
+/// A PNIOStatus with its additional values, as a record job ends (IO-Base `PNIO_ERR_STAT`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RecordStatus {
+    /// ErrorCode (0 = OK; 0xDE read error, 0xDF write error, 0xC0 no connection).
+    pub error_code: u8,
+    /// ErrorDecode (0x80 PNIORW, 0x81 PNIO).
+    pub error_decode: u8,
+    /// ErrorCode1.
+    pub error_code1: u8,
+    /// ErrorCode2.
+    pub error_code2: u8,
+    /// AdditionalValue1 (for a read that succeeded, 1 means the record holds more data).
+    pub add_value1: u16,
+    /// AdditionalValue2.
+    pub add_value2: u16,
+}
+
+impl RecordStatus {
+    /// The job succeeded.
+    pub const OK: RecordStatus = RecordStatus {
+        error_code: 0,
+        error_decode: 0,
+        error_code1: 0,
+        error_code2: 0,
+        add_value1: 0,
+        add_value2: 0,
+    };
+
+    /// There is no connection to the device, or it broke during the job: the status IO-Base
+    /// reports then (0xC0, 0x80, 0xA3, 0).
+    pub const NO_CONNECTION: RecordStatus = RecordStatus {
+        error_code: 0xC0,
+        error_decode: 0x80,
+        error_code1: 0xA3,
+        error_code2: 0,
+        add_value1: 0,
+        add_value2: 0,
+    };
+
+    /// Whether the job succeeded.
+    pub const fn is_ok(&self) -> bool {
+        self.error_code == 0
+    }
+}
+
+/// The end of a record read or write.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RecordConfirmation {
+    /// The reference the requester gave.
+    pub reference: u64,
+    /// Device index (in the layout's device table).
+    pub device: u32,
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// Record index.
+    pub index: u16,
+    /// A write (`true`) or a read.
+    pub write: bool,
+    /// The outcome.
+    pub status: RecordStatus,
+    /// The record read (empty for writes and failures).
+    #[serde(default)]
+    pub data: Vec<u8>,
+    /// Why it failed, in words (empty when it succeeded).
+    #[serde(default)]
+    pub message: String,
+}
+
+/// An alarm a device sent (IO-Base `PNIO_CBE_ALARM_IND`). Every subscriber gets it; the
+/// server waits with the AlarmAck to the device for the subscribers that announced
+/// themselves with `acknowledge_alarms` when the alarm arrived.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AlarmReport {
+    /// Identifies the alarm in [`crate::control::Request::AcknowledgeAlarm`].
+    pub id: u64,
+    /// Device index.
+    pub device: u32,
+    /// Station name of the device.
+    pub device_name: String,
+    /// High (`true`) or low priority.
+    pub high_priority: bool,
+    /// AlarmType (1 diagnosis, 2 process, 3 pull, 4 plug, …).
+    pub alarm_type: u16,
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// ModuleIdentNumber.
+    pub module_ident: u32,
+    /// SubmoduleIdentNumber.
+    pub submodule_ident: u32,
+    /// AlarmSpecifier as sent.
+    pub specifier: u16,
+    /// The bytes after the AlarmSpecifier: UserStructureIdentifier and its data, if any.
+    #[serde(default)]
+    pub payload: Vec<u8>,
+    /// The alarm in words, for logs.
+    pub text: String,
+}
+
+impl AlarmReport {
+    /// The UserStructureIdentifier of the payload, if there is one.
+    pub fn usi(&self) -> Option<u16> {
+        match self.payload.as_slice() {
+            [a, b, ..] => Some(u16::from_be_bytes([*a, *b])),
+            _ => None,
+        }
+    }
+}
+
+/// What the server tells subscribers.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "notification", rename_all = "snake_case")]
+pub enum Notification {
+    /// A server (re)started: announce again (its predecessor's subscriptions, jobs and
+    /// alarms are gone).
+    ServerStarted {
+        /// Its generation.
+        generation: u64,
+    },
+    /// A device's state changed (see [`crate::control::DeviceReport::state`]).
+    DeviceState {
+        /// Device index.
+        device: u32,
+        /// Station name.
+        name: String,
+        /// The new state.
+        state: String,
+    },
+    /// A device in data exchange failed; its inputs are BAD (IO-Base `PNIO_ALARM_DEV_FAILURE`).
+    DeviceFailure {
+        /// Device index.
+        device: u32,
+        /// Station name.
+        name: String,
+        /// Why.
+        reason: String,
+    },
+    /// A failed device is back in data exchange (IO-Base `PNIO_ALARM_DEV_RETURN`).
+    DeviceReturn {
+        /// Device index.
+        device: u32,
+        /// Station name.
+        name: String,
+    },
+    /// A device's real modules differ from the configuration (its ModuleDiffBlock).
+    ModuleDiff {
+        /// Device index.
+        device: u32,
+        /// Station name.
+        name: String,
+        /// The submodules that differ.
+        submodules: Vec<SubmoduleDiff>,
+    },
+    /// An alarm.
+    Alarm(AlarmReport),
+    /// A record job of `reply_to` ended.
+    Record {
+        /// The subscriber that asked.
+        reply_to: u64,
+        /// The outcome.
+        confirmation: RecordConfirmation,
+    },
+    /// An activation or deactivation of `reply_to` was carried out (IO-Base
+    /// `PNIO_CBE_DEV_ACT_CONF`); the state change itself follows as device events.
+    Activation {
+        /// The subscriber that asked.
+        reply_to: u64,
+        /// Device index.
+        device: u32,
+        /// Activated (`true`) or deactivated.
+        active: bool,
+        /// Whether the device took it.
+        ok: bool,
+    },
+}
+
+impl Notification {
+    /// The subscriber this notification is for, or `None` for all.
+    pub fn reply_to(&self) -> Option<u64> {
+        match self {
+            Notification::Record { reply_to, .. } | Notification::Activation { reply_to, .. } => {
+                Some(*reply_to)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// One submodule whose real state differs from the expected one.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SubmoduleDiff {
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// The device's SubmoduleState word.
+    pub state: u16,
+    /// It in words ("no submodule", "wrong submodule", "substitute", …).
+    pub text: String,
+}
+
+/// What [`crate::control::Request::Diagnosis`] answers: the dynamic state of the IO system;
+/// the configured submodules are in the layout every client has.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DiagnosisReport {
+    /// One entry per configured device, in layout order.
+    pub devices: Vec<DeviceDiagnosis>,
+}
+
+/// The state of one device.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DeviceDiagnosis {
+    /// Device index.
+    pub device: u32,
+    /// Station name.
+    pub name: String,
+    /// Its state (offline, deactivated, searching, …, running, failed).
+    pub state: String,
+    /// Activated (by configuration or by a client's activation).
+    pub active: bool,
+    /// The last failure or problem, if it is not running.
+    #[serde(default)]
+    pub last_error: String,
+    /// How often it failed in data exchange since the server started.
+    pub failures: u64,
+    /// The submodules the device reported as different at its last connect.
+    #[serde(default)]
+    pub module_diff: Vec<SubmoduleDiff>,
+}

@@ -1,0 +1,259 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg record`, `procimg events`, `procimg device` and `procimg diag`: the controller
+//! services from the command line.
+
+use crate::io::{hex, parse_hex};
+use anyhow::{Context, bail};
+use clap::Subcommand;
+use procimg_client::{Notification, RecordTarget, ServiceOptions, Services};
+use procimg_runtime::profinet::wire::record::Im0;
+use std::time::{Duration, Instant};
+
+/// How long a record job may take before the command gives up.
+const RECORD_TIMEOUT: Duration = Duration::from_secs(10);
+
+#[derive(Subcommand)]
+pub enum RecordCommand {
+    /// Read a record and print it in hex (I&M0, index 0xAFF0, also decoded).
+    Read {
+        #[command(flatten)]
+        at: RecordAt,
+        /// The most bytes to read.
+        #[arg(long, default_value_t = 4096)]
+        max_len: u32,
+    },
+    /// Write a record.
+    Write {
+        #[command(flatten)]
+        at: RecordAt,
+        /// The record in hex, e.g. 01ff or "01 ff".
+        data: String,
+    },
+}
+
+/// Where a record is.
+#[derive(clap::Args)]
+pub struct RecordAt {
+    /// The device's station name (as in `procimg status`).
+    device: String,
+    /// Slot.
+    #[arg(long, default_value_t = 0)]
+    slot: u16,
+    /// Subslot (decimal or 0x hex).
+    #[arg(long, default_value = "1", value_parser = parse_u16)]
+    subslot: u16,
+    /// Record index (decimal or 0x hex), e.g. 0xAFF0 for I&M0.
+    #[arg(long, value_parser = parse_u16)]
+    index: u16,
+    /// API.
+    #[arg(long, default_value_t = 0)]
+    api: u32,
+}
+
+fn parse_u16(s: &str) -> Result<u16, String> {
+    let r = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
+        Some(hex) => u16::from_str_radix(hex, 16),
+        None => s.parse(),
+    };
+    r.map_err(|e| format!("{s:?} is not a 16-bit number: {e}"))
+}
+
+fn open(instance: &str, name: &str, acknowledge: bool) -> anyhow::Result<Services> {
+    Ok(Services::open(
+        instance,
+        ServiceOptions::new(name).acknowledge_alarms(acknowledge),
+    )?)
+}
+
+/// The index of the device named `name`.
+fn device_index(s: &Services, name: &str) -> anyhow::Result<u32> {
+    let devices = s.control().status()?.devices;
+    match devices.iter().position(|d| d.name == name) {
+        Some(i) => Ok(i as u32),
+        None => {
+            let names: Vec<&str> = devices.iter().map(|d| d.name.as_str()).collect();
+            bail!(
+                "instance \"{}\" has no device {name:?}; it has: {}",
+                s.control().instance(),
+                names.join(", ")
+            )
+        }
+    }
+}
+
+fn target(s: &Services, at: &RecordAt) -> anyhow::Result<RecordTarget> {
+    Ok(RecordTarget {
+        device: device_index(s, &at.device)?,
+        api: at.api,
+        slot: at.slot,
+        subslot: at.subslot,
+        index: at.index,
+    })
+}
+
+/// `procimg record …`.
+pub fn record(instance: &str, op: RecordCommand) -> anyhow::Result<()> {
+    let mut s = open(instance, "procimg-record", false)?;
+    match op {
+        RecordCommand::Read { at, max_len } => {
+            let t = target(&s, &at)?;
+            let data = s
+                .read_record(t, max_len, RECORD_TIMEOUT)
+                .with_context(|| format!("reading record {:#06x} of {:?}", at.index, at.device))?;
+            println!("{}", hex(&data));
+            if at.index == 0xAFF0
+                && let Ok(im) = Im0::parse(&data)
+            {
+                println!(
+                    "I&M0: vendor {:#06x}, order id {:?}, serial {:?}, hardware {}, software {}",
+                    im.vendor_id,
+                    im.order_id_str().unwrap_or("?"),
+                    im.serial_number_str().unwrap_or("?"),
+                    im.hardware_revision,
+                    im.software_revision
+                );
+            }
+        }
+        RecordCommand::Write { at, data } => {
+            let t = target(&s, &at)?;
+            let bytes = parse_hex(&data)?;
+            s.write_record(t, &bytes, RECORD_TIMEOUT)
+                .with_context(|| format!("writing record {:#06x} of {:?}", at.index, at.device))?;
+            println!("written");
+        }
+    }
+    Ok(())
+}
+
+/// `procimg events`: prints device events, alarms and confirmations as they come.
+pub fn events(
+    instance: &str,
+    json: bool,
+    acknowledge: bool,
+    count: Option<u64>,
+    seconds: Option<f64>,
+) -> anyhow::Result<()> {
+    let mut s = open(instance, "procimg-events", acknowledge)?;
+    let term = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(sig, term.clone())?;
+    }
+    let until = seconds.map(|x| Instant::now() + Duration::from_secs_f64(x));
+    let mut seen = 0;
+    while !term.load(std::sync::atomic::Ordering::Acquire)
+        && count.is_none_or(|c| seen < c)
+        && until.is_none_or(|u| Instant::now() < u)
+    {
+        let Some(n) = s.next(Duration::from_millis(200)) else {
+            continue;
+        };
+        seen += 1;
+        if json {
+            println!("{}", serde_json::to_string(&n)?);
+        } else {
+            println!("{}", describe(&n));
+        }
+        if acknowledge && let Notification::Alarm(a) = &n {
+            // An alarm older than the subscription is not waiting for us: nothing to do.
+            let _ = s.acknowledge(a);
+        }
+    }
+    Ok(())
+}
+
+fn describe(n: &Notification) -> String {
+    match n {
+        Notification::ServerStarted { generation } => {
+            format!("server started (generation {generation:016x})")
+        }
+        Notification::DeviceState { name, state, .. } => format!("{name}: {state}"),
+        Notification::DeviceFailure { name, reason, .. } => {
+            format!("{name}: DEV_FAILURE: {reason}")
+        }
+        Notification::DeviceReturn { name, .. } => format!("{name}: DEV_RETURN"),
+        Notification::ModuleDiff {
+            name, submodules, ..
+        } => {
+            let list: Vec<String> = submodules
+                .iter()
+                .map(|d| format!("slot {} subslot {:#06x}: {}", d.slot, d.subslot, d.text))
+                .collect();
+            format!("{name}: modules differ: {}", list.join("; "))
+        }
+        Notification::Alarm(a) => format!(
+            "alarm #{}: {}{}",
+            a.id,
+            a.text,
+            if a.payload.is_empty() {
+                String::new()
+            } else {
+                format!(" [{}]", hex(&a.payload))
+            }
+        ),
+        Notification::Record { confirmation, .. } => {
+            format!(
+                "record {:#06x} done: {:?}",
+                confirmation.index, confirmation.status
+            )
+        }
+        Notification::Activation { device, active, .. } => format!(
+            "device #{device} {}",
+            if *active { "activated" } else { "deactivated" }
+        ),
+    }
+}
+
+/// `procimg device activate|deactivate NAME`: waits for the confirmation.
+pub fn activate(instance: &str, name: &str, active: bool) -> anyhow::Result<()> {
+    let mut s = open(instance, "procimg-device", false)?;
+    let device = device_index(&s, name)?;
+    s.activate(device, active)?;
+    let until = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < until {
+        if let Some(Notification::Activation { device: d, ok, .. }) =
+            s.next(Duration::from_millis(100))
+            && d == device
+        {
+            if !ok {
+                bail!("device {name:?} did not take the change");
+            }
+            println!(
+                "{name} {}",
+                if active { "activated" } else { "deactivated" }
+            );
+            return Ok(());
+        }
+    }
+    bail!("no confirmation from instance \"{instance}\" within 5 s")
+}
+
+/// `procimg diag`: the state of every device.
+pub fn diag(instance: &str, json: bool) -> anyhow::Result<()> {
+    let s = open(instance, "procimg-diag", false)?;
+    let d = s.diagnosis()?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&d)?);
+        return Ok(());
+    }
+    for dev in &d.devices {
+        print!(
+            "#{} {:<24} {:<30} {} failures {}",
+            dev.device,
+            dev.name,
+            dev.state,
+            if dev.active { "active  " } else { "inactive" },
+            dev.failures
+        );
+        if !dev.last_error.is_empty() {
+            print!("  last error: {}", dev.last_error);
+        }
+        println!();
+        for m in &dev.module_diff {
+            println!(
+                "    API {} slot {} subslot {:#06x}: {}",
+                m.api, m.slot, m.subslot, m.text
+            );
+        }
+    }
+    Ok(())
+}
