@@ -382,6 +382,44 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     let im0 = Im0::parse(&data).expect("the I&M0 record does not parse");
     assert_eq!(im0.vendor_id, 0x0493);
 
+    // A record longer than one PDU: the write goes out in fragments, the read comes back in
+    // fragments, and the bytes survive both ways.
+    let long: Vec<u8> = (0..3000u32).map(|i| (i * 7) as u8).collect();
+    let mut job = |reference: u64, write: Option<Vec<u8>>, k: &mut u64| {
+        let mut out = Vec::new();
+        w.controller.record(
+            RecordRequest {
+                reference,
+                device: echo_device,
+                api: 0,
+                slot: 1,
+                subslot: 1,
+                index: 0x0042,
+                max_len: 4096,
+                write,
+            },
+            &mut out,
+        );
+        w.controller_actions(out, *k * MS);
+        let until = *k + 100;
+        loop {
+            if let Some(r) = w.events.iter().find_map(|e| match e {
+                DeviceEvent::Record(r) if r.request.reference == reference => Some(r.clone()),
+                _ => None,
+            }) {
+                break r;
+            }
+            *k += 1;
+            w.step(*k);
+            assert!(*k < until, "record job {reference} did not finish");
+        }
+    };
+    job(78, Some(long.clone()), &mut k)
+        .result
+        .expect("the long write failed");
+    let back = job(79, None, &mut k).result.expect("the long read failed");
+    assert_eq!(back.data, long);
+
     // The counter device's frames are lost: the watchdog (100 cycles in the demo) fails it,
     // its inputs go BAD; the others run on.
     w.cut = Some(counter_device);

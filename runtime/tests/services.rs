@@ -96,6 +96,16 @@ fn records_alarms_activation_and_diagnosis_reach_clients() {
         "another handle's confirmation reached the observer"
     );
 
+    // The longest record a job carries crosses in RPC fragments both ways.
+    let long: Vec<u8> = (0..4096u32).map(|i| (i % 251) as u8).collect();
+    let big = RecordTarget {
+        index: 0x0011,
+        ..user
+    };
+    plc.write_record(big, &long, WAIT)
+        .expect("a 4096-byte record write");
+    assert_eq!(plc.read_record(big, 4096, WAIT).expect("read back"), long);
+
     // A record the device does not have: the device's PNIORW status comes back.
     let missing = RecordTarget {
         index: 0x1234,

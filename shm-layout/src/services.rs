@@ -35,7 +35,7 @@ pub const NOTIFICATION_BUFFER: usize = 256;
 /// Record jobs one subscriber may have open at a time (IO-Base's PN Driver allows 16).
 pub const MAX_RECORD_JOBS: usize = 16;
 
-/// Largest record a job reads or writes (one RPC PDU without fragmentation).
+/// Largest record a job reads or writes (IO-Base's `PNIO_MAX_REC_LEN`).
 pub const MAX_RECORD_LEN: u32 = 4096;
 
 /// How long the server waits for the acknowledging subscribers of an alarm before it

@@ -5,7 +5,7 @@
 
 use super::cyclic::CyclicAr;
 use super::plan::{ControllerIdentity, DevicePlan};
-use super::rpc_call::{Answer, RpcCall};
+use super::rpc_call::{Answer, Reply, RpcCall};
 use super::{
     Action, AlarmTicket, DeviceEvent, DeviceState, RecordData, RecordFailure, RecordRequest,
     RecordResult,
@@ -194,10 +194,7 @@ impl DeviceAr {
                 0,
                 now,
             ) {
-                out.push(Action::Datagram {
-                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
-                    payload: call.pdu.clone(),
-                });
+                call.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
                 self.step = Step::Release(call);
             }
         } else {
@@ -335,10 +332,7 @@ impl DeviceAr {
                 if c.retry_due(now) {
                     c.resent(now);
                     if let Some(ip) = self.ip {
-                        out.push(Action::Datagram {
-                            to: SocketAddrV4::new(ip, rpc::RPC_PORT),
-                            payload: c.pdu.clone(),
-                        });
+                        c.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
                     }
                 } else if c.expired(now) {
                     let op = opnum::name(c.opnum).unwrap_or("RPC");
@@ -438,10 +432,7 @@ impl DeviceAr {
             record_seq: 0,
             unacked: [None, None],
         });
-        out.push(Action::Datagram {
-            to: SocketAddrV4::new(ip, rpc::RPC_PORT),
-            payload: call.pdu.clone(),
-        });
+        call.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
         self.step = Step::Connect(call);
         self.set_state(DeviceState::Connecting, out);
     }
@@ -560,7 +551,7 @@ impl DeviceAr {
         now: u64,
         out: &mut Vec<Action>,
     ) -> bool {
-        let call = match &self.step {
+        let call = match &mut self.step {
             Step::Connect(c)
             | Step::Write(c)
             | Step::PrmEnd(c)
@@ -568,15 +559,28 @@ impl DeviceAr {
             | Step::Record { call: c, .. } => c,
             _ => return false,
         };
-        let Some(answer) = call.answer(datagram) else {
-            return false;
+        let mut facks = Vec::new();
+        let reply = call.take(datagram, &mut facks);
+        let op = call.opnum;
+        if let Some(ip) = self.ip {
+            for f in facks {
+                out.push(Action::Datagram {
+                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+                    payload: f,
+                });
+            }
+        }
+        let answer = match reply {
+            Reply::Foreign => return false,
+            Reply::Partial => return true,
+            Reply::Done(a) => a,
         };
         let (status, blocks) = match answer {
             Answer::Response { status, blocks } => (status, blocks),
             Answer::Refused(code) => {
                 let why = format!(
                     "the device's RPC layer refused the {} call (status {code:#010x})",
-                    opnum::name(call.opnum).unwrap_or("RPC")
+                    opnum::name(op).unwrap_or("RPC")
                 );
                 if matches!(self.step, Step::Release(_)) {
                     self.step = Step::Idle;
@@ -737,10 +741,7 @@ impl DeviceAr {
             now,
         )
         .ok()?;
-        out.push(Action::Datagram {
-            to: SocketAddrV4::new(ip, rpc::RPC_PORT),
-            payload: call.pdu.clone(),
-        });
+        call.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
         Some(call)
     }
 
@@ -754,7 +755,7 @@ impl DeviceAr {
     ) {
         match self.send_call(op, blocks, 0, now, out) {
             Some(call) => self.step = step(call),
-            None => self.fail("a request does not fit one RPC PDU", now, out),
+            None => self.fail("a request is longer than an RPC call can carry", now, out),
         }
     }
 
@@ -803,7 +804,7 @@ impl DeviceAr {
                     },
                     add_value1: 0,
                     add_value2: 0,
-                    reason: "the record does not fit one RPC PDU".into(),
+                    reason: "the record is longer than an RPC call can carry".into(),
                 }),
             }))),
         }

@@ -13,7 +13,7 @@
 use super::DeviceAction;
 use crate::profinet::wire::control::ControlBlock;
 use crate::profinet::wire::rpc::{
-    self, HEADER_LEN, Header, MAX_PDU_LEN, NDR_LEN, Ndr, NdrResponse, PacketType, flags1,
+    self, Header, MAX_PDU_LEN, NDR_LEN, Ndr, NdrResponse, PacketType, flags1,
 };
 use crate::profinet::wire::{PnioStatus, Uuid};
 use std::collections::{BTreeMap, VecDeque};
@@ -27,8 +27,6 @@ pub(super) const NCA_OP_RANGE_ERROR: u32 = 0x1c01_0002;
 /// ServerBootTime in our responses. p-net sends 0 too; a client only compares it between
 /// calls, and a simulated device never reboots under a running activity.
 const SERVER_BOOT_TIME: u32 = 0;
-/// Body bytes of one PDU: 1464 − 80, the fragment size p-net and the S7 use.
-const MAX_BODY: usize = MAX_PDU_LEN - HEADER_LEN;
 /// Activities whose last response is kept for duplicates (one per controller connection is
 /// enough; a few more cover tools reading records alongside).
 const CACHE_LEN: usize = 8;
@@ -41,16 +39,7 @@ const FACK_WINDOW: u16 = 8;
 
 /// The PDU `header` describes with `body` after it: LengthOfBody set, header in its DREP.
 pub(super) fn pdu(header: &Header, body: &[u8]) -> Option<Vec<u8>> {
-    let body_len = u16::try_from(body.len()).ok()?;
-    let mut v = vec![0u8; HEADER_LEN + body.len()];
-    Header {
-        body_len,
-        ..*header
-    }
-    .emit(&mut v)
-    .ok()?;
-    v[HEADER_LEN..].copy_from_slice(body);
-    Some(v)
+    rpc::emit_with_body(header, body).ok()
 }
 
 /// A response kept for duplicates.
@@ -191,31 +180,9 @@ impl Server {
         }
         body.extend_from_slice(blocks);
         let reply = request.reply(SERVER_BOOT_TIME);
-        let datagrams: Vec<Vec<u8>> = if body.len() <= MAX_BODY {
-            pdu(&reply, &body).into_iter().collect()
-        } else {
-            let chunks: Vec<&[u8]> = body.chunks(MAX_BODY).collect();
-            let count = chunks.len();
-            chunks
-                .into_iter()
-                .enumerate()
-                .filter_map(|(i, chunk)| {
-                    let last = if i + 1 == count {
-                        flags1::LAST_FRAGMENT
-                    } else {
-                        0
-                    };
-                    let h = Header {
-                        // NoFack: the client need not acknowledge our fragments; they are
-                        // few and small, and a lost one is repaired by the client's retry.
-                        flags1: flags1::FRAGMENT | flags1::NO_FACK | last,
-                        fragment_number: u16::try_from(i).ok()?,
-                        ..reply
-                    };
-                    pdu(&h, chunk)
-                })
-                .collect()
-        };
+        // NoFack: the client need not acknowledge our fragments; they are few and small, and
+        // a lost one is repaired by the client's retry.
+        let datagrams = rpc::fragments(&reply, &body, true).unwrap_or_default();
         let cached = Cached {
             activity: request.activity,
             seq: request.sequence_number,
@@ -297,26 +264,15 @@ fn resend(c: &Cached, to: SocketAddrV4, out: &mut Vec<DeviceAction>) {
     out.extend(c.datagrams.iter().map(|d| datagram(to, d.clone())));
 }
 
-/// Acknowledges one request fragment: a FACK with the fragment's number and serial, body
-/// (DREP order) version 0, pad, window size, max TSDU, max fragment size, serial number and
-/// an empty selective-ack list.
+/// Acknowledges one request fragment (see [`rpc::fack`]).
 fn fack(fragment: &Header, to: SocketAddrV4, out: &mut Vec<DeviceAction>) {
-    let h = Header {
-        packet_type: PacketType::Fack,
-        flags1: 0,
-        fragment_number: fragment.fragment_number,
-        ..fragment.reply(SERVER_BOOT_TIME)
-    };
-    let le = fragment.little_endian;
-    let u16b = |v: u16| if le { v.to_le_bytes() } else { v.to_be_bytes() };
-    let u32b = |v: u32| if le { v.to_le_bytes() } else { v.to_be_bytes() };
-    let mut body = vec![0u8, 0];
-    body.extend_from_slice(&u16b(FACK_WINDOW));
-    body.extend_from_slice(&u32b(MAX_REASSEMBLED as u32));
-    body.extend_from_slice(&u32b(MAX_PDU_LEN as u32));
-    body.extend_from_slice(&u16b(fragment.serial));
-    body.extend_from_slice(&u16b(0));
-    if let Some(d) = pdu(&h, &body) {
+    if let Ok(d) = rpc::fack(
+        fragment,
+        SERVER_BOOT_TIME,
+        FACK_WINDOW,
+        MAX_REASSEMBLED as u32,
+        MAX_PDU_LEN as u32,
+    ) {
         out.push(datagram(to, d));
     }
 }

@@ -1186,6 +1186,83 @@ pub fn emit_request(header: &Header, args_maximum: u32, blocks: &[u8]) -> Result
     .to_vec()
 }
 
+/// Body bytes of one fragment: [`MAX_PDU_LEN`] − 80, the fragment size p-net and the S7 use.
+pub const MAX_FRAGMENT_BODY: usize = MAX_PDU_LEN - HEADER_LEN;
+
+/// The PDU `header` describes with `body` after it: LengthOfBody set, the header in its
+/// DREP. A body above 65535 bytes gives [`Error`].
+pub fn emit_with_body(header: &Header, body: &[u8]) -> Result<Vec<u8>> {
+    let body_len = u16::try_from(body.len()).map_err(|_| Error)?;
+    let mut v = vec![0u8; HEADER_LEN + body.len()];
+    Header {
+        body_len,
+        ..*header
+    }
+    .emit(&mut v)?;
+    v[HEADER_LEN..].copy_from_slice(body);
+    Ok(v)
+}
+
+/// The PDUs that carry `body` under `header`: one when it fits [`MAX_FRAGMENT_BODY`], else
+/// fragments numbered from 0 with the Fragment flag, LastFragment on the last, and NoFack
+/// when `no_fack` (the receiver need not acknowledge them).
+pub fn fragments(header: &Header, body: &[u8], no_fack: bool) -> Result<Vec<Vec<u8>>> {
+    if body.len() <= MAX_FRAGMENT_BODY {
+        return Ok(vec![emit_with_body(header, body)?]);
+    }
+    let count = body.len().div_ceil(MAX_FRAGMENT_BODY);
+    body.chunks(MAX_FRAGMENT_BODY)
+        .enumerate()
+        .map(|(i, chunk)| {
+            // LastFragment belongs to the last fragment only and NoFack is the caller's
+            // choice, whatever the header (a reply header carries both).
+            let base = header.flags1 & !(flags1::LAST_FRAGMENT | flags1::NO_FACK);
+            let mut f = base | flags1::FRAGMENT;
+            if i + 1 == count {
+                f |= flags1::LAST_FRAGMENT;
+            }
+            if no_fack {
+                f |= flags1::NO_FACK;
+            }
+            let h = Header {
+                flags1: f,
+                fragment_number: u16::try_from(i).map_err(|_| Error)?,
+                ..*header
+            };
+            emit_with_body(&h, chunk)
+        })
+        .collect()
+}
+
+/// A FACK for the fragment whose header is `fragment`: its fragment number and serial, the
+/// given boot time, and the body (in the fragment's DREP) version 0, pad, `window` (fragments
+/// the sender may send ahead), `max_tsdu` (largest whole body taken), `max_frag` (largest
+/// fragment PDU taken), serial number and an empty selective-ack list.
+pub fn fack(
+    fragment: &Header,
+    boot_time: u32,
+    window: u16,
+    max_tsdu: u32,
+    max_frag: u32,
+) -> Result<Vec<u8>> {
+    let h = Header {
+        packet_type: PacketType::Fack,
+        flags1: 0,
+        fragment_number: fragment.fragment_number,
+        ..fragment.reply(boot_time)
+    };
+    let le = fragment.little_endian;
+    let u16b = |v: u16| if le { v.to_le_bytes() } else { v.to_be_bytes() };
+    let u32b = |v: u32| if le { v.to_le_bytes() } else { v.to_be_bytes() };
+    let mut body = vec![0u8, 0];
+    body.extend_from_slice(&u16b(window));
+    body.extend_from_slice(&u32b(max_tsdu));
+    body.extend_from_slice(&u32b(max_frag));
+    body.extend_from_slice(&u16b(fragment.serial));
+    body.extend_from_slice(&u16b(0));
+    emit_with_body(&h, &body)
+}
+
 /// A response PDU: `header` (its packet type forced to response, its body length computed;
 /// see [`Header::reply`]), an NDR header from [`NdrResponse::for_blocks`] with the request's
 /// ArgsMaximum, and the blocks. A body above 65535 bytes or the Fragment flag give [`Error`].
