@@ -135,16 +135,8 @@ pub enum Request {
         reply_to: u64,
         /// Echoed in the confirmation.
         reference: u64,
-        /// Device index.
-        device: u32,
-        /// API.
-        api: u32,
-        /// Slot.
-        slot: u16,
-        /// Subslot.
-        subslot: u16,
-        /// Record index.
-        index: u16,
+        /// The record.
+        target: RecordTarget,
         /// The most bytes wanted.
         max_len: u32,
     },
@@ -155,16 +147,8 @@ pub enum Request {
         reply_to: u64,
         /// Echoed in the confirmation.
         reference: u64,
-        /// Device index.
-        device: u32,
-        /// API.
-        api: u32,
-        /// Slot.
-        slot: u16,
-        /// Subslot.
-        subslot: u16,
-        /// Record index.
-        index: u16,
+        /// The record.
+        target: RecordTarget,
         /// The record.
         data: Vec<u8>,
     },
@@ -217,7 +201,7 @@ pub enum Response {
     Diagnosis(Box<DiagnosisReport>),
 }
 
-use crate::services::DiagnosisReport;
+use crate::services::{DiagnosisReport, RecordTarget};
 
 use alloc::boxed::Box;
 

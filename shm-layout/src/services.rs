@@ -87,21 +87,28 @@ impl RecordStatus {
     }
 }
 
-/// The end of a record read or write.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct RecordConfirmation {
-    /// The reference the requester gave.
-    pub reference: u64,
+/// Where a record lives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RecordTarget {
     /// Device index (in the layout's device table).
     pub device: u32,
-    /// API.
+    /// API (0 for most devices).
     pub api: u32,
     /// Slot.
     pub slot: u16,
     /// Subslot.
     pub subslot: u16,
-    /// Record index.
+    /// Record index (0xAFF0 is I&M0).
     pub index: u16,
+}
+
+/// The end of a record read or write.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RecordConfirmation {
+    /// The reference the requester gave.
+    pub reference: u64,
+    /// The record.
+    pub target: RecordTarget,
     /// A write (`true`) or a read.
     pub write: bool,
     /// The outcome.

@@ -193,7 +193,7 @@ fn describe(n: &Notification) -> String {
         Notification::Record { confirmation, .. } => {
             format!(
                 "record {:#06x} done: {:?}",
-                confirmation.index, confirmation.status
+                confirmation.target.index, confirmation.status
             )
         }
         Notification::Activation { device, active, .. } => format!(

@@ -52,10 +52,10 @@ pub use layout::Layout;
 pub use procimg_shm_layout::control::{ClientRole, Refusal, StatusReport};
 pub use procimg_shm_layout::services::{
     AlarmReport, DeviceDiagnosis, DiagnosisReport, Notification, RecordConfirmation, RecordStatus,
-    SubmoduleDiff,
+    RecordTarget, SubmoduleDiff,
 };
 pub use procimg_shm_layout::{CycleInfo, Mode};
-pub use services::{RecordError, RecordTarget, ServiceOptions, Services};
+pub use services::{RecordError, ServiceOptions, Services};
 pub use status::{Ioxs, SubmoduleIoxs};
 
 /// Output samples the server buffers per client between two cycles (see `procimgd`).

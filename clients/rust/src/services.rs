@@ -21,7 +21,7 @@ use iceoryx2::prelude::FileDescriptorBased;
 use procimg_shm_layout::control::{Request, Response};
 use procimg_shm_layout::services::{
     self, AlarmReport, DiagnosisReport, NOTIFICATION_BUFFER, Notification, RecordConfirmation,
-    RecordStatus,
+    RecordStatus, RecordTarget,
 };
 use std::collections::VecDeque;
 use std::hash::{Hash, Hasher};
@@ -53,21 +53,6 @@ impl ServiceOptions {
         self.acknowledge_alarms = on;
         self
     }
-}
-
-/// Where a record lives.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct RecordTarget {
-    /// Device index (see [`crate::Layout::device`]).
-    pub device: u32,
-    /// API (0 for most devices).
-    pub api: u32,
-    /// Slot.
-    pub slot: u16,
-    /// Subslot.
-    pub subslot: u16,
-    /// Record index (0xAFF0 is I&M0).
-    pub index: u16,
 }
 
 /// Why a waited-for record job failed.
@@ -284,11 +269,7 @@ impl Services {
         self.accepted(&Request::RecordRead {
             reply_to: self.id,
             reference,
-            device: target.device,
-            api: target.api,
-            slot: target.slot,
-            subslot: target.subslot,
-            index: target.index,
+            target,
             max_len,
         })
     }
@@ -304,11 +285,7 @@ impl Services {
         self.accepted(&Request::RecordWrite {
             reply_to: self.id,
             reference,
-            device: target.device,
-            api: target.api,
-            slot: target.slot,
-            subslot: target.subslot,
-            index: target.index,
+            target,
             data: data.to_vec(),
         })
     }

@@ -179,21 +179,13 @@ impl Control {
             Request::RecordRead {
                 reply_to,
                 reference,
-                device,
-                api,
-                slot,
-                subslot,
-                index,
+                target,
                 max_len,
             } => {
                 return accepted(self.services.record(RecordJob {
                     reply_to,
                     reference,
-                    device,
-                    api,
-                    slot,
-                    subslot,
-                    index,
+                    target,
                     max_len,
                     write: None,
                 }));
@@ -201,21 +193,13 @@ impl Control {
             Request::RecordWrite {
                 reply_to,
                 reference,
-                device,
-                api,
-                slot,
-                subslot,
-                index,
+                target,
                 data,
             } => {
                 return accepted(self.services.record(RecordJob {
                     reply_to,
                     reference,
-                    device,
-                    api,
-                    slot,
-                    subslot,
-                    index,
+                    target,
                     max_len: 0,
                     write: Some(data),
                 }));

@@ -22,7 +22,8 @@ use iceoryx2::prelude::EventId;
 use procimg_shm_layout::control::{self, Refusal, SubscriberReport};
 use procimg_shm_layout::services::{
     ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, EVENT_NOTIFICATIONS,
-    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, SubmoduleDiff,
+    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
+    SubmoduleDiff,
 };
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::mpsc::{Receiver, Sender};
@@ -74,16 +75,8 @@ pub struct RecordJob {
     pub reply_to: u64,
     /// Echoed in the confirmation.
     pub reference: u64,
-    /// Device index.
-    pub device: u32,
-    /// API.
-    pub api: u32,
-    /// Slot.
-    pub slot: u16,
-    /// Subslot.
-    pub subslot: u16,
-    /// Record index.
-    pub index: u16,
+    /// The record.
+    pub target: RecordTarget,
     /// Read: the most bytes wanted.
     pub max_len: u32,
     /// Write: the data.
@@ -213,7 +206,8 @@ impl Services {
 
     /// Starts a record job.
     pub fn record(&mut self, job: RecordJob) -> Result<(), Refusal> {
-        let device = self.device(job.device)?;
+        let t = job.target;
+        let device = self.device(t.device)?;
         let len = job
             .write
             .as_ref()
@@ -238,10 +232,10 @@ impl Services {
         self.command(ControllerCommand::Record(RecordRequest {
             reference: id,
             device,
-            api: job.api,
-            slot: job.slot,
-            subslot: job.subslot,
-            index: job.index,
+            api: t.api,
+            slot: t.slot,
+            subslot: t.subslot,
+            index: t.index,
             max_len: job.max_len,
             write: job.write,
         }))?;
@@ -501,11 +495,13 @@ impl Services {
             reply_to: job.reply_to,
             confirmation: RecordConfirmation {
                 reference: job.reference,
-                device: q.device as u32,
-                api: q.api,
-                slot: q.slot,
-                subslot: q.subslot,
-                index: q.index,
+                target: RecordTarget {
+                    device: q.device as u32,
+                    api: q.api,
+                    slot: q.slot,
+                    subslot: q.subslot,
+                    index: q.index,
+                },
                 write: q.write.is_some(),
                 status,
                 data,
