@@ -12,7 +12,7 @@ use crate::profinet::controller::{
 use crate::sys::clock::now_ns;
 use procimg_shm_layout::Mode;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::atomic::{AtomicU8, AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, Sender};
 use std::thread::JoinHandle;
 use std::time::Duration;
@@ -36,9 +36,14 @@ pub enum ControllerCommand {
     AcknowledgeAlarm(AlarmTicket),
 }
 
-/// Device states as the control side reads them.
+/// What the controller thread publishes for the control side: the device states and the
+/// datagrams of port 34964 it dropped.
 pub struct DeviceStates {
     states: Box<[AtomicU8]>,
+    /// RPC datagrams that did not parse.
+    pub malformed_datagrams: AtomicU64,
+    /// RPC datagrams nothing was waiting for.
+    pub unexpected_datagrams: AtomicU64,
 }
 
 const STATES: [DeviceState; 9] = [
@@ -58,6 +63,8 @@ impl DeviceStates {
     pub fn new(n: usize) -> DeviceStates {
         DeviceStates {
             states: (0..n).map(|_| AtomicU8::new(0)).collect(),
+            malformed_datagrams: AtomicU64::new(0),
+            unexpected_datagrams: AtomicU64::new(0),
         }
     }
 
@@ -190,6 +197,13 @@ pub fn spawn(setup: AcyclicSetup) -> std::io::Result<JoinHandle<()>> {
                 match datagrams.recv_from(&mut buf, wait) {
                     Ok(Some((n, from))) => {
                         controller.on_datagram(from, &buf[..n], now_ns(), &mut out);
+                        let dropped = controller.dropped_datagrams();
+                        states
+                            .malformed_datagrams
+                            .store(dropped.malformed, Ordering::Relaxed);
+                        states
+                            .unexpected_datagrams
+                            .store(dropped.unexpected, Ordering::Relaxed);
                         carry_out(
                             &mut out,
                             &channel,

@@ -3,7 +3,9 @@
 //! the demo, in simulated time, in one process: every device comes up through DCP, Connect,
 //! PrmEnd and ApplicationReady; outputs written into the image come back from the echo
 //! device; an alarm is delivered and its AlarmAck waits for the acknowledgement; a record
-//! read of I&M0 returns the device's identity; a device whose frames stop is failed by the
+//! read of I&M0 returns the device's identity and a 3000-byte record crosses in RPC
+//! fragments both ways; hostile datagrams are counted and dropped without harm; a device
+//! whose frames stop is failed by the
 //! watchdog (inputs BAD) and comes back without help; OFFLINE releases every AR. Every frame
 //! and datagram that crossed the simulated network, in both directions, must dissect clean in
 //! Wireshark.
@@ -28,7 +30,7 @@ use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
 use procimg_runtime::profinet::wire::MacAddress;
 use procimg_runtime::profinet::wire::alarm::AlarmType;
 use procimg_runtime::profinet::wire::record::Im0;
-use procimg_runtime::profinet::wire::rpc::RPC_PORT;
+use procimg_runtime::profinet::wire::rpc::{self, RPC_PORT};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::SocketAddrV4;
 use std::sync::Arc;
@@ -419,6 +421,61 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
         .expect("the long write failed");
     let back = job(79, None, &mut k).result.expect("the long read failed");
     assert_eq!(back.data, long);
+
+    // Hostile datagrams on port 34964: truncated, garbage NDR, a control block with a bad
+    // BlockLength, an answer nobody waits for. Counted and dropped; nothing breaks.
+    let from = SocketAddrV4::new(w.devices[echo_device].ip().into(), RPC_PORT);
+    let control = |activity: u8, blocks: &[u8], ndr_ok: bool| {
+        let h = rpc::Header::request(
+            rpc::object_uuid(1, 1, 0x0493),
+            rpc::CONTROLLER_INTERFACE,
+            procimg_runtime::profinet::wire::Uuid([activity; 16]),
+            1,
+            rpc::opnum::CONTROL,
+        );
+        if ndr_ok {
+            rpc::emit_request(&h, 256, blocks).unwrap()
+        } else {
+            rpc::emit_with_body(&h, blocks).unwrap()
+        }
+    };
+    let response = {
+        let h = rpc::Header::request(
+            rpc::object_uuid(1, 1, 0x0493),
+            rpc::DEVICE_INTERFACE,
+            procimg_runtime::profinet::wire::Uuid([9; 16]),
+            77,
+            rpc::opnum::READ,
+        );
+        rpc::emit_response(&h.reply(0), Default::default(), 64, &[1, 2, 3]).unwrap()
+    };
+    let hostile = [
+        control(1, &[], false)[..10].to_vec(),
+        control(2, &[0xff; 5], false),
+        control(3, &[0x01, 0x12, 0xff, 0xff, 0x01, 0x00], true),
+        response,
+    ];
+    let before = w.controller.dropped_datagrams();
+    let events_before = w.events.len();
+    for d in &hostile {
+        let mut out = Vec::new();
+        w.controller.on_datagram(from, d, k * MS, &mut out);
+        assert!(out.is_empty(), "a hostile datagram was answered: {out:?}");
+    }
+    let after = w.controller.dropped_datagrams();
+    assert_eq!(after.malformed - before.malformed, 3);
+    assert_eq!(after.unexpected - before.unexpected, 1);
+    for _ in 0..50 {
+        k += 1;
+        w.step(k);
+    }
+    assert!(w.states().iter().all(|s| *s == DeviceState::Running));
+    assert!(
+        !w.events[events_before..]
+            .iter()
+            .any(|e| matches!(e, DeviceEvent::Failure { .. } | DeviceEvent::Problem { .. })),
+        "a hostile datagram broke a connection"
+    );
 
     // The counter device's frames are lost: the watchdog (100 cycles in the demo) fails it,
     // its inputs go BAD; the others run on.

@@ -420,6 +420,12 @@ pub struct NetworkReport {
     pub send_errors: u64,
     /// Consumer watchdog expiries (devices lost).
     pub watchdog_expiries: u64,
+    /// UDP datagrams on port 34964 that were not a well-formed RPC PDU (dropped).
+    #[serde(default)]
+    pub malformed_datagrams: u64,
+    /// Well-formed RPC datagrams no call or AR was waiting for (dropped).
+    #[serde(default)]
+    pub unexpected_datagrams: u64,
 }
 
 /// The server's state, as `procimg status` shows it.

@@ -47,6 +47,10 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
         n.send_errors,
         n.watchdog_expiries
     );
+    println!(
+        "RPC datagrams dropped: {} malformed, {} unexpected",
+        n.malformed_datagrams, n.unexpected_datagrams
+    );
     if s.clients.is_empty() {
         println!("no clients");
     } else {

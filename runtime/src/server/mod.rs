@@ -328,7 +328,7 @@ impl Control {
     }
 
     fn network_report(&self) -> NetworkReport {
-        let Some((_, ch)) = &self.network else {
+        let Some((states, ch)) = &self.network else {
             return NetworkReport::default();
         };
         let c = &ch.counters;
@@ -340,6 +340,8 @@ impl Control {
             dropped: load(&c.dropped),
             send_errors: load(&c.send_errors),
             watchdog_expiries: load(&c.watchdog_expiries),
+            malformed_datagrams: load(&states.malformed_datagrams),
+            unexpected_datagrams: load(&states.unexpected_datagrams),
         }
     }
 

@@ -236,6 +236,15 @@ pub enum Action {
     Event(DeviceEvent),
 }
 
+/// Datagrams of port 34964 the controller dropped.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DatagramCounters {
+    /// Not an RPC PDU, or one whose header, NDR header or blocks do not parse.
+    pub malformed: u64,
+    /// Well-formed, but no outstanding call or known AR is theirs.
+    pub unexpected: u64,
+}
+
 /// The controller.
 pub struct Controller {
     id: ControllerIdentity,
@@ -243,6 +252,7 @@ pub struct Controller {
     /// ServerBootTime in our RPC responses.
     boot_time: u32,
     wanted: bool,
+    dropped: DatagramCounters,
 }
 
 impl Controller {
@@ -253,7 +263,13 @@ impl Controller {
             devices: plans.into_iter().map(DeviceAr::new).collect(),
             boot_time,
             wanted: false,
+            dropped: DatagramCounters::default(),
         }
+    }
+
+    /// The datagrams dropped so far.
+    pub fn dropped_datagrams(&self) -> DatagramCounters {
+        self.dropped
     }
 
     /// The controller's identity.
@@ -348,9 +364,11 @@ impl Controller {
         out: &mut Vec<Action>,
     ) {
         let Ok(packet) = rpc::Packet::new_checked(datagram) else {
+            self.dropped.malformed += 1;
             return;
         };
         let Ok(h) = Header::parse(&packet) else {
+            self.dropped.malformed += 1;
             return;
         };
         if h.packet_type == PacketType::Request {
@@ -362,6 +380,7 @@ impl Controller {
                 return;
             }
         }
+        self.dropped.unexpected += 1;
     }
 
     /// A call to our controller interface: the devices' ApplicationReady.
@@ -374,17 +393,21 @@ impl Controller {
         out: &mut Vec<Action>,
     ) {
         if h.interface != rpc::CONTROLLER_INTERFACE || h.opnum != opnum::CONTROL {
+            self.dropped.unexpected += 1;
             return;
         }
         let Ok((Ndr::Request(ndr), blocks)) =
             rpc::parse_body(PacketType::Request, h.little_endian, body)
         else {
+            self.dropped.malformed += 1;
             return;
         };
         let Ok(block) = ControlBlock::parse(blocks) else {
+            self.dropped.malformed += 1;
             return;
         };
         if !block.is_request() {
+            self.dropped.unexpected += 1;
             return;
         }
         let answer = self
