@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Network interfaces behind one small trait: AF_PACKET (through pnet) for real interfaces
-//! and an in-process link for the simulated network. Both carry whole Ethernet frames
-//! (without FCS) and deliver only PROFINET frames (EtherType 0x8892, tagged or not).
+//! Network interfaces behind one small trait: AF_PACKET (through pnet) for real interfaces,
+//! an in-process link for the simulated network, and the replay of a capture file. All carry
+//! whole Ethernet frames (without FCS); the interface and the replay deliver only PROFINET
+//! frames (EtherType 0x8892, tagged or not).
 
 pub mod af_packet;
 pub mod datagram;
+pub mod replay;
 pub mod sim_link;
 
 use crate::profinet::wire::MacAddress;

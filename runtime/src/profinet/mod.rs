@@ -8,5 +8,5 @@ pub mod device_sim;
 pub mod iocr_layout;
 pub mod rta;
 #[cfg(test)]
-mod test_fixtures;
+pub(crate) mod test_fixtures;
 pub mod wire;
