@@ -65,14 +65,15 @@ pub struct AfPacket {
 }
 
 impl AfPacket {
-    /// Opens `name` as a protocol endpoint: `recv` returns the PROFINET frames others sent,
-    /// waiting at most `rx_timeout`.
+    /// Opens `name` as a protocol endpoint: `recv` returns the PROFINET frames others sent to
+    /// this station, waiting at most `rx_timeout`.
     pub fn open(name: &str, rx_timeout: Duration) -> Result<AfPacket, OpenError> {
         AfPacket::open_with(name, rx_timeout, false)
     }
 
     /// Opens `name` for capturing: `recv` returns the PROFINET frames of both directions,
-    /// including those this host sends.
+    /// including those this host sends, and, the interface being promiscuous, those between
+    /// other stations that reach it.
     pub fn open_capture(name: &str, rx_timeout: Duration) -> Result<AfPacket, OpenError> {
         AfPacket::open_with(name, rx_timeout, true)
     }
@@ -125,9 +126,17 @@ impl AfPacket {
         let fd = open_profinet_socket(!both_directions).map_err(io)?;
         let config = Config {
             read_timeout: Some(rx_timeout),
-            write_timeout: Some(Duration::from_millis(10)),
+            // The cycle thread sends: a socket that cannot take a frame now (the kernel has not
+            // freed the frames sent before) must not hold the cycle for milliseconds. The send
+            // fails at once and is counted; the next cycle sends fresh data anyway.
+            write_timeout: Some(Duration::ZERO),
             channel_type: ChannelType::Layer2,
             socket_fd: Some(fd),
+            // pnet's default is promiscuous. A protocol endpoint needs only the frames the NIC
+            // takes for this station; promiscuous, the NIC hands up every frame on the wire and
+            // the cycle thread parses (and counts as unknown) every PROFINET frame between
+            // other stations. A capture wants exactly those.
+            promiscuous: both_directions,
             ..Config::default()
         };
         match pnet_datalink::channel(iface, config).map_err(io)? {
