@@ -3,7 +3,7 @@
 //! and status bytes sit in the two CRs, the provider and consumer, the alarm channels and the
 //! ApplicationReady call.
 
-use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, Plan};
+use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, MAX_ALARM_DATA_LENGTH, Plan};
 use super::cyclic::{Consumer, Provider};
 use super::records::Records;
 use super::rpc::ClientCall;
@@ -149,6 +149,7 @@ impl Ar {
                 busy_since: [None, None],
                 sequence: 0,
                 acks: Vec::new(),
+                max_data_length: a.max_alarm_data_length.min(MAX_ALARM_DATA_LENGTH),
             },
             app_ready_due: None,
             app_ready: None,
@@ -284,6 +285,9 @@ pub(super) struct Alarms {
     pub(super) sequence: u16,
     /// The AlarmAcks the controller sent for our alarms.
     pub(super) acks: Vec<AlarmAck>,
+    /// MaxAlarmDataLength of the AR (the smaller of the controller's and ours, as the
+    /// AlarmCRBlockRes says): the most bytes of alarm data one DATA-RTA may carry.
+    pub(super) max_data_length: u16,
 }
 
 /// How an alarm channel ended the AR.

@@ -48,7 +48,7 @@ const AR_RPC_BLOCK_REQ: u16 = 0x0107;
 const AR_RPC_BLOCK_RES: u16 = 0x8107;
 
 /// The MaxAlarmDataLength the device accepts (p-net's).
-const MAX_ALARM_DATA_LENGTH: u16 = 200;
+pub(super) const MAX_ALARM_DATA_LENGTH: u16 = 200;
 /// The device's LocalAlarmReference (p-net's; the AR is identified by the MACs anyway).
 pub(super) const DEVICE_ALARM_REFERENCE: u16 = 0;
 

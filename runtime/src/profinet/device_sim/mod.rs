@@ -489,8 +489,10 @@ impl SimDevice {
 
     /// Raises a process alarm (high priority, manufacturer-specific USI 0x0000–0x7FFF with
     /// `data`) for a submodule of the AR in data exchange. `false` when there is no such AR
-    /// or submodule or the USI is not manufacturer-specific. The controller's AlarmAck shows
-    /// up in [`alarm_acks`](Self::alarm_acks).
+    /// or submodule, the USI is not manufacturer-specific, or the notification is longer than
+    /// the AR's MaxAlarmDataLength (at most 200 bytes; a longer one would not fit what the
+    /// controller accepts, or even one frame). The controller's AlarmAck shows up in
+    /// [`alarm_acks`](Self::alarm_acks).
     #[allow(clippy::too_many_arguments)]
     pub fn raise_process_alarm(
         &mut self,
@@ -533,6 +535,9 @@ impl SimDevice {
                 data: data.to_vec(),
             }),
         };
+        if n.buffer_len() > usize::from(ar.alarms.max_data_length) {
+            return false;
+        }
         ar.alarms.sequence = (ar.alarms.sequence + 1) & AlarmSpecifier::SEQUENCE_MASK;
         let abort = ar.alarms.send(
             Priority::High,

@@ -1250,6 +1250,24 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
     assert_eq!(dev.last_abort(), Some(AbortCode::AlarmIndicationError));
 }
 
+/// Found by the `controller` fuzz target: a process alarm with 5 000 bytes of data went out
+/// as one frame of 5 302 bytes. The notification must fit the AR's MaxAlarmDataLength (200
+/// here, the device's own limit).
+#[test]
+fn a_process_alarm_longer_than_max_alarm_data_length_is_refused() {
+    let (mut dev, t) = pnet_in_data(SimBehaviour::None);
+    let mut out = Vec::new();
+    // Block header 6, fixed part 20, USI 2: 172 bytes of data make 200.
+    assert!(!dev.raise_process_alarm(0, 1, 1, 0x0010, &[0xa5; 5000], t, &mut out));
+    assert!(!dev.raise_process_alarm(0, 1, 1, 0x0010, &[0xa5; 173], t, &mut out));
+    assert!(out.is_empty());
+    assert!(dev.raise_process_alarm(0, 1, 1, 0x0010, &[0xa5; 172], t, &mut out));
+    let f = frames(&out);
+    assert_eq!(f.len(), 1);
+    let pdu = alarm::Packet::new_checked(&f[0][18..]).unwrap();
+    assert_eq!(pdu.var_part_len(), 200);
+}
+
 #[test]
 fn an_unanswered_application_ready_is_repeated_then_the_ar_aborted() {
     let mut dev = pnet_device(SimBehaviour::None);
