@@ -214,16 +214,22 @@ fn serve(args: &Args, iface: &str, cfg: DeviceConfig) -> anyhow::Result<()> {
         app.on_state(state, reason);
     }
     let s = stats.snapshot();
+    // When a watchdog expired, missed ticks tell a held-up cyclic thread from a controller
+    // that went quiet (the largest interval between its frames).
     eprintln!(
         "pnio-interop-device: cyclic frames sent {}, accepted {}, ignored {}, dropped {}, \
-         invalid {}, watchdog expirations {}, missed ticks {}",
+         invalid {}, watchdog expirations {}, missed ticks {}, largest tick lateness {} µs, \
+         largest cycle work {} µs, largest interval between controller frames {} µs",
         s.tx,
         s.rx_accepted,
         s.rx_ignored,
         s.rx_dropped,
         s.rx_invalid,
         s.watchdog_expirations,
-        s.missed_ticks
+        s.missed_ticks,
+        s.max_tick_lateness_ns / 1000,
+        s.max_cycle_work_ns / 1000,
+        s.max_rx_interval_ns / 1000
     );
     match result {
         Ok(Ok(())) => Ok(()),

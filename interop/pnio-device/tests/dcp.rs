@@ -7,23 +7,18 @@
 //! `cargo build -p procimg-tools`, or by `cargo test --workspace`) next to this test's
 //! target directory, or its path in `PROCIMG_BIN`.
 
-#[path = "../../../runtime/tests/support/netns.rs"]
-mod netns;
+mod support;
 
-use netns::TestNet;
 use procimg_interop_pnio_device as iop;
 use procimg_runtime::profinet::wire::record::{IOD_HEADER_LEN, Im0, IodHeader, IodKind};
 use procimg_runtime::profinet::wire::rpc::{self, Header, Ndr};
 use procimg_runtime::profinet::wire::{PnioStatus, Uuid};
-use std::io::{BufRead, BufReader};
 use std::net::{Ipv4Addr, SocketAddr, UdpSocket};
 use std::path::PathBuf;
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
-
-const DEVICE: &str = env!("CARGO_BIN_EXE_pnio-interop-device");
-const NAME: &str = "pnio-iop";
+use std::process::Command;
+use std::time::Duration;
+use support::device::{DEVICE, Device, NAME};
+use support::{Net, netns, workspace_bin};
 
 /// Runs the device binary with `args` to completion: (success, stdout, stderr).
 fn run_device(args: &[&str]) -> (bool, String, String) {
@@ -125,191 +120,23 @@ fn gsdml_renders_the_declaration() {
 
 /// The `procimg` binary: `PROCIMG_BIN`, or beside this test's target directory.
 fn procimg_bin() -> PathBuf {
-    if let Some(p) = std::env::var_os("PROCIMG_BIN") {
-        return PathBuf::from(p);
-    }
-    let exe = std::env::current_exe().unwrap();
-    let path = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .map(|dir| dir.join("procimg"))
+    workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools")
+}
+
+/// Runs `procimg dcp --iface <controller end> ARGS` in the controller's namespace.
+fn procimg_dcp(net: &Net, args: &[&str]) -> (bool, String, String) {
+    let out = Command::new("ip")
+        .args(["netns", "exec", net.controller_ns()])
+        .arg(procimg_bin())
+        .args(["dcp", "--iface", net.controller_if()])
+        .args(args)
+        .output()
         .unwrap();
-    assert!(
-        path.exists(),
-        "{} does not exist: build it first (cargo build -p procimg-tools) or set PROCIMG_BIN",
-        path.display()
-    );
-    path
-}
-
-/// The namespaces, the device's address and the controller side's address.
-struct Net {
-    net: TestNet,
-    device_ip: Ipv4Addr,
-    controller_ip: Ipv4Addr,
-}
-
-impl Net {
-    /// Two namespaces, the device in the second one; both ends get an address of a /24 that
-    /// exists only on this veth pair.
-    fn new(tag: &str, subnet: u8) -> Net {
-        let net = TestNet::new(tag, true);
-        let device_ip = Ipv4Addr::new(10, 213, subnet, 2);
-        let controller_ip = Ipv4Addr::new(10, 213, subnet, 1);
-        for (i, ip) in [(0, controller_ip), (1, device_ip)] {
-            netns::ip(&[
-                "-n",
-                &net.ns[i],
-                "addr",
-                "add",
-                &format!("{ip}/24"),
-                "dev",
-                &net.ifs[i],
-            ]);
-        }
-        Net {
-            net,
-            device_ip,
-            controller_ip,
-        }
-    }
-
-    /// The MAC address of the device's interface, as `aa:bb:cc:dd:ee:ff`.
-    fn device_mac(&self) -> String {
-        let out = Command::new("ip")
-            .args([
-                "-n",
-                &self.net.ns[1],
-                "-o",
-                "link",
-                "show",
-                &self.net.ifs[1],
-            ])
-            .output()
-            .unwrap();
-        let text = String::from_utf8_lossy(&out.stdout).into_owned();
-        let mut words = text.split_whitespace();
-        words
-            .find(|w| *w == "link/ether")
-            .and_then(|_| words.next())
-            .unwrap_or_else(|| panic!("no MAC address in {text:?}"))
-            .to_string()
-    }
-
-    /// Runs `procimg dcp --iface <controller end> ARGS` in the controller's namespace.
-    fn procimg_dcp(&self, args: &[&str]) -> (bool, String, String) {
-        let out = Command::new("ip")
-            .args(["netns", "exec", &self.net.ns[0]])
-            .arg(procimg_bin())
-            .args(["dcp", "--iface", &self.net.ifs[0]])
-            .args(args)
-            .output()
-            .unwrap();
-        (
-            out.status.success(),
-            String::from_utf8_lossy(&out.stdout).into_owned(),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
-    }
-}
-
-/// The device running in the device namespace; stopped when dropped, also on a failure.
-struct RunningDevice {
-    child: Option<Child>,
-    lines: mpsc::Receiver<String>,
-    seen: Vec<String>,
-}
-
-impl RunningDevice {
-    /// Starts the device in the second namespace and waits for its `READY`.
-    fn start(net: &Net) -> RunningDevice {
-        // `ip netns exec` execs the program in place (and mounts the namespace's sysfs,
-        // where the device reads its MAC), so the child's pid is the device's.
-        let mut child = Command::new("ip")
-            .args(["netns", "exec", &net.net.ns[1], DEVICE])
-            .args(["--iface", &net.net.ifs[1], "--name", NAME])
-            .args(["--ip", &net.device_ip.to_string()])
-            .env("RUST_LOG", "info")
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("start the device");
-        let stdout = child.stdout.take().unwrap();
-        let (tx, lines) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines() {
-                let Ok(line) = line else { break };
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        let mut dev = RunningDevice {
-            child: Some(child),
-            lines,
-            seen: Vec::new(),
-        };
-        dev.wait_for("READY", Duration::from_secs(10));
-        dev
-    }
-
-    /// Waits until the device prints `line`.
-    fn wait_for(&mut self, line: &str, timeout: Duration) {
-        let until = Instant::now() + timeout;
-        while !self.seen.iter().any(|l| l == line) {
-            let left = until.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(l) => self.seen.push(l),
-                Err(_) => panic!(
-                    "the device did not print {line:?}; it printed {:?}",
-                    self.seen
-                ),
-            }
-        }
-    }
-
-    /// Sends SIGTERM and waits (10 s at most) for the exit status; the rest of its output
-    /// lands in `seen`.
-    fn terminate(&mut self) -> ExitStatus {
-        let mut c = self.child.take().expect("device running");
-        // SAFETY: kill(2) on the pid of our own child.
-        unsafe { libc::kill(c.id() as i32, libc::SIGTERM) };
-        let until = Instant::now() + Duration::from_secs(10);
-        let status = loop {
-            if let Some(st) = c.try_wait().unwrap() {
-                break st;
-            }
-            if Instant::now() > until {
-                let _ = c.kill();
-                let _ = c.wait();
-                panic!("the device did not stop within 10 s of SIGTERM");
-            }
-            std::thread::sleep(Duration::from_millis(10));
-        };
-        while let Ok(l) = self.lines.recv_timeout(Duration::from_millis(500)) {
-            self.seen.push(l);
-        }
-        status
-    }
-}
-
-impl Drop for RunningDevice {
-    fn drop(&mut self) {
-        if let Some(mut c) = self.child.take() {
-            // SAFETY: kill(2) on the pid of our own child.
-            unsafe { libc::kill(c.id() as i32, libc::SIGTERM) };
-            let until = Instant::now() + Duration::from_secs(3);
-            while Instant::now() < until {
-                if let Ok(Some(_)) = c.try_wait() {
-                    return;
-                }
-                std::thread::sleep(Duration::from_millis(10));
-            }
-            let _ = c.kill();
-            let _ = c.wait();
-        }
-    }
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 #[test]
@@ -321,11 +148,11 @@ fn procimg_dcp_finds_the_device_with_its_name_ip_and_ids() {
     let procimg = procimg_bin();
     assert!(procimg.exists());
     let net = Net::new("pd", 7);
-    let mut device = RunningDevice::start(&net);
+    let mut device = Device::start(&net);
     let mac = net.device_mac();
     let ip = net.device_ip.to_string();
 
-    let (ok, out, err) = net.procimg_dcp(&["scan", "--wait-ms", "300"]);
+    let (ok, out, err) = procimg_dcp(&net, &["scan", "--wait-ms", "300"]);
     assert!(ok, "scan failed: {err}");
     let row = out
         .lines()
@@ -338,21 +165,24 @@ fn procimg_dcp_finds_the_device_with_its_name_ip_and_ids() {
     assert_eq!(cols[4], "ffff:0001", "{row}");
     assert!(row.ends_with(iop::STATION_TYPE), "{row}");
 
-    let (ok, out, err) = net.procimg_dcp(&["scan", "--name", NAME, "--wait-ms", "200"]);
+    let (ok, out, err) = procimg_dcp(&net, &["scan", "--name", NAME, "--wait-ms", "200"]);
     assert!(ok && out.contains(&mac), "{out}{err}");
-    let (ok, _, err) = net.procimg_dcp(&["scan", "--name", "other-device", "--wait-ms", "200"]);
+    let (ok, _, err) = procimg_dcp(
+        &net,
+        &["scan", "--name", "other-device", "--wait-ms", "200"],
+    );
     assert!(!ok && err.contains("no device answered"), "{err}");
 
     // pnio never changes the interface: a Set of the IP suite it already has is confirmed,
     // any other suite and a new name are refused.
-    let (ok, out, err) = net.procimg_dcp(&["set-ip", &mac, &ip, "255.255.255.0"]);
+    let (ok, out, err) = procimg_dcp(&net, &["set-ip", &mac, &ip, "255.255.255.0"]);
     assert!(ok && out.contains("done"), "{out}{err}");
-    let (ok, out, err) = net.procimg_dcp(&["set-ip", &mac, "10.213.7.9", "255.255.255.0"]);
+    let (ok, out, err) = procimg_dcp(&net, &["set-ip", &mac, "10.213.7.9", "255.255.255.0"]);
     assert!(
         !ok && out.contains("refused") && out.contains("01/02"),
         "{out}{err}"
     );
-    let (ok, out, err) = net.procimg_dcp(&["set-name", &mac, "renamed"]);
+    let (ok, out, err) = procimg_dcp(&net, &["set-name", &mac, "renamed"]);
     assert!(
         !ok && out.contains("refused") && out.contains("02/02"),
         "{out}{err}"
@@ -400,7 +230,7 @@ fn implicit_record_read_of_im0_returns_the_identity() {
         return;
     }
     let net = Net::new("pr", 8);
-    let mut device = RunningDevice::start(&net);
+    let mut device = Device::start(&net);
     let to = SocketAddr::from((net.device_ip, rpc::RPC_PORT));
     let from = net.controller_ip;
     let (status, blocks) = net

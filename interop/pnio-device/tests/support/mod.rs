@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! What the interop tests share: the network namespaces with the device's subnet, the device
+//! program as a child process, procimgd as a child process, and finding the workspace's other
+//! binaries.
+#![allow(dead_code)]
+
+#[path = "../../../../runtime/tests/support/netns.rs"]
+pub mod netns;
+
+pub mod device;
+pub mod procimgd;
+
+use netns::TestNet;
+use std::net::Ipv4Addr;
+use std::path::PathBuf;
+use std::process::Command;
+
+/// A binary of another workspace member: the path in environment variable `env`, or the file
+/// beside this test's target directory, where `cargo test --workspace` builds every member's
+/// binaries. `package` names the crate that builds it, for the message when it is missing.
+pub fn workspace_bin(name: &str, env: &str, package: &str) -> PathBuf {
+    if let Some(p) = std::env::var_os(env) {
+        return PathBuf::from(p);
+    }
+    let exe = std::env::current_exe().expect("the test's own path");
+    // <target>/<profile>/deps/<test>: the binaries are in <target>/<profile>.
+    let path = exe
+        .parent()
+        .and_then(|deps| deps.parent())
+        .map(|dir| dir.join(name))
+        .expect("the test runs from <target>/<profile>/deps");
+    assert!(
+        path.exists(),
+        "{} does not exist: build it first (cargo build -p {package}) or set {env}",
+        path.display()
+    );
+    path
+}
+
+/// The two namespaces, the device's address and the controller side's address.
+pub struct Net {
+    pub net: TestNet,
+    pub device_ip: Ipv4Addr,
+    pub controller_ip: Ipv4Addr,
+}
+
+impl Net {
+    /// Two namespaces, the controller in the first one and the device in the second; both
+    /// ends get an address of 10.213.`subnet`.0/24, a subnet that exists only on this veth
+    /// pair.
+    pub fn new(tag: &str, subnet: u8) -> Net {
+        let net = TestNet::new(tag, true);
+        let device_ip = Ipv4Addr::new(10, 213, subnet, 2);
+        let controller_ip = Ipv4Addr::new(10, 213, subnet, 1);
+        for (i, ip) in [(0, controller_ip), (1, device_ip)] {
+            netns::ip(&[
+                "-n",
+                &net.ns[i],
+                "addr",
+                "add",
+                &format!("{ip}/24"),
+                "dev",
+                &net.ifs[i],
+            ]);
+        }
+        Net {
+            net,
+            device_ip,
+            controller_ip,
+        }
+    }
+
+    /// The controller's namespace.
+    pub fn controller_ns(&self) -> &str {
+        &self.net.ns[0]
+    }
+
+    /// The controller's end of the veth pair.
+    pub fn controller_if(&self) -> &str {
+        &self.net.ifs[0]
+    }
+
+    /// The device's namespace.
+    pub fn device_ns(&self) -> &str {
+        &self.net.ns[1]
+    }
+
+    /// The device's end of the veth pair.
+    pub fn device_if(&self) -> &str {
+        &self.net.ifs[1]
+    }
+
+    /// How many sockets hold the controller's end of the veth pair in promiscuous mode.
+    pub fn controller_promiscuity(&self) -> u32 {
+        let out = Command::new("ip")
+            .args(["-d", "-n", self.controller_ns(), "link", "show"])
+            .arg(self.controller_if())
+            .output()
+            .expect("the ip command (iproute2)");
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        let mut words = text.split_whitespace();
+        words
+            .find(|w| *w == "promiscuity")
+            .and_then(|_| words.next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no promiscuity in {text:?}"))
+    }
+
+    /// The MAC address of the device's interface, as `aa:bb:cc:dd:ee:ff`.
+    pub fn device_mac(&self) -> String {
+        let out = Command::new("ip")
+            .args([
+                "-n",
+                self.device_ns(),
+                "-o",
+                "link",
+                "show",
+                self.device_if(),
+            ])
+            .output()
+            .expect("the ip command (iproute2)");
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        let mut words = text.split_whitespace();
+        words
+            .find(|w| *w == "link/ether")
+            .and_then(|_| words.next())
+            .unwrap_or_else(|| panic!("no MAC address in {text:?}"))
+            .to_string()
+    }
+}
