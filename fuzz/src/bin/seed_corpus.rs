@@ -1,0 +1,369 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Writes the seed corpus of every fuzz target, `fuzz/seeds/<target>/` (or below the folder
+//! given as the only argument), from the captured frames in
+//! `runtime/tests/fixtures/captures`, the configuration and GSDML files of the repository,
+//! and a bring-up recorded on the simulated network:
+//!
+//! ```text
+//! cargo run --manifest-path fuzz/Cargo.toml --bin seed_corpus
+//! ```
+//!
+//! Each target gets the part of a frame it parses: whole frames (`frame`), the PROFINET PDU
+//! behind the EtherType (`dcp`, `alarm`), the UDP payload (`rpc`), the PNIO blocks after the
+//! RPC and NDR headers (`connect`, `control`, `record`), operation sequences (`controller`,
+//! `device_sim`, `rta_channel`), text (`config`, `gsdml`). Run it again when the captures,
+//! the operation formats in `src/world.rs` or the fuzz network change. The output is the same
+//! every time except for the ARUUIDs and activity UUIDs the controller draws at random, which
+//! appear in the `device_sim` bring-up seed.
+
+use procimg_fuzz::captures::{self, Captured, profinet_pdu, rpc_blocks, udp_payload};
+use procimg_fuzz::ops::Writer;
+use procimg_fuzz::world::{self, device_ops, ops};
+use procimg_runtime::config::DEMO_TOML;
+use procimg_runtime::profinet::wire::alarm::{self, RtaPdu};
+use procimg_runtime::profinet::wire::record::IodHeader;
+use procimg_runtime::profinet::wire::rpc::{self, opnum};
+use procimg_runtime::profinet::wire::rt::FrameIdClass;
+use procimg_runtime::simnet;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Seeds by target, then by file name.
+type Seeds = BTreeMap<&'static str, BTreeMap<String, Vec<u8>>>;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let fuzz_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = std::env::args_os()
+        .nth(1)
+        .map_or_else(|| fuzz_dir.join("seeds"), PathBuf::from);
+    let caps = captures::load(&captures::default_dir())?;
+    let mut seeds = Seeds::new();
+    frames(&caps, &mut seeds);
+    sessions(&caps, &mut seeds);
+    rta_channel(&caps, &mut seeds);
+    text(fuzz_dir, &mut seeds)?;
+    let mut total = 0;
+    for (target, files) in &seeds {
+        let dir = out.join(target);
+        if dir.exists() {
+            std::fs::remove_dir_all(&dir)?;
+        }
+        std::fs::create_dir_all(&dir)?;
+        for (name, bytes) in files {
+            std::fs::write(dir.join(name), bytes)?;
+            total += bytes.len();
+        }
+        println!("{target}: {} seeds", files.len());
+    }
+    println!("{} bytes in {}", total, out.display());
+    Ok(())
+}
+
+fn add(seeds: &mut Seeds, target: &'static str, name: &str, bytes: &[u8]) {
+    seeds
+        .entry(target)
+        .or_default()
+        .insert(name.replace('/', "_"), bytes.to_vec());
+}
+
+/// The opnum of an unfragmented RPC request or response.
+fn rpc_opnum(frame: &[u8]) -> Option<u16> {
+    rpc::Pdu::parse(udp_payload(frame)?)
+        .ok()
+        .map(|p| p.header.opnum)
+}
+
+/// The parser targets: each capture cut to what the target parses.
+fn frames(caps: &[Captured], seeds: &mut Seeds) {
+    for c in caps {
+        add(seeds, "frame", &c.name, &c.frame);
+        if let Some(pdu) = profinet_pdu(&c.frame) {
+            let id = pdu.get(..2).map_or(0, |b| u16::from_be_bytes([b[0], b[1]]));
+            match FrameIdClass::of(id) {
+                FrameIdClass::Dcp => add(seeds, "dcp", &c.name, pdu),
+                FrameIdClass::AlarmHigh | FrameIdClass::AlarmLow => {
+                    add(seeds, "alarm", &c.name, pdu)
+                }
+                _ => {}
+            }
+        }
+        if let Some(udp) = udp_payload(&c.frame) {
+            add(seeds, "rpc", &c.name, udp);
+        }
+        let (Some(blocks), Some(op)) = (rpc_blocks(&c.frame), rpc_opnum(&c.frame)) else {
+            continue;
+        };
+        match op {
+            opnum::CONNECT => add(seeds, "connect", &c.name, blocks),
+            opnum::CONTROL | opnum::RELEASE => add(seeds, "control", &c.name, blocks),
+            opnum::READ | opnum::WRITE | opnum::READ_IMPLICIT => {
+                add(seeds, "record", &c.name, blocks);
+                // The record data alone, e.g. the I&M0 block of a read response.
+                if let Ok((_, data, _)) = IodHeader::split(blocks)
+                    && !data.is_empty()
+                {
+                    add(seeds, "record", &format!("{}-data", c.name), data);
+                }
+            }
+            _ => {}
+        }
+    }
+    // Every block of the Connect exchange on its own, too.
+    let split: Vec<(String, Vec<u8>)> = seeds
+        .get("connect")
+        .into_iter()
+        .flatten()
+        .flat_map(|(name, b)| {
+            procimg_runtime::profinet::wire::common::blocks(b)
+                .map_while(Result::ok)
+                .enumerate()
+                .map(move |(i, (_, block))| (format!("{name}-block{i}"), block.to_vec()))
+        })
+        .collect();
+    for (name, b) in split {
+        add(seeds, "connect", &name, &b);
+    }
+}
+
+/// The controller and simulated device targets: a recorded bring-up, and variations that
+/// reach records, alarms, release and the S7's own requests.
+fn sessions(caps: &[Captured], seeds: &mut Seeds) {
+    let (bringup, sent) = world::record_bringup();
+    add(seeds, "controller", "bringup", &bringup);
+
+    let with = |tail: &dyn Fn(&mut Writer)| {
+        let mut w = Writer::new();
+        let mut seed = bringup.clone();
+        tail(&mut w);
+        seed.extend(w.finish());
+        seed
+    };
+    add(
+        seeds,
+        "controller",
+        "bringup-outputs",
+        &with(&|w| {
+            w.u8(ops::OUTPUTS).u8(0).u8(1).bytes(&[0x5a; 16]);
+            w.u8(ops::STEP).u8(10);
+        }),
+    );
+    add(
+        seeds,
+        "controller",
+        "bringup-alarm",
+        &with(&|w| {
+            w.u8(ops::RAISE_ALARM).u8(0).u16(0x0010).bytes(&[1, 2]);
+            w.u8(ops::STEP)
+                .u8(5)
+                .u8(ops::ACK_ALARMS)
+                .u8(ops::STEP)
+                .u8(5);
+        }),
+    );
+    add(
+        seeds,
+        "controller",
+        "bringup-records",
+        &with(&|w| {
+            // I&M0 of the IO submodule, then a write of a user record.
+            w.u8(ops::RECORD)
+                .u8(0)
+                .u16(1)
+                .u16(1)
+                .u16(0xaff0)
+                .u16(256)
+                .u8(0);
+            w.bytes(&[]);
+            w.u8(ops::STEP).u8(5);
+            w.u8(ops::RECORD)
+                .u8(0)
+                .u16(1)
+                .u16(1)
+                .u16(0x0100)
+                .u16(0)
+                .u8(1);
+            w.bytes(&[9, 8, 7]);
+            w.u8(ops::STEP).u8(5);
+        }),
+    );
+    add(
+        seeds,
+        "controller",
+        "bringup-offline",
+        &with(&|w| {
+            w.u8(ops::ONLINE).u8(0).u8(ops::STEP).u8(20);
+            w.u8(ops::ACTIVATE)
+                .u8(1)
+                .u8(0)
+                .u8(ops::ONLINE)
+                .u8(1)
+                .u8(ops::STEP)
+                .u8(50);
+        }),
+    );
+    add(
+        seeds,
+        "controller",
+        "bringup-lost-frames",
+        &with(&|w| {
+            // Drop a cyclic frame of a device, then let its watchdog run out.
+            w.u8(ops::TAMPER).u8(3).u8(0).u8(2).u16(0).u8(0);
+            w.u8(ops::STEP).u8(2);
+            w.u8(ops::WATCHDOG)
+                .u8(0)
+                .u32(1)
+                .u8(ops::SKIP)
+                .u16(600)
+                .u8(ops::STEP)
+                .u8(30);
+        }),
+    );
+    // A corrupted Connect response: the first datagram a device sends.
+    let mut w = Writer::new();
+    w.u8(ops::TAMPER).u8(1).u8(0).u8(0).u16(120).u8(0x40);
+    let mut seed = w.finish();
+    seed.extend(&bringup);
+    add(seeds, "controller", "corrupt-connect-response", &seed);
+    // The captured frames and datagrams, handed to a running controller.
+    add(
+        seeds,
+        "controller",
+        "bringup-captures",
+        &with(&|w| {
+            for c in caps {
+                if let Some(udp) = udp_payload(&c.frame) {
+                    w.u8(ops::DATAGRAM).u8(0).u16(rpc::RPC_PORT).bytes(udp);
+                } else {
+                    w.u8(ops::FRAME).bytes(&c.frame);
+                    w.u8(ops::WIRE).bytes(&c.frame);
+                }
+            }
+            w.u8(ops::STEP).u8(10);
+        }),
+    );
+
+    // The simulated device: what the controller sent it, and the S7's side of the captured
+    // session, addressed to the simulated device.
+    add(seeds, "device_sim", "bringup", &world::device_seed(&sent));
+    let by_name = |name: &str| caps.iter().find(|c| c.name == name);
+    let s7 = [
+        "cm/dcp_set_req",
+        "cm/connect_req",
+        "cm/write_req",
+        "cm/prmend_req",
+        "cm/appready_res",
+        "rt/rtc_cpu_8001",
+        "rt/echo_cpu_8001",
+        "alarm/alarm_ack_rta_high_cpu",
+        "alarm/alarm_ack_high_cpu",
+        "alarm/alarm_ack_rta_low_cpu",
+        "alarm/alarm_diag_ack_cpu",
+        "alarm/im0_read_req",
+        "alarm/im0_read_req_if",
+        "alarm/alarm_err_rta_cpu",
+    ];
+    let session = device_messages(s7.iter().filter_map(|n| by_name(n)));
+    add(seeds, "device_sim", "s7-session", &session);
+    add(
+        seeds,
+        "device_sim",
+        "every-capture",
+        &device_messages(caps.iter()),
+    );
+}
+
+/// `device_sim` operations delivering captured frames and datagrams to the simulated device:
+/// frames re-addressed to its MAC, RPC requests to its port 34964, other RPC PDUs (answers to
+/// its own calls) to another port, 2 ms apart.
+fn device_messages<'a>(caps: impl Iterator<Item = &'a Captured>) -> Vec<u8> {
+    let mac = simnet::device_mac(0);
+    let mut w = Writer::new();
+    for c in caps {
+        match udp_payload(&c.frame) {
+            Some(udp) => {
+                let request = rpc::Packet::new_checked(udp)
+                    .is_ok_and(|p| p.packet_type() == rpc::PacketType::Request);
+                // Calls come from the S7's client port to 34964; answers to the device's own
+                // calls (ApplicationReady) go the other way.
+                let (from, to) = if request {
+                    (0xc001, rpc::RPC_PORT)
+                } else {
+                    (rpc::RPC_PORT, 0xc001)
+                };
+                w.u8(device_ops::DATAGRAM).u16(from).u16(to).bytes(udp);
+            }
+            None => {
+                let mut frame = c.frame.clone();
+                if frame.len() >= 6 {
+                    frame[..6].copy_from_slice(&mac.0);
+                }
+                w.u8(device_ops::FRAME).bytes(&frame);
+            }
+        }
+        w.u8(device_ops::STEP).u8(2);
+    }
+    w.finish()
+}
+
+/// The RTA channel target: a channel with the captured session's endpoints, fed the captured
+/// PDUs, asked to send the captured notification blocks, given time.
+fn rta_channel(caps: &[Captured], seeds: &mut Seeds) {
+    let pdus: Vec<(&str, &[u8], RtaPdu)> = caps
+        .iter()
+        .filter_map(|c| {
+            let pdu = profinet_pdu(&c.frame)?;
+            let parsed = RtaPdu::parse(&alarm::Packet::new_checked(pdu).ok()?).ok()?;
+            Some((c.name.as_str(), pdu, parsed))
+        })
+        .collect();
+    for (name, pdu, parsed) in &pdus {
+        let h = parsed.header;
+        let mut w = Writer::new();
+        let priority = u8::from(parsed.priority == alarm::Priority::Low);
+        w.u8(priority)
+            .u16(h.dst_endpoint)
+            .u16(h.src_endpoint)
+            .u16(1)
+            .u16(3)
+            .u8(0);
+        // Receive it, send its blocks back, wait for the retransmission, receive again.
+        w.u8(0).bytes(pdu);
+        w.u8(2).bytes(pdu.get(alarm::HEADER_LEN..).unwrap_or(&[]));
+        w.u8(3).u16(150).u8(0).bytes(pdu).u8(3).u16(500);
+        add(seeds, "rta_channel", name, &w.finish());
+    }
+    // The window logic from sequence numbers: DATA 0xFFFF, its duplicate, an ACK, and one out
+    // of order.
+    let mut w = Writer::new();
+    w.u8(0).u16(1).u16(2).u16(1).u16(3).u8(0);
+    w.u8(1).u8(0).u16(0xffff).u16(0xfffe);
+    w.u8(1).u8(0).u16(0xffff).u16(0xfffe);
+    w.u8(2).bytes(&[]).u8(1).u8(1).u16(0xfffe).u16(0xffff);
+    w.u8(1).u8(0).u16(0x0005).u16(0x0000).u8(3).u16(100);
+    add(seeds, "rta_channel", "sequence", &w.finish());
+}
+
+/// The configuration and GSDML targets: the repository's own files.
+fn text(fuzz_dir: &Path, seeds: &mut Seeds) -> std::io::Result<()> {
+    add(seeds, "config", "demo.toml", DEMO_TOML.as_bytes());
+    add(
+        seeds,
+        "config",
+        "fuzz-network.toml",
+        world::CONFIG.as_bytes(),
+    );
+    let root = fuzz_dir.join("..");
+    for dir in ["runtime/gsdml", "runtime/tests/fixtures/gsdml"] {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(root.join(dir))?
+            .map(|e| e.map(|e| e.path()))
+            .collect::<Result<_, _>>()?;
+        files.sort();
+        for f in files {
+            if f.extension().is_some_and(|e| e == "xml") {
+                let name = f.file_name().unwrap_or_default().to_string_lossy();
+                add(seeds, "gsdml", &name, &std::fs::read(&f)?);
+            }
+        }
+    }
+    Ok(())
+}

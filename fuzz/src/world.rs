@@ -1,0 +1,764 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The controller and simulated devices on a simulated network in simulated time, built as
+//! `runtime/tests/controller_bringup.rs` builds it (controller, cycle-thread IO system over an
+//! in-process link, simulated devices), driven by a sequence of operations ([`ops`]) that
+//! let libFuzzer advance time, inject arbitrary frames and datagrams, corrupt, cut, drop or
+//! repeat what the devices send, and act as a client would (online/offline, activation,
+//! record jobs, alarm acknowledgements, output data).
+//!
+//! The controller chooses random ARUUIDs, so recorded device answers cannot be replayed to
+//! it; corrupting the live answers of real simulated devices instead reaches every state of
+//! the controller's state machine with inputs that differ from valid ones in a few bytes.
+//!
+//! [`DeviceBench`] drives one simulated device alone (the `device_sim` target); its seeds
+//! are what the controller sent to that device in a recorded bring-up ([`record_bringup`]).
+
+use crate::ops::{Reader, Writer};
+use crate::wire_check;
+use procimg_runtime::config::{self, Config};
+use procimg_runtime::image::{Image, Tables};
+use procimg_runtime::io::pnio::PnioIo;
+use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
+use procimg_runtime::io::{CycleTime, IoSystem};
+use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
+use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
+use procimg_runtime::profinet::controller::plan::{ControllerIdentity, DevicePlan};
+use procimg_runtime::profinet::controller::{
+    Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
+};
+use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
+use procimg_runtime::profinet::wire::MacAddress;
+use procimg_runtime::profinet::wire::rpc::RPC_PORT;
+use procimg_runtime::profinet::wire::rt::FrameIdClass;
+use procimg_runtime::simnet;
+use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
+use std::net::{Ipv4Addr, SocketAddrV4};
+use std::sync::{Arc, OnceLock};
+
+/// One millisecond in ns, the cycle time of [`CONFIG`].
+pub const MS: u64 = 1_000_000;
+
+/// At most this many cycles run per input, so that no input takes long; [`ops::SKIP`] jumps
+/// over the controller's longer timers (identify window, retries, back-off) in one cycle.
+pub const MAX_CYCLES: u32 = 600;
+
+/// The configuration of the fuzzed network: a device the controller gives its address by DCP
+/// and parameterizes with two records (a WriteMultiple), with inputs and outputs; and a
+/// device with an address of its own and inputs only. Watchdog factor 3: simulated time is
+/// exact, and a short watchdog lets dropped frames matter.
+pub const CONFIG: &str = r#"
+cycle_time = "1ms"
+
+[[device]]
+name = "echo"
+ip = "192.168.0.11"
+vendor_id = 0x0493
+device_id = 0x0001
+sim = "echo"
+watchdog_factor = 3
+
+[[device.submodule]]
+slot = 0
+subslot = 1
+module_ident = 0x00000001
+submodule_ident = 0x00000001
+
+[[device.submodule]]
+slot = 1
+subslot = 1
+module_ident = 0x00000020
+submodule_ident = 0x00000001
+input_length = 16
+output_length = 16
+records = [ { index = 0x100, data = [1, 2, 3] }, { index = 0x101, data = [4, 5, 6, 7, 8] } ]
+
+[[device]]
+name = "counter"
+vendor_id = 0x0493
+device_id = 0x0002
+sim = "counter"
+watchdog_factor = 3
+
+[[device.submodule]]
+slot = 0
+subslot = 1
+module_ident = 0x00000001
+submodule_ident = 0x00000001
+
+[[device.submodule]]
+slot = 1
+subslot = 1
+module_ident = 0x00000030
+submodule_ident = 0x00000001
+input_length = 4
+"#;
+
+/// The parsed [`CONFIG`], parsed once: every fuzz input starts from it.
+pub fn config() -> &'static Config {
+    static PARSED: OnceLock<Config> = OnceLock::new();
+    PARSED.get_or_init(|| {
+        config::parse(CONFIG, "fuzz.toml").expect("the fuzz configuration is valid")
+    })
+}
+
+/// Opcodes of the `controller` target. Arguments follow the opcode (see [`Reader`]).
+pub mod ops {
+    /// `n: u8`: run `max(n, 1)` cycles of 1 ms.
+    pub const STEP: u8 = 0;
+    /// `ms: u16`: jump `max(ms, 1)` ms ahead and run one cycle (a stalled machine).
+    pub const SKIP: u8 = 1;
+    /// `bytes`: hand the controller an acyclic frame, as the cycle thread does.
+    pub const FRAME: u8 = 2;
+    /// `device: u8, port: u16, bytes`: a UDP datagram to port 34964 from a device's address.
+    pub const DATAGRAM: u8 = 3;
+    /// `bytes`: a frame on the wire, received by the cycle thread (cyclic or handed over).
+    pub const WIRE: u8 = 4;
+    /// `filter: u8, skip: u8, how: u8, at: u16, value: u8`: change a message a device sends
+    /// to the controller: the `skip`-th next one that passes `filter` (0 any, 1 datagrams,
+    /// 2 acyclic frames, 3 cyclic frames); `how` 0 flips bits (`value`, at least one) at
+    /// `at`, 1 cuts it to `at` bytes, 2 drops it, 3 delivers it twice.
+    pub const TAMPER: u8 = 5;
+    /// `online: u8`: online (odd) or offline (even).
+    pub const ONLINE: u8 = 6;
+    /// `device: u8, active: u8`: activate (odd) or deactivate (even) a device.
+    pub const ACTIVATE: u8 = 7;
+    /// `device: u8, slot: u16, subslot: u16, index: u16, max_len: u16, write: u8, bytes`: a
+    /// record read (`write` even) or write of `bytes`.
+    pub const RECORD: u8 = 8;
+    /// Acknowledge every alarm the controller reported and is waiting for.
+    pub const ACK_ALARMS: u8 = 9;
+    /// `device: u8, usi: u16, bytes`: the device raises a process alarm on its IO submodule.
+    pub const RAISE_ALARM: u8 = 10;
+    /// `device: u8, epoch: u32`: the cycle thread reports a watchdog expiry.
+    pub const WATCHDOG: u8 = 11;
+    /// `submodule: u8, iops: u8, bytes`: a client writes outputs (IOPS GOOD if `iops` odd).
+    pub const OUTPUTS: u8 = 12;
+    /// Number of opcodes (an opcode byte is taken modulo this).
+    pub const COUNT: u8 = 13;
+}
+
+/// Opcodes of the `device_sim` target.
+pub mod device_ops {
+    /// `n: u8`: `max(n, 1)` ms of time, polling every ms.
+    pub const STEP: u8 = 0;
+    /// `bytes`: an Ethernet frame on the device's link.
+    pub const FRAME: u8 = 1;
+    /// `from_port: u16, to_port: u16, bytes`: a UDP datagram from the controller's address to
+    /// the device's port 34964 (a call) or another port (the answer to a call of the
+    /// device's own).
+    pub const DATAGRAM: u8 = 2;
+    /// `usi: u16, bytes`: the device raises a process alarm on its IO submodule.
+    pub const RAISE_ALARM: u8 = 3;
+    /// Number of opcodes.
+    pub const COUNT: u8 = 4;
+}
+
+/// How a message is changed.
+#[derive(Clone, Copy, Debug)]
+enum How {
+    Flip { at: usize, xor: u8 },
+    Cut(usize),
+    Drop,
+    Twice,
+}
+
+/// A pending change to a device's message.
+#[derive(Clone, Copy, Debug)]
+struct Tamper {
+    filter: u8,
+    skip: u8,
+    how: How,
+}
+
+/// The kind of a message for [`Tamper::filter`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Datagram,
+    Acyclic,
+    Cyclic,
+}
+
+fn frame_kind(frame: &[u8]) -> Kind {
+    let at = if frame.get(12..14) == Some(&[0x81, 0x00]) {
+        16
+    } else {
+        12
+    };
+    let id = frame
+        .get(at + 2..at + 4)
+        .map_or(0, |b| u16::from_be_bytes([b[0], b[1]]));
+    if FrameIdClass::of(id).is_cyclic() {
+        Kind::Cyclic
+    } else {
+        Kind::Acyclic
+    }
+}
+
+/// What the controller sent toward one device, with the cycle it was sent in.
+#[derive(Clone, Debug)]
+pub enum Sent {
+    /// An Ethernet frame the device took a look at.
+    Frame(u64, Vec<u8>),
+    /// A datagram to the device: (cycle, source port, destination port, payload).
+    Datagram(u64, u16, u16, Vec<u8>),
+}
+
+/// The controller, the cycle thread's IO system and the simulated devices.
+pub struct World {
+    controller: Controller,
+    devices: Vec<SimDevice>,
+    io: PnioIo,
+    channel: Arc<Channel>,
+    plant: sim_link::LinkEnd,
+    image: Image,
+    /// Image submodule index of each device's IO submodule (slot 1).
+    io_submodules: Vec<usize>,
+    cycle: u64,
+    cycles_run: u32,
+    tickets: Vec<AlarmTicket>,
+    tamper: Option<Tamper>,
+    /// What was sent to device 0, when recording.
+    recording: Option<Vec<Sent>>,
+}
+
+impl Default for World {
+    fn default() -> Self {
+        World::new()
+    }
+}
+
+impl World {
+    /// The network of [`CONFIG`], offline, at cycle 1.
+    pub fn new() -> World {
+        let config = config();
+        let tables = Tables::from_config(config).expect("tables");
+        let plans = DevicePlan::all(config).expect("plans");
+        let ranges = plans
+            .iter()
+            .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
+            .collect();
+        let id = ControllerIdentity {
+            mac: SIM_CONTROLLER_MAC,
+            ip: SIM_CONTROLLER_IP,
+            station_name: "procimgd-fuzz".into(),
+            vendor_id: 0x0493,
+            device_id: 0x0fff,
+            instance: 1,
+        };
+        let io_submodules = config
+            .devices
+            .iter()
+            .enumerate()
+            .filter_map(|(d, _)| {
+                tables
+                    .submodules
+                    .iter()
+                    .position(|s| s.device as usize == d && s.slot == 1)
+            })
+            .collect();
+        let (nic, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
+        let channel = Arc::new(Channel::new());
+        World {
+            controller: Controller::new(id, plans, 1),
+            devices: simnet::devices(config),
+            io: PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns),
+            channel,
+            plant,
+            image: Image::new(&tables),
+            io_submodules,
+            cycle: 1,
+            cycles_run: 0,
+            tickets: Vec::new(),
+            tamper: None,
+            recording: None,
+        }
+    }
+
+    /// Records what the controller sends to device 0 from now on.
+    pub fn start_recording(&mut self) {
+        self.recording = Some(Vec::new());
+    }
+
+    /// What was recorded.
+    pub fn recorded(&self) -> &[Sent] {
+        self.recording.as_deref().unwrap_or(&[])
+    }
+
+    /// The controller's view of every device.
+    pub fn states(&self) -> Vec<DeviceState> {
+        self.controller.states().collect()
+    }
+
+    /// The current cycle (= ms of simulated time).
+    pub const fn cycle(&self) -> u64 {
+        self.cycle
+    }
+
+    fn now(&self) -> u64 {
+        self.cycle * MS
+    }
+
+    /// Runs a whole operation sequence; stops at the first incomplete operation.
+    pub fn run(&mut self, input: &[u8]) {
+        let mut r = Reader::new(input);
+        while self.op(&mut r).is_some() {}
+    }
+
+    /// One operation; `None` when the input ended inside it.
+    fn op(&mut self, r: &mut Reader<'_>) -> Option<()> {
+        let now = self.now();
+        let mut out = Vec::new();
+        match r.u8()? % ops::COUNT {
+            ops::STEP => {
+                for _ in 0..r.u8()?.max(1) {
+                    self.advance(1);
+                }
+            }
+            ops::SKIP => self.advance(u64::from(r.u16()?.max(1))),
+            ops::FRAME => self.controller.on_frame(r.bytes()?, now, &mut out),
+            ops::DATAGRAM => {
+                let d = usize::from(r.u8()?);
+                let port = r.u16()?;
+                let ip = self.devices.get(d % self.devices.len()).map(SimDevice::ip);
+                let from = SocketAddrV4::new(ip.unwrap_or([0; 4]).into(), port);
+                self.controller.on_datagram(from, r.bytes()?, now, &mut out);
+            }
+            ops::WIRE => {
+                let f = r.bytes()?;
+                let f = &f[..f.len().min(MAX_FRAME)];
+                // A full link drops the frame, as a real one would.
+                let _ = self.plant.send(f);
+            }
+            ops::TAMPER => {
+                let (filter, skip, how) = (r.u8()?, r.u8()?, r.u8()?);
+                let (at, value) = (usize::from(r.u16()?), r.u8()?);
+                let how = match how % 4 {
+                    0 => How::Flip {
+                        at,
+                        xor: value.max(1),
+                    },
+                    1 => How::Cut(at),
+                    2 => How::Drop,
+                    _ => How::Twice,
+                };
+                self.tamper = Some(Tamper {
+                    filter: filter % 4,
+                    skip,
+                    how,
+                });
+            }
+            ops::ONLINE => self.controller.set_online(r.u8()? % 2 == 1, now, &mut out),
+            ops::ACTIVATE => {
+                let (d, active) = (usize::from(r.u8()?), r.u8()? % 2 == 1);
+                // Also an index past the devices: the controller must refuse it.
+                let _ = self.controller.activate(d % 4, active, now, &mut out);
+            }
+            ops::RECORD => {
+                let device = usize::from(r.u8()? % 4);
+                let (slot, subslot, index) = (r.u16()?, r.u16()?, r.u16()?);
+                let max_len = u32::from(r.u16()?);
+                let write = r.u8()? % 2 == 1;
+                let data = r.bytes()?;
+                self.controller.record(
+                    RecordRequest {
+                        reference: self.cycle,
+                        device,
+                        api: 0,
+                        slot,
+                        subslot,
+                        index,
+                        max_len,
+                        write: write.then(|| data.to_vec()),
+                    },
+                    &mut out,
+                );
+            }
+            ops::ACK_ALARMS => {
+                for t in core::mem::take(&mut self.tickets) {
+                    let _ = self.controller.acknowledge_alarm(t, now, &mut out);
+                }
+            }
+            ops::RAISE_ALARM => {
+                let d = usize::from(r.u8()?) % self.devices.len();
+                let usi = r.u16()?;
+                let data = r.bytes()?;
+                let mut dout = Vec::new();
+                let _ = self.devices[d].raise_process_alarm(0, 1, 1, usi, data, now, &mut dout);
+                out.extend(self.device_actions(d, dout, now));
+            }
+            ops::WATCHDOG => {
+                let (d, epoch) = (usize::from(r.u8()?), r.u32()?);
+                self.controller.on_watchdog(d % 4, epoch, now, &mut out);
+            }
+            ops::OUTPUTS => {
+                let s = usize::from(r.u8()?) % self.io_submodules.len();
+                let good = r.u8()? % 2 == 1;
+                let data = r.bytes()?;
+                let s = self.io_submodules[s];
+                let outputs = self.image.outputs_mut(s);
+                let n = outputs.len().min(data.len());
+                outputs[..n].copy_from_slice(&data[..n]);
+                let mut st = self.image.status(s);
+                st.output_iops = if good { IOXS_GOOD } else { IOXS_BAD };
+                self.image.set_status(s, st);
+            }
+            _ => unreachable!("opcode taken modulo COUNT"),
+        }
+        self.controller_actions(out);
+        Some(())
+    }
+
+    /// Moves time on by `ms` and runs one cycle, unless the input already used its cycles.
+    fn advance(&mut self, ms: u64) {
+        if self.cycles_run >= MAX_CYCLES {
+            return;
+        }
+        self.cycles_run += 1;
+        self.cycle += ms;
+        self.step();
+    }
+
+    /// Applies a pending [`Tamper`] to a message of `kind`: the messages to deliver instead.
+    fn tampered(&mut self, kind: Kind, msg: Vec<u8>) -> Vec<Vec<u8>> {
+        let Some(t) = self.tamper.as_mut() else {
+            return vec![msg];
+        };
+        let wanted = match t.filter {
+            1 => kind == Kind::Datagram,
+            2 => kind == Kind::Acyclic,
+            3 => kind == Kind::Cyclic,
+            _ => true,
+        };
+        if !wanted {
+            return vec![msg];
+        }
+        if t.skip > 0 {
+            t.skip -= 1;
+            return vec![msg];
+        }
+        let how = t.how;
+        self.tamper = None;
+        match how {
+            How::Flip { at, xor } => {
+                let mut msg = msg;
+                if !msg.is_empty() {
+                    let i = at % msg.len();
+                    msg[i] ^= xor;
+                }
+                vec![msg]
+            }
+            How::Cut(n) => {
+                let mut msg = msg;
+                msg.truncate(n);
+                vec![msg]
+            }
+            How::Drop => Vec::new(),
+            How::Twice => vec![msg.clone(), msg],
+        }
+    }
+
+    /// Carries out the controller's actions, and what they lead to, until none are left.
+    fn controller_actions(&mut self, out: Vec<Action>) {
+        let now = self.now();
+        let mut pending = out;
+        while !pending.is_empty() {
+            let mut next = Vec::new();
+            for a in pending {
+                match a {
+                    Action::Frame(f) => {
+                        wire_check::emitted_frame("the controller", &f);
+                        // A full queue drops the frame, as the cycle thread would.
+                        let _ = self.channel.send(&f);
+                    }
+                    Action::Datagram { to, payload } => {
+                        wire_check::emitted_datagram("the controller", &payload);
+                        let Some(d) = self.devices.iter().position(|d| d.ip() == to.ip().octets())
+                        else {
+                            continue;
+                        };
+                        if d == 0
+                            && let Some(rec) = self.recording.as_mut()
+                        {
+                            rec.push(Sent::Datagram(
+                                self.cycle,
+                                RPC_PORT,
+                                to.port(),
+                                payload.clone(),
+                            ));
+                        }
+                        let from = SocketAddrV4::new(SIM_CONTROLLER_IP, RPC_PORT);
+                        let mut dout = Vec::new();
+                        self.devices[d].on_datagram(from, to.port(), &payload, now, &mut dout);
+                        next.extend(self.device_actions(d, dout, now));
+                    }
+                    Action::Start(ar) => {
+                        let _ = self.channel.to_cycle.push(ToCycle::Start(ar));
+                    }
+                    Action::Stop { device } => {
+                        let _ = self.channel.to_cycle.push(ToCycle::Stop { device });
+                    }
+                    Action::Event(DeviceEvent::Alarm { ticket, .. }) => self.tickets.push(ticket),
+                    Action::Event(_) => {}
+                }
+            }
+            pending = next;
+        }
+    }
+
+    /// Carries out a device's actions; returns what the controller answered to datagrams.
+    fn device_actions(&mut self, d: usize, out: Vec<DeviceAction>, now: u64) -> Vec<Action> {
+        let mut answers = Vec::new();
+        for a in out {
+            match a {
+                DeviceAction::Frame(f) => {
+                    wire_check::emitted_frame("a simulated device", &f);
+                    for f in self.tampered(frame_kind(&f), f) {
+                        let _ = self.plant.send(&f[..f.len().min(MAX_FRAME)]);
+                    }
+                }
+                DeviceAction::Datagram {
+                    to,
+                    from_port,
+                    payload,
+                } => {
+                    wire_check::emitted_datagram("a simulated device", &payload);
+                    if *to.ip() != SIM_CONTROLLER_IP {
+                        continue;
+                    }
+                    let from = SocketAddrV4::new(Ipv4Addr::from(self.devices[d].ip()), from_port);
+                    for p in self.tampered(Kind::Datagram, payload) {
+                        self.controller.on_datagram(from, &p, now, &mut answers);
+                    }
+                }
+            }
+        }
+        answers
+    }
+
+    /// One cycle: the devices take what was sent and do their work, then the cycle thread
+    /// and the controller run.
+    fn step(&mut self) {
+        let now = self.now();
+        let t = CycleTime {
+            cycle: self.cycle,
+            now_ns: now,
+        };
+        let mut buf = vec![0u8; MAX_FRAME];
+        while let Ok(Some(n)) = self.plant.recv(&mut buf) {
+            let f = &buf[..n];
+            for d in 0..self.devices.len() {
+                let mac = self.devices[d].mac();
+                if d == 0
+                    && let Some(rec) = self.recording.as_mut()
+                    && (f.get(..6) == Some(&mac.0[..])
+                        || f.get(..6) == Some(&MacAddress::DCP_IDENTIFY.0[..]))
+                {
+                    rec.push(Sent::Frame(self.cycle, f.to_vec()));
+                }
+                let mut out = Vec::new();
+                self.devices[d].on_frame(f, now, &mut out);
+                let answers = self.device_actions(d, out, now);
+                self.controller_actions(answers);
+            }
+        }
+        for d in 0..self.devices.len() {
+            let mut out = Vec::new();
+            self.devices[d].poll(now, &mut out);
+            let answers = self.device_actions(d, out, now);
+            self.controller_actions(answers);
+        }
+        self.io.receive(t, Mode::Operate, &mut self.image);
+        let mut out = Vec::new();
+        while let Some(r) = self.channel.from_cycle.pop() {
+            match r {
+                FromCycle::Received(f) => {
+                    self.controller.on_frame(f.bytes(), now, &mut out);
+                    self.channel.recycle(f);
+                }
+                FromCycle::WatchdogExpired { device, epoch } => {
+                    self.controller.on_watchdog(device, epoch, now, &mut out)
+                }
+                FromCycle::DataStarted { device, epoch } => {
+                    self.controller.on_data_started(device, epoch)
+                }
+                FromCycle::Retired(_) => {}
+            }
+        }
+        self.controller.poll(now, &mut out);
+        self.controller_actions(out);
+        self.io.send(t, Mode::Operate, &self.image);
+        // The controller never asks to be polled later than it needs to.
+        if let Some(d) = self.controller.deadline() {
+            assert!(d > 0, "a deadline at time 0");
+        }
+    }
+}
+
+/// Runs the fuzz network from OFFLINE until both devices are in data exchange, then 20 ms
+/// more; returns the operations that did it (a seed for the `controller` target) and what
+/// the controller sent to device 0 (the material of the `device_sim` seeds).
+pub fn record_bringup() -> (Vec<u8>, Vec<Sent>) {
+    let mut seed = Writer::new();
+    let mut w = World::new();
+    w.start_recording();
+    let mut online = Writer::new();
+    online.u8(ops::ONLINE).u8(1);
+    w.run(&online.finish());
+    seed.u8(ops::ONLINE).u8(1);
+    // 1 ms steps, so that every answer is seen at its time, batched as one STEP per 255.
+    let mut steps: u32 = 0;
+    while w.states().iter().any(|s| *s != DeviceState::Running) {
+        w.run(&[ops::STEP, 1]);
+        steps += 1;
+        assert!(steps < 2 * MAX_CYCLES, "no bring-up: {:?}", w.states());
+    }
+    for _ in 0..20 {
+        w.run(&[ops::STEP, 1]);
+        steps += 1;
+    }
+    while steps > 0 {
+        let n = steps.min(255);
+        seed.u8(ops::STEP).u8(n as u8);
+        steps -= n;
+    }
+    (seed.finish(), w.recorded().to_vec())
+}
+
+/// One simulated device alone: the `device_sim` target.
+pub struct DeviceBench {
+    device: SimDevice,
+    now: u64,
+    steps: u32,
+}
+
+impl Default for DeviceBench {
+    fn default() -> Self {
+        DeviceBench::new()
+    }
+}
+
+impl DeviceBench {
+    /// Device 0 of [`CONFIG`], at time 1 ms.
+    pub fn new() -> DeviceBench {
+        let device = simnet::devices(config()).swap_remove(0);
+        DeviceBench {
+            device,
+            now: MS,
+            steps: 0,
+        }
+    }
+
+    /// Runs a whole operation sequence ([`device_ops`]).
+    pub fn run(&mut self, input: &[u8]) {
+        let mut r = Reader::new(input);
+        while self.op(&mut r).is_some() {}
+    }
+
+    fn op(&mut self, r: &mut Reader<'_>) -> Option<()> {
+        let mut out = Vec::new();
+        let controller = SocketAddrV4::new(SIM_CONTROLLER_IP, RPC_PORT);
+        match r.u8()? % device_ops::COUNT {
+            device_ops::STEP => {
+                for _ in 0..r.u8()?.max(1) {
+                    if self.steps >= MAX_CYCLES {
+                        break;
+                    }
+                    self.steps += 1;
+                    self.now += MS;
+                    self.device.poll(self.now, &mut out);
+                }
+            }
+            device_ops::FRAME => self.device.on_frame(r.bytes()?, self.now, &mut out),
+            device_ops::DATAGRAM => {
+                let (from_port, to_port) = (r.u16()?, r.u16()?);
+                let bytes = r.bytes()?;
+                let from = SocketAddrV4::new(*controller.ip(), from_port);
+                self.device
+                    .on_datagram(from, to_port, bytes, self.now, &mut out);
+            }
+            device_ops::RAISE_ALARM => {
+                let usi = r.u16()?;
+                let data = r.bytes()?;
+                let _ = self
+                    .device
+                    .raise_process_alarm(0, 1, 1, usi, data, self.now, &mut out);
+            }
+            _ => unreachable!("opcode taken modulo COUNT"),
+        }
+        for a in out {
+            match a {
+                DeviceAction::Frame(f) => wire_check::emitted_frame("the simulated device", &f),
+                DeviceAction::Datagram { payload, .. } => {
+                    wire_check::emitted_datagram("the simulated device", &payload)
+                }
+            }
+        }
+        if let Some(d) = self.device.next_deadline_ns() {
+            assert!(d > 0, "a deadline at time 0");
+        }
+        Some(())
+    }
+}
+
+/// The `device_sim` seed for what the controller sent to device 0: the frames and datagrams
+/// at the cycles they were sent.
+pub fn device_seed(sent: &[Sent]) -> Vec<u8> {
+    let mut w = Writer::new();
+    let mut at = 1u64;
+    for s in sent {
+        let cycle = match s {
+            Sent::Frame(c, _) | Sent::Datagram(c, ..) => *c,
+        };
+        let mut gap = cycle.saturating_sub(at);
+        while gap > 0 {
+            let n = gap.min(255);
+            w.u8(device_ops::STEP).u8(n as u8);
+            gap -= n;
+        }
+        at = cycle;
+        match s {
+            Sent::Frame(_, f) => {
+                w.u8(device_ops::FRAME).bytes(f);
+            }
+            Sent::Datagram(_, from_port, to_port, p) => {
+                w.u8(device_ops::DATAGRAM)
+                    .u16(*from_port)
+                    .u16(*to_port)
+                    .bytes(p);
+            }
+        }
+    }
+    w.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_recorded_bring_up_brings_both_devices_up_again() {
+        let (seed, sent) = record_bringup();
+        let mut w = World::new();
+        w.run(&seed);
+        assert!(w.states().iter().all(|s| *s == DeviceState::Running));
+        assert!(sent.iter().any(|s| matches!(s, Sent::Datagram(..))));
+    }
+
+    #[test]
+    fn the_device_replays_the_recorded_conversation() {
+        let (_, sent) = record_bringup();
+        let mut b = DeviceBench::new();
+        b.run(&device_seed(&sent));
+        let kinds: Vec<_> = sent
+            .iter()
+            .map(|s| match s {
+                Sent::Frame(c, f) => format!("{c} frame {}", f.len()),
+                Sent::Datagram(c, _, to, p) => format!("{c} datagram to {to} {}", p.len()),
+            })
+            .collect();
+        assert!(
+            b.device.ar_uuid().is_some(),
+            "no AR after the replay of {kinds:#?}"
+        );
+    }
+}
