@@ -10,7 +10,7 @@
 use crossbeam_queue::ArrayQueue;
 use hdrhistogram::Histogram;
 use procimg_shm_layout::MAX_CLIENTS;
-use procimg_shm_layout::control::Percentiles;
+use procimg_shm_layout::control::{Bucket, HistogramsReport, Percentiles};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 
@@ -27,6 +27,8 @@ pub struct StatsBatch {
     pub wakeup: Histogram<u64>,
     /// STARTOP → OPDONE of each synchronous client.
     pub handshake: Histogram<u64>,
+    /// A client's OPDONE sent → received here (one way).
+    pub opdone: Histogram<u64>,
     /// Cycle start until the outputs were handed to the IO system.
     pub work: Histogram<u64>,
 }
@@ -38,6 +40,7 @@ impl StatsBatch {
         StatsBatch {
             wakeup: h(),
             handshake: h(),
+            opdone: h(),
             work: h(),
         }
     }
@@ -45,11 +48,15 @@ impl StatsBatch {
     fn reset(&mut self) {
         self.wakeup.reset();
         self.handshake.reset();
+        self.opdone.reset();
         self.work.reset();
     }
 
     fn is_empty(&self) -> bool {
-        self.wakeup.is_empty() && self.handshake.is_empty() && self.work.is_empty()
+        self.wakeup.is_empty()
+            && self.handshake.is_empty()
+            && self.opdone.is_empty()
+            && self.work.is_empty()
     }
 }
 
@@ -139,6 +146,12 @@ impl StatsRecorder {
         self.current.handshake.saturating_record(ns.max(1));
     }
 
+    /// Records an OPDONE one-way latency (client sent → cycle thread received).
+    #[inline]
+    pub fn opdone(&mut self, ns: u64) {
+        self.current.opdone.saturating_record(ns.max(1));
+    }
+
     /// Records the work time of a cycle.
     #[inline]
     pub fn work(&mut self, ns: u64) {
@@ -168,6 +181,7 @@ impl StatsCollector {
             // Same bounds on both sides, so `add` cannot fail or resize.
             let _ = self.totals.wakeup.add(&batch.wakeup);
             let _ = self.totals.handshake.add(&batch.handshake);
+            let _ = self.totals.opdone.add(&batch.opdone);
             let _ = self.totals.work.add(&batch.work);
             batch.reset();
             let _ = self.empty.push(batch);
@@ -184,10 +198,35 @@ impl StatsCollector {
         percentiles(&self.totals.handshake)
     }
 
+    /// Percentiles of the OPDONE one-way latency since start.
+    pub fn opdone(&self) -> Percentiles {
+        percentiles(&self.totals.opdone)
+    }
+
     /// Percentiles of the cycle work time since start.
     pub fn work(&self) -> Percentiles {
         percentiles(&self.totals.work)
     }
+
+    /// Every histogram since start, bucket by bucket, for `cycles` cycles run.
+    pub fn histograms(&self, cycles: u64) -> HistogramsReport {
+        HistogramsReport {
+            cycles,
+            wakeup: buckets(&self.totals.wakeup),
+            handshake: buckets(&self.totals.handshake),
+            opdone: buckets(&self.totals.opdone),
+            work: buckets(&self.totals.work),
+        }
+    }
+}
+
+fn buckets(h: &Histogram<u64>) -> Vec<Bucket> {
+    h.iter_recorded()
+        .map(|v| Bucket {
+            ns: h.highest_equivalent(v.value_iterated_to()),
+            count: v.count_at_value(),
+        })
+        .collect()
 }
 
 fn percentiles(h: &Histogram<u64>) -> Percentiles {

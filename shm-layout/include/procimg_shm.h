@@ -55,7 +55,7 @@
 /**
  * Version of this layout. Raised on every incompatible change of a shared type.
  */
-#define PROCIMG_LAYOUT_VERSION 1
+#define PROCIMG_LAYOUT_VERSION 2
 
 /**
  * Most clients attached to one server instance at the same time.
@@ -526,6 +526,11 @@ typedef struct {
    * `OUTPUT_*` flags.
    */
   uint32_t flags;
+  /**
+   * The client's `CLOCK_MONOTONIC` in ns when it sent the sample: the server measures the
+   * OPDONE one-way latency from it.
+   */
+  uint64_t sent_ns;
 } procimg_output_header_t;
 
 #endif  /* PROCIMG_SHM_H */

@@ -172,6 +172,10 @@ pub enum Request {
     },
     /// The state of every device; answered with [`Response::Diagnosis`].
     Diagnosis,
+    /// The cycle thread's latency histograms since start, bucket by bucket; answered with
+    /// [`Response::Histograms`]. Two answers subtracted give the histograms of the time
+    /// between them.
+    Histograms,
 }
 
 /// The server's answer.
@@ -199,6 +203,8 @@ pub enum Response {
     Accepted,
     /// The devices' state.
     Diagnosis(Box<DiagnosisReport>),
+    /// The cycle thread's latency histograms.
+    Histograms(Box<HistogramsReport>),
 }
 
 use crate::services::{DiagnosisReport, RecordTarget};
@@ -359,6 +365,32 @@ pub struct Percentiles {
     pub mean_ns: u64,
 }
 
+/// One bucket of a latency histogram: `count` values at most `ns` (and more than the
+/// previous bucket's `ns`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Bucket {
+    /// The bucket's highest value, in ns.
+    pub ns: u64,
+    /// Values recorded in it.
+    pub count: u64,
+}
+
+/// The cycle thread's latency histograms since the server started (3 significant digits),
+/// with only the buckets that hold values, in rising order.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct HistogramsReport {
+    /// Cycles run when the histograms were taken.
+    pub cycles: u64,
+    /// Actual minus planned cycle start (the cycle thread's wake-up latency).
+    pub wakeup: Vec<Bucket>,
+    /// STARTOP → OPDONE received, per synchronous client and cycle (the round trip).
+    pub handshake: Vec<Bucket>,
+    /// A client's OPDONE sent → received by the cycle thread (one way).
+    pub opdone: Vec<Bucket>,
+    /// Cycle start → outputs handed to the IO system.
+    pub work: Vec<Bucket>,
+}
+
 /// One claimed output submodule in a status report.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ClaimReport {
@@ -466,6 +498,9 @@ pub struct StatusReport {
     pub wakeup_latency: Percentiles,
     /// STARTOP → OPDONE round trip of synchronous clients.
     pub handshake_round_trip: Percentiles,
+    /// OPDONE sent by a client → received by the cycle thread (one way).
+    #[serde(default)]
+    pub opdone_one_way: Percentiles,
     /// Time from cycle start until the outputs are sent.
     pub cycle_work: Percentiles,
     /// Attached clients.

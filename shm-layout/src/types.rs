@@ -14,7 +14,7 @@ use iceoryx2_bb_elementary_traits::zero_copy_send::ZeroCopySend;
 /// "PROCIMG1" as the bytes of a little-endian `u64`: the first field of every header.
 pub const IMAGE_MAGIC: u64 = 0x3147_4D49_434F_5250;
 /// Version of this layout. Raised on every incompatible change of a shared type.
-pub const LAYOUT_VERSION: u32 = 1;
+pub const LAYOUT_VERSION: u32 = 2;
 /// Most clients attached to one server instance at the same time.
 pub const MAX_CLIENTS: usize = 64;
 /// Mode changes an image header remembers.
@@ -289,6 +289,9 @@ pub struct OutputHeader {
     pub client_slot: u32,
     /// `OUTPUT_*` flags.
     pub flags: u32,
+    /// The client's `CLOCK_MONOTONIC` in ns when it sent the sample: the server measures the
+    /// OPDONE one-way latency from it.
+    pub sent_ns: u64,
 }
 
 const _: () = {
@@ -315,7 +318,7 @@ const _: () = {
     assert!(size_of::<LayoutHeader>() == 96);
     assert!(offset_of!(LayoutHeader, device_count) == 48);
     assert!(offset_of!(LayoutHeader, reserved) == 92);
-    assert!(size_of::<OutputHeader>() == 40);
+    assert!(size_of::<OutputHeader>() == 48 && offset_of!(OutputHeader, sent_ns) == 40);
     assert!(offset_of!(OutputHeader, client_slot) == 32);
 };
 
@@ -524,6 +527,7 @@ impl Default for OutputHeader {
             client_token: 0,
             client_slot: 0,
             flags: 0,
+            sent_ns: 0,
         }
     }
 }

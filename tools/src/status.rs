@@ -28,6 +28,7 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
     );
     line("wake-up latency", &s.wakeup_latency);
     line("STARTOP→OPDONE", &s.handshake_round_trip);
+    line("OPDONE one way", &s.opdone_one_way);
     line("cycle work", &s.cycle_work);
     let devices: Vec<String> = s
         .devices

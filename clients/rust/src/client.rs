@@ -574,6 +574,7 @@ impl Client {
             client_token: self.token,
             client_slot: self.slot,
             flags: 0,
+            sent_ns: 0,
         };
         Ok(sample)
     }
@@ -592,6 +593,7 @@ impl Client {
             h.cycle_number = cycle;
             h.flags |= OUTPUT_SYNCHRONOUS;
         }
+        sample.user_header_mut().sent_ns = crate::cycle::now_ns();
         match sample.send() {
             Ok(0) | Err(_) => return Err(IoError::NotDelivered(crate::OUTPUT_BUFFER)),
             Ok(_) => {}

@@ -6,7 +6,7 @@ use crate::connection::{ControlPort, Ipc, client_node, open_control};
 use crate::error::{AttachError, ControlError};
 use iceoryx2::node::Node;
 use procimg_shm_layout::Mode;
-use procimg_shm_layout::control::{self, Request, Response, StatusReport};
+use procimg_shm_layout::control::{self, HistogramsReport, Request, Response, StatusReport};
 use std::time::{Duration, Instant};
 
 /// How long a control request waits for its answer by default.
@@ -105,6 +105,19 @@ impl ControlHandle {
     pub fn status(&self) -> Result<StatusReport, ControlError> {
         match self.request(&Request::Status, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Status(s) => Ok(*s),
+            Response::Refused(r) => Err(ControlError::Refused(r)),
+            other => Err(ControlError::Protocol {
+                instance: self.instance.clone(),
+                detail: format!("{other:?}"),
+            }),
+        }
+    }
+
+    /// The cycle thread's latency histograms since the server started (wake-up, STARTOP →
+    /// OPDONE round trip, OPDONE one way, cycle work).
+    pub fn histograms(&self) -> Result<HistogramsReport, ControlError> {
+        match self.request(&Request::Histograms, DEFAULT_CONTROL_TIMEOUT)? {
+            Response::Histograms(h) => Ok(*h),
             Response::Refused(r) => Err(ControlError::Refused(r)),
             other => Err(ControlError::Protocol {
                 instance: self.instance.clone(),

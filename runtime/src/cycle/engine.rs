@@ -446,8 +446,11 @@ impl State {
             }
             client.done = true;
             client.faulted = false;
-            self.stats
-                .handshake(now_ns().saturating_sub(self.startop_ns));
+            let now = now_ns();
+            self.stats.handshake(now.saturating_sub(self.startop_ns));
+            if h.sent_ns != 0 {
+                self.stats.opdone(now.saturating_sub(h.sent_ns));
+            }
         }
         let token = h.client_token;
         for s in 0..self.output_iops.len() {

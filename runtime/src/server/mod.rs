@@ -219,6 +219,11 @@ impl Control {
             Request::Diagnosis => {
                 return Response::Diagnosis(Box::new(self.services.diagnosis()));
             }
+            Request::Histograms => {
+                self.stats.collect();
+                let cycles = crate::stats::load(&self.shared.counters.cycles);
+                return Response::Histograms(Box::new(self.stats.histograms(cycles)));
+            }
         };
         match result {
             Ok(()) => Response::Done,
@@ -293,6 +298,7 @@ impl Control {
             rejected_writes: load(&c.rejected_writes),
             wakeup_latency: self.stats.wakeup(),
             handshake_round_trip: self.stats.handshake(),
+            opdone_one_way: self.stats.opdone(),
             cycle_work: self.stats.work(),
             clients,
             devices: self.device_reports(),
