@@ -201,6 +201,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         opdone_deadline_ns: config.opdone_deadline_ns,
         late_policy: config.late_policy,
         output_timing: config.output_timing,
+        opdone_wait: config.cycle_thread.opdone_wait,
         generation,
     };
     let (events, event_rx) = std::sync::mpsc::channel();

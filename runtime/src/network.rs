@@ -34,12 +34,13 @@ const NIC_RX_TIMEOUT: Duration = Duration::ZERO;
 #[derive(Debug, thiserror::Error)]
 pub enum NetworkError {
     /// A device cannot be planned.
-    #[error("{origin}: {source}")]
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("{origin}: {problem}")]
     Plan {
         /// Configuration file.
         origin: String,
         /// What is wrong.
-        source: PlanError,
+        problem: PlanError,
     },
     /// The interface could not be opened.
     #[error(transparent)]
@@ -80,9 +81,9 @@ impl PnioSystem {
         shared: Arc<Shared>,
         events: Option<Sender<DeviceEvent>>,
     ) -> Result<PnioSystem, NetworkError> {
-        let plans = DevicePlan::all(config).map_err(|source| NetworkError::Plan {
+        let plans = DevicePlan::all(config).map_err(|problem| NetworkError::Plan {
             origin: config.origin.clone(),
-            source,
+            problem,
         })?;
         let plant_stop = Arc::new(AtomicBool::new(false));
         let mut threads = Vec::new();

@@ -77,6 +77,7 @@ fn steady_state_cycles_allocate_nothing() {
         opdone_deadline_ns: 500_000,
         late_policy: config.late_policy,
         output_timing: config.output_timing,
+        opdone_wait: config.cycle_thread.opdone_wait,
         generation,
     };
     let mut pnio = PnioSystem::start(&config, shared.clone(), None).unwrap();

@@ -6,7 +6,7 @@ use std::net::Ipv4Addr;
 
 use procimg_runtime::config::{
     self, Config, ConfigError, DEMO_ORIGIN, DEMO_TOML, DurationError, LatePolicy, Network,
-    OutputTiming, SimBehaviour, format_duration, parse_duration,
+    OpdoneWait, OutputTiming, SimBehaviour, format_duration, parse_duration,
 };
 use procimg_shm_layout::{MAX_SUBMODULE_DATA_LEN, Mode, NO_ADDRESS};
 use proptest::prelude::*;
@@ -162,9 +162,10 @@ fn empty_file_gives_the_defaults() {
         (
             c.cycle_thread.cpu,
             c.cycle_thread.priority,
-            c.cycle_thread.lock_memory
+            c.cycle_thread.lock_memory,
+            c.cycle_thread.opdone_wait
         ),
-        (None, 80, true)
+        (None, 80, true, OpdoneWait::Event)
     );
     assert_eq!((c.access.mode, c.access.group), (0o600, None));
     assert!(c.devices.is_empty());
@@ -185,6 +186,7 @@ network = "enp1s0"
 cpu = 0
 priority = 99
 lock_memory = false
+opdone_wait = "busy-poll"
 
 [access]
 mode = "0640"
@@ -224,9 +226,10 @@ records = [ { index = 0x100, data = [1, 2, 0xFF] }, { index = 2, data = [] } ]
         (
             c.cycle_thread.cpu,
             c.cycle_thread.priority,
-            c.cycle_thread.lock_memory
+            c.cycle_thread.lock_memory,
+            c.cycle_thread.opdone_wait
         ),
-        (Some(0), 99, false)
+        (Some(0), 99, false, OpdoneWait::BusyPoll)
     );
     assert_eq!(
         (c.access.mode, c.access.group.as_deref()),
@@ -410,6 +413,12 @@ fn bad_cycle_thread_and_access() {
             "use 1 to 99",
         );
     }
+    refused_at(
+        "[cycle_thread]\nopdone_wait = \"spin\"",
+        "opdone_wait",
+        "cycle_thread.opdone_wait",
+        "use \"event\" or \"busy-poll\"",
+    );
     refused_at(
         "[cycle_thread]\nlock_memory = \"yes\"",
         "lock_memory",

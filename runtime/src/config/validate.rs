@@ -19,7 +19,7 @@ use super::span::{key_path_at, line_of};
 use super::{
     AccessConfig, CYCLE_UNIT_NS, Config, CycleThreadConfig, DEFAULT_CYCLE_NS, DEFAULT_INSTANCE,
     DeviceConfig, GsdmlSource, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network,
-    OutputTiming, ParameterRecord, SimBehaviour, SubmoduleConfig,
+    OpdoneWait, OutputTiming, ParameterRecord, SimBehaviour, SubmoduleConfig,
 };
 
 /// The text being parsed and its name, for error messages.
@@ -355,6 +355,20 @@ fn cycle_thread(raw: RawCycleThread, cx: &Cx<'_>) -> Result<CycleThreadConfig, C
     }
     if let Some(lock) = raw.lock_memory {
         config.lock_memory = lock;
+    }
+    if let Some(v) = &raw.opdone_wait {
+        config.opdone_wait = cx.check(
+            v,
+            "cycle_thread.opdone_wait",
+            choose(
+                v.get_ref(),
+                "a way to wait for OPDONE",
+                &[
+                    ("event", OpdoneWait::Event),
+                    ("busy-poll", OpdoneWait::BusyPoll),
+                ],
+            ),
+        )?;
     }
     Ok(config)
 }

@@ -8,7 +8,7 @@
 //! logs once the engine is built.
 
 use super::shared::{Command, Shared};
-use crate::config::{LatePolicy, OutputTiming};
+use crate::config::{LatePolicy, OpdoneWait, OutputTiming};
 use crate::image::{Image, Tables};
 use crate::io::{CycleTime, IoSystem};
 use crate::shm::{CyclePorts, Ipc};
@@ -42,6 +42,8 @@ pub struct EngineSettings {
     pub late_policy: LatePolicy,
     /// When the outputs go out.
     pub output_timing: OutputTiming,
+    /// How the thread waits for OPDONE.
+    pub opdone_wait: OpdoneWait,
     /// Server generation.
     pub generation: u64,
 }
@@ -191,9 +193,15 @@ impl Engine {
             .inputs
             .loan_slice_uninit(st.image.payload().len())
         {
-            Ok(mut sample) => {
+            Ok(sample) => {
+                let mut sample = sample.write_from_slice(st.image.payload());
+                // Stamped after the copy: the clock in the header is when the image was
+                // complete, which clients measure their STARTOP latency from.
+                let now = now_ns();
+                st.header.cycle.clock_ns = now;
+                st.header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
                 *sample.user_header_mut() = st.header;
-                sample.write_from_slice(st.image.payload()).send().is_ok()
+                sample.send().is_ok()
             }
             Err(_) => false,
         };
@@ -219,8 +227,19 @@ impl Engine {
             if now >= deadline {
                 break;
             }
-            if wait_readable(self.opdone_fd, deadline - now) {
-                let _ = self.ports.opdone.try_wait(|_| {});
+            match st.settings.opdone_wait {
+                OpdoneWait::Event => {
+                    if wait_readable(self.opdone_fd, deadline - now) {
+                        let _ = self.ports.opdone.try_wait(|_| {});
+                    }
+                }
+                // The sample is there before its OPDONE event: looking for samples is enough,
+                // and the events are collected once after the loop.
+                OpdoneWait::BusyPoll => {
+                    while !self.ports.outputs.has_samples().unwrap_or(true) && now_ns() < deadline {
+                        std::hint::spin_loop();
+                    }
+                }
             }
         }
         let _ = self.ports.opdone.try_wait(|_| {});

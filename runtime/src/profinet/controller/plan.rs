@@ -79,12 +79,13 @@ pub enum PlanError {
         wire: u64,
     },
     /// The IO data does not fit one frame.
-    #[error("device {device:?}: {source}")]
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("device {device:?}: {problem}")]
     TooLarge {
         /// Station name.
         device: String,
         /// Which CR and how much.
-        source: TooLarge,
+        problem: TooLarge,
     },
 }
 
@@ -219,9 +220,9 @@ impl DevicePlan {
                 output_length: s.output_length,
             })
             .collect();
-        let layout = IocrLayout::new(&submodules).map_err(|source| PlanError::TooLarge {
+        let layout = IocrLayout::new(&submodules).map_err(|problem| PlanError::TooLarge {
             device: dev.name.clone(),
-            source,
+            problem,
         })?;
         // One block per (API, slot), slots ascending, submodules ascending: the S7's order.
         let mut order: Vec<usize> = (0..dev.submodules.len()).collect();

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The configuration procimgd runs with for a measurement: an image of the size asked for,
+//! spread over devices the way PROFINET allows (one frame per device and direction), with
+//! nobody answering on the network, so the cycle does nothing but the handshake.
+
+use std::fmt::Write as _;
+
+/// Most IO data one submodule (and here one device) carries per direction: a cyclic frame
+/// holds 1440 bytes of data and status (procimgd refuses more).
+pub const BYTES_PER_DEVICE: usize = 1438;
+/// Most devices one procimgd serves.
+pub const MAX_DEVICES: usize = 256;
+/// The largest image a configuration can have, per direction.
+pub const MAX_IMAGE_BYTES: usize = BYTES_PER_DEVICE * MAX_DEVICES;
+
+/// How the measured server is set up.
+#[derive(Clone, Debug)]
+pub struct Plant {
+    /// iceoryx2 instance name.
+    pub instance: String,
+    /// Bytes of input data, and as many of output data.
+    pub image_bytes: usize,
+    /// Cycle time in µs.
+    pub interval_us: u64,
+    /// The cycle thread's SCHED_FIFO priority.
+    pub priority: u8,
+    /// CPU of the cycle thread.
+    pub cpu: Option<usize>,
+    /// The cycle thread polls for OPDONE instead of sleeping.
+    pub busy_poll: bool,
+}
+
+impl Plant {
+    /// The IO data bytes of each device: `image_bytes` cut into frames.
+    pub fn device_sizes(&self) -> Vec<usize> {
+        let mut left = self.image_bytes.max(1);
+        let mut sizes = Vec::new();
+        while left > 0 {
+            let n = left.min(BYTES_PER_DEVICE);
+            sizes.push(n);
+            left -= n;
+        }
+        sizes
+    }
+
+    /// The procimgd configuration file's text.
+    pub fn toml(&self) -> String {
+        let mut t = String::new();
+        let _ = writeln!(
+            t,
+            "# procimg-handshake: {} bytes each way",
+            self.image_bytes
+        );
+        let _ = writeln!(t, "instance = \"{}\"", self.instance);
+        let _ = writeln!(t, "cycle_time = \"{}us\"", self.interval_us);
+        let _ = writeln!(t, "network = \"sim\"");
+        let _ = writeln!(t, "[cycle_thread]");
+        let _ = writeln!(t, "priority = {}", self.priority);
+        if let Some(cpu) = self.cpu {
+            let _ = writeln!(t, "cpu = {cpu}");
+        }
+        let wait = if self.busy_poll { "busy-poll" } else { "event" };
+        let _ = writeln!(t, "opdone_wait = \"{wait}\"");
+        for (d, n) in self.device_sizes().into_iter().enumerate() {
+            // No `sim`: nothing answers, the devices stay unconnected and the cycle carries
+            // no PROFINET work; the image is published and merged all the same.
+            let _ = writeln!(t, "\n[[device]]");
+            let _ = writeln!(t, "name = \"{}\"", device_name(d));
+            let _ = writeln!(
+                t,
+                "ip = \"10.{}.{}.{}\"",
+                1 + d / 65536,
+                d / 256 % 256,
+                d % 256
+            );
+            let _ = writeln!(t, "vendor_id = 0x0493\ndevice_id = 0x0001");
+            let _ = writeln!(t, "[[device.submodule]]\nslot = 1\nsubslot = 1");
+            let _ = writeln!(t, "module_ident = 0x20\nsubmodule_ident = 0x01");
+            let _ = writeln!(t, "input_length = {n}\noutput_length = {n}");
+        }
+        t
+    }
+}
+
+/// The name of device `d`.
+pub fn device_name(d: usize) -> String {
+    format!("dev{d}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plant(bytes: usize) -> Plant {
+        Plant {
+            instance: "x".into(),
+            image_bytes: bytes,
+            interval_us: 1000,
+            priority: 80,
+            cpu: None,
+            busy_poll: false,
+        }
+    }
+
+    #[test]
+    fn the_image_is_cut_into_frames() {
+        assert_eq!(plant(64).device_sizes(), vec![64]);
+        assert_eq!(plant(4096).device_sizes(), vec![1438, 1438, 1220]);
+        assert_eq!(plant(MAX_IMAGE_BYTES).device_sizes().len(), MAX_DEVICES);
+    }
+
+    #[test]
+    fn the_configuration_is_one_procimgd_accepts() {
+        let text = plant(4096).toml();
+        let config = procimg_runtime::config::parse(&text, "handshake.toml")
+            .unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(config.devices.len(), 3);
+    }
+}

@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The procimgd under measurement: started from the binary next to this one, with the
+//! generated configuration, stopped (SIGINT, then SIGKILL) whatever happens.
+
+use anyhow::{Context, Result, bail};
+use procimg_client::ControlHandle;
+use procimg_shm_layout::control::HistogramsReport;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A running procimgd; stopped on drop.
+pub struct Server {
+    child: Child,
+    control: ControlHandle,
+}
+
+/// The procimgd binary: beside this tool (both are built into the same target directory).
+pub fn procimgd_path() -> Result<PathBuf> {
+    let me = std::env::current_exe().context("cannot find this program's path")?;
+    let path = me.with_file_name("procimgd");
+    if !path.exists() {
+        bail!(
+            "{} is missing: build it with `cargo build --release --bins` (procimg-handshake \
+             starts the procimgd beside it)",
+            path.display()
+        );
+    }
+    Ok(path)
+}
+
+impl Server {
+    /// Starts procimgd with `config` and waits until it answers on `instance`; its log goes
+    /// to `log`.
+    pub fn start(config: &Path, instance: &str, log: &Path) -> Result<Server> {
+        let log_file = std::fs::File::create(log)
+            .with_context(|| format!("cannot create {}", log.display()))?;
+        let child = Command::new(procimgd_path()?)
+            .arg("--config")
+            .arg(config)
+            .arg("--quiet")
+            .stdin(Stdio::null())
+            .stdout(log_file.try_clone()?)
+            .stderr(log_file)
+            .spawn()
+            .context("cannot start procimgd")?;
+        let mut child = child;
+        let until = Instant::now() + Duration::from_secs(15);
+        loop {
+            if let Some(status) = child.try_wait()? {
+                bail!(
+                    "procimgd ended at start ({status}); its log, {}:\n{}",
+                    log.display(),
+                    std::fs::read_to_string(log).unwrap_or_default()
+                );
+            }
+            // The control service exists once procimgd is up; it answers once it cycles.
+            if let Ok(control) = ControlHandle::open(instance, "procimg-handshake")
+                && control.status().is_ok_and(|s| s.cycle_count > 10)
+            {
+                return Ok(Server { child, control });
+            }
+            if Instant::now() > until {
+                let _ = child.kill();
+                let _ = child.wait();
+                bail!(
+                    "procimgd on instance {instance} did not answer within 15 s; its log: {}",
+                    log.display()
+                );
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// The server's histograms since it started.
+    pub fn histograms(&self) -> Result<HistogramsReport> {
+        self.control
+            .histograms()
+            .context("procimgd did not answer the histogram request")
+    }
+
+    /// Cycles that overran, and OPFAULTs given, so far.
+    pub fn faults(&self) -> Result<(u64, u64)> {
+        let s = self.control.status().context("procimgd did not answer")?;
+        Ok((s.overruns, s.opfaults))
+    }
+
+    /// The server's process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        // SAFETY: kill(2) on our own child's pid; it has not been reaped, so the pid is
+        // still this process.
+        unsafe { libc::kill(self.child.id() as libc::pid_t, libc::SIGINT) };
+        let until = Instant::now() + Duration::from_secs(5);
+        while Instant::now() < until {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}

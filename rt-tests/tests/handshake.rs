@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg-handshake` against the real procimgd (built beside it by `cargo test
+//! --workspace`): it measures every figure it promises, for sleeping and busy-polling
+//! clients, and its report reads back. Timing is not judged here.
+
+use procimg_rt_tests::report::Report;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn tool() -> &'static str {
+    env!("CARGO_BIN_EXE_procimg-handshake")
+}
+
+/// procimgd is another package's binary; `cargo test --workspace` builds it into the same
+/// directory.
+fn procimgd_built() -> bool {
+    Path::new(tool()).with_file_name("procimgd").exists()
+}
+
+fn run(args: &[&str], report: &Path) -> Report {
+    let out = Command::new(tool())
+        .args(args)
+        .arg("--report")
+        .arg(report)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("round trip"), "{stdout}");
+    Report::read_json(report).unwrap()
+}
+
+fn temp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!(
+        "procimg-handshake-test-{}-{name}",
+        std::process::id()
+    ))
+}
+
+#[test]
+fn sleeping_clients_are_measured_in_both_directions() {
+    if !procimgd_built() {
+        eprintln!("skipped: procimgd is not built (run cargo test --workspace)");
+        return;
+    }
+    let path = temp("sleep.json");
+    let r = run(&["-c", "2", "-b", "4KiB", "-l", "300", "-q"], &path);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(r.settings["clients"], "2");
+    assert_eq!(r.settings["devices"], "3");
+    assert_eq!(r.get("startop one way").unwrap().count, 600);
+    // Server side: every OPDONE between the two snapshots, at least the measured ones.
+    for name in ["opdone one way", "round trip"] {
+        let m = r.get(name).unwrap();
+        assert!(m.count >= 600, "{name}: {m:?}");
+        assert!(m.min_ns > 0 && m.p50_ns <= m.p99_ns && m.p99_ns <= m.max_ns);
+    }
+}
+
+#[test]
+fn a_busy_polling_client_is_measured() {
+    if !procimgd_built() {
+        eprintln!("skipped: procimgd is not built (run cargo test --workspace)");
+        return;
+    }
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) < 2 {
+        eprintln!("skipped: busy-polling needs two CPUs");
+        return;
+    }
+    let path = temp("busy.json");
+    let r = run(&["-w", "busy", "-l", "300", "-q"], &path);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(r.settings["wait"], "busy");
+    assert_eq!(r.get("startop one way").unwrap().count, 300);
+    assert!(r.get("round trip").unwrap().count >= 300);
+}
+
+#[test]
+fn too_many_busy_clients_are_refused_with_the_reason() {
+    let out = Command::new(tool())
+        .args(["-w", "busy", "-c", "64", "-l", "10"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("need 65 CPUs"), "{err}");
+}
