@@ -402,3 +402,29 @@ fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
         "the fetched cycle was handed out only {same} times in 20"
     );
 }
+
+#[test]
+fn as_many_clients_as_the_limit_attach_and_one_more_is_told_why_not() {
+    // Each client is a node of its own in iceoryx2's services: their node limit must not be
+    // lower than procimg's client limit.
+    let server = Server::demo("many");
+    let max = procimg_shm_layout::MAX_CLIENTS;
+    let clients: Vec<Client> = (0..max)
+        .map(|i| {
+            Client::attach(
+                &server.instance,
+                AttachOptions::asynchronous(&format!("c{i}")),
+            )
+            .unwrap_or_else(|e| panic!("client {i} of {max}: {e}"))
+        })
+        .collect();
+    assert_eq!(server.status().clients.len(), max);
+    match Client::attach(
+        &server.instance,
+        AttachOptions::asynchronous("one-too-many"),
+    ) {
+        Err(e) => assert!(e.to_string().contains(&max.to_string()), "{e}"),
+        Ok(_) => panic!("client {} attached beyond the limit of {max}", max + 1),
+    }
+    drop(clients);
+}

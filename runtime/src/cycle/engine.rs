@@ -84,6 +84,9 @@ struct State {
     target: Mode,
     layout_hash: u64,
     output_payload_size: usize,
+    /// Where an output sample's client status array starts: 4 bytes per submodule in table
+    /// order, so a sample's statuses are one slice.
+    client_status_offset: usize,
     cycle: u64,
     startop_ns: u64,
     /// Outputs merged but not yet sent (OutputTiming::AtNextCycleStart).
@@ -143,6 +146,7 @@ impl Engine {
                 target,
                 layout_hash: tables.hash,
                 output_payload_size: tables.layout.output_payload_size as usize,
+                client_status_offset: tables.layout.client_status_offset as usize,
                 cycle: 0,
                 startop_ns: 0,
                 outputs_pending: false,
@@ -472,16 +476,18 @@ impl State {
             }
         }
         let token = h.client_token;
-        for s in 0..self.output_iops.len() {
-            let e = self.image.submodules()[s];
-            let at = e.client_status_offset as usize;
-            let Some(cs) = payload.get(at..at + 4) else {
-                continue;
-            };
+        let at = self.client_status_offset;
+        let Some(statuses) = payload.get(at..at + 4 * self.output_iops.len()) else {
+            return;
+        };
+        // Most statuses in a sample are untouched (flags 0): they are skipped without a look
+        // at the submodule table, which counts once many clients own a few submodules each.
+        for (s, cs) in statuses.chunks_exact(4).enumerate() {
             let (iops, iocs, flags) = (cs[0], cs[1], cs[2]);
             if flags == 0 {
                 continue;
             }
+            let e = self.image.submodules()[s];
             if flags & CLIENT_SET_INPUT_IOCS != 0 {
                 self.input_iocs[s] = iocs;
             }

@@ -18,6 +18,9 @@ use procimg_shm_layout::{control, services};
 
 /// Readers beyond clients that may look at the image (tools such as `procimg io watch`).
 const EXTRA_READERS: usize = 16;
+/// Nodes one service may have: every client and reader, and the server's two (iceoryx2's
+/// default, 20, would stop the 20th process at attaching).
+const MAX_NODES: usize = MAX_CLIENTS + EXTRA_READERS + 2;
 /// Output samples the server buffers per client between two cycles.
 pub const OUTPUT_BUFFER: usize = 8;
 
@@ -139,6 +142,7 @@ impl CyclePorts {
                 control::input_service(instance, generation),
             )?)
             .publish_subscribe::<[u8]>()
+            .max_nodes(MAX_NODES)
             .user_header::<ImageHeader>()
             .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
             .max_publishers(1)
@@ -161,6 +165,7 @@ impl CyclePorts {
                 control::output_service(instance, generation),
             )?)
             .publish_subscribe::<[u8]>()
+            .max_nodes(MAX_NODES)
             .user_header::<OutputHeader>()
             .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
             .max_publishers(MAX_CLIENTS)
@@ -182,6 +187,7 @@ impl CyclePorts {
                 control::cycle_event_service(instance, generation),
             )?)
             .event()
+            .max_nodes(MAX_NODES)
             .max_notifiers(1)
             .max_listeners(MAX_CLIENTS + EXTRA_READERS)
             .event_id_max_value(EVENT_ID_MAX)
@@ -197,6 +203,7 @@ impl CyclePorts {
                 control::opdone_service(instance, generation),
             )?)
             .event()
+            .max_nodes(MAX_NODES)
             .max_notifiers(MAX_CLIENTS)
             .max_listeners(1)
             .event_id_max_value(MAX_CLIENTS)
@@ -244,6 +251,7 @@ impl ControlPorts {
         let server = node
             .service_builder(&name(instance, control::control_service(instance))?)
             .request_response::<[u8], [u8]>()
+            .max_nodes(MAX_NODES)
             .max_servers(2)
             .max_clients(MAX_CLIENTS + EXTRA_READERS)
             .max_active_requests_per_client(2)
@@ -264,6 +272,7 @@ impl ControlPorts {
                 control::layout_service(instance, generation),
             )?)
             .publish_subscribe::<[u8]>()
+            .max_nodes(MAX_NODES)
             .user_header::<LayoutHeader>()
             .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
             .max_publishers(1)
@@ -298,6 +307,7 @@ impl ControlPorts {
         let notifications = node
             .service_builder(&name(instance, services::notification_service(instance))?)
             .publish_subscribe::<[u8]>()
+            .max_nodes(MAX_NODES)
             // Two: a dead predecessor's port may linger until its node is cleaned up.
             .max_publishers(2)
             .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
@@ -317,6 +327,7 @@ impl ControlPorts {
         let notify = node
             .service_builder(&name(instance, services::notify_event_service(instance))?)
             .event()
+            .max_nodes(MAX_NODES)
             .max_notifiers(2)
             .max_listeners(MAX_CLIENTS + EXTRA_READERS)
             .event_id_max_value(services::EVENT_NOTIFICATIONS)

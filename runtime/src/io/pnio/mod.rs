@@ -48,6 +48,9 @@ pub struct PnioIo {
     channel: Arc<Channel>,
     /// Per device: its running exchange.
     running: Vec<Option<Running>>,
+    /// Per device: the FrameID of its input frames while it runs, 0 otherwise. Looked up
+    /// for every frame received: a flat array instead of a walk through the exchanges.
+    input_frame_ids: Vec<u16>,
     /// Per device: the submodule table range, to mark a stopped device's inputs BAD.
     device_submodules: Vec<core::ops::Range<usize>>,
     /// Exchanges to hand back whose report did not fit the queue yet (capacity reserved).
@@ -75,6 +78,7 @@ impl PnioIo {
             nic,
             channel,
             running: (0..n).map(|_| None).collect(),
+            input_frame_ids: vec![0; n],
             device_submodules,
             retired: Vec::with_capacity(4 * n + 8),
             pending: Vec::with_capacity(4 * n + 8),
@@ -121,6 +125,7 @@ impl PnioIo {
 
     fn stop(&mut self, device: usize, image: Option<&mut Image>) {
         if let Some(r) = self.running.get_mut(device).and_then(Option::take) {
+            self.input_frame_ids[device] = 0;
             self.report(FromCycle::Retired(r.ar));
         }
         if let (Some(image), Some(range)) = (image, self.device_submodules.get(device)) {
@@ -138,6 +143,7 @@ impl PnioIo {
                         continue;
                     }
                     self.stop(d, None);
+                    self.input_frame_ids[d] = ar.input.frame_id;
                     self.running[d] = Some(Running {
                         ar,
                         last_rx_ns: t.now_ns,
@@ -185,11 +191,8 @@ impl PnioIo {
             return;
         }
         let src = eth.src();
-        let Some(d) = self
-            .running
-            .iter()
-            .position(|r| r.as_ref().is_some_and(|r| r.ar.input.frame_id == id))
-        else {
+        // FrameID 0 is never cyclic, so a stopped device's 0 matches nothing.
+        let Some(d) = self.input_frame_ids.iter().position(|&f| f == id) else {
             NetCounters::count(&counters.unknown);
             return;
         };
