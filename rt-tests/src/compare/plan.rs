@@ -1,0 +1,258 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! What one comparison runs: every tool invocation, grouped in pairs of a figure and its
+//! limit that run back to back, one pair after the other, never two at once.
+
+use super::run::Program;
+use std::time::Duration;
+
+/// The tools.
+pub const CYCLICTEST: Program = Program::InPath {
+    name: "cyclictest",
+    install: "apt-get install rt-tests",
+};
+/// procimg's cyclictest.
+pub const PROCIMG_CYCLICTEST: Program = Program::Sibling("procimg-cyclictest");
+/// The handshake between procimgd and its clients.
+pub const HANDSHAKE: Program = Program::Sibling("procimg-handshake");
+/// The limits.
+pub const BASELINE: Program = Program::Sibling("procimg-baseline");
+
+/// The handshake measurements (as procimg-handshake names them).
+pub const STARTOP: &str = "startop one way";
+/// See [`STARTOP`].
+pub const OPDONE: &str = "opdone one way";
+/// See [`STARTOP`]; also the baselines' only measurement.
+pub const ROUND_TRIP: &str = "round trip";
+/// procimg-cyclictest's measurement (thread 0), and the name given to cyclictest's.
+pub const WAKE_UP: &str = "wake-up";
+
+/// How much to measure.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// Cycles of the wake-up and handshake runs; the ping-pongs and copies do ten times as
+    /// many, being that much shorter.
+    pub loops: u64,
+    /// Cycle time, µs.
+    pub interval_us: u64,
+    /// Image sizes of the sweep, bytes; the first is the size of the main handshake rows.
+    pub sizes: Vec<usize>,
+    /// Client counts of the sweep; the first is the count of the main handshake rows.
+    pub clients: Vec<usize>,
+}
+
+impl Settings {
+    /// Image size of the main handshake rows.
+    pub fn main_bytes(&self) -> usize {
+        self.sizes.first().copied().unwrap_or(64)
+    }
+
+    /// Client count of the main handshake rows.
+    pub fn main_clients(&self) -> usize {
+        self.clients.first().copied().unwrap_or(1)
+    }
+}
+
+/// How a handshake run is set up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Handshake {
+    /// Busy-polling (else sleeping).
+    pub busy: bool,
+    /// Client processes.
+    pub clients: usize,
+    /// Image bytes each way.
+    pub bytes: usize,
+}
+
+impl Handshake {
+    /// The job key.
+    pub fn key(&self) -> String {
+        format!(
+            "handshake-{}-{}c-{}B",
+            if self.busy { "busy" } else { "sleep" },
+            self.clients,
+            self.bytes
+        )
+    }
+}
+
+/// What a job writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// A procimg report (`--report FILE`).
+    Report,
+    /// cyclictest's own JSON (`--json=FILE`).
+    CyclictestJson,
+}
+
+/// One invocation, without its output file (added per round).
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// Unique name; also the name of its files.
+    pub key: String,
+    /// The tool.
+    pub program: Program,
+    /// Its arguments.
+    pub args: Vec<String>,
+    /// What it writes.
+    pub output: Output,
+    /// About how long it runs.
+    pub expected: Duration,
+}
+
+impl Job {
+    /// The arguments with the output file.
+    pub fn args_with_output(&self, file: &std::path::Path) -> Vec<String> {
+        let mut args = self.args.clone();
+        match self.output {
+            Output::Report => {
+                args.push("--report".into());
+                args.push(file.display().to_string());
+            }
+            Output::CyclictestJson => args.push(format!("--json={}", file.display())),
+        }
+        args
+    }
+
+    /// Longest it may take: generous, since a debug build on a busy machine is slow; the
+    /// limit only catches a hung tool.
+    pub fn limit(&self) -> Duration {
+        self.expected * 5 + Duration::from_secs(120)
+    }
+}
+
+fn strings(args: &[&str]) -> Vec<String> {
+    args.iter().map(|s| s.to_string()).collect()
+}
+
+/// The memcpy job's measurement for `bytes` (as procimg-baseline names it).
+pub fn copy_name(bytes: usize) -> String {
+    format!("copy {bytes} B")
+}
+
+/// Key of the memcpy job.
+pub const MEMCPY: &str = "memcpy";
+
+/// The groups, in order; each group runs back to back.
+pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
+    let cycles = Duration::from_micros(s.loops * s.interval_us);
+    let l = s.loops.to_string();
+    let i = s.interval_us.to_string();
+    // cyclictest's options exactly as its users give them; procimg-cyclictest takes the same.
+    let wake_args = strings(&["-m", "-p", "80", "-i", &i, "-l", &l, "-q", "-h", "2000"]);
+    let wake = |key: &str, program: Program, output| Job {
+        key: key.to_string(),
+        program,
+        args: wake_args.clone(),
+        output,
+        expected: cycles,
+    };
+    let baseline_loops = (s.loops * 10).to_string();
+    let baseline = |what: &str, extra: &[&str]| {
+        let mut args = strings(&[what, "-l", &baseline_loops]);
+        args.extend(strings(extra));
+        Job {
+            key: what.to_string(),
+            program: BASELINE,
+            args,
+            output: Output::Report,
+            expected: Duration::from_micros(s.loops * 10 * 100),
+        }
+    };
+    let handshake = |h: Handshake| Job {
+        key: h.key(),
+        program: HANDSHAKE,
+        args: strings(&[
+            "--clients",
+            &h.clients.to_string(),
+            "--wait",
+            if h.busy { "busy" } else { "sleep" },
+            "--image-bytes",
+            &h.bytes.to_string(),
+            "-l",
+            &l,
+            "-i",
+            &i,
+            "-q",
+        ]),
+        output: Output::Report,
+        // Plus procimg-handshake's warm-up of up to 3000 cycles.
+        expected: cycles + Duration::from_micros(3000 * s.interval_us),
+    };
+    let main = |busy| Handshake {
+        busy,
+        clients: s.main_clients(),
+        bytes: s.main_bytes(),
+    };
+    let sizes: Vec<String> = s.sizes.iter().map(|b| b.to_string()).collect();
+    let mut groups = vec![
+        vec![
+            wake("cyclictest", CYCLICTEST, Output::CyclictestJson),
+            wake("procimg-cyclictest", PROCIMG_CYCLICTEST, Output::Report),
+        ],
+        vec![baseline("spin", &[]), handshake(main(true))],
+        vec![baseline("futex", &[]), handshake(main(false))],
+        vec![baseline("eventfd", &[]), baseline("socket", &[])],
+        vec![baseline(MEMCPY, &["--bytes", &sizes.join(",")])],
+    ];
+    for h in sweep(s) {
+        groups.push(vec![handshake(h)]);
+    }
+    groups
+}
+
+/// The sleeping handshake runs of the sweep beyond the main one: every size with the main
+/// client count, every client count with the main size.
+pub fn sweep(s: &Settings) -> Vec<Handshake> {
+    let main = Handshake {
+        busy: false,
+        clients: s.main_clients(),
+        bytes: s.main_bytes(),
+    };
+    let by_size = s.sizes.iter().map(|&bytes| Handshake { bytes, ..main });
+    let by_clients = s
+        .clients
+        .iter()
+        .map(|&clients| Handshake { clients, ..main });
+    let mut all: Vec<Handshake> = Vec::new();
+    for h in by_size.chain(by_clients) {
+        if h != main && !all.contains(&h) {
+            all.push(h);
+        }
+    }
+    all
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn settings() -> Settings {
+        Settings {
+            loops: 100,
+            interval_us: 1000,
+            sizes: vec![64, 4096],
+            clients: vec![1, 4],
+        }
+    }
+
+    #[test]
+    fn the_sweep_leaves_out_the_main_run_and_repeats_nothing() {
+        let keys: Vec<String> = sweep(&settings()).iter().map(|h| h.key()).collect();
+        assert_eq!(keys, ["handshake-sleep-1c-4096B", "handshake-sleep-4c-64B"]);
+    }
+
+    #[test]
+    fn every_job_key_is_unique_and_outputs_are_passed_the_tools_way() {
+        let groups = groups(&settings());
+        let mut keys: Vec<&str> = groups.iter().flatten().map(|j| j.key.as_str()).collect();
+        let n = keys.len();
+        keys.sort();
+        keys.dedup();
+        assert_eq!(keys.len(), n);
+        let ct = &groups[0][0];
+        let args = ct.args_with_output(std::path::Path::new("/x/c.json"));
+        assert_eq!(args.last().unwrap(), "--json=/x/c.json");
+        let ours = groups[0][1].args_with_output(std::path::Path::new("/x/p.json"));
+        assert_eq!(&ours[ours.len() - 2..], ["--report", "/x/p.json"]);
+    }
+}

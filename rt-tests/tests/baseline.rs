@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg-baseline`: every subcommand runs briefly (with or without root) and its report
+//! reads back with the measurements procimg-compare looks up. Timing is not judged here.
+
+use procimg_rt_tests::report::Report;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn temp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!(
+        "procimg-baseline-test-{}-{name}",
+        std::process::id()
+    ))
+}
+
+/// Runs the tool with `args` and `--report`, checks it succeeded and printed `expect`, and
+/// returns the report.
+fn run(args: &[&str], expect: &str) -> Report {
+    let path = temp(&format!("{}.json", args[0]));
+    let hlog = path.with_extension("hlog");
+    let out = Command::new(env!("CARGO_BIN_EXE_procimg-baseline"))
+        .args(args)
+        .arg("--report")
+        .arg(&path)
+        .arg("--hdr-log")
+        .arg(&hlog)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains(expect), "{stdout}");
+    let report = Report::read_json(&path).unwrap();
+    assert!(std::fs::metadata(&hlog).unwrap().len() > 0);
+    let _ = std::fs::remove_file(&path);
+    let _ = std::fs::remove_file(&hlog);
+    assert_eq!(report.tool, "procimg-baseline");
+    report
+}
+
+fn check_round_trip(mechanism: &str) {
+    let r = run(&[mechanism, "-l", "300"], "round trip");
+    assert_eq!(r.settings["mechanism"], mechanism);
+    assert_eq!(r.measurements.len(), 1);
+    let m = r.get("round trip").unwrap();
+    assert_eq!(m.count, 300);
+    assert!(m.min_ns > 0 && m.min_ns <= m.p50_ns && m.p50_ns <= m.p99_ns);
+    assert!(m.p99_ns <= m.max_ns);
+}
+
+fn two_cpus() -> bool {
+    std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2
+}
+
+#[test]
+fn spin_round_trips_are_measured() {
+    if !two_cpus() {
+        eprintln!("skipped: spin needs two CPUs");
+        return;
+    }
+    check_round_trip("spin");
+}
+
+#[test]
+fn futex_round_trips_are_measured() {
+    check_round_trip("futex");
+}
+
+#[test]
+fn eventfd_round_trips_are_measured() {
+    check_round_trip("eventfd");
+}
+
+#[test]
+fn socket_round_trips_are_measured() {
+    check_round_trip("socket");
+}
+
+#[test]
+fn every_copy_size_is_a_measurement() {
+    let r = run(
+        &["memcpy", "--bytes", "64,4KiB,64KiB,1MiB", "-l", "300"],
+        "copy 1048576 B",
+    );
+    let names: Vec<&str> = r.measurements.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["copy 64 B", "copy 4096 B", "copy 65536 B", "copy 1048576 B"]
+    );
+    for m in &r.measurements {
+        assert_eq!(m.count, 300, "{}", m.name);
+    }
+}
+
+#[test]
+fn spin_on_one_cpu_is_refused_with_a_reason() {
+    let out = Command::new(env!("CARGO_BIN_EXE_procimg-baseline"))
+        .args(["spin", "-a", "0,0", "-l", "10"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("different CPUs"), "{stderr}");
+}
+
+#[test]
+fn a_bad_size_is_refused_with_a_reason() {
+    let out = Command::new(env!("CARGO_BIN_EXE_procimg-baseline"))
+        .args(["memcpy", "--bytes", "lots"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("not a size"), "{stderr}");
+}

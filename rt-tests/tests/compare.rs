@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg-compare --quick` runs every tool it can find, prints the table and writes
+//! table.md and latency.svg. Rows whose tool is missing or fails (no real cyclictest, no
+//! procimgd beside procimg-handshake, no root) must come out "not measured" with a reason,
+//! never as a failure of the run. Timing is not judged here.
+
+use std::process::Command;
+
+#[test]
+fn a_quick_comparison_prints_the_table_and_writes_its_files() {
+    let dir = std::env::temp_dir().join(format!("procimg-compare-test-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_procimg-compare"))
+        .args(["--quick", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{}\n{stdout}\n{stderr}", out.status);
+
+    assert!(stdout.contains("| figure"), "{stdout}");
+    assert!(stdout.contains("machine: "), "{stdout}");
+    // Every row is there, measured or with its reason.
+    for row in [
+        "wake-up, procimg-cyclictest [p99]",
+        "busy round trip, 1 cl., 64 B [p99]",
+        "sleeping round trip, 1 cl., 64 B [p99]",
+        "sleeping STARTOP one way",
+        "sleeping OPDONE one way",
+        "sweep: sleeping round trip, 1 cl., 4 KiB [p99]",
+        "sweep: sleeping round trip, 2 cl., 64 B [p99]",
+    ] {
+        assert!(stdout.contains(row), "{row} missing:\n{stdout}");
+    }
+    // The baselines need nothing but this crate: they are always measured.
+    for baseline in [
+        "futex round trip",
+        "eventfd round trip",
+        "socket round trip",
+    ] {
+        let line = stdout
+            .lines()
+            .find(|l| l.contains(&format!("| {baseline} ")))
+            .unwrap_or_else(|| panic!("no row against {baseline}:\n{stdout}"));
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        assert!(!cells[4].starts_with("not measured"), "{line}");
+    }
+    // A row that could not be measured points to a footnote that says why.
+    if stdout.contains("not measured [1]") {
+        assert!(stdout.contains("\n[1] "), "{stdout}");
+    }
+
+    let table = std::fs::read_to_string(dir.join("table.md")).unwrap();
+    assert!(table.contains("| figure"));
+    let svg = std::fs::read_to_string(dir.join("latency.svg")).unwrap();
+    assert!(
+        svg.trim_start().starts_with("<svg"),
+        "{}",
+        &svg[..svg.len().min(200)]
+    );
+    assert!(svg.trim_end().ends_with("</svg>"));
+    assert!(
+        svg.contains("futex baseline"),
+        "the legend names the series"
+    );
+    assert!(dir.join("round-1").join("futex.json").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_bad_option_is_refused_with_a_reason() {
+    let out = Command::new(env!("CARGO_BIN_EXE_procimg-compare"))
+        .args(["--sizes", "lots"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a size"));
+}
