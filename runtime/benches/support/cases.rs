@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The cases both benchmarks run, and the bytes the server copies in each.
+
+use super::rig::Io;
+use super::shape::{self, Shape};
+use procimg_runtime::image::Tables;
+use procimg_runtime::profinet::controller::plan::DevicePlan;
+
+const KIB: usize = 1024;
+
+/// The image-size sweep: inputs (and as many outputs) of 64 B to 1 MiB, in submodules of at
+/// most 1 KiB, one per device up to 256 devices. 256 × 1438 B is the most a PROFINET IO
+/// system of 256 devices carries; 1 MiB needs four 1 KiB submodules per device, more than
+/// one frame holds, so it runs with the null IO system only.
+pub const SIZES: [Shape; 6] = [
+    sized(1, 1, 64),
+    sized(1, 1, KIB),
+    sized(4, 4, 4 * KIB),
+    sized(64, 64, 64 * KIB),
+    sized(256, 256, 256 * 1438),
+    sized(256, 1024, 1024 * KIB),
+];
+
+/// The submodule sweep: 12 KiB over 16 devices, in 16 to 4096 submodules.
+pub const SUBMODULES: [Shape; 5] = [
+    sized(16, 16, 12 * KIB),
+    sized(16, 64, 12 * KIB),
+    sized(16, 256, 12 * KIB),
+    sized(16, 1024, 12 * KIB),
+    sized(16, 4096, 12 * KIB),
+];
+
+/// The shape of the client sweep: the largest submodule count, where a cost per client
+/// and submodule shows most.
+pub const CLIENT_SHAPE: Shape = sized(16, 4096, 12 * KIB);
+
+/// Clients in the client sweep. The server's services are created with iceoryx2's default
+/// limit of 20 nodes per publish-subscribe service (`shm/ports.rs` sets no `max_nodes`), so
+/// however large MAX_CLIENTS is, the output service takes the cycle node and 19 more; the
+/// rig's writers have a node of their own, which leaves 18 clients.
+pub const CLIENTS: [usize; 6] = [1, 2, 4, 8, 16, 18];
+
+/// The device sweep of the PROFINET IO system: 1 to 256 devices, one 64-byte submodule each.
+pub const DEVICES: [Shape; 5] = [
+    sized(1, 1, 64),
+    sized(4, 4, 4 * 64),
+    sized(16, 16, 16 * 64),
+    sized(64, 64, 64 * 64),
+    sized(256, 256, 256 * 64),
+];
+
+/// The frame-size sweep of the PROFINET IO system: 16 devices, one submodule each, of 16 to
+/// 1438 bytes (C_SDU 40 to 1440 bytes).
+pub const FRAMES: [Shape; 4] = [
+    sized(16, 16, 16 * 16),
+    sized(16, 16, 16 * 256),
+    sized(16, 16, 16 * 1024),
+    sized(16, 16, 16 * 1438),
+];
+
+const fn sized(devices: usize, submodules: usize, bytes: usize) -> Shape {
+    Shape {
+        devices,
+        submodules,
+        bytes,
+    }
+}
+
+/// A short label: `64K/64d/64s`.
+pub fn label(s: Shape) -> String {
+    let b = if s.bytes >= KIB && s.bytes.is_multiple_of(KIB) {
+        format!("{}K", s.bytes / KIB)
+    } else if s.bytes >= KIB {
+        format!("{:.1}K", s.bytes as f64 / KIB as f64)
+    } else {
+        format!("{}B", s.bytes)
+    };
+    format!("{b}/{}d/{}s", s.devices, s.submodules)
+}
+
+/// The bytes the server copies per cycle, by part.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Copied {
+    /// Image → input sample: the whole input-image payload (inputs, status, output mirror).
+    pub publish: usize,
+    /// Output samples → image: the output data the clients wrote.
+    pub merge: usize,
+    /// Input frames → image: the input data.
+    pub receive: usize,
+    /// Image → output frames: output data, IOPS and IOCS, and the 4-byte APDU status.
+    pub send: usize,
+}
+
+impl Copied {
+    /// The bytes of a cycle of `shape` with `io` and `clients` clients (each cycle every
+    /// output is written by some client).
+    pub fn cycle(shape: Shape, io: Io, clients: usize) -> Copied {
+        let tables = tables(shape);
+        let mut c = Copied {
+            publish: tables.layout.input_payload_size as usize,
+            merge: if clients > 0 {
+                tables.layout.output_size as usize
+            } else {
+                0
+            },
+            ..Copied::default()
+        };
+        if io == Io::Pnio {
+            c.receive = tables.layout.input_size as usize;
+            c.send = Copied::frames(shape);
+        }
+        c
+    }
+
+    /// Bytes the PROFINET send puts into the output frames of one cycle.
+    pub fn frames(shape: Shape) -> usize {
+        let config = shape::config("bytes", shape);
+        DevicePlan::all(&config)
+            .expect("the shape fits PROFINET frames")
+            .iter()
+            .map(|p| {
+                let o = &p.layout.output;
+                o.objects
+                    .iter()
+                    .map(|d| d.length as usize + 1)
+                    .sum::<usize>()
+                    + o.iocs.len()
+                    + 4
+            })
+            .sum()
+    }
+
+    /// All of it.
+    pub fn total(&self) -> usize {
+        self.publish + self.merge + self.receive + self.send
+    }
+}
+
+/// The tables of `shape`.
+pub fn tables(shape: Shape) -> Tables {
+    Tables::from_config(&shape::config("bytes", shape)).expect("the shape lays out")
+}

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Configurations of a given size: devices, submodules and bytes of IO data, spread evenly.
+
+use procimg_runtime::config::{Config, DeviceConfig, SimBehaviour, SubmoduleConfig};
+use procimg_shm_layout::NO_ADDRESS;
+
+/// Cycle time of every benchmark configuration. Long, so that a device's watchdog (255
+/// cycles) never runs out while criterion pauses between samples; the server's work per
+/// cycle does not depend on it.
+pub const CYCLE_NS: u64 = 32_000_000;
+
+/// The size of an IO system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shape {
+    /// Devices.
+    pub devices: usize,
+    /// Submodules over all devices.
+    pub submodules: usize,
+    /// Bytes of input data, and as many of output data, over all submodules.
+    pub bytes: usize,
+}
+
+impl Shape {
+    /// Bytes of data of submodule `s` (each direction): `bytes` spread evenly.
+    pub fn submodule_len(&self, s: usize) -> usize {
+        let (q, r) = (self.bytes / self.submodules, self.bytes % self.submodules);
+        q + usize::from(s < r)
+    }
+
+    /// Submodules of device `d`: `submodules` spread evenly.
+    pub fn device_submodules(&self, d: usize) -> usize {
+        let (q, r) = (
+            self.submodules / self.devices,
+            self.submodules % self.devices,
+        );
+        q + usize::from(d < r)
+    }
+
+    /// Whether every device's IO fits one cyclic frame (1440 bytes of C_SDU: per
+    /// submodule its data, its IOPS and the IOCS of the other direction).
+    pub fn fits_profinet(&self) -> bool {
+        let mut s = 0;
+        (0..self.devices).all(|d| {
+            let n = self.device_submodules(d);
+            let bytes: usize = (s..s + n).map(|i| self.submodule_len(i) + 2).sum();
+            s += n;
+            bytes <= procimg_runtime::profinet::wire::rt::MAX_DATA_LENGTH
+        })
+    }
+}
+
+/// A configuration of `shape` under `instance`: every submodule has inputs and outputs,
+/// addresses are assigned in order, one submodule per slot.
+pub fn config(instance: &str, shape: Shape) -> Config {
+    let mut config = Config::demo();
+    config.instance = instance.to_string();
+    config.cycle_ns = CYCLE_NS;
+    config.opdone_deadline_ns = CYCLE_NS / 2;
+    let template = config.devices[0].clone();
+    let (mut s, mut address) = (0, 0u32);
+    config.devices = (0..shape.devices)
+        .map(|d| {
+            let submodules = (0..shape.device_submodules(d))
+                .map(|i| {
+                    let len = shape.submodule_len(s) as u16;
+                    s += 1;
+                    let at = if len > 0 { address } else { NO_ADDRESS };
+                    address += u32::from(len);
+                    SubmoduleConfig {
+                        api: 0,
+                        slot: i as u16 + 1,
+                        subslot: 1,
+                        module_ident: 0x100,
+                        submodule_ident: 0x1,
+                        input_length: len,
+                        output_length: len,
+                        input_address: at,
+                        output_address: at,
+                        rt_class: 1,
+                        records: Vec::new(),
+                    }
+                })
+                .collect();
+            DeviceConfig {
+                name: format!("bench-{d}"),
+                ip: None,
+                gsdml: None,
+                sim: SimBehaviour::None,
+                watchdog_factor: 255,
+                reduction_ratio: 1,
+                submodules,
+                ..template.clone()
+            }
+        })
+        .collect();
+    config
+}
