@@ -45,7 +45,9 @@ impl Server {
             .spawn()
             .context("cannot start procimgd")?;
         let mut child = child;
-        let until = Instant::now() + Duration::from_secs(15);
+        // Generous: with a large image, mlockall makes procimgd populate every sample slot of
+        // the image service (one per subscriber it may have) before it cycles.
+        let until = Instant::now() + Duration::from_secs(60);
         loop {
             if let Some(status) = child.try_wait()? {
                 bail!(
@@ -64,7 +66,7 @@ impl Server {
                 let _ = child.kill();
                 let _ = child.wait();
                 bail!(
-                    "procimgd on instance {instance} did not answer within 15 s; its log: {}",
+                    "procimgd on instance {instance} did not answer within 60 s; its log: {}",
                     log.display()
                 );
             }
