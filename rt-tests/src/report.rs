@@ -211,6 +211,17 @@ impl Report {
         self.measurements.iter().find(|m| m.name == name)
     }
 
+    /// Writes the files a tool's `--report` and `--hdr-log` options asked for.
+    pub fn save(&self, json: Option<&Path>, hdr_log: Option<&Path>) -> Result<(), ReportError> {
+        if let Some(path) = json {
+            self.write_json(path)?;
+        }
+        if let Some(path) = hdr_log {
+            self.write_hdr_log(path)?;
+        }
+        Ok(())
+    }
+
     /// Writes the report as pretty JSON.
     pub fn write_json(&self, path: &Path) -> Result<(), ReportError> {
         let text = serde_json::to_string_pretty(self).map_err(|e| ReportError::Format {

@@ -106,12 +106,7 @@ fn run(args: &Args) -> Result<()> {
         What::Socket => ping_pong(args, &Socket::new()?, &mut report),
     }?;
     print_table(&report);
-    if let Some(path) = &args.report {
-        report.write_json(path)?;
-    }
-    if let Some(path) = &args.hdr_log {
-        report.write_hdr_log(path)?;
-    }
+    report.save(args.report.as_deref(), args.hdr_log.as_deref())?;
     Ok(())
 }
 

@@ -4,8 +4,7 @@
 //! figure under the same name in every report.
 
 use crate::stats::ThreadStats;
-use procimg_rt_tests::report::{Measurement, Report, ReportError};
-use std::path::Path;
+use procimg_rt_tests::report::{Measurement, Report};
 
 /// The tool's name in reports.
 pub const TOOL: &str = "procimg-cyclictest";
@@ -30,19 +29,4 @@ pub fn report(threads: &[ThreadStats], mode: &str, mlock: bool) -> Report {
         ));
     }
     r
-}
-
-/// Writes the files asked for.
-pub fn write(
-    report: &Report,
-    json: Option<&Path>,
-    hdr_log: Option<&Path>,
-) -> Result<(), ReportError> {
-    if let Some(path) = json {
-        report.write_json(path)?;
-    }
-    if let Some(path) = hdr_log {
-        report.write_hdr_log(path)?;
-    }
-    Ok(())
 }

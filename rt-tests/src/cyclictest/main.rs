@@ -103,7 +103,7 @@ fn run(args: &Args) -> Result<()> {
     }
     if args.report.is_some() || args.hdr_log.is_some() {
         let report = files::report(&threads, &mode, args.mlock);
-        files::write(&report, args.report.as_deref(), args.hdr_log.as_deref())?;
+        report.save(args.report.as_deref(), args.hdr_log.as_deref())?;
     }
     Ok(())
 }

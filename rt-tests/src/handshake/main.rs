@@ -320,12 +320,7 @@ fn coordinate(args: &Args) -> Result<()> {
         Measurement::from_histogram("server wake-up", &between(&before.wakeup, &after.wakeup)),
     ];
     print_table(&report);
-    if let Some(path) = &args.report {
-        report.write_json(path)?;
-    }
-    if let Some(path) = &args.hdr_log {
-        report.write_hdr_log(path)?;
-    }
+    report.save(args.report.as_deref(), args.hdr_log.as_deref())?;
     Ok(())
 }
 
