@@ -4,10 +4,14 @@
 
 use anyhow::{Context, Result, bail};
 use procimg_client::ControlHandle;
-use procimg_shm_layout::control::HistogramsReport;
+use procimg_shm_layout::control::{HistogramsReport, Request, Response, StatusReport};
+
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
+
+/// How long the server may take to answer a request during a measurement.
+const ANSWER_TIMEOUT: Duration = Duration::from_secs(15);
 
 /// A running procimgd; stopped on drop.
 pub struct Server {
@@ -76,14 +80,33 @@ impl Server {
 
     /// The server's histograms since it started.
     pub fn histograms(&self) -> Result<HistogramsReport> {
-        self.control
-            .histograms()
-            .context("procimgd did not answer the histogram request")
+        // procimgd's control thread runs at normal priority: beside busy-polling SCHED_FIFO
+        // clients on a loaded machine it may take longer than the usual 2 s to answer.
+        match self
+            .control
+            .request(&Request::Histograms, ANSWER_TIMEOUT)
+            .context("procimgd did not answer the histogram request")?
+        {
+            Response::Histograms(h) => Ok(*h),
+            other => bail!("procimgd answered the histogram request with {other:?}"),
+        }
+    }
+
+    /// The server's status.
+    pub fn status(&self) -> Result<StatusReport> {
+        match self
+            .control
+            .request(&Request::Status, ANSWER_TIMEOUT)
+            .context("procimgd did not answer the status request")?
+        {
+            Response::Status(s) => Ok(*s),
+            other => bail!("procimgd answered the status request with {other:?}"),
+        }
     }
 
     /// Cycles that overran, and OPFAULTs given, so far.
     pub fn faults(&self) -> Result<(u64, u64)> {
-        let s = self.control.status().context("procimgd did not answer")?;
+        let s = self.status()?;
         Ok((s.overruns, s.opfaults))
     }
 
