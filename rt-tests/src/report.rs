@@ -11,13 +11,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// Largest value a histogram holds: 10 s in ns (larger values are clamped to it).
-pub const HIGHEST_NS: u64 = 10_000_000_000;
-
-/// A latency histogram in ns, 1 ns … 10 s, 3 significant digits (as procimgd's own).
-pub fn new_histogram() -> Histogram<u64> {
-    Histogram::new_with_bounds(1, HIGHEST_NS, 3).expect("constant bounds are valid")
-}
+/// The histograms of every tool are procimgd's own: 1 ns … 10 s (larger values clamped),
+/// 3 significant digits, so their figures and buckets compare one to one.
+pub use procimg_runtime::stats::{HIGHEST_NS, buckets, latency_histogram as new_histogram};
 
 /// Rebuilds a histogram from buckets (procimgd's `Histograms` answer, or a report's).
 pub fn histogram_from_buckets(buckets: &[Bucket]) -> Histogram<u64> {
@@ -26,16 +22,6 @@ pub fn histogram_from_buckets(buckets: &[Bucket]) -> Histogram<u64> {
         let _ = h.record_n(b.ns.clamp(1, HIGHEST_NS), b.count);
     }
     h
-}
-
-/// The buckets of `h` that hold values, in rising order.
-pub fn buckets(h: &Histogram<u64>) -> Vec<Bucket> {
-    h.iter_recorded()
-        .map(|v| Bucket {
-            ns: h.highest_equivalent(v.value_iterated_to()),
-            count: v.count_at_value(),
-        })
-        .collect()
 }
 
 /// `later − earlier`, bucket by bucket: what was recorded between two snapshots of the

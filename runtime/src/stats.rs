@@ -17,7 +17,12 @@ use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 /// Cycles between two hand-overs of a histogram batch.
 pub const HANDOFF_CYCLES: u64 = 128;
 /// Largest value a histogram holds (10 s in ns); larger values are clamped.
-const HIGHEST_NS: u64 = 10_000_000_000;
+pub const HIGHEST_NS: u64 = 10_000_000_000;
+
+/// A latency histogram in ns, 1 ns … 10 s, 3 significant digits: a fixed ~200 KiB.
+pub fn latency_histogram() -> Histogram<u64> {
+    Histogram::new_with_bounds(1, HIGHEST_NS, 3).expect("valid histogram bounds")
+}
 /// Batches in circulation: one being filled, the rest in the queues.
 const BATCHES: usize = 4;
 
@@ -35,8 +40,7 @@ pub struct StatsBatch {
 
 impl StatsBatch {
     fn new() -> StatsBatch {
-        // 3 significant digits from 1 ns to 10 s: a fixed ~200 KiB per histogram.
-        let h = || Histogram::new_with_bounds(1, HIGHEST_NS, 3).expect("valid histogram bounds");
+        let h = latency_histogram;
         StatsBatch {
             wakeup: h(),
             handshake: h(),
@@ -212,15 +216,27 @@ impl StatsCollector {
     pub fn histograms(&self, cycles: u64) -> HistogramsReport {
         HistogramsReport {
             cycles,
-            wakeup: buckets(&self.totals.wakeup),
-            handshake: buckets(&self.totals.handshake),
-            opdone: buckets(&self.totals.opdone),
-            work: buckets(&self.totals.work),
+            wakeup: answer_buckets(&self.totals.wakeup),
+            handshake: answer_buckets(&self.totals.handshake),
+            opdone: answer_buckets(&self.totals.opdone),
+            work: answer_buckets(&self.totals.work),
         }
     }
 }
 
-fn buckets(h: &Histogram<u64>) -> Vec<Bucket> {
+/// The buckets of `h` at 2 significant digits. The answer travels through the control
+/// service: at 3 digits a long run fills thousands of buckets per histogram, hundreds of KiB
+/// the service must grow (and `mlockall` lock) memory for, which took seconds on a loaded
+/// machine; at 2 digits a histogram has a few hundred.
+fn answer_buckets(h: &Histogram<u64>) -> Vec<Bucket> {
+    let mut coarse = Histogram::new_with_bounds(1, HIGHEST_NS, 2).expect("valid histogram bounds");
+    // Same range, so every value fits.
+    let _ = coarse.add(h);
+    buckets(&coarse)
+}
+
+/// The buckets of `h` that hold values, in rising order, each with its highest value.
+pub fn buckets(h: &Histogram<u64>) -> Vec<Bucket> {
     h.iter_recorded()
         .map(|v| Bucket {
             ns: h.highest_equivalent(v.value_iterated_to()),
@@ -276,5 +292,27 @@ mod tests {
         rec.hand_over();
         col.collect();
         assert_eq!(col.work().count, 1);
+    }
+
+    #[test]
+    fn the_histogram_answer_stays_small_and_loses_no_value() {
+        let (mut rec, mut col) = stats_channel();
+        // A wake-up at every µs from 1 µs to 20 ms: 20 000 distinct 3-digit buckets.
+        for us in 1..=20_000u64 {
+            rec.wakeup(us * 1000);
+            if us % 100 == 0 {
+                rec.hand_over();
+                col.collect();
+            }
+        }
+        rec.hand_over();
+        col.collect();
+        let answer = col.histograms(20_000);
+        let count: u64 = answer.wakeup.iter().map(|b| b.count).sum();
+        assert_eq!(count, 20_000);
+        assert!(answer.wakeup.len() < 2_000, "{} buckets", answer.wakeup.len());
+        // Every bucket's value within 1 % of what it holds.
+        let max = answer.wakeup.last().unwrap().ns;
+        assert!((20_000_000..=20_200_000).contains(&max), "{max}");
     }
 }

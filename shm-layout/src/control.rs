@@ -281,6 +281,13 @@ pub enum Refusal {
         /// What was wrong.
         message: String,
     },
+    /// The answer could not be handed over (the control service had no room for it).
+    AnswerLost {
+        /// Bytes of the answer.
+        bytes: u64,
+        /// What the shared-memory layer said.
+        detail: String,
+    },
 }
 
 impl core::fmt::Display for Refusal {
@@ -342,6 +349,11 @@ impl core::fmt::Display for Refusal {
                  (already acknowledged, or timed out)"
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
+            Refusal::AnswerLost { bytes, detail } => write!(
+                f,
+                "the server could not hand over its {bytes}-byte answer ({detail}); ask again, \
+                 and see procimgd's log if it keeps happening"
+            ),
         }
     }
 }
@@ -375,7 +387,8 @@ pub struct Bucket {
     pub count: u64,
 }
 
-/// The cycle thread's latency histograms since the server started (3 significant digits),
+/// The cycle thread's latency histograms since the server started, to 2 significant digits
+/// (each bucket's `ns` within 1 % of the values in it),
 /// with only the buckets that hold values, in rising order.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct HistogramsReport {

@@ -109,8 +109,24 @@ impl Control {
                 Err(message) => Response::Refused(Refusal::BadRequest { message }),
             };
             let bytes = control::encode(&response);
-            if let Ok(out) = active.loan_slice_uninit(bytes.len()) {
-                let _ = out.write_from_slice(&bytes).send();
+            match active.loan_slice_uninit(bytes.len()) {
+                Ok(out) => {
+                    let _ = out.write_from_slice(&bytes).send();
+                }
+                Err(e) => {
+                    // Said to the asker in a few bytes, which fit where the answer did not.
+                    tracing::warn!(
+                        "a control answer of {} bytes could not be loaned: {e:?}",
+                        bytes.len()
+                    );
+                    let lost = control::encode(&Response::Refused(Refusal::AnswerLost {
+                        bytes: bytes.len() as u64,
+                        detail: format!("{e:?}"),
+                    }));
+                    if let Ok(out) = active.loan_slice_uninit(lost.len()) {
+                        let _ = out.write_from_slice(&lost).send();
+                    }
+                }
             }
         }
         // Delivers the layout (history) to subscribers that attached since the last call.
