@@ -84,24 +84,6 @@ impl Measurement {
         }
     }
 
-    /// A measurement known only by its percentiles (no buckets: it draws no histogram).
-    pub fn from_percentiles(
-        name: &str,
-        p: &procimg_shm_layout::control::Percentiles,
-    ) -> Measurement {
-        Measurement {
-            name: name.to_string(),
-            count: p.count,
-            min_ns: p.min_ns,
-            mean_ns: p.mean_ns as f64,
-            p50_ns: p.p50_ns,
-            p99_ns: p.p99_ns,
-            p999_ns: p.p999_ns,
-            max_ns: p.max_ns,
-            buckets: Vec::new(),
-        }
-    }
-
     /// The histogram again, from the buckets.
     pub fn histogram(&self) -> Histogram<u64> {
         histogram_from_buckets(&self.buckets)

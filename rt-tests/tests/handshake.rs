@@ -6,6 +6,7 @@
 use procimg_rt_tests::report::Report;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::Mutex;
 
 fn tool() -> &'static str {
     env!("CARGO_BIN_EXE_procimg-handshake")
@@ -17,7 +18,13 @@ fn procimgd_built() -> bool {
     Path::new(tool()).with_file_name("procimgd").exists()
 }
 
+/// One measurement at a time: a busy-polling run keeps a whole CPU at SCHED_FIFO, and on a
+/// two-CPU machine a second run beside it leaves procimgd's control thread (normal
+/// priority) too little time to answer within its timeout.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
 fn run(args: &[&str], report: &Path) -> Report {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let out = Command::new(tool())
         .args(args)
         .arg("--report")

@@ -280,7 +280,7 @@ fn coordinate(args: &Args) -> Result<()> {
     for (i, c) in clients.iter_mut().enumerate() {
         c.expect("ready", i)?;
     }
-    let before = server.histograms();
+    let before = server.histograms()?;
     let faults_before = server.faults()?;
     for c in &mut clients {
         c.say("go")?;
@@ -288,13 +288,7 @@ fn coordinate(args: &Args) -> Result<()> {
     for (i, c) in clients.iter_mut().enumerate() {
         c.expect("done", i)?;
     }
-    let after = server.histograms();
-    // Without the histograms, the status's percentiles since the server started (warm-up
-    // included) are the next best thing; the report says which it holds.
-    let since_start = match (&before, &after) {
-        (Ok(_), Ok(_)) => None,
-        _ => Some(server.status()?),
-    };
+    let after = server.histograms()?;
     let faults_after = server.faults()?;
     let mut startop = new_histogram();
     for c in &clients {
@@ -319,41 +313,12 @@ fn coordinate(args: &Args) -> Result<()> {
         .setting("opfaults", faults_after.1 - faults_before.1)
         .setting("procimgd_pid", server_pid);
     let between = |a: &[_], b: &[_]| histogram_from_buckets(&buckets_between(a, b));
-    let server_side = match (&before, &after) {
-        (Ok(before), Ok(after)) => {
-            report.setting("server_figures", "measured cycles");
-            vec![
-                Measurement::from_histogram(
-                    "opdone one way",
-                    &between(&before.opdone, &after.opdone),
-                ),
-                Measurement::from_histogram(
-                    "round trip",
-                    &between(&before.handshake, &after.handshake),
-                ),
-                Measurement::from_histogram(
-                    "server wake-up",
-                    &between(&before.wakeup, &after.wakeup),
-                ),
-            ]
-        }
-        (Err(e), _) | (_, Err(e)) => {
-            eprintln!(
-                "procimg-handshake: {e:#}; the server's figures are its percentiles since it started"
-            );
-            report.setting("server_figures", "since server start");
-            match &since_start {
-                Some(s) => vec![
-                    Measurement::from_percentiles("opdone one way", &s.opdone_one_way),
-                    Measurement::from_percentiles("round trip", &s.handshake_round_trip),
-                    Measurement::from_percentiles("server wake-up", &s.wakeup_latency),
-                ],
-                None => Vec::new(),
-            }
-        }
-    };
-    report.measurements = vec![Measurement::from_histogram("startop one way", &startop)];
-    report.measurements.extend(server_side);
+    report.measurements = vec![
+        Measurement::from_histogram("startop one way", &startop),
+        Measurement::from_histogram("opdone one way", &between(&before.opdone, &after.opdone)),
+        Measurement::from_histogram("round trip", &between(&before.handshake, &after.handshake)),
+        Measurement::from_histogram("server wake-up", &between(&before.wakeup, &after.wakeup)),
+    ];
     print_table(&report);
     report.save(args.report.as_deref(), args.hdr_log.as_deref())?;
     Ok(())

@@ -4,14 +4,11 @@
 
 use anyhow::{Context, Result, bail};
 use procimg_client::ControlHandle;
-use procimg_shm_layout::control::{HistogramsReport, Request, Response, StatusReport};
+use procimg_shm_layout::control::HistogramsReport;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-
-/// How long the server may take to answer a request during a measurement.
-const ANSWER_TIMEOUT: Duration = Duration::from_secs(15);
 
 /// A running procimgd; stopped on drop.
 pub struct Server {
@@ -39,7 +36,7 @@ impl Server {
     pub fn start(config: &Path, instance: &str, log: &Path) -> Result<Server> {
         let log_file = std::fs::File::create(log)
             .with_context(|| format!("cannot create {}", log.display()))?;
-        let child = Command::new(procimgd_path()?)
+        let mut child = Command::new(procimgd_path()?)
             .arg("--config")
             .arg(config)
             .arg("--quiet")
@@ -48,7 +45,6 @@ impl Server {
             .stderr(log_file)
             .spawn()
             .context("cannot start procimgd")?;
-        let mut child = child;
         // Generous: with a large image, mlockall makes procimgd populate every sample slot of
         // the image service (one per subscriber it may have) before it cycles.
         let until = Instant::now() + Duration::from_secs(60);
@@ -80,33 +76,14 @@ impl Server {
 
     /// The server's histograms since it started.
     pub fn histograms(&self) -> Result<HistogramsReport> {
-        // procimgd's control thread runs at normal priority: beside busy-polling SCHED_FIFO
-        // clients on a loaded machine it may take longer than the usual 2 s to answer.
-        match self
-            .control
-            .request(&Request::Histograms, ANSWER_TIMEOUT)
-            .context("procimgd did not answer the histogram request")?
-        {
-            Response::Histograms(h) => Ok(*h),
-            other => bail!("procimgd answered the histogram request with {other:?}"),
-        }
-    }
-
-    /// The server's status.
-    pub fn status(&self) -> Result<StatusReport> {
-        match self
-            .control
-            .request(&Request::Status, ANSWER_TIMEOUT)
-            .context("procimgd did not answer the status request")?
-        {
-            Response::Status(s) => Ok(*s),
-            other => bail!("procimgd answered the status request with {other:?}"),
-        }
+        self.control
+            .histograms()
+            .context("procimgd did not answer the histogram request")
     }
 
     /// Cycles that overran, and OPFAULTs given, so far.
     pub fn faults(&self) -> Result<(u64, u64)> {
-        let s = self.status()?;
+        let s = self.control.status().context("procimgd did not answer")?;
         Ok((s.overruns, s.opfaults))
     }
 
