@@ -310,7 +310,11 @@ mod tests {
         let answer = col.histograms(20_000);
         let count: u64 = answer.wakeup.iter().map(|b| b.count).sum();
         assert_eq!(count, 20_000);
-        assert!(answer.wakeup.len() < 2_000, "{} buckets", answer.wakeup.len());
+        assert!(
+            answer.wakeup.len() < 2_000,
+            "{} buckets",
+            answer.wakeup.len()
+        );
         // Every bucket's value within 1 % of what it holds.
         let max = answer.wakeup.last().unwrap().ns;
         assert!((20_000_000..=20_200_000).contains(&max), "{max}");

@@ -14,6 +14,18 @@ use crate::profinet::wire::MacAddress;
 /// Largest frame handled (a full-size frame with one VLAN tag, without FCS).
 pub const MAX_FRAME: usize = 1518;
 
+/// Refuses a frame longer than [`MAX_FRAME`], as the in-memory links must (their slots
+/// hold that much).
+pub(crate) fn check_frame_len(frame: &[u8]) -> std::io::Result<()> {
+    if frame.len() > MAX_FRAME {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("frame of {} bytes exceeds {MAX_FRAME}", frame.len()),
+        ));
+    }
+    Ok(())
+}
+
 /// A network interface for PROFINET frames. Implementations must not block longer than the
 /// receive timeout they were made with, and must not allocate per frame.
 pub trait Nic: Send {

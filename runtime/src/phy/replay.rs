@@ -37,7 +37,7 @@
 //! thread owns its interface and never flushes it, a replay inside procimgd writes its
 //! output when the IO system is dropped, and the buffer bounds how much is written.
 
-use super::{MAX_FRAME, Nic};
+use super::{Nic, check_frame_len};
 use crate::capture::CaptureError;
 use crate::profinet::wire::MacAddress;
 use crate::profinet::wire::ethernet::{ETHERTYPE_PROFINET, TPID_VLAN};
@@ -439,12 +439,7 @@ impl Nic for Replay {
     }
 
     fn send(&mut self, frame: &[u8]) -> std::io::Result<()> {
-        if frame.len() > MAX_FRAME {
-            return Err(std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                format!("frame of {} bytes exceeds {MAX_FRAME}", frame.len()),
-            ));
-        }
+        check_frame_len(frame)?;
         let at = self.first_ns.saturating_add(self.elapsed());
         self.sent.push(at, frame);
         Ok(())

@@ -10,6 +10,7 @@ use crate::image::{Image, Tables};
 use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use crate::io::{CycleTime, IoSystem};
+use crate::phy::MAX_FRAME;
 use crate::profinet::controller::cyclic::CyclicAr;
 use crate::profinet::controller::plan::DevicePlan;
 use crate::profinet::test_fixtures::capture;

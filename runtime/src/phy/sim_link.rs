@@ -2,7 +2,7 @@
 //! An in-process Ethernet link between two ends, for the simulated network and for tests:
 //! what one end sends, the other receives. Bounded, lock-free, allocation-free per frame.
 
-use super::{MAX_FRAME, Nic};
+use super::{MAX_FRAME, Nic, check_frame_len};
 use crate::profinet::wire::MacAddress;
 use crossbeam_queue::ArrayQueue;
 use std::sync::Arc;
@@ -61,12 +61,7 @@ impl Nic for LinkEnd {
     }
 
     fn send(&mut self, frame: &[u8]) -> std::io::Result<()> {
-        if frame.len() > MAX_FRAME {
-            return Err(std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                format!("frame of {} bytes exceeds {MAX_FRAME}", frame.len()),
-            ));
-        }
+        check_frame_len(frame)?;
         match self.free.pop() {
             Some(mut slot) => {
                 slot.len = frame.len();
