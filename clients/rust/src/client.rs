@@ -420,15 +420,8 @@ impl Client {
                 self.try_reattach()?;
             }
             self.drain_events();
-            if self.conn.is_some() {
-                // Another call (an event, a data_read) may have taken the new image already:
-                // what counts is whether it is newer than the last cycle handed out.
-                self.refresh();
-                let cycle = self.header().map_or(0, |h| h.cycle.cycle_number);
-                if cycle > self.last_startop {
-                    self.last_startop = cycle;
-                    return Ok(Cycle::new(self));
-                }
+            if self.conn.is_some() && self.take_new_cycle() {
+                return Ok(Cycle::new(self));
             }
             let now = Instant::now();
             if now >= until {
@@ -453,12 +446,8 @@ impl Client {
                     }
                     // The image is there before its STARTOP event: take it at once and leave
                     // the event to the next call's drain, which costs a system call.
-                    if self.conn.is_some() && self.refresh() {
-                        let cycle = self.header().map_or(0, |h| h.cycle.cycle_number);
-                        if cycle > self.last_startop {
-                            self.last_startop = cycle;
-                            return Ok(Cycle::new(self));
-                        }
+                    if self.conn.is_some() && self.take_new_cycle() {
+                        return Ok(Cycle::new(self));
                     }
                 }
                 Some(conn) => {
@@ -470,6 +459,19 @@ impl Client {
                 None => std::thread::sleep(slice.min(REATTACH_PERIOD)),
             }
         }
+    }
+
+    /// Takes the newest image; whether its cycle is one not handed out yet (then it is
+    /// counted as handed out). Another call (an event, a data_read) may have taken the new
+    /// image already: what counts is whether it is newer than the last cycle handed out.
+    fn take_new_cycle(&mut self) -> bool {
+        self.refresh();
+        let cycle = self.header().map_or(0, |h| h.cycle.cycle_number);
+        if cycle > self.last_startop {
+            self.last_startop = cycle;
+            return true;
+        }
+        false
     }
 
     /// For accesses outside the handshake: takes the newest image; when none came for a while,

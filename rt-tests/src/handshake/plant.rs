@@ -3,13 +3,14 @@
 //! spread over devices the way PROFINET allows (one frame per device and direction), with
 //! nobody answering on the network, so the cycle does nothing but the handshake.
 
+pub use procimg_runtime::config::MAX_DEVICES;
 use std::fmt::Write as _;
 
-/// Most IO data one submodule (and here one device) carries per direction: a cyclic frame
-/// holds 1440 bytes of data and status (procimgd refuses more).
-pub const BYTES_PER_DEVICE: usize = 1438;
-/// Most devices one procimgd serves.
-pub const MAX_DEVICES: usize = 256;
+/// Most IO data one device's submodule carries each way here: a submodule's most
+/// ([`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`], 1439) less one, because its input frame
+/// (1440 bytes of data and status) also carries the IOPS of its inputs and the IOCS of its
+/// outputs.
+pub const BYTES_PER_DEVICE: usize = procimg_shm_layout::MAX_SUBMODULE_DATA_LEN as usize - 1;
 /// The largest image a configuration can have, per direction.
 pub const MAX_IMAGE_BYTES: usize = BYTES_PER_DEVICE * MAX_DEVICES;
 
