@@ -48,9 +48,9 @@ pub struct PnioIo {
     channel: Arc<Channel>,
     /// Per device: its running exchange.
     running: Vec<Option<Running>>,
-    /// Per device: the FrameID of its input frames while it runs, 0 otherwise. Looked up
-    /// for every frame received: a flat array instead of a walk through the exchanges.
-    input_frame_ids: Vec<u16>,
+    /// Per FrameID: 1 + the device whose input frames carry it while it runs, 0 for none.
+    /// Every frame received is looked up here: O(1), whatever the number of devices.
+    device_by_frame_id: Box<[u16]>,
     /// Per device: the submodule table range, to mark a stopped device's inputs BAD.
     device_submodules: Vec<core::ops::Range<usize>>,
     /// Exchanges to hand back whose report did not fit the queue yet (capacity reserved).
@@ -78,7 +78,8 @@ impl PnioIo {
             nic,
             channel,
             running: (0..n).map(|_| None).collect(),
-            input_frame_ids: vec![0; n],
+            // 128 KiB, once: a slot for every FrameID.
+            device_by_frame_id: vec![0; 1 << 16].into_boxed_slice(),
             device_submodules,
             retired: Vec::with_capacity(4 * n + 8),
             pending: Vec::with_capacity(4 * n + 8),
@@ -125,7 +126,10 @@ impl PnioIo {
 
     fn stop(&mut self, device: usize, image: Option<&mut Image>) {
         if let Some(r) = self.running.get_mut(device).and_then(Option::take) {
-            self.input_frame_ids[device] = 0;
+            let slot = &mut self.device_by_frame_id[usize::from(r.ar.input.frame_id)];
+            if usize::from(*slot) == device + 1 {
+                *slot = 0;
+            }
             self.report(FromCycle::Retired(r.ar));
         }
         if let (Some(image), Some(range)) = (image, self.device_submodules.get(device)) {
@@ -143,7 +147,8 @@ impl PnioIo {
                         continue;
                     }
                     self.stop(d, None);
-                    self.input_frame_ids[d] = ar.input.frame_id;
+                    // Devices are at most MAX_DEVICES (256): the index fits.
+                    self.device_by_frame_id[usize::from(ar.input.frame_id)] = d as u16 + 1;
                     self.running[d] = Some(Running {
                         ar,
                         last_rx_ns: t.now_ns,
@@ -191,12 +196,11 @@ impl PnioIo {
             return;
         }
         let src = eth.src();
-        // FrameID 0 is never cyclic, so a stopped device's 0 matches nothing.
-        let Some(d) = self.input_frame_ids.iter().position(|&f| f == id) else {
+        let Some(d) = usize::from(self.device_by_frame_id[usize::from(id)]).checked_sub(1) else {
             NetCounters::count(&counters.unknown);
             return;
         };
-        let Some(run) = self.running[d].as_mut() else {
+        let Some(run) = self.running.get_mut(d).and_then(Option::as_mut) else {
             return;
         };
         if run.ar.peer != src {
