@@ -302,6 +302,24 @@ impl Client {
         self.latest.as_ref().map(|s| s.user_header())
     }
 
+    /// The descriptor that becomes readable when the server signals this client (STARTOP,
+    /// mode, OPFAULT, NEWCYCLE, shutdown), for a caller that waits in its own `poll` and then
+    /// calls [`Client::wait_startop`] or [`Client::events`] with a zero timeout. `None` while
+    /// the server is gone; it changes when the client re-attaches.
+    pub fn event_fd(&self) -> Option<std::os::fd::RawFd> {
+        self.conn.as_ref().map(|c| c.events_fd)
+    }
+
+    /// Whether this client is connected to a live server (it re-attaches by itself).
+    pub fn connected(&self) -> bool {
+        self.conn.is_some()
+    }
+
+    /// The attach options this client was made with.
+    pub fn options(&self) -> &AttachOptions {
+        &self.opts
+    }
+
     /// The cycle info of the newest image received.
     pub fn cycle_info(&self) -> Option<CycleInfo> {
         self.header().map(|h| h.cycle)

@@ -24,8 +24,10 @@ use std::os::fd::RawFd;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-/// The iceoryx2 service variant: inter-process, ports used from one thread.
-pub type Ipc = iceoryx2::service::ipc::Service;
+/// The iceoryx2 service variant: inter-process, with ports that may move between threads (a C
+/// program hands its handle to another thread; IO-Base calls back on threads of its own). The
+/// server keeps the single-threaded variant: both share the same shared-memory format.
+pub type Ipc = iceoryx2::service::ipc_threadsafe::Service;
 
 /// iceoryx2's configuration with procimg's file prefix (the server uses the same).
 pub fn iox2_config() -> &'static Config {

@@ -23,11 +23,45 @@ pub struct Cycle<'c> {
     output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
 }
 
+/// A cycle window held apart from its client, for callers that cannot keep the borrow of
+/// [`Cycle`] (a C handle, an IO-Base controller whose calls come from several threads): take
+/// it with [`Cycle::detach`], continue it with [`DetachedCycle::resume`] on the same client.
+pub struct DetachedCycle {
+    output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
+    number: u64,
+}
+
+impl DetachedCycle {
+    /// The cycle number k of this window.
+    pub fn number(&self) -> u64 {
+        self.number
+    }
+
+    /// Continues the window on `client` (the one it was detached from). `None` when the client
+    /// has moved on to a newer cycle meanwhile: the window is over, its outputs unsent.
+    pub fn resume(self, client: &mut Client) -> Option<Cycle<'_>> {
+        let current = client.cycle_info().map_or(0, |i| i.cycle_number);
+        (current == self.number).then_some(Cycle {
+            client,
+            output: self.output,
+        })
+    }
+}
+
 impl<'c> Cycle<'c> {
     pub(crate) fn new(client: &'c mut Client) -> Cycle<'c> {
         Cycle {
             client,
             output: None,
+        }
+    }
+
+    /// Ends the borrow of the client and keeps the window (and any outputs written so far)
+    /// for [`DetachedCycle::resume`].
+    pub fn detach(self) -> DetachedCycle {
+        DetachedCycle {
+            number: self.number(),
+            output: self.output,
         }
     }
 

@@ -45,7 +45,7 @@ mod status;
 pub use access::{AccessError, Space};
 pub use client::{AttachOptions, Client, Event};
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
-pub use cycle::{Cycle, now_ns};
+pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
@@ -60,3 +60,16 @@ pub use status::{Ioxs, SubmoduleIoxs};
 
 /// Output samples the server buffers per client between two cycles (see `procimgd`).
 pub const OUTPUT_BUFFER: usize = 8;
+
+#[cfg(test)]
+mod send_tests {
+    /// Client and Services move between threads: a C program creates a handle on one thread
+    /// and uses it on another, and IO-Base calls its callbacks on threads of their own.
+    #[test]
+    fn handles_are_send() {
+        fn send<T: Send>() {}
+        send::<crate::Client>();
+        send::<crate::Services>();
+        send::<crate::ControlHandle>();
+    }
+}

@@ -181,6 +181,12 @@ impl Services {
         &self.control
     }
 
+    /// The descriptor that becomes readable when notifications arrive, for a caller that waits
+    /// in its own `poll` and then calls [`Services::try_next`].
+    pub fn notify_fd(&self) -> RawFd {
+        self.fd
+    }
+
     /// Notifications lost because this handle fell more than the subscriber buffer behind.
     pub fn lost(&self) -> u64 {
         self.lost
