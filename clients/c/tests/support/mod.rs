@@ -7,6 +7,7 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
@@ -53,23 +54,29 @@ pub fn sanitize_from_env() -> bool {
     std::env::var_os("PROCIMG_C_SANITIZE").is_some_and(|v| v != "0")
 }
 
-/// The library file, built by `cargo build -p procimg-c` (the same profile as the test).
+/// Runs `cargo build` for `args` once per test process, in this test's profile: a test must
+/// never link or start a stale build of another package.
+fn cargo_build_once(once: &'static OnceLock<()>, args: &[&str]) {
+    once.get_or_init(|| {
+        let mut cmd = Command::new(env!("CARGO"));
+        cmd.current_dir(workspace_dir()).arg("build").args(args);
+        if profile_dir().ends_with("release") {
+            cmd.arg("--release");
+        }
+        let st = cmd.status().expect("run cargo build");
+        assert!(st.success(), "cargo build {args:?} failed");
+    });
+}
+
+/// The library file of this build (libprocimg.a or libprocimg.so), up to date.
 pub fn library(link: Link) -> PathBuf {
+    static BUILT: OnceLock<()> = OnceLock::new();
+    cargo_build_once(&BUILT, &["-p", "procimg-c", "--lib"]);
     let name = match link {
         Link::Static => "libprocimg.a",
         Link::Shared => "libprocimg.so",
     };
     let path = profile_dir().join(name);
-    if !path.exists() {
-        let mut cmd = Command::new(env!("CARGO"));
-        cmd.current_dir(workspace_dir())
-            .args(["build", "-p", "procimg-c", "--lib"]);
-        if profile_dir().ends_with("release") {
-            cmd.arg("--release");
-        }
-        let st = cmd.status().expect("run cargo build -p procimg-c");
-        assert!(st.success(), "cargo build -p procimg-c failed");
-    }
     assert!(path.exists(), "{} was not built", path.display());
     path
 }
@@ -178,25 +185,11 @@ pub fn unique_instance(tag: &str) -> String {
     )
 }
 
-/// The procimgd binary of this build (built when missing).
+/// The procimgd binary of this build, up to date.
 pub fn procimgd() -> PathBuf {
-    let path = profile_dir().join("procimgd");
-    if !path.exists() {
-        let mut cmd = Command::new(env!("CARGO"));
-        cmd.current_dir(workspace_dir()).args([
-            "build",
-            "-p",
-            "procimg-runtime",
-            "--bin",
-            "procimgd",
-        ]);
-        if profile_dir().ends_with("release") {
-            cmd.arg("--release");
-        }
-        let st = cmd.status().expect("run cargo build for procimgd");
-        assert!(st.success(), "building procimgd failed");
-    }
-    path
+    static BUILT: OnceLock<()> = OnceLock::new();
+    cargo_build_once(&BUILT, &["-p", "procimg-runtime", "--bin", "procimgd"]);
+    profile_dir().join("procimgd")
 }
 
 /// A running procimgd, stopped on drop.
