@@ -5,7 +5,7 @@ use crate::access::{Space, resolve_read, resolve_write};
 use crate::cache::ReadCache;
 use crate::client::Client;
 use crate::error::IoError;
-use crate::status::{Ioxs, read_status};
+use crate::status::{Ioxs, SubmoduleIoxs, read_status};
 use procimg_shm_layout::{
     CLIENT_SET_INPUT_IOCS, CLIENT_SET_OUTPUT_IOPS, CLIENT_WROTE_OUTPUTS, SubmoduleEntry,
 };
@@ -103,6 +103,33 @@ impl Client {
             Some(s) => Ok(s.payload()),
             None => Err(self.no_image()),
         }
+    }
+
+    /// All input data of the newest image (the I area), in place in shared memory, taking a
+    /// newer image first; for asynchronous access without copying (the C header's
+    /// `procimg_inputs`). Valid until the next call that takes a newer image.
+    pub fn newest_inputs(&mut self) -> Result<&[u8], IoError> {
+        let n = self.layout.header.input_size as usize;
+        Ok(self.newest_payload()?.get(..n).unwrap_or(&[]))
+    }
+
+    /// The inputs of submodule `s` in the newest image, in place, taking a newer image first;
+    /// `None` when `s` is not in the layout.
+    pub fn newest_input(&mut self, s: usize) -> Result<Option<&[u8]>, IoError> {
+        let Some(e) = self.layout.submodules.get(s).copied() else {
+            return Ok(None);
+        };
+        let at = e.input_offset as usize;
+        Ok(self.newest_payload()?.get(at..at + e.input_length as usize))
+    }
+
+    /// The status bytes of submodule `s` in the newest image, taking a newer image first;
+    /// `None` when `s` is not in the layout.
+    pub fn newest_status(&mut self, s: usize) -> Result<Option<SubmoduleIoxs>, IoError> {
+        let Some(e) = self.layout.submodules.get(s).copied() else {
+            return Ok(None);
+        };
+        Ok(Some(read_status(self.newest_payload()?, &e)))
     }
 
     /// Reads inputs at a logical address (IO-Base `PNIO_data_read`), from the newest image.
