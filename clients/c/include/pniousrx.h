@@ -1,0 +1,487 @@
+/* SPDX-License-Identifier: MIT OR Apache-2.0 */
+/*
+ * pniousrx.h - the IO controller part of procimg's IO-Base compatible API (libprocimg).
+ *
+ * A program written for the SIMATIC NET IO-Base controller interface (PnioEasy, an
+ * isochronous STARTOP/OPDONE program) compiles against this header and runs against a
+ * procimgd server: link it with -lprocimg -lpthread -ldl -lm. Names, types, enum values and
+ * error codes are those of the IO-Base manual and its 2015 interface. Written for procimg;
+ * what follows is how procimg answers the questions the manual leaves open.
+ *
+ * CP and server. CpIndex n (1..255) names a procimgd instance: the environment variable
+ * PROCIMG_CP<n> (PROCIMG_CP1 for CpIndex 1) if set, else PROCIMG_INSTANCE, else "procimg".
+ * CpIndex 0 or above 255 gives PNIO_ERR_PRM_CP_ID; no server under that name gives
+ * PNIO_ERR_NO_CONFIG. Several controllers may be open at once (one handle each); handles
+ * are never reused, so a closed handle gives PNIO_ERR_WRONG_HND.
+ *
+ * ExtPar. Only PNIO_CEP_MODE_CTRL and PNIO_CEP_SLICE_ACCESS are accepted (any other bit:
+ * PNIO_ERR_PRM_EXT_PAR). With PNIO_CEP_MODE_CTRL the program controls the server's mode:
+ * PNIO_controller_open asks the server for OFFLINE and returns once it is there (the
+ * controller is OFFLINE after open, as the manual says; this takes the devices' connections
+ * down). Without it the program only observes the mode the server is in (another program or
+ * `procimg mode` sets it): PNIO_set_mode gives PNIO_ERR_SET_MODE_NOT_ALLOWED and
+ * PNIO_device_activate PNIO_ERR_DEV_ACT_NOT_ALLOWED, MODE_IND still reports every change,
+ * and callbacks may be registered in any mode (the OFFLINE rule exists so that a program
+ * registers before it changes its own mode, which such a program never does).
+ * PNIO_controller_close leaves the server's mode as it is: set OFFLINE first, as the
+ * manual's programs do.
+ *
+ * Outputs. The controller owns every output submodule of the IO system: open claims them
+ * all, and if another program already holds one, open fails with PNIO_ERR_MAX_REACHED (the
+ * server's one controller is taken; procimg status names the holder). In OFFLINE the
+ * outputs written are lost; after OPERATE is reached write all outputs again.
+ *
+ * Modes. PNIO_set_mode returns at once; PNIO_CBE_MODE_IND (which must be registered, else
+ * PNIO_ERR_SEQUENCE) reports every step: OFFLINE -> OPERATE reports CLEAR, then OPERATE, and
+ * OPERATE -> OFFLINE reports CLEAR, then OFFLINE. A second PNIO_set_mode before the mode
+ * asked for was reported gives PNIO_ERR_SEQUENCE. Asking for the mode the controller is in
+ * reports that mode once.
+ *
+ * IO data. PNIO_data_read, PNIO_data_write and the cached functions check their parameters
+ * in the manual's order (handle, buffer, IODataType, address type, IOlocState, pDataLen,
+ * pIOremState, address, length). Without PNIO_CEP_SLICE_ACCESS an access must start at
+ * the submodule's first address and a write must be the whole submodule; with it, any
+ * part. PNIO_ERR_NO_CONNECTION: the submodule's device is not in data exchange (the
+ * controller is OFFLINE, the device failed or is deactivated: *pIOremState is then BAD) or
+ * the server is gone. The functions are thread-safe and serialised inside the library.
+ *
+ * Isochronous mode. Registering PNIO_CP_CBE_STARTOP_IND (after PNIO_CP_CBE_OPFAULT_IND,
+ * else PNIO_ERR_SEQUENCE) makes the controller take part in the server's cycle handshake:
+ * STARTOP_IND comes every cycle, on a thread of the library, from then on (also in OFFLINE).
+ * Between STARTOP_IND and PNIO_CP_set_opdone, data_read and data_write act on this cycle's
+ * consistent image, and the outputs written go out with PNIO_CP_set_opdone. procimg
+ * exchanges all data in that window, so for an isochronous controller every submodule is IRT
+ * data: outside the window data_read and data_write still work but return
+ * PNIO_WARN_IRT_INCONSISTENT, the cached functions are passed to them (as the manual does
+ * for IRT data), and refresh and flush have nothing to do. OPFAULT_IND reports a
+ * PNIO_CP_set_opdone that came too late (those outputs were not used); a late
+ * PNIO_CP_set_opdone still returns PNIO_OK, and one without an open window (twice in a
+ * cycle, before the first STARTOP_IND) gives PNIO_ERR_SEQUENCE.
+ * PNIO_CYCLE_INFO: CycleCount in 31.25 us units (16 bits, +32 per 1 ms cycle), ClockCount
+ * and CountSinceCycleStart in 10 ns units, taken when the event is delivered and when
+ * PNIO_CP_set_opdone is called.
+ *
+ * Callbacks run on threads of the library, never inside an API call on the caller's thread.
+ * Inside a callback only the IO data functions (PNIO_data_read, PNIO_output_data_read,
+ * PNIO_data_read_cache_refresh, PNIO_data_read_cache, PNIO_data_write,
+ * PNIO_data_write_cache, PNIO_data_write_cache_flush) and PNIO_CP_set_opdone may be called;
+ * every other function returns PNIO_ERR_SEQUENCE there (including PNIO_controller_close).
+ * Callbacks may still run while PNIO_controller_close runs; none runs after it returned.
+ *
+ * Errors. Besides the code, a failing call leaves a text for the calling thread saying what
+ * went wrong and what to do: procimg_last_error() in procimg.h.
+ *
+ * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types), the
+ * PN Driver interface functions (PNIO_interface_*), the PN Driver services (SERV_CP_*),
+ * PNIO_iosystem_reconfig, PNIO_data_cache_exchange and the CP watchdog functions: procimg
+ * does not offer them. LED flashing and CP_STOP_REQ can be registered but never occur.
+ */
+#ifndef PNIOUSRX_H
+#define PNIOUSRX_H
+
+#include "pniobase.h"
+#include "pnioerrx.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- Enums --------------------------------------------------------------------------- */
+
+/* The controller's mode. */
+typedef enum {
+    PNIO_MODE_OFFLINE = 0, /* stop: no IO data, records or alarms */
+    PNIO_MODE_CLEAR = 1,   /* IO data exchanged, outputs sent as invalid */
+    PNIO_MODE_OPERATE = 2  /* normal operation */
+} PNIO_MODE_TYPE;
+
+/* Deactivate or activate a device. */
+typedef enum {
+    PNIO_DA_FALSE = 0, /* deactivate */
+    PNIO_DA_TRUE = 1   /* activate */
+} PNIO_DEV_ACT_TYPE;
+
+/* The controller's callback events. ALARM_IND, REC_READ_CONF and REC_WRITE_CONF are
+ * registered through PNIO_controller_open only, the others through PNIO_register_cbf. */
+typedef enum {
+    PNIO_CBE_MODE_IND = 1,          /* own mode changed */
+    PNIO_CBE_ALARM_IND = 2,         /* an alarm arrived */
+    PNIO_CBE_REC_READ_CONF = 3,     /* a record read finished */
+    PNIO_CBE_REC_WRITE_CONF = 4,    /* a record write finished */
+    PNIO_CBE_DEV_ACT_CONF = 5,      /* a device (de)activation finished */
+    PNIO_CBE_CP_STOP_REQ = 6,       /* remote download request (never in procimg) */
+    PNIO_CBE_START_LED_FLASH = 7,   /* start flashing (never in procimg) */
+    PNIO_CBE_STOP_LED_FLASH = 8,    /* stop flashing (never in procimg) */
+    PNIO_CBE_CTRL_DIAG_CONF = 9,    /* a diagnosis request finished */
+    PNIO_CBE_IFC_SET_ADDR_CONF = 10, /* PN Driver only */
+    PNIO_CBE_REMA_READ_CONF = 11,   /* PN Driver only */
+    PNIO_CBE_IOSYSTEM_RECONFIG = 12, /* PN Driver only */
+    PNIO_CBE_IFC_REC_READ_CONF = 13, /* PN Driver only */
+    PNIO_CBE_IFC_ALARM_IND = 14     /* PN Driver only */
+} PNIO_CBE_TYPE;
+
+/* The manual also spells the LED events with _IND. */
+#define PNIO_CBE_START_LED_FLASH_IND PNIO_CBE_START_LED_FLASH
+#define PNIO_CBE_STOP_LED_FLASH_IND PNIO_CBE_STOP_LED_FLASH
+
+/* Modes of PNIO_iosystem_reconfig (which procimg does not offer). */
+typedef enum {
+    PNIO_IOS_RECONFIG_MODE_DEACT = 1,
+    PNIO_IOS_RECONFIG_MODE_TAILOR = 2
+} PNIO_IOS_RECONFIG_MODE;
+
+/* The services of PNIO_ctrl_diag_req. */
+typedef enum {
+    PNIO_CTRL_DIAG_RESERVED = 0,
+    PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST = 1,    /* PNIO_CTRL_DIAG_CONFIG_SUBMODULE[] */
+    PNIO_CTRL_DIAG_DEVICE_STATE = 2,             /* PNIO_CTRL_DIAG_DEVICE */
+    PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT = 3,  /* answer in DiagDataBufferLen */
+    PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST = 4, /* PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE[] */
+    PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO = 5,    /* PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA */
+    PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA = 6,    /* PNIO_CTRL_COMM_COUNTER_DATA */
+    PNIO_CTRL_DIAG_RESET_COMM_COUNTERS = 7,      /* the same, then the counters restart */
+    PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC = 8         /* PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA */
+} PNIO_CTRL_DIAG_ENUM;
+
+/* ---- Device state (PNIO_CTRL_DIAG_DEVICE) ------------------------------------------- */
+
+/* DiagState: a bit field. */
+#define PNIO_CTRL_DEV_DIAG_OFFLINE 0x00000001        /* the device is offline */
+#define PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK 0x00000010   /* its address is resolved */
+#define PNIO_CTRL_DEV_DIAG_AR_CONNECTING 0x00000100  /* its AR is being set up */
+#define PNIO_CTRL_DEV_DIAG_AR_IN_DATA 0x00000200     /* its AR is in data exchange */
+#define PNIO_CTRL_DEV_DIAG_AR_OFFLINE 0x00000400     /* its AR is offline: see Reason */
+#define PNIO_CTRL_DEV_DIAG_AR_RTC3_FOLLOWS 0x00001000 /* its AR waits for RTC3 data */
+
+/* Reason: why the device is not in data exchange. */
+#define PNIO_CTRL_REASON_NONE 0x0000
+/* Name and address resolution: */
+#define PNIO_CTRL_REASON_NARE_ERR_MULTIPLE_IP_USE 0x0101
+#define PNIO_CTRL_REASON_NARE_ERR_IP_IN_USE 0x0102
+#define PNIO_CTRL_REASON_NARE_ERR_DCP_MULTIPLE_STATIONS 0x0103
+#define PNIO_CTRL_REASON_NARE_ERR_DCP_SET_FAILED 0x0104
+#define PNIO_CTRL_REASON_NARE_ERR_DCP_SET_TIMEOUT 0x0105
+#define PNIO_CTRL_REASON_NARE_ERR_DCP_STATION_NOT_FOUND 0x0106
+#define PNIO_CTRL_REASON_NARE_ERR_OPCODE 0x0107
+#define PNIO_CTRL_REASON_NARE_ERR_CHANNEL_USE 0x0108
+#define PNIO_CTRL_REASON_NARE_ERR_DNS_FAILED 0x0109
+#define PNIO_CTRL_REASON_NARE_ERR_LL 0x010A
+#define PNIO_CTRL_REASON_NARE_ERR_NO_OWN_IP 0x010B
+#define PNIO_CTRL_REASON_NARE_ERR_DCP_IDENT_TLV_ERROR 0x010C
+#define PNIO_CTRL_REASON_NARE_ERR_IP_RESOLVE_NO_ANSWER 0x010D
+/* Connectionless RPC: */
+#define PNIO_CTRL_REASON_CLRPC_ERR_FAULTED 0x0201
+#define PNIO_CTRL_REASON_CLRPC_ERR_REJECTED 0x0202
+#define PNIO_CTRL_REASON_CLRPC_ERR_IN_ARGS 0x0203
+#define PNIO_CTRL_REASON_CLRPC_ERR_OUT_ARGS 0x0204
+#define PNIO_CTRL_REASON_CLRPC_ERR_DECODE 0x0205
+#define PNIO_CTRL_REASON_CLRPC_ERR_PNIO_OUT_ARGS 0x0206
+#define PNIO_CTRL_REASON_CLRPC_ERR_TIMEOUT 0x0207
+/* Address information classes: */
+#define PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_LINK 0x0301
+#define PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_MISS 0x0401
+#define PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_COMPANION 0x0501
+#define PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_OTHER 0x0601
+/* Connection: */
+#define PNIO_CTRL_REASON_ERR_MULTIPLE_IP_USE 0x0700
+#define PNIO_CTRL_REASON_ERR_MULTIPLE_STATIONS 0x0701
+#define PNIO_CTRL_REASON_REASON_LINK_DOWN 0x0702
+#define PNIO_CTRL_REASON_MAU_MISMATCH 0x0703
+#define PNIO_CTRL_REASON_RPC_ERROR 0x0704
+#define PNIO_CTRL_REASON_PNIO_CONFIGURATION 0x0705
+#define PNIO_CTRL_REASON_RPC_TIMEOUT 0x0706
+#define PNIO_CTRL_REASON_IP_SET_ABORTED 0x0707
+#define PNIO_CTRL_REASON_IOD_NOT_FOUND 0x0708
+#define PNIO_CTRL_REASON_OUT_OF_RESOURCES 0x0709
+#define PNIO_CTRL_REASON_MISS 0x070A
+#define PNIO_CTRL_REASON_NOS_SET_ABORTED 0x070B
+#define PNIO_CTRL_REASON_IOC_ABORTED 0x070C
+#define PNIO_CTRL_REASON_IOD_ABORTED 0x070D
+#define PNIO_CTRL_REASON_VENDORID_ABORTED 0x070E
+#define PNIO_CTRL_REASON_MP_IN_PROGRESS 0x070F
+#define PNIO_CTRL_REASON_MP_NOS_MISSING 0x0710
+#define PNIO_CTRL_REASON_MP_IPv4_MISSING 0x0711
+#define PNIO_CTRL_REASON_MP_NOS_INVALID 0x0712
+#define PNIO_CTRL_REASON_MP_IPv4_INVALID 0x0713
+#define PNIO_CTRL_REASON_MP_TAILORING_MISSING 0x0714
+#define PNIO_CTRL_REASON_MP_PDEV_ERROR 0x0715
+#define PNIO_CTRL_REASON_MP_DEVICE_DISABLED 0x0716
+
+/* ---- Alarms -------------------------------------------------------------------------- */
+
+/* An alarm as PNIO_CBE_ALARM_IND delivers it. */
+typedef struct {
+    PNIO_ALARM_TYPE AlarmType;      /* PNIO_ALARM_* */
+    PNIO_APRIO_TYPE AlarmPriority;  /* PNIO_APRIO_* */
+    PNIO_UINT16 DeviceNum;          /* station number */
+    PNIO_UINT16 SlotNum;
+    PNIO_UINT16 SubslotNum;
+    PNIO_UINT16 CpuAlarmPriority;
+    PNIO_UINT32 PnioCompatModtype;
+    PNIO_ALARM_TINFO AlarmTinfo;    /* configuration details */
+    PNIO_UINT8 DiagDs[4];           /* diagnosis bytes as in OB82 */
+    PNIO_UINT8 PrAlarmInfo[4];      /* process alarm bytes */
+    PNIO_ALARM_INFO AlarmAinfo;     /* the alarm notification and its user data */
+} ATTR_PACKED PNIO_CTRL_ALARM_DATA;
+
+/* ---- Diagnosis ----------------------------------------------------------------------- */
+
+/* A diagnosis request. It belongs to the library from PNIO_ctrl_diag_req until its
+ * PNIO_CBE_CTRL_DIAG_CONF has been delivered. */
+typedef struct {
+    PNIO_CTRL_DIAG_ENUM DiagService;
+    union {
+        PNIO_UINT32 Reserved1[8];
+        PNIO_ADDR Addr; /* DEVICE_STATE, DEVICE_DIAGNOSTIC: an address of the device */
+    } u;
+    PNIO_REF ReqRef; /* yours, echoed in the confirmation's pDiagData */
+    PNIO_UINT32 Reserved2;
+} ATTR_PACKED PNIO_CTRL_DIAG;
+
+/* CONFIG_SUBMODULE_LIST: DiagDataBufferLen / sizeof(PNIO_CTRL_DIAG_CONFIG_SUBMODULE)
+ * elements. */
+typedef struct {
+    PNIO_ADDR Address;           /* logical address */
+    PNIO_UINT32 DataLength;      /* bytes */
+    PNIO_DATA_TYPE DataType;     /* RT or IRT */
+    PNIO_COM_TYPE ComType;       /* unicast or direct data exchange */
+    PNIO_UINT32 Api;
+    PNIO_UINT32 ReductionFactor; /* sent every ReductionFactor cycles */
+    PNIO_UINT32 Phase;           /* 0 .. ReductionFactor-1 */
+    PNIO_UINT32 CycleTime;       /* send clock, 31.25 us units */
+    PNIO_UINT32 Reserved1[2];
+    PNIO_UINT32 StatNo;          /* station number */
+    PNIO_UINT32 Slot;
+    PNIO_UINT32 Subslot;
+    PNIO_UINT32 Reserved2[2];
+} ATTR_PACKED PNIO_CTRL_DIAG_CONFIG_SUBMODULE;
+
+/* DEVICE_STATE. */
+typedef struct {
+    PNIO_DEV_ACT_TYPE Mode;  /* activated or not */
+    PNIO_UINT32 DiagState;   /* PNIO_CTRL_DEV_DIAG_* bits */
+    PNIO_UINT32 Reason;      /* PNIO_CTRL_REASON_* */
+    PNIO_UINT32 Reserved1[12];
+} ATTR_PACKED PNIO_CTRL_DIAG_DEVICE;
+
+/* CONFIG_OUTPUT_SLICE_LIST: the output bits this program may write. */
+typedef struct {
+    PNIO_ADDR Address;
+    PNIO_UINT16 BitOffset;
+    PNIO_UINT16 BitLength;
+} ATTR_PACKED PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE;
+
+/* CONFIG_NAME_ADDR_INFO: the controller's own name and address. */
+typedef struct {
+    PNIO_UINT8 name[256];          /* station name, NUL-terminated */
+    PNIO_UINT8 TypeOfStation[256]; /* NUL-terminated */
+    PNIO_UINT32 ip_addr;
+    PNIO_UINT32 ip_mask;
+    PNIO_UINT32 default_router;
+} ATTR_PACKED PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA;
+
+/* DEVICE_DIAGNOSTIC: why a device's AR ended. */
+typedef struct {
+    PNIO_DEV_ACT_TYPE Mode;
+    PNIO_UINT16 ErrorCause; /* big-endian */
+    PNIO_UINT8 ReasonCode;
+    PNIO_UINT8 AdditionalInfo[10];
+} ATTR_PACKED PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA;
+
+/* GET_COMM_COUNTER_DATA, RESET_COMM_COUNTERS: Ethernet counters of one port. */
+typedef struct {
+    PNIO_UINT32 SndNoError;    /* frames sent */
+    PNIO_UINT32 SndCollision;  /* sends failed by collision */
+    PNIO_UINT32 SndOtherError; /* sends failed otherwise */
+    PNIO_UINT32 RcvNoError;    /* frames received */
+    PNIO_UINT32 RcvResError;   /* frames received with errors */
+    PNIO_UINT32 RcvRejected;   /* frames rejected */
+} ATTR_PACKED PNIO_CTRL_COMM_PORT_COUNTER_DATA;
+
+typedef struct {
+    PNIO_CTRL_COMM_PORT_COUNTER_DATA Port[4];
+    PNIO_UINT16 NumberOfPorts;
+} ATTR_PACKED PNIO_CTRL_COMM_COUNTER_DATA;
+
+/* ---- Callback events ----------------------------------------------------------------- */
+
+typedef struct {
+    PNIO_MODE_TYPE Mode; /* the new mode */
+} ATTR_PACKED PNIO_CBE_PRM_MODE_IND;
+
+typedef struct {
+    PNIO_ADDR *pAddr;          /* the address of the job */
+    PNIO_UINT32 RecordIndex;
+    PNIO_REF ReqRef;           /* as given to PNIO_rec_read_req */
+    PNIO_ERR_STAT Err;         /* the job's status */
+    PNIO_UINT32 Length;        /* bytes in pBuffer */
+    const PNIO_UINT8 *pBuffer; /* the record: valid during the callback only */
+} ATTR_PACKED PNIO_CBE_PRM_REC_READ_CONF;
+
+typedef struct {
+    PNIO_ADDR *pAddr;
+    PNIO_UINT32 RecordIndex;
+    PNIO_REF ReqRef;   /* as given to PNIO_rec_write_req */
+    PNIO_ERR_STAT Err; /* the job's status */
+} ATTR_PACKED PNIO_CBE_PRM_REC_WRITE_CONF;
+
+typedef struct {
+    PNIO_ADDR *pAddr; /* a device's address (station failure/return) or a module's */
+    PNIO_REF IndRef;  /* internal, reserved */
+    const PNIO_CTRL_ALARM_DATA *pAlarmData; /* valid during the callback only */
+} ATTR_PACKED PNIO_CBE_PRM_ALARM_IND;
+
+typedef struct {
+    PNIO_ADDR *pAddr;       /* the address of the job */
+    PNIO_DEV_ACT_TYPE Mode; /* the device's connection state now */
+    PNIO_UINT32 Result;     /* PNIO_OK, or why it failed */
+} ATTR_PACKED PNIO_CBE_PRM_DEV_ACT_CONF;
+
+typedef struct {
+    PNIO_UINT32 Frequency; /* Hz */
+} ATTR_PACKED PNIO_CBE_PRM_LED_FLASH;
+
+typedef struct {
+    PNIO_CTRL_DIAG *pDiagData;   /* the request, yours again from now on */
+    PNIO_UINT32 DiagDataBufferLen;
+    PNIO_UINT8 *pDiagDataBuffer; /* the answer: valid during the callback only */
+    PNIO_UINT32 ErrorCode;       /* PNIO_OK or the service's error */
+} ATTR_PACKED PNIO_CBE_PRM_CTRL_DIAG_CONF;
+
+/* What a controller callback receives; the member of the anonymous union that CbeType
+ * selects holds the event's parameters. Valid during the callback only. */
+typedef struct {
+    PNIO_CBE_TYPE CbeType;
+    PNIO_UINT32 Handle;
+    union {
+        PNIO_CBE_PRM_MODE_IND ModeInd;
+        PNIO_CBE_PRM_REC_READ_CONF RecReadConf;
+        PNIO_CBE_PRM_REC_WRITE_CONF RecWriteConf;
+        PNIO_CBE_PRM_ALARM_IND AlarmInd;
+        PNIO_CBE_PRM_DEV_ACT_CONF DevActConf;
+        PNIO_CBE_PRM_LED_FLASH LedFlash;
+        PNIO_CBE_PRM_CTRL_DIAG_CONF CtrlDiagConf;
+    };
+} ATTR_PACKED PNIO_CBE_PRM;
+
+/* A controller callback. */
+typedef void (*PNIO_CBF)(PNIO_CBE_PRM *pCbfPrm);
+
+/* ---- Functions ----------------------------------------------------------------------- */
+
+/* Opens a controller on CP CpIndex (see above). The record callbacks must not be NULL,
+ * the alarm callback may be (alarms are then acknowledged by the library). */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_controller_open(
+    PNIO_UINT32 CpIndex,         /* in */
+    PNIO_UINT32 ExtPar,          /* in: PNIO_CEP_MODE_CTRL, PNIO_CEP_SLICE_ACCESS */
+    PNIO_CBF cbf_rec_read_conf,  /* in */
+    PNIO_CBF cbf_rec_write_conf, /* in */
+    PNIO_CBF cbf_alarm_ind,      /* in, may be NULL */
+    PNIO_UINT32 *Handle);        /* out */
+
+/* Closes the controller: no callback runs once it returned. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_controller_close(
+    PNIO_UINT32 Handle); /* in */
+
+/* Registers a callback (in OFFLINE, each type once). */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_register_cbf(
+    PNIO_UINT32 Handle,    /* in */
+    PNIO_CBE_TYPE CbeType, /* in */
+    PNIO_CBF Cbf);         /* in, not NULL */
+
+/* Asks for a mode; PNIO_CBE_MODE_IND reports each step. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_set_mode(
+    PNIO_UINT32 Handle,   /* in */
+    PNIO_MODE_TYPE Mode); /* in */
+
+/* Activates or deactivates the device that has address pAddr; PNIO_CBE_DEV_ACT_CONF
+ * reports the result. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_device_activate(
+    PNIO_UINT32 Handle,            /* in */
+    PNIO_ADDR *pAddr,              /* in */
+    PNIO_DEV_ACT_TYPE DeviceMode); /* in */
+
+/* Reads inputs. *pDataLen: the bytes from the address to the end of the submodule (as
+ * many as fit were copied). */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_data_read(
+    PNIO_UINT32 Handle,        /* in */
+    PNIO_ADDR *pAddr,          /* in */
+    PNIO_UINT32 BufLen,        /* in */
+    PNIO_UINT32 *pDataLen,     /* out */
+    PNIO_UINT8 *pBuffer,       /* out */
+    PNIO_IOXS IOlocState,      /* in: IOCS sent to the device */
+    PNIO_IOXS *pIOremState);   /* out: the device's IOPS */
+
+/* Reads outputs back as they were last sent. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_output_data_read(
+    PNIO_UINT32 Handle,        /* in */
+    PNIO_ADDR *pAddr,          /* in */
+    PNIO_UINT32 BufLen,        /* in */
+    PNIO_UINT32 *pDataLen,     /* out */
+    PNIO_UINT8 *pBuffer,       /* out */
+    PNIO_IOXS *pIOlocState,    /* out: the IOPS they were sent with */
+    PNIO_IOXS *pIOremState);   /* out: the device's IOCS */
+
+/* Copies all RT inputs and the remote status of all RT outputs into the read cache. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_data_read_cache_refresh(
+    PNIO_UINT32 Handle); /* in */
+
+/* Reads inputs from the read cache; IOlocState goes out with the next flush. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_data_read_cache(
+    PNIO_UINT32 Handle,        /* in */
+    PNIO_ADDR *pAddr,          /* in */
+    PNIO_UINT32 BufLen,        /* in */
+    PNIO_UINT32 *pDataLen,     /* out */
+    PNIO_UINT8 *pBuffer,       /* out */
+    PNIO_IOXS IOlocState,      /* in */
+    PNIO_IOXS *pIOremState);   /* out */
+
+/* Writes outputs. *pIOremState refers to the outputs of the previous cycle. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_data_write(
+    PNIO_UINT32 Handle,        /* in */
+    PNIO_ADDR *pAddr,          /* in */
+    PNIO_UINT32 BufLen,        /* in */
+    PNIO_UINT8 *pBuffer,       /* in */
+    PNIO_IOXS IOlocState,      /* in: IOPS */
+    PNIO_IOXS *pIOremState);   /* out: the device's IOCS */
+
+/* Writes outputs into the write cache. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_data_write_cache(
+    PNIO_UINT32 Handle,        /* in */
+    PNIO_ADDR *pAddr,          /* in */
+    PNIO_UINT32 BufLen,        /* in */
+    PNIO_UINT8 *pBuffer,       /* in */
+    PNIO_IOXS IOlocState,      /* in */
+    PNIO_IOXS *pIOremState);   /* out: from the read cache */
+
+/* Sends the write cache's outputs and the local input states, applied in one cycle. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_data_write_cache_flush(
+    PNIO_UINT32 Handle); /* in */
+
+/* Reads a record; PNIO_CBE_REC_READ_CONF delivers it. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_rec_read_req(
+    PNIO_UINT32 Handle,      /* in */
+    PNIO_ADDR *pAddr,        /* in */
+    PNIO_UINT32 RecordIndex, /* in */
+    PNIO_REF ReqRef,         /* in */
+    PNIO_UINT32 Length);     /* in: at most PNIO_MAX_REC_LEN */
+
+/* Writes a record; PNIO_CBE_REC_WRITE_CONF reports the result. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_rec_write_req(
+    PNIO_UINT32 Handle,      /* in */
+    PNIO_ADDR *pAddr,        /* in */
+    PNIO_UINT32 RecordIndex, /* in */
+    PNIO_REF ReqRef,         /* in */
+    PNIO_UINT32 Length,      /* in */
+    PNIO_UINT8 *pBuffer);    /* in */
+
+/* Asks for a diagnosis; PNIO_CBE_CTRL_DIAG_CONF (registered first) delivers it. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_ctrl_diag_req(
+    PNIO_UINT32 Handle,        /* in */
+    PNIO_CTRL_DIAG *pDiagReq); /* in */
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PNIOUSRX_H */

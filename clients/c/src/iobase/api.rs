@@ -1,0 +1,635 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The exported `PNIO_*` controller functions of `pniousrx.h` and `pniobase.h`, with the
+//! manual's signatures. Each runs inside [`crate::ffi::guard`]: a panic becomes
+//! `PNIO_ERR_INTERNAL` and a text, never an unwind into C.
+#![allow(non_snake_case)]
+
+use super::callbacks::in_callback;
+use super::controller::{Controller, OpenRequest, fail, lookup, wrong_handle};
+use super::data::{self, ReadArgs, ReadKind, WriteArgs};
+use super::errors::*;
+use super::types::*;
+use crate::ffi::guard;
+
+/// The answer of every function but the IO data ones when called inside a callback.
+fn not_in_callback(f: &str) -> u32 {
+    fail(
+        f,
+        PNIO_ERR_SEQUENCE,
+        "not allowed inside a callback: there only the IO data functions and \
+         PNIO_CP_set_opdone may be called; leave the callback (set a flag) and call it from \
+         your program's thread",
+    )
+}
+
+/// Opens an IO controller on CP `CpIndex` and registers the record and alarm callbacks
+/// (see `pniousrx.h` for how CpIndex names a procimgd instance).
+///
+/// # Safety
+/// `Handle` is NULL or points to a writable `PNIO_UINT32`; the callbacks are NULL or
+/// functions of the `PNIO_CBF` type that stay callable until the controller is closed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_controller_open(
+    CpIndex: PNIO_UINT32,
+    ExtPar: PNIO_UINT32,
+    cbf_rec_read_conf: PNIO_CBF,
+    cbf_rec_write_conf: PNIO_CBF,
+    cbf_alarm_ind: PNIO_CBF,
+    Handle: *mut PNIO_UINT32,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_controller_open";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        if Handle.is_null() {
+            return fail(F, PNIO_ERR_PRM_HND, "Handle (the out pointer) is NULL");
+        }
+        if CpIndex == 0 || CpIndex > 255 {
+            return fail(
+                F,
+                PNIO_ERR_PRM_CP_ID,
+                format_args!("CpIndex {CpIndex} is not 1..255"),
+            );
+        }
+        let allowed = PNIO_CEP_MODE_CTRL | PNIO_CEP_SLICE_ACCESS;
+        if ExtPar & !allowed != 0 {
+            return fail(
+                F,
+                PNIO_ERR_PRM_EXT_PAR,
+                format_args!(
+                    "ExtPar {ExtPar:#x} has bits {:#x} that a controller does not take: only \
+                     PNIO_CEP_MODE_CTRL and PNIO_CEP_SLICE_ACCESS",
+                    ExtPar & !allowed
+                ),
+            );
+        }
+        if cbf_rec_read_conf.is_none() || cbf_rec_write_conf.is_none() {
+            return fail(
+                F,
+                PNIO_ERR_PRM_CALLBACK,
+                "cbf_rec_read_conf and cbf_rec_write_conf must not be NULL (only \
+                 cbf_alarm_ind may be)",
+            );
+        }
+        match Controller::open(OpenRequest {
+            cp_index: CpIndex,
+            ext_par: ExtPar,
+            rec_read: cbf_rec_read_conf,
+            rec_write: cbf_rec_write_conf,
+            alarm: cbf_alarm_ind,
+        }) {
+            Ok(h) => {
+                // SAFETY: not NULL, writable by the caller's contract.
+                unsafe { Handle.write_unaligned(h) };
+                PNIO_OK
+            }
+            Err(code) => code,
+        }
+    })
+}
+
+/// Closes a controller: once it returns, none of its callbacks runs any more.
+///
+/// # Safety
+/// None beyond the C ABI; any value of `Handle` is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_controller_close(Handle: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_controller_close";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        Controller::close(Handle)
+    })
+}
+
+/// Registers a callback for `CbeType` (in OFFLINE, each type once).
+///
+/// # Safety
+/// `Cbf` is NULL or a function of the `PNIO_CBF` type that stays callable until the
+/// controller is closed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_register_cbf(
+    Handle: PNIO_UINT32,
+    CbeType: PNIO_CBE_TYPE,
+    Cbf: PNIO_CBF,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_register_cbf";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        let Some(ctl) = lookup(Handle) else {
+            return wrong_handle(F, Handle);
+        };
+        if Cbf.is_none() {
+            return fail(F, PNIO_ERR_PRM_CALLBACK, "Cbf is NULL");
+        }
+        match CbeType {
+            PNIO_CBE_MODE_IND
+            | PNIO_CBE_DEV_ACT_CONF
+            | PNIO_CBE_CP_STOP_REQ
+            | PNIO_CBE_START_LED_FLASH
+            | PNIO_CBE_STOP_LED_FLASH
+            | PNIO_CBE_CTRL_DIAG_CONF => {}
+            PNIO_CBE_ALARM_IND | PNIO_CBE_REC_READ_CONF | PNIO_CBE_REC_WRITE_CONF => {
+                return fail(
+                    F,
+                    PNIO_ERR_PRM_TYPE,
+                    format_args!(
+                        "CbeType {CbeType}: the alarm and record callbacks are given to \
+                         PNIO_controller_open, not registered later"
+                    ),
+                );
+            }
+            other => {
+                return fail(
+                    F,
+                    PNIO_ERR_PRM_TYPE,
+                    format_args!("CbeType {other} is not a controller event procimg offers"),
+                );
+            }
+        }
+        if !ctl.may_register() {
+            return fail(
+                F,
+                PNIO_ERR_MODE_VALUE,
+                format_args!(
+                    "callbacks are registered in OFFLINE only; the controller is in mode {} \
+                     (set PNIO_MODE_OFFLINE first, or register before PNIO_set_mode)",
+                    ctl.mode()
+                ),
+            );
+        }
+        if !ctl.callbacks.set_once(CbeType, Cbf) {
+            return fail(
+                F,
+                PNIO_ERR_ALLREADY_DONE,
+                format_args!(
+                    "a callback for CbeType {CbeType} is registered already; another one \
+                     only after PNIO_controller_close"
+                ),
+            );
+        }
+        PNIO_OK
+    })
+}
+
+/// Asks for a mode; `PNIO_CBE_MODE_IND` reports each step.
+///
+/// # Safety
+/// None beyond the C ABI; every value is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_set_mode(Handle: PNIO_UINT32, Mode: PNIO_MODE_TYPE) -> PNIO_UINT32 {
+    const F: &str = "PNIO_set_mode";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        match lookup(Handle) {
+            Some(ctl) => ctl.set_mode(Mode),
+            None => wrong_handle(F, Handle),
+        }
+    })
+}
+
+/// Activates or deactivates the device that has `pAddr`.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_device_activate(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    DeviceMode: PNIO_DEV_ACT_TYPE,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_device_activate";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        let Some(ctl) = lookup(Handle) else {
+            return wrong_handle(F, Handle);
+        };
+        if !ctl.mode_ctrl {
+            return fail(
+                F,
+                PNIO_ERR_DEV_ACT_NOT_ALLOWED,
+                format_args!(
+                    "controller {Handle} was opened without PNIO_CEP_MODE_CTRL: it may not \
+                     activate or deactivate devices"
+                ),
+            );
+        }
+        if pAddr.is_null() {
+            return fail(F, PNIO_ERR_PRM_ADD, "pAddr is NULL");
+        }
+        if DeviceMode != PNIO_DA_FALSE && DeviceMode != PNIO_DA_TRUE {
+            return fail(
+                F,
+                PNIO_ERR_PRM_DEV_STATE,
+                format_args!("DeviceMode {DeviceMode} is neither PNIO_DA_TRUE nor PNIO_DA_FALSE"),
+            );
+        }
+        if ctl.mode() == PNIO_MODE_OFFLINE {
+            return fail(
+                F,
+                PNIO_ERR_MODE_VALUE,
+                "devices cannot be (de)activated in OFFLINE: set CLEAR or OPERATE first",
+            );
+        }
+        // SAFETY: not NULL, readable by the caller's contract.
+        let addr = unsafe { pAddr.read_unaligned() };
+        ctl.with_services(|s| s.device_activate(&addr, DeviceMode))
+            .unwrap_or_else(|| wrong_handle(F, Handle))
+    })
+}
+
+/// Reads inputs at a logical address.
+///
+/// # Safety
+/// The pointers are NULL or valid as the IO-Base prototype says: `pBuffer` for `BufLen`
+/// bytes, the others for one value each.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_data_read(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    BufLen: PNIO_UINT32,
+    pDataLen: *mut PNIO_UINT32,
+    pBuffer: *mut PNIO_UINT8,
+    IOlocState: PNIO_IOXS,
+    pIOremState: *mut PNIO_IOXS,
+) -> PNIO_UINT32 {
+    let a = ReadArgs {
+        handle: Handle,
+        addr: pAddr,
+        buf_len: BufLen,
+        data_len: pDataLen,
+        buf: pBuffer,
+        loc: IOlocState,
+        loc_out: std::ptr::null_mut(),
+        rem: pIOremState,
+    };
+    // SAFETY: the pointers come with the caller's contract.
+    guard(PNIO_ERR_INTERNAL, || unsafe {
+        data::read("PNIO_data_read", ReadKind::Direct, &a)
+    })
+}
+
+/// Reads back outputs at a logical address as they were last sent.
+///
+/// # Safety
+/// As [`PNIO_data_read`]; `pIOlocState` is written.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_output_data_read(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    BufLen: PNIO_UINT32,
+    pDataLen: *mut PNIO_UINT32,
+    pBuffer: *mut PNIO_UINT8,
+    pIOlocState: *mut PNIO_IOXS,
+    pIOremState: *mut PNIO_IOXS,
+) -> PNIO_UINT32 {
+    let a = ReadArgs {
+        handle: Handle,
+        addr: pAddr,
+        buf_len: BufLen,
+        data_len: pDataLen,
+        buf: pBuffer,
+        loc: PNIO_S_GOOD,
+        loc_out: pIOlocState,
+        rem: pIOremState,
+    };
+    // SAFETY: the pointers come with the caller's contract.
+    guard(PNIO_ERR_INTERNAL, || unsafe {
+        data::read("PNIO_output_data_read", ReadKind::Outputs, &a)
+    })
+}
+
+/// Copies the inputs and the outputs' remote status into the read cache.
+///
+/// # Safety
+/// None beyond the C ABI.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_data_read_cache_refresh(Handle: PNIO_UINT32) -> PNIO_UINT32 {
+    guard(PNIO_ERR_INTERNAL, || {
+        data::cache("PNIO_data_read_cache_refresh", Handle, false)
+    })
+}
+
+/// Reads inputs from the read cache.
+///
+/// # Safety
+/// As [`PNIO_data_read`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_data_read_cache(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    BufLen: PNIO_UINT32,
+    pDataLen: *mut PNIO_UINT32,
+    pBuffer: *mut PNIO_UINT8,
+    IOlocState: PNIO_IOXS,
+    pIOremState: *mut PNIO_IOXS,
+) -> PNIO_UINT32 {
+    let a = ReadArgs {
+        handle: Handle,
+        addr: pAddr,
+        buf_len: BufLen,
+        data_len: pDataLen,
+        buf: pBuffer,
+        loc: IOlocState,
+        loc_out: std::ptr::null_mut(),
+        rem: pIOremState,
+    };
+    // SAFETY: the pointers come with the caller's contract.
+    guard(PNIO_ERR_INTERNAL, || unsafe {
+        data::read("PNIO_data_read_cache", ReadKind::Cache, &a)
+    })
+}
+
+/// Writes outputs at a logical address.
+///
+/// # Safety
+/// The pointers are NULL or valid as the IO-Base prototype says: `pBuffer` for `BufLen`
+/// bytes, `pIOremState` for one value.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_data_write(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    BufLen: PNIO_UINT32,
+    pBuffer: *mut PNIO_UINT8,
+    IOlocState: PNIO_IOXS,
+    pIOremState: *mut PNIO_IOXS,
+) -> PNIO_UINT32 {
+    let a = WriteArgs {
+        handle: Handle,
+        addr: pAddr,
+        buf_len: BufLen,
+        buf: pBuffer,
+        loc: IOlocState,
+        rem: pIOremState,
+    };
+    // SAFETY: the pointers come with the caller's contract.
+    guard(PNIO_ERR_INTERNAL, || unsafe {
+        data::write("PNIO_data_write", false, &a)
+    })
+}
+
+/// Writes outputs into the write cache.
+///
+/// # Safety
+/// As [`PNIO_data_write`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_data_write_cache(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    BufLen: PNIO_UINT32,
+    pBuffer: *mut PNIO_UINT8,
+    IOlocState: PNIO_IOXS,
+    pIOremState: *mut PNIO_IOXS,
+) -> PNIO_UINT32 {
+    let a = WriteArgs {
+        handle: Handle,
+        addr: pAddr,
+        buf_len: BufLen,
+        buf: pBuffer,
+        loc: IOlocState,
+        rem: pIOremState,
+    };
+    // SAFETY: the pointers come with the caller's contract.
+    guard(PNIO_ERR_INTERNAL, || unsafe {
+        data::write("PNIO_data_write_cache", true, &a)
+    })
+}
+
+/// Sends the write cache.
+///
+/// # Safety
+/// None beyond the C ABI.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_data_write_cache_flush(Handle: PNIO_UINT32) -> PNIO_UINT32 {
+    guard(PNIO_ERR_INTERNAL, || {
+        data::cache("PNIO_data_write_cache_flush", Handle, true)
+    })
+}
+
+/// Registers an isochronous callback (in OFFLINE; OPFAULT before STARTOP; each once).
+///
+/// # Safety
+/// `Cbf` is NULL or a function of the `PNIO_CP_CBF` type that stays callable until the
+/// controller is closed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_CP_register_cbf(
+    CpHandle: PNIO_UINT32,
+    CbeType: PNIO_CP_CBE_TYPE,
+    Cbf: PNIO_CP_CBF,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_CP_register_cbf";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        let Some(ctl) = lookup(CpHandle) else {
+            return wrong_handle(F, CpHandle);
+        };
+        if Cbf.is_none() {
+            return fail(F, PNIO_ERR_PRM_CALLBACK, "Cbf is NULL");
+        }
+        if !matches!(
+            CbeType,
+            PNIO_CP_CBE_STARTOP_IND | PNIO_CP_CBE_OPFAULT_IND | PNIO_CP_CBE_NEWCYCLE_IND
+        ) {
+            return fail(
+                F,
+                PNIO_ERR_PRM_TYPE,
+                format_args!(
+                    "CbeType {CbeType} is none of PNIO_CP_CBE_STARTOP_IND, _OPFAULT_IND, \
+                     _NEWCYCLE_IND"
+                ),
+            );
+        }
+        if !ctl.may_register() {
+            return fail(
+                F,
+                PNIO_ERR_MODE_VALUE,
+                format_args!(
+                    "callbacks are registered in OFFLINE only; the controller is in mode {}",
+                    ctl.mode()
+                ),
+            );
+        }
+        if ctl.callbacks.get_cp(CbeType).is_some() {
+            return fail(
+                F,
+                PNIO_ERR_ALLREADY_DONE,
+                format_args!("a callback for CbeType {CbeType} is registered already"),
+            );
+        }
+        if CbeType == PNIO_CP_CBE_STARTOP_IND
+            && ctl.callbacks.get_cp(PNIO_CP_CBE_OPFAULT_IND).is_none()
+        {
+            return fail(
+                F,
+                PNIO_ERR_SEQUENCE,
+                "register PNIO_CP_CBE_OPFAULT_IND before PNIO_CP_CBE_STARTOP_IND",
+            );
+        }
+        if !ctl.callbacks.set_cp_once(CbeType, Cbf) {
+            return fail(
+                F,
+                PNIO_ERR_ALLREADY_DONE,
+                format_args!("a callback for CbeType {CbeType} is registered already"),
+            );
+        }
+        if CbeType == PNIO_CP_CBE_OPFAULT_IND {
+            return PNIO_OK;
+        }
+        // STARTOP makes the client synchronous, NEWCYCLE asks for NEWCYCLE events: both
+        // are options of the registration with the server.
+        match ctl.reattach() {
+            Ok(()) => PNIO_OK,
+            Err(code) => {
+                // SAFETY: the pointer is this thread's last error text, NUL-terminated and
+                // valid until this thread's next call into the library (the copy is taken
+                // before that).
+                let why = unsafe { std::ffi::CStr::from_ptr(crate::ffi::last_error_ptr()) }
+                    .to_string_lossy()
+                    .into_owned();
+                // The registration takes no effect; the client goes back to what it was
+                // (if that fails too, the data functions say the server is lost).
+                ctl.callbacks.unset_cp(CbeType);
+                let _ = ctl.reattach();
+                fail(
+                    F,
+                    PNIO_ERR_INTERNAL,
+                    format_args!(
+                        "re-attaching to instance \"{}\" for the isochronous events failed \
+                         with {}: {why}",
+                        ctl.instance,
+                        name(code)
+                    ),
+                )
+            }
+        }
+    })
+}
+
+/// Ends this cycle's processing (OPDONE) and fills `CycleInfo` (when not NULL).
+///
+/// # Safety
+/// `CycleInfo` is NULL or points to a writable `PNIO_CYCLE_INFO`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_CP_set_opdone(
+    CpHandle: PNIO_UINT32,
+    CycleInfo: *mut PNIO_CYCLE_INFO,
+) -> PNIO_UINT32 {
+    // SAFETY: the pointer comes with the caller's contract.
+    guard(PNIO_ERR_INTERNAL, || unsafe {
+        data::set_opdone(CpHandle, CycleInfo)
+    })
+}
+
+/// Starts a record read; `PNIO_CBE_REC_READ_CONF` delivers the record.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_rec_read_req(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    RecordIndex: PNIO_UINT32,
+    ReqRef: PNIO_REF,
+    Length: PNIO_UINT32,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_rec_read_req";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        let Some(ctl) = lookup(Handle) else {
+            return wrong_handle(F, Handle);
+        };
+        if pAddr.is_null() {
+            return fail(F, PNIO_ERR_PRM_ADD, "pAddr is NULL");
+        }
+        // SAFETY: not NULL, readable by the caller's contract.
+        let addr = unsafe { pAddr.read_unaligned() };
+        ctl.with_services(|s| s.rec_read_req(&addr, RecordIndex, ReqRef, Length))
+            .unwrap_or_else(|| wrong_handle(F, Handle))
+    })
+}
+
+/// Starts a record write; `PNIO_CBE_REC_WRITE_CONF` reports the result.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_ADDR`; `pBuffer` is NULL or readable for
+/// `Length` bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_rec_write_req(
+    Handle: PNIO_UINT32,
+    pAddr: *mut PNIO_ADDR,
+    RecordIndex: PNIO_UINT32,
+    ReqRef: PNIO_REF,
+    Length: PNIO_UINT32,
+    pBuffer: *mut PNIO_UINT8,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_rec_write_req";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        let Some(ctl) = lookup(Handle) else {
+            return wrong_handle(F, Handle);
+        };
+        if pAddr.is_null() {
+            return fail(F, PNIO_ERR_PRM_ADD, "pAddr is NULL");
+        }
+        if pBuffer.is_null() {
+            return fail(F, PNIO_ERR_PRM_BUF, "pBuffer is NULL");
+        }
+        // SAFETY: not NULL, readable by the caller's contract.
+        let addr = unsafe { pAddr.read_unaligned() };
+        // The services check the length (1..=4096); a longer buffer is never read.
+        let len = (Length as usize).min(PNIO_MAX_REC_LEN as usize + 1);
+        // SAFETY: not NULL and readable for Length bytes by the caller's contract; at most
+        // Length bytes are taken.
+        let data = unsafe { std::slice::from_raw_parts(pBuffer.cast_const(), len) };
+        if (Length as usize) > len {
+            return fail(
+                F,
+                PNIO_ERR_VALUE_LEN,
+                format_args!("Length {Length}: a record write takes 1 to {PNIO_MAX_REC_LEN} bytes"),
+            );
+        }
+        ctl.with_services(|s| s.rec_write_req(&addr, RecordIndex, ReqRef, data))
+            .unwrap_or_else(|| wrong_handle(F, Handle))
+    })
+}
+
+/// Asks for a diagnosis; `PNIO_CBE_CTRL_DIAG_CONF` delivers it. `*pDiagReq` belongs to the
+/// library until then.
+///
+/// # Safety
+/// `pDiagReq` is NULL or points to a `PNIO_CTRL_DIAG` that stays valid until its
+/// confirmation has been delivered.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_ctrl_diag_req(
+    Handle: PNIO_UINT32,
+    pDiagReq: *mut PNIO_CTRL_DIAG,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_ctrl_diag_req";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        let Some(ctl) = lookup(Handle) else {
+            return wrong_handle(F, Handle);
+        };
+        if pDiagReq.is_null() {
+            return fail(F, PNIO_ERR_PRM_POINTER, "pDiagReq is NULL");
+        }
+        ctl.with_services(|s| s.ctrl_diag_req(pDiagReq))
+            .unwrap_or_else(|| wrong_handle(F, Handle))
+    })
+}

@@ -1,0 +1,708 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! One open IO-Base controller: its client, its mode, its callbacks and the library threads
+//! that deliver them; and the process-wide table of handles.
+//!
+//! Threads of a controller:
+//! * the **event thread** waits on the client's event descriptor (without holding the
+//!   client), takes STARTOP windows, mode changes, OPFAULT and NEWCYCLE from the client and
+//!   calls MODE_IND and the isochronous callbacks, one at a time, in the order they happened;
+//! * the **state thread** asks the server every [`STATE_PERIOD`] which devices are in data
+//!   exchange (for `PNIO_ERR_NO_CONNECTION`);
+//! * the services worker (`super::services`) delivers record, alarm, activation and
+//!   diagnosis callbacks.
+
+use super::callbacks::{CallbackTable, invoke_cp};
+use super::errors::*;
+use super::services::{ServiceContext, ServiceWorker};
+use super::types::*;
+use crate::ffi::set_last_error;
+use procimg_client::{
+    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, DetachedCycle,
+    Event, Layout, Mode, Refusal, now_ns,
+};
+use std::collections::{BTreeMap, VecDeque};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// How often the state thread asks which devices are in data exchange.
+const STATE_PERIOD: Duration = Duration::from_millis(200);
+/// The longest the event thread sleeps before it looks at its stop flag and the server.
+const EVENT_POLL: Duration = Duration::from_millis(20);
+/// How long `PNIO_controller_open` waits for the server to reach OFFLINE (and for the
+/// first image).
+const OPEN_WAIT: Duration = Duration::from_secs(5);
+
+/// Locks a mutex; a panic elsewhere (caught at the boundary) does not make every later
+/// call fail.
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Records the failure text of an API function for the calling thread and returns `code`.
+pub(crate) fn fail(function: &str, code: u32, detail: impl std::fmt::Display) -> u32 {
+    set_last_error(format!("{function}: {detail} ({})", name(code)));
+    code
+}
+
+/// The client side of a controller, behind one lock: IO-Base's data functions are not
+/// reentrant, and callbacks on library threads may call them while the program does.
+pub(crate) struct Io {
+    /// `None` only when re-attaching failed (the server went away meanwhile).
+    pub client: Option<Client>,
+    /// The open STARTOP..OPDONE window of an isochronous controller.
+    pub window: Option<DetachedCycle>,
+    /// The window was found over (the next cycle had begun) before its OPDONE: that
+    /// OPDONE is late, not out of sequence.
+    pub expired: bool,
+}
+
+/// The controller's mode as the program sees it.
+struct ModeState {
+    /// The mode last reported (or found at open).
+    mode: PNIO_MODE_TYPE,
+    /// The mode a `PNIO_set_mode` asked for, until it is reported.
+    pending: Option<PNIO_MODE_TYPE>,
+    /// Modes to report without a change on the server (set_mode to the current mode).
+    echo: VecDeque<PNIO_MODE_TYPE>,
+}
+
+/// One open controller.
+pub(crate) struct Controller {
+    /// The PNIO handle.
+    pub handle: u32,
+    /// The CpIndex it was opened with.
+    pub cp_index: u32,
+    /// The procimgd instance the CpIndex names.
+    pub instance: String,
+    /// Opened with `PNIO_CEP_MODE_CTRL`: the program controls the server's mode.
+    pub mode_ctrl: bool,
+    /// Opened with `PNIO_CEP_SLICE_ACCESS`.
+    pub slice: bool,
+    /// The server's layout (the logical addresses).
+    pub layout: Layout,
+    /// The program's callbacks.
+    pub callbacks: Arc<CallbackTable>,
+    /// True once STARTOP is registered (and the client synchronous).
+    pub isochronous: Arc<AtomicBool>,
+    /// The client and the open window.
+    pub io: Mutex<Io>,
+    mode: Mutex<ModeState>,
+    /// Per device of the layout: in data exchange (as last reported by the server).
+    devices_up: Vec<AtomicBool>,
+    /// Asks the state thread to look at the devices now (the mode changed).
+    state_now: AtomicBool,
+    control: Mutex<ControlHandle>,
+    /// Set by close: the threads end.
+    stop: AtomicBool,
+    /// Set once close began: the handle is no longer usable.
+    closed: AtomicBool,
+    threads: Mutex<Vec<JoinHandle<()>>>,
+    services: Mutex<Option<ServiceWorker>>,
+}
+
+static NEXT_HANDLE: AtomicU32 = AtomicU32::new(1);
+static CONTROLLERS: Mutex<BTreeMap<u32, Arc<Controller>>> = Mutex::new(BTreeMap::new());
+
+/// The open controller with this handle (not one being closed).
+pub(crate) fn lookup(handle: u32) -> Option<Arc<Controller>> {
+    lock(&CONTROLLERS)
+        .get(&handle)
+        .filter(|c| !c.closed.load(Ordering::Acquire))
+        .cloned()
+}
+
+/// The controller with this handle for the IO data functions: also while it is being
+/// closed, because its callbacks may still run then and may use them.
+pub(crate) fn lookup_io(handle: u32) -> Option<Arc<Controller>> {
+    lock(&CONTROLLERS).get(&handle).cloned()
+}
+
+/// The text for a handle that is not (or no longer) open.
+pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
+    fail(
+        function,
+        PNIO_ERR_WRONG_HND,
+        format_args!(
+            "handle {handle} is not an open controller (closed, or never returned by \
+             PNIO_controller_open)"
+        ),
+    )
+}
+
+/// The procimgd instance that CpIndex `cp` names.
+pub(crate) fn instance_for(cp: u32) -> String {
+    std::env::var(format!("PROCIMG_CP{cp}"))
+        .ok()
+        .filter(|s| !s.is_empty())
+        .or_else(|| {
+            std::env::var("PROCIMG_INSTANCE")
+                .ok()
+                .filter(|s| !s.is_empty())
+        })
+        .unwrap_or_else(|| "procimg".to_string())
+}
+
+/// IO-Base's mode value of a procimg mode.
+pub(crate) fn pnio_mode(m: Mode) -> PNIO_MODE_TYPE {
+    match m {
+        Mode::Offline => PNIO_MODE_OFFLINE,
+        Mode::Clear => PNIO_MODE_CLEAR,
+        Mode::Operate => PNIO_MODE_OPERATE,
+    }
+}
+
+/// IO-Base's cycle info for the cycle `info`, as of `now` (`CLOCK_MONOTONIC` ns).
+pub(crate) fn cycle_info(info: &CycleInfo, now: u64) -> PNIO_CYCLE_INFO {
+    PNIO_CYCLE_INFO {
+        CycleCount: info.cycle_count & 0xFFFF,
+        // 10 ns ticks of a free-running 32-bit counter: wrapping is its nature.
+        ClockCount: (now / 10) as u32,
+        CountSinceCycleStart: (now.saturating_sub(info.cycle_start_ns) / 10)
+            .min(u64::from(u32::MAX)) as u32,
+    }
+}
+
+/// What opening needs besides the callbacks.
+pub(crate) struct OpenRequest {
+    /// `CpIndex`.
+    pub cp_index: u32,
+    /// `ExtPar`, checked.
+    pub ext_par: u32,
+    /// `cbf_rec_read_conf`, not NULL.
+    pub rec_read: PNIO_CBF,
+    /// `cbf_rec_write_conf`, not NULL.
+    pub rec_write: PNIO_CBF,
+    /// `cbf_alarm_ind`, may be NULL.
+    pub alarm: PNIO_CBF,
+}
+
+const OPEN: &str = "PNIO_controller_open";
+
+/// The IO-Base code and text for a failed attach.
+fn attach_failure(cp: u32, instance: &str, e: &AttachError) -> u32 {
+    let code = match e {
+        AttachError::NoServer { .. } => PNIO_ERR_NO_CONFIG,
+        AttachError::Timeout { .. } => PNIO_ERR_NO_FW_COMMUNICATION,
+        AttachError::Refused {
+            refusal: Refusal::TooManyClients { .. },
+            ..
+        } => PNIO_ERR_MAX_REACHED,
+        _ => PNIO_ERR_CREATE_INSTANCE,
+    };
+    fail(
+        OPEN,
+        code,
+        format_args!(
+            "CpIndex {cp} is procimg instance \"{instance}\" (PROCIMG_CP{cp} or PROCIMG_INSTANCE): {e}"
+        ),
+    )
+}
+
+/// Attaches with `opts` and claims every output submodule.
+fn attach_and_claim(cp: u32, instance: &str, opts: AttachOptions) -> Result<Client, u32> {
+    let mut client =
+        Client::attach(instance, opts).map_err(|e| attach_failure(cp, instance, &e))?;
+    let outputs: Vec<usize> = client.layout().output_submodules().collect();
+    if !outputs.is_empty() {
+        client.claim(&outputs).map_err(|e| {
+            let code = match e {
+                ControlError::Refused(_) => PNIO_ERR_MAX_REACHED,
+                _ => PNIO_ERR_NO_FW_COMMUNICATION,
+            };
+            fail(
+                OPEN,
+                code,
+                format_args!(
+                    "the controller owns every output of instance \"{instance}\", but they \
+                     cannot be claimed: {e}; close the other controller or client first \
+                     (`procimg status --instance {instance}` names it)"
+                ),
+            )
+        })?;
+    }
+    Ok(client)
+}
+
+/// Waits until the client has an image, and with `offline` until it shows OFFLINE.
+fn wait_for_image(client: &mut Client, offline: bool) -> bool {
+    let until = Instant::now() + OPEN_WAIT;
+    loop {
+        let ok = match client.mode() {
+            Some(m) => !offline || m == Mode::Offline,
+            None => false,
+        };
+        if ok {
+            return true;
+        }
+        if Instant::now() >= until {
+            return false;
+        }
+        // The cycle is only a way to wait for the next image (the client is asynchronous).
+        let _ = client.wait_startop(Duration::from_millis(20));
+    }
+}
+
+/// Which devices of `layout` are in data exchange according to the server.
+fn devices_running(control: &ControlHandle, layout: &Layout) -> Option<Vec<bool>> {
+    let report = control.status().ok()?;
+    Some(
+        (0..layout.devices.len())
+            .map(|d| {
+                let name = layout.device_name(d);
+                report
+                    .devices
+                    .iter()
+                    .find(|r| r.name == name)
+                    .is_none_or(|r| r.state == "running")
+            })
+            .collect(),
+    )
+}
+
+impl Controller {
+    /// `PNIO_controller_open` after the parameter checks.
+    pub(crate) fn open(req: OpenRequest) -> Result<u32, u32> {
+        let cp = req.cp_index;
+        let instance = instance_for(cp);
+        let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
+        let mode_ctrl = req.ext_par & PNIO_CEP_MODE_CTRL != 0;
+        let slice = req.ext_par & PNIO_CEP_SLICE_ACCESS != 0;
+        let name = format!("PNIO controller {handle} (CP {cp})");
+        let opts = AttachOptions::asynchronous(&name).slice_access(slice);
+        let mut client = attach_and_claim(cp, &instance, opts)?;
+        let control = ControlHandle::open(&instance, &format!("{name} control"))
+            .map_err(|e| attach_failure(cp, &instance, &e))?;
+        if mode_ctrl {
+            // IO-Base: the controller is OFFLINE after open.
+            control.set_mode(Mode::Offline).map_err(|e| {
+                fail(
+                    OPEN,
+                    PNIO_ERR_NO_FW_COMMUNICATION,
+                    format_args!("instance \"{instance}\" did not take the mode OFFLINE: {e}"),
+                )
+            })?;
+        }
+        if !wait_for_image(&mut client, mode_ctrl) {
+            return Err(fail(
+                OPEN,
+                PNIO_ERR_NO_FW_COMMUNICATION,
+                format_args!(
+                    "instance \"{instance}\" did not {} within {OPEN_WAIT:?}: is procimgd \
+                     cycling? (`procimg status --instance {instance}`)",
+                    if mode_ctrl {
+                        "reach OFFLINE"
+                    } else {
+                        "publish an image"
+                    }
+                ),
+            ));
+        }
+        // The way to OFFLINE is not reported (IO-Base: nothing is registered yet).
+        let _ = client.events();
+        let mode = client.mode().map_or(PNIO_MODE_OFFLINE, pnio_mode);
+        let layout = client.layout().clone();
+        // In OFFLINE no device exchanges data, whatever the server's report (which may lag
+        // behind the mode) says.
+        let up = match mode {
+            PNIO_MODE_OFFLINE => vec![false; layout.devices.len()],
+            _ => devices_running(&control, &layout).unwrap_or_default(),
+        };
+        let devices_up = (0..layout.devices.len())
+            .map(|d| AtomicBool::new(up.get(d).copied().unwrap_or(true)))
+            .collect();
+        let callbacks = Arc::new(CallbackTable::new());
+        callbacks.set_once(PNIO_CBE_REC_READ_CONF, req.rec_read);
+        callbacks.set_once(PNIO_CBE_REC_WRITE_CONF, req.rec_write);
+        if req.alarm.is_some() {
+            callbacks.set_once(PNIO_CBE_ALARM_IND, req.alarm);
+        }
+        let isochronous = Arc::new(AtomicBool::new(false));
+        let services = ServiceWorker::start(ServiceContext {
+            instance: instance.clone(),
+            handle,
+            cp_index: cp,
+            layout: layout.clone(),
+            isochronous: isochronous.clone(),
+            callbacks: callbacks.clone(),
+        })?;
+        let ctl = Arc::new(Controller {
+            handle,
+            cp_index: cp,
+            instance,
+            mode_ctrl,
+            slice,
+            layout,
+            callbacks,
+            isochronous,
+            io: Mutex::new(Io {
+                client: Some(client),
+                window: None,
+                expired: false,
+            }),
+            mode: Mutex::new(ModeState {
+                mode,
+                pending: None,
+                echo: VecDeque::new(),
+            }),
+            devices_up,
+            state_now: AtomicBool::new(false),
+            control: Mutex::new(control),
+            stop: AtomicBool::new(false),
+            closed: AtomicBool::new(false),
+            threads: Mutex::new(Vec::new()),
+            services: Mutex::new(Some(services)),
+        });
+        let started = [
+            ("ev", event_thread as fn(Arc<Controller>)),
+            ("st", state_thread),
+        ]
+        .into_iter()
+        .try_for_each(|(tag, f)| {
+            let c = ctl.clone();
+            let t = std::thread::Builder::new()
+                .name(format!("pnio-{tag}-{handle}"))
+                .spawn(move || f(c))?;
+            lock(&ctl.threads).push(t);
+            Ok::<(), std::io::Error>(())
+        });
+        if let Err(e) = started {
+            ctl.shut_down();
+            return Err(fail(
+                OPEN,
+                PNIO_ERR_START_THREAD_FAILED,
+                format_args!("cannot start the controller's threads: {e}"),
+            ));
+        }
+        lock(&CONTROLLERS).insert(handle, ctl);
+        Ok(handle)
+    }
+
+    /// `PNIO_controller_close` after the checks: stops the threads (a callback running now
+    /// finishes first), then lets go of the client and the handle.
+    pub(crate) fn close(handle: u32) -> u32 {
+        let Some(ctl) = lookup(handle) else {
+            return wrong_handle("PNIO_controller_close", handle);
+        };
+        if ctl.closed.swap(true, Ordering::AcqRel) {
+            return wrong_handle("PNIO_controller_close", handle);
+        }
+        ctl.shut_down();
+        PNIO_OK
+    }
+
+    /// Stops the threads and the services (a callback running now finishes first), forgets
+    /// the callbacks, frees the handle, then lets go of the client.
+    fn shut_down(&self) {
+        self.closed.store(true, Ordering::Release);
+        self.stop.store(true, Ordering::Release);
+        let threads: Vec<_> = lock(&self.threads).drain(..).collect();
+        for t in threads {
+            // A panic on that thread already ended it.
+            let _ = t.join();
+        }
+        if let Some(s) = lock(&self.services).take() {
+            s.stop();
+        }
+        self.callbacks.clear();
+        lock(&CONTROLLERS).remove(&self.handle);
+        let mut io = lock(&self.io);
+        io.window = None;
+        // Unregisters from the server: the claims go with it.
+        io.client = None;
+    }
+
+    /// The services worker (for the record, activation and diagnosis functions).
+    pub(crate) fn with_services<R>(&self, f: impl FnOnce(&ServiceWorker) -> R) -> Option<R> {
+        lock(&self.services).as_ref().map(f)
+    }
+
+    /// Whether the controller is in OFFLINE and not on its way out of it.
+    pub(crate) fn offline(&self) -> bool {
+        let m = lock(&self.mode);
+        m.mode == PNIO_MODE_OFFLINE && m.pending.is_none_or(|p| p == PNIO_MODE_OFFLINE)
+    }
+
+    /// The mode as last reported.
+    pub(crate) fn mode(&self) -> PNIO_MODE_TYPE {
+        lock(&self.mode).mode
+    }
+
+    /// Whether callbacks may be registered now: in OFFLINE (a controller without
+    /// PNIO_CEP_MODE_CTRL never changes its own mode, so it may register at any time).
+    pub(crate) fn may_register(&self) -> bool {
+        !self.mode_ctrl || self.offline()
+    }
+
+    /// Whether device `d` is in data exchange.
+    pub(crate) fn device_up(&self, d: usize) -> bool {
+        self.devices_up
+            .get(d)
+            .is_none_or(|u| u.load(Ordering::Relaxed))
+    }
+
+    /// `PNIO_set_mode` after the checks of the handle and the caller.
+    pub(crate) fn set_mode(&self, mode: PNIO_MODE_TYPE) -> u32 {
+        const F: &str = "PNIO_set_mode";
+        let target = match mode {
+            PNIO_MODE_OFFLINE => Mode::Offline,
+            PNIO_MODE_CLEAR => Mode::Clear,
+            PNIO_MODE_OPERATE => Mode::Operate,
+            other => {
+                return fail(
+                    F,
+                    PNIO_ERR_MODE_VALUE,
+                    format_args!(
+                        "Mode {other} is none of PNIO_MODE_OFFLINE (0), PNIO_MODE_CLEAR (1), \
+                         PNIO_MODE_OPERATE (2)"
+                    ),
+                );
+            }
+        };
+        if !self.mode_ctrl {
+            return fail(
+                F,
+                PNIO_ERR_SET_MODE_NOT_ALLOWED,
+                format_args!(
+                    "controller {} was opened without PNIO_CEP_MODE_CTRL: it observes the \
+                     mode of instance \"{}\" but may not change it",
+                    self.handle, self.instance
+                ),
+            );
+        }
+        if self.callbacks.get(PNIO_CBE_MODE_IND).is_none() {
+            return fail(
+                F,
+                PNIO_ERR_SEQUENCE,
+                "register the PNIO_CBE_MODE_IND callback (PNIO_register_cbf, in OFFLINE) \
+                 before changing the mode: it reports the change",
+            );
+        }
+        {
+            let mut m = lock(&self.mode);
+            if let Some(p) = m.pending {
+                return fail(
+                    F,
+                    PNIO_ERR_SEQUENCE,
+                    format_args!(
+                        "the mode {p} asked for before has not been reported by \
+                         PNIO_CBE_MODE_IND yet; wait for it, then ask again"
+                    ),
+                );
+            }
+            m.pending = Some(mode);
+            if m.mode == mode {
+                // No change on the server, so no MODE event: report the mode as it is.
+                m.echo.push_back(mode);
+                return PNIO_OK;
+            }
+        }
+        // Outside the mode lock: the event thread reports steps meanwhile.
+        match lock(&self.control).set_mode(target) {
+            Ok(()) => PNIO_OK,
+            Err(e) => {
+                lock(&self.mode).pending = None;
+                let code = match e {
+                    ControlError::Refused(_) => PNIO_ERR_SET_MODE_NOT_ALLOWED,
+                    _ => PNIO_ERR_NO_FW_COMMUNICATION,
+                };
+                fail(
+                    F,
+                    code,
+                    format_args!("instance \"{}\" did not take the mode: {e}", self.instance),
+                )
+            }
+        }
+    }
+
+    /// Re-attaches the client as the registered isochronous callbacks need: synchronous
+    /// once STARTOP is registered, with NEWCYCLE events once NEWCYCLE is. In OFFLINE,
+    /// where the outputs are lost anyway.
+    pub(crate) fn reattach(&self) -> Result<(), u32> {
+        let sync = self.callbacks.get_cp(PNIO_CP_CBE_STARTOP_IND).is_some();
+        let newcycle = self.callbacks.get_cp(PNIO_CP_CBE_NEWCYCLE_IND).is_some();
+        let name = format!("PNIO controller {} (CP {})", self.handle, self.cp_index);
+        let opts = if sync {
+            AttachOptions::synchronous(&name)
+        } else {
+            AttachOptions::asynchronous(&name)
+        }
+        .slice_access(self.slice)
+        .newcycle(newcycle)
+        .expect_layout_hash(self.layout.hash());
+        let mut io = lock(&self.io);
+        // A window open now (a STARTOP_IND still running on the event thread) ends here: its
+        // PNIO_CP_set_opdone is answered as a late one, not refused.
+        io.expired = io.window.take().is_some();
+        // The old registration goes first: its claims are the new one's to take.
+        io.client = None;
+        let mut client = attach_and_claim(self.cp_index, &self.instance, opts)?;
+        let _ = wait_for_image(&mut client, false);
+        let _ = client.events();
+        io.client = Some(client);
+        self.isochronous.store(sync, Ordering::Release);
+        Ok(())
+    }
+
+    /// Reports a mode: updates the state first (the program may ask for the next mode as
+    /// soon as it sees this one), then calls MODE_IND.
+    fn report_mode(&self, mode: PNIO_MODE_TYPE) {
+        if mode == PNIO_MODE_OFFLINE {
+            // OFFLINE takes the connections down.
+            self.devices_up
+                .iter()
+                .for_each(|u| u.store(false, Ordering::Relaxed));
+        }
+        self.state_now.store(true, Ordering::Release);
+        {
+            let mut m = lock(&self.mode);
+            m.mode = mode;
+            if m.pending == Some(mode) {
+                m.pending = None;
+            }
+        }
+        let mut prm = PNIO_CBE_PRM::new(PNIO_CBE_MODE_IND, self.handle);
+        prm.u.ModeInd = PNIO_CBE_PRM_MODE_IND { Mode: mode };
+        CallbackTable::invoke(self.callbacks.get(PNIO_CBE_MODE_IND), &mut prm);
+    }
+
+    fn report_cp(&self, t: PNIO_CP_CBE_TYPE, info: PNIO_CYCLE_INFO) {
+        let cbf = self.callbacks.get_cp(t);
+        if cbf.is_none() {
+            return;
+        }
+        let mut prm = PNIO_CP_CBE_PRM::new(t, self.cp_index, self.handle, info);
+        invoke_cp(cbf, &mut prm);
+    }
+}
+
+/// What the event thread took from the client in one look.
+struct Collected {
+    events: Vec<Event>,
+    startop: Option<CycleInfo>,
+    newest: Option<CycleInfo>,
+    mode: Option<Mode>,
+}
+
+fn collect(ctl: &Controller) -> Option<Collected> {
+    let mut guard = lock(&ctl.io);
+    let io = &mut *guard;
+    let client = io.client.as_mut()?;
+    let mut startop = None;
+    if ctl.isochronous.load(Ordering::Acquire) {
+        if let Ok(cycle) = client.wait_startop(Duration::ZERO) {
+            startop = Some(cycle.info());
+            // A window not closed by now is over: its outputs were not sent (OPFAULT).
+            io.window = Some(cycle.detach());
+            io.expired = false;
+        }
+    } else if !client.connected() {
+        // Waiting is also how the client finds a restarted server.
+        let _ = client.wait_startop(Duration::ZERO);
+    }
+    let client = io.client.as_mut()?;
+    Some(Collected {
+        events: client.events(),
+        startop,
+        newest: client.cycle_info(),
+        mode: client.mode(),
+    })
+}
+
+/// The event thread: delivers MODE_IND, OPFAULT_IND, NEWCYCLE_IND and STARTOP_IND.
+fn event_thread(ctl: Arc<Controller>) {
+    let mut resync = false;
+    while !ctl.stop.load(Ordering::Acquire) {
+        let fd = lock(&ctl.io).client.as_ref().and_then(|c| c.event_fd());
+        match fd {
+            // The descriptor may be replaced by a re-attach meanwhile: the wait is short,
+            // and a wrong wake-up costs one look.
+            Some(fd) => {
+                let _ = procimg_shm_layout::os::wait_readable(fd, EVENT_POLL.as_nanos() as u64);
+            }
+            None => std::thread::sleep(EVENT_POLL),
+        }
+        if ctl.stop.load(Ordering::Acquire) {
+            break;
+        }
+        let Some(c) = collect(&ctl) else {
+            continue;
+        };
+        let info_now = |i: Option<CycleInfo>| cycle_info(&i.unwrap_or_default(), now_ns());
+        for e in c.events {
+            match e {
+                Event::Mode(m) => ctl.report_mode(pnio_mode(m)),
+                Event::OpFault { .. } => ctl.report_cp(PNIO_CP_CBE_OPFAULT_IND, info_now(c.newest)),
+                Event::NewCycle => ctl.report_cp(PNIO_CP_CBE_NEWCYCLE_IND, info_now(c.newest)),
+                Event::ServerShutdown => lock(&ctl.mode).pending = None,
+                Event::Reattached { .. } => resync = true,
+                Event::ClaimLost { .. } => {}
+            }
+        }
+        if resync && let Some(m) = c.mode {
+            // A restarted server starts in its own mode: report it if it differs.
+            resync = false;
+            if pnio_mode(m) != ctl.mode() {
+                ctl.report_mode(pnio_mode(m));
+            }
+        }
+        let echoed: Vec<_> = lock(&ctl.mode).echo.drain(..).collect();
+        for m in echoed {
+            ctl.report_mode(m);
+        }
+        if let Some(info) = c.startop {
+            ctl.report_cp(PNIO_CP_CBE_STARTOP_IND, cycle_info(&info, now_ns()));
+        }
+    }
+}
+
+/// The state thread: keeps `devices_up` current.
+fn state_thread(ctl: Arc<Controller>) {
+    let mut next = Instant::now() + STATE_PERIOD;
+    while !ctl.stop.load(Ordering::Acquire) {
+        // Short sleeps so that close does not wait a whole period.
+        std::thread::sleep(Duration::from_millis(10));
+        if Instant::now() < next && !ctl.state_now.swap(false, Ordering::AcqRel) {
+            continue;
+        }
+        next = Instant::now() + STATE_PERIOD;
+        let up = devices_running(&lock(&ctl.control), &ctl.layout);
+        if let Some(up) = up {
+            for (flag, u) in ctl.devices_up.iter().zip(up) {
+                flag.store(u, Ordering::Relaxed);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cycle_info_in_the_manuals_units() {
+        let info = CycleInfo {
+            cycle_number: 5,
+            cycle_start_ns: 1_000_000,
+            clock_ns: 0,
+            since_cycle_start_ns: 0,
+            cycle_count: 0x1_0020,
+            reserved: 0,
+        };
+        let c = cycle_info(&info, 1_000_000 + 123_450);
+        assert_eq!(c.CycleCount, 0x20, "16 bits of 31.25 µs units");
+        assert_eq!(c.CountSinceCycleStart, 12_345, "10 ns units");
+        assert_eq!(c.ClockCount, (1_123_450u64 / 10) as u32);
+        // The free-running 32-bit 10 ns counter wraps.
+        let late = cycle_info(&info, 50_000_000_000);
+        assert_eq!(late.ClockCount, (5_000_000_000u64 % (1 << 32)) as u32);
+    }
+
+    #[test]
+    fn modes_map_to_the_manuals_values() {
+        assert_eq!(pnio_mode(Mode::Offline), PNIO_MODE_OFFLINE);
+        assert_eq!(pnio_mode(Mode::Clear), PNIO_MODE_CLEAR);
+        assert_eq!(pnio_mode(Mode::Operate), PNIO_MODE_OPERATE);
+    }
+}

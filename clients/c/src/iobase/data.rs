@@ -1,0 +1,518 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO data functions (`PNIO_data_read` and its kin) behind the C boundary: the manual's
+//! parameter checks in its order, then procimg-client's access by logical address, inside
+//! the STARTOP..OPDONE window when the controller is isochronous and a window is open.
+
+use super::controller::{Controller, Io, cycle_info, fail, lock, lookup_io, wrong_handle};
+use super::errors::*;
+use super::types::*;
+use procimg_client::access::{AccessError, Resolved, Space, resolve_read, resolve_write};
+use procimg_client::{Client, Cycle, IoError, Ioxs, now_ns};
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+/// How long a write waits for room in the server's buffer for this client (it takes the
+/// buffer's samples every cycle) before it gives up.
+const DELIVERY_WAIT: Duration = Duration::from_millis(50);
+
+/// The parameters of a read (`PNIO_data_read`, `PNIO_data_read_cache`,
+/// `PNIO_output_data_read`), as C passed them.
+pub(crate) struct ReadArgs {
+    pub handle: u32,
+    pub addr: *mut PNIO_ADDR,
+    pub buf_len: u32,
+    pub data_len: *mut PNIO_UINT32,
+    pub buf: *mut PNIO_UINT8,
+    /// `IOlocState` (reads of inputs).
+    pub loc: PNIO_IOXS,
+    /// `pIOlocState` (reads of outputs).
+    pub loc_out: *mut PNIO_IOXS,
+    pub rem: *mut PNIO_IOXS,
+}
+
+/// The parameters of a write (`PNIO_data_write`, `PNIO_data_write_cache`).
+pub(crate) struct WriteArgs {
+    pub handle: u32,
+    pub addr: *mut PNIO_ADDR,
+    pub buf_len: u32,
+    pub buf: *mut PNIO_UINT8,
+    pub loc: PNIO_IOXS,
+    pub rem: *mut PNIO_IOXS,
+}
+
+/// Which read.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ReadKind {
+    /// `PNIO_data_read`.
+    Direct,
+    /// `PNIO_data_read_cache`.
+    Cache,
+    /// `PNIO_output_data_read`.
+    Outputs,
+}
+
+fn ioxs(v: PNIO_IOXS) -> Option<Ioxs> {
+    match v {
+        PNIO_S_GOOD => Some(Ioxs::Good),
+        PNIO_S_BAD => Some(Ioxs::Bad),
+        _ => None,
+    }
+}
+
+fn pnio_ioxs(v: Ioxs) -> PNIO_IOXS {
+    match v {
+        Ioxs::Good => PNIO_S_GOOD,
+        Ioxs::Bad => PNIO_S_BAD,
+    }
+}
+
+/// Reads and checks `pAddr`: not NULL, the space `want`, a logical address.
+///
+/// # Safety
+/// `p` is NULL or points to a readable `PNIO_ADDR`.
+unsafe fn checked_addr(f: &str, p: *const PNIO_ADDR, want: PNIO_IO_TYPE) -> Result<PNIO_ADDR, u32> {
+    if p.is_null() {
+        return Err(fail(f, PNIO_ERR_PRM_ADD, "pAddr is NULL"));
+    }
+    // SAFETY: not NULL, readable by the caller's contract; unaligned reads are fine.
+    let a = unsafe { p.read_unaligned() };
+    if a.IODataType != want {
+        let (needs, space) = if want == PNIO_IO_IN {
+            ("PNIO_IO_IN", "inputs")
+        } else {
+            ("PNIO_IO_OUT", "outputs")
+        };
+        return Err(fail(
+            f,
+            PNIO_ERR_PRM_IO_TYPE,
+            format_args!(
+                "pAddr->IODataType is {}; this function accesses {space}: set {needs}",
+                a.IODataType
+            ),
+        ));
+    }
+    if a.AddrType != PNIO_ADDR_LOG {
+        return Err(fail(
+            f,
+            PNIO_ERR_PRM_ADD,
+            format_args!(
+                "pAddr->AddrType is {}; a controller addresses by logical address only \
+                 (PNIO_ADDR_LOG)",
+                a.AddrType
+            ),
+        ));
+    }
+    Ok(a)
+}
+
+fn access_failure(f: &str, e: AccessError) -> u32 {
+    match e {
+        AccessError::UnknownAddress { .. } => fail(f, PNIO_ERR_UNKNOWN_ADDR, e),
+        AccessError::ValueLength { .. } => fail(f, PNIO_ERR_VALUE_LEN, e),
+    }
+}
+
+fn io_failure(f: &str, ctl: &Controller, e: IoError) -> u32 {
+    match e {
+        IoError::Access(a) => access_failure(f, a),
+        IoError::NotDelivered(_) => fail(
+            f,
+            PNIO_ERR_NO_RESOURCE,
+            format_args!(
+                "{e} (waited {DELIVERY_WAIT:?}); write fewer times per cycle, or use \
+                 PNIO_data_write_cache and one PNIO_data_write_cache_flush"
+            ),
+        ),
+        IoError::NotClaimed { .. } => fail(
+            f,
+            PNIO_ERR_NO_CONNECTION,
+            format_args!(
+                "{e}; the claim was lost when instance \"{}\" restarted",
+                ctl.instance
+            ),
+        ),
+        IoError::NoImage { .. } | IoError::ServerGone { .. } => fail(f, PNIO_ERR_NO_CONNECTION, e),
+    }
+}
+
+/// The client, or the code for a controller that lost it.
+fn client<'a>(f: &str, ctl: &Controller, io: &'a mut Io) -> Result<&'a mut Client, u32> {
+    io.client.as_mut().ok_or_else(|| {
+        fail(
+            f,
+            PNIO_ERR_NO_CONNECTION,
+            format_args!(
+                "controller {} lost instance \"{}\" when it re-attached; close and open it again",
+                ctl.handle, ctl.instance
+            ),
+        )
+    })
+}
+
+/// Runs `op` on the client, again while the server's buffer for this client is full.
+fn delivered<R>(
+    client: &mut Client,
+    mut op: impl FnMut(&mut Client) -> Result<R, IoError>,
+) -> Result<R, IoError> {
+    let until = Instant::now() + DELIVERY_WAIT;
+    loop {
+        match op(client) {
+            Err(IoError::NotDelivered(_)) if Instant::now() < until => {
+                std::thread::sleep(Duration::from_micros(200));
+            }
+            r => return r,
+        }
+    }
+}
+
+/// Runs `op` inside the open STARTOP window; `None` when none is open (or it is over).
+fn in_window<R>(io: &mut Io, op: impl FnOnce(&mut Cycle<'_>) -> R) -> Option<R> {
+    let w = io.window.take()?;
+    let client = io.client.as_mut()?;
+    let Some(mut cycle) = w.resume(client) else {
+        io.expired = true;
+        return None;
+    };
+    let r = op(&mut cycle);
+    io.window = Some(cycle.detach());
+    Some(r)
+}
+
+/// Whether the device of submodule `s` exchanges data; sets `*rem` BAD when not.
+///
+/// # Safety
+/// `rem` is a valid, writable pointer.
+unsafe fn connected(f: &str, ctl: &Controller, s: usize, rem: *mut PNIO_IOXS) -> Result<(), u32> {
+    let device = ctl.layout.submodules[s].device as usize;
+    if ctl.mode() != PNIO_MODE_OFFLINE && ctl.device_up(device) {
+        return Ok(());
+    }
+    // SAFETY: checked for NULL by the caller, writable by the C caller's contract.
+    unsafe { rem.write_unaligned(PNIO_S_BAD) };
+    Err(fail(
+        f,
+        PNIO_ERR_NO_CONNECTION,
+        format_args!(
+            "device \"{}\" is not in data exchange ({}); wait for its return alarm \
+             (PNIO_ALARM_DEV_RETURN)",
+            ctl.layout.device_name(device),
+            if ctl.mode() == PNIO_MODE_OFFLINE {
+                "the controller is OFFLINE"
+            } else {
+                "not connected or deactivated"
+            }
+        ),
+    ))
+}
+
+/// `PNIO_data_read`, `PNIO_data_read_cache`, `PNIO_output_data_read`.
+///
+/// # Safety
+/// The pointers in `a` are NULL or valid for what the IO-Base prototypes say (`buf` for
+/// `buf_len` bytes).
+pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
+    let Some(ctl) = lookup_io(a.handle) else {
+        return wrong_handle(f, a.handle);
+    };
+    if a.buf.is_null() || a.buf_len == 0 {
+        return fail(
+            f,
+            PNIO_ERR_PRM_BUF,
+            format_args!("pBuffer is NULL or BufLen is 0 (BufLen {})", a.buf_len),
+        );
+    }
+    let want = if kind == ReadKind::Outputs {
+        PNIO_IO_OUT
+    } else {
+        PNIO_IO_IN
+    };
+    // SAFETY: forwarded from the caller's contract.
+    let addr = match unsafe { checked_addr(f, a.addr, want) } {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    let local = if kind == ReadKind::Outputs {
+        if a.loc_out.is_null() {
+            return fail(f, PNIO_ERR_PRM_LOC_STATE, "pIOlocState is NULL");
+        }
+        Ioxs::Good
+    } else {
+        match ioxs(a.loc) {
+            Some(l) => l,
+            None => {
+                return fail(
+                    f,
+                    PNIO_ERR_PRM_LOC_STATE,
+                    format_args!("IOlocState {} is neither PNIO_S_GOOD nor PNIO_S_BAD", a.loc),
+                );
+            }
+        }
+    };
+    if a.data_len.is_null() {
+        return fail(f, PNIO_ERR_PRM_LEN, "pDataLen is NULL");
+    }
+    if a.rem.is_null() {
+        return fail(f, PNIO_ERR_PRM_RSTATE, "pIOremState is NULL");
+    }
+    let space = if kind == ReadKind::Outputs {
+        Space::Output
+    } else {
+        Space::Input
+    };
+    let address = addr.addr();
+    let r = match resolve_read(
+        &ctl.layout.submodules,
+        space,
+        address,
+        a.buf_len as usize,
+        ctl.slice,
+    ) {
+        Ok(r) => r,
+        Err(e) => return access_failure(f, e),
+    };
+    // SAFETY: `rem` checked for NULL above.
+    if let Err(code) = unsafe { connected(f, &ctl, r.submodule, a.rem) } {
+        return code;
+    }
+    // SAFETY: not NULL, and the caller's buffer holds BufLen bytes.
+    let buf = unsafe { std::slice::from_raw_parts_mut(a.buf, a.buf_len as usize) };
+    let iso = ctl.isochronous.load(Ordering::Acquire);
+    let mut guard = lock(&ctl.io);
+    let io = &mut *guard;
+    let (res, warn) = if kind == ReadKind::Outputs {
+        let client = match client(f, &ctl, io) {
+            Ok(c) => c,
+            Err(code) => return code,
+        };
+        match client.output_data_read(address, buf) {
+            Ok(o) => {
+                // SAFETY: checked for NULL above, writable by the caller's contract.
+                unsafe { a.loc_out.write_unaligned(pnio_ioxs(o.local)) };
+                (Ok((o.len, o.remote)), false)
+            }
+            Err(e) => (Err(e), false),
+        }
+    } else if let Some(res) = iso
+        .then(|| in_window(io, |c| c.read(address, buf, local)))
+        .flatten()
+    {
+        (res.map(|x| (x.len, x.remote)), false)
+    } else {
+        let client = match client(f, &ctl, io) {
+            Ok(c) => c,
+            Err(code) => return code,
+        };
+        // The cached path of IRT data is the direct one (the manual), and for an
+        // isochronous controller all data is IRT.
+        let res = if kind == ReadKind::Cache && !iso {
+            match client.data_read_cache(address, buf, local) {
+                Err(IoError::NoImage { .. }) => {
+                    return fail(
+                        f,
+                        PNIO_ERR_NO_CONNECTION,
+                        "the read cache is empty: call PNIO_data_read_cache_refresh first",
+                    );
+                }
+                r => r,
+            }
+        } else {
+            delivered(client, |c| c.data_read(address, buf, local))
+        };
+        (res.map(|x| (x.len, x.remote)), iso)
+    };
+    drop(guard);
+    match res {
+        Ok((len, remote)) => {
+            // SAFETY: both checked for NULL above, writable by the caller's contract.
+            unsafe {
+                a.data_len.write_unaligned(len as u32);
+                a.rem.write_unaligned(pnio_ioxs(remote));
+            }
+            if warn { irt_inconsistent(f) } else { PNIO_OK }
+        }
+        Err(e) => io_failure(f, &ctl, e),
+    }
+}
+
+fn irt_inconsistent(f: &str) -> u32 {
+    fail(
+        f,
+        PNIO_WARN_IRT_INCONSISTENT,
+        "done outside the STARTOP..PNIO_CP_set_opdone window of this isochronous controller: \
+         the data may belong to another cycle than the rest",
+    )
+}
+
+/// `PNIO_data_write`, `PNIO_data_write_cache`.
+///
+/// # Safety
+/// The pointers in `a` are NULL or valid for what the IO-Base prototypes say (`buf` for
+/// `buf_len` bytes).
+pub(crate) unsafe fn write(f: &str, cached: bool, a: &WriteArgs) -> u32 {
+    let Some(ctl) = lookup_io(a.handle) else {
+        return wrong_handle(f, a.handle);
+    };
+    if a.buf.is_null() || a.buf_len == 0 {
+        return fail(
+            f,
+            PNIO_ERR_PRM_BUF,
+            format_args!("pBuffer is NULL or BufLen is 0 (BufLen {})", a.buf_len),
+        );
+    }
+    // SAFETY: forwarded from the caller's contract.
+    let addr = match unsafe { checked_addr(f, a.addr, PNIO_IO_OUT) } {
+        Ok(x) => x,
+        Err(code) => return code,
+    };
+    let Some(local) = ioxs(a.loc) else {
+        return fail(
+            f,
+            PNIO_ERR_PRM_LOC_STATE,
+            format_args!("IOlocState {} is neither PNIO_S_GOOD nor PNIO_S_BAD", a.loc),
+        );
+    };
+    if a.rem.is_null() {
+        return fail(f, PNIO_ERR_PRM_RSTATE, "pIOremState is NULL");
+    }
+    let address = addr.addr();
+    let r: Resolved = match resolve_write(
+        &ctl.layout.submodules,
+        address,
+        a.buf_len as usize,
+        ctl.slice,
+    ) {
+        Ok(r) => r,
+        Err(e) => return access_failure(f, e),
+    };
+    // SAFETY: `rem` checked for NULL above.
+    if let Err(code) = unsafe { connected(f, &ctl, r.submodule, a.rem) } {
+        return code;
+    }
+    // SAFETY: not NULL, and the caller's buffer holds BufLen bytes.
+    let data = unsafe { std::slice::from_raw_parts(a.buf.cast_const(), a.buf_len as usize) };
+    let iso = ctl.isochronous.load(Ordering::Acquire);
+    let mut guard = lock(&ctl.io);
+    let io = &mut *guard;
+    let (res, warn) = if let Some(res) = iso
+        .then(|| in_window(io, |c| c.write(address, data, local)))
+        .flatten()
+    {
+        (res, false)
+    } else {
+        let client = match client(f, &ctl, io) {
+            Ok(c) => c,
+            Err(code) => return code,
+        };
+        let res = if cached && !iso {
+            client.data_write_cache(address, data, local)
+        } else {
+            delivered(client, |c| c.data_write(address, data, local))
+        };
+        (res, iso)
+    };
+    drop(guard);
+    match res {
+        Ok(remote) => {
+            // SAFETY: checked for NULL above, writable by the caller's contract.
+            unsafe { a.rem.write_unaligned(pnio_ioxs(remote)) };
+            if warn { irt_inconsistent(f) } else { PNIO_OK }
+        }
+        Err(e) => io_failure(f, &ctl, e),
+    }
+}
+
+/// `PNIO_data_read_cache_refresh` (`flush` false) and `PNIO_data_write_cache_flush`.
+pub(crate) fn cache(f: &str, handle: u32, flush: bool) -> u32 {
+    let Some(ctl) = lookup_io(handle) else {
+        return wrong_handle(f, handle);
+    };
+    if ctl.isochronous.load(Ordering::Acquire) {
+        // Refresh and flush move RT data only; an isochronous controller's data is IRT.
+        return PNIO_OK;
+    }
+    let mut io = lock(&ctl.io);
+    let client = match client(f, &ctl, &mut io) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let res = if flush {
+        delivered(client, |c| c.data_write_cache_flush())
+    } else {
+        client.data_read_cache_refresh()
+    };
+    drop(io);
+    match res {
+        Ok(()) => PNIO_OK,
+        Err(e) => io_failure(f, &ctl, e),
+    }
+}
+
+/// `PNIO_CP_set_opdone`.
+///
+/// # Safety
+/// `out` is NULL or points to a writable `PNIO_CYCLE_INFO`.
+pub(crate) unsafe fn set_opdone(handle: u32, out: *mut PNIO_CYCLE_INFO) -> u32 {
+    const F: &str = "PNIO_CP_set_opdone";
+    let Some(ctl) = lookup_io(handle) else {
+        return wrong_handle(F, handle);
+    };
+    let ctl: Arc<Controller> = ctl;
+    if !ctl.isochronous.load(Ordering::Acquire) {
+        return fail(
+            F,
+            PNIO_ERR_STARTOP_NOT_REGISTERED,
+            "no PNIO_CP_CBE_STARTOP_IND callback is registered: the controller takes no part \
+             in the cycle (register OPFAULT_IND, then STARTOP_IND with PNIO_CP_register_cbf)",
+        );
+    }
+    let mut guard = lock(&ctl.io);
+    let io = &mut *guard;
+    let Some(window) = io.window.take() else {
+        if std::mem::take(&mut io.expired) {
+            // The window ended under an IO function of this cycle: late, as below.
+            let info = io.client.as_ref().and_then(|c| c.cycle_info());
+            drop(guard);
+            if !out.is_null() {
+                // SAFETY: not NULL, writable by the caller's contract.
+                unsafe { out.write_unaligned(cycle_info(&info.unwrap_or_default(), now_ns())) };
+            }
+            return PNIO_OK;
+        }
+        return fail(
+            F,
+            PNIO_ERR_SEQUENCE,
+            "no cycle is open: PNIO_CP_set_opdone was called already in this cycle, or before \
+             the first PNIO_CP_CBE_STARTOP_IND",
+        );
+    };
+    let client = match client(F, &ctl, io) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let res = match window.resume(client) {
+        Some(cycle) => cycle
+            .set_opdone()
+            .map(|info| cycle_info(&info, info.clock_ns)),
+        // Too late: the next cycle is there. OPFAULT_IND tells the program.
+        None => Ok(cycle_info(
+            &client.cycle_info().unwrap_or_default(),
+            now_ns(),
+        )),
+    };
+    drop(guard);
+    match res {
+        Ok(info) => {
+            if !out.is_null() {
+                // SAFETY: not NULL, writable by the caller's contract.
+                unsafe { out.write_unaligned(info) };
+            }
+            PNIO_OK
+        }
+        Err(e) => fail(
+            F,
+            PNIO_ERR_NO_FW_COMMUNICATION,
+            format_args!("the outputs of this cycle could not be handed over: {e}"),
+        ),
+    }
+}

@@ -1,0 +1,496 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! What the callbacks receive, built from the server's notifications, its diagnosis and the
+//! layout: PNIO_ERR_STAT, PNIO_CTRL_ALARM_DATA, and the answers of `PNIO_ctrl_diag_req`.
+//!
+//! Numbering: IO-Base names a device by its station number, which STEP 7 gives from 1 (0 is
+//! the controller). procimg has no such number, so a device's station number is its index in
+//! the layout + 1, the same in `PNIO_CTRL_ALARM_DATA::DeviceNum`, in
+//! `PNIO_ALARM_TINFO::CompatDevGeoaddr` and in `PNIO_CTRL_DIAG_CONFIG_SUBMODULE::StatNo`.
+
+use super::address;
+use crate::iobase::types::{
+    PNIO_ADDR, PNIO_ALARM_DEV_FAILURE, PNIO_ALARM_DEV_RETURN, PNIO_ALARM_INFO, PNIO_ALARM_INFO_u,
+    PNIO_ALARM_TINFO, PNIO_APRIO_HIGH, PNIO_APRIO_LOW, PNIO_COM_UNICAST, PNIO_CTRL_ALARM_DATA,
+    PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK, PNIO_CTRL_DEV_DIAG_AR_CONNECTING,
+    PNIO_CTRL_DEV_DIAG_AR_IN_DATA, PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_DEV_DIAG_OFFLINE,
+    PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE, PNIO_CTRL_DIAG_CONFIG_SUBMODULE, PNIO_CTRL_DIAG_DEVICE,
+    PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA, PNIO_CTRL_REASON_IOC_ABORTED,
+    PNIO_CTRL_REASON_IOD_ABORTED, PNIO_CTRL_REASON_IOD_NOT_FOUND,
+    PNIO_CTRL_REASON_MP_DEVICE_DISABLED, PNIO_CTRL_REASON_NONE, PNIO_CTRL_REASON_RPC_TIMEOUT,
+    PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_DATA_IRT, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN,
+    PNIO_IO_OUT, PNIO_MAX_ALARM_DATA_LEN,
+};
+use procimg_client::{AlarmReport, DeviceDiagnosis, Layout, RecordStatus};
+use procimg_shm_layout::{CYCLE_COUNT_UNIT_NS, NO_ADDRESS, RT_CLASS_3};
+
+/// `PNIO_CTRL_REASON_IP_SET_ABORTED`: giving the device its IP address failed.
+const REASON_IP_SET_ABORTED: u32 = 0x0707;
+/// `PNIO_CTRL_REASON_MISS`: the device's cyclic data stopped coming.
+const REASON_MISS: u32 = 0x070A;
+/// `PNIO_CTRL_REASON_PNIO_CONFIGURATION`: the device refused the configuration.
+const REASON_PNIO_CONFIGURATION: u32 = 0x0705;
+/// `PNIO_CTRL_REASON_RPC_ERROR`: the device's RPC layer refused a call.
+const REASON_RPC_ERROR: u32 = 0x0704;
+
+/// BlockType of an AlarmNotification: high priority.
+const BLOCK_ALARM_HIGH: u16 = 0x0001;
+/// BlockType of an AlarmNotification: low priority.
+const BLOCK_ALARM_LOW: u16 = 0x0002;
+/// BlockVersion of an AlarmNotification (1.0).
+const BLOCK_VERSION: u16 = 0x0100;
+
+/// The status IO-Base reports when a record job could not reach the device: no connection,
+/// or it broke during the job (0xC0, 0x80, 0xA3, 0).
+pub(crate) const NO_CONNECTION: PNIO_ERR_STAT = PNIO_ERR_STAT {
+    ErrCode: 0xC0,
+    ErrDecode: 0x80,
+    ErrCode1: 0xA3,
+    ErrCode2: 0,
+    AddValue1: 0,
+    AddValue2: 0,
+};
+
+/// The station number of device `device` (see the module documentation).
+pub(crate) fn station_number(device: u32) -> u16 {
+    u16::try_from(device.saturating_add(1)).unwrap_or(u16::MAX)
+}
+
+/// A record job's status as IO-Base reports it. A failure without a PNIOStatus of its own
+/// (ErrorCode 0 although the job failed) is reported as [`NO_CONNECTION`].
+pub(crate) fn err_stat(s: &RecordStatus, failed: bool) -> PNIO_ERR_STAT {
+    if failed && s.error_code == 0 {
+        return NO_CONNECTION;
+    }
+    PNIO_ERR_STAT {
+        ErrCode: s.error_code,
+        ErrDecode: s.error_decode,
+        ErrCode1: s.error_code1,
+        ErrCode2: s.error_code2,
+        AddValue1: s.add_value1,
+        AddValue2: s.add_value2,
+    }
+}
+
+fn empty_alarm_info() -> PNIO_ALARM_INFO {
+    PNIO_ALARM_INFO {
+        BlockType: 0,
+        BlockVersion: 0,
+        Api: 0,
+        AlarmSpecifier: 0,
+        ModIdent: 0,
+        SubIdent: 0,
+        UserStrucIdent: 0,
+        UserAlarmDataLen: 0,
+        UAData: PNIO_ALARM_INFO_u {
+            UserAlarmData: [0; PNIO_MAX_ALARM_DATA_LEN as usize],
+        },
+    }
+}
+
+/// The configuration details of an alarm of device `device`.
+fn tinfo(layout: &Layout, device: u32) -> PNIO_ALARM_TINFO {
+    let d = layout.devices.get(device as usize);
+    PNIO_ALARM_TINFO {
+        // Bits 0-10 the device number, 11-14 the IO subsystem (0: procimg has one), 15: PNIO.
+        CompatDevGeoaddr: (station_number(device) & 0x07FF) | 0x8000,
+        // PNIO profile, transparent alarm info.
+        ProfileType: 0x08,
+        AinfoType: 0,
+        ControllerFlags: 0,
+        DeviceFlag: 0,
+        PnioVendorIdent: d.map_or(0, |d| d.vendor_id),
+        PnioDevIdent: d.map_or(0, |d| d.device_id),
+        PnioDevInstance: d.map_or(0, |d| d.instance),
+    }
+}
+
+/// An alarm from a device, with the address it is reported at (the module's).
+pub(crate) fn alarm(layout: &Layout, a: &AlarmReport) -> (PNIO_ADDR, Box<PNIO_CTRL_ALARM_DATA>) {
+    let mut info = empty_alarm_info();
+    info.BlockType = if a.high_priority {
+        BLOCK_ALARM_HIGH
+    } else {
+        BLOCK_ALARM_LOW
+    };
+    info.BlockVersion = BLOCK_VERSION;
+    info.Api = a.api;
+    info.AlarmSpecifier = a.specifier;
+    info.ModIdent = a.module_ident;
+    info.SubIdent = a.submodule_ident;
+    if let Some(usi) = a.usi() {
+        info.UserStrucIdent = usi;
+        let user = a.payload.get(2..).unwrap_or_default();
+        let n = user.len().min(PNIO_MAX_ALARM_DATA_LEN as usize);
+        // SAFETY: writing into a union field of plain bytes: every bit pattern is valid.
+        unsafe { info.UAData.UserAlarmData[..n].copy_from_slice(&user[..n]) };
+        info.UserAlarmDataLen = n as u16;
+    }
+    let data = PNIO_CTRL_ALARM_DATA {
+        AlarmType: u32::from(a.alarm_type),
+        AlarmPriority: if a.high_priority {
+            PNIO_APRIO_HIGH
+        } else {
+            PNIO_APRIO_LOW
+        },
+        DeviceNum: station_number(a.device),
+        SlotNum: a.slot,
+        SubslotNum: a.subslot,
+        CpuAlarmPriority: 0,
+        PnioCompatModtype: 0,
+        AlarmTinfo: tinfo(layout, a.device),
+        DiagDs: [0; 4],
+        PrAlarmInfo: [0; 4],
+        AlarmAinfo: info,
+    };
+    let addr = address::module_address(layout, a.device, a.api, a.slot, a.subslot);
+    (addr, Box::new(data))
+}
+
+/// The station failure (`failure`) or return alarm IO-Base makes of a device leaving or
+/// entering data exchange, reported at the device's address.
+pub(crate) fn station_alarm(
+    layout: &Layout,
+    device: u32,
+    failure: bool,
+) -> (PNIO_ADDR, Box<PNIO_CTRL_ALARM_DATA>) {
+    let data = PNIO_CTRL_ALARM_DATA {
+        AlarmType: if failure {
+            PNIO_ALARM_DEV_FAILURE
+        } else {
+            PNIO_ALARM_DEV_RETURN
+        },
+        AlarmPriority: PNIO_APRIO_HIGH,
+        DeviceNum: station_number(device),
+        SlotNum: 0,
+        SubslotNum: 0,
+        CpuAlarmPriority: 0,
+        PnioCompatModtype: 0,
+        AlarmTinfo: tinfo(layout, device),
+        DiagDs: [0; 4],
+        PrAlarmInfo: [0; 4],
+        // "Only relevant if not device failure/return alarm": left empty.
+        AlarmAinfo: empty_alarm_info(),
+    };
+    (address::device_address(layout, device), Box::new(data))
+}
+
+/// The CONFIG_SUBMODULE_LIST answer: one element per data direction of every submodule
+/// with data, in layout order (inputs before outputs of the same submodule).
+pub(crate) fn submodule_list(
+    layout: &Layout,
+    isochronous: bool,
+) -> Vec<PNIO_CTRL_DIAG_CONFIG_SUBMODULE> {
+    let cycle = u32::try_from(layout.header.cycle_ns / CYCLE_COUNT_UNIT_NS).unwrap_or(u32::MAX);
+    let mut list = Vec::new();
+    for e in &layout.submodules {
+        let reduction = layout
+            .devices
+            .get(usize::from(e.device))
+            .map_or(1, |d| u32::from(d.reduction_ratio.max(1)));
+        let element = |io, address, length: u16| PNIO_CTRL_DIAG_CONFIG_SUBMODULE {
+            Address: PNIO_ADDR::logical(io, address),
+            DataLength: u32::from(length),
+            DataType: if e.rt_class == RT_CLASS_3 || isochronous {
+                PNIO_DATA_IRT
+            } else {
+                PNIO_DATA_RT
+            },
+            ComType: PNIO_COM_UNICAST,
+            Api: e.api,
+            ReductionFactor: reduction,
+            // procimg sends every device's frames in the first cycle of its reduction
+            // ratio (PROFINET phase 1, IO-Base phase 0).
+            Phase: 0,
+            CycleTime: cycle,
+            Reserved1: [0; 2],
+            StatNo: u32::from(station_number(u32::from(e.device))),
+            Slot: u32::from(e.slot),
+            Subslot: u32::from(e.subslot),
+            Reserved2: [0; 2],
+        };
+        if e.input_length > 0 && e.input_address != NO_ADDRESS {
+            list.push(element(PNIO_IO_IN, e.input_address, e.input_length));
+        }
+        if e.output_length > 0 && e.output_address != NO_ADDRESS {
+            list.push(element(PNIO_IO_OUT, e.output_address, e.output_length));
+        }
+    }
+    list
+}
+
+/// The CONFIG_OUTPUT_SLICE_LIST answer: procimg has no IO router, so every output bit of
+/// every output submodule is this program's to write.
+pub(crate) fn output_slices(layout: &Layout) -> Vec<PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE> {
+    layout
+        .submodules
+        .iter()
+        .filter(|e| e.output_length > 0 && e.output_address != NO_ADDRESS)
+        .map(|e| PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE {
+            Address: PNIO_ADDR::logical(PNIO_IO_OUT, e.output_address),
+            BitOffset: 0,
+            BitLength: e.output_length.saturating_mul(8),
+        })
+        .collect()
+}
+
+/// A `PNIO_CTRL_REASON_*` for the server's text of a device's last failure, as far as the
+/// text tells (best effort: the server reports failures in words).
+fn reason(last_error: &str) -> u32 {
+    let t = last_error.to_ascii_lowercase();
+    if t.is_empty() {
+        PNIO_CTRL_REASON_NONE
+    } else if t.contains("dcp identify") {
+        PNIO_CTRL_REASON_IOD_NOT_FOUND
+    } else if t.contains("dcp set") {
+        REASON_IP_SET_ABORTED
+    } else if t.contains("no cyclic data") {
+        REASON_MISS
+    } else if t.contains("aborted the ar") || t.contains("alarm channel") {
+        PNIO_CTRL_REASON_IOD_ABORTED
+    } else if t.contains("went offline") {
+        PNIO_CTRL_REASON_IOC_ABORTED
+    } else if t.contains("rpc layer") {
+        REASON_RPC_ERROR
+    } else if t.contains("did not answer") || t.contains("applicationready") {
+        PNIO_CTRL_REASON_RPC_TIMEOUT
+    } else if t.contains("refused") || t.contains("failed") {
+        REASON_PNIO_CONFIGURATION
+    } else {
+        PNIO_CTRL_REASON_NONE
+    }
+}
+
+/// The DEVICE_STATE answer for a device as the server's diagnosis reports it.
+pub(crate) fn device_state(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE {
+    let (state, why) = match d.state.as_str() {
+        "running" => (
+            PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK | PNIO_CTRL_DEV_DIAG_AR_IN_DATA,
+            PNIO_CTRL_REASON_NONE,
+        ),
+        "connecting" | "parameterizing" | "waiting-for-application-ready" => (
+            PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK | PNIO_CTRL_DEV_DIAG_AR_CONNECTING,
+            PNIO_CTRL_REASON_NONE,
+        ),
+        // Found by name, its address being set.
+        "setting-ip" => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
+        // Looked for again after a failure: not reachable, for the reason of the failure.
+        "searching" if !d.last_error.is_empty() => (
+            PNIO_CTRL_DEV_DIAG_OFFLINE | PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
+            reason(&d.last_error),
+        ),
+        "searching" => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
+        "failed" => (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, reason(&d.last_error)),
+        "deactivated" => (
+            PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
+            PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
+        ),
+        // "offline" (the controller is OFFLINE) and anything newer servers may report.
+        _ => (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_REASON_NONE),
+    };
+    PNIO_CTRL_DIAG_DEVICE {
+        Mode: if d.active {
+            PNIO_DA_TRUE
+        } else {
+            PNIO_DA_FALSE
+        },
+        DiagState: state,
+        Reason: why,
+        Reserved1: [0; 12],
+    }
+}
+
+/// The DEVICE_DIAGNOSTIC answer. The server's diagnosis holds no PROFINET error cause of an
+/// AR abort (only its text), so ErrorCause, ReasonCode and AdditionalInfo stay 0.
+pub(crate) fn device_diagnostic(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA {
+    PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA {
+        Mode: if d.active {
+            PNIO_DA_TRUE
+        } else {
+            PNIO_DA_FALSE
+        },
+        ..PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::iobase::services::address::tests::demo_layout;
+
+    fn diagnosis(state: &str, active: bool, last_error: &str) -> DeviceDiagnosis {
+        DeviceDiagnosis {
+            device: 2,
+            name: "dio".into(),
+            state: state.into(),
+            active,
+            last_error: last_error.into(),
+            failures: 0,
+            module_diff: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn record_status_passes_through_and_a_bare_failure_means_no_connection() {
+        let s = RecordStatus {
+            error_code: 0xDE,
+            error_decode: 0x80,
+            error_code1: 0xB0,
+            error_code2: 0,
+            add_value1: 0,
+            add_value2: 0,
+        };
+        let e = err_stat(&s, true);
+        assert_eq!((e.ErrCode, e.ErrDecode, e.ErrCode1), (0xDE, 0x80, 0xB0));
+        let more = RecordStatus {
+            add_value1: 1,
+            ..RecordStatus::OK
+        };
+        assert_eq!(err_stat(&more, false).AddValue1, 1);
+        assert_eq!(err_stat(&RecordStatus::OK, true), NO_CONNECTION);
+        assert_eq!(err_stat(&RecordStatus::OK, false), PNIO_ERR_STAT::default());
+    }
+
+    #[test]
+    fn a_process_alarm_carries_its_module_address_and_user_data() {
+        let l = demo_layout();
+        let report = AlarmReport {
+            id: 7,
+            device: 0,
+            device_name: "echo".into(),
+            high_priority: true,
+            alarm_type: 2,
+            api: 0,
+            slot: 1,
+            subslot: 1,
+            module_ident: 0x20,
+            submodule_ident: 1,
+            specifier: 0x0801,
+            payload: vec![0x00, 0x01, 0xab, 0xcd],
+            text: String::new(),
+        };
+        let (addr, a) = alarm(&l, &report);
+        assert_eq!((addr.IODataType, addr.addr()), (PNIO_IO_IN, 0));
+        assert_eq!((a.AlarmType, a.AlarmPriority), (2, PNIO_APRIO_HIGH));
+        assert_eq!((a.DeviceNum, a.SlotNum, a.SubslotNum), (1, 1, 1));
+        let i = &a.AlarmAinfo;
+        assert_eq!((i.BlockType, i.BlockVersion), (0x0001, 0x0100));
+        assert_eq!(
+            (i.ModIdent, i.SubIdent, i.AlarmSpecifier),
+            (0x20, 1, 0x0801)
+        );
+        assert_eq!((i.UserStrucIdent, i.UserAlarmDataLen), (1, 2));
+        // SAFETY: reading a union of plain bytes.
+        assert_eq!(unsafe { &i.UAData.UserAlarmData[..2] }, [0xab, 0xcd]);
+        assert_eq!(a.AlarmTinfo.PnioVendorIdent, 0x0493);
+        assert_eq!(a.AlarmTinfo.CompatDevGeoaddr, 0x8001);
+    }
+
+    #[test]
+    fn too_much_user_data_is_cut_to_what_the_struct_holds() {
+        let l = demo_layout();
+        let report = AlarmReport {
+            id: 1,
+            device: 1,
+            device_name: "counter".into(),
+            high_priority: false,
+            alarm_type: 1,
+            api: 0,
+            slot: 1,
+            subslot: 1,
+            module_ident: 0x30,
+            submodule_ident: 1,
+            specifier: 0,
+            payload: vec![0x80; 2 + 2000],
+            text: String::new(),
+        };
+        let (_, a) = alarm(&l, &report);
+        assert_eq!(a.AlarmAinfo.UserAlarmDataLen, 1472);
+        assert_eq!(a.AlarmPriority, PNIO_APRIO_LOW);
+        assert_eq!(a.AlarmAinfo.BlockType, 0x0002);
+    }
+
+    #[test]
+    fn station_failure_and_return_name_the_device() {
+        let l = demo_layout();
+        let (addr, a) = station_alarm(&l, 2, true);
+        assert_eq!((addr.IODataType, addr.addr()), (PNIO_IO_IN, 20));
+        assert_eq!((a.AlarmType, a.DeviceNum), (PNIO_ALARM_DEV_FAILURE, 3));
+        let (_, a) = station_alarm(&l, 2, false);
+        assert_eq!(a.AlarmType, PNIO_ALARM_DEV_RETURN);
+    }
+
+    #[test]
+    fn the_submodule_list_has_one_element_per_direction() {
+        let l = demo_layout();
+        let list = submodule_list(&l, false);
+        let seen: Vec<(u32, u32, u32, u32)> = list
+            .iter()
+            .map(|e| {
+                (
+                    e.Address.IODataType,
+                    e.Address.addr(),
+                    e.DataLength,
+                    e.StatNo,
+                )
+            })
+            .collect();
+        assert_eq!(
+            seen,
+            [
+                (PNIO_IO_IN, 0, 16, 1),
+                (PNIO_IO_OUT, 0, 16, 1),
+                (PNIO_IO_IN, 16, 4, 2),
+                (PNIO_IO_IN, 20, 2, 3),
+                (PNIO_IO_OUT, 16, 2, 3),
+            ]
+        );
+        assert!(list.iter().all(|e| e.DataType == PNIO_DATA_RT
+            && e.CycleTime == 32
+            && e.ReductionFactor == 1
+            && e.Phase == 0
+            && e.ComType == PNIO_COM_UNICAST));
+        assert!(
+            submodule_list(&l, true)
+                .iter()
+                .all(|e| e.DataType == PNIO_DATA_IRT)
+        );
+        let slices = output_slices(&l);
+        assert_eq!(slices.len(), 2);
+        assert_eq!((slices[1].Address.addr(), slices[1].BitLength), (16, 16));
+    }
+
+    #[test]
+    fn device_states_map_to_the_diag_bits() {
+        let s = device_state(&diagnosis("running", true, ""));
+        assert_eq!(s.Mode, PNIO_DA_TRUE);
+        assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_AR_IN_DATA, 0);
+        assert_eq!(s.Reason, PNIO_CTRL_REASON_NONE);
+        let s = device_state(&diagnosis("deactivated", false, "deactivated by a client"));
+        assert_eq!(
+            (s.Mode, s.DiagState),
+            (PNIO_DA_FALSE, PNIO_CTRL_DEV_DIAG_AR_OFFLINE)
+        );
+        let s = device_state(&diagnosis("parameterizing", true, ""));
+        assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_AR_CONNECTING, 0);
+        let s = device_state(&diagnosis(
+            "searching",
+            true,
+            "no device named \"dio\" answered DCP Identify; check the name",
+        ));
+        assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_OFFLINE, 0);
+        assert_eq!(s.Reason, PNIO_CTRL_REASON_IOD_NOT_FOUND);
+        let s = device_state(&diagnosis(
+            "failed",
+            true,
+            "no cyclic data from the device for 100 ms (DataHoldFactor 100); the AR was aborted",
+        ));
+        assert_eq!(
+            (s.DiagState, s.Reason),
+            (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, REASON_MISS)
+        );
+        assert_eq!(
+            device_diagnostic(&diagnosis("failed", false, "")).Mode,
+            PNIO_DA_FALSE
+        );
+    }
+}

@@ -1,0 +1,370 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The worker thread of one controller: waits for the server's notifications and for
+//! diagnosis requests, and calls the program's callbacks, one at a time.
+//!
+//! It waits in `poll` on the notification descriptor and its own eventfd without holding any
+//! lock, takes the notifications under the services lock, and calls the callbacks with no
+//! lock held, so the API (including the IO-data functions a callback may call) never waits
+//! for a callback.
+
+use super::{ActivationJob, DiagJob, RecordJob, Shared, build, lock};
+use crate::iobase::callbacks::CallbackTable;
+use crate::iobase::errors::{
+    PNIO_ERR_DEV_ACT_NOT_ALLOWED, PNIO_ERR_NO_FW_COMMUNICATION, PNIO_ERR_PRM_ADD,
+    PNIO_ERR_PRM_INVALIDARG, PNIO_OK,
+};
+use crate::iobase::types::{
+    PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CBE_DEV_ACT_CONF, PNIO_CBE_PRM,
+    PNIO_CBE_PRM_ALARM_IND, PNIO_CBE_PRM_CTRL_DIAG_CONF, PNIO_CBE_PRM_DEV_ACT_CONF,
+    PNIO_CBE_PRM_REC_READ_CONF, PNIO_CBE_PRM_REC_WRITE_CONF, PNIO_CBE_REC_READ_CONF,
+    PNIO_CBE_REC_WRITE_CONF, PNIO_CTRL_ALARM_DATA, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT,
+    PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST, PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST,
+    PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_DA_FALSE, PNIO_DA_TRUE,
+    PNIO_ERR_STAT, PNIO_REF,
+};
+use procimg_client::{AlarmReport, DeviceDiagnosis, Notification, RecordConfirmation};
+use std::os::fd::RawFd;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+/// How long one wait lasts at most: notifications whose wake-up came before their sample
+/// was visible, and job timeouts, are looked at after this.
+const POLL_MS: i32 = 100;
+
+/// Notifications taken in one go, so that a flood does not delay stop or diagnosis.
+const BATCH: usize = 64;
+
+/// Where the answer of a read points when there is no data: a valid, non-NULL address.
+static NO_DATA: [u8; 4] = [0; 4];
+
+/// The worker's loop, until stop; then unsubscribes.
+pub(super) fn run(shared: Arc<Shared>) {
+    let notify_fd = shared.with_services(|s| s.notify_fd());
+    while !stopping(&shared) {
+        let mut busy = expire(&shared);
+        busy |= diagnose(&shared);
+        let batch = take_notifications(&shared);
+        busy |= !batch.is_empty();
+        for n in batch {
+            if stopping(&shared) {
+                break;
+            }
+            handle(&shared, n);
+        }
+        if !busy {
+            wait(notify_fd, shared.wake.fd());
+            shared.wake.clear();
+        }
+    }
+    // Unsubscribe here, on the thread that used the handle last; the API calls find `None`
+    // from now on.
+    let services = lock(&shared.services).take();
+    drop(services);
+}
+
+fn stopping(shared: &Shared) -> bool {
+    shared.stop.load(Ordering::Acquire)
+}
+
+/// Waits until a descriptor is readable or [`POLL_MS`] passed.
+fn wait(notify_fd: Option<RawFd>, wake_fd: RawFd) {
+    let mut fds = [
+        libc::pollfd {
+            fd: wake_fd,
+            events: libc::POLLIN,
+            revents: 0,
+        },
+        libc::pollfd {
+            // A negative descriptor is ignored by poll(2).
+            fd: notify_fd.unwrap_or(-1),
+            events: libc::POLLIN,
+            revents: 0,
+        },
+    ];
+    // SAFETY: `fds` is an array of two initialised pollfd structs that outlives the call; the
+    // descriptors are ours (the eventfd) or the services handle's, which lives until this
+    // thread drops it after its loop.
+    let _ = unsafe { libc::poll(fds.as_mut_ptr(), fds.len() as libc::nfds_t, POLL_MS) };
+}
+
+fn take_notifications(shared: &Shared) -> Vec<Notification> {
+    shared
+        .with_services(|s| std::iter::from_fn(|| s.try_next()).take(BATCH).collect())
+        .unwrap_or_default()
+}
+
+fn handle(shared: &Shared, n: Notification) {
+    match n {
+        Notification::Record { confirmation, .. } => record_done(shared, &confirmation),
+        Notification::Alarm(a) => alarm(shared, &a),
+        Notification::DeviceFailure { device, .. } => station_alarm(shared, device, true),
+        Notification::DeviceReturn { device, .. } => station_alarm(shared, device, false),
+        Notification::Activation {
+            device, active, ok, ..
+        } => activation_done(shared, device, active, ok),
+        // The handle announces itself to a new server by itself; device states and module
+        // differences have no IO-Base event (the device's own alarms report the latter).
+        Notification::ServerStarted { .. }
+        | Notification::DeviceState { .. }
+        | Notification::ModuleDiff { .. } => {}
+    }
+}
+
+/// Confirms the jobs and activations whose confirmation is overdue as failed: the server
+/// that took them is gone or lost them.
+fn expire(shared: &Shared) -> bool {
+    let now = Instant::now();
+    let (records, activations) = {
+        let mut jobs = lock(&shared.jobs);
+        let overdue: Vec<u64> = jobs
+            .records
+            .iter()
+            .filter(|(_, j)| j.deadline <= now)
+            .map(|(&r, _)| r)
+            .collect();
+        let records: Vec<RecordJob> = overdue
+            .iter()
+            .filter_map(|r| jobs.records.remove(r))
+            .collect();
+        let (late, waiting): (Vec<ActivationJob>, Vec<ActivationJob>) =
+            jobs.activations.drain(..).partition(|j| j.deadline <= now);
+        jobs.activations.extend(waiting);
+        (records, late)
+    };
+    let any = !records.is_empty() || !activations.is_empty();
+    for job in records {
+        deliver_record(shared, &job, build::NO_CONNECTION, &[]);
+    }
+    for job in activations {
+        deliver_activation(shared, &job, PNIO_ERR_NO_FW_COMMUNICATION);
+    }
+    any
+}
+
+fn record_done(shared: &Shared, c: &RecordConfirmation) {
+    let Some(job) = lock(&shared.jobs).records.remove(&c.reference) else {
+        // Not ours any more: timed out, or the request's answer was lost.
+        return;
+    };
+    let failed = !c.status.is_ok();
+    deliver_record(shared, &job, build::err_stat(&c.status, failed), &c.data);
+}
+
+fn deliver_record(shared: &Shared, job: &RecordJob, err: PNIO_ERR_STAT, data: &[u8]) {
+    let t = if job.write {
+        PNIO_CBE_REC_WRITE_CONF
+    } else {
+        PNIO_CBE_REC_READ_CONF
+    };
+    let cbf = shared.callbacks.get(t);
+    if cbf.is_none() {
+        return;
+    }
+    // The program gets a copy of the address it sent the job to, alive during the callback.
+    let mut addr = job.addr;
+    let mut prm = PNIO_CBE_PRM::new(t, shared.handle);
+    if job.write {
+        prm.u.RecWriteConf = PNIO_CBE_PRM_REC_WRITE_CONF {
+            pAddr: &mut addr,
+            RecordIndex: job.index,
+            ReqRef: job.req_ref,
+            Err: err,
+        };
+    } else {
+        // The server never sends more than was asked for; the program is told no more either.
+        let data = &data[..data.len().min(job.max_len as usize)];
+        prm.u.RecReadConf = PNIO_CBE_PRM_REC_READ_CONF {
+            pAddr: &mut addr,
+            RecordIndex: job.index,
+            ReqRef: job.req_ref,
+            Err: err,
+            Length: data.len() as u32,
+            pBuffer: if data.is_empty() {
+                NO_DATA.as_ptr()
+            } else {
+                data.as_ptr()
+            },
+        };
+    }
+    CallbackTable::invoke(cbf, &mut prm);
+}
+
+/// Delivers an alarm (one at a time: this thread is the only one that does) and
+/// acknowledges it when the callback has returned.
+fn alarm(shared: &Shared, a: &AlarmReport) {
+    let cbf = shared.callbacks.get(PNIO_CBE_ALARM_IND);
+    if cbf.is_some() {
+        let (addr, data) = build::alarm(&shared.layout, a);
+        // IndRef is "internal, reserved": the server's alarm id, for logs.
+        deliver_alarm(shared, addr, a.id as PNIO_REF, &data);
+    }
+    if shared.acknowledges {
+        // An alarm that no longer waits for us (acknowledged by the server's timeout, or
+        // from before the subscription) is refused: nothing to do then.
+        let _ = shared.with_services(|s| s.acknowledge(a));
+    }
+}
+
+/// IO-Base's station failure / return alarm for a device leaving / entering data exchange.
+fn station_alarm(shared: &Shared, device: u32, failure: bool) {
+    let cbf = shared.callbacks.get(PNIO_CBE_ALARM_IND);
+    if cbf.is_some() {
+        let (addr, data) = build::station_alarm(&shared.layout, device, failure);
+        deliver_alarm(shared, addr, 0, &data);
+    }
+}
+
+fn deliver_alarm(shared: &Shared, addr: PNIO_ADDR, ind_ref: PNIO_REF, data: &PNIO_CTRL_ALARM_DATA) {
+    // Read again: the table is cleared when the controller closes.
+    let cbf = shared.callbacks.get(PNIO_CBE_ALARM_IND);
+    let mut addr = addr;
+    let mut prm = PNIO_CBE_PRM::new(PNIO_CBE_ALARM_IND, shared.handle);
+    prm.u.AlarmInd = PNIO_CBE_PRM_ALARM_IND {
+        pAddr: &mut addr,
+        IndRef: ind_ref,
+        pAlarmData: data,
+    };
+    CallbackTable::invoke(cbf, &mut prm);
+}
+
+fn activation_done(shared: &Shared, device: u32, active: bool, ok: bool) {
+    let job = {
+        let mut jobs = lock(&shared.jobs);
+        // The server confirms a device's (de)activations in the order it took them.
+        let at = jobs
+            .activations
+            .iter()
+            .position(|j| j.device == device && j.active == active)
+            .or_else(|| jobs.activations.iter().position(|j| j.device == device));
+        at.and_then(|i| jobs.activations.remove(i))
+    };
+    if let Some(job) = job {
+        let result = if ok {
+            PNIO_OK
+        } else {
+            PNIO_ERR_DEV_ACT_NOT_ALLOWED
+        };
+        deliver_activation(shared, &job, result);
+    }
+}
+
+fn deliver_activation(shared: &Shared, job: &ActivationJob, result: u32) {
+    let cbf = shared.callbacks.get(PNIO_CBE_DEV_ACT_CONF);
+    if cbf.is_none() {
+        return;
+    }
+    let mut addr = job.addr;
+    let mut prm = PNIO_CBE_PRM::new(PNIO_CBE_DEV_ACT_CONF, shared.handle);
+    prm.u.DevActConf = PNIO_CBE_PRM_DEV_ACT_CONF {
+        pAddr: &mut addr,
+        Mode: if job.active {
+            PNIO_DA_TRUE
+        } else {
+            PNIO_DA_FALSE
+        },
+        Result: result,
+    };
+    CallbackTable::invoke(cbf, &mut prm);
+}
+
+/// The answer of a diagnosis request, owned until its callback has returned.
+enum Answer {
+    None,
+    Submodules(Vec<crate::iobase::types::PNIO_CTRL_DIAG_CONFIG_SUBMODULE>),
+    Slices(Vec<crate::iobase::types::PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE>),
+    Device(Box<crate::iobase::types::PNIO_CTRL_DIAG_DEVICE>),
+    Diagnostic(Box<crate::iobase::types::PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA>),
+}
+
+impl Answer {
+    /// Pointer and length in bytes for `PNIO_CBE_PRM_CTRL_DIAG_CONF`; an empty answer points
+    /// at `none`.
+    fn buffer(&mut self, none: &mut [u8; 4]) -> (*mut u8, usize) {
+        fn bytes<T>(v: &mut [T]) -> (*mut u8, usize) {
+            (v.as_mut_ptr().cast(), std::mem::size_of_val(v))
+        }
+        let (p, n) = match self {
+            Answer::None => (none.as_mut_ptr(), 0),
+            Answer::Submodules(v) => bytes(v),
+            Answer::Slices(v) => bytes(v),
+            Answer::Device(d) => bytes(std::slice::from_mut(&mut **d)),
+            Answer::Diagnostic(d) => bytes(std::slice::from_mut(&mut **d)),
+        };
+        if n == 0 {
+            (none.as_mut_ptr(), 0)
+        } else {
+            (p, n)
+        }
+    }
+}
+
+/// Answers one waiting diagnosis request; whether there was one.
+fn diagnose(shared: &Shared) -> bool {
+    let Some(job) = lock(&shared.jobs).diags.pop_front() else {
+        return false;
+    };
+    if shared.callbacks.get(PNIO_CBE_CTRL_DIAG_CONF).is_none() {
+        // Closed meanwhile: nobody to answer.
+        return true;
+    }
+    let (mut answer, code) = answer(shared, &job);
+    let mut none = [0u8; 4];
+    let (buffer, len) = answer.buffer(&mut none);
+    let cbf = shared.callbacks.get(PNIO_CBE_CTRL_DIAG_CONF);
+    let mut prm = PNIO_CBE_PRM::new(PNIO_CBE_CTRL_DIAG_CONF, shared.handle);
+    prm.u.CtrlDiagConf = PNIO_CBE_PRM_CTRL_DIAG_CONF {
+        pDiagData: job.request.0,
+        DiagDataBufferLen: len as u32,
+        pDiagDataBuffer: buffer,
+        ErrorCode: code,
+    };
+    CallbackTable::invoke(cbf, &mut prm);
+    true
+}
+
+fn answer(shared: &Shared, job: &DiagJob) -> (Answer, u32) {
+    match job.service {
+        PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST => {
+            let irt = shared.isochronous.load(Ordering::Acquire);
+            (
+                Answer::Submodules(build::submodule_list(&shared.layout, irt)),
+                PNIO_OK,
+            )
+        }
+        // procimg has no IO router: the answer is its length, 0.
+        PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT => (Answer::None, PNIO_OK),
+        PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST => (
+            Answer::Slices(build::output_slices(&shared.layout)),
+            PNIO_OK,
+        ),
+        PNIO_CTRL_DIAG_DEVICE_STATE | PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC => {
+            match device_diagnosis(shared, job.device) {
+                Ok(d) if job.service == PNIO_CTRL_DIAG_DEVICE_STATE => {
+                    (Answer::Device(Box::new(build::device_state(&d))), PNIO_OK)
+                }
+                Ok(d) => (
+                    Answer::Diagnostic(Box::new(build::device_diagnostic(&d))),
+                    PNIO_OK,
+                ),
+                Err(code) => (Answer::None, code),
+            }
+        }
+        // Refused at the call; kept for safety.
+        _ => (Answer::None, PNIO_ERR_PRM_INVALIDARG),
+    }
+}
+
+/// The server's diagnosis of `device`.
+fn device_diagnosis(shared: &Shared, device: Option<u32>) -> Result<DeviceDiagnosis, u32> {
+    let device = device.ok_or(PNIO_ERR_PRM_ADD)?;
+    let report = shared
+        .with_services(|s| s.diagnosis())
+        .ok_or(PNIO_ERR_NO_FW_COMMUNICATION)?
+        .map_err(|e| super::control_code(&e))?;
+    report
+        .devices
+        .into_iter()
+        .find(|d| d.device == device)
+        .ok_or(PNIO_ERR_PRM_ADD)
+}

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO-Base controller API from C and C++ programs against a real procimgd: the manual's
+//! example tables, the error paths, and the PnioEasy and isochronous examples, built with
+//! `-Wall -Wextra -Werror -pedantic` (and ASan/UBSan with `PROCIMG_C_SANITIZE=1`).
+
+mod support;
+
+use std::path::PathBuf;
+use std::time::Duration;
+use support::{Link, Server, assert_success, compile, crate_dir, run, sanitize_from_env, scratch};
+
+/// The manual's example modules (as runtime/tests/iobase.rs has them): inputs 2 bytes at
+/// I 0..1 and 4 bytes at I 2..5; outputs 2 bytes at Q 0..1, 4 bytes at Q 2..5 and 4 bytes
+/// at Q 10..13.
+const MANUAL_LAYOUT: &str = r#"
+cycle_time = "1ms"
+[[device]]
+name = "manual"
+vendor_id = 0x002a
+device_id = 0x0001
+sim = "echo"
+watchdog_factor = 100
+[[device.submodule]]
+slot = 1
+subslot = 1
+module_ident = 0x10
+submodule_ident = 1
+input_length = 2
+input_address = 0
+[[device.submodule]]
+slot = 2
+subslot = 1
+module_ident = 0x11
+submodule_ident = 1
+input_length = 4
+input_address = 2
+[[device.submodule]]
+slot = 3
+subslot = 1
+module_ident = 0x20
+submodule_ident = 1
+output_length = 2
+output_address = 0
+[[device.submodule]]
+slot = 4
+subslot = 1
+module_ident = 0x21
+submodule_ident = 1
+output_length = 4
+output_address = 2
+[[device.submodule]]
+slot = 5
+subslot = 1
+module_ident = 0x22
+submodule_ident = 1
+output_length = 4
+output_address = 10
+"#;
+
+const TIMEOUT: Duration = Duration::from_secs(60);
+
+fn test_source(name: &str) -> PathBuf {
+    crate_dir().join("tests/c").join(name)
+}
+
+fn example(name: &str) -> PathBuf {
+    crate_dir().join("examples").join(name)
+}
+
+/// Builds `sources` into the test's scratch directory.
+fn build(tag: &str, sources: &[PathBuf], link: Link) -> PathBuf {
+    let exe = scratch(tag).join(tag);
+    compile(sources, &exe, link, sanitize_from_env());
+    exe
+}
+
+fn output(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+#[test]
+fn manual_tables_with_and_without_slice_access() {
+    let exe = build(
+        "iobase-tables",
+        &[test_source("iobase_tables.c")],
+        Link::Static,
+    );
+    let server = Server::with_config("iotables", MANUAL_LAYOUT);
+    let o = run(&exe, &["slice"], &server.instance, TIMEOUT);
+    assert_success(&o, "the manual's tables with PNIO_CEP_SLICE_ACCESS");
+    let text = output(&o);
+    // Every row of both tables was run.
+    assert_eq!(text.matches("read  I").count(), 8, "{text}");
+    assert_eq!(text.matches("write Q").count(), 11, "{text}");
+    assert!(text.contains("0 rows wrong"), "{text}");
+
+    let o = run(&exe, &["exact"], &server.instance, TIMEOUT);
+    assert_success(&o, "whole submodules only without PNIO_CEP_SLICE_ACCESS");
+    assert!(output(&o).contains("0 rows wrong"), "{}", output(&o));
+}
+
+#[test]
+fn error_paths_give_the_manuals_codes() {
+    let exe = build(
+        "iobase-errors",
+        &[test_source("iobase_errors.c")],
+        Link::Shared,
+    );
+    let server = Server::demo("ioerrors");
+    let o = run(&exe, &[], &server.instance, TIMEOUT);
+    assert_success(&o, "the error paths");
+    let text = output(&o);
+    assert!(text.contains("0 checks wrong"), "{text}");
+    assert!(!text.contains("WRONG"), "{text}");
+}
+
+#[test]
+fn pnio_easy_in_c_and_cpp() {
+    let c = build("pnio-easy", &[example("pnio_easy.c")], Link::Shared);
+    let cpp = build("pnio-easy-cpp", &[example("pnio_easy.cpp")], Link::Static);
+    let server = Server::demo("ioeasy");
+    for (exe, what) in [(&c, "pnio_easy.c"), (&cpp, "pnio_easy.cpp")] {
+        let o = run(exe, &["20"], &server.instance, TIMEOUT);
+        assert_success(&o, what);
+        let text = output(&o);
+        for step in [
+            "mode OPERATE",
+            "inputs echo the outputs",
+            "mode OFFLINE",
+            "controller closed",
+        ] {
+            assert!(
+                text.contains(step),
+                "{what} did not print \"{step}\":\n{text}"
+            );
+        }
+    }
+}
+
+#[test]
+fn pnio_isochronous_runs_the_cycle() {
+    let exe = build(
+        "pnio-isochronous",
+        &[example("pnio_isochronous.c")],
+        Link::Static,
+    );
+    let server = Server::demo("ioiso");
+    let o = run(&exe, &["600"], &server.instance, TIMEOUT);
+    assert_success(&o, "pnio_isochronous.c");
+    let text = output(&o);
+    for line in [
+        "isochronous controller",
+        "with PNIO_WARN_IRT_INCONSISTENT",
+        "cycles in OPERATE",
+        "a second PNIO_CP_set_opdone in one cycle: 0x309",
+    ] {
+        assert!(text.contains(line), "no \"{line}\" in:\n{text}");
+    }
+}

@@ -1,0 +1,590 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The hand-written IO-Base headers (`pniobase.h`, `pniousrx.h`, `pnioerrx.h`) must agree
+//! with the Rust mirrors in `src/iobase`: every struct's size, alignment and field offsets,
+//! every constant's value and every function's signature, as a C11 and a C++17 compiler see
+//! them. A C program generated from the Rust facts checks them all and names each mismatch.
+
+use procimg::iobase::api::*;
+use procimg::iobase::errors;
+use procimg::iobase::types::*;
+use std::fmt::Write as _;
+use std::mem::{align_of, offset_of, size_of};
+use std::path::PathBuf;
+use std::process::Command;
+
+mod support;
+
+fn crate_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `(C type, size, alignment)`.
+type Sizes = Vec<(&'static str, usize, usize)>;
+/// `(C type, C field, offset)`.
+type Offsets = Vec<(&'static str, &'static str, usize)>;
+
+fn layout_facts() -> (Sizes, Offsets) {
+    let mut sizes: Sizes = Vec::new();
+    let mut offs: Offsets = Vec::new();
+    macro_rules! ty {
+        ($t:ident, [$($f:ident),* $(,)?]) => {
+            sizes.push((stringify!($t), size_of::<$t>(), align_of::<$t>()));
+            $( offs.push((stringify!($t), stringify!($f), offset_of!($t, $f))); )*
+        };
+    }
+    ty!(PNIO_ADDR, [AddrType, IODataType, u]);
+    ty!(
+        PNIO_ERR_STAT,
+        [ErrCode, ErrDecode, ErrCode1, ErrCode2, AddValue1, AddValue2]
+    );
+    ty!(
+        PNIO_CYCLE_INFO,
+        [CycleCount, ClockCount, CountSinceCycleStart]
+    );
+    ty!(
+        PNIO_ALARM_TINFO,
+        [
+            CompatDevGeoaddr,
+            ProfileType,
+            AinfoType,
+            ControllerFlags,
+            DeviceFlag,
+            PnioVendorIdent,
+            PnioDevIdent,
+            PnioDevInstance
+        ]
+    );
+    ty!(
+        PNIO_ALARM_INFO,
+        [
+            BlockType,
+            BlockVersion,
+            Api,
+            AlarmSpecifier,
+            ModIdent,
+            SubIdent,
+            UserStrucIdent,
+            UserAlarmDataLen,
+            UAData
+        ]
+    );
+    ty!(
+        PNIO_CTRL_ALARM_DATA,
+        [
+            AlarmType,
+            AlarmPriority,
+            DeviceNum,
+            SlotNum,
+            SubslotNum,
+            CpuAlarmPriority,
+            PnioCompatModtype,
+            AlarmTinfo,
+            DiagDs,
+            PrAlarmInfo,
+            AlarmAinfo
+        ]
+    );
+    ty!(PNIO_CTRL_DIAG, [DiagService, u, ReqRef, Reserved2]);
+    ty!(
+        PNIO_CTRL_DIAG_CONFIG_SUBMODULE,
+        [
+            Address,
+            DataLength,
+            DataType,
+            ComType,
+            Api,
+            ReductionFactor,
+            Phase,
+            CycleTime,
+            Reserved1,
+            StatNo,
+            Slot,
+            Subslot,
+            Reserved2
+        ]
+    );
+    ty!(PNIO_CTRL_DIAG_DEVICE, [Mode, DiagState, Reason, Reserved1]);
+    ty!(
+        PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE,
+        [Address, BitOffset, BitLength]
+    );
+    ty!(
+        PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA,
+        [name, TypeOfStation, ip_addr, ip_mask, default_router]
+    );
+    ty!(
+        PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA,
+        [Mode, ErrorCause, ReasonCode, AdditionalInfo]
+    );
+    ty!(
+        PNIO_CTRL_COMM_PORT_COUNTER_DATA,
+        [
+            SndNoError,
+            SndCollision,
+            SndOtherError,
+            RcvNoError,
+            RcvResError,
+            RcvRejected
+        ]
+    );
+    ty!(PNIO_CTRL_COMM_COUNTER_DATA, [Port, NumberOfPorts]);
+    ty!(PNIO_CBE_PRM_MODE_IND, [Mode]);
+    ty!(
+        PNIO_CBE_PRM_REC_READ_CONF,
+        [pAddr, RecordIndex, ReqRef, Err, Length, pBuffer]
+    );
+    ty!(
+        PNIO_CBE_PRM_REC_WRITE_CONF,
+        [pAddr, RecordIndex, ReqRef, Err]
+    );
+    ty!(PNIO_CBE_PRM_ALARM_IND, [pAddr, IndRef, pAlarmData]);
+    ty!(PNIO_CBE_PRM_DEV_ACT_CONF, [pAddr, Mode, Result]);
+    ty!(PNIO_CBE_PRM_LED_FLASH, [Frequency]);
+    ty!(
+        PNIO_CBE_PRM_CTRL_DIAG_CONF,
+        [pDiagData, DiagDataBufferLen, pDiagDataBuffer, ErrorCode]
+    );
+    ty!(PNIO_CBE_PRM, [CbeType, Handle]);
+    // The anonymous union of PNIO_CBE_PRM: each member at the union's offset.
+    let u = offset_of!(PNIO_CBE_PRM, u);
+    for m in [
+        "ModeInd",
+        "RecReadConf",
+        "RecWriteConf",
+        "AlarmInd",
+        "DevActConf",
+        "LedFlash",
+        "CtrlDiagConf",
+    ] {
+        offs.push(("PNIO_CBE_PRM", m, u));
+    }
+    ty!(PNIO_CP_CBE_PRM_STARTOP_IND, [AppHandle, CycleInfo]);
+    // The manual's name of the same field (an anonymous union in C).
+    offs.push((
+        "PNIO_CP_CBE_PRM_STARTOP_IND",
+        "CpHandle",
+        offset_of!(PNIO_CP_CBE_PRM_STARTOP_IND, AppHandle),
+    ));
+    sizes.push((
+        "PNIO_CP_CBE_PRM_OPFAULT_IND",
+        size_of::<PNIO_CP_CBE_PRM_OPFAULT_IND>(),
+        align_of::<PNIO_CP_CBE_PRM_OPFAULT_IND>(),
+    ));
+    sizes.push((
+        "PNIO_CP_CBE_PRM_NEWCYCLE_IND",
+        size_of::<PNIO_CP_CBE_PRM_NEWCYCLE_IND>(),
+        align_of::<PNIO_CP_CBE_PRM_NEWCYCLE_IND>(),
+    ));
+    ty!(PNIO_CP_CBE_PRM, [CbeType, CpIndex, u]);
+    // Enums are int-sized.
+    for e in [
+        "PNIO_ADDR_TYPE",
+        "PNIO_IO_TYPE",
+        "PNIO_IOXS",
+        "PNIO_MODE_TYPE",
+        "PNIO_DEV_ACT_TYPE",
+        "PNIO_DATA_TYPE",
+        "PNIO_COM_TYPE",
+        "PNIO_CP_CBE_TYPE",
+        "PNIO_CBE_TYPE",
+        "PNIO_IOS_RECONFIG_MODE",
+        "PNIO_CTRL_DIAG_ENUM",
+        "PNIO_ALARM_TYPE",
+        "PNIO_APRIO_TYPE",
+    ] {
+        sizes.push((e, size_of::<u32>(), align_of::<u32>()));
+    }
+    for (t, s) in [
+        ("PNIO_UINT8", 1),
+        ("PNIO_UINT16", 2),
+        ("PNIO_UINT32", 4),
+        ("PNIO_REF", 4),
+    ] {
+        sizes.push((t, s, s));
+    }
+    (sizes, offs)
+}
+
+/// Every constant of the headers with its Rust value.
+fn constants() -> Vec<(&'static str, u64)> {
+    let mut v: Vec<(&'static str, u64)> = Vec::new();
+    macro_rules! c {
+        ($($n:ident),* $(,)?) => { $( v.push((stringify!($n), u64::from($n))); )* };
+    }
+    c!(
+        PNIO_API_VERSION,
+        PNIO_MAX_ALARM_DATA_LEN,
+        PNIO_MAX_IO_LEN,
+        PNIO_MAX_REC_LEN,
+        PNIO_ADDR_LOG,
+        PNIO_ADDR_GEO,
+        PNIO_IO_IN,
+        PNIO_IO_OUT,
+        PNIO_S_GOOD,
+        PNIO_S_BAD,
+        PNIO_MODE_OFFLINE,
+        PNIO_MODE_CLEAR,
+        PNIO_MODE_OPERATE,
+        PNIO_DA_FALSE,
+        PNIO_DA_TRUE,
+        PNIO_DATA_RT,
+        PNIO_DATA_IRT,
+        PNIO_COM_UNICAST,
+        PNIO_COM_DIRECT_DATA_EX,
+        PNIO_CP_CBE_UNKNOWN,
+        PNIO_CP_CBE_STARTOP_IND,
+        PNIO_CP_CBE_OPFAULT_IND,
+        PNIO_CP_CBE_NEWCYCLE_IND,
+        PNIO_CBE_MODE_IND,
+        PNIO_CBE_ALARM_IND,
+        PNIO_CBE_REC_READ_CONF,
+        PNIO_CBE_REC_WRITE_CONF,
+        PNIO_CBE_DEV_ACT_CONF,
+        PNIO_CBE_CP_STOP_REQ,
+        PNIO_CBE_START_LED_FLASH,
+        PNIO_CBE_STOP_LED_FLASH,
+        PNIO_CBE_CTRL_DIAG_CONF,
+        PNIO_CBE_IFC_SET_ADDR_CONF,
+        PNIO_CBE_REMA_READ_CONF,
+        PNIO_CBE_IOSYSTEM_RECONFIG,
+        PNIO_CBE_IFC_REC_READ_CONF,
+        PNIO_CBE_IFC_ALARM_IND,
+        PNIO_IOS_RECONFIG_MODE_DEACT,
+        PNIO_IOS_RECONFIG_MODE_TAILOR,
+        PNIO_CTRL_DIAG_RESERVED,
+        PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST,
+        PNIO_CTRL_DIAG_DEVICE_STATE,
+        PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT,
+        PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST,
+        PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO,
+        PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA,
+        PNIO_CTRL_DIAG_RESET_COMM_COUNTERS,
+        PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC,
+        PNIO_ALARM_DIAGNOSTIC,
+        PNIO_ALARM_PROCESS,
+        PNIO_ALARM_PULL,
+        PNIO_ALARM_PLUG,
+        PNIO_ALARM_STATUS,
+        PNIO_ALARM_UPDATE,
+        PNIO_ALARM_REDUNDANCY,
+        PNIO_ALARM_CONTROLLED_BY_SUPERVISOR,
+        PNIO_ALARM_RELEASED_BY_SUPERVISOR,
+        PNIO_ALARM_PLUG_WRONG,
+        PNIO_ALARM_RETURN_OF_SUBMODULE,
+        PNIO_ALARM_DIAGNOSTIC_DISAPPEARS,
+        PNIO_ALARM_MCR_MISMATCH,
+        PNIO_ALARM_PORT_DATA_CHANGED,
+        PNIO_ALARM_SYNC_DATA_CHANGED,
+        PNIO_ALARM_ISOCHRONE_MODE_PROBLEM,
+        PNIO_ALARM_NETWORK_COMPONENT_PROBLEM,
+        PNIO_ALARM_UPLOAD_AND_STORAGE,
+        PNIO_ALARM_PULL_MODULE,
+        PNIO_ALARM_DEV_FAILURE,
+        PNIO_ALARM_DEV_RETURN,
+        PNIO_APRIO_LOW,
+        PNIO_APRIO_HIGH,
+        PNIO_CEP_MODE_CTRL,
+        PNIO_CEP_DEV_MAXAR_BY_TYPE,
+        PNIO_CEP_SLICE_ACCESS,
+        PNIO_CEP_DEV_MAXAR_BY_TYPE_ADV,
+        PNIO_CEP_PE_MODE_ENABLE,
+        PNIO_CEP_SET_MRP_ROLE_OFF,
+        PNIO_CTRL_DEV_DIAG_OFFLINE,
+        PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK,
+        PNIO_CTRL_DEV_DIAG_AR_CONNECTING,
+        PNIO_CTRL_DEV_DIAG_AR_IN_DATA,
+        PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
+        PNIO_CTRL_DEV_DIAG_AR_RTC3_FOLLOWS,
+    );
+    for &(n, code) in PNIO_CTRL_REASONS.iter().chain(errors::ALL) {
+        v.push((n, u64::from(code)));
+    }
+    v
+}
+
+/// `(function, C pointer type)`: the C side of each exported function's signature; the
+/// Rust side is checked by [`rust_signatures_are_the_manuals`].
+const FUNCTIONS: &[(&str, &str)] = &[
+    (
+        "PNIO_controller_open",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_UINT32, PNIO_CBF, PNIO_CBF, PNIO_CBF, PNIO_UINT32 *)",
+    ),
+    ("PNIO_controller_close", "PNIO_UINT32 (*)(PNIO_UINT32)"),
+    (
+        "PNIO_register_cbf",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CBE_TYPE, PNIO_CBF)",
+    ),
+    (
+        "PNIO_set_mode",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_MODE_TYPE)",
+    ),
+    (
+        "PNIO_device_activate",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_DEV_ACT_TYPE)",
+    ),
+    (
+        "PNIO_data_read",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_UINT32 *, PNIO_UINT8 *, PNIO_IOXS, PNIO_IOXS *)",
+    ),
+    (
+        "PNIO_output_data_read",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_UINT32 *, PNIO_UINT8 *, PNIO_IOXS *, PNIO_IOXS *)",
+    ),
+    (
+        "PNIO_data_read_cache_refresh",
+        "PNIO_UINT32 (*)(PNIO_UINT32)",
+    ),
+    (
+        "PNIO_data_read_cache",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_UINT32 *, PNIO_UINT8 *, PNIO_IOXS, PNIO_IOXS *)",
+    ),
+    (
+        "PNIO_data_write",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_UINT8 *, PNIO_IOXS, PNIO_IOXS *)",
+    ),
+    (
+        "PNIO_data_write_cache",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_UINT8 *, PNIO_IOXS, PNIO_IOXS *)",
+    ),
+    (
+        "PNIO_data_write_cache_flush",
+        "PNIO_UINT32 (*)(PNIO_UINT32)",
+    ),
+    (
+        "PNIO_rec_read_req",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_REF, PNIO_UINT32)",
+    ),
+    (
+        "PNIO_rec_write_req",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_REF, PNIO_UINT32, PNIO_UINT8 *)",
+    ),
+    (
+        "PNIO_ctrl_diag_req",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CTRL_DIAG *)",
+    ),
+    (
+        "PNIO_CP_register_cbf",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CP_CBE_TYPE, PNIO_CP_CBF)",
+    ),
+    (
+        "PNIO_CP_set_opdone",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CYCLE_INFO *)",
+    ),
+];
+
+/// The Rust functions have the manual's parameter types (as the C types map to Rust).
+#[test]
+fn rust_signatures_are_the_manuals() {
+    type U = PNIO_UINT32;
+    let _: unsafe extern "C" fn(U, U, PNIO_CBF, PNIO_CBF, PNIO_CBF, *mut U) -> U =
+        PNIO_controller_open;
+    let _: unsafe extern "C" fn(U) -> U = PNIO_controller_close;
+    let _: unsafe extern "C" fn(U, PNIO_CBE_TYPE, PNIO_CBF) -> U = PNIO_register_cbf;
+    let _: unsafe extern "C" fn(U, PNIO_MODE_TYPE) -> U = PNIO_set_mode;
+    let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, PNIO_DEV_ACT_TYPE) -> U = PNIO_device_activate;
+    let _: unsafe extern "C" fn(
+        U,
+        *mut PNIO_ADDR,
+        U,
+        *mut U,
+        *mut u8,
+        PNIO_IOXS,
+        *mut PNIO_IOXS,
+    ) -> U = PNIO_data_read;
+    let _: unsafe extern "C" fn(
+        U,
+        *mut PNIO_ADDR,
+        U,
+        *mut U,
+        *mut u8,
+        *mut PNIO_IOXS,
+        *mut PNIO_IOXS,
+    ) -> U = PNIO_output_data_read;
+    let _: unsafe extern "C" fn(U) -> U = PNIO_data_read_cache_refresh;
+    let _: unsafe extern "C" fn(
+        U,
+        *mut PNIO_ADDR,
+        U,
+        *mut U,
+        *mut u8,
+        PNIO_IOXS,
+        *mut PNIO_IOXS,
+    ) -> U = PNIO_data_read_cache;
+    let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, U, *mut u8, PNIO_IOXS, *mut PNIO_IOXS) -> U =
+        PNIO_data_write;
+    let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, U, *mut u8, PNIO_IOXS, *mut PNIO_IOXS) -> U =
+        PNIO_data_write_cache;
+    let _: unsafe extern "C" fn(U) -> U = PNIO_data_write_cache_flush;
+    let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, U, PNIO_REF, U) -> U = PNIO_rec_read_req;
+    let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, U, PNIO_REF, U, *mut u8) -> U =
+        PNIO_rec_write_req;
+    let _: unsafe extern "C" fn(U, *mut PNIO_CTRL_DIAG) -> U = PNIO_ctrl_diag_req;
+    let _: unsafe extern "C" fn(U, PNIO_CP_CBE_TYPE, PNIO_CP_CBF) -> U = PNIO_CP_register_cbf;
+    let _: unsafe extern "C" fn(U, *mut PNIO_CYCLE_INFO) -> U = PNIO_CP_set_opdone;
+    assert_eq!(FUNCTIONS.len(), 17);
+}
+
+fn program(cpp: bool) -> String {
+    let (sizes, offsets) = layout_facts();
+    let mut s = String::new();
+    writeln!(s, "#include \"pniousrx.h\"").unwrap();
+    writeln!(s, "#include <stddef.h>\n#include <stdio.h>").unwrap();
+    if cpp {
+        writeln!(s, "#define ALIGN_OF(t) alignof(t)").unwrap();
+    } else {
+        writeln!(s, "#define ALIGN_OF(t) _Alignof(t)").unwrap();
+    }
+    writeln!(
+        s,
+        "static int fails;\n\
+         static void check(unsigned long long c, unsigned long long rust, const char *what) {{\n\
+         \x20   if (c != rust) {{\n\
+         \x20       printf(\"MISMATCH %s: C %llu, Rust %llu\\n\", what, c, rust);\n\
+         \x20       fails++;\n\
+         \x20   }}\n\
+         }}"
+    )
+    .unwrap();
+    // Each prototype must have exactly the manual's type: assigning the function to a
+    // pointer of that type compiles only then (C++ is strict about it, C warns, -Werror).
+    for (i, (f, t)) in FUNCTIONS.iter().enumerate() {
+        let decl = t.replacen("(*)", &format!("(*fn{i})"), 1);
+        writeln!(s, "static {decl} = {f};").unwrap();
+    }
+    writeln!(s, "int main(void) {{").unwrap();
+    for (i, (f, _)) in FUNCTIONS.iter().enumerate() {
+        writeln!(s, "    check(fn{i} == NULL, 0, \"{f}\");").unwrap();
+    }
+    for (t, size, align) in &sizes {
+        writeln!(
+            s,
+            "    check(sizeof({t}), {size}u, \"sizeof({t})\");\n    \
+             check(ALIGN_OF({t}), {align}u, \"alignof({t})\");"
+        )
+        .unwrap();
+    }
+    for (t, f, o) in &offsets {
+        writeln!(
+            s,
+            "    check(offsetof({t}, {f}), {o}u, \"offsetof({t}, {f})\");"
+        )
+        .unwrap();
+    }
+    for (n, v) in constants() {
+        writeln!(s, "    check((unsigned long long)({n}), {v}ull, \"{n}\");").unwrap();
+    }
+    writeln!(
+        s,
+        "    printf(\"%d mismatches, %d checks\\n\", fails, {});\n    return fails != 0;\n}}",
+        sizes.len() * 2 + offsets.len() + constants().len() + FUNCTIONS.len()
+    )
+    .unwrap();
+    s
+}
+
+fn build_and_run(cpp: bool) {
+    let dir = support::scratch("iobase-header");
+    let (src, exe) = if cpp {
+        (dir.join("check.cpp"), dir.join("check-cpp"))
+    } else {
+        (dir.join("check.c"), dir.join("check-c"))
+    };
+    std::fs::write(&src, program(cpp)).unwrap();
+    // Linked with the library: every function the header declares must be exported.
+    support::compile(&[src], &exe, support::Link::Static, false);
+    let run = Command::new(&exe).output().expect("run the check program");
+    assert!(
+        run.status.success(),
+        "the {} compiler disagrees with the Rust mirrors in src/iobase:\n{}",
+        if cpp { "C++17" } else { "C11" },
+        String::from_utf8_lossy(&run.stdout)
+    );
+}
+
+#[test]
+fn c11_agrees_with_rust() {
+    build_and_run(false);
+}
+
+#[test]
+fn cpp17_agrees_with_rust() {
+    build_and_run(true);
+}
+
+/// Each header stands alone: a program may include just one of them.
+#[test]
+fn each_header_compiles_alone() {
+    let dir = std::env::temp_dir().join(format!("procimg-iobase-alone-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut failures = Vec::new();
+    for h in ["pnioerrx.h", "pniobase.h", "pniousrx.h"] {
+        for (cc, std, ext) in [("gcc", "-std=c11", "c"), ("g++", "-std=c++17", "cpp")] {
+            let src = dir.join(format!("alone.{ext}"));
+            std::fs::write(
+                &src,
+                format!("#include \"{h}\"\n#include \"{h}\"\nint main(void) {{ return 0; }}\n"),
+            )
+            .unwrap();
+            let out = Command::new(cc)
+                .arg(std)
+                .args(["-Wall", "-Wextra", "-Werror", "-pedantic", "-fsyntax-only"])
+                .arg("-I")
+                .arg(crate_dir().join("include"))
+                .arg(&src)
+                .output()
+                .expect("run the C compiler");
+            if !out.status.success() {
+                failures.push(format!(
+                    "{h} ({cc}): {}",
+                    String::from_utf8_lossy(&out.stderr)
+                ));
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The named reason constants of the Rust side are the table's.
+#[test]
+fn reason_constants_match_their_table() {
+    for (n, v) in [
+        ("PNIO_CTRL_REASON_NONE", PNIO_CTRL_REASON_NONE),
+        (
+            "PNIO_CTRL_REASON_NARE_ERR_DCP_STATION_NOT_FOUND",
+            PNIO_CTRL_REASON_NARE_ERR_DCP_STATION_NOT_FOUND,
+        ),
+        (
+            "PNIO_CTRL_REASON_CLRPC_ERR_TIMEOUT",
+            PNIO_CTRL_REASON_CLRPC_ERR_TIMEOUT,
+        ),
+        (
+            "PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_LINK",
+            PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_LINK,
+        ),
+        (
+            "PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_MISS",
+            PNIO_CTRL_REASON_CM_ADDR_INFO_CLASS_MISS,
+        ),
+        ("PNIO_CTRL_REASON_IOD_ABORTED", PNIO_CTRL_REASON_IOD_ABORTED),
+        ("PNIO_CTRL_REASON_IOC_ABORTED", PNIO_CTRL_REASON_IOC_ABORTED),
+        (
+            "PNIO_CTRL_REASON_IOD_NOT_FOUND",
+            PNIO_CTRL_REASON_IOD_NOT_FOUND,
+        ),
+        ("PNIO_CTRL_REASON_RPC_TIMEOUT", PNIO_CTRL_REASON_RPC_TIMEOUT),
+        (
+            "PNIO_CTRL_REASON_MP_DEVICE_DISABLED",
+            PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
+        ),
+    ] {
+        assert_eq!(
+            PNIO_CTRL_REASONS
+                .iter()
+                .find(|(name, _)| *name == n)
+                .map(|x| x.1),
+            Some(v),
+            "{n}"
+        );
+    }
+}
