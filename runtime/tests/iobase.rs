@@ -10,50 +10,7 @@ use support::Server;
 
 /// The manual's example modules: inputs 2 bytes at I 0..1 and 4 bytes at I 2..5; outputs
 /// 2 bytes at Q 0..1, 4 bytes at Q 2..5 and 4 bytes at Q 10..13.
-const MANUAL_LAYOUT: &str = r#"
-cycle_time = "1ms"
-[[device]]
-name = "manual"
-vendor_id = 0x002a
-device_id = 0x0001
-sim = "echo"
-watchdog_factor = 100
-[[device.submodule]]
-slot = 1
-subslot = 1
-module_ident = 0x10
-submodule_ident = 1
-input_length = 2
-input_address = 0
-[[device.submodule]]
-slot = 2
-subslot = 1
-module_ident = 0x11
-submodule_ident = 1
-input_length = 4
-input_address = 2
-[[device.submodule]]
-slot = 3
-subslot = 1
-module_ident = 0x20
-submodule_ident = 1
-output_length = 2
-output_address = 0
-[[device.submodule]]
-slot = 4
-subslot = 1
-module_ident = 0x21
-submodule_ident = 1
-output_length = 4
-output_address = 2
-[[device.submodule]]
-slot = 5
-subslot = 1
-module_ident = 0x22
-submodule_ident = 1
-output_length = 4
-output_address = 10
-"#;
+const MANUAL_LAYOUT: &str = include_str!("fixtures/iobase_manual_layout.toml");
 
 fn attach(server: &Server, slice: bool) -> Client {
     let mut c = Client::attach(
