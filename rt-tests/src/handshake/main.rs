@@ -288,7 +288,7 @@ fn coordinate(args: &Args) -> Result<()> {
     for (i, c) in clients.iter_mut().enumerate() {
         c.expect("done", i)?;
     }
-    let after = server.histograms()?;
+    let after = server.histograms_after_handover()?;
     let faults_after = server.faults()?;
     let mut startop = new_histogram();
     for c in &clients {

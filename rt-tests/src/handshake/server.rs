@@ -4,6 +4,7 @@
 
 use anyhow::{Context, Result, bail};
 use procimg_client::ControlHandle;
+use procimg_runtime::stats::HANDOFF_CYCLES;
 use procimg_shm_layout::control::HistogramsReport;
 
 use std::path::{Path, PathBuf};
@@ -79,6 +80,28 @@ impl Server {
         self.control
             .histograms()
             .context("procimgd did not answer the histogram request")
+    }
+
+    /// The histograms once every cycle run so far has been handed over: the cycle thread
+    /// hands its figures over every [`HANDOFF_CYCLES`] cycles, so an answer taken right
+    /// after the clients' last measured cycle lacks up to that many. The clients keep
+    /// answering meanwhile, so the extra cycles are handshakes like the measured ones.
+    pub fn histograms_after_handover(&self) -> Result<HistogramsReport> {
+        let first = self.histograms()?;
+        let until = Instant::now() + Duration::from_secs(10);
+        loop {
+            let now = self.histograms()?;
+            if now.cycles >= first.cycles + 2 * HANDOFF_CYCLES {
+                return Ok(now);
+            }
+            if Instant::now() > until {
+                bail!(
+                    "procimgd ran only {} cycles in 10 s; its histograms stay incomplete",
+                    now.cycles - first.cycles
+                );
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
     }
 
     /// Cycles that overran, and OPFAULTs given, so far.
