@@ -14,10 +14,18 @@
  * counts NEWCYCLE_IND, and once misses a cycle's deadline on purpose to see
  * PNIO_CP_CBE_OPFAULT_IND. Exits 0 when the cycles ran, the echo worked and the OPFAULT and
  * NEWCYCLE events came.
+ *
+ * Real time: PNIO_controller_open starts the library's callback threads, and they take the
+ * scheduling policy and priority of the thread that calls it. So the program raises its own
+ * thread to SCHED_FIFO (below procimgd's cycle thread, 80 by default) before opening, and
+ * its STARTOP callback runs at that priority. Without the permission (root or
+ * CAP_SYS_NICE) it goes on at normal priority and says so.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrx.h"
 
+#include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,6 +35,8 @@
 #define ECHO_LEN 16
 /* The cycle in which the program is late on purpose (counted in OPERATE). */
 #define LATE_CYCLE 200
+/* SCHED_FIFO priority of this program's threads and so of its callbacks. */
+#define CALLBACK_PRIORITY 70
 
 static PNIO_UINT32 handle;
 static atomic_int mode_reports;
@@ -44,6 +54,8 @@ static atomic_long window_over;   /* accesses after the window had ended (a late
 static atomic_long late_done;     /* the late cycle happened */
 static atomic_long second_opdone = -1; /* what a second PNIO_CP_set_opdone returned */
 static long max_opdone_10ns;      /* longest STARTOP..OPDONE, 10 ns units (callback only) */
+static atomic_int startop_policy = -1; /* scheduling of the STARTOP callback's thread */
+static atomic_int startop_priority;
 static PNIO_UINT32 last_count;
 static int have_count;
 static PNIO_UINT8 sent[ECHO_LEN];
@@ -106,7 +118,14 @@ static void on_startop(PNIO_CP_CBE_PRM *p) {
     long n;
     int k;
 
-    if (have_count) {
+    if (!have_count) {
+        struct sched_param sp;
+        int policy;
+        if (pthread_getschedparam(pthread_self(), &policy, &sp) == 0) {
+            atomic_store(&startop_priority, sp.sched_priority);
+            atomic_store(&startop_policy, policy);
+        }
+    } else {
         PNIO_UINT32 step = (count - last_count) & 0xFFFF;
         if (step == 32) {
             atomic_fetch_add(&steps_32, 1);
@@ -161,6 +180,15 @@ static int wait_mode_reports(int reports) {
     return atomic_load(&mode_reports) >= reports;
 }
 
+/* SCHED_FIFO for the calling thread, and so for the callback threads the library starts
+ * from it. Returns 0 without the permission. */
+static int go_real_time(void) {
+    struct sched_param sp;
+    memset(&sp, 0, sizeof sp);
+    sp.sched_priority = CALLBACK_PRIORITY;
+    return pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
+}
+
 static int check(const char *what, PNIO_UINT32 r) {
     if (r != PNIO_OK) {
         fprintf(stderr, "pnio_isochronous: %s failed with 0x%03x\n", what, r);
@@ -177,6 +205,9 @@ int main(int argc, char **argv) {
     if (want <= LATE_CYCLE) {
         fprintf(stderr, "usage: %s [cycles > %d]\n", argv[0], LATE_CYCLE);
         return 2;
+    }
+    if (!go_real_time()) {
+        printf("no permission for SCHED_FIFO: the callbacks run at normal priority\n");
     }
     if (!check("PNIO_controller_open",
                PNIO_controller_open(1, PNIO_CEP_MODE_CTRL, on_record, on_record, NULL, &handle))) {
@@ -231,6 +262,11 @@ int main(int argc, char **argv) {
         ok = 0;
     }
 
+    if (atomic_load(&startop_policy) == SCHED_FIFO) {
+        printf("STARTOP callbacks at SCHED_FIFO %d\n", atomic_load(&startop_priority));
+    } else {
+        printf("STARTOP callbacks at normal priority\n");
+    }
     printf("cycles in OPERATE: %ld (asked for %ld)\n", atomic_load(&cycles), want);
     printf("CycleCount steps: %ld of 32, %ld of another multiple of 32 (cycles not seen), "
            "%ld wrong\n",

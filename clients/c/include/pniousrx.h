@@ -67,6 +67,10 @@
  * PNIO_data_write_cache, PNIO_data_write_cache_flush) and PNIO_CP_set_opdone may be called;
  * every other function returns PNIO_ERR_SEQUENCE there (including PNIO_controller_close).
  * Callbacks may still run while PNIO_controller_close runs; none runs after it returned.
+ * PNIO_controller_open starts the controller's threads, and they take the scheduling policy,
+ * priority and CPU affinity of the thread that calls it: an isochronous program raises that
+ * thread to SCHED_FIFO (below procimgd's cycle thread) before the call, and its STARTOP
+ * callback runs at that priority.
  *
  * Errors. Besides the code, a failing call leaves a text for the calling thread saying what
  * went wrong and what to do: procimg_last_error() in procimg.h.

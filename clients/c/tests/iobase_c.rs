@@ -114,4 +114,11 @@ fn pnio_isochronous_runs_the_cycle() {
     ] {
         assert!(text.contains(line), "no \"{line}\" in:\n{text}");
     }
+    // The example opens from a SCHED_FIFO thread: the callback threads take its priority.
+    if !text.contains("no permission for SCHED_FIFO") {
+        assert!(
+            text.contains("STARTOP callbacks at SCHED_FIFO 70"),
+            "the STARTOP callback did not run at the opening thread's priority:\n{text}"
+        );
+    }
 }
