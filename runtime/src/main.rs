@@ -134,21 +134,14 @@ fn print_layout(config: &Config, tables: &Tables) {
         "#", "device", "slot", "subslot", "I addr", "Q addr"
     );
     for (i, s) in tables.submodules.iter().enumerate() {
-        let range = |a: u32, n: u16| {
-            if n == 0 {
-                "-".to_string()
-            } else {
-                format!("{}..{}", a, a + n as u32 - 1)
-            }
-        };
         println!(
             "{:<4} {:<24} {:>5} {:>7} {:>12} {:>12}",
             i,
             tables.device_name(s.device as usize),
             s.slot,
             s.subslot,
-            range(s.input_address, s.input_length),
-            range(s.output_address, s.output_length)
+            s.address_text(false),
+            s.address_text(true)
         );
     }
 }

@@ -116,10 +116,12 @@ fn demo_parses_with_the_documented_addresses() {
         assert_eq!((dap.slot, dap.subslot), (0, 1));
         assert_eq!((dap.module_ident, dap.submodule_ident), (1, 1));
         assert_eq!((dap.input_length, dap.output_length), (0, 0));
+        // No IO data: a diagnostic address after all inputs (I 0..21), in device order.
         assert_eq!(
             (dap.input_address, dap.output_address),
-            (NO_ADDRESS, NO_ADDRESS)
+            (22 + i as u32, NO_ADDRESS)
         );
+        assert_eq!(dap.diagnostic_address(), Some(22 + i as u32));
     }
 
     // (device, submodule) -> (module ident, input length, I address, output length, Q address)
@@ -682,12 +684,74 @@ fn address_without_data() {
         "device[0].submodule[0].output_address",
         "an output address is given but output_length is 0",
     );
-    let text = device("a", &submodule(1, "input_address = 0"));
+    let text = device("a", &submodule(1, "output_length = 1\ninput_address = 0"));
     refused_at(
         &text,
         "input_address",
         "device[0].submodule[0].input_address",
         "input_length is 0",
+    );
+    // A submodule without any IO data is named by a diagnostic address instead.
+    let text = device("a", &submodule(1, "input_address = 0"));
+    refused_at(
+        &text,
+        "input_address",
+        "device[0].submodule[0].input_address",
+        "write diagnostic_address instead",
+    );
+    let text = device(
+        "a",
+        &submodule(1, "input_length = 1\ndiagnostic_address = 7"),
+    );
+    refused_at(
+        &text,
+        "diagnostic_address",
+        "device[0].submodule[0].diagnostic_address",
+        "a diagnostic address is for a submodule without IO data",
+    );
+}
+
+#[test]
+fn dataless_submodules_get_diagnostic_addresses_after_the_inputs() {
+    let subs = [
+        submodule(1, ""),                       // diag auto -> 7
+        submodule(2, "input_length = 4"),       // I auto -> 0..3
+        submodule(3, "diagnostic_address = 4"), // diag 4, one byte
+        submodule(4, "input_length = 2"),       // I auto -> 5..6
+        submodule(5, "output_length = 2"),      // Q only: no diag
+        submodule(6, ""),                       // diag auto -> 8
+    ]
+    .concat();
+    let c = parse(&device("a", &subs)).unwrap();
+    let got: Vec<(u32, u32, Option<u32>)> = c.devices[0]
+        .submodules
+        .iter()
+        .map(|s| (s.input_address, s.output_address, s.diagnostic_address()))
+        .collect();
+    let n = NO_ADDRESS;
+    assert_eq!(
+        got,
+        [
+            (7, n, Some(7)),
+            (0, n, None),
+            (4, n, Some(4)),
+            (5, n, None),
+            (n, 0, None),
+            (8, n, Some(8)),
+        ]
+    );
+
+    // A diagnostic address takes its byte of the I space: an input range may not cover it.
+    let subs = [
+        submodule(1, "diagnostic_address = 2"),
+        submodule(2, "input_length = 4\ninput_address = 0"),
+    ]
+    .concat();
+    refused_at(
+        &device("a", &subs),
+        "input_address = 0",
+        "device[0].submodule[1].input_address",
+        "overlaps I 2..2",
     );
 }
 

@@ -319,7 +319,8 @@ typedef struct {
    */
   uint32_t submodule_ident;
   /**
-   * First logical address in the input (I) space, or [`NO_ADDRESS`].
+   * First logical address in the input (I) space, or [`NO_ADDRESS`]. A submodule
+   * without any IO data has its diagnostic address here (input and output length 0).
    */
   uint32_t input_address;
   /**

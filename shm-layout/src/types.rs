@@ -163,7 +163,8 @@ pub struct SubmoduleEntry {
     pub module_ident: u32,
     /// Submodule ident number.
     pub submodule_ident: u32,
-    /// First logical address in the input (I) space, or [`NO_ADDRESS`].
+    /// First logical address in the input (I) space, or [`NO_ADDRESS`]. A submodule
+    /// without any IO data has its diagnostic address here (input and output length 0).
     pub input_address: u32,
     /// First logical address in the output (Q) space, or [`NO_ADDRESS`].
     pub output_address: u32,
@@ -442,6 +443,31 @@ impl SubmoduleEntry {
         self.output_address != NO_ADDRESS
             && addr >= self.output_address
             && (addr - self.output_address) < self.output_length as u32
+    }
+
+    /// Its addresses in the I space (`output` false) or the Q space, for people: `0..15`,
+    /// `diag 22` for a diagnostic address, `-` for none.
+    pub fn address_text(&self, output: bool) -> alloc::string::String {
+        let (first, len) = if output {
+            (self.output_address, self.output_length)
+        } else {
+            (self.input_address, self.input_length)
+        };
+        match self.diagnostic_address() {
+            Some(a) if !output => alloc::format!("diag {a}"),
+            _ if len == 0 || first == NO_ADDRESS => alloc::string::String::from("-"),
+            _ => alloc::format!("{first}..{}", u64::from(first) + u64::from(len) - 1),
+        }
+    }
+
+    /// The diagnostic address of a submodule without IO data: the I-space address of
+    /// length 0 that record jobs and alarms name it by.
+    pub const fn diagnostic_address(&self) -> Option<u32> {
+        if self.input_length == 0 && self.output_length == 0 && self.input_address != NO_ADDRESS {
+            Some(self.input_address)
+        } else {
+            None
+        }
     }
 }
 

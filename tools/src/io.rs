@@ -202,13 +202,6 @@ pub fn layout(instance: &str) -> anyhow::Result<()> {
         "{:<4} {:<20} {:>5} {:>7} {:>10} {:>10} {:>12} {:>12}",
         "#", "device", "slot", "subslot", "module", "submodule", "I", "Q"
     );
-    let range = |a: u32, n: u16| {
-        if n == 0 {
-            "-".to_string()
-        } else {
-            format!("{}..{}", a, a + n as u32 - 1)
-        }
-    };
     for (i, s) in l.submodules.iter().enumerate() {
         println!(
             "{:<4} {:<20} {:>5} {:>7} {:>#10x} {:>#10x} {:>12} {:>12}",
@@ -218,8 +211,8 @@ pub fn layout(instance: &str) -> anyhow::Result<()> {
             s.subslot,
             s.module_ident,
             s.submodule_ident,
-            range(s.input_address, s.input_length),
-            range(s.output_address, s.output_length)
+            s.address_text(false),
+            s.address_text(true)
         );
     }
     Ok(())

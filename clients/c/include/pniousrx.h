@@ -45,6 +45,15 @@
  * controller is OFFLINE, the device failed or is deactivated: *pIOremState is then BAD) or
  * the server is gone. The functions are thread-safe and serialised inside the library.
  *
+ * Addresses of records and alarms. A record job or PNIO_device_activate takes any address
+ * of the submodule or device. A submodule without IO data (a DAP, interface or port) is
+ * named by its diagnostic address, an input address of length 0 (key diagnostic_address of
+ * the server's configuration, else assigned after all inputs): record jobs on it take
+ * PNIO_IO_IN, and CONFIG_SUBMODULE_LIST lists it with DataLength 0. Alarms name the
+ * submodule they come from; station failure and return name the device by its DAP's
+ * diagnostic address (for a device configured without a DAP: its lowest input address,
+ * else its lowest output address).
+ *
  * Isochronous mode. Registering PNIO_CP_CBE_STARTOP_IND (after PNIO_CP_CBE_OPFAULT_IND,
  * else PNIO_ERR_SEQUENCE) makes the controller take part in the server's cycle handshake:
  * STARTOP_IND comes every cycle, on a thread of the library, from then on (also in OFFLINE).

@@ -3,6 +3,13 @@
 //!
 //! Explicit addresses are placed first (and checked for overlaps); then every submodule
 //! without one gets, in configuration order, the lowest address at which its range fits.
+//!
+//! A submodule without any IO data (a DAP, interface or port submodule, a module that only
+//! has records and alarms) has a *diagnostic address* instead, as the IO-Base manual puts
+//! it: a logical address in the I space with input length 0, by which record jobs and
+//! alarms name it. It takes one byte of the I space, so no input range overlaps it. Those
+//! without an explicit `diagnostic_address` are assigned last, so that adding or removing
+//! one never moves an input range.
 
 use super::error::ConfigError;
 use super::validate::Cx;
@@ -35,6 +42,15 @@ impl Space {
         }
     }
 
+    /// The key an item's address comes from.
+    fn key_of(self, item: &Item<'_>) -> &'static str {
+        if item.diagnostic {
+            DIAGNOSTIC_ADDRESS_KEY
+        } else {
+            self.address_key()
+        }
+    }
+
     fn length_key(self) -> &'static str {
         match self {
             Space::Input => "input_length",
@@ -49,6 +65,9 @@ impl Space {
         }
     }
 }
+
+/// The key of a data-less submodule's diagnostic address.
+pub(super) const DIAGNOSTIC_ADDRESS_KEY: &str = "diagnostic_address";
 
 /// A submodule's wish in one space.
 pub(super) struct Item<'a> {
@@ -66,6 +85,16 @@ pub(super) struct Item<'a> {
     pub span: core::ops::Range<usize>,
     /// The address given in the file, with the span of its value.
     pub explicit: Option<(u32, core::ops::Range<usize>)>,
+    /// In the I space: the submodule has no IO data at all, and this is its diagnostic
+    /// address (one byte; `length` is 0).
+    pub diagnostic: bool,
+}
+
+impl Item<'_> {
+    /// Bytes the item takes in the space.
+    fn extent(&self) -> u16 {
+        if self.diagnostic { 1 } else { self.length }
+    }
 }
 
 /// A range already placed: first and last address, and the item it belongs to.
@@ -80,8 +109,21 @@ fn describe(space: Space, first: u64, last: u64) -> String {
     format!("{} {first}..{last}", space.letter())
 }
 
+/// The lowest address at which `length` bytes fit between the ranges `placed`, and where
+/// the new range goes in it.
+fn first_fit(placed: &[Placed], length: u64) -> (u64, usize) {
+    let mut candidate: u64 = 0;
+    for (i, p) in placed.iter().enumerate() {
+        if candidate + length <= p.first {
+            return (candidate, i);
+        }
+        candidate = candidate.max(p.last + 1);
+    }
+    (candidate, placed.len())
+}
+
 /// Assigns the addresses of `items` in `space`: the explicit ones as given, the others first
-/// fit. Items of length 0 get [`NO_ADDRESS`].
+/// fit, diagnostic addresses after all IO data. Other items of length 0 get [`NO_ADDRESS`].
 pub(super) fn assign(
     cx: &Cx<'_>,
     space: Space,
@@ -95,8 +137,8 @@ pub(super) fn assign(
         let Some((address, span)) = &item.explicit else {
             continue;
         };
-        let key = format!("{}.{}", item.key, space.address_key());
-        if item.length == 0 {
+        let key = format!("{}.{}", item.key, space.key_of(item));
+        if item.extent() == 0 {
             return Err(cx.invalid(
                 span.clone(),
                 key,
@@ -109,7 +151,7 @@ pub(super) fn assign(
             ));
         }
         let first = u64::from(*address);
-        let last = first + u64::from(item.length) - 1;
+        let last = first + u64::from(item.extent()) - 1;
         if last > u64::from(LAST_ADDRESS) {
             return Err(cx.invalid(
                 span.clone(),
@@ -157,45 +199,41 @@ pub(super) fn assign(
         addresses[index] = *address;
     }
 
-    for (index, item) in items.iter().enumerate() {
-        if item.explicit.is_some() || item.length == 0 {
-            continue;
-        }
-        let length = u64::from(item.length);
-        let mut candidate: u64 = 0;
-        let mut at = placed.len();
-        for (i, p) in placed.iter().enumerate() {
-            if candidate + length <= p.first {
-                at = i;
-                break;
+    // IO data first, then diagnostic addresses.
+    for diagnostic in [false, true] {
+        for (index, item) in items.iter().enumerate() {
+            if item.explicit.is_some() || item.extent() == 0 || item.diagnostic != diagnostic {
+                continue;
             }
-            candidate = candidate.max(p.last + 1);
+            let length = u64::from(item.extent());
+            let (candidate, at) = first_fit(&placed, length);
+            let last = candidate + length - 1;
+            let address = u32::try_from(candidate)
+                .ok()
+                .filter(|_| last <= u64::from(LAST_ADDRESS));
+            let Some(address) = address else {
+                // Unreachable with the limits on submodule count and length, but not worth a
+                // panic.
+                return Err(cx.invalid(
+                    item.span.clone(),
+                    format!("{}.{}", item.key, space.key_of(item)),
+                    format!(
+                        "no room is left in the {} space for {length} bytes; give explicit \
+                         addresses lower down",
+                        space.letter()
+                    ),
+                ));
+            };
+            placed.insert(
+                at,
+                Placed {
+                    first: candidate,
+                    last,
+                    item: index,
+                },
+            );
+            addresses[index] = address;
         }
-        let last = candidate + length - 1;
-        let address = u32::try_from(candidate)
-            .ok()
-            .filter(|_| last <= u64::from(LAST_ADDRESS));
-        let Some(address) = address else {
-            // Unreachable with the limits on submodule count and length, but not worth a panic.
-            return Err(cx.invalid(
-                item.span.clone(),
-                format!("{}.{}", item.key, space.address_key()),
-                format!(
-                    "no room is left in the {} space for {length} bytes; give explicit \
-                     addresses lower down",
-                    space.letter()
-                ),
-            ));
-        };
-        placed.insert(
-            at,
-            Placed {
-                first: candidate,
-                last,
-                item: index,
-            },
-        );
-        addresses[index] = address;
     }
     Ok(addresses)
 }

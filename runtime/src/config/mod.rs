@@ -340,8 +340,10 @@ pub struct SubmoduleConfig {
     /// Bytes of output data (key `output_length`, or from the GSDML `module`, default 0), at
     /// most [`procimg_shm_layout::MAX_SUBMODULE_DATA_LEN`].
     pub output_length: u16,
-    /// First logical address in the I space (key `input_address`, or assigned), or
-    /// [`procimg_shm_layout::NO_ADDRESS`] if `input_length` is 0.
+    /// First logical address in the I space (key `input_address`, or assigned); for a
+    /// submodule without any IO data its diagnostic address (key `diagnostic_address`, or
+    /// assigned after all inputs), the address of length 0 that record jobs and alarms name
+    /// it by; else [`procimg_shm_layout::NO_ADDRESS`].
     pub input_address: u32,
     /// First logical address in the Q space (key `output_address`, or assigned), or
     /// [`procimg_shm_layout::NO_ADDRESS`] if `output_length` is 0.
@@ -351,6 +353,19 @@ pub struct SubmoduleConfig {
     /// Parameter records written at connect (key `records`, or the GSDML module's defaults),
     /// in configuration order.
     pub records: Vec<ParameterRecord>,
+}
+
+impl SubmoduleConfig {
+    /// Whether the submodule has neither inputs nor outputs (and so a diagnostic address).
+    pub fn has_no_data(&self) -> bool {
+        self.input_length == 0 && self.output_length == 0
+    }
+
+    /// Its diagnostic address, if it has no IO data.
+    pub fn diagnostic_address(&self) -> Option<u32> {
+        (self.has_no_data() && self.input_address != procimg_shm_layout::NO_ADDRESS)
+            .then_some(self.input_address)
+    }
 }
 
 /// A parameter record (an element of a submodule's `records`).

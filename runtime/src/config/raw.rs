@@ -68,6 +68,7 @@ pub(super) struct RawSubmodule {
     pub output_length: Option<Spanned<u16>>,
     pub input_address: Option<Spanned<u32>>,
     pub output_address: Option<Spanned<u32>>,
+    pub diagnostic_address: Option<Spanned<u32>>,
     pub rt_class: Option<Spanned<u8>>,
     /// `None` when left out (then a GSDML module's records apply), `Some(vec![])` for
     /// `records = []`.

@@ -9,7 +9,7 @@ use std::path::Path;
 use procimg_shm_layout::{MAX_SUBMODULE_DATA_LEN, Mode, NO_ADDRESS};
 use toml::Spanned;
 
-use super::address::{self, Item, Space};
+use super::address::{self, DIAGNOSTIC_ADDRESS_KEY, Item, Space};
 use super::duration::{format_duration, parse_duration};
 use super::error::ConfigError;
 use super::gsdml::{GsdmlError, Submodule};
@@ -532,6 +532,7 @@ struct Draft {
     span: Range<usize>,
     input_address: Option<(u32, Range<usize>)>,
     output_address: Option<(u32, Range<usize>)>,
+    diagnostic_address: Option<(u32, Range<usize>)>,
 }
 
 fn devices(raw: Vec<Spanned<RawDevice>>, cx: &Cx<'_>) -> Result<Vec<DeviceConfig>, ConfigError> {
@@ -594,7 +595,9 @@ fn devices(raw: Vec<Spanned<RawDevice>>, cx: &Cx<'_>) -> Result<Vec<DeviceConfig
         let mut items = Vec::new();
         for (device, device_drafts) in devices.iter().zip(&drafts) {
             for (draft, sub) in device_drafts.iter().zip(&device.submodules) {
+                let diagnostic = space == Space::Input && sub.has_no_data();
                 let (length, explicit) = match space {
+                    Space::Input if diagnostic => (0, draft.diagnostic_address.clone()),
                     Space::Input => (sub.input_length, draft.input_address.clone()),
                     Space::Output => (sub.output_length, draft.output_address.clone()),
                 };
@@ -606,6 +609,7 @@ fn devices(raw: Vec<Spanned<RawDevice>>, cx: &Cx<'_>) -> Result<Vec<DeviceConfig
                     length,
                     span: draft.span.clone(),
                     explicit,
+                    diagnostic,
                 });
             }
         }
@@ -768,6 +772,7 @@ fn device_config(
                 span: imp.span.clone(),
                 input_address: None,
                 output_address: None,
+                diagnostic_address: None,
             });
         }
     }
@@ -1065,7 +1070,9 @@ fn submodule_config(
         span,
         input_address: explicit(&raw.input_address),
         output_address: explicit(&raw.output_address),
+        diagnostic_address: explicit(&raw.diagnostic_address),
     };
+    diagnostic_address_fits(&draft, input_length, output_length, cx)?;
     let config = SubmoduleConfig {
         api,
         slot,
@@ -1080,6 +1087,33 @@ fn submodule_config(
         records,
     };
     Ok((config, draft))
+}
+
+/// A diagnostic address only for a submodule without IO data, and no input address for one.
+fn diagnostic_address_fits(
+    draft: &Draft,
+    input_length: u16,
+    output_length: u16,
+    cx: &Cx<'_>,
+) -> Result<(), ConfigError> {
+    let dataless = input_length == 0 && output_length == 0;
+    match (&draft.diagnostic_address, &draft.input_address) {
+        (Some((_, span)), _) if !dataless => Err(cx.invalid(
+            span.clone(),
+            format!("{}.{DIAGNOSTIC_ADDRESS_KEY}", draft.key),
+            "a diagnostic address is for a submodule without IO data; this one is addressed \
+             by its input_address or output_address: remove diagnostic_address"
+                .to_string(),
+        )),
+        (_, Some((_, span))) if dataless => Err(cx.invalid(
+            span.clone(),
+            format!("{}.input_address", draft.key),
+            "a submodule without IO data has a diagnostic address, not an input address: write \
+             diagnostic_address instead"
+                .to_string(),
+        )),
+        _ => Ok(()),
+    }
 }
 
 #[cfg(test)]

@@ -302,6 +302,25 @@ static void records(void) {
     CHECK(e.data[6] == 0x04 && e.data[7] == 0x93, "vendor id %02x%02x", e.data[6], e.data[7]);
     CHECK(memcmp(e.data + 8, "PROCIMG-SIM", 11) == 0, "order id");
 
+    /* I&M0 of the echo device's DAP (slot 0), a submodule without IO data: through its
+     * diagnostic address, an input address of length 0. It has no IO data to read, and in
+     * the Q space it is no address. */
+    PNIO_ADDR echo_dap = addr(PNIO_IO_IN, 22);
+    CHECK_RC(PNIO_rec_read_req(h, &echo_dap, 0xAFF0, 4712, 4096), PNIO_OK);
+    e = wait_read(4712);
+    CHECK(ok_stat(e.err) && e.len == 60 && e.addr.IODataType == PNIO_IO_IN && e.addr.u.Addr == 22,
+          "I&M0 of the DAP: %02x %02x, %u bytes", e.err.ErrCode, e.err.ErrDecode,
+          (unsigned)e.len);
+    {
+        PNIO_UINT8 b[4];
+        PNIO_UINT32 n = 0;
+        PNIO_IOXS rem;
+        PNIO_ADDR dap_out = addr(PNIO_IO_OUT, 22);
+        CHECK_RC(PNIO_data_read(h, &echo_dap, sizeof b, &n, b, PNIO_S_GOOD, &rem),
+                 PNIO_ERR_UNKNOWN_ADDR);
+        CHECK_RC(PNIO_rec_read_req(h, &dap_out, 0xAFF0, 10, 16), PNIO_ERR_PRM_ADD);
+    }
+
     /* A record written through the module's output address, read back through its input
      * address. */
     PNIO_UINT8 record[3] = {1, 2, 3};
@@ -340,19 +359,21 @@ static void records(void) {
     CHECK(strstr(procimg_last_error(), "4096") != NULL, "the text names the limit: %s",
           procimg_last_error());
 
-    /* The configured submodules: one element per direction of every submodule with data. */
+    /* The configured submodules: one element per direction of every submodule with data,
+     * and one of length 0 at the diagnostic address of each data-less one (the DAPs). */
     e = diag(h, PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST, echo_in);
     CHECK(e.result == PNIO_OK, "CONFIG_SUBMODULE_LIST ErrorCode 0x%x", (unsigned)e.result);
     static const struct {
         PNIO_IO_TYPE io;
         PNIO_UINT32 addr, len, stat, slot;
     } want[] = {
-        {PNIO_IO_IN, 0, 16, 1, 1},  {PNIO_IO_OUT, 0, 16, 1, 1}, {PNIO_IO_IN, 16, 4, 2, 1},
-        {PNIO_IO_IN, 20, 2, 3, 1},  {PNIO_IO_OUT, 16, 2, 3, 2},
+        {PNIO_IO_IN, 22, 0, 1, 0}, {PNIO_IO_IN, 0, 16, 1, 1},  {PNIO_IO_OUT, 0, 16, 1, 1},
+        {PNIO_IO_IN, 23, 0, 2, 0}, {PNIO_IO_IN, 16, 4, 2, 1},  {PNIO_IO_IN, 24, 0, 3, 0},
+        {PNIO_IO_IN, 20, 2, 3, 1}, {PNIO_IO_OUT, 16, 2, 3, 2},
     };
     size_t n = e.len / sizeof(PNIO_CTRL_DIAG_CONFIG_SUBMODULE);
-    CHECK(e.len % sizeof(PNIO_CTRL_DIAG_CONFIG_SUBMODULE) == 0 && n == 5,
-          "%u bytes: not 5 submodule elements", (unsigned)e.len);
+    CHECK(e.len % sizeof(PNIO_CTRL_DIAG_CONFIG_SUBMODULE) == 0 && n == 8,
+          "%u bytes: not 8 submodule elements", (unsigned)e.len);
     for (size_t i = 0; i < n; i++) {
         PNIO_CTRL_DIAG_CONFIG_SUBMODULE s;
         memcpy(&s, e.data + i * sizeof s, sizeof s);
@@ -410,8 +431,8 @@ static void alarms(void) {
     PNIO_ADDR echo_in = addr(PNIO_IO_IN, 0);
 
     /* Every device that reached data exchange after OPERATE reported a station return, at
-     * its first address. */
-    static const PNIO_UINT32 first[3] = {0, 16, 20};
+     * its base address: the diagnostic address of its DAP. */
+    static const PNIO_UINT32 first[3] = {22, 23, 24};
     for (PNIO_UINT16 station = 1; station <= 3; station++) {
         event_t r = wait_station(PNIO_ALARM_DEV_RETURN, station);
         CHECK(r.addr.IODataType == PNIO_IO_IN && r.addr.u.Addr == first[station - 1] &&
@@ -454,7 +475,7 @@ static void alarms(void) {
     CHECK(e.result == PNIO_OK && e.addr.IODataType == PNIO_IO_OUT && e.addr.u.Addr == 16,
           "DEV_ACT_CONF: Result 0x%x, pAddr %u", (unsigned)e.result, (unsigned)e.addr.u.Addr);
     e = wait_station(PNIO_ALARM_DEV_FAILURE, 3);
-    CHECK(e.alarm.DeviceNum == 3 && e.addr.IODataType == PNIO_IO_IN && e.addr.u.Addr == 20,
+    CHECK(e.alarm.DeviceNum == 3 && e.addr.IODataType == PNIO_IO_IN && e.addr.u.Addr == 24,
           "DEV_FAILURE of station %u at %u", e.alarm.DeviceNum, (unsigned)e.addr.u.Addr);
     PNIO_CTRL_DIAG_DEVICE d = device_state(h, dio_in);
     CHECK(d.Mode == PNIO_DA_FALSE && (d.DiagState & PNIO_CTRL_DEV_DIAG_AR_OFFLINE) &&
@@ -468,7 +489,7 @@ static void alarms(void) {
     CHECK(e.result == PNIO_OK && e.addr.u.Addr == 21, "DEV_ACT_CONF: Result 0x%x",
           (unsigned)e.result);
     e = wait_station(PNIO_ALARM_DEV_RETURN, 3);
-    CHECK(e.alarm.DeviceNum == 3 && e.addr.u.Addr == 20, "DEV_RETURN of station %u",
+    CHECK(e.alarm.DeviceNum == 3 && e.addr.u.Addr == 24, "DEV_RETURN of station %u",
           e.alarm.DeviceNum);
     wait_in_data(h, dio_in);
 

@@ -5,8 +5,9 @@
 //!
 //! A record job names "a module by one of its logical addresses"; any address inside the
 //! submodule's range in the space that `IODataType` selects is taken, as `PNIO_device_activate`
-//! takes any address of the device. Data-less submodules (the DAP in slot 0, interfaces,
-//! ports) have no logical address in procimg, so they cannot be addressed here.
+//! takes any address of the device. A submodule without IO data (the DAP in slot 0, the
+//! interface, the ports) is named by its diagnostic address, an input address of length 0,
+//! as the manual has it: record jobs on it take `PNIO_IO_IN`.
 
 use crate::iobase::types::{PNIO_ADDR, PNIO_ADDR_LOG, PNIO_IO_IN, PNIO_IO_OUT};
 use procimg_client::access::{self, Space};
@@ -57,7 +58,17 @@ pub(crate) fn resolve(layout: &Layout, addr: &PNIO_ADDR) -> Option<Resolved> {
         return None;
     }
     let space = space(addr.IODataType)?;
-    let submodule = access::find(&layout.submodules, space, addr.addr())?;
+    let submodule = access::find(&layout.submodules, space, addr.addr()).or_else(|| {
+        let diagnostic = Some(addr.addr());
+        (space == Space::Input)
+            .then(|| {
+                layout
+                    .submodules
+                    .iter()
+                    .position(|e| e.diagnostic_address() == diagnostic)
+            })
+            .flatten()
+    })?;
     let e = &layout.submodules[submodule];
     Some(Resolved {
         device: u32::from(e.device),
@@ -86,26 +97,37 @@ pub(crate) fn describe(addr: &PNIO_ADDR) -> String {
     }
 }
 
-/// The first address of a submodule: its inputs, else its outputs.
+/// The first address of a submodule: its inputs, else its outputs, else its diagnostic
+/// address.
 fn submodule_address(e: &SubmoduleEntry) -> Option<PNIO_ADDR> {
     if e.input_length > 0 && e.input_address != NO_ADDRESS {
         Some(PNIO_ADDR::logical(PNIO_IO_IN, e.input_address))
     } else if e.output_length > 0 && e.output_address != NO_ADDRESS {
         Some(PNIO_ADDR::logical(PNIO_IO_OUT, e.output_address))
     } else {
-        None
+        e.diagnostic_address()
+            .map(|a| PNIO_ADDR::logical(PNIO_IO_IN, a))
     }
 }
 
-/// The address that stands for device `device` (station failure and return, IO-Base's
-/// "base address" of the device): its lowest input address, else its lowest output address.
-/// A device without any IO data has none; it is named by `PNIO_IO_IN` and 0xFFFFFFFF.
+/// The address that stands for device `device` (station failure and return, the manual's
+/// "base (diagnostic) address" of the device): the diagnostic address of its device access
+/// point (the data-less submodule in slot 0 with the lowest subslot); for a device
+/// configured without its DAP, its lowest input address, else its lowest output address.
+/// A device with none of these is named by `PNIO_IO_IN` and 0xFFFFFFFF.
 pub(crate) fn device_address(layout: &Layout, device: u32) -> PNIO_ADDR {
     let subs = || {
         layout
             .submodules_of(device as usize)
             .filter_map(|s| layout.submodules.get(s))
     };
+    let dap = subs()
+        .filter(|e| e.slot == 0)
+        .filter_map(|e| e.diagnostic_address().map(|a| (e.subslot, a)))
+        .min();
+    if let Some((_, a)) = dap {
+        return PNIO_ADDR::logical(PNIO_IO_IN, a);
+    }
     let lowest_in = subs()
         .filter(|e| e.input_length > 0 && e.input_address != NO_ADDRESS)
         .map(|e| e.input_address)
@@ -121,9 +143,10 @@ pub(crate) fn device_address(layout: &Layout, device: u32) -> PNIO_ADDR {
     }
 }
 
-/// The address of the module an alarm comes from: the submodule's own address; for a
-/// data-less submodule the first address of another submodule in the same slot; failing
-/// that, the device's address.
+/// The address of the module an alarm comes from: the submodule's own address (its
+/// diagnostic address if it has no IO data); for a submodule the layout does not have, the
+/// first address of another submodule in the same slot; failing that, the device's
+/// address.
 pub(crate) fn module_address(
     layout: &Layout,
     device: u32,
@@ -195,7 +218,7 @@ pub(crate) mod tests {
     }
 
     /// The demo's IO system: echo (I 0..15, Q 0..15), counter (I 16..19), dio (I 20..21,
-    /// Q 16..17), each with a data-less DAP in slot 0.
+    /// Q 16..17), each with a data-less DAP in slot 0 (diagnostic addresses I 22, 23, 24).
     pub(crate) fn demo_layout() -> Layout {
         Layout {
             header: LayoutHeader {
@@ -210,11 +233,11 @@ pub(crate) mod tests {
                 device("dio", 4, 3),
             ],
             submodules: vec![
-                sub(0, 0, None, None),
+                sub(0, 0, Some((22, 0)), None),
                 sub(0, 1, Some((0, 16)), Some((0, 16))),
-                sub(1, 0, None, None),
+                sub(1, 0, Some((23, 0)), None),
                 sub(1, 1, Some((16, 4)), None),
-                sub(2, 0, None, None),
+                sub(2, 0, Some((24, 0)), None),
                 sub(2, 1, Some((20, 2)), None),
                 sub(2, 2, None, Some((16, 2))),
             ],
@@ -236,8 +259,10 @@ pub(crate) mod tests {
     #[test]
     fn gaps_other_spaces_and_address_types_do_not_resolve() {
         let l = demo_layout();
-        assert_eq!(resolve(&l, &PNIO_ADDR::logical(PNIO_IO_IN, 22)), None);
+        assert_eq!(resolve(&l, &PNIO_ADDR::logical(PNIO_IO_IN, 25)), None);
         assert_eq!(resolve(&l, &PNIO_ADDR::logical(PNIO_IO_OUT, 18)), None);
+        // A diagnostic address is an input address.
+        assert_eq!(resolve(&l, &PNIO_ADDR::logical(PNIO_IO_OUT, 22)), None);
         assert_eq!(resolve(&l, &PNIO_ADDR::logical(2, 0)), None);
         let mut geo = PNIO_ADDR::logical(PNIO_IO_IN, 0);
         geo.AddrType = PNIO_ADDR_GEO;
@@ -247,16 +272,31 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn devices_and_modules_are_named_by_their_first_address() {
+    fn a_dataless_submodule_resolves_by_its_diagnostic_address() {
+        let l = demo_layout();
+        let r = resolve(&l, &PNIO_ADDR::logical(PNIO_IO_IN, 23)).expect("I 23");
+        assert_eq!((r.device, r.slot, r.subslot, r.submodule), (1, 0, 1, 2));
+    }
+
+    #[test]
+    fn devices_are_named_by_their_dap_and_modules_by_their_first_address() {
         let l = demo_layout();
         let a = device_address(&l, 2);
-        assert_eq!((a.IODataType, a.addr()), (PNIO_IO_IN, 20));
+        assert_eq!((a.IODataType, a.addr()), (PNIO_IO_IN, 24));
         let a = device_address(&l, 1);
-        assert_eq!((a.IODataType, a.addr()), (PNIO_IO_IN, 16));
-        // The output module of dio, and its data-less DAP (named by the device).
+        assert_eq!((a.IODataType, a.addr()), (PNIO_IO_IN, 23));
+        // The output module of dio, and its data-less DAP.
         let a = module_address(&l, 2, 0, 2, 1);
         assert_eq!((a.IODataType, a.addr()), (PNIO_IO_OUT, 16));
         let a = module_address(&l, 2, 0, 0, 1);
+        assert_eq!((a.IODataType, a.addr()), (PNIO_IO_IN, 24));
+        // A submodule the layout does not have: another one in its slot names it.
+        let a = module_address(&l, 2, 0, 1, 2);
+        assert_eq!((a.IODataType, a.addr()), (PNIO_IO_IN, 20));
+        // A device configured without its DAP: its lowest input address.
+        let mut l = l;
+        l.submodules[4].input_address = NO_ADDRESS;
+        let a = device_address(&l, 2);
         assert_eq!((a.IODataType, a.addr()), (PNIO_IO_IN, 20));
         // A device index the layout does not have.
         let a = device_address(&l, 9);

@@ -214,6 +214,10 @@ pub(crate) fn submodule_list(
         if e.output_length > 0 && e.output_address != NO_ADDRESS {
             list.push(element(PNIO_IO_OUT, e.output_address, e.output_length));
         }
+        // "Input length 0 ⇒ diagnostic address".
+        if let Some(a) = e.diagnostic_address() {
+            list.push(element(PNIO_IO_IN, a, 0));
+        }
     }
     list
 }
@@ -412,15 +416,16 @@ mod tests {
     #[test]
     fn station_failure_and_return_name_the_device() {
         let l = demo_layout();
+        // The DAP's diagnostic address.
         let (addr, a) = station_alarm(&l, 2, true);
-        assert_eq!((addr.IODataType, addr.addr()), (PNIO_IO_IN, 20));
+        assert_eq!((addr.IODataType, addr.addr()), (PNIO_IO_IN, 24));
         assert_eq!((a.AlarmType, a.DeviceNum), (PNIO_ALARM_DEV_FAILURE, 3));
         let (_, a) = station_alarm(&l, 2, false);
         assert_eq!(a.AlarmType, PNIO_ALARM_DEV_RETURN);
     }
 
     #[test]
-    fn the_submodule_list_has_one_element_per_direction() {
+    fn the_submodule_list_has_one_element_per_direction_and_diagnostic_address() {
         let l = demo_layout();
         let list = submodule_list(&l, false);
         let seen: Vec<(u32, u32, u32, u32)> = list
@@ -437,9 +442,12 @@ mod tests {
         assert_eq!(
             seen,
             [
+                (PNIO_IO_IN, 22, 0, 1),
                 (PNIO_IO_IN, 0, 16, 1),
                 (PNIO_IO_OUT, 0, 16, 1),
+                (PNIO_IO_IN, 23, 0, 2),
                 (PNIO_IO_IN, 16, 4, 2),
+                (PNIO_IO_IN, 24, 0, 3),
                 (PNIO_IO_IN, 20, 2, 3),
                 (PNIO_IO_OUT, 16, 2, 3),
             ]

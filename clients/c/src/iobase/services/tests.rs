@@ -387,7 +387,8 @@ fn alarms_activation_and_diagnosis_reach_the_callbacks() {
         } => Some((*addr, *device)),
         _ => None,
     });
-    assert_eq!(failure, ((PNIO_IO_IN, 20), 3));
+    // Named by the device's DAP, diagnostic address I 24.
+    assert_eq!(failure, ((PNIO_IO_IN, 24), 3));
     let s = device_state(&w, h, dio_in);
     assert_eq!(
         (s.Mode, s.DiagState & PNIO_CTRL_DEV_DIAG_AR_OFFLINE),
@@ -411,7 +412,7 @@ fn alarms_activation_and_diagnosis_reach_the_callbacks() {
         } => Some(*addr),
         _ => None,
     });
-    assert_eq!(ret, (PNIO_IO_IN, 20));
+    assert_eq!(ret, (PNIO_IO_IN, 24));
     let s = device_state(&w, h, dio_in);
     assert_eq!(
         (s.Mode, s.DiagState & PNIO_CTRL_DEV_DIAG_AR_IN_DATA),
@@ -450,9 +451,12 @@ fn alarms_activation_and_diagnosis_reach_the_callbacks() {
     assert_eq!(
         list,
         [
+            (PNIO_IO_IN, 22, 0, 1, 0),
             (PNIO_IO_IN, 0, 16, 1, 1),
             (PNIO_IO_OUT, 0, 16, 1, 1),
+            (PNIO_IO_IN, 23, 0, 2, 0),
             (PNIO_IO_IN, 16, 4, 2, 1),
+            (PNIO_IO_IN, 24, 0, 3, 0),
             (PNIO_IO_IN, 20, 2, 3, 1),
             (PNIO_IO_OUT, 16, 2, 3, 2),
         ]
