@@ -38,6 +38,8 @@ pub enum AccessError {
         space: Space,
         /// The address.
         address: u32,
+        /// It is the diagnostic address of a submodule without IO data.
+        diagnostic: bool,
     },
     /// The length does not fit the submodule (IO-Base `PNIO_ERR_VALUE_LEN`).
     ValueLength {
@@ -55,7 +57,17 @@ pub enum AccessError {
 impl core::fmt::Display for AccessError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match *self {
-            AccessError::UnknownAddress { space, address } => write!(
+            AccessError::UnknownAddress {
+                space,
+                address,
+                diagnostic: true,
+            } => write!(
+                f,
+                "{space} {address} is the diagnostic address of a submodule without IO data: \
+                 it has nothing to read or write, only records; `procimgd --check -c FILE` \
+                 lists the addresses"
+            ),
+            AccessError::UnknownAddress { space, address, .. } => write!(
                 f,
                 "no submodule has {space} address {address}; `procimgd --check -c FILE` lists \
                  the addresses"
@@ -122,8 +134,19 @@ pub fn resolve_read(
     buf_len: usize,
     slice_access: bool,
 ) -> Result<Resolved, AccessError> {
-    let unknown = AccessError::UnknownAddress { space, address };
-    let submodule = find(table, space, address).ok_or(unknown)?;
+    let unknown = AccessError::UnknownAddress {
+        space,
+        address,
+        diagnostic: false,
+    };
+    let submodule = find(table, space, address).ok_or_else(|| AccessError::UnknownAddress {
+        space,
+        address,
+        diagnostic: space == Space::Input
+            && table
+                .iter()
+                .any(|e| e.diagnostic_address() == Some(address)),
+    })?;
     let (start, len) = start_and_len(&table[submodule], space);
     if !slice_access && address != start {
         return Err(unknown);
@@ -146,7 +169,11 @@ pub fn resolve_write(
     slice_access: bool,
 ) -> Result<Resolved, AccessError> {
     let space = Space::Output;
-    let unknown = AccessError::UnknownAddress { space, address };
+    let unknown = AccessError::UnknownAddress {
+        space,
+        address,
+        diagnostic: false,
+    };
     let submodule = find(table, space, address).ok_or(unknown)?;
     let (start, len) = start_and_len(&table[submodule], space);
     let offset = (address - start) as usize;
@@ -246,6 +273,29 @@ mod tests {
         // The ExtPar example: a 4-byte module at 2, writing 2 bytes from address 3.
         let r = resolve_write(&t, 3, 2, true).unwrap();
         assert_eq!((r.submodule, r.offset, r.len), (1, 1, 2));
+    }
+
+    #[test]
+    fn a_diagnostic_address_has_no_data_and_says_so() {
+        // A data-less submodule (a DAP) at diagnostic address I 2, after inputs I 0..1.
+        let t = [input(0, 2), input(2, 0)];
+        let e = resolve_read(&t, Space::Input, 2, 1, true).unwrap_err();
+        assert!(matches!(
+            e,
+            AccessError::UnknownAddress {
+                diagnostic: true,
+                ..
+            }
+        ));
+        assert!(
+            e.to_string().contains("I 2 is the diagnostic address"),
+            "{e}"
+        );
+        let e = resolve_read(&t, Space::Input, 3, 1, true).unwrap_err();
+        assert!(
+            e.to_string().starts_with("no submodule has I address 3"),
+            "{e}"
+        );
     }
 
     #[test]

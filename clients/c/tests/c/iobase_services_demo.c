@@ -318,6 +318,8 @@ static void records(void) {
         PNIO_ADDR dap_out = addr(PNIO_IO_OUT, 22);
         CHECK_RC(PNIO_data_read(h, &echo_dap, sizeof b, &n, b, PNIO_S_GOOD, &rem),
                  PNIO_ERR_UNKNOWN_ADDR);
+        CHECK(strstr(procimg_last_error(), "diagnostic address") != NULL,
+              "the text says what I 22 is: %s", procimg_last_error());
         CHECK_RC(PNIO_rec_read_req(h, &dap_out, 0xAFF0, 10, 16), PNIO_ERR_PRM_ADD);
     }
 
