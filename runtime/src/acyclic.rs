@@ -273,16 +273,18 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
             device,
             reason,
             planned: false,
+            ..
         } => tracing::warn!("device {:?} failed: {reason}", name(*device)),
         DeviceEvent::Failure {
             device,
             reason,
             planned: true,
+            ..
         } => tracing::info!("device {:?} left data exchange: {reason}", name(*device)),
         DeviceEvent::Return { device } => {
             tracing::info!("device {:?} is in data exchange", name(*device))
         }
-        DeviceEvent::Problem { device, reason } => {
+        DeviceEvent::Problem { device, reason, .. } => {
             tracing::warn!("device {:?}: {reason}", name(*device))
         }
         DeviceEvent::ModuleDiff { device, diff } => {

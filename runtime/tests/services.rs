@@ -6,7 +6,7 @@
 mod support;
 
 use procimg_client::{
-    AlarmReport, Notification, RecordError, RecordTarget, ServiceOptions, Services,
+    AlarmReport, FailureCause, Notification, RecordError, RecordTarget, ServiceOptions, Services,
 };
 use procimg_runtime::profinet::device_sim::{SIM_ALARM_INDEX, SIM_ALARM_USI};
 use procimg_runtime::profinet::wire::record::Im0;
@@ -188,6 +188,10 @@ fn records_alarms_activation_and_diagnosis_reach_clients() {
         (d.name.as_str(), d.state.as_str(), d.active),
         ("dio", "deactivated", false)
     );
+    assert_eq!(
+        (d.cause, d.last_error.as_str()),
+        (FailureCause::Deactivated, "deactivated by a client")
+    );
 
     plc.activate(dio, true).expect("activation taken");
     wait_for(&mut plc, "DEV_RETURN", |n| {
@@ -197,7 +201,7 @@ fn records_alarms_activation_and_diagnosis_reach_clients() {
     assert!(
         diag.devices
             .iter()
-            .all(|d| d.state == "running" && d.active),
+            .all(|d| d.state == "running" && d.active && d.cause == FailureCause::None),
         "{diag:?}"
     );
     assert_eq!(observer.lost(), 0);

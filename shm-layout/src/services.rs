@@ -267,6 +267,43 @@ pub struct DiagnosisReport {
     pub devices: Vec<DeviceDiagnosis>,
 }
 
+/// Why a device left data exchange or could not be brought up: the kinds of failure a
+/// program tells apart (IO-Base's `PNIO_CTRL_REASON_*`); the words are in `last_error`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FailureCause {
+    /// No failure (running, or never tried).
+    #[default]
+    None,
+    /// No device of its name answered DCP Identify.
+    NotFound,
+    /// Giving it its IP address (DCP Set) failed, or it has none.
+    IpSetFailed,
+    /// It did not answer an RPC call (Connect, Write, PrmEnd, Release) in time.
+    RpcTimeout,
+    /// Its RPC layer refused a call, or answered with something unreadable.
+    RpcError,
+    /// It refused the configuration: a negative PNIO status to Connect, Write or PrmEnd.
+    Refused,
+    /// It sent no ApplicationReady after the parameters.
+    NoApplicationReady,
+    /// Its cyclic data stopped coming (the watchdog expired).
+    NoCyclicData,
+    /// It aborted the AR.
+    DeviceAborted,
+    /// The controller aborted the AR (its alarm channel failed).
+    ControllerAborted,
+    /// The controller released it, going OFFLINE.
+    Released,
+    /// A client deactivated it.
+    Deactivated,
+    /// The controller could not build a request for it (a configuration it cannot carry).
+    Internal,
+    /// A cause this program does not know (from a newer server).
+    #[serde(other)]
+    Unknown,
+}
+
 /// The state of one device.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct DeviceDiagnosis {
@@ -281,6 +318,10 @@ pub struct DeviceDiagnosis {
     /// The last failure or problem, if it is not running.
     #[serde(default)]
     pub last_error: String,
+    /// What kind of failure `last_error` is, for programs ([`FailureCause::None`] while
+    /// running).
+    #[serde(default)]
+    pub cause: FailureCause,
     /// How often it failed in data exchange since the server started.
     pub failures: u64,
     /// The submodules the device reported as different at its last connect.

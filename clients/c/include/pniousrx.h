@@ -54,6 +54,14 @@
  * diagnostic address (for a device configured without a DAP: its lowest input address,
  * else its lowest output address).
  *
+ * Device state. PNIO_ctrl_diag_req(PNIO_CTRL_DIAG_DEVICE_STATE) gives the Reason from the
+ * kind of failure the server reports: IOD_NOT_FOUND (no answer to DCP Identify),
+ * IP_SET_ABORTED (DCP Set failed, or no IP address), RPC_TIMEOUT (no answer to an RPC call,
+ * no ApplicationReady), RPC_ERROR (refused or unreadable RPC), PNIO_CONFIGURATION (the
+ * device refused Connect, Write or PrmEnd), MISS (cyclic data stopped), IOD_ABORTED (the
+ * device aborted the AR), IOC_ABORTED (the controller aborted or released it),
+ * MP_DEVICE_DISABLED (deactivated). DEVICE_DIAGNOSTIC fills Mode only.
+ *
  * Isochronous mode. Registering PNIO_CP_CBE_STARTOP_IND (after PNIO_CP_CBE_OPFAULT_IND,
  * else PNIO_ERR_SEQUENCE) makes the controller take part in the server's cycle handshake:
  * STARTOP_IND comes every cycle, on a thread of the library, from then on (also in OFFLINE).

@@ -51,8 +51,8 @@ pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_shm_layout::control::{ClientRole, Refusal, StatusReport};
 pub use procimg_shm_layout::services::{
-    AlarmReport, DeviceDiagnosis, DiagnosisReport, Notification, RecordConfirmation, RecordStatus,
-    RecordTarget, SubmoduleDiff,
+    AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause, Notification, RecordConfirmation,
+    RecordStatus, RecordTarget, SubmoduleDiff,
 };
 pub use procimg_shm_layout::{CycleInfo, Mode};
 pub use services::{RecordError, ServiceOptions, Services};

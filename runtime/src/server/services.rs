@@ -22,8 +22,8 @@ use iceoryx2::prelude::EventId;
 use procimg_shm_layout::control::{self, Refusal, SubscriberReport};
 use procimg_shm_layout::services::{
     ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, EVENT_NOTIFICATIONS,
-    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
-    SubmoduleDiff,
+    FailureCause, MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus,
+    RecordTarget, SubmoduleDiff,
 };
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::mpsc::{Receiver, Sender};
@@ -65,6 +65,7 @@ struct DeviceRecord {
     state: String,
     inactive: bool,
     last_error: String,
+    cause: FailureCause,
     failures: u64,
     module_diff: Vec<SubmoduleDiff>,
 }
@@ -357,6 +358,7 @@ impl Services {
                     r.state = state.as_str().into();
                     if state == DeviceState::Running {
                         r.last_error.clear();
+                        r.cause = FailureCause::None;
                     }
                 }
                 self.publish(&Notification::DeviceState {
@@ -365,10 +367,16 @@ impl Services {
                     state: state.as_str().into(),
                 });
             }
-            DeviceEvent::Failure { device, reason, .. } => {
+            DeviceEvent::Failure {
+                device,
+                cause,
+                reason,
+                ..
+            } => {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.failures += 1;
                     r.last_error = reason.clone();
+                    r.cause = cause;
                 }
                 self.publish(&Notification::DeviceFailure {
                     device: device as u32,
@@ -380,9 +388,14 @@ impl Services {
                 device: device as u32,
                 name: name(device),
             }),
-            DeviceEvent::Problem { device, reason } => {
+            DeviceEvent::Problem {
+                device,
+                cause,
+                reason,
+            } => {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.last_error = reason;
+                    r.cause = cause;
                 }
             }
             DeviceEvent::ModuleDiff { device, diff } => {
@@ -539,6 +552,7 @@ impl Services {
                     state: r.state.clone(),
                     active: !r.inactive,
                     last_error: r.last_error.clone(),
+                    cause: r.cause,
                     failures: r.failures,
                     module_diff: r.module_diff.clone(),
                 })

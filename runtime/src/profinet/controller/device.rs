@@ -7,8 +7,8 @@ use super::cyclic::CyclicAr;
 use super::plan::{ControllerIdentity, DevicePlan};
 use super::rpc_call::{Answer, Reply, RpcCall};
 use super::{
-    Action, AlarmTicket, DeviceEvent, DeviceState, RecordData, RecordFailure, RecordRequest,
-    RecordResult,
+    Action, AlarmTicket, DeviceEvent, DeviceState, FailureCause, RecordData, RecordFailure,
+    RecordRequest, RecordResult,
 };
 use crate::profinet::dcp_client::{self, Identify, Set, SetOutcome};
 use crate::profinet::rta::{RtaChannel, RtaEvent};
@@ -167,7 +167,14 @@ impl DeviceAr {
         let req = Identify::new(self.xid);
         match req.request(id.mac, Some(&self.plan.name), IDENTIFY_DELAY_FACTOR) {
             Ok(frame) => out.push(Action::Frame(frame)),
-            Err(_) => return self.fail("the DCP Identify request could not be built", now, out),
+            Err(_) => {
+                return self.fail(
+                    FailureCause::Internal,
+                    "the DCP Identify request could not be built",
+                    now,
+                    out,
+                );
+            }
         }
         self.step = Step::Identify {
             since: now,
@@ -204,13 +211,17 @@ impl DeviceAr {
         if self.state == DeviceState::Running {
             // IO-Base reports every end of data exchange as a station failure, a wanted
             // one (deactivation, OFFLINE) included.
-            let reason = if self.deactivated {
-                "deactivated by a client"
+            let (cause, reason) = if self.deactivated {
+                (FailureCause::Deactivated, "deactivated by a client")
             } else {
-                "released: the controller went OFFLINE"
+                (
+                    FailureCause::Released,
+                    "released: the controller went OFFLINE",
+                )
             };
             out.push(Action::Event(DeviceEvent::Failure {
                 device: self.plan.device,
+                cause,
                 reason: reason.into(),
                 planned: true,
             }));
@@ -223,7 +234,7 @@ impl DeviceAr {
         self.set_state(s, out);
     }
 
-    fn fail(&mut self, why: &str, now: u64, out: &mut Vec<Action>) {
+    fn fail(&mut self, cause: FailureCause, why: &str, now: u64, out: &mut Vec<Action>) {
         out.push(Action::Stop {
             device: self.plan.device,
         });
@@ -233,12 +244,14 @@ impl DeviceAr {
         if was_running {
             out.push(Action::Event(DeviceEvent::Failure {
                 device: self.plan.device,
+                cause,
                 reason: why.to_string(),
                 planned: false,
             }));
         } else {
             out.push(Action::Event(DeviceEvent::Problem {
                 device: self.plan.device,
+                cause,
                 reason: why.to_string(),
             }));
         }
@@ -317,13 +330,16 @@ impl DeviceAr {
                              the cabling and that the device is powered",
                             self.plan.name
                         );
-                        self.fail(&why, now, out)
+                        self.fail(FailureCause::NotFound, &why, now, out)
                     }
                 }
             }
-            Step::SetIp { since, .. } if now >= *since + SET_TIMEOUT_NS => {
-                self.fail("the device did not answer DCP Set IP", now, out)
-            }
+            Step::SetIp { since, .. } if now >= *since + SET_TIMEOUT_NS => self.fail(
+                FailureCause::IpSetFailed,
+                "the device did not answer DCP Set IP",
+                now,
+                out,
+            ),
             Step::Connect(c)
             | Step::Write(c)
             | Step::PrmEnd(c)
@@ -340,12 +356,17 @@ impl DeviceAr {
                         self.step = Step::Idle;
                     } else {
                         let why = format!("the device did not answer the {op} request");
-                        self.fail(&why, now, out);
+                        self.fail(FailureCause::RpcTimeout, &why, now, out);
                     }
                 }
             }
             Step::WaitAppReady { since } if now >= *since + APP_READY_TIMEOUT_NS => {
-                self.fail("the device sent no ApplicationReady after PrmEnd", now, out);
+                self.fail(
+                    FailureCause::NoApplicationReady,
+                    "the device sent no ApplicationReady after PrmEnd",
+                    now,
+                    out,
+                );
             }
             Step::Backoff { until } if now >= *until => {
                 if self.wanted {
@@ -376,7 +397,14 @@ impl DeviceAr {
                 let set = Set::ip(self.xid, d.mac, want.octets(), mask, want.octets(), false);
                 match set.request(id.mac) {
                     Ok(frame) => out.push(Action::Frame(frame)),
-                    Err(_) => return self.fail("the DCP Set request could not be built", now, out),
+                    Err(_) => {
+                        return self.fail(
+                            FailureCause::Internal,
+                            "the DCP Set request could not be built",
+                            now,
+                            out,
+                        );
+                    }
                 }
                 self.step = Step::SetIp { since: now, set };
                 self.set_state(DeviceState::SettingIp, out);
@@ -384,6 +412,7 @@ impl DeviceAr {
             (want, have) => {
                 let Some(ip) = want.or(have).filter(|ip| !ip.is_unspecified()) else {
                     return self.fail(
+                        FailureCause::IpSetFailed,
                         "the device has no IP address and none is configured; set `ip` for it",
                         now,
                         out,
@@ -397,7 +426,12 @@ impl DeviceAr {
 
     fn connect(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
         let (Some(ip), Some(mac)) = (self.ip, self.mac) else {
-            return self.fail("no address to connect to", now, out);
+            return self.fail(
+                FailureCause::IpSetFailed,
+                "no address to connect to",
+                now,
+                out,
+            );
         };
         self.session_key = self.session_key.wrapping_add(1);
         self.epoch = self.epoch.wrapping_add(1);
@@ -405,7 +439,12 @@ impl DeviceAr {
         let activity = Uuid(crate::sys::random::uuid_v4());
         let req = self.plan.connect_request(id, uuid, self.session_key);
         let Ok(blocks) = req.try_emit() else {
-            return self.fail("the Connect request could not be built", now, out);
+            return self.fail(
+                FailureCause::Internal,
+                "the Connect request could not be built",
+                now,
+                out,
+            );
         };
         let Ok(call) = RpcCall::new(
             self.plan.object_uuid(),
@@ -416,7 +455,12 @@ impl DeviceAr {
             0,
             now,
         ) else {
-            return self.fail("the Connect request does not fit one RPC PDU", now, out);
+            return self.fail(
+                FailureCause::Internal,
+                "the Connect request does not fit one RPC PDU",
+                now,
+                out,
+            );
         };
         let (hi, lo) = (req.alarm_cr.rta_timeout_factor, req.alarm_cr.rta_retries);
         let local = req.alarm_cr.local_alarm_reference;
@@ -463,7 +507,7 @@ impl DeviceAr {
                     }
                     Some(other) => {
                         let why = format!("DCP Set IP refused: {other}");
-                        self.fail(&why, now, out);
+                        self.fail(FailureCause::IpSetFailed, &why, now, out);
                     }
                     None => {}
                 }
@@ -531,12 +575,18 @@ impl DeviceAr {
                 }
                 RtaEvent::Confirmed => {}
                 RtaEvent::Abort { code, local } => {
-                    let why = if local {
-                        format!("the alarm channel failed ({code:?}); the AR was aborted")
+                    let (cause, why) = if local {
+                        (
+                            FailureCause::ControllerAborted,
+                            format!("the alarm channel failed ({code:?}); the AR was aborted"),
+                        )
                     } else {
-                        format!("the device aborted the AR ({code:?})")
+                        (
+                            FailureCause::DeviceAborted,
+                            format!("the device aborted the AR ({code:?})"),
+                        )
                     };
-                    self.fail(&why, now, out);
+                    self.fail(cause, &why, now, out);
                     return;
                 }
             }
@@ -585,7 +635,7 @@ impl DeviceAr {
                 if matches!(self.step, Step::Release(_)) {
                     self.step = Step::Idle;
                 } else {
-                    self.fail(&why, now, out);
+                    self.fail(FailureCause::RpcError, &why, now, out);
                 }
                 return true;
             }
@@ -596,7 +646,7 @@ impl DeviceAr {
                 let failed = write_failure(status, &blocks);
                 match failed {
                     None => self.prm_end(now, out),
-                    Some(why) => self.fail(&why, now, out),
+                    Some(why) => self.fail(FailureCause::Refused, &why, now, out),
                 }
             }
             Step::PrmEnd(_) => {
@@ -611,7 +661,7 @@ impl DeviceAr {
                     self.set_state(DeviceState::WaitingForApplicationReady, out);
                 } else {
                     let why = format!("PrmEnd failed: {}", rpc::describe(status));
-                    self.fail(&why, now, out);
+                    self.fail(FailureCause::Refused, &why, now, out);
                 }
             }
             Step::Record { request, .. } => {
@@ -639,14 +689,20 @@ impl DeviceAr {
     ) {
         if !status.is_ok() {
             let why = format!("Connect refused: {}", rpc::describe(status));
-            return self.fail(&why, now, out);
+            return self.fail(FailureCause::Refused, &why, now, out);
         }
         let Ok(res) = ConnectResponse::parse(blocks) else {
-            return self.fail("the Connect response is malformed", now, out);
+            return self.fail(
+                FailureCause::RpcError,
+                "the Connect response is malformed",
+                now,
+                out,
+            );
         };
         let Some(ar) = self.ar.as_mut() else { return };
         if res.ar.ar_uuid != ar.uuid || res.ar.session_key != ar.session_key {
             return self.fail(
+                FailureCause::RpcError,
                 "the Connect response names another AR; the device may be connected to \
                  another controller",
                 now,
@@ -708,7 +764,12 @@ impl DeviceAr {
             })
         };
         let Ok(body) = body else {
-            return self.fail("the parameter records do not fit a Write request", now, out);
+            return self.fail(
+                FailureCause::Internal,
+                "the parameter records do not fit a Write request",
+                now,
+                out,
+            );
         };
         self.call(opnum::WRITE, &body, now, out, Step::Write);
     }
@@ -755,7 +816,12 @@ impl DeviceAr {
     ) {
         match self.send_call(op, blocks, 0, now, out) {
             Some(call) => self.step = step(call),
-            None => self.fail("a request is longer than an RPC call can carry", now, out),
+            None => self.fail(
+                FailureCause::Internal,
+                "a request is longer than an RPC call can carry",
+                now,
+                out,
+            ),
         }
     }
 
@@ -846,7 +912,7 @@ impl DeviceAr {
                 self.plan.timing.watchdog_ns() / 1_000_000,
                 self.plan.timing.data_hold_factor
             );
-            self.fail(&why, now, out);
+            self.fail(FailureCause::NoCyclicData, &why, now, out);
         }
     }
 

@@ -22,6 +22,7 @@ use super::wire::rpc::{self, Header, Ndr, PacketType, opnum};
 use cyclic::CyclicAr;
 use device::DeviceAr;
 use plan::{ControllerIdentity, DevicePlan};
+pub use procimg_shm_layout::services::FailureCause;
 use std::net::SocketAddrV4;
 
 /// Where a device is in its life.
@@ -169,6 +170,8 @@ pub enum DeviceEvent {
     Failure {
         /// Device index.
         device: usize,
+        /// What kind of failure.
+        cause: FailureCause,
         /// Why.
         reason: String,
         /// Asked for (deactivation, OFFLINE) rather than a fault.
@@ -183,6 +186,8 @@ pub enum DeviceEvent {
     Problem {
         /// Device index.
         device: usize,
+        /// What kind of failure.
+        cause: FailureCause,
         /// Why.
         reason: String,
     },

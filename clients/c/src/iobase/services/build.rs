@@ -20,7 +20,8 @@ use crate::iobase::types::{
     PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_DATA_IRT, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN,
     PNIO_IO_OUT, PNIO_MAX_ALARM_DATA_LEN,
 };
-use procimg_client::{AlarmReport, DeviceDiagnosis, Layout, RecordStatus};
+use procimg_client::{AlarmReport, DeviceDiagnosis, FailureCause, Layout, RecordStatus};
+
 use procimg_shm_layout::{CYCLE_COUNT_UNIT_NS, NO_ADDRESS, RT_CLASS_3};
 
 /// `PNIO_CTRL_REASON_IP_SET_ABORTED`: giving the device its IP address failed.
@@ -237,30 +238,19 @@ pub(crate) fn output_slices(layout: &Layout) -> Vec<PNIO_CTRL_DIAG_CONFIG_OUTPUT
         .collect()
 }
 
-/// A `PNIO_CTRL_REASON_*` for the server's text of a device's last failure, as far as the
-/// text tells (best effort: the server reports failures in words).
-fn reason(last_error: &str) -> u32 {
-    let t = last_error.to_ascii_lowercase();
-    if t.is_empty() {
-        PNIO_CTRL_REASON_NONE
-    } else if t.contains("dcp identify") {
-        PNIO_CTRL_REASON_IOD_NOT_FOUND
-    } else if t.contains("dcp set") {
-        REASON_IP_SET_ABORTED
-    } else if t.contains("no cyclic data") {
-        REASON_MISS
-    } else if t.contains("aborted the ar") || t.contains("alarm channel") {
-        PNIO_CTRL_REASON_IOD_ABORTED
-    } else if t.contains("went offline") {
-        PNIO_CTRL_REASON_IOC_ABORTED
-    } else if t.contains("rpc layer") {
-        REASON_RPC_ERROR
-    } else if t.contains("did not answer") || t.contains("applicationready") {
-        PNIO_CTRL_REASON_RPC_TIMEOUT
-    } else if t.contains("refused") || t.contains("failed") {
-        REASON_PNIO_CONFIGURATION
-    } else {
-        PNIO_CTRL_REASON_NONE
+/// The `PNIO_CTRL_REASON_*` of a kind of failure the server reports.
+fn reason(cause: FailureCause) -> u32 {
+    match cause {
+        FailureCause::None | FailureCause::Unknown => PNIO_CTRL_REASON_NONE,
+        FailureCause::NotFound => PNIO_CTRL_REASON_IOD_NOT_FOUND,
+        FailureCause::IpSetFailed => REASON_IP_SET_ABORTED,
+        FailureCause::RpcTimeout | FailureCause::NoApplicationReady => PNIO_CTRL_REASON_RPC_TIMEOUT,
+        FailureCause::RpcError => REASON_RPC_ERROR,
+        FailureCause::Refused | FailureCause::Internal => REASON_PNIO_CONFIGURATION,
+        FailureCause::NoCyclicData => REASON_MISS,
+        FailureCause::DeviceAborted => PNIO_CTRL_REASON_IOD_ABORTED,
+        FailureCause::ControllerAborted | FailureCause::Released => PNIO_CTRL_REASON_IOC_ABORTED,
+        FailureCause::Deactivated => PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
     }
 }
 
@@ -278,12 +268,12 @@ pub(crate) fn device_state(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE {
         // Found by name, its address being set.
         "setting-ip" => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
         // Looked for again after a failure: not reachable, for the reason of the failure.
-        "searching" if !d.last_error.is_empty() => (
+        "searching" if d.cause != FailureCause::None => (
             PNIO_CTRL_DEV_DIAG_OFFLINE | PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
-            reason(&d.last_error),
+            reason(d.cause),
         ),
         "searching" => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
-        "failed" => (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, reason(&d.last_error)),
+        "failed" => (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, reason(d.cause)),
         "deactivated" => (
             PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
             PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
@@ -321,13 +311,14 @@ mod tests {
     use super::*;
     use crate::iobase::services::address::tests::demo_layout;
 
-    fn diagnosis(state: &str, active: bool, last_error: &str) -> DeviceDiagnosis {
+    fn diagnosis(state: &str, active: bool, cause: FailureCause) -> DeviceDiagnosis {
         DeviceDiagnosis {
             device: 2,
             name: "dio".into(),
             state: state.into(),
             active,
-            last_error: last_error.into(),
+            last_error: String::new(),
+            cause,
             failures: 0,
             module_diff: Vec::new(),
         }
@@ -469,35 +460,44 @@ mod tests {
 
     #[test]
     fn device_states_map_to_the_diag_bits() {
-        let s = device_state(&diagnosis("running", true, ""));
+        let s = device_state(&diagnosis("running", true, FailureCause::None));
         assert_eq!(s.Mode, PNIO_DA_TRUE);
         assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_AR_IN_DATA, 0);
         assert_eq!(s.Reason, PNIO_CTRL_REASON_NONE);
-        let s = device_state(&diagnosis("deactivated", false, "deactivated by a client"));
+        let s = device_state(&diagnosis("deactivated", false, FailureCause::Deactivated));
         assert_eq!(
-            (s.Mode, s.DiagState),
-            (PNIO_DA_FALSE, PNIO_CTRL_DEV_DIAG_AR_OFFLINE)
+            (s.Mode, s.DiagState, s.Reason),
+            (
+                PNIO_DA_FALSE,
+                PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
+                PNIO_CTRL_REASON_MP_DEVICE_DISABLED
+            )
         );
-        let s = device_state(&diagnosis("parameterizing", true, ""));
+        let s = device_state(&diagnosis("parameterizing", true, FailureCause::None));
         assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_AR_CONNECTING, 0);
-        let s = device_state(&diagnosis(
-            "searching",
-            true,
-            "no device named \"dio\" answered DCP Identify; check the name",
-        ));
+        let s = device_state(&diagnosis("searching", true, FailureCause::NotFound));
         assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_OFFLINE, 0);
         assert_eq!(s.Reason, PNIO_CTRL_REASON_IOD_NOT_FOUND);
-        let s = device_state(&diagnosis(
-            "failed",
-            true,
-            "no cyclic data from the device for 100 ms (DataHoldFactor 100); the AR was aborted",
-        ));
+        let s = device_state(&diagnosis("failed", true, FailureCause::NoCyclicData));
         assert_eq!(
             (s.DiagState, s.Reason),
             (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, REASON_MISS)
         );
+        for (cause, want) in [
+            (FailureCause::DeviceAborted, PNIO_CTRL_REASON_IOD_ABORTED),
+            (
+                FailureCause::ControllerAborted,
+                PNIO_CTRL_REASON_IOC_ABORTED,
+            ),
+            (FailureCause::Refused, REASON_PNIO_CONFIGURATION),
+            (FailureCause::RpcTimeout, PNIO_CTRL_REASON_RPC_TIMEOUT),
+            (FailureCause::RpcError, REASON_RPC_ERROR),
+            (FailureCause::IpSetFailed, REASON_IP_SET_ABORTED),
+        ] {
+            assert_eq!(device_state(&diagnosis("failed", true, cause)).Reason, want);
+        }
         assert_eq!(
-            device_diagnostic(&diagnosis("failed", false, "")).Mode,
+            device_diagnostic(&diagnosis("failed", false, FailureCause::None)).Mode,
             PNIO_DA_FALSE
         );
     }
