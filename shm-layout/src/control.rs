@@ -176,6 +176,47 @@ pub enum Request {
     /// [`Response::Histograms`]. Two answers subtracted give the histograms of the time
     /// between them.
     Histograms,
+    /// Force bytes of the image, as a PLC's force table does: from the next cycle on, the
+    /// server puts `data` at `address` in every cycle, over what the devices deliver (I) or
+    /// what clients write (Q, sent with IOPS GOOD in OPERATE whoever owns the outputs), until
+    /// an [`Request::Unforce`] or the server's end. The bytes lie in one submodule.
+    Force {
+        /// I or Q.
+        space: Space,
+        /// First logical address.
+        address: u32,
+        /// The forced values.
+        data: Vec<u8>,
+    },
+    /// End forcing: `length` bytes from `address`, the rest of its submodule when `None`;
+    /// every force when `address` is `None`.
+    Unforce {
+        /// I or Q.
+        space: Space,
+        /// First logical address; `None`: every force (in both spaces).
+        address: Option<u32>,
+        /// Bytes; `None`: to the end of the submodule.
+        length: Option<u32>,
+    },
+}
+
+/// The two address spaces of an IO system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Space {
+    /// Inputs (I).
+    Input,
+    /// Outputs (Q).
+    Output,
+}
+
+impl core::fmt::Display for Space {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Space::Input => "I",
+            Space::Output => "Q",
+        })
+    }
 }
 
 /// The server's answer.
@@ -281,6 +322,29 @@ pub enum Refusal {
         /// What was wrong.
         message: String,
     },
+    /// No submodule has IO data at this address.
+    NoSuchAddress {
+        /// I or Q.
+        space: Space,
+        /// The address.
+        address: u32,
+    },
+    /// The bytes run past the end of the submodule at the address.
+    PastSubmoduleEnd {
+        /// I or Q.
+        space: Space,
+        /// The address.
+        address: u32,
+        /// Bytes asked for.
+        length: u32,
+        /// Bytes from the address to the end of its submodule.
+        room: u32,
+    },
+    /// The force table is full.
+    TooManyForces {
+        /// The most forced bytes.
+        max: u32,
+    },
     /// The answer could not be handed over (the control service had no room for it).
     AnswerLost {
         /// Bytes of the answer.
@@ -347,6 +411,26 @@ impl core::fmt::Display for Refusal {
                 f,
                 "alarm #{alarm} is not waiting for this subscriber's acknowledgement \
                  (already acknowledged, or timed out)"
+            ),
+            Refusal::NoSuchAddress { space, address } => write!(
+                f,
+                "no submodule has IO data at {space} {address}; `procimg layout` lists the \
+                 addresses"
+            ),
+            Refusal::PastSubmoduleEnd {
+                space,
+                address,
+                length,
+                room,
+            } => write!(
+                f,
+                "{length} bytes at {space} {address} run past the end of its submodule: {room} \
+                 bytes remain there; force each submodule on its own"
+            ),
+            Refusal::TooManyForces { max } => write!(
+                f,
+                "the force table holds at most {max} bytes; unforce some first \
+                 (`procimg io unforce --all` clears it)"
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
             Refusal::AnswerLost { bytes, detail } => write!(
@@ -480,9 +564,11 @@ pub struct StatusReport {
     pub instance: String,
     /// Server process id.
     pub pid: u32,
-    /// Server generation.
+    /// Server generation (in JSON a hex string: see [`hex_id`]).
+    #[serde(with = "hex_id")]
     pub generation: u64,
-    /// Layout hash.
+    /// Layout hash (in JSON a hex string: see [`hex_id`]).
+    #[serde(with = "hex_id")]
     pub layout_hash: u64,
     /// Current mode.
     pub mode: Mode,
@@ -498,9 +584,14 @@ pub struct StatusReport {
     pub opfaults: u64,
     /// Whether the cycle thread runs with real-time scheduling.
     pub realtime: bool,
-    /// Calls of the system allocator made by the cycle thread while cycling (0 in steady
-    /// state; iceoryx2 allocates when a client's connection is set up or torn down).
+    /// Calls of the system allocator made by the cycle thread in its cycles: the figure that
+    /// must stay 0.
     pub rt_heap_allocations: u64,
+    /// Calls of the system allocator made by the cycle thread while it set up or tore down
+    /// a client's shared-memory connection, outside the cycle (iceoryx2 allocates there; a
+    /// few hundred per client attach are normal).
+    #[serde(default)]
+    pub rt_setup_allocations: u64,
     /// Receives of client outputs that failed (a dead client's connection being removed).
     #[serde(default)]
     pub receive_errors: u64,
@@ -527,6 +618,76 @@ pub struct StatusReport {
     /// Announced notification subscribers.
     #[serde(default)]
     pub subscribers: Vec<SubscriberReport>,
+    /// Forced bytes, one entry per run of consecutive forced addresses.
+    #[serde(default)]
+    pub forces: Vec<ForceReport>,
+}
+
+/// A run of forced bytes in a status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ForceReport {
+    /// I or Q.
+    pub space: Space,
+    /// First logical address.
+    pub address: u32,
+    /// The forced values.
+    pub data: Vec<u8>,
+    /// Station name of the submodule's device.
+    pub device: String,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+}
+
+impl StatusReport {
+    /// The forces that cover any of `length` bytes from `address` in `space`.
+    pub fn forces_in(
+        &self,
+        space: Space,
+        address: u32,
+        length: u32,
+    ) -> impl Iterator<Item = &ForceReport> {
+        let end = address.saturating_add(length);
+        self.forces.iter().filter(move |f| {
+            f.space == space
+                && f.address < end
+                && address < f.address.saturating_add(f.data.len() as u32)
+        })
+    }
+}
+
+/// Serde for 64-bit identifiers (generation, layout hash) as 16 hex digits: JSON numbers
+/// above 2^53 lose their low bits in JavaScript and jq. Numbers are still read, for
+/// messages from older servers.
+pub mod hex_id {
+    use alloc::format;
+    use alloc::string::String;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    /// Writes `v` as 16 lowercase hex digits.
+    pub fn serialize<S: Serializer>(v: &u64, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&format!("{v:016x}"))
+    }
+
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Either {
+        Hex(String),
+        Number(u64),
+    }
+
+    /// Reads hex digits (with or without `0x`) or a number.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<u64, D::Error> {
+        match Either::deserialize(d)? {
+            Either::Number(n) => Ok(n),
+            Either::Hex(h) => {
+                let digits = h.strip_prefix("0x").unwrap_or(&h);
+                u64::from_str_radix(digits, 16)
+                    .map_err(|e| serde::de::Error::custom(format!("{h:?} is not hex: {e}")))
+            }
+        }
+    }
 }
 
 /// One announced notification subscriber in a status report.

@@ -172,7 +172,8 @@ pub enum Notification {
     /// A server (re)started: announce again (its predecessor's subscriptions, jobs and
     /// alarms are gone).
     ServerStarted {
-        /// Its generation.
+        /// Its generation (in JSON a hex string).
+        #[serde(with = "crate::control::hex_id")]
         generation: u64,
     },
     /// A device's state changed (see [`crate::control::DeviceReport::state`]).

@@ -3,8 +3,11 @@
 
 use anyhow::{Context, bail};
 use clap::Subcommand;
-use procimg_client::{AttachOptions, Client, Ioxs, Space};
-use std::time::Duration;
+use procimg_client::access::{resolve_read, resolve_write};
+use procimg_client::{AttachOptions, Client, ControlHandle, Ioxs, Space};
+use procimg_shm_layout::SubmoduleEntry;
+use procimg_shm_layout::control::StatusReport;
+use std::time::{Duration, Instant};
 
 #[derive(Subcommand)]
 pub enum IoCommand {
@@ -19,7 +22,9 @@ pub enum IoCommand {
         #[arg(long)]
         output: bool,
     },
-    /// Write outputs at a logical address: claims the submodule for the write, then releases it.
+    /// Write outputs at a logical address and hold them: the command claims the submodule,
+    /// writes, and keeps the claim (so the outputs keep going out) until Ctrl-C or --seconds;
+    /// then the outputs go out invalid again. `io force` keeps values without a command running.
     Write {
         /// Logical address (decimal or 0x hex).
         #[arg(value_parser = parse_u32)]
@@ -29,8 +34,39 @@ pub enum IoCommand {
         /// Send the outputs with local status BAD.
         #[arg(long)]
         bad: bool,
+        /// Hold the outputs this long, then release them (default: until Ctrl-C).
+        #[arg(long)]
+        seconds: Option<f64>,
     },
-    /// Print the inputs at an address whenever they change.
+    /// Force bytes, as a PLC's force table: the server holds them at these values every cycle
+    /// (outputs over what clients write, sent valid in OPERATE; inputs, with --input, over what
+    /// the devices deliver) until `io unforce` or the server's end. Shown by status, layout and
+    /// io read.
+    Force {
+        /// Logical address (decimal or 0x hex).
+        #[arg(value_parser = parse_u32)]
+        address: u32,
+        /// Bytes in hex, e.g. 01ff or "01 ff"; they must lie in one submodule.
+        bytes: String,
+        /// Force inputs (I) instead of outputs (Q).
+        #[arg(long)]
+        input: bool,
+    },
+    /// End forcing at a logical address (the rest of its submodule, or LEN bytes), or all.
+    Unforce {
+        /// Logical address (decimal or 0x hex).
+        #[arg(value_parser = parse_u32, required_unless_present = "all")]
+        address: Option<u32>,
+        /// Bytes to unforce (default: to the end of the submodule).
+        length: Option<u32>,
+        /// Unforce inputs (I) instead of outputs (Q).
+        #[arg(long)]
+        input: bool,
+        /// Unforce everything, inputs and outputs.
+        #[arg(long, conflicts_with_all = ["address", "length", "input"])]
+        all: bool,
+    },
+    /// Print the inputs at an address whenever they or their status change.
     Watch {
         /// Logical address (decimal or 0x hex).
         #[arg(value_parser = parse_u32)]
@@ -40,7 +76,7 @@ pub enum IoCommand {
         /// Watch the output (Q) space.
         #[arg(long)]
         output: bool,
-        /// Stop after this many changes.
+        /// Stop after this many lines.
         #[arg(long)]
         count: Option<u64>,
     },
@@ -84,25 +120,26 @@ fn attach(instance: &str) -> anyhow::Result<Client> {
     )?)
 }
 
-/// Reads `length` bytes (or to the end of the submodule) at `address`.
+/// Reads `length` bytes (or to the end of the submodule) at `address`, with the status and
+/// whether a force covers the bytes.
 fn read(
     client: &mut Client,
+    status: Option<&StatusReport>,
     address: u32,
     length: Option<usize>,
     output: bool,
 ) -> anyhow::Result<(Vec<u8>, String)> {
     let space = if output { Space::Output } else { Space::Input };
-    let s = procimg_client::access::find(&client.layout().submodules, space, address)
-        .with_context(|| format!("no submodule has {space} address {address}"))?;
-    let e = client.layout().submodules[s];
-    let (start, len) = if output {
-        (e.output_address, e.output_length)
-    } else {
-        (e.input_address, e.input_length)
-    };
-    let n = length.unwrap_or((start + len as u32 - address) as usize);
+    let at = resolve_read(
+        &client.layout().submodules,
+        space,
+        address,
+        usize::MAX,
+        true,
+    )?;
+    let n = length.unwrap_or(at.data_len);
     let mut buf = vec![0u8; n];
-    let status = if output {
+    let mut text = if output {
         let r = client.output_data_read(address, &mut buf)?;
         buf.truncate(r.len.min(n));
         format!("local {:?} remote {:?}", r.local, r.remote)
@@ -111,10 +148,89 @@ fn read(
         buf.truncate(r.len.min(n));
         format!("remote {:?}", r.remote)
     };
-    Ok((buf, status))
+    if let Some(st) = status
+        && st
+            .forces_in(space, address, buf.len() as u32)
+            .next()
+            .is_some()
+    {
+        text.push_str(", FORCED");
+    }
+    Ok((buf, text))
+}
+
+/// The server's status, for its force table.
+fn forces(client: &Client) -> Option<StatusReport> {
+    client.control().status().ok()
+}
+
+/// Waits for Ctrl-C (SIGINT), SIGTERM, the server's end or `seconds`.
+fn hold(client: &mut Client, seconds: Option<f64>) -> anyhow::Result<()> {
+    let stop = crate::interrupt::flag()?;
+    let until = seconds.map(|x| Instant::now() + Duration::from_secs_f64(x));
+    while !stop.load(std::sync::atomic::Ordering::Acquire)
+        && until.is_none_or(|u| Instant::now() < u)
+    {
+        for e in client.events() {
+            match e {
+                procimg_client::Event::ServerShutdown => bail!(
+                    "instance \"{}\" stopped: the outputs are no longer held",
+                    client.instance()
+                ),
+                procimg_client::Event::ClaimLost { .. } => bail!(
+                    "the claim was lost (the server restarted or dropped this command): the \
+                     outputs are no longer held"
+                ),
+                _ => {}
+            }
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    Ok(())
+}
+
+fn force(instance: &str, op: IoCommand) -> anyhow::Result<()> {
+    let control = ControlHandle::open(instance, "procimg-force")?;
+    match op {
+        IoCommand::Force {
+            address,
+            bytes,
+            input,
+        } => {
+            let data = parse_hex(&bytes)?;
+            let space = if input { Space::Input } else { Space::Output };
+            control.force(space, address, &data)?;
+            println!(
+                "forced {space} {address}..{} to {} until `procimg io unforce{} {address}`",
+                address as usize + data.len() - 1,
+                hex(&data),
+                if input { " --input" } else { "" }
+            );
+        }
+        IoCommand::Unforce { all: true, .. } => {
+            control.unforce_all()?;
+            println!("nothing forced");
+        }
+        IoCommand::Unforce {
+            address: Some(address),
+            length,
+            input,
+            ..
+        } => {
+            let space = if input { Space::Input } else { Space::Output };
+            control.unforce(space, address, length)?;
+            let left = control.status()?.forces.len();
+            println!("{space} {address} no longer forced ({left} forces left)");
+        }
+        _ => unreachable!("only force and unforce come here"),
+    }
+    Ok(())
 }
 
 pub fn run(instance: &str, op: IoCommand) -> anyhow::Result<()> {
+    if matches!(op, IoCommand::Force { .. } | IoCommand::Unforce { .. }) {
+        return force(instance, op);
+    }
     let mut client = attach(instance)?;
     wait_for_image(&mut client)?;
     match op {
@@ -123,28 +239,36 @@ pub fn run(instance: &str, op: IoCommand) -> anyhow::Result<()> {
             length,
             output,
         } => {
-            let (bytes, status) = read(&mut client, address, length, output)?;
+            let status = forces(&client);
+            let (bytes, status) = read(&mut client, status.as_ref(), address, length, output)?;
             println!("{}  ({status})", hex(&bytes));
         }
         IoCommand::Write {
             address,
             bytes,
             bad,
+            seconds,
         } => {
             let data = parse_hex(&bytes)?;
-            let s =
-                procimg_client::access::find(&client.layout().submodules, Space::Output, address)
-                    .with_context(|| format!("no submodule has Q address {address}"))?;
-            client.claim(&[s])?;
+            let at = resolve_write(&client.layout().submodules, address, data.len(), true)?;
+            client.claim(&[at.submodule])?;
             let local = if bad { Ioxs::Bad } else { Ioxs::Good };
             let remote = client.data_write(address, &data, local)?;
-            // Stay one more cycle so the write is applied while the claim is held.
-            std::thread::sleep(Duration::from_nanos(client.layout().header.cycle_ns * 3));
-            client.release(&[s])?;
-            println!(
-                "written {} at Q {address} (remote status {remote:?})",
-                hex(&data)
-            );
+            let end = address as usize + data.len() - 1;
+            match seconds {
+                Some(s) => println!(
+                    "written {} at Q {address}..{end} (remote status {remote:?}); held for {s} s",
+                    hex(&data)
+                ),
+                None => println!(
+                    "written {} at Q {address}..{end} (remote status {remote:?}); held until \
+                     Ctrl-C, then the outputs go out invalid (`procimg io force` keeps them \
+                     without a running command)",
+                    hex(&data)
+                ),
+            }
+            hold(&mut client, seconds)?;
+            client.release(&[at.submodule])?;
         }
         IoCommand::Watch {
             address,
@@ -153,21 +277,29 @@ pub fn run(instance: &str, op: IoCommand) -> anyhow::Result<()> {
             count,
         } => {
             let mut last = None;
-            let mut changes = 0;
+            let mut lines = 0;
+            let mut status = forces(&client);
+            let mut status_at = Instant::now();
             loop {
-                let (bytes, status) = read(&mut client, address, length, output)?;
-                if last.as_ref() != Some(&bytes) {
+                if status_at.elapsed() > Duration::from_secs(1) {
+                    status = forces(&client);
+                    status_at = Instant::now();
+                }
+                let now = read(&mut client, status.as_ref(), address, length, output)?;
+                // A change of status alone (inputs turning BAD) is a line too.
+                if last.as_ref() != Some(&now) {
                     let cycle = client.cycle_info().map_or(0, |c| c.cycle_number);
-                    println!("cycle {cycle:>9}  {}  ({status})", hex(&bytes));
-                    last = Some(bytes);
-                    changes += 1;
-                    if count.is_some_and(|c| changes >= c) {
+                    println!("cycle {cycle:>9}  {}  ({})", hex(&now.0), now.1);
+                    last = Some(now);
+                    lines += 1;
+                    if count.is_some_and(|c| lines >= c) {
                         return Ok(());
                     }
                 }
                 std::thread::sleep(Duration::from_millis(10));
             }
         }
+        IoCommand::Force { .. } | IoCommand::Unforce { .. } => {}
     }
     Ok(())
 }
@@ -189,6 +321,7 @@ fn wait_for_image(client: &mut Client) -> anyhow::Result<()> {
 
 pub fn layout(instance: &str) -> anyhow::Result<()> {
     let client = attach(instance)?;
+    let status = forces(&client);
     let l = client.layout();
     println!(
         "{} devices, {} submodules, {} input and {} output bytes, layout hash {:016x}",
@@ -211,9 +344,31 @@ pub fn layout(instance: &str) -> anyhow::Result<()> {
             s.subslot,
             s.module_ident,
             s.submodule_ident,
-            s.address_text(false),
-            s.address_text(true)
+            marked(
+                s.address_text(false),
+                forced(status.as_ref(), s, Space::Input)
+            ),
+            marked(
+                s.address_text(true),
+                forced(status.as_ref(), s, Space::Output)
+            )
         );
     }
+    if status.as_ref().is_some_and(|s| !s.forces.is_empty()) {
+        println!("F: forced bytes in the range (`procimg status` lists them)");
+    }
     Ok(())
+}
+
+/// Whether a force covers some of submodule `e`'s bytes in `space`.
+fn forced(status: Option<&StatusReport>, e: &SubmoduleEntry, space: Space) -> bool {
+    let (first, len) = match space {
+        Space::Input => (e.input_address, e.input_length),
+        Space::Output => (e.output_address, e.output_length),
+    };
+    len > 0 && status.is_some_and(|st| st.forces_in(space, first, len as u32).next().is_some())
+}
+
+fn marked(text: String, forced: bool) -> String {
+    if forced { format!("F {text}") } else { text }
 }

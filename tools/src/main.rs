@@ -3,6 +3,7 @@
 
 mod capture;
 mod dcp;
+mod interrupt;
 mod io;
 mod services;
 mod status;

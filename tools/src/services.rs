@@ -134,10 +134,7 @@ pub fn events(
     seconds: Option<f64>,
 ) -> anyhow::Result<()> {
     let mut s = open(instance, "procimg-events", acknowledge)?;
-    let term = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register(sig, term.clone())?;
-    }
+    let term = crate::interrupt::flag()?;
     let until = seconds.map(|x| Instant::now() + Duration::from_secs_f64(x));
     let mut seen = 0;
     while !term.load(std::sync::atomic::Ordering::Acquire)

@@ -23,8 +23,18 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
         if s.realtime { "yes" } else { "no" }
     );
     println!(
-        "cycles {}  overruns {}  OPFAULTs {}  heap allocations on the cycle thread {}",
-        s.cycle_count, s.overruns, s.opfaults, s.rt_heap_allocations
+        "cycles {}  overruns {}  OPFAULTs {}",
+        s.cycle_count, s.overruns, s.opfaults
+    );
+    println!(
+        "heap allocations in the cycle {} (must stay 0{}); in client connection set-up {}",
+        s.rt_heap_allocations,
+        if s.rt_heap_allocations == 0 {
+            ""
+        } else {
+            ": the real-time path allocated, see docs/ARCHITECTURE.md"
+        },
+        s.rt_setup_allocations
     );
     line("wake-up latency", &s.wakeup_latency);
     line("STARTOP→OPDONE", &s.handshake_round_trip);
@@ -52,6 +62,23 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
         "RPC datagrams dropped: {} malformed, {} unexpected",
         n.malformed_datagrams, n.unexpected_datagrams
     );
+    if s.forces.is_empty() {
+        println!("no forces");
+    } else {
+        println!("FORCED (`procimg io unforce ADDR` or `--all` ends them):");
+        for f in &s.forces {
+            println!(
+                "  {} {}..{}  {}  ({} slot {} subslot {})",
+                f.space,
+                f.address,
+                f.address as usize + f.data.len() - 1,
+                crate::io::hex(&f.data),
+                f.device,
+                f.slot,
+                f.subslot
+            );
+        }
+    }
     if s.clients.is_empty() {
         println!("no clients");
     } else {

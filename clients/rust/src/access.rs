@@ -11,23 +11,7 @@
 
 use procimg_shm_layout::SubmoduleEntry;
 
-/// The two address spaces of an IO system.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Space {
-    /// Inputs (I).
-    Input,
-    /// Outputs (Q).
-    Output,
-}
-
-impl core::fmt::Display for Space {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(match self {
-            Space::Input => "I",
-            Space::Output => "Q",
-        })
-    }
-}
+pub use procimg_shm_layout::control::Space;
 
 /// Why an access by logical address is refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -64,13 +48,13 @@ impl core::fmt::Display for AccessError {
             } => write!(
                 f,
                 "{space} {address} is the diagnostic address of a submodule without IO data: \
-                 it has nothing to read or write, only records; `procimgd --check -c FILE` \
-                 lists the addresses"
+                 it has nothing to read or write, only records; `procimg layout` lists the \
+                 addresses"
             ),
             AccessError::UnknownAddress { space, address, .. } => write!(
                 f,
-                "no submodule has {space} address {address}; `procimgd --check -c FILE` lists \
-                 the addresses"
+                "no submodule has {space} address {address}; `procimg layout` lists the \
+                 addresses"
             ),
             AccessError::ValueLength {
                 address,

@@ -6,7 +6,7 @@ use crate::connection::{ControlPort, Ipc, client_node, open_control};
 use crate::error::{AttachError, ControlError};
 use iceoryx2::node::Node;
 use procimg_shm_layout::Mode;
-use procimg_shm_layout::control::{self, HistogramsReport, Request, Response, StatusReport};
+use procimg_shm_layout::control::{self, HistogramsReport, Request, Response, Space, StatusReport};
 use std::time::{Duration, Instant};
 
 /// How long a control request waits for its answer by default.
@@ -130,5 +130,42 @@ impl ControlHandle {
     /// is confirmed by a MODE event (one per step: OFFLINE ↔ OPERATE passes through CLEAR).
     pub fn set_mode(&self, mode: Mode) -> Result<(), ControlError> {
         self.request_done(&Request::SetMode { mode })
+    }
+
+    /// Forces `data` at `address` in `space`, as a PLC's force table does: from the next
+    /// cycle on the server holds those bytes at these values (inputs over what the devices
+    /// deliver, outputs over what clients write, sent valid in OPERATE), after this handle
+    /// and its process are gone, until [`ControlHandle::unforce`] or the server's end. The
+    /// bytes must lie in one submodule.
+    pub fn force(&self, space: Space, address: u32, data: &[u8]) -> Result<(), ControlError> {
+        self.request_done(&Request::Force {
+            space,
+            address,
+            data: data.to_vec(),
+        })
+    }
+
+    /// Ends the forcing of `length` bytes from `address` in `space` (to the end of the
+    /// submodule when `None`).
+    pub fn unforce(
+        &self,
+        space: Space,
+        address: u32,
+        length: Option<u32>,
+    ) -> Result<(), ControlError> {
+        self.request_done(&Request::Unforce {
+            space,
+            address: Some(address),
+            length,
+        })
+    }
+
+    /// Ends every force, in both spaces.
+    pub fn unforce_all(&self) -> Result<(), ControlError> {
+        self.request_done(&Request::Unforce {
+            space: Space::Output,
+            address: None,
+            length: None,
+        })
     }
 }

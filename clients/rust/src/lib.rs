@@ -49,7 +49,7 @@ pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
-pub use procimg_shm_layout::control::{ClientRole, Refusal, StatusReport};
+pub use procimg_shm_layout::control::{ClientRole, ForceReport, Refusal, StatusReport};
 pub use procimg_shm_layout::services::{
     AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause, Notification, RecordConfirmation,
     RecordStatus, RecordTarget, SubmoduleDiff,

@@ -7,6 +7,7 @@
 //! outputs; send them; NEWCYCLE; statistics. Nothing here allocates, blocks on a lock or
 //! logs once the engine is built.
 
+use super::force::ForcePlan;
 use super::shared::{Command, Shared};
 use crate::config::{LatePolicy, OpdoneWait, OutputTiming};
 use crate::image::{Image, Tables};
@@ -19,6 +20,7 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::EventId;
 use iceoryx2::prelude::FileDescriptorBased;
 use iceoryx2::sample::Sample;
+use procimg_shm_layout::control::Space;
 use procimg_shm_layout::events::{
     EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, EVENT_STARTOP, opfault_event,
 };
@@ -91,6 +93,8 @@ struct State {
     startop_ns: u64,
     /// Outputs merged but not yet sent (OutputTiming::AtNextCycleStart).
     outputs_pending: bool,
+    /// What is forced (from the force table of the acyclic side).
+    force: Box<ForcePlan>,
 }
 
 /// The cycle engine: the ports, the IO system and the state of the cycle.
@@ -150,6 +154,7 @@ impl Engine {
                 cycle: 0,
                 startop_ns: 0,
                 outputs_pending: false,
+                force: Box::new(ForcePlan::empty(n)),
             },
         }
     }
@@ -177,8 +182,10 @@ impl Engine {
         }
         let mode_changed = st.step_mode();
 
-        // 1. Inputs from the IO system; local input status from the clients.
+        // 1. Inputs from the IO system, forced inputs over them; local input status from the
+        // clients.
         self.io.receive(t, st.mode, &mut st.image);
+        st.force.apply(Space::Input, &mut st.image);
         st.apply_input_iocs();
 
         // 2. Publish the input image.
@@ -251,6 +258,8 @@ impl Engine {
             st.opfault_late_clients(&self.ports);
         }
         st.mark_late_outputs();
+        // Forced outputs over what the clients wrote.
+        st.force.apply(Space::Output, &mut st.image);
 
         // 6. Outputs go out, NEWCYCLE.
         st.prepare_output_status();
@@ -287,9 +296,11 @@ impl Engine {
     /// receive, where the work (mapping, unmapping segments) eats into the OPDONE window of
     /// every client.
     pub fn maintain_connections(&mut self) {
-        let _ = self.ports.inputs.update_connections();
-        let _ = self.ports.outputs.update_connections();
-        let _ = self.ports.events.update_connections();
+        crate::sys::rt_alloc::as_connection_setup(|| {
+            let _ = self.ports.inputs.update_connections();
+            let _ = self.ports.outputs.update_connections();
+            let _ = self.ports.events.update_connections();
+        });
     }
 
     /// Counts an overrun (cycles skipped because cycle work ran past the next start).
@@ -376,6 +387,7 @@ impl State {
                 Command::SetMode(m) => self.target = m,
             }
         }
+        self.shared.take_force_plan(&mut self.force);
         for c in &mut self.clients {
             c.done = false;
         }
@@ -558,9 +570,11 @@ impl State {
             }
             let mut st = self.image.status(s);
             // Outputs nobody owns are not being written by anyone: they go out invalid, so the
-            // device applies its substitute values.
+            // device applies its substitute values. Forced outputs go out valid, as a PLC's
+            // force reaches the process whatever the program does (but not in CLEAR).
             let owned = self.last_owner[s] != 0;
             st.output_iops = match self.mode {
+                Mode::Operate if self.force.forces_outputs_of(s) => IOXS_GOOD,
                 Mode::Operate if owned && !self.late_bad[s] => self.output_iops[s],
                 _ => IOXS_BAD_BY_CONTROLLER,
             };

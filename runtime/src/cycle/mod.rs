@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The cycle thread and what it runs.
 pub mod engine;
+pub mod force;
 pub mod shared;
 pub mod thread;
 
 pub use engine::{Engine, EngineSettings};
+pub use force::{ForcePlan, ForceRun};
 pub use shared::{Command, Shared};

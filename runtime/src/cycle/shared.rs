@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! What the acyclic side and the cycle thread share: lock-free only.
 
+use super::force::ForcePlan;
 use crate::stats::Counters;
 use crossbeam_queue::ArrayQueue;
 use procimg_shm_layout::Mode;
@@ -44,7 +45,15 @@ pub struct Shared {
     pub stop: AtomicBool,
     /// The mode last asked for (confirmed when `counters.mode` reaches it).
     pub target_mode: std::sync::atomic::AtomicU32,
+    /// New force plans for the cycle thread, which takes the newest at a cycle start.
+    pub force_plans: ArrayQueue<Box<ForcePlan>>,
+    /// Plans the cycle thread replaced, for the acyclic side to free: the cycle never frees.
+    pub spent_force_plans: ArrayQueue<Box<ForcePlan>>,
 }
+
+/// Force plans waiting for the cycle thread, which takes them every cycle: more waiting
+/// means the cycle is stalled, and the force is refused.
+const FORCE_PLANS: usize = 2;
 
 impl Shared {
     /// Shared state for `submodules` submodules.
@@ -55,6 +64,9 @@ impl Shared {
             commands: ArrayQueue::new(COMMANDS),
             stop: AtomicBool::new(false),
             target_mode: std::sync::atomic::AtomicU32::new(procimg_shm_layout::MODE_OFFLINE),
+            force_plans: ArrayQueue::new(FORCE_PLANS),
+            // Room for every plan that can be on its way, and the one in use.
+            spent_force_plans: ArrayQueue::new(FORCE_PLANS + 1),
         }
     }
 
@@ -66,6 +78,29 @@ impl Shared {
     /// Queues a command; `false` if the queue is full (the cycle thread is stuck).
     pub fn command(&self, c: Command) -> bool {
         self.commands.push(c).is_ok()
+    }
+
+    /// Hands a new force plan to the cycle thread, after freeing the plans it gave back.
+    /// Gives the plan back when the cycle has not taken the previous ones (it is stalled).
+    pub fn send_force_plan(&self, plan: Box<ForcePlan>) -> Result<(), Box<ForcePlan>> {
+        while self.spent_force_plans.pop().is_some() {}
+        self.force_plans.push(plan)
+    }
+
+    /// The newest force plan for the cycle thread, if one came; the plans it replaces go back.
+    /// Neither allocates nor frees.
+    pub fn take_force_plan(&self, current: &mut Box<ForcePlan>) -> bool {
+        let mut taken = false;
+        while let Some(plan) = self.force_plans.pop() {
+            let old = std::mem::replace(current, plan);
+            if let Err(old) = self.spent_force_plans.push(old) {
+                // Cannot happen (room for all), but freeing here would call the allocator
+                // from the cycle: the plan is leaked instead.
+                std::mem::forget(old);
+            }
+            taken = true;
+        }
+        taken
     }
 
     /// The mode the cycle currently runs in.

@@ -4,9 +4,11 @@
 //! It runs at normal priority and never makes the cycle wait: it talks to the cycle thread
 //! only through [`Shared`].
 
+pub mod force;
 mod registry;
 pub mod services;
 
+pub use force::ForceTable;
 pub use registry::{ClientEntry, Registry};
 pub use services::{ControllerLink, RecordJob, Services};
 
@@ -60,6 +62,7 @@ pub struct Control {
     registry: Registry,
     last_liveness: Instant,
     network: Option<(Arc<DeviceStates>, Arc<Channel>)>,
+    forces: ForceTable,
     // Dropped after the ports above, which live on it.
     _node: Node<Ipc>,
 }
@@ -97,6 +100,7 @@ impl Control {
             registry,
             last_liveness: Instant::now(),
             network: None,
+            forces: ForceTable::default(),
         }
     }
 
@@ -240,11 +244,55 @@ impl Control {
                 let cycles = crate::stats::load(&self.shared.counters.cycles);
                 return Response::Histograms(Box::new(self.stats.histograms(cycles)));
             }
+            Request::Force {
+                space,
+                address,
+                data,
+            } => self
+                .change_forces(|f, t| f.force(t, space, address, &data))
+                .inspect(|()| {
+                    tracing::info!(
+                        "forced {space} {address}..{}: {}",
+                        address as usize + data.len().saturating_sub(1),
+                        hex(&data)
+                    )
+                }),
+            Request::Unforce {
+                space,
+                address,
+                length,
+            } => match address {
+                None => self
+                    .change_forces(|f, _| {
+                        f.clear();
+                        Ok(())
+                    })
+                    .inspect(|()| tracing::info!("every force ended")),
+                Some(a) => self
+                    .change_forces(|f, t| f.unforce(t, space, a, length))
+                    .inspect(|()| tracing::info!("force of {space} {a} ended")),
+            },
         };
         match result {
             Ok(()) => Response::Done,
             Err(r) => Response::Refused(r),
         }
+    }
+
+    /// Changes the force table and hands the cycle its new plan; nothing changes when the
+    /// cycle has not taken the previous plans (it is stalled).
+    fn change_forces(
+        &mut self,
+        change: impl FnOnce(&mut ForceTable, &Tables) -> Result<(), Refusal>,
+    ) -> Result<(), Refusal> {
+        let mut next = self.forces.clone();
+        change(&mut next, &self.tables)?;
+        let plan = Box::new(next.plan(&self.tables));
+        self.shared
+            .send_force_plan(plan)
+            .map_err(|_| Refusal::ServerBusy)?;
+        self.forces = next;
+        Ok(())
     }
 
     /// Waits up to `wait` for what the controller reports and hands it to the subscribers.
@@ -310,6 +358,7 @@ impl Control {
             opfaults: load(&c.opfaults),
             realtime: c.realtime.load(Ordering::Relaxed),
             rt_heap_allocations: crate::sys::rt_alloc::rt_heap_allocations(),
+            rt_setup_allocations: crate::sys::rt_alloc::rt_setup_allocations(),
             receive_errors: load(&c.receive_errors),
             rejected_writes: load(&c.rejected_writes),
             wakeup_latency: self.stats.wakeup(),
@@ -320,6 +369,7 @@ impl Control {
             devices: self.device_reports(),
             network: self.network_report(),
             subscribers: self.services.subscribers(),
+            forces: self.forces.reports(&self.tables),
         }
     }
 
@@ -408,6 +458,14 @@ impl Control {
     pub fn registry(&self) -> &Registry {
         &self.registry
     }
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn accepted(r: Result<(), Refusal>) -> Response {
