@@ -84,6 +84,8 @@ pub struct Counters {
     pub realtime: AtomicBool,
     /// OPFAULTs per client slot.
     pub client_opfaults: [AtomicU64; MAX_CLIENTS],
+    /// Per client slot: the cycle of its last OPFAULT (0: none).
+    pub client_last_opfault: [AtomicU64; MAX_CLIENTS],
 }
 
 impl Default for Counters {
@@ -97,6 +99,7 @@ impl Default for Counters {
             mode: AtomicU32::new(0),
             realtime: AtomicBool::new(false),
             client_opfaults: std::array::from_fn(|_| AtomicU64::new(0)),
+            client_last_opfault: std::array::from_fn(|_| AtomicU64::new(0)),
         }
     }
 }

@@ -7,9 +7,12 @@
 
 mod support;
 
-use procimg_client::{AttachOptions, Client, Event};
+use procimg_client::{AttachOptions, Client, Event, StatusReport};
+use procimg_shm_layout::control::ClientReport;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 use support::Server;
 
@@ -31,14 +34,17 @@ fn child_sync_client_that_hangs_in_its_window() {
     let trigger = std::path::PathBuf::from(std::env::var(TRIGGER_ENV).unwrap());
     let mut n = 0;
     loop {
-        let mut cycle = c.wait_startop(Duration::from_secs(1)).unwrap();
+        // A loaded machine may hold this process back for a while: that is no failure here.
+        let Ok(mut cycle) = c.wait_startop(Duration::from_secs(5)) else {
+            continue;
+        };
         n += 1;
         if n == 200 {
             println!("cycling");
         }
         if n > 200 && trigger.exists() {
             // Hang between STARTOP and OPDONE until killed.
-            println!("in-window");
+            println!("in-window {}", cycle.number());
             std::thread::sleep(Duration::from_secs(60));
         }
         cycle.output_mut(echo).unwrap().fill(0x5a);
@@ -56,16 +62,18 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
     // Another client follows the cycles alongside the whole time. It is asynchronous, so it
     // is never waited for and can get no OPFAULT: every OPFAULT counted is the hung client's,
     // whatever else this shared machine does meanwhile.
-    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let stop = Arc::new(AtomicBool::new(false));
+    let followed = Arc::new(AtomicU64::new(0));
     let bystander = {
-        let (instance, stop) = (server.instance.clone(), stop.clone());
+        let (instance, stop, followed) = (server.instance.clone(), stop.clone(), followed.clone());
         std::thread::spawn(move || {
             let mut c =
                 Client::attach(&instance, AttachOptions::asynchronous("bystander")).unwrap();
             let mut cycles = Vec::new();
-            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+            while !stop.load(Ordering::Relaxed) {
                 if let Ok(cycle) = c.wait_startop(Duration::from_millis(100)) {
-                    cycles.push((Instant::now(), cycle.number()));
+                    cycles.push(cycle.number());
+                    followed.fetch_add(1, Ordering::Relaxed);
                 }
             }
             cycles
@@ -86,92 +94,88 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
         .spawn()
         .unwrap();
     let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-    let mut wait_for = |what: &str| {
-        assert!(
-            lines.any(|l| l.map(|l| l.contains(what)).unwrap_or(false)),
-            "the child client never printed {what}"
-        );
+    let mut wait_for = |what: &str| -> String {
+        lines
+            .by_ref()
+            .map_while(Result::ok)
+            .find(|l| l.contains(what))
+            .unwrap_or_else(|| panic!("the child client never printed {what}"))
     };
     wait_for("cycling");
     let before = server.status();
-    let doomed_before = before
-        .clients
-        .iter()
-        .find(|c| c.name == "doomed")
-        .unwrap()
-        .opfaults;
+    let doomed_before = doomed(&before).opfaults;
     assert_eq!(before.clients.len(), 2);
     std::fs::write(&trigger, b"hang").unwrap();
-    wait_for("in-window");
+    let hung_cycle: u64 = wait_for("in-window")
+        .trim_start_matches("in-window ")
+        .trim()
+        .parse()
+        .expect("the child names the cycle it hangs in");
     let _ = std::fs::remove_file(&trigger);
-    // Let the deadline of the hung cycle pass: its OPFAULT is counted; then kill it inside its
-    // window.
-    std::thread::sleep(Duration::from_millis(20));
-    let hung = server.status();
-    let doomed_hung = hung
-        .clients
-        .iter()
-        .find(|c| c.name == "doomed")
-        .expect("the hung client is still registered")
-        .opfaults;
-    let killed_at = Instant::now();
+
+    // A hundred cycles later (counted by the server, however long this machine takes), the
+    // hung client's last OPFAULT is still the one of the cycle it hangs in: a client that
+    // missed its deadline is not waited for again until it answers.
+    let hung = server.wait_status("100 cycles past the hang", |s| {
+        s.cycle_count >= hung_cycle + 100
+    });
+    assert_eq!(
+        doomed(&hung).last_opfault_cycle,
+        hung_cycle,
+        "the OPFAULT of the hung client is the one of the cycle it hangs in"
+    );
+    // Every OPFAULT so far was the hung client's (the bystander is never waited for).
+    assert_eq!(
+        hung.opfaults - before.opfaults,
+        doomed(&hung).opfaults - doomed_before,
+        "OPFAULTs counted for others"
+    );
+    let followed_at_kill = followed.load(Ordering::Relaxed);
     child.kill().unwrap();
     let _ = child.wait();
 
-    // The server keeps cycling, reaps the client and frees its claim.
-    let until = Instant::now() + Duration::from_secs(3);
-    let after = loop {
-        let s = server.status();
-        if s.clients.iter().all(|c| c.name != "doomed") {
-            break s;
-        }
-        assert!(Instant::now() < until, "the killed client was never reaped");
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let reaped_at = Instant::now();
-    std::thread::sleep(Duration::from_millis(300));
-    let later = server.status();
-    stop.store(true, std::sync::atomic::Ordering::Relaxed);
-    let seen = bystander.join().unwrap();
-    assert!(
-        later.cycle_count > after.cycle_count + 150,
-        "the server stopped cycling"
-    );
-    // The killed client: exactly one OPFAULT, for the cycle it hung in; a suspended client is
-    // not waited for again, so the kill and the reaping add none.
+    // The server keeps cycling, reaps the client and frees its claim; the kill and the
+    // reaping cost no OPFAULT.
+    let after = server.wait_status("the killed client reaped", |s| {
+        s.clients.iter().all(|c| c.name != "doomed")
+    });
+    let later = server.wait_status("150 more cycles", |s| {
+        s.cycle_count > after.cycle_count + 150
+    });
     assert_eq!(
-        doomed_hung - doomed_before,
-        1,
-        "OPFAULTs of the hung client"
-    );
-    // Nobody else got one: the total rose by exactly that one.
-    assert_eq!(
-        later.opfaults - before.opfaults,
-        1,
-        "OPFAULTs counted for others"
+        later.opfaults, hung.opfaults,
+        "OPFAULTs after the hang: the kill and the reaping must cost none"
     );
     // The other client kept getting its cycles through the kill and the reaping.
-    let around: Vec<u64> = seen
-        .iter()
-        .filter(|(t, _)| *t >= killed_at && *t <= reaped_at + Duration::from_millis(300))
-        .map(|(_, k)| *k)
-        .collect();
-    let span = (reaped_at + Duration::from_millis(300) - killed_at).as_millis() as usize;
-    assert!(
-        around.len() * 2 >= span,
-        "the other client saw {} cycles in {span} ms after the kill",
-        around.len()
-    );
-    assert!(around.windows(2).all(|w| w[0] < w[1]));
+    let until = Instant::now() + Duration::from_secs(30);
+    while followed.load(Ordering::Relaxed) < followed_at_kill + 50 {
+        assert!(
+            Instant::now() < until,
+            "the other client saw only {} cycles since the kill",
+            followed.load(Ordering::Relaxed) - followed_at_kill
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    stop.store(true, Ordering::Relaxed);
+    let seen = bystander.join().unwrap();
+    assert!(seen.windows(2).all(|w| w[0] < w[1]));
 
     // A new client takes the same outputs.
     let mut c = Client::attach(&server.instance, AttachOptions::synchronous("successor")).unwrap();
     let echo = c.layout().find("echo", 1, 1).unwrap();
     c.claim(&[echo])
         .expect("the killed client's claim was not freed");
-    let mut cycle = c.wait_startop(Duration::from_secs(1)).unwrap();
+    let mut cycle = c.wait_startop(Duration::from_secs(5)).unwrap();
     cycle.output_mut(echo).unwrap().fill(1);
     cycle.set_opdone().unwrap();
+}
+
+/// The hung client in a status report.
+fn doomed(s: &StatusReport) -> &ClientReport {
+    s.clients
+        .iter()
+        .find(|c| c.name == "doomed")
+        .expect("the hung client is still registered")
 }
 
 #[test]

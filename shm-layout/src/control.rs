@@ -518,6 +518,9 @@ pub struct ClientReport {
     pub role: ClientRole,
     /// OPFAULTs it got.
     pub opfaults: u64,
+    /// The cycle of its last OPFAULT (0: none yet).
+    #[serde(default)]
+    pub last_opfault_cycle: u64,
     /// Its claims.
     pub claims: Vec<ClaimReport>,
 }

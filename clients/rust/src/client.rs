@@ -3,7 +3,7 @@
 //! after a server restart.
 
 use crate::connection::{Connection, Ipc, iox2_config};
-use crate::control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
+use crate::control::ControlHandle;
 use crate::cycle::Cycle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
 use crate::layout::Layout;
@@ -34,11 +34,15 @@ pub struct AttachOptions {
     pub expected_layout_hash: Option<u64>,
     /// Deliver [`Event::NewCycle`] (IO-Base's NEWCYCLE is delivered only when registered).
     pub newcycle: bool,
-    /// How long attaching may take.
+    /// How long attaching may take (10 s by default: the server's control side runs at
+    /// normal priority and answers late on a loaded machine, without being wrong).
     pub timeout: Duration,
     /// [`Client::wait_startop`] polls for the image instead of sleeping on the STARTOP event.
     pub busy_poll: bool,
 }
+
+/// How long attaching may take by default.
+pub const ATTACH_TIMEOUT: Duration = Duration::from_secs(10);
 
 impl AttachOptions {
     /// A synchronous client: the server waits for its OPDONE every cycle.
@@ -49,7 +53,7 @@ impl AttachOptions {
             slice_access: true,
             expected_layout_hash: None,
             newcycle: false,
-            timeout: Duration::from_secs(3),
+            timeout: ATTACH_TIMEOUT,
             busy_poll: false,
         }
     }
@@ -682,7 +686,7 @@ fn register(control: &ControlHandle, opts: &AttachOptions) -> Result<(u32, u64, 
         newcycle: opts.newcycle,
         node_id,
     };
-    match control.request(&req, opts.timeout.min(DEFAULT_CONTROL_TIMEOUT)) {
+    match control.request(&req, opts.timeout) {
         Ok(Response::Registered {
             slot,
             token,

@@ -9,8 +9,9 @@ use procimg_shm_layout::Mode;
 use procimg_shm_layout::control::{self, HistogramsReport, Request, Response, Space, StatusReport};
 use std::time::{Duration, Instant};
 
-/// How long a control request waits for its answer by default.
-pub const DEFAULT_CONTROL_TIMEOUT: Duration = Duration::from_secs(2);
+/// How long a control request waits for its answer by default: the server answers at
+/// normal priority, and late on a loaded machine.
+pub const DEFAULT_CONTROL_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// A connection to an instance's control service.
 pub struct ControlHandle {

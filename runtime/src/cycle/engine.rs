@@ -372,7 +372,11 @@ impl State {
                             faulted: false,
                         };
                     }
-                    if let Some(c) = self.shared.counters.client_opfaults.get(slot as usize) {
+                    let counters = &self.shared.counters;
+                    if let Some(c) = counters.client_opfaults.get(slot as usize) {
+                        c.store(0, Ordering::Relaxed);
+                    }
+                    if let Some(c) = counters.client_last_opfault.get(slot as usize) {
                         c.store(0, Ordering::Relaxed);
                     }
                 }
@@ -539,6 +543,7 @@ impl State {
             let counters = &self.shared.counters;
             counters.opfaults.fetch_add(1, Ordering::Relaxed);
             counters.client_opfaults[slot].fetch_add(1, Ordering::Relaxed);
+            counters.client_last_opfault[slot].store(self.cycle, Ordering::Relaxed);
             notify(ports, opfault_event(slot as u32));
         }
     }

@@ -328,6 +328,7 @@ impl Control {
                 pid: e.pid,
                 role: e.role,
                 opfaults: load(&c.client_opfaults[slot as usize % MAX_CLIENTS]),
+                last_opfault_cycle: load(&c.client_last_opfault[slot as usize % MAX_CLIENTS]),
                 claims: e
                     .claims
                     .iter()

@@ -63,8 +63,10 @@ impl Server {
             child: Some(child),
             config,
         };
-        server.wait_cycling(Duration::from_secs(10));
-        server.wait_devices_running(Duration::from_secs(10));
+        // Generous: on a loaded machine the simulated devices' threads (normal priority) may
+        // need a few tries to come up.
+        server.wait_cycling(Duration::from_secs(30));
+        server.wait_devices_running(Duration::from_secs(30));
         server
     }
 
@@ -81,6 +83,26 @@ impl Server {
             .expect("open the control service")
             .status()
             .expect("status")
+    }
+
+    /// Waits (30 s at most: a loaded machine is slow, not wrong) until a status report
+    /// satisfies `done`, and returns it.
+    pub fn wait_status(&self, what: &str, done: impl Fn(&StatusReport) -> bool) -> StatusReport {
+        let until = Instant::now() + Duration::from_secs(30);
+        loop {
+            let s = self.status();
+            if done(&s) {
+                return s;
+            }
+            assert!(
+                Instant::now() < until,
+                "{}: waited 30 s for {what}; last status: mode {}, cycle {}",
+                self.instance,
+                s.mode,
+                s.cycle_count
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
     }
 
     /// Waits until the server answers and has run a few cycles.
