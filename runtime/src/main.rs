@@ -6,7 +6,8 @@
 //! state (CLEAR) before removing its shared memory.
 
 use anyhow::{Context, bail};
-use clap::Parser;
+use clap::error::ErrorKind;
+use clap::{CommandFactory, Parser};
 use procimg_runtime::config::{self, Config};
 use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
@@ -17,11 +18,12 @@ use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::rt::lock_memory;
 use procimg_runtime::sys::rt_alloc::RtAllocator;
 use procimg_shm_layout::Mode;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
-use tracing::{error, info, warn};
+use tracing::{info, warn};
 
 /// How often the control side looks for requests: control is not on the real-time path.
 const CONTROL_POLL: Duration = Duration::from_millis(2);
@@ -33,10 +35,10 @@ mod demo_view;
 
 /// The procimg process-image server.
 #[derive(Parser, Debug)]
-#[command(version, about, long_about = None)]
+#[command(name = "procimgd", version, about, long_about = None)]
 struct Args {
     /// Configuration file (TOML); see `--print-demo-config` for a commented example.
-    #[arg(short, long, value_name = "FILE", required_unless_present_any = ["demo", "print_demo_config"])]
+    #[arg(short, long, value_name = "FILE")]
     config: Option<PathBuf>,
     /// Run the built-in demo: simulated devices on an in-process network, no root needed.
     #[arg(long, conflicts_with = "config")]
@@ -44,7 +46,8 @@ struct Args {
     /// Print the built-in demo configuration (a commented example file) and exit.
     #[arg(long)]
     print_demo_config: bool,
-    /// Check the configuration, print the resulting image layout and exit.
+    /// Check the configuration for this machine (its network interface must exist), print the
+    /// resulting image layout and exit.
     #[arg(long)]
     check: bool,
     /// Use this instance name instead of the configuration's.
@@ -55,18 +58,38 @@ struct Args {
     quiet: bool,
 }
 
+/// What `procimgd` alone is told: how to start.
+const NO_CONFIGURATION: &str = "no configuration: give one with -c FILE, or run `procimgd --demo` \
+     for the built-in demo (no root, no hardware); `procimgd --print-demo-config` prints a \
+     template";
+
 fn main() {
+    let args = Args::parse();
+    if args.config.is_none() && !args.demo && !args.print_demo_config {
+        Args::command()
+            .error(ErrorKind::MissingRequiredArgument, NO_CONFIGURATION)
+            .exit();
+    }
     tracing_subscriber::fmt()
         .with_env_filter(
             tracing_subscriber::EnvFilter::try_from_default_env()
                 .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
         )
         .with_writer(std::io::stderr)
+        .with_ansi(colour_on_stderr())
         .init();
-    if let Err(e) = run(Args::parse()) {
-        error!("{e:#}");
+    if let Err(e) = run(args) {
+        // Said plainly, as a command line tool says why it stops; the log lines before it
+        // have told what happened until then.
+        eprintln!("procimgd: {e:#}");
         std::process::exit(1);
     }
+}
+
+/// Whether log lines get colours: only on a terminal, and not when `NO_COLOR` is set to
+/// anything but the empty string (<https://no-color.org>).
+fn colour_on_stderr() -> bool {
+    std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
 fn run(args: Args) -> anyhow::Result<()> {

@@ -43,8 +43,14 @@ pub enum NetworkError {
         problem: PlanError,
     },
     /// The interface could not be opened.
-    #[error(transparent)]
-    Open(#[from] OpenError),
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("{origin}: network: {}", open_advice(error))]
+    Open {
+        /// Configuration file.
+        origin: String,
+        /// What the system said.
+        error: OpenError,
+    },
     /// The interface has no IPv4 address.
     #[error(
         "network interface \"{0}\" has no IPv4 address: give it one in the devices' subnet \
@@ -105,7 +111,12 @@ impl PnioSystem {
                     )
                 }
                 Network::Interface(name) => {
-                    let nic = AfPacket::open(name, NIC_RX_TIMEOUT)?;
+                    let nic = AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| {
+                        NetworkError::Open {
+                            origin: config.origin.clone(),
+                            error,
+                        }
+                    })?;
                     let ip = interface_ipv4(name)
                         .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
                     let udp = UdpDatagrams::bind(ip)?;
@@ -179,6 +190,26 @@ fn controller_station_name(instance: &str) -> String {
         })
         .collect();
     format!("procimgd-{}", s.trim_matches('-'))
+}
+
+/// `error`, with what to do about it in procimgd's words.
+fn open_advice(error: &OpenError) -> String {
+    match error {
+        OpenError::NoSuchInterface { .. } => format!(
+            "{error}; set `network` to one of them, or to \"sim\" for the simulated devices"
+        ),
+        OpenError::NoMac { .. } => format!("{error}; set `network` to an Ethernet interface"),
+        OpenError::NotPermitted { .. } => {
+            let exe = std::env::current_exe()
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|_| "procimgd".to_owned());
+            format!(
+                "{error}; run procimgd as root, or grant it the capabilities it uses \
+                 (sudo setcap cap_net_raw,cap_sys_nice,cap_ipc_lock+ep {exe})"
+            )
+        }
+        OpenError::Down { .. } | OpenError::Io { .. } => error.to_string(),
+    }
 }
 
 /// The first IPv4 address of interface `name`.

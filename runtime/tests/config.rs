@@ -526,6 +526,11 @@ fn bad_device_values() {
             "device[0].watchdog_factor",
             "use 3 to 255",
         ),
+        (
+            "reduction_ratio = 65536",
+            "device[0].reduction_ratio",
+            "power of two from 1 to 512",
+        ),
         ("sim = \"random\"", "device[0].sim", "\"digital-io\""),
         (
             "vendor_id = 0x10000",
@@ -1020,9 +1025,91 @@ fn load_reads_files_and_names_them() {
     assert!(matches!(e, ConfigError::Read { .. }), "{e:?}");
     assert_eq!((e.line(), e.key()), (None, None));
     let shown = e.to_string();
-    assert!(shown.contains("missing.toml"), "{shown}");
-    assert!(shown.contains("cannot read"), "{shown}");
-    assert!(std::error::Error::source(&e).is_some());
+    assert!(
+        shown.starts_with(&format!("cannot read {}: ", missing.display())),
+        "{shown}"
+    );
+    assert!(shown.contains("--print-demo-config"), "{shown}");
+    // The OS error is in the message, once, also where procimgd prints the whole chain.
+    let chain = format!("{:#}", anyhow::Error::from(e));
+    assert_eq!(chain.matches("os error").count(), 1, "{chain}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn watchdog_factor_takes_the_documented_range() {
+    let with = |value: &str| {
+        format!(
+            "[[device]]\nname = \"ok\"\nvendor_id = 1\ndevice_id = 1\nwatchdog_factor = {value}\n"
+        )
+    };
+    assert_eq!(parse(&with("3")).unwrap().devices[0].watchdog_factor, 3);
+    assert_eq!(parse(&with("255")).unwrap().devices[0].watchdog_factor, 255);
+    // Values the key's type could hold and values it could not are refused alike, with the
+    // range the README gives, not the one of a 16-bit integer.
+    for value in [
+        "0",
+        "1",
+        "2",
+        "256",
+        "7680",
+        "65535",
+        "65536",
+        "-1",
+        "99999999999",
+    ] {
+        let text = with(value);
+        let e = refused_at(
+            &text,
+            "watchdog_factor",
+            "device[0].watchdog_factor",
+            "use 3 to 255 (default 3)",
+        );
+        assert!(!e.to_string().contains("0 to 65535"), "{e}");
+    }
+    refused_at(
+        &with("\"3\""),
+        "watchdog_factor",
+        "device[0].watchdog_factor",
+        "expected an integer",
+    );
+    // The README's configuration reference says the same.
+    let readme = include_str!("../../README.md");
+    let row = readme
+        .lines()
+        .find(|l| l.starts_with("| `watchdog_factor`"))
+        .expect("the README documents watchdog_factor");
+    assert!(row.contains("(3–255)"), "{row}");
+}
+
+#[test]
+fn load_checks_the_network_interface_on_this_machine() {
+    let dir = std::env::temp_dir().join(format!("procimg-config-net-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("plant.toml");
+    let text = "cycle_time = \"1ms\"\nnetwork = \"nosuchif0\"\n";
+    std::fs::write(&path, text).unwrap();
+    let e = config::load(&path).unwrap_err();
+    let shown = e.to_string();
+    assert_eq!((e.line(), e.key()), (Some(2), Some("network")), "{shown}");
+    assert!(
+        shown.starts_with(&format!("{}:2: network: ", path.display())),
+        "{shown}"
+    );
+    assert!(shown.contains("\"nosuchif0\" does not exist"), "{shown}");
+    // Every network namespace has its loopback interface: the list names it.
+    assert!(shown.contains("lo"), "{shown}");
+    assert!(shown.contains("\"sim\""), "{shown}");
+    // An interface that exists passes; parsing text alone does not look at the machine.
+    std::fs::write(&path, "network = \"lo\"\n").unwrap();
+    assert_eq!(
+        config::load(&path).unwrap().network,
+        Network::Interface("lo".into())
+    );
+    assert_eq!(
+        parse("network = \"nosuchif0\"").unwrap().network,
+        Network::Interface("nosuchif0".into())
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -17,7 +17,8 @@ pub fn run(
     count: Option<u64>,
     seconds: Option<f64>,
 ) -> anyhow::Result<()> {
-    let mut nic = AfPacket::open_capture(iface, Duration::from_millis(100))?;
+    let mut nic = AfPacket::open_capture(iface, Duration::from_millis(100))
+        .map_err(crate::dcp::iface_error)?;
     let mut writer = CaptureWriter::create(output)?;
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {

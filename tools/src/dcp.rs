@@ -3,7 +3,7 @@
 
 use anyhow::{Context, bail};
 use clap::Subcommand;
-use procimg_runtime::phy::af_packet::AfPacket;
+use procimg_runtime::phy::af_packet::{AfPacket, OpenError};
 use procimg_runtime::phy::{MAX_FRAME, Nic};
 use procimg_runtime::profinet::dcp_client::{Identify, Set};
 use procimg_runtime::profinet::wire::MacAddress;
@@ -78,8 +78,54 @@ fn ip_str(b: [u8; 4]) -> String {
     Ipv4Addr::from(b).to_string()
 }
 
+/// The value parser of `--instance` on a subcommand that works on the network itself
+/// (`dcp`, `capture`): the option is hidden there, and given anyway it is refused with the
+/// reason, rather than taken and ignored.
+pub fn no_instance(
+    command: &'static str,
+) -> impl Fn(&str) -> Result<String, String> + Clone + Send + Sync + 'static {
+    move |_| {
+        Err(format!(
+            "`procimg {command}` works on the network interface given with --iface, not \
+             through a procimgd, so it takes no --instance; leave it out"
+        ))
+    }
+}
+
+/// Why `--iface` could not be opened, and what to do, in the words of the command line.
+pub fn iface_error(error: OpenError) -> anyhow::Error {
+    let iface = match &error {
+        OpenError::NoSuchInterface { name, .. }
+        | OpenError::Down { name }
+        | OpenError::NoMac { name }
+        | OpenError::NotPermitted { name }
+        | OpenError::Io { name, .. } => name.clone(),
+    };
+    let advice = match &error {
+        OpenError::NoSuchInterface { available, .. } => {
+            return anyhow::anyhow!(
+                "--iface {iface}: there is no such network interface on this machine; its \
+                 interfaces are {available}: give one of them with --iface"
+            );
+        }
+        OpenError::Down { .. } => String::new(),
+        OpenError::NoMac { .. } => "; give an Ethernet interface with --iface".to_owned(),
+        OpenError::NotPermitted { .. } => {
+            let exe = std::env::current_exe()
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|_| "procimg".to_owned());
+            format!(
+                "; run procimg as root, or grant it the capability (sudo setcap \
+                 cap_net_raw+ep {exe})"
+            )
+        }
+        OpenError::Io { .. } => String::new(),
+    };
+    anyhow::anyhow!("--iface {iface}: {error}{advice}")
+}
+
 pub fn run(iface: &str, op: DcpCommand) -> anyhow::Result<()> {
-    let mut nic = AfPacket::open(iface, Duration::from_millis(10))?;
+    let mut nic = AfPacket::open(iface, Duration::from_millis(10)).map_err(iface_error)?;
     let me = nic.mac();
     let mut buf = [0u8; MAX_FRAME];
     match op {

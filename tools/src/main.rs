@@ -85,6 +85,9 @@ enum Command {
         /// The network interface.
         #[arg(long)]
         iface: String,
+        /// Hides the global --instance: dcp talks to the network, not to a procimgd.
+        #[arg(long, short, hide = true, value_parser = dcp::no_instance("dcp"))]
+        instance: Option<String>,
         #[command(subcommand)]
         op: dcp::DcpCommand,
     },
@@ -94,6 +97,9 @@ enum Command {
         /// The network interface.
         #[arg(long)]
         iface: String,
+        /// Hides the global --instance: capture reads the network, not a procimgd.
+        #[arg(long, short, hide = true, value_parser = dcp::no_instance("capture"))]
+        instance: Option<String>,
         /// The pcap file to write.
         #[arg(short, long)]
         output: std::path::PathBuf,
@@ -139,12 +145,13 @@ fn main() {
             DeviceCommand::Deactivate { name } => services::activate(&cli.instance, &name, false),
         },
         Command::Diag { json } => services::diag(&cli.instance, json),
-        Command::Dcp { iface, op } => dcp::run(&iface, op),
+        Command::Dcp { iface, op, .. } => dcp::run(&iface, op),
         Command::Capture {
             iface,
             output,
             count,
             seconds,
+            ..
         } => capture::run(&iface, &output, count, seconds),
     };
     if let Err(e) = result {

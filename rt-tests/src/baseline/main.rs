@@ -24,9 +24,10 @@ use mechanism::{Channel, EventFd, Futex, Socket, Spin};
 use procimg_rt_tests::report::{Measurement, Report};
 use std::path::PathBuf;
 
-/// The limits procimg's latency figures are compared with.
+/// Measures the machine's limits that procimg's figures are judged by: a two-process
+/// ping-pong (spin, futex, eventfd, socket) and memcpy.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(version)]
 struct Args {
     #[command(subcommand)]
     what: What,

@@ -30,9 +30,10 @@ use plan::{Handshake, Job, Output, Settings};
 use procimg_rt_tests::report::{Machine, Report};
 use std::path::{Path, PathBuf};
 
-/// Procimg's latency figures beside their limits, measured alternately on this machine.
+/// Runs all latency tools alternately and prints each procimg figure beside the machine's limit
+/// for it, as a table and latency.svg.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(version)]
 struct Args {
     /// Seconds in all: few loops, one round, a small sweep. Proves the tools work together;
     /// too short to judge timing (the table puts met? in parentheses).

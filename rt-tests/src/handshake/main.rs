@@ -31,9 +31,10 @@ use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
-/// STARTOP / OPDONE latency between procimgd and N client processes.
+/// Measures the STARTOP / OPDONE handshake latency (one way and round trip) between a real
+/// procimgd and N client processes.
 #[derive(Parser)]
-#[command(version, about, args_conflicts_with_subcommands = true)]
+#[command(version, args_conflicts_with_subcommands = true)]
 struct Args {
     /// Client processes.
     #[arg(short = 'c', long, default_value_t = 1)]

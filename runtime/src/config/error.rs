@@ -90,7 +90,10 @@ impl ConfigError {
     /// What is wrong and what to do, without file, line and key.
     pub fn message(&self) -> String {
         match self {
-            ConfigError::Read { source, .. } => read_message(source),
+            ConfigError::Read { path, source } => format!(
+                "cannot read the configuration: {source}; {}",
+                read_hint(path, source)
+            ),
             ConfigError::Syntax { message, .. } | ConfigError::Invalid { message, .. } => {
                 message.clone()
             }
@@ -99,16 +102,33 @@ impl ConfigError {
     }
 }
 
-fn read_message(source: &std::io::Error) -> String {
-    format!("cannot read the configuration: {source}; check the path and its permissions")
+/// What to do when the configuration file at `path` cannot be read.
+fn read_hint(path: &std::path::Path, source: &std::io::Error) -> String {
+    match source.kind() {
+        std::io::ErrorKind::NotFound => format!(
+            "check the path, or start from the commented example: `procimgd \
+             --print-demo-config > {}`",
+            path.display()
+        ),
+        std::io::ErrorKind::PermissionDenied => {
+            "check the file's permissions: procimgd must be able to read it".to_owned()
+        }
+        std::io::ErrorKind::IsADirectory => {
+            "give the configuration file, not its directory".to_owned()
+        }
+        _ => "check the path and its permissions".to_owned(),
+    }
 }
 
 impl fmt::Display for ConfigError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            ConfigError::Read { path, source } => {
-                write!(f, "{}: {}", path.display(), read_message(source))
-            }
+            ConfigError::Read { path, source } => write!(
+                f,
+                "cannot read {}: {source}; {}",
+                path.display(),
+                read_hint(path, source)
+            ),
             ConfigError::Syntax {
                 origin,
                 line,
@@ -140,12 +160,7 @@ impl fmt::Display for ConfigError {
     }
 }
 
-impl core::error::Error for ConfigError {
-    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
-        match self {
-            ConfigError::Read { source, .. } => Some(source),
-            ConfigError::Gsdml { error, .. } => Some(&**error),
-            _ => None,
-        }
-    }
-}
+// No `source`: every message already holds what the operating system or the GSDML file said,
+// and error chains (anyhow's `{:#}`) would print it twice. The cause stays in the variants'
+// fields.
+impl core::error::Error for ConfigError {}

@@ -76,7 +76,9 @@ pub const MAX_DEVICES: usize = 256;
 /// Most submodules in one configuration, over all devices.
 pub const MAX_SUBMODULES: usize = 4096;
 
-/// Reads, parses and validates the configuration file at `path`.
+/// Reads, parses and validates the configuration file at `path`, for this machine: besides
+/// what [`parse`] checks, a `network` interface must exist here (the message lists the ones
+/// there are).
 ///
 /// Messages name the file as `path` is written; relative `gsdml` paths start at the file's
 /// directory.
@@ -85,13 +87,19 @@ pub fn load(path: &Path) -> Result<Config, ConfigError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let dir = path.parent().unwrap_or(Path::new(""));
-    parse_in_dir(&text, &path.display().to_string(), dir)
+    let cx = validate::Cx {
+        text: &text,
+        origin: &path.display().to_string(),
+        dir: path.parent().unwrap_or(Path::new("")),
+        on_this_machine: true,
+    };
+    build(&cx)
 }
 
 /// Parses and validates configuration `text`; `origin` names it in messages (a file name).
 ///
-/// Relative `gsdml` paths start at the current directory.
+/// Relative `gsdml` paths start at the current directory. The text is not checked against
+/// this machine's network interfaces ([`load`] does that).
 pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
     parse_in_dir(text, origin, Path::new(""))
 }
@@ -99,9 +107,17 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
 /// [`parse`], with relative `gsdml` paths starting at `dir` (the directory of the file the
 /// text came from).
 pub fn parse_in_dir(text: &str, origin: &str, dir: &Path) -> Result<Config, ConfigError> {
-    let cx = validate::Cx { text, origin, dir };
-    let raw = toml::from_str::<raw::RawConfig>(text).map_err(|e| cx.toml_error(&e))?;
-    validate::build(raw, &cx)
+    build(&validate::Cx {
+        text,
+        origin,
+        dir,
+        on_this_machine: false,
+    })
+}
+
+fn build(cx: &validate::Cx<'_>) -> Result<Config, ConfigError> {
+    let raw = toml::from_str::<raw::RawConfig>(cx.text).map_err(|e| cx.toml_error(&e))?;
+    validate::build(raw, cx)
 }
 
 /// A validated configuration.

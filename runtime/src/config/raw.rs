@@ -47,8 +47,10 @@ pub(super) struct RawDevice {
     pub gsdml: Option<Spanned<String>>,
     pub dap: Option<Spanned<String>>,
     pub instance: Option<u16>,
-    pub reduction_ratio: Option<Spanned<u16>>,
-    pub watchdog_factor: Option<Spanned<u16>>,
+    /// Any integer: out of range, the message gives the key's own range.
+    pub reduction_ratio: Option<Spanned<i64>>,
+    /// Any integer: out of range, the message gives the key's own range.
+    pub watchdog_factor: Option<Spanned<i64>>,
     pub sim: Option<Spanned<String>>,
     #[serde(default)]
     pub submodule: Vec<Spanned<RawSubmodule>>,

@@ -28,6 +28,9 @@ pub(super) struct Cx<'a> {
     pub origin: &'a str,
     /// Where relative GSDML paths start.
     pub dir: &'a Path,
+    /// Check what depends on the machine the configuration is for, too: that its `network`
+    /// interface exists.
+    pub on_this_machine: bool,
 }
 
 impl Cx<'_> {
@@ -108,6 +111,7 @@ fn explain(message: &str) -> String {
         ("u16", "an integer from 0 to 65535 (0xFFFF)"),
         ("u32", "an integer from 0 to 4294967295 (0xFFFFFFFF)"),
         ("usize", "a non-negative integer"),
+        ("i64", "an integer"),
     ] {
         if let Some(stem) = message.strip_suffix(&format!("expected {ty}")) {
             message = format!("{stem}expected {range}");
@@ -196,6 +200,9 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
         Some(v) if v.get_ref() == "sim" => Network::Sim,
         Some(v) => {
             cx.check(&v, "network", interface_name(v.get_ref()))?;
+            if cx.on_this_machine {
+                cx.check(&v, "network", interface_exists(v.get_ref()))?;
+            }
             Network::Interface(v.into_inner())
         }
         None => Network::Sim,
@@ -318,6 +325,16 @@ fn interface_name(name: &str) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+fn interface_exists(name: &str) -> Result<(), String> {
+    if crate::phy::interfaces::exists(name) {
+        return Ok(());
+    }
+    Err(format!(
+        "{}; give one of them (as `ip link` lists it), or \"sim\" for the simulated devices",
+        crate::phy::interfaces::missing(name)
+    ))
 }
 
 fn cycle_thread(raw: RawCycleThread, cx: &Cx<'_>) -> Result<CycleThreadConfig, ConfigError> {
@@ -497,22 +514,31 @@ fn device_ip(text: &str) -> Result<Ipv4Addr, String> {
     Ok(ip)
 }
 
-fn reduction_ratio(value: u16) -> Result<u16, String> {
-    if !value.is_power_of_two() || value > 512 {
-        return Err(format!(
+fn reduction_ratio(value: i64) -> Result<u16, String> {
+    match u16::try_from(value) {
+        Ok(ratio) if ratio.is_power_of_two() && ratio <= 512 => Ok(ratio),
+        _ => Err(format!(
             "{value} is not a reduction ratio; use a power of two from 1 to 512 (1, 2, 4, ..., 512)"
-        ));
+        )),
     }
-    Ok(value)
 }
 
-fn watchdog_factor(value: u16) -> Result<u16, String> {
-    if !(3..=255).contains(&value) {
-        return Err(format!(
-            "{value} is not a watchdog factor; use 3 to 255 (default 3)"
-        ));
+/// The range of `watchdog_factor`, as the README documents it: PROFINET allows a
+/// DataHoldFactor of 1 to 0x1E00, but fewer than 3 frame periods fail a device on one late
+/// frame, and 3 to 255 is what engineering tools offer ("accepted update cycles without IO
+/// data").
+const WATCHDOG_FACTORS: core::ops::RangeInclusive<i64> = 3..=255;
+
+fn watchdog_factor(value: i64) -> Result<u16, String> {
+    match u16::try_from(value) {
+        Ok(factor) if WATCHDOG_FACTORS.contains(&value) => Ok(factor),
+        _ => Err(format!(
+            "{value} is not a watchdog factor (the frame periods without data before the device \
+             counts as failed); use {} to {} (default 3)",
+            WATCHDOG_FACTORS.start(),
+            WATCHDOG_FACTORS.end()
+        )),
     }
-    Ok(value)
 }
 
 fn data_length(value: u16, noun: &str) -> Result<u16, String> {

@@ -9,16 +9,20 @@ use pnet_datalink::{Channel, ChannelType, Config, DataLinkReceiver, DataLinkSend
 use std::time::Duration;
 
 /// Why an interface could not be opened.
+///
+/// The messages do not name a program, a configuration key or an option: procimgd and the
+/// `procimg` tool each say where the name came from (`network` in the configuration file,
+/// `--iface`) and who needs the privilege.
 #[derive(Debug, thiserror::Error)]
 pub enum OpenError {
     /// No interface has that name.
     #[error(
-        "network interface \"{name}\" does not exist (interfaces: {available}); check `network` in the configuration"
+        "network interface \"{name}\" does not exist on this machine (its interfaces: {available})"
     )]
     NoSuchInterface {
         /// The name asked for.
         name: String,
-        /// The interfaces there are.
+        /// The interfaces there are, for the message (`eth0, lo`).
         available: String,
     },
     /// The interface is down.
@@ -36,21 +40,19 @@ pub enum OpenError {
         name: String,
     },
     /// The process may not open raw sockets.
-    #[error(
-        "no permission to open a raw socket on \"{name}\": run procimgd as root or grant it \
-         CAP_NET_RAW (setcap cap_net_raw,cap_sys_nice,cap_ipc_lock+ep procimgd)"
-    )]
+    #[error("no permission to open a raw socket on \"{name}\" (that needs root or CAP_NET_RAW)")]
     NotPermitted {
         /// The interface.
         name: String,
     },
     /// Anything else the system refused.
-    #[error("cannot open network interface \"{name}\": {source}")]
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("cannot open network interface \"{name}\": {error}")]
     Io {
         /// The interface.
         name: String,
         /// The error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
 }
 
@@ -85,14 +87,9 @@ impl AfPacket {
     ) -> Result<AfPacket, OpenError> {
         let interfaces = pnet_datalink::interfaces();
         let Some(iface) = interfaces.iter().find(|i| i.name == name) else {
-            let available = interfaces
-                .iter()
-                .map(|i| i.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ");
             return Err(OpenError::NoSuchInterface {
                 name: name.to_string(),
-                available,
+                available: super::interfaces::list(&super::interfaces::names()),
             });
         };
         if !iface.is_up() {
@@ -108,18 +105,15 @@ impl AfPacket {
                 });
             }
         };
-        let io = |source: std::io::Error| {
-            if matches!(
-                source.raw_os_error(),
-                Some(libc::EPERM) | Some(libc::EACCES)
-            ) {
+        let io = |error: std::io::Error| {
+            if matches!(error.raw_os_error(), Some(libc::EPERM) | Some(libc::EACCES)) {
                 OpenError::NotPermitted {
                     name: name.to_string(),
                 }
             } else {
                 OpenError::Io {
                     name: name.to_string(),
-                    source,
+                    error,
                 }
             }
         };
@@ -149,7 +143,7 @@ impl AfPacket {
             }),
             _ => Err(OpenError::Io {
                 name: name.to_string(),
-                source: std::io::Error::other("not an Ethernet channel"),
+                error: std::io::Error::other("not an Ethernet channel"),
             }),
         }
     }

@@ -21,15 +21,16 @@ pub trait Datagrams: Send {
 
 /// Why the RPC socket could not be opened.
 #[derive(Debug, thiserror::Error)]
+// Not a `source`: the message already holds it, and error chains would repeat it.
 #[error(
-    "cannot bind UDP port {RPC_PORT} on {addr} for the PROFINET connection services: {source}; \
+    "cannot bind UDP port {RPC_PORT} on {addr} for the PROFINET connection services: {error}; \
      is another PROFINET stack (or procimgd instance) running on this host?"
 )]
 pub struct BindError {
     /// Address tried.
     pub addr: Ipv4Addr,
     /// The OS error.
-    pub source: std::io::Error,
+    pub error: std::io::Error,
 }
 
 /// A real UDP socket on port 34964.
@@ -41,7 +42,7 @@ impl UdpDatagrams {
     /// Binds port 34964 on `addr` (the interface's address, or 0.0.0.0).
     pub fn bind(addr: Ipv4Addr) -> Result<UdpDatagrams, BindError> {
         let socket = UdpSocket::bind(SocketAddrV4::new(addr, RPC_PORT))
-            .map_err(|source| BindError { addr, source })?;
+            .map_err(|error| BindError { addr, error })?;
         Ok(UdpDatagrams { socket })
     }
 }

@@ -6,6 +6,7 @@
 
 pub mod af_packet;
 pub mod datagram;
+pub mod interfaces;
 pub mod replay;
 pub mod sim_link;
 

@@ -78,12 +78,13 @@ pub enum ReplayError {
         path: PathBuf,
     },
     /// The file could not be read.
-    #[error("cannot read the capture file {path}: {source}; check that it is readable")]
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("cannot read the capture file {path}: {error}; check that it is readable")]
     Read {
         /// The file.
         path: PathBuf,
         /// The error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The file is neither pcap nor pcapng.
     #[error(
@@ -99,7 +100,7 @@ pub enum ReplayError {
     /// The frames are not Ethernet frames.
     #[error(
         "{path} holds frames of link type {link_type}, not Ethernet: capture on the Ethernet \
-         interface itself (not \"any\"), e.g. with `procimg capture <interface>`"
+         interface itself (not \"any\"), e.g. with `procimg capture --iface IF -o FILE`"
     )]
     LinkType {
         /// The file.
@@ -135,15 +136,16 @@ pub enum ReplayError {
         detail: String,
     },
     /// The output file could not be created.
+    // Not a `source`: the message already holds it, and error chains would repeat it.
     #[error(
-        "cannot create the output capture file {path}: {source}; check the directory exists \
+        "cannot create the output capture file {path}: {error}; check the directory exists \
          and is writable"
     )]
     Output {
         /// The file.
         path: PathBuf,
         /// The error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
 }
 
@@ -305,15 +307,15 @@ pub struct Replay {
 impl Replay {
     /// Opens the pcap or pcapng file at `path`.
     pub fn open(path: &Path, options: ReplayOptions) -> Result<Replay, ReplayError> {
-        let bytes = std::fs::read(path).map_err(|source| {
-            if source.kind() == std::io::ErrorKind::NotFound {
+        let bytes = std::fs::read(path).map_err(|error| {
+            if error.kind() == std::io::ErrorKind::NotFound {
                 ReplayError::NotFound {
                     path: path.to_path_buf(),
                 }
             } else {
                 ReplayError::Read {
                     path: path.to_path_buf(),
-                    source,
+                    error,
                 }
             }
         })?;
@@ -517,14 +519,14 @@ fn output_header() -> PcapHeader {
 }
 
 fn create_output(path: PathBuf) -> Result<Output, ReplayError> {
-    let file = File::create(&path).map_err(|source| ReplayError::Output {
+    let file = File::create(&path).map_err(|error| ReplayError::Output {
         path: path.clone(),
-        source,
+        error,
     })?;
     let file = PcapWriter::with_header(file, output_header())
         .map_err(|e| ReplayError::Output {
             path: path.clone(),
-            source: match e {
+            error: match e {
                 PcapError::IoError(io) => io,
                 other => std::io::Error::other(other.to_string()),
             },

@@ -9,6 +9,7 @@
 //! server through the port they already hold.
 
 mod config;
+pub mod dir;
 mod ports;
 
 pub use config::iox2_config;

@@ -37,6 +37,14 @@ pub enum ShmError {
         /// iceoryx2's error.
         detail: String,
     },
+    /// iceoryx2's directory belongs to another user (a run as root left it).
+    #[error("cannot create the shared-memory node for instance \"{instance}\": {problem}")]
+    ForeignDirectory {
+        /// Instance name.
+        instance: String,
+        /// Whose directory, and what to do: [`super::dir::foreign_directory`].
+        problem: String,
+    },
     /// Another server of the same instance is running.
     #[error(
         "another procimgd already serves instance \"{instance}\" (its node is alive); stop it \
@@ -69,7 +77,13 @@ pub fn server_node(instance: &str, role: &str) -> Result<Node<Ipc>, ShmError> {
         .config(super::iox2_config())
         .signal_handling_mode(iceoryx2::prelude::SignalHandlingMode::Disabled)
         .create::<Ipc>()
-        .map_err(|e| err(instance, "node", e))
+        .map_err(|e| match super::dir::foreign_directory() {
+            Some(problem) => ShmError::ForeignDirectory {
+                instance: instance.to_string(),
+                problem,
+            },
+            None => err(instance, "node", e),
+        })
 }
 
 /// Removes what dead processes left behind, and checks that no other live server of the same

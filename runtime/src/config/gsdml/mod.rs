@@ -155,14 +155,9 @@ impl fmt::Display for GsdmlError {
     }
 }
 
-impl core::error::Error for GsdmlError {
-    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
-        match self {
-            GsdmlError::Read { source, .. } => Some(source),
-            _ => None,
-        }
-    }
-}
+// No `source`: the message holds what the operating system said, and error chains would
+// print it twice.
+impl core::error::Error for GsdmlError {}
 
 /// A GSDML file, as far as a controller needs it.
 #[derive(Clone, Debug)]
