@@ -68,29 +68,22 @@ pub fn client_node(instance: &str, name: &str) -> Result<Node<Ipc>, AttachError>
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<Ipc>()
         .map_err(|e| match root_dir_denied() {
-            Some(detail) => AttachError::AccessDenied {
+            Some(problem) => AttachError::ForeignDirectory {
                 instance: instance.to_string(),
-                detail,
+                problem,
             },
             None => shm(instance, "a node", e),
         })
 }
 
-/// When iceoryx2's directory exists but this process may not use it (another user's server),
-/// says so; iceoryx2 itself only reports an internal error then.
+/// When iceoryx2's directory exists but this process may not use it (left by a run as
+/// another user), says so; iceoryx2 itself only reports an internal error then.
 fn root_dir_denied() -> Option<String> {
-    use std::os::unix::fs::MetadataExt as _;
     let root = iox2_config().global.root_path().to_string();
-    let meta = std::fs::metadata(&root).ok()?;
-    let c_root = std::ffi::CString::new(root.clone()).ok()?;
-    // SAFETY: a valid NUL-terminated path; access(2) only reads it.
-    let usable = unsafe { libc::access(c_root.as_ptr(), libc::W_OK | libc::X_OK) } == 0;
-    (!usable).then(|| {
-        format!(
-            "{root} belongs to uid {} and is not writable for this user",
-            meta.uid()
-        )
-    })
+    procimg_shm_layout::os::foreign_iox2_directory(
+        std::path::Path::new(root.trim_end_matches('/')),
+        control::IOX2_PREFIX,
+    )
 }
 
 /// A client port of the control service: JSON requests and responses in byte slices.

@@ -57,6 +57,14 @@ pub enum AttachError {
         /// The server's hash.
         found: u64,
     },
+    /// iceoryx2's directory belongs to another user (a run as root left it).
+    #[error("cannot attach to instance \"{instance}\": {problem}")]
+    ForeignDirectory {
+        /// Instance name.
+        instance: String,
+        /// Whose directory, and what to do.
+        problem: String,
+    },
     /// The server refused the registration.
     #[error("instance \"{instance}\" refused this client: {refusal}")]
     Refused {

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The operating-system calls of the server: clocks, real-time scheduling, memory locking.
 //! The only place in the crate besides the shared-memory services where `unsafe` may appear.
-pub mod access;
 pub mod clock;
 pub mod packet_socket;
 pub mod poll;

@@ -106,7 +106,9 @@ impl From<AttachError> for Fail {
     fn from(e: AttachError) -> Fail {
         let code = match &e {
             AttachError::NoServer { .. } => PROCIMG_ERR_NO_SERVER,
-            AttachError::AccessDenied { .. } => PROCIMG_ERR_REFUSED,
+            AttachError::AccessDenied { .. } | AttachError::ForeignDirectory { .. } => {
+                PROCIMG_ERR_REFUSED
+            }
             AttachError::LayoutVersion { .. } | AttachError::LayoutHash { .. } => {
                 PROCIMG_ERR_LAYOUT
             }
