@@ -9,6 +9,9 @@
  *   ./a.out [instance [cycles]]
  *
  * The instance is argv[1], else $PROCIMG_INSTANCE, else "procimg"; cycles argv[2] (1000).
+ * Exits 0 when the echo device sent back what earlier cycles wrote; 1 when a call failed or
+ * nothing came back (then it says why: most often the server is not in OPERATE, e.g. an
+ * IO-Base program took it to OFFLINE).
  */
 #include "procimg.h"
 
@@ -97,7 +100,26 @@ int main(int argc, char **argv)
            "%llu echoed at most %llu cycles later, %ld OPFAULT\n",
            cycles, instance, (unsigned long long)first, (unsigned long long)last, missed,
            (unsigned long long)echoed, (unsigned long long)lag_max, opfaults);
+    if (echoed == 0) {
+        /* Nothing came back: most likely the server is not exchanging data. */
+        uint32_t mode = PROCIMG_MODE_OPERATE;
+        if ((r = procimg_mode(c, &mode)) != PROCIMG_OK)
+            fail("read the mode", r, c);
+        if (mode != PROCIMG_MODE_OPERATE)
+            fprintf(stderr,
+                    "native_cycle: no echo in %ld cycles: instance \"%s\" is in mode %s, "
+                    "not OPERATE; `procimg mode operate --instance %s` sets it (`procimg "
+                    "status` shows the mode)\n",
+                    cycles, instance, mode == PROCIMG_MODE_OFFLINE ? "OFFLINE" : "CLEAR",
+                    instance);
+        else
+            fprintf(stderr,
+                    "native_cycle: no echo in %ld cycles although instance \"%s\" is in "
+                    "OPERATE: is the echo device in data exchange? `procimg status --instance "
+                    "%s` shows its state\n",
+                    cycles, instance, instance);
+    }
     if ((r = procimg_detach(c)) != PROCIMG_OK)
         fail("detach", r, NULL);
-    return 0;
+    return echoed > 0 ? 0 : 1;
 }

@@ -5,7 +5,8 @@
  * cycle with PNIO_CP_set_opdone, all between STARTOP and OPDONE, where the data of a cycle
  * is consistent.
  *
- *   cc -std=c11 pnio_isochronous.c -I clients/c/include -lprocimg -lpthread -ldl -lm
+ *   cc -std=c11 pnio_isochronous.c -I clients/c/include -I shm-layout/include -lprocimg \
+ *       -lpthread -ldl -lm
  *   procimgd --demo &
  *   ./a.out [cycles]
  *
@@ -15,6 +16,10 @@
  * PNIO_CP_CBE_OPFAULT_IND. Exits 0 when the cycles ran, the echo worked and the OPFAULT and
  * NEWCYCLE events came.
  *
+ * The server's mode: opening with PNIO_CEP_MODE_CTRL takes the server to OFFLINE and the
+ * program ends there, as the manual's programs do; afterwards, outside that flow, it gives
+ * the server back the mode it had before it opened, through procimg.h (see pnio_easy.c).
+ *
  * Real time: PNIO_controller_open starts the library's callback threads, and they take the
  * scheduling policy and priority of the thread that calls it. So the program raises its own
  * thread to SCHED_FIFO (below procimgd's cycle thread, 80 by default) before opening, and
@@ -23,6 +28,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrx.h"
+#include "procimg.h"
 
 #include <pthread.h>
 #include <sched.h>
@@ -189,23 +195,111 @@ static int go_real_time(void) {
     return pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
 }
 
+/* A failed call: its code, and the library's text for this thread, which names the code
+ * (PNIO_ERR_...) and says what to do (procimg_last_error() serves both APIs). */
 static int check(const char *what, PNIO_UINT32 r) {
     if (r != PNIO_OK) {
-        fprintf(stderr, "pnio_isochronous: %s failed with 0x%03x\n", what, r);
+        fprintf(stderr, "pnio_isochronous: %s failed with 0x%03x\n  %s\n", what, r,
+                procimg_last_error());
         return 0;
     }
     return 1;
 }
 
-int main(int argc, char **argv) {
-    long want = argc > 1 ? strtol(argv[1], NULL, 10) : 1000;
+/* ---- The server's mode, through procimg.h (not part of the IO-Base flow) --------------- */
+
+/* The procimgd instance CP 1 names, found as PNIO_controller_open finds it. */
+static const char *cp_instance(void) {
+    const char *name = getenv("PROCIMG_CP1");
+    if (name == NULL || name[0] == '\0') {
+        name = getenv("PROCIMG_INSTANCE");
+    }
+    return name == NULL || name[0] == '\0' ? "procimg" : name;
+}
+
+static const char *mode_name(uint32_t mode, int lower) {
+    switch (mode) {
+    case PROCIMG_MODE_OFFLINE:
+        return lower ? "offline" : "OFFLINE";
+    case PROCIMG_MODE_CLEAR:
+        return lower ? "clear" : "CLEAR";
+    case PROCIMG_MODE_OPERATE:
+        return lower ? "operate" : "OPERATE";
+    default:
+        return "unknown";
+    }
+}
+
+/* A short-lived client that takes no part in the cycle and claims nothing. */
+static procimg_error_t attach_observer(const char *instance, procimg_client_t **c) {
+    procimg_attach_options_t opts;
+    procimg_attach_options_init(&opts);
+    opts.role = PROCIMG_ROLE_ASYNCHRONOUS;
+    return procimg_attach(instance, "pnio_isochronous (server mode)", &opts, c);
+}
+
+/* The server's mode now; 0 when there is no server to ask. */
+static int server_mode(const char *instance, uint32_t *mode) {
+    procimg_client_t *c;
+    procimg_error_t r;
+    if (attach_observer(instance, &c) != PROCIMG_OK) {
+        return 0;
+    }
+    r = procimg_mode(c, mode);
+    procimg_detach(c);
+    return r == PROCIMG_OK;
+}
+
+/* Gives the server back `mode` and waits (up to 10 s) until it is there; says what it did.
+ * When it cannot, it says which mode the server is left in and how to set it. */
+static int restore_mode(const char *instance, uint32_t mode) {
+    procimg_client_t *c = NULL;
+    uint32_t now = mode;
+    const char *left = "an unknown mode", *why = "";
+    procimg_error_t r;
+    int i, changed = 0;
+
+    r = attach_observer(instance, &c);
+    if (r == PROCIMG_OK && (r = procimg_mode(c, &now)) == PROCIMG_OK && now != mode) {
+        changed = 1;
+        r = procimg_set_mode(c, mode);
+        /* The server steps there by itself (OFFLINE -> CLEAR -> OPERATE). */
+        for (i = 0; r == PROCIMG_OK && now != mode && i < 1000; i++) {
+            sleep_ms(10);
+            r = procimg_mode(c, &now);
+        }
+    }
+    if (r == PROCIMG_OK && now == mode) {
+        if (changed) {
+            printf("instance \"%s\" back in mode %s, as before the controller opened\n",
+                   instance, mode_name(mode, 0));
+        }
+    } else {
+        if (r == PROCIMG_OK) {
+            left = mode_name(now, 0);
+            why = "the change was not confirmed within 10 s";
+        } else {
+            why = procimg_last_error();
+        }
+        fprintf(stderr,
+                "pnio_isochronous: instance \"%s\" was in mode %s before the controller opened "
+                "and is left in %s%s: %s\n"
+                "  `procimg mode %s --instance %s` sets it back (`procimg status` shows it)\n",
+                instance, mode_name(mode, 0), r == PROCIMG_OK ? "mode " : "", left, why,
+                mode_name(mode, 1), instance);
+    }
+    if (c != NULL) {
+        procimg_detach(c);
+    }
+    return r == PROCIMG_OK && now == mode;
+}
+
+/* ---- The isochronous program ------------------------------------------------------------- */
+
+static int isochronous(long want) {
     int i, ok = 1;
     long before, warnings = 0;
 
-    if (want <= LATE_CYCLE) {
-        fprintf(stderr, "usage: %s [cycles > %d]\n", argv[0], LATE_CYCLE);
-        return 2;
-    }
     if (!go_real_time()) {
         printf("no permission for SCHED_FIFO: the callbacks run at normal priority\n");
     }
@@ -307,4 +401,23 @@ int main(int argc, char **argv) {
         ok = 0;
     }
     return ok ? 0 : 1;
+}
+
+int main(int argc, char **argv) {
+    long want = argc > 1 ? strtol(argv[1], NULL, 10) : 1000;
+    const char *instance = cp_instance();
+    uint32_t before = 0;
+    int known, rc;
+
+    if (want <= LATE_CYCLE) {
+        fprintf(stderr, "usage: %s [cycles > %d]\n", argv[0], LATE_CYCLE);
+        return 2;
+    }
+    /* Without a server this finds nothing, and PNIO_controller_open says what to do. */
+    known = server_mode(instance, &before);
+    rc = isochronous(want);
+    if (known && !restore_mode(instance, before)) {
+        rc = 1;
+    }
+    return rc;
 }

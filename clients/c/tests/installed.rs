@@ -95,8 +95,8 @@ fn build_with_pkg_config(prefix: &Path, example: &str, out: &Path, static_link: 
                 .filter(|l| !l.starts_with("-L") && *l != "-lprocimg"),
         );
     } else {
+        // Nothing more: the .pc file's rpath makes the program find libprocimg.so.
         cmd.args(pkg_config(prefix, &["--libs"]));
-        cmd.arg(format!("-Wl,-rpath,{}", prefix.join("lib").display()));
     }
     sh(&mut cmd, &format!("building {example} with pkg-config"));
 }
@@ -121,6 +121,12 @@ fn installed_library_builds_and_runs_the_examples() {
         cflags.iter().any(|f| f.ends_with("include/procimg"))
             && cflags.contains(&"-lprocimg".into()),
         "pkg-config --cflags --libs procimg gave {cflags:?}"
+    );
+    // Not a system directory: the programs find the library through an rpath.
+    let rpath = format!("-Wl,-rpath,{}", prefix.join("lib").display());
+    assert!(
+        cflags.contains(&rpath),
+        "pkg-config --libs procimg has no {rpath}: {cflags:?}"
     );
 
     let bin = scratch("installed").join("bin");
@@ -183,15 +189,19 @@ fn installed_library_builds_and_runs_the_examples() {
                 }
             })
             .collect();
-        // PnioEasy ends in OFFLINE: each program starts from a server in OPERATE.
-        let control = procimg_client::ControlHandle::open(&server.instance, "installed-test")
-            .expect("open the control service");
-        control
-            .set_mode(procimg_client::Mode::Operate)
-            .expect("set OPERATE");
+        // The IO-Base programs end the manual's flow in OFFLINE and then give the server
+        // back its mode: each program finds it in OPERATE (the native loop fails without an
+        // echo). Between them, the devices reconnect.
         server.wait_ready(Duration::from_secs(15));
+        // No LD_LIBRARY_PATH (`run` removes cargo's): the shared builds find the installed
+        // library by their rpath alone.
         let o = run(&program, &args, &server.instance, t);
         assert_success(&o, what);
         println!("{what}:\n{}", String::from_utf8_lossy(&o.stdout));
+        assert_eq!(
+            server.mode(),
+            procimg_client::Mode::Operate,
+            "{what} left the server so"
+        );
     }
 }

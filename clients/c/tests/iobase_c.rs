@@ -5,9 +5,13 @@
 
 mod support;
 
+use procimg_client::Mode;
 use std::path::PathBuf;
 use std::time::Duration;
-use support::{Link, Server, assert_success, compile, crate_dir, run, sanitize_from_env, scratch};
+use support::{
+    Link, Server, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
+    unique_instance,
+};
 
 /// The manual's example modules (shared with runtime/tests/iobase.rs): inputs 2 bytes at
 /// I 0..1 and 4 bytes at I 2..5; outputs 2 bytes at Q 0..1, 4 bytes at Q 2..5 and 4 bytes
@@ -72,6 +76,8 @@ fn error_paths_give_the_manuals_codes() {
     assert!(!text.contains("WRONG"), "{text}");
 }
 
+/// Both run the manual's flow (which ends in OFFLINE) and then give the server back the mode
+/// it had before: OPERATE, so that the next program finds data exchanged.
 #[test]
 fn pnio_easy_in_c_and_cpp() {
     let c = build("pnio-easy", &[example("pnio_easy.c")], Link::Shared);
@@ -86,12 +92,41 @@ fn pnio_easy_in_c_and_cpp() {
             "inputs echo the outputs",
             "mode OFFLINE",
             "controller closed",
+            "back in mode OPERATE, as before the controller opened",
         ] {
             assert!(
                 text.contains(step),
                 "{what} did not print \"{step}\":\n{text}"
             );
         }
+        assert_eq!(server.mode(), Mode::Operate, "{what} left the server so");
+        server.wait_ready(TIMEOUT);
+    }
+    // A server that was OFFLINE before stays OFFLINE, as the manual's flow leaves it.
+    server.set_mode(Mode::Offline);
+    let o = run(&c, &["5"], &server.instance, TIMEOUT);
+    assert_success(&o, "pnio_easy.c from OFFLINE");
+    assert!(!output(&o).contains("back in mode"), "{}", output(&o));
+    assert_eq!(server.mode(), Mode::Offline);
+}
+
+/// Without a server the failure names the code and says what to do.
+#[test]
+fn pnio_easy_without_a_server_says_what_to_do() {
+    let c = build(
+        "pnio-easy-no-server",
+        &[example("pnio_easy.c")],
+        Link::Shared,
+    );
+    let o = run(&c, &["5"], &unique_instance("noserver"), TIMEOUT);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    for part in [
+        "PNIO_controller_open failed with 0x304",
+        "(PNIO_ERR_NO_CONFIG)",
+        "procimgd --demo",
+    ] {
+        assert!(err.contains(part), "no \"{part}\" in:\n{err}");
     }
 }
 
@@ -111,9 +146,11 @@ fn pnio_isochronous_runs_the_cycle() {
         "with PNIO_WARN_IRT_INCONSISTENT",
         "cycles in OPERATE",
         "a second PNIO_CP_set_opdone in one cycle: 0x309",
+        "back in mode OPERATE",
     ] {
         assert!(text.contains(line), "no \"{line}\" in:\n{text}");
     }
+    assert_eq!(server.mode(), Mode::Operate);
     // The example opens from a SCHED_FIFO thread: the callback threads take its priority.
     if !text.contains("no permission for SCHED_FIFO") {
         assert!(

@@ -68,7 +68,8 @@ fn mode_changes_come_as_mode_events() {
     native_api("modes", &server.instance);
 }
 
-/// The example compiles with -std=c11 -Wall -Wextra -Werror -pedantic and runs its cycles.
+/// The example compiles with -std=c11 -Wall -Wextra -Werror -pedantic and runs its cycles;
+/// in OFFLINE, where nothing is echoed, it fails and says how to get OPERATE.
 #[test]
 fn the_native_cycle_example_runs() {
     let server = Server::demo("nexample");
@@ -80,4 +81,17 @@ fn the_native_cycle_example_runs() {
         stdout.contains("200 cycles") && stdout.contains(&server.instance),
         "the example's summary:\n{stdout}"
     );
+    assert!(!stdout.contains(" 0 echoed"), "{stdout}");
+
+    server.set_mode(procimg_client::Mode::Offline);
+    let o = run(&program, &[&server.instance, "50"], "", RUN_TIMEOUT);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "in OFFLINE:\n{stderr}");
+    for part in [
+        "no echo in 50 cycles",
+        "is in mode OFFLINE",
+        "`procimg mode operate --instance",
+    ] {
+        assert!(stderr.contains(part), "no \"{part}\" in:\n{stderr}");
+    }
 }

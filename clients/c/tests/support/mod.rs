@@ -126,10 +126,13 @@ pub fn compile(sources: &[PathBuf], out: &Path, link: Link, sanitize: bool) {
 }
 
 /// Runs a built program with `args` and the instance in `PROCIMG_INSTANCE`; kills it after
-/// `timeout`. Sanitizer reports fail the run (exit code).
+/// `timeout`. Sanitizer reports fail the run (exit code). Without `LD_LIBRARY_PATH`: cargo
+/// test's holds this build's libprocimg.so, and a program must find it the way a user's does
+/// (its rpath).
 pub fn run(program: &Path, args: &[&str], instance: &str, timeout: Duration) -> Output {
     let mut child = Command::new(program)
         .args(args)
+        .env_remove("LD_LIBRARY_PATH")
         .env("PROCIMG_INSTANCE", instance)
         .env(
             "ASAN_OPTIONS",
@@ -234,6 +237,28 @@ impl Server {
         };
         server.wait_ready(Duration::from_secs(15));
         server
+    }
+
+    /// The server's mode now.
+    pub fn mode(&self) -> procimg_client::Mode {
+        procimg_client::ControlHandle::open(&self.instance, "c-test-mode")
+            .expect("open the control service")
+            .status()
+            .expect("the server's status")
+            .mode
+    }
+
+    /// Asks for `mode` and waits until the server is there.
+    pub fn set_mode(&self, mode: procimg_client::Mode) {
+        procimg_client::ControlHandle::open(&self.instance, "c-test-mode")
+            .expect("open the control service")
+            .set_mode(mode)
+            .expect("set the mode");
+        let until = Instant::now() + Duration::from_secs(15);
+        while self.mode() != mode {
+            assert!(Instant::now() < until, "{mode:?} was not reached");
+            std::thread::sleep(Duration::from_millis(20));
+        }
     }
 
     /// Waits until the server cycles and every device is in data exchange.

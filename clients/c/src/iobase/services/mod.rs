@@ -39,11 +39,12 @@ mod build;
 mod worker;
 
 use super::callbacks::CallbackTable;
+use super::controller::fail;
 use super::errors::{
     PNIO_ERR_INTERNAL, PNIO_ERR_MAX_REACHED, PNIO_ERR_MODE_VALUE, PNIO_ERR_NO_FW_COMMUNICATION,
     PNIO_ERR_NO_RESOURCE, PNIO_ERR_OS_RES, PNIO_ERR_PRM_ADD, PNIO_ERR_PRM_DEV_STATE,
     PNIO_ERR_PRM_INVALIDARG, PNIO_ERR_PRM_REC_INDEX, PNIO_ERR_SEQUENCE,
-    PNIO_ERR_START_THREAD_FAILED, PNIO_ERR_VALUE_LEN, PNIO_OK,
+    PNIO_ERR_START_THREAD_FAILED, PNIO_ERR_VALUE_LEN, PNIO_OK, name,
 };
 use super::types::{
     PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CTRL_DIAG,
@@ -202,6 +203,9 @@ struct Shared {
     wake: Wake,
 }
 
+/// The function whose failures `ServiceWorker::start` reports.
+const OPEN: &str = "PNIO_controller_open";
+
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     // A panic elsewhere never leaves these tables half-changed in a way that matters more
     // than refusing every later call would.
@@ -209,11 +213,13 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 impl Shared {
-    /// Records the failure text for the calling thread and returns `code`.
+    /// Records the failure text for the calling thread, naming the code, and returns `code`.
     fn fail(&self, what: &str, code: u32, detail: impl std::fmt::Display) -> u32 {
         set_last_error(format!(
-            "{what} on PNIO handle {} (procimg instance \"{}\"): {detail}",
-            self.handle, self.instance
+            "{what} on PNIO handle {} (procimg instance \"{}\"): {detail} ({})",
+            self.handle,
+            self.instance,
+            name(code)
         ));
         code
     }
@@ -271,20 +277,26 @@ impl ServiceWorker {
                 } => PNIO_ERR_MAX_REACHED,
                 _ => PNIO_ERR_NO_FW_COMMUNICATION,
             };
-            set_last_error(format!(
-                "PNIO controller {} cannot subscribe to the record, alarm and diagnosis \
-                 services: {e}",
-                ctx.handle
-            ));
-            code
+            fail(
+                OPEN,
+                code,
+                format_args!(
+                    "PNIO controller {} cannot subscribe to the record, alarm and diagnosis \
+                     services: {e}",
+                    ctx.handle
+                ),
+            )
         })?;
         let wake = Wake::new().map_err(|e| {
-            set_last_error(format!(
-                "PNIO controller {}: no eventfd for the services thread ({e}); raise the \
-                 process's descriptor limit",
-                ctx.handle
-            ));
-            PNIO_ERR_OS_RES
+            fail(
+                OPEN,
+                PNIO_ERR_OS_RES,
+                format_args!(
+                    "PNIO controller {}: no eventfd for the services thread ({e}); raise the \
+                     process's descriptor limit",
+                    ctx.handle
+                ),
+            )
         })?;
         let shared = Arc::new(Shared {
             instance: ctx.instance,
@@ -303,11 +315,14 @@ impl ServiceWorker {
             .name(format!("pnio-svc-{}", shared.handle))
             .spawn(move || worker::run(for_thread))
             .map_err(|e| {
-                set_last_error(format!(
-                    "PNIO controller {}: cannot start the services thread: {e}",
-                    shared.handle
-                ));
-                PNIO_ERR_START_THREAD_FAILED
+                fail(
+                    OPEN,
+                    PNIO_ERR_START_THREAD_FAILED,
+                    format_args!(
+                        "PNIO controller {}: cannot start the services thread: {e}",
+                        shared.handle
+                    ),
+                )
             })?;
         Ok(ServiceWorker {
             shared,
