@@ -23,8 +23,15 @@ struct Args {
     lines: Option<u64>,
 }
 
-fn main() -> anyhow::Result<()> {
-    let args = Args::parse();
+fn main() {
+    // An expected error (no server, say) is a message that says what to do, not a backtrace.
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("monitor: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> anyhow::Result<()> {
     let mut client = Client::attach(&args.instance, AttachOptions::asynchronous("monitor"))?;
     let period = Duration::from_millis(args.period_ms);
     let mut next = Instant::now();
