@@ -192,8 +192,10 @@ fn two_threads_print_two_lines_at_their_intervals() {
     assert_eq!(lines.len(), 2, "{text}");
     assert_eq!((lines[0].thread, lines[0].interval), (0, 1000));
     assert_eq!((lines[1].thread, lines[1].interval), (1, 1500));
-    // As cyclictest: the run ends when the first thread has done its loops.
-    assert_eq!(lines[0].cycles, 200);
+    // As cyclictest: the run ends when the first thread has done its loops. Periods lost to
+    // an overrun are skipped, as procimgd's cycle skips them, so on a loaded machine the
+    // first thread measures fewer than its 200 periods, never more.
+    assert!((1..=200).contains(&lines[0].cycles), "{text}");
     assert!(lines[1].cycles < 200, "{text}");
     assert_ne!(lines[0].tid, lines[1].tid);
 }

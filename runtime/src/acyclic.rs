@@ -89,6 +89,16 @@ impl DeviceStates {
     pub fn is_empty(&self) -> bool {
         self.states.is_empty()
     }
+
+    /// Whether no device has a connection (each is offline or deactivated).
+    pub fn all_released(&self) -> bool {
+        (0..self.len()).all(|d| {
+            matches!(
+                self.get(d),
+                Some(DeviceState::Offline | DeviceState::Deactivated)
+            )
+        })
+    }
 }
 
 /// Where device events go besides the log.
@@ -146,9 +156,10 @@ pub fn spawn(setup: AcyclicSetup) -> std::io::Result<JoinHandle<()>> {
                     );
                     break;
                 }
-                let want = shared.mode() != Mode::Offline
-                    || Mode::from_u32(shared.target_mode.load(Ordering::Acquire))
-                        .is_some_and(|m| m != Mode::Offline);
+                let want = !shared.release_all.load(Ordering::Acquire)
+                    && (shared.mode() != Mode::Offline
+                        || Mode::from_u32(shared.target_mode.load(Ordering::Acquire))
+                            .is_some_and(|m| m != Mode::Offline));
                 if online != Some(want) {
                     online = Some(want);
                     controller.set_online(want, now, &mut out);

@@ -313,6 +313,15 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     }
     // Two more cycles so the CLEAR outputs are on the wire.
     std::thread::sleep(Duration::from_nanos(2 * config.cycle_ns));
+    // Connections are released while the cycle still runs, so that each device gets its
+    // Release before its cyclic data ends (else it sees a watchdog expiry first).
+    shared.release_all.store(true, Ordering::Release);
+    let until = Instant::now() + Duration::from_secs(1);
+    while !pnio.states.all_released() && Instant::now() < until {
+        control.poll();
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    std::thread::sleep(Duration::from_nanos(2 * config.cycle_ns));
     shared.stop.store(true, Ordering::Release);
     if cycle_thread.join().is_err() {
         bail!("the cycle thread panicked");

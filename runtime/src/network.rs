@@ -100,8 +100,14 @@ impl PnioSystem {
                     let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
                     let devices = crate::simnet::devices(config);
                     threads.push(
-                        crate::simnet::spawn(devices, plant, peer, plant_stop.clone())
-                            .map_err(|e| NetworkError::Thread("simulated plant", e))?,
+                        crate::simnet::spawn(
+                            devices,
+                            plant,
+                            peer,
+                            plant_stop.clone(),
+                            sim_priority(config.cycle_thread.priority),
+                        )
+                        .map_err(|e| NetworkError::Thread("simulated plant", e))?,
                     );
                     (
                         Box::new(ours),
@@ -177,6 +183,13 @@ impl PnioSystem {
             let _ = t.join();
         }
     }
+}
+
+/// The simulated devices' priority: they stand for field devices, which answer in real time,
+/// so they run SCHED_FIFO (where allowed) below the cycle thread; at normal priority a loaded
+/// machine starves them past their watchdog.
+fn sim_priority(cycle_priority: u8) -> u8 {
+    cycle_priority.saturating_sub(10).max(1)
 }
 
 /// The controller's NameOfStation, from the instance name: lower case, other characters as

@@ -84,18 +84,23 @@ pub fn devices(config: &Config) -> Vec<SimDevice> {
         .collect()
 }
 
-/// Runs `devices` on `link` and `udp` until `stop`. The thread runs at normal priority, out
-/// of the way of the cycle thread; the scheduler may delay it by milliseconds, so simulated
-/// devices want a larger `watchdog_factor` than real ones (the demo's is 100).
+/// Runs `devices` on `link` and `udp` until `stop`. The thread runs SCHED_FIFO at `priority`
+/// where allowed (below the cycle thread, out of its way), else at normal priority, where
+/// the scheduler may delay it by milliseconds: simulated devices want a larger
+/// `watchdog_factor` than real ones (the demo's is 100).
 pub fn spawn(
     mut devices: Vec<SimDevice>,
     mut link: LinkEnd,
     udp: SimDatagramPeer,
     stop: Arc<AtomicBool>,
+    priority: u8,
 ) -> std::io::Result<JoinHandle<()>> {
     std::thread::Builder::new()
         .name("procimg-simnet".into())
         .spawn(move || {
+            // Without the right to (not root), the devices run at normal priority, as the
+            // cycle thread then does too.
+            let _ = crate::sys::rt::set_fifo(priority);
             let mut buf = [0u8; crate::phy::MAX_FRAME];
             let mut out = Vec::new();
             while !stop.load(Ordering::Acquire) {

@@ -43,6 +43,10 @@ pub struct Shared {
     pub commands: ArrayQueue<Command>,
     /// Asks the cycle thread to end after the current cycle.
     pub stop: AtomicBool,
+    /// Asks the network side to release every connection (procimgd is stopping), while the
+    /// cycle still runs: a device then sees the Release before its cyclic data ends, instead
+    /// of a watchdog expiry.
+    pub release_all: AtomicBool,
     /// The mode last asked for (confirmed when `counters.mode` reaches it).
     pub target_mode: std::sync::atomic::AtomicU32,
     /// New force plans for the cycle thread, which takes the newest at a cycle start.
@@ -63,6 +67,7 @@ impl Shared {
             claims: (0..submodules).map(|_| AtomicU64::new(0)).collect(),
             commands: ArrayQueue::new(COMMANDS),
             stop: AtomicBool::new(false),
+            release_all: AtomicBool::new(false),
             target_mode: std::sync::atomic::AtomicU32::new(procimg_shm_layout::MODE_OFFLINE),
             force_plans: ArrayQueue::new(FORCE_PLANS),
             // Room for every plan that can be on its way, and the one in use.
