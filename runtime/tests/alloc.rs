@@ -18,7 +18,7 @@ use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::clock::{now_ns, sleep_until_ns};
 use procimg_runtime::sys::rt_alloc::{
     RtAllocator, clear_current_thread_realtime, mark_current_thread_realtime, pool_allocations,
-    rt_heap_allocations,
+    rt_heap_allocations, rt_setup_allocations,
 };
 use procimg_shm_layout::Mode;
 use std::sync::Arc;
@@ -145,8 +145,10 @@ fn steady_state_cycles_allocate_nothing() {
 
     mark_current_thread_realtime();
     let (heap_before, pool_before) = (rt_heap_allocations(), pool_allocations());
+    let setup_before = rt_setup_allocations();
     run(&mut engine, 1000, 3000);
     let (heap_after, pool_after) = (rt_heap_allocations(), pool_allocations());
+    let setup_after = rt_setup_allocations();
     let frames_after = frames();
     // Negative control: the counter does see an allocation on this thread.
     let probe = std::hint::black_box(vec![0u8; 4096]);
@@ -175,6 +177,13 @@ fn steady_state_cycles_allocate_nothing() {
         0,
         "the cycle called the system allocator {} times in 2000 steady-state cycles",
         heap_after - heap_before
+    );
+    // iceoryx2's port calls allocate only while clients connect: not here.
+    assert_eq!(
+        setup_after - setup_before,
+        0,
+        "iceoryx2's calls on the cycle thread allocated {} times in 2000 steady-state cycles",
+        setup_after - setup_before
     );
     assert!(
         pool_after - pool_before >= 2000,

@@ -41,9 +41,10 @@ thread_local! {
     static SETTING_UP: Cell<bool> = const { Cell::new(false) };
 }
 
-/// Runs `f` on a real-time thread as connection set-up: its heap allocations are counted
-/// apart ([`rt_setup_allocations`]), since setting up a client's shared-memory connection
-/// allocates by nature and happens outside the cycle proper.
+/// Runs `f` on a real-time thread as a call that may set up connections (iceoryx2's port
+/// calls do, when clients come or go): its heap allocations are counted apart
+/// ([`rt_setup_allocations`]), since setting up a client's shared-memory connection
+/// allocates by nature. In steady state such calls do not allocate either.
 pub fn as_connection_setup<R>(f: impl FnOnce() -> R) -> R {
     SETTING_UP.with(|s| s.set(true));
     let r = f();
