@@ -11,9 +11,11 @@ mod status;
 use clap::{Parser, Subcommand};
 use procimg_client::{ControlHandle, Mode};
 
-/// The command line of the procimg process-image server.
+/// The command line of the procimg process-image server: status, the image by logical
+/// address (read, write, watch, force), mode, layout, records, events, devices, diagnosis,
+/// DCP and capture.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(name = "procimg", version)]
 struct Cli {
     /// Server instance.
     #[arg(
