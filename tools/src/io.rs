@@ -106,6 +106,14 @@ pub(crate) fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
         .collect()
 }
 
+/// Addresses for people: `0..15`, or `7` for one byte.
+pub(crate) fn range(first: u32, len: usize) -> String {
+    match len {
+        0 | 1 => first.to_string(),
+        n => format!("{first}..{}", first as usize + n - 1),
+    }
+}
+
 pub(crate) fn hex(b: &[u8]) -> String {
     b.iter()
         .map(|x| format!("{x:02x}"))
@@ -201,8 +209,8 @@ fn force(instance: &str, op: IoCommand) -> anyhow::Result<()> {
             let space = if input { Space::Input } else { Space::Output };
             control.force(space, address, &data)?;
             println!(
-                "forced {space} {address}..{} to {} until `procimg io unforce{} {address}`",
-                address as usize + data.len() - 1,
+                "forced {space} {} to {} until `procimg io unforce{} {address}`",
+                range(address, data.len()),
                 hex(&data),
                 if input { " --input" } else { "" }
             );
@@ -254,14 +262,14 @@ pub fn run(instance: &str, op: IoCommand) -> anyhow::Result<()> {
             client.claim(&[at.submodule])?;
             let local = if bad { Ioxs::Bad } else { Ioxs::Good };
             let remote = client.data_write(address, &data, local)?;
-            let end = address as usize + data.len() - 1;
+            let span = range(address, data.len());
             match seconds {
                 Some(s) => println!(
-                    "written {} at Q {address}..{end} (remote status {remote:?}); held for {s} s",
+                    "written {} at Q {span} (remote status {remote:?}); held for {s} s",
                     hex(&data)
                 ),
                 None => println!(
-                    "written {} at Q {address}..{end} (remote status {remote:?}); held until \
+                    "written {} at Q {span} (remote status {remote:?}); held until \
                      Ctrl-C, then the outputs go out invalid (`procimg io force` keeps them \
                      without a running command)",
                     hex(&data)

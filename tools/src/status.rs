@@ -68,10 +68,9 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
         println!("FORCED (`procimg io unforce ADDR` or `--all` ends them):");
         for f in &s.forces {
             println!(
-                "  {} {}..{}  {}  ({} slot {} subslot {})",
+                "  {} {}  {}  ({} slot {} subslot {})",
                 f.space,
-                f.address,
-                f.address as usize + f.data.len() - 1,
+                crate::io::range(f.address, f.data.len()),
                 crate::io::hex(&f.data),
                 f.device,
                 f.slot,
