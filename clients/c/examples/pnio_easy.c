@@ -19,19 +19,17 @@
  * CP 1 is the instance in $PROCIMG_CP1, else $PROCIMG_INSTANCE, else "procimg". Exits 0
  * when every step worked.
  *
- * The server's mode. A procimgd is shared: other programs (native_cycle, `procimg io`) use
- * it after this one, and in OFFLINE they see no data exchanged. Step 1 takes the server to
- * OFFLINE and the manual's flow ends there, and PNIO_controller_close leaves the mode as it
- * is. So, outside the manual's flow, the program reads the server's mode before step 1 and
- * sets it again after step 6, both through procimg's native API (procimg.h, in the same
- * library): the IO-Base API can neither tell the mode before open nor change it after close.
- * Setting it after close keeps the manual's flow as it is and also works when a step failed
- * half-way. When it cannot, the program says which mode it left the server in and how to get
- * the old one back.
+ * The server's mode. A procimgd is shared, and in OFFLINE the programs that use it after
+ * this one (native_cycle, `procimg io`) see no data exchanged. Step 1 takes the server to
+ * OFFLINE and the manual's flow ends there; the IO-Base API can neither tell the mode before
+ * open nor change it after close. So, outside the manual's flow, the program reads the
+ * server's mode before step 1 and gives it back after step 6, through procimg.h: see
+ * server_mode.h, next to this file.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrx.h"
 #include "procimg.h"
+#include "server_mode.h"
 
 #include <stdatomic.h>
 #include <stdio.h>
@@ -85,94 +83,6 @@ static int failed(const char *what, PNIO_UINT32 code) {
     fprintf(stderr, "pnio_easy: %s failed with 0x%03x\n  %s\n", what, code,
             procimg_last_error());
     return 1;
-}
-
-/* ---- The server's mode, through procimg.h (not part of the manual's flow) -------------- */
-
-/* The procimgd instance CP 1 names, found as PNIO_controller_open finds it. */
-static const char *cp_instance(void) {
-    const char *name = getenv("PROCIMG_CP1");
-    if (name == NULL || name[0] == '\0') {
-        name = getenv("PROCIMG_INSTANCE");
-    }
-    return name == NULL || name[0] == '\0' ? "procimg" : name;
-}
-
-static const char *mode_name(uint32_t mode, int lower) {
-    switch (mode) {
-    case PROCIMG_MODE_OFFLINE:
-        return lower ? "offline" : "OFFLINE";
-    case PROCIMG_MODE_CLEAR:
-        return lower ? "clear" : "CLEAR";
-    case PROCIMG_MODE_OPERATE:
-        return lower ? "operate" : "OPERATE";
-    default:
-        return "unknown";
-    }
-}
-
-/* A short-lived client that takes no part in the cycle and claims nothing. */
-static procimg_error_t attach_observer(const char *instance, procimg_client_t **c) {
-    procimg_attach_options_t opts;
-    procimg_attach_options_init(&opts);
-    opts.role = PROCIMG_ROLE_ASYNCHRONOUS;
-    return procimg_attach(instance, "pnio_easy (server mode)", &opts, c);
-}
-
-/* The server's mode now; 0 when there is no server to ask. */
-static int server_mode(const char *instance, uint32_t *mode) {
-    procimg_client_t *c;
-    procimg_error_t r;
-    if (attach_observer(instance, &c) != PROCIMG_OK) {
-        return 0;
-    }
-    r = procimg_mode(c, mode);
-    procimg_detach(c);
-    return r == PROCIMG_OK;
-}
-
-/* Gives the server back `mode` and waits (up to 10 s) until it is there; says what it did.
- * When it cannot, it says which mode the server is left in and how to set it. */
-static int restore_mode(const char *instance, uint32_t mode) {
-    procimg_client_t *c = NULL;
-    uint32_t now = mode;
-    const char *left = "an unknown mode", *why = "";
-    procimg_error_t r;
-    int i, changed = 0;
-
-    r = attach_observer(instance, &c);
-    if (r == PROCIMG_OK && (r = procimg_mode(c, &now)) == PROCIMG_OK && now != mode) {
-        changed = 1;
-        r = procimg_set_mode(c, mode);
-        /* The server steps there by itself (OFFLINE -> CLEAR -> OPERATE). */
-        for (i = 0; r == PROCIMG_OK && now != mode && i < 1000; i++) {
-            sleep_ms(10);
-            r = procimg_mode(c, &now);
-        }
-    }
-    if (r == PROCIMG_OK && now == mode) {
-        if (changed) {
-            printf("instance \"%s\" back in mode %s, as before the controller opened\n",
-                   instance, mode_name(mode, 0));
-        }
-    } else {
-        if (r == PROCIMG_OK) {
-            left = mode_name(now, 0);
-            why = "the change was not confirmed within 10 s";
-        } else {
-            why = procimg_last_error();
-        }
-        fprintf(stderr,
-                "pnio_easy: instance \"%s\" was in mode %s before the controller opened and "
-                "is left in %s%s: %s\n"
-                "  `procimg mode %s --instance %s` sets it back (`procimg status` shows it)\n",
-                instance, mode_name(mode, 0), r == PROCIMG_OK ? "mode " : "", left, why,
-                mode_name(mode, 1), instance);
-    }
-    if (c != NULL) {
-        procimg_detach(c);
-    }
-    return r == PROCIMG_OK && now == mode;
 }
 
 /* ---- The manual's flow ------------------------------------------------------------------ */
@@ -295,9 +205,9 @@ int main(int argc, char **argv) {
         return 2;
     }
     /* Without a server this finds nothing, and PNIO_controller_open says what to do. */
-    known = server_mode(instance, &before);
+    known = server_mode("pnio_easy", instance, &before);
     rc = pnio_easy(exchanges);
-    if (known && !restore_mode(instance, before)) {
+    if (known && !restore_mode("pnio_easy", instance, before)) {
         rc = 1;
     }
     return rc;

@@ -10,9 +10,10 @@
 // CP 1 is the instance in $PROCIMG_CP1, else $PROCIMG_INSTANCE, else "procimg". Exits 0
 // when every step worked. As pnio_easy.c, it gives the server back the mode it had before
 // the controller opened (the manual's flow leaves it OFFLINE, where other programs see no
-// data), through procimg.h after the controller is closed.
+// data), through procimg.h after the controller is closed (see server_mode.h).
 #include "pniousrx.h"
 #include "procimg.h"
+#include "server_mode.h"
 
 #include <array>
 #include <atomic>
@@ -101,110 +102,6 @@ class Controller {
     PNIO_UINT32 handle_ = 0;
 };
 
-// ---- The server's mode, through procimg.h (not part of the manual's flow) -----------------
-
-// The procimgd instance CP 1 names, found as PNIO_controller_open finds it.
-std::string cp_instance() {
-    for (const char *var : {"PROCIMG_CP1", "PROCIMG_INSTANCE"}) {
-        const char *name = std::getenv(var);
-        if (name != nullptr && name[0] != '\0') {
-            return name;
-        }
-    }
-    return "procimg";
-}
-
-const char *mode_name(std::uint32_t mode, bool lower = false) {
-    switch (mode) {
-    case PROCIMG_MODE_OFFLINE:
-        return lower ? "offline" : "OFFLINE";
-    case PROCIMG_MODE_CLEAR:
-        return lower ? "clear" : "CLEAR";
-    case PROCIMG_MODE_OPERATE:
-        return lower ? "operate" : "OPERATE";
-    default:
-        return "unknown";
-    }
-}
-
-// A short-lived client of the server that takes no part in the cycle and claims nothing.
-class Observer {
-  public:
-    explicit Observer(const std::string &instance) {
-        procimg_attach_options_t opts;
-        procimg_attach_options_init(&opts);
-        opts.role = PROCIMG_ROLE_ASYNCHRONOUS;
-        error_ = procimg_attach(instance.c_str(), "pnio_easy_cpp (server mode)", &opts, &c_);
-    }
-    ~Observer() {
-        if (c_ != nullptr) {
-            procimg_detach(c_);
-        }
-    }
-    Observer(const Observer &) = delete;
-    Observer &operator=(const Observer &) = delete;
-
-    // The server's mode now; false (and the reason in procimg_last_error()) if unknown.
-    bool mode(std::uint32_t &mode) {
-        if (error_ == PROCIMG_OK) {
-            error_ = procimg_mode(c_, &mode);
-        }
-        return error_ == PROCIMG_OK;
-    }
-    // Asks for `mode` and waits (up to 10 s) until the server is there; `now` is where it is.
-    bool set_mode(std::uint32_t mode, std::uint32_t &now) {
-        if (error_ == PROCIMG_OK) {
-            error_ = procimg_set_mode(c_, mode);
-        }
-        // The server steps there by itself (OFFLINE -> CLEAR -> OPERATE).
-        for (int i = 0; i < 1000 && this->mode(now) && now != mode; ++i) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        }
-        return error_ == PROCIMG_OK && now == mode;
-    }
-    // Why the last call failed.
-    const char *why() const {
-        return error_ == PROCIMG_OK ? "the change was not confirmed within 10 s"
-                                    : procimg_last_error();
-    }
-
-  private:
-    procimg_client_t *c_ = nullptr;
-    procimg_error_t error_ = PROCIMG_OK;
-};
-
-// Gives the server back `mode` (after the controller is closed); says what it did, and when
-// it cannot, which mode the server is left in and how to set it.
-bool restore_mode(const std::string &instance, std::uint32_t mode) {
-    Observer server(instance);
-    std::uint32_t now = mode;
-    if (!server.mode(now)) {
-        std::fprintf(stderr,
-                     "pnio_easy_cpp: instance \"%s\" was in mode %s before the controller "
-                     "opened and is left in an unknown mode: %s\n"
-                     "  `procimg mode %s --instance %s` sets it back\n",
-                     instance.c_str(), mode_name(mode), server.why(),
-                     mode_name(mode, true), instance.c_str());
-        return false;
-    }
-    if (now == mode) {
-        return true;
-    }
-    if (!server.set_mode(mode, now)) {
-        std::fprintf(stderr,
-                     "pnio_easy_cpp: instance \"%s\" was in mode %s before the controller "
-                     "opened and is left in mode %s: %s\n"
-                     "  `procimg mode %s --instance %s` sets it back (`procimg status` shows "
-                     "it)\n",
-                     instance.c_str(), mode_name(mode), mode_name(now), server.why(),
-                     mode_name(mode, true), instance.c_str());
-        return false;
-    }
-    std::printf("instance \"%s\" back in mode %s, as before the controller opened\n",
-                instance.c_str(), mode_name(mode));
-    return true;
-}
-
 // ---- The manual's flow ----------------------------------------------------------------------
 
 int pnio_easy(long exchanges) {
@@ -268,12 +165,12 @@ int main(int argc, char **argv) {
         std::fprintf(stderr, "usage: %s [exchanges]\n", argv[0]);
         return 2;
     }
-    const std::string instance = cp_instance();
+    const char *instance = cp_instance();
     // Without a server this finds nothing, and PNIO_controller_open says what to do.
     std::uint32_t before = 0;
-    const bool known = Observer(instance).mode(before);
+    const bool known = server_mode("pnio_easy_cpp", instance, &before) != 0;
     int rc = pnio_easy(exchanges); // the controller is closed when it returns
-    if (known && !restore_mode(instance, before)) {
+    if (known && !restore_mode("pnio_easy_cpp", instance, before)) {
         rc = 1;
     }
     return rc;
