@@ -5,9 +5,9 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use procimg_runtime::profinet::iocr_layout::IocrLayout;
-use procimg_runtime::profinet::wire::common::blocks;
-use procimg_runtime::profinet::wire::connect::{
+use procimg_profinet::iocr_layout::IocrLayout;
+use procimg_profinet::wire::common::blocks;
+use procimg_profinet::wire::connect::{
     AlarmCrBlockReq, AlarmCrBlockRes, ArBlockReq, ArBlockRes, ArServerBlock, ConnectRequest,
     ConnectResponse, ExpectedSubmoduleBlockReq, IocrBlockReq, IocrBlockRes, ModuleDiffBlock,
     iocr_type,

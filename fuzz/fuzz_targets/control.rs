@@ -4,9 +4,9 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use procimg_runtime::profinet::wire::common::blocks;
-use procimg_runtime::profinet::wire::connect::ModuleDiffBlock;
-use procimg_runtime::profinet::wire::control::{BLOCK_LEN, ControlBlock, Packet};
+use procimg_profinet::wire::common::blocks;
+use procimg_profinet::wire::connect::ModuleDiffBlock;
+use procimg_profinet::wire::control::{BLOCK_LEN, ControlBlock, Packet};
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(p) = Packet::new_checked(data) {

@@ -4,10 +4,10 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use procimg_runtime::profinet::dcp_client::{Identify, Set};
-use procimg_runtime::profinet::wire::MacAddress;
-use procimg_runtime::profinet::wire::dcp::{self, Packet, Repr};
-use procimg_runtime::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::dcp_client::{Identify, Set};
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::dcp::{self, Packet, Repr};
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 
 const CONTROLLER: MacAddress = MacAddress([0x02, 0, 0, 0, 0, 1]);
 const DEVICE: MacAddress = MacAddress([0x02, 0, 0, 0, 0, 2]);

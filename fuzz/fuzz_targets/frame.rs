@@ -4,8 +4,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use procimg_runtime::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use procimg_runtime::profinet::wire::rt::{self, FrameIdClass};
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::wire::rt::{self, FrameIdClass};
 
 fuzz_target!(|data: &[u8]| {
     // Safe on any buffer, checked or not.

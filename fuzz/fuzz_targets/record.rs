@@ -4,7 +4,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use procimg_runtime::profinet::wire::record::{
+use procimg_profinet::wire::record::{
     IOD_HEADER_LEN, Im0, IodHeader, IodKind, RecordError, join_write_multiple_to_vec,
     split_write_multiple, split_write_multiple_response, write_multiple_len,
 };

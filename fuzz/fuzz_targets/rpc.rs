@@ -5,8 +5,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use procimg_runtime::profinet::wire::PnioStatus;
-use procimg_runtime::profinet::wire::rpc::{
+use procimg_profinet::wire::PnioStatus;
+use procimg_profinet::wire::rpc::{
     self, Header, NDR_LEN, Ndr, Packet, PacketType, Pdu, describe, opnum,
 };
 

@@ -8,11 +8,11 @@
 
 use libfuzzer_sys::fuzz_target;
 use procimg_fuzz::ops::Reader;
-use procimg_runtime::profinet::rta::{RtaChannel, RtaEvent};
-use procimg_runtime::profinet::wire::alarm::{
+use procimg_profinet::rta::{RtaChannel, RtaEvent};
+use procimg_profinet::wire::alarm::{
     AbortCode, AlarmBlock, ErrRta, Packet, Priority, RtaBody, RtaPdu, RtaSequence,
 };
-use procimg_runtime::profinet::wire::common::blocks;
+use procimg_profinet::wire::common::blocks;
 
 const MS: u64 = 1_000_000;
 

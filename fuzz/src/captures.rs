@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The captured frames the seeds are cut from: `runtime/tests/fixtures/captures` (real frames
+//! The captured frames the seeds are cut from: `profinet/tests/fixtures/captures` (real frames
 //! between an S7-1515 and the p-net sample device, the test data of the `pnio` crate 0.1.0,
 //! MIT OR Apache-2.0; see the README there), one frame per `.hex` file, plus every Ethernet
 //! frame of any `.pcap` or `.pcapng` file put beside them.
@@ -10,8 +10,8 @@
 use pcap_file::DataLink;
 use pcap_file::pcap::PcapReader;
 use pcap_file::pcapng::{Block, PcapNgReader};
-use procimg_runtime::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use procimg_runtime::profinet::wire::rpc;
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::wire::rpc;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
@@ -27,7 +27,7 @@ pub struct Captured {
 
 /// The captures folder of the repository.
 pub fn default_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../runtime/tests/fixtures/captures")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../profinet/tests/fixtures/captures")
 }
 
 /// Every frame below `dir`, in path order.

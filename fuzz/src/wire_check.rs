@@ -4,11 +4,11 @@
 //! when nothing panics.
 
 use procimg_runtime::phy::MAX_FRAME;
-use procimg_runtime::profinet::wire::alarm::{self, RtaPdu};
-use procimg_runtime::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use procimg_runtime::profinet::wire::rpc::{self, Header, PacketType};
-use procimg_runtime::profinet::wire::rt::{self, FrameIdClass};
-use procimg_runtime::profinet::wire::{MacAddress, dcp};
+use procimg_profinet::wire::alarm::{self, RtaPdu};
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::wire::rpc::{self, Header, PacketType};
+use procimg_profinet::wire::rt::{self, FrameIdClass};
+use procimg_profinet::wire::{MacAddress, dcp};
 
 /// Checks an Ethernet frame `who` sent: at most [`MAX_FRAME`] bytes, a whole Ethernet header,
 /// EtherType 0x8892, and a PDU that parses as what its FrameID says (DCP, RTA) or, for

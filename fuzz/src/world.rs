@@ -27,9 +27,9 @@ use procimg_runtime::profinet::controller::{
     Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
 use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
-use procimg_runtime::profinet::wire::MacAddress;
-use procimg_runtime::profinet::wire::rpc::RPC_PORT;
-use procimg_runtime::profinet::wire::rt::FrameIdClass;
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::rpc::RPC_PORT;
+use procimg_profinet::wire::rt::FrameIdClass;
 use procimg_runtime::simnet;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::{Ipv4Addr, SocketAddrV4};

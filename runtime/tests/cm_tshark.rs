@@ -14,16 +14,16 @@ mod udp;
 use test_fixtures::capture;
 use udp::udp_frame;
 
-use procimg_runtime::profinet::iocr_layout::{IocrLayout, SubmoduleIo};
-use procimg_runtime::profinet::wire::alarm::{self, AlarmAck, AlarmBlock, Priority, RtaPdu};
-use procimg_runtime::profinet::wire::connect::{
+use procimg_profinet::iocr_layout::{IocrLayout, SubmoduleIo};
+use procimg_profinet::wire::alarm::{self, AlarmAck, AlarmBlock, Priority, RtaPdu};
+use procimg_profinet::wire::connect::{
     AlarmCrBlockReq, ArBlockReq, ConnectRequest, ConnectResponse, ExpectedModule,
     ExpectedSubmodule, ExpectedSubmoduleBlockReq, IocrBlockReq,
 };
-use procimg_runtime::profinet::wire::control::ControlBlock;
-use procimg_runtime::profinet::wire::record::IodHeader;
-use procimg_runtime::profinet::wire::rpc::{self, Header, Pdu, opnum};
-use procimg_runtime::profinet::wire::{MacAddress, PnioStatus, Uuid};
+use procimg_profinet::wire::control::ControlBlock;
+use procimg_profinet::wire::record::IodHeader;
+use procimg_profinet::wire::rpc::{self, Header, Pdu, opnum};
+use procimg_profinet::wire::{MacAddress, PnioStatus, Uuid};
 
 /// Re-emits the PNIO blocks of an RPC PDU through the codec for the first block's type.
 fn reemit_blocks(blocks: &[u8]) -> Vec<u8> {
@@ -200,8 +200,7 @@ fn alarm_frames_reemitted_and_built_dissect_clean() {
         "alarm/alarm_err_rta_cpu",
     ] {
         let frame = capture(name);
-        let eth =
-            procimg_runtime::profinet::wire::ethernet::Frame::new_checked(&frame[..]).unwrap();
+        let eth = procimg_profinet::wire::ethernet::Frame::new_checked(&frame[..]).unwrap();
         let at = eth.header_len();
         let pdu = RtaPdu::parse(&alarm::Packet::new_checked(&frame[at..]).unwrap()).unwrap();
         if notification.is_none() {

@@ -15,6 +15,10 @@ mod tshark;
 #[path = "support/udp.rs"]
 mod udp;
 
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::alarm::AlarmType;
+use procimg_profinet::wire::record::Im0;
+use procimg_profinet::wire::rpc::{self, RPC_PORT};
 use procimg_runtime::config::Config;
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
@@ -27,10 +31,6 @@ use procimg_runtime::profinet::controller::{
     Action, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
 use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
-use procimg_runtime::profinet::wire::MacAddress;
-use procimg_runtime::profinet::wire::alarm::AlarmType;
-use procimg_runtime::profinet::wire::record::Im0;
-use procimg_runtime::profinet::wire::rpc::{self, RPC_PORT};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::SocketAddrV4;
 use std::sync::Arc;
@@ -429,7 +429,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
         let h = rpc::Header::request(
             rpc::object_uuid(1, 1, 0x0493),
             rpc::CONTROLLER_INTERFACE,
-            procimg_runtime::profinet::wire::Uuid([activity; 16]),
+            procimg_profinet::wire::Uuid([activity; 16]),
             1,
             rpc::opnum::CONTROL,
         );
@@ -443,7 +443,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
         let h = rpc::Header::request(
             rpc::object_uuid(1, 1, 0x0493),
             rpc::DEVICE_INTERFACE,
-            procimg_runtime::profinet::wire::Uuid([9; 16]),
+            procimg_profinet::wire::Uuid([9; 16]),
             77,
             rpc::opnum::READ,
         );

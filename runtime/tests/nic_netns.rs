@@ -2,11 +2,11 @@
 //! The AF_PACKET backend on a veth pair between two network namespaces that this test creates
 //! (and removes, also when it fails). Needs root; skipped otherwise.
 
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::dcp;
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_runtime::phy::af_packet::{AfPacket, OpenError};
 use procimg_runtime::phy::{MAX_FRAME, Nic};
-use procimg_runtime::profinet::wire::MacAddress;
-use procimg_runtime::profinet::wire::dcp;
-use procimg_runtime::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use std::time::{Duration, Instant};
 
 #[path = "support/netns.rs"]

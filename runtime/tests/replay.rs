@@ -5,9 +5,9 @@
 //! count moves.
 
 use pcap_file::pcap::{PcapPacket, PcapWriter};
+use procimg_profinet::wire::MacAddress;
 use procimg_runtime::phy::replay::{Pacing, Replay, ReplayOptions};
 use procimg_runtime::phy::{MAX_FRAME, Nic};
-use procimg_runtime::profinet::wire::MacAddress;
 use procimg_runtime::sys::rt_alloc::{
     RtAllocator, clear_current_thread_realtime, mark_current_thread_realtime, pool_allocations,
     rt_heap_allocations,

@@ -8,8 +8,8 @@ mod support;
 use procimg_client::{
     AlarmReport, FailureCause, Notification, RecordError, RecordTarget, ServiceOptions, Services,
 };
+use procimg_profinet::wire::record::Im0;
 use procimg_runtime::profinet::device_sim::{SIM_ALARM_INDEX, SIM_ALARM_USI};
-use procimg_runtime::profinet::wire::record::Im0;
 use std::time::{Duration, Instant};
 use support::Server;
 

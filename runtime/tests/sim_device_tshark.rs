@@ -15,18 +15,18 @@ mod tshark;
 #[path = "support/udp.rs"]
 mod udp;
 
+use procimg_profinet::dcp_client;
+use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority, RtaPdu};
+use procimg_profinet::wire::connect::ConnectRequest;
+use procimg_profinet::wire::control::ControlBlock;
+use procimg_profinet::wire::dcp;
+use procimg_profinet::wire::record::{Im0, IodHeader};
+use procimg_profinet::wire::rpc::{self, Header, PacketType, Pdu, flags1, opnum};
+use procimg_profinet::wire::{MacAddress, PnioStatus, ethernet};
 use procimg_runtime::config::SimBehaviour;
-use procimg_runtime::profinet::dcp_client;
 use procimg_runtime::profinet::device_sim::{
     DeviceAction, SimDevice, SimDeviceSpec, SimDeviceState, SimSubmodule,
 };
-use procimg_runtime::profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority, RtaPdu};
-use procimg_runtime::profinet::wire::connect::ConnectRequest;
-use procimg_runtime::profinet::wire::control::ControlBlock;
-use procimg_runtime::profinet::wire::dcp;
-use procimg_runtime::profinet::wire::record::{Im0, IodHeader};
-use procimg_runtime::profinet::wire::rpc::{self, Header, PacketType, Pdu, flags1, opnum};
-use procimg_runtime::profinet::wire::{MacAddress, PnioStatus, ethernet};
 use std::net::{Ipv4Addr, SocketAddrV4};
 use test_fixtures::capture;
 use udp::udp_frame;
@@ -293,10 +293,9 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
             _ => None,
         })
         .unwrap();
-    let notif = RtaPdu::parse(
-        &procimg_runtime::profinet::wire::alarm::Packet::new_checked(&notif[18..]).unwrap(),
-    )
-    .unwrap();
+    let notif =
+        RtaPdu::parse(&procimg_profinet::wire::alarm::Packet::new_checked(&notif[18..]).unwrap())
+            .unwrap();
     let h = notif.header;
     let ack = RtaPdu::ack(
         Priority::High,

@@ -5,10 +5,10 @@
 #[path = "support/tshark.rs"]
 mod tshark;
 
-use procimg_runtime::profinet::wire::MacAddress;
-use procimg_runtime::profinet::wire::dcp;
-use procimg_runtime::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
-use procimg_runtime::profinet::wire::rt::{self, data_status};
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::dcp;
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
+use procimg_profinet::wire::rt::{self, data_status};
 
 const PLC: MacAddress = MacAddress([0x02, 0x00, 0x00, 0x00, 0x00, 0x01]);
 const DEVICE: MacAddress = MacAddress([0x02, 0x00, 0x00, 0x00, 0x00, 0x02]);

@@ -3,10 +3,10 @@
 
 use anyhow::{Context, bail};
 use clap::Subcommand;
+use procimg_profinet::dcp_client::{Identify, Set};
+use procimg_profinet::wire::MacAddress;
 use procimg_runtime::phy::af_packet::{AfPacket, OpenError};
 use procimg_runtime::phy::{MAX_FRAME, Nic};
-use procimg_runtime::profinet::dcp_client::{Identify, Set};
-use procimg_runtime::profinet::wire::MacAddress;
 use std::net::Ipv4Addr;
 use std::time::{Duration, Instant};
 
@@ -207,7 +207,7 @@ fn set(nic: &mut AfPacket, request: Set) -> anyhow::Result<()> {
             {
                 println!("{outcome}");
                 return match outcome {
-                    procimg_runtime::profinet::dcp_client::SetOutcome::Done => Ok(()),
+                    procimg_profinet::dcp_client::SetOutcome::Done => Ok(()),
                     other => bail!("{other}"),
                 };
             }

@@ -6,7 +6,7 @@ use crate::io::{hex, parse_hex};
 use anyhow::{Context, bail};
 use clap::Subcommand;
 use procimg_client::{Notification, RecordTarget, ServiceOptions, Services};
-use procimg_runtime::profinet::wire::record::Im0;
+use procimg_profinet::wire::record::Im0;
 use std::time::{Duration, Instant};
 
 /// How long a record job may take before the command gives up.

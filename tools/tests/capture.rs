@@ -9,11 +9,11 @@ mod netns;
 mod tshark;
 
 use netns::{TestNet, frame, is_root};
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::dcp;
+use procimg_profinet::wire::ethernet::ETHERTYPE_PROFINET;
 use procimg_runtime::phy::Nic;
 use procimg_runtime::phy::af_packet::AfPacket;
-use procimg_runtime::profinet::wire::MacAddress;
-use procimg_runtime::profinet::wire::dcp;
-use procimg_runtime::profinet::wire::ethernet::ETHERTYPE_PROFINET;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::Duration;

@@ -8,11 +8,11 @@
 mod netns;
 
 use netns::TestNet;
+use procimg_profinet::dcp_client;
+use procimg_profinet::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType};
+use procimg_profinet::wire::ethernet;
 use procimg_runtime::phy::af_packet::AfPacket;
 use procimg_runtime::phy::{MAX_FRAME, Nic};
-use procimg_runtime::profinet::dcp_client;
-use procimg_runtime::profinet::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType};
-use procimg_runtime::profinet::wire::ethernet;
 use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};

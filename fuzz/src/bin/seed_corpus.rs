@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Writes the seed corpus of every fuzz target, `fuzz/seeds/<target>/` (or below the folder
 //! given as the only argument), from the captured frames in
-//! `runtime/tests/fixtures/captures`, the configuration and GSDML files of the repository,
+//! `profinet/tests/fixtures/captures`, the configuration and GSDML files of the repository,
 //! and a bring-up recorded on the simulated network:
 //!
 //! ```text
@@ -20,10 +20,10 @@ use procimg_fuzz::captures::{self, Captured, profinet_pdu, rpc_blocks, udp_paylo
 use procimg_fuzz::ops::Writer;
 use procimg_fuzz::world::{self, device_ops, ops};
 use procimg_runtime::config::DEMO_TOML;
-use procimg_runtime::profinet::wire::alarm::{self, RtaPdu};
-use procimg_runtime::profinet::wire::record::IodHeader;
-use procimg_runtime::profinet::wire::rpc::{self, opnum};
-use procimg_runtime::profinet::wire::rt::FrameIdClass;
+use procimg_profinet::wire::alarm::{self, RtaPdu};
+use procimg_profinet::wire::record::IodHeader;
+use procimg_profinet::wire::rpc::{self, opnum};
+use procimg_profinet::wire::rt::FrameIdClass;
 use procimg_runtime::simnet;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -114,7 +114,7 @@ fn frames(caps: &[Captured], seeds: &mut Seeds) {
         .into_iter()
         .flatten()
         .flat_map(|(name, b)| {
-            procimg_runtime::profinet::wire::common::blocks(b)
+            procimg_profinet::wire::common::blocks(b)
                 .map_while(Result::ok)
                 .enumerate()
                 .map(move |(i, (_, block))| (format!("{name}-block{i}"), block.to_vec()))

@@ -35,7 +35,7 @@ use procimg_client::{
     Services, StatusReport,
 };
 use procimg_interop_pnio_device as iop;
-use procimg_runtime::profinet::wire::record::Im0;
+use procimg_profinet::wire::record::Im0;
 use std::os::unix::process::ExitStatusExt as _;
 use std::sync::mpsc;
 use std::thread::JoinHandle;

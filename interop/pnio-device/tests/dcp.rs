@@ -10,9 +10,9 @@
 mod support;
 
 use procimg_interop_pnio_device as iop;
-use procimg_runtime::profinet::wire::record::{IOD_HEADER_LEN, Im0, IodHeader, IodKind};
-use procimg_runtime::profinet::wire::rpc::{self, Header, Ndr};
-use procimg_runtime::profinet::wire::{PnioStatus, Uuid};
+use procimg_profinet::wire::record::{IOD_HEADER_LEN, Im0, IodHeader, IodKind};
+use procimg_profinet::wire::rpc::{self, Header, Ndr};
+use procimg_profinet::wire::{PnioStatus, Uuid};
 use std::net::{Ipv4Addr, SocketAddr, UdpSocket};
 use std::path::PathBuf;
 use std::process::Command;

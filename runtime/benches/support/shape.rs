@@ -44,7 +44,7 @@ impl Shape {
             let n = self.device_submodules(d);
             let bytes: usize = (s..s + n).map(|i| self.submodule_len(i) + 2).sum();
             s += n;
-            bytes <= procimg_runtime::profinet::wire::rt::MAX_DATA_LENGTH
+            bytes <= procimg_profinet::wire::rt::MAX_DATA_LENGTH
         })
     }
 }

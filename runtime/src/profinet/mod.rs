@@ -3,10 +3,9 @@
 //! parse and emit them. No socket, no clock: bytes in, bytes out; the cycle thread and the
 //! acyclic side drive it, tests drive it directly from real captures.
 pub mod controller;
-pub mod dcp_client;
 pub mod device_sim;
-pub mod iocr_layout;
-pub mod rta;
 #[cfg(test)]
 pub(crate) mod test_fixtures;
-pub mod wire;
+
+// The protocol crate's modules, where the runtime's code has always found them.
+pub use procimg_profinet::{dcp_client, iocr_layout, rta, wire};

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Test data for the PROFINET unit tests: hex strings and the captured frames in
-//! `tests/fixtures/captures` (test data of the `pnio` crate 0.1.0, MIT OR Apache-2.0).
+//! `profinet/tests/fixtures/captures` (test data of the `pnio` crate 0.1.0, MIT OR Apache-2.0).
 
 /// Bytes from hex digits; whitespace between them is ignored.
 pub(crate) fn hex(s: &str) -> Vec<u8> {
@@ -14,7 +14,7 @@ pub(crate) fn hex(s: &str) -> Vec<u8> {
 /// The frame of a capture file, e.g. `capture("cm/ident_ok_pnet")`: `#` lines are comments.
 pub(crate) fn capture(name: &str) -> Vec<u8> {
     let path = format!(
-        "{}/tests/fixtures/captures/{name}.hex",
+        "{}/../profinet/tests/fixtures/captures/{name}.hex",
         env!("CARGO_MANIFEST_DIR")
     );
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));

@@ -3,8 +3,8 @@
 //! (also when it fails). Shared by the runtime's and the tools' tests.
 #![allow(dead_code)]
 
-use procimg_runtime::profinet::wire::MacAddress;
-use procimg_runtime::profinet::wire::ethernet;
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::ethernet;
 use std::process::Command;
 
 /// Whether the test runs as root (namespaces and raw sockets need it).

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The simulated device driven by what an S7-1515 sent to the p-net sample device (the
-//! captures in tests/fixtures/captures, test data of the `pnio` crate 0.1.0, MIT OR
+//! captures in profinet/tests/fixtures/captures, test data of the `pnio` crate 0.1.0, MIT OR
 //! Apache-2.0), compared with what p-net answered, and by requests built with our codecs.
 
 use super::cm::pnio;

@@ -790,7 +790,7 @@ impl core::fmt::Display for RecordError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profinet::test_fixtures::hex;
+    use crate::test_fixtures::hex;
     use proptest::prelude::*;
 
     // The captures below come from the test data of the `pnio` crate 0.1.0

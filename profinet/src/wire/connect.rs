@@ -21,7 +21,7 @@
 use super::common::{BLOCK_HEADER_LEN, blocks};
 use super::cursor::{Reader, Writer};
 use super::{BlockHeader, Error, MacAddress, Result, Uuid};
-use crate::profinet::iocr_layout::{CrLayout, SubmoduleIo};
+use crate::iocr_layout::{CrLayout, SubmoduleIo};
 
 /// Block types of the Connect blocks.
 pub mod block_type {
@@ -434,7 +434,7 @@ impl Body for IocrBlockReq {
 block_api!(IocrBlockReq, "IOCRBlockReq");
 
 impl IocrBlockReq {
-    /// An IO CR carrying `layout` (one CR of an [`IocrLayout`](crate::profinet::iocr_layout::IocrLayout)):
+    /// An IO CR carrying `layout` (one CR of an [`IocrLayout`](crate::iocr_layout::IocrLayout)):
     /// DataLength from the layout, one IODataObject per data object (at its data offset) and
     /// one IOCS per consumer status, grouped by API in frame order. `submodules` is the list
     /// the layout was computed from (its indices are the layout's `submodule` fields); an index
@@ -1333,7 +1333,7 @@ impl ConnectRequest {
         self.try_emit().unwrap_or_default()
     }
 
-    /// Every expected submodule, in block order: the input of [`IocrLayout::new`](crate::profinet::iocr_layout::IocrLayout::new).
+    /// Every expected submodule, in block order: the input of [`IocrLayout::new`](crate::iocr_layout::IocrLayout::new).
     pub fn submodules(&self) -> impl Iterator<Item = SubmoduleIo> + '_ {
         self.expected
             .iter()
@@ -1449,7 +1449,7 @@ impl ConnectResponse {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profinet::iocr_layout::IocrLayout;
+    use crate::iocr_layout::IocrLayout;
     use proptest::prelude::*;
 
     // The two frames below come from the test data of the `pnio` crate 0.1.0

@@ -1853,7 +1853,7 @@ impl RtaSequence {
 mod tests {
     use super::super::ethernet::{ETHERTYPE_PROFINET, Frame};
     use super::*;
-    use crate::profinet::test_fixtures::hex;
+    use crate::test_fixtures::hex;
     use proptest::prelude::*;
 
     // The captures below come from the test data of the `pnio` crate 0.1.0

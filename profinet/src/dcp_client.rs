@@ -207,7 +207,7 @@ impl Set {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profinet::test_fixtures::capture;
+    use crate::test_fixtures::capture;
 
     /// p-net's Identify response and Set response from the S7-1515 capture
     /// (captures/cm/ident_ok_pnet.hex, dcp_set_res.hex; pnio crate 0.1.0, MIT OR Apache-2.0).

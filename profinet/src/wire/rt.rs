@@ -246,7 +246,7 @@ pub const fn cycle_counter_is_newer(new: u16, last: u16) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profinet::wire::ethernet;
+    use crate::wire::ethernet;
 
     // The S7-1515 -> p-net cyclic frame, FrameID 0x8001, DataLength 40
     // (captures/rt/rtc_cpu_8001.hex; test data of the pnio crate 0.1.0, MIT OR Apache-2.0).

@@ -231,13 +231,13 @@ impl RtaChannel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profinet::wire::alarm::{AlarmAck, Packet};
-    use crate::profinet::wire::{PnioStatus, ethernet};
+    use crate::wire::alarm::{AlarmAck, Packet};
+    use crate::wire::{PnioStatus, ethernet};
 
     /// A captured frame's RTA PDU bytes (from the FrameID) and its parse. The frames are the
     /// test data of the pnio crate 0.1.0 (MIT OR Apache-2.0), copied in tests/fixtures.
     fn rta(name: &str) -> (Vec<u8>, RtaPdu) {
-        let frame = crate::profinet::test_fixtures::capture(&format!("alarm/{name}"));
+        let frame = crate::test_fixtures::capture(&format!("alarm/{name}"));
         let at = ethernet::Frame::new_checked(&frame[..])
             .unwrap()
             .header_len();
