@@ -29,12 +29,14 @@ fn child_attach_as_another_user() {
 }
 
 #[test]
+#[ignore = "needs root (starts a process as another user): run as root with --ignored"]
 fn another_user_is_denied_with_a_clear_error() {
     // SAFETY: geteuid has no preconditions.
-    if unsafe { libc::geteuid() } != 0 {
-        eprintln!("skipped: starting a process as another user needs root");
-        return;
-    }
+    let root = unsafe { libc::geteuid() } == 0;
+    assert!(
+        root,
+        "this test starts a process as another user, which needs root: run it as root"
+    );
     let server = Server::demo("access");
     let out = Command::new(std::env::current_exe().unwrap())
         .args(["--exact", "child_attach_as_another_user", "--nocapture"])

@@ -25,11 +25,12 @@ fn recv_within(nic: &mut AfPacket, t: Duration) -> Option<Vec<u8>> {
 }
 
 #[test]
+#[ignore = "needs root (network namespaces): run as root with --ignored"]
 fn profinet_frames_cross_a_veth_pair_and_nothing_else_does() {
-    if !is_root() {
-        eprintln!("skipped: network namespaces need root");
-        return;
-    }
+    assert!(
+        is_root(),
+        "this test builds network namespaces, which needs root: run it as root"
+    );
     let net = TestNet::new("x", true);
     let (to_device, device_mac) = std::sync::mpsc::channel::<MacAddress>();
     let (ready_tx, ready_rx) = std::sync::mpsc::channel::<()>();
@@ -116,11 +117,12 @@ fn profinet_frames_cross_a_veth_pair_and_nothing_else_does() {
 }
 
 #[test]
+#[ignore = "needs root (network namespaces): run as root with --ignored"]
 fn opening_a_missing_or_down_interface_says_what_is_wrong() {
-    if !is_root() {
-        eprintln!("skipped: network namespaces need root");
-        return;
-    }
+    assert!(
+        is_root(),
+        "this test builds network namespaces, which needs root: run it as root"
+    );
     let net = TestNet::new("e", false);
     let r = net
         .in_ns(1, |ifname| {
