@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! `procimg io read|write|watch` and `procimg layout`.
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use clap::Subcommand;
 use procimg_client::access::{resolve_read, resolve_write};
 use procimg_client::{AttachOptions, Client, ControlHandle, Ioxs, Space};
@@ -95,15 +95,11 @@ pub(crate) fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
         .chars()
         .filter(|c| !c.is_whitespace() && *c != ':')
         .collect();
-    if digits.is_empty() || !digits.len().is_multiple_of(2) {
-        bail!("{s:?}: give whole bytes in hex, e.g. 01ff");
+    if digits.is_empty() {
+        bail!("{s:?}: give the bytes in hex, e.g. 01ff or \"01 ff\"");
     }
-    (0..digits.len())
-        .step_by(2)
-        .map(|i| {
-            u8::from_str_radix(&digits[i..i + 2], 16).with_context(|| format!("{s:?} is not hex"))
-        })
-        .collect()
+    hex::decode(&digits)
+        .map_err(|e| anyhow::anyhow!("{s:?} is not whole bytes in hex ({e}); e.g. 01ff"))
 }
 
 /// Addresses for people: `0..15`, or `7` for one byte.
@@ -198,14 +194,14 @@ fn hold(client: &mut Client, seconds: Option<f64>) -> anyhow::Result<()> {
 }
 
 fn force(instance: &str, op: IoCommand) -> anyhow::Result<()> {
+    // What the user typed is checked before the server is asked.
+    let data = match &op {
+        IoCommand::Force { bytes, .. } => parse_hex(bytes)?,
+        _ => Vec::new(),
+    };
     let control = ControlHandle::open(instance, "procimg-force")?;
     match op {
-        IoCommand::Force {
-            address,
-            bytes,
-            input,
-        } => {
-            let data = parse_hex(&bytes)?;
+        IoCommand::Force { address, input, .. } => {
             let space = if input { Space::Input } else { Space::Output };
             control.force(space, address, &data)?;
             println!(
@@ -379,4 +375,19 @@ fn forced(status: Option<&StatusReport>, e: &SubmoduleEntry, space: Space) -> bo
 
 fn marked(text: String, forced: bool) -> String {
     if forced { format!("F {text}") } else { text }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_hex;
+
+    #[test]
+    fn hex_input_is_parsed_or_refused_with_the_reason_never_a_panic() {
+        assert_eq!(parse_hex("01ff").unwrap(), [0x01, 0xff]);
+        assert_eq!(parse_hex("01 FF:10").unwrap(), [0x01, 0xff, 0x10]);
+        for bad in ["", "0", "0g", "ü1", "1ü", "€€"] {
+            let e = parse_hex(bad).unwrap_err().to_string();
+            assert!(e.contains("hex"), "{bad:?}: {e}");
+        }
+    }
 }
