@@ -8,18 +8,13 @@
 //! logs once the engine is built.
 
 use super::force::ForcePlan;
+use super::link::{ClientLink, Taken};
 use super::shared::{Command, Shared};
 use crate::config::{LatePolicy, OpdoneWait, OutputTiming};
 use crate::image::{Image, Tables};
 use crate::io::{CycleTime, IoSystem};
-use crate::shm::{CyclePorts, Ipc};
+use crate::shm::CyclePorts;
 use crate::stats::StatsRecorder;
-use crate::sys::clock::now_ns;
-use crate::sys::poll::wait_readable;
-use iceoryx2::port::update_connections::UpdateConnections;
-use iceoryx2::prelude::EventId;
-use iceoryx2::prelude::FileDescriptorBased;
-use iceoryx2::sample::Sample;
 use procimg_shm_layout::control::Space;
 use procimg_shm_layout::events::{
     EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, EVENT_STARTOP, opfault_event,
@@ -29,7 +24,6 @@ use procimg_shm_layout::{
     IOXS_BAD_BY_CONTROLLER, IOXS_GOOD, ImageHeader, MAX_CLIENTS, MODE_HISTORY, Mode,
     OUTPUT_SYNCHRONOUS, OutputHeader, cycle_count,
 };
-use std::os::fd::RawFd;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 
@@ -97,25 +91,25 @@ struct State {
     force: Box<ForcePlan>,
 }
 
-/// The cycle engine: the ports, the IO system and the state of the cycle.
-pub struct Engine {
-    ports: CyclePorts,
-    opdone_fd: RawFd,
+/// The cycle engine: the link to the clients (the iceoryx2 ports in procimgd), the IO system
+/// and the state of the cycle.
+pub struct Engine<L: ClientLink = CyclePorts> {
+    ports: L,
     io: Box<dyn IoSystem>,
     st: State,
 }
 
-impl Engine {
+impl<L: ClientLink> Engine<L> {
     /// An engine over `ports` and `io`; the server starts in OFFLINE and steps towards
     /// `Shared::target_mode`.
     pub fn new(
         settings: EngineSettings,
         tables: &Tables,
-        ports: CyclePorts,
+        ports: L,
         io: Box<dyn IoSystem>,
         shared: Arc<Shared>,
         stats: StatsRecorder,
-    ) -> Engine {
+    ) -> Engine<L> {
         let n = tables.submodules.len();
         let mut header = ImageHeader::new(tables.hash, settings.generation);
         header.submodule_count = n as u32;
@@ -128,12 +122,8 @@ impl Engine {
             .counters
             .mode
             .store(Mode::Offline.as_u32(), Ordering::Release);
-        // SAFETY: the descriptor belongs to the listener in `ports`, which the engine owns
-        // for as long as it uses the descriptor.
-        let opdone_fd = unsafe { ports.opdone.file_descriptor().native_handle() };
         Engine {
             ports,
-            opdone_fd,
             io,
             st: State {
                 settings,
@@ -166,7 +156,7 @@ impl Engine {
 
     /// Runs cycle `k`, planned to start at `t0_ns`.
     pub fn run_cycle(&mut self, k: u64, t0_ns: u64) {
-        let woke = now_ns();
+        let woke = self.ports.now_ns();
         // Clients that connected since the maintenance before this cycle: set up here, as
         // connection set-up, rather than lazily by iceoryx2 inside the publish, notify or
         // receive below (cheap when nothing changed).
@@ -193,7 +183,7 @@ impl Engine {
         st.apply_input_iocs();
 
         // 2. Publish the input image.
-        let now = now_ns();
+        let now = self.ports.now_ns();
         st.header.cycle = CycleInfo {
             cycle_number: k,
             cycle_start_ns: t0_ns,
@@ -203,63 +193,43 @@ impl Engine {
             reserved: 0,
         };
         st.header.mode = st.mode.as_u32();
-        let published = match iceoryx2_call(|| {
-            self.ports
-                .inputs
-                .loan_slice_uninit(st.image.payload().len())
-        }) {
-            Ok(sample) => {
-                let mut sample = sample.write_from_slice(st.image.payload());
+        let published = {
+            let (image, header) = (&st.image, &mut st.header);
+            self.ports.publish(image.payload(), &mut |now| {
                 // Stamped after the copy: the clock in the header is when the image was
                 // complete, which clients measure their STARTOP latency from.
-                let now = now_ns();
-                st.header.cycle.clock_ns = now;
-                st.header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
-                *sample.user_header_mut() = st.header;
-                iceoryx2_call(|| sample.send().is_ok())
-            }
-            Err(_) => false,
+                header.cycle.clock_ns = now;
+                header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
+                *header
+            })
         };
 
         // 3. STARTOP (and the mode indication, now that the image carries the new mode).
-        st.startop_ns = now_ns();
+        st.startop_ns = self.ports.now_ns();
         if published {
-            notify(&self.ports, EVENT_STARTOP);
+            self.ports.notify(EVENT_STARTOP);
         }
         if mode_changed {
-            notify(&self.ports, EVENT_MODE);
+            self.ports.notify(EVENT_MODE);
         }
 
         // 4./5. Wait for OPDONE of the armed synchronous clients, merging outputs as they come.
         // Without a published image there is nothing to answer: nobody is waited for.
         let deadline = t0_ns + st.settings.opdone_deadline_ns;
         loop {
-            drain_outputs(&self.ports, st);
+            drain_outputs(&mut self.ports, st);
             if !published || st.all_done() {
                 break;
             }
-            let now = now_ns();
-            if now >= deadline {
+            if self.ports.now_ns() >= deadline {
                 break;
             }
-            match st.settings.opdone_wait {
-                OpdoneWait::Event => {
-                    if wait_readable(self.opdone_fd, deadline - now) {
-                        let _ = self.ports.opdone.try_wait(|_| {});
-                    }
-                }
-                // The sample is there before its OPDONE event: looking for samples is enough,
-                // and the events are collected once after the loop.
-                OpdoneWait::BusyPoll => {
-                    while !self.ports.outputs.has_samples().unwrap_or(true) && now_ns() < deadline {
-                        std::hint::spin_loop();
-                    }
-                }
-            }
+            let busy = st.settings.opdone_wait == OpdoneWait::BusyPoll;
+            self.ports.wait_outputs(deadline, busy);
         }
-        let _ = self.ports.opdone.try_wait(|_| {});
+        self.ports.clear_wakeups();
         if published {
-            st.opfault_late_clients(&self.ports);
+            st.opfault_late_clients(&mut self.ports);
         }
         st.mark_late_outputs();
         // Forced outputs over what the clients wrote.
@@ -273,7 +243,7 @@ impl Engine {
                     self.io.send(
                         CycleTime {
                             cycle: k,
-                            now_ns: now_ns(),
+                            now_ns: self.ports.now_ns(),
                         },
                         st.mode,
                         &st.image,
@@ -282,10 +252,10 @@ impl Engine {
                 OutputTiming::AtNextCycleStart => st.outputs_pending = true,
             }
         }
-        st.stats.work(now_ns().saturating_sub(t0_ns));
+        st.stats.work(self.ports.now_ns().saturating_sub(t0_ns));
         // Only when asked for: every notification wakes every listener.
         if st.clients.iter().any(|c| c.active && c.newcycle) {
-            notify(&self.ports, EVENT_NEWCYCLE);
+            self.ports.notify(EVENT_NEWCYCLE);
         }
 
         // 7. Statistics.
@@ -300,11 +270,7 @@ impl Engine {
     /// receive, where the work (mapping, unmapping segments) eats into the OPDONE window of
     /// every client.
     pub fn maintain_connections(&mut self) {
-        iceoryx2_call(|| {
-            let _ = self.ports.inputs.update_connections();
-            let _ = self.ports.outputs.update_connections();
-            let _ = self.ports.events.update_connections();
-        });
+        self.ports.maintain();
     }
 
     /// Counts an overrun (cycles skipped because cycle work ran past the next start).
@@ -319,7 +285,7 @@ impl Engine {
     /// Tells clients the server is going away.
     pub fn announce_shutdown(&mut self) {
         self.st.stats.hand_over();
-        notify(&self.ports, EVENT_SHUTDOWN);
+        self.ports.notify(EVENT_SHUTDOWN);
     }
 }
 
@@ -327,15 +293,16 @@ impl Engine {
 /// update one connection (a dead client's, while it is being cleaned up) even though the
 /// samples of the other clients are there; a few retries get past such a moment without
 /// costing a healthy client its OPDONE.
-fn drain_outputs(ports: &CyclePorts, st: &mut State) {
+fn drain_outputs(ports: &mut impl ClientLink, st: &mut State) {
     let mut retries = 0;
     // Bounded, so that a client writing in a tight loop cannot hold the cycle past its
     // deadline: what is left waits for the next drain.
     for _ in 0..4 * MAX_CLIENTS {
-        match iceoryx2_call(|| ports.outputs.receive()) {
-            Ok(Some(sample)) => st.merge(&sample),
-            Ok(None) => return,
-            Err(_) => {
+        let now = ports.now_ns();
+        match ports.take_output(&mut |h, payload| st.merge(h, payload, now)) {
+            Taken::Sample => {}
+            Taken::Nothing => return,
+            Taken::Failed => {
                 st.shared
                     .counters
                     .receive_errors
@@ -347,18 +314,6 @@ fn drain_outputs(ports: &CyclePorts, st: &mut State) {
             }
         }
     }
-}
-
-fn notify(ports: &CyclePorts, id: usize) {
-    let _ = iceoryx2_call(|| ports.events.notify_with_custom_event_id(EventId::new(id)));
-}
-
-/// A call into iceoryx2's ports. When a client came or went since the last call, iceoryx2
-/// sets up or tears down its connection inside such a call, and that allocates: those
-/// allocations are counted as connection set-up, apart from the cycle's own. In steady
-/// state (no client coming or going) neither count moves: `tests/alloc.rs` proves both.
-fn iceoryx2_call<R>(f: impl FnOnce() -> R) -> R {
-    crate::sys::rt_alloc::as_connection_setup(f)
 }
 
 impl State {
@@ -470,9 +425,8 @@ impl State {
             .all(|c| !(c.active && c.synchronous && c.armed) || c.done)
     }
 
-    fn merge(&mut self, sample: &Sample<Ipc, [u8], OutputHeader>) {
-        let h = *sample.user_header();
-        let payload = sample.payload();
+    fn merge(&mut self, h: &OutputHeader, payload: &[u8], now: u64) {
+        let h = *h;
         let slot = h.client_slot as usize;
         let valid = h.magic == IMAGE_MAGIC
             && h.layout_hash == self.layout_hash
@@ -497,7 +451,6 @@ impl State {
             }
             client.done = true;
             client.faulted = false;
-            let now = now_ns();
             self.stats.handshake(now.saturating_sub(self.startop_ns));
             if h.sent_ns != 0 {
                 self.stats.opdone(now.saturating_sub(h.sent_ns));
@@ -543,7 +496,7 @@ impl State {
         }
     }
 
-    fn opfault_late_clients(&mut self, ports: &CyclePorts) {
+    fn opfault_late_clients(&mut self, ports: &mut impl ClientLink) {
         for slot in 0..MAX_CLIENTS {
             let c = self.clients[slot];
             if !(c.active && c.synchronous && c.armed) || c.done {
@@ -556,7 +509,7 @@ impl State {
             counters.opfaults.fetch_add(1, Ordering::Relaxed);
             counters.client_opfaults[slot].fetch_add(1, Ordering::Relaxed);
             counters.client_last_opfault[slot].store(self.cycle, Ordering::Relaxed);
-            notify(ports, opfault_event(slot as u32));
+            ports.notify(opfault_event(slot as u32));
         }
     }
 
@@ -599,3 +552,7 @@ impl State {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "engine_tests.rs"]
+mod tests;

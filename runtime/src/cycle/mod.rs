@@ -2,9 +2,11 @@
 //! The cycle thread and what it runs.
 pub mod engine;
 pub mod force;
+pub mod link;
 pub mod shared;
 pub mod thread;
 
 pub use engine::{Engine, EngineSettings};
 pub use force::{ForcePlan, ForceRun};
+pub use link::{ClientLink, MemoryLink, Taken};
 pub use shared::{Command, Shared};

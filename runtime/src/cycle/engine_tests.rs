@@ -1,0 +1,375 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The cycle's rules as exact tables: the engine over an in-memory link with a clock the test
+//! sets, the demo's layout, and an IO system that records what would go on the wire. No
+//! process, no sleep, no real time.
+
+use super::*;
+use crate::config::Config;
+use crate::cycle::MemoryLink;
+use crate::image::{Image, Tables};
+use crate::io::{CycleTime, IoSystem};
+use procimg_shm_layout::{CLIENT_WROTE_OUTPUTS, IOXS_BAD_BY_CONTROLLER, IOXS_GOOD};
+use std::sync::Mutex;
+
+const T: u64 = 1_000_000;
+const DEADLINE: u64 = 500_000;
+
+/// What one `send` put on the wire: the mode and, per submodule, outputs and IOPS.
+type Sent = (Mode, Vec<(Vec<u8>, u8)>);
+
+/// An IO system that delivers nothing and records every send.
+struct RecordingIo(Arc<Mutex<Vec<Sent>>>);
+
+impl IoSystem for RecordingIo {
+    fn receive(&mut self, _: CycleTime, _: Mode, _: &mut Image) {}
+
+    fn send(&mut self, _: CycleTime, mode: Mode, image: &Image) {
+        let per_submodule = (0..image.submodules().len())
+            .map(|s| (image.outputs(s).to_vec(), image.status(s).output_iops))
+            .collect();
+        self.0.lock().unwrap().push((mode, per_submodule));
+    }
+}
+
+struct Rig {
+    engine: Engine<MemoryLink>,
+    shared: Arc<Shared>,
+    tables: Tables,
+    sent: Arc<Mutex<Vec<Sent>>>,
+    k: u64,
+}
+
+impl Rig {
+    fn new(late_policy: LatePolicy, start: Mode) -> Rig {
+        let tables = Tables::from_config(&Config::demo()).expect("the demo layout");
+        let shared = Arc::new(Shared::new(tables.submodules.len()));
+        shared.target_mode.store(start.as_u32(), Ordering::Release);
+        let sent = Arc::new(Mutex::new(Vec::new()));
+        let (stats, _collector) = crate::stats::stats_channel();
+        let settings = EngineSettings {
+            cycle_ns: T,
+            opdone_deadline_ns: DEADLINE,
+            late_policy,
+            output_timing: OutputTiming::Immediately,
+            opdone_wait: OpdoneWait::Event,
+            generation: 1,
+        };
+        let engine = Engine::new(
+            settings,
+            &tables,
+            MemoryLink::default(),
+            Box::new(RecordingIo(sent.clone())),
+            shared.clone(),
+            stats,
+        );
+        Rig {
+            engine,
+            shared,
+            tables,
+            sent,
+            k: 0,
+        }
+    }
+
+    /// Runs the next cycle at its planned start; returns the events it signalled.
+    fn cycle(&mut self) -> Vec<usize> {
+        self.k += 1;
+        let t0 = self.k * T;
+        let link = &mut self.engine.ports;
+        link.now = link.now.max(t0);
+        link.events.clear();
+        self.engine.run_cycle(self.k, t0);
+        self.engine.ports.events.clone()
+    }
+
+    /// Runs cycles until the engine is in `mode`.
+    fn reach(&mut self, mode: Mode) {
+        for _ in 0..3 {
+            if self.engine.mode() == mode {
+                return;
+            }
+            self.cycle();
+        }
+        assert_eq!(self.engine.mode(), mode);
+    }
+
+    fn join(&self, slot: u32, token: u64, synchronous: bool) {
+        assert!(self.shared.command(Command::Join {
+            slot,
+            token,
+            synchronous,
+            newcycle: false,
+        }));
+    }
+
+    /// Asks for `mode`, as `procimg mode` does.
+    fn set_mode(&self, mode: Mode) {
+        self.shared
+            .target_mode
+            .store(mode.as_u32(), Ordering::Release);
+        assert!(self.shared.command(Command::SetMode(mode)));
+    }
+
+    fn claim(&self, s: usize, token: u64) {
+        self.shared.claims[s].store(token, Ordering::Release);
+    }
+
+    fn echo(&self) -> usize {
+        (0..self.tables.submodules.len())
+            .find(|&s| {
+                self.tables
+                    .device_name(self.tables.submodules[s].device as usize)
+                    == "echo"
+                    && self.tables.submodules[s].output_length == 16
+            })
+            .expect("the demo's echo module")
+    }
+
+    /// An output sample of client (`slot`, `token`) writing `data` to submodule `s`.
+    fn sample(
+        &self,
+        slot: u32,
+        token: u64,
+        cycle: u64,
+        s: usize,
+        data: &[u8],
+    ) -> (OutputHeader, Vec<u8>) {
+        let layout = &self.tables.layout;
+        let mut payload = vec![0u8; layout.output_payload_size as usize];
+        let e = self.tables.submodules[s];
+        let at = e.output_offset as usize;
+        payload[at..at + data.len()].copy_from_slice(data);
+        let st = layout.client_status_offset as usize + 4 * s;
+        payload[st..st + 4].copy_from_slice(&[
+            IOXS_GOOD,
+            0,
+            CLIENT_WROTE_OUTPUTS | CLIENT_SET_OUTPUT_IOPS,
+            0,
+        ]);
+        let header = OutputHeader {
+            magic: IMAGE_MAGIC,
+            layout_hash: self.tables.hash,
+            cycle_number: cycle,
+            client_token: token,
+            client_slot: slot,
+            flags: if cycle == 0 { 0 } else { OUTPUT_SYNCHRONOUS },
+            sent_ns: 0,
+        };
+        (header, payload)
+    }
+
+    /// What the last send put out for submodule `s`.
+    fn last_sent(&self, s: usize) -> (Mode, Vec<u8>, u8) {
+        let sent = self.sent.lock().unwrap();
+        let (mode, subs) = sent.last().expect("something was sent");
+        (*mode, subs[s].0.clone(), subs[s].1)
+    }
+}
+
+#[test]
+fn modes_step_through_clear_one_cycle_each_with_a_mode_event() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        let events = rig.cycle();
+        seen.push((
+            rig.engine.mode(),
+            events.contains(&EVENT_MODE),
+            events.contains(&EVENT_STARTOP),
+        ));
+    }
+    assert_eq!(
+        seen,
+        [
+            (Mode::Clear, true, true),
+            (Mode::Operate, true, true),
+            (Mode::Operate, false, true)
+        ]
+    );
+    // Every step is numbered in the published image, for clients that miss a notification.
+    let (header, _) = rig.engine.ports.published.last().unwrap();
+    assert_eq!(header.mode_changes, 2);
+    assert_eq!(header.mode, Mode::Operate.as_u32());
+}
+
+#[test]
+fn only_the_owners_outputs_are_taken_and_unowned_ones_go_out_bad() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    let echo = rig.echo();
+    rig.join(0, 11, false);
+    rig.join(1, 22, false);
+    rig.reach(Mode::Operate);
+    rig.cycle();
+    assert_eq!(
+        rig.last_sent(echo).2,
+        IOXS_BAD_BY_CONTROLLER,
+        "nobody owns it yet"
+    );
+
+    rig.claim(echo, 11);
+    let intruder = rig.sample(1, 22, 0, echo, &[0xbb; 16]);
+    let owner = rig.sample(0, 11, 0, echo, &[0xaa; 16]);
+    rig.engine.ports.outputs.extend([owner, intruder]);
+    rig.cycle();
+    assert_eq!(
+        rig.last_sent(echo),
+        (Mode::Operate, vec![0xaa; 16], IOXS_GOOD)
+    );
+    assert_eq!(
+        rig.shared.counters.rejected_writes.load(Ordering::Relaxed),
+        1
+    );
+
+    // In CLEAR the same outputs go out invalid.
+    rig.set_mode(Mode::Clear);
+    rig.cycle();
+    assert_eq!(
+        rig.last_sent(echo),
+        (Mode::Clear, vec![0xaa; 16], IOXS_BAD_BY_CONTROLLER)
+    );
+}
+
+#[test]
+fn a_late_synchronous_client_gets_one_opfault_and_is_not_waited_for_again() {
+    let mut rig = Rig::new(LatePolicy::IopsBad, Mode::Operate);
+    let echo = rig.echo();
+    rig.join(3, 33, true);
+    rig.claim(echo, 33);
+    rig.reach(Mode::Operate);
+
+    // A client is waited for from its first sample on (one still setting up is not late).
+    let first = rig.sample(3, 33, rig.k, echo, &[0; 16]);
+    rig.engine.ports.outputs.push_back(first);
+    // In time: its answer to this cycle's STARTOP arrives while the engine waits.
+    let k = rig.k + 1;
+    let answer = rig.sample(3, 33, k, echo, &[1; 16]);
+    rig.engine.ports.answers.push_back(answer);
+    let events = rig.cycle();
+    assert!(!events.contains(&opfault_event(3)));
+    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![1; 16], IOXS_GOOD));
+    assert!(
+        rig.engine.ports.now < k * T + DEADLINE,
+        "the engine did not wait for the deadline"
+    );
+
+    // Silent: one OPFAULT at the deadline, its submodule BAD (policy iops-bad) ...
+    let events = rig.cycle();
+    assert_eq!(events.iter().filter(|&&e| e == opfault_event(3)).count(), 1);
+    assert_eq!(rig.engine.ports.now, rig.k * T + DEADLINE);
+    assert_eq!(rig.last_sent(echo).2, IOXS_BAD_BY_CONTROLLER);
+    assert_eq!(
+        rig.shared.counters.client_last_opfault[3].load(Ordering::Relaxed),
+        rig.k
+    );
+    // ... and then it is not waited for: no more OPFAULTs, no wait for the deadline.
+    for _ in 0..5 {
+        let events = rig.cycle();
+        assert!(!events.contains(&opfault_event(3)));
+        assert!(rig.engine.ports.now < rig.k * T + DEADLINE);
+    }
+    assert_eq!(rig.shared.counters.opfaults.load(Ordering::Relaxed), 1);
+
+    // An answer to an old cycle re-arms it without being used; the next one in time counts.
+    let stale = rig.sample(3, 33, rig.k, echo, &[9; 16]);
+    rig.engine.ports.outputs.push_back(stale);
+    let k = rig.k + 1;
+    let answer = rig.sample(3, 33, k, echo, &[2; 16]);
+    rig.engine.ports.answers.push_back(answer);
+    rig.cycle();
+    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![2; 16], IOXS_GOOD));
+}
+
+#[test]
+fn forced_outputs_go_out_valid_over_the_owner_and_without_one() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    let echo = rig.echo();
+    rig.join(0, 11, false);
+    rig.reach(Mode::Operate);
+    let mut plan = Box::new(crate::cycle::ForcePlan::empty(rig.tables.submodules.len()));
+    plan.push(
+        procimg_shm_layout::control::Space::Output,
+        echo as u32,
+        2,
+        &[0x5a, 0x5b],
+    );
+    assert!(rig.shared.send_force_plan(plan).is_ok());
+    rig.cycle();
+    let mut want = vec![0; 16];
+    want[2..4].copy_from_slice(&[0x5a, 0x5b]);
+    assert_eq!(
+        rig.last_sent(echo),
+        (Mode::Operate, want.clone(), IOXS_GOOD)
+    );
+
+    rig.claim(echo, 11);
+    let owner = rig.sample(0, 11, 0, echo, &[0xaa; 16]);
+    rig.engine.ports.outputs.push_back(owner);
+    rig.cycle();
+    let mut want = vec![0xaa; 16];
+    want[2..4].copy_from_slice(&[0x5a, 0x5b]);
+    assert_eq!(rig.last_sent(echo), (Mode::Operate, want, IOXS_GOOD));
+    // The replaced plan went back to be freed off the cycle.
+    assert_eq!(rig.shared.spent_force_plans.len(), 1);
+}
+
+#[test]
+fn a_late_client_under_hold_last_outputs_keeps_its_last_outputs_valid() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    let echo = rig.echo();
+    rig.join(2, 22, true);
+    rig.claim(echo, 22);
+    rig.reach(Mode::Operate);
+    let first = rig.sample(2, 22, rig.k, echo, &[0; 16]);
+    rig.engine.ports.outputs.push_back(first);
+    let k = rig.k + 1;
+    let answer = rig.sample(2, 22, k, echo, &[7; 16]);
+    rig.engine.ports.answers.push_back(answer);
+    rig.cycle();
+    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![7; 16], IOXS_GOOD));
+
+    // Silent from here on: one OPFAULT, and the outputs it wrote last stay on the wire, valid.
+    let mut opfaults = 0;
+    for _ in 0..4 {
+        let events = rig.cycle();
+        opfaults += events.iter().filter(|&&e| e == opfault_event(2)).count();
+        assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![7; 16], IOXS_GOOD));
+    }
+    assert_eq!(opfaults, 1);
+}
+
+#[test]
+fn going_offline_passes_through_clear_and_forgets_the_outputs() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    let echo = rig.echo();
+    rig.join(0, 11, false);
+    rig.claim(echo, 11);
+    rig.reach(Mode::Operate);
+    let owner = rig.sample(0, 11, 0, echo, &[0xaa; 16]);
+    rig.engine.ports.outputs.push_back(owner);
+    rig.cycle();
+    assert_eq!(
+        rig.last_sent(echo),
+        (Mode::Operate, vec![0xaa; 16], IOXS_GOOD)
+    );
+
+    rig.set_mode(Mode::Offline);
+    let mut steps = Vec::new();
+    for _ in 0..3 {
+        let events = rig.cycle();
+        steps.push((rig.engine.mode(), events.contains(&EVENT_MODE)));
+    }
+    assert_eq!(
+        steps,
+        [
+            (Mode::Clear, true),
+            (Mode::Offline, true),
+            (Mode::Offline, false)
+        ]
+    );
+    // IO-Base: in OFFLINE the outputs written are lost; back in OPERATE nothing old goes out.
+    rig.set_mode(Mode::Operate);
+    rig.reach(Mode::Operate);
+    rig.cycle();
+    let (mode, outputs, _) = rig.last_sent(echo);
+    assert_eq!((mode, outputs), (Mode::Operate, vec![0; 16]));
+}
