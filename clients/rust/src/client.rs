@@ -4,7 +4,6 @@
 
 use crate::connection::{Connection, Ipc, iox2_config};
 use crate::control::ControlHandle;
-use crate::cycle::Cycle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
 use crate::layout::Layout;
 use crate::status::Ioxs;
@@ -121,9 +120,9 @@ pub enum Event {
 }
 
 /// How often a client without STARTOP checks whether the server is still alive.
-const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
+pub(crate) const LIVENESS_PERIOD: Duration = Duration::from_millis(100);
 /// How often a client whose server is gone tries to re-attach.
-const REATTACH_PERIOD: Duration = Duration::from_millis(50);
+pub(crate) const REATTACH_PERIOD: Duration = Duration::from_millis(50);
 /// How long one step of re-attaching (registration, layout) may take.
 const REATTACH_STEP: Duration = Duration::from_millis(300);
 /// How long without a new image before an asynchronous access checks the server is alive.
@@ -354,7 +353,7 @@ impl Client {
     }
 
     /// Collects pending events without waiting.
-    fn drain_events(&mut self) {
+    pub(crate) fn drain_events(&mut self) {
         let Some(conn) = &self.conn else {
             return;
         };
@@ -431,62 +430,10 @@ impl Client {
         self.events.drain(..).collect()
     }
 
-    /// Waits for the next STARTOP and returns this cycle: a read-only view of the inputs and
-    /// a writable view of the outputs, both in shared memory. Other events that arrive
-    /// meanwhile are kept for [`Client::events`]. If the server went away, the client tries to
-    /// re-attach until the timeout.
-    pub fn wait_startop(&mut self, timeout: Duration) -> Result<Cycle<'_>, WaitError> {
-        let until = Instant::now() + timeout;
-        loop {
-            if self.conn.is_none() {
-                self.try_reattach()?;
-            }
-            self.drain_events();
-            if self.conn.is_some() && self.take_new_cycle() {
-                return Ok(Cycle::new(self));
-            }
-            let now = Instant::now();
-            if now >= until {
-                return Err(if self.conn.is_none() {
-                    WaitError::ServerGone {
-                        instance: self.instance().to_string(),
-                    }
-                } else {
-                    WaitError::Timeout(timeout)
-                });
-            }
-            let slice = (until - now).min(LIVENESS_PERIOD);
-            match &self.conn {
-                Some(conn) if self.opts.busy_poll => {
-                    let spin_until = now + slice;
-                    while !conn.inputs.has_samples().unwrap_or(true) {
-                        std::hint::spin_loop();
-                        if Instant::now() >= spin_until {
-                            self.check_server();
-                            break;
-                        }
-                    }
-                    // The image is there before its STARTOP event: take it at once and leave
-                    // the event to the next call's drain, which costs a system call.
-                    if self.conn.is_some() && self.take_new_cycle() {
-                        return Ok(Cycle::new(self));
-                    }
-                }
-                Some(conn) => {
-                    let ns = slice.as_nanos().min(u64::MAX as u128) as u64;
-                    if !procimg_shm_layout::os::wait_readable(conn.events_fd, ns) {
-                        self.check_server();
-                    }
-                }
-                None => std::thread::sleep(slice.min(REATTACH_PERIOD)),
-            }
-        }
-    }
-
     /// Takes the newest image; whether its cycle is one not handed out yet (then it is
     /// counted as handed out). Another call (an event, a data_read) may have taken the new
     /// image already: what counts is whether it is newer than the last cycle handed out.
-    fn take_new_cycle(&mut self) -> bool {
+    pub(crate) fn take_new_cycle(&mut self) -> bool {
         self.refresh();
         let cycle = self.header().map_or(0, |h| h.cycle.cycle_number);
         if cycle > self.last_startop {
@@ -521,7 +468,7 @@ impl Client {
     }
 
     /// Looks (at most every [`LIVENESS_PERIOD`]) whether the server's cycle node is alive.
-    fn check_server(&mut self) {
+    pub(crate) fn check_server(&mut self) {
         if self.last_liveness.elapsed() < LIVENESS_PERIOD {
             return;
         }
@@ -546,7 +493,7 @@ impl Client {
     }
 
     /// Registers again with a (re)started server and opens its data services.
-    fn try_reattach(&mut self) -> Result<(), WaitError> {
+    pub(crate) fn try_reattach(&mut self) -> Result<(), WaitError> {
         if self.last_reattach.elapsed() < REATTACH_PERIOD {
             return Ok(());
         }
@@ -648,7 +595,7 @@ impl Client {
             h.cycle_number = cycle;
             h.flags |= OUTPUT_SYNCHRONOUS;
         }
-        sample.user_header_mut().sent_ns = crate::cycle::now_ns();
+        sample.user_header_mut().sent_ns = procimg_shm_layout::os::monotonic_ns();
         match sample.send() {
             Ok(0) | Err(_) => return Err(IoError::NotDelivered(crate::OUTPUT_BUFFER)),
             Ok(_) => {}

@@ -7,14 +7,70 @@
 //! change single bytes or bits.
 
 use crate::access::resolve_write;
-use crate::client::Client;
+use crate::client::{Client, LIVENESS_PERIOD, REATTACH_PERIOD};
 use crate::connection::Ipc;
 use crate::error::IoError;
+use crate::error::WaitError;
 use crate::io::{ReadResult, read_inputs, stamp};
 use crate::layout::Layout;
 use crate::status::{Ioxs, SubmoduleIoxs, read_status};
 use iceoryx2::sample_mut::SampleMut;
 use procimg_shm_layout::{CycleInfo, Mode, OutputHeader};
+use std::time::{Duration, Instant};
+
+impl Client {
+    /// Waits for the next STARTOP and returns this cycle: a read-only view of the inputs and
+    /// a writable view of the outputs, both in shared memory. Other events that arrive
+    /// meanwhile are kept for [`Client::events`]. If the server went away, the client tries to
+    /// re-attach until the timeout.
+    pub fn wait_startop(&mut self, timeout: Duration) -> Result<Cycle<'_>, WaitError> {
+        let until = Instant::now() + timeout;
+        loop {
+            if self.conn.is_none() {
+                self.try_reattach()?;
+            }
+            self.drain_events();
+            if self.conn.is_some() && self.take_new_cycle() {
+                return Ok(Cycle::new(self));
+            }
+            let now = Instant::now();
+            if now >= until {
+                return Err(if self.conn.is_none() {
+                    WaitError::ServerGone {
+                        instance: self.instance().to_string(),
+                    }
+                } else {
+                    WaitError::Timeout(timeout)
+                });
+            }
+            let slice = (until - now).min(LIVENESS_PERIOD);
+            match &self.conn {
+                Some(conn) if self.opts.busy_poll => {
+                    let spin_until = now + slice;
+                    while !conn.inputs.has_samples().unwrap_or(true) {
+                        std::hint::spin_loop();
+                        if Instant::now() >= spin_until {
+                            self.check_server();
+                            break;
+                        }
+                    }
+                    // The image is there before its STARTOP event: take it at once and leave
+                    // the event to the next call's drain, which costs a system call.
+                    if self.conn.is_some() && self.take_new_cycle() {
+                        return Ok(Cycle::new(self));
+                    }
+                }
+                Some(conn) => {
+                    let ns = slice.as_nanos().min(u64::MAX as u128) as u64;
+                    if !procimg_shm_layout::os::wait_readable(conn.events_fd, ns) {
+                        self.check_server();
+                    }
+                }
+                None => std::thread::sleep(slice.min(REATTACH_PERIOD)),
+            }
+        }
+    }
+}
 
 /// This cycle's inputs and outputs, valid until [`Cycle::set_opdone`] (or drop, which sends
 /// nothing: the server then counts an OPFAULT for a synchronous client).

@@ -11,8 +11,8 @@
 //! without an explicit `diagnostic_address` are assigned last, so that adding or removing
 //! one never moves an input range.
 
+use super::context::Cx;
 use super::error::ConfigError;
-use super::validate::Cx;
 use procimg_shm_layout::NO_ADDRESS;
 
 /// Last usable logical address: [`NO_ADDRESS`] itself marks "no address".

@@ -13,11 +13,11 @@ use std::rc::Rc;
 
 use toml::Spanned;
 
+use super::context::Cx;
 use super::error::ConfigError;
 use super::gsdml::{
     Dap, Gsdml, GsdmlError, MAX_LISTED_VALUES, Module, PlugRef, Submodule, SubmoduleKind, ValueList,
 };
-use super::validate::Cx;
 
 /// Most names listed in one message.
 const MAX_LISTED: usize = 40;

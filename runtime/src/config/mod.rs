@@ -40,6 +40,7 @@
 //! ```
 
 mod address;
+mod context;
 mod duration;
 mod error;
 pub mod gsdml;
@@ -87,7 +88,7 @@ pub fn load(path: &Path) -> Result<Config, ConfigError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let cx = validate::Cx {
+    let cx = context::Cx {
         text: &text,
         origin: &path.display().to_string(),
         dir: path.parent().unwrap_or(Path::new("")),
@@ -107,7 +108,7 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
 /// [`parse`], with relative `gsdml` paths starting at `dir` (the directory of the file the
 /// text came from).
 pub fn parse_in_dir(text: &str, origin: &str, dir: &Path) -> Result<Config, ConfigError> {
-    build(&validate::Cx {
+    build(&context::Cx {
         text,
         origin,
         dir,
@@ -115,7 +116,7 @@ pub fn parse_in_dir(text: &str, origin: &str, dir: &Path) -> Result<Config, Conf
     })
 }
 
-fn build(cx: &validate::Cx<'_>) -> Result<Config, ConfigError> {
+fn build(cx: &context::Cx<'_>) -> Result<Config, ConfigError> {
     let raw = toml::from_str::<raw::RawConfig>(cx.text).map_err(|e| cx.toml_error(&e))?;
     validate::build(raw, cx)
 }

@@ -5,8 +5,9 @@
 #![allow(non_snake_case)]
 
 use super::callbacks::in_callback;
-use super::controller::{Controller, OpenRequest, fail, lookup, wrong_handle};
+use super::controller::{Controller, OpenRequest, lookup, wrong_handle};
 use super::data::{self, ReadArgs, ReadKind, WriteArgs};
+use super::errors::fail;
 use super::errors::*;
 use super::types::*;
 use crate::ffi::guard;

@@ -15,7 +15,6 @@ use super::callbacks::{CallbackTable, invoke_cp};
 use super::errors::*;
 use super::services::{ServiceContext, ServiceWorker};
 use super::types::*;
-use crate::ffi::set_last_error;
 use procimg_client::{
     AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, DetachedCycle,
     Event, Layout, Mode, Refusal, now_ns,
@@ -38,12 +37,6 @@ const OPEN_WAIT: Duration = Duration::from_secs(5);
 /// call fail.
 pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// Records the failure text of an API function for the calling thread and returns `code`.
-pub(crate) fn fail(function: &str, code: u32, detail: impl std::fmt::Display) -> u32 {
-    set_last_error(format!("{function}: {detail} ({})", name(code)));
-    code
 }
 
 /// The client side of a controller, behind one lock: IO-Base's data functions are not

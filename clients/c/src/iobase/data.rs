@@ -3,7 +3,8 @@
 //! parameter checks in its order, then procimg-client's access by logical address, inside
 //! the STARTOP..OPDONE window when the controller is isochronous and a window is open.
 
-use super::controller::{Controller, Io, cycle_info, fail, lock, lookup_io, wrong_handle};
+use super::controller::{Controller, Io, cycle_info, lock, lookup_io, wrong_handle};
+use super::errors::fail;
 use super::errors::*;
 use super::types::*;
 use procimg_client::access::{AccessError, Resolved, Space, resolve_read, resolve_write};

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The return codes of `pnioerrx.h`: `PNIO_OK`, the warnings `PNIO_WARN_*` and the errors
-//! `PNIO_ERR_*`, with the values of the 2015 headers.
+//! `PNIO_ERR_*`, with the values of the 2015 headers; and how an API function records why it failed.
 
 /// Success.
 pub const PNIO_OK: u32 = 0x000;
@@ -232,4 +232,10 @@ pub fn name(code: u32) -> &'static str {
     ALL.iter()
         .find(|(_, c)| *c == code)
         .map_or("unknown code", |(n, _)| n)
+}
+
+/// Records the failure text of an API function for the calling thread and returns `code`.
+pub(crate) fn fail(function: &str, code: u32, detail: impl std::fmt::Display) -> u32 {
+    crate::ffi::set_last_error(format!("{function}: {detail} ({})", name(code)));
+    code
 }

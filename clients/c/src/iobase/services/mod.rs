@@ -39,7 +39,7 @@ mod build;
 mod worker;
 
 use super::callbacks::CallbackTable;
-use super::controller::fail;
+use super::errors::fail;
 use super::errors::{
     PNIO_ERR_INTERNAL, PNIO_ERR_MAX_REACHED, PNIO_ERR_MODE_VALUE, PNIO_ERR_NO_FW_COMMUNICATION,
     PNIO_ERR_NO_RESOURCE, PNIO_ERR_OS_RES, PNIO_ERR_PRM_ADD, PNIO_ERR_PRM_DEV_STATE,
