@@ -10,6 +10,9 @@
 //! `cargo test --workspace` (or `cargo build -p procimg-runtime --bins` beforehand) builds;
 //! without it the test says so and passes.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 use procimg_rt_tests::report::Report;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};

@@ -25,4 +25,6 @@ pub mod server;
 pub mod shm;
 pub mod simnet;
 pub mod stats;
+// System calls: the only module of the runtime that may use unsafe.
+#[allow(unsafe_code)]
 pub mod sys;

@@ -2,6 +2,9 @@
 //! A process of another user cannot attach, and is told why. The other-user process is this
 //! test binary run again as uid/gid 65534 (nobody); the test needs root to start it.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{AttachError, AttachOptions, Client};

@@ -5,6 +5,9 @@
 //! asynchronous client work against it; over 2000 cycles the thread must not call the
 //! system allocator once.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{AttachOptions, Client, Ioxs};

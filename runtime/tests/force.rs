@@ -3,6 +3,9 @@
 //! the device over what a client writes and stay after the forcing process is gone; forced
 //! inputs are what clients read; unforcing gives the process back; a restart forgets them.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{AttachOptions, Client, ControlError, ControlHandle, Ioxs, Refusal, Space};

@@ -2,6 +2,9 @@
 //! IO-Base semantics through a real server: the manual's PNIO_data_read and PNIO_data_write
 //! example tables on an IO system laid out as in the manual, and the late-client policies.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{AccessError, AttachOptions, Client, IoError, Ioxs};

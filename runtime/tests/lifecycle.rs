@@ -5,6 +5,9 @@
 //! The killed client is this test binary run again with `PROCIMG_TEST_CHILD` set, so the
 //! test needs no extra program.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{AttachOptions, Client, Event, StatusReport};

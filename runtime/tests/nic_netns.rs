@@ -2,6 +2,9 @@
 //! The AF_PACKET backend on a veth pair between two network namespaces that this test creates
 //! (and removes, also when it fails). Needs root; skipped otherwise.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Multi-process tests: the real procimgd, clients in this process.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{

@@ -3,6 +3,9 @@
 //! them: record jobs with references, alarms with acknowledgement, device activation with
 //! its confirmation and the DEV_FAILURE / DEV_RETURN it causes, and the diagnosis.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{

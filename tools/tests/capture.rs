@@ -3,6 +3,9 @@
 //! arriving from the other side and frames sent on the capturing side both land in the pcap
 //! file, nothing else does, and tshark reads it. Needs root; skipped otherwise.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 #[path = "../../runtime/tests/support/netns.rs"]
 mod netns;
 #[path = "../../runtime/tests/support/tshark.rs"]

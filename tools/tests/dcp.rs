@@ -4,6 +4,9 @@
 //! fails clearly. The device is a small DCP responder built on procimg's own codecs. Needs
 //! root; skipped otherwise.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 #[path = "../../runtime/tests/support/netns.rs"]
 mod netns;
 

@@ -12,6 +12,8 @@
 //! Nothing panics or unwinds across the C boundary: every exported function runs inside
 //! [`ffi::guard`], checks every pointer it is given and reports failures as error codes.
 
+// The whole crate is the C ABI: exported functions take raw pointers from C.
+#![allow(unsafe_code)]
 pub mod ffi;
 pub mod iobase;
 pub mod native;

@@ -232,6 +232,7 @@ impl Connection {
             .map_err(|e| shm(instance, "an OPDONE notifier", e))?;
         // SAFETY: the descriptor belongs to `events`, which lives in the same Connection and
         // outlives every use of the descriptor.
+        #[allow(unsafe_code)]
         let events_fd = unsafe { events.file_descriptor().native_handle() };
         Ok(Connection {
             inputs,

@@ -38,6 +38,8 @@ mod cycle;
 mod error;
 mod io;
 mod layout;
+// SCHED_FIFO and mlockall are system calls.
+#[allow(unsafe_code)]
 pub mod realtime;
 mod services;
 mod status;

@@ -124,6 +124,7 @@ impl Services {
             .map_err(|e| shm(instance, "a notify event listener", e))?;
         // SAFETY: the descriptor belongs to `listener`, which lives as long as this handle
         // and so outlives every use of the descriptor.
+        #[allow(unsafe_code)]
         let fd = unsafe { listener.file_descriptor().native_handle() };
         let mut h = std::collections::hash_map::DefaultHasher::new();
         node.id().to_string().hash(&mut h);

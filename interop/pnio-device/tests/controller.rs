@@ -28,6 +28,9 @@
 //! procimgd binary (built by `cargo build -p procimg-runtime`, or by `cargo test --workspace`)
 //! beside this test's target directory, or its path in `PROCIMGD_BIN`.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_client::{

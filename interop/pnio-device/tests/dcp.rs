@@ -7,6 +7,9 @@
 //! `cargo build -p procimg-tools`, or by `cargo test --workspace`) next to this test's
 //! target directory, or its path in `PROCIMG_BIN`.
 
+// Test support signals its own child processes and enters network namespaces: system calls.
+#![allow(unsafe_code)]
+
 mod support;
 
 use procimg_interop_pnio_device as iop;

@@ -12,6 +12,10 @@
 //! Output: one line per measurement (µs), `--report` (procimg latency report, JSON) and
 //! `--hdr-log` (HdrHistogram log).
 
+// The baselines are raw system calls (futex, eventfd, fork, mmap, sched_setaffinity) on
+// purpose: they measure the primitives themselves.
+#![allow(unsafe_code)]
+
 mod mechanism;
 mod memcpy;
 mod pingpong;

@@ -124,6 +124,7 @@ fn kill_group(pgid: u32) {
     if let Ok(pgid) = libc::pid_t::try_from(pgid) {
         // SAFETY: kill takes a pid and a signal; a negative pid names the process group we
         // created for our own child, so nothing else is signalled.
+        #[allow(unsafe_code)]
         unsafe {
             libc::kill(-pgid, libc::SIGKILL);
         }

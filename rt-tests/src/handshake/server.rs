@@ -120,7 +120,10 @@ impl Drop for Server {
     fn drop(&mut self) {
         // SAFETY: kill(2) on our own child's pid; it has not been reaped, so the pid is
         // still this process.
-        unsafe { libc::kill(self.child.id() as libc::pid_t, libc::SIGINT) };
+        #[allow(unsafe_code)]
+        unsafe {
+            libc::kill(self.child.id() as libc::pid_t, libc::SIGINT)
+        };
         let until = Instant::now() + Duration::from_secs(5);
         while Instant::now() < until {
             if let Ok(Some(_)) = self.child.try_wait() {

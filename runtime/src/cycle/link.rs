@@ -92,6 +92,7 @@ impl ClientLink for CyclePorts {
             return;
         }
         // SAFETY: the descriptor belongs to the listener in `self`, which outlives this call.
+        #[allow(unsafe_code)]
         let fd = unsafe { self.opdone.file_descriptor().native_handle() };
         if wait_readable(fd, deadline_ns.saturating_sub(now_ns())) {
             self.clear_wakeups();

@@ -286,7 +286,10 @@ impl Drop for Server {
     fn drop(&mut self) {
         if let Some(mut c) = self.child.take() {
             // SAFETY: kill(2) on our own child's pid.
-            unsafe { libc::kill(c.id() as i32, libc::SIGTERM) };
+            #[allow(unsafe_code)]
+            unsafe {
+                libc::kill(c.id() as i32, libc::SIGTERM)
+            };
             let until = Instant::now() + Duration::from_secs(3);
             while Instant::now() < until {
                 if let Ok(Some(_)) = c.try_wait() {
