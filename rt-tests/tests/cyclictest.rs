@@ -1,21 +1,14 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! procimg-cyclictest as scripts written for cyclictest see it: the summary line, the
 //! histogram file, the --json keys; procimg's own --report; and the --procimgd mode against
-//! a real server.
+//! a real server (which the test kit builds up to date and starts).
 //!
 //! Runs without root: SCHED_FIFO, mlockall and /dev/cpu_dma_latency then fail with warnings
 //! and the threads measure at normal priority.
-//!
-//! The --procimgd test needs the procimgd binary next to procimg-cyclictest, which
-//! `cargo test --workspace` (or `cargo build -p procimg-runtime --bins` beforehand) builds;
-//! without it the test says so and passes.
-
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
 
 use procimg_rt_tests::report::Report;
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 const TOOL: &str = env!("CARGO_BIN_EXE_procimg-cyclictest");
@@ -357,71 +350,11 @@ fn bad_options_are_refused_with_a_hint() {
     assert!(err.contains("s, m, h or d"), "{err}");
 }
 
-/// A procimgd started for one test, stopped with SIGINT when dropped (also on failure).
-struct ServerGuard {
-    child: Child,
-}
-
-impl Drop for ServerGuard {
-    fn drop(&mut self) {
-        if let Ok(pid) = libc::pid_t::try_from(self.child.id()) {
-            // SAFETY: kill(2) on the pid of our own child, which we have not reaped yet, so
-            // the pid cannot have been reused.
-            unsafe { libc::kill(pid, libc::SIGINT) };
-        }
-        let until = Instant::now() + Duration::from_secs(10);
-        while Instant::now() < until {
-            if let Ok(Some(_)) = self.child.try_wait() {
-                return;
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn procimgd_binary() -> Option<PathBuf> {
-    let path = Path::new(TOOL).with_file_name("procimgd");
-    path.exists().then_some(path)
-}
-
 #[test]
 fn procimgd_mode_reads_the_servers_cycle_thread() {
-    let Some(procimgd) = procimgd_binary() else {
-        eprintln!(
-            "skipped: no procimgd next to {TOOL}; build it with `cargo build -p procimg-runtime \
-             --bins` (cargo test --workspace does) to run this test"
-        );
-        return;
-    };
-    let instance = format!("ct{}", std::process::id());
-    let child = Command::new(procimgd)
-        .args(["--demo", "--quiet", "--instance", &instance])
-        .env("RUST_LOG", "warn")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("start procimgd");
-    let mut server = ServerGuard { child };
-    let until = Instant::now() + Duration::from_secs(10);
-    loop {
-        if let Ok(c) = procimg_client::ControlHandle::open(&instance, "ct-test-wait")
-            && let Ok(s) = c.status()
-            && s.cycle_count > 5
-        {
-            break;
-        }
-        if let Ok(Some(status)) = server.child.try_wait() {
-            panic!(
-                "procimgd {instance} exited at start ({status}; its log is above): check that \
-                 it runs on its own (procimgd --demo)"
-            );
-        }
-        assert!(Instant::now() < until, "procimgd {instance} did not start");
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    // The demo cycling is all this needs; its devices may come up meanwhile.
+    let server = procimg_testkit::Launch::demo("ct").until_cycling().start();
+    let instance = server.instance.clone();
     let dir = Scratch::new("procimgd");
     let report = dir.file("r.json");
     let out = run(

@@ -2,15 +2,10 @@
 //! A process of another user cannot attach, and is told why. The other-user process is this
 //! test binary run again as uid/gid 65534 (nobody); the test needs root to start it.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-mod support;
-
 use procimg_client::{AttachError, AttachOptions, Client};
+use procimg_testkit::Procimgd;
 use std::os::unix::process::CommandExt as _;
 use std::process::Command;
-use support::Server;
 
 const CHILD_ENV: &str = "PROCIMG_TEST_ACCESS_CHILD";
 
@@ -34,13 +29,12 @@ fn child_attach_as_another_user() {
 #[test]
 #[ignore = "needs root (starts a process as another user): run as root with --ignored"]
 fn another_user_is_denied_with_a_clear_error() {
-    // SAFETY: geteuid has no preconditions.
-    let root = unsafe { libc::geteuid() } == 0;
+    let root = procimg_testkit::signal::is_root();
     assert!(
         root,
         "this test starts a process as another user, which needs root: run it as root"
     );
-    let server = Server::demo("access");
+    let server = Procimgd::demo("access");
     let out = Command::new(std::env::current_exe().unwrap())
         .args(["--exact", "child_attach_as_another_user", "--nocapture"])
         .env(CHILD_ENV, &server.instance)

@@ -5,11 +5,6 @@
 //! asynchronous client work against it; over 2000 cycles the thread must not call the
 //! system allocator once.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-mod support;
-
 use procimg_client::{AttachOptions, Client, Ioxs};
 use procimg_runtime::config::Config;
 use procimg_runtime::cycle::{Engine, EngineSettings, Shared};
@@ -34,7 +29,7 @@ static ALLOCATOR: RtAllocator = RtAllocator;
 #[test]
 fn steady_state_cycles_allocate_nothing() {
     let mut config = Config::demo();
-    config.instance = support::unique_instance("alloc");
+    config.instance = procimg_testkit::unique_instance("alloc");
     let instance = config.instance.clone();
     let tables = Tables::from_config(&config).unwrap();
     let generation = now_ns();

@@ -4,15 +4,8 @@
 //! from scratch (a Connect and PrmEnd for the demo's echo device, alarm DATA/ACK/ERR) are
 //! dissected by tshark without malformed packets or error-level expert items.
 
-#[path = "../src/profinet/test_fixtures.rs"]
-mod test_fixtures;
-#[path = "support/tshark.rs"]
-mod tshark;
-#[path = "support/udp.rs"]
-mod udp;
-
-use test_fixtures::capture;
-use udp::udp_frame;
+use procimg_testkit::fixtures::profinet_capture as capture;
+use procimg_testkit::udp::udp_frame;
 
 use procimg_profinet::iocr_layout::{IocrLayout, SubmoduleIo};
 use procimg_profinet::wire::alarm::{self, AlarmAck, AlarmBlock, Priority, RtaPdu};
@@ -83,7 +76,7 @@ fn captured_cm_exchanges_reemitted_by_our_codecs_equal_the_captures() {
         f.extend(again);
         frames.push(f);
     }
-    let d = tshark::dissect_clean("cm-captured", &frames);
+    let d = procimg_testkit::tshark::dissect_clean("cm-captured", &frames);
     assert!(d.iter().all(|f| f.protocol.starts_with("PNIO")), "{d:?}");
 }
 
@@ -176,7 +169,7 @@ fn a_connect_and_prmend_built_from_scratch_dissect_clean() {
         udp_frame(plc, dev, 0xc001, rpc::RPC_PORT, &connect_pdu),
         udp_frame(plc, dev, 0xc001, rpc::RPC_PORT, &prmend_pdu),
     ];
-    let d = tshark::dissect_clean("cm-built", &frames);
+    let d = procimg_testkit::tshark::dissect_clean("cm-built", &frames);
     assert_eq!(d[0].protocol, "PNIO-CM");
     assert!(
         d[0].info.contains(
@@ -243,6 +236,6 @@ fn alarm_frames_reemitted_and_built_dissect_clean() {
     };
     frames.push(tagged(&data));
     frames.push(tagged(&tack));
-    let d = tshark::dissect_clean("alarms", &frames);
+    let d = procimg_testkit::tshark::dissect_clean("alarms", &frames);
     assert!(d.iter().all(|f| f.protocol.starts_with("PN")), "{d:?}");
 }

@@ -10,11 +10,6 @@
 //! and datagram that crossed the simulated network, in both directions, must dissect clean in
 //! Wireshark.
 
-#[path = "support/tshark.rs"]
-mod tshark;
-#[path = "support/udp.rs"]
-mod udp;
-
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
 use procimg_profinet::wire::record::Im0;
@@ -90,7 +85,7 @@ impl World {
                     }
                     Action::Datagram { to, payload } => {
                         let ctl = SIM_CONTROLLER_IP.octets();
-                        self.wire.push(udp::udp_frame(
+                        self.wire.push(procimg_testkit::udp::udp_frame(
                             ctl,
                             to.ip().octets(),
                             RPC_PORT,
@@ -139,7 +134,7 @@ impl World {
                     payload,
                 } => {
                     let ip = self.devices[d].ip();
-                    self.wire.push(udp::udp_frame(
+                    self.wire.push(procimg_testkit::udp::udp_frame(
                         ip,
                         to.ip().octets(),
                         from_port,
@@ -537,7 +532,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
         );
     }
 
-    let dissected = tshark::dissect_clean("controller-bringup", &w.wire);
+    let dissected = procimg_testkit::tshark::dissect_clean("controller-bringup", &w.wire);
     for call in [
         "Connect request",
         "Read request",

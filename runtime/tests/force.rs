@@ -3,14 +3,9 @@
 //! the device over what a client writes and stay after the forcing process is gone; forced
 //! inputs are what clients read; unforcing gives the process back; a restart forgets them.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-mod support;
-
 use procimg_client::{AttachOptions, Client, ControlError, ControlHandle, Ioxs, Refusal, Space};
+use procimg_testkit::Procimgd;
 use std::time::{Duration, Instant};
-use support::Server;
 
 /// How long a value may take through the cycle, the simulated device and back, on a loaded
 /// machine.
@@ -46,7 +41,7 @@ fn outputs(c: &mut Client, address: u32, len: usize) -> (Vec<u8>, Ioxs) {
 
 #[test]
 fn forced_outputs_win_over_the_owner_and_outlive_the_forcing_process() {
-    let server = Server::demo("force-q");
+    let server = Procimgd::demo("force-q");
     let mut owner = Client::attach(&server.instance, AttachOptions::asynchronous("owner")).unwrap();
     let echo = owner.layout().find("echo", 1, 1).unwrap();
     owner.claim(&[echo]).unwrap();
@@ -101,7 +96,7 @@ fn forced_outputs_win_over_the_owner_and_outlive_the_forcing_process() {
 
 #[test]
 fn forced_inputs_are_what_clients_read_and_a_restart_forgets_them() {
-    let mut server = Server::demo("force-i");
+    let mut server = Procimgd::demo("force-i");
     let control = ControlHandle::open(&server.instance, "forcer").unwrap();
     let mut c = Client::attach(&server.instance, AttachOptions::asynchronous("reader")).unwrap();
     let counter = c.layout().find("counter", 1, 1).unwrap();
@@ -143,7 +138,7 @@ fn forced_inputs_are_what_clients_read_and_a_restart_forgets_them() {
 
 #[test]
 fn forces_outside_a_submodule_are_refused_with_the_reason() {
-    let server = Server::demo("force-refused");
+    let server = Procimgd::demo("force-refused");
     let control = ControlHandle::open(&server.instance, "forcer").unwrap();
     let refusal = |r: Result<(), ControlError>| match r {
         Err(ControlError::Refused(r)) => r,

@@ -2,20 +2,15 @@
 //! IO-Base semantics through a real server: the manual's PNIO_data_read and PNIO_data_write
 //! example tables on an IO system laid out as in the manual, and the late-client policies.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-mod support;
-
 use procimg_client::{AccessError, AttachOptions, Client, IoError, Ioxs};
+use procimg_testkit::Procimgd;
 use std::time::{Duration, Instant};
-use support::Server;
 
 /// The manual's example modules: inputs 2 bytes at I 0..1 and 4 bytes at I 2..5; outputs
 /// 2 bytes at Q 0..1, 4 bytes at Q 2..5 and 4 bytes at Q 10..13.
 const MANUAL_LAYOUT: &str = include_str!("fixtures/iobase_manual_layout.toml");
 
-fn attach(server: &Server, slice: bool) -> Client {
+fn attach(server: &Procimgd, slice: bool) -> Client {
     let mut c = Client::attach(
         &server.instance,
         AttachOptions::asynchronous("tables").slice_access(slice),
@@ -33,7 +28,7 @@ fn attach(server: &Server, slice: bool) -> Client {
 
 #[test]
 fn manual_data_read_table() {
-    let server = Server::with_config("rdtable", MANUAL_LAYOUT);
+    let server = Procimgd::with_config("rdtable", MANUAL_LAYOUT);
     let mut c = attach(&server, true);
     // (I address, BufLen, *pDataLen) — every row returns PNIO_OK.
     for (addr, buf_len, data_len) in [
@@ -63,7 +58,7 @@ fn manual_data_read_table() {
 
 #[test]
 fn manual_data_write_table() {
-    let server = Server::with_config("wrtable", MANUAL_LAYOUT);
+    let server = Procimgd::with_config("wrtable", MANUAL_LAYOUT);
     let mut c = attach(&server, true);
     for (addr, len, want) in [
         (2, 8, "VALUE_LEN"),
@@ -104,7 +99,7 @@ fn manual_data_write_table() {
 
 #[test]
 fn without_slice_access_writes_must_be_whole_submodules() {
-    let server = Server::with_config("noslice", MANUAL_LAYOUT);
+    let server = Procimgd::with_config("noslice", MANUAL_LAYOUT);
     let mut c = attach(&server, false);
     assert!(c.data_write(2, &[0; 4], Ioxs::Good).is_ok());
     assert!(matches!(
@@ -126,7 +121,7 @@ fn without_slice_access_writes_must_be_whole_submodules() {
 fn late_client_policies() {
     for (policy, expect) in [("iops-bad", Ioxs::Bad), ("hold-last-outputs", Ioxs::Good)] {
         let config = format!("late_client_policy = \"{policy}\"\n{MANUAL_LAYOUT}");
-        let server = Server::with_config("late", &config);
+        let server = Procimgd::with_config("late", &config);
         let mut c = Client::attach(&server.instance, AttachOptions::synchronous("late")).unwrap();
         let _ = procimg_client::realtime::make_current_thread_realtime(60);
         let q = c.layout().find("manual", 4, 1).unwrap();
@@ -177,7 +172,7 @@ fn late_client_policies() {
 #[test]
 fn iops_bad_lasts_while_the_late_client_is_silent() {
     let config = format!("late_client_policy = \"iops-bad\"\n{MANUAL_LAYOUT}");
-    let server = Server::with_config("silent", &config);
+    let server = Procimgd::with_config("silent", &config);
     let instance = server.instance.clone();
     let mut c = Client::attach(&instance, AttachOptions::synchronous("silent")).unwrap();
     let _ = procimg_client::realtime::make_current_thread_realtime(60);
@@ -225,7 +220,7 @@ fn iops_bad_lasts_while_the_late_client_is_silent() {
 /// Outputs whose claim is released go out invalid until someone claims and writes them.
 #[test]
 fn released_outputs_go_out_invalid() {
-    let server = Server::with_config("release", MANUAL_LAYOUT);
+    let server = Procimgd::with_config("release", MANUAL_LAYOUT);
     let mut c = attach(&server, true);
     c.data_write(10, &[1, 2, 3, 4], Ioxs::Good).unwrap();
     let wait_for = |c: &mut Client, want: Ioxs| {

@@ -5,19 +5,14 @@
 //! The killed client is this test binary run again with `PROCIMG_TEST_CHILD` set, so the
 //! test needs no extra program.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-mod support;
-
 use procimg_client::{AttachOptions, Client, Event, StatusReport};
 use procimg_shm_layout::control::ClientReport;
+use procimg_testkit::Procimgd;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
-use support::Server;
 
 const CHILD_ENV: &str = "PROCIMG_TEST_CHILD";
 const TRIGGER_ENV: &str = "PROCIMG_TEST_HANG_FILE";
@@ -61,7 +56,7 @@ static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
 #[test]
 fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    let server = Server::demo("kill");
+    let server = Procimgd::demo("kill");
     // Another client follows the cycles alongside the whole time. It is asynchronous, so it
     // is never waited for and can get no OPFAULT: every OPFAULT counted is the hung client's,
     // whatever else this shared machine does meanwhile.
@@ -184,7 +179,7 @@ fn doomed(s: &StatusReport) -> &ClientReport {
 #[test]
 fn a_running_client_reattaches_after_a_server_restart() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    let mut server = Server::demo("restart");
+    let mut server = Procimgd::demo("restart");
     let mut c = Client::attach(&server.instance, AttachOptions::synchronous("survivor")).unwrap();
     let echo = c.layout().find("echo", 1, 1).unwrap();
     c.claim(&[echo]).unwrap();
@@ -239,7 +234,7 @@ fn a_running_client_reattaches_after_a_server_restart() {
 #[test]
 fn an_asynchronous_client_reattaches_and_reports_the_gap() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    let mut server = Server::demo("async-restart");
+    let mut server = Procimgd::demo("async-restart");
     let mut c = Client::attach(
         &server.instance,
         AttachOptions::asynchronous("async-survivor"),

@@ -2,9 +2,6 @@
 //! The AF_PACKET backend on a veth pair between two network namespaces that this test creates
 //! (and removes, also when it fails). Needs root; skipped otherwise.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
@@ -12,9 +9,7 @@ use procimg_runtime::phy::af_packet::{AfPacket, OpenError};
 use procimg_runtime::phy::{MAX_FRAME, Nic};
 use std::time::{Duration, Instant};
 
-#[path = "support/netns.rs"]
-mod netns;
-use netns::{TestNet, frame, is_root};
+use procimg_testkit::netns::{TestNet, frame, is_root};
 
 fn recv_within(nic: &mut AfPacket, t: Duration) -> Option<Vec<u8>> {
     let until = Instant::now() + t;
@@ -65,7 +60,7 @@ fn profinet_frames_cross_a_veth_pair_and_nothing_else_does() {
                     value: dcp::BlockRepr::NameOfStation("echo".into()),
                 }];
                 let bytes = resp.to_vec().unwrap();
-                nic.send(&frame(src, nic.mac(), ETHERTYPE_PROFINET, &bytes))
+                nic.send(&frame(src.0, nic.mac().0, ETHERTYPE_PROFINET, &bytes))
                     .unwrap();
             }
             seen.push(u16::from_be_bytes([pdu[0], pdu[1]]));
@@ -81,14 +76,14 @@ fn profinet_frames_cross_a_veth_pair_and_nothing_else_does() {
         let mut nic = AfPacket::open(&ifname, Duration::from_millis(20)).unwrap();
         let me = nic.mac();
         // Not PROFINET: the kernel filter keeps it from the device's socket.
-        nic.send(&frame(device_mac, me, 0x0800, &[0x45; 40]))
+        nic.send(&frame(device_mac.0, me.0, 0x0800, &[0x45; 40]))
             .unwrap();
         let ident = dcp::Repr::identify_by_name(0x4242, 1, "echo")
             .to_vec()
             .unwrap();
         nic.send(&frame(
-            MacAddress::DCP_IDENTIFY,
-            me,
+            MacAddress::DCP_IDENTIFY.0,
+            me.0,
             ETHERTYPE_PROFINET,
             &ident,
         ))

@@ -1,18 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Multi-process tests: the real procimgd, clients in this process.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-mod support;
-
 use procimg_client::{
     AttachError, AttachOptions, Client, ControlError, ControlHandle, Event, Ioxs, Mode, Refusal,
 };
+use procimg_testkit::{Procimgd, pattern, pattern_value};
 use std::collections::HashMap;
 use std::sync::{Arc, Barrier, Mutex};
 use std::time::{Duration, Instant};
-use support::{Server, pattern, pattern_value};
 
 /// The cycle of the newest image an asynchronous client has, once it has one.
 fn newest_cycle(client: &mut Client) -> procimg_client::CycleInfo {
@@ -36,7 +31,7 @@ const STARTOP_TIMEOUT: Duration = Duration::from_millis(500);
 
 #[test]
 fn demo_cycles_at_1ms_in_operate_and_status_reports_it() {
-    let server = Server::demo("status");
+    let server = Procimgd::demo("status");
     let mut client =
         Client::attach(&server.instance, AttachOptions::asynchronous("clock")).unwrap();
     let a = newest_cycle(&mut client);
@@ -68,7 +63,7 @@ fn attach_errors_say_what_is_wrong() {
         Err(e) => panic!("wrong error: {e}"),
         Ok(_) => panic!("attached to a server that does not exist"),
     }
-    let server = Server::demo("hash");
+    let server = Procimgd::demo("hash");
     let opts = AttachOptions::asynchronous("t").expect_layout_hash(0x1234);
     match Client::attach(&server.instance, opts) {
         Err(e @ AttachError::LayoutHash { .. }) => {
@@ -84,7 +79,7 @@ fn attach_errors_say_what_is_wrong() {
 
 #[test]
 fn a_second_claim_is_refused_naming_the_holder() {
-    let server = Server::demo("claims");
+    let server = Procimgd::demo("claims");
     let mut a = Client::attach(&server.instance, AttachOptions::asynchronous("holder-a")).unwrap();
     let mut b = Client::attach(&server.instance, AttachOptions::asynchronous("other-b")).unwrap();
     let echo = a.layout().find("echo", 1, 1).unwrap();
@@ -113,7 +108,7 @@ fn a_second_claim_is_refused_naming_the_holder() {
 
 #[test]
 fn asynchronous_write_reaches_the_echo_device_whole() {
-    let server = Server::demo("async");
+    let server = Procimgd::demo("async");
     let mut c = Client::attach(&server.instance, AttachOptions::asynchronous("async")).unwrap();
     let echo = c.layout().find("echo", 1, 1).unwrap();
     c.claim(&[echo]).unwrap();
@@ -154,7 +149,7 @@ fn asynchronous_write_reaches_the_echo_device_whole() {
 
 #[test]
 fn mode_changes_are_confirmed_step_by_step() {
-    let server = Server::demo("mode");
+    let server = Procimgd::demo("mode");
     let mut c = Client::attach(&server.instance, AttachOptions::asynchronous("mode")).unwrap();
     let mut seen = Vec::new();
     let wait_for = |c: &mut Client, target: Mode, seen: &mut Vec<Mode>| {
@@ -192,7 +187,7 @@ fn mode_changes_are_confirmed_step_by_step() {
 /// cycle, and no image is ever torn.
 #[test]
 fn eight_clients_see_the_same_consistent_untorn_images() {
-    let server = Server::demo("eight");
+    let server = Procimgd::demo("eight");
     let instance = server.instance.clone();
     // Counted in cycles, not seconds: the writer runs 500 cycles, the readers until then.
     let writer_cycles = 500;
@@ -296,7 +291,7 @@ fn eight_clients_see_the_same_consistent_untorn_images() {
 /// a mapping of a procimg file in /dev/shm, not in this process's heap.
 #[test]
 fn the_read_path_copies_no_image_bytes() {
-    let server = Server::demo("zerocopy");
+    let server = Procimgd::demo("zerocopy");
     let mut c = Client::attach(&server.instance, AttachOptions::synchronous("zc")).unwrap();
     let cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
     let inputs = cycle.inputs().as_ptr() as usize;
@@ -328,7 +323,7 @@ fn the_read_path_copies_no_image_bytes() {
 
 #[test]
 fn sigterm_puts_outputs_in_clear_then_removes_the_shared_memory() {
-    let mut server = Server::demo("term");
+    let mut server = Procimgd::demo("term");
     let instance = server.instance.clone();
     let ready = Arc::new(Barrier::new(2));
     let waiter = {
@@ -371,7 +366,7 @@ fn sigterm_puts_outputs_in_clear_then_removes_the_shared_memory() {
 /// submodules and the server ignores the bytes of the others.
 #[test]
 fn newcycle_on_request_and_the_whole_output_view_respects_claims() {
-    let server = Server::demo("newcycle");
+    let server = Procimgd::demo("newcycle");
     let mut asks = Client::attach(
         &server.instance,
         AttachOptions::synchronous("asks").newcycle(true),
@@ -414,7 +409,7 @@ fn newcycle_on_request_and_the_whole_output_view_respects_claims() {
 /// out by wait_startop: nothing is skipped, so the client does not miss its window.
 #[test]
 fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
-    let server = Server::demo("fetched");
+    let server = Procimgd::demo("fetched");
     let mut c = Client::attach(&server.instance, AttachOptions::synchronous("fetched")).unwrap();
     // With the bug, wait_startop never handed out the cycle data_read had fetched (it waited
     // for the next one); now it does, unless a newer cycle arrived in between (then that one).
@@ -444,7 +439,7 @@ fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
 fn as_many_clients_as_the_limit_attach_and_one_more_is_told_why_not() {
     // Each client is a node of its own in iceoryx2's services: their node limit must not be
     // lower than procimg's client limit.
-    let server = Server::demo("many");
+    let server = Procimgd::demo("many");
     let max = procimg_shm_layout::MAX_CLIENTS;
     let clients: Vec<Client> = (0..max)
         .map(|i| {

@@ -3,18 +3,13 @@
 //! them: record jobs with references, alarms with acknowledgement, device activation with
 //! its confirmation and the DEV_FAILURE / DEV_RETURN it causes, and the diagnosis.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-mod support;
-
 use procimg_client::{
     AlarmReport, FailureCause, Notification, RecordError, RecordTarget, ServiceOptions, Services,
 };
 use procimg_profinet::wire::record::Im0;
 use procimg_runtime::profinet::device_sim::{SIM_ALARM_INDEX, SIM_ALARM_USI};
+use procimg_testkit::Procimgd;
 use std::time::{Duration, Instant};
-use support::Server;
 
 const WAIT: Duration = Duration::from_secs(5);
 
@@ -48,7 +43,7 @@ fn wait_for<T>(
 
 #[test]
 fn records_alarms_activation_and_diagnosis_reach_clients() {
-    let server = Server::demo("services");
+    let server = Procimgd::demo("services");
     server.wait_devices_running(Duration::from_secs(10));
     let instance = server.instance.clone();
     let mut plc = Services::open(
@@ -212,7 +207,7 @@ fn records_alarms_activation_and_diagnosis_reach_clients() {
 
 #[test]
 fn requests_the_server_cannot_take_are_refused_with_reasons() {
-    let server = Server::demo("services-refused");
+    let server = Procimgd::demo("services-refused");
     server.wait_devices_running(Duration::from_secs(10));
     let mut s = Services::open(&server.instance, ServiceOptions::new("refused")).expect("open");
     let nowhere = RecordTarget {

@@ -7,14 +7,6 @@
 //! The controller's side is the S7-1515's captured requests where there are some (test data
 //! of the `pnio` crate 0.1.0, MIT OR Apache-2.0) and requests built with our codecs.
 
-#[path = "../src/profinet/test_fixtures.rs"]
-#[allow(dead_code)]
-mod test_fixtures;
-#[path = "support/tshark.rs"]
-mod tshark;
-#[path = "support/udp.rs"]
-mod udp;
-
 use procimg_profinet::dcp_client;
 use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority, RtaPdu};
 use procimg_profinet::wire::connect::ConnectRequest;
@@ -27,9 +19,9 @@ use procimg_runtime::config::SimBehaviour;
 use procimg_runtime::profinet::device_sim::{
     DeviceAction, SimDevice, SimDeviceSpec, SimDeviceState, SimSubmodule,
 };
+use procimg_testkit::fixtures::profinet_capture as capture;
+use procimg_testkit::udp::udp_frame;
 use std::net::{Ipv4Addr, SocketAddrV4};
-use test_fixtures::capture;
-use udp::udp_frame;
 
 const S7_MAC: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f]);
 const DEVICE_MAC: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8]);
@@ -372,7 +364,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     wire.take(&mut out);
     assert!(wire.frames.len() > frames_before + 3);
 
-    let d = tshark::dissect_clean("sim-device", &wire.frames);
+    let d = procimg_testkit::tshark::dissect_clean("sim-device", &wire.frames);
     let protocols: std::collections::BTreeSet<&str> =
         d.iter().map(|f| f.protocol.as_str()).collect();
     assert!(

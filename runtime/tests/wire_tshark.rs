@@ -2,9 +2,6 @@
 //! The frames procimg's PROFINET emitters produce, dissected by Wireshark's tshark: nothing
 //! malformed, no error-level expert item, and the dissector reads what we meant.
 
-#[path = "support/tshark.rs"]
-mod tshark;
-
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
@@ -45,7 +42,7 @@ fn cyclic_frames_dissect_clean() {
         cyclic(0xc001, &[0x80; 300], 0x0020, data_status::OPERATE),
         cyclic(0x8002, &[0u8; 1440], 0x0040, data_status::OPERATE),
     ];
-    let d = tshark::dissect_clean("cyclic", &frames);
+    let d = procimg_testkit::tshark::dissect_clean("cyclic", &frames);
     for (f, want) in d
         .iter()
         .zip(["ID:0x8001", "ID:0x8000", "ID:0xc001", "ID:0x8002"])
@@ -108,7 +105,7 @@ fn dcp_frames_dissect_clean() {
     let response =
         dcp::Repr::parse(&dcp::Packet::new_checked(&IDENT_OK_PNET[14..]).unwrap()).unwrap();
     frames.push(dcp_frame(PLC, DEVICE, &response));
-    let d = tshark::dissect_clean("dcp", &frames);
+    let d = procimg_testkit::tshark::dissect_clean("dcp", &frames);
     for f in &d {
         assert_eq!(f.protocol, "PN-DCP", "{f:?}");
     }
@@ -132,7 +129,7 @@ fn the_tshark_check_catches_a_malformed_frame() {
     // Block length 0x0008 -> 0x00f0: the NameOfStation block now claims 240 bytes.
     frame[14 + 12 + 2..14 + 12 + 4].copy_from_slice(&0x00f0u16.to_be_bytes());
     frame[14 + 10..14 + 12].copy_from_slice(&0x00f4u16.to_be_bytes());
-    tshark::dissect_clean("malformed", &[frame]);
+    procimg_testkit::tshark::dissect_clean("malformed", &[frame]);
 }
 
 /// p-net's DCP Identify response (captures/cm/ident_ok_pnet.hex; test data of the pnio crate

@@ -3,20 +3,12 @@
 //! arriving from the other side and frames sent on the capturing side both land in the pcap
 //! file, nothing else does, and tshark reads it. Needs root; skipped otherwise.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-#[path = "../../runtime/tests/support/netns.rs"]
-mod netns;
-#[path = "../../runtime/tests/support/tshark.rs"]
-mod tshark;
-
-use netns::{TestNet, frame, is_root};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::ethernet::ETHERTYPE_PROFINET;
 use procimg_runtime::phy::Nic;
 use procimg_runtime::phy::af_packet::AfPacket;
+use procimg_testkit::netns::{TestNet, frame, is_root};
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -30,7 +22,7 @@ fn send_in(net: &TestNet, side: usize, frames: Vec<(bool, u16, Vec<u8>)>) {
             } else {
                 MacAddress([2, 9, 9, 9, 9, 9])
             };
-            nic.send(&frame(dst, nic.mac(), ethertype, &payload))
+            nic.send(&frame(dst.0, nic.mac().0, ethertype, &payload))
                 .unwrap();
         }
     })
@@ -96,7 +88,7 @@ fn capture_records_both_directions_of_profinet_only() {
 
     let frames = read_pcap(&out);
     let _ = std::fs::remove_file(&out);
-    let d = tshark::dissect_clean("captured", &frames);
+    let d = procimg_testkit::tshark::dissect_clean("captured", &frames);
     let infos: Vec<&str> = d.iter().map(|f| f.info.as_str()).collect();
     assert!(d.iter().all(|f| f.protocol == "PN-DCP"), "{d:?}");
     assert!(

@@ -4,18 +4,12 @@
 //! fails clearly. The device is a small DCP responder built on procimg's own codecs. Needs
 //! root; skipped otherwise.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
-#[path = "../../runtime/tests/support/netns.rs"]
-mod netns;
-
-use netns::TestNet;
 use procimg_profinet::dcp_client;
 use procimg_profinet::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType};
 use procimg_profinet::wire::ethernet;
 use procimg_runtime::phy::af_packet::AfPacket;
 use procimg_runtime::phy::{MAX_FRAME, Nic};
+use procimg_testkit::netns::TestNet;
 use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -133,7 +127,7 @@ fn procimg(net: &TestNet, args: &[&str]) -> (bool, String, String) {
 #[ignore = "needs root (network namespaces): run as root with --ignored"]
 fn scan_set_and_blink_a_device() {
     assert!(
-        netns::is_root(),
+        procimg_testkit::netns::is_root(),
         "this test builds network namespaces, which needs root: run it as root"
     );
     let net = TestNet::new("d", true);

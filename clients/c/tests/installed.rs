@@ -7,12 +7,11 @@
 //!
 //! Needs cmake, pkg-config, gcc and g++ (`.ci/run` installs them).
 
-mod support;
-
+use procimg_testkit::c::{assert_success, crate_dir, run, scratch};
+use procimg_testkit::{Procimgd, profile_dir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
-use support::{Server, assert_success, crate_dir, profile_dir, run, scratch};
 
 fn sh(cmd: &mut Command, what: &str) -> String {
     let o = cmd
@@ -153,7 +152,7 @@ fn installed_library_builds_and_runs_the_examples() {
         "cmake --build of the examples",
     );
 
-    let server = Server::demo("installed");
+    let server = Procimgd::demo("installed");
     let t = Duration::from_secs(60);
     let runs: [(PathBuf, &[&str], &str); 5] = [
         (easy_c, &["50"], "PnioEasy in C (pkg-config, shared)"),

@@ -3,15 +3,13 @@
 //! example tables, the error paths, and the PnioEasy and isochronous examples, built with
 //! `-Wall -Wextra -Werror -pedantic` (and ASan/UBSan with `PROCIMG_C_SANITIZE=1`).
 
-mod support;
-
 use procimg_client::Mode;
+use procimg_testkit::c::{
+    Link, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
+};
+use procimg_testkit::{Procimgd, unique_instance};
 use std::path::PathBuf;
 use std::time::Duration;
-use support::{
-    Link, Server, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
-    unique_instance,
-};
 
 /// The manual's example modules (shared with runtime/tests/iobase.rs): inputs 2 bytes at
 /// I 0..1 and 4 bytes at I 2..5; outputs 2 bytes at Q 0..1, 4 bytes at Q 2..5 and 4 bytes
@@ -47,7 +45,7 @@ fn manual_tables_with_and_without_slice_access() {
         &[test_source("iobase_tables.c")],
         Link::Static,
     );
-    let server = Server::with_config("iotables", MANUAL_LAYOUT);
+    let server = Procimgd::with_config("iotables", MANUAL_LAYOUT);
     let o = run(&exe, &["slice"], &server.instance, TIMEOUT);
     assert_success(&o, "the manual's tables with PNIO_CEP_SLICE_ACCESS");
     let text = output(&o);
@@ -68,7 +66,7 @@ fn error_paths_give_the_manuals_codes() {
         &[test_source("iobase_errors.c")],
         Link::Shared,
     );
-    let server = Server::demo("ioerrors");
+    let server = Procimgd::demo("ioerrors");
     let o = run(&exe, &[], &server.instance, TIMEOUT);
     assert_success(&o, "the error paths");
     let text = output(&o);
@@ -82,7 +80,7 @@ fn error_paths_give_the_manuals_codes() {
 fn pnio_easy_in_c_and_cpp() {
     let c = build("pnio-easy", &[example("pnio_easy.c")], Link::Shared);
     let cpp = build("pnio-easy-cpp", &[example("pnio_easy.cpp")], Link::Static);
-    let server = Server::demo("ioeasy");
+    let server = Procimgd::demo("ioeasy");
     for (exe, what) in [(&c, "pnio_easy.c"), (&cpp, "pnio_easy.cpp")] {
         let o = run(exe, &["20"], &server.instance, TIMEOUT);
         assert_success(&o, what);
@@ -137,7 +135,7 @@ fn pnio_isochronous_runs_the_cycle() {
         &[example("pnio_isochronous.c")],
         Link::Static,
     );
-    let server = Server::demo("ioiso");
+    let server = Procimgd::demo("ioiso");
     let o = run(&exe, &["600"], &server.instance, TIMEOUT);
     assert_success(&o, "pnio_isochronous.c");
     let text = output(&o);

@@ -12,8 +12,6 @@ use std::mem::{align_of, offset_of, size_of};
 use std::path::PathBuf;
 use std::process::Command;
 
-mod support;
-
 fn crate_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -483,7 +481,7 @@ fn program(cpp: bool) -> String {
 }
 
 fn build_and_run(cpp: bool) {
-    let dir = support::scratch("iobase-header");
+    let dir = procimg_testkit::c::scratch("iobase-header");
     let (src, exe) = if cpp {
         (dir.join("check.cpp"), dir.join("check-cpp"))
     } else {
@@ -491,7 +489,7 @@ fn build_and_run(cpp: bool) {
     };
     std::fs::write(&src, program(cpp)).unwrap();
     // Linked with the library: every function the header declares must be exported.
-    support::compile(&[src], &exe, support::Link::Static, false);
+    procimg_testkit::c::compile(&[src], &exe, procimg_testkit::c::Link::Static, false);
     let run = Command::new(&exe).output().expect("run the check program");
     assert!(
         run.status.success(),

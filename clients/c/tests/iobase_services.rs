@@ -4,11 +4,12 @@
 //! `PROCIMG_C_SANITIZE=1`), run against a real `procimgd --demo`: record jobs and their
 //! confirmations, alarms, device activation and diagnosis through the `PNIO_*` functions.
 
-mod support;
-
+use procimg_testkit::Procimgd;
+use procimg_testkit::c::{
+    Link, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
+};
 use std::path::PathBuf;
 use std::time::Duration;
-use support::{Link, Server, assert_success, compile, crate_dir, run, sanitize_from_env, scratch};
 
 const RUN_TIMEOUT: Duration = Duration::from_secs(60);
 
@@ -23,7 +24,7 @@ fn build(part: &str, link: Link) -> PathBuf {
 /// Runs one part of the program against its own demo server, static and shared.
 fn part(part: &str) {
     for link in [Link::Static, Link::Shared] {
-        let server = Server::demo(&format!("svc-{part}"));
+        let server = Procimgd::demo(&format!("svc-{part}"));
         let program = build(part, link);
         let o = run(&program, &[part], &server.instance, RUN_TIMEOUT);
         assert_success(&o, &format!("iobase_services_demo {part} ({link:?})"));

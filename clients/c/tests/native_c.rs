@@ -3,14 +3,12 @@
 //! strict warnings against `include/procimg.h`, linked static and shared (and with ASan and
 //! UBSan when `PROCIMG_C_SANITIZE=1`), run against a real `procimgd --demo`.
 
-mod support;
-
+use procimg_testkit::c::{
+    Link, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
+};
+use procimg_testkit::{Procimgd, unique_instance};
 use std::path::PathBuf;
 use std::time::Duration;
-use support::{
-    Link, Server, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
-    unique_instance,
-};
 
 const RUN_TIMEOUT: Duration = Duration::from_secs(20);
 
@@ -50,21 +48,21 @@ fn error_paths_without_a_server() {
 /// a second client refused with the holder named, a second thread refused as busy.
 #[test]
 fn synchronous_cycles_through_the_echo_device() {
-    let server = Server::demo("nsync");
+    let server = Procimgd::demo("nsync");
     native_api("sync", &server.instance);
 }
 
 /// An asynchronous client: data_write/data_read through the echo device, the caches.
 #[test]
 fn asynchronous_access_by_address_and_the_caches() {
-    let server = Server::demo("nasync");
+    let server = Procimgd::demo("nasync");
     native_api("async", &server.instance);
 }
 
 /// OFFLINE and back to OPERATE, each step confirmed by a MODE event.
 #[test]
 fn mode_changes_come_as_mode_events() {
-    let server = Server::demo("nmodes");
+    let server = Procimgd::demo("nmodes");
     native_api("modes", &server.instance);
 }
 
@@ -72,7 +70,7 @@ fn mode_changes_come_as_mode_events() {
 /// in OFFLINE, where nothing is echoed, it fails and says how to get OPERATE.
 #[test]
 fn the_native_cycle_example_runs() {
-    let server = Server::demo("nexample");
+    let server = Procimgd::demo("nexample");
     let program = build("examples/native_cycle.c", Link::Shared, "example");
     let o = run(&program, &[&server.instance, "200"], "", RUN_TIMEOUT);
     assert_success(&o, "examples/native_cycle.c");

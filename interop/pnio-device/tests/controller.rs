@@ -28,7 +28,7 @@
 //! procimgd binary (built by `cargo build -p procimg-runtime`, or by `cargo test --workspace`)
 //! beside this test's target directory, or its path in `PROCIMGD_BIN`.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
+// SCHED_FIFO for the test's measuring threads is a system call.
 #![allow(unsafe_code)]
 
 mod support;
@@ -39,13 +39,13 @@ use procimg_client::{
 };
 use procimg_interop_pnio_device as iop;
 use procimg_profinet::wire::record::Im0;
+use procimg_testkit::{Launch, Procimgd};
 use std::os::unix::process::ExitStatusExt as _;
 use std::sync::mpsc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
+use support::Net;
 use support::device::{DEVICE, Device, NAME};
-use support::procimgd::Procimgd;
-use support::{Net, netns};
 
 /// procimgd's cycle, and the send clock of both IOCRs (reduction ratio 1).
 const CYCLE: Duration = Duration::from_millis(1);
@@ -254,20 +254,18 @@ impl Rig {
         let net = Net::new("pc", 9);
         let mut device = Device::start(&net);
         let instance = format!("iop{}", std::process::id());
-        let mut server = Procimgd::start(
-            net.controller_ns(),
-            &instance,
-            &configuration(&net),
-            PROCIMGD_NICE,
-        );
+        let server = Launch::config("iop", &configuration(&net))
+            .instance(&instance)
+            .netns(net.controller_ns())
+            .nice(PROCIMGD_NICE)
+            .debug_log()
+            .without_waiting()
+            .start();
         let control = server.control(Duration::from_secs(10));
         let since = Instant::now();
-        server.wait_status(
-            &control,
-            "the device in data exchange",
-            BRING_UP_TIMEOUT,
-            |s| s.devices.first().is_some_and(|d| d.state == "running"),
-        );
+        server.wait_status_within("the device in data exchange", BRING_UP_TIMEOUT, |s| {
+            s.devices.first().is_some_and(|d| d.state == "running")
+        });
         eprintln!(
             "the device is running {:?} after procimgd answered",
             since.elapsed()
@@ -568,8 +566,7 @@ impl Rig {
         let device = Device::start_labelled(&self.net, "the restarted device");
         self.gone.push(std::mem::replace(&mut self.device, device));
         let since = Instant::now();
-        let s = self.server.wait_status(
-            &self.control,
+        let s = self.server.wait_status_within(
             "the restarted device in data exchange",
             BRING_UP_TIMEOUT,
             |s| s.devices.first().is_some_and(|d| d.state == "running"),
@@ -619,7 +616,7 @@ impl Rig {
 #[ignore = "needs root (network namespaces): run as root with --ignored"]
 fn procimgd_brings_up_the_pnio_device_and_survives_its_loss() {
     assert!(
-        netns::is_root(),
+        procimg_testkit::netns::is_root(),
         "this test builds network namespaces, which needs root: run it as root"
     );
     let mut rig = Rig::bring_up();

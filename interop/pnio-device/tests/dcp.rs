@@ -7,21 +7,19 @@
 //! `cargo build -p procimg-tools`, or by `cargo test --workspace`) next to this test's
 //! target directory, or its path in `PROCIMG_BIN`.
 
-// Test support signals its own child processes and enters network namespaces: system calls.
-#![allow(unsafe_code)]
-
 mod support;
 
 use procimg_interop_pnio_device as iop;
 use procimg_profinet::wire::record::{IOD_HEADER_LEN, Im0, IodHeader, IodKind};
 use procimg_profinet::wire::rpc::{self, Header, Ndr};
 use procimg_profinet::wire::{PnioStatus, Uuid};
+use procimg_testkit::workspace_bin;
 use std::net::{Ipv4Addr, SocketAddr, UdpSocket};
 use std::path::PathBuf;
 use std::process::Command;
 use std::time::Duration;
+use support::Net;
 use support::device::{DEVICE, Device, NAME};
-use support::{Net, netns, workspace_bin};
 
 /// Runs the device binary with `args` to completion: (success, stdout, stderr).
 fn run_device(args: &[&str]) -> (bool, String, String) {
@@ -146,7 +144,7 @@ fn procimg_dcp(net: &Net, args: &[&str]) -> (bool, String, String) {
 #[ignore = "needs root (network namespaces): run as root with --ignored"]
 fn procimg_dcp_finds_the_device_with_its_name_ip_and_ids() {
     assert!(
-        netns::is_root(),
+        procimg_testkit::netns::is_root(),
         "this test builds network namespaces, which needs root: run it as root"
     );
     let procimg = procimg_bin();
@@ -231,7 +229,7 @@ fn read_im0(device: SocketAddr, from: Ipv4Addr) -> (PnioStatus, Vec<u8>) {
 #[ignore = "needs root (network namespaces): run as root with --ignored"]
 fn implicit_record_read_of_im0_returns_the_identity() {
     assert!(
-        netns::is_root(),
+        procimg_testkit::netns::is_root(),
         "this test builds network namespaces, which needs root: run it as root"
     );
     let net = Net::new("pr", 8);

@@ -57,6 +57,11 @@ impl Registry {
     }
 
     /// Registers a client and tells the cycle thread.
+    ///
+    /// A client's node registers once: a second registration from the same node is a retry
+    /// whose answer the client did not wait for (a re-attachment with a short timeout on a
+    /// loaded machine), so it replaces the first, which the client never learnt of and
+    /// would otherwise hold a slot, and its claims, for as long as the process lives.
     pub fn register(
         &mut self,
         shared: &Shared,
@@ -66,6 +71,14 @@ impl Registry {
         newcycle: bool,
         node_id: String,
     ) -> Result<(u32, u64), Refusal> {
+        let earlier: Vec<u32> = self
+            .clients()
+            .filter(|(_, c)| !node_id.is_empty() && c.node_id == node_id)
+            .map(|(slot, _)| slot)
+            .collect();
+        for slot in earlier {
+            self.unregister(shared, slot);
+        }
         let slot = self
             .slots
             .iter()
@@ -193,4 +206,38 @@ impl Registry {
 fn random_token() -> Option<u64> {
     let mut b = [0u8; 8];
     crate::sys::random::fill(&mut b).then(|| u64::from_ne_bytes(b) | 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn register(r: &mut Registry, shared: &Shared, node: &str) -> (u32, u64) {
+        r.register(
+            shared,
+            "client".into(),
+            1,
+            ClientRole::Synchronous,
+            false,
+            node.into(),
+        )
+        .expect("a free slot")
+    }
+
+    #[test]
+    fn a_repeated_registration_of_one_node_replaces_the_first() {
+        let shared = Shared::new(4);
+        let mut r = Registry::new(7);
+        let (a, _) = register(&mut r, &shared, "node-a");
+        let (b, _) = register(&mut r, &shared, "node-b");
+        let (again, token) = register(&mut r, &shared, "node-a");
+        let nodes: Vec<(u32, &str)> = r.clients().map(|(s, c)| (s, c.node_id.as_str())).collect();
+        assert_eq!(nodes.len(), 2, "{nodes:?}");
+        assert!(nodes.contains(&(b, "node-b")));
+        assert!(nodes.contains(&(again, "node-a")));
+        assert!(r.client_mut(again, token).is_ok());
+        if again != a {
+            assert!(r.slots[a as usize].is_none());
+        }
+    }
 }

@@ -165,9 +165,8 @@ impl Device {
     /// tens of milliseconds, which a caller timing what follows does not want to wait for).
     pub fn kill(&mut self) {
         if self.child.is_some() {
-            // SAFETY: kill(2) on the pid of our own child, which has not been reaped yet (so
-            // the pid cannot belong to another process).
-            unsafe { libc::kill(self.pid as i32, libc::SIGKILL) };
+            // Our own child, not reaped yet: the pid cannot belong to another process.
+            procimg_testkit::signal::send(self.pid, libc::SIGKILL);
         }
     }
 
@@ -175,8 +174,7 @@ impl Device {
     /// lands in `seen`.
     pub fn terminate(&mut self) -> ExitStatus {
         if self.child.is_some() {
-            // SAFETY: kill(2) on the pid of our own child, not reaped yet.
-            unsafe { libc::kill(self.pid as i32, libc::SIGTERM) };
+            procimg_testkit::signal::send(self.pid, libc::SIGTERM);
         }
         self.wait_exit(Duration::from_secs(10))
     }
@@ -219,8 +217,7 @@ impl Device {
 impl Drop for Device {
     fn drop(&mut self) {
         if let Some(mut c) = self.child.take() {
-            // SAFETY: kill(2) on the pid of our own child, not reaped yet.
-            unsafe { libc::kill(self.pid as i32, libc::SIGTERM) };
+            procimg_testkit::signal::send(self.pid, libc::SIGTERM);
             let until = Instant::now() + Duration::from_secs(3);
             loop {
                 if let Ok(Some(_)) = c.try_wait() {

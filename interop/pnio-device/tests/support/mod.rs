@@ -1,41 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! What the interop tests share: the network namespaces with the device's subnet, the device
-//! program as a child process, procimgd as a child process, and finding the workspace's other
-//! binaries.
+//! What the interop tests share beyond the test kit: the network namespaces with the device's
+//! subnet, and the device program as a child process.
 #![allow(dead_code)]
 
-#[path = "../../../../runtime/tests/support/netns.rs"]
-pub mod netns;
-
 pub mod device;
-pub mod procimgd;
 
-use netns::TestNet;
+use procimg_testkit::netns::{self, TestNet};
 use std::net::Ipv4Addr;
-use std::path::PathBuf;
 use std::process::Command;
-
-/// A binary of another workspace member: the path in environment variable `env`, or the file
-/// beside this test's target directory, where `cargo test --workspace` builds every member's
-/// binaries. `package` names the crate that builds it, for the message when it is missing.
-pub fn workspace_bin(name: &str, env: &str, package: &str) -> PathBuf {
-    if let Some(p) = std::env::var_os(env) {
-        return PathBuf::from(p);
-    }
-    let exe = std::env::current_exe().expect("the test's own path");
-    // <target>/<profile>/deps/<test>: the binaries are in <target>/<profile>.
-    let path = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .map(|dir| dir.join(name))
-        .expect("the test runs from <target>/<profile>/deps");
-    assert!(
-        path.exists(),
-        "{} does not exist: build it first (cargo build -p {package}) or set {env}",
-        path.display()
-    );
-    path
-}
 
 /// The two namespaces, the device's address and the controller side's address.
 pub struct Net {

@@ -606,7 +606,4 @@ impl Drop for ServiceWorker {
 }
 
 #[cfg(test)]
-#[path = "../../../tests/support/mod.rs"]
-mod support;
-#[cfg(test)]
 mod tests;

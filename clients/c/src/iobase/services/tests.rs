@@ -2,7 +2,6 @@
 //! The worker against a real `procimgd --demo`, with `extern "C"` callbacks as a C program
 //! registers them: what each callback receives, and the refusals at the call.
 
-use super::support::Server;
 use super::*;
 use crate::iobase::types::{
     PNIO_ALARM_DEV_FAILURE, PNIO_ALARM_DEV_RETURN, PNIO_CBE_DEV_ACT_CONF, PNIO_CBE_PRM,
@@ -12,6 +11,7 @@ use crate::iobase::types::{
     PNIO_CTRL_DIAG_u, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IO_OUT,
 };
 use procimg_client::{AttachOptions, Client};
+use procimg_testkit::Procimgd;
 use std::sync::atomic::AtomicU32;
 use std::sync::mpsc;
 
@@ -144,7 +144,7 @@ unsafe extern "C" fn callback(p: *mut PNIO_CBE_PRM) {
 }
 
 /// A worker for `server` with the callbacks of `types`.
-fn worker(server: &Server, types: &[PNIO_CBE_TYPE]) -> (u32, ServiceWorker) {
+fn worker(server: &Procimgd, types: &[PNIO_CBE_TYPE]) -> (u32, ServiceWorker) {
     let client = Client::attach(&server.instance, AttachOptions::asynchronous("svc-test"))
         .expect("attach for the layout");
     let callbacks = Arc::new(CallbackTable::new());
@@ -247,7 +247,7 @@ fn device_state(w: &ServiceWorker, handle: u32, addr: PNIO_ADDR) -> PNIO_CTRL_DI
     unsafe { std::ptr::read_unaligned(data.as_ptr().cast()) }
 }
 
-fn subscriber_waiting(server: &Server, name: &str) -> Option<u32> {
+fn subscriber_waiting(server: &Procimgd, name: &str) -> Option<u32> {
     let c = procimg_client::ControlHandle::open(&server.instance, "svc-test-status").ok()?;
     c.status()
         .ok()?
@@ -259,7 +259,7 @@ fn subscriber_waiting(server: &Server, name: &str) -> Option<u32> {
 
 #[test]
 fn records_reach_the_callbacks_with_their_reference_and_status() {
-    let server = Server::demo("svc-records");
+    let server = Procimgd::demo("svc-records");
     let (h, w) = worker(&server, ALL);
     let echo_in = PNIO_ADDR::logical(PNIO_IO_IN, 0);
 
@@ -337,7 +337,7 @@ fn records_reach_the_callbacks_with_their_reference_and_status() {
 
 #[test]
 fn alarms_activation_and_diagnosis_reach_the_callbacks() {
-    let server = Server::demo("svc-alarms");
+    let server = Procimgd::demo("svc-alarms");
     let (h, w) = worker(&server, ALL);
     let name = format!("PNIO controller {h} (CP 1)");
     let echo_in = PNIO_ADDR::logical(PNIO_IO_IN, 0);
@@ -484,7 +484,7 @@ fn alarms_activation_and_diagnosis_reach_the_callbacks() {
 
 #[test]
 fn without_the_diag_callback_the_request_is_refused_and_stop_survives_the_server() {
-    let server = Server::demo("svc-gone");
+    let server = Procimgd::demo("svc-gone");
     let (_, w) = worker(&server, &[PNIO_CBE_REC_READ_CONF, PNIO_CBE_REC_WRITE_CONF]);
     let mut req = PNIO_CTRL_DIAG {
         DiagService: PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST,

@@ -1,33 +1,12 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Two network namespaces joined by a veth pair, made for a test and removed when it ends
-//! (also when it fails). Shared by the runtime's and the tools' tests.
-#![allow(dead_code)]
+//! (also when it fails).
 
-use procimg_profinet::wire::MacAddress;
-use procimg_profinet::wire::ethernet;
 use std::process::Command;
 
-/// Whether the test runs as root (namespaces and raw sockets need it).
-pub fn is_root() -> bool {
-    // SAFETY: geteuid has no preconditions.
-    unsafe { libc::geteuid() == 0 }
-}
+pub use crate::signal::is_root;
 
-/// An untagged Ethernet frame around `payload`, padded to the Ethernet minimum.
-pub fn frame(dst: MacAddress, src: MacAddress, ethertype: u16, payload: &[u8]) -> Vec<u8> {
-    let eth = ethernet::Repr {
-        dst,
-        src,
-        vlan: None,
-        ethertype,
-    };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend_from_slice(payload);
-    f.resize(f.len().max(60), 0);
-    f
-}
-
+/// Runs `ip ARGS` (iproute2) and panics with its error output if it fails.
 pub fn ip(args: &[&str]) {
     let out = Command::new("ip")
         .args(args)
@@ -43,11 +22,14 @@ pub fn ip(args: &[&str]) {
 
 /// Two namespaces joined by a veth pair, ends up (or the second end left down).
 pub struct TestNet {
+    /// The namespaces' names.
     pub ns: [String; 2],
+    /// The veth ends, `ifs[i]` in `ns[i]`.
     pub ifs: [String; 2],
 }
 
 impl TestNet {
+    /// Makes the namespaces and the pair; `tag` (a few letters) keeps tests apart.
     pub fn new(tag: &str, second_up: bool) -> TestNet {
         let id = std::process::id() % 100_000;
         let net = TestNet {
@@ -88,10 +70,7 @@ impl TestNet {
         let ifname = self.ifs[i].clone();
         std::thread::spawn(move || {
             let file = std::fs::File::open(&path).unwrap();
-            // SAFETY: setns(2) on a valid namespace descriptor; it changes this thread only.
-            let rc =
-                unsafe { libc::setns(std::os::fd::AsRawFd::as_raw_fd(&file), libc::CLONE_NEWNET) };
-            assert_eq!(rc, 0, "setns: {}", std::io::Error::last_os_error());
+            crate::signal::enter_netns(&file);
             f(ifname)
         })
     }
@@ -103,4 +82,16 @@ impl Drop for TestNet {
             let _ = Command::new("ip").args(["netns", "del", ns]).output();
         }
     }
+}
+
+/// An untagged Ethernet frame around `payload`, padded to the Ethernet minimum of 60 bytes
+/// (without FCS).
+pub fn frame(dst: [u8; 6], src: [u8; 6], ethertype: u16, payload: &[u8]) -> Vec<u8> {
+    let mut f = Vec::with_capacity(60.max(14 + payload.len()));
+    f.extend_from_slice(&dst);
+    f.extend_from_slice(&src);
+    f.extend_from_slice(&ethertype.to_be_bytes());
+    f.extend_from_slice(payload);
+    f.resize(f.len().max(60), 0);
+    f
 }

@@ -2,14 +2,16 @@
 //! Every frame procimg emits must decode in Wireshark's PROFINET dissectors without malformed
 //! packets or error-level expert items: this writes frames to a pcap file and asks tshark.
 
-use procimg_runtime::capture::CaptureWriter;
+use pcap_file::pcap::{PcapPacket, PcapWriter};
 use std::process::Command;
 use std::time::Duration;
 
 /// One dissected frame: protocol column and info column.
 #[derive(Debug)]
 pub struct Dissected {
+    /// Wireshark's protocol column.
     pub protocol: String,
+    /// Wireshark's info column.
     pub info: String,
 }
 
@@ -20,12 +22,14 @@ pub fn dissect_clean(name: &str, frames: &[Vec<u8>]) -> Vec<Dissected> {
     let dir = std::env::temp_dir().join(format!("procimg-tshark-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.pcap"));
-    let mut w = CaptureWriter::create(&path).unwrap();
+    let file = std::fs::File::create(&path).expect("create the pcap file");
+    let mut w = PcapWriter::new(std::io::BufWriter::new(file)).expect("write the pcap header");
     for (i, f) in frames.iter().enumerate() {
-        w.write(Duration::from_millis(1_700_000_000_000 + i as u64), f)
-            .unwrap();
+        let at = Duration::from_millis(1_700_000_000_000 + i as u64);
+        w.write_packet(&PcapPacket::new(at, f.len() as u32, f))
+            .expect("write a frame to the pcap file");
     }
-    w.finish().unwrap();
+    drop(w);
     let tshark = |args: &[&str]| {
         let out = Command::new("tshark")
             .arg("-r")

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! What procimg's tests, benches and interop tests share, once: the real `procimgd` as a
+//! child process that is stopped even when a test fails ([`Procimgd`]), unique instance
+//! names, the workspace's binaries built up to date, two network namespaces joined by a veth
+//! pair ([`netns::TestNet`]), Wireshark's verdict on frames ([`tshark::dissect_clean`]),
+//! C and C++ programs built against `libprocimg` ([`c`]), and hex fixtures.
+//!
+//! Dev-only (`publish = false`): no production crate depends on it.
+
+pub mod build;
+pub mod c;
+pub mod fixtures;
+pub mod netns;
+pub mod pattern;
+mod procimgd;
+// Test support signals its own child processes: kill(2) is a system call.
+#[allow(unsafe_code)]
+pub mod signal;
+pub mod tshark;
+pub mod udp;
+
+pub use build::{procimgd_bin, profile_dir, workspace_bin, workspace_dir};
+pub use pattern::{pattern, pattern_value};
+pub use procimgd::{Launch, Procimgd, unique_instance};

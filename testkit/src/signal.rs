@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The system calls of test support: signals to the test's own child processes, who it
+//! runs as, and entering a network namespace.
+
+use std::process::Child;
+
+/// Sends SIGTERM to `child`, which has not been reaped yet.
+pub fn terminate(child: &Child) {
+    send(child.id(), libc::SIGTERM);
+}
+
+/// Sends `signal` to process `pid`, a child of this process that has not been reaped yet (so
+/// the pid still names it).
+pub fn send(pid: u32, signal: libc::c_int) {
+    if let Ok(pid) = libc::pid_t::try_from(pid) {
+        // SAFETY: kill(2) takes a pid and a signal number and touches no memory of ours; the
+        // pid is our own unreaped child's.
+        unsafe { libc::kill(pid, signal) };
+    }
+}
+
+/// Whether this process runs as root (namespaces, raw sockets and SCHED_FIFO need it).
+pub fn is_root() -> bool {
+    // SAFETY: geteuid has no preconditions and cannot fail.
+    unsafe { libc::geteuid() == 0 }
+}
+
+/// Moves the calling thread into the network namespace `file` (`/var/run/netns/NAME`).
+pub fn enter_netns(file: &std::fs::File) {
+    // SAFETY: setns(2) on a descriptor that `file` keeps open; it changes this thread only.
+    let rc = unsafe { libc::setns(std::os::fd::AsRawFd::as_raw_fd(file), libc::CLONE_NEWNET) };
+    assert_eq!(rc, 0, "setns: {}", std::io::Error::last_os_error());
+}
