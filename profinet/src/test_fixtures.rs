@@ -4,11 +4,8 @@
 
 /// Bytes from hex digits; whitespace between them is ignored.
 pub(crate) fn hex(s: &str) -> Vec<u8> {
-    let s: String = s.split_whitespace().collect();
-    (0..s.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(&s[i..i + 2], 16).expect("hex digits"))
-        .collect()
+    let digits: String = s.split_whitespace().collect();
+    hex::decode(&digits).unwrap_or_else(|e| panic!("hex fixture {s:?}: {e}"))
 }
 
 /// The frame of a capture file, e.g. `capture("cm/ident_ok_pnet")`: `#` lines are comments.

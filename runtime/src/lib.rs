@@ -13,7 +13,6 @@
 //!   server::Control (acyclic: requests, claims, liveness, status)
 //! ```
 pub mod acyclic;
-pub mod capture;
 pub mod config;
 pub mod cycle;
 pub mod image;

@@ -1800,20 +1800,7 @@ mod tests {
         30 30 37 20 20 20 20 20 20 20 20 20 20 20 20 20 \
         00 03 56 00 02 00 00 00 12 34 56 78 01 01 00 0e";
 
-    /// Bytes from hex text (whitespace ignored).
-    fn unhex(s: &str) -> Vec<u8> {
-        let digits: Vec<u8> = s
-            .bytes()
-            .filter(|b| !b.is_ascii_whitespace())
-            .map(|b| match b {
-                b'0'..=b'9' => b - b'0',
-                b'a'..=b'f' => b - b'a' + 10,
-                _ => panic!("not hex: {b}"),
-            })
-            .collect();
-        assert_eq!(digits.len() % 2, 0);
-        digits.chunks(2).map(|p| p[0] << 4 | p[1]).collect()
-    }
+    use crate::test_fixtures::hex as unhex;
 
     const OBJECT_DEVICE: &str = "dea00000-6c97-11d1-8271-000100020493";
     const OBJECT_CPU: &str = "dea00000-6c97-11d1-8271-1064010e002a";

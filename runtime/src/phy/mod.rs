@@ -5,6 +5,7 @@
 //! frames (EtherType 0x8892, tagged or not).
 
 pub mod af_packet;
+pub mod capture;
 pub mod datagram;
 pub mod interfaces;
 pub mod replay;

@@ -38,7 +38,7 @@
 //! output when the IO system is dropped, and the buffer bounds how much is written.
 
 use super::{Nic, check_frame_len};
-use crate::capture::CaptureError;
+use crate::phy::capture::CaptureError;
 use crate::profinet::wire::MacAddress;
 use crate::profinet::wire::ethernet::{ETHERTYPE_PROFINET, TPID_VLAN};
 use pcap_file::pcap::{PcapHeader, PcapPacket, PcapParser, PcapWriter};

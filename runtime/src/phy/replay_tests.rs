@@ -4,7 +4,7 @@
 //! and the parser against arbitrary bytes.
 
 use super::*;
-use crate::capture::CaptureWriter;
+use crate::phy::capture::CaptureWriter;
 use crate::config;
 use crate::image::{Image, Tables};
 use crate::io::pnio::PnioIo;
@@ -13,7 +13,7 @@ use crate::io::{CycleTime, IoSystem};
 use crate::phy::MAX_FRAME;
 use crate::profinet::controller::cyclic::CyclicAr;
 use crate::profinet::controller::plan::DevicePlan;
-use crate::profinet::test_fixtures::capture;
+use procimg_testkit::fixtures::profinet_capture as capture;
 use pcap_file::pcapng::PcapNgWriter;
 use pcap_file::pcapng::blocks::enhanced_packet::EnhancedPacketBlock;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};

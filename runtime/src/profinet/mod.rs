@@ -4,8 +4,6 @@
 //! acyclic side drive it, tests drive it directly from real captures.
 pub mod controller;
 pub mod device_sim;
-#[cfg(test)]
-pub(crate) mod test_fixtures;
 
 // The protocol crate's modules, where the runtime's code has always found them.
 pub use procimg_profinet::{dcp_client, iocr_layout, rta, wire};

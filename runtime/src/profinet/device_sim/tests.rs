@@ -8,7 +8,7 @@ use super::connect::refuse;
 use super::*;
 use crate::profinet::dcp_client;
 use crate::profinet::iocr_layout::{IocrLayout, SubmoduleIo};
-use crate::profinet::test_fixtures::capture;
+use procimg_testkit::fixtures::profinet_capture as capture;
 use crate::profinet::wire::PnioStatus;
 use crate::profinet::wire::alarm::{AlarmAck, ErrRta, RtaBody};
 use crate::profinet::wire::connect::{
