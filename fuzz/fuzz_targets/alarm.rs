@@ -5,11 +5,11 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use procimg_profinet::wire::alarm::{
-    AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, ErrRta, HEADER_LEN, Packet, RTA_HEADER_LEN,
-    RtaHeader, RtaPdu,
-};
+use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, AlarmItem, AlarmNotification};
 use procimg_profinet::wire::common::blocks;
+use procimg_profinet::wire::rta_pdu::{
+    ErrRta, HEADER_LEN, Packet, RTA_HEADER_LEN, RtaHeader, RtaPdu,
+};
 
 fuzz_target!(|data: &[u8]| {
     let p = Packet::new_unchecked(data);

@@ -9,10 +9,9 @@
 use libfuzzer_sys::fuzz_target;
 use procimg_fuzz::ops::Reader;
 use procimg_profinet::rta::{RtaChannel, RtaEvent};
-use procimg_profinet::wire::alarm::{
-    AbortCode, AlarmBlock, ErrRta, Packet, Priority, RtaBody, RtaPdu, RtaSequence,
-};
+use procimg_profinet::wire::alarm::{AlarmBlock, Priority};
 use procimg_profinet::wire::common::blocks;
+use procimg_profinet::wire::rta_pdu::{AbortCode, ErrRta, Packet, RtaBody, RtaPdu, RtaSequence};
 
 const MS: u64 = 1_000_000;
 

@@ -3,12 +3,12 @@
 //! a controller or simulated device that answers garbage with a malformed frame is a bug even
 //! when nothing panics.
 
-use procimg_runtime::phy::MAX_FRAME;
-use procimg_profinet::wire::alarm::{self, RtaPdu};
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rpc::{self, Header, PacketType};
 use procimg_profinet::wire::rt::{self, FrameIdClass};
+use procimg_profinet::wire::rta_pdu::{self, RtaPdu};
 use procimg_profinet::wire::{MacAddress, dcp};
+use procimg_runtime::phy::MAX_FRAME;
 
 /// Checks an Ethernet frame `who` sent: at most [`MAX_FRAME`] bytes, a whole Ethernet header,
 /// EtherType 0x8892, and a PDU that parses as what its FrameID says (DCP, RTA) or, for
@@ -41,7 +41,7 @@ pub fn emitted_frame(who: &str, frame: &[u8]) {
             }
         }
         FrameIdClass::AlarmHigh | FrameIdClass::AlarmLow => {
-            let p = alarm::Packet::new_checked(pdu)
+            let p = rta_pdu::Packet::new_checked(pdu)
                 .unwrap_or_else(|_| panic!("{who} sent a truncated RTA PDU: {pdu:02x?}"));
             if let Err(e) = RtaPdu::parse(&p) {
                 panic!("{who} sent an RTA PDU that does not parse ({e}): {pdu:02x?}");

@@ -15,6 +15,9 @@
 
 use crate::ops::{Reader, Writer};
 use crate::wire_check;
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::rpc::RPC_PORT;
+use procimg_profinet::wire::rt::FrameIdClass;
 use procimg_runtime::config::{self, Config};
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
@@ -27,9 +30,6 @@ use procimg_runtime::profinet::controller::{
     Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
 use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
-use procimg_profinet::wire::MacAddress;
-use procimg_profinet::wire::rpc::RPC_PORT;
-use procimg_profinet::wire::rt::FrameIdClass;
 use procimg_runtime::simnet;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::{Ipv4Addr, SocketAddrV4};

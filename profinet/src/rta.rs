@@ -7,9 +7,8 @@
 //! with [`RtaEvent`]s: PDUs to put on the wire, alarm blocks to deliver, confirmations and
 //! aborts. No socket and no clock inside.
 
-use super::wire::alarm::{
-    AbortCode, AlarmBlock, ErrRta, Priority, Received, RtaBody, RtaPdu, RtaSequence,
-};
+use super::wire::alarm::{AlarmBlock, Priority};
+use super::wire::rta_pdu::{AbortCode, ErrRta, Received, RtaBody, RtaPdu, RtaSequence};
 use std::collections::VecDeque;
 
 /// What the channel asks its owner to do or tells it.
@@ -231,7 +230,8 @@ impl RtaChannel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::wire::alarm::{AlarmAck, Packet};
+    use crate::wire::alarm::AlarmAck;
+    use crate::wire::rta_pdu::Packet;
     use crate::wire::{PnioStatus, ethernet};
 
     /// A captured frame's RTA PDU bytes (from the FrameID) and its parse. The frames are the

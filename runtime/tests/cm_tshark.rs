@@ -8,7 +8,7 @@ use procimg_testkit::fixtures::profinet_capture as capture;
 use procimg_testkit::udp::udp_frame;
 
 use procimg_profinet::iocr_layout::{IocrLayout, SubmoduleIo};
-use procimg_profinet::wire::alarm::{self, AlarmAck, AlarmBlock, Priority, RtaPdu};
+use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use procimg_profinet::wire::connect::{
     AlarmCrBlockReq, ArBlockReq, ConnectRequest, ConnectResponse, ExpectedModule,
     ExpectedSubmodule, ExpectedSubmoduleBlockReq, IocrBlockReq,
@@ -16,6 +16,7 @@ use procimg_profinet::wire::connect::{
 use procimg_profinet::wire::control::ControlBlock;
 use procimg_profinet::wire::record::IodHeader;
 use procimg_profinet::wire::rpc::{self, Header, Pdu, opnum};
+use procimg_profinet::wire::rta_pdu::{self, RtaPdu};
 use procimg_profinet::wire::{MacAddress, PnioStatus, Uuid};
 
 /// Re-emits the PNIO blocks of an RPC PDU through the codec for the first block's type.
@@ -195,7 +196,7 @@ fn alarm_frames_reemitted_and_built_dissect_clean() {
         let frame = capture(name);
         let eth = procimg_profinet::wire::ethernet::Frame::new_checked(&frame[..]).unwrap();
         let at = eth.header_len();
-        let pdu = RtaPdu::parse(&alarm::Packet::new_checked(&frame[at..]).unwrap()).unwrap();
+        let pdu = RtaPdu::parse(&rta_pdu::Packet::new_checked(&frame[at..]).unwrap()).unwrap();
         if notification.is_none() {
             notification = pdu.notification().cloned().map(|n| (n, pdu.header));
         }

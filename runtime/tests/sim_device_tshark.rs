@@ -8,12 +8,13 @@
 //! of the `pnio` crate 0.1.0, MIT OR Apache-2.0) and requests built with our codecs.
 
 use procimg_profinet::dcp_client;
-use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority, RtaPdu};
+use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use procimg_profinet::wire::connect::ConnectRequest;
 use procimg_profinet::wire::control::ControlBlock;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::record::{Im0, IodHeader};
 use procimg_profinet::wire::rpc::{self, Header, PacketType, Pdu, flags1, opnum};
+use procimg_profinet::wire::rta_pdu::RtaPdu;
 use procimg_profinet::wire::{MacAddress, PnioStatus, ethernet};
 use procimg_runtime::config::SimBehaviour;
 use procimg_runtime::profinet::device_sim::{
@@ -286,7 +287,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         })
         .unwrap();
     let notif =
-        RtaPdu::parse(&procimg_profinet::wire::alarm::Packet::new_checked(&notif[18..]).unwrap())
+        RtaPdu::parse(&procimg_profinet::wire::rta_pdu::Packet::new_checked(&notif[18..]).unwrap())
             .unwrap();
     let h = notif.header;
     let ack = RtaPdu::ack(

@@ -3,8 +3,8 @@
 //! pcap file that Wireshark opens.
 
 use anyhow::Context;
-use procimg_runtime::phy::capture::CaptureWriter;
 use procimg_runtime::phy::af_packet::AfPacket;
+use procimg_runtime::phy::capture::CaptureWriter;
 use procimg_runtime::phy::{MAX_FRAME, Nic};
 use std::path::Path;
 use std::sync::Arc;

@@ -19,11 +19,12 @@
 use procimg_fuzz::captures::{self, Captured, profinet_pdu, rpc_blocks, udp_payload};
 use procimg_fuzz::ops::Writer;
 use procimg_fuzz::world::{self, device_ops, ops};
-use procimg_runtime::config::DEMO_TOML;
-use procimg_profinet::wire::alarm::{self, RtaPdu};
+use procimg_profinet::wire::alarm;
 use procimg_profinet::wire::record::IodHeader;
 use procimg_profinet::wire::rpc::{self, opnum};
 use procimg_profinet::wire::rt::FrameIdClass;
+use procimg_profinet::wire::rta_pdu::{self, RtaPdu};
+use procimg_runtime::config::DEMO_TOML;
 use procimg_runtime::simnet;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -312,7 +313,7 @@ fn rta_channel(caps: &[Captured], seeds: &mut Seeds) {
         .iter()
         .filter_map(|c| {
             let pdu = profinet_pdu(&c.frame)?;
-            let parsed = RtaPdu::parse(&alarm::Packet::new_checked(pdu).ok()?).ok()?;
+            let parsed = RtaPdu::parse(&rta_pdu::Packet::new_checked(pdu).ok()?).ok()?;
             Some((c.name.as_str(), pdu, parsed))
         })
         .collect();
@@ -328,7 +329,7 @@ fn rta_channel(caps: &[Captured], seeds: &mut Seeds) {
             .u8(0);
         // Receive it, send its blocks back, wait for the retransmission, receive again.
         w.u8(0).bytes(pdu);
-        w.u8(2).bytes(pdu.get(alarm::HEADER_LEN..).unwrap_or(&[]));
+        w.u8(2).bytes(pdu.get(rta_pdu::HEADER_LEN..).unwrap_or(&[]));
         w.u8(3).u16(150).u8(0).bytes(pdu).u8(3).u16(500);
         add(seeds, "rta_channel", name, &w.finish());
     }

@@ -11,6 +11,54 @@
 //! - `Repr::emit` never panics on a buffer of exactly `buffer_len()` bytes;
 //! - byte order is explicit (big-endian on the wire unless a format says otherwise); wire
 //!   bytes are never transmuted.
+
+/// Defines a `Copy` enum over an integer with an `Unknown` catch-all, the conversions both ways
+/// and a `name()` with the readable text of the known values.
+macro_rules! enum_with_unknown {
+    (
+        $(#[$m:meta])*
+        pub enum $name:ident($ty:ty) {
+            $( $(#[$vm:meta])* $var:ident = $val:literal => $text:literal, )+
+        }
+    ) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum $name {
+            $( $(#[$vm])* $var, )+
+            /// Any other value (never one of the above).
+            Unknown($ty),
+        }
+
+        impl From<$ty> for $name {
+            fn from(v: $ty) -> $name {
+                match v {
+                    $( $val => $name::$var, )+
+                    other => $name::Unknown(other),
+                }
+            }
+        }
+
+        impl From<$name> for $ty {
+            fn from(v: $name) -> $ty {
+                match v {
+                    $( $name::$var => $val, )+
+                    $name::Unknown(other) => other,
+                }
+            }
+        }
+
+        impl $name {
+            /// The readable text of a known value; `None` for `Unknown`.
+            pub const fn name(self) -> Option<&'static str> {
+                match self {
+                    $( $name::$var => Some($text), )+
+                    $name::Unknown(_) => None,
+                }
+            }
+        }
+    };
+}
+
 pub mod alarm;
 pub mod common;
 pub mod connect;
@@ -21,6 +69,7 @@ pub mod ethernet;
 pub mod record;
 pub mod rpc;
 pub mod rt;
+pub mod rta_pdu;
 
 pub use common::{BlockHeader, PnioStatus, Uuid};
 

@@ -25,7 +25,6 @@
 //! All blocks are big-endian. Padding bytes are ignored on parsing and written as zeros;
 //! block versions are not checked and written as 1.0.
 
-use super::alarm::enum_with_unknown;
 use super::common::BLOCK_HEADER_LEN;
 use super::cursor::{Reader, Writer};
 use super::{BlockHeader, Error, PnioStatus, Result, Uuid};

@@ -4,19 +4,19 @@
 //! and the parser against arbitrary bytes.
 
 use super::*;
-use crate::phy::capture::CaptureWriter;
 use crate::config;
 use crate::image::{Image, Tables};
 use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use crate::io::{CycleTime, IoSystem};
 use crate::phy::MAX_FRAME;
+use crate::phy::capture::CaptureWriter;
 use crate::profinet::controller::cyclic::CyclicAr;
 use crate::profinet::controller::plan::DevicePlan;
-use procimg_testkit::fixtures::profinet_capture as capture;
 use pcap_file::pcapng::PcapNgWriter;
 use pcap_file::pcapng::blocks::enhanced_packet::EnhancedPacketBlock;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
+use procimg_testkit::fixtures::profinet_capture as capture;
 use proptest::prelude::*;
 use std::borrow::Cow;
 use std::sync::Arc;

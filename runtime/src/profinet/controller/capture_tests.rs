@@ -19,10 +19,10 @@ use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::{Channel, ToCycle};
 use crate::io::{CycleTime, IoSystem};
 use crate::phy::{Nic, sim_link};
-use procimg_testkit::fixtures::profinet_capture as capture;
 use crate::profinet::wire::rpc::{self, Pdu};
 use crate::profinet::wire::{MacAddress, Uuid};
 use procimg_shm_layout::{IOXS_GOOD, Mode, SubmoduleStatus};
+use procimg_testkit::fixtures::profinet_capture as capture;
 use std::net::{Ipv4Addr, SocketAddrV4};
 use std::sync::Arc;
 

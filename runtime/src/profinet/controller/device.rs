@@ -12,14 +12,14 @@ use super::{
 };
 use crate::profinet::dcp_client::{self, Identify, Set, SetOutcome};
 use crate::profinet::rta::{RtaChannel, RtaEvent};
-use crate::profinet::wire::alarm::{
-    self, AlarmAck, AlarmBlock, AlarmNotification, Priority, RtaPdu,
-};
+use crate::profinet::wire::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
 use crate::profinet::wire::connect::ConnectResponse;
 use crate::profinet::wire::control::ControlBlock;
 use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use crate::profinet::wire::record::{self, IodHeader};
 use crate::profinet::wire::rpc::{self, opnum};
+use crate::profinet::wire::rta_pdu;
+use crate::profinet::wire::rta_pdu::RtaPdu;
 use crate::profinet::wire::{MacAddress, PnioStatus, Uuid};
 use std::collections::VecDeque;
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -523,7 +523,7 @@ impl DeviceAr {
         if eth.src() != ar.peer_mac {
             return;
         }
-        let Ok(packet) = alarm::Packet::new_checked(eth.payload()) else {
+        let Ok(packet) = rta_pdu::Packet::new_checked(eth.payload()) else {
             return;
         };
         let Ok(pdu) = RtaPdu::parse(&packet) else {

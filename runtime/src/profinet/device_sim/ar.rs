@@ -10,9 +10,10 @@ use super::rpc::ClientCall;
 use super::{DeviceAction, SimDeviceState, behaviour, ethernet_frame};
 use crate::config::SimBehaviour;
 use crate::profinet::rta::{RtaChannel, RtaEvent};
-use crate::profinet::wire::alarm::{AbortCode, AlarmAck, AlarmBlock, Priority, RtaBody, RtaPdu};
+use crate::profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use crate::profinet::wire::connect::{IocrBlockReq, IocrEntry, ModuleDiffBlock};
 use crate::profinet::wire::rt::data_status;
+use crate::profinet::wire::rta_pdu::{AbortCode, RtaBody, RtaPdu};
 use crate::profinet::wire::{MacAddress, Uuid};
 use std::net::SocketAddrV4;
 

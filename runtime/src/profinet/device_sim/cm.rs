@@ -10,10 +10,10 @@ use super::{
     records, rpc,
 };
 use crate::profinet::wire::PnioStatus;
-use crate::profinet::wire::alarm::AbortCode;
 use crate::profinet::wire::control::{self, ControlBlock};
 use crate::profinet::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
 use crate::profinet::wire::rpc::{self as wire_rpc, Header, Ndr, PacketType, opnum};
+use crate::profinet::wire::rta_pdu::AbortCode;
 use std::net::SocketAddrV4;
 
 /// ErrorCodes of the RPC services.

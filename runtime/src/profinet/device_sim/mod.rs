@@ -47,14 +47,14 @@ mod tests;
 
 use crate::config::SimBehaviour;
 use crate::profinet::wire::alarm::{
-    self, AbortCode, AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType,
-    Priority, RtaPdu,
+    AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType, Priority,
 };
 use crate::profinet::wire::control::ControlBlock;
 use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use crate::profinet::wire::record::Im0;
 use crate::profinet::wire::rpc::{self as wire_rpc, Header, PacketType};
 use crate::profinet::wire::rt::FrameIdClass;
+use crate::profinet::wire::rta_pdu::{self, AbortCode, RtaPdu};
 use crate::profinet::wire::{MacAddress, Uuid};
 use ar::Ar;
 use std::net::SocketAddrV4;
@@ -334,7 +334,7 @@ impl SimDevice {
         let Some(ar) = self.ar.as_mut().filter(|a| a.controller_mac() == src) else {
             return;
         };
-        let Ok(packet) = alarm::Packet::new_checked(pdu) else {
+        let Ok(packet) = rta_pdu::Packet::new_checked(pdu) else {
             return;
         };
         let Ok(pdu) = RtaPdu::parse(&packet) else {

@@ -8,9 +8,8 @@ use super::connect::refuse;
 use super::*;
 use crate::profinet::dcp_client;
 use crate::profinet::iocr_layout::{IocrLayout, SubmoduleIo};
-use procimg_testkit::fixtures::profinet_capture as capture;
 use crate::profinet::wire::PnioStatus;
-use crate::profinet::wire::alarm::{AlarmAck, ErrRta, RtaBody};
+use crate::profinet::wire::alarm::AlarmAck;
 use crate::profinet::wire::connect::{
     AlarmCrBlockReq, ArBlockReq, ConnectRequest, ConnectResponse, ExpectedModule,
     ExpectedSubmodule, ExpectedSubmoduleBlockReq, IdentInfo, IocrBlockReq, ModuleState,
@@ -22,6 +21,8 @@ use crate::profinet::wire::rpc::{
 };
 use crate::profinet::wire::rpc::{Ndr, opnum};
 use crate::profinet::wire::rt::{self, data_status};
+use crate::profinet::wire::rta_pdu::{ErrRta, RtaBody};
+use procimg_testkit::fixtures::profinet_capture as capture;
 use std::net::Ipv4Addr;
 
 /// The S7-1515 of the captures.
@@ -915,7 +916,7 @@ fn cyclic_frames_keep_period_offsets_and_counters_and_the_watchdog_aborts() {
         })
         .expect("an ERR-RTA");
     assert_eq!(at, now + 6 * MS);
-    let pdu = RtaPdu::parse(&alarm::Packet::new_checked(&err[18..]).unwrap()).unwrap();
+    let pdu = RtaPdu::parse(&rta_pdu::Packet::new_checked(&err[18..]).unwrap()).unwrap();
     assert_eq!(
         pdu.body,
         RtaBody::Err(ErrRta::abort(AbortCode::ConsumerDhtExpired))
@@ -1185,7 +1186,7 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
         &f[0][12..20],
         &[0x81, 0x00, 0xc0, 0x00, 0x88, 0x92, 0xfc, 0x01]
     );
-    let notif = RtaPdu::parse(&alarm::Packet::new_checked(&f[0][18..]).unwrap()).unwrap();
+    let notif = RtaPdu::parse(&rta_pdu::Packet::new_checked(&f[0][18..]).unwrap()).unwrap();
     let n = notif.notification().unwrap().clone();
     assert_eq!(
         (n.slot, n.subslot, n.module_ident, n.submodule_ident),
@@ -1235,7 +1236,7 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
     );
     let f = frames(&out);
     assert_eq!(f.len(), 1);
-    let tack = RtaPdu::parse(&alarm::Packet::new_checked(&f[0][18..]).unwrap()).unwrap();
+    let tack = RtaPdu::parse(&rta_pdu::Packet::new_checked(&f[0][18..]).unwrap()).unwrap();
     assert_eq!(tack.body, RtaBody::Ack);
     assert_eq!(tack.header.ack_seq, 0xffff);
     assert_eq!(dev.alarm_acks(), &[ack]);
@@ -1264,7 +1265,7 @@ fn a_process_alarm_longer_than_max_alarm_data_length_is_refused() {
     assert!(dev.raise_process_alarm(0, 1, 1, 0x0010, &[0xa5; 172], t, &mut out));
     let f = frames(&out);
     assert_eq!(f.len(), 1);
-    let pdu = alarm::Packet::new_checked(&f[0][18..]).unwrap();
+    let pdu = rta_pdu::Packet::new_checked(&f[0][18..]).unwrap();
     assert_eq!(pdu.var_part_len(), 200);
 }
 

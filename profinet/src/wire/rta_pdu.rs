@@ -1,0 +1,934 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! RTA (acyclic real-time, RTA_CLASS_1) PDUs over Ethernet: the frames that carry alarms.
+//!
+//! The PDU starts at the FrameID, i.e. at the Ethernet payload behind the optional 802.1Q tag
+//! and the EtherType 0x8892. FrameID 0xFC01 carries high-priority alarms (sent with PCP 6),
+//! 0xFE01 low-priority ones (PCP 5):
+//!
+//! ```text
+//! FrameID(2) AlarmDstEndpoint(2) AlarmSrcEndpoint(2) PDUType(1) AddFlags(1)
+//! SendSeqNum(2) AckSeqNum(2) VarPartLen(2) VarPart…
+//! ```
+//!
+//! PDUType: low nibble the type (1 DATA, 2 NACK, 3 ACK, 4 ERR), high nibble the version (1).
+//! AddFlags: low nibble WindowSize (1), bit 4 TACK (the sender wants a transport ack); bits
+//! 5–7 are reserved: ignored by [`RtaHeader::parse`], written as 0.
+//!
+//! The VarPart of a DATA-RTA holds PNIO blocks: one [`AlarmNotification`] or [`AlarmAck`]
+//! in practice (their codecs are in [`super::alarm`]). An ERR-RTA carries a PNIOStatus (`CF 81 FD <abort code>`, see [`ErrRta`]),
+//! possibly followed by vendor data; ACK- and NACK-RTA carry nothing. Bytes after VarPartLen
+//! are Ethernet padding (an S7 pads with stale bytes, not zeros) and are ignored.
+//!
+//! Sequence numbers ([`next_seq`], [`RtaSequence`]): one DATA-RTA in flight per priority and
+//! direction. Numbers start at [`SEQ_INITIAL`] (0xFFFF; the "last" value before the first
+//! is [`SEQ_INITIAL_LAST`], 0xFFFE), then run 0x0000..=0x7FFF and wrap to 0x0000.
+//!
+//! Everything is big-endian. Alarms are not on the cyclic path, so the Reprs own their data.
+
+use super::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
+use super::common::blocks;
+use super::cursor::{Reader, Writer};
+use super::{Error, Field, PnioStatus, Rest, Result, be16};
+
+/// The RTA version (high nibble of PDUType).
+pub const RTA_VERSION: u8 = 1;
+/// The only window size RTA_CLASS_1 uses.
+pub const WINDOW_SIZE: u8 = 1;
+
+/// The first SendSeqNum of a fresh alarm channel (and the first expected receive number).
+pub const SEQ_INITIAL: u16 = 0xffff;
+/// The "last sent" and "last received" values before any DATA-RTA was exchanged.
+pub const SEQ_INITIAL_LAST: u16 = 0xfffe;
+/// The largest sequence number in the running cycle 0x0000..=0x7FFF.
+pub const SEQ_MAX: u16 = 0x7fff;
+
+/// The sequence number after `n`: `(n + 1) & 0x7FFF`, so 0xFFFF → 0x0000 and 0x7FFF → 0x0000.
+/// 0xFFFE ([`SEQ_INITIAL_LAST`]) is followed by 0xFFFF ([`SEQ_INITIAL`]), so that "expected
+/// = next_seq(last received)" holds from the start.
+pub const fn next_seq(n: u16) -> u16 {
+    match n {
+        SEQ_INITIAL_LAST => SEQ_INITIAL,
+        SEQ_INITIAL => 0,
+        n => (n + 1) & SEQ_MAX,
+    }
+}
+
+/// ErrorCode of an RTA error (ERR-RTA PNIOStatus).
+pub const ERROR_CODE_RTA: u8 = 0xcf;
+/// ErrorDecode "PNIO".
+pub const ERROR_DECODE_PNIO: u8 = 0x81;
+/// ErrorCode1 "RTA protocol" (ErrorCode2 then holds the [`AbortCode`]).
+pub const ERROR_CODE1_RTA_PROTOCOL: u8 = 0xfd;
+
+mod field {
+    use super::{Field, Rest};
+    pub const FRAME_ID: Field = 0..2;
+    pub const DST_ENDPOINT: Field = 2..4;
+    pub const SRC_ENDPOINT: Field = 4..6;
+    pub const PDU_TYPE: usize = 6;
+    pub const ADD_FLAGS: usize = 7;
+    pub const SEND_SEQ: Field = 8..10;
+    pub const ACK_SEQ: Field = 10..12;
+    pub const VAR_PART_LEN: Field = 12..14;
+    pub const VAR_PART: Rest = 14..;
+}
+
+/// Bytes from the FrameID to the VarPart.
+pub const HEADER_LEN: usize = field::VAR_PART.start;
+/// Bytes of the RTA header proper (after the FrameID), what [`RtaHeader`] covers.
+pub const RTA_HEADER_LEN: usize = HEADER_LEN - field::DST_ENDPOINT.start;
+
+/// AddFlags: the WindowSize nibble.
+const ADD_FLAGS_WINDOW: u8 = 0x0f;
+/// AddFlags: TACK.
+const ADD_FLAGS_TACK: u8 = 0x10;
+
+/// The type of an RTA PDU (low nibble of PDUType).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PduType {
+    /// 1: DATA-RTA, carries an alarm block.
+    Data,
+    /// 2: NACK-RTA.
+    Nack,
+    /// 3: ACK-RTA (transport acknowledgement).
+    Ack,
+    /// 4: ERR-RTA (abort).
+    Err,
+    /// Any other nibble (never 1..=4).
+    Unknown(u8),
+}
+
+impl From<u8> for PduType {
+    /// From the low nibble of `v` (the version nibble is ignored).
+    fn from(v: u8) -> PduType {
+        match v & 0x0f {
+            1 => PduType::Data,
+            2 => PduType::Nack,
+            3 => PduType::Ack,
+            4 => PduType::Err,
+            other => PduType::Unknown(other),
+        }
+    }
+}
+
+impl From<PduType> for u8 {
+    fn from(v: PduType) -> u8 {
+        match v {
+            PduType::Data => 1,
+            PduType::Nack => 2,
+            PduType::Ack => 3,
+            PduType::Err => 4,
+            PduType::Unknown(other) => other & 0x0f,
+        }
+    }
+}
+
+impl core::fmt::Display for PduType {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            PduType::Data => f.write_str("DATA"),
+            PduType::Nack => f.write_str("NACK"),
+            PduType::Ack => f.write_str("ACK"),
+            PduType::Err => f.write_str("ERR"),
+            PduType::Unknown(v) => write!(f, "PDUType({v})"),
+        }
+    }
+}
+
+/// A view of an RTA PDU, from the FrameID on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Packet<T: AsRef<[u8]>> {
+    buffer: T,
+}
+
+impl<T: AsRef<[u8]>> Packet<T> {
+    /// Wraps a buffer without checking it.
+    pub const fn new_unchecked(buffer: T) -> Packet<T> {
+        Packet { buffer }
+    }
+
+    /// Wraps a buffer after [`check_len`](Self::check_len).
+    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
+        let p = Packet::new_unchecked(buffer);
+        p.check_len()?;
+        Ok(p)
+    }
+
+    /// Checks the buffer holds the header and the VarPartLen bytes it announces. Bytes after
+    /// them (Ethernet padding) are allowed and ignored.
+    pub fn check_len(&self) -> Result<()> {
+        let b = self.buffer.as_ref();
+        let Some(len) = b.get(field::VAR_PART_LEN) else {
+            return Err(Error);
+        };
+        if b.len() < HEADER_LEN + usize::from(be16(len)) {
+            Err(Error)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// The buffer.
+    pub fn into_inner(self) -> T {
+        self.buffer
+    }
+
+    /// FrameID (0xFC01 or 0xFE01 for RTA).
+    pub fn frame_id(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::FRAME_ID])
+    }
+
+    /// AlarmDstEndpoint: the receiver's LocalAlarmReference.
+    pub fn dst_endpoint(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::DST_ENDPOINT])
+    }
+
+    /// AlarmSrcEndpoint: the sender's LocalAlarmReference.
+    pub fn src_endpoint(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::SRC_ENDPOINT])
+    }
+
+    /// The PDU type (low nibble of PDUType).
+    pub fn pdu_type(&self) -> PduType {
+        PduType::from(self.buffer.as_ref()[field::PDU_TYPE])
+    }
+
+    /// The RTA version (high nibble of PDUType; 1).
+    pub fn version(&self) -> u8 {
+        self.buffer.as_ref()[field::PDU_TYPE] >> 4
+    }
+
+    /// The raw AddFlags byte.
+    pub fn add_flags(&self) -> u8 {
+        self.buffer.as_ref()[field::ADD_FLAGS]
+    }
+
+    /// WindowSize (low nibble of AddFlags; 1).
+    pub fn window_size(&self) -> u8 {
+        self.add_flags() & ADD_FLAGS_WINDOW
+    }
+
+    /// TACK: the sender asks for an ACK-RTA.
+    pub fn tack(&self) -> bool {
+        self.add_flags() & ADD_FLAGS_TACK != 0
+    }
+
+    /// SendSeqNum.
+    pub fn send_seq(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::SEND_SEQ])
+    }
+
+    /// AckSeqNum.
+    pub fn ack_seq(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::ACK_SEQ])
+    }
+
+    /// VarPartLen.
+    pub fn var_part_len(&self) -> u16 {
+        be16(&self.buffer.as_ref()[field::VAR_PART_LEN])
+    }
+
+    /// The VarPart: exactly VarPartLen bytes, Ethernet padding excluded. Empty if the buffer is
+    /// too short (never the case after `check_len`).
+    pub fn var_part(&self) -> &[u8] {
+        let end = HEADER_LEN + usize::from(self.var_part_len());
+        self.buffer
+            .as_ref()
+            .get(field::VAR_PART.start..end)
+            .unwrap_or(&[])
+    }
+}
+
+impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
+    /// Sets the FrameID.
+    pub fn set_frame_id(&mut self, v: u16) {
+        self.buffer.as_mut()[field::FRAME_ID].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets AlarmDstEndpoint.
+    pub fn set_dst_endpoint(&mut self, v: u16) {
+        self.buffer.as_mut()[field::DST_ENDPOINT].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets AlarmSrcEndpoint.
+    pub fn set_src_endpoint(&mut self, v: u16) {
+        self.buffer.as_mut()[field::SRC_ENDPOINT].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets PDUType from a type and a version (both nibbles; higher bits are dropped).
+    pub fn set_pdu_type(&mut self, pdu_type: PduType, version: u8) {
+        self.buffer.as_mut()[field::PDU_TYPE] = (version << 4) | u8::from(pdu_type);
+    }
+
+    /// Sets AddFlags from a window size (a nibble) and TACK.
+    pub fn set_add_flags(&mut self, window_size: u8, tack: bool) {
+        let tack = if tack { ADD_FLAGS_TACK } else { 0 };
+        self.buffer.as_mut()[field::ADD_FLAGS] = (window_size & ADD_FLAGS_WINDOW) | tack;
+    }
+
+    /// Sets SendSeqNum.
+    pub fn set_send_seq(&mut self, v: u16) {
+        self.buffer.as_mut()[field::SEND_SEQ].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets AckSeqNum.
+    pub fn set_ack_seq(&mut self, v: u16) {
+        self.buffer.as_mut()[field::ACK_SEQ].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// Sets VarPartLen.
+    pub fn set_var_part_len(&mut self, v: u16) {
+        self.buffer.as_mut()[field::VAR_PART_LEN].copy_from_slice(&v.to_be_bytes());
+    }
+
+    /// The VarPart, mutable: VarPartLen bytes (empty if the buffer is too short).
+    pub fn var_part_mut(&mut self) -> &mut [u8] {
+        let end = HEADER_LEN + usize::from(self.var_part_len());
+        self.buffer
+            .as_mut()
+            .get_mut(field::VAR_PART.start..end)
+            .unwrap_or(&mut [])
+    }
+}
+
+impl<T: AsRef<[u8]>> core::fmt::Display for Packet<T> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match RtaPdu::parse(&Packet::new_unchecked(self.buffer.as_ref())) {
+            Ok(r) => write!(f, "{r}"),
+            Err(_) => f.write_str("RTA (malformed)"),
+        }
+    }
+}
+
+/// The 12-byte RTA header (after the FrameID).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct RtaHeader {
+    /// AlarmDstEndpoint: the receiver's LocalAlarmReference (from the AlarmCR block of the
+    /// other side).
+    pub dst_endpoint: u16,
+    /// AlarmSrcEndpoint: the sender's LocalAlarmReference.
+    pub src_endpoint: u16,
+    /// PDU type.
+    pub pdu_type: PduType,
+    /// Version nibble ([`RTA_VERSION`]).
+    pub version: u8,
+    /// WindowSize nibble ([`WINDOW_SIZE`]).
+    pub window_size: u8,
+    /// TACK: the sender wants an ACK-RTA (set in DATA-RTA).
+    pub tack: bool,
+    /// SendSeqNum.
+    pub send_seq: u16,
+    /// AckSeqNum.
+    pub ack_seq: u16,
+    /// VarPartLen: bytes of VarPart that follow.
+    pub var_part_len: u16,
+}
+
+impl RtaHeader {
+    /// A version-1, window-1 header; TACK is set for DATA only.
+    pub const fn new(
+        pdu_type: PduType,
+        dst_endpoint: u16,
+        src_endpoint: u16,
+        send_seq: u16,
+        ack_seq: u16,
+        var_part_len: u16,
+    ) -> RtaHeader {
+        RtaHeader {
+            dst_endpoint,
+            src_endpoint,
+            pdu_type,
+            version: RTA_VERSION,
+            window_size: WINDOW_SIZE,
+            tack: matches!(pdu_type, PduType::Data),
+            send_seq,
+            ack_seq,
+            var_part_len,
+        }
+    }
+
+    /// Parses the header from the first [`RTA_HEADER_LEN`] bytes of `b` (which starts at
+    /// AlarmDstEndpoint, i.e. right after the FrameID).
+    pub fn parse(b: &[u8]) -> Result<RtaHeader> {
+        let mut r = Reader::new(b);
+        let dst_endpoint = r.u16()?;
+        let src_endpoint = r.u16()?;
+        let pdu = r.u8()?;
+        let flags = r.u8()?;
+        Ok(RtaHeader {
+            dst_endpoint,
+            src_endpoint,
+            pdu_type: PduType::from(pdu),
+            version: pdu >> 4,
+            window_size: flags & ADD_FLAGS_WINDOW,
+            tack: flags & ADD_FLAGS_TACK != 0,
+            send_seq: r.u16()?,
+            ack_seq: r.u16()?,
+            var_part_len: r.u16()?,
+        })
+    }
+
+    /// Bytes of the header ([`RTA_HEADER_LEN`]).
+    pub const fn buffer_len(&self) -> usize {
+        RTA_HEADER_LEN
+    }
+
+    /// Writes the header into the first [`RTA_HEADER_LEN`] bytes of `buf` (the bytes after
+    /// the FrameID). `version` and `window_size` are nibbles; higher bits are dropped. A
+    /// shorter buffer gives [`Error`].
+    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
+        let mut w = Writer::new(buf);
+        w.u16(self.dst_endpoint)?;
+        w.u16(self.src_endpoint)?;
+        let tack = if self.tack { ADD_FLAGS_TACK } else { 0 };
+        w.put(&[
+            (self.version << 4) | u8::from(self.pdu_type),
+            (self.window_size & ADD_FLAGS_WINDOW) | tack,
+        ])?;
+        w.u16(self.send_seq)?;
+        w.u16(self.ack_seq)?;
+        w.u16(self.var_part_len)
+    }
+}
+
+enum_with_unknown! {
+    /// The abort reason of an ERR-RTA: ErrorCode2 of a `CF 81 FD xx` PNIOStatus.
+    pub enum AbortCode(u8) {
+        /// 0x00: no reason given (p-net uses it for aborts it initiates).
+        Unspecified = 0x00 => "unspecified",
+        /// 0x01: sequence number error.
+        SequenceError = 0x01 => "sequence number error",
+        /// 0x02: instance closed.
+        InstanceClosed = 0x02 => "instance closed",
+        /// 0x03: AR out of memory.
+        OutOfMemory = 0x03 => "AR out of memory",
+        /// 0x04: adding a provider or consumer failed.
+        AddProviderOrConsumerFailed = 0x04 => "AR add provider or consumer failed",
+        /// 0x05: consumer data hold timer expired.
+        ConsumerDhtExpired = 0x05 => "AR consumer data hold time expired",
+        /// 0x06: CM initiator activity timeout.
+        CmiTimeout = 0x06 => "AR CMI timeout",
+        /// 0x07: alarm open failed.
+        AlarmOpenFailed = 0x07 => "AR alarm open failed",
+        /// 0x08: alarm send confirmed negatively.
+        AlarmSendNegative = 0x08 => "AR alarm send.cnf(-)",
+        /// 0x09: alarm ack send confirmed negatively.
+        AlarmAckSendNegative = 0x09 => "AR alarm ack send.cnf(-)",
+        /// 0x0A: alarm data too long.
+        AlarmDataTooLong = 0x0a => "AR alarm data too long",
+        /// 0x0B: alarm indication with error.
+        AlarmIndicationError = 0x0b => "AR alarm.ind(err)",
+        /// 0x0C: RPC client call confirmed negatively.
+        RpcClientCallNegative = 0x0c => "AR RPC client call.cnf(-)",
+        /// 0x0D: abort requested.
+        AbortRequest = 0x0d => "AR abort.req",
+        /// 0x0E: a re-run aborts the existing AR.
+        RerunAbortsExisting = 0x0e => "AR re-run aborts existing",
+        /// 0x0F: release indication received.
+        ReleaseIndication = 0x0f => "AR release.ind received",
+        /// 0x10: device deactivated.
+        DeviceDeactivated = 0x10 => "AR device deactivated",
+        /// 0x11: AR removed.
+        ArRemoved = 0x11 => "AR removed",
+        /// 0x12: protocol violation.
+        ProtocolViolation = 0x12 => "AR protocol violation",
+        /// 0x13: name resolution error.
+        NameResolutionError = 0x13 => "AR name resolution error",
+        /// 0x14: RPC bind error.
+        RpcBindError = 0x14 => "AR RPC bind error",
+        /// 0x15: RPC connect error.
+        RpcConnectError = 0x15 => "AR RPC connect error",
+        /// 0x16: RPC read error.
+        RpcReadError = 0x16 => "AR RPC read error",
+        /// 0x17: RPC write error.
+        RpcWriteError = 0x17 => "AR RPC write error",
+        /// 0x18: RPC control error.
+        RpcControlError = 0x18 => "AR RPC control error",
+        /// 0x19: forbidden pull or plug.
+        ForbiddenPullOrPlug = 0x19 => "AR forbidden pull or plug",
+        /// 0x1A: AP removed.
+        ApRemoved = 0x1a => "AR AP removed",
+        /// 0x1B: link down.
+        LinkDown = 0x1b => "AR link down",
+        /// 0x1C: multicast MAC registration failed.
+        MulticastRegistrationFailed = 0x1c => "AR multicast MAC registration failed",
+        /// 0x1D: not synchronized.
+        NotSynchronized = 0x1d => "not synchronized",
+        /// 0x1E: wrong topology.
+        WrongTopology = 0x1e => "wrong topology",
+        /// 0x1F: NameOfStation changed by DCP.
+        StationNameChanged = 0x1f => "DCP station name changed",
+        /// 0x20: reset to factory by DCP.
+        ResetToFactory = 0x20 => "DCP reset to factory",
+        /// 0x24: PDEV check failed (no port with the required speed/duplex).
+        PdevCheckFailed = 0x24 => "PDEV check failed",
+        /// 0x25: the IO controller's IP suite was changed (DCP or local engineering).
+        IocIpChanged = 0x25 => "IOC IP suite changed",
+    }
+}
+
+impl core::fmt::Display for AbortCode {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let code = u8::from(*self);
+        match self.name() {
+            Some(name) => write!(f, "{name} ({code:#04x})"),
+            None => write!(f, "abort code {code:#04x}"),
+        }
+    }
+}
+
+/// The VarPart of an ERR-RTA.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ErrRta {
+    /// PNIOStatus, `CF 81 FD <abort code>` for an abort.
+    pub status: PnioStatus,
+    /// Bytes after the PNIOStatus within VarPartLen (vendor error info; normally none).
+    pub vendor_data: Vec<u8>,
+}
+
+impl ErrRta {
+    /// An abort with this code: PNIOStatus `CF 81 FD <code>`.
+    pub fn abort(code: AbortCode) -> ErrRta {
+        ErrRta {
+            status: PnioStatus {
+                error_code: ERROR_CODE_RTA,
+                error_decode: ERROR_DECODE_PNIO,
+                error_code1: ERROR_CODE1_RTA_PROTOCOL,
+                error_code2: code.into(),
+            },
+            vendor_data: Vec::new(),
+        }
+    }
+
+    /// The abort code, when the status is `CF 81 FD xx`.
+    pub fn abort_code(&self) -> Option<AbortCode> {
+        let s = self.status;
+        (s.error_code == ERROR_CODE_RTA
+            && s.error_decode == ERROR_DECODE_PNIO
+            && s.error_code1 == ERROR_CODE1_RTA_PROTOCOL)
+            .then(|| AbortCode::from(s.error_code2))
+    }
+
+    /// Parses a VarPart (at least the 4 status bytes).
+    pub fn parse(b: &[u8]) -> Result<ErrRta> {
+        let mut r = Reader::new(b);
+        let status = PnioStatus::from_u32(r.u32()?);
+        Ok(ErrRta {
+            status,
+            vendor_data: r.rest().to_vec(),
+        })
+    }
+
+    /// Bytes of the VarPart.
+    pub fn buffer_len(&self) -> usize {
+        self.vendor_data.len().saturating_add(4)
+    }
+
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.u32(self.status.to_u32())?;
+        w.put(&self.vendor_data)
+    }
+}
+
+impl core::fmt::Display for ErrRta {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self.abort_code() {
+            Some(code) => write!(f, "abort: {code}"),
+            None => write!(f, "{}", self.status),
+        }
+    }
+}
+
+/// What an RTA PDU carries; it determines the PDU type.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum RtaBody {
+    /// DATA-RTA: the blocks of the VarPart (one in practice; possibly none).
+    Data(Vec<AlarmBlock>),
+    /// NACK-RTA.
+    Nack,
+    /// ACK-RTA.
+    Ack,
+    /// ERR-RTA.
+    Err(ErrRta),
+}
+
+impl RtaBody {
+    /// The PDU type of this body.
+    pub const fn pdu_type(&self) -> PduType {
+        match self {
+            RtaBody::Data(_) => PduType::Data,
+            RtaBody::Nack => PduType::Nack,
+            RtaBody::Ack => PduType::Ack,
+            RtaBody::Err(_) => PduType::Err,
+        }
+    }
+
+    /// Bytes of the VarPart.
+    pub fn var_part_len(&self) -> usize {
+        match self {
+            RtaBody::Data(blocks) => blocks
+                .iter()
+                .fold(0usize, |n, b| n.saturating_add(b.buffer_len())),
+            RtaBody::Nack | RtaBody::Ack => 0,
+            RtaBody::Err(e) => e.buffer_len(),
+        }
+    }
+}
+
+/// A parsed RTA PDU, from the FrameID to the end of the VarPart.
+///
+/// `header.pdu_type` and `header.var_part_len` describe what was parsed; [`RtaPdu::emit`]
+/// writes the PDU type and VarPartLen of `body` instead, so a changed body needs no header
+/// update.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct RtaPdu {
+    /// The priority (from the FrameID).
+    pub priority: Priority,
+    /// The RTA header.
+    pub header: RtaHeader,
+    /// The VarPart.
+    pub body: RtaBody,
+}
+
+impl RtaPdu {
+    /// Parses a PDU (checking its length first). A FrameID other than 0xFC01/0xFE01, an unknown
+    /// PDU type, an ACK/NACK with a VarPart, an ERR shorter than its PNIOStatus or DATA blocks
+    /// that do not split or decode give [`Error`].
+    pub fn parse<T: AsRef<[u8]> + ?Sized>(packet: &Packet<&T>) -> Result<RtaPdu> {
+        packet.check_len()?;
+        let priority = Priority::from_frame_id(packet.frame_id()).ok_or(Error)?;
+        let b: &[u8] = packet.buffer.as_ref();
+        let header = RtaHeader::parse(b.get(field::DST_ENDPOINT.start..).ok_or(Error)?)?;
+        let var = packet.var_part();
+        let body = match header.pdu_type {
+            PduType::Data => RtaBody::Data(
+                blocks(var)
+                    .map(|r| r.and_then(|(_, block)| AlarmBlock::parse(block)))
+                    .collect::<Result<Vec<_>>>()?,
+            ),
+            PduType::Ack if var.is_empty() => RtaBody::Ack,
+            PduType::Nack if var.is_empty() => RtaBody::Nack,
+            PduType::Err => RtaBody::Err(ErrRta::parse(var)?),
+            _ => return Err(Error),
+        };
+        Ok(RtaPdu {
+            priority,
+            header,
+            body,
+        })
+    }
+
+    pub(super) fn new(
+        priority: Priority,
+        dst_endpoint: u16,
+        src_endpoint: u16,
+        send_seq: u16,
+        ack_seq: u16,
+        body: RtaBody,
+    ) -> RtaPdu {
+        let len = u16::try_from(body.var_part_len()).unwrap_or(u16::MAX);
+        RtaPdu {
+            priority,
+            header: RtaHeader::new(
+                body.pdu_type(),
+                dst_endpoint,
+                src_endpoint,
+                send_seq,
+                ack_seq,
+                len,
+            ),
+            body,
+        }
+    }
+
+    /// A DATA-RTA (version 1, window 1, TACK) carrying `blocks`.
+    pub fn data(
+        priority: Priority,
+        dst_endpoint: u16,
+        src_endpoint: u16,
+        send_seq: u16,
+        ack_seq: u16,
+        blocks: Vec<AlarmBlock>,
+    ) -> RtaPdu {
+        let body = RtaBody::Data(blocks);
+        RtaPdu::new(
+            priority,
+            dst_endpoint,
+            src_endpoint,
+            send_seq,
+            ack_seq,
+            body,
+        )
+    }
+
+    /// An ACK-RTA: `send_seq` is the sender's last sent DATA, `ack_seq` the DATA acknowledged.
+    pub fn ack(
+        priority: Priority,
+        dst_endpoint: u16,
+        src_endpoint: u16,
+        send_seq: u16,
+        ack_seq: u16,
+    ) -> RtaPdu {
+        RtaPdu::new(
+            priority,
+            dst_endpoint,
+            src_endpoint,
+            send_seq,
+            ack_seq,
+            RtaBody::Ack,
+        )
+    }
+
+    /// A NACK-RTA.
+    pub fn nack(
+        priority: Priority,
+        dst_endpoint: u16,
+        src_endpoint: u16,
+        send_seq: u16,
+        ack_seq: u16,
+    ) -> RtaPdu {
+        RtaPdu::new(
+            priority,
+            dst_endpoint,
+            src_endpoint,
+            send_seq,
+            ack_seq,
+            RtaBody::Nack,
+        )
+    }
+
+    /// An ERR-RTA.
+    pub fn err(
+        priority: Priority,
+        dst_endpoint: u16,
+        src_endpoint: u16,
+        send_seq: u16,
+        ack_seq: u16,
+        err: ErrRta,
+    ) -> RtaPdu {
+        RtaPdu::new(
+            priority,
+            dst_endpoint,
+            src_endpoint,
+            send_seq,
+            ack_seq,
+            RtaBody::Err(err),
+        )
+    }
+
+    /// Bytes of the PDU from the FrameID on, without Ethernet padding.
+    pub fn buffer_len(&self) -> usize {
+        HEADER_LEN.saturating_add(self.body.var_part_len())
+    }
+
+    /// Writes the PDU into the first [`buffer_len`](Self::buffer_len) bytes of `buf` (a slice
+    /// starting at the FrameID; the caller adds the Ethernet header and pads the frame). Never
+    /// panics: a shorter buffer or a VarPart above 65535 bytes give [`Error`].
+    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
+        let var_len = u16::try_from(self.body.var_part_len()).map_err(|_| Error)?;
+        let total = self.buffer_len();
+        let pdu = buf.get_mut(..total).ok_or(Error)?;
+        let (head, var) = pdu.split_at_mut(HEADER_LEN);
+        head[field::FRAME_ID].copy_from_slice(&self.priority.frame_id().to_be_bytes());
+        let header = RtaHeader {
+            pdu_type: self.body.pdu_type(),
+            var_part_len: var_len,
+            ..self.header
+        };
+        header.emit(&mut head[field::DST_ENDPOINT.start..])?;
+        let mut w = Writer::new(var);
+        match &self.body {
+            RtaBody::Data(blocks) => blocks.iter().try_for_each(|b| b.write(&mut w))?,
+            RtaBody::Nack | RtaBody::Ack => {}
+            RtaBody::Err(e) => e.write(&mut w)?,
+        }
+        w.finish()
+    }
+
+    /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
+    pub fn to_vec(&self) -> Result<Vec<u8>> {
+        let mut v = vec![0u8; self.buffer_len()];
+        self.emit(&mut v)?;
+        Ok(v)
+    }
+
+    /// The first AlarmNotification of a DATA-RTA.
+    pub fn notification(&self) -> Option<&AlarmNotification> {
+        match &self.body {
+            RtaBody::Data(blocks) => blocks.iter().find_map(|b| match b {
+                AlarmBlock::Notification(n) => Some(n),
+                _ => None,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The first AlarmAck of a DATA-RTA.
+    pub fn alarm_ack(&self) -> Option<&AlarmAck> {
+        match &self.body {
+            RtaBody::Data(blocks) => blocks.iter().find_map(|b| match b {
+                AlarmBlock::Ack(a) => Some(a),
+                _ => None,
+            }),
+            _ => None,
+        }
+    }
+}
+
+impl core::fmt::Display for RtaPdu {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let h = &self.header;
+        write!(
+            f,
+            "RTA {} {} {:#06x}->{:#06x} send={:#06x} ack={:#06x}",
+            self.priority,
+            self.body.pdu_type(),
+            h.src_endpoint,
+            h.dst_endpoint,
+            h.send_seq,
+            h.ack_seq
+        )?;
+        match &self.body {
+            RtaBody::Data(blocks) => {
+                for b in blocks {
+                    match b {
+                        AlarmBlock::Notification(n) => write!(
+                            f,
+                            " [AlarmNotification {} api={} slot={:#06x}/{:#06x} seq={}]",
+                            n.alarm_type, n.api, n.slot, n.subslot, n.specifier.sequence_number
+                        )?,
+                        AlarmBlock::Ack(a) => write!(
+                            f,
+                            " [AlarmAck {} api={} slot={:#06x}/{:#06x} seq={} {}]",
+                            a.alarm_type,
+                            a.api,
+                            a.slot,
+                            a.subslot,
+                            a.specifier.sequence_number,
+                            a.status
+                        )?,
+                        AlarmBlock::Other { block_type, .. } => {
+                            write!(f, " [block {block_type:#06x}]")?
+                        }
+                    }
+                }
+                Ok(())
+            }
+            RtaBody::Nack | RtaBody::Ack => Ok(()),
+            RtaBody::Err(e) => write!(f, " {e}"),
+        }
+    }
+}
+
+/// How a received DATA-RTA's SendSeqNum relates to what was expected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Received {
+    /// The expected number: deliver it and answer with an ACK-RTA.
+    New,
+    /// The last received number again (our ACK was lost): answer with the ACK-RTA again, do
+    /// not deliver.
+    Duplicate,
+    /// Anything else: a sequence error (NACK-RTA, abort with [`AbortCode::SequenceError`]).
+    OutOfOrder,
+}
+
+/// The sequence numbers of one alarm channel (one priority) between two endpoints, window 1.
+///
+/// Sending: put [`send_seq`](Self::send_seq) and [`last_received`](Self::last_received) in the
+/// DATA-RTA; when a received DATA or ACK carries it as AckSeqNum
+/// ([`confirms`](Self::confirms)), call [`confirm`](Self::confirm). Receiving: call
+/// [`receive`](Self::receive) with the SendSeqNum of a DATA-RTA and answer New and Duplicate
+/// with an ACK-RTA carrying [`last_sent`](Self::last_sent) and the received number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct RtaSequence {
+    send_next: u16,
+    last_sent: u16,
+    expected: u16,
+    last_received: u16,
+}
+
+impl Default for RtaSequence {
+    fn default() -> RtaSequence {
+        RtaSequence::new()
+    }
+}
+
+impl RtaSequence {
+    /// A fresh channel: send 0xFFFF next (last 0xFFFE), expect 0xFFFF (last 0xFFFE).
+    pub const fn new() -> RtaSequence {
+        RtaSequence {
+            send_next: SEQ_INITIAL,
+            last_sent: SEQ_INITIAL_LAST,
+            expected: SEQ_INITIAL,
+            last_received: SEQ_INITIAL_LAST,
+        }
+    }
+
+    /// A channel resumed at known numbers (e.g. to replay a captured session from its middle):
+    /// our next send number and last confirmed one, the peer's expected and last accepted one.
+    pub const fn from_parts(
+        send_next: u16,
+        last_sent: u16,
+        expected: u16,
+        last_received: u16,
+    ) -> RtaSequence {
+        RtaSequence {
+            send_next,
+            last_sent,
+            expected,
+            last_received,
+        }
+    }
+
+    /// SendSeqNum of our next (or outstanding) DATA-RTA.
+    pub const fn send_seq(&self) -> u16 {
+        self.send_next
+    }
+
+    /// SendSeqNum of our last confirmed DATA-RTA: the SendSeqNum of our ACK/NACK-RTAs.
+    pub const fn last_sent(&self) -> u16 {
+        self.last_sent
+    }
+
+    /// The SendSeqNum the peer's next DATA-RTA must carry.
+    pub const fn expected(&self) -> u16 {
+        self.expected
+    }
+
+    /// SendSeqNum of the peer's last accepted DATA-RTA: the AckSeqNum of everything we send.
+    pub const fn last_received(&self) -> u16 {
+        self.last_received
+    }
+
+    /// Whether a received AckSeqNum confirms our outstanding DATA-RTA.
+    pub const fn confirms(&self, ack_seq: u16) -> bool {
+        ack_seq == self.send_next
+    }
+
+    /// Our outstanding DATA-RTA was confirmed: advance the send number.
+    pub fn confirm(&mut self) {
+        self.last_sent = self.send_next;
+        self.send_next = next_seq(self.send_next);
+    }
+
+    /// Classifies a received DATA-RTA's SendSeqNum without changing anything.
+    pub const fn classify(&self, send_seq: u16) -> Received {
+        if send_seq == self.expected {
+            Received::New
+        } else if send_seq == self.last_received {
+            Received::Duplicate
+        } else {
+            Received::OutOfOrder
+        }
+    }
+
+    /// Classifies a received DATA-RTA's SendSeqNum and, when it is new, accepts it.
+    pub fn receive(&mut self, send_seq: u16) -> Received {
+        let r = self.classify(send_seq);
+        if r == Received::New {
+            self.last_received = send_seq;
+            self.expected = next_seq(send_seq);
+        }
+        r
+    }
+}
