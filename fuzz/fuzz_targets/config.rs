@@ -6,7 +6,6 @@
 use libfuzzer_sys::fuzz_target;
 use procimg_runtime::config::{self, format_duration, parse_duration};
 use procimg_runtime::image::Tables;
-use procimg_runtime::profinet::controller::plan::DevicePlan;
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
@@ -16,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
             if let Ok(t) = Tables::from_config(&c) {
                 assert_eq!(t.submodules.len(), c.submodule_count());
             }
-            let _ = DevicePlan::all(&c);
+            let _ = procimg_runtime::network::plan_devices(&c);
             // What the configuration said, written back, reads the same.
             assert_eq!(parse_duration(&format_duration(c.cycle_ns)), Ok(c.cycle_ns));
         }

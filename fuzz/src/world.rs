@@ -6,9 +6,10 @@
 //! repeat what the devices send, and act as a client would (online/offline, activation,
 //! record jobs, alarm acknowledgements, output data).
 //!
-//! The controller chooses random ARUUIDs, so recorded device answers cannot be replayed to
-//! it; corrupting the live answers of real simulated devices instead reaches every state of
-//! the controller's state machine with inputs that differ from valid ones in a few bytes.
+//! The controller draws its ARUUIDs from a fixed seed here, so a run replays exactly; still,
+//! corrupting the live answers of real simulated devices reaches every state of the
+//! controller's state machine with inputs that differ from valid ones in a few bytes, which
+//! recorded answers could not do once an operation changed the course of the exchange.
 //!
 //! [`DeviceBench`] drives one simulated device alone (the `device_sim` target); its seeds
 //! are what the controller sent to that device in a recorded bring-up ([`record_bringup`]).
@@ -25,7 +26,7 @@ use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
-use procimg_runtime::profinet::controller::plan::{ControllerIdentity, DevicePlan};
+use procimg_runtime::profinet::controller::plan::ControllerIdentity;
 use procimg_runtime::profinet::controller::{
     Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
@@ -232,7 +233,7 @@ impl World {
     pub fn new() -> World {
         let config = config();
         let tables = Tables::from_config(config).expect("tables");
-        let plans = DevicePlan::all(config).expect("plans");
+        let plans = procimg_runtime::network::plan_devices(config).expect("plans");
         let ranges = plans
             .iter()
             .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
@@ -259,7 +260,7 @@ impl World {
         let (nic, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
         let channel = Arc::new(Channel::new());
         World {
-            controller: Controller::new(id, plans, 1),
+            controller: Controller::new(id, plans, 1, 1),
             devices: simnet::devices(config),
             io: PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns),
             channel,

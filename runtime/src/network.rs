@@ -4,7 +4,7 @@
 //! thread's IO system.
 
 use crate::acyclic::{self, ControllerCommand, DeviceStates};
-use crate::config::{Config, Network};
+use crate::config::{Config, DeviceConfig, Network};
 use crate::cycle::Shared;
 use crate::cycle::thread::IoFactory;
 use crate::io::pnio::PnioIo;
@@ -13,7 +13,9 @@ use crate::phy::Nic;
 use crate::phy::af_packet::{AfPacket, OpenError};
 use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
 use crate::phy::sim_link;
-use crate::profinet::controller::plan::{ControllerIdentity, DevicePlan, PlanError};
+use crate::profinet::controller::plan::{
+    ControllerIdentity, DevicePlan, DeviceSpec, PlanError, SubmoduleSpec,
+};
 use crate::profinet::controller::{Controller, DeviceEvent};
 use crate::profinet::wire::MacAddress;
 use std::net::Ipv4Addr;
@@ -87,7 +89,7 @@ impl PnioSystem {
         shared: Arc<Shared>,
         events: Option<Sender<DeviceEvent>>,
     ) -> Result<PnioSystem, NetworkError> {
-        let plans = DevicePlan::all(config).map_err(|problem| NetworkError::Plan {
+        let plans = plan_devices(config).map_err(|problem| NetworkError::Plan {
             origin: config.origin.clone(),
             problem,
         })?;
@@ -146,7 +148,12 @@ impl PnioSystem {
         let states = Arc::new(DeviceStates::new(plans.len()));
         let channel = Arc::new(Channel::new());
         let boot_time = (crate::sys::clock::now_ns() / 1_000_000_000) as u32;
-        let controller = Controller::new(id, plans, boot_time);
+        // AR and activity UUIDs nobody can guess or repeat across restarts.
+        let mut seed = [0u8; 8];
+        if !crate::sys::random::fill(&mut seed) {
+            seed = crate::sys::clock::now_ns().to_le_bytes();
+        }
+        let controller = Controller::new(id, plans, boot_time, u64::from_le_bytes(seed));
         let (commands, command_rx) = std::sync::mpsc::channel();
         threads.push(
             acyclic::spawn(acyclic::AcyclicSetup {
@@ -236,4 +243,42 @@ fn interface_ipv4(name: &str) -> Option<Ipv4Addr> {
             std::net::IpAddr::V4(v4) => Some(v4),
             _ => None,
         })
+}
+
+/// The controller's plan of every configured device: the configuration translated into the
+/// protocol crate's terms, then planned (send clock, frame layouts, expected submodules).
+pub fn plan_devices(config: &Config) -> Result<Vec<DevicePlan>, PlanError> {
+    let specs: Vec<DeviceSpec> = config.devices.iter().map(device_spec).collect();
+    DevicePlan::all(&specs, config.cycle_ns)
+}
+
+/// What the controller needs to know of a configured device.
+pub fn device_spec(dev: &DeviceConfig) -> DeviceSpec {
+    DeviceSpec {
+        name: dev.name.clone(),
+        ip: dev.ip,
+        vendor_id: dev.vendor_id,
+        device_id: dev.device_id,
+        instance: dev.instance,
+        reduction_ratio: dev.reduction_ratio,
+        watchdog_factor: dev.watchdog_factor,
+        submodules: dev
+            .submodules
+            .iter()
+            .map(|s| SubmoduleSpec {
+                api: s.api,
+                slot: s.slot,
+                subslot: s.subslot,
+                module_ident: s.module_ident,
+                submodule_ident: s.submodule_ident,
+                input_length: s.input_length,
+                output_length: s.output_length,
+                records: s
+                    .records
+                    .iter()
+                    .map(|r| (r.index, r.data.clone()))
+                    .collect(),
+            })
+            .collect(),
+    }
 }

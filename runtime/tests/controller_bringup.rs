@@ -21,7 +21,7 @@ use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
-use procimg_runtime::profinet::controller::plan::{ControllerIdentity, DevicePlan};
+use procimg_runtime::profinet::controller::plan::ControllerIdentity;
 use procimg_runtime::profinet::controller::{
     Action, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
@@ -207,7 +207,7 @@ impl World {
 fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     let config = Config::demo();
     let tables = Tables::from_config(&config).unwrap();
-    let plans = DevicePlan::all(&config).unwrap();
+    let plans = procimg_runtime::network::plan_devices(&config).unwrap();
     let ranges = plans
         .iter()
         .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
@@ -223,7 +223,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     let (nic, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
     let channel = Arc::new(Channel::new());
     let mut w = World {
-        controller: Controller::new(id, plans, 1),
+        controller: Controller::new(id, plans, 1, 1),
         devices: procimg_runtime::simnet::devices(&config),
         io: PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns),
         channel,

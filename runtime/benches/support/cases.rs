@@ -4,7 +4,6 @@
 use super::rig::Io;
 use super::shape::{self, Shape};
 use procimg_runtime::image::Tables;
-use procimg_runtime::profinet::controller::plan::DevicePlan;
 
 const KIB: usize = 1024;
 
@@ -115,7 +114,7 @@ impl Copied {
     /// Bytes the PROFINET send puts into the output frames of one cycle.
     pub fn frames(shape: Shape) -> usize {
         let config = shape::config("bytes", shape);
-        DevicePlan::all(&config)
+        procimg_runtime::network::plan_devices(&config)
             .expect("the shape fits PROFINET frames")
             .iter()
             .map(|p| {

@@ -33,7 +33,6 @@ use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::profinet::controller::cyclic::CyclicAr;
-use procimg_runtime::profinet::controller::plan::DevicePlan;
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::Ipc;
 use procimg_runtime::shm::{ControlPorts, CyclePorts};
@@ -60,7 +59,8 @@ pub enum Io {
 /// The PROFINET IO system of `config` over a [`LoopNic`], with every device's exchange
 /// already handed to it (it starts them at its first `receive`).
 pub fn pnio_io(config: &Config, counters: Arc<NicCounters>) -> (PnioIo, Arc<Channel>) {
-    let plans = DevicePlan::all(config).expect("the shape fits PROFINET frames");
+    let plans =
+        procimg_runtime::network::plan_devices(config).expect("the shape fits PROFINET frames");
     let ars: Vec<CyclicAr> = plans
         .iter()
         .map(|p| CyclicAr::new(p, 1, OWN_MAC, device_mac(p.device), p.frame_ids))

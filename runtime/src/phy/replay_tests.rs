@@ -12,7 +12,6 @@ use crate::io::{CycleTime, IoSystem};
 use crate::phy::MAX_FRAME;
 use crate::phy::capture::CaptureWriter;
 use crate::profinet::controller::cyclic::CyclicAr;
-use crate::profinet::controller::plan::DevicePlan;
 use pcap_file::pcapng::PcapNgWriter;
 use pcap_file::pcapng::blocks::enhanced_packet::EnhancedPacketBlock;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
@@ -651,7 +650,7 @@ submodule = [
 #[test]
 fn a_replayed_cyclic_frame_lands_in_the_image() {
     let config = config::parse(PNET_SAMPLE, "pnet-sample.toml").unwrap();
-    let plans = DevicePlan::all(&config).unwrap();
+    let plans = crate::network::plan_devices(&config).unwrap();
     let ar = Box::new(CyclicAr::new(&plans[0], 1, OWN, DEVICE, (0x8000, 0x8001)));
     let tables = Tables::from_config(&config).unwrap();
     let mut image = Image::new(&tables);

@@ -11,7 +11,7 @@
 
 use crate::acyclic::ControllerCommand;
 use crate::profinet::controller::{
-    AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
+    self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
 };
 use crate::profinet::wire::PnioStatus;
 use crate::profinet::wire::alarm::{AlarmNotification, Priority};
@@ -376,7 +376,7 @@ impl Services {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.failures += 1;
                     r.last_error = reason.clone();
-                    r.cause = cause;
+                    r.cause = reported_cause(cause);
                 }
                 self.publish(&Notification::DeviceFailure {
                     device: device as u32,
@@ -395,7 +395,7 @@ impl Services {
             } => {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.last_error = reason;
-                    r.cause = cause;
+                    r.cause = reported_cause(cause);
                 }
             }
             DeviceEvent::ModuleDiff { device, diff } => {
@@ -612,4 +612,25 @@ fn alarm_text(device: &str, n: &AlarmNotification) -> String {
         t.push_str(&format!(": {d:?}"));
     }
     t
+}
+
+/// The protocol's kind of failure as clients are told it (the control protocol's enum, which
+/// also has a value for kinds a newer server may report).
+fn reported_cause(cause: controller::FailureCause) -> FailureCause {
+    use controller::FailureCause as Wire;
+    match cause {
+        Wire::None => FailureCause::None,
+        Wire::NotFound => FailureCause::NotFound,
+        Wire::IpSetFailed => FailureCause::IpSetFailed,
+        Wire::RpcTimeout => FailureCause::RpcTimeout,
+        Wire::RpcError => FailureCause::RpcError,
+        Wire::Refused => FailureCause::Refused,
+        Wire::NoApplicationReady => FailureCause::NoApplicationReady,
+        Wire::NoCyclicData => FailureCause::NoCyclicData,
+        Wire::DeviceAborted => FailureCause::DeviceAborted,
+        Wire::ControllerAborted => FailureCause::ControllerAborted,
+        Wire::Released => FailureCause::Released,
+        Wire::Deactivated => FailureCause::Deactivated,
+        Wire::Internal => FailureCause::Internal,
+    }
 }

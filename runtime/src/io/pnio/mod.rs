@@ -371,4 +371,6 @@ impl IoSystem for PnioIo {
 }
 
 #[cfg(test)]
+mod capture_tests;
+#[cfg(test)]
 mod hostile_tests;

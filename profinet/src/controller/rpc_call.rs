@@ -11,10 +11,10 @@
 //! window), the server's FACKs are taken as they come, and the answer's fragments are
 //! collected by number, each acknowledged with a FACK unless it says NoFack.
 
-use super::super::wire::common::PnioStatus;
-use super::super::wire::rpc::{self, Header, MAX_PDU_LEN, Ndr, PacketType, flags1};
-use super::super::wire::{Result, Uuid};
 use super::Action;
+use crate::wire::common::PnioStatus;
+use crate::wire::rpc::{self, Header, MAX_PDU_LEN, Ndr, PacketType, flags1};
+use crate::wire::{Result, Uuid};
 use std::collections::BTreeMap;
 use std::net::SocketAddrV4;
 

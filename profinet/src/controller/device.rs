@@ -6,21 +6,22 @@
 use super::cyclic::CyclicAr;
 use super::plan::{ControllerIdentity, DevicePlan};
 use super::rpc_call::{Answer, Reply, RpcCall};
+use super::uuids::UuidSource;
 use super::{
     Action, AlarmTicket, DeviceEvent, DeviceState, FailureCause, RecordData, RecordFailure,
     RecordRequest, RecordResult,
 };
-use crate::profinet::dcp_client::{self, Identify, Set, SetOutcome};
-use crate::profinet::rta::{RtaChannel, RtaEvent};
-use crate::profinet::wire::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
-use crate::profinet::wire::connect::ConnectResponse;
-use crate::profinet::wire::control::ControlBlock;
-use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
-use crate::profinet::wire::record::{self, IodHeader};
-use crate::profinet::wire::rpc::{self, opnum};
-use crate::profinet::wire::rta_pdu;
-use crate::profinet::wire::rta_pdu::RtaPdu;
-use crate::profinet::wire::{MacAddress, PnioStatus, Uuid};
+use crate::dcp_client::{self, Identify, Set, SetOutcome};
+use crate::rta::{RtaChannel, RtaEvent};
+use crate::wire::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
+use crate::wire::connect::ConnectResponse;
+use crate::wire::control::ControlBlock;
+use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
+use crate::wire::record::{self, IodHeader};
+use crate::wire::rpc::{self, opnum};
+use crate::wire::rta_pdu;
+use crate::wire::rta_pdu::RtaPdu;
+use crate::wire::{MacAddress, PnioStatus, Uuid};
 use std::collections::VecDeque;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
@@ -103,11 +104,13 @@ pub struct DeviceAr {
     failures: u32,
     xid: u32,
     records: VecDeque<RecordRequest>,
+    /// ARUUIDs and activity UUIDs.
+    uuids: UuidSource,
 }
 
 impl DeviceAr {
-    /// A device waiting to be wanted.
-    pub fn new(plan: DevicePlan) -> DeviceAr {
+    /// A device waiting to be wanted; its AR and activity UUIDs come from `uuids`.
+    pub fn new(plan: DevicePlan, uuids: UuidSource) -> DeviceAr {
         let xid = 0x0100_0000 | ((plan.device as u32) << 12);
         DeviceAr {
             plan,
@@ -123,6 +126,7 @@ impl DeviceAr {
             failures: 0,
             xid,
             records: VecDeque::new(),
+            uuids,
         }
     }
 
@@ -435,8 +439,8 @@ impl DeviceAr {
         };
         self.session_key = self.session_key.wrapping_add(1);
         self.epoch = self.epoch.wrapping_add(1);
-        let uuid = Uuid(crate::sys::random::uuid_v4());
-        let activity = Uuid(crate::sys::random::uuid_v4());
+        let uuid = self.uuids.next_uuid();
+        let activity = self.uuids.next_uuid();
         let req = self.plan.connect_request(id, uuid, self.session_key);
         let Ok(blocks) = req.try_emit() else {
             return self.fail(

@@ -4,14 +4,13 @@
 //! the timing of the CRs and the parameter records. Each connect attempt then only fills in
 //! the AR's identity (ARUUID, session key).
 
-use super::super::iocr_layout::{IocrLayout, SubmoduleIo, TooLarge};
-use super::super::wire::connect::{
+use crate::iocr_layout::{IocrLayout, SubmoduleIo, TooLarge};
+use crate::wire::connect::{
     ALARM_CR_TYPE, AR_TYPE_IOC_SINGLE, AlarmCrBlockReq, ArBlockReq, ConnectRequest, ExpectedModule,
     ExpectedSubmodule, ExpectedSubmoduleBlockReq, IocrBlockReq, LT_PROFINET, TAG_HEADER_PRIO_5,
     TAG_HEADER_PRIO_6, UDP_RT_PORT_NONE, ar_properties, iocr_type,
 };
-use super::super::wire::{MacAddress, Uuid};
-use crate::config::{Config, DeviceConfig};
+use crate::wire::{MacAddress, Uuid};
 use std::net::Ipv4Addr;
 
 /// The largest SendClockFactor for RT class 1/2 (4 ms).
@@ -106,6 +105,49 @@ fn send_clock(cycle_ns: u64) -> Option<(u64, u64)> {
     Some((scf, rr))
 }
 
+/// What the controller is to do with one device: its identity and its submodules, as the
+/// configuration says (procimgd translates its TOML into this).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct DeviceSpec {
+    /// NameOfStation.
+    pub name: String,
+    /// The IP address to give it, if any.
+    pub ip: Option<Ipv4Addr>,
+    /// Vendor ID.
+    pub vendor_id: u16,
+    /// Device ID.
+    pub device_id: u16,
+    /// Instance.
+    pub instance: u16,
+    /// Frames every this many controller cycles (a power of two, 1 to 512).
+    pub reduction_ratio: u16,
+    /// Frame periods without data before the device counts as failed (3 to 255).
+    pub watchdog_factor: u16,
+    /// Its submodules, in configuration order.
+    pub submodules: Vec<SubmoduleSpec>,
+}
+
+/// One submodule of a [`DeviceSpec`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SubmoduleSpec {
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// Module ident number.
+    pub module_ident: u32,
+    /// Submodule ident number.
+    pub submodule_ident: u32,
+    /// Input bytes.
+    pub input_length: u16,
+    /// Output bytes.
+    pub output_length: u16,
+    /// Parameter records written before PrmEnd: (index, data), in order.
+    pub records: Vec<(u16, Vec<u8>)>,
+}
+
 /// A parameter record to write before PrmEnd.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PlannedRecord {
@@ -173,17 +215,18 @@ pub struct ControllerIdentity {
 impl ControllerIdentity {
     /// The CMInitiatorObjectUUID: DEA00000-6C97-11D1-8271-<instance><device><vendor>.
     pub const fn object_uuid(&self) -> Uuid {
-        super::super::wire::rpc::object_uuid(self.instance, self.device_id, self.vendor_id)
+        crate::wire::rpc::object_uuid(self.instance, self.device_id, self.vendor_id)
     }
 }
 
 impl DevicePlan {
-    /// Plans every device of `config`.
-    pub fn all(config: &Config) -> Result<Vec<DevicePlan>, PlanError> {
+    /// Plans every device of `devices` at controller cycle `cycle_ns`; their submodules
+    /// follow one another in the submodule table.
+    pub fn all(devices: &[DeviceSpec], cycle_ns: u64) -> Result<Vec<DevicePlan>, PlanError> {
         let mut first = 0;
-        let mut plans = Vec::with_capacity(config.devices.len());
-        for (d, dev) in config.devices.iter().enumerate() {
-            plans.push(DevicePlan::new(d, first, dev, config.cycle_ns)?);
+        let mut plans = Vec::with_capacity(devices.len());
+        for (d, dev) in devices.iter().enumerate() {
+            plans.push(DevicePlan::new(d, first, dev, cycle_ns)?);
             first += dev.submodules.len();
         }
         Ok(plans)
@@ -194,7 +237,7 @@ impl DevicePlan {
     pub fn new(
         device: usize,
         first_submodule: usize,
-        dev: &DeviceConfig,
+        dev: &DeviceSpec,
         cycle_ns: u64,
     ) -> Result<DevicePlan, PlanError> {
         let (scf, base_rr) = send_clock(cycle_ns).ok_or_else(|| PlanError::CycleTime {
@@ -256,12 +299,12 @@ impl DevicePlan {
             .submodules
             .iter()
             .flat_map(|s| {
-                s.records.iter().map(|r| PlannedRecord {
+                s.records.iter().map(|(index, data)| PlannedRecord {
                     api: s.api,
                     slot: s.slot,
                     subslot: s.subslot,
-                    index: r.index,
-                    data: r.data.clone(),
+                    index: *index,
+                    data: data.clone(),
                 })
             })
             .collect();
@@ -291,7 +334,7 @@ impl DevicePlan {
 
     /// The RPC object UUID of the device.
     pub const fn object_uuid(&self) -> Uuid {
-        super::super::wire::rpc::object_uuid(self.instance, self.device_id, self.vendor_id)
+        crate::wire::rpc::object_uuid(self.instance, self.device_id, self.vendor_id)
     }
 
     /// The Connect request of one attempt, with the choices an S7-1500 makes: a single

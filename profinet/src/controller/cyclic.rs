@@ -4,10 +4,10 @@
 //! frames go and must come. Built on the acyclic side (which may allocate) when the Connect
 //! response arrives and handed to the cycle thread whole.
 
-use super::super::iocr_layout::CrLayout;
-use super::super::wire::MacAddress;
-use super::super::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use super::plan::{CrTiming, DevicePlan};
+use crate::iocr_layout::CrLayout;
+use crate::wire::MacAddress;
+use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 
 /// One IO data object of a frame, mapped to the submodule table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

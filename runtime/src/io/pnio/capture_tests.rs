@@ -11,14 +11,14 @@
 //! and everything else from its port's; one controller MAC serves all here, so the source
 //! address of the alarm frames is not compared.
 
-use super::plan::{ControllerIdentity, DevicePlan};
-use super::{Action, Controller, DeviceState};
 use crate::config;
 use crate::image::{Image, Tables};
 use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::{Channel, ToCycle};
 use crate::io::{CycleTime, IoSystem};
 use crate::phy::{Nic, sim_link};
+use crate::profinet::controller::plan::ControllerIdentity;
+use crate::profinet::controller::{Action, Controller, DeviceState};
 use crate::profinet::wire::rpc::{self, Pdu};
 use crate::profinet::wire::{MacAddress, Uuid};
 use procimg_shm_layout::{IOXS_GOOD, Mode, SubmoduleStatus};
@@ -180,8 +180,8 @@ fn xid(frame: &[u8], at: usize) -> [u8; 4] {
 #[test]
 fn the_controller_brings_up_the_pnet_sample_as_the_s7_did() {
     let config = config::parse(PNET_SAMPLE, "pnet-sample.toml").unwrap();
-    let plans = DevicePlan::all(&config).unwrap();
-    let mut c = Controller::new(s7(), plans, 0x5156);
+    let plans = crate::network::plan_devices(&config).unwrap();
+    let mut c = Controller::new(s7(), plans, 0x5156, 1);
     let mut out = Vec::new();
     let ms = 1_000_000u64;
 
@@ -309,7 +309,7 @@ fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
     let ticket = out
         .iter()
         .find_map(|a| match a {
-            Action::Event(super::DeviceEvent::Alarm {
+            Action::Event(crate::profinet::controller::DeviceEvent::Alarm {
                 notification,
                 ticket,
                 ..
@@ -342,7 +342,10 @@ fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
 
 /// The output frame the cycle builds equals the S7's (CycleCounter aside); the device's
 /// captured frame lands in the image.
-fn cyclic_frames_equal_the_captures(config: &config::Config, ar: Box<super::cyclic::CyclicAr>) {
+fn cyclic_frames_equal_the_captures(
+    config: &config::Config,
+    ar: Box<crate::profinet::controller::cyclic::CyclicAr>,
+) {
     let tables = Tables::from_config(config).unwrap();
     let mut image = Image::new(&tables);
     for s in 0..tables.submodules.len() {

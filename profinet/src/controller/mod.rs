@@ -11,18 +11,20 @@
 
 pub mod cyclic;
 pub mod device;
+mod failure;
 pub mod plan;
 pub mod rpc_call;
+pub mod uuids;
 
-use super::wire::PnioStatus;
-use super::wire::alarm::{AlarmNotification, Priority};
-use super::wire::connect::ModuleDiffBlock;
-use super::wire::control::ControlBlock;
-use super::wire::rpc::{self, Header, Ndr, PacketType, opnum};
+use crate::wire::PnioStatus;
+use crate::wire::alarm::{AlarmNotification, Priority};
+use crate::wire::connect::ModuleDiffBlock;
+use crate::wire::control::ControlBlock;
+use crate::wire::rpc::{self, Header, Ndr, PacketType, opnum};
 use cyclic::CyclicAr;
 use device::DeviceAr;
+pub use failure::FailureCause;
 use plan::{ControllerIdentity, DevicePlan};
-pub use procimg_shm_layout::services::FailureCause;
 use std::net::SocketAddrV4;
 
 /// Where a device is in its life.
@@ -261,11 +263,22 @@ pub struct Controller {
 }
 
 impl Controller {
-    /// A controller for `plans`, all devices offline.
-    pub fn new(id: ControllerIdentity, plans: Vec<DevicePlan>, boot_time: u32) -> Controller {
+    /// A controller for `plans`, all devices offline. `seed` is where the UUIDs of its ARs
+    /// and RPC activities come from: random in procimgd, a constant where an exchange must
+    /// replay.
+    pub fn new(
+        id: ControllerIdentity,
+        plans: Vec<DevicePlan>,
+        boot_time: u32,
+        seed: u64,
+    ) -> Controller {
+        let mut uuids = uuids::UuidSource::new(seed);
         Controller {
             id,
-            devices: plans.into_iter().map(DeviceAr::new).collect(),
+            devices: plans
+                .into_iter()
+                .map(|plan| DeviceAr::new(plan, uuids.split()))
+                .collect(),
             boot_time,
             wanted: false,
             dropped: DatagramCounters::default(),
@@ -462,5 +475,3 @@ impl Controller {
         self.devices.iter().filter_map(DeviceAr::deadline).min()
     }
 }
-#[cfg(test)]
-mod capture_tests;
