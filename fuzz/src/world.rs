@@ -30,8 +30,9 @@ use procimg_runtime::profinet::controller::plan::ControllerIdentity;
 use procimg_runtime::profinet::controller::{
     Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
-use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
+use procimg_runtime::profinet::device_sim::DeviceAction;
 use procimg_runtime::simnet;
+use procimg_runtime::simnet::DemoDevice;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::{Ipv4Addr, SocketAddrV4};
 use std::sync::{Arc, OnceLock};
@@ -207,7 +208,7 @@ pub enum Sent {
 /// The controller, the cycle thread's IO system and the simulated devices.
 pub struct World {
     controller: Controller,
-    devices: Vec<SimDevice>,
+    devices: Vec<DemoDevice>,
     io: PnioIo,
     channel: Arc<Channel>,
     plant: sim_link::LinkEnd,
@@ -320,7 +321,7 @@ impl World {
             ops::DATAGRAM => {
                 let d = usize::from(r.u8()?);
                 let port = r.u16()?;
-                let ip = self.devices.get(d % self.devices.len()).map(SimDevice::ip);
+                let ip = self.devices.get(d % self.devices.len()).map(DemoDevice::ip);
                 let from = SocketAddrV4::new(ip.unwrap_or([0; 4]).into(), port);
                 self.controller.on_datagram(from, r.bytes()?, now, &mut out);
             }
@@ -627,7 +628,7 @@ pub fn record_bringup() -> (Vec<u8>, Vec<Sent>) {
 
 /// One simulated device alone: the `device_sim` target.
 pub struct DeviceBench {
-    device: SimDevice,
+    device: DemoDevice,
     now: u64,
     steps: u32,
 }

@@ -8,6 +8,7 @@
 
 pub mod controller;
 pub mod dcp_client;
+pub mod device_sim;
 pub mod iocr_layout;
 pub mod rta;
 #[cfg(test)]

@@ -22,6 +22,7 @@ pub mod phy;
 pub mod profinet;
 pub mod server;
 pub mod shm;
+pub mod sim_behaviour;
 pub mod simnet;
 pub mod stats;
 // System calls: the only module of the runtime that may use unsafe.

@@ -5,10 +5,14 @@
 //! RPC, alarms and cyclic frames, byte for byte.
 
 use crate::config::Config;
+use crate::config::SimBehaviour;
 use crate::phy::Nic;
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
 use crate::phy::sim_link::LinkEnd;
 use crate::profinet::device_sim::{DeviceAction, SimDevice, SimDeviceSpec, SimSubmodule};
+
+/// A simulated device running one of the demo's behaviours.
+pub type DemoDevice = SimDevice<SimBehaviour>;
 use crate::profinet::wire::MacAddress;
 use crate::profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use crate::sys::clock::{now_ns, sleep_until_ns};
@@ -35,7 +39,7 @@ pub fn own_ip(d: usize) -> [u8; 4] {
 /// The simulated devices of `config`, named: those with a configured `ip` come without an
 /// address (the controller gives it to them by DCP, as to a new device), the others with one
 /// of their own ([`own_ip`]).
-pub fn devices(config: &Config) -> Vec<SimDevice> {
+pub fn devices(config: &Config) -> Vec<DemoDevice> {
     config
         .devices
         .iter()
@@ -61,7 +65,7 @@ pub fn devices(config: &Config) -> Vec<SimDevice> {
                         output_length: s.output_length,
                     })
                     .collect(),
-                behaviour: dev.sim,
+                application: dev.sim,
                 im0: Im0 {
                     vendor_id: dev.vendor_id,
                     order_id: blank_padded("PROCIMG-SIM").unwrap_or([b' '; 20]),
@@ -89,7 +93,7 @@ pub fn devices(config: &Config) -> Vec<SimDevice> {
 /// the scheduler may delay it by milliseconds: simulated devices want a larger
 /// `watchdog_factor` than real ones (the demo's is 100).
 pub fn spawn(
-    mut devices: Vec<SimDevice>,
+    mut devices: Vec<DemoDevice>,
     mut link: LinkEnd,
     udp: SimDatagramPeer,
     stop: Arc<AtomicBool>,
@@ -130,7 +134,7 @@ pub fn spawn(
         })
 }
 
-fn deliver(out: &mut Vec<DeviceAction>, d: &SimDevice, link: &mut LinkEnd, udp: &SimDatagramPeer) {
+fn deliver(out: &mut Vec<DeviceAction>, d: &DemoDevice, link: &mut LinkEnd, udp: &SimDatagramPeer) {
     for a in out.drain(..) {
         match a {
             DeviceAction::Frame(f) => {

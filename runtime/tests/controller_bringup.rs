@@ -25,7 +25,8 @@ use procimg_runtime::profinet::controller::plan::ControllerIdentity;
 use procimg_runtime::profinet::controller::{
     Action, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
-use procimg_runtime::profinet::device_sim::{DeviceAction, SimDevice};
+use procimg_runtime::profinet::device_sim::DeviceAction;
+use procimg_runtime::simnet::DemoDevice;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::SocketAddrV4;
 use std::sync::Arc;
@@ -36,7 +37,7 @@ const CYCLIC_KEPT: usize = 40;
 
 struct World {
     controller: Controller,
-    devices: Vec<SimDevice>,
+    devices: Vec<DemoDevice>,
     io: PnioIo,
     channel: Arc<Channel>,
     plant: sim_link::LinkEnd,

@@ -20,6 +20,7 @@ use procimg_runtime::config::SimBehaviour;
 use procimg_runtime::profinet::device_sim::{
     DeviceAction, SimDevice, SimDeviceSpec, SimDeviceState, SimSubmodule,
 };
+use procimg_runtime::simnet::DemoDevice;
 use procimg_testkit::fixtures::profinet_capture as capture;
 use procimg_testkit::udp::udp_frame;
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -37,7 +38,7 @@ fn rpc_capture(name: &str) -> Vec<u8> {
 }
 
 /// The p-net sample device of the captures: what the S7's Connect expects is plugged.
-fn device(drop_slot: Option<u16>) -> SimDevice {
+fn device(drop_slot: Option<u16>) -> DemoDevice {
     let payload = rpc_capture("cm/connect_req");
     let req = ConnectRequest::parse(Pdu::parse(&payload).unwrap().blocks).unwrap();
     let submodules = req
@@ -70,7 +71,7 @@ fn device(drop_slot: Option<u16>) -> SimDevice {
         device_id: 0x0002,
         instance: 1,
         submodules,
-        behaviour: SimBehaviour::Echo,
+        application: SimBehaviour::Echo,
         im0,
     })
 }

@@ -6,24 +6,51 @@
 use super::cm::pnio;
 use super::connect::refuse;
 use super::*;
-use crate::profinet::dcp_client;
-use crate::profinet::iocr_layout::{IocrLayout, SubmoduleIo};
-use crate::profinet::wire::PnioStatus;
-use crate::profinet::wire::alarm::AlarmAck;
-use crate::profinet::wire::connect::{
+use crate::dcp_client;
+use crate::iocr_layout::{IocrLayout, SubmoduleIo};
+use crate::test_fixtures::capture;
+use crate::wire::PnioStatus;
+use crate::wire::alarm::AlarmAck;
+use crate::wire::connect::{
     AlarmCrBlockReq, ArBlockReq, ConnectRequest, ConnectResponse, ExpectedModule,
     ExpectedSubmodule, ExpectedSubmoduleBlockReq, IdentInfo, IocrBlockReq, ModuleState,
 };
-use crate::profinet::wire::dcp::{self as wire_dcp, BlockRepr};
-use crate::profinet::wire::record::{IodHeader, IodKind, split_write_multiple_response};
-use crate::profinet::wire::rpc::{
+use crate::wire::dcp::{self as wire_dcp, BlockRepr};
+use crate::wire::record::{IodHeader, IodKind, split_write_multiple_response};
+use crate::wire::rpc::{
     CONTROLLER_INTERFACE, DEVICE_INTERFACE, NdrRequest, Pdu, RPC_PORT, flags1, object_uuid,
 };
-use crate::profinet::wire::rpc::{Ndr, opnum};
-use crate::profinet::wire::rt::{self, data_status};
-use crate::profinet::wire::rta_pdu::{ErrRta, RtaBody};
-use procimg_testkit::fixtures::profinet_capture as capture;
+use crate::wire::rpc::{Ndr, opnum};
+use crate::wire::rt::{self, data_status};
+use crate::wire::rta_pdu::{ErrRta, RtaBody};
 use std::net::Ipv4Addr;
+
+/// The applications these tests need: inputs left alone, the echo of the submodule's own
+/// outputs, or a big-endian u32 count of the frames produced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum TestApp {
+    None,
+    Echo,
+    Counter,
+}
+
+impl Application for TestApp {
+    fn fill_inputs(&mut self, k: u64, inputs: &mut [u8], own: &[u8], _: &[u8], _: bool) {
+        match self {
+            TestApp::None => {}
+            TestApp::Echo => {
+                let n = inputs.len().min(own.len());
+                inputs[..n].copy_from_slice(&own[..n]);
+            }
+            TestApp::Counter => {
+                let word = (k as u32).to_be_bytes();
+                for (i, b) in inputs.iter_mut().enumerate() {
+                    *b = word[i % 4];
+                }
+            }
+        }
+    }
+}
 
 /// The S7-1515 of the captures.
 const S7_MAC: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f]);
@@ -73,7 +100,7 @@ fn pnet_submodules() -> Vec<SimSubmodule> {
         .collect()
 }
 
-fn pnet_spec(behaviour: SimBehaviour) -> SimDeviceSpec {
+fn pnet_spec(behaviour: TestApp) -> SimDeviceSpec<TestApp> {
     SimDeviceSpec {
         name: "rt-labs-dev".into(),
         mac: PNET_MAC,
@@ -82,13 +109,13 @@ fn pnet_spec(behaviour: SimBehaviour) -> SimDeviceSpec {
         device_id: 0x0002,
         instance: 1,
         submodules: pnet_submodules(),
-        behaviour,
+        application: behaviour,
         im0: pnet_im0(),
     }
 }
 
 /// The p-net sample device, with the IP the S7 gives it.
-fn pnet_device(behaviour: SimBehaviour) -> SimDevice {
+fn pnet_device(behaviour: TestApp) -> SimDevice<TestApp> {
     let mut d = SimDevice::new(SimDeviceSpec {
         ip: Some(DEVICE_IP),
         ..pnet_spec(behaviour)
@@ -138,7 +165,7 @@ fn parse_reply(payload: &[u8]) -> Reply {
 }
 
 /// Sends `payload` from `from` to the RPC port; the one response.
-fn call_from(dev: &mut SimDevice, from: SocketAddrV4, payload: &[u8], now: u64) -> Reply {
+fn call_from(dev: &mut SimDevice<TestApp>, from: SocketAddrV4, payload: &[u8], now: u64) -> Reply {
     let mut out = Vec::new();
     dev.on_datagram(from, RPC_PORT, payload, now, &mut out);
     let d = datagrams(&out);
@@ -147,7 +174,7 @@ fn call_from(dev: &mut SimDevice, from: SocketAddrV4, payload: &[u8], now: u64) 
     parse_reply(&d[0].2)
 }
 
-fn call(dev: &mut SimDevice, payload: &[u8], now: u64) -> Reply {
+fn call(dev: &mut SimDevice<TestApp>, payload: &[u8], now: u64) -> Reply {
     call_from(dev, S7_CLIENT, payload, now)
 }
 
@@ -156,7 +183,7 @@ fn status(r: &Reply) -> PnioStatus {
 }
 
 /// Polls at every deadline up to `until`; everything sent.
-fn run_until(dev: &mut SimDevice, until: u64) -> Vec<(u64, DeviceAction)> {
+fn run_until(dev: &mut SimDevice<TestApp>, until: u64) -> Vec<(u64, DeviceAction)> {
     let mut all = Vec::new();
     while let Some(t) = dev.next_deadline_ns().filter(|t| *t <= until) {
         let mut out = Vec::new();
@@ -167,7 +194,7 @@ fn run_until(dev: &mut SimDevice, until: u64) -> Vec<(u64, DeviceAction)> {
 }
 
 /// The captured S7 requests up to PrmEnd, answered; the ApplicationReady the device sends.
-fn bring_up_to_app_ready(dev: &mut SimDevice) -> (Reply, u64) {
+fn bring_up_to_app_ready(dev: &mut SimDevice<TestApp>) -> (Reply, u64) {
     assert_eq!(
         status(&call(dev, &rpc_capture("cm/connect_req"), 0)),
         PnioStatus::OK
@@ -199,7 +226,7 @@ fn s7_app_ready_response(activity: Uuid) -> Vec<u8> {
 }
 
 /// The device in data exchange after the captured bring-up.
-fn pnet_in_data(behaviour: SimBehaviour) -> (SimDevice, u64) {
+fn pnet_in_data(behaviour: TestApp) -> (SimDevice<TestApp>, u64) {
     let mut dev = pnet_device(behaviour);
     let (app_ready, t) = bring_up_to_app_ready(&mut dev);
     let mut out = Vec::new();
@@ -223,7 +250,7 @@ fn patch_block(payload: &mut [u8], at: usize, bytes: &[u8]) {
 
 #[test]
 fn dcp_identify_and_set_ip_answer_like_pnet() {
-    let mut dev = SimDevice::new(pnet_spec(SimBehaviour::None));
+    let mut dev = SimDevice::new(pnet_spec(TestApp::None));
     dev.set_type_of_station("P-Net Sample Application");
     let req = wire_dcp::Repr::identify_by_name(0x0300_012c, 1, "rt-labs-dev");
     let frame = dcp_client::frame(MacAddress::DCP_IDENTIFY, S7_MAC, &req).unwrap();
@@ -279,7 +306,7 @@ fn parse_dcp(frame: &[u8]) -> wire_dcp::Repr {
 
 #[test]
 fn dcp_filters_delay_get_set_name_and_signal() {
-    let mut dev = pnet_device(SimBehaviour::None);
+    let mut dev = pnet_device(TestApp::None);
     let mut out = Vec::new();
     // Another name: no answer.
     let other = wire_dcp::Repr::identify_by_name(1, 1, "someone-else");
@@ -352,7 +379,7 @@ fn dcp_filters_delay_get_set_name_and_signal() {
 
 #[test]
 fn captured_s7_bring_up_gets_pnets_answers() {
-    let mut dev = SimDevice::new(pnet_spec(SimBehaviour::Echo));
+    let mut dev = SimDevice::new(pnet_spec(TestApp::Echo));
     dev.set_type_of_station("P-Net Sample Application");
     let mut out = Vec::new();
     // No IP yet: no RPC endpoint.
@@ -551,8 +578,8 @@ fn big_endian_connect_gets_the_same_blocks_in_big_endian() {
     .to_vec()
     .unwrap();
     assert_ne!(be, le);
-    let mut a = pnet_device(SimBehaviour::None);
-    let mut b = pnet_device(SimBehaviour::None);
+    let mut a = pnet_device(TestApp::None);
+    let mut b = pnet_device(TestApp::None);
     let ra = call(&mut a, &le, 0);
     let rb = call(&mut b, &be, 0);
     assert!(ra.header.little_endian);
@@ -570,7 +597,7 @@ fn big_endian_connect_gets_the_same_blocks_in_big_endian() {
     let mut pnet = rpc_capture("cm/connect_res");
     let d = {
         let mut out = Vec::new();
-        let mut c = pnet_device(SimBehaviour::None);
+        let mut c = pnet_device(TestApp::None);
         c.on_datagram(S7_CLIENT, RPC_PORT, &be, 0, &mut out);
         datagrams(&out).remove(0).2
     };
@@ -580,7 +607,7 @@ fn big_endian_connect_gets_the_same_blocks_in_big_endian() {
 
 #[test]
 fn wrong_and_missing_submodules_give_a_module_diff_block() {
-    let mut spec = pnet_spec(SimBehaviour::Echo);
+    let mut spec = pnet_spec(TestApp::Echo);
     spec.ip = Some(DEVICE_IP);
     // Slot 3 empty, slot 4 with another submodule.
     spec.submodules.retain(|s| s.slot != 3);
@@ -616,9 +643,9 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
     let mut out = Vec::new();
     dev.poll(MS + APP_READY_DELAY_NS, &mut out);
     let app = parse_reply(&datagrams(&out)[0].2);
-    let control_len = crate::profinet::wire::control::BLOCK_LEN;
+    let control_len = crate::wire::control::BLOCK_LEN;
     assert_eq!(
-        crate::profinet::wire::connect::ModuleDiffBlock::parse(&app.blocks[control_len..]).unwrap(),
+        crate::wire::connect::ModuleDiffBlock::parse(&app.blocks[control_len..]).unwrap(),
         diff
     );
     // In data exchange the wrong submodule's status stays BAD.
@@ -731,7 +758,7 @@ const ACTIVITY: Uuid = Uuid::from_fields(0xaaaa_0001, 1, 0x4000, [8, 7, 6, 5, 4,
 const AR_UUID: Uuid = Uuid::from_fields(0x1234_5678, 0x9abc, 0x4def, [1, 2, 3, 4, 5, 6, 7, 8]);
 
 /// A counter device: DAP and 4 bytes in, 2 bytes out.
-fn counter_device() -> (SimDevice, ConnectRequest) {
+fn counter_device() -> (SimDevice<TestApp>, ConnectRequest) {
     let subs = [
         (0, 1, 0x1, 0x1, 0, 0),
         (1, 1, 0x30, 0x1, 4, 0),
@@ -756,7 +783,7 @@ fn counter_device() -> (SimDevice, ConnectRequest) {
                 output_length: o,
             })
             .collect(),
-        behaviour: SimBehaviour::Counter,
+        application: TestApp::Counter,
         im0: Im0::default(),
     });
     // 1 ms send clock, reduction ratio 2: a frame every 2 ms; data hold factor 3: 6 ms.
@@ -764,7 +791,7 @@ fn counter_device() -> (SimDevice, ConnectRequest) {
 }
 
 /// Connect, PrmEnd and the ApplicationReady answered with our codecs, at `t0`.
-fn to_data(dev: &mut SimDevice, connect: &ConnectRequest, t0: u64) -> u64 {
+fn to_data(dev: &mut SimDevice<TestApp>, connect: &ConnectRequest, t0: u64) -> u64 {
     let r = call(
         dev,
         &request(
@@ -931,7 +958,7 @@ fn cyclic_frames_keep_period_offsets_and_counters_and_the_watchdog_aborts() {
 fn negative_responses_name_the_fault() {
     let connect = rpc_capture("cm/connect_req");
     let faulty = |patch: &dyn Fn(&mut Vec<u8>)| {
-        let mut dev = pnet_device(SimBehaviour::None);
+        let mut dev = pnet_device(TestApp::None);
         let mut p = connect.clone();
         patch(&mut p);
         let r = call(&mut dev, &p, 0);
@@ -973,7 +1000,7 @@ fn negative_responses_name_the_fault() {
     assert_eq!(faulty(&unknown), refuse(0x40, 1));
 
     // With an AR: another AR is refused, the same AR re-run ends it.
-    let mut dev = pnet_device(SimBehaviour::None);
+    let mut dev = pnet_device(TestApp::None);
     call(&mut dev, &connect, 0);
     let mut other = connect.clone();
     patch_block(&mut other, 8, &[0xff]);
@@ -990,7 +1017,7 @@ fn negative_responses_name_the_fault() {
     assert_eq!(dev.last_abort(), Some(AbortCode::RerunAbortsExisting));
 
     // PrmEnd with a wrong session key, and for an unknown AR.
-    let mut dev = pnet_device(SimBehaviour::None);
+    let mut dev = pnet_device(TestApp::None);
     call(&mut dev, &connect, 0);
     // (Each call a new sequence number: a CL server answers an old one from its cache or
     // not at all.)
@@ -1027,7 +1054,7 @@ fn negative_responses_name_the_fault() {
 
 #[test]
 fn records_read_im0_and_written_data_and_refuse_the_rest() {
-    let (mut dev, _) = pnet_in_data(SimBehaviour::None);
+    let (mut dev, _) = pnet_in_data(TestApp::None);
     let ar_uuid = dev.ar_uuid().unwrap();
     // The captured I&M0 read (another AR's UUID in the capture: patched to ours). Its
     // response is p-net's byte for byte in the blocks.
@@ -1040,7 +1067,7 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
     assert_eq!(ours.blocks, expected);
     assert_eq!(status(&ours), PnioStatus::OK);
 
-    let read = |dev: &mut SimDevice, seq: u32, slot: u16, subslot: u16, index: u16| {
+    let read = |dev: &mut SimDevice<TestApp>, seq: u32, slot: u16, subslot: u16, index: u16| {
         let h = IodHeader::read_request(0, ar_uuid, 0, slot, subslot, index, 4096);
         call(
             dev,
@@ -1066,7 +1093,7 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
         PnioStatus::from_bytes([0xde, 0x80, 0xb2, 0x00])
     );
     // A write to I&M0 is denied; to an unknown index refused.
-    let write = |dev: &mut SimDevice, seq: u32, index: u16| {
+    let write = |dev: &mut SimDevice<TestApp>, seq: u32, index: u16| {
         let h = IodHeader::write_request(0, ar_uuid, 0, 0, 1, index, 2);
         let mut b = h.to_bytes().to_vec();
         b.extend_from_slice(&[1, 2]);
@@ -1103,7 +1130,7 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
 fn split_write_multiple_written(index: u16) -> Vec<u8> {
     let blocks = captured_blocks("cm/write_req");
     let (_, data, _) = IodHeader::split(&blocks).unwrap();
-    crate::profinet::wire::record::split_write_multiple(data)
+    crate::wire::record::split_write_multiple(data)
         .unwrap()
         .into_iter()
         .find(|(h, _)| h.index == index)
@@ -1113,7 +1140,7 @@ fn split_write_multiple_written(index: u16) -> Vec<u8> {
 
 #[test]
 fn duplicates_pings_and_fragments() {
-    let mut dev = pnet_device(SimBehaviour::None);
+    let mut dev = pnet_device(TestApp::None);
     let connect = rpc_capture("cm/connect_req");
     let mut out = Vec::new();
     dev.on_datagram(S7_CLIENT, RPC_PORT, &connect, 0, &mut out);
@@ -1146,7 +1173,7 @@ fn duplicates_pings_and_fragments() {
     );
 
     // The Connect in two fragments: a FACK for the first, the same answer after the second.
-    let mut fresh = pnet_device(SimBehaviour::None);
+    let mut fresh = pnet_device(TestApp::None);
     let h = parse_reply(&connect).header;
     let body = &connect[80..];
     let (a, b) = body.split_at(300);
@@ -1176,7 +1203,7 @@ fn duplicates_pings_and_fragments() {
 
 #[test]
 fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
-    let (mut dev, t) = pnet_in_data(SimBehaviour::None);
+    let (mut dev, t) = pnet_in_data(TestApp::None);
     let mut out = Vec::new();
     // A process alarm goes out as high-priority DATA with TACK.
     assert!(dev.raise_process_alarm(0, 1, 1, 0x0010, &[1], t, &mut out));
@@ -1256,7 +1283,7 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
 /// here, the device's own limit).
 #[test]
 fn a_process_alarm_longer_than_max_alarm_data_length_is_refused() {
-    let (mut dev, t) = pnet_in_data(SimBehaviour::None);
+    let (mut dev, t) = pnet_in_data(TestApp::None);
     let mut out = Vec::new();
     // Block header 6, fixed part 20, USI 2: 172 bytes of data make 200.
     assert!(!dev.raise_process_alarm(0, 1, 1, 0x0010, &[0xa5; 5000], t, &mut out));
@@ -1271,7 +1298,7 @@ fn a_process_alarm_longer_than_max_alarm_data_length_is_refused() {
 
 #[test]
 fn an_unanswered_application_ready_is_repeated_then_the_ar_aborted() {
-    let mut dev = pnet_device(SimBehaviour::None);
+    let mut dev = pnet_device(TestApp::None);
     let (app, t) = bring_up_to_app_ready(&mut dev);
     let sent = run_until(&mut dev, t + 10_000 * MS);
     let repeats: Vec<u64> = sent
@@ -1302,7 +1329,7 @@ fn ndr_request_helper_matches_the_s7_shape() {
 
 #[test]
 fn a_station_name_change_by_dcp_ends_the_ar() {
-    let (mut dev, t) = pnet_in_data(SimBehaviour::None);
+    let (mut dev, t) = pnet_in_data(TestApp::None);
     let mut out = Vec::new();
     let set = wire_dcp::Repr::set_name(9, "renamed", false);
     dev.on_frame(
@@ -1320,7 +1347,7 @@ fn legacy_startup_with_frame_ids_left_to_the_device() {
     let (mut dev, mut connect) = counter_device();
     connect.ar.ar_properties = 0x0000_0011;
     for c in &mut connect.iocrs {
-        c.iocr_properties = crate::profinet::wire::connect::iocr_properties::RT_CLASS_1;
+        c.iocr_properties = crate::wire::connect::iocr_properties::RT_CLASS_1;
         c.frame_id = 0xffff;
     }
     let r = call(

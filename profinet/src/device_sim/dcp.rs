@@ -4,10 +4,8 @@
 //! and NameOfStation, Signal, start/stop transaction and reset to factory.
 
 use super::{DeviceAction, ethernet_frame};
-use crate::profinet::wire::MacAddress;
-use crate::profinet::wire::dcp::{
-    self, Block, BlockRepr, ServiceId, ServiceType, block_error, code,
-};
+use crate::wire::MacAddress;
+use crate::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType, block_error, code};
 
 /// DeviceRole bit 0: IO device.
 const ROLE_IO_DEVICE: u8 = 0x01;

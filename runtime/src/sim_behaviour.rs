@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! How a simulated device computes its inputs: the byte logic behind [`SimBehaviour`].
+//! How the demo's simulated devices compute their inputs: the byte logic behind
+//! [`SimBehaviour`], the application the protocol crate's device engine runs.
 //!
 //! * **echo**: a submodule's inputs are its own last outputs (the first `min(in, out)` bytes);
 //! * **counter**: every 4 input bytes hold the count `k` as a big-endian u32;
@@ -11,6 +12,7 @@
 //! `k` counts the device's produced frames. Nothing here allocates.
 
 use crate::config::SimBehaviour;
+use procimg_profinet::device_sim::Application;
 
 /// Counts per position of the digital-io walking bit.
 pub const WALKING_BIT_PERIOD: u64 = 100;
@@ -52,6 +54,19 @@ pub fn fill_inputs(
                 };
             }
         }
+    }
+}
+
+impl Application for SimBehaviour {
+    fn fill_inputs(
+        &mut self,
+        k: u64,
+        inputs: &mut [u8],
+        own_outputs: &[u8],
+        device_outputs: &[u8],
+        last: bool,
+    ) {
+        fill_inputs(*self, k, inputs, own_outputs, device_outputs, last);
     }
 }
 

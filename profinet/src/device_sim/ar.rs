@@ -7,14 +7,13 @@ use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, MAX_ALARM_DATA_LENGT
 use super::cyclic::{Consumer, Provider};
 use super::records::Records;
 use super::rpc::ClientCall;
-use super::{DeviceAction, SimDeviceState, behaviour, ethernet_frame};
-use crate::config::SimBehaviour;
-use crate::profinet::rta::{RtaChannel, RtaEvent};
-use crate::profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority};
-use crate::profinet::wire::connect::{IocrBlockReq, IocrEntry, ModuleDiffBlock};
-use crate::profinet::wire::rt::data_status;
-use crate::profinet::wire::rta_pdu::{AbortCode, RtaBody, RtaPdu};
-use crate::profinet::wire::{MacAddress, Uuid};
+use super::{Application, DeviceAction, SimDeviceState, ethernet_frame};
+use crate::rta::{RtaChannel, RtaEvent};
+use crate::wire::alarm::{AlarmAck, AlarmBlock, Priority};
+use crate::wire::connect::{IocrBlockReq, IocrEntry, ModuleDiffBlock};
+use crate::wire::rt::data_status;
+use crate::wire::rta_pdu::{AbortCode, RtaBody, RtaPdu};
+use crate::wire::{MacAddress, Uuid};
 use std::net::SocketAddrV4;
 
 /// IOxS GOOD.
@@ -195,7 +194,7 @@ impl Ar {
     /// Produces the inputs for count `k` and the next input CR frame.
     pub(super) fn produce(
         &mut self,
-        behaviour: SimBehaviour,
+        app: &mut impl Application,
         k: u64,
         src: MacAddress,
         cycle_counter: u16,
@@ -219,8 +218,7 @@ impl Ar {
             let own = &self.device_outputs[at..at + s.outputs.len()];
             at += s.outputs.len();
             if s.proper {
-                behaviour::fill_inputs(
-                    behaviour,
+                app.fill_inputs(
                     k,
                     &mut s.inputs,
                     own,

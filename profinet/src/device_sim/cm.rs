@@ -6,14 +6,14 @@
 use super::ar::Ar;
 use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
 use super::{
-    APP_READY_DELAY_NS, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, SimDevice, SimDeviceState,
-    records, rpc,
+    APP_READY_DELAY_NS, Application, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, SimDevice,
+    SimDeviceState, records, rpc,
 };
-use crate::profinet::wire::PnioStatus;
-use crate::profinet::wire::control::{self, ControlBlock};
-use crate::profinet::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
-use crate::profinet::wire::rpc::{self as wire_rpc, Header, Ndr, PacketType, opnum};
-use crate::profinet::wire::rta_pdu::AbortCode;
+use crate::wire::PnioStatus;
+use crate::wire::control::{self, ControlBlock};
+use crate::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
+use crate::wire::rpc::{self as wire_rpc, Header, Ndr, PacketType, opnum};
+use crate::wire::rta_pdu::AbortCode;
 use std::net::SocketAddrV4;
 
 /// ErrorCodes of the RPC services.
@@ -37,7 +37,7 @@ pub(super) const fn pnio(error_code: u8, c1: u8, c2: u8) -> PnioStatus {
     }
 }
 
-impl SimDevice {
+impl<A: Application> SimDevice<A> {
     /// Executes a whole request and answers it.
     pub(super) fn call(
         &mut self,

@@ -8,18 +8,18 @@
 //! field 0, as ErrorCode2; or `DB 81 40 xx` (CMRPC) for a request that does not hold together
 //! (unknown blocks, missing IOCRs, wrong block count, ArgsLength).
 //!
-//! [`ConnectRequest::parse`]: crate::profinet::wire::connect::ConnectRequest::parse
+//! [`ConnectRequest::parse`]: crate::wire::connect::ConnectRequest::parse
 
 use super::SimSubmodule;
-use crate::profinet::wire::common::{BLOCK_HEADER_LEN, blocks};
-use crate::profinet::wire::connect::{
+use crate::wire::common::{BLOCK_HEADER_LEN, blocks};
+use crate::wire::connect::{
     AlarmCrBlockReq, AlarmCrBlockRes, ArBlockReq, ArBlockRes, ArServerBlock, ExpectedSubmodule,
     ExpectedSubmoduleBlockReq, IocrBlockReq, IocrBlockRes, ModuleDiffApi, ModuleDiffBlock,
     ModuleDiffModule, ModuleDiffSubmodule, ModuleState, SubmoduleState, ar_properties, block_type,
     iocr_properties, iocr_type, submodule,
 };
-use crate::profinet::wire::rpc::{RPC_PORT, object_uuid_parts};
-use crate::profinet::wire::{BlockHeader, MacAddress, PnioStatus, rt};
+use crate::wire::rpc::{RPC_PORT, object_uuid_parts};
+use crate::wire::{BlockHeader, MacAddress, PnioStatus, rt};
 
 /// ErrorCode of a Connect response.
 pub(super) const ERROR_CODE_CONNECT: u8 = 0xdb;

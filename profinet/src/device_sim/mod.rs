@@ -11,7 +11,7 @@
 //! ApplicationReady CControl to the controller and retransmits it until answered, produces
 //! the input CR and consumes the output CR at the offsets the controller chose, supervises
 //! the output CR with the data hold watchdog, and acknowledges alarms on both RTA channels.
-//! Its inputs come from its [`SimBehaviour`] ([`behaviour`]).
+//! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
 //! No socket and no clock inside: feed it every Ethernet frame on the link
 //! ([`SimDevice::on_frame`]), every UDP datagram to its IP ([`SimDevice::on_datagram`]) and
@@ -34,8 +34,8 @@
 //! watchdog starts with the first valid output frame, at the latest when data exchange
 //! begins.
 
+mod application;
 mod ar;
-pub mod behaviour;
 mod cm;
 mod connect;
 mod cyclic;
@@ -45,23 +45,23 @@ mod rpc;
 #[cfg(test)]
 mod tests;
 
-use crate::config::SimBehaviour;
-use crate::profinet::wire::alarm::{
+use crate::wire::alarm::{
     AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType, Priority,
 };
-use crate::profinet::wire::control::ControlBlock;
-use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
-use crate::profinet::wire::record::Im0;
-use crate::profinet::wire::rpc::{self as wire_rpc, Header, PacketType};
-use crate::profinet::wire::rt::FrameIdClass;
-use crate::profinet::wire::rta_pdu::{self, AbortCode, RtaPdu};
-use crate::profinet::wire::{MacAddress, Uuid};
+use crate::wire::control::ControlBlock;
+use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
+use crate::wire::record::Im0;
+use crate::wire::rpc::{self as wire_rpc, Header, PacketType};
+use crate::wire::rt::FrameIdClass;
+use crate::wire::rta_pdu::{self, AbortCode, RtaPdu};
+use crate::wire::{MacAddress, Uuid};
+pub use application::Application;
 use ar::Ar;
 use std::net::SocketAddrV4;
 
 /// What the simulated device is and what is plugged into it.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct SimDeviceSpec {
+pub struct SimDeviceSpec<A> {
     /// NameOfStation at start (DCP may change it).
     pub name: String,
     /// The device's MAC address.
@@ -76,8 +76,8 @@ pub struct SimDeviceSpec {
     pub instance: u16,
     /// The submodules really plugged.
     pub submodules: Vec<SimSubmodule>,
-    /// How the inputs follow the outputs.
-    pub behaviour: SimBehaviour,
+    /// What fills its inputs.
+    pub application: A,
     /// The I&M0 record (index 0xAFF0) of every submodule.
     pub im0: Im0,
 }
@@ -161,10 +161,10 @@ fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]
 }
 
 /// A simulated PROFINET IO device.
-pub struct SimDevice {
+pub struct SimDevice<A> {
     id: dcp::Identity,
     submodules: Vec<SimSubmodule>,
-    behaviour: SimBehaviour,
+    app: A,
     im0: Im0,
     dcp: dcp::Responder,
     rpc: rpc::Server,
@@ -176,9 +176,9 @@ pub struct SimDevice {
     acks: Vec<AlarmAck>,
 }
 
-impl SimDevice {
+impl<A: Application> SimDevice<A> {
     /// A device as `spec` describes it, without an AR.
-    pub fn new(spec: SimDeviceSpec) -> SimDevice {
+    pub fn new(spec: SimDeviceSpec<A>) -> SimDevice<A> {
         let ip = spec.ip.unwrap_or([0; 4]);
         let mask = if ip == [0; 4] {
             [0; 4]
@@ -198,7 +198,7 @@ impl SimDevice {
                 type_of_station: "procimg simulated device".into(),
             },
             submodules: spec.submodules,
-            behaviour: spec.behaviour,
+            app: spec.application,
             im0: spec.im0,
             dcp: dcp::Responder::default(),
             rpc: rpc::Server::default(),
@@ -472,7 +472,7 @@ impl SimDevice {
         if let Some(cc) = ar.provider.take_due(now_ns) {
             let k = self.frames_produced;
             self.frames_produced += 1;
-            out.push(DeviceAction::Frame(ar.produce(self.behaviour, k, mac, cc)));
+            out.push(DeviceAction::Frame(ar.produce(&mut self.app, k, mac, cc)));
         }
     }
 

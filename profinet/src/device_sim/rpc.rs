@@ -11,11 +11,9 @@
 //! again) or none (no-call).
 
 use super::DeviceAction;
-use crate::profinet::wire::control::ControlBlock;
-use crate::profinet::wire::rpc::{
-    self, Header, MAX_PDU_LEN, NDR_LEN, Ndr, NdrResponse, PacketType, flags1,
-};
-use crate::profinet::wire::{PnioStatus, Uuid};
+use crate::wire::control::ControlBlock;
+use crate::wire::rpc::{self, Header, MAX_PDU_LEN, NDR_LEN, Ndr, NdrResponse, PacketType, flags1};
+use crate::wire::{PnioStatus, Uuid};
 use std::collections::{BTreeMap, VecDeque};
 use std::net::SocketAddrV4;
 

@@ -9,9 +9,9 @@
 //! newer than the last one; only such frames reload its watchdog (as p-net does).
 
 use super::ethernet_frame;
-use crate::profinet::wire::MacAddress;
-use crate::profinet::wire::connect::IocrBlockReq;
-use crate::profinet::wire::rt::{self, cycle_counter_is_newer};
+use crate::wire::MacAddress;
+use crate::wire::connect::IocrBlockReq;
+use crate::wire::rt::{self, cycle_counter_is_newer};
 
 /// The CycleCounter unit.
 const CYCLE_UNIT_NS: u64 = 31_250;

@@ -11,12 +11,12 @@
 
 use super::SimSubmodule;
 use super::connect::{CMRPC, CMRPC_AR_UUID_UNKNOWN, CMRPC_ARGS_LENGTH, CMRPC_UNKNOWN_BLOCKS};
-use crate::profinet::wire::record::Im0;
-use crate::profinet::wire::record::{
+use crate::wire::record::Im0;
+use crate::wire::record::{
     ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, IodHeader, IodKind, RecordError, RecordErrorCode,
     split_write_multiple,
 };
-use crate::profinet::wire::{PnioStatus, Uuid};
+use crate::wire::{PnioStatus, Uuid};
 use std::collections::HashMap;
 
 /// (API, slot, subslot, index) of a record.
