@@ -16,6 +16,11 @@
 
 use crate::ops::{Reader, Writer};
 use crate::wire_check;
+use procimg_profinet::controller::plan::ControllerIdentity;
+use procimg_profinet::controller::{
+    Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
+};
+use procimg_profinet::device_sim::DeviceAction;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rt::FrameIdClass;
@@ -26,11 +31,6 @@ use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
-use procimg_runtime::profinet::controller::plan::ControllerIdentity;
-use procimg_runtime::profinet::controller::{
-    Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
-};
-use procimg_runtime::profinet::device_sim::DeviceAction;
 use procimg_runtime::simnet;
 use procimg_runtime::simnet::DemoDevice;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};

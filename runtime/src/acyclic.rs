@@ -6,10 +6,10 @@
 use crate::cycle::Shared;
 use crate::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use crate::phy::datagram::Datagrams;
-use crate::profinet::controller::{
+use crate::sys::clock::now_ns;
+use procimg_profinet::controller::{
     Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
 };
-use crate::sys::clock::now_ns;
 use procimg_shm_layout::Mode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, AtomicU64, Ordering};

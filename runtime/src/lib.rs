@@ -19,7 +19,6 @@ pub mod image;
 pub mod io;
 pub mod network;
 pub mod phy;
-pub mod profinet;
 pub mod server;
 pub mod shm;
 pub mod sim_behaviour;

@@ -13,11 +13,11 @@ use crate::phy::Nic;
 use crate::phy::af_packet::{AfPacket, OpenError};
 use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
 use crate::phy::sim_link;
-use crate::profinet::controller::plan::{
+use procimg_profinet::controller::plan::{
     ControllerIdentity, DevicePlan, DeviceSpec, PlanError, SubmoduleSpec,
 };
-use crate::profinet::controller::{Controller, DeviceEvent};
-use crate::profinet::wire::MacAddress;
+use procimg_profinet::controller::{Controller, DeviceEvent};
+use procimg_profinet::wire::MacAddress;
 use std::net::Ipv4Addr;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;

@@ -9,13 +9,13 @@ use crate::config::SimBehaviour;
 use crate::phy::Nic;
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
 use crate::phy::sim_link::LinkEnd;
-use crate::profinet::device_sim::{DeviceAction, SimDevice, SimDeviceSpec, SimSubmodule};
+use procimg_profinet::device_sim::{DeviceAction, SimDevice, SimDeviceSpec, SimSubmodule};
 
 /// A simulated device running one of the demo's behaviours.
 pub type DemoDevice = SimDevice<SimBehaviour>;
-use crate::profinet::wire::MacAddress;
-use crate::profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use crate::sys::clock::{now_ns, sleep_until_ns};
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use std::net::SocketAddrV4;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -10,6 +10,9 @@
 //! and datagram that crossed the simulated network, in both directions, must dissect clean in
 //! Wireshark.
 
+use procimg_profinet::controller::plan::ControllerIdentity;
+use procimg_profinet::controller::{Action, Controller, DeviceEvent, DeviceState, RecordRequest};
+use procimg_profinet::device_sim::DeviceAction;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
 use procimg_profinet::wire::record::Im0;
@@ -21,11 +24,6 @@ use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
-use procimg_runtime::profinet::controller::plan::ControllerIdentity;
-use procimg_runtime::profinet::controller::{
-    Action, Controller, DeviceEvent, DeviceState, RecordRequest,
-};
-use procimg_runtime::profinet::device_sim::DeviceAction;
 use procimg_runtime::simnet::DemoDevice;
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::SocketAddrV4;

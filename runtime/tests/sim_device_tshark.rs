@@ -8,6 +8,9 @@
 //! of the `pnio` crate 0.1.0, MIT OR Apache-2.0) and requests built with our codecs.
 
 use procimg_profinet::dcp_client;
+use procimg_profinet::device_sim::{
+    DeviceAction, SimDevice, SimDeviceSpec, SimDeviceState, SimSubmodule,
+};
 use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use procimg_profinet::wire::connect::ConnectRequest;
 use procimg_profinet::wire::control::ControlBlock;
@@ -17,9 +20,6 @@ use procimg_profinet::wire::rpc::{self, Header, PacketType, Pdu, flags1, opnum};
 use procimg_profinet::wire::rta_pdu::RtaPdu;
 use procimg_profinet::wire::{MacAddress, PnioStatus, ethernet};
 use procimg_runtime::config::SimBehaviour;
-use procimg_runtime::profinet::device_sim::{
-    DeviceAction, SimDevice, SimDeviceSpec, SimDeviceState, SimSubmodule,
-};
 use procimg_runtime::simnet::DemoDevice;
 use procimg_testkit::fixtures::profinet_capture as capture;
 use procimg_testkit::udp::udp_frame;

@@ -3,9 +3,9 @@
 //! kernel to PROFINET frames.
 
 use super::Nic;
-use crate::profinet::wire::MacAddress;
 use crate::sys::packet_socket::open_profinet_socket;
 use pnet_datalink::{Channel, ChannelType, Config, DataLinkReceiver, DataLinkSender};
+use procimg_profinet::wire::MacAddress;
 use std::time::Duration;
 
 /// Why an interface could not be opened.

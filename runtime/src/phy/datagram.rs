@@ -2,7 +2,7 @@
 //! UDP for the PROFINET connection services (port 34964): a real socket, or an in-process
 //! network for the simulated devices. The acyclic side uses it; the cycle thread never does.
 
-use crate::profinet::wire::rpc::RPC_PORT;
+use procimg_profinet::wire::rpc::RPC_PORT;
 use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
 use std::time::Duration;

@@ -11,7 +11,7 @@ pub mod interfaces;
 pub mod replay;
 pub mod sim_link;
 
-use crate::profinet::wire::MacAddress;
+use procimg_profinet::wire::MacAddress;
 
 /// Largest frame handled (a full-size frame with one VLAN tag, without FCS).
 pub const MAX_FRAME: usize = 1518;

@@ -39,8 +39,6 @@
 
 use super::{Nic, check_frame_len};
 use crate::phy::capture::CaptureError;
-use crate::profinet::wire::MacAddress;
-use crate::profinet::wire::ethernet::{ETHERTYPE_PROFINET, TPID_VLAN};
 use pcap_file::pcap::{PcapHeader, PcapPacket, PcapParser, PcapWriter};
 use pcap_file::pcapng::PcapNgParser;
 use pcap_file::pcapng::blocks::interface_description::{
@@ -48,6 +46,8 @@ use pcap_file::pcapng::blocks::interface_description::{
 };
 use pcap_file::pcapng::blocks::{ENHANCED_PACKET_BLOCK, PACKET_BLOCK, SIMPLE_PACKET_BLOCK};
 use pcap_file::{DataLink, Endianness, PcapError, TsResolution};
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::ethernet::{ETHERTYPE_PROFINET, TPID_VLAN};
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -3,8 +3,8 @@
 //! what one end sends, the other receives. Bounded, lock-free, allocation-free per frame.
 
 use super::{MAX_FRAME, Nic, check_frame_len};
-use crate::profinet::wire::MacAddress;
 use crossbeam_queue::ArrayQueue;
+use procimg_profinet::wire::MacAddress;
 use std::sync::Arc;
 
 /// Frames in flight per direction; more are dropped, as a real link drops under overload.

@@ -10,15 +10,15 @@
 //! hung client cannot hold back a device's alarms for good.
 
 use crate::acyclic::ControllerCommand;
-use crate::profinet::controller::{
-    self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
-};
-use crate::profinet::wire::PnioStatus;
-use crate::profinet::wire::alarm::{AlarmNotification, Priority};
 use crate::shm::Ipc;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::prelude::EventId;
+use procimg_profinet::controller::{
+    self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
+};
+use procimg_profinet::wire::PnioStatus;
+use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
 use procimg_shm_layout::control::{self, Refusal, SubscriberReport};
 use procimg_shm_layout::services::{
     ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, EVENT_NOTIFICATIONS,

@@ -17,10 +17,10 @@ use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::{Channel, ToCycle};
 use crate::io::{CycleTime, IoSystem};
 use crate::phy::{Nic, sim_link};
-use crate::profinet::controller::plan::ControllerIdentity;
-use crate::profinet::controller::{Action, Controller, DeviceState};
-use crate::profinet::wire::rpc::{self, Pdu};
-use crate::profinet::wire::{MacAddress, Uuid};
+use procimg_profinet::controller::plan::ControllerIdentity;
+use procimg_profinet::controller::{Action, Controller, DeviceState};
+use procimg_profinet::wire::rpc::{self, Pdu};
+use procimg_profinet::wire::{MacAddress, Uuid};
 use procimg_shm_layout::{IOXS_GOOD, Mode, SubmoduleStatus};
 use procimg_testkit::fixtures::profinet_capture as capture;
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -217,8 +217,8 @@ fn the_controller_brings_up_the_pnet_sample_as_the_s7_did() {
     let ours = Pdu::parse(&connect).unwrap();
     let captured = udp_payload(&capture("cm/connect_req"));
     let theirs = Pdu::parse(&captured).unwrap();
-    let ours_req = crate::profinet::wire::connect::ConnectRequest::parse(ours.blocks).unwrap();
-    let theirs_req = crate::profinet::wire::connect::ConnectRequest::parse(theirs.blocks).unwrap();
+    let ours_req = procimg_profinet::wire::connect::ConnectRequest::parse(ours.blocks).unwrap();
+    let theirs_req = procimg_profinet::wire::connect::ConnectRequest::parse(theirs.blocks).unwrap();
     let masks = Masks {
         activity: (theirs.header.activity, ours.header.activity),
         ar: (theirs_req.ar.ar_uuid, ours_req.ar.ar_uuid),
@@ -309,7 +309,7 @@ fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
     let ticket = out
         .iter()
         .find_map(|a| match a {
-            Action::Event(crate::profinet::controller::DeviceEvent::Alarm {
+            Action::Event(procimg_profinet::controller::DeviceEvent::Alarm {
                 notification,
                 ticket,
                 ..
@@ -344,7 +344,7 @@ fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
 /// captured frame lands in the image.
 fn cyclic_frames_equal_the_captures(
     config: &config::Config,
-    ar: Box<crate::profinet::controller::cyclic::CyclicAr>,
+    ar: Box<procimg_profinet::controller::cyclic::CyclicAr>,
 ) {
     let tables = Tables::from_config(config).unwrap();
     let mut image = Image::new(&tables);

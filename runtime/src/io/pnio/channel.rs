@@ -7,8 +7,8 @@
 //! the cycle thread no longer needs go back to the acyclic side to be dropped there.
 
 use crate::phy::MAX_FRAME;
-use crate::profinet::controller::cyclic::CyclicAr;
 use crossbeam_queue::ArrayQueue;
+use procimg_profinet::controller::cyclic::CyclicAr;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Frame buffers in circulation.

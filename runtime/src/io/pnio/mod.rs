@@ -15,10 +15,10 @@ pub mod channel;
 use super::{CycleTime, IoSystem};
 use crate::image::Image;
 use crate::phy::{MAX_FRAME, Nic};
-use crate::profinet::controller::cyclic::CyclicAr;
-use crate::profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use crate::profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
 use channel::{Channel, FromCycle, NetCounters, ToCycle};
+use procimg_profinet::controller::cyclic::CyclicAr;
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
 use std::sync::Arc;
 
