@@ -13,7 +13,13 @@
 //!
 //! with the C_SDU padded to at least 40 bytes.
 
-use super::wire::rt::{MAX_DATA_LENGTH, MIN_DATA_LENGTH};
+use crate::wire::connect::{ConnectRequest, ExpectedSubmoduleBlockReq};
+use crate::wire::connect::{
+    FRAME_SEND_OFFSET_BEST_EFFORT, IocrApi, IocrBlockReq, IocrEntry, LT_PROFINET,
+    TAG_HEADER_PRIO_6, iocr_properties,
+};
+use crate::wire::rt::{MAX_DATA_LENGTH, MIN_DATA_LENGTH};
+use crate::wire::{Error, MacAddress};
 
 /// One submodule as the layout needs it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -153,6 +159,103 @@ impl IocrLayout {
         input.data_length = at_in.max(MIN_DATA_LENGTH) as u16;
         output.data_length = at_out.max(MIN_DATA_LENGTH) as u16;
         Ok(IocrLayout { input, output })
+    }
+}
+
+/// The IOCRBlockReq of a CR layout.
+impl IocrBlockReq {
+    /// An IO CR carrying `layout` (one CR of an [`IocrLayout`]):
+    /// DataLength from the layout, one IODataObject per data object (at its data offset) and
+    /// one IOCS per consumer status, grouped by API in frame order. `submodules` is the list
+    /// the layout was computed from (its indices are the layout's `submodule` fields); an index
+    /// outside it gives [`Error`]. It lives beside the layout it is built from, so that the codec does not
+    /// depend on the layout.
+    ///
+    /// The other fields are what the S7-1515 sends: LT 0x8892, RT class 2, SendClockFactor 32,
+    /// ReductionRatio 32 (32 ms), phase 1, sequence 0, best-effort FrameSendOffset,
+    /// watchdog and data hold factor 3, tag header 0xC000, no multicast address. Change the
+    /// public fields for other timing.
+    pub fn from_layout(
+        iocr_type: u16,
+        iocr_reference: u16,
+        frame_id: u16,
+        layout: &CrLayout,
+        submodules: &[SubmoduleIo],
+    ) -> Result<IocrBlockReq, Error> {
+        fn api_entry(apis: &mut Vec<IocrApi>, api: u32) -> &mut IocrApi {
+            let i = match apis.iter().position(|a| a.api == api) {
+                Some(i) => i,
+                None => {
+                    apis.push(IocrApi {
+                        api,
+                        ..IocrApi::default()
+                    });
+                    apis.len() - 1
+                }
+            };
+            &mut apis[i]
+        }
+        let mut apis = Vec::new();
+        for o in &layout.objects {
+            let s = submodules.get(o.submodule).ok_or(Error)?;
+            api_entry(&mut apis, s.api).data_objects.push(IocrEntry {
+                slot: s.slot,
+                subslot: s.subslot,
+                frame_offset: o.data_offset,
+            });
+        }
+        for c in &layout.iocs {
+            let s = submodules.get(c.submodule).ok_or(Error)?;
+            api_entry(&mut apis, s.api).iocs.push(IocrEntry {
+                slot: s.slot,
+                subslot: s.subslot,
+                frame_offset: c.offset,
+            });
+        }
+        Ok(IocrBlockReq {
+            iocr_type,
+            iocr_reference,
+            lt: LT_PROFINET,
+            iocr_properties: iocr_properties::RT_CLASS_2,
+            data_length: layout.data_length,
+            frame_id,
+            send_clock_factor: 32,
+            reduction_ratio: 32,
+            phase: 1,
+            sequence: 0,
+            frame_send_offset: FRAME_SEND_OFFSET_BEST_EFFORT,
+            watchdog_factor: 3,
+            data_hold_factor: 3,
+            tag_header: TAG_HEADER_PRIO_6,
+            multicast_mac: MacAddress::default(),
+            apis,
+        })
+    }
+}
+
+/// What the layout needs of an ExpectedSubmoduleBlockReq.
+impl ExpectedSubmoduleBlockReq {
+    /// Every submodule as the IOCR layout needs it, in block order.
+    pub fn submodules(&self) -> impl Iterator<Item = SubmoduleIo> + '_ {
+        self.modules.iter().flat_map(|m| {
+            m.submodules.iter().map(|s| SubmoduleIo {
+                api: m.api,
+                slot: m.slot,
+                subslot: s.subslot,
+                input_length: s.input_length(),
+                output_length: s.output_length(),
+            })
+        })
+    }
+}
+
+/// What the layout needs of a Connect request.
+impl ConnectRequest {
+    /// Every expected submodule, in block order: the input of [`IocrLayout::new`].
+    pub fn submodules(&self) -> impl Iterator<Item = SubmoduleIo> + '_ {
+        self.expected
+            .iter()
+            .flat_map(ExpectedSubmoduleBlockReq::submodules)
     }
 }
 

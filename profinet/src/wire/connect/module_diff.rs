@@ -1,0 +1,268 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! ModuleDiffBlock: where the plugged modules and submodules differ from the expected ones,
+//! and the states that say how.
+
+use super::*;
+
+/// ModuleState of a ModuleDiffBlock entry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ModuleState {
+    /// 0: no module plugged.
+    NoModule,
+    /// 1: a wrong module (another ModuleIdentNumber).
+    WrongModule,
+    /// 2: the proper module, but at least one submodule is locked, wrong, missing or has
+    /// diagnosis.
+    ProperModule,
+    /// 3: a substitute the device adapts.
+    Substitute,
+    /// Any other (reserved) value, never 0..=3.
+    Unknown(u16),
+}
+
+impl From<u16> for ModuleState {
+    fn from(v: u16) -> ModuleState {
+        match v {
+            0 => ModuleState::NoModule,
+            1 => ModuleState::WrongModule,
+            2 => ModuleState::ProperModule,
+            3 => ModuleState::Substitute,
+            other => ModuleState::Unknown(other),
+        }
+    }
+}
+
+impl From<ModuleState> for u16 {
+    fn from(v: ModuleState) -> u16 {
+        match v {
+            ModuleState::NoModule => 0,
+            ModuleState::WrongModule => 1,
+            ModuleState::ProperModule => 2,
+            ModuleState::Substitute => 3,
+            ModuleState::Unknown(other) => other,
+        }
+    }
+}
+
+/// IdentInfo of a [`SubmoduleState`]: how the real submodule matches the expected one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum IdentInfo {
+    /// 0: the expected submodule.
+    Ok,
+    /// 1: a substitute.
+    Substitute,
+    /// 2: a wrong submodule.
+    Wrong,
+    /// 3: no submodule.
+    NoSubmodule,
+    /// 4..=15: reserved.
+    Reserved(u8),
+}
+
+/// ARInfo of a [`SubmoduleState`]: who owns the submodule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ArInfo {
+    /// 0: owned by this AR.
+    Own,
+    /// 1: ApplicationReady pending (e.g. a parameter error).
+    ApplicationReadyPending,
+    /// 2: locked by a superordinated function.
+    SuperordinatedLocked,
+    /// 3: locked by another IO controller.
+    LockedByIoController,
+    /// 4: locked by an IO supervisor.
+    LockedByIoSupervisor,
+    /// 5..=15: reserved.
+    Reserved(u8),
+}
+
+/// SubmoduleState of a ModuleDiffBlock entry (the FormatIndicator = 1 layout).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SubmoduleState(pub u16);
+
+impl SubmoduleState {
+    /// Bit 15: FormatIndicator; the fields below are valid only when it is set.
+    pub const FORMAT_INDICATOR: u16 = 1 << 15;
+    /// Bit 3: QualifiedInfo (qualified diagnosis available).
+    pub const QUALIFIED_INFO: u16 = 1 << 3;
+    /// Bit 4: MaintenanceRequired.
+    pub const MAINTENANCE_REQUIRED: u16 = 1 << 4;
+    /// Bit 5: MaintenanceDemanded.
+    pub const MAINTENANCE_DEMANDED: u16 = 1 << 5;
+    /// Bit 6: DiagInfo / fault: diagnosis data available.
+    pub const DIAG_INFO: u16 = 1 << 6;
+
+    /// Whether the FormatIndicator is set.
+    pub const fn format_indicator(&self) -> bool {
+        self.0 & SubmoduleState::FORMAT_INDICATOR != 0
+    }
+
+    /// Bits 0–2: AddInfo (1 = takeover not allowed).
+    pub const fn add_info(&self) -> u8 {
+        (self.0 & 0x7) as u8
+    }
+
+    /// Bit 3: QualifiedInfo.
+    pub const fn qualified_info(&self) -> bool {
+        self.0 & SubmoduleState::QUALIFIED_INFO != 0
+    }
+
+    /// Bit 4: MaintenanceRequired.
+    pub const fn maintenance_required(&self) -> bool {
+        self.0 & SubmoduleState::MAINTENANCE_REQUIRED != 0
+    }
+
+    /// Bit 5: MaintenanceDemanded.
+    pub const fn maintenance_demanded(&self) -> bool {
+        self.0 & SubmoduleState::MAINTENANCE_DEMANDED != 0
+    }
+
+    /// Bit 6: DiagInfo, i.e. a fault: diagnosis is available in the records.
+    pub const fn fault(&self) -> bool {
+        self.0 & SubmoduleState::DIAG_INFO != 0
+    }
+
+    /// Bits 7–10: ARInfo.
+    pub const fn ar_info(&self) -> ArInfo {
+        match (self.0 >> 7) & 0xf {
+            0 => ArInfo::Own,
+            1 => ArInfo::ApplicationReadyPending,
+            2 => ArInfo::SuperordinatedLocked,
+            3 => ArInfo::LockedByIoController,
+            4 => ArInfo::LockedByIoSupervisor,
+            other => ArInfo::Reserved(other as u8),
+        }
+    }
+
+    /// Bits 11–14: IdentInfo.
+    pub const fn ident_info(&self) -> IdentInfo {
+        match (self.0 >> 11) & 0xf {
+            0 => IdentInfo::Ok,
+            1 => IdentInfo::Substitute,
+            2 => IdentInfo::Wrong,
+            3 => IdentInfo::NoSubmodule,
+            other => IdentInfo::Reserved(other as u8),
+        }
+    }
+
+    /// Whether the controller may exchange data with the submodule: the format is known, the
+    /// submodule is the expected one or a substitute, and this AR owns it.
+    pub const fn is_usable(&self) -> bool {
+        self.format_indicator()
+            && matches!(self.ident_info(), IdentInfo::Ok | IdentInfo::Substitute)
+            && matches!(self.ar_info(), ArInfo::Own)
+    }
+}
+
+/// A submodule entry of a ModuleDiffBlock.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ModuleDiffSubmodule {
+    /// SubslotNumber.
+    pub subslot: u16,
+    /// SubmoduleIdentNumber (the real one).
+    pub submodule_ident: u32,
+    /// SubmoduleState.
+    pub state: SubmoduleState,
+}
+
+/// A module entry of a ModuleDiffBlock.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ModuleDiffModule {
+    /// SlotNumber.
+    pub slot: u16,
+    /// ModuleIdentNumber (the real one).
+    pub module_ident: u32,
+    /// ModuleState.
+    pub state: ModuleState,
+    /// The submodules that differ.
+    pub submodules: Vec<ModuleDiffSubmodule>,
+}
+
+/// The modules of one API in a ModuleDiffBlock.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ModuleDiffApi {
+    /// API.
+    pub api: u32,
+    /// The modules that differ.
+    pub modules: Vec<ModuleDiffModule>,
+}
+
+/// ModuleDiffBlock (0x8104): the modules and submodules whose real state differs from the
+/// expected configuration. Not an error: the AR is up; submodules that are not
+/// [usable](SubmoduleState::is_usable) must be treated as absent.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ModuleDiffBlock {
+    /// The APIs with differences.
+    pub apis: Vec<ModuleDiffApi>,
+}
+
+impl ModuleDiffBlock {
+    /// Every listed submodule as (API, slot, subslot, state).
+    pub fn submodules(&self) -> impl Iterator<Item = (u32, u16, u16, SubmoduleState)> + '_ {
+        self.apis.iter().flat_map(|a| {
+            a.modules.iter().flat_map(move |m| {
+                m.submodules
+                    .iter()
+                    .map(move |s| (a.api, m.slot, s.subslot, s.state))
+            })
+        })
+    }
+}
+
+impl Body for ModuleDiffBlock {
+    const BLOCK_TYPE: u16 = block_type::MODULE_DIFF_BLOCK;
+
+    fn body_len(&self) -> usize {
+        self.apis.iter().fold(2usize, |n, a| {
+            a.modules.iter().fold(n.saturating_add(6), |n, m| {
+                n.saturating_add(10)
+                    .saturating_add(m.submodules.len().saturating_mul(8))
+            })
+        })
+    }
+
+    fn read(r: &mut Reader<'_>) -> Result<Self> {
+        let apis = r.list(|r| {
+            Ok(ModuleDiffApi {
+                api: r.u32()?,
+                modules: r.list(|r| {
+                    Ok(ModuleDiffModule {
+                        slot: r.u16()?,
+                        module_ident: r.u32()?,
+                        state: ModuleState::from(r.u16()?),
+                        submodules: r.list(|r| {
+                            Ok(ModuleDiffSubmodule {
+                                subslot: r.u16()?,
+                                submodule_ident: r.u32()?,
+                                state: SubmoduleState(r.u16()?),
+                            })
+                        })?,
+                    })
+                })?,
+            })
+        })?;
+        Ok(ModuleDiffBlock { apis })
+    }
+
+    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+        w.count(self.apis.len())?;
+        for a in &self.apis {
+            w.u32(a.api)?;
+            w.count(a.modules.len())?;
+            for m in &a.modules {
+                w.u16(m.slot)?;
+                w.u32(m.module_ident)?;
+                w.u16(m.state.into())?;
+                w.count(m.submodules.len())?;
+                for s in &m.submodules {
+                    w.u16(s.subslot)?;
+                    w.u32(s.submodule_ident)?;
+                    w.u16(s.state.0)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+block_api!(ModuleDiffBlock, "ModuleDiffBlock");
