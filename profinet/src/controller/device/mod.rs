@@ -25,6 +25,10 @@ use crate::wire::{MacAddress, PnioStatus, Uuid};
 use std::collections::VecDeque;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
+mod alarms;
+mod records;
+use records::{record_result, write_failure};
+
 /// How long Identify responses are awaited.
 const IDENTIFY_WINDOW_NS: u64 = 500_000_000;
 /// How long a DCP Set may take.
@@ -265,33 +269,6 @@ impl DeviceAr {
             until: now + backoff,
         };
         self.set_state(DeviceState::Failed, out);
-    }
-
-    fn fail_records(&mut self, why: &str, out: &mut Vec<Action>) {
-        if let Step::Record { request, .. } = core::mem::replace(&mut self.step, Step::Idle) {
-            self.records.push_front(request);
-        }
-        while let Some(r) = self.records.pop_front() {
-            out.push(Action::Event(DeviceEvent::Record(RecordResult {
-                request: r,
-                result: Err(RecordFailure::no_connection(why)),
-            })));
-        }
-    }
-
-    /// Queues a record read or write; it runs while the AR is in data exchange.
-    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<Action>) {
-        if self.state != DeviceState::Running {
-            out.push(Action::Event(DeviceEvent::Record(RecordResult {
-                request: r,
-                result: Err(RecordFailure::no_connection(format!(
-                    "device {:?} is {}, not in data exchange; retry when it is",
-                    self.plan.name, self.state
-                ))),
-            })));
-            return;
-        }
-        self.records.push_back(r);
     }
 
     /// The next timer.
@@ -541,62 +518,6 @@ impl DeviceAr {
         self.on_rta_events(events, id, now, out);
     }
 
-    fn on_rta_events(
-        &mut self,
-        events: Vec<RtaEvent>,
-        id: &ControllerIdentity,
-        now: u64,
-        out: &mut Vec<Action>,
-    ) {
-        for e in events {
-            match e {
-                RtaEvent::Send(pdu) => {
-                    let Some(ar) = self.ar.as_ref() else { continue };
-                    if let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu) {
-                        out.push(Action::Frame(f));
-                    }
-                }
-                RtaEvent::Deliver(blocks) => {
-                    for b in blocks {
-                        if let AlarmBlock::Notification(n) = b {
-                            let Some(ar) = self.ar.as_mut() else { continue };
-                            let priority = n.priority;
-                            let n = Box::new(n);
-                            // The device sends the next alarm of a priority only after the
-                            // AlarmAck of this one, so one slot per priority is enough.
-                            ar.unacked[priority_slot(priority)] = Some(n.clone());
-                            out.push(Action::Event(DeviceEvent::Alarm {
-                                device: self.plan.device,
-                                notification: n,
-                                ticket: AlarmTicket {
-                                    device: self.plan.device,
-                                    epoch: self.epoch,
-                                    priority,
-                                },
-                            }));
-                        }
-                    }
-                }
-                RtaEvent::Confirmed => {}
-                RtaEvent::Abort { code, local } => {
-                    let (cause, why) = if local {
-                        (
-                            FailureCause::ControllerAborted,
-                            format!("the alarm channel failed ({code:?}); the AR was aborted"),
-                        )
-                    } else {
-                        (
-                            FailureCause::DeviceAborted,
-                            format!("the device aborted the AR ({code:?})"),
-                        )
-                    };
-                    self.fail(cause, &why, now, out);
-                    return;
-                }
-            }
-        }
-    }
-
     /// An RPC answer from the device's address.
     pub fn on_datagram(
         &mut self,
@@ -734,50 +655,6 @@ impl DeviceAr {
         self.write_records(now, out);
     }
 
-    fn write_records(&mut self, now: u64, out: &mut Vec<Action>) {
-        let Some(ar) = self.ar.as_mut() else { return };
-        if self.plan.records.is_empty() {
-            return self.prm_end(now, out);
-        }
-        let mut headers = Vec::with_capacity(self.plan.records.len());
-        for r in &self.plan.records {
-            ar.record_seq = ar.record_seq.wrapping_add(1);
-            headers.push(IodHeader::write_request(
-                ar.record_seq,
-                ar.uuid,
-                r.api,
-                r.slot,
-                r.subslot,
-                r.index,
-                r.data.len() as u32,
-            ));
-        }
-        let body = if headers.len() == 1 {
-            Ok(with_data(&headers[0], &self.plan.records[0].data))
-        } else {
-            let writes: Vec<(IodHeader, &[u8])> = headers
-                .iter()
-                .zip(&self.plan.records)
-                .map(|(h, r)| (*h, &r.data[..]))
-                .collect();
-            record::join_write_multiple_to_vec(&writes).map(|data| {
-                with_data(
-                    &IodHeader::write_multiple(0, ar.uuid, data.len() as u32),
-                    &data,
-                )
-            })
-        };
-        let Ok(body) = body else {
-            return self.fail(
-                FailureCause::Internal,
-                "the parameter records do not fit a Write request",
-                now,
-                out,
-            );
-        };
-        self.call(opnum::WRITE, &body, now, out, Step::Write);
-    }
-
     fn prm_end(&mut self, now: u64, out: &mut Vec<Action>) {
         let Some(ar) = self.ar.as_ref() else { return };
         let block = ControlBlock::prm_end(ar.uuid, ar.session_key).to_bytes();
@@ -829,57 +706,6 @@ impl DeviceAr {
         }
     }
 
-    fn next_record(&mut self, now: u64, out: &mut Vec<Action>) {
-        let Some(request) = self.records.pop_front() else {
-            return;
-        };
-        let Some(ar) = self.ar.as_mut() else { return };
-        ar.record_seq = ar.record_seq.wrapping_add(1);
-        let (op, body, more) = match &request.write {
-            Some(data) => {
-                let h = IodHeader::write_request(
-                    ar.record_seq,
-                    ar.uuid,
-                    request.api,
-                    request.slot,
-                    request.subslot,
-                    request.index,
-                    data.len() as u32,
-                );
-                (opnum::WRITE, with_data(&h, data), 0)
-            }
-            None => {
-                let h = IodHeader::read_request(
-                    ar.record_seq,
-                    ar.uuid,
-                    request.api,
-                    request.slot,
-                    request.subslot,
-                    request.index,
-                    request.max_len,
-                );
-                (opnum::READ, h.to_bytes().to_vec(), request.max_len)
-            }
-        };
-        match self.send_call(op, &body, more, now, out) {
-            Some(call) => self.step = Step::Record { call, request },
-            None => out.push(Action::Event(DeviceEvent::Record(RecordResult {
-                request,
-                result: Err(RecordFailure {
-                    status: PnioStatus {
-                        error_code: 0xDF,
-                        error_decode: 0x80,
-                        error_code1: 0xB1,
-                        error_code2: 0,
-                    },
-                    add_value1: 0,
-                    add_value2: 0,
-                    reason: "the record is longer than an RPC call can carry".into(),
-                }),
-            }))),
-        }
-    }
-
     /// The device's ApplicationReady for our AR: the answer block, or `None` if it is not
     /// for this device.
     pub fn on_application_ready(
@@ -920,155 +746,9 @@ impl DeviceAr {
         }
     }
 
-    /// Sends the AlarmAck of the alarm `ticket` names, if it still waits for one.
-    pub fn acknowledge_alarm(
-        &mut self,
-        ticket: AlarmTicket,
-        id: &ControllerIdentity,
-        now: u64,
-        out: &mut Vec<Action>,
-    ) -> bool {
-        if ticket.epoch != self.epoch {
-            return false;
-        }
-        let Some(ar) = self.ar.as_mut() else {
-            return false;
-        };
-        let Some(n) = ar.unacked[priority_slot(ticket.priority)].take() else {
-            return false;
-        };
-        let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
-        let ch = match ticket.priority {
-            Priority::High => &mut ar.alarm_high,
-            Priority::Low => &mut ar.alarm_low,
-        };
-        let mut sent = Vec::new();
-        ch.send(vec![AlarmBlock::Ack(ack)], now, &mut sent);
-        for e in sent {
-            if let RtaEvent::Send(pdu) = e
-                && let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu)
-            {
-                out.push(Action::Frame(f));
-            }
-        }
-        true
-    }
-
     /// The ApplicationReady is due from this device's AR (for the ApplicationReady
     /// handler: which device has the AR).
     pub fn ar_uuid(&self) -> Option<Uuid> {
         self.ar.as_ref().map(|a| a.uuid)
     }
-}
-
-/// An Ethernet frame around an RTA PDU: tagged with the priority of its channel.
-fn rta_frame(src: MacAddress, dst: MacAddress, pdu: &RtaPdu) -> Option<Vec<u8>> {
-    let pcp = match pdu.priority {
-        Priority::High => 6,
-        Priority::Low => 5,
-    };
-    let eth = ethernet::Repr {
-        dst,
-        src,
-        vlan: Some(VlanTag {
-            pcp,
-            dei: false,
-            vid: 0,
-        }),
-        ethertype: ETHERTYPE_PROFINET,
-    };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend(pdu.to_vec().ok()?);
-    // Padded so that the frame is still of minimum size once a switch removes the tag, as
-    // PROFINET controllers send tagged frames.
-    if f.len() < 64 {
-        f.resize(64, 0);
-    }
-    Some(f)
-}
-
-/// An IOD header followed by its record data.
-fn with_data(header: &IodHeader, data: &[u8]) -> Vec<u8> {
-    let mut b = header.to_bytes().to_vec();
-    b.extend_from_slice(data);
-    b
-}
-
-/// Why a Write (single or multiple) failed, or `None` when every record was taken.
-fn write_failure(status: PnioStatus, blocks: &[u8]) -> Option<String> {
-    if !status.is_ok() {
-        return Some(format!(
-            "writing the parameter records failed: {}",
-            rpc::describe(status)
-        ));
-    }
-    let Ok((outer, _, rest)) = IodHeader::split(blocks) else {
-        return Some("the Write response is malformed".into());
-    };
-    if outer.is_write_multiple() {
-        let Ok((_, inner)) = record::split_write_multiple_response(blocks) else {
-            return Some("the WriteMultiple response is malformed".into());
-        };
-        for h in inner {
-            if !h.status.is_ok() {
-                return Some(format!(
-                    "the device refused parameter record {:#06x} of slot {} subslot {:#06x}: {}",
-                    h.index,
-                    h.slot,
-                    h.subslot,
-                    rpc::describe(h.status)
-                ));
-            }
-        }
-    } else if !outer.status.is_ok() {
-        return Some(format!(
-            "the device refused parameter record {:#06x}: {}",
-            outer.index,
-            rpc::describe(outer.status)
-        ));
-    }
-    let _ = rest;
-    None
-}
-
-fn record_result(
-    request: &RecordRequest,
-    status: PnioStatus,
-    blocks: &[u8],
-) -> Result<RecordData, RecordFailure> {
-    let header = IodHeader::split(blocks);
-    let (add_value1, add_value2) = header
-        .as_ref()
-        .map_or((0, 0), |(h, _, _)| (h.add_value1, h.add_value2));
-    let failure = |status: PnioStatus| RecordFailure {
-        status,
-        add_value1,
-        add_value2,
-        reason: rpc::describe(status),
-    };
-    if !status.is_ok() {
-        return Err(failure(status));
-    }
-    let Ok((h, data, _)) = header else {
-        return Err(RecordFailure {
-            reason: "the record response is malformed".into(),
-            ..RecordFailure::no_connection("")
-        });
-    };
-    if request.write.is_some() {
-        if !h.status.is_ok() {
-            return Err(failure(h.status));
-        }
-        return Ok(RecordData {
-            data: Vec::new(),
-            add_value1,
-            add_value2,
-        });
-    }
-    Ok(RecordData {
-        data: data.to_vec(),
-        add_value1,
-        add_value2,
-    })
 }

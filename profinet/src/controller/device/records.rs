@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A device's record reads and writes: the parameter records before PrmEnd and the
+//! clients' record jobs in data exchange, one call at a time on the AR's activity.
+
+use super::*;
+
+impl DeviceAr {
+    pub(super) fn fail_records(&mut self, why: &str, out: &mut Vec<Action>) {
+        if let Step::Record { request, .. } = core::mem::replace(&mut self.step, Step::Idle) {
+            self.records.push_front(request);
+        }
+        while let Some(r) = self.records.pop_front() {
+            out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                request: r,
+                result: Err(RecordFailure::no_connection(why)),
+            })));
+        }
+    }
+
+    /// Queues a record read or write; it runs while the AR is in data exchange.
+    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<Action>) {
+        if self.state != DeviceState::Running {
+            out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                request: r,
+                result: Err(RecordFailure::no_connection(format!(
+                    "device {:?} is {}, not in data exchange; retry when it is",
+                    self.plan.name, self.state
+                ))),
+            })));
+            return;
+        }
+        self.records.push_back(r);
+    }
+
+    pub(super) fn write_records(&mut self, now: u64, out: &mut Vec<Action>) {
+        let Some(ar) = self.ar.as_mut() else { return };
+        if self.plan.records.is_empty() {
+            return self.prm_end(now, out);
+        }
+        let mut headers = Vec::with_capacity(self.plan.records.len());
+        for r in &self.plan.records {
+            ar.record_seq = ar.record_seq.wrapping_add(1);
+            headers.push(IodHeader::write_request(
+                ar.record_seq,
+                ar.uuid,
+                r.api,
+                r.slot,
+                r.subslot,
+                r.index,
+                r.data.len() as u32,
+            ));
+        }
+        let body = if headers.len() == 1 {
+            Ok(with_data(&headers[0], &self.plan.records[0].data))
+        } else {
+            let writes: Vec<(IodHeader, &[u8])> = headers
+                .iter()
+                .zip(&self.plan.records)
+                .map(|(h, r)| (*h, &r.data[..]))
+                .collect();
+            record::join_write_multiple_to_vec(&writes).map(|data| {
+                with_data(
+                    &IodHeader::write_multiple(0, ar.uuid, data.len() as u32),
+                    &data,
+                )
+            })
+        };
+        let Ok(body) = body else {
+            return self.fail(
+                FailureCause::Internal,
+                "the parameter records do not fit a Write request",
+                now,
+                out,
+            );
+        };
+        self.call(opnum::WRITE, &body, now, out, Step::Write);
+    }
+
+    pub(super) fn next_record(&mut self, now: u64, out: &mut Vec<Action>) {
+        let Some(request) = self.records.pop_front() else {
+            return;
+        };
+        let Some(ar) = self.ar.as_mut() else { return };
+        ar.record_seq = ar.record_seq.wrapping_add(1);
+        let (op, body, more) = match &request.write {
+            Some(data) => {
+                let h = IodHeader::write_request(
+                    ar.record_seq,
+                    ar.uuid,
+                    request.api,
+                    request.slot,
+                    request.subslot,
+                    request.index,
+                    data.len() as u32,
+                );
+                (opnum::WRITE, with_data(&h, data), 0)
+            }
+            None => {
+                let h = IodHeader::read_request(
+                    ar.record_seq,
+                    ar.uuid,
+                    request.api,
+                    request.slot,
+                    request.subslot,
+                    request.index,
+                    request.max_len,
+                );
+                (opnum::READ, h.to_bytes().to_vec(), request.max_len)
+            }
+        };
+        match self.send_call(op, &body, more, now, out) {
+            Some(call) => self.step = Step::Record { call, request },
+            None => out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                request,
+                result: Err(RecordFailure {
+                    status: PnioStatus {
+                        error_code: 0xDF,
+                        error_decode: 0x80,
+                        error_code1: 0xB1,
+                        error_code2: 0,
+                    },
+                    add_value1: 0,
+                    add_value2: 0,
+                    reason: "the record is longer than an RPC call can carry".into(),
+                }),
+            }))),
+        }
+    }
+}
+
+/// An IOD header followed by its record data.
+pub(super) fn with_data(header: &IodHeader, data: &[u8]) -> Vec<u8> {
+    let mut b = header.to_bytes().to_vec();
+    b.extend_from_slice(data);
+    b
+}
+
+/// Why a Write (single or multiple) failed, or `None` when every record was taken.
+pub(super) fn write_failure(status: PnioStatus, blocks: &[u8]) -> Option<String> {
+    if !status.is_ok() {
+        return Some(format!(
+            "writing the parameter records failed: {}",
+            rpc::describe(status)
+        ));
+    }
+    let Ok((outer, _, rest)) = IodHeader::split(blocks) else {
+        return Some("the Write response is malformed".into());
+    };
+    if outer.is_write_multiple() {
+        let Ok((_, inner)) = record::split_write_multiple_response(blocks) else {
+            return Some("the WriteMultiple response is malformed".into());
+        };
+        for h in inner {
+            if !h.status.is_ok() {
+                return Some(format!(
+                    "the device refused parameter record {:#06x} of slot {} subslot {:#06x}: {}",
+                    h.index,
+                    h.slot,
+                    h.subslot,
+                    rpc::describe(h.status)
+                ));
+            }
+        }
+    } else if !outer.status.is_ok() {
+        return Some(format!(
+            "the device refused parameter record {:#06x}: {}",
+            outer.index,
+            rpc::describe(outer.status)
+        ));
+    }
+    let _ = rest;
+    None
+}
+
+pub(super) fn record_result(
+    request: &RecordRequest,
+    status: PnioStatus,
+    blocks: &[u8],
+) -> Result<RecordData, RecordFailure> {
+    let header = IodHeader::split(blocks);
+    let (add_value1, add_value2) = header
+        .as_ref()
+        .map_or((0, 0), |(h, _, _)| (h.add_value1, h.add_value2));
+    let failure = |status: PnioStatus| RecordFailure {
+        status,
+        add_value1,
+        add_value2,
+        reason: rpc::describe(status),
+    };
+    if !status.is_ok() {
+        return Err(failure(status));
+    }
+    let Ok((h, data, _)) = header else {
+        return Err(RecordFailure {
+            reason: "the record response is malformed".into(),
+            ..RecordFailure::no_connection("")
+        });
+    };
+    if request.write.is_some() {
+        if !h.status.is_ok() {
+            return Err(failure(h.status));
+        }
+        return Ok(RecordData {
+            data: Vec::new(),
+            add_value1,
+            add_value2,
+        });
+    }
+    Ok(RecordData {
+        data: data.to_vec(),
+        add_value1,
+        add_value2,
+    })
+}
