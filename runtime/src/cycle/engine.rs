@@ -298,8 +298,7 @@ fn drain_outputs(ports: &mut impl ClientLink, st: &mut State) {
     // Bounded, so that a client writing in a tight loop cannot hold the cycle past its
     // deadline: what is left waits for the next drain.
     for _ in 0..4 * MAX_CLIENTS {
-        let now = ports.now_ns();
-        match ports.take_output(&mut |h, payload| st.merge(h, payload, now)) {
+        match ports.take_output(&mut |h, payload, now| st.merge(h, payload, now)) {
             Taken::Sample => {}
             Taken::Nothing => return,
             Taken::Failed => {

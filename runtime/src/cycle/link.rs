@@ -20,8 +20,9 @@ pub trait ClientLink {
     /// with the time then, to stamp when the image was complete. `false` if it could not be
     /// published.
     fn publish(&mut self, payload: &[u8], header: &mut dyn FnMut(u64) -> ImageHeader) -> bool;
-    /// Hands the oldest client output sample waiting to `take`.
-    fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8])) -> Taken;
+    /// Hands the oldest client output sample waiting to `take`, with the time it was taken
+    /// (read only when there is one).
+    fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken;
     /// Signals event `id` (STARTOP, OPFAULT of a slot, ...) to the clients.
     fn notify(&mut self, id: usize);
     /// Waits until an output sample may have arrived or `deadline_ns` passed; `busy` polls
@@ -68,10 +69,10 @@ impl ClientLink for CyclePorts {
         }
     }
 
-    fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8])) -> Taken {
+    fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
         match iceoryx2_call(|| self.outputs.receive()) {
             Ok(Some(sample)) => {
-                take(sample.user_header(), sample.payload());
+                take(sample.user_header(), sample.payload(), now_ns());
                 Taken::Sample
             }
             Ok(None) => Taken::Nothing,
@@ -141,10 +142,10 @@ impl ClientLink for MemoryLink {
         true
     }
 
-    fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8])) -> Taken {
+    fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
         match self.outputs.pop_front() {
             Some((h, payload)) => {
-                take(&h, &payload);
+                take(&h, &payload, self.now);
                 Taken::Sample
             }
             None => Taken::Nothing,

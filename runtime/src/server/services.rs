@@ -617,20 +617,20 @@ fn alarm_text(device: &str, n: &AlarmNotification) -> String {
 /// The protocol's kind of failure as clients are told it (the control protocol's enum, which
 /// also has a value for kinds a newer server may report).
 fn reported_cause(cause: controller::FailureCause) -> FailureCause {
-    use controller::FailureCause as Wire;
+    use controller::FailureCause as Protocol;
     match cause {
-        Wire::None => FailureCause::None,
-        Wire::NotFound => FailureCause::NotFound,
-        Wire::IpSetFailed => FailureCause::IpSetFailed,
-        Wire::RpcTimeout => FailureCause::RpcTimeout,
-        Wire::RpcError => FailureCause::RpcError,
-        Wire::Refused => FailureCause::Refused,
-        Wire::NoApplicationReady => FailureCause::NoApplicationReady,
-        Wire::NoCyclicData => FailureCause::NoCyclicData,
-        Wire::DeviceAborted => FailureCause::DeviceAborted,
-        Wire::ControllerAborted => FailureCause::ControllerAborted,
-        Wire::Released => FailureCause::Released,
-        Wire::Deactivated => FailureCause::Deactivated,
-        Wire::Internal => FailureCause::Internal,
+        Protocol::None => FailureCause::None,
+        Protocol::NotFound => FailureCause::NotFound,
+        Protocol::IpSetFailed => FailureCause::IpSetFailed,
+        Protocol::RpcTimeout => FailureCause::RpcTimeout,
+        Protocol::RpcError => FailureCause::RpcError,
+        Protocol::Refused => FailureCause::Refused,
+        Protocol::NoApplicationReady => FailureCause::NoApplicationReady,
+        Protocol::NoCyclicData => FailureCause::NoCyclicData,
+        Protocol::DeviceAborted => FailureCause::DeviceAborted,
+        Protocol::ControllerAborted => FailureCause::ControllerAborted,
+        Protocol::Released => FailureCause::Released,
+        Protocol::Deactivated => FailureCause::Deactivated,
+        Protocol::Internal => FailureCause::Internal,
     }
 }
