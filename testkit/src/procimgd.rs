@@ -128,20 +128,17 @@ impl Launch {
         ));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("create the test's temporary directory");
-        let mut cmd = match &self.netns {
-            // `ip netns exec` and `nice` exec procimgd in place: the child's pid is procimgd's.
-            Some(ns) => {
-                let mut c = Command::new("ip");
-                c.args(["netns", "exec", ns]);
-                c
-            }
-            None => Command::new("nice"),
-        };
-        if self.netns.is_some() {
-            cmd.arg("nice");
+        // `ip netns exec` and `nice` exec procimgd in place: the child's pid is procimgd's.
+        let mut argv: Vec<std::ffi::OsString> = Vec::new();
+        if let Some(ns) = &self.netns {
+            argv.extend(["ip", "netns", "exec", ns.as_str()].map(Into::into));
         }
-        cmd.args(["-n", &self.nice.unwrap_or(0).to_string()])
-            .arg(&bin);
+        if let Some(n) = self.nice {
+            argv.extend(["nice".into(), "-n".into(), n.to_string().into()]);
+        }
+        argv.push(bin.clone().into());
+        let mut cmd = Command::new(&argv[0]);
+        cmd.args(&argv[1..]);
         match &self.config {
             Some(toml) => {
                 let path = dir.join("procimgd.toml");
