@@ -15,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
             if let Ok(t) = Tables::from_config(&c) {
                 assert_eq!(t.submodules.len(), c.submodule_count());
             }
-            let _ = procimg_runtime::network::plan_devices(&c);
+            let _ = procimg_runtime::roles::controller::plan_devices(&c);
             // What the configuration said, written back, reads the same.
             assert_eq!(parse_duration(&format_duration(c.cycle_ns)), Ok(c.cycle_ns));
         }

@@ -29,10 +29,10 @@ use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
-use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
-use procimg_runtime::simnet;
-use procimg_runtime::simnet::DemoDevice;
+use procimg_runtime::roles::controller::sim_plant;
+use procimg_runtime::roles::controller::sim_plant::DemoDevice;
+use procimg_runtime::roles::controller::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::{Ipv4Addr, SocketAddrV4};
 use std::sync::{Arc, OnceLock};
@@ -234,7 +234,7 @@ impl World {
     pub fn new() -> World {
         let config = config();
         let tables = Tables::from_config(config).expect("tables");
-        let plans = procimg_runtime::network::plan_devices(config).expect("plans");
+        let plans = procimg_runtime::roles::controller::plan_devices(config).expect("plans");
         let ranges = plans
             .iter()
             .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
@@ -262,7 +262,7 @@ impl World {
         let channel = Arc::new(Channel::new());
         World {
             controller: Controller::new(id, plans, 1, 1),
-            devices: simnet::devices(config),
+            devices: sim_plant::devices(config),
             io: PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns),
             channel,
             plant,
@@ -642,7 +642,7 @@ impl Default for DeviceBench {
 impl DeviceBench {
     /// Device 0 of [`CONFIG`], at time 1 ms.
     pub fn new() -> DeviceBench {
-        let device = simnet::devices(config()).swap_remove(0);
+        let device = sim_plant::devices(config()).swap_remove(0);
         DeviceBench {
             device,
             now: MS,

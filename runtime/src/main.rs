@@ -11,8 +11,8 @@ use clap::{CommandFactory, Parser};
 use procimg_runtime::config::{self, Config};
 use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
-use procimg_runtime::network::PnioSystem;
-use procimg_runtime::server::{Control, ControllerLink, ServerInfo};
+use procimg_runtime::roles;
+use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::{ControlPorts, cleanup_dead_nodes};
 use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::rt::lock_memory;
@@ -220,9 +220,12 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         opdone_wait: config.cycle_thread.opdone_wait,
         generation,
     };
-    let (events, event_rx) = std::sync::mpsc::channel();
-    let mut pnio = PnioSystem::start(&config, shared.clone(), Some(events))?;
-    let io = pnio.io.take().context("the IO system was already taken")?;
+    let mut role = roles::controller::start(&config, shared.clone())?;
+    let io = role.io.take().context("the IO system was already taken")?;
+    let services = role
+        .services
+        .take()
+        .context("the role's services were already taken")?;
     let (cycle_thread, rt) = cycle::thread::spawn(
         settings,
         cycle::thread::ThreadSettings {
@@ -260,15 +263,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         ports,
         shared.clone(),
         collector,
-    );
-
-    control.set_network(
-        pnio.states.clone(),
-        pnio.channel.clone(),
-        ControllerLink {
-            commands: pnio.commands.clone(),
-            events: event_rx,
-        },
+        services,
     );
     let term = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
@@ -317,7 +312,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     // Release before its cyclic data ends (else it sees a watchdog expiry first).
     shared.release_all.store(true, Ordering::Release);
     let until = Instant::now() + Duration::from_secs(1);
-    while !pnio.states.all_released() && Instant::now() < until {
+    while !control.released() && Instant::now() < until {
         control.poll();
         std::thread::sleep(Duration::from_millis(1));
     }
@@ -326,7 +321,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     if cycle_thread.join().is_err() {
         bail!("the cycle thread panicked");
     }
-    pnio.join();
+    role.join();
     drop(view);
     drop(control);
     info!("stopped; shared memory of instance \"{instance}\" released");

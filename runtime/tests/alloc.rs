@@ -9,7 +9,8 @@ use procimg_client::{AttachOptions, Client, Ioxs};
 use procimg_runtime::config::Config;
 use procimg_runtime::cycle::{Engine, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
-use procimg_runtime::network::PnioSystem;
+use procimg_runtime::roles::controller;
+use procimg_runtime::roles::controller::ControllerServices;
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::{ControlPorts, CyclePorts};
 use procimg_runtime::stats::stats_channel;
@@ -58,7 +59,8 @@ fn steady_state_cycles_allocate_nothing() {
                 cycle_ns: 1_000_000,
                 opdone_deadline_ns: 500_000,
             };
-            let mut control = Control::new(info, tables, ports, shared, collector);
+            let services = Box::new(ControllerServices::unlinked(&tables));
+            let mut control = Control::new(info, tables, ports, shared, collector, services);
             ready_tx.send(()).unwrap();
             while !stop.load(Ordering::Acquire) {
                 control.poll();
@@ -78,7 +80,7 @@ fn steady_state_cycles_allocate_nothing() {
         opdone_wait: config.cycle_thread.opdone_wait,
         generation,
     };
-    let mut pnio = PnioSystem::start(&config, shared.clone(), None).unwrap();
+    let mut pnio = controller::start(&config, shared.clone()).unwrap();
     let io = (pnio.io.take().unwrap())();
     let mut engine = Engine::new(settings, &tables, ports, io, shared.clone(), recorder);
 
@@ -138,7 +140,8 @@ fn steady_state_cycles_allocate_nothing() {
     assert_eq!(engine.mode(), Mode::Operate);
     let handshakes_before = shared.counters.cycles.load(Ordering::Relaxed);
 
-    let frames = || pnio.channel.counters.cyclic_frames.load(Ordering::Relaxed);
+    let services = pnio.services.take().unwrap();
+    let frames = || services.network().cyclic_frames;
     let frames_before = frames();
 
     mark_current_thread_realtime();

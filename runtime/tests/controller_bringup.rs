@@ -22,9 +22,9 @@ use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
-use procimg_runtime::network::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
-use procimg_runtime::simnet::DemoDevice;
+use procimg_runtime::roles::controller::sim_plant::DemoDevice;
+use procimg_runtime::roles::controller::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use std::net::SocketAddrV4;
 use std::sync::Arc;
@@ -206,7 +206,7 @@ impl World {
 fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     let config = Config::demo();
     let tables = Tables::from_config(&config).unwrap();
-    let plans = procimg_runtime::network::plan_devices(&config).unwrap();
+    let plans = procimg_runtime::roles::controller::plan_devices(&config).unwrap();
     let ranges = plans
         .iter()
         .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
@@ -223,7 +223,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     let channel = Arc::new(Channel::new());
     let mut w = World {
         controller: Controller::new(id, plans, 1, 1),
-        devices: procimg_runtime::simnet::devices(&config),
+        devices: procimg_runtime::roles::controller::sim_plant::devices(&config),
         io: PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns),
         channel,
         plant,

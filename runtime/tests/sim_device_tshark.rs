@@ -20,7 +20,7 @@ use procimg_profinet::wire::rpc::{self, Header, PacketType, Pdu, flags1, opnum};
 use procimg_profinet::wire::rta_pdu::RtaPdu;
 use procimg_profinet::wire::{MacAddress, PnioStatus, ethernet};
 use procimg_runtime::config::SimBehaviour;
-use procimg_runtime::simnet::DemoDevice;
+use procimg_runtime::roles::controller::sim_plant::DemoDevice;
 use procimg_testkit::fixtures::profinet_capture as capture;
 use procimg_testkit::udp::udp_frame;
 use std::net::{Ipv4Addr, SocketAddrV4};

@@ -25,7 +25,7 @@ use procimg_profinet::wire::rpc::{self, opnum};
 use procimg_profinet::wire::rt::FrameIdClass;
 use procimg_profinet::wire::rta_pdu::{self, RtaPdu};
 use procimg_runtime::config::DEMO_TOML;
-use procimg_runtime::simnet;
+use procimg_runtime::roles::controller::sim_plant;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -277,7 +277,7 @@ fn sessions(caps: &[Captured], seeds: &mut Seeds) {
 /// frames re-addressed to its MAC, RPC requests to its port 34964, other RPC PDUs (answers to
 /// its own calls) to another port, 2 ms apart.
 fn device_messages<'a>(caps: impl Iterator<Item = &'a Captured>) -> Vec<u8> {
-    let mac = simnet::device_mac(0);
+    let mac = sim_plant::device_mac(0);
     let mut w = Writer::new();
     for c in caps {
         match udp_payload(&c.frame) {

@@ -114,7 +114,7 @@ impl Copied {
     /// Bytes the PROFINET send puts into the output frames of one cycle.
     pub fn frames(shape: Shape) -> usize {
         let config = shape::config("bytes", shape);
-        procimg_runtime::network::plan_devices(&config)
+        procimg_runtime::roles::controller::plan_devices(&config)
             .expect("the shape fits PROFINET frames")
             .iter()
             .map(|p| {

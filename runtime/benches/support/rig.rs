@@ -33,6 +33,7 @@ use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
+use procimg_runtime::roles::controller::ControllerServices;
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::Ipc;
 use procimg_runtime::shm::{ControlPorts, CyclePorts};
@@ -59,8 +60,8 @@ pub enum Io {
 /// The PROFINET IO system of `config` over a [`LoopNic`], with every device's exchange
 /// already handed to it (it starts them at its first `receive`).
 pub fn pnio_io(config: &Config, counters: Arc<NicCounters>) -> (PnioIo, Arc<Channel>) {
-    let plans =
-        procimg_runtime::network::plan_devices(config).expect("the shape fits PROFINET frames");
+    let plans = procimg_runtime::roles::controller::plan_devices(config)
+        .expect("the shape fits PROFINET frames");
     let ars: Vec<CyclicAr> = plans
         .iter()
         .map(|p| CyclicAr::new(p, 1, OWN_MAC, device_mac(p.device), p.frame_ids))
@@ -185,7 +186,8 @@ impl ControlThread {
                 cycle_ns: shape::CYCLE_NS,
                 opdone_deadline_ns: shape::CYCLE_NS / 2,
             };
-            let mut control = Control::new(info, tables, ports, shared, collector);
+            let services = Box::new(ControllerServices::unlinked(&tables));
+            let mut control = Control::new(info, tables, ports, shared, collector, services);
             let _ = ready_tx.send(());
             while !s.load(Ordering::Acquire) {
                 control.poll();

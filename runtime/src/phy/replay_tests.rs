@@ -650,7 +650,7 @@ submodule = [
 #[test]
 fn a_replayed_cyclic_frame_lands_in_the_image() {
     let config = config::parse(PNET_SAMPLE, "pnet-sample.toml").unwrap();
-    let plans = crate::network::plan_devices(&config).unwrap();
+    let plans = crate::roles::controller::plan_devices(&config).unwrap();
     let ar = Box::new(CyclicAr::new(&plans[0], 1, OWN, DEVICE, (0x8000, 0x8001)));
     let tables = Tables::from_config(&config).unwrap();
     let mut image = Image::new(&tables);

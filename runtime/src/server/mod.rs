@@ -5,17 +5,16 @@
 //! only through [`Shared`].
 
 pub mod force;
+mod notices;
 mod registry;
-pub mod services;
 
 pub use force::ForceTable;
+pub use notices::Notices;
 pub use registry::{ClientEntry, Registry};
-pub use services::{ControllerLink, RecordJob, Services};
 
-use crate::acyclic::DeviceStates;
 use crate::cycle::{Command, Shared};
 use crate::image::Tables;
-use crate::io::pnio::channel::Channel;
+use crate::roles::RoleServices;
 use crate::shm::{ControlPorts, Ipc, iox2_config};
 use crate::stats::{StatsCollector, load};
 use iceoryx2::node::{Node, NodeState, NodeView};
@@ -25,9 +24,9 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::CallbackProgression;
 use procimg_shm_layout::LayoutHeader;
 use procimg_shm_layout::control::{
-    self, ClaimReport, ClientReport, DeviceReport, NetworkReport, Refusal, Request, Response,
-    StatusReport,
+    self, ClaimReport, ClientReport, Refusal, Request, Response, StatusReport,
 };
+use procimg_shm_layout::services::Notification;
 use procimg_shm_layout::{MAX_CLIENTS, Mode};
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -56,25 +55,29 @@ pub struct Control {
     tables: Tables,
     server: Server<Ipc, [u8], (), [u8], ()>,
     layout: Publisher<Ipc, [u8], LayoutHeader>,
-    services: Services,
+    notices: Notices,
+    /// The client services of the role procimgd plays.
+    role: Box<dyn RoleServices>,
     shared: Arc<Shared>,
     stats: StatsCollector,
     registry: Registry,
     last_liveness: Instant,
-    network: Option<(Arc<DeviceStates>, Arc<Channel>)>,
     forces: ForceTable,
     // Dropped after the ports above, which live on it.
     _node: Node<Ipc>,
 }
 
 impl Control {
-    /// The control side over `ports`.
+    /// The control side over `ports`, serving the requests of the role procimgd plays with
+    /// `role`. Subscribers left from a previous server learn that they must announce
+    /// themselves again.
     pub fn new(
         info: ServerInfo,
         tables: Tables,
         ports: ControlPorts,
         shared: Arc<Shared>,
         stats: StatsCollector,
+        role: Box<dyn RoleServices>,
     ) -> Control {
         let registry = Registry::new(info.generation.rotate_left(17));
         let ControlPorts {
@@ -84,22 +87,22 @@ impl Control {
             notifications,
             notify,
         } = ports;
-        let names = (0..tables.devices.len())
-            .map(|d| tables.device_name(d).to_string())
-            .collect();
-        let services = Services::new(notifications, notify, names, info.generation);
+        let mut notices = Notices::new(notifications, notify);
+        notices.publish(&Notification::ServerStarted {
+            generation: info.generation,
+        });
         Control {
             info,
             tables,
             server,
             layout,
-            services,
+            notices,
+            role,
             _node: node,
             shared,
             stats,
             registry,
             last_liveness: Instant::now(),
-            network: None,
             forces: ForceTable::default(),
         }
     }
@@ -184,60 +187,16 @@ impl Control {
             } => self.registry.release(shared, slot, token, &submodules),
             Request::SetMode { mode } => self.set_mode(mode),
             Request::Status => return Response::Status(Box::new(self.status())),
-            Request::Subscribe {
-                subscriber,
-                name,
-                pid,
-                node_id,
-                acknowledge_alarms,
-            } => {
-                self.services
-                    .subscribe(subscriber, name, pid, node_id, acknowledge_alarms);
-                Ok(())
-            }
-            Request::Unsubscribe { subscriber } => self.services.unsubscribe(subscriber),
-            Request::RecordRead {
-                reply_to,
-                reference,
-                target,
-                max_len,
-            } => {
-                return accepted(self.services.record(RecordJob {
-                    reply_to,
-                    reference,
-                    target,
-                    max_len,
-                    write: None,
-                }));
-            }
-            Request::RecordWrite {
-                reply_to,
-                reference,
-                target,
-                data,
-            } => {
-                return accepted(self.services.record(RecordJob {
-                    reply_to,
-                    reference,
-                    target,
-                    max_len: 0,
-                    write: Some(data),
-                }));
-            }
-            Request::ActivateDevice {
-                reply_to,
-                device,
-                active,
-            } => {
+            Request::Subscribe { .. }
+            | Request::Unsubscribe { .. }
+            | Request::RecordRead { .. }
+            | Request::RecordWrite { .. }
+            | Request::ActivateDevice { .. }
+            | Request::AcknowledgeAlarm { .. }
+            | Request::Diagnosis => {
                 let online = self.shared.mode() != Mode::Offline
                     || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
-                self.services.activate(reply_to, device, active, online)
-            }
-            Request::AcknowledgeAlarm { subscriber, alarm } => {
-                self.services.acknowledge(subscriber, alarm)
-            }
-            Request::Diagnosis => {
-                return Response::Diagnosis(Box::new(self.services.diagnosis()));
+                return self.role.handle(req, online, &mut self.notices);
             }
             Request::Histograms => {
                 self.stats.collect();
@@ -295,9 +254,14 @@ impl Control {
         Ok(())
     }
 
-    /// Waits up to `wait` for what the controller reports and hands it to the subscribers.
+    /// Waits up to `wait` for what the role reports and hands it to the subscribers.
     pub fn idle(&mut self, wait: Duration) {
-        self.services.poll(wait);
+        self.role.poll(wait, &mut self.notices);
+    }
+
+    /// Whether the role holds no connection any more (see [`RoleServices::released`]).
+    pub fn released(&self) -> bool {
+        self.role.released()
     }
 
     /// Asks the cycle for a mode; refused while an earlier change is still under way.
@@ -367,54 +331,10 @@ impl Control {
             opdone_one_way: self.stats.opdone(),
             cycle_work: self.stats.work(),
             clients,
-            devices: self.device_reports(),
-            network: self.network_report(),
-            subscribers: self.services.subscribers(),
+            devices: self.role.devices(),
+            network: self.role.network(),
+            subscribers: self.role.subscribers(),
             forces: self.forces.reports(&self.tables),
-        }
-    }
-
-    /// Connects the control side to the PROFINET side: device states and interface counters
-    /// for status reports, and the controller for the client services.
-    pub fn set_network(
-        &mut self,
-        states: Arc<DeviceStates>,
-        channel: Arc<Channel>,
-        link: ControllerLink,
-    ) {
-        self.network = Some((states, channel));
-        self.services.set_link(link);
-    }
-
-    fn device_reports(&self) -> Vec<DeviceReport> {
-        (0..self.tables.devices.len())
-            .map(|d| DeviceReport {
-                name: self.tables.device_name(d).to_string(),
-                state: self
-                    .network
-                    .as_ref()
-                    .and_then(|(s, _)| s.get(d))
-                    .map_or("offline", |s| s.as_str())
-                    .to_string(),
-            })
-            .collect()
-    }
-
-    fn network_report(&self) -> NetworkReport {
-        let Some((states, ch)) = &self.network else {
-            return NetworkReport::default();
-        };
-        let c = &ch.counters;
-        NetworkReport {
-            cyclic_frames: load(&c.cyclic_frames),
-            malformed: load(&c.malformed),
-            unknown: load(&c.unknown),
-            stale: load(&c.stale),
-            dropped: load(&c.dropped),
-            send_errors: load(&c.send_errors),
-            watchdog_expiries: load(&c.watchdog_expiries),
-            malformed_datagrams: load(&states.malformed_datagrams),
-            unexpected_datagrams: load(&states.unexpected_datagrams),
         }
     }
 
@@ -451,7 +371,7 @@ impl Control {
             .filter_map(|slot| self.registry.unregister(&self.shared, slot))
             .map(|c| format!("{} (pid {})", c.name, c.pid))
             .collect();
-        gone.extend(self.services.reap(&alive));
+        gone.extend(self.role.reap(&alive));
         gone
     }
 
@@ -467,11 +387,4 @@ fn hex(bytes: &[u8]) -> String {
         .map(|b| format!("{b:02x}"))
         .collect::<Vec<_>>()
         .join(" ")
-}
-
-fn accepted(r: Result<(), Refusal>) -> Response {
-    match r {
-        Ok(()) => Response::Accepted,
-        Err(r) => Response::Refused(r),
-    }
 }

@@ -180,7 +180,7 @@ fn xid(frame: &[u8], at: usize) -> [u8; 4] {
 #[test]
 fn the_controller_brings_up_the_pnet_sample_as_the_s7_did() {
     let config = config::parse(PNET_SAMPLE, "pnet-sample.toml").unwrap();
-    let plans = crate::network::plan_devices(&config).unwrap();
+    let plans = crate::roles::controller::plan_devices(&config).unwrap();
     let mut c = Controller::new(s7(), plans, 0x5156, 1);
     let mut out = Vec::new();
     let ms = 1_000_000u64;

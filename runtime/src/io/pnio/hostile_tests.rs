@@ -50,7 +50,7 @@ fn hostile_frames_are_counted_and_dropped_without_breaking_the_ar() {
     .unwrap();
     let tables = Tables::from_config(&config).unwrap();
     let mut image = Image::new(&tables);
-    let plan = &crate::network::plan_devices(&config).unwrap()[0];
+    let plan = &crate::roles::controller::plan_devices(&config).unwrap()[0];
     let ar = CyclicAr::new(plan, 1, CONTROLLER, DEVICE, plan.frame_ids);
     let input_id = ar.input.frame_id;
     let (ours, mut wire) = sim_link::link(CONTROLLER, DEVICE);

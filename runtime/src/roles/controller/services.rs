@@ -1,40 +1,53 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The controller services of the control side: record jobs, device activation, alarm
-//! delivery with acknowledgement, device events and diagnosis. Requests come from clients
-//! over the control service and go to the PROFINET thread as [`ControllerCommand`]s; what the
-//! controller reports comes back as [`DeviceEvent`]s and goes out as [`Notification`]s.
+//! The controller's client services on the control side: record jobs, device activation,
+//! alarm delivery with acknowledgement, device events and diagnosis. Requests come from
+//! clients over the control service and go to the acyclic thread as [`ControllerCommand`]s;
+//! what the controller reports comes back as [`DeviceEvent`]s and goes out as
+//! [`Notification`]s.
 //!
 //! Alarm acknowledgement follows IO-Base: the device's alarm is acknowledged when the
 //! clients that take part have handled it (IO-Base: when the alarm callback returns), at
 //! once when none takes part, and after [`ALARM_ACK_TIMEOUT_MS`] at the latest, so that one
 //! hung client cannot hold back a device's alarms for good.
 
-use crate::acyclic::ControllerCommand;
-use crate::shm::Ipc;
-use iceoryx2::port::notifier::Notifier;
-use iceoryx2::port::publisher::Publisher;
-use iceoryx2::prelude::EventId;
+use super::ControllerCommand;
+use super::states::DeviceStates;
+use crate::acyclic::DatagramCounters;
+use crate::image::Tables;
+use crate::io::pnio::channel::Channel;
+use crate::roles::RoleServices;
+use crate::server::Notices;
+use crate::stats::load;
 use procimg_profinet::controller::{
     self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
 };
 use procimg_profinet::wire::PnioStatus;
 use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
-use procimg_shm_layout::control::{self, Refusal, SubscriberReport};
+use procimg_shm_layout::control::{
+    DeviceReport, NetworkReport, Refusal, Request, Response, SubscriberReport,
+};
 use procimg_shm_layout::services::{
-    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, EVENT_NOTIFICATIONS,
-    FailureCause, MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus,
-    RecordTarget, SubmoduleDiff,
+    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
+    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
+    SubmoduleDiff,
 };
 use std::collections::{HashMap, HashSet, VecDeque};
+use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender};
 use std::time::{Duration, Instant};
 
-/// What the control side holds of the PROFINET thread.
+/// What the control side holds of the running controller.
 pub struct ControllerLink {
     /// Commands for the controller.
     pub commands: Sender<ControllerCommand>,
     /// What the controller reports.
     pub events: Receiver<DeviceEvent>,
+    /// The device states the acyclic thread publishes.
+    pub states: Arc<DeviceStates>,
+    /// The interface counters of the cycle thread.
+    pub channel: Arc<Channel>,
+    /// The datagrams the controller dropped.
+    pub datagrams: Arc<DatagramCounters>,
 }
 
 /// An announced subscriber.
@@ -71,7 +84,7 @@ struct DeviceRecord {
 }
 
 /// A record request as a client gave it.
-pub struct RecordJob {
+struct RecordJob {
     /// Who gets the confirmation.
     pub reply_to: u64,
     /// Echoed in the confirmation.
@@ -84,11 +97,9 @@ pub struct RecordJob {
     pub write: Option<Vec<u8>>,
 }
 
-/// The controller services.
-pub struct Services {
+/// The controller's client services.
+pub struct ControllerServices {
     link: Option<ControllerLink>,
-    publisher: Publisher<Ipc, [u8], ()>,
-    notifier: Notifier<Ipc>,
     names: Vec<String>,
     devices: Vec<DeviceRecord>,
     subscribers: HashMap<u64, Subscriber>,
@@ -97,19 +108,13 @@ pub struct Services {
     jobs: HashMap<u64, Job>,
     next_job: u64,
     activations: Vec<VecDeque<u64>>,
-    lost_notifications: u64,
 }
 
-impl Services {
-    /// The services of server `generation` for the devices `names`, publishing on
-    /// `publisher` and waking subscribers through `notifier`. Subscribers left from a
-    /// previous server learn that they must announce themselves again.
-    pub fn new(
-        publisher: Publisher<Ipc, [u8], ()>,
-        notifier: Notifier<Ipc>,
-        names: Vec<String>,
-        generation: u64,
-    ) -> Services {
+impl ControllerServices {
+    /// The services for the devices `names`, connected to the running controller by `link`
+    /// (without one, every request to the controller is refused as busy and every device
+    /// reported offline).
+    pub fn new(names: Vec<String>, link: Option<ControllerLink>) -> ControllerServices {
         let devices = names
             .iter()
             .map(|_| DeviceRecord {
@@ -117,10 +122,8 @@ impl Services {
                 ..DeviceRecord::default()
             })
             .collect();
-        let mut s = Services {
-            link: None,
-            publisher,
-            notifier,
+        ControllerServices {
+            link,
             activations: names.iter().map(|_| VecDeque::new()).collect(),
             names,
             devices,
@@ -129,15 +132,16 @@ impl Services {
             next_alarm: 1,
             jobs: HashMap::new(),
             next_job: 1,
-            lost_notifications: 0,
-        };
-        s.publish(&Notification::ServerStarted { generation });
-        s
+        }
     }
 
-    /// Connects the services to the controller.
-    pub fn set_link(&mut self, link: ControllerLink) {
-        self.link = Some(link);
+    /// The services for the devices of `tables` with no controller behind them: for a
+    /// control side that serves the image alone (benches, tests).
+    pub fn unlinked(tables: &Tables) -> ControllerServices {
+        let names = (0..tables.devices.len())
+            .map(|d| tables.device_name(d).to_string())
+            .collect();
+        ControllerServices::new(names, None)
     }
 
     fn device(&self, device: u32) -> Result<usize, Refusal> {
@@ -157,7 +161,7 @@ impl Services {
     }
 
     /// Announces a subscriber (again: its settings are replaced).
-    pub fn subscribe(
+    fn subscribe(
         &mut self,
         subscriber: u64,
         name: String,
@@ -180,7 +184,7 @@ impl Services {
     }
 
     /// Withdraws a subscriber.
-    pub fn unsubscribe(&mut self, subscriber: u64) -> Result<(), Refusal> {
+    fn unsubscribe(&mut self, subscriber: u64) -> Result<(), Refusal> {
         self.subscribers
             .remove(&subscriber)
             .ok_or(Refusal::UnknownSubscriber)?;
@@ -189,7 +193,7 @@ impl Services {
     }
 
     /// Forgets subscribers whose process is gone (`alive`: the live iceoryx2 node ids).
-    pub fn reap(&mut self, alive: &HashSet<String>) -> Vec<String> {
+    fn reap(&mut self, alive: &HashSet<String>) -> Vec<String> {
         let dead: Vec<u64> = self
             .subscribers
             .iter()
@@ -206,7 +210,7 @@ impl Services {
     }
 
     /// Starts a record job.
-    pub fn record(&mut self, job: RecordJob) -> Result<(), Refusal> {
+    fn record(&mut self, job: RecordJob) -> Result<(), Refusal> {
         let t = job.target;
         let device = self.device(t.device)?;
         let len = job
@@ -253,7 +257,7 @@ impl Services {
 
     /// Activates or deactivates a device; `online` says whether the controller is (or is
     /// becoming) CLEAR or OPERATE.
-    pub fn activate(
+    fn activate(
         &mut self,
         reply_to: u64,
         device: u32,
@@ -272,7 +276,7 @@ impl Services {
     }
 
     /// A subscriber acknowledges an alarm.
-    pub fn acknowledge(&mut self, subscriber: u64, alarm: u64) -> Result<(), Refusal> {
+    fn acknowledge(&mut self, subscriber: u64, alarm: u64) -> Result<(), Refusal> {
         if !self.subscribers.contains_key(&subscriber) {
             return Err(Refusal::UnknownSubscriber);
         }
@@ -314,7 +318,7 @@ impl Services {
 
     /// Handles what the controller reported and the acknowledgement timeouts; `wait` is the
     /// longest time to wait for a first report.
-    pub fn poll(&mut self, wait: Duration) {
+    fn poll_events(&mut self, wait: Duration, notices: &mut Notices) {
         let mut events = Vec::new();
         match &self.link {
             Some(l) => {
@@ -326,7 +330,7 @@ impl Services {
             None => std::thread::sleep(wait),
         }
         for e in events {
-            self.on_event(e);
+            self.on_event(e, notices);
         }
         let now = Instant::now();
         let mut late = Vec::new();
@@ -350,7 +354,7 @@ impl Services {
         }
     }
 
-    fn on_event(&mut self, e: DeviceEvent) {
+    fn on_event(&mut self, e: DeviceEvent, notices: &mut Notices) {
         let name = |d: usize| self.names.get(d).cloned().unwrap_or_default();
         match e {
             DeviceEvent::State { device, state } => {
@@ -361,7 +365,7 @@ impl Services {
                         r.cause = FailureCause::None;
                     }
                 }
-                self.publish(&Notification::DeviceState {
+                notices.publish(&Notification::DeviceState {
                     device: device as u32,
                     name: name(device),
                     state: state.as_str().into(),
@@ -378,13 +382,13 @@ impl Services {
                     r.last_error = reason.clone();
                     r.cause = reported_cause(cause);
                 }
-                self.publish(&Notification::DeviceFailure {
+                notices.publish(&Notification::DeviceFailure {
                     device: device as u32,
                     name: name(device),
                     reason,
                 });
             }
-            DeviceEvent::Return { device } => self.publish(&Notification::DeviceReturn {
+            DeviceEvent::Return { device } => notices.publish(&Notification::DeviceReturn {
                 device: device as u32,
                 name: name(device),
             }),
@@ -412,7 +416,7 @@ impl Services {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.module_diff = submodules.clone();
                 }
-                self.publish(&Notification::ModuleDiff {
+                notices.publish(&Notification::ModuleDiff {
                     device: device as u32,
                     name: name(device),
                     submodules,
@@ -422,15 +426,15 @@ impl Services {
                 device,
                 notification,
                 ticket,
-            } => self.on_alarm(device, &notification, ticket),
-            DeviceEvent::Record(r) => self.on_record(r),
+            } => self.on_alarm(device, &notification, ticket, notices),
+            DeviceEvent::Record(r) => self.on_record(r, notices),
             DeviceEvent::Activation { device, active } => {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.inactive = !active;
                 }
                 if let Some(reply_to) = self.activations.get_mut(device).and_then(|q| q.pop_front())
                 {
-                    self.publish(&Notification::Activation {
+                    notices.publish(&Notification::Activation {
                         reply_to,
                         device: device as u32,
                         active,
@@ -441,7 +445,13 @@ impl Services {
         }
     }
 
-    fn on_alarm(&mut self, device: usize, n: &AlarmNotification, ticket: AlarmTicket) {
+    fn on_alarm(
+        &mut self,
+        device: usize,
+        n: &AlarmNotification,
+        ticket: AlarmTicket,
+        notices: &mut Notices,
+    ) {
         let id = self.next_alarm;
         self.next_alarm += 1;
         let mut block = vec![0u8; n.buffer_len()];
@@ -474,7 +484,7 @@ impl Services {
             .filter(|(_, s)| s.acknowledges)
             .map(|(&id, _)| id)
             .collect();
-        self.publish(&Notification::Alarm(report));
+        notices.publish(&Notification::Alarm(report));
         if waiting.is_empty() {
             let _ = self.command(ControllerCommand::AcknowledgeAlarm(ticket));
         } else {
@@ -487,7 +497,7 @@ impl Services {
         }
     }
 
-    fn on_record(&mut self, r: RecordResult) {
+    fn on_record(&mut self, r: RecordResult, notices: &mut Notices) {
         let Some(job) = self.jobs.remove(&r.request.reference) else {
             return;
         };
@@ -504,7 +514,7 @@ impl Services {
             ),
             Err(f) => (record_status(&f), Vec::new(), f.reason),
         };
-        self.publish(&Notification::Record {
+        notices.publish(&Notification::Record {
             reply_to: job.reply_to,
             confirmation: RecordConfirmation {
                 reference: job.reference,
@@ -523,24 +533,8 @@ impl Services {
         });
     }
 
-    fn publish(&mut self, n: &Notification) {
-        let bytes = control::encode(n);
-        let sent = self
-            .publisher
-            .loan_slice_uninit(bytes.len())
-            .ok()
-            .and_then(|s| s.write_from_slice(&bytes).send().ok());
-        if sent.is_none() {
-            self.lost_notifications += 1;
-            return;
-        }
-        let _ = self
-            .notifier
-            .notify_with_custom_event_id(EventId::new(EVENT_NOTIFICATIONS));
-    }
-
     /// The devices' state.
-    pub fn diagnosis(&self) -> DiagnosisReport {
+    fn diagnosis(&self) -> DiagnosisReport {
         DiagnosisReport {
             devices: self
                 .devices
@@ -561,7 +555,7 @@ impl Services {
     }
 
     /// The announced subscribers.
-    pub fn subscribers(&self) -> Vec<SubscriberReport> {
+    fn subscribers(&self) -> Vec<SubscriberReport> {
         let mut v: Vec<SubscriberReport> = self
             .subscribers
             .iter()
@@ -579,11 +573,134 @@ impl Services {
         v.sort_by(|a, b| (a.pid, &a.name).cmp(&(b.pid, &b.name)));
         v
     }
+}
 
-    /// Notifications that could not be published (no shared memory for them).
-    pub fn lost_notifications(&self) -> u64 {
-        self.lost_notifications
+impl RoleServices for ControllerServices {
+    fn handle(&mut self, request: Request, online: bool, _notices: &mut Notices) -> Response {
+        let result = match request {
+            Request::Subscribe {
+                subscriber,
+                name,
+                pid,
+                node_id,
+                acknowledge_alarms,
+            } => {
+                self.subscribe(subscriber, name, pid, node_id, acknowledge_alarms);
+                Ok(())
+            }
+            Request::Unsubscribe { subscriber } => self.unsubscribe(subscriber),
+            Request::RecordRead {
+                reply_to,
+                reference,
+                target,
+                max_len,
+            } => {
+                return accepted(self.record(RecordJob {
+                    reply_to,
+                    reference,
+                    target,
+                    max_len,
+                    write: None,
+                }));
+            }
+            Request::RecordWrite {
+                reply_to,
+                reference,
+                target,
+                data,
+            } => {
+                return accepted(self.record(RecordJob {
+                    reply_to,
+                    reference,
+                    target,
+                    max_len: 0,
+                    write: Some(data),
+                }));
+            }
+            Request::ActivateDevice {
+                reply_to,
+                device,
+                active,
+            } => self.activate(reply_to, device, active, online),
+            Request::AcknowledgeAlarm { subscriber, alarm } => self.acknowledge(subscriber, alarm),
+            Request::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
+            other => Err(Refusal::BadRequest {
+                message: format!(
+                    "{} is not a request of the IO controller",
+                    request_name(&other)
+                ),
+            }),
+        };
+        match result {
+            Ok(()) => Response::Done,
+            Err(r) => Response::Refused(r),
+        }
     }
+
+    fn poll(&mut self, wait: Duration, notices: &mut Notices) {
+        self.poll_events(wait, notices);
+    }
+
+    fn reap(&mut self, alive: &HashSet<String>) -> Vec<String> {
+        ControllerServices::reap(self, alive)
+    }
+
+    fn devices(&self) -> Vec<DeviceReport> {
+        (0..self.names.len())
+            .map(|d| DeviceReport {
+                name: self.names[d].clone(),
+                state: self
+                    .link
+                    .as_ref()
+                    .and_then(|l| l.states.get(d))
+                    .map_or("offline", |s| s.as_str())
+                    .to_string(),
+            })
+            .collect()
+    }
+
+    fn network(&self) -> NetworkReport {
+        let Some(l) = &self.link else {
+            return NetworkReport::default();
+        };
+        let c = &l.channel.counters;
+        NetworkReport {
+            cyclic_frames: load(&c.cyclic_frames),
+            malformed: load(&c.malformed),
+            unknown: load(&c.unknown),
+            stale: load(&c.stale),
+            dropped: load(&c.dropped),
+            send_errors: load(&c.send_errors),
+            watchdog_expiries: load(&c.watchdog_expiries),
+            malformed_datagrams: load(&l.datagrams.malformed),
+            unexpected_datagrams: load(&l.datagrams.unexpected),
+        }
+    }
+
+    fn subscribers(&self) -> Vec<SubscriberReport> {
+        ControllerServices::subscribers(self)
+    }
+
+    fn released(&self) -> bool {
+        self.link.as_ref().is_none_or(|l| l.states.all_released())
+    }
+}
+
+fn accepted(r: Result<(), Refusal>) -> Response {
+    match r {
+        Ok(()) => Response::Accepted,
+        Err(r) => Response::Refused(r),
+    }
+}
+
+/// A request's name, for the refusal of one that is not the role's.
+fn request_name(r: &Request) -> String {
+    let debug = format!("{r:?}");
+    debug
+        .split(|c: char| !c.is_alphanumeric())
+        .next()
+        .unwrap_or_default()
+        .to_string()
 }
 
 fn record_status(f: &RecordFailure) -> RecordStatus {

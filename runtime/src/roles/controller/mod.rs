@@ -1,0 +1,230 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO controller role: the PC is the PLC. Puts the role together for a configuration:
+//! the interface (real, or the simulated plant), the protocol crate's controller on the
+//! acyclic thread ([`ControllerRole`]), the factory of the cycle thread's IO system, and the
+//! controller's client services ([`ControllerServices`]).
+
+mod plan;
+mod role;
+mod services;
+pub mod sim_behaviour;
+pub mod sim_plant;
+mod states;
+
+pub use plan::{device_spec, plan_devices};
+pub use role::{ControllerCommand, ControllerRole};
+pub use services::{ControllerLink, ControllerServices};
+pub use states::DeviceStates;
+
+use super::RoleSystem;
+use crate::acyclic::{self, DatagramCounters};
+use crate::config::{Config, Network};
+use crate::cycle::Shared;
+use crate::io::pnio::PnioIo;
+use crate::io::pnio::channel::Channel;
+use crate::phy::Nic;
+use crate::phy::af_packet::{AfPacket, OpenError};
+use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
+use crate::phy::sim_link;
+use procimg_profinet::controller::Controller;
+use procimg_profinet::controller::plan::{ControllerIdentity, PlanError};
+use procimg_profinet::wire::MacAddress;
+use std::net::Ipv4Addr;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// The controller's address on the simulated network.
+pub const SIM_CONTROLLER_IP: Ipv4Addr = Ipv4Addr::new(192, 168, 0, 1);
+/// The controller's MAC address on the simulated network.
+pub const SIM_CONTROLLER_MAC: MacAddress = MacAddress([0x02, 0x50, 0x49, 0xff, 0x00, 0x01]);
+/// How long the cycle thread's receive may block: not at all.
+const NIC_RX_TIMEOUT: Duration = Duration::ZERO;
+
+/// Why the IO system could not be started.
+#[derive(Debug, thiserror::Error)]
+pub enum NetworkError {
+    /// A device cannot be planned.
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("{origin}: {problem}")]
+    Plan {
+        /// Configuration file.
+        origin: String,
+        /// What is wrong.
+        problem: PlanError,
+    },
+    /// The interface could not be opened.
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("{origin}: network: {}", open_advice(error))]
+    Open {
+        /// Configuration file.
+        origin: String,
+        /// What the system said.
+        error: OpenError,
+    },
+    /// The interface has no IPv4 address.
+    #[error(
+        "network interface \"{0}\" has no IPv4 address: give it one in the devices' subnet \
+         (ip addr add 192.168.0.1/24 dev {0})"
+    )]
+    NoAddress(String),
+    /// Port 34964 is taken.
+    #[error(transparent)]
+    Bind(#[from] BindError),
+    /// A thread could not be started.
+    #[error("cannot start the {0} thread: {1}")]
+    Thread(&'static str, std::io::Error),
+}
+
+/// Starts the controller for `config` (and, with `network = "sim"`, the simulated plant).
+/// The controller follows the mode of `shared` and ends when `shared.stop` is set.
+pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, NetworkError> {
+    let plans = plan_devices(config).map_err(|problem| NetworkError::Plan {
+        origin: config.origin.clone(),
+        problem,
+    })?;
+    let plant_stop = Arc::new(AtomicBool::new(false));
+    let mut threads = Vec::new();
+    let (nic, udp, mac, ip): (Box<dyn Nic>, Box<dyn Datagrams>, MacAddress, Ipv4Addr) =
+        match &config.network {
+            Network::Sim => {
+                let (ours, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
+                let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
+                let devices = sim_plant::devices(config);
+                threads.push(
+                    sim_plant::spawn(
+                        devices,
+                        plant,
+                        peer,
+                        plant_stop.clone(),
+                        sim_priority(config.cycle_thread.priority),
+                    )
+                    .map_err(|e| NetworkError::Thread("simulated plant", e))?,
+                );
+                (
+                    Box::new(ours),
+                    Box::new(udp),
+                    SIM_CONTROLLER_MAC,
+                    SIM_CONTROLLER_IP,
+                )
+            }
+            Network::Interface(name) => {
+                let nic =
+                    AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| NetworkError::Open {
+                        origin: config.origin.clone(),
+                        error,
+                    })?;
+                let ip =
+                    interface_ipv4(name).ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
+                let udp = UdpDatagrams::bind(ip)?;
+                let mac = nic.mac();
+                (Box::new(nic), Box::new(udp), mac, ip)
+            }
+        };
+    let id = ControllerIdentity {
+        mac,
+        ip,
+        station_name: controller_station_name(&config.instance),
+        vendor_id: 0x0493,
+        device_id: 0x0fff,
+        instance: 1,
+    };
+    let device_submodules = plans
+        .iter()
+        .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
+        .collect();
+    let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
+    let states = Arc::new(DeviceStates::new(plans.len()));
+    let channel = Arc::new(Channel::new());
+    let datagrams = Arc::new(DatagramCounters::default());
+    let boot_time = (crate::sys::clock::now_ns() / 1_000_000_000) as u32;
+    // AR and activity UUIDs nobody can guess or repeat across restarts.
+    let mut seed = [0u8; 8];
+    if !crate::sys::random::fill(&mut seed) {
+        seed = crate::sys::clock::now_ns().to_le_bytes();
+    }
+    let controller = Controller::new(id, plans, boot_time, u64::from_le_bytes(seed));
+    let (commands, command_rx) = std::sync::mpsc::channel();
+    let (events, event_rx) = std::sync::mpsc::channel();
+    threads.push(
+        acyclic::spawn(acyclic::AcyclicSetup {
+            role: ControllerRole::new(controller, states.clone(), names.clone()),
+            channel: channel.clone(),
+            datagrams: udp,
+            shared,
+            counters: datagrams.clone(),
+            commands: command_rx,
+            events: Some(events),
+        })
+        .map_err(|e| NetworkError::Thread("PROFINET controller", e))?,
+    );
+    let cycle_ns = config.cycle_ns;
+    let link = ControllerLink {
+        commands,
+        events: event_rx,
+        states,
+        channel: channel.clone(),
+        datagrams,
+    };
+    Ok(RoleSystem {
+        io: Some(Box::new(move || {
+            Box::new(PnioIo::new(nic, channel, device_submodules, cycle_ns))
+        })),
+        services: Some(Box::new(ControllerServices::new(names, Some(link)))),
+        threads,
+        stop: Some(Box::new(move || plant_stop.store(true, Ordering::Release))),
+    })
+}
+
+/// The simulated devices' priority: they stand for field devices, which answer in real time,
+/// so they run SCHED_FIFO (where allowed) below the cycle thread; at normal priority a loaded
+/// machine starves them past their watchdog.
+fn sim_priority(cycle_priority: u8) -> u8 {
+    cycle_priority.saturating_sub(10).max(1)
+}
+
+/// The controller's NameOfStation, from the instance name: lower case, other characters as
+/// '-', as DCP names allow.
+fn controller_station_name(instance: &str) -> String {
+    let s: String = instance
+        .chars()
+        .map(|c| match c.to_ascii_lowercase() {
+            c @ ('a'..='z' | '0'..='9' | '-') => c,
+            _ => '-',
+        })
+        .collect();
+    format!("procimgd-{}", s.trim_matches('-'))
+}
+
+/// `error`, with what to do about it in procimgd's words.
+fn open_advice(error: &OpenError) -> String {
+    match error {
+        OpenError::NoSuchInterface { .. } => format!(
+            "{error}; set `network` to one of them, or to \"sim\" for the simulated devices"
+        ),
+        OpenError::NoMac { .. } => format!("{error}; set `network` to an Ethernet interface"),
+        OpenError::NotPermitted { .. } => {
+            let exe = std::env::current_exe()
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|_| "procimgd".to_owned());
+            format!(
+                "{error}; run procimgd as root, or grant it the capabilities it uses \
+                 (sudo setcap cap_net_raw,cap_sys_nice,cap_ipc_lock+ep {exe})"
+            )
+        }
+        OpenError::Down { .. } | OpenError::Io { .. } => error.to_string(),
+    }
+}
+
+/// The first IPv4 address of interface `name`.
+fn interface_ipv4(name: &str) -> Option<Ipv4Addr> {
+    pnet_datalink::interfaces()
+        .into_iter()
+        .find(|i| i.name == name)?
+        .ips
+        .into_iter()
+        .find_map(|ip| match ip.ip() {
+            std::net::IpAddr::V4(v4) => Some(v4),
+            _ => None,
+        })
+}

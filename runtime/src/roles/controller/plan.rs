@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The configuration in the protocol crate's terms: what the controller plans for each
+//! device.
+
+use crate::config::{Config, DeviceConfig};
+use procimg_profinet::controller::plan::{DevicePlan, DeviceSpec, PlanError, SubmoduleSpec};
+
+/// The controller's plan of every configured device: the configuration translated into the
+/// protocol crate's terms, then planned (send clock, frame layouts, expected submodules).
+pub fn plan_devices(config: &Config) -> Result<Vec<DevicePlan>, PlanError> {
+    let specs: Vec<DeviceSpec> = config.devices.iter().map(device_spec).collect();
+    DevicePlan::all(&specs, config.cycle_ns)
+}
+
+/// What the controller needs to know of a configured device.
+pub fn device_spec(dev: &DeviceConfig) -> DeviceSpec {
+    DeviceSpec {
+        name: dev.name.clone(),
+        ip: dev.ip,
+        vendor_id: dev.vendor_id,
+        device_id: dev.device_id,
+        instance: dev.instance,
+        reduction_ratio: dev.reduction_ratio,
+        watchdog_factor: dev.watchdog_factor,
+        submodules: dev
+            .submodules
+            .iter()
+            .map(|s| SubmoduleSpec {
+                api: s.api,
+                slot: s.slot,
+                subslot: s.subslot,
+                module_ident: s.module_ident,
+                submodule_ident: s.submodule_ident,
+                input_length: s.input_length,
+                output_length: s.output_length,
+                records: s
+                    .records
+                    .iter()
+                    .map(|r| (r.index, r.data.clone()))
+                    .collect(),
+            })
+            .collect(),
+    }
+}

@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO controller as a [`Role`]: the protocol crate's [`Controller`] with the daemon's
+//! bookkeeping around it (the device states the control side reads, the log).
+
+use super::states::DeviceStates;
+use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
+use procimg_profinet::controller::{Action, AlarmTicket, Controller, DeviceEvent, RecordRequest};
+use std::net::SocketAddrV4;
+use std::sync::Arc;
+
+/// What the client services ask of the controller.
+#[derive(Debug)]
+pub enum ControllerCommand {
+    /// Activate or deactivate a device.
+    Activate {
+        /// Device index.
+        device: usize,
+        /// Active or not.
+        active: bool,
+    },
+    /// Read or write a record.
+    Record(RecordRequest),
+    /// Send the AlarmAck of a delivered alarm.
+    AcknowledgeAlarm(AlarmTicket),
+}
+
+/// The controller on the acyclic thread.
+pub struct ControllerRole {
+    controller: Controller,
+    states: Arc<DeviceStates>,
+    /// Station names, for the log.
+    names: Vec<String>,
+    /// The controller's actions before they become effects (kept for its capacity).
+    actions: Vec<Action>,
+}
+
+impl ControllerRole {
+    /// `controller`, publishing device states to `states`; `names` are the devices' station
+    /// names.
+    pub fn new(
+        controller: Controller,
+        states: Arc<DeviceStates>,
+        names: Vec<String>,
+    ) -> ControllerRole {
+        ControllerRole {
+            controller,
+            states,
+            names,
+            actions: Vec::new(),
+        }
+    }
+
+    /// Turns the controller's actions into effects, logging its events and publishing the
+    /// device states on the way.
+    fn hand_over(&mut self, out: &mut Vec<Effect<DeviceEvent>>) {
+        for a in self.actions.drain(..) {
+            out.push(match a {
+                Action::Frame(f) => Effect::Frame(f),
+                Action::Datagram { to, payload } => Effect::Datagram { to, payload },
+                Action::Start(ar) => Effect::Start(ar),
+                Action::Stop { device } => Effect::Stop { device },
+                Action::Event(e) => {
+                    log_event(&e, &self.names, &self.states);
+                    Effect::Event(e)
+                }
+            });
+        }
+    }
+}
+
+impl Role for ControllerRole {
+    type Command = ControllerCommand;
+    type Event = DeviceEvent;
+
+    fn set_online(&mut self, online: bool, now_ns: u64, out: &mut Vec<Effect<DeviceEvent>>) {
+        self.controller
+            .set_online(online, now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn command(&mut self, c: ControllerCommand, now_ns: u64, out: &mut Vec<Effect<DeviceEvent>>) {
+        match c {
+            ControllerCommand::Activate { device, active } => {
+                self.controller
+                    .activate(device, active, now_ns, &mut self.actions);
+            }
+            ControllerCommand::Record(r) => self.controller.record(r, &mut self.actions),
+            ControllerCommand::AcknowledgeAlarm(t) => {
+                self.controller
+                    .acknowledge_alarm(t, now_ns, &mut self.actions);
+            }
+        }
+        self.hand_over(out);
+    }
+
+    fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<Effect<DeviceEvent>>) {
+        self.controller.on_frame(frame, now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn on_datagram(
+        &mut self,
+        from: SocketAddrV4,
+        payload: &[u8],
+        now_ns: u64,
+        out: &mut Vec<Effect<DeviceEvent>>,
+    ) {
+        self.controller
+            .on_datagram(from, payload, now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn on_cycle(&mut self, report: CycleReport, now_ns: u64, out: &mut Vec<Effect<DeviceEvent>>) {
+        match report {
+            CycleReport::DataStarted { device, epoch } => {
+                self.controller.on_data_started(device, epoch)
+            }
+            CycleReport::WatchdogExpired { device, epoch } => {
+                self.controller
+                    .on_watchdog(device, epoch, now_ns, &mut self.actions)
+            }
+        }
+        self.hand_over(out);
+    }
+
+    fn poll(&mut self, now_ns: u64, out: &mut Vec<Effect<DeviceEvent>>) {
+        self.controller.poll(now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn deadline(&self) -> Option<u64> {
+        self.controller.deadline()
+    }
+
+    fn dropped_datagrams(&self) -> DroppedDatagrams {
+        let d = self.controller.dropped_datagrams();
+        DroppedDatagrams {
+            malformed: d.malformed,
+            unexpected: d.unexpected,
+        }
+    }
+}
+
+fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
+    let name = |d: usize| names.get(d).map_or("?", String::as_str);
+    match e {
+        DeviceEvent::State { device, state } => {
+            states.set(*device, *state);
+            tracing::debug!("device {:?}: {state}", name(*device));
+        }
+        DeviceEvent::Failure {
+            device,
+            reason,
+            planned: false,
+            ..
+        } => tracing::warn!("device {:?} failed: {reason}", name(*device)),
+        DeviceEvent::Failure {
+            device,
+            reason,
+            planned: true,
+            ..
+        } => tracing::info!("device {:?} left data exchange: {reason}", name(*device)),
+        DeviceEvent::Return { device } => {
+            tracing::info!("device {:?} is in data exchange", name(*device))
+        }
+        DeviceEvent::Problem { device, reason, .. } => {
+            tracing::warn!("device {:?}: {reason}", name(*device))
+        }
+        DeviceEvent::ModuleDiff { device, diff } => {
+            for (api, slot, subslot, st) in diff.submodules() {
+                tracing::warn!(
+                    "device {:?}: API {api} slot {slot} subslot {subslot:#06x} differs from \
+                     the configuration: {st:?}",
+                    name(*device)
+                );
+            }
+        }
+        DeviceEvent::Alarm {
+            device,
+            notification,
+            ..
+        } => tracing::info!(
+            "device {:?}: alarm {:?} at slot {} subslot {:#06x}",
+            name(*device),
+            notification.alarm_type,
+            notification.slot,
+            notification.subslot
+        ),
+        DeviceEvent::Record(r) => tracing::debug!(
+            "device {:?}: record {:#06x} done: {:?}",
+            name(r.request.device),
+            r.request.index,
+            r.result.as_ref().map(|d| d.data.len())
+        ),
+        DeviceEvent::Activation { device, active } => tracing::info!(
+            "device {:?} {}",
+            name(*device),
+            if *active { "activated" } else { "deactivated" }
+        ),
+    }
+}

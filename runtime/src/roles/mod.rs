@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The PROFINET roles procimgd plays, and the one interface each plugs into.
+//!
+//! A role is the protocol's side of one end of a PROFINET AR: the IO controller (the PC is
+//! the PLC, [`controller`]) or the IO device (the PC is a field device on another PLC). The
+//! daemon around it is the same for every role, and a role meets it in three places:
+//!
+//! - **the cycle thread** runs the cyclic exchange of every AR the role has set up
+//!   ([`crate::io::pnio`]): it consumes one frame into the image and produces one frame from
+//!   it, whichever end of the AR it is; the role hands it ARs to start and stop;
+//! - **the acyclic thread** ([`crate::acyclic`]) drives the role's sans-IO state machines
+//!   through [`Role`]: frames and datagrams in, reports of the cycle in, commands from
+//!   clients in, `poll(now)`; [`Effect`]s out, which the thread carries out;
+//! - **the control side** ([`crate::server::Control`]) answers the core requests (claims,
+//!   modes, status, forces) itself and hands the role's requests (records, activation,
+//!   alarms, diagnosis) to the role's [`RoleServices`], which also turns what the role
+//!   reports into notifications for subscribers.
+//!
+//! Starting a role ([`controller::start`]) gives a [`RoleSystem`]: the factory of the cycle
+//! thread's IO system, the running acyclic thread, and the role's client services.
+
+pub mod controller;
+
+use crate::cycle::thread::IoFactory;
+use crate::server::Notices;
+use procimg_profinet::controller::cyclic::CyclicAr;
+use procimg_shm_layout::control::{
+    DeviceReport, NetworkReport, Request, Response, SubscriberReport,
+};
+use std::collections::HashSet;
+use std::net::SocketAddrV4;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+/// What a role asks the acyclic thread to do.
+#[derive(Debug)]
+pub enum Effect<E> {
+    /// Send an Ethernet frame (DCP, alarms) through the cycle thread's interface.
+    Frame(Vec<u8>),
+    /// Send a UDP datagram from port 34964.
+    Datagram {
+        /// The peer.
+        to: SocketAddrV4,
+        /// The RPC PDU.
+        payload: Vec<u8>,
+    },
+    /// Start (or replace) the cyclic exchange of an AR on the cycle thread.
+    Start(Box<CyclicAr>),
+    /// Stop the cyclic exchange of the AR of peer `device`.
+    Stop {
+        /// The peer's index (a device of the controller, an AR of the device role).
+        device: usize,
+    },
+    /// Tell the role's client services (and the log) what happened.
+    Event(E),
+}
+
+/// What the cycle thread reports about an AR's cyclic exchange.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CycleReport {
+    /// The first valid frame of the AR arrived.
+    DataStarted {
+        /// The peer's index.
+        device: usize,
+        /// The AR's epoch.
+        epoch: u32,
+    },
+    /// No frame within the watchdog time: the cycle thread stopped the exchange.
+    WatchdogExpired {
+        /// The peer's index.
+        device: usize,
+        /// The AR's epoch.
+        epoch: u32,
+    },
+}
+
+/// Datagrams of port 34964 the role dropped, for the status report.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DroppedDatagrams {
+    /// Datagrams that did not parse.
+    pub malformed: u64,
+    /// Datagrams nothing was waiting for.
+    pub unexpected: u64,
+}
+
+/// One role's protocol state machines as the acyclic thread drives them. Sans-IO: time comes
+/// in as `now_ns` (`CLOCK_MONOTONIC`), everything to send goes out as [`Effect`]s.
+pub trait Role: Send + 'static {
+    /// What the role's client services ask of it.
+    type Command: Send + 'static;
+    /// What the role tells its client services.
+    type Event: Send + 'static;
+
+    /// The role goes online (the cycle is, or is becoming, CLEAR or OPERATE) or offline
+    /// (it releases its ARs).
+    fn set_online(&mut self, online: bool, now_ns: u64, out: &mut Vec<Effect<Self::Event>>);
+    /// A command from the client services.
+    fn command(&mut self, command: Self::Command, now_ns: u64, out: &mut Vec<Effect<Self::Event>>);
+    /// An acyclic PROFINET frame (DCP, alarms) the cycle thread received.
+    fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<Effect<Self::Event>>);
+    /// A datagram on port 34964.
+    fn on_datagram(
+        &mut self,
+        from: SocketAddrV4,
+        payload: &[u8],
+        now_ns: u64,
+        out: &mut Vec<Effect<Self::Event>>,
+    );
+    /// What the cycle thread reports.
+    fn on_cycle(&mut self, report: CycleReport, now_ns: u64, out: &mut Vec<Effect<Self::Event>>);
+    /// Timers: retransmissions, timeouts, the next step of a connection.
+    fn poll(&mut self, now_ns: u64, out: &mut Vec<Effect<Self::Event>>);
+    /// When [`Role::poll`] wants to be called next, if at a time of its own.
+    fn deadline(&self) -> Option<u64>;
+    /// The datagrams dropped so far.
+    fn dropped_datagrams(&self) -> DroppedDatagrams;
+}
+
+/// A role's part of the client services, on the control side.
+pub trait RoleServices: Send {
+    /// Answers one of the role's requests (records, activation, alarms, diagnosis,
+    /// subscriptions). `online` says whether the cycle is, or is becoming, CLEAR or OPERATE.
+    fn handle(&mut self, request: Request, online: bool, notices: &mut Notices) -> Response;
+    /// Waits up to `wait` for what the role reports and publishes it to the subscribers;
+    /// handles the role's timeouts.
+    fn poll(&mut self, wait: Duration, notices: &mut Notices);
+    /// Forgets subscribers whose process is gone (`alive`: the live iceoryx2 node ids);
+    /// returns who they were.
+    fn reap(&mut self, alive: &HashSet<String>) -> Vec<String>;
+    /// The state of every peer, for the status report.
+    fn devices(&self) -> Vec<DeviceReport>;
+    /// The interface and datagram counters, for the status report.
+    fn network(&self) -> NetworkReport;
+    /// The announced subscribers, for the status report.
+    fn subscribers(&self) -> Vec<SubscriberReport>;
+    /// Whether the role holds no connection any more: the server waits for this on shutdown,
+    /// so that every peer is released before the cyclic data ends.
+    fn released(&self) -> bool;
+}
+
+/// A started role.
+pub struct RoleSystem {
+    /// Builds the cycle thread's IO system (taken once, for the cycle thread).
+    pub io: Option<IoFactory>,
+    /// The role's client services, for the control side (taken once).
+    pub services: Option<Box<dyn RoleServices>>,
+    /// The role's threads (the acyclic thread, a simulated plant): they end with the cycle.
+    pub threads: Vec<JoinHandle<()>>,
+    /// Called before joining the threads, to stop those that do not end with the cycle.
+    pub stop: Option<Box<dyn FnOnce() + Send>>,
+}
+
+impl RoleSystem {
+    /// Waits for the role's threads, after the cycle has been told to stop.
+    pub fn join(mut self) {
+        if let Some(stop) = self.stop.take() {
+            stop();
+        }
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
