@@ -174,3 +174,6 @@ impl<E> Sink<'_, E> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
