@@ -211,7 +211,8 @@ const fn bit(b: bool, n: u16) -> u16 {
     if b { 1 << n } else { 0 }
 }
 
-/// ChannelSpecifier (bits 11–12 of ChannelProperties).
+/// ChannelSpecifier (bits 11–12 of ChannelProperties). Every 2-bit value has a meaning, so
+/// unlike the wider fields there is no unknown value to keep.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ChannelSpecifier {
     /// 0: all (subordinate) diagnoses disappear.
@@ -246,42 +247,30 @@ impl ChannelSpecifier {
     }
 }
 
-/// ChannelDirection (bits 13–15 of ChannelProperties).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ChannelDirection {
-    /// 0: manufacturer specific.
-    Manufacturer,
-    /// 1: input.
-    Input,
-    /// 2: output.
-    Output,
-    /// 3: input/output.
-    InputOutput,
-    /// 4..=7: reserved (the 3-bit value).
-    Reserved(u8),
+enum_with_unknown! {
+    /// ChannelDirection (bits 13–15 of ChannelProperties). Values 4..=7 are reserved.
+    pub enum ChannelDirection(u8) {
+        /// 0: manufacturer specific.
+        Manufacturer = 0 => "manufacturer specific",
+        /// 1: input.
+        Input = 1 => "input",
+        /// 2: output.
+        Output = 2 => "output",
+        /// 3: input/output.
+        InputOutput = 3 => "input/output",
+    }
 }
 
 impl ChannelDirection {
     /// From the 3-bit value (higher bits are ignored).
     pub const fn from_bits(v: u16) -> ChannelDirection {
-        match v & 7 {
-            0 => ChannelDirection::Manufacturer,
-            1 => ChannelDirection::Input,
-            2 => ChannelDirection::Output,
-            3 => ChannelDirection::InputOutput,
-            other => ChannelDirection::Reserved(other as u8),
-        }
+        // Masked to 3 bits, so the cast keeps every bit.
+        ChannelDirection::from_raw((v & 7) as u8)
     }
 
-    /// The 3-bit value.
+    /// The 3-bit value (higher bits of an `Unknown` are dropped).
     pub const fn bits(self) -> u16 {
-        match self {
-            ChannelDirection::Manufacturer => 0,
-            ChannelDirection::Input => 1,
-            ChannelDirection::Output => 2,
-            ChannelDirection::InputOutput => 3,
-            ChannelDirection::Reserved(v) => (v & 7) as u16,
-        }
+        (self.raw() & 7) as u16
     }
 }
 

@@ -12,8 +12,14 @@
 //! - byte order is explicit (big-endian on the wire unless a format says otherwise); wire
 //!   bytes are never transmuted.
 
-/// Defines a `Copy` enum over an integer with an `Unknown` catch-all, the conversions both ways
-/// and a `name()` with the readable text of the known values.
+/// Defines a `Copy` enum over a wire integer with an `Unknown` catch-all, so that parsing
+/// never fails on a value the enum does not name and every raw value round-trips.
+///
+/// Generates the enum (each variant with its doc comment, value and readable text), the
+/// conversions both ways as `From` and as `const fn`s (`from_raw`, `raw`) for `const`
+/// contexts and sub-byte fields, and `name()` with the readable text of the known values.
+/// Extra attributes before `pub enum` (docs, further derives) go onto the enum; it always
+/// derives `Clone, Copy, Debug, PartialEq, Eq, Hash`.
 macro_rules! enum_with_unknown {
     (
         $(#[$m:meta])*
@@ -29,31 +35,41 @@ macro_rules! enum_with_unknown {
             Unknown($ty),
         }
 
-        impl From<$ty> for $name {
-            fn from(v: $ty) -> $name {
+        impl $name {
+            /// The variant of a raw wire value (`Unknown` for values without a name).
+            pub const fn from_raw(v: $ty) -> $name {
                 match v {
                     $( $val => $name::$var, )+
                     other => $name::Unknown(other),
                 }
             }
-        }
 
-        impl From<$name> for $ty {
-            fn from(v: $name) -> $ty {
-                match v {
+            /// The raw wire value.
+            pub const fn raw(self) -> $ty {
+                match self {
                     $( $name::$var => $val, )+
                     $name::Unknown(other) => other,
                 }
             }
-        }
 
-        impl $name {
             /// The readable text of a known value; `None` for `Unknown`.
             pub const fn name(self) -> Option<&'static str> {
                 match self {
                     $( $name::$var => Some($text), )+
                     $name::Unknown(_) => None,
                 }
+            }
+        }
+
+        impl From<$ty> for $name {
+            fn from(v: $ty) -> $name {
+                $name::from_raw(v)
+            }
+        }
+
+        impl From<$name> for $ty {
+            fn from(v: $name) -> $ty {
+                v.raw()
             }
         }
     };

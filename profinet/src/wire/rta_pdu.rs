@@ -83,54 +83,37 @@ const ADD_FLAGS_WINDOW: u8 = 0x0f;
 /// AddFlags: TACK.
 const ADD_FLAGS_TACK: u8 = 0x10;
 
-/// The type of an RTA PDU (low nibble of PDUType).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum PduType {
-    /// 1: DATA-RTA, carries an alarm block.
-    Data,
-    /// 2: NACK-RTA.
-    Nack,
-    /// 3: ACK-RTA (transport acknowledgement).
-    Ack,
-    /// 4: ERR-RTA (abort).
-    Err,
-    /// Any other nibble (never 1..=4).
-    Unknown(u8),
-}
-
-impl From<u8> for PduType {
-    /// From the low nibble of `v` (the version nibble is ignored).
-    fn from(v: u8) -> PduType {
-        match v & 0x0f {
-            1 => PduType::Data,
-            2 => PduType::Nack,
-            3 => PduType::Ack,
-            4 => PduType::Err,
-            other => PduType::Unknown(other),
-        }
+enum_with_unknown! {
+    /// The type of an RTA PDU: the low nibble of PDUType (the high nibble is the version).
+    pub enum PduType(u8) {
+        /// 1: DATA-RTA, carries an alarm block.
+        Data = 1 => "DATA",
+        /// 2: NACK-RTA.
+        Nack = 2 => "NACK",
+        /// 3: ACK-RTA (transport acknowledgement).
+        Ack = 3 => "ACK",
+        /// 4: ERR-RTA (abort).
+        Err = 4 => "ERR",
     }
 }
 
-impl From<PduType> for u8 {
-    fn from(v: PduType) -> u8 {
-        match v {
-            PduType::Data => 1,
-            PduType::Nack => 2,
-            PduType::Ack => 3,
-            PduType::Err => 4,
-            PduType::Unknown(other) => other & 0x0f,
-        }
+impl PduType {
+    /// The type in a PDUType byte: its low nibble (the version nibble is ignored).
+    pub const fn from_pdu_type_byte(b: u8) -> PduType {
+        PduType::from_raw(b & 0x0f)
+    }
+
+    /// The PDUType byte of this type and `version`: both are nibbles, higher bits are dropped.
+    pub const fn pdu_type_byte(self, version: u8) -> u8 {
+        (version << 4) | (self.raw() & 0x0f)
     }
 }
 
 impl core::fmt::Display for PduType {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            PduType::Data => f.write_str("DATA"),
-            PduType::Nack => f.write_str("NACK"),
-            PduType::Ack => f.write_str("ACK"),
-            PduType::Err => f.write_str("ERR"),
-            PduType::Unknown(v) => write!(f, "PDUType({v})"),
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "PDUType({})", self.raw()),
         }
     }
 }
@@ -190,7 +173,7 @@ impl<T: AsRef<[u8]>> Packet<T> {
 
     /// The PDU type (low nibble of PDUType).
     pub fn pdu_type(&self) -> PduType {
-        PduType::from(self.buffer.as_ref()[field::PDU_TYPE])
+        PduType::from_pdu_type_byte(self.buffer.as_ref()[field::PDU_TYPE])
     }
 
     /// The RTA version (high nibble of PDUType; 1).
@@ -257,7 +240,7 @@ impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
 
     /// Sets PDUType from a type and a version (both nibbles; higher bits are dropped).
     pub fn set_pdu_type(&mut self, pdu_type: PduType, version: u8) {
-        self.buffer.as_mut()[field::PDU_TYPE] = (version << 4) | u8::from(pdu_type);
+        self.buffer.as_mut()[field::PDU_TYPE] = pdu_type.pdu_type_byte(version);
     }
 
     /// Sets AddFlags from a window size (a nibble) and TACK.
@@ -358,7 +341,7 @@ impl RtaHeader {
         Ok(RtaHeader {
             dst_endpoint,
             src_endpoint,
-            pdu_type: PduType::from(pdu),
+            pdu_type: PduType::from_pdu_type_byte(pdu),
             version: pdu >> 4,
             window_size: flags & ADD_FLAGS_WINDOW,
             tack: flags & ADD_FLAGS_TACK != 0,
@@ -382,7 +365,7 @@ impl RtaHeader {
         w.u16(self.src_endpoint)?;
         let tack = if self.tack { ADD_FLAGS_TACK } else { 0 };
         w.put(&[
-            (self.version << 4) | u8::from(self.pdu_type),
+            self.pdu_type.pdu_type_byte(self.version),
             (self.window_size & ADD_FLAGS_WINDOW) | tack,
         ])?;
         w.u16(self.send_seq)?;

@@ -401,8 +401,8 @@ fn module_diff_worked_example() {
     assert!(!s.is_usable());
     assert!(SubmoduleState(0x8000).is_usable());
     assert!(!SubmoduleState(0).is_usable());
-    assert_eq!(SubmoduleState(0xf800).ident_info(), IdentInfo::Reserved(15));
-    assert_eq!(SubmoduleState(0x8780).ar_info(), ArInfo::Reserved(15));
+    assert_eq!(SubmoduleState(0xf800).ident_info(), IdentInfo::Unknown(15));
+    assert_eq!(SubmoduleState(0x8780).ar_info(), ArInfo::Unknown(15));
     for v in 0..6u16 {
         assert_eq!(u16::from(ModuleState::from(v)), v);
     }
