@@ -19,7 +19,7 @@ use crate::wire::connect::{
     TAG_HEADER_PRIO_6, iocr_properties,
 };
 use crate::wire::rt::{MAX_DATA_LENGTH, MIN_DATA_LENGTH};
-use crate::wire::{Error, MacAddress};
+use crate::wire::{EmitError, MacAddress};
 
 /// One submodule as the layout needs it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -168,7 +168,7 @@ impl IocrBlockReq {
     /// DataLength from the layout, one IODataObject per data object (at its data offset) and
     /// one IOCS per consumer status, grouped by API in frame order. `submodules` is the list
     /// the layout was computed from (its indices are the layout's `submodule` fields); an index
-    /// outside it gives [`Error`]. It lives beside the layout it is built from, so that the codec does not
+    /// outside it gives [`EmitError::Inconsistent`]. It lives beside the layout it is built from, so that the codec does not
     /// depend on the layout.
     ///
     /// The other fields are what the S7-1515 sends: LT 0x8892, RT class 2, SendClockFactor 32,
@@ -181,7 +181,7 @@ impl IocrBlockReq {
         frame_id: u16,
         layout: &CrLayout,
         submodules: &[SubmoduleIo],
-    ) -> Result<IocrBlockReq, Error> {
+    ) -> Result<IocrBlockReq, EmitError> {
         fn api_entry(apis: &mut Vec<IocrApi>, api: u32) -> &mut IocrApi {
             let i = match apis.iter().position(|a| a.api == api) {
                 Some(i) => i,
@@ -195,9 +195,11 @@ impl IocrBlockReq {
             };
             &mut apis[i]
         }
+        const OUTSIDE: EmitError =
+            EmitError::Inconsistent("the layout names a submodule outside the list");
         let mut apis = Vec::new();
         for o in &layout.objects {
-            let s = submodules.get(o.submodule).ok_or(Error)?;
+            let s = submodules.get(o.submodule).ok_or(OUTSIDE)?;
             api_entry(&mut apis, s.api).data_objects.push(IocrEntry {
                 slot: s.slot,
                 subslot: s.subslot,
@@ -205,7 +207,7 @@ impl IocrBlockReq {
             });
         }
         for c in &layout.iocs {
-            let s = submodules.get(c.submodule).ok_or(Error)?;
+            let s = submodules.get(c.submodule).ok_or(OUTSIDE)?;
             api_entry(&mut apis, s.api).iocs.push(IocrEntry {
                 slot: s.slot,
                 subslot: s.subslot,

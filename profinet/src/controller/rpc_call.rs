@@ -14,7 +14,7 @@
 use super::Action;
 use crate::wire::common::PnioStatus;
 use crate::wire::rpc::{self, Header, MAX_PDU_LEN, Ndr, PacketType, flags1};
-use crate::wire::{Result, Uuid};
+use crate::wire::{EmitResult, Uuid};
 use std::collections::BTreeMap;
 use std::net::SocketAddrV4;
 
@@ -83,7 +83,7 @@ impl RpcCall {
         blocks: &[u8],
         more: u32,
         now_ns: u64,
-    ) -> Result<RpcCall> {
+    ) -> EmitResult<RpcCall> {
         // Little-endian NDR, as the S7-1500 sends it; devices answer in either order.
         let h = Header {
             little_endian: true,

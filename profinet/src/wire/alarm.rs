@@ -7,23 +7,12 @@
 
 use super::common::BLOCK_HEADER_LEN;
 use super::cursor::{Reader, Writer};
-use super::{BlockHeader, Error, PnioStatus, Result, be16};
+use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, PnioStatus, Result, be16};
 
 /// FrameID of high-priority alarms.
 pub const FRAME_ID_ALARM_HIGH: u16 = 0xfc01;
 /// FrameID of low-priority alarms.
 pub const FRAME_ID_ALARM_LOW: u16 = 0xfe01;
-
-/// BlockType of a high-priority AlarmNotification.
-pub const BLOCK_TYPE_ALARM_NOTIFICATION_HIGH: u16 = 0x0001;
-/// BlockType of a low-priority AlarmNotification.
-pub const BLOCK_TYPE_ALARM_NOTIFICATION_LOW: u16 = 0x0002;
-/// BlockType of a high-priority AlarmAck.
-pub const BLOCK_TYPE_ALARM_ACK_HIGH: u16 = 0x8001;
-/// BlockType of a low-priority AlarmAck.
-pub const BLOCK_TYPE_ALARM_ACK_LOW: u16 = 0x8002;
-/// BlockType of a MaintenanceItem.
-pub const BLOCK_TYPE_MAINTENANCE_ITEM: u16 = 0x0f00;
 
 /// USI of channel diagnosis (6-byte entries).
 pub const USI_CHANNEL_DIAGNOSIS: u16 = 0x8000;
@@ -66,18 +55,18 @@ impl Priority {
     }
 
     /// BlockType of an AlarmNotification of this priority.
-    pub const fn notification_block_type(self) -> u16 {
+    pub const fn notification_block_type(self) -> BlockType {
         match self {
-            Priority::High => BLOCK_TYPE_ALARM_NOTIFICATION_HIGH,
-            Priority::Low => BLOCK_TYPE_ALARM_NOTIFICATION_LOW,
+            Priority::High => BlockType::AlarmNotificationHigh,
+            Priority::Low => BlockType::AlarmNotificationLow,
         }
     }
 
     /// BlockType of an AlarmAck of this priority.
-    pub const fn ack_block_type(self) -> u16 {
+    pub const fn ack_block_type(self) -> BlockType {
         match self {
-            Priority::High => BLOCK_TYPE_ALARM_ACK_HIGH,
-            Priority::Low => BLOCK_TYPE_ALARM_ACK_LOW,
+            Priority::High => BlockType::AlarmAckHigh,
+            Priority::Low => BlockType::AlarmAckLow,
         }
     }
 
@@ -305,6 +294,7 @@ impl ChannelProperties {
 
     /// Type: the channel data width code (bits 0–7).
     pub const fn data_type(self) -> u8 {
+        // Masked to 8 bits, so the cast keeps every bit.
         (self.0 & 0xff) as u8
     }
 
@@ -424,7 +414,7 @@ impl ChannelDiagnosis {
         Ok(d)
     }
 
-    fn emit(&self, format: DiagnosisFormat, w: &mut Writer<'_>) -> Result<()> {
+    fn emit(&self, format: DiagnosisFormat, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.channel_number)?;
         w.u16(self.channel_properties.0)?;
         w.u16(self.channel_error_type)?;
@@ -474,7 +464,7 @@ impl Diagnosis {
         self.entries.len().saturating_mul(self.format.entry_len())
     }
 
-    fn emit_data(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn emit_data(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         self.entries.iter().try_for_each(|e| e.emit(self.format, w))
     }
 }
@@ -530,7 +520,7 @@ impl AlarmItem {
         data.saturating_add(2)
     }
 
-    fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn emit(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.usi())?;
         match self {
             AlarmItem::Diagnosis(d) => d.emit_data(w),
@@ -578,9 +568,9 @@ impl MaintenanceItem {
         Some((MaintenanceItem { status }, r.rest()))
     }
 
-    fn emit(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn emit(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(USI_MAINTENANCE)?;
-        w.block_header(BLOCK_TYPE_MAINTENANCE_ITEM, 6)?;
+        w.block_header(BlockType::MaintenanceItem, 6)?;
         w.u16(0)?;
         w.u32(self.status)
     }
@@ -622,8 +612,8 @@ impl AlarmNotification {
     pub fn parse(b: &[u8]) -> Result<AlarmNotification> {
         let h = BlockHeader::parse(b)?;
         let priority = match h.block_type {
-            BLOCK_TYPE_ALARM_NOTIFICATION_HIGH => Priority::High,
-            BLOCK_TYPE_ALARM_NOTIFICATION_LOW => Priority::Low,
+            BlockType::AlarmNotificationHigh => Priority::High,
+            BlockType::AlarmNotificationLow => Priority::Low,
             _ => return Err(Error),
         };
         let mut r = Reader::new(h.body(b));
@@ -678,13 +668,14 @@ impl AlarmNotification {
     }
 
     /// Writes the block into the first [`buffer_len`](Self::buffer_len) bytes of `buf`. A
-    /// shorter buffer or a block longer than BlockLength allows give [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let mut w = Writer::new(buf);
+    /// shorter buffer or a block longer than BlockLength allows give [`EmitError`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        EmitError::check_len("AlarmNotification", self.buffer_len(), buf.len())?;
+        let mut w = Writer::new("AlarmNotification", buf);
         self.write(&mut w)
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.block_header(self.priority.notification_block_type(), self.body_len())?;
         w.u16(self.alarm_type.into())?;
         w.u32(self.api)?;
@@ -755,8 +746,8 @@ impl AlarmAck {
     pub fn parse(b: &[u8]) -> Result<AlarmAck> {
         let h = BlockHeader::parse(b)?;
         let priority = match h.block_type {
-            BLOCK_TYPE_ALARM_ACK_HIGH => Priority::High,
-            BLOCK_TYPE_ALARM_ACK_LOW => Priority::Low,
+            BlockType::AlarmAckHigh => Priority::High,
+            BlockType::AlarmAckLow => Priority::Low,
             _ => return Err(Error),
         };
         if h.body_len() != ACK_BODY_LEN {
@@ -780,13 +771,14 @@ impl AlarmAck {
     }
 
     /// Writes the block into the first [`AlarmAck::LEN`] bytes of `buf`; a shorter buffer gives
-    /// [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let mut w = Writer::new(buf);
+    /// [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        EmitError::check_len("AlarmAck", AlarmAck::LEN, buf.len())?;
+        let mut w = Writer::new("AlarmAck", buf);
         self.write(&mut w)
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.block_header(self.priority.ack_block_type(), ACK_BODY_LEN)?;
         w.u16(self.alarm_type.into())?;
         w.u32(self.api)?;
@@ -807,7 +799,7 @@ pub enum AlarmBlock {
     /// Any other block, kept as it is.
     Other {
         /// BlockType.
-        block_type: u16,
+        block_type: BlockType,
         /// BlockVersionHigh and BlockVersionLow.
         version: (u8, u8),
         /// The body after the block header.
@@ -820,10 +812,10 @@ impl AlarmBlock {
     pub fn parse(b: &[u8]) -> Result<AlarmBlock> {
         let h = BlockHeader::parse(b)?;
         match h.block_type {
-            BLOCK_TYPE_ALARM_NOTIFICATION_HIGH | BLOCK_TYPE_ALARM_NOTIFICATION_LOW => {
+            BlockType::AlarmNotificationHigh | BlockType::AlarmNotificationLow => {
                 AlarmNotification::parse(b).map(AlarmBlock::Notification)
             }
-            BLOCK_TYPE_ALARM_ACK_HIGH | BLOCK_TYPE_ALARM_ACK_LOW => {
+            BlockType::AlarmAckHigh | BlockType::AlarmAckLow => {
                 AlarmAck::parse(b).map(AlarmBlock::Ack)
             }
             block_type => Ok(AlarmBlock::Other {
@@ -843,7 +835,7 @@ impl AlarmBlock {
         }
     }
 
-    pub(super) fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    pub(super) fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         match self {
             AlarmBlock::Notification(n) => n.write(w),
             AlarmBlock::Ack(a) => a.write(w),
@@ -852,19 +844,18 @@ impl AlarmBlock {
                 version,
                 body,
             } => {
-                let length = body
-                    .len()
-                    .checked_add(2)
-                    .and_then(|n| u16::try_from(n).ok())
-                    .ok_or(Error)?;
-                w.u16(*block_type)?;
-                w.u16(length)?;
-                w.put(&[version.0, version.1])?;
+                let header = BlockHeader {
+                    version_high: version.0,
+                    version_low: version.1,
+                    ..BlockHeader::v1(*block_type, body.len())?
+                };
+                w.put(&header.to_bytes())?;
                 w.put(body)
             }
         }
     }
 }
+
 #[cfg(test)]
 mod tests {
     use super::super::ethernet::{ETHERTYPE_PROFINET, Frame};
@@ -1426,9 +1417,28 @@ mod tests {
         // Emit into short buffers.
         let p = capture(PROCESS_NOTIF);
         let mut buf = vec![0u8; p.buffer_len() - 1];
-        assert_eq!(p.emit(&mut buf), Err(Error));
+        let short = p.emit(&mut buf).unwrap_err();
+        assert_eq!(
+            short,
+            EmitError::BufferTooShort {
+                what: "RTA PDU",
+                needed: buf.len() + 1,
+                len: buf.len()
+            }
+        );
+        assert_eq!(
+            short.to_string(),
+            format!(
+                "buffer of {} bytes, the RTA PDU needs {}",
+                buf.len(),
+                buf.len() + 1
+            )
+        );
         assert_eq!(RtaHeader::parse(&[0; 11]), Err(Error));
-        assert_eq!(p.header.emit(&mut [0; 11]), Err(Error));
+        assert!(matches!(
+            p.header.emit(&mut [0; 11]),
+            Err(EmitError::BufferTooShort { needed: 12, .. })
+        ));
     }
 
     fn header() -> impl Strategy<Value = RtaHeader> {

@@ -8,7 +8,9 @@
 //! The contract:
 //! - once `check_len` (or `new_checked`) has returned `Ok`, no getter panics;
 //! - `Repr::parse` never panics, on any input: malformed bytes give [`Error`];
-//! - `Repr::emit` never panics on a buffer of exactly `buffer_len()` bytes;
+//! - `Repr::emit` never panics: it returns [`EmitError`] when the buffer is shorter than
+//!   `buffer_len()` or a value does not fit its wire field (a length or count over its 16
+//!   bits, fields that contradict each other), and writes nothing truncated;
 //! - byte order is explicit (big-endian on the wire unless a format says otherwise); wire
 //!   bytes are never transmuted.
 
@@ -87,7 +89,7 @@ pub mod rpc;
 pub mod rt;
 pub mod rta_pdu;
 
-pub use common::{BlockHeader, PnioStatus, Uuid};
+pub use common::{BlockHeader, BlockType, PnioStatus, Uuid};
 
 /// A malformed or truncated frame. Callers count and drop such frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,6 +105,96 @@ impl core::error::Error for Error {}
 
 /// The result of parsing.
 pub type Result<T> = core::result::Result<T, Error>;
+
+/// Why a frame, PDU or block could not be written. Every `emit`, `to_vec` and builder of wire
+/// bytes returns it instead of panicking or truncating.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EmitError {
+    /// The buffer is shorter than what is to be written.
+    BufferTooShort {
+        /// What was being written.
+        what: &'static str,
+        /// Bytes it needs.
+        needed: usize,
+        /// Bytes the buffer has.
+        len: usize,
+    },
+    /// A length or count does not fit its wire field.
+    TooLong {
+        /// The wire field.
+        field: &'static str,
+        /// The value it would have to hold.
+        value: usize,
+        /// The largest value the field holds.
+        max: usize,
+    },
+    /// What was written does not fill the length computed for it: the length and the
+    /// encoding of a format disagree.
+    LengthMismatch {
+        /// What was being written.
+        what: &'static str,
+        /// Bytes its computed length says.
+        computed: usize,
+        /// Bytes written.
+        written: usize,
+    },
+    /// The fields contradict each other, so there is no encoding to write.
+    Inconsistent(&'static str),
+}
+
+impl EmitError {
+    /// `TooLong` for a 16-bit length or count field.
+    pub(crate) const fn too_long_u16(field: &'static str, value: usize) -> EmitError {
+        EmitError::TooLong {
+            field,
+            value,
+            max: u16::MAX as usize,
+        }
+    }
+
+    /// `Ok` when a buffer of `len` bytes holds the `needed` bytes of `what`.
+    pub(crate) const fn check_len(
+        what: &'static str,
+        needed: usize,
+        len: usize,
+    ) -> core::result::Result<(), EmitError> {
+        if len < needed {
+            Err(EmitError::BufferTooShort { what, needed, len })
+        } else {
+            Ok(())
+        }
+    }
+}
+
+impl core::fmt::Display for EmitError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            EmitError::BufferTooShort { what, needed, len } => {
+                write!(f, "buffer of {len} bytes, the {what} needs {needed}")
+            }
+            EmitError::TooLong { field, value, max } => {
+                write!(
+                    f,
+                    "{field} would be {value}, over the {max} its wire field holds"
+                )
+            }
+            EmitError::LengthMismatch {
+                what,
+                computed,
+                written,
+            } => write!(
+                f,
+                "the {what} wrote {written} bytes where its computed length is {computed}"
+            ),
+            EmitError::Inconsistent(why) => write!(f, "nothing to emit: {why}"),
+        }
+    }
+}
+
+impl core::error::Error for EmitError {}
+
+/// The result of emitting.
+pub type EmitResult<T> = core::result::Result<T, EmitError>;
 
 /// A byte range of a fixed field.
 pub(crate) type Field = core::ops::Range<usize>;

@@ -27,18 +27,7 @@
 
 use super::common::BLOCK_HEADER_LEN;
 use super::cursor::{Reader, Writer};
-use super::{BlockHeader, Error, PnioStatus, Result, Uuid};
-
-/// BlockType of IODWriteReqHeader.
-pub const BLOCK_TYPE_IOD_WRITE_REQ: u16 = 0x0008;
-/// BlockType of IODReadReqHeader.
-pub const BLOCK_TYPE_IOD_READ_REQ: u16 = 0x0009;
-/// BlockType of IODWriteResHeader.
-pub const BLOCK_TYPE_IOD_WRITE_RES: u16 = 0x8008;
-/// BlockType of IODReadResHeader.
-pub const BLOCK_TYPE_IOD_READ_RES: u16 = 0x8009;
-/// BlockType of the I&M0 record.
-pub const BLOCK_TYPE_IM0: u16 = 0x0020;
+use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, PnioStatus, Result, Uuid};
 
 /// Index of a WriteMultiple.
 pub const INDEX_WRITE_MULTIPLE: u16 = 0xe040;
@@ -69,7 +58,9 @@ pub const ERROR_CODE_WRITE: u8 = 0xdf;
 /// ErrorDecode "PNIORW": ErrorCode1 is a [`RecordErrorCode`], ErrorCode2 user specific.
 pub const ERROR_DECODE_PNIORW: u8 = 0x80;
 
-/// Which of the four IOD headers a block is.
+/// Which of the four IOD headers a block is. An IOD header has one of these four block
+/// types and no other, so there is no unknown kind to keep: [`IodKind::from_block_type`] says
+/// `None` for every other [`BlockType`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum IodKind {
     /// 0x0008 IODWriteReqHeader: record data follows.
@@ -84,22 +75,22 @@ pub enum IodKind {
 
 impl IodKind {
     /// The BlockType.
-    pub const fn block_type(self) -> u16 {
+    pub const fn block_type(self) -> BlockType {
         match self {
-            IodKind::WriteReq => BLOCK_TYPE_IOD_WRITE_REQ,
-            IodKind::ReadReq => BLOCK_TYPE_IOD_READ_REQ,
-            IodKind::WriteRes => BLOCK_TYPE_IOD_WRITE_RES,
-            IodKind::ReadRes => BLOCK_TYPE_IOD_READ_RES,
+            IodKind::WriteReq => BlockType::IodWriteReqHeader,
+            IodKind::ReadReq => BlockType::IodReadReqHeader,
+            IodKind::WriteRes => BlockType::IodWriteResHeader,
+            IodKind::ReadRes => BlockType::IodReadResHeader,
         }
     }
 
     /// The kind of a BlockType; `None` for other blocks.
-    pub const fn from_block_type(block_type: u16) -> Option<IodKind> {
+    pub const fn from_block_type(block_type: BlockType) -> Option<IodKind> {
         match block_type {
-            BLOCK_TYPE_IOD_WRITE_REQ => Some(IodKind::WriteReq),
-            BLOCK_TYPE_IOD_READ_REQ => Some(IodKind::ReadReq),
-            BLOCK_TYPE_IOD_WRITE_RES => Some(IodKind::WriteRes),
-            BLOCK_TYPE_IOD_READ_RES => Some(IodKind::ReadRes),
+            BlockType::IodWriteReqHeader => Some(IodKind::WriteReq),
+            BlockType::IodReadReqHeader => Some(IodKind::ReadReq),
+            BlockType::IodWriteResHeader => Some(IodKind::WriteRes),
+            BlockType::IodReadResHeader => Some(IodKind::ReadRes),
             _ => None,
         }
     }
@@ -325,11 +316,18 @@ impl IodHeader {
     }
 
     /// Writes the block into the first [`IOD_HEADER_LEN`] bytes of `buf`; a shorter buffer
-    /// gives [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let out = buf.get_mut(..IOD_HEADER_LEN).ok_or(Error)?;
+    /// gives [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        let len = buf.len();
+        let out = buf
+            .get_mut(..IOD_HEADER_LEN)
+            .ok_or(EmitError::BufferTooShort {
+                what: "IOD header",
+                needed: IOD_HEADER_LEN,
+                len,
+            })?;
         out.fill(0);
-        let mut w = Writer::new(out);
+        let mut w = Writer::new("IOD header", out);
         w.block_header(self.kind.block_type(), IOD_HEADER_BODY_LEN)?;
         w.u16(self.seq_number)?;
         w.put(&self.ar_uuid.0)?;
@@ -399,17 +397,23 @@ pub fn write_multiple_len(writes: &[(IodHeader, &[u8])]) -> usize {
 /// [`IodHeader::write_multiple`]): each header, its data and zero padding to the next 4-byte
 /// boundary, the last one included. Returns the bytes written
 /// ([`write_multiple_len`]). A header that is not a Write request, a RecordDataLength other
-/// than its data's length or a short buffer give [`Error`].
-pub fn join_write_multiple(writes: &[(IodHeader, &[u8])], buf: &mut [u8]) -> Result<usize> {
-    let mut w = Writer::new(buf);
+/// than its data's length or a short buffer give [`EmitError`].
+pub fn join_write_multiple(writes: &[(IodHeader, &[u8])], buf: &mut [u8]) -> EmitResult<usize> {
+    EmitError::check_len("WriteMultiple", write_multiple_len(writes), buf.len())?;
+    let mut w = Writer::new("WriteMultiple", buf);
     for (h, d) in writes {
-        if h.kind != IodKind::WriteReq || usize::try_from(h.record_data_length) != Ok(d.len()) {
-            return Err(Error);
+        if h.kind != IodKind::WriteReq {
+            return Err(EmitError::Inconsistent(
+                "a write of a WriteMultiple has a header other than IODWriteReqHeader",
+            ));
+        }
+        if usize::try_from(h.record_data_length) != Ok(d.len()) {
+            return Err(EmitError::Inconsistent(
+                "a write's RecordDataLength differs from its data's length",
+            ));
         }
         let start = w.position();
-        w.reserve(IOD_HEADER_LEN)
-            .and_then(|b| h.emit(b))
-            .map_err(|_| Error)?;
+        w.reserve(IOD_HEADER_LEN).and_then(|b| h.emit(b))?;
         w.put(d)?;
         w.zeros(pad_len(w.position() - start))?;
     }
@@ -417,7 +421,7 @@ pub fn join_write_multiple(writes: &[(IodHeader, &[u8])], buf: &mut [u8]) -> Res
 }
 
 /// [`join_write_multiple`] into a new vector.
-pub fn join_write_multiple_to_vec(writes: &[(IodHeader, &[u8])]) -> Result<Vec<u8>> {
+pub fn join_write_multiple_to_vec(writes: &[(IodHeader, &[u8])]) -> EmitResult<Vec<u8>> {
     let mut v = vec![0u8; write_multiple_len(writes)];
     let n = join_write_multiple(writes, &mut v)?;
     v.truncate(n);
@@ -507,7 +511,7 @@ impl Im0 {
     /// index 0xAFF0). Another block type or a body of the wrong length gives [`Error`].
     pub fn parse(b: &[u8]) -> Result<Im0> {
         let h = BlockHeader::parse(b)?;
-        if h.block_type != BLOCK_TYPE_IM0 || h.body_len() != IM0_BODY_LEN {
+        if h.block_type != BlockType::Im0 || h.body_len() != IM0_BODY_LEN {
             return Err(Error);
         }
         let mut r = Reader::new(h.body(b));
@@ -536,10 +540,11 @@ impl Im0 {
     }
 
     /// Writes the block into the first [`IM0_LEN`] bytes of `buf`; a shorter buffer gives
-    /// [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let mut w = Writer::new(buf);
-        w.block_header(BLOCK_TYPE_IM0, IM0_BODY_LEN)?;
+    /// [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        EmitError::check_len("I&M0 block", IM0_LEN, buf.len())?;
+        let mut w = Writer::new("I&M0 block", buf);
+        w.block_header(BlockType::Im0, IM0_BODY_LEN)?;
         w.u16(self.vendor_id)?;
         w.put(&self.order_id)?;
         w.put(&self.serial_number)?;
@@ -1005,11 +1010,24 @@ mod tests {
         );
         // A length that does not match the data, a response header, a short buffer.
         let bad: [(IodHeader, &[u8]); 1] = [(a, &[1, 2])];
-        assert_eq!(join_write_multiple_to_vec(&bad), Err(Error));
+        assert!(matches!(
+            join_write_multiple_to_vec(&bad),
+            Err(EmitError::Inconsistent(_))
+        ));
         let bad: [(IodHeader, &[u8]); 1] = [(a.response(3), &[1, 2, 3])];
-        assert_eq!(join_write_multiple_to_vec(&bad), Err(Error));
+        assert!(matches!(
+            join_write_multiple_to_vec(&bad),
+            Err(EmitError::Inconsistent(_))
+        ));
         let mut short = [0u8; 67];
-        assert_eq!(join_write_multiple(&writes[..1], &mut short), Err(Error));
+        assert_eq!(
+            join_write_multiple(&writes[..1], &mut short),
+            Err(EmitError::BufferTooShort {
+                what: "WriteMultiple",
+                needed: 68,
+                len: 67
+            })
+        );
         // A write running past the data.
         assert_eq!(split_write_multiple(&joined[..130]), Err(Error));
     }
@@ -1037,9 +1055,15 @@ mod tests {
         assert_eq!(Im0::parse(&bad), Err(Error));
         // Emit into short buffers.
         let h = IodHeader::parse(&b).unwrap();
-        assert_eq!(h.emit(&mut [0u8; IOD_HEADER_LEN - 1]), Err(Error));
+        assert!(matches!(
+            h.emit(&mut [0u8; IOD_HEADER_LEN - 1]),
+            Err(EmitError::BufferTooShort { needed: 64, .. })
+        ));
         let i = Im0::parse(im0).unwrap();
-        assert_eq!(i.emit(&mut [0u8; IM0_LEN - 1]), Err(Error));
+        assert!(matches!(
+            i.emit(&mut [0u8; IM0_LEN - 1]),
+            Err(EmitError::BufferTooShort { needed: 60, .. })
+        ));
         // A response of nothing.
         assert_eq!(split_write_multiple_response(&[]), Err(Error));
         // Blank padding.

@@ -28,7 +28,7 @@
 use super::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
 use super::common::blocks;
 use super::cursor::{Reader, Writer};
-use super::{Error, Field, PnioStatus, Rest, Result, be16};
+use super::{EmitError, EmitResult, Error, Field, PnioStatus, Rest, Result, be16};
 
 /// The RTA version (high nibble of PDUType).
 pub const RTA_VERSION: u8 = 1;
@@ -358,9 +358,10 @@ impl RtaHeader {
 
     /// Writes the header into the first [`RTA_HEADER_LEN`] bytes of `buf` (the bytes after
     /// the FrameID). `version` and `window_size` are nibbles; higher bits are dropped. A
-    /// shorter buffer gives [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let mut w = Writer::new(buf);
+    /// shorter buffer gives [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        EmitError::check_len("RTA header", RTA_HEADER_LEN, buf.len())?;
+        let mut w = Writer::new("RTA header", buf);
         w.u16(self.dst_endpoint)?;
         w.u16(self.src_endpoint)?;
         let tack = if self.tack { ADD_FLAGS_TACK } else { 0 };
@@ -507,7 +508,7 @@ impl ErrRta {
         self.vendor_data.len().saturating_add(4)
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u32(self.status.to_u32())?;
         w.put(&self.vendor_data)
     }
@@ -609,6 +610,8 @@ impl RtaPdu {
         ack_seq: u16,
         body: RtaBody,
     ) -> RtaPdu {
+        // Only describes the body: `emit` writes VarPartLen from the body and refuses one
+        // over 65535 bytes, so the saturated value never reaches the wire.
         let len = u16::try_from(body.var_part_len()).unwrap_or(u16::MAX);
         RtaPdu {
             priority,
@@ -706,11 +709,18 @@ impl RtaPdu {
 
     /// Writes the PDU into the first [`buffer_len`](Self::buffer_len) bytes of `buf` (a slice
     /// starting at the FrameID; the caller adds the Ethernet header and pads the frame). Never
-    /// panics: a shorter buffer or a VarPart above 65535 bytes give [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let var_len = u16::try_from(self.body.var_part_len()).map_err(|_| Error)?;
+    /// panics: a shorter buffer or a VarPart above 65535 bytes give [`EmitError`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        let var_part_len = self.body.var_part_len();
+        let var_len = u16::try_from(var_part_len)
+            .map_err(|_| EmitError::too_long_u16("VarPartLen", var_part_len))?;
         let total = self.buffer_len();
-        let pdu = buf.get_mut(..total).ok_or(Error)?;
+        let len = buf.len();
+        let pdu = buf.get_mut(..total).ok_or(EmitError::BufferTooShort {
+            what: "RTA PDU",
+            needed: total,
+            len,
+        })?;
         let (head, var) = pdu.split_at_mut(HEADER_LEN);
         head[field::FRAME_ID].copy_from_slice(&self.priority.frame_id().to_be_bytes());
         let header = RtaHeader {
@@ -719,7 +729,7 @@ impl RtaPdu {
             ..self.header
         };
         header.emit(&mut head[field::DST_ENDPOINT.start..])?;
-        let mut w = Writer::new(var);
+        let mut w = Writer::new("RTA VarPart", var);
         match &self.body {
             RtaBody::Data(blocks) => blocks.iter().try_for_each(|b| b.write(&mut w))?,
             RtaBody::Nack | RtaBody::Ack => {}
@@ -729,7 +739,7 @@ impl RtaPdu {
     }
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
-    pub fn to_vec(&self) -> Result<Vec<u8>> {
+    pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
         let mut v = vec![0u8; self.buffer_len()];
         self.emit(&mut v)?;
         Ok(v)
@@ -791,7 +801,7 @@ impl core::fmt::Display for RtaPdu {
                             a.status
                         )?,
                         AlarmBlock::Other { block_type, .. } => {
-                            write!(f, " [block {block_type:#06x}]")?
+                            write!(f, " [block {:#06x}]", block_type.raw())?
                         }
                     }
                 }

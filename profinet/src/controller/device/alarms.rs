@@ -112,13 +112,7 @@ pub(super) fn rta_frame(src: MacAddress, dst: MacAddress, pdu: &RtaPdu) -> Optio
         }),
         ethertype: ETHERTYPE_PROFINET,
     };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend(pdu.to_vec().ok()?);
-    // Padded so that the frame is still of minimum size once a switch removes the tag, as
-    // PROFINET controllers send tagged frames.
-    if f.len() < 64 {
-        f.resize(64, 0);
-    }
-    Some(f)
+    // Padded to 64 so that the frame is still of minimum size once a switch removes the
+    // tag, as PROFINET controllers send tagged frames.
+    Some(eth.frame(&pdu.to_vec().ok()?, 64))
 }

@@ -419,7 +419,7 @@ impl DeviceAr {
         let uuid = self.uuids.next_uuid();
         let activity = self.uuids.next_uuid();
         let req = self.plan.connect_request(id, uuid, self.session_key);
-        let Ok(blocks) = req.try_emit() else {
+        let Ok(blocks) = req.to_vec() else {
             return self.fail(
                 FailureCause::Internal,
                 "the Connect request could not be built",

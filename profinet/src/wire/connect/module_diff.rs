@@ -175,7 +175,7 @@ impl ModuleDiffBlock {
 }
 
 impl Body for ModuleDiffBlock {
-    const BLOCK_TYPE: u16 = block_type::MODULE_DIFF_BLOCK;
+    const BLOCK_TYPE: BlockType = BlockType::ModuleDiffBlock;
 
     fn body_len(&self) -> usize {
         self.apis.iter().fold(2usize, |n, a| {
@@ -209,16 +209,16 @@ impl Body for ModuleDiffBlock {
         Ok(ModuleDiffBlock { apis })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.count(self.apis.len())?;
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
+        w.count("NumberOfAPIs", self.apis.len())?;
         for a in &self.apis {
             w.u32(a.api)?;
-            w.count(a.modules.len())?;
+            w.count("NumberOfModules", a.modules.len())?;
             for m in &a.modules {
                 w.u16(m.slot)?;
                 w.u32(m.module_ident)?;
                 w.u16(m.state.into())?;
-                w.count(m.submodules.len())?;
+                w.count("NumberOfSubmodules", m.submodules.len())?;
                 for s in &m.submodules {
                     w.u16(s.subslot)?;
                     w.u32(s.submodule_ident)?;

@@ -22,7 +22,7 @@
 //! Everything is big-endian. DCP is not on the real-time path, so [`Repr`] owns its blocks.
 
 use super::cursor::Writer;
-use super::{Error, Field, MacAddress, Rest, Result, be16, be32};
+use super::{EmitError, EmitResult, Error, Field, MacAddress, Rest, Result, be16, be32};
 
 mod block;
 #[cfg(test)]
@@ -380,12 +380,19 @@ impl Repr {
     /// Writes the PDU into the first [`buffer_len`](Self::buffer_len) bytes of `buf` (a plain
     /// slice starting at the FrameID; the caller adds the Ethernet header and pads the frame to
     /// 60 bytes). Never panics: a buffer shorter than `buffer_len()`, a block longer than
-    /// 65535 bytes or DCPDataLength above 65535 give [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
+    /// 65535 bytes or DCPDataLength above 65535 give [`EmitError`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
         let ctx = self.context();
-        let data_len = u16::try_from(self.data_len()).map_err(|_| Error)?;
+        let data_len = self.data_len();
+        let data_len = u16::try_from(data_len)
+            .map_err(|_| EmitError::too_long_u16("DCPDataLength", data_len))?;
         let total = self.buffer_len();
-        let pdu = buf.get_mut(..total).ok_or(Error)?;
+        let len = buf.len();
+        let pdu = buf.get_mut(..total).ok_or(EmitError::BufferTooShort {
+            what: "DCP PDU",
+            needed: total,
+            len,
+        })?;
         let (header, blocks) = pdu.split_at_mut(HEADER_LEN);
         let mut p = Packet::new_unchecked(header);
         p.set_frame_id(self.frame_id);
@@ -394,13 +401,13 @@ impl Repr {
         p.set_xid(self.xid);
         p.set_response_delay(self.response_delay);
         p.set_data_length(data_len);
-        let mut w = Writer::new(blocks);
+        let mut w = Writer::new("DCP blocks", blocks);
         self.blocks.iter().try_for_each(|b| b.emit(ctx, &mut w))?;
         w.finish()
     }
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
-    pub fn to_vec(&self) -> Result<Vec<u8>> {
+    pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
         let mut v = vec![0u8; self.buffer_len()];
         self.emit(&mut v)?;
         Ok(v)

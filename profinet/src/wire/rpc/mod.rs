@@ -29,7 +29,7 @@
 //! formats of the DREP are ignored (PNIO carries neither in RPC fields); emission writes ASCII
 //! and IEEE (0).
 
-use super::{Error, Field, PnioStatus, Rest, Result, Uuid, be16, be32};
+use super::{EmitError, EmitResult, Error, Field, PnioStatus, Rest, Result, Uuid, be16, be32};
 
 mod ndr;
 mod pdu;
@@ -714,9 +714,14 @@ impl Header {
     }
 
     /// Writes the 80 header bytes, in this header's DREP, into the start of `buf`; the body
-    /// is left alone. A buffer shorter than 80 bytes gives [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let header = buf.get_mut(..HEADER_LEN).ok_or(Error)?;
+    /// is left alone. A buffer shorter than 80 bytes gives [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        let len = buf.len();
+        let header = buf.get_mut(..HEADER_LEN).ok_or(EmitError::BufferTooShort {
+            what: "RPC header",
+            needed: HEADER_LEN,
+            len,
+        })?;
         let mut p = Packet::new_unchecked(header);
         p.set_version(RPC_VERSION);
         p.set_packet_type(self.packet_type);
