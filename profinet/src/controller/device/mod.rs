@@ -21,7 +21,7 @@ use crate::wire::record::{self, IodHeader};
 use crate::wire::rpc::{self, opnum};
 use crate::wire::rta_pdu;
 use crate::wire::rta_pdu::RtaPdu;
-use crate::wire::{MacAddress, PnioStatus, Uuid};
+use crate::wire::{EmitError, MacAddress, PnioStatus, Uuid};
 use std::collections::VecDeque;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
@@ -115,6 +115,7 @@ pub struct DeviceAr {
 impl DeviceAr {
     /// A device waiting to be wanted; its AR and activity UUIDs come from `uuids`.
     pub fn new(plan: DevicePlan, uuids: UuidSource) -> DeviceAr {
+        // Only the low bits of the index matter: the Xid just has to differ between devices.
         let xid = 0x0100_0000 | ((plan.device as u32) << 12);
         DeviceAr {
             plan,
@@ -637,8 +638,9 @@ impl DeviceAr {
         ar.peer_mac = res.ar.responder_mac;
         let remote = res.alarm_cr.local_alarm_reference;
         let (f, r) = (1, 3);
-        ar.alarm_high = RtaChannel::new(Priority::High, self.plan.device as u16, remote, f, r);
-        ar.alarm_low = RtaChannel::new(Priority::Low, self.plan.device as u16, remote, f, r);
+        let local = self.plan.alarm_reference();
+        ar.alarm_high = RtaChannel::new(Priority::High, local, remote, f, r);
+        ar.alarm_low = RtaChannel::new(Priority::Low, local, remote, f, r);
         if let Some(diff) = res.module_diff.clone() {
             out.push(Action::Event(DeviceEvent::ModuleDiff {
                 device: self.plan.device,

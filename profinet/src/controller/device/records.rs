@@ -40,31 +40,32 @@ impl DeviceAr {
         let mut headers = Vec::with_capacity(self.plan.records.len());
         for r in &self.plan.records {
             ar.record_seq = ar.record_seq.wrapping_add(1);
-            headers.push(IodHeader::write_request(
-                ar.record_seq,
-                ar.uuid,
-                r.api,
-                r.slot,
-                r.subslot,
-                r.index,
-                r.data.len() as u32,
-            ));
+            headers.push(record_data_length(&r.data).map(|len| {
+                IodHeader::write_request(
+                    ar.record_seq,
+                    ar.uuid,
+                    r.api,
+                    r.slot,
+                    r.subslot,
+                    r.index,
+                    len,
+                )
+            }));
         }
-        let body = if headers.len() == 1 {
-            Ok(with_data(&headers[0], &self.plan.records[0].data))
-        } else {
+        let headers: Result<Vec<IodHeader>, EmitError> = headers.into_iter().collect();
+        let body = headers.and_then(|headers| {
+            if let ([h], [r]) = (&headers[..], &self.plan.records[..]) {
+                return Ok(with_data(h, &r.data));
+            }
             let writes: Vec<(IodHeader, &[u8])> = headers
                 .iter()
                 .zip(&self.plan.records)
                 .map(|(h, r)| (*h, &r.data[..]))
                 .collect();
-            record::join_write_multiple_to_vec(&writes).map(|data| {
-                with_data(
-                    &IodHeader::write_multiple(0, ar.uuid, data.len() as u32),
-                    &data,
-                )
-            })
-        };
+            let data = record::join_write_multiple_to_vec(&writes)?;
+            let outer = IodHeader::write_multiple(0, ar.uuid, record_data_length(&data)?);
+            Ok(with_data(&outer, &data))
+        });
         let Ok(body) = body else {
             return self.fail(
                 FailureCause::Internal,
@@ -84,6 +85,8 @@ impl DeviceAr {
         ar.record_seq = ar.record_seq.wrapping_add(1);
         let (op, body, more) = match &request.write {
             Some(data) => {
+                // Longer than RecordDataLength holds: the call below refuses it as too long.
+                let len = record_data_length(data).unwrap_or(u32::MAX);
                 let h = IodHeader::write_request(
                     ar.record_seq,
                     ar.uuid,
@@ -91,7 +94,7 @@ impl DeviceAr {
                     request.slot,
                     request.subslot,
                     request.index,
-                    data.len() as u32,
+                    len,
                 );
                 (opnum::WRITE, with_data(&h, data), 0)
             }
@@ -126,6 +129,15 @@ impl DeviceAr {
             }))),
         }
     }
+}
+
+/// The RecordDataLength of `data`; [`EmitError::TooLong`] above `u32::MAX` bytes.
+fn record_data_length(data: &[u8]) -> Result<u32, EmitError> {
+    u32::try_from(data.len()).map_err(|_| EmitError::TooLong {
+        field: "RecordDataLength",
+        value: data.len(),
+        max: u32::MAX as usize,
+    })
 }
 
 /// An IOD header followed by its record data.
