@@ -5,10 +5,8 @@
 use super::*;
 
 impl DeviceAr {
+    /// Fails every queued record job with `why`.
     pub(super) fn fail_records(&mut self, why: &str, out: &mut Vec<Action>) {
-        if let Step::Record { request, .. } = core::mem::replace(&mut self.step, Step::Idle) {
-            self.records.push_front(request);
-        }
         while let Some(r) = self.records.pop_front() {
             out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request: r,
@@ -32,10 +30,11 @@ impl DeviceAr {
         self.records.push_back(r);
     }
 
-    pub(super) fn write_records(&mut self, now: u64, out: &mut Vec<Action>) {
-        let Some(ar) = self.ar.as_mut() else { return };
+    /// Writes the parameter records on the just connected `ar` (PrmEnd at once when there
+    /// are none).
+    pub(super) fn write_records(&mut self, mut ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
         if self.plan.records.is_empty() {
-            return self.prm_end(now, out);
+            return self.prm_end(ar, now, out);
         }
         let mut headers = Vec::with_capacity(self.plan.records.len());
         for r in &self.plan.records {
@@ -74,14 +73,21 @@ impl DeviceAr {
                 out,
             );
         };
-        self.call(opnum::WRITE, &body, now, out, Step::Write);
+        self.call(ar, opnum::WRITE, &body, now, out, Phase::Write);
     }
 
+    /// Starts the next queued record job when the AR is in data exchange with none running.
     pub(super) fn next_record(&mut self, now: u64, out: &mut Vec<Action>) {
+        let Step::Ar {
+            ar,
+            phase: phase @ Phase::Running,
+        } = &mut self.step
+        else {
+            return;
+        };
         let Some(request) = self.records.pop_front() else {
             return;
         };
-        let Some(ar) = self.ar.as_mut() else { return };
         ar.record_seq = ar.record_seq.wrapping_add(1);
         let (op, body, more) = match &request.write {
             Some(data) => {
@@ -111,8 +117,11 @@ impl DeviceAr {
                 (opnum::READ, h.to_bytes().to_vec(), request.max_len)
             }
         };
-        match self.send_call(op, &body, more, now, out) {
-            Some(call) => self.step = Step::Record { call, request },
+        match ar.next_call(self.plan.object_uuid(), op, &body, more, now) {
+            Some(call) => {
+                call.send(ar.rpc_server(), out);
+                *phase = Phase::Record { call, request };
+            }
             None => out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request,
                 result: Err(RecordFailure {
