@@ -407,6 +407,12 @@ mod tests {
                 max: 65535
             })
         );
+        assert_eq!(
+            BlockHeader::v1(BlockType::PrmEndReq, 65534)
+                .unwrap_err()
+                .to_string(),
+            "BlockLength would be 65536, over the 65535 its wire field holds"
+        );
         assert_eq!(blocks(&full).count(), 1);
     }
 
