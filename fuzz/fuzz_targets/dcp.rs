@@ -59,7 +59,7 @@ fn client(pdu: &[u8]) {
         ethertype: ETHERTYPE_PROFINET,
     };
     let mut frame = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut frame);
+    eth.emit(&mut frame).expect("sized for the header");
     frame.extend_from_slice(pdu);
     // Answer the transaction the PDU names, so that the client looks further than the Xid.
     let xid = Packet::new_checked(pdu).map_or(0, |p| p.xid());

@@ -18,7 +18,8 @@ fuzz_target!(|data: &[u8]| {
 
     // Emitting the header over a copy gives the same bytes: every header bit is in the Repr.
     let mut copy = data.to_vec();
-    eth.emit(&mut copy[..eth.buffer_len()]);
+    eth.emit(&mut copy[..eth.buffer_len()])
+        .expect("the copy holds the header");
     assert_eq!(copy, data);
     let again = ethernet::Frame::new_checked(&copy[..]).expect("re-emitted header");
     assert_eq!(ethernet::Repr::parse(&again), Ok(eth));
@@ -59,7 +60,7 @@ fn cyclic(pdu: &[u8], data_length: usize) {
             // Emitting over a copy reproduces the frame; the C_SDU is left as it is.
             let mut copy = pdu.to_vec();
             let mut q = rt::Packet::new_unchecked(&mut copy[..], data_length);
-            r.emit(&mut q);
+            r.emit(&mut q).expect("the copy holds the frame");
             assert_eq!(copy, pdu);
             let back = rt::Packet::new_checked(&copy[..], data_length).expect("re-emitted");
             assert_eq!(rt::Repr::parse(&back), Ok(r));

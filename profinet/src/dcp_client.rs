@@ -5,7 +5,7 @@
 
 use super::wire::dcp::{self, ServiceId, ServiceType};
 use super::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use super::wire::{MacAddress, Result};
+use super::wire::{EmitResult, MacAddress};
 
 /// A device as its Identify response describes it.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -23,20 +23,14 @@ pub struct DeviceInfo {
 }
 
 /// An Ethernet frame (untagged) around a DCP PDU, padded to the Ethernet minimum.
-pub fn frame(dst: MacAddress, src: MacAddress, repr: &dcp::Repr) -> Result<Vec<u8>> {
+pub fn frame(dst: MacAddress, src: MacAddress, repr: &dcp::Repr) -> EmitResult<Vec<u8>> {
     let eth = ethernet::Repr {
         dst,
         src,
         vlan: None,
         ethertype: ETHERTYPE_PROFINET,
     };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend(repr.to_vec()?);
-    if f.len() < 60 {
-        f.resize(60, 0);
-    }
-    Ok(f)
+    Ok(eth.frame(&repr.to_vec()?, 60))
 }
 
 /// The DCP response in `frame` if it answers transaction `xid`: its source and its Repr.
@@ -71,7 +65,7 @@ impl Identify {
         src: MacAddress,
         name: Option<&str>,
         response_delay: u16,
-    ) -> Result<Vec<u8>> {
+    ) -> EmitResult<Vec<u8>> {
         let repr = match name {
             Some(n) => dcp::Repr::identify_by_name(self.xid, response_delay, n),
             None => dcp::Repr::identify_all(self.xid, response_delay),
@@ -182,7 +176,7 @@ impl Set {
     }
 
     /// The request frame.
-    pub fn request(&self, src: MacAddress) -> Result<Vec<u8>> {
+    pub fn request(&self, src: MacAddress) -> EmitResult<Vec<u8>> {
         frame(self.device, src, &self.repr)
     }
 

@@ -19,7 +19,7 @@ use crate::wire::connect::{
     TAG_HEADER_PRIO_6, iocr_properties,
 };
 use crate::wire::rt::{MAX_DATA_LENGTH, MIN_DATA_LENGTH};
-use crate::wire::{Error, MacAddress};
+use crate::wire::{EmitError, MacAddress};
 
 /// One submodule as the layout needs it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -122,44 +122,69 @@ impl IocrLayout {
         let (mut at_in, mut at_out) = (0usize, 0usize);
         for &i in &order {
             let s = &submodules[i];
+            let (in_len, out_len) = (usize::from(s.input_length), usize::from(s.output_length));
+            // Where this submodule's entries go: (data, IOCS) in the input CR and (IOCS,
+            // data) in the output CR, placed only once both CRs are known to fit.
+            let (mut in_data, mut out_iocs, mut in_iocs, mut out_data) = (None, None, None, None);
             if s.is_input() {
-                input.objects.push(DataObject {
-                    submodule: i,
-                    data_offset: at_in as u16,
-                    length: s.input_length,
-                    iops_offset: (at_in + s.input_length as usize) as u16,
-                });
-                at_in += s.input_length as usize + 1;
-                output.iocs.push(Iocs {
-                    submodule: i,
-                    offset: at_out as u16,
-                });
+                in_data = Some(at_in);
+                at_in += in_len + 1;
+                out_iocs = Some(at_out);
                 at_out += 1;
             }
             if s.is_output() {
-                input.iocs.push(Iocs {
-                    submodule: i,
-                    offset: at_in as u16,
-                });
+                in_iocs = Some(at_in);
                 at_in += 1;
-                output.objects.push(DataObject {
-                    submodule: i,
-                    data_offset: at_out as u16,
-                    length: s.output_length,
-                    iops_offset: (at_out + s.output_length as usize) as u16,
-                });
-                at_out += s.output_length as usize + 1;
+                out_data = Some(at_out);
+                at_out += out_len + 1;
             }
             for (input, bytes) in [(true, at_in), (false, at_out)] {
                 if bytes > MAX_DATA_LENGTH {
                     return Err(TooLarge { input, bytes });
                 }
             }
+            // Every offset is below the checked end of its CR, so it fits the u16 fields.
+            let in_cr = |at: usize| offset(at, true, at_in);
+            let out_cr = |at: usize| offset(at, false, at_out);
+            if let Some(at) = in_data {
+                input.objects.push(DataObject {
+                    submodule: i,
+                    data_offset: in_cr(at)?,
+                    length: s.input_length,
+                    iops_offset: in_cr(at + in_len)?,
+                });
+            }
+            if let Some(at) = out_iocs {
+                output.iocs.push(Iocs {
+                    submodule: i,
+                    offset: out_cr(at)?,
+                });
+            }
+            if let Some(at) = in_iocs {
+                input.iocs.push(Iocs {
+                    submodule: i,
+                    offset: in_cr(at)?,
+                });
+            }
+            if let Some(at) = out_data {
+                output.objects.push(DataObject {
+                    submodule: i,
+                    data_offset: out_cr(at)?,
+                    length: s.output_length,
+                    iops_offset: out_cr(at + out_len)?,
+                });
+            }
         }
-        input.data_length = at_in.max(MIN_DATA_LENGTH) as u16;
-        output.data_length = at_out.max(MIN_DATA_LENGTH) as u16;
+        input.data_length = offset(at_in.max(MIN_DATA_LENGTH), true, at_in)?;
+        output.data_length = offset(at_out.max(MIN_DATA_LENGTH), false, at_out)?;
         Ok(IocrLayout { input, output })
     }
+}
+
+/// An offset or length in a CR of `bytes` bytes as its u16 wire field; [`TooLarge`] if it
+/// does not fit (never after the [`MAX_DATA_LENGTH`] check).
+fn offset(at: usize, input: bool, bytes: usize) -> Result<u16, TooLarge> {
+    u16::try_from(at).map_err(|_| TooLarge { input, bytes })
 }
 
 /// The IOCRBlockReq of a CR layout.
@@ -168,7 +193,7 @@ impl IocrBlockReq {
     /// DataLength from the layout, one IODataObject per data object (at its data offset) and
     /// one IOCS per consumer status, grouped by API in frame order. `submodules` is the list
     /// the layout was computed from (its indices are the layout's `submodule` fields); an index
-    /// outside it gives [`Error`]. It lives beside the layout it is built from, so that the codec does not
+    /// outside it gives [`EmitError::Inconsistent`]. It lives beside the layout it is built from, so that the codec does not
     /// depend on the layout.
     ///
     /// The other fields are what the S7-1515 sends: LT 0x8892, RT class 2, SendClockFactor 32,
@@ -181,7 +206,7 @@ impl IocrBlockReq {
         frame_id: u16,
         layout: &CrLayout,
         submodules: &[SubmoduleIo],
-    ) -> Result<IocrBlockReq, Error> {
+    ) -> Result<IocrBlockReq, EmitError> {
         fn api_entry(apis: &mut Vec<IocrApi>, api: u32) -> &mut IocrApi {
             let i = match apis.iter().position(|a| a.api == api) {
                 Some(i) => i,
@@ -195,9 +220,11 @@ impl IocrBlockReq {
             };
             &mut apis[i]
         }
+        const OUTSIDE: EmitError =
+            EmitError::Inconsistent("the layout names a submodule outside the list");
         let mut apis = Vec::new();
         for o in &layout.objects {
-            let s = submodules.get(o.submodule).ok_or(Error)?;
+            let s = submodules.get(o.submodule).ok_or(OUTSIDE)?;
             api_entry(&mut apis, s.api).data_objects.push(IocrEntry {
                 slot: s.slot,
                 subslot: s.subslot,
@@ -205,7 +232,7 @@ impl IocrBlockReq {
             });
         }
         for c in &layout.iocs {
-            let s = submodules.get(c.submodule).ok_or(Error)?;
+            let s = submodules.get(c.submodule).ok_or(OUTSIDE)?;
             api_entry(&mut apis, s.api).iocs.push(IocrEntry {
                 slot: s.slot,
                 subslot: s.subslot,
@@ -325,6 +352,20 @@ mod tests {
             Err(TooLarge {
                 input: true,
                 bytes: 1803
+            })
+        );
+    }
+
+    #[test]
+    fn offsets_past_u16_are_refused_not_truncated() {
+        // One submodule whose IOPS would sit beyond 65535: refused as a whole, no entry of it
+        // with a wrapped offset.
+        let subs = [sub(1, 1, 1000, 0), sub(2, 1, u16::MAX, u16::MAX)];
+        assert_eq!(
+            IocrLayout::new(&subs),
+            Err(TooLarge {
+                input: true,
+                bytes: 1001 + 65536 + 1
             })
         );
     }

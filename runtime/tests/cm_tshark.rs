@@ -23,8 +23,8 @@ use procimg_profinet::wire::{MacAddress, PnioStatus, Uuid};
 fn reemit_blocks(blocks: &[u8]) -> Vec<u8> {
     let block_type = u16::from_be_bytes([blocks[0], blocks[1]]);
     match block_type {
-        0x0101 => ConnectRequest::parse(blocks).unwrap().emit(),
-        0x8101 => ConnectResponse::parse(blocks).unwrap().emit(),
+        0x0101 => ConnectRequest::parse(blocks).unwrap().to_vec().unwrap(),
+        0x8101 => ConnectResponse::parse(blocks).unwrap().to_vec().unwrap(),
         0x0110 | 0x8110 | 0x0112 | 0x8112 | 0x0114 | 0x8114 => {
             let c = ControlBlock::parse(blocks).unwrap();
             let mut out = c.to_bytes().to_vec();
@@ -156,7 +156,7 @@ fn a_connect_and_prmend_built_from_scratch_dissect_clean() {
     let activity = Uuid::from_fields(0xaaaa_0001, 1, 0x4000, [8, 7, 6, 5, 4, 3, 2, 1]);
     let object = rpc::object_uuid(1, 0x0001, 0x0493);
     let connect = echo_connect(ar_uuid);
-    let blocks = connect.try_emit().unwrap();
+    let blocks = connect.to_vec().unwrap();
     // Our own request parses back to itself.
     assert_eq!(ConnectRequest::parse(&blocks).unwrap(), connect);
     let h = Header::request(object, rpc::DEVICE_INTERFACE, activity, 0, opnum::CONNECT);

@@ -105,7 +105,7 @@ fn profinet_frames_cross_a_veth_pair_and_nothing_else_does() {
             ethertype: ETHERTYPE_PROFINET,
         };
         let mut f = vec![0u8; eth.buffer_len()];
-        eth.emit(&mut f);
+        eth.emit(&mut f).unwrap();
         f.extend(rt);
         nic.send(&f).unwrap();
     });

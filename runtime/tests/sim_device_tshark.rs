@@ -115,7 +115,7 @@ fn frame_of(dst: MacAddress, tci: u16, pdu: &[u8]) -> Vec<u8> {
         ethertype: ethernet::ETHERTYPE_PROFINET,
     };
     let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
+    eth.emit(&mut f).unwrap();
     f.extend_from_slice(pdu);
     f.resize(f.len().max(60), 0);
     f

@@ -26,10 +26,10 @@ fn cyclic(frame_id: u16, data: &[u8], cycle_counter: u16, status: u8) -> Vec<u8>
         transfer_status: 0,
     };
     let mut buf = vec![0u8; eth.buffer_len() + repr.buffer_len()];
-    eth.emit(&mut buf);
+    eth.emit(&mut buf).unwrap();
     let mut p = rt::Packet::new_unchecked(&mut buf[eth.buffer_len()..], repr.data_length);
     p.data_mut()[..data.len()].copy_from_slice(data);
-    repr.emit(&mut p);
+    repr.emit(&mut p).unwrap();
     buf
 }
 
@@ -64,7 +64,7 @@ fn dcp_frame(dst: MacAddress, src: MacAddress, repr: &dcp::Repr) -> Vec<u8> {
         ethertype: ETHERTYPE_PROFINET,
     };
     let mut buf = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut buf);
+    eth.emit(&mut buf).unwrap();
     buf.extend(repr.to_vec().expect("emits"));
     // Ethernet minimum frame (without FCS).
     if buf.len() < 60 {

@@ -110,10 +110,9 @@ impl CyclicAr {
             ethertype: ETHERTYPE_PROFINET,
         };
         // Header, FrameID, C_SDU, CycleCounter, DataStatus, TransferStatus.
-        let mut frame = vec![0u8; eth.buffer_len() + 2 + output.data_length + 4];
-        eth.emit(&mut frame);
-        let at = eth.buffer_len();
-        frame[at..at + 2].copy_from_slice(&output.frame_id.to_be_bytes());
+        let mut pdu = output.frame_id.to_be_bytes().to_vec();
+        pdu.resize(2 + output.data_length + 4, 0);
+        let frame = eth.frame(&pdu, 0);
         CyclicAr {
             device: plan.device,
             epoch,

@@ -46,6 +46,7 @@ impl CrTiming {
 
     /// CycleCounter increment per frame (the counter counts 31.25 µs units).
     pub const fn counter_step(&self) -> u16 {
+        // Not a length: the CycleCounter runs modulo 2^16, so the step is taken modulo 2^16.
         (self.send_clock_factor as u32 * self.reduction_ratio as u32) as u16
     }
 }
@@ -308,7 +309,8 @@ impl DevicePlan {
                 })
             })
             .collect();
-        // Distinct per device so that frames can be told apart even by FrameID alone.
+        // Distinct per device so that frames can be told apart even by FrameID alone; only
+        // the low bits of the index matter (the mask keeps the FrameIDs in RT class 2).
         let base = 0x8000u16.wrapping_add((device as u16).wrapping_mul(2) & 0x3ffe);
         Ok(DevicePlan {
             device,
@@ -322,14 +324,22 @@ impl DevicePlan {
             layout,
             expected,
             timing: CrTiming {
+                // At most 128 and 512 (send_clock and the check above), so the casts keep
+                // every bit.
                 send_clock_factor: scf as u16,
                 reduction_ratio: rr as u16,
-                every_cycles: dev.reduction_ratio.max(1) as u32,
+                every_cycles: u32::from(dev.reduction_ratio.max(1)),
                 data_hold_factor: dev.watchdog_factor,
             },
             records,
             frame_ids: (base, base + 1),
         })
+    }
+
+    /// The controller's LocalAlarmReference for the device: its index modulo 2^16 (not a
+    /// length; it only has to tell the controller's ARs apart).
+    pub const fn alarm_reference(&self) -> u16 {
+        self.device as u16
     }
 
     /// The RPC object UUID of the device.
@@ -380,7 +390,7 @@ impl DevicePlan {
                 properties: 0,
                 rta_timeout_factor: 1,
                 rta_retries: 3,
-                local_alarm_reference: self.device as u16,
+                local_alarm_reference: self.alarm_reference(),
                 max_alarm_data_length: 256,
                 tag_header_high: TAG_HEADER_PRIO_6,
                 tag_header_low: TAG_HEADER_PRIO_5,

@@ -14,7 +14,7 @@
 use super::Action;
 use crate::wire::common::PnioStatus;
 use crate::wire::rpc::{self, Header, MAX_PDU_LEN, Ndr, PacketType, flags1};
-use crate::wire::{Result, Uuid};
+use crate::wire::{EmitError, EmitResult, Uuid};
 use std::collections::BTreeMap;
 use std::net::SocketAddrV4;
 
@@ -83,7 +83,7 @@ impl RpcCall {
         blocks: &[u8],
         more: u32,
         now_ns: u64,
-    ) -> Result<RpcCall> {
+    ) -> EmitResult<RpcCall> {
         // Little-endian NDR, as the S7-1500 sends it; devices answer in either order.
         let h = Header {
             little_endian: true,
@@ -95,7 +95,14 @@ impl RpcCall {
                 opnum,
             )
         };
-        let whole = rpc::emit_request(&h, (blocks.len() as u32).saturating_add(more), blocks)?;
+        let args_maximum = u32::try_from(blocks.len())
+            .map_err(|_| EmitError::TooLong {
+                field: "ArgsMaximum",
+                value: blocks.len(),
+                max: u32::MAX as usize,
+            })?
+            .saturating_add(more);
+        let whole = rpc::emit_request(&h, args_maximum, blocks)?;
         let pdus = if whole.len() <= MAX_PDU_LEN {
             vec![whole]
         } else {
@@ -148,6 +155,7 @@ impl RpcCall {
     fn fragment(&mut self, h: &Header, body: &[u8], facks: &mut Vec<Vec<u8>>) -> Reply {
         let n = h.fragment_number;
         let last = h.flags1 & flags1::LAST_FRAGMENT != 0;
+        // Both constants are below 2^16, so the casts keep every bit.
         if !last
             && h.flags1 & flags1::NO_FACK == 0
             && let Ok(f) = rpc::fack(

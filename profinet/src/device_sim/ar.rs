@@ -198,7 +198,7 @@ impl Ar {
         k: u64,
         src: MacAddress,
         cycle_counter: u16,
-    ) -> Vec<u8> {
+    ) -> Option<Vec<u8>> {
         // The outputs as the behaviour sees them: invalid ones read as substitute value 0.
         self.device_outputs.clear();
         for s in &self.submodules {

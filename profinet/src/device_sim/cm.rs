@@ -9,11 +9,11 @@ use super::{
     APP_READY_DELAY_NS, Application, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, SimDevice,
     SimDeviceState, records, rpc,
 };
-use crate::wire::PnioStatus;
 use crate::wire::control::{self, ControlBlock};
 use crate::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
 use crate::wire::rpc::{self as wire_rpc, Header, Ndr, PacketType, opnum};
 use crate::wire::rta_pdu::AbortCode;
+use crate::wire::{BlockType, PnioStatus};
 use std::net::SocketAddrV4;
 
 /// ErrorCodes of the RPC services.
@@ -138,7 +138,7 @@ impl<A: Application> SimDevice<A> {
         }
         let (fits, diff) = connect::module_diff(&plan.expected, &self.submodules);
         let ids = connect::frame_ids(&plan);
-        let Some(res) = connect::response_blocks(
+        let Ok(res) = connect::response_blocks(
             &plan,
             self.id.mac,
             &self.id.name,
@@ -163,8 +163,8 @@ impl<A: Application> SimDevice<A> {
             return fail(CMRPC, connect::CMRPC_ARGS_LENGTH);
         }
         let (faulty, command) = match c.block_type {
-            control::block_type::PRM_END_REQ => (FAULTY_PRM_END, control::command::PRM_END),
-            control::block_type::PRM_BEGIN_REQ => (FAULTY_PRM_BEGIN, control::command::PRM_BEGIN),
+            BlockType::PrmEndReq => (FAULTY_PRM_END, control::command::PRM_END),
+            BlockType::PrmBeginReq => (FAULTY_PRM_BEGIN, control::command::PRM_BEGIN),
             _ => return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
         };
         let Some(ar) = self.ar.as_mut().filter(|a| a.ar_uuid == c.ar_uuid) else {
@@ -180,12 +180,12 @@ impl<A: Application> SimDevice<A> {
             return fail(faulty, 9);
         }
         match (c.block_type, ar.state) {
-            (control::block_type::PRM_END_REQ, SimDeviceState::Connected) => {
+            (BlockType::PrmEndReq, SimDeviceState::Connected) => {
                 ar.state = SimDeviceState::Parameterized;
                 ar.provider.start(now_ns);
                 ar.app_ready_due = Some(now_ns.saturating_add(APP_READY_DELAY_NS));
             }
-            (control::block_type::PRM_BEGIN_REQ, SimDeviceState::Data) => {
+            (BlockType::PrmBeginReq, SimDeviceState::Data) => {
                 // Re-parameterization: records may be written again until the next PrmEnd;
                 // the CRs keep running.
                 ar.state = SimDeviceState::Connected;
@@ -203,7 +203,7 @@ impl<A: Application> SimDevice<A> {
         let Ok(c) = ControlBlock::parse(blocks) else {
             return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
         };
-        if c.block_type != control::block_type::RELEASE_REQ {
+        if c.block_type != BlockType::ReleaseReq {
             return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
         }
         if blocks.len() != control::BLOCK_LEN {

@@ -11,15 +11,15 @@
 //! [`ConnectRequest::parse`]: crate::wire::connect::ConnectRequest::parse
 
 use super::SimSubmodule;
-use crate::wire::common::{BLOCK_HEADER_LEN, blocks};
+use crate::wire::common::blocks;
 use crate::wire::connect::{
     AlarmCrBlockReq, AlarmCrBlockRes, ArBlockReq, ArBlockRes, ArServerBlock, ExpectedSubmodule,
     ExpectedSubmoduleBlockReq, IocrBlockReq, IocrBlockRes, ModuleDiffApi, ModuleDiffBlock,
-    ModuleDiffModule, ModuleDiffSubmodule, ModuleState, SubmoduleState, ar_properties, block_type,
+    ModuleDiffModule, ModuleDiffSubmodule, ModuleState, SubmoduleState, ar_properties,
     iocr_properties, iocr_type, submodule,
 };
 use crate::wire::rpc::{RPC_PORT, object_uuid_parts};
-use crate::wire::{BlockHeader, MacAddress, PnioStatus, rt};
+use crate::wire::{BlockHeader, BlockType, EmitResult, MacAddress, PnioStatus, rt};
 
 /// ErrorCode of a Connect response.
 pub(super) const ERROR_CODE_CONNECT: u8 = 0xdb;
@@ -42,10 +42,6 @@ pub(super) const CMRPC_AR_UUID_UNKNOWN: u8 = 0x05;
 /// ErrorCode1 CMDEV and its "state conflict" reason.
 pub(super) const CMDEV: u8 = 0x3d;
 pub(super) const CMDEV_STATE_CONFLICT: u8 = 0x00;
-
-/// ARRPCBlockReq / ARRPCBlockRes: the initiator's / responder's RPC server port.
-const AR_RPC_BLOCK_REQ: u16 = 0x0107;
-const AR_RPC_BLOCK_RES: u16 = 0x8107;
 
 /// The MaxAlarmDataLength the device accepts (p-net's).
 pub(super) const MAX_ALARM_DATA_LENGTH: u16 = 200;
@@ -118,11 +114,12 @@ pub(super) fn validate(bytes: &[u8]) -> Result<Plan, PnioStatus> {
     for r in blocks(bytes) {
         let (h, block) = r.map_err(|_| refuse(CMRPC, CMRPC_ARGS_LENGTH))?;
         let code = match h.block_type {
-            block_type::AR_BLOCK_REQ => AR,
-            block_type::IOCR_BLOCK_REQ => IOCR,
-            block_type::ALARM_CR_BLOCK_REQ => ALARM_CR,
-            block_type::EXPECTED_SUBMODULE_BLOCK_REQ => EXPECTED,
-            AR_RPC_BLOCK_REQ => AR_RPC,
+            BlockType::ArBlockReq => AR,
+            BlockType::IocrBlockReq => IOCR,
+            BlockType::AlarmCrBlockReq => ALARM_CR,
+            BlockType::ExpectedSubmoduleBlockReq => EXPECTED,
+            // ARRPCBlockReq: the initiator's RPC server port.
+            BlockType::ArRpcBlockReq => AR_RPC,
             _ => return Err(refuse(CMRPC, CMRPC_UNKNOWN_BLOCKS)),
         };
         if h.version_high != 1 {
@@ -548,7 +545,7 @@ pub(super) fn response_blocks(
     input_frame_id: u16,
     output_frame_id: u16,
     diff: Option<&ModuleDiffBlock>,
-) -> Option<Vec<u8>> {
+) -> EmitResult<Vec<u8>> {
     let mut out = ArBlockRes {
         ar_type: plan.ar.ar_type,
         ar_uuid: plan.ar.ar_uuid,
@@ -556,8 +553,7 @@ pub(super) fn response_blocks(
         responder_mac: device_mac,
         udp_rt_port: 0x8892,
     }
-    .to_vec()
-    .ok()?;
+    .to_vec()?;
     for &(t, reference) in &plan.iocr_order {
         let frame_id = if t == iocr_type::INPUT {
             input_frame_id
@@ -569,7 +565,7 @@ pub(super) fn response_blocks(
             iocr_reference: reference,
             frame_id,
         };
-        out.extend(b.to_vec().ok()?);
+        out.extend(b.to_vec()?);
     }
     let alarm = AlarmCrBlockRes {
         alarm_cr_type: plan.alarm_cr.alarm_cr_type,
@@ -579,24 +575,22 @@ pub(super) fn response_blocks(
             .max_alarm_data_length
             .min(MAX_ALARM_DATA_LENGTH),
     };
-    out.extend(alarm.to_vec().ok()?);
+    out.extend(alarm.to_vec()?);
     if let Some(d) = diff {
-        out.extend(d.to_vec().ok()?);
+        out.extend(d.to_vec()?);
     }
     if plan.rpc_port.is_some() {
         // ARRPCBlockRes: the responder's RPC server port.
-        let mut b = [0u8; BLOCK_HEADER_LEN + 2];
-        BlockHeader::v1(AR_RPC_BLOCK_RES, 2).emit(&mut b);
-        b[BLOCK_HEADER_LEN..].copy_from_slice(&RPC_PORT.to_be_bytes());
-        out.extend_from_slice(&b);
+        out.extend_from_slice(&BlockHeader::v1(BlockType::ArRpcBlockRes, 2)?.to_bytes());
+        out.extend_from_slice(&RPC_PORT.to_be_bytes());
     }
     if plan.advanced() {
         let server = ArServerBlock {
             station_name: station_name.to_string(),
         };
-        out.extend(server.to_vec().ok()?);
+        out.extend(server.to_vec()?);
     }
-    Some(out)
+    Ok(out)
 }
 
 /// The FrameIDs of the two CRs: the controller's, or, where it wrote 0xFFFF, the first free

@@ -65,14 +65,15 @@ impl Provider {
     }
 
     /// The frame carrying `c_sdu` (exactly `data_length` bytes): tagged with the CR's
-    /// IOCRTagHeader, from `src` to the controller.
+    /// IOCRTagHeader, from `src` to the controller. `None` if the RT header could not be
+    /// written (the buffer is sized for it, so it always can).
     pub(super) fn frame(
         &self,
         src: MacAddress,
         cycle_counter: u16,
         data_status: u8,
         c_sdu: &[u8],
-    ) -> Vec<u8> {
+    ) -> Option<Vec<u8>> {
         let repr = rt::Repr {
             frame_id: self.frame_id,
             data_length: self.data_length,
@@ -85,8 +86,8 @@ impl Provider {
         let data = packet.data_mut();
         let n = data.len().min(c_sdu.len());
         data[..n].copy_from_slice(&c_sdu[..n]);
-        repr.emit(&mut packet);
-        ethernet_frame(self.dst, src, Some(self.tci), &pdu)
+        repr.emit(&mut packet).ok()?;
+        Some(ethernet_frame(self.dst, src, Some(self.tci), &pdu))
     }
 }
 

@@ -151,13 +151,7 @@ fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]
         vlan: tci.map(VlanTag::from_tci),
         ethertype: ETHERTYPE_PROFINET,
     };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend_from_slice(pdu);
-    if f.len() < MIN_FRAME_LEN {
-        f.resize(MIN_FRAME_LEN, 0);
-    }
-    f
+    eth.frame(pdu, MIN_FRAME_LEN)
 }
 
 /// A simulated PROFINET IO device.
@@ -469,10 +463,11 @@ impl<A: Application> SimDevice<A> {
             self.abort_ar(AbortCode::RpcClientCallNegative, out);
             return;
         }
-        if let Some(cc) = ar.provider.take_due(now_ns) {
-            let k = self.frames_produced;
+        if let Some(cc) = ar.provider.take_due(now_ns)
+            && let Some(frame) = ar.produce(&mut self.app, self.frames_produced, mac, cc)
+        {
             self.frames_produced += 1;
-            out.push(DeviceAction::Frame(ar.produce(&mut self.app, k, mac, cc)));
+            out.push(DeviceAction::Frame(frame));
         }
     }
 

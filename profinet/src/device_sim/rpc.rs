@@ -264,6 +264,7 @@ fn resend(c: &Cached, to: SocketAddrV4, out: &mut Vec<DeviceAction>) {
 
 /// Acknowledges one request fragment (see [`rpc::fack`]).
 fn fack(fragment: &Header, to: SocketAddrV4, out: &mut Vec<DeviceAction>) {
+    // Both constants are below 2^16, so the casts keep every bit.
     if let Ok(d) = rpc::fack(
         fragment,
         SERVER_BOOT_TIME,

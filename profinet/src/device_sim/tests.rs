@@ -798,7 +798,7 @@ fn to_data(dev: &mut SimDevice<TestApp>, connect: &ConnectRequest, t0: u64) -> u
             opnum::CONNECT,
             ACTIVITY,
             0,
-            &connect.try_emit().unwrap(),
+            &connect.to_vec().unwrap(),
             false,
         ),
         t0,
@@ -845,7 +845,7 @@ fn output_frame(connect: &ConnectRequest, cycle_counter: u16, ds: u8, outputs: [
     let mut pdu = vec![0u8; repr.buffer_len()];
     let mut p = rt::Packet::new_unchecked(&mut pdu[..], c_sdu.len());
     p.data_mut().copy_from_slice(&c_sdu);
-    repr.emit(&mut p);
+    repr.emit(&mut p).unwrap();
     ethernet_frame(PNET_MAC, S7_MAC, Some(0xc000), &pdu)
 }
 
@@ -1356,7 +1356,7 @@ fn legacy_startup_with_frame_ids_left_to_the_device() {
             opnum::CONNECT,
             ACTIVITY,
             0,
-            &connect.try_emit().unwrap(),
+            &connect.to_vec().unwrap(),
             true,
         ),
         0,
@@ -1386,7 +1386,7 @@ fn legacy_startup_with_frame_ids_left_to_the_device() {
             opnum::CONNECT,
             ACTIVITY,
             0,
-            &connect.try_emit().unwrap(),
+            &connect.to_vec().unwrap(),
             true,
         ),
         0,

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Types several PROFINET formats share: UUIDs, the PNIO block header, PNIOStatus.
+//! Types several PROFINET formats share: UUIDs, the PNIO block types and block header,
+//! PNIOStatus.
 
-use super::{Error, Field, Result, be16};
+use super::{EmitError, EmitResult, Error, Field, Result, be16};
 
 /// A UUID as 16 bytes in big-endian field order (how PNIO blocks carry it). The DCE/RPC
 /// header carries its first three fields in the PDU's DREP byte order instead; see
@@ -72,6 +73,109 @@ impl core::fmt::Display for Uuid {
     }
 }
 
+enum_with_unknown! {
+    /// The BlockType of a PNIO block: the ones this crate reads or writes. Bit 15 is set in
+    /// the response (or acknowledgement) counterpart of a request block type.
+    pub enum BlockType(u16) {
+        /// 0x0001 AlarmNotificationHigh.
+        AlarmNotificationHigh = 0x0001 => "AlarmNotificationHigh",
+        /// 0x0002 AlarmNotificationLow.
+        AlarmNotificationLow = 0x0002 => "AlarmNotificationLow",
+        /// 0x0008 IODWriteReqHeader.
+        IodWriteReqHeader = 0x0008 => "IODWriteReqHeader",
+        /// 0x0009 IODReadReqHeader.
+        IodReadReqHeader = 0x0009 => "IODReadReqHeader",
+        /// 0x0020 I&M0.
+        Im0 = 0x0020 => "I&M0",
+        /// 0x0101 ARBlockReq.
+        ArBlockReq = 0x0101 => "ARBlockReq",
+        /// 0x0102 IOCRBlockReq.
+        IocrBlockReq = 0x0102 => "IOCRBlockReq",
+        /// 0x0103 AlarmCRBlockReq.
+        AlarmCrBlockReq = 0x0103 => "AlarmCRBlockReq",
+        /// 0x0104 ExpectedSubmoduleBlockReq.
+        ExpectedSubmoduleBlockReq = 0x0104 => "ExpectedSubmoduleBlockReq",
+        /// 0x0107 ARRPCBlockReq.
+        ArRpcBlockReq = 0x0107 => "ARRPCBlockReq",
+        /// 0x0110 IODControlReq PrmEnd (IOC → IOD).
+        PrmEndReq = 0x0110 => "IODControlReq PrmEnd",
+        /// 0x0111 IODControlReq PrmEnd after a plug alarm.
+        PlugPrmEndReq = 0x0111 => "IODControlReq Plug PrmEnd",
+        /// 0x0112 IOXControlReq ApplicationReady (IOD → IOC).
+        ApplicationReadyReq = 0x0112 => "IOXControlReq ApplicationReady",
+        /// 0x0113 IOXControlReq ApplicationReady after a plug alarm.
+        PlugApplicationReadyReq = 0x0113 => "IOXControlReq Plug ApplicationReady",
+        /// 0x0114 IODReleaseReq (IOC → IOD, RPC opnum 1).
+        ReleaseReq = 0x0114 => "IODReleaseReq",
+        /// 0x0118 IODControlReq PrmBegin (re-parameterization, advanced startup).
+        PrmBeginReq = 0x0118 => "IODControlReq PrmBegin",
+        /// 0x0F00 MaintenanceItem.
+        MaintenanceItem = 0x0f00 => "MaintenanceItem",
+        /// 0x8001 AlarmAckHigh.
+        AlarmAckHigh = 0x8001 => "AlarmAckHigh",
+        /// 0x8002 AlarmAckLow.
+        AlarmAckLow = 0x8002 => "AlarmAckLow",
+        /// 0x8008 IODWriteResHeader.
+        IodWriteResHeader = 0x8008 => "IODWriteResHeader",
+        /// 0x8009 IODReadResHeader.
+        IodReadResHeader = 0x8009 => "IODReadResHeader",
+        /// 0x8101 ARBlockRes.
+        ArBlockRes = 0x8101 => "ARBlockRes",
+        /// 0x8102 IOCRBlockRes.
+        IocrBlockRes = 0x8102 => "IOCRBlockRes",
+        /// 0x8103 AlarmCRBlockRes.
+        AlarmCrBlockRes = 0x8103 => "AlarmCRBlockRes",
+        /// 0x8104 ModuleDiffBlock (also the body of record 0xE002 and a companion of
+        /// ApplicationReady).
+        ModuleDiffBlock = 0x8104 => "ModuleDiffBlock",
+        /// 0x8106 ARServerBlock.
+        ArServerBlock = 0x8106 => "ARServerBlock",
+        /// 0x8107 ARRPCBlockRes.
+        ArRpcBlockRes = 0x8107 => "ARRPCBlockRes",
+        /// 0x8110 IODControlRes PrmEnd.
+        PrmEndRes = 0x8110 => "IODControlRes PrmEnd",
+        /// 0x8111 IODControlRes PrmEnd after a plug alarm.
+        PlugPrmEndRes = 0x8111 => "IODControlRes Plug PrmEnd",
+        /// 0x8112 IOXControlRes ApplicationReady.
+        ApplicationReadyRes = 0x8112 => "IOXControlRes ApplicationReady",
+        /// 0x8113 IOXControlRes ApplicationReady after a plug alarm.
+        PlugApplicationReadyRes = 0x8113 => "IOXControlRes Plug ApplicationReady",
+        /// 0x8114 IODReleaseRes.
+        ReleaseRes = 0x8114 => "IODReleaseRes",
+        /// 0x8118 IODControlRes PrmBegin.
+        PrmBeginRes = 0x8118 => "IODControlRes PrmBegin",
+    }
+}
+
+impl BlockType {
+    /// Bit 15 of a BlockType: set in responses.
+    pub const RESPONSE_BIT: u16 = 0x8000;
+
+    /// Whether bit 15 (response) is set.
+    pub const fn is_response(self) -> bool {
+        self.raw() & BlockType::RESPONSE_BIT != 0
+    }
+
+    /// The block type with bit 15 set: the response to a request block type.
+    pub const fn response(self) -> BlockType {
+        BlockType::from_raw(self.raw() | BlockType::RESPONSE_BIT)
+    }
+
+    /// The block type with bit 15 cleared: the request a response block type answers.
+    pub const fn request(self) -> BlockType {
+        BlockType::from_raw(self.raw() & !BlockType::RESPONSE_BIT)
+    }
+}
+
+impl core::fmt::Display for BlockType {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self.name() {
+            Some(name) => write!(f, "{name} ({:#06x})", self.raw()),
+            None => write!(f, "BlockType {:#06x}", self.raw()),
+        }
+    }
+}
+
 mod field {
     use super::Field;
     pub const TYPE: Field = 0..2;
@@ -89,7 +193,7 @@ pub const BLOCK_HEADER_LEN: usize = field::BODY;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BlockHeader {
     /// BlockType.
-    pub block_type: u16,
+    pub block_type: BlockType,
     /// BlockLength (total − 4).
     pub length: u16,
     /// BlockVersionHigh.
@@ -100,14 +204,17 @@ pub struct BlockHeader {
 
 impl BlockHeader {
     /// A version 1.0 header for a block whose body (after the 6 header bytes) has `body_len`
-    /// bytes.
-    pub const fn v1(block_type: u16, body_len: usize) -> BlockHeader {
-        BlockHeader {
+    /// bytes; a body too long for the 16-bit BlockLength gives [`EmitError::TooLong`].
+    pub fn v1(block_type: BlockType, body_len: usize) -> EmitResult<BlockHeader> {
+        let value = body_len.saturating_add(2);
+        let length =
+            u16::try_from(value).map_err(|_| EmitError::too_long_u16("BlockLength", value))?;
+        Ok(BlockHeader {
             block_type,
-            length: (body_len + 2) as u16,
+            length,
             version_high: 1,
             version_low: 0,
-        }
+        })
     }
 
     /// Parses the header at the start of `b`; checks the block fits in `b`.
@@ -116,7 +223,7 @@ impl BlockHeader {
             return Err(Error);
         }
         let h = BlockHeader {
-            block_type: be16(&b[field::TYPE]),
+            block_type: BlockType::from_raw(be16(&b[field::TYPE])),
             length: be16(&b[field::LENGTH]),
             version_high: b[field::VERSION_HIGH],
             version_low: b[field::VERSION_LOW],
@@ -137,12 +244,26 @@ impl BlockHeader {
         self.total_len() - BLOCK_HEADER_LEN
     }
 
-    /// Writes the 6 header bytes.
-    pub fn emit(&self, b: &mut [u8]) {
-        b[field::TYPE].copy_from_slice(&self.block_type.to_be_bytes());
-        b[field::LENGTH].copy_from_slice(&self.length.to_be_bytes());
-        b[field::VERSION_HIGH] = self.version_high;
-        b[field::VERSION_LOW] = self.version_low;
+    /// The 6 header bytes.
+    pub const fn to_bytes(&self) -> [u8; BLOCK_HEADER_LEN] {
+        let [t0, t1] = self.block_type.raw().to_be_bytes();
+        let [l0, l1] = self.length.to_be_bytes();
+        [t0, t1, l0, l1, self.version_high, self.version_low]
+    }
+
+    /// Writes the 6 header bytes at the start of `b`; a shorter `b` gives
+    /// [`EmitError::BufferTooShort`].
+    pub fn emit(&self, b: &mut [u8]) -> EmitResult<()> {
+        let len = b.len();
+        let out = b
+            .get_mut(..BLOCK_HEADER_LEN)
+            .ok_or(EmitError::BufferTooShort {
+                what: "block header",
+                needed: BLOCK_HEADER_LEN,
+                len,
+            })?;
+        out.copy_from_slice(&self.to_bytes());
+        Ok(())
     }
 
     /// The body of the block at the start of `b` (which `parse` checked holds it).
@@ -270,12 +391,28 @@ mod tests {
         let h = BlockHeader::parse(&full).unwrap();
         assert_eq!(
             (h.block_type, h.total_len(), h.body_len()),
-            (0x0110, 32, 26)
+            (BlockType::PrmEndReq, 32, 26)
         );
-        assert_eq!(h, BlockHeader::v1(0x0110, 26));
+        assert_eq!(Ok(h), BlockHeader::v1(BlockType::PrmEndReq, 26));
         let mut out = [0u8; 6];
-        h.emit(&mut out);
+        h.emit(&mut out).unwrap();
         assert_eq!(out, b);
+        assert!(h.emit(&mut out[..5]).is_err());
+        assert!(BlockHeader::v1(BlockType::PrmEndReq, 65533).is_ok());
+        assert_eq!(
+            BlockHeader::v1(BlockType::PrmEndReq, 65534),
+            Err(EmitError::TooLong {
+                field: "BlockLength",
+                value: 65536,
+                max: 65535
+            })
+        );
+        assert_eq!(
+            BlockHeader::v1(BlockType::PrmEndReq, 65534)
+                .unwrap_err()
+                .to_string(),
+            "BlockLength would be 65536, over the 65535 its wire field holds"
+        );
         assert_eq!(blocks(&full).count(), 1);
     }
 

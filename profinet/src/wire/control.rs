@@ -13,52 +13,24 @@
 //! The second reserved field carries the AlarmSequenceNumber in the plug variants (0x0111,
 //! 0x0113 and their responses). The sequence is Connect → PrmEnd (IOC → IOD, opnum 4) →
 //! ApplicationReady (IOD → IOC, opnum 4) → data exchange → Release (IOC → IOD, opnum 1); every
-//! request is answered by the block type with bit 15 set and [`command::DONE`].
+//! request is answered by the block type with bit 15 set ([`BlockType::response`]) and
+//! [`command::DONE`].
 
 use super::common::BLOCK_HEADER_LEN;
-use super::{BlockHeader, Error, Field, Result, Uuid, be16};
+use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, Field, Result, Uuid, be16};
 
-/// Block types of the control blocks.
-pub mod block_type {
-    /// IODControlReq PrmEnd (IOC → IOD).
-    pub const PRM_END_REQ: u16 = 0x0110;
-    /// IODControlReq PrmEnd after a plug alarm.
-    pub const PLUG_PRM_END_REQ: u16 = 0x0111;
-    /// IOXControlReq ApplicationReady (IOD → IOC).
-    pub const APPLICATION_READY_REQ: u16 = 0x0112;
-    /// IOXControlReq ApplicationReady after a plug alarm.
-    pub const PLUG_APPLICATION_READY_REQ: u16 = 0x0113;
-    /// IODReleaseReq (IOC → IOD, RPC opnum 1).
-    pub const RELEASE_REQ: u16 = 0x0114;
-    /// PrmBegin request (re-parameterization, advanced startup).
-    pub const PRM_BEGIN_REQ: u16 = 0x0118;
-    /// Response to [`PRM_END_REQ`].
-    pub const PRM_END_RES: u16 = 0x8110;
-    /// Response to [`PLUG_PRM_END_REQ`].
-    pub const PLUG_PRM_END_RES: u16 = 0x8111;
-    /// Response to [`APPLICATION_READY_REQ`].
-    pub const APPLICATION_READY_RES: u16 = 0x8112;
-    /// Response to [`PLUG_APPLICATION_READY_REQ`].
-    pub const PLUG_APPLICATION_READY_RES: u16 = 0x8113;
-    /// Response to [`RELEASE_REQ`].
-    pub const RELEASE_RES: u16 = 0x8114;
-    /// Response to [`PRM_BEGIN_REQ`].
-    pub const PRM_BEGIN_RES: u16 = 0x8118;
-    /// Bit 15: set in every response block type.
-    pub const RESPONSE: u16 = 0x8000;
-
-    /// Whether `t` is one of the control block types above (request or response).
-    pub const fn is_control(t: u16) -> bool {
-        matches!(
-            t & !RESPONSE,
-            PRM_END_REQ
-                | PLUG_PRM_END_REQ
-                | APPLICATION_READY_REQ
-                | PLUG_APPLICATION_READY_REQ
-                | RELEASE_REQ
-                | PRM_BEGIN_REQ
-        )
-    }
+/// Whether `t` is a control block type: PrmEnd, PlugPrmEnd, ApplicationReady,
+/// PlugApplicationReady, Release or PrmBegin, request or response.
+pub const fn is_control(t: BlockType) -> bool {
+    matches!(
+        t.request(),
+        BlockType::PrmEndReq
+            | BlockType::PlugPrmEndReq
+            | BlockType::ApplicationReadyReq
+            | BlockType::PlugApplicationReadyReq
+            | BlockType::ReleaseReq
+            | BlockType::PrmBeginReq
+    )
 }
 
 /// ControlCommand bits.
@@ -92,6 +64,7 @@ mod field {
 /// Bytes of a control block, header included.
 pub const BLOCK_LEN: usize = field::PROPERTIES.end;
 /// BlockLength of a control block (total − 4).
+// 28: the fixed layout above, far below u16::MAX, so the cast keeps every bit.
 pub const BLOCK_LENGTH: u16 = (BLOCK_LEN - 4) as u16;
 
 /// A view of a control block, from its BlockType on.
@@ -132,7 +105,7 @@ impl<T: AsRef<[u8]>> Packet<T> {
     pub fn header(&self) -> BlockHeader {
         let b = self.buffer.as_ref();
         BlockHeader {
-            block_type: be16(&b[0..2]),
+            block_type: BlockType::from_raw(be16(&b[0..2])),
             length: be16(&b[2..4]),
             version_high: b[4],
             version_low: b[5],
@@ -175,7 +148,7 @@ impl<T: AsRef<[u8]>> Packet<T> {
 impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
     /// Writes the block header.
     pub fn set_header(&mut self, h: BlockHeader) {
-        h.emit(&mut self.buffer.as_mut()[..BLOCK_HEADER_LEN]);
+        self.buffer.as_mut()[..BLOCK_HEADER_LEN].copy_from_slice(&h.to_bytes());
     }
 
     /// Sets the reserved field after the header.
@@ -212,8 +185,8 @@ impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
 /// A control block.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ControlBlock {
-    /// BlockType (one of [`block_type`]).
-    pub block_type: u16,
+    /// BlockType (a control block type, see [`is_control`]).
+    pub block_type: BlockType,
     /// ARUUID of the AR the block controls.
     pub ar_uuid: Uuid,
     /// SessionKey of the AR (from the ARBlockReq).
@@ -227,7 +200,12 @@ pub struct ControlBlock {
 }
 
 impl ControlBlock {
-    const fn new(block_type: u16, ar_uuid: Uuid, session_key: u16, command: u16) -> ControlBlock {
+    const fn new(
+        block_type: BlockType,
+        ar_uuid: Uuid,
+        session_key: u16,
+        command: u16,
+    ) -> ControlBlock {
         ControlBlock {
             block_type,
             ar_uuid,
@@ -240,18 +218,13 @@ impl ControlBlock {
 
     /// The PrmEnd request the controller sends after the Connect (and its record writes).
     pub const fn prm_end(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
-        ControlBlock::new(
-            block_type::PRM_END_REQ,
-            ar_uuid,
-            session_key,
-            command::PRM_END,
-        )
+        ControlBlock::new(BlockType::PrmEndReq, ar_uuid, session_key, command::PRM_END)
     }
 
     /// The ApplicationReady request a device sends to the controller.
     pub const fn application_ready(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
         ControlBlock::new(
-            block_type::APPLICATION_READY_REQ,
+            BlockType::ApplicationReadyReq,
             ar_uuid,
             session_key,
             command::APPLICATION_READY,
@@ -261,7 +234,7 @@ impl ControlBlock {
     /// The controller's answer to a device's ApplicationReady: 0x8112 with Done.
     pub const fn application_ready_done(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
         ControlBlock::new(
-            block_type::APPLICATION_READY_RES,
+            BlockType::ApplicationReadyRes,
             ar_uuid,
             session_key,
             command::DONE,
@@ -271,7 +244,7 @@ impl ControlBlock {
     /// The Release request that ends an AR (RPC opnum 1).
     pub const fn release(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
         ControlBlock::new(
-            block_type::RELEASE_REQ,
+            BlockType::ReleaseReq,
             ar_uuid,
             session_key,
             command::RELEASE,
@@ -281,7 +254,7 @@ impl ControlBlock {
     /// The PrmBegin request that starts a re-parameterization (advanced startup).
     pub const fn prm_begin(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
         ControlBlock::new(
-            block_type::PRM_BEGIN_REQ,
+            BlockType::PrmBeginReq,
             ar_uuid,
             session_key,
             command::PRM_BEGIN,
@@ -296,7 +269,7 @@ impl ControlBlock {
             return None;
         }
         Some(ControlBlock {
-            block_type: request.block_type | block_type::RESPONSE,
+            block_type: request.block_type.response(),
             ar_uuid: request.ar_uuid,
             session_key: request.session_key,
             alarm_sequence_number: request.alarm_sequence_number,
@@ -307,12 +280,12 @@ impl ControlBlock {
 
     /// Whether the block type is a control request.
     pub const fn is_request(&self) -> bool {
-        block_type::is_control(self.block_type) && self.block_type & block_type::RESPONSE == 0
+        is_control(self.block_type) && !self.block_type.is_response()
     }
 
     /// Whether the block type is a control response.
     pub const fn is_response(&self) -> bool {
-        block_type::is_control(self.block_type) && self.block_type & block_type::RESPONSE != 0
+        is_control(self.block_type) && self.block_type.is_response()
     }
 
     /// Whether the command has the Done bit (what a valid response carries).
@@ -324,7 +297,7 @@ impl ControlBlock {
     /// ARUUID and SessionKey, and Done.
     pub fn answers(&self, request: &ControlBlock) -> bool {
         request.is_request()
-            && self.block_type == request.block_type | block_type::RESPONSE
+            && self.block_type == request.block_type.response()
             && self.ar_uuid == request.ar_uuid
             && self.session_key == request.session_key
             && self.is_done()
@@ -336,7 +309,7 @@ impl ControlBlock {
     pub fn parse(b: &[u8]) -> Result<ControlBlock> {
         let p = Packet::new_checked(b)?;
         let h = p.header();
-        if !block_type::is_control(h.block_type)
+        if !is_control(h.block_type)
             || h.length != BLOCK_LENGTH
             || (h.version_high, h.version_low) != (1, 0)
         {
@@ -357,10 +330,16 @@ impl ControlBlock {
         BLOCK_LEN
     }
 
-    /// Writes the block into the first [`BLOCK_LEN`] bytes of `buf`; [`Error`] if `buf` is
-    /// shorter. The block type is written as it is (only control types parse back).
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let b = buf.get_mut(..BLOCK_LEN).ok_or(Error)?;
+    /// Writes the block into the first [`BLOCK_LEN`] bytes of `buf`;
+    /// [`EmitError::BufferTooShort`] if `buf` is shorter. The block type is written as it is
+    /// (only control types parse back).
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        let len = buf.len();
+        let b = buf.get_mut(..BLOCK_LEN).ok_or(EmitError::BufferTooShort {
+            what: "control block",
+            needed: BLOCK_LEN,
+            len,
+        })?;
         let mut p = Packet::new_unchecked(b);
         p.set_header(BlockHeader {
             block_type: self.block_type,
@@ -388,16 +367,16 @@ impl ControlBlock {
 
 impl core::fmt::Display for ControlBlock {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        let name = match self.block_type & !block_type::RESPONSE {
-            block_type::PRM_END_REQ => "PrmEnd",
-            block_type::PLUG_PRM_END_REQ => "PlugPrmEnd",
-            block_type::APPLICATION_READY_REQ => "ApplicationReady",
-            block_type::PLUG_APPLICATION_READY_REQ => "PlugApplicationReady",
-            block_type::RELEASE_REQ => "Release",
-            block_type::PRM_BEGIN_REQ => "PrmBegin",
+        let name = match self.block_type.request() {
+            BlockType::PrmEndReq => "PrmEnd",
+            BlockType::PlugPrmEndReq => "PlugPrmEnd",
+            BlockType::ApplicationReadyReq => "ApplicationReady",
+            BlockType::PlugApplicationReadyReq => "PlugApplicationReady",
+            BlockType::ReleaseReq => "Release",
+            BlockType::PrmBeginReq => "PrmBegin",
             _ => "Control",
         };
-        let dir = if self.block_type & block_type::RESPONSE != 0 {
+        let dir = if self.block_type.is_response() {
             "res"
         } else {
             "req"
@@ -405,7 +384,10 @@ impl core::fmt::Display for ControlBlock {
         write!(
             f,
             "{name} {dir} ({:#06x}) AR {} key {} cmd {:#06x}",
-            self.block_type, self.ar_uuid, self.session_key, self.command
+            self.block_type.raw(),
+            self.ar_uuid,
+            self.session_key,
+            self.command
         )
     }
 }
@@ -519,7 +501,7 @@ mod tests {
     #[test]
     fn prm_end_capture() {
         let req = round_trip_capture(&PRM_END_REQ);
-        assert_eq!(req.block_type, block_type::PRM_END_REQ);
+        assert_eq!(req.block_type, BlockType::PrmEndReq);
         assert_eq!(req.ar_uuid, AR);
         assert_eq!(
             req.ar_uuid.to_string(),
@@ -532,7 +514,7 @@ mod tests {
         assert_eq!(req, ControlBlock::prm_end(AR, 2));
 
         let res = round_trip_capture(&PRM_END_RES);
-        assert_eq!(res.block_type, block_type::PRM_END_RES);
+        assert_eq!(res.block_type, BlockType::PrmEndRes);
         assert_eq!(res.command, command::DONE);
         assert!(res.is_response() && res.is_done());
         assert_eq!(ControlBlock::done_response_for(&req), Some(res));
@@ -544,7 +526,7 @@ mod tests {
     #[test]
     fn application_ready_capture() {
         let req = round_trip_capture(&APP_READY_REQ);
-        assert_eq!(req.block_type, block_type::APPLICATION_READY_REQ);
+        assert_eq!(req.block_type, BlockType::ApplicationReadyReq);
         assert_eq!((req.ar_uuid, req.session_key), (AR, 2));
         assert_eq!(req.command, command::APPLICATION_READY);
         assert_eq!(req, ControlBlock::application_ready(AR, 2));
@@ -566,12 +548,12 @@ mod tests {
         let done = ControlBlock::done_response_for(&rel).unwrap();
         assert_eq!(
             (done.block_type, done.command),
-            (block_type::RELEASE_RES, command::DONE)
+            (BlockType::ReleaseRes, command::DONE)
         );
         let begin = ControlBlock::prm_begin(AR, 7);
         assert_eq!(
             ControlBlock::done_response_for(&begin).map(|d| d.block_type),
-            Some(block_type::PRM_BEGIN_RES)
+            Some(BlockType::PrmBeginRes)
         );
         assert_eq!(
             rel.to_string(),
@@ -582,12 +564,12 @@ mod tests {
     #[test]
     fn plug_variants_keep_the_alarm_sequence_number() {
         let req = ControlBlock {
-            block_type: block_type::PLUG_PRM_END_REQ,
+            block_type: BlockType::PlugPrmEndReq,
             alarm_sequence_number: 0x0123,
             ..ControlBlock::prm_end(AR, 1)
         };
         let res = ControlBlock::done_response_for(&req).unwrap();
-        assert_eq!(res.block_type, block_type::PLUG_PRM_END_RES);
+        assert_eq!(res.block_type, BlockType::PlugPrmEndRes);
         assert_eq!(res.alarm_sequence_number, 0x0123);
         assert_eq!(ControlBlock::parse(&res.to_bytes()), Ok(res));
     }
@@ -607,27 +589,34 @@ mod tests {
         b[5] = 1; // version 1.1
         assert!(ControlBlock::parse(&b).is_err());
         let mut short = [0u8; 31];
-        assert_eq!(ControlBlock::prm_end(AR, 2).emit(&mut short), Err(Error));
+        assert_eq!(
+            ControlBlock::prm_end(AR, 2).emit(&mut short),
+            Err(EmitError::BufferTooShort {
+                what: "control block",
+                needed: 32,
+                len: 31
+            })
+        );
         // Trailing bytes after the block are ignored.
         let mut long = good.to_vec();
         long.extend_from_slice(&[1, 2, 3]);
         assert_eq!(ControlBlock::parse(&long), Ok(ControlBlock::prm_end(AR, 2)));
     }
 
-    fn control_type() -> impl Strategy<Value = u16> {
+    fn control_type() -> impl Strategy<Value = BlockType> {
         prop::sample::select(vec![
-            block_type::PRM_END_REQ,
-            block_type::PLUG_PRM_END_REQ,
-            block_type::APPLICATION_READY_REQ,
-            block_type::PLUG_APPLICATION_READY_REQ,
-            block_type::RELEASE_REQ,
-            block_type::PRM_BEGIN_REQ,
-            block_type::PRM_END_RES,
-            block_type::PLUG_PRM_END_RES,
-            block_type::APPLICATION_READY_RES,
-            block_type::PLUG_APPLICATION_READY_RES,
-            block_type::RELEASE_RES,
-            block_type::PRM_BEGIN_RES,
+            BlockType::PrmEndReq,
+            BlockType::PlugPrmEndReq,
+            BlockType::ApplicationReadyReq,
+            BlockType::PlugApplicationReadyReq,
+            BlockType::ReleaseReq,
+            BlockType::PrmBeginReq,
+            BlockType::PrmEndRes,
+            BlockType::PlugPrmEndRes,
+            BlockType::ApplicationReadyRes,
+            BlockType::PlugApplicationReadyRes,
+            BlockType::ReleaseRes,
+            BlockType::PrmBeginRes,
         ])
     }
 
@@ -656,7 +645,7 @@ mod tests {
 
         #[test]
         fn parse_never_panics_on_plausible_blocks(t in control_type(), body in proptest::collection::vec(any::<u8>(), 0..40)) {
-            let mut b = t.to_be_bytes().to_vec();
+            let mut b = t.raw().to_be_bytes().to_vec();
             b.extend_from_slice(&[0x00, 0x1c, 0x01, 0x00]);
             b.extend_from_slice(&body);
             let r = ControlBlock::parse(&b);

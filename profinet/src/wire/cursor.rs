@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Bounds-checked reading and writing of big-endian fields, shared by the block codecs:
-//! reads or writes past the end give [`Error`], never a panic.
+//! reads past the end give [`Error`], writes past it [`EmitError`], never a panic.
 
-use super::{Error, MacAddress, Result, Uuid, be16, be32};
+use super::{BlockType, EmitError, EmitResult, Error, MacAddress, Result, Uuid, be16, be32};
 
 /// Reads fields from the front of a byte slice.
 pub(crate) struct Reader<'a> {
@@ -87,13 +87,16 @@ impl<'a> Reader<'a> {
 
 /// Writes fields into a byte slice from its front.
 pub(crate) struct Writer<'a> {
+    /// What is being written, for the errors.
+    what: &'static str,
     buf: &'a mut [u8],
     pos: usize,
 }
 
 impl<'a> Writer<'a> {
-    pub(crate) const fn new(buf: &'a mut [u8]) -> Writer<'a> {
-        Writer { buf, pos: 0 }
+    /// A writer of `what` (named in its errors) into `buf`.
+    pub(crate) const fn new(what: &'static str, buf: &'a mut [u8]) -> Writer<'a> {
+        Writer { what, buf, pos: 0 }
     }
 
     /// Bytes written so far.
@@ -102,63 +105,72 @@ impl<'a> Writer<'a> {
     }
 
     /// The next `n` bytes, to be filled by the caller.
-    pub(crate) fn reserve(&mut self, n: usize) -> Result<&mut [u8]> {
-        let end = self.pos.checked_add(n).ok_or(Error)?;
-        let b = self.buf.get_mut(self.pos..end).ok_or(Error)?;
+    pub(crate) fn reserve(&mut self, n: usize) -> EmitResult<&mut [u8]> {
+        let len = self.buf.len();
+        let short = EmitError::BufferTooShort {
+            what: self.what,
+            needed: self.pos.saturating_add(n),
+            len,
+        };
+        let end = self.pos.checked_add(n).ok_or(short)?;
+        let b = self.buf.get_mut(self.pos..end).ok_or(short)?;
         self.pos = end;
         Ok(b)
     }
 
-    pub(crate) fn put(&mut self, bytes: &[u8]) -> Result<()> {
+    pub(crate) fn put(&mut self, bytes: &[u8]) -> EmitResult<()> {
         self.reserve(bytes.len())?.copy_from_slice(bytes);
         Ok(())
     }
 
-    pub(crate) fn zeros(&mut self, n: usize) -> Result<()> {
+    pub(crate) fn zeros(&mut self, n: usize) -> EmitResult<()> {
         self.reserve(n)?.fill(0);
         Ok(())
     }
 
-    pub(crate) fn u8(&mut self, v: u8) -> Result<()> {
+    pub(crate) fn u8(&mut self, v: u8) -> EmitResult<()> {
         self.put(&[v])
     }
 
-    pub(crate) fn u16(&mut self, v: u16) -> Result<()> {
+    pub(crate) fn u16(&mut self, v: u16) -> EmitResult<()> {
         self.put(&v.to_be_bytes())
     }
 
-    pub(crate) fn u32(&mut self, v: u32) -> Result<()> {
+    pub(crate) fn u32(&mut self, v: u32) -> EmitResult<()> {
         self.put(&v.to_be_bytes())
     }
 
-    /// A 16-bit count of `n` items.
-    pub(crate) fn count(&mut self, n: usize) -> Result<()> {
-        self.u16(u16::try_from(n).map_err(|_| Error)?)
+    /// The 16-bit count `field` of `n` items.
+    pub(crate) fn count(&mut self, field: &'static str, n: usize) -> EmitResult<()> {
+        self.u16(u16::try_from(n).map_err(|_| EmitError::too_long_u16(field, n))?)
     }
 
-    /// A u16 length and the string's bytes.
-    pub(crate) fn string(&mut self, s: &str) -> Result<()> {
-        self.count(s.len())?;
+    /// The u16 length `field` and the string's bytes.
+    pub(crate) fn string(&mut self, field: &'static str, s: &str) -> EmitResult<()> {
+        self.count(field, s.len())?;
         self.put(s.as_bytes())
     }
 
     /// A v1.0 block header for a body of `body_len` bytes.
-    pub(crate) fn block_header(&mut self, block_type: u16, body_len: usize) -> Result<()> {
-        let length = body_len
-            .checked_add(2)
-            .and_then(|n| u16::try_from(n).ok())
-            .ok_or(Error)?;
-        self.u16(block_type)?;
-        self.u16(length)?;
-        self.put(&[1, 0])
+    pub(crate) fn block_header(
+        &mut self,
+        block_type: BlockType,
+        body_len: usize,
+    ) -> EmitResult<()> {
+        let h = super::BlockHeader::v1(block_type, body_len)?;
+        self.put(&h.to_bytes())
     }
 
     /// `Ok` when the buffer was filled exactly.
-    pub(crate) fn finish(self) -> Result<()> {
+    pub(crate) fn finish(self) -> EmitResult<()> {
         if self.pos == self.buf.len() {
             Ok(())
         } else {
-            Err(Error)
+            Err(EmitError::LengthMismatch {
+                what: self.what,
+                computed: self.buf.len(),
+                written: self.pos,
+            })
         }
     }
 }

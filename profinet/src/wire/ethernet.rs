@@ -5,7 +5,7 @@
 //! strips the tag before AF_PACKET sees a frame. The view finds the EtherType behind an
 //! optional tag, so callers see one form.
 
-use super::{Error, Field, MacAddress, Rest, Result, be16};
+use super::{EmitError, EmitResult, Error, Field, MacAddress, Rest, Result, be16};
 
 /// EtherType of PROFINET real-time frames (RT, DCP, RTA alarms).
 pub const ETHERTYPE_PROFINET: u16 = 0x8892;
@@ -136,6 +136,7 @@ impl VlanTag {
     /// From a TCI.
     pub const fn from_tci(tci: u16) -> VlanTag {
         VlanTag {
+            // The top 3 bits of the TCI: 0..=7, so the cast keeps every bit.
             pcp: (tci >> 13) as u8,
             dei: tci & 0x1000 != 0,
             vid: tci & 0x0fff,
@@ -182,18 +183,47 @@ impl Repr {
         }
     }
 
-    /// Writes the header into the first `buffer_len()` bytes of `buf`.
-    pub fn emit(&self, buf: &mut [u8]) {
-        buf[field::DST].copy_from_slice(&self.dst.0);
-        buf[field::SRC].copy_from_slice(&self.src.0);
+    /// The header bytes: the first [`buffer_len`](Self::buffer_len) of the array.
+    fn bytes(&self) -> [u8; TAGGED_HEADER_LEN] {
+        let mut b = [0u8; TAGGED_HEADER_LEN];
+        b[field::DST].copy_from_slice(&self.dst.0);
+        b[field::SRC].copy_from_slice(&self.src.0);
         match self.vlan {
             Some(tag) => {
-                buf[field::TYPE].copy_from_slice(&TPID_VLAN.to_be_bytes());
-                buf[field::TCI].copy_from_slice(&tag.tci().to_be_bytes());
-                buf[field::INNER_TYPE].copy_from_slice(&self.ethertype.to_be_bytes());
+                b[field::TYPE].copy_from_slice(&TPID_VLAN.to_be_bytes());
+                b[field::TCI].copy_from_slice(&tag.tci().to_be_bytes());
+                b[field::INNER_TYPE].copy_from_slice(&self.ethertype.to_be_bytes());
             }
-            None => buf[field::TYPE].copy_from_slice(&self.ethertype.to_be_bytes()),
+            None => b[field::TYPE].copy_from_slice(&self.ethertype.to_be_bytes()),
         }
+        b
+    }
+
+    /// Writes the header into the first `buffer_len()` bytes of `buf`; a shorter buffer gives
+    /// [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        let (needed, len) = (self.buffer_len(), buf.len());
+        let out = buf.get_mut(..needed).ok_or(EmitError::BufferTooShort {
+            what: "Ethernet header",
+            needed,
+            len,
+        })?;
+        out.copy_from_slice(&self.bytes()[..needed]);
+        Ok(())
+    }
+
+    /// A frame of this header followed by `payload`, padded with zeros to at least `min_len`
+    /// bytes (60 without FCS is the Ethernet minimum; tagged PROFINET frames are padded to 64
+    /// so that they keep it once a switch removes the tag).
+    pub fn frame(&self, payload: &[u8], min_len: usize) -> Vec<u8> {
+        let header = self.bytes();
+        let mut f = Vec::with_capacity(min_len.max(TAGGED_HEADER_LEN + payload.len()));
+        f.extend_from_slice(header.get(..self.buffer_len()).unwrap_or(&header));
+        f.extend_from_slice(payload);
+        if f.len() < min_len {
+            f.resize(min_len, 0);
+        }
+        f
     }
 }
 
@@ -221,8 +251,18 @@ mod tests {
     fn construct_tagged() {
         let r = Repr::parse(&Frame::new_unchecked(&TAGGED[..])).unwrap();
         let mut buf = [0xa5u8; 18];
-        r.emit(&mut buf);
+        r.emit(&mut buf).unwrap();
         assert_eq!(&buf[..], &TAGGED[..18]);
+        assert_eq!(
+            r.emit(&mut buf[..17]),
+            Err(EmitError::BufferTooShort {
+                what: "Ethernet header",
+                needed: 18,
+                len: 17
+            })
+        );
+        let f = r.frame(&TAGGED[18..], 60);
+        assert_eq!((&f[..20], f.len()), (&TAGGED[..], 60));
     }
 
     #[test]

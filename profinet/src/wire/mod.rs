@@ -8,12 +8,20 @@
 //! The contract:
 //! - once `check_len` (or `new_checked`) has returned `Ok`, no getter panics;
 //! - `Repr::parse` never panics, on any input: malformed bytes give [`Error`];
-//! - `Repr::emit` never panics on a buffer of exactly `buffer_len()` bytes;
+//! - `Repr::emit` never panics: it returns [`EmitError`] when the buffer is shorter than
+//!   `buffer_len()` or a value does not fit its wire field (a length or count over its 16
+//!   bits, fields that contradict each other), and writes nothing truncated;
 //! - byte order is explicit (big-endian on the wire unless a format says otherwise); wire
 //!   bytes are never transmuted.
 
-/// Defines a `Copy` enum over an integer with an `Unknown` catch-all, the conversions both ways
-/// and a `name()` with the readable text of the known values.
+/// Defines a `Copy` enum over a wire integer with an `Unknown` catch-all, so that parsing
+/// never fails on a value the enum does not name and every raw value round-trips.
+///
+/// Generates the enum (each variant with its doc comment, value and readable text), the
+/// conversions both ways as `From` and as `const fn`s (`from_raw`, `raw`) for `const`
+/// contexts and sub-byte fields, and `name()` with the readable text of the known values.
+/// Extra attributes before `pub enum` (docs, further derives) go onto the enum; it always
+/// derives `Clone, Copy, Debug, PartialEq, Eq, Hash`.
 macro_rules! enum_with_unknown {
     (
         $(#[$m:meta])*
@@ -29,31 +37,41 @@ macro_rules! enum_with_unknown {
             Unknown($ty),
         }
 
-        impl From<$ty> for $name {
-            fn from(v: $ty) -> $name {
+        impl $name {
+            /// The variant of a raw wire value (`Unknown` for values without a name).
+            pub const fn from_raw(v: $ty) -> $name {
                 match v {
                     $( $val => $name::$var, )+
                     other => $name::Unknown(other),
                 }
             }
-        }
 
-        impl From<$name> for $ty {
-            fn from(v: $name) -> $ty {
-                match v {
+            /// The raw wire value.
+            pub const fn raw(self) -> $ty {
+                match self {
                     $( $name::$var => $val, )+
                     $name::Unknown(other) => other,
                 }
             }
-        }
 
-        impl $name {
             /// The readable text of a known value; `None` for `Unknown`.
             pub const fn name(self) -> Option<&'static str> {
                 match self {
                     $( $name::$var => Some($text), )+
                     $name::Unknown(_) => None,
                 }
+            }
+        }
+
+        impl From<$ty> for $name {
+            fn from(v: $ty) -> $name {
+                $name::from_raw(v)
+            }
+        }
+
+        impl From<$name> for $ty {
+            fn from(v: $name) -> $ty {
+                v.raw()
             }
         }
     };
@@ -71,7 +89,7 @@ pub mod rpc;
 pub mod rt;
 pub mod rta_pdu;
 
-pub use common::{BlockHeader, PnioStatus, Uuid};
+pub use common::{BlockHeader, BlockType, PnioStatus, Uuid};
 
 /// A malformed or truncated frame. Callers count and drop such frames.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,6 +105,96 @@ impl core::error::Error for Error {}
 
 /// The result of parsing.
 pub type Result<T> = core::result::Result<T, Error>;
+
+/// Why a frame, PDU or block could not be written. Every `emit`, `to_vec` and builder of wire
+/// bytes returns it instead of panicking or truncating.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EmitError {
+    /// The buffer is shorter than what is to be written.
+    BufferTooShort {
+        /// What was being written.
+        what: &'static str,
+        /// Bytes it needs.
+        needed: usize,
+        /// Bytes the buffer has.
+        len: usize,
+    },
+    /// A length or count does not fit its wire field.
+    TooLong {
+        /// The wire field.
+        field: &'static str,
+        /// The value it would have to hold.
+        value: usize,
+        /// The largest value the field holds.
+        max: usize,
+    },
+    /// What was written does not fill the length computed for it: the length and the
+    /// encoding of a format disagree.
+    LengthMismatch {
+        /// What was being written.
+        what: &'static str,
+        /// Bytes its computed length says.
+        computed: usize,
+        /// Bytes written.
+        written: usize,
+    },
+    /// The fields contradict each other, so there is no encoding to write.
+    Inconsistent(&'static str),
+}
+
+impl EmitError {
+    /// `TooLong` for a 16-bit length or count field.
+    pub(crate) const fn too_long_u16(field: &'static str, value: usize) -> EmitError {
+        EmitError::TooLong {
+            field,
+            value,
+            max: u16::MAX as usize,
+        }
+    }
+
+    /// `Ok` when a buffer of `len` bytes holds the `needed` bytes of `what`.
+    pub(crate) const fn check_len(
+        what: &'static str,
+        needed: usize,
+        len: usize,
+    ) -> core::result::Result<(), EmitError> {
+        if len < needed {
+            Err(EmitError::BufferTooShort { what, needed, len })
+        } else {
+            Ok(())
+        }
+    }
+}
+
+impl core::fmt::Display for EmitError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            EmitError::BufferTooShort { what, needed, len } => {
+                write!(f, "buffer of {len} bytes, the {what} needs {needed}")
+            }
+            EmitError::TooLong { field, value, max } => {
+                write!(
+                    f,
+                    "{field} would be {value}, over the {max} its wire field holds"
+                )
+            }
+            EmitError::LengthMismatch {
+                what,
+                computed,
+                written,
+            } => write!(
+                f,
+                "the {what} wrote {written} bytes where its computed length is {computed}"
+            ),
+            EmitError::Inconsistent(why) => write!(f, "nothing to emit: {why}"),
+        }
+    }
+}
+
+impl core::error::Error for EmitError {}
+
+/// The result of emitting.
+pub type EmitResult<T> = core::result::Result<T, EmitError>;
 
 /// A byte range of a fixed field.
 pub(crate) type Field = core::ops::Range<usize>;

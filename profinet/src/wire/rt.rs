@@ -7,7 +7,7 @@
 //! which the IOCR defines; it is located from that length, not from the end of the buffer,
 //! because Ethernet may pad a frame.
 
-use super::{Error, Field, Result, be16};
+use super::{EmitError, EmitResult, Error, Field, Result, be16};
 
 /// Smallest C_SDU: shorter IO data is padded up to it, so a frame is never shorter than the
 /// Ethernet minimum.
@@ -224,10 +224,19 @@ impl Repr {
         field::apdu_status(self.data_length).end
     }
 
-    /// Writes the FrameID and the APDU status; the C_SDU between them is left as it is.
-    pub fn emit<T: AsRef<[u8]> + AsMut<[u8]>>(&self, packet: &mut Packet<T>) {
+    /// Writes the FrameID and the APDU status; the C_SDU between them is left as it is. A
+    /// packet viewed with another C_SDU length than this frame's, or a buffer shorter than
+    /// [`buffer_len`](Self::buffer_len), gives [`EmitError`].
+    pub fn emit<T: AsRef<[u8]> + AsMut<[u8]>>(&self, packet: &mut Packet<T>) -> EmitResult<()> {
+        if packet.data_length != self.data_length {
+            return Err(EmitError::Inconsistent(
+                "the packet is viewed with another C_SDU length than the frame has",
+            ));
+        }
+        EmitError::check_len("RT frame", self.buffer_len(), packet.buffer.as_ref().len())?;
         packet.set_frame_id(self.frame_id);
         packet.set_apdu_status(self.cycle_counter, self.data_status, self.transfer_status);
+        Ok(())
     }
 
     /// Whether a consumer may use the data: valid, and not to be ignored by the transfer.
@@ -280,8 +289,16 @@ mod tests {
         let r = Repr::parse(&src).unwrap();
         let mut p = Packet::new_unchecked(&mut buf[..], 40);
         p.data_mut().copy_from_slice(src.data());
-        r.emit(&mut p);
+        r.emit(&mut p).unwrap();
         assert_eq!(&buf[..], pdu(&CPU_8001));
+        assert!(
+            r.emit(&mut Packet::new_unchecked(&mut buf[..45], 40))
+                .is_err()
+        );
+        assert!(
+            r.emit(&mut Packet::new_unchecked(&mut buf[..], 39))
+                .is_err()
+        );
     }
 
     #[test]
@@ -315,7 +332,7 @@ mod tests {
         fn round_trip(frame_id in 0x8000u16..0xbc00, len in 40usize..=1440, cc: u16, ds: u8, ts: u8) {
             let r = Repr { frame_id, data_length: len, cycle_counter: cc, data_status: ds, transfer_status: ts };
             let mut buf = vec![0u8; r.buffer_len()];
-            r.emit(&mut Packet::new_unchecked(&mut buf[..], len));
+            r.emit(&mut Packet::new_unchecked(&mut buf[..], len)).unwrap();
             proptest::prop_assert_eq!(Repr::parse(&Packet::new_unchecked(&buf[..], len)), Ok(r));
         }
     }

@@ -68,9 +68,9 @@ impl LoopNic {
                 };
                 let at = eth.buffer_len();
                 let mut bytes = vec![0u8; at + rt.buffer_len()];
-                eth.emit(&mut bytes);
+                eth.emit(&mut bytes).expect("sized for the header");
                 let mut packet = rt::Packet::new_unchecked(&mut bytes[at..], rt.data_length);
-                rt.emit(&mut packet);
+                rt.emit(&mut packet).expect("sized for the frame");
                 let data = packet.data_mut();
                 for o in &ar.input.objects {
                     data[o.data..o.data + o.len].fill(o.submodule as u8);

@@ -15,7 +15,7 @@ impl DeviceAr {
         for e in events {
             match e {
                 RtaEvent::Send(pdu) => {
-                    let Some(ar) = self.ar.as_ref() else { continue };
+                    let Some(ar) = self.step.ar() else { continue };
                     if let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu) {
                         out.push(Action::Frame(f));
                     }
@@ -23,7 +23,9 @@ impl DeviceAr {
                 RtaEvent::Deliver(blocks) => {
                     for b in blocks {
                         if let AlarmBlock::Notification(n) = b {
-                            let Some(ar) = self.ar.as_mut() else { continue };
+                            let Some(ar) = self.step.ar_mut() else {
+                                continue;
+                            };
                             let priority = n.priority;
                             let n = Box::new(n);
                             // The device sends the next alarm of a priority only after the
@@ -72,19 +74,16 @@ impl DeviceAr {
         if ticket.epoch != self.epoch {
             return false;
         }
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.step.ar_mut() else {
             return false;
         };
         let Some(n) = ar.unacked[priority_slot(ticket.priority)].take() else {
             return false;
         };
         let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
-        let ch = match ticket.priority {
-            Priority::High => &mut ar.alarm_high,
-            Priority::Low => &mut ar.alarm_low,
-        };
         let mut sent = Vec::new();
-        ch.send(vec![AlarmBlock::Ack(ack)], now, &mut sent);
+        ar.channel(ticket.priority)
+            .send(vec![AlarmBlock::Ack(ack)], now, &mut sent);
         for e in sent {
             if let RtaEvent::Send(pdu) = e
                 && let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu)
@@ -112,13 +111,7 @@ pub(super) fn rta_frame(src: MacAddress, dst: MacAddress, pdu: &RtaPdu) -> Optio
         }),
         ethertype: ETHERTYPE_PROFINET,
     };
-    let mut f = vec![0u8; eth.buffer_len()];
-    eth.emit(&mut f);
-    f.extend(pdu.to_vec().ok()?);
-    // Padded so that the frame is still of minimum size once a switch removes the tag, as
-    // PROFINET controllers send tagged frames.
-    if f.len() < 64 {
-        f.resize(64, 0);
-    }
-    Some(f)
+    // Padded to 64 so that the frame is still of minimum size once a switch removes the
+    // tag, as PROFINET controllers send tagged frames.
+    Some(eth.frame(&pdu.to_vec().ok()?, 64))
 }

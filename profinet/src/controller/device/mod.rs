@@ -21,13 +21,15 @@ use crate::wire::record::{self, IodHeader};
 use crate::wire::rpc::{self, opnum};
 use crate::wire::rta_pdu;
 use crate::wire::rta_pdu::RtaPdu;
-use crate::wire::{MacAddress, PnioStatus, Uuid};
+use crate::wire::{EmitError, MacAddress, PnioStatus, Uuid};
 use std::collections::VecDeque;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
 mod alarms;
 mod records;
+mod step;
 use records::{record_result, write_failure};
+use step::{Ar, Phase, Step, priority_slot};
 
 /// How long Identify responses are awaited.
 const IDENTIFY_WINDOW_NS: u64 = 500_000_000;
@@ -41,56 +43,6 @@ const BACKOFF_MAX_NS: u64 = 4_000_000_000;
 /// DCP ResponseDelayFactor of an Identify by name: one device answers, so no spreading.
 const IDENTIFY_DELAY_FACTOR: u16 = 1;
 
-/// The established AR.
-struct Ar {
-    uuid: Uuid,
-    session_key: u16,
-    activity: Uuid,
-    seq: u32,
-    peer_mac: MacAddress,
-    alarm_high: RtaChannel,
-    alarm_low: RtaChannel,
-    /// WriteMultiple/Read sequence number (IODHeader SeqNumber).
-    record_seq: u16,
-    /// The delivered alarm of each priority whose AlarmAck waits for the clients
-    /// (`[high, low]`).
-    unacked: [Option<Box<AlarmNotification>>; 2],
-}
-
-const fn priority_slot(p: Priority) -> usize {
-    match p {
-        Priority::High => 0,
-        Priority::Low => 1,
-    }
-}
-
-enum Step {
-    Idle,
-    Identify {
-        since: u64,
-        id: Identify,
-    },
-    SetIp {
-        since: u64,
-        set: Set,
-    },
-    Connect(RpcCall),
-    Write(RpcCall),
-    PrmEnd(RpcCall),
-    WaitAppReady {
-        since: u64,
-    },
-    Running,
-    Record {
-        call: RpcCall,
-        request: RecordRequest,
-    },
-    Release(RpcCall),
-    Backoff {
-        until: u64,
-    },
-}
-
 /// One device.
 pub struct DeviceAr {
     pub(super) plan: DevicePlan,
@@ -100,9 +52,9 @@ pub struct DeviceAr {
     wanted: bool,
     /// Deactivated by a client.
     pub(super) deactivated: bool,
+    /// The device's MAC and IP address as found, for the next Connect.
     mac: Option<MacAddress>,
     ip: Option<Ipv4Addr>,
-    ar: Option<Ar>,
     epoch: u32,
     session_key: u16,
     failures: u32,
@@ -115,6 +67,7 @@ pub struct DeviceAr {
 impl DeviceAr {
     /// A device waiting to be wanted; its AR and activity UUIDs come from `uuids`.
     pub fn new(plan: DevicePlan, uuids: UuidSource) -> DeviceAr {
+        // Only the low bits of the index matter: the Xid just has to differ between devices.
         let xid = 0x0100_0000 | ((plan.device as u32) << 12);
         DeviceAr {
             plan,
@@ -124,7 +77,6 @@ impl DeviceAr {
             deactivated: false,
             mac: None,
             ip: None,
-            ar: None,
             epoch: 0,
             session_key: 0,
             failures: 0,
@@ -197,23 +149,14 @@ impl DeviceAr {
         out.push(Action::Stop {
             device: self.plan.device,
         });
-        if let (Some(mut ar), Some(ip)) = (self.ar.take(), self.ip) {
+        // The Release is sent once and neither retried nor awaited; a record job on the wire
+        // ends with the AR, without a result (only the queued ones are failed below).
+        if let Step::Ar { mut ar, .. } = core::mem::replace(&mut self.step, Step::Idle) {
             let block = ControlBlock::release(ar.uuid, ar.session_key).to_bytes();
-            ar.seq += 1;
-            if let Ok(call) = RpcCall::new(
-                self.plan.object_uuid(),
-                ar.activity,
-                ar.seq,
-                opnum::RELEASE,
-                &block,
-                0,
-                now,
-            ) {
-                call.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
-                self.step = Step::Release(call);
+            let object = self.plan.object_uuid();
+            if let Some(call) = ar.next_call(object, opnum::RELEASE, &block, 0, now) {
+                call.send(ar.rpc_server(), out);
             }
-        } else {
-            self.step = Step::Idle;
         }
         self.fail_records("the device was released", out);
         if self.state == DeviceState::Running {
@@ -246,7 +189,14 @@ impl DeviceAr {
         out.push(Action::Stop {
             device: self.plan.device,
         });
-        self.ar = None;
+        // The AR ends here; a record job on the wire is failed with the queued ones.
+        if let Step::Ar {
+            phase: Phase::Record { request, .. },
+            ..
+        } = core::mem::replace(&mut self.step, Step::Idle)
+        {
+            self.records.push_front(request);
+        }
         self.fail_records(why, out);
         let was_running = self.state == DeviceState::Running;
         if was_running {
@@ -274,26 +224,23 @@ impl DeviceAr {
     /// The next timer.
     pub fn deadline(&self) -> Option<u64> {
         // Alarm channels retransmit on a 100 ms grid; the owner polls at least that often.
-        let alarms = None;
-        let step = match &self.step {
+        match &self.step {
             Step::Identify { since, .. } => Some(since + IDENTIFY_WINDOW_NS),
             Step::SetIp { since, .. } => Some(since + SET_TIMEOUT_NS),
-            Step::Connect(c)
-            | Step::Write(c)
-            | Step::PrmEnd(c)
-            | Step::Release(c)
-            | Step::Record { call: c, .. } => Some(c.deadline_ns()),
-            Step::WaitAppReady { since } => Some(since + APP_READY_TIMEOUT_NS),
+            Step::Ar {
+                phase: Phase::WaitAppReady { since },
+                ..
+            } => Some(since + APP_READY_TIMEOUT_NS),
+            Step::Ar { phase, .. } => phase.call().map(RpcCall::deadline_ns),
             Step::Backoff { until } => Some(*until),
-            Step::Idle | Step::Running => None,
-        };
-        step.or(alarms)
+            Step::Idle => None,
+        }
     }
 
     /// Timers and queued work.
     pub fn poll(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
         let mut rta = Vec::new();
-        if let Some(ar) = self.ar.as_mut() {
+        if let Some(ar) = self.step.ar_mut() {
             ar.alarm_high.poll(now, &mut rta);
             ar.alarm_low.poll(now, &mut rta);
         }
@@ -321,33 +268,31 @@ impl DeviceAr {
                 now,
                 out,
             ),
-            Step::Connect(c)
-            | Step::Write(c)
-            | Step::PrmEnd(c)
-            | Step::Release(c)
-            | Step::Record { call: c, .. } => {
-                if c.retry_due(now) {
-                    c.resent(now);
-                    if let Some(ip) = self.ip {
-                        c.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
-                    }
-                } else if c.expired(now) {
-                    let op = opnum::name(c.opnum).unwrap_or("RPC");
-                    if matches!(self.step, Step::Release(_)) {
-                        self.step = Step::Idle;
-                    } else {
-                        let why = format!("the device did not answer the {op} request");
-                        self.fail(FailureCause::RpcTimeout, &why, now, out);
-                    }
-                }
-            }
-            Step::WaitAppReady { since } if now >= *since + APP_READY_TIMEOUT_NS => {
+            Step::Ar {
+                phase: Phase::WaitAppReady { since },
+                ..
+            } if now >= *since + APP_READY_TIMEOUT_NS => {
                 self.fail(
                     FailureCause::NoApplicationReady,
                     "the device sent no ApplicationReady after PrmEnd",
                     now,
                     out,
                 );
+            }
+            Step::Ar {
+                phase: Phase::Running,
+                ..
+            } => self.next_record(now, out),
+            Step::Ar { ar, phase } => {
+                let Some(c) = phase.call_mut() else { return };
+                if c.retry_due(now) {
+                    c.resent(now);
+                    c.send(ar.rpc_server(), out);
+                } else if c.expired(now) {
+                    let op = opnum::name(c.opnum).unwrap_or("RPC");
+                    let why = format!("the device did not answer the {op} request");
+                    self.fail(FailureCause::RpcTimeout, &why, now, out);
+                }
             }
             Step::Backoff { until } if now >= *until => {
                 if self.wanted {
@@ -356,7 +301,6 @@ impl DeviceAr {
                     self.step = Step::Idle;
                 }
             }
-            Step::Running => self.next_record(now, out),
             _ => {}
         }
     }
@@ -419,7 +363,7 @@ impl DeviceAr {
         let uuid = self.uuids.next_uuid();
         let activity = self.uuids.next_uuid();
         let req = self.plan.connect_request(id, uuid, self.session_key);
-        let Ok(blocks) = req.try_emit() else {
+        let Ok(blocks) = req.to_vec() else {
             return self.fail(
                 FailureCause::Internal,
                 "the Connect request could not be built",
@@ -445,11 +389,12 @@ impl DeviceAr {
         };
         let (hi, lo) = (req.alarm_cr.rta_timeout_factor, req.alarm_cr.rta_retries);
         let local = req.alarm_cr.local_alarm_reference;
-        self.ar = Some(Ar {
+        let ar = Box::new(Ar {
             uuid,
             session_key: self.session_key,
             activity,
             seq: 0,
+            ip,
             peer_mac: mac,
             // The remote endpoint is known from the response; set again there.
             alarm_high: RtaChannel::new(Priority::High, local, 0, hi, lo),
@@ -457,8 +402,11 @@ impl DeviceAr {
             record_seq: 0,
             unacked: [None, None],
         });
-        call.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
-        self.step = Step::Connect(call);
+        call.send(ar.rpc_server(), out);
+        self.step = Step::Ar {
+            ar,
+            phase: Phase::Connect(call),
+        };
         self.set_state(DeviceState::Connecting, out);
     }
 
@@ -497,7 +445,7 @@ impl DeviceAr {
             _ => {}
         }
         // Alarms of our AR.
-        let Some(ar) = self.ar.as_mut() else { return };
+        let Some(ar) = self.step.ar_mut() else { return };
         let Ok(eth) = ethernet::Frame::new_checked(frame) else {
             return;
         };
@@ -511,10 +459,7 @@ impl DeviceAr {
             return;
         };
         let mut events = Vec::new();
-        match pdu.priority {
-            Priority::High => ar.alarm_high.receive(&pdu, now, &mut events),
-            Priority::Low => ar.alarm_low.receive(&pdu, now, &mut events),
-        }
+        ar.channel(pdu.priority).receive(&pdu, now, &mut events);
         self.on_rta_events(events, id, now, out);
     }
 
@@ -526,24 +471,20 @@ impl DeviceAr {
         now: u64,
         out: &mut Vec<Action>,
     ) -> bool {
-        let call = match &mut self.step {
-            Step::Connect(c)
-            | Step::Write(c)
-            | Step::PrmEnd(c)
-            | Step::Release(c)
-            | Step::Record { call: c, .. } => c,
-            _ => return false,
+        let Step::Ar { ar, phase } = &mut self.step else {
+            return false;
+        };
+        let Some(call) = phase.call_mut() else {
+            return false;
         };
         let mut facks = Vec::new();
         let reply = call.take(datagram, &mut facks);
         let op = call.opnum;
-        if let Some(ip) = self.ip {
-            for f in facks {
-                out.push(Action::Datagram {
-                    to: SocketAddrV4::new(ip, rpc::RPC_PORT),
-                    payload: f,
-                });
-            }
+        for f in facks {
+            out.push(Action::Datagram {
+                to: ar.rpc_server(),
+                payload: f,
+            });
         }
         let answer = match reply {
             Reply::Foreign => return false,
@@ -557,55 +498,57 @@ impl DeviceAr {
                     "the device's RPC layer refused the {} call (status {code:#010x})",
                     opnum::name(op).unwrap_or("RPC")
                 );
-                if matches!(self.step, Step::Release(_)) {
-                    self.step = Step::Idle;
-                } else {
-                    self.fail(FailureCause::RpcError, &why, now, out);
-                }
+                self.fail(FailureCause::RpcError, &why, now, out);
                 return true;
             }
         };
-        match core::mem::replace(&mut self.step, Step::Idle) {
-            Step::Connect(_) => self.connected(status, &blocks, id, now, out),
-            Step::Write(_) => {
-                let failed = write_failure(status, &blocks);
-                match failed {
-                    None => self.prm_end(now, out),
-                    Some(why) => self.fail(FailureCause::Refused, &why, now, out),
-                }
-            }
-            Step::PrmEnd(_) => {
+        let Step::Ar { ar, phase } = core::mem::replace(&mut self.step, Step::Idle) else {
+            return true;
+        };
+        match phase {
+            Phase::Connect(_) => self.connected(ar, status, &blocks, id, now, out),
+            Phase::Write(_) => match write_failure(status, &blocks) {
+                None => self.prm_end(ar, now, out),
+                Some(why) => self.fail(FailureCause::Refused, &why, now, out),
+            },
+            Phase::PrmEnd(_) => {
+                let prm_end = ControlBlock::prm_end(ar.uuid, ar.session_key);
                 let ok = status.is_ok()
-                    && self.ar.as_ref().is_some_and(|ar| {
-                        ControlBlock::parse(&blocks).is_ok_and(|b| {
-                            b.answers(&ControlBlock::prm_end(ar.uuid, ar.session_key))
-                        })
-                    });
+                    && ControlBlock::parse(&blocks).is_ok_and(|b| b.answers(&prm_end));
                 if ok {
-                    self.step = Step::WaitAppReady { since: now };
+                    self.step = Step::Ar {
+                        ar,
+                        phase: Phase::WaitAppReady { since: now },
+                    };
                     self.set_state(DeviceState::WaitingForApplicationReady, out);
                 } else {
                     let why = format!("PrmEnd failed: {}", rpc::describe(status));
                     self.fail(FailureCause::Refused, &why, now, out);
                 }
             }
-            Step::Record { request, .. } => {
+            Phase::Record { request, .. } => {
                 let result = record_result(&request, status, &blocks);
                 out.push(Action::Event(DeviceEvent::Record(RecordResult {
                     request,
                     result,
                 })));
-                self.step = Step::Running;
+                self.step = Step::Ar {
+                    ar,
+                    phase: Phase::Running,
+                };
                 self.next_record(now, out);
             }
-            Step::Release(_) => self.step = Step::Idle,
-            other => self.step = other,
+            // Without a call there was no answer to take.
+            phase @ (Phase::WaitAppReady { .. } | Phase::Running) => {
+                self.step = Step::Ar { ar, phase }
+            }
         }
         true
     }
 
     fn connected(
         &mut self,
+        mut ar: Box<Ar>,
         status: PnioStatus,
         blocks: &[u8],
         id: &ControllerIdentity,
@@ -624,7 +567,6 @@ impl DeviceAr {
                 out,
             );
         };
-        let Some(ar) = self.ar.as_mut() else { return };
         if res.ar.ar_uuid != ar.uuid || res.ar.session_key != ar.session_key {
             return self.fail(
                 FailureCause::RpcError,
@@ -637,8 +579,9 @@ impl DeviceAr {
         ar.peer_mac = res.ar.responder_mac;
         let remote = res.alarm_cr.local_alarm_reference;
         let (f, r) = (1, 3);
-        ar.alarm_high = RtaChannel::new(Priority::High, self.plan.device as u16, remote, f, r);
-        ar.alarm_low = RtaChannel::new(Priority::Low, self.plan.device as u16, remote, f, r);
+        let local = self.plan.alarm_reference();
+        ar.alarm_high = RtaChannel::new(Priority::High, local, remote, f, r);
+        ar.alarm_low = RtaChannel::new(Priority::Low, local, remote, f, r);
         if let Some(diff) = res.module_diff.clone() {
             out.push(Action::Event(DeviceEvent::ModuleDiff {
                 device: self.plan.device,
@@ -652,51 +595,33 @@ impl DeviceAr {
         let cyclic = CyclicAr::new(&self.plan, self.epoch, id.mac, ar.peer_mac, frame_ids);
         out.push(Action::Start(Box::new(cyclic)));
         self.set_state(DeviceState::Parameterizing, out);
-        self.write_records(now, out);
+        self.write_records(ar, now, out);
     }
 
-    fn prm_end(&mut self, now: u64, out: &mut Vec<Action>) {
-        let Some(ar) = self.ar.as_ref() else { return };
+    fn prm_end(&mut self, ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
         let block = ControlBlock::prm_end(ar.uuid, ar.session_key).to_bytes();
-        self.call(opnum::CONTROL, &block, now, out, Step::PrmEnd);
+        self.call(ar, opnum::CONTROL, &block, now, out, Phase::PrmEnd);
     }
 
-    /// Sends `blocks` as the next call of the AR's activity; the call, or `None` when there
-    /// is no AR or the request does not fit one RPC PDU.
-    fn send_call(
-        &mut self,
-        op: u16,
-        blocks: &[u8],
-        more: u32,
-        now: u64,
-        out: &mut Vec<Action>,
-    ) -> Option<RpcCall> {
-        let (ar, ip) = (self.ar.as_mut()?, self.ip?);
-        ar.seq += 1;
-        let call = RpcCall::new(
-            self.plan.object_uuid(),
-            ar.activity,
-            ar.seq,
-            op,
-            blocks,
-            more,
-            now,
-        )
-        .ok()?;
-        call.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
-        Some(call)
-    }
-
+    /// Sends `blocks` as the next call of `ar`'s activity; the AR goes on in the phase that
+    /// `phase` makes of the call, or fails when the request does not fit an RPC call.
     fn call(
         &mut self,
+        mut ar: Box<Ar>,
         op: u16,
         blocks: &[u8],
         now: u64,
         out: &mut Vec<Action>,
-        step: fn(RpcCall) -> Step,
+        phase: fn(RpcCall) -> Phase,
     ) {
-        match self.send_call(op, blocks, 0, now, out) {
-            Some(call) => self.step = step(call),
+        match ar.next_call(self.plan.object_uuid(), op, blocks, 0, now) {
+            Some(call) => {
+                call.send(ar.rpc_server(), out);
+                self.step = Step::Ar {
+                    ar,
+                    phase: phase(call),
+                };
+            }
             None => self.fail(
                 FailureCause::Internal,
                 "a request is longer than an RPC call can carry",
@@ -714,13 +639,15 @@ impl DeviceAr {
         now: u64,
         out: &mut Vec<Action>,
     ) -> Option<ControlBlock> {
-        let ar = self.ar.as_ref()?;
+        let Step::Ar { ar, phase } = &mut self.step else {
+            return None;
+        };
         if block.ar_uuid != ar.uuid {
             return None;
         }
         let answer = ControlBlock::application_ready_done(ar.uuid, ar.session_key);
-        if matches!(self.step, Step::WaitAppReady { .. }) {
-            self.step = Step::Running;
+        if matches!(phase, Phase::WaitAppReady { .. }) {
+            *phase = Phase::Running;
             self.failures = 0;
             self.set_state(DeviceState::Running, out);
             // Every start of data exchange is a station return, the first one included, as
@@ -735,7 +662,7 @@ impl DeviceAr {
 
     /// The cycle thread saw no input frames for the watchdog time.
     pub fn on_watchdog(&mut self, epoch: u32, now: u64, out: &mut Vec<Action>) {
-        if epoch == self.epoch && self.ar.is_some() {
+        if epoch == self.epoch && self.step.ar().is_some() {
             let why = format!(
                 "no cyclic data from the device for {} ms (DataHoldFactor {}); the AR was \
                  given up and will be set up again",
@@ -749,6 +676,6 @@ impl DeviceAr {
     /// The ApplicationReady is due from this device's AR (for the ApplicationReady
     /// handler: which device has the AR).
     pub fn ar_uuid(&self) -> Option<Uuid> {
-        self.ar.as_ref().map(|a| a.uuid)
+        self.step.ar().map(|a| a.uuid)
     }
 }

@@ -5,10 +5,8 @@
 use super::*;
 
 impl DeviceAr {
+    /// Fails every queued record job with `why`.
     pub(super) fn fail_records(&mut self, why: &str, out: &mut Vec<Action>) {
-        if let Step::Record { request, .. } = core::mem::replace(&mut self.step, Step::Idle) {
-            self.records.push_front(request);
-        }
         while let Some(r) = self.records.pop_front() {
             out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request: r,
@@ -32,39 +30,41 @@ impl DeviceAr {
         self.records.push_back(r);
     }
 
-    pub(super) fn write_records(&mut self, now: u64, out: &mut Vec<Action>) {
-        let Some(ar) = self.ar.as_mut() else { return };
+    /// Writes the parameter records on the just connected `ar` (PrmEnd at once when there
+    /// are none).
+    pub(super) fn write_records(&mut self, mut ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
         if self.plan.records.is_empty() {
-            return self.prm_end(now, out);
+            return self.prm_end(ar, now, out);
         }
         let mut headers = Vec::with_capacity(self.plan.records.len());
         for r in &self.plan.records {
             ar.record_seq = ar.record_seq.wrapping_add(1);
-            headers.push(IodHeader::write_request(
-                ar.record_seq,
-                ar.uuid,
-                r.api,
-                r.slot,
-                r.subslot,
-                r.index,
-                r.data.len() as u32,
-            ));
+            headers.push(record_data_length(&r.data).map(|len| {
+                IodHeader::write_request(
+                    ar.record_seq,
+                    ar.uuid,
+                    r.api,
+                    r.slot,
+                    r.subslot,
+                    r.index,
+                    len,
+                )
+            }));
         }
-        let body = if headers.len() == 1 {
-            Ok(with_data(&headers[0], &self.plan.records[0].data))
-        } else {
+        let headers: Result<Vec<IodHeader>, EmitError> = headers.into_iter().collect();
+        let body = headers.and_then(|headers| {
+            if let ([h], [r]) = (&headers[..], &self.plan.records[..]) {
+                return Ok(with_data(h, &r.data));
+            }
             let writes: Vec<(IodHeader, &[u8])> = headers
                 .iter()
                 .zip(&self.plan.records)
                 .map(|(h, r)| (*h, &r.data[..]))
                 .collect();
-            record::join_write_multiple_to_vec(&writes).map(|data| {
-                with_data(
-                    &IodHeader::write_multiple(0, ar.uuid, data.len() as u32),
-                    &data,
-                )
-            })
-        };
+            let data = record::join_write_multiple_to_vec(&writes)?;
+            let outer = IodHeader::write_multiple(0, ar.uuid, record_data_length(&data)?);
+            Ok(with_data(&outer, &data))
+        });
         let Ok(body) = body else {
             return self.fail(
                 FailureCause::Internal,
@@ -73,17 +73,26 @@ impl DeviceAr {
                 out,
             );
         };
-        self.call(opnum::WRITE, &body, now, out, Step::Write);
+        self.call(ar, opnum::WRITE, &body, now, out, Phase::Write);
     }
 
+    /// Starts the next queued record job when the AR is in data exchange with none running.
     pub(super) fn next_record(&mut self, now: u64, out: &mut Vec<Action>) {
+        let Step::Ar {
+            ar,
+            phase: phase @ Phase::Running,
+        } = &mut self.step
+        else {
+            return;
+        };
         let Some(request) = self.records.pop_front() else {
             return;
         };
-        let Some(ar) = self.ar.as_mut() else { return };
         ar.record_seq = ar.record_seq.wrapping_add(1);
         let (op, body, more) = match &request.write {
             Some(data) => {
+                // Longer than RecordDataLength holds: the call below refuses it as too long.
+                let len = record_data_length(data).unwrap_or(u32::MAX);
                 let h = IodHeader::write_request(
                     ar.record_seq,
                     ar.uuid,
@@ -91,7 +100,7 @@ impl DeviceAr {
                     request.slot,
                     request.subslot,
                     request.index,
-                    data.len() as u32,
+                    len,
                 );
                 (opnum::WRITE, with_data(&h, data), 0)
             }
@@ -108,8 +117,11 @@ impl DeviceAr {
                 (opnum::READ, h.to_bytes().to_vec(), request.max_len)
             }
         };
-        match self.send_call(op, &body, more, now, out) {
-            Some(call) => self.step = Step::Record { call, request },
+        match ar.next_call(self.plan.object_uuid(), op, &body, more, now) {
+            Some(call) => {
+                call.send(ar.rpc_server(), out);
+                *phase = Phase::Record { call, request };
+            }
             None => out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request,
                 result: Err(RecordFailure {
@@ -126,6 +138,15 @@ impl DeviceAr {
             }))),
         }
     }
+}
+
+/// The RecordDataLength of `data`; [`EmitError::TooLong`] above `u32::MAX` bytes.
+fn record_data_length(data: &[u8]) -> Result<u32, EmitError> {
+    u32::try_from(data.len()).map_err(|_| EmitError::TooLong {
+        field: "RecordDataLength",
+        value: data.len(),
+        max: u32::MAX as usize,
+    })
 }
 
 /// An IOD header followed by its record data.

@@ -45,7 +45,7 @@ impl DataDescription {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.direction)?;
         w.u16(self.length)?;
         w.u8(self.length_iocs)?;
@@ -144,9 +144,11 @@ impl ExpectedSubmodule {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         if self.data_descriptions.len() != ExpectedSubmodule::description_count(self.properties) {
-            return Err(Error);
+            return Err(EmitError::Inconsistent(
+                "an expected submodule's data descriptions do not match its type",
+            ));
         }
         w.u16(self.subslot)?;
         w.u32(self.submodule_ident)?;
@@ -187,12 +189,12 @@ impl ExpectedModule {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u32(self.api)?;
         w.u16(self.slot)?;
         w.u32(self.module_ident)?;
         w.u16(self.properties)?;
-        w.count(self.submodules.len())?;
+        w.count("NumberOfSubmodules", self.submodules.len())?;
         self.submodules.iter().try_for_each(|s| s.write(w))
     }
 }
@@ -208,7 +210,7 @@ pub struct ExpectedSubmoduleBlockReq {
 }
 
 impl Body for ExpectedSubmoduleBlockReq {
-    const BLOCK_TYPE: u16 = block_type::EXPECTED_SUBMODULE_BLOCK_REQ;
+    const BLOCK_TYPE: BlockType = BlockType::ExpectedSubmoduleBlockReq;
 
     fn body_len(&self) -> usize {
         self.modules
@@ -222,8 +224,8 @@ impl Body for ExpectedSubmoduleBlockReq {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.count(self.modules.len())?;
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
+        w.count("NumberOfAPIs", self.modules.len())?;
         self.modules.iter().try_for_each(|m| m.write(w))
     }
 }

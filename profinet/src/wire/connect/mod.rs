@@ -13,39 +13,17 @@
 //! lists fill the block exactly; [`ConnectRequest::parse`] and [`ConnectResponse::parse`]
 //! take the whole block sequence after the NDR header.
 //!
-//! `emit` writes into the first `buffer_len()` bytes of a buffer and gives [`Error`] (never a
-//! panic) when the buffer is shorter or a value does not fit its wire field: a list longer
-//! than its 16-bit count, a block longer than 65 539 bytes, a station name over 65 535
-//! bytes, or data descriptions that do not match the submodule type.
+//! `emit` writes into the first `buffer_len()` bytes of a buffer and gives [`EmitError`]
+//! (never a panic) when the buffer is shorter or a value does not fit its wire field: a list
+//! longer than its 16-bit count, a block longer than 65 539 bytes, a station name over
+//! 65 535 bytes, or data descriptions that do not match the submodule type.
 
 use super::common::{BLOCK_HEADER_LEN, blocks};
 use super::cursor::{Reader, Writer};
-use super::{BlockHeader, Error, MacAddress, Result, Uuid};
+use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, MacAddress, Result, Uuid};
 
 #[cfg(test)]
 mod tests;
-
-/// Block types of the Connect blocks.
-pub mod block_type {
-    /// ARBlockReq.
-    pub const AR_BLOCK_REQ: u16 = 0x0101;
-    /// IOCRBlockReq.
-    pub const IOCR_BLOCK_REQ: u16 = 0x0102;
-    /// AlarmCRBlockReq.
-    pub const ALARM_CR_BLOCK_REQ: u16 = 0x0103;
-    /// ExpectedSubmoduleBlockReq.
-    pub const EXPECTED_SUBMODULE_BLOCK_REQ: u16 = 0x0104;
-    /// ARBlockRes.
-    pub const AR_BLOCK_RES: u16 = 0x8101;
-    /// IOCRBlockRes.
-    pub const IOCR_BLOCK_RES: u16 = 0x8102;
-    /// AlarmCRBlockRes.
-    pub const ALARM_CR_BLOCK_RES: u16 = 0x8103;
-    /// ModuleDiffBlock (also the body of record 0xE002 and a companion of ApplicationReady).
-    pub const MODULE_DIFF_BLOCK: u16 = 0x8104;
-    /// ARServerBlock.
-    pub const AR_SERVER_BLOCK: u16 = 0x8106;
-}
 
 /// The LT field of IOCR and alarm CR blocks: the PROFINET EtherType.
 pub const LT_PROFINET: u16 = 0x8892;
@@ -145,10 +123,10 @@ pub mod submodule {
 
 /// The body of one block type, in and out.
 trait Body: Sized {
-    const BLOCK_TYPE: u16;
+    const BLOCK_TYPE: BlockType;
     fn body_len(&self) -> usize;
     fn read(r: &mut Reader<'_>) -> Result<Self>;
-    fn write(&self, w: &mut Writer<'_>) -> Result<()>;
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()>;
 }
 
 fn parse_block<B: Body>(b: &[u8]) -> Result<B> {
@@ -166,31 +144,16 @@ fn block_len<B: Body>(v: &B) -> usize {
     BLOCK_HEADER_LEN.saturating_add(v.body_len())
 }
 
-fn emit_block<B: Body>(v: &B, buf: &mut [u8]) -> Result<()> {
-    let body_len = v.body_len();
-    let length = body_len
-        .checked_add(2)
-        .and_then(|n| u16::try_from(n).ok())
-        .ok_or(Error)?;
+fn emit_block<B: Body>(v: &B, buf: &mut [u8]) -> EmitResult<()> {
+    let header = BlockHeader::v1(B::BLOCK_TYPE, v.body_len())?;
+    let what = B::BLOCK_TYPE.name().unwrap_or("block");
     let total = block_len(v);
-    let (header, body) = buf
-        .get_mut(..total)
-        .ok_or(Error)?
-        .split_at_mut(BLOCK_HEADER_LEN);
-    BlockHeader {
-        block_type: B::BLOCK_TYPE,
-        length,
-        version_high: 1,
-        version_low: 0,
-    }
-    .emit(header);
-    let mut w = Writer::new(body);
+    EmitError::check_len(what, total, buf.len())?;
+    let body = put_bytes(buf, &header.to_bytes())?;
+    let body = body.get_mut(..v.body_len()).unwrap_or_default();
+    let mut w = Writer::new(what, body);
     v.write(&mut w)?;
-    if w.position() == body_len {
-        Ok(())
-    } else {
-        Err(Error)
-    }
+    w.finish()
 }
 
 /// The public `parse`, `buffer_len`, `emit` and `to_vec` of a block type.
@@ -208,13 +171,13 @@ macro_rules! block_api {
             }
 
             /// Writes the block into the first [`buffer_len`](Self::buffer_len) bytes of `buf`.
-            /// [`Error`] if `buf` is shorter or a value does not fit its wire field.
-            pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
+            /// [`EmitError`] if `buf` is shorter or a value does not fit its wire field.
+            pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
                 emit_block(self, buf)
             }
 
             /// The block as a new vector.
-            pub fn to_vec(&self) -> Result<Vec<u8>> {
+            pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
                 let mut v = vec![0u8; self.buffer_len()];
                 self.emit(&mut v)?;
                 Ok(v)
@@ -256,7 +219,7 @@ pub struct ArBlockReq {
 }
 
 impl Body for ArBlockReq {
-    const BLOCK_TYPE: u16 = block_type::AR_BLOCK_REQ;
+    const BLOCK_TYPE: BlockType = BlockType::ArBlockReq;
 
     fn body_len(&self) -> usize {
         52usize.saturating_add(self.station_name.len())
@@ -276,7 +239,7 @@ impl Body for ArBlockReq {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.ar_type)?;
         w.put(&self.ar_uuid.0)?;
         w.u16(self.session_key)?;
@@ -285,7 +248,7 @@ impl Body for ArBlockReq {
         w.u32(self.ar_properties)?;
         w.u16(self.activity_timeout_factor)?;
         w.u16(self.udp_rt_port)?;
-        w.string(&self.station_name)
+        w.string("StationNameLength", &self.station_name)
     }
 }
 
@@ -312,7 +275,7 @@ impl IocrEntry {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.slot)?;
         w.u16(self.subslot)?;
         w.u16(self.frame_offset)
@@ -344,11 +307,11 @@ impl IocrApi {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u32(self.api)?;
-        w.count(self.data_objects.len())?;
+        w.count("NumberOfIODataObjects", self.data_objects.len())?;
         self.data_objects.iter().try_for_each(|e| e.write(w))?;
-        w.count(self.iocs.len())?;
+        w.count("NumberOfIOCS", self.iocs.len())?;
         self.iocs.iter().try_for_each(|e| e.write(w))
     }
 }
@@ -391,7 +354,7 @@ pub struct IocrBlockReq {
 }
 
 impl Body for IocrBlockReq {
-    const BLOCK_TYPE: u16 = block_type::IOCR_BLOCK_REQ;
+    const BLOCK_TYPE: BlockType = BlockType::IocrBlockReq;
 
     fn body_len(&self) -> usize {
         self.apis
@@ -420,7 +383,7 @@ impl Body for IocrBlockReq {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.iocr_type)?;
         w.u16(self.iocr_reference)?;
         w.u16(self.lt)?;
@@ -436,7 +399,7 @@ impl Body for IocrBlockReq {
         w.u16(self.data_hold_factor)?;
         w.u16(self.tag_header)?;
         w.put(&self.multicast_mac.0)?;
-        w.count(self.apis.len())?;
+        w.count("NumberOfAPIs", self.apis.len())?;
         self.apis.iter().try_for_each(|a| a.write(w))
     }
 }
@@ -480,7 +443,7 @@ pub struct AlarmCrBlockReq {
 }
 
 impl Body for AlarmCrBlockReq {
-    const BLOCK_TYPE: u16 = block_type::ALARM_CR_BLOCK_REQ;
+    const BLOCK_TYPE: BlockType = BlockType::AlarmCrBlockReq;
 
     fn body_len(&self) -> usize {
         20
@@ -500,7 +463,7 @@ impl Body for AlarmCrBlockReq {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.alarm_cr_type)?;
         w.u16(self.lt)?;
         w.u32(self.properties)?;
@@ -531,7 +494,7 @@ pub struct ArBlockRes {
 }
 
 impl Body for ArBlockRes {
-    const BLOCK_TYPE: u16 = block_type::AR_BLOCK_RES;
+    const BLOCK_TYPE: BlockType = BlockType::ArBlockRes;
 
     fn body_len(&self) -> usize {
         28
@@ -547,7 +510,7 @@ impl Body for ArBlockRes {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.ar_type)?;
         w.put(&self.ar_uuid.0)?;
         w.u16(self.session_key)?;
@@ -570,7 +533,7 @@ pub struct IocrBlockRes {
 }
 
 impl Body for IocrBlockRes {
-    const BLOCK_TYPE: u16 = block_type::IOCR_BLOCK_RES;
+    const BLOCK_TYPE: BlockType = BlockType::IocrBlockRes;
 
     fn body_len(&self) -> usize {
         6
@@ -584,7 +547,7 @@ impl Body for IocrBlockRes {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.iocr_type)?;
         w.u16(self.iocr_reference)?;
         w.u16(self.frame_id)
@@ -605,7 +568,7 @@ pub struct AlarmCrBlockRes {
 }
 
 impl Body for AlarmCrBlockRes {
-    const BLOCK_TYPE: u16 = block_type::ALARM_CR_BLOCK_RES;
+    const BLOCK_TYPE: BlockType = BlockType::AlarmCrBlockRes;
 
     fn body_len(&self) -> usize {
         6
@@ -619,7 +582,7 @@ impl Body for AlarmCrBlockRes {
         })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
         w.u16(self.alarm_cr_type)?;
         w.u16(self.local_alarm_reference)?;
         w.u16(self.max_alarm_data_length)
@@ -646,7 +609,7 @@ impl ArServerBlock {
 }
 
 impl Body for ArServerBlock {
-    const BLOCK_TYPE: u16 = block_type::AR_SERVER_BLOCK;
+    const BLOCK_TYPE: BlockType = BlockType::ArServerBlock;
 
     fn body_len(&self) -> usize {
         let n = self.station_name.len();
@@ -664,23 +627,39 @@ impl Body for ArServerBlock {
         Ok(ArServerBlock { station_name })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.string(&self.station_name)?;
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
+        w.string("StationNameLength", &self.station_name)?;
         w.put(&[0u8; 3][..ArServerBlock::padding(self.station_name.len())])
     }
 }
 
 block_api!(ArServerBlock, "ARServerBlock");
 
-/// Appends a block to `out`.
-fn push_block<B: Body>(out: &mut Vec<u8>, block: &B) -> Result<()> {
-    let len = block_len(block);
-    if len > usize::from(u16::MAX) + 4 {
-        return Err(Error);
-    }
-    let at = out.len();
-    out.resize(at.saturating_add(len), 0);
-    emit_block(block, out.get_mut(at..).ok_or(Error)?)
+/// Writes `bytes` at the front of `buf` and returns the rest of it.
+fn put_bytes<'b>(buf: &'b mut [u8], bytes: &[u8]) -> EmitResult<&'b mut [u8]> {
+    let len = buf.len();
+    let (head, rest) = buf
+        .split_at_mut_checked(bytes.len())
+        .ok_or(EmitError::BufferTooShort {
+            what: "block",
+            needed: bytes.len(),
+            len,
+        })?;
+    head.copy_from_slice(bytes);
+    Ok(rest)
+}
+
+/// Writes `block` at the front of `buf` and returns the rest of it.
+fn put_block<'b, B: Body>(buf: &'b mut [u8], block: &B) -> EmitResult<&'b mut [u8]> {
+    emit_block(block, buf)?;
+    let len = buf.len();
+    let needed = block_len(block);
+    let short = EmitError::BufferTooShort {
+        what: "block",
+        needed,
+        len,
+    };
+    Ok(buf.split_at_mut_checked(needed).ok_or(short)?.1)
 }
 
 /// Stores `v` in `slot`; [`Error`] if the slot is already taken (a duplicate block).
@@ -718,12 +697,12 @@ impl ConnectRequest {
         for r in blocks(bytes) {
             let (h, block) = r?;
             match h.block_type {
-                block_type::AR_BLOCK_REQ => set_once(&mut ar, ArBlockReq::parse(block)?)?,
-                block_type::IOCR_BLOCK_REQ => iocrs.push(IocrBlockReq::parse(block)?),
-                block_type::ALARM_CR_BLOCK_REQ => {
+                BlockType::ArBlockReq => set_once(&mut ar, ArBlockReq::parse(block)?)?,
+                BlockType::IocrBlockReq => iocrs.push(IocrBlockReq::parse(block)?),
+                BlockType::AlarmCrBlockReq => {
                     set_once(&mut alarm_cr, AlarmCrBlockReq::parse(block)?)?
                 }
-                block_type::EXPECTED_SUBMODULE_BLOCK_REQ => {
+                BlockType::ExpectedSubmoduleBlockReq => {
                     expected.push(ExpectedSubmoduleBlockReq::parse(block)?)
                 }
                 _ => return Err(Error),
@@ -750,26 +729,27 @@ impl ConnectRequest {
             .saturating_add(self.alarm_cr.buffer_len())
     }
 
-    /// The blocks (the NDR ArgsLength/ActualCount bytes after the NDR header), or [`Error`]
-    /// when a value does not fit its wire field.
-    pub fn try_emit(&self) -> Result<Vec<u8>> {
-        let mut out = Vec::with_capacity(self.buffer_len());
-        push_block(&mut out, &self.ar)?;
-        self.iocrs
-            .iter()
-            .try_for_each(|b| push_block(&mut out, b))?;
-        self.expected
-            .iter()
-            .try_for_each(|b| push_block(&mut out, b))?;
-        push_block(&mut out, &self.alarm_cr)?;
-        Ok(out)
+    /// Writes the blocks (the NDR ArgsLength/ActualCount bytes after the NDR header) into
+    /// the first [`buffer_len`](Self::buffer_len) bytes of `buf`. [`EmitError`] when `buf` is
+    /// shorter or a value does not fit its wire field (a list over 65 535 entries, a block
+    /// over 65 539 bytes, data descriptions that do not match their submodule type).
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        EmitError::check_len("Connect request", self.buffer_len(), buf.len())?;
+        let mut rest = put_block(buf, &self.ar)?;
+        for b in &self.iocrs {
+            rest = put_block(rest, b)?;
+        }
+        for b in &self.expected {
+            rest = put_block(rest, b)?;
+        }
+        put_block(rest, &self.alarm_cr).map(|_| ())
     }
 
-    /// The blocks, as [`try_emit`](Self::try_emit); empty when a value does not fit its wire
-    /// field (a list over 65 535 entries, a block over 65 539 bytes, data descriptions that do
-    /// not match their submodule type), which no valid configuration reaches.
-    pub fn emit(&self) -> Vec<u8> {
-        self.try_emit().unwrap_or_default()
+    /// The blocks as a new vector of [`buffer_len`](Self::buffer_len) bytes.
+    pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
+        let mut v = vec![0u8; self.buffer_len()];
+        self.emit(&mut v)?;
+        Ok(v)
     }
 }
 
@@ -792,7 +772,7 @@ pub struct ConnectResponse {
     /// ARServerBlock (advanced startup).
     pub ar_server: Option<ArServerBlock>,
     /// Other blocks: (BlockType, the whole block, header included), emitted as they are.
-    pub others: Vec<(u16, Vec<u8>)>,
+    pub others: Vec<(BlockType, Vec<u8>)>,
 }
 
 impl ConnectResponse {
@@ -804,17 +784,15 @@ impl ConnectResponse {
         for r in blocks(bytes) {
             let (h, block) = r?;
             match h.block_type {
-                block_type::AR_BLOCK_RES => set_once(&mut ar, ArBlockRes::parse(block)?)?,
-                block_type::IOCR_BLOCK_RES => iocrs.push(IocrBlockRes::parse(block)?),
-                block_type::ALARM_CR_BLOCK_RES => {
+                BlockType::ArBlockRes => set_once(&mut ar, ArBlockRes::parse(block)?)?,
+                BlockType::IocrBlockRes => iocrs.push(IocrBlockRes::parse(block)?),
+                BlockType::AlarmCrBlockRes => {
                     set_once(&mut alarm_cr, AlarmCrBlockRes::parse(block)?)?
                 }
-                block_type::MODULE_DIFF_BLOCK => {
+                BlockType::ModuleDiffBlock => {
                     set_once(&mut module_diff, ModuleDiffBlock::parse(block)?)?
                 }
-                block_type::AR_SERVER_BLOCK => {
-                    set_once(&mut ar_server, ArServerBlock::parse(block)?)?
-                }
+                BlockType::ArServerBlock => set_once(&mut ar_server, ArServerBlock::parse(block)?)?,
                 other => others.push((other, block.to_vec())),
             }
         }
@@ -842,31 +820,33 @@ impl ConnectResponse {
             .saturating_add(self.alarm_cr.buffer_len())
     }
 
-    /// The blocks, or [`Error`] when a value does not fit its wire field.
-    pub fn try_emit(&self) -> Result<Vec<u8>> {
-        let mut out = Vec::with_capacity(self.buffer_len());
-        push_block(&mut out, &self.ar)?;
-        self.iocrs
-            .iter()
-            .try_for_each(|b| push_block(&mut out, b))?;
-        push_block(&mut out, &self.alarm_cr)?;
+    /// Writes the blocks into the first [`buffer_len`](Self::buffer_len) bytes of `buf`.
+    /// [`EmitError`] when `buf` is shorter or a value does not fit its wire field (a list over
+    /// 65 535 entries, a block over 65 539 bytes).
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        EmitError::check_len("Connect response", self.buffer_len(), buf.len())?;
+        let mut rest = put_block(buf, &self.ar)?;
+        for b in &self.iocrs {
+            rest = put_block(rest, b)?;
+        }
+        rest = put_block(rest, &self.alarm_cr)?;
         if let Some(d) = &self.module_diff {
-            push_block(&mut out, d)?;
+            rest = put_block(rest, d)?;
         }
         for (_, b) in &self.others {
-            out.extend_from_slice(b);
+            rest = put_bytes(rest, b)?;
         }
         if let Some(s) = &self.ar_server {
-            push_block(&mut out, s)?;
+            put_block(rest, s)?;
         }
-        Ok(out)
+        Ok(())
     }
 
-    /// The blocks, as [`try_emit`](Self::try_emit); empty when a value does not fit its wire
-    /// field (a list over 65 535 entries, a block over 65 539 bytes), which no valid
-    /// configuration reaches.
-    pub fn emit(&self) -> Vec<u8> {
-        self.try_emit().unwrap_or_default()
+    /// The blocks as a new vector of [`buffer_len`](Self::buffer_len) bytes.
+    pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
+        let mut v = vec![0u8; self.buffer_len()];
+        self.emit(&mut v)?;
+        Ok(v)
     }
 
     /// The FrameID the device assigned to the IO CR with this IOCRReference.

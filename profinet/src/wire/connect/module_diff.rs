@@ -4,76 +4,51 @@
 
 use super::*;
 
-/// ModuleState of a ModuleDiffBlock entry.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ModuleState {
-    /// 0: no module plugged.
-    NoModule,
-    /// 1: a wrong module (another ModuleIdentNumber).
-    WrongModule,
-    /// 2: the proper module, but at least one submodule is locked, wrong, missing or has
-    /// diagnosis.
-    ProperModule,
-    /// 3: a substitute the device adapts.
-    Substitute,
-    /// Any other (reserved) value, never 0..=3.
-    Unknown(u16),
-}
-
-impl From<u16> for ModuleState {
-    fn from(v: u16) -> ModuleState {
-        match v {
-            0 => ModuleState::NoModule,
-            1 => ModuleState::WrongModule,
-            2 => ModuleState::ProperModule,
-            3 => ModuleState::Substitute,
-            other => ModuleState::Unknown(other),
-        }
+enum_with_unknown! {
+    /// ModuleState of a ModuleDiffBlock entry.
+    pub enum ModuleState(u16) {
+        /// 0: no module plugged.
+        NoModule = 0 => "no module",
+        /// 1: a wrong module (another ModuleIdentNumber).
+        WrongModule = 1 => "wrong module",
+        /// 2: the proper module, but at least one submodule is locked, wrong, missing or has
+        /// diagnosis.
+        ProperModule = 2 => "proper module",
+        /// 3: a substitute the device adapts.
+        Substitute = 3 => "substitute",
     }
 }
 
-impl From<ModuleState> for u16 {
-    fn from(v: ModuleState) -> u16 {
-        match v {
-            ModuleState::NoModule => 0,
-            ModuleState::WrongModule => 1,
-            ModuleState::ProperModule => 2,
-            ModuleState::Substitute => 3,
-            ModuleState::Unknown(other) => other,
-        }
+enum_with_unknown! {
+    /// IdentInfo of a [`SubmoduleState`] (bits 11–14): how the real submodule matches the
+    /// expected one. Values 4..=15 are reserved.
+    pub enum IdentInfo(u8) {
+        /// 0: the expected submodule.
+        Ok = 0 => "ok",
+        /// 1: a substitute.
+        Substitute = 1 => "substitute",
+        /// 2: a wrong submodule.
+        Wrong = 2 => "wrong",
+        /// 3: no submodule.
+        NoSubmodule = 3 => "no submodule",
     }
 }
 
-/// IdentInfo of a [`SubmoduleState`]: how the real submodule matches the expected one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum IdentInfo {
-    /// 0: the expected submodule.
-    Ok,
-    /// 1: a substitute.
-    Substitute,
-    /// 2: a wrong submodule.
-    Wrong,
-    /// 3: no submodule.
-    NoSubmodule,
-    /// 4..=15: reserved.
-    Reserved(u8),
-}
-
-/// ARInfo of a [`SubmoduleState`]: who owns the submodule.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ArInfo {
-    /// 0: owned by this AR.
-    Own,
-    /// 1: ApplicationReady pending (e.g. a parameter error).
-    ApplicationReadyPending,
-    /// 2: locked by a superordinated function.
-    SuperordinatedLocked,
-    /// 3: locked by another IO controller.
-    LockedByIoController,
-    /// 4: locked by an IO supervisor.
-    LockedByIoSupervisor,
-    /// 5..=15: reserved.
-    Reserved(u8),
+enum_with_unknown! {
+    /// ARInfo of a [`SubmoduleState`] (bits 7–10): who owns the submodule. Values 5..=15 are
+    /// reserved.
+    pub enum ArInfo(u8) {
+        /// 0: owned by this AR.
+        Own = 0 => "own",
+        /// 1: ApplicationReady pending (e.g. a parameter error).
+        ApplicationReadyPending = 1 => "application ready pending",
+        /// 2: locked by a superordinated function.
+        SuperordinatedLocked = 2 => "superordinated locked",
+        /// 3: locked by another IO controller.
+        LockedByIoController = 3 => "locked by IO controller",
+        /// 4: locked by an IO supervisor.
+        LockedByIoSupervisor = 4 => "locked by IO supervisor",
+    }
 }
 
 /// SubmoduleState of a ModuleDiffBlock entry (the FormatIndicator = 1 layout).
@@ -99,6 +74,7 @@ impl SubmoduleState {
 
     /// Bits 0–2: AddInfo (1 = takeover not allowed).
     pub const fn add_info(&self) -> u8 {
+        // Masked to 3 bits, so the cast keeps every bit.
         (self.0 & 0x7) as u8
     }
 
@@ -124,25 +100,14 @@ impl SubmoduleState {
 
     /// Bits 7–10: ARInfo.
     pub const fn ar_info(&self) -> ArInfo {
-        match (self.0 >> 7) & 0xf {
-            0 => ArInfo::Own,
-            1 => ArInfo::ApplicationReadyPending,
-            2 => ArInfo::SuperordinatedLocked,
-            3 => ArInfo::LockedByIoController,
-            4 => ArInfo::LockedByIoSupervisor,
-            other => ArInfo::Reserved(other as u8),
-        }
+        // Masked to 4 bits, so the cast keeps every bit.
+        ArInfo::from_raw(((self.0 >> 7) & 0xf) as u8)
     }
 
     /// Bits 11–14: IdentInfo.
     pub const fn ident_info(&self) -> IdentInfo {
-        match (self.0 >> 11) & 0xf {
-            0 => IdentInfo::Ok,
-            1 => IdentInfo::Substitute,
-            2 => IdentInfo::Wrong,
-            3 => IdentInfo::NoSubmodule,
-            other => IdentInfo::Reserved(other as u8),
-        }
+        // Masked to 4 bits, so the cast keeps every bit.
+        IdentInfo::from_raw(((self.0 >> 11) & 0xf) as u8)
     }
 
     /// Whether the controller may exchange data with the submodule: the format is known, the
@@ -210,7 +175,7 @@ impl ModuleDiffBlock {
 }
 
 impl Body for ModuleDiffBlock {
-    const BLOCK_TYPE: u16 = block_type::MODULE_DIFF_BLOCK;
+    const BLOCK_TYPE: BlockType = BlockType::ModuleDiffBlock;
 
     fn body_len(&self) -> usize {
         self.apis.iter().fold(2usize, |n, a| {
@@ -244,16 +209,16 @@ impl Body for ModuleDiffBlock {
         Ok(ModuleDiffBlock { apis })
     }
 
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.count(self.apis.len())?;
+    fn write(&self, w: &mut Writer<'_>) -> EmitResult<()> {
+        w.count("NumberOfAPIs", self.apis.len())?;
         for a in &self.apis {
             w.u32(a.api)?;
-            w.count(a.modules.len())?;
+            w.count("NumberOfModules", a.modules.len())?;
             for m in &a.modules {
                 w.u16(m.slot)?;
                 w.u32(m.module_ident)?;
                 w.u16(m.state.into())?;
-                w.count(m.submodules.len())?;
+                w.count("NumberOfSubmodules", m.submodules.len())?;
                 for s in &m.submodules {
                     w.u16(s.subslot)?;
                     w.u32(s.submodule_ident)?;

@@ -103,7 +103,7 @@ fn blocks_of(frame: &[u8]) -> &[u8] {
 }
 
 /// The captured blocks of one type, whole.
-fn captured(bytes: &[u8], t: u16) -> Vec<&[u8]> {
+fn captured(bytes: &[u8], t: BlockType) -> Vec<&[u8]> {
     blocks(bytes)
         .map(Result::unwrap)
         .filter(|(h, _)| h.block_type == t)
@@ -268,27 +268,29 @@ fn connect_request_capture() {
 
     // Byte for byte: the whole sequence and every block on its own.
     assert_eq!(req.buffer_len(), bytes.len());
-    assert_eq!(req.emit(), bytes);
-    assert_eq!(req.try_emit().unwrap(), bytes);
+    assert_eq!(req.to_vec().unwrap(), bytes);
+    let mut buf = vec![0xa5; bytes.len()];
+    req.emit(&mut buf).unwrap();
+    assert_eq!(buf, bytes);
     assert_eq!(
         req.ar.to_vec().unwrap(),
-        captured(bytes, block_type::AR_BLOCK_REQ)[0]
+        captured(bytes, BlockType::ArBlockReq)[0]
     );
     for (cr, raw) in req
         .iocrs
         .iter()
-        .zip(captured(bytes, block_type::IOCR_BLOCK_REQ))
+        .zip(captured(bytes, BlockType::IocrBlockReq))
     {
         assert_eq!(cr.buffer_len(), raw.len());
         let mut out = vec![0xa5u8; raw.len()];
         cr.emit(&mut out).unwrap();
         assert_eq!(out, raw);
     }
-    let raw = captured(bytes, block_type::EXPECTED_SUBMODULE_BLOCK_REQ);
+    let raw = captured(bytes, BlockType::ExpectedSubmoduleBlockReq);
     for (e, raw) in req.expected.iter().zip(raw) {
         assert_eq!(e.to_vec().unwrap(), raw);
     }
-    let raw = captured(bytes, block_type::ALARM_CR_BLOCK_REQ)[0];
+    let raw = captured(bytes, BlockType::AlarmCrBlockReq)[0];
     assert_eq!(req.alarm_cr.to_vec().unwrap(), raw);
 }
 
@@ -306,13 +308,15 @@ fn capture_iocrs_match_the_layout() {
         IocrBlockReq::from_layout(iocr_type::OUTPUT, 2, 0x8001, &layout.output, &subs).unwrap();
     assert_eq!(input, req.iocrs[0]);
     assert_eq!(output, req.iocrs[1]);
-    let raw = captured(blocks_of(&CONNECT_REQ), block_type::IOCR_BLOCK_REQ);
+    let raw = captured(blocks_of(&CONNECT_REQ), BlockType::IocrBlockReq);
     assert_eq!(input.to_vec().unwrap(), raw[0]);
     assert_eq!(output.to_vec().unwrap(), raw[1]);
     // A layout from another submodule list does not build.
     assert_eq!(
         IocrBlockReq::from_layout(iocr_type::INPUT, 1, 0x8000, &layout.input, &subs[..3]),
-        Err(Error)
+        Err(EmitError::Inconsistent(
+            "the layout names a submodule outside the list"
+        ))
     );
 }
 
@@ -361,8 +365,8 @@ fn connect_response_capture() {
     assert_eq!(server.buffer_len(), 20, "one pad byte");
     assert!(res.others.is_empty());
     assert_eq!(res.buffer_len(), bytes.len());
-    assert_eq!(res.emit(), bytes);
-    let raw = captured(bytes, block_type::AR_SERVER_BLOCK)[0];
+    assert_eq!(res.to_vec().unwrap(), bytes);
+    let raw = captured(bytes, BlockType::ArServerBlock)[0];
     assert_eq!(server.to_vec().unwrap(), raw);
 }
 
@@ -401,8 +405,8 @@ fn module_diff_worked_example() {
     assert!(!s.is_usable());
     assert!(SubmoduleState(0x8000).is_usable());
     assert!(!SubmoduleState(0).is_usable());
-    assert_eq!(SubmoduleState(0xf800).ident_info(), IdentInfo::Reserved(15));
-    assert_eq!(SubmoduleState(0x8780).ar_info(), ArInfo::Reserved(15));
+    assert_eq!(SubmoduleState(0xf800).ident_info(), IdentInfo::Unknown(15));
+    assert_eq!(SubmoduleState(0x8780).ar_info(), ArInfo::Unknown(15));
     for v in 0..6u16 {
         assert_eq!(u16::from(ModuleState::from(v)), v);
     }
@@ -414,11 +418,13 @@ fn response_with_module_diff_and_other_blocks() {
     res.module_diff = Some(ModuleDiffBlock::parse(&MODULE_DIFF_TV7).unwrap());
     // An ARRPCBlockRes-like block the module does not model.
     let other = vec![0x81, 0x07, 0x00, 0x04, 0x01, 0x00, 0x88, 0x94];
-    res.others.push((0x8107, other.clone()));
-    let bytes = res.emit();
+    res.others.push((BlockType::ArRpcBlockRes, other.clone()));
+    let bytes = res.to_vec().unwrap();
     assert_eq!(bytes.len(), res.buffer_len());
     // Order: ..., AlarmCR, ModuleDiff, others, ARServer.
-    let types: Vec<u16> = blocks(&bytes).map(|r| r.unwrap().0.block_type).collect();
+    let types: Vec<u16> = blocks(&bytes)
+        .map(|r| r.unwrap().0.block_type.raw())
+        .collect();
     assert_eq!(
         types,
         vec![0x8101, 0x8102, 0x8102, 0x8103, 0x8104, 0x8107, 0x8106]
@@ -442,7 +448,7 @@ fn malformed() {
     let legacy = ConnectResponse::parse(&res_bytes[..res_bytes.len() - 20]).unwrap();
     assert_eq!(legacy.ar_server, None);
     // Missing or duplicate AR block.
-    let ar_len = captured(req_bytes, block_type::AR_BLOCK_REQ)[0].len();
+    let ar_len = captured(req_bytes, BlockType::ArBlockReq)[0].len();
     assert!(ConnectRequest::parse(&req_bytes[ar_len..]).is_err());
     let mut twice = req_bytes.to_vec();
     twice.extend_from_slice(&req_bytes[..ar_len]);
@@ -452,7 +458,7 @@ fn malformed() {
     unknown.extend_from_slice(&[0x01, 0x07, 0x00, 0x04, 0x01, 0x00, 0x88, 0x94]);
     assert!(ConnectRequest::parse(&unknown).is_err());
     // Wrong version, wrong type, trailing bytes in the body.
-    let alarm = captured(req_bytes, block_type::ALARM_CR_BLOCK_REQ)[0];
+    let alarm = captured(req_bytes, BlockType::AlarmCrBlockReq)[0];
     let mut b = alarm.to_vec();
     b[5] = 1;
     assert!(AlarmCrBlockReq::parse(&b).is_err());
@@ -462,11 +468,11 @@ fn malformed() {
     b.extend_from_slice(&[0, 0]);
     assert!(AlarmCrBlockReq::parse(&b).is_err());
     // A station name that is not UTF-8.
-    let mut b = captured(res_bytes, block_type::AR_SERVER_BLOCK)[0].to_vec();
+    let mut b = captured(res_bytes, BlockType::ArServerBlock)[0].to_vec();
     b[8] = 0xff;
     assert!(ArServerBlock::parse(&b).is_err());
     // Four padding bytes are too many.
-    let mut b = captured(res_bytes, block_type::AR_SERVER_BLOCK)[0].to_vec();
+    let mut b = captured(res_bytes, BlockType::ArServerBlock)[0].to_vec();
     b[3] += 3;
     b.extend_from_slice(&[0, 0, 0]);
     assert!(ArServerBlock::parse(&b).is_err());
@@ -479,13 +485,24 @@ fn malformed() {
 fn unrepresentable_values_do_not_emit() {
     let req = ConnectRequest::parse(blocks_of(&CONNECT_REQ)).unwrap();
     let mut short = vec![0u8; req.ar.buffer_len() - 1];
-    assert_eq!(req.ar.emit(&mut short), Err(Error));
+    assert_eq!(
+        req.ar.emit(&mut short),
+        Err(EmitError::BufferTooShort {
+            what: "ARBlockReq",
+            needed: short.len() + 1,
+            len: short.len()
+        })
+    );
+    let mut short = vec![0u8; req.buffer_len() - 1];
+    assert!(req.emit(&mut short).is_err());
     // Data descriptions that do not match the submodule type.
     let mut bad = req.clone();
     bad.expected[0].modules[0].submodules[0].properties = submodule::TYPE_INPUT_OUTPUT;
-    assert_eq!(bad.expected[0].to_vec(), Err(Error));
-    assert_eq!(bad.try_emit(), Err(Error));
-    assert!(bad.emit().is_empty());
+    let mismatch = Err(EmitError::Inconsistent(
+        "an expected submodule's data descriptions do not match its type",
+    ));
+    assert_eq!(bad.expected[0].to_vec(), mismatch);
+    assert_eq!(bad.to_vec(), mismatch);
     // A list longer than its 16-bit count.
     let mut bad = req.clone();
     let e = IocrEntry {
@@ -494,17 +511,31 @@ fn unrepresentable_values_do_not_emit() {
         frame_offset: 0,
     };
     bad.iocrs[0].apis[0].iocs = vec![e; 0x1_0000];
-    assert_eq!(bad.iocrs[0].to_vec(), Err(Error));
-    assert!(bad.emit().is_empty());
+    // Its block is over 65 539 bytes too, which is found first.
+    let too_long = bad.iocrs[0].to_vec();
+    assert!(matches!(too_long, Err(EmitError::TooLong { .. })));
+    assert_eq!(bad.to_vec(), too_long);
     // A block longer than 65 539 bytes.
     let mut bad = req;
     bad.iocrs[0].apis[0].iocs = vec![e; 0x3000];
     bad.iocrs[0].apis[0].data_objects = vec![e; 0x3000];
-    assert_eq!(bad.iocrs[0].to_vec(), Err(Error));
+    assert!(matches!(
+        bad.iocrs[0].to_vec(),
+        Err(EmitError::TooLong {
+            field: "BlockLength",
+            ..
+        })
+    ));
     let long = ArServerBlock {
         station_name: "x".repeat(0x1_0000),
     };
-    assert_eq!(long.to_vec(), Err(Error));
+    assert!(matches!(
+        long.to_vec(),
+        Err(EmitError::TooLong {
+            field: "BlockLength",
+            ..
+        })
+    ));
 }
 
 fn uuid() -> impl Strategy<Value = Uuid> {
@@ -700,7 +731,7 @@ fn connect_response() -> impl Strategy<Value = ConnectResponse> {
             b.extend_from_slice(&(body.len() as u16 + 2).to_be_bytes());
             b.extend_from_slice(&[1, 0]);
             b.extend_from_slice(&body);
-            (t, b)
+            (BlockType::from_raw(t), b)
         });
     (
         ar,
@@ -801,14 +832,14 @@ proptest! {
 
     #[test]
     fn connect_request_round_trip(req in connect_request()) {
-        let b = req.emit();
+        let b = req.to_vec().unwrap();
         prop_assert_eq!(b.len(), req.buffer_len());
         prop_assert_eq!(ConnectRequest::parse(&b), Ok(req));
     }
 
     #[test]
     fn connect_response_round_trip(res in connect_response()) {
-        let b = res.emit();
+        let b = res.to_vec().unwrap();
         prop_assert_eq!(b.len(), res.buffer_len());
         let parsed = ConnectResponse::parse(&b).unwrap();
         prop_assert_eq!(&parsed, &res);

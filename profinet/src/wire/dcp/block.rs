@@ -274,7 +274,7 @@ impl BlockRepr {
     }
 
     /// Writes the value after the prefix.
-    fn emit_value(&self, prefixed: bool, w: &mut Writer<'_>) -> Result<()> {
+    fn emit_value(&self, prefixed: bool, w: &mut Writer<'_>) -> EmitResult<()> {
         match self {
             BlockRepr::MacAddress(m) => w.put(&m.0),
             BlockRepr::IpParameter { ip, mask, gateway } => {
@@ -395,14 +395,15 @@ impl Block {
     }
 
     /// Writes the block, pad included.
-    pub(super) fn emit(&self, ctx: BlockContext, w: &mut Writer<'_>) -> Result<()> {
+    pub(super) fn emit(&self, ctx: BlockContext, w: &mut Writer<'_>) -> EmitResult<()> {
         let (option, suboption) = self.value.code();
         if ctx == BlockContext::GetRequest {
             return w.put(&[option, suboption]);
         }
         let prefixed = ctx.has_prefix(option, suboption);
         let len = self.block_length(ctx);
-        let len16 = u16::try_from(len).map_err(|_| Error)?;
+        let len16 =
+            u16::try_from(len).map_err(|_| EmitError::too_long_u16("DCPBlockLength", len))?;
         w.put(&[option, suboption])?;
         w.put(&len16.to_be_bytes())?;
         if prefixed {

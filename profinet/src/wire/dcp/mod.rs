@@ -22,7 +22,7 @@
 //! Everything is big-endian. DCP is not on the real-time path, so [`Repr`] owns its blocks.
 
 use super::cursor::Writer;
-use super::{Error, Field, MacAddress, Rest, Result, be16, be32};
+use super::{EmitError, EmitResult, Error, Field, MacAddress, Rest, Result, be16, be32};
 
 mod block;
 #[cfg(test)]
@@ -124,99 +124,46 @@ const BLOCK_HEADER_LEN: usize = 4;
 /// Bytes of a BlockInfo or BlockQualifier.
 const PREFIX_LEN: usize = 2;
 
-/// DCP ServiceID.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ServiceId {
-    /// 3: Get.
-    Get,
-    /// 4: Set.
-    Set,
-    /// 5: Identify.
-    Identify,
-    /// 6: Hello.
-    Hello,
-    /// Any other value (never 3..=6).
-    Unknown(u8),
-}
-
-impl From<u8> for ServiceId {
-    fn from(v: u8) -> ServiceId {
-        match v {
-            3 => ServiceId::Get,
-            4 => ServiceId::Set,
-            5 => ServiceId::Identify,
-            6 => ServiceId::Hello,
-            other => ServiceId::Unknown(other),
-        }
-    }
-}
-
-impl From<ServiceId> for u8 {
-    fn from(v: ServiceId) -> u8 {
-        match v {
-            ServiceId::Get => 3,
-            ServiceId::Set => 4,
-            ServiceId::Identify => 5,
-            ServiceId::Hello => 6,
-            ServiceId::Unknown(other) => other,
-        }
+enum_with_unknown! {
+    /// DCP ServiceID.
+    pub enum ServiceId(u8) {
+        /// 3: Get.
+        Get = 3 => "Get",
+        /// 4: Set.
+        Set = 4 => "Set",
+        /// 5: Identify.
+        Identify = 5 => "Identify",
+        /// 6: Hello.
+        Hello = 6 => "Hello",
     }
 }
 
 impl core::fmt::Display for ServiceId {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            ServiceId::Get => f.write_str("Get"),
-            ServiceId::Set => f.write_str("Set"),
-            ServiceId::Identify => f.write_str("Identify"),
-            ServiceId::Hello => f.write_str("Hello"),
-            ServiceId::Unknown(v) => write!(f, "Service({v:#04x})"),
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "Service({:#04x})", self.raw()),
         }
     }
 }
 
-/// DCP ServiceType.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ServiceType {
-    /// 0x00: request.
-    Request,
-    /// 0x01: response, success.
-    Success,
-    /// 0x05: response, request not supported.
-    NotSupported,
-    /// Any other value (never 0x00, 0x01 or 0x05).
-    Unknown(u8),
-}
-
-impl From<u8> for ServiceType {
-    fn from(v: u8) -> ServiceType {
-        match v {
-            0x00 => ServiceType::Request,
-            0x01 => ServiceType::Success,
-            0x05 => ServiceType::NotSupported,
-            other => ServiceType::Unknown(other),
-        }
-    }
-}
-
-impl From<ServiceType> for u8 {
-    fn from(v: ServiceType) -> u8 {
-        match v {
-            ServiceType::Request => 0x00,
-            ServiceType::Success => 0x01,
-            ServiceType::NotSupported => 0x05,
-            ServiceType::Unknown(other) => other,
-        }
+enum_with_unknown! {
+    /// DCP ServiceType.
+    pub enum ServiceType(u8) {
+        /// 0x00: request.
+        Request = 0x00 => "Request",
+        /// 0x01: response, success.
+        Success = 0x01 => "Success",
+        /// 0x05: response, request not supported.
+        NotSupported = 0x05 => "NotSupported",
     }
 }
 
 impl core::fmt::Display for ServiceType {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            ServiceType::Request => f.write_str("Request"),
-            ServiceType::Success => f.write_str("Success"),
-            ServiceType::NotSupported => f.write_str("NotSupported"),
-            ServiceType::Unknown(v) => write!(f, "Type({v:#04x})"),
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "Type({:#04x})", self.raw()),
         }
     }
 }
@@ -433,12 +380,19 @@ impl Repr {
     /// Writes the PDU into the first [`buffer_len`](Self::buffer_len) bytes of `buf` (a plain
     /// slice starting at the FrameID; the caller adds the Ethernet header and pads the frame to
     /// 60 bytes). Never panics: a buffer shorter than `buffer_len()`, a block longer than
-    /// 65535 bytes or DCPDataLength above 65535 give [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
+    /// 65535 bytes or DCPDataLength above 65535 give [`EmitError`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
         let ctx = self.context();
-        let data_len = u16::try_from(self.data_len()).map_err(|_| Error)?;
+        let data_len = self.data_len();
+        let data_len = u16::try_from(data_len)
+            .map_err(|_| EmitError::too_long_u16("DCPDataLength", data_len))?;
         let total = self.buffer_len();
-        let pdu = buf.get_mut(..total).ok_or(Error)?;
+        let len = buf.len();
+        let pdu = buf.get_mut(..total).ok_or(EmitError::BufferTooShort {
+            what: "DCP PDU",
+            needed: total,
+            len,
+        })?;
         let (header, blocks) = pdu.split_at_mut(HEADER_LEN);
         let mut p = Packet::new_unchecked(header);
         p.set_frame_id(self.frame_id);
@@ -447,13 +401,13 @@ impl Repr {
         p.set_xid(self.xid);
         p.set_response_delay(self.response_delay);
         p.set_data_length(data_len);
-        let mut w = Writer::new(blocks);
+        let mut w = Writer::new("DCP blocks", blocks);
         self.blocks.iter().try_for_each(|b| b.emit(ctx, &mut w))?;
         w.finish()
     }
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
-    pub fn to_vec(&self) -> Result<Vec<u8>> {
+    pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
         let mut v = vec![0u8; self.buffer_len()];
         self.emit(&mut v)?;
         Ok(v)

@@ -251,7 +251,14 @@ fn malformed() {
     // Too short a buffer for emit.
     let r = Repr::identify_all(1, 1);
     let mut buf = vec![0u8; r.buffer_len() - 1];
-    assert_eq!(r.emit(&mut buf), Err(Error));
+    assert_eq!(
+        r.emit(&mut buf),
+        Err(EmitError::BufferTooShort {
+            what: "DCP PDU",
+            needed: buf.len() + 1,
+            len: buf.len()
+        })
+    );
 }
 
 #[test]

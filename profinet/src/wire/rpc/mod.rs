@@ -29,7 +29,7 @@
 //! formats of the DREP are ignored (PNIO carries neither in RPC fields); emission writes ASCII
 //! and IEEE (0).
 
-use super::{Error, Field, PnioStatus, Rest, Result, Uuid, be16, be32};
+use super::{EmitError, EmitResult, Error, Field, PnioStatus, Rest, Result, Uuid, be16, be32};
 
 mod ndr;
 mod pdu;
@@ -174,90 +174,40 @@ pub mod flags2 {
 /// accept either).
 pub const REPLY_FLAGS1: u8 = flags1::LAST_FRAGMENT | flags1::NO_FACK;
 
-/// The PacketType of a connectionless PDU.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum PacketType {
-    /// 0: request (a call).
-    Request,
-    /// 1: ping (client asks whether a call is still running).
-    Ping,
-    /// 2: response (the result of a call).
-    Response,
-    /// 3: fault (the call failed in the server; the body holds a status).
-    Fault,
-    /// 4: working (answer to a ping: still running).
-    Working,
-    /// 5: no-call (answer to a ping: no such call).
-    NoCall,
-    /// 6: reject (the call was refused, e.g. unknown interface; the body holds a status).
-    Reject,
-    /// 7: ack (client acknowledges a response of a non-idempotent call).
-    Ack,
-    /// 8: cancel (client cancels a call).
-    ClCancel,
-    /// 9: fragment ack.
-    Fack,
-    /// 10: cancel ack.
-    CancelAck,
-    /// Any other value (never 0..=10).
-    Unknown(u8),
-}
-
-impl From<u8> for PacketType {
-    fn from(v: u8) -> PacketType {
-        match v {
-            0 => PacketType::Request,
-            1 => PacketType::Ping,
-            2 => PacketType::Response,
-            3 => PacketType::Fault,
-            4 => PacketType::Working,
-            5 => PacketType::NoCall,
-            6 => PacketType::Reject,
-            7 => PacketType::Ack,
-            8 => PacketType::ClCancel,
-            9 => PacketType::Fack,
-            10 => PacketType::CancelAck,
-            other => PacketType::Unknown(other),
-        }
-    }
-}
-
-impl From<PacketType> for u8 {
-    fn from(v: PacketType) -> u8 {
-        match v {
-            PacketType::Request => 0,
-            PacketType::Ping => 1,
-            PacketType::Response => 2,
-            PacketType::Fault => 3,
-            PacketType::Working => 4,
-            PacketType::NoCall => 5,
-            PacketType::Reject => 6,
-            PacketType::Ack => 7,
-            PacketType::ClCancel => 8,
-            PacketType::Fack => 9,
-            PacketType::CancelAck => 10,
-            PacketType::Unknown(other) => other,
-        }
+enum_with_unknown! {
+    /// The PacketType of a connectionless PDU.
+    pub enum PacketType(u8) {
+        /// 0: request (a call).
+        Request = 0 => "request",
+        /// 1: ping (client asks whether a call is still running).
+        Ping = 1 => "ping",
+        /// 2: response (the result of a call).
+        Response = 2 => "response",
+        /// 3: fault (the call failed in the server; the body holds a status).
+        Fault = 3 => "fault",
+        /// 4: working (answer to a ping: still running).
+        Working = 4 => "working",
+        /// 5: no-call (answer to a ping: no such call).
+        NoCall = 5 => "no-call",
+        /// 6: reject (the call was refused, e.g. unknown interface; the body holds a status).
+        Reject = 6 => "reject",
+        /// 7: ack (client acknowledges a response of a non-idempotent call).
+        Ack = 7 => "ack",
+        /// 8: cancel (client cancels a call).
+        ClCancel = 8 => "cancel",
+        /// 9: fragment ack.
+        Fack = 9 => "fack",
+        /// 10: cancel ack.
+        CancelAck = 10 => "cancel-ack",
     }
 }
 
 impl core::fmt::Display for PacketType {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        let name = match self {
-            PacketType::Request => "request",
-            PacketType::Ping => "ping",
-            PacketType::Response => "response",
-            PacketType::Fault => "fault",
-            PacketType::Working => "working",
-            PacketType::NoCall => "no-call",
-            PacketType::Reject => "reject",
-            PacketType::Ack => "ack",
-            PacketType::ClCancel => "cancel",
-            PacketType::Fack => "fack",
-            PacketType::CancelAck => "cancel-ack",
-            PacketType::Unknown(v) => return write!(f, "type {v:#04x}"),
-        };
-        f.write_str(name)
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "type {:#04x}", self.raw()),
+        }
     }
 }
 
@@ -764,9 +714,14 @@ impl Header {
     }
 
     /// Writes the 80 header bytes, in this header's DREP, into the start of `buf`; the body
-    /// is left alone. A buffer shorter than 80 bytes gives [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let header = buf.get_mut(..HEADER_LEN).ok_or(Error)?;
+    /// is left alone. A buffer shorter than 80 bytes gives [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        let len = buf.len();
+        let header = buf.get_mut(..HEADER_LEN).ok_or(EmitError::BufferTooShort {
+            what: "RPC header",
+            needed: HEADER_LEN,
+            len,
+        })?;
         let mut p = Packet::new_unchecked(header);
         p.set_version(RPC_VERSION);
         p.set_packet_type(self.packet_type);

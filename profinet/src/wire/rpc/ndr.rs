@@ -30,8 +30,13 @@ fn parse_ndr_words(b: &[u8], little_endian: bool) -> Result<[u32; 5]> {
 }
 
 /// Writes the five u32 of an NDR header, in DREP order, into the first 20 bytes of `b`.
-fn emit_ndr_words(w: [u32; 5], b: &mut [u8], little_endian: bool) -> Result<()> {
-    let b = b.get_mut(..NDR_LEN).ok_or(Error)?;
+fn emit_ndr_words(w: [u32; 5], b: &mut [u8], little_endian: bool) -> EmitResult<()> {
+    let len = b.len();
+    let b = b.get_mut(..NDR_LEN).ok_or(EmitError::BufferTooShort {
+        what: "NDR header",
+        needed: NDR_LEN,
+        len,
+    })?;
     wr32(&mut b[ndr_field::FIRST], w[0], little_endian);
     wr32(&mut b[ndr_field::ARGS_LENGTH], w[1], little_endian);
     wr32(&mut b[ndr_field::MAXIMUM_COUNT], w[2], little_endian);
@@ -65,6 +70,8 @@ impl NdrRequest {
     /// of up to `args_maximum` bytes: MaximumCount = ArgsMaximum, Offset 0, ArgsLength =
     /// ActualCount = `blocks_len` (saturated to `u32::MAX`).
     pub const fn for_blocks(args_maximum: u32, blocks_len: usize) -> NdrRequest {
+        // Checked against u32::MAX just before, so the cast keeps every bit (`try_from` is
+        // not `const`).
         let len = if blocks_len > u32::MAX as usize {
             u32::MAX
         } else {
@@ -103,8 +110,8 @@ impl NdrRequest {
     }
 
     /// Writes the 20 bytes into the start of `b` in the given DREP; a shorter `b` gives
-    /// [`Error`].
-    pub fn emit(&self, b: &mut [u8], little_endian: bool) -> Result<()> {
+    /// [`EmitError::BufferTooShort`].
+    pub fn emit(&self, b: &mut [u8], little_endian: bool) -> EmitResult<()> {
         let w = [
             self.args_maximum,
             self.args_length,
@@ -176,8 +183,8 @@ impl NdrResponse {
     }
 
     /// Writes the 20 bytes into the start of `b` in the given DREP; a shorter `b` gives
-    /// [`Error`].
-    pub fn emit(&self, b: &mut [u8], little_endian: bool) -> Result<()> {
+    /// [`EmitError::BufferTooShort`].
+    pub fn emit(&self, b: &mut [u8], little_endian: bool) -> EmitResult<()> {
         let w = [
             self.status.to_u32(),
             self.args_length,
@@ -265,8 +272,8 @@ impl Ndr {
     }
 
     /// Writes the 20 bytes into the start of `b` in the given DREP; a shorter `b` gives
-    /// [`Error`].
-    pub fn emit(&self, b: &mut [u8], little_endian: bool) -> Result<()> {
+    /// [`EmitError::BufferTooShort`].
+    pub fn emit(&self, b: &mut [u8], little_endian: bool) -> EmitResult<()> {
         match self {
             Ndr::Request(r) => r.emit(b, little_endian),
             Ndr::Response(r) => r.emit(b, little_endian),

@@ -50,13 +50,27 @@ impl<'a> Pdu<'a> {
     /// Writes the PDU into the first [`buffer_len`](Self::buffer_len) bytes of `buf`, header
     /// and NDR header in the header's DREP, LengthOfBody computed from the blocks. Never
     /// panics: a short buffer, a body above 65535 bytes, the Fragment flag, or a packet type
-    /// that does not match the NDR header give [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        if self.header.packet_type != self.ndr.packet_type() || self.header.is_fragment() {
-            return Err(Error);
+    /// that does not match the NDR header give [`EmitError`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        if self.header.packet_type != self.ndr.packet_type() {
+            return Err(EmitError::Inconsistent(
+                "the PacketType does not match the NDR header",
+            ));
         }
-        let body_len = u16::try_from(self.body_len()).map_err(|_| Error)?;
-        let pdu = buf.get_mut(..self.buffer_len()).ok_or(Error)?;
+        if self.header.is_fragment() {
+            return Err(EmitError::Inconsistent(
+                "a whole PDU cannot carry the Fragment flag",
+            ));
+        }
+        let body_len = self.body_len();
+        let body_len = u16::try_from(body_len)
+            .map_err(|_| EmitError::too_long_u16("LengthOfBody", body_len))?;
+        let (needed, len) = (self.buffer_len(), buf.len());
+        let pdu = buf.get_mut(..needed).ok_or(EmitError::BufferTooShort {
+            what: "RPC PDU",
+            needed,
+            len,
+        })?;
         let (header, body) = pdu.split_at_mut(HEADER_LEN);
         Header {
             body_len,
@@ -70,7 +84,7 @@ impl<'a> Pdu<'a> {
     }
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
-    pub fn to_vec(&self) -> Result<Vec<u8>> {
+    pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
         let mut v = vec![0u8; self.buffer_len()];
         self.emit(&mut v)?;
         Ok(v)
@@ -85,8 +99,8 @@ pub fn parse_pdu(bytes: &[u8]) -> Result<(Header, Ndr, &[u8])> {
 
 /// A request PDU: `header` (its packet type forced to request, its body length computed), an
 /// NDR header from [`NdrRequest::for_blocks`] and the blocks. A body above 65535 bytes or the
-/// Fragment flag give [`Error`].
-pub fn emit_request(header: &Header, args_maximum: u32, blocks: &[u8]) -> Result<Vec<u8>> {
+/// Fragment flag give [`EmitError`].
+pub fn emit_request(header: &Header, args_maximum: u32, blocks: &[u8]) -> EmitResult<Vec<u8>> {
     Pdu {
         header: Header {
             packet_type: PacketType::Request,
@@ -102,23 +116,24 @@ pub fn emit_request(header: &Header, args_maximum: u32, blocks: &[u8]) -> Result
 pub const MAX_FRAGMENT_BODY: usize = MAX_PDU_LEN - HEADER_LEN;
 
 /// The PDU `header` describes with `body` after it: LengthOfBody set, the header in its
-/// DREP. A body above 65535 bytes gives [`Error`].
-pub fn emit_with_body(header: &Header, body: &[u8]) -> Result<Vec<u8>> {
-    let body_len = u16::try_from(body.len()).map_err(|_| Error)?;
-    let mut v = vec![0u8; HEADER_LEN + body.len()];
+/// DREP. A body above 65535 bytes gives [`EmitError::TooLong`].
+pub fn emit_with_body(header: &Header, body: &[u8]) -> EmitResult<Vec<u8>> {
+    let body_len = u16::try_from(body.len())
+        .map_err(|_| EmitError::too_long_u16("LengthOfBody", body.len()))?;
+    let mut v = vec![0u8; HEADER_LEN];
     Header {
         body_len,
         ..*header
     }
     .emit(&mut v)?;
-    v[HEADER_LEN..].copy_from_slice(body);
+    v.extend_from_slice(body);
     Ok(v)
 }
 
 /// The PDUs that carry `body` under `header`: one when it fits [`MAX_FRAGMENT_BODY`], else
 /// fragments numbered from 0 with the Fragment flag, LastFragment on the last, and NoFack
 /// when `no_fack` (the receiver need not acknowledge them).
-pub fn fragments(header: &Header, body: &[u8], no_fack: bool) -> Result<Vec<Vec<u8>>> {
+pub fn fragments(header: &Header, body: &[u8], no_fack: bool) -> EmitResult<Vec<Vec<u8>>> {
     if body.len() <= MAX_FRAGMENT_BODY {
         return Ok(vec![emit_with_body(header, body)?]);
     }
@@ -138,7 +153,8 @@ pub fn fragments(header: &Header, body: &[u8], no_fack: bool) -> Result<Vec<Vec<
             }
             let h = Header {
                 flags1: f,
-                fragment_number: u16::try_from(i).map_err(|_| Error)?,
+                fragment_number: u16::try_from(i)
+                    .map_err(|_| EmitError::too_long_u16("FragmentNumber", i))?,
                 ..*header
             };
             emit_with_body(&h, chunk)
@@ -156,7 +172,7 @@ pub fn fack(
     window: u16,
     max_tsdu: u32,
     max_frag: u32,
-) -> Result<Vec<u8>> {
+) -> EmitResult<Vec<u8>> {
     let h = Header {
         packet_type: PacketType::Fack,
         flags1: 0,
@@ -177,13 +193,14 @@ pub fn fack(
 
 /// A response PDU: `header` (its packet type forced to response, its body length computed;
 /// see [`Header::reply`]), an NDR header from [`NdrResponse::for_blocks`] with the request's
-/// ArgsMaximum, and the blocks. A body above 65535 bytes or the Fragment flag give [`Error`].
+/// ArgsMaximum, and the blocks. A body above 65535 bytes or the Fragment flag give
+/// [`EmitError`].
 pub fn emit_response(
     header: &Header,
     status: PnioStatus,
     request_args_maximum: u32,
     blocks: &[u8],
-) -> Result<Vec<u8>> {
+) -> EmitResult<Vec<u8>> {
     Pdu {
         header: Header {
             packet_type: PacketType::Response,

@@ -333,7 +333,7 @@ fn check(e: Expect) -> Vec<u8> {
     }
     // The first block header parses (a Write carries record data between its blocks).
     let first = BlockHeader::parse(pdu.blocks).unwrap();
-    assert_eq!(first.block_type, e.first_block);
+    assert_eq!(first.block_type.raw(), e.first_block);
     assert_eq!(parse_pdu(&bytes).unwrap(), (h, e.ndr, pdu.blocks));
 
     // Re-emission: into a dirty buffer of exactly buffer_len bytes, then from the parts.

@@ -28,37 +28,17 @@
 use super::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
 use super::common::blocks;
 use super::cursor::{Reader, Writer};
-use super::{Error, Field, PnioStatus, Rest, Result, be16};
+use super::{EmitError, EmitResult, Error, Field, Rest, Result, be16};
+
+mod err;
+mod sequence;
+pub use err::{AbortCode, ERROR_CODE_RTA, ERROR_CODE1_RTA_PROTOCOL, ERROR_DECODE_PNIO, ErrRta};
+pub use sequence::{Received, RtaSequence, SEQ_INITIAL, SEQ_INITIAL_LAST, SEQ_MAX, next_seq};
 
 /// The RTA version (high nibble of PDUType).
 pub const RTA_VERSION: u8 = 1;
 /// The only window size RTA_CLASS_1 uses.
 pub const WINDOW_SIZE: u8 = 1;
-
-/// The first SendSeqNum of a fresh alarm channel (and the first expected receive number).
-pub const SEQ_INITIAL: u16 = 0xffff;
-/// The "last sent" and "last received" values before any DATA-RTA was exchanged.
-pub const SEQ_INITIAL_LAST: u16 = 0xfffe;
-/// The largest sequence number in the running cycle 0x0000..=0x7FFF.
-pub const SEQ_MAX: u16 = 0x7fff;
-
-/// The sequence number after `n`: `(n + 1) & 0x7FFF`, so 0xFFFF → 0x0000 and 0x7FFF → 0x0000.
-/// 0xFFFE ([`SEQ_INITIAL_LAST`]) is followed by 0xFFFF ([`SEQ_INITIAL`]), so that "expected
-/// = next_seq(last received)" holds from the start.
-pub const fn next_seq(n: u16) -> u16 {
-    match n {
-        SEQ_INITIAL_LAST => SEQ_INITIAL,
-        SEQ_INITIAL => 0,
-        n => (n + 1) & SEQ_MAX,
-    }
-}
-
-/// ErrorCode of an RTA error (ERR-RTA PNIOStatus).
-pub const ERROR_CODE_RTA: u8 = 0xcf;
-/// ErrorDecode "PNIO".
-pub const ERROR_DECODE_PNIO: u8 = 0x81;
-/// ErrorCode1 "RTA protocol" (ErrorCode2 then holds the [`AbortCode`]).
-pub const ERROR_CODE1_RTA_PROTOCOL: u8 = 0xfd;
 
 mod field {
     use super::{Field, Rest};
@@ -83,54 +63,37 @@ const ADD_FLAGS_WINDOW: u8 = 0x0f;
 /// AddFlags: TACK.
 const ADD_FLAGS_TACK: u8 = 0x10;
 
-/// The type of an RTA PDU (low nibble of PDUType).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum PduType {
-    /// 1: DATA-RTA, carries an alarm block.
-    Data,
-    /// 2: NACK-RTA.
-    Nack,
-    /// 3: ACK-RTA (transport acknowledgement).
-    Ack,
-    /// 4: ERR-RTA (abort).
-    Err,
-    /// Any other nibble (never 1..=4).
-    Unknown(u8),
-}
-
-impl From<u8> for PduType {
-    /// From the low nibble of `v` (the version nibble is ignored).
-    fn from(v: u8) -> PduType {
-        match v & 0x0f {
-            1 => PduType::Data,
-            2 => PduType::Nack,
-            3 => PduType::Ack,
-            4 => PduType::Err,
-            other => PduType::Unknown(other),
-        }
+enum_with_unknown! {
+    /// The type of an RTA PDU: the low nibble of PDUType (the high nibble is the version).
+    pub enum PduType(u8) {
+        /// 1: DATA-RTA, carries an alarm block.
+        Data = 1 => "DATA",
+        /// 2: NACK-RTA.
+        Nack = 2 => "NACK",
+        /// 3: ACK-RTA (transport acknowledgement).
+        Ack = 3 => "ACK",
+        /// 4: ERR-RTA (abort).
+        Err = 4 => "ERR",
     }
 }
 
-impl From<PduType> for u8 {
-    fn from(v: PduType) -> u8 {
-        match v {
-            PduType::Data => 1,
-            PduType::Nack => 2,
-            PduType::Ack => 3,
-            PduType::Err => 4,
-            PduType::Unknown(other) => other & 0x0f,
-        }
+impl PduType {
+    /// The type in a PDUType byte: its low nibble (the version nibble is ignored).
+    pub const fn from_pdu_type_byte(b: u8) -> PduType {
+        PduType::from_raw(b & 0x0f)
+    }
+
+    /// The PDUType byte of this type and `version`: both are nibbles, higher bits are dropped.
+    pub const fn pdu_type_byte(self, version: u8) -> u8 {
+        (version << 4) | (self.raw() & 0x0f)
     }
 }
 
 impl core::fmt::Display for PduType {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            PduType::Data => f.write_str("DATA"),
-            PduType::Nack => f.write_str("NACK"),
-            PduType::Ack => f.write_str("ACK"),
-            PduType::Err => f.write_str("ERR"),
-            PduType::Unknown(v) => write!(f, "PDUType({v})"),
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "PDUType({})", self.raw()),
         }
     }
 }
@@ -190,7 +153,7 @@ impl<T: AsRef<[u8]>> Packet<T> {
 
     /// The PDU type (low nibble of PDUType).
     pub fn pdu_type(&self) -> PduType {
-        PduType::from(self.buffer.as_ref()[field::PDU_TYPE])
+        PduType::from_pdu_type_byte(self.buffer.as_ref()[field::PDU_TYPE])
     }
 
     /// The RTA version (high nibble of PDUType; 1).
@@ -257,7 +220,7 @@ impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
 
     /// Sets PDUType from a type and a version (both nibbles; higher bits are dropped).
     pub fn set_pdu_type(&mut self, pdu_type: PduType, version: u8) {
-        self.buffer.as_mut()[field::PDU_TYPE] = (version << 4) | u8::from(pdu_type);
+        self.buffer.as_mut()[field::PDU_TYPE] = pdu_type.pdu_type_byte(version);
     }
 
     /// Sets AddFlags from a window size (a nibble) and TACK.
@@ -358,7 +321,7 @@ impl RtaHeader {
         Ok(RtaHeader {
             dst_endpoint,
             src_endpoint,
-            pdu_type: PduType::from(pdu),
+            pdu_type: PduType::from_pdu_type_byte(pdu),
             version: pdu >> 4,
             window_size: flags & ADD_FLAGS_WINDOW,
             tack: flags & ADD_FLAGS_TACK != 0,
@@ -375,167 +338,20 @@ impl RtaHeader {
 
     /// Writes the header into the first [`RTA_HEADER_LEN`] bytes of `buf` (the bytes after
     /// the FrameID). `version` and `window_size` are nibbles; higher bits are dropped. A
-    /// shorter buffer gives [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let mut w = Writer::new(buf);
+    /// shorter buffer gives [`EmitError::BufferTooShort`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        EmitError::check_len("RTA header", RTA_HEADER_LEN, buf.len())?;
+        let mut w = Writer::new("RTA header", buf);
         w.u16(self.dst_endpoint)?;
         w.u16(self.src_endpoint)?;
         let tack = if self.tack { ADD_FLAGS_TACK } else { 0 };
         w.put(&[
-            (self.version << 4) | u8::from(self.pdu_type),
+            self.pdu_type.pdu_type_byte(self.version),
             (self.window_size & ADD_FLAGS_WINDOW) | tack,
         ])?;
         w.u16(self.send_seq)?;
         w.u16(self.ack_seq)?;
         w.u16(self.var_part_len)
-    }
-}
-
-enum_with_unknown! {
-    /// The abort reason of an ERR-RTA: ErrorCode2 of a `CF 81 FD xx` PNIOStatus.
-    pub enum AbortCode(u8) {
-        /// 0x00: no reason given (p-net uses it for aborts it initiates).
-        Unspecified = 0x00 => "unspecified",
-        /// 0x01: sequence number error.
-        SequenceError = 0x01 => "sequence number error",
-        /// 0x02: instance closed.
-        InstanceClosed = 0x02 => "instance closed",
-        /// 0x03: AR out of memory.
-        OutOfMemory = 0x03 => "AR out of memory",
-        /// 0x04: adding a provider or consumer failed.
-        AddProviderOrConsumerFailed = 0x04 => "AR add provider or consumer failed",
-        /// 0x05: consumer data hold timer expired.
-        ConsumerDhtExpired = 0x05 => "AR consumer data hold time expired",
-        /// 0x06: CM initiator activity timeout.
-        CmiTimeout = 0x06 => "AR CMI timeout",
-        /// 0x07: alarm open failed.
-        AlarmOpenFailed = 0x07 => "AR alarm open failed",
-        /// 0x08: alarm send confirmed negatively.
-        AlarmSendNegative = 0x08 => "AR alarm send.cnf(-)",
-        /// 0x09: alarm ack send confirmed negatively.
-        AlarmAckSendNegative = 0x09 => "AR alarm ack send.cnf(-)",
-        /// 0x0A: alarm data too long.
-        AlarmDataTooLong = 0x0a => "AR alarm data too long",
-        /// 0x0B: alarm indication with error.
-        AlarmIndicationError = 0x0b => "AR alarm.ind(err)",
-        /// 0x0C: RPC client call confirmed negatively.
-        RpcClientCallNegative = 0x0c => "AR RPC client call.cnf(-)",
-        /// 0x0D: abort requested.
-        AbortRequest = 0x0d => "AR abort.req",
-        /// 0x0E: a re-run aborts the existing AR.
-        RerunAbortsExisting = 0x0e => "AR re-run aborts existing",
-        /// 0x0F: release indication received.
-        ReleaseIndication = 0x0f => "AR release.ind received",
-        /// 0x10: device deactivated.
-        DeviceDeactivated = 0x10 => "AR device deactivated",
-        /// 0x11: AR removed.
-        ArRemoved = 0x11 => "AR removed",
-        /// 0x12: protocol violation.
-        ProtocolViolation = 0x12 => "AR protocol violation",
-        /// 0x13: name resolution error.
-        NameResolutionError = 0x13 => "AR name resolution error",
-        /// 0x14: RPC bind error.
-        RpcBindError = 0x14 => "AR RPC bind error",
-        /// 0x15: RPC connect error.
-        RpcConnectError = 0x15 => "AR RPC connect error",
-        /// 0x16: RPC read error.
-        RpcReadError = 0x16 => "AR RPC read error",
-        /// 0x17: RPC write error.
-        RpcWriteError = 0x17 => "AR RPC write error",
-        /// 0x18: RPC control error.
-        RpcControlError = 0x18 => "AR RPC control error",
-        /// 0x19: forbidden pull or plug.
-        ForbiddenPullOrPlug = 0x19 => "AR forbidden pull or plug",
-        /// 0x1A: AP removed.
-        ApRemoved = 0x1a => "AR AP removed",
-        /// 0x1B: link down.
-        LinkDown = 0x1b => "AR link down",
-        /// 0x1C: multicast MAC registration failed.
-        MulticastRegistrationFailed = 0x1c => "AR multicast MAC registration failed",
-        /// 0x1D: not synchronized.
-        NotSynchronized = 0x1d => "not synchronized",
-        /// 0x1E: wrong topology.
-        WrongTopology = 0x1e => "wrong topology",
-        /// 0x1F: NameOfStation changed by DCP.
-        StationNameChanged = 0x1f => "DCP station name changed",
-        /// 0x20: reset to factory by DCP.
-        ResetToFactory = 0x20 => "DCP reset to factory",
-        /// 0x24: PDEV check failed (no port with the required speed/duplex).
-        PdevCheckFailed = 0x24 => "PDEV check failed",
-        /// 0x25: the IO controller's IP suite was changed (DCP or local engineering).
-        IocIpChanged = 0x25 => "IOC IP suite changed",
-    }
-}
-
-impl core::fmt::Display for AbortCode {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        let code = u8::from(*self);
-        match self.name() {
-            Some(name) => write!(f, "{name} ({code:#04x})"),
-            None => write!(f, "abort code {code:#04x}"),
-        }
-    }
-}
-
-/// The VarPart of an ERR-RTA.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct ErrRta {
-    /// PNIOStatus, `CF 81 FD <abort code>` for an abort.
-    pub status: PnioStatus,
-    /// Bytes after the PNIOStatus within VarPartLen (vendor error info; normally none).
-    pub vendor_data: Vec<u8>,
-}
-
-impl ErrRta {
-    /// An abort with this code: PNIOStatus `CF 81 FD <code>`.
-    pub fn abort(code: AbortCode) -> ErrRta {
-        ErrRta {
-            status: PnioStatus {
-                error_code: ERROR_CODE_RTA,
-                error_decode: ERROR_DECODE_PNIO,
-                error_code1: ERROR_CODE1_RTA_PROTOCOL,
-                error_code2: code.into(),
-            },
-            vendor_data: Vec::new(),
-        }
-    }
-
-    /// The abort code, when the status is `CF 81 FD xx`.
-    pub fn abort_code(&self) -> Option<AbortCode> {
-        let s = self.status;
-        (s.error_code == ERROR_CODE_RTA
-            && s.error_decode == ERROR_DECODE_PNIO
-            && s.error_code1 == ERROR_CODE1_RTA_PROTOCOL)
-            .then(|| AbortCode::from(s.error_code2))
-    }
-
-    /// Parses a VarPart (at least the 4 status bytes).
-    pub fn parse(b: &[u8]) -> Result<ErrRta> {
-        let mut r = Reader::new(b);
-        let status = PnioStatus::from_u32(r.u32()?);
-        Ok(ErrRta {
-            status,
-            vendor_data: r.rest().to_vec(),
-        })
-    }
-
-    /// Bytes of the VarPart.
-    pub fn buffer_len(&self) -> usize {
-        self.vendor_data.len().saturating_add(4)
-    }
-
-    fn write(&self, w: &mut Writer<'_>) -> Result<()> {
-        w.u32(self.status.to_u32())?;
-        w.put(&self.vendor_data)
-    }
-}
-
-impl core::fmt::Display for ErrRta {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self.abort_code() {
-            Some(code) => write!(f, "abort: {code}"),
-            None => write!(f, "{}", self.status),
-        }
     }
 }
 
@@ -626,6 +442,8 @@ impl RtaPdu {
         ack_seq: u16,
         body: RtaBody,
     ) -> RtaPdu {
+        // Only describes the body: `emit` writes VarPartLen from the body and refuses one
+        // over 65535 bytes, so the saturated value never reaches the wire.
         let len = u16::try_from(body.var_part_len()).unwrap_or(u16::MAX);
         RtaPdu {
             priority,
@@ -723,11 +541,18 @@ impl RtaPdu {
 
     /// Writes the PDU into the first [`buffer_len`](Self::buffer_len) bytes of `buf` (a slice
     /// starting at the FrameID; the caller adds the Ethernet header and pads the frame). Never
-    /// panics: a shorter buffer or a VarPart above 65535 bytes give [`Error`].
-    pub fn emit(&self, buf: &mut [u8]) -> Result<()> {
-        let var_len = u16::try_from(self.body.var_part_len()).map_err(|_| Error)?;
+    /// panics: a shorter buffer or a VarPart above 65535 bytes give [`EmitError`].
+    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
+        let var_part_len = self.body.var_part_len();
+        let var_len = u16::try_from(var_part_len)
+            .map_err(|_| EmitError::too_long_u16("VarPartLen", var_part_len))?;
         let total = self.buffer_len();
-        let pdu = buf.get_mut(..total).ok_or(Error)?;
+        let len = buf.len();
+        let pdu = buf.get_mut(..total).ok_or(EmitError::BufferTooShort {
+            what: "RTA PDU",
+            needed: total,
+            len,
+        })?;
         let (head, var) = pdu.split_at_mut(HEADER_LEN);
         head[field::FRAME_ID].copy_from_slice(&self.priority.frame_id().to_be_bytes());
         let header = RtaHeader {
@@ -736,7 +561,7 @@ impl RtaPdu {
             ..self.header
         };
         header.emit(&mut head[field::DST_ENDPOINT.start..])?;
-        let mut w = Writer::new(var);
+        let mut w = Writer::new("RTA VarPart", var);
         match &self.body {
             RtaBody::Data(blocks) => blocks.iter().try_for_each(|b| b.write(&mut w))?,
             RtaBody::Nack | RtaBody::Ack => {}
@@ -746,7 +571,7 @@ impl RtaPdu {
     }
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
-    pub fn to_vec(&self) -> Result<Vec<u8>> {
+    pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
         let mut v = vec![0u8; self.buffer_len()];
         self.emit(&mut v)?;
         Ok(v)
@@ -808,7 +633,7 @@ impl core::fmt::Display for RtaPdu {
                             a.status
                         )?,
                         AlarmBlock::Other { block_type, .. } => {
-                            write!(f, " [block {block_type:#06x}]")?
+                            write!(f, " [block {:#06x}]", block_type.raw())?
                         }
                     }
                 }
@@ -817,118 +642,5 @@ impl core::fmt::Display for RtaPdu {
             RtaBody::Nack | RtaBody::Ack => Ok(()),
             RtaBody::Err(e) => write!(f, " {e}"),
         }
-    }
-}
-
-/// How a received DATA-RTA's SendSeqNum relates to what was expected.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Received {
-    /// The expected number: deliver it and answer with an ACK-RTA.
-    New,
-    /// The last received number again (our ACK was lost): answer with the ACK-RTA again, do
-    /// not deliver.
-    Duplicate,
-    /// Anything else: a sequence error (NACK-RTA, abort with [`AbortCode::SequenceError`]).
-    OutOfOrder,
-}
-
-/// The sequence numbers of one alarm channel (one priority) between two endpoints, window 1.
-///
-/// Sending: put [`send_seq`](Self::send_seq) and [`last_received`](Self::last_received) in the
-/// DATA-RTA; when a received DATA or ACK carries it as AckSeqNum
-/// ([`confirms`](Self::confirms)), call [`confirm`](Self::confirm). Receiving: call
-/// [`receive`](Self::receive) with the SendSeqNum of a DATA-RTA and answer New and Duplicate
-/// with an ACK-RTA carrying [`last_sent`](Self::last_sent) and the received number.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct RtaSequence {
-    send_next: u16,
-    last_sent: u16,
-    expected: u16,
-    last_received: u16,
-}
-
-impl Default for RtaSequence {
-    fn default() -> RtaSequence {
-        RtaSequence::new()
-    }
-}
-
-impl RtaSequence {
-    /// A fresh channel: send 0xFFFF next (last 0xFFFE), expect 0xFFFF (last 0xFFFE).
-    pub const fn new() -> RtaSequence {
-        RtaSequence {
-            send_next: SEQ_INITIAL,
-            last_sent: SEQ_INITIAL_LAST,
-            expected: SEQ_INITIAL,
-            last_received: SEQ_INITIAL_LAST,
-        }
-    }
-
-    /// A channel resumed at known numbers (e.g. to replay a captured session from its middle):
-    /// our next send number and last confirmed one, the peer's expected and last accepted one.
-    pub const fn from_parts(
-        send_next: u16,
-        last_sent: u16,
-        expected: u16,
-        last_received: u16,
-    ) -> RtaSequence {
-        RtaSequence {
-            send_next,
-            last_sent,
-            expected,
-            last_received,
-        }
-    }
-
-    /// SendSeqNum of our next (or outstanding) DATA-RTA.
-    pub const fn send_seq(&self) -> u16 {
-        self.send_next
-    }
-
-    /// SendSeqNum of our last confirmed DATA-RTA: the SendSeqNum of our ACK/NACK-RTAs.
-    pub const fn last_sent(&self) -> u16 {
-        self.last_sent
-    }
-
-    /// The SendSeqNum the peer's next DATA-RTA must carry.
-    pub const fn expected(&self) -> u16 {
-        self.expected
-    }
-
-    /// SendSeqNum of the peer's last accepted DATA-RTA: the AckSeqNum of everything we send.
-    pub const fn last_received(&self) -> u16 {
-        self.last_received
-    }
-
-    /// Whether a received AckSeqNum confirms our outstanding DATA-RTA.
-    pub const fn confirms(&self, ack_seq: u16) -> bool {
-        ack_seq == self.send_next
-    }
-
-    /// Our outstanding DATA-RTA was confirmed: advance the send number.
-    pub fn confirm(&mut self) {
-        self.last_sent = self.send_next;
-        self.send_next = next_seq(self.send_next);
-    }
-
-    /// Classifies a received DATA-RTA's SendSeqNum without changing anything.
-    pub const fn classify(&self, send_seq: u16) -> Received {
-        if send_seq == self.expected {
-            Received::New
-        } else if send_seq == self.last_received {
-            Received::Duplicate
-        } else {
-            Received::OutOfOrder
-        }
-    }
-
-    /// Classifies a received DATA-RTA's SendSeqNum and, when it is new, accepts it.
-    pub fn receive(&mut self, send_seq: u16) -> Received {
-        let r = self.classify(send_seq);
-        if r == Received::New {
-            self.last_received = send_seq;
-            self.expected = next_seq(send_seq);
-        }
-        r
     }
 }
