@@ -3,12 +3,12 @@
 //! a controller or simulated device that answers garbage with a malformed frame is a bug even
 //! when nothing panics.
 
+use procimg_nic::MAX_FRAME;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rpc::{self, Header, PacketType};
 use procimg_profinet::wire::rt::{self, FrameIdClass};
 use procimg_profinet::wire::rta_pdu::{self, RtaPdu};
 use procimg_profinet::wire::{MacAddress, dcp};
-use procimg_runtime::phy::MAX_FRAME;
 
 /// Checks an Ethernet frame `who` sent: at most [`MAX_FRAME`] bytes, a whole Ethernet header,
 /// EtherType 0x8892, and a PDU that parses as what its FrameID says (DCP, RTA) or, for

@@ -16,6 +16,7 @@
 
 use crate::ops::{Reader, Writer};
 use crate::wire_check;
+use procimg_nic::{MAX_FRAME, Nic, sim_link};
 use procimg_profinet::controller::plan::ControllerIdentity;
 use procimg_profinet::controller::{
     Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
@@ -29,7 +30,6 @@ use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
-use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
 use procimg_runtime::roles::controller::sim_plant;
 use procimg_runtime::roles::controller::sim_plant::DemoDevice;
 use procimg_runtime::roles::controller::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};

@@ -10,6 +10,7 @@
 //! and datagram that crossed the simulated network, in both directions, must dissect clean in
 //! Wireshark.
 
+use procimg_nic::{MAX_FRAME, Nic, sim_link};
 use procimg_profinet::controller::plan::ControllerIdentity;
 use procimg_profinet::controller::{Action, Controller, DeviceEvent, DeviceState, RecordRequest};
 use procimg_profinet::device_sim::DeviceAction;
@@ -22,7 +23,6 @@ use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
-use procimg_runtime::phy::{MAX_FRAME, Nic, sim_link};
 use procimg_runtime::roles::controller::sim_plant::DemoDevice;
 use procimg_runtime::roles::controller::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};

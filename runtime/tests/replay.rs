@@ -1,18 +1,30 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The capture replay allocates nothing per frame: with procimgd's allocator installed and
-//! this thread marked real-time, receiving and sending thousands of frames (every pacing,
-//! repeating, with an output file) must not allocate once; a negative control proves the
-//! count moves.
+//! The capture replay in procimgd: it allocates nothing per frame (with procimgd's allocator
+//! installed and this thread marked real-time, receiving and sending thousands of frames,
+//! every pacing, repeating, with an output file, must not allocate once; a negative control
+//! proves the count moves), and a replayed cyclic frame lands in the image of the cycle
+//! thread's PROFINET IO.
 
-use pcap_file::pcap::{PcapPacket, PcapWriter};
+use pcap_file::TsResolution;
+use pcap_file::pcap::{PcapHeader, PcapPacket, PcapParser, PcapWriter};
+use procimg_nic::replay::{Pacing, Replay, ReplayOptions};
+use procimg_nic::{MAX_FRAME, Nic};
+use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::wire::MacAddress;
-use procimg_runtime::phy::replay::{Pacing, Replay, ReplayOptions};
-use procimg_runtime::phy::{MAX_FRAME, Nic};
+use procimg_runtime::config;
+use procimg_runtime::image::{Image, Tables};
+use procimg_runtime::io::pnio::PnioIo;
+use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
+use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::sys::rt_alloc::{
     RtAllocator, clear_current_thread_realtime, mark_current_thread_realtime, pool_allocations,
     rt_heap_allocations,
 };
-use std::path::Path;
+use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
+use procimg_testkit::fixtures::profinet_capture;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 #[global_allocator]
@@ -118,5 +130,173 @@ fn replaying_and_sending_allocate_nothing() {
     assert!(received[2] > 0);
     assert!(replays.iter().all(|r| r.sent_dropped() > 0));
     drop(replays);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The S7's port MAC: "ours" in the captures.
+const S7: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f]);
+/// The p-net sample device.
+const PNET_DEVICE: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8]);
+/// A capture's first timestamp: 2026-08-27, as the S7 captures.
+const T0: u64 = 1_787_840_000 * 1_000_000_000;
+const MS: u64 = 1_000_000;
+
+/// A pcap file (nanosecond timestamps) of `records`.
+fn pcap(records: &[(u64, Vec<u8>)]) -> Vec<u8> {
+    let header = PcapHeader {
+        ts_resolution: TsResolution::NanoSecond,
+        ..PcapHeader::default()
+    };
+    let mut w = PcapWriter::with_header(Vec::new(), header).unwrap();
+    for (ts, f) in records {
+        w.write_packet(&PcapPacket::new(
+            Duration::from_nanos(*ts),
+            f.len() as u32,
+            f,
+        ))
+        .unwrap();
+    }
+    w.into_writer()
+}
+
+/// A fresh directory for the files of one test.
+fn temp_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("procimg-replay-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The p-net sample device with the submodules the S7 configured (records aside: they do not
+/// change the frames).
+const PNET_SAMPLE: &str = r#"
+cycle_time = "1ms"
+[[device]]
+name = "rt-labs-dev"
+ip = "172.16.2.10"
+vendor_id = 0x0493
+device_id = 0x0002
+reduction_ratio = 32
+submodule = [
+  { slot = 0, subslot = 1, module_ident = 0x1, submodule_ident = 0x1 },
+  { slot = 0, subslot = 0x8000, module_ident = 0x1, submodule_ident = 0x8000 },
+  { slot = 0, subslot = 0x8001, module_ident = 0x1, submodule_ident = 0x8001 },
+  { slot = 1, subslot = 1, module_ident = 0x30, submodule_ident = 0x130, input_length = 1 },
+  { slot = 2, subslot = 1, module_ident = 0x31, submodule_ident = 0x131, output_length = 1 },
+  { slot = 3, subslot = 1, module_ident = 0x32, submodule_ident = 0x132, input_length = 1, output_length = 1 },
+  { slot = 4, subslot = 1, module_ident = 0x40, submodule_ident = 0x140, input_length = 8, output_length = 8 },
+]
+"#;
+
+/// The cycle thread's PROFINET IO on a replay of the S7 capture, with the AR the S7's Connect
+/// set up: the device's cyclic frame lands in the image when it is due, its alarm goes to the
+/// controller, and the output frame the cycle sends equals the S7's (CycleCounter aside).
+#[test]
+fn a_replayed_cyclic_frame_lands_in_the_image() {
+    let config = config::parse(PNET_SAMPLE, "pnet-sample.toml").unwrap();
+    let plans = procimg_runtime::roles::controller::plan_devices(&config).unwrap();
+    let ar = Box::new(CyclicAr::new(
+        &plans[0],
+        1,
+        S7,
+        PNET_DEVICE,
+        (0x8000, 0x8001),
+    ));
+    let tables = Tables::from_config(&config).unwrap();
+    let mut image = Image::new(&tables);
+    // Outputs valid and consumed, as the cycle has them in OPERATE with clients attached.
+    for s in 0..tables.submodules.len() {
+        image.set_status(
+            s,
+            SubmoduleStatus {
+                input_iops: IOXS_BAD,
+                input_iocs: IOXS_GOOD,
+                output_iops: IOXS_GOOD,
+                output_iocs: IOXS_BAD,
+            },
+        );
+    }
+
+    let dir = temp_dir("image");
+    let out = dir.join("sent.pcap");
+    let file = pcap(&[
+        (T0, profinet_capture("rt/rtc_cpu_8001")),
+        (T0 + MS / 2, profinet_capture("cm/connect_res")),
+        (T0 + MS, profinet_capture("rt/rtc_dev_8000")),
+        (T0 + 2 * MS, profinet_capture("alarm/alarm_process_notif")),
+    ]);
+    let clock = Arc::new(AtomicU64::new(0));
+    let pacing = {
+        let clock = clock.clone();
+        Pacing::Clock(Box::new(move || clock.load(Ordering::Relaxed)))
+    };
+    let replay = Replay::from_bytes(
+        Path::new("s7.pcap"),
+        &file,
+        ReplayOptions {
+            pacing,
+            output: Some(out.clone()),
+            ..ReplayOptions::new(S7)
+        },
+    )
+    .unwrap();
+    let channel = Arc::new(Channel::new());
+    let ranges = std::iter::once(0..tables.submodules.len()).collect();
+    let mut io = PnioIo::new(Box::new(replay), channel.clone(), ranges, config.cycle_ns);
+    assert!(channel.to_cycle.push(ToCycle::Start(ar)).is_ok());
+    let t = |cycle| CycleTime {
+        cycle,
+        now_ns: cycle * MS,
+    };
+    let (di8, dio8) = (3, 5); // slots 1 and 3
+
+    io.receive(t(0), Mode::Operate, &mut image);
+    io.send(t(0), Mode::Operate, &image);
+    assert_eq!(image.inputs(di8), &[0], "not due yet");
+    assert_eq!(image.status(di8).input_iops, IOXS_BAD);
+
+    clock.store(MS, Ordering::Relaxed);
+    io.receive(t(1), Mode::Operate, &mut image);
+    assert_eq!(image.inputs(di8), &[0x2c]);
+    assert_eq!(image.inputs(dio8), &[0x2d]);
+    assert_eq!(image.status(di8).input_iops, IOXS_GOOD);
+    assert_eq!(image.status(dio8).output_iocs, IOXS_GOOD);
+    assert!(channel.from_cycle.pop().is_some_and(|r| matches!(
+        r,
+        FromCycle::DataStarted {
+            device: 0,
+            epoch: 1
+        }
+    )));
+
+    clock.store(2 * MS, Ordering::Relaxed);
+    io.receive(t(2), Mode::Operate, &mut image);
+    match channel.from_cycle.pop() {
+        Some(FromCycle::Received(buf)) => {
+            assert_eq!(
+                buf.bytes(),
+                &profinet_capture("alarm/alarm_process_notif")[..]
+            )
+        }
+        _ => panic!("the alarm frame did not reach the controller"),
+    }
+    let counters = &channel.counters;
+    assert_eq!(counters.cyclic_frames.load(Ordering::Relaxed), 1);
+    assert_eq!(
+        counters.unknown.load(Ordering::Relaxed),
+        0,
+        "ours and UDP are filtered"
+    );
+    drop(io);
+
+    let sent = std::fs::read(&out).unwrap();
+    let (rest, parser) = PcapParser::new(&sent).unwrap();
+    let (_, p) = parser.next_packet(rest).unwrap();
+    let expected = profinet_capture("rt/rtc_cpu_8001");
+    let n = p.data.len();
+    assert_eq!(n, expected.len());
+    assert_eq!(&p.data[..n - 4], &expected[..n - 4], "cyclic output frame");
+    assert_eq!(&p.data[n - 2..], &expected[n - 2..]);
+    assert_eq!(p.timestamp, Duration::from_nanos(T0));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,9 +3,9 @@
 //! pcap file that Wireshark opens.
 
 use anyhow::Context;
-use procimg_runtime::phy::af_packet::AfPacket;
-use procimg_runtime::phy::capture::CaptureWriter;
-use procimg_runtime::phy::{MAX_FRAME, Nic};
+use procimg_nic::af_packet::AfPacket;
+use procimg_nic::capture::CaptureWriter;
+use procimg_nic::{MAX_FRAME, Nic};
 use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};

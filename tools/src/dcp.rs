@@ -3,10 +3,10 @@
 
 use anyhow::{Context, bail};
 use clap::Subcommand;
+use procimg_nic::af_packet::{AfPacket, OpenError};
+use procimg_nic::{MAX_FRAME, Nic};
 use procimg_profinet::dcp_client::{Identify, Set};
 use procimg_profinet::wire::MacAddress;
-use procimg_runtime::phy::af_packet::{AfPacket, OpenError};
-use procimg_runtime::phy::{MAX_FRAME, Nic};
 use std::net::Ipv4Addr;
 use std::time::{Duration, Instant};
 

@@ -3,11 +3,11 @@
 //! arriving from the other side and frames sent on the capturing side both land in the pcap
 //! file, nothing else does, and tshark reads it. Needs root; skipped otherwise.
 
+use procimg_nic::Nic;
+use procimg_nic::af_packet::AfPacket;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::ethernet::ETHERTYPE_PROFINET;
-use procimg_runtime::phy::Nic;
-use procimg_runtime::phy::af_packet::AfPacket;
 use procimg_testkit::netns::{TestNet, frame, is_root};
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};

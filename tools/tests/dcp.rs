@@ -4,11 +4,11 @@
 //! fails clearly. The device is a small DCP responder built on procimg's own codecs. Needs
 //! root; skipped otherwise.
 
+use procimg_nic::af_packet::AfPacket;
+use procimg_nic::{MAX_FRAME, Nic};
 use procimg_profinet::dcp_client;
 use procimg_profinet::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType};
 use procimg_profinet::wire::ethernet;
-use procimg_runtime::phy::af_packet::AfPacket;
-use procimg_runtime::phy::{MAX_FRAME, Nic};
 use procimg_testkit::netns::TestNet;
 use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -6,11 +6,11 @@
 //! Handing a frame out copies it into the caller's buffer, as the kernel's `recvfrom` does
 //! for the real interface: that copy is part of what the PROFINET receive figures include.
 
+use procimg_nic::Nic;
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use procimg_profinet::wire::rt::{self, data_status};
-use procimg_runtime::phy::Nic;
 use procimg_shm_layout::IOXS_GOOD;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};

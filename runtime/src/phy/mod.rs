@@ -1,42 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Network interfaces behind one small trait: AF_PACKET (through pnet) for real interfaces,
-//! an in-process link for the simulated network, and the replay of a capture file. All carry
-//! whole Ethernet frames (without FCS); the interface and the replay deliver only PROFINET
-//! frames (EtherType 0x8892, tagged or not).
+//! The runtime's transport beside the network interfaces of `procimg-nic`: UDP for the
+//! PROFINET connection services, which only the acyclic side and the simulated plant use.
 
-pub mod af_packet;
-pub mod capture;
 pub mod datagram;
-pub mod interfaces;
-pub mod replay;
-pub mod sim_link;
-
-use procimg_profinet::wire::MacAddress;
-
-/// Largest frame handled (a full-size frame with one VLAN tag, without FCS).
-pub const MAX_FRAME: usize = 1518;
-
-/// Refuses a frame longer than [`MAX_FRAME`], as the in-memory links must (their slots
-/// hold that much).
-pub(crate) fn check_frame_len(frame: &[u8]) -> std::io::Result<()> {
-    if frame.len() > MAX_FRAME {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!("frame of {} bytes exceeds {MAX_FRAME}", frame.len()),
-        ));
-    }
-    Ok(())
-}
-
-/// A network interface for PROFINET frames. Implementations must not block longer than the
-/// receive timeout they were made with, and must not allocate per frame.
-pub trait Nic: Send {
-    /// The interface's own MAC address.
-    fn mac(&self) -> MacAddress;
-    /// Sends one frame.
-    fn send(&mut self, frame: &[u8]) -> std::io::Result<()>;
-    /// Receives one PROFINET frame into `buf`, if one is there (or arrives within the
-    /// implementation's timeout); returns its length. Frames this interface sent itself are
-    /// not returned.
-    fn recv(&mut self, buf: &mut [u8]) -> std::io::Result<Option<usize>>;
-}

@@ -2,7 +2,6 @@
 //! The operating-system calls of the server: clocks, real-time scheduling, memory locking.
 //! The only place in the crate besides the shared-memory services where `unsafe` may appear.
 pub mod clock;
-pub mod packet_socket;
 pub mod poll;
 pub mod random;
 pub mod rt;

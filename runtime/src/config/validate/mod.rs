@@ -219,12 +219,12 @@ fn interface_name(name: &str) -> Result<(), String> {
 }
 
 fn interface_exists(name: &str) -> Result<(), String> {
-    if crate::phy::interfaces::exists(name) {
+    if procimg_nic::interfaces::exists(name) {
         return Ok(());
     }
     Err(format!(
         "{}; give one of them (as `ip link` lists it), or \"sim\" for the simulated devices",
-        crate::phy::interfaces::missing(name)
+        procimg_nic::interfaces::missing(name)
     ))
 }
 

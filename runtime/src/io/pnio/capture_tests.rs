@@ -16,7 +16,7 @@ use crate::image::{Image, Tables};
 use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::{Channel, ToCycle};
 use crate::io::{CycleTime, IoSystem};
-use crate::phy::{Nic, sim_link};
+use procimg_nic::{Nic, sim_link};
 use procimg_profinet::controller::plan::ControllerIdentity;
 use procimg_profinet::controller::{Action, Controller, DeviceState};
 use procimg_profinet::wire::rpc::{self, Pdu};

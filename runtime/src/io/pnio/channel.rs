@@ -6,8 +6,8 @@
 //! queues, so neither side allocates per frame and the cycle thread never frees memory; ARs
 //! the cycle thread no longer needs go back to the acyclic side to be dropped there.
 
-use crate::phy::MAX_FRAME;
 use crossbeam_queue::ArrayQueue;
+use procimg_nic::MAX_FRAME;
 use procimg_profinet::controller::cyclic::CyclicAr;
 use std::sync::atomic::{AtomicU64, Ordering};
 

@@ -7,7 +7,7 @@ use super::channel::{Channel, ToCycle};
 use crate::config;
 use crate::image::{Image, Tables};
 use crate::io::{CycleTime, IoSystem};
-use crate::phy::{Nic, sim_link};
+use procimg_nic::{Nic, sim_link};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::wire::MacAddress;
 use procimg_shm_layout::{IOXS_GOOD, Mode};

@@ -14,8 +14,8 @@ pub mod channel;
 
 use super::{CycleTime, IoSystem};
 use crate::image::Image;
-use crate::phy::{MAX_FRAME, Nic};
 use channel::{Channel, FromCycle, NetCounters, ToCycle};
+use procimg_nic::{MAX_FRAME, Nic};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};

@@ -6,9 +6,9 @@
 
 use crate::config::Config;
 use crate::config::SimBehaviour;
-use crate::phy::Nic;
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
-use crate::phy::sim_link::LinkEnd;
+use procimg_nic::Nic;
+use procimg_nic::sim_link::LinkEnd;
 use procimg_profinet::device_sim::{DeviceAction, SimDevice, SimDeviceSpec, SimSubmodule};
 
 /// A simulated device running one of the demo's behaviours.
@@ -105,7 +105,7 @@ pub fn spawn(
             // Without the right to (not root), the devices run at normal priority, as the
             // cycle thread then does too.
             let _ = crate::sys::rt::set_fifo(priority);
-            let mut buf = [0u8; crate::phy::MAX_FRAME];
+            let mut buf = [0u8; procimg_nic::MAX_FRAME];
             let mut out = Vec::new();
             while !stop.load(Ordering::Acquire) {
                 let now = now_ns();

@@ -5,7 +5,7 @@
 //!
 //! **What it returns** is what the AF_PACKET backend would have returned on the interface that
 //! made the capture: PROFINET frames only (EtherType 0x8892, directly or behind one 802.1Q
-//! tag, the same test as the kernel filter of `sys::packet_socket`), and none sent from the
+//! tag, the same test as the kernel filter of the packet socket), and none sent from the
 //! interface's own MAC address. A capture holds both directions; the frames of the own MAC
 //! are what "we" sent and are skipped, as `PACKET_IGNORE_OUTGOING` skips them live.
 //!
@@ -37,8 +37,8 @@
 //! thread owns its interface and never flushes it, a replay inside procimgd writes its
 //! output when the IO system is dropped, and the buffer bounds how much is written.
 
-use super::{Nic, check_frame_len};
-use crate::phy::capture::CaptureError;
+use crate::capture::CaptureError;
+use crate::{Nic, check_frame_len};
 use pcap_file::pcap::{PcapHeader, PcapPacket, PcapParser, PcapWriter};
 use pcap_file::pcapng::PcapNgParser;
 use pcap_file::pcapng::blocks::interface_description::{
@@ -51,7 +51,7 @@ use procimg_profinet::wire::ethernet::{ETHERTYPE_PROFINET, TPID_VLAN};
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Default size of the buffer of sent frames: 1 MiB, about 10 000 typical RT frames.
 pub const DEFAULT_SENT_BUFFER: usize = 1 << 20;
@@ -296,6 +296,8 @@ pub struct Replay {
     /// Next frame to return, and how many passes are complete.
     next: usize,
     pass: u64,
+    /// The time base of [`Pacing::Realtime`] (`Instant` is `CLOCK_MONOTONIC` on Linux).
+    opened: Instant,
     /// The clock at the first `recv`.
     start_ns: Option<u64>,
     /// Replay time of the last frame returned (the clock of [`Pacing::AsFastAsPolled`]).
@@ -347,6 +349,7 @@ impl Replay {
             stats: loaded.stats,
             next: 0,
             pass: 0,
+            opened: Instant::now(),
             start_ns: None,
             position_ns: 0,
             sent: SentBuffer::new(options.sent_buffer),
@@ -419,7 +422,7 @@ impl Replay {
     /// The pacing clock, or `None` without one.
     fn clock(&mut self) -> Option<u64> {
         match &mut self.pacing {
-            Pacing::Realtime => Some(crate::sys::clock::now_ns()),
+            Pacing::Realtime => Some(duration_ns(self.opened.elapsed())),
             Pacing::Clock(f) => Some(f()),
             Pacing::AsFastAsPolled => None,
         }
@@ -492,7 +495,7 @@ impl Drop for Replay {
 }
 
 /// EtherType 0x8892, directly or behind one 802.1Q tag: the test of the AF_PACKET backend's
-/// kernel filter (`sys::packet_socket`), which also drops frames too short to hold the type.
+/// kernel filter (`packet_socket.rs`), which also drops frames too short to hold the type.
 pub fn is_profinet(frame: &[u8]) -> bool {
     let be16 = |at: usize| {
         frame

@@ -2,7 +2,7 @@
 //! An in-process Ethernet link between two ends, for the simulated network and for tests:
 //! what one end sends, the other receives. Bounded, lock-free, allocation-free per frame.
 
-use super::{MAX_FRAME, Nic, check_frame_len};
+use crate::{MAX_FRAME, Nic, check_frame_len};
 use crossbeam_queue::ArrayQueue;
 use procimg_profinet::wire::MacAddress;
 use std::sync::Arc;

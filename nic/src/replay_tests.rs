@@ -1,20 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The capture replay: filtering and pacing against files built from the S7 captures,
-//! pcapng details, sent frames, the error messages, the cyclic frame landing in the image,
-//! and the parser against arbitrary bytes.
+//! pcapng details, sent frames, the error messages, and the parser against arbitrary bytes.
+//! (The cyclic frame of a replay landing in procimgd's image is a test of the runtime.)
 
 use super::*;
-use crate::config;
-use crate::image::{Image, Tables};
-use crate::io::pnio::PnioIo;
-use crate::io::pnio::channel::{Channel, FromCycle, ToCycle};
-use crate::io::{CycleTime, IoSystem};
-use crate::phy::MAX_FRAME;
-use crate::phy::capture::CaptureWriter;
+use crate::MAX_FRAME;
+use crate::capture::CaptureWriter;
 use pcap_file::pcapng::PcapNgWriter;
 use pcap_file::pcapng::blocks::enhanced_packet::EnhancedPacketBlock;
-use procimg_profinet::controller::cyclic::CyclicAr;
-use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
 use procimg_testkit::fixtures::profinet_capture as capture;
 use proptest::prelude::*;
 use std::borrow::Cow;
@@ -620,126 +613,6 @@ fn errors_name_the_file_and_say_what_to_do() {
     ));
     assert!(matches!(e, ReplayError::Output { .. }), "{m}");
     assert!(m.contains(&out.display().to_string()) && m.contains("writable"));
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// The p-net sample device with the submodules the S7 configured (records aside: they do not
-/// change the frames).
-const PNET_SAMPLE: &str = r#"
-cycle_time = "1ms"
-[[device]]
-name = "rt-labs-dev"
-ip = "172.16.2.10"
-vendor_id = 0x0493
-device_id = 0x0002
-reduction_ratio = 32
-submodule = [
-  { slot = 0, subslot = 1, module_ident = 0x1, submodule_ident = 0x1 },
-  { slot = 0, subslot = 0x8000, module_ident = 0x1, submodule_ident = 0x8000 },
-  { slot = 0, subslot = 0x8001, module_ident = 0x1, submodule_ident = 0x8001 },
-  { slot = 1, subslot = 1, module_ident = 0x30, submodule_ident = 0x130, input_length = 1 },
-  { slot = 2, subslot = 1, module_ident = 0x31, submodule_ident = 0x131, output_length = 1 },
-  { slot = 3, subslot = 1, module_ident = 0x32, submodule_ident = 0x132, input_length = 1, output_length = 1 },
-  { slot = 4, subslot = 1, module_ident = 0x40, submodule_ident = 0x140, input_length = 8, output_length = 8 },
-]
-"#;
-
-/// The cycle thread's PROFINET IO on a replay of the S7 capture, with the AR the S7's Connect
-/// set up: the device's cyclic frame lands in the image when it is due, its alarm goes to the
-/// controller, and the output frame the cycle sends equals the S7's (CycleCounter aside).
-#[test]
-fn a_replayed_cyclic_frame_lands_in_the_image() {
-    let config = config::parse(PNET_SAMPLE, "pnet-sample.toml").unwrap();
-    let plans = crate::roles::controller::plan_devices(&config).unwrap();
-    let ar = Box::new(CyclicAr::new(&plans[0], 1, OWN, DEVICE, (0x8000, 0x8001)));
-    let tables = Tables::from_config(&config).unwrap();
-    let mut image = Image::new(&tables);
-    // Outputs valid and consumed, as the cycle has them in OPERATE with clients attached.
-    for s in 0..tables.submodules.len() {
-        image.set_status(
-            s,
-            SubmoduleStatus {
-                input_iops: IOXS_BAD,
-                input_iocs: IOXS_GOOD,
-                output_iops: IOXS_GOOD,
-                output_iocs: IOXS_BAD,
-            },
-        );
-    }
-
-    let dir = temp_dir("image");
-    let out = dir.join("sent.pcap");
-    let file = pcap(&[
-        (T0, capture("rt/rtc_cpu_8001")),
-        (T0 + MS / 2, capture("cm/connect_res")),
-        (T0 + MS, capture("rt/rtc_dev_8000")),
-        (T0 + 2 * MS, capture("alarm/alarm_process_notif")),
-    ]);
-    let (clock, pacing) = manual_clock(0);
-    let replay = Replay::from_bytes(
-        Path::new("s7.pcap"),
-        &file,
-        ReplayOptions {
-            output: Some(out.clone()),
-            ..options(pacing)
-        },
-    )
-    .unwrap();
-    let channel = Arc::new(Channel::new());
-    let ranges = std::iter::once(0..tables.submodules.len()).collect();
-    let mut io = PnioIo::new(Box::new(replay), channel.clone(), ranges, config.cycle_ns);
-    assert!(channel.to_cycle.push(ToCycle::Start(ar)).is_ok());
-    let t = |cycle| CycleTime {
-        cycle,
-        now_ns: cycle * MS,
-    };
-    let (di8, dio8) = (3, 5); // slots 1 and 3
-
-    io.receive(t(0), Mode::Operate, &mut image);
-    io.send(t(0), Mode::Operate, &image);
-    assert_eq!(image.inputs(di8), &[0], "not due yet");
-    assert_eq!(image.status(di8).input_iops, IOXS_BAD);
-
-    clock.store(MS, Ordering::Relaxed);
-    io.receive(t(1), Mode::Operate, &mut image);
-    assert_eq!(image.inputs(di8), &[0x2c]);
-    assert_eq!(image.inputs(dio8), &[0x2d]);
-    assert_eq!(image.status(di8).input_iops, IOXS_GOOD);
-    assert_eq!(image.status(dio8).output_iocs, IOXS_GOOD);
-    assert!(channel.from_cycle.pop().is_some_and(|r| matches!(
-        r,
-        FromCycle::DataStarted {
-            device: 0,
-            epoch: 1
-        }
-    )));
-
-    clock.store(2 * MS, Ordering::Relaxed);
-    io.receive(t(2), Mode::Operate, &mut image);
-    match channel.from_cycle.pop() {
-        Some(FromCycle::Received(buf)) => {
-            assert_eq!(buf.bytes(), &capture("alarm/alarm_process_notif")[..])
-        }
-        _ => panic!("the alarm frame did not reach the controller"),
-    }
-    let counters = &channel.counters;
-    assert_eq!(counters.cyclic_frames.load(Ordering::Relaxed), 1);
-    assert_eq!(
-        counters.unknown.load(Ordering::Relaxed),
-        0,
-        "ours and UDP are filtered"
-    );
-    drop(io);
-
-    let sent = std::fs::read(&out).unwrap();
-    let (rest, parser) = PcapParser::new(&sent).unwrap();
-    let (_, p) = parser.next_packet(rest).unwrap();
-    let expected = capture("rt/rtc_cpu_8001");
-    let n = p.data.len();
-    assert_eq!(n, expected.len());
-    assert_eq!(&p.data[..n - 4], &expected[..n - 4], "cyclic output frame");
-    assert_eq!(&p.data[n - 2..], &expected[n - 2..]);
-    assert_eq!(p.timestamp, Duration::from_nanos(T0));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

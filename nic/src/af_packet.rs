@@ -2,8 +2,8 @@
 //! A real network interface through AF_PACKET (pnet's datalink channel), filtered in the
 //! kernel to PROFINET frames.
 
-use super::Nic;
-use crate::sys::packet_socket::open_profinet_socket;
+use crate::Nic;
+use crate::packet_socket::open_profinet_socket;
 use pnet_datalink::{Channel, ChannelType, Config, DataLinkReceiver, DataLinkSender};
 use procimg_profinet::wire::MacAddress;
 use std::time::Duration;
@@ -89,7 +89,7 @@ impl AfPacket {
         let Some(iface) = interfaces.iter().find(|i| i.name == name) else {
             return Err(OpenError::NoSuchInterface {
                 name: name.to_string(),
-                available: super::interfaces::list(&super::interfaces::names()),
+                available: crate::interfaces::list(&crate::interfaces::names()),
             });
         };
         if !iface.is_up() {

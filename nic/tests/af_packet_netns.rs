@@ -2,11 +2,11 @@
 //! The AF_PACKET backend on a veth pair between two network namespaces that this test creates
 //! (and removes, also when it fails). Needs root; skipped otherwise.
 
+use procimg_nic::af_packet::{AfPacket, OpenError};
+use procimg_nic::{MAX_FRAME, Nic};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use procimg_runtime::phy::af_packet::{AfPacket, OpenError};
-use procimg_runtime::phy::{MAX_FRAME, Nic};
 use std::time::{Duration, Instant};
 
 use procimg_testkit::netns::{TestNet, frame, is_root};
