@@ -545,9 +545,12 @@ impl World {
             cycle: self.cycle,
             now_ns: now,
         };
-        let mut buf = vec![0u8; MAX_FRAME];
-        while let Ok(Some(n)) = self.plant.recv(&mut buf) {
-            let f = &buf[..n];
+        let mut buf = Vec::new();
+        while let Ok(true) = self.plant.receive(&mut |frame| {
+            buf.clear();
+            buf.extend_from_slice(frame);
+        }) {
+            let f = &buf[..];
             for d in 0..self.devices.len() {
                 let mac = self.devices[d].mac();
                 if d == 0

@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! A real network interface through AF_PACKET (pnet's datalink channel), filtered in the
-//! kernel to PROFINET frames.
+//! A real network interface through an AF_PACKET socket, filtered in the kernel to PROFINET
+//! frames. The interface is looked up through pnet (getifaddrs); the socket is ours
+//! (`packet_socket.rs`).
 
-use crate::Nic;
-use crate::packet_socket::open_profinet_socket;
-use pnet_datalink::{Channel, ChannelType, Config, DataLinkReceiver, DataLinkSender};
+use crate::packet_socket::PacketSocket;
+use crate::{MAX_FRAME, Nic, RecvError, SendError, check_frame_len};
 use procimg_profinet::wire::MacAddress;
-use std::time::Duration;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// Why an interface could not be opened.
 ///
@@ -58,24 +59,27 @@ pub enum OpenError {
 
 /// An open interface.
 pub struct AfPacket {
-    name: String,
+    /// Shared with the errors, which then allocate nothing.
+    name: Arc<str>,
     mac: MacAddress,
     /// Deliver frames this host sent too (capture mode).
     both_directions: bool,
-    tx: Box<dyn DataLinkSender>,
-    rx: Box<dyn DataLinkReceiver>,
+    socket: PacketSocket,
+    rx_timeout: Duration,
+    /// The frame being received: handed to the receive closure in place.
+    rx: Box<[u8; MAX_FRAME]>,
 }
 
 impl AfPacket {
-    /// Opens `name` as a protocol endpoint: `recv` returns the PROFINET frames others sent to
-    /// this station, waiting at most `rx_timeout`.
+    /// Opens `name` as a protocol endpoint: `receive` hands over the PROFINET frames others
+    /// sent to this station, waiting at most `rx_timeout`.
     pub fn open(name: &str, rx_timeout: Duration) -> Result<AfPacket, OpenError> {
         AfPacket::open_with(name, rx_timeout, false)
     }
 
-    /// Opens `name` for capturing: `recv` returns the PROFINET frames of both directions,
-    /// including those this host sends, and, the interface being promiscuous, those between
-    /// other stations that reach it.
+    /// Opens `name` for capturing: `receive` hands over the PROFINET frames of both
+    /// directions, including those this host sends, and, the interface being promiscuous,
+    /// those between other stations that reach it.
     pub fn open_capture(name: &str, rx_timeout: Duration) -> Result<AfPacket, OpenError> {
         AfPacket::open_with(name, rx_timeout, true)
     }
@@ -105,47 +109,32 @@ impl AfPacket {
                 });
             }
         };
-        let io = |error: std::io::Error| {
-            if matches!(error.raw_os_error(), Some(libc::EPERM) | Some(libc::EACCES)) {
-                OpenError::NotPermitted {
-                    name: name.to_string(),
+        // A protocol endpoint needs only the frames the NIC takes for this station;
+        // promiscuous, the NIC hands up every frame on the wire and the cycle thread parses
+        // (and counts as unknown) every PROFINET frame between other stations. A capture
+        // wants exactly those.
+        let socket = PacketSocket::open(iface.index, !both_directions, both_directions).map_err(
+            |error| {
+                if matches!(error.raw_os_error(), Some(libc::EPERM) | Some(libc::EACCES)) {
+                    OpenError::NotPermitted {
+                        name: name.to_string(),
+                    }
+                } else {
+                    OpenError::Io {
+                        name: name.to_string(),
+                        error,
+                    }
                 }
-            } else {
-                OpenError::Io {
-                    name: name.to_string(),
-                    error,
-                }
-            }
-        };
-        let fd = open_profinet_socket(!both_directions).map_err(io)?;
-        let config = Config {
-            read_timeout: Some(rx_timeout),
-            // The cycle thread sends: a socket that cannot take a frame now (the kernel has not
-            // freed the frames sent before) must not hold the cycle for milliseconds. The send
-            // fails at once and is counted; the next cycle sends fresh data anyway.
-            write_timeout: Some(Duration::ZERO),
-            channel_type: ChannelType::Layer2,
-            socket_fd: Some(fd),
-            // pnet's default is promiscuous. A protocol endpoint needs only the frames the NIC
-            // takes for this station; promiscuous, the NIC hands up every frame on the wire and
-            // the cycle thread parses (and counts as unknown) every PROFINET frame between
-            // other stations. A capture wants exactly those.
-            promiscuous: both_directions,
-            ..Config::default()
-        };
-        match pnet_datalink::channel(iface, config).map_err(io)? {
-            Channel::Ethernet(tx, rx) => Ok(AfPacket {
-                name: name.to_string(),
-                mac,
-                both_directions,
-                tx,
-                rx,
-            }),
-            _ => Err(OpenError::Io {
-                name: name.to_string(),
-                error: std::io::Error::other("not an Ethernet channel"),
-            }),
-        }
+            },
+        )?;
+        Ok(AfPacket {
+            name: name.into(),
+            mac,
+            both_directions,
+            socket,
+            rx_timeout,
+            rx: Box::new([0; MAX_FRAME]),
+        })
     }
 
     /// The interface name.
@@ -159,28 +148,53 @@ impl Nic for AfPacket {
         self.mac
     }
 
-    fn send(&mut self, frame: &[u8]) -> std::io::Result<()> {
-        match self.tx.send_to(frame, None) {
-            Some(r) => r,
-            None => Err(std::io::Error::other("the interface took no frame")),
-        }
+    fn send(&mut self, frame: &[u8]) -> Result<(), SendError> {
+        check_frame_len(&self.name, frame)?;
+        self.socket.send(frame).map_err(|error| SendError::Io {
+            interface: self.name.clone(),
+            error,
+        })
     }
 
-    fn recv(&mut self, buf: &mut [u8]) -> std::io::Result<Option<usize>> {
+    fn receive(&mut self, f: &mut dyn FnMut(&[u8])) -> Result<bool, RecvError> {
+        // Read lazily: a zero timeout (the cycle thread's) never reads the clock.
+        let mut deadline = None;
         loop {
-            match self.rx.next() {
-                Ok(frame) => {
-                    // Our own frames, where the kernel still loops them back.
-                    if !self.both_directions && frame.len() >= 12 && frame[6..12] == self.mac.0 {
-                        continue;
+            let len = match self.socket.recv(&mut self.rx[..]) {
+                Ok(Some(len)) => len,
+                Ok(None) => {
+                    if self.rx_timeout.is_zero() {
+                        return Ok(false);
                     }
-                    let n = frame.len().min(buf.len());
-                    buf[..n].copy_from_slice(&frame[..n]);
-                    return Ok(Some(n));
+                    let deadline =
+                        *deadline.get_or_insert_with(|| Instant::now() + self.rx_timeout);
+                    let left = deadline.saturating_duration_since(Instant::now());
+                    if left.is_zero() || !self.socket.wait(left) {
+                        return Ok(false);
+                    }
+                    continue;
                 }
-                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => return Ok(None),
-                Err(e) => return Err(e),
+                Err(error) => {
+                    return Err(RecvError::Io {
+                        interface: self.name.clone(),
+                        error,
+                    });
+                }
+            };
+            // The kernel wrote only what fits; the length is the frame's on the wire.
+            let Some(frame) = self.rx.get(..len) else {
+                return Err(RecvError::TooLong {
+                    interface: self.name.clone(),
+                    len,
+                    max: MAX_FRAME,
+                });
+            };
+            // Our own frames, where the kernel still loops them back.
+            if !self.both_directions && frame.get(6..12) == Some(&self.mac.0[..]) {
+                continue;
             }
+            f(frame);
+            return Ok(true);
         }
     }
 }

@@ -1,8 +1,15 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The raw AF_PACKET socket a NIC backend reads and writes, with a kernel filter that lets
-//! only PROFINET frames through, so the cycle thread never wakes for other traffic.
+//! The raw AF_PACKET socket the AF_PACKET backend reads and writes, with a kernel filter that
+//! lets only PROFINET frames through, so the cycle thread never wakes for other traffic. The
+//! crate's system calls, behind a safe interface.
+//!
+//! The socket is ours rather than a library's channel for the receive: `recv` with
+//! `MSG_TRUNC` returns a frame's real length, so a frame longer than the buffer is seen
+//! instead of arriving cut.
 
-use std::os::fd::RawFd;
+use std::io;
+use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
+use std::time::Duration;
 
 /// Classic BPF: accept EtherType 0x8892, directly or behind one 802.1Q tag; drop the rest.
 const PROFINET_FILTER: [libc::sock_filter; 7] = [
@@ -16,7 +23,7 @@ const PROFINET_FILTER: [libc::sock_filter; 7] = [
     bpf(0x28, 0, 0, 16),
     // jeq #0x8892 -> accept, else reject
     bpf(0x15, 0, 1, 0x8892),
-    // accept: the whole frame
+    // accept: the whole frame, so that MSG_TRUNC reports the length of a long one
     bpf(0x06, 0, 0, 0x0004_0000),
     // reject
     bpf(0x06, 0, 0, 0),
@@ -26,55 +33,160 @@ const fn bpf(code: u16, jt: u8, jf: u8, k: u32) -> libc::sock_filter {
     libc::sock_filter { code, jt, jf, k }
 }
 
-/// `PACKET_IGNORE_OUTGOING` (Linux 4.20): do not deliver our own outgoing frames back to us.
-const PACKET_IGNORE_OUTGOING: libc::c_int = 23;
+/// An AF_PACKET raw socket bound to one interface, with the PROFINET filter attached.
+/// Closed when dropped.
+pub(crate) struct PacketSocket {
+    fd: OwnedFd,
+}
 
-/// Opens an AF_PACKET raw socket for all protocols with the PROFINET filter attached. With
-/// `ignore_outgoing`, frames sent from this host are not delivered to it (what a protocol
-/// endpoint wants); without, it sees both directions (what a capture wants). The caller binds
-/// it to an interface and owns the descriptor.
-pub fn open_profinet_socket(ignore_outgoing: bool) -> std::io::Result<RawFd> {
-    let proto = (libc::ETH_P_ALL as u16).to_be() as libc::c_int;
-    // SAFETY: socket(2) with constant arguments; the result is checked.
-    let fd = unsafe { libc::socket(libc::AF_PACKET, libc::SOCK_RAW, proto) };
-    if fd < 0 {
-        return Err(std::io::Error::last_os_error());
+impl PacketSocket {
+    /// Opens a socket on the interface with index `ifindex`. With `ignore_outgoing`, frames
+    /// sent from this host are not delivered to it (what a protocol endpoint wants); without,
+    /// it sees both directions (what a capture wants). With `promiscuous`, the interface
+    /// also hands up the frames between other stations.
+    pub(crate) fn open(
+        ifindex: u32,
+        ignore_outgoing: bool,
+        promiscuous: bool,
+    ) -> io::Result<PacketSocket> {
+        let ifindex = libc::c_int::try_from(ifindex)
+            .map_err(|_| io::Error::from(io::ErrorKind::InvalidInput))?;
+        // Protocol 0: the socket takes no frame until `bind` names the protocol, so none
+        // arrives unfiltered before the filter is attached.
+        // SAFETY: socket(2) with constant arguments; the result is checked.
+        let fd = unsafe { libc::socket(libc::AF_PACKET, libc::SOCK_RAW | libc::SOCK_CLOEXEC, 0) };
+        if fd < 0 {
+            return Err(io::Error::last_os_error());
+        }
+        // SAFETY: `fd` was just opened and nothing else owns it; from here on it is closed on
+        // every return.
+        let fd = unsafe { OwnedFd::from_raw_fd(fd) };
+        let socket = PacketSocket { fd };
+        let filter = libc::sock_fprog {
+            len: PROFINET_FILTER.len() as u16,
+            // The kernel copies the program and never writes through the pointer.
+            filter: PROFINET_FILTER.as_ptr().cast_mut(),
+        };
+        socket.set_option(libc::SOL_SOCKET, libc::SO_ATTACH_FILTER, &filter)?;
+        if ignore_outgoing {
+            // Failure (kernels before 4.20) only means own frames come back, which the
+            // backend also filters by source address.
+            let _ = socket.set_option(
+                libc::SOL_PACKET,
+                libc::PACKET_IGNORE_OUTGOING,
+                &(1 as libc::c_int),
+            );
+        }
+        if promiscuous {
+            let membership = libc::packet_mreq {
+                mr_ifindex: ifindex,
+                mr_type: libc::PACKET_MR_PROMISC as libc::c_ushort,
+                mr_alen: 0,
+                mr_address: [0; 8],
+            };
+            socket.set_option(libc::SOL_PACKET, libc::PACKET_ADD_MEMBERSHIP, &membership)?;
+        }
+        let address = libc::sockaddr_ll {
+            sll_family: libc::AF_PACKET as libc::c_ushort,
+            sll_protocol: (libc::ETH_P_ALL as u16).to_be(),
+            sll_ifindex: ifindex,
+            sll_hatype: 0,
+            sll_pkttype: 0,
+            sll_halen: 0,
+            sll_addr: [0; 8],
+        };
+        // SAFETY: `address` is a valid sockaddr_ll, and the length passed is its size.
+        let rc = unsafe {
+            libc::bind(
+                socket.fd.as_raw_fd(),
+                (&address as *const libc::sockaddr_ll).cast(),
+                size_of::<libc::sockaddr_ll>() as libc::socklen_t,
+            )
+        };
+        if rc != 0 {
+            return Err(io::Error::last_os_error());
+        }
+        Ok(socket)
     }
-    let prog = libc::sock_fprog {
-        len: PROFINET_FILTER.len() as u16,
-        filter: PROFINET_FILTER.as_ptr() as *mut libc::sock_filter,
-    };
-    // SAFETY: `prog` points at a valid filter array that outlives the call (the kernel copies
-    // it); the option length is the size of the struct passed.
-    let rc = unsafe {
-        libc::setsockopt(
-            fd,
-            libc::SOL_SOCKET,
-            libc::SO_ATTACH_FILTER,
-            (&prog as *const libc::sock_fprog).cast(),
-            std::mem::size_of::<libc::sock_fprog>() as libc::socklen_t,
-        )
-    };
-    if rc != 0 {
-        let e = std::io::Error::last_os_error();
-        // SAFETY: closing the descriptor this function opened.
-        unsafe { libc::close(fd) };
-        return Err(e);
+
+    fn set_option<T>(&self, level: libc::c_int, name: libc::c_int, value: &T) -> io::Result<()> {
+        // SAFETY: `value` points at a live `T` of the size passed, which the kernel only
+        // reads (and copies) during the call.
+        let rc = unsafe {
+            libc::setsockopt(
+                self.fd.as_raw_fd(),
+                level,
+                name,
+                (value as *const T).cast(),
+                size_of::<T>() as libc::socklen_t,
+            )
+        };
+        if rc == 0 {
+            Ok(())
+        } else {
+            Err(io::Error::last_os_error())
+        }
     }
-    if !ignore_outgoing {
-        return Ok(fd);
+
+    /// Sends `frame` without waiting: a socket that cannot take a frame now (the kernel has
+    /// not freed the frames sent before) fails at once rather than holding the cycle thread.
+    pub(crate) fn send(&self, frame: &[u8]) -> io::Result<()> {
+        // SAFETY: `frame` is valid for reads of its length during the call.
+        let n = unsafe {
+            libc::send(
+                self.fd.as_raw_fd(),
+                frame.as_ptr().cast(),
+                frame.len(),
+                libc::MSG_DONTWAIT,
+            )
+        };
+        match usize::try_from(n) {
+            Ok(n) if n == frame.len() => Ok(()),
+            // A packet socket sends a frame whole or not at all.
+            Ok(_) => Err(io::ErrorKind::WriteZero.into()),
+            Err(_) => Err(io::Error::last_os_error()),
+        }
     }
-    let one: libc::c_int = 1;
-    // SAFETY: an int option; failure (older kernels) only means own frames come back, which
-    // the backend also filters by source address.
-    unsafe {
-        libc::setsockopt(
-            fd,
-            libc::SOL_PACKET,
-            PACKET_IGNORE_OUTGOING,
-            (&one as *const libc::c_int).cast(),
-            std::mem::size_of::<libc::c_int>() as libc::socklen_t,
-        )
-    };
-    Ok(fd)
+
+    /// Takes the next frame into `buf` without waiting and returns its length on the wire:
+    /// larger than `buf` when the frame did not fit (only `buf.len()` bytes of it were
+    /// written, and the rest is gone). `None` when no frame is queued.
+    pub(crate) fn recv(&self, buf: &mut [u8]) -> io::Result<Option<usize>> {
+        // SAFETY: `buf` is valid for writes of its length during the call; MSG_TRUNC changes
+        // only the return value, the kernel writes at most `buf.len()` bytes.
+        let n = unsafe {
+            libc::recv(
+                self.fd.as_raw_fd(),
+                buf.as_mut_ptr().cast(),
+                buf.len(),
+                libc::MSG_TRUNC | libc::MSG_DONTWAIT,
+            )
+        };
+        if let Ok(n) = usize::try_from(n) {
+            return Ok(Some(n));
+        }
+        let error = io::Error::last_os_error();
+        match error.kind() {
+            io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted => Ok(None),
+            _ => Err(error),
+        }
+    }
+
+    /// Waits up to `timeout` for a frame (or an error) to be queued; whether one is.
+    /// `ppoll` sleeps on a high-resolution timer: a timeout below a millisecond is kept.
+    pub(crate) fn wait(&self, timeout: Duration) -> bool {
+        let mut fd = libc::pollfd {
+            fd: self.fd.as_raw_fd(),
+            events: libc::POLLIN,
+            revents: 0,
+        };
+        let ts = libc::timespec {
+            tv_sec: libc::time_t::try_from(timeout.as_secs()).unwrap_or(libc::time_t::MAX),
+            tv_nsec: timeout.subsec_nanos() as libc::c_long,
+        };
+        // SAFETY: `fd` is one valid pollfd, `ts` a valid timespec, and a null signal mask
+        // keeps the thread's own.
+        let rc = unsafe { libc::ppoll(&mut fd, 1, &ts, std::ptr::null()) };
+        rc > 0
+    }
 }

@@ -16,17 +16,19 @@
 //! address are skipped.
 //!
 //! **Pacing.** A frame is due at its capture time relative to the first record of the file,
-//! counted from the first [`recv`](Nic::recv) call, on `CLOCK_MONOTONIC`
+//! counted from the first [`receive`](Nic::receive) call, on `CLOCK_MONOTONIC`
 //! ([`Pacing::Realtime`]) or on a clock the caller supplies ([`Pacing::Clock`], for
-//! deterministic tests); `recv` returns it at the first call at or after that time, so the
+//! deterministic tests); `receive` hands it over at the first call at or after that time, so the
 //! cycle sees a frame in the first cycle after it is due. [`Pacing::AsFastAsPolled`] ignores
 //! the timestamps. With [`ReplayOptions::repeat`], the replay starts over after the last
 //! record (the devices' CycleCounters start over too, so a consumer's staleness check may
 //! drop frames for a while after the seam).
 //!
-//! **The file is read whole when the replay is opened**, parsed and filtered there: `recv`
-//! only copies bytes out of one buffer and never reads the file or allocates, as the trait
-//! requires. Memory is about the size of the PROFINET frames in the file.
+//! **The file is read whole when the replay is opened**, parsed and filtered there: `receive`
+//! only hands over a slice of one buffer and never reads the file or allocates, as the trait
+//! requires. Frames longer than [`MAX_FRAME`] are skipped there, as the AF_PACKET backend
+//! drops them ([`ReplayStats::too_long`]). Memory is about the size of the PROFINET frames in
+//! the file.
 //!
 //! **Frames sent** are copied into a buffer allocated at construction (bounded by
 //! [`ReplayOptions::sent_buffer`]; a frame that does not fit is dropped and counted) and can
@@ -38,7 +40,7 @@
 //! output when the IO system is dropped, and the buffer bounds how much is written.
 
 use crate::capture::CaptureError;
-use crate::{Nic, check_frame_len};
+use crate::{MAX_FRAME, Nic, RecvError, SendError, check_frame_len};
 use pcap_file::pcap::{PcapHeader, PcapPacket, PcapParser, PcapWriter};
 use pcap_file::pcapng::PcapNgParser;
 use pcap_file::pcapng::blocks::interface_description::{
@@ -51,6 +53,7 @@ use procimg_profinet::wire::ethernet::{ETHERTYPE_PROFINET, TPID_VLAN};
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Default size of the buffer of sent frames: 1 MiB, about 10 000 typical RT frames.
@@ -151,12 +154,12 @@ pub enum ReplayError {
 
 /// When a replayed frame is returned.
 pub enum Pacing {
-    /// At its capture time relative to the first `recv` call, on `CLOCK_MONOTONIC`.
+    /// At its capture time relative to the first `receive` call, on `CLOCK_MONOTONIC`.
     Realtime,
     /// Like [`Realtime`](Pacing::Realtime), on a caller's clock in nanoseconds (tests,
-    /// simulated time). It must not allocate: `recv` and `send` call it.
+    /// simulated time). It must not allocate: `receive` and `send` call it.
     Clock(Box<dyn FnMut() -> u64 + Send>),
-    /// As soon as asked: every `recv` returns the next frame.
+    /// As soon as asked: every `receive` hands over the next frame.
     AsFastAsPolled,
 }
 
@@ -213,6 +216,9 @@ pub struct ReplayStats {
     /// PROFINET frames captured incompletely (snap length), skipped: a live interface never
     /// delivers part of a frame.
     pub cut: u64,
+    /// PROFINET frames longer than [`MAX_FRAME`], skipped: the AF_PACKET backend drops them
+    /// too (and reports them).
+    pub too_long: u64,
 }
 
 /// A frame to return: where it is in the data, when it is due.
@@ -283,6 +289,8 @@ struct Output {
 /// A capture replayed as a network interface.
 pub struct Replay {
     origin: PathBuf,
+    /// `origin`, for the errors of `send`, which then allocate nothing.
+    name: Arc<str>,
     mac: MacAddress,
     pacing: Pacing,
     /// The frames to return, back to back.
@@ -298,7 +306,7 @@ pub struct Replay {
     pass: u64,
     /// The time base of [`Pacing::Realtime`] (`Instant` is `CLOCK_MONOTONIC` on Linux).
     opened: Instant,
-    /// The clock at the first `recv`.
+    /// The clock at the first `receive`.
     start_ns: Option<u64>,
     /// Replay time of the last frame returned (the clock of [`Pacing::AsFastAsPolled`]).
     position_ns: u64,
@@ -338,6 +346,7 @@ impl Replay {
         let span = loaded.last_ns.saturating_sub(loaded.first_ns);
         Ok(Replay {
             origin: origin.to_path_buf(),
+            name: origin.display().to_string().into(),
             mac: options.mac,
             pacing: options.pacing,
             data: loaded.data,
@@ -428,7 +437,7 @@ impl Replay {
         }
     }
 
-    /// Time since the replay started (the first `recv`), on the replay's clock.
+    /// Time since the replay started (the first `receive`), on the replay's clock.
     fn elapsed(&mut self) -> u64 {
         match (self.clock(), self.start_ns) {
             (Some(now), Some(start)) => now.saturating_sub(start),
@@ -443,14 +452,14 @@ impl Nic for Replay {
         self.mac
     }
 
-    fn send(&mut self, frame: &[u8]) -> std::io::Result<()> {
-        check_frame_len(frame)?;
+    fn send(&mut self, frame: &[u8]) -> Result<(), SendError> {
+        check_frame_len(&self.name, frame)?;
         let at = self.first_ns.saturating_add(self.elapsed());
         self.sent.push(at, frame);
         Ok(())
     }
 
-    fn recv(&mut self, buf: &mut [u8]) -> std::io::Result<Option<usize>> {
+    fn receive(&mut self, f: &mut dyn FnMut(&[u8])) -> Result<bool, RecvError> {
         let now = self.clock();
         let start = *self.start_ns.get_or_insert(now.unwrap_or(0));
         if self.next >= self.frames.len() {
@@ -459,11 +468,11 @@ impl Nic for Replay {
                     self.next = 0;
                     self.pass += 1;
                 }
-                _ => return Ok(None),
+                _ => return Ok(false),
             }
         }
         let Some(&frame) = self.frames.get(self.next) else {
-            return Ok(None);
+            return Ok(false);
         };
         let due = self
             .pass
@@ -472,17 +481,16 @@ impl Nic for Replay {
         if let Some(now) = now
             && now.saturating_sub(start) < due
         {
-            return Ok(None);
+            return Ok(false);
         }
         let bytes = self
             .data
             .get(frame.start..frame.start + frame.len)
             .unwrap_or(&[]);
-        let n = bytes.len().min(buf.len());
-        buf[..n].copy_from_slice(&bytes[..n]);
         self.next += 1;
         self.position_ns = due;
-        Ok(Some(n))
+        f(bytes);
+        Ok(true)
     }
 }
 
@@ -569,6 +577,8 @@ impl Collector {
             l.stats.own += 1;
         } else if (frame.len() as u64) < u64::from(orig_len) {
             l.stats.cut += 1;
+        } else if frame.len() > MAX_FRAME {
+            l.stats.too_long += 1;
         } else {
             l.stats.profinet += 1;
             // Out-of-order timestamps (merged captures) make a frame due at once.

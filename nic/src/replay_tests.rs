@@ -65,14 +65,18 @@ fn temp_dir(test: &str) -> PathBuf {
     dir
 }
 
-/// Every frame the replay returns now.
+/// Every frame the replay hands over now.
 fn drain(r: &mut Replay) -> Vec<Vec<u8>> {
-    let mut buf = [0u8; MAX_FRAME];
     let mut out = Vec::new();
-    while let Some(n) = r.recv(&mut buf).unwrap() {
-        out.push(buf[..n].to_vec());
-    }
+    while r.receive(&mut |f| out.push(f.to_vec())).unwrap() {}
     out
+}
+
+/// The next frame the replay hands over now, if any.
+fn next(r: &mut Replay) -> Option<Vec<u8>> {
+    let mut got = None;
+    r.receive(&mut |f| got = Some(f.to_vec())).unwrap();
+    got
 }
 
 /// A frame from `src` with the PROFINET EtherType (untagged) and `tag` as payload.
@@ -133,6 +137,7 @@ fn a_file_of_the_capture_writer_replays_its_frames() {
             own: 1,
             other: 1,
             cut: 0,
+            too_long: 0,
         }
     );
     assert_eq!(
@@ -191,31 +196,26 @@ fn the_device_profinet_frames_of_a_capture_come_in_order_and_in_time() {
         .map(|(t, f, _)| (t - T0, f.clone()))
         .collect();
 
-    // The clock starts somewhere; the replay counts from the first recv.
+    // The clock starts somewhere; the replay counts from the first receive.
     let start = 42 * MS;
     let (clock, pacing) = manual_clock(start);
     let mut r = Replay::from_bytes(Path::new("s7.pcap"), &file, options(pacing)).unwrap();
     assert_eq!(r.stats().profinet, expected.len() as u64);
     assert_eq!(r.stats().records, records.len() as u64);
-    let mut buf = [0u8; MAX_FRAME];
     let mut got = Vec::new();
     for (due, frame) in &expected {
         if *due > 0 {
             clock.store(start + due - 1, Ordering::Relaxed);
-            assert_eq!(r.recv(&mut buf).unwrap(), None, "a frame before {due} ns");
+            assert_eq!(next(&mut r), None, "a frame before {due} ns");
         }
         clock.store(start + due, Ordering::Relaxed);
-        let n = r.recv(&mut buf).unwrap().expect("the frame due now");
-        assert_eq!(&buf[..n], &frame[..], "the frame due at {due} ns");
-        got.push(buf[..n].to_vec());
-        assert_eq!(
-            r.recv(&mut buf).unwrap(),
-            None,
-            "only one frame at {due} ns"
-        );
+        let f = next(&mut r).expect("the frame due now");
+        assert_eq!(&f, frame, "the frame due at {due} ns");
+        got.push(f);
+        assert_eq!(next(&mut r), None, "only one frame at {due} ns");
     }
     clock.store(start + 3_600_000 * MS, Ordering::Relaxed);
-    assert_eq!(r.recv(&mut buf).unwrap(), None);
+    assert_eq!(next(&mut r), None);
     assert!(r.is_finished());
     for f in &got {
         assert!(is_profinet(f), "no UDP");
@@ -297,6 +297,26 @@ fn snap_length_cut_frames_are_skipped() {
     .unwrap();
     assert_eq!(r.stats().cut, 1);
     assert!(drain(&mut r).is_empty());
+}
+
+/// A frame longer than the AF_PACKET backend takes is skipped, as that backend drops it; the
+/// frames around it come through.
+#[test]
+fn frames_longer_than_max_frame_are_skipped() {
+    let mut long = pn_frame(DEVICE, 2);
+    long.resize(MAX_FRAME + 1, 0xee);
+    let mut longest = pn_frame(DEVICE, 3);
+    longest.resize(MAX_FRAME, 0xee);
+    let file = pcap(&[
+        (T0, pn_frame(DEVICE, 1)),
+        (T0 + MS, long),
+        (T0 + 2 * MS, longest.clone()),
+    ]);
+    let mut r =
+        Replay::from_bytes(Path::new("x.pcap"), &file, options(Pacing::AsFastAsPolled)).unwrap();
+    assert_eq!(r.stats().too_long, 1);
+    assert_eq!(r.stats().profinet, 2);
+    assert_eq!(drain(&mut r), vec![pn_frame(DEVICE, 1), longest]);
 }
 
 #[test]
@@ -406,6 +426,7 @@ fn pcapng_interfaces_blocks_and_resolutions() {
             own: 1,
             other: 1,
             cut: 0,
+            too_long: 0,
         }
     );
     let at = |ms: u64, r: &mut Replay| {
@@ -442,13 +463,14 @@ fn sent_frames_are_kept_and_written_on_flush_and_on_drop() {
         },
     )
     .unwrap();
-    let mut buf = [0u8; MAX_FRAME];
-    r.recv(&mut buf).unwrap();
+    next(&mut r);
     clock.store(1_004 * MS, Ordering::Relaxed);
     r.send(&pn_frame(OWN, 10)).unwrap();
     r.send(&pn_frame(OWN, 11)).unwrap();
     r.send(&pn_frame(OWN, 12)).unwrap();
-    assert!(r.send(&[0; MAX_FRAME + 1]).is_err());
+    let e = r.send(&[0; MAX_FRAME + 1]).unwrap_err();
+    assert!(matches!(e, SendError::TooLong { len: 1519, .. }), "{e}");
+    assert!(e.to_string().contains("\"x.pcap\""), "{e}");
     assert_eq!(r.sent_dropped(), 1);
     let sent: Vec<_> = r.sent().map(|(t, f)| (t, f.to_vec())).collect();
     // On the capture's time line: 4 ms after its start.
@@ -496,9 +518,8 @@ fn as_fast_as_polled_stamps_sent_frames_with_the_replay_position() {
     ]);
     let mut r =
         Replay::from_bytes(Path::new("x.pcap"), &file, options(Pacing::AsFastAsPolled)).unwrap();
-    let mut buf = [0u8; MAX_FRAME];
-    r.recv(&mut buf).unwrap();
-    r.recv(&mut buf).unwrap();
+    next(&mut r);
+    next(&mut r);
     r.send(&pn_frame(OWN, 1)).unwrap();
     let (t, _) = r.sent().next().unwrap();
     assert_eq!(t, Duration::from_nanos(T0 + 10 * MS));
@@ -628,11 +649,12 @@ fn play(bytes: &[u8]) {
         },
     );
     if let Ok(mut r) = opened {
-        let mut buf = [0u8; 64];
         let frames = r.stats().profinet as usize;
         for _ in 0..2 * frames + 1 {
-            let _ = r.recv(&mut buf);
-            let _ = r.send(&buf);
+            let mut len = 0;
+            let _ = r.receive(&mut |f| len = f.len());
+            assert!(len <= MAX_FRAME, "a frame of {len} bytes handed over");
+            let _ = r.send(&[0; 64]);
         }
     }
 }

@@ -2,10 +2,14 @@
 //! An in-process Ethernet link between two ends, for the simulated network and for tests:
 //! what one end sends, the other receives. Bounded, lock-free, allocation-free per frame.
 
-use crate::{MAX_FRAME, Nic, check_frame_len};
+use crate::{MAX_FRAME, Nic, RecvError, SendError, check_frame_len};
 use crossbeam_queue::ArrayQueue;
 use procimg_profinet::wire::MacAddress;
 use std::sync::Arc;
+
+/// The ends' name in messages: the simulated network is `network = "sim"` in procimgd's
+/// configuration.
+const NAME: &str = "sim";
 
 /// Frames in flight per direction; more are dropped, as a real link drops under overload.
 const DEPTH: usize = 256;
@@ -17,6 +21,7 @@ struct Slot {
 
 /// One end of a simulated link.
 pub struct LinkEnd {
+    name: Arc<str>,
     mac: MacAddress,
     tx: Arc<ArrayQueue<Box<Slot>>>,
     rx: Arc<ArrayQueue<Box<Slot>>>,
@@ -31,6 +36,7 @@ pub fn link(a: MacAddress, b: MacAddress) -> (LinkEnd, LinkEnd) {
     let ab = Arc::new(ArrayQueue::new(DEPTH));
     let ba = Arc::new(ArrayQueue::new(DEPTH));
     let free = Arc::new(ArrayQueue::new(2 * DEPTH));
+    let name: Arc<str> = NAME.into();
     for _ in 0..2 * DEPTH {
         let _ = free.push(Box::new(Slot {
             len: 0,
@@ -39,6 +45,7 @@ pub fn link(a: MacAddress, b: MacAddress) -> (LinkEnd, LinkEnd) {
     }
     (
         LinkEnd {
+            name: name.clone(),
             mac: a,
             tx: ab.clone(),
             rx: ba.clone(),
@@ -46,6 +53,7 @@ pub fn link(a: MacAddress, b: MacAddress) -> (LinkEnd, LinkEnd) {
             dropped: 0,
         },
         LinkEnd {
+            name,
             mac: b,
             tx: ba,
             rx: ab,
@@ -60,8 +68,8 @@ impl Nic for LinkEnd {
         self.mac
     }
 
-    fn send(&mut self, frame: &[u8]) -> std::io::Result<()> {
-        check_frame_len(frame)?;
+    fn send(&mut self, frame: &[u8]) -> Result<(), SendError> {
+        check_frame_len(&self.name, frame)?;
         match self.free.pop() {
             Some(mut slot) => {
                 slot.len = frame.len();
@@ -76,14 +84,14 @@ impl Nic for LinkEnd {
         Ok(())
     }
 
-    fn recv(&mut self, buf: &mut [u8]) -> std::io::Result<Option<usize>> {
+    fn receive(&mut self, f: &mut dyn FnMut(&[u8])) -> Result<bool, RecvError> {
         let Some(slot) = self.rx.pop() else {
-            return Ok(None);
+            return Ok(false);
         };
-        let n = slot.len.min(buf.len());
-        buf[..n].copy_from_slice(&slot.data[..n]);
+        // `send` stored at most MAX_FRAME bytes: the slot holds the whole frame.
+        f(&slot.data[..slot.len.min(MAX_FRAME)]);
         let _ = self.free.push(slot);
-        Ok(Some(n))
+        Ok(true)
     }
 }
 
@@ -98,12 +106,15 @@ mod tests {
         let (mut x, mut y) = link(a, b);
         x.send(&[1, 2, 3]).unwrap();
         y.send(&[4; 60]).unwrap();
-        let mut buf = [0u8; MAX_FRAME];
-        assert_eq!(y.recv(&mut buf).unwrap(), Some(3));
-        assert_eq!(&buf[..3], &[1, 2, 3]);
-        assert_eq!(x.recv(&mut buf).unwrap(), Some(60));
-        assert_eq!(x.recv(&mut buf).unwrap(), None);
-        assert!(x.send(&[0; MAX_FRAME + 1]).is_err());
+        let mut got = Vec::new();
+        assert!(y.receive(&mut |f| got = f.to_vec()).unwrap());
+        assert_eq!(got, [1, 2, 3]);
+        assert!(x.receive(&mut |f| got = f.to_vec()).unwrap());
+        assert_eq!(got, [4; 60]);
+        assert!(!x.receive(&mut |_| panic!("no frame was sent")).unwrap());
+        let e = x.send(&[0; MAX_FRAME + 1]).unwrap_err();
+        assert!(matches!(e, SendError::TooLong { len: 1519, .. }), "{e}");
+        assert!(e.to_string().contains("\"sim\""), "{e}");
     }
 
     #[test]

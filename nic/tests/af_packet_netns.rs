@@ -1,25 +1,25 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The AF_PACKET backend on a veth pair between two network namespaces that this test creates
-//! (and removes, also when it fails). Needs root; skipped otherwise.
+//! The AF_PACKET backend on a veth pair between two network namespaces that these tests
+//! create (and remove, also when they fail): PROFINET frames cross and nothing else does, a
+//! frame too long for the receive buffer is reported and not handed over cut, and opening a
+//! missing or down interface says what is wrong. Need root; skipped otherwise.
 
 use procimg_nic::af_packet::{AfPacket, OpenError};
-use procimg_nic::{MAX_FRAME, Nic};
+use procimg_nic::{MAX_FRAME, Nic, RecvError, SendError};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::dcp;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_testkit::netns::{TestNet, frame, ip, is_root};
 use std::time::{Duration, Instant};
 
-use procimg_testkit::netns::{TestNet, frame, is_root};
-
+/// The next frame within `t`, copied out of the backend's buffer.
 fn recv_within(nic: &mut AfPacket, t: Duration) -> Option<Vec<u8>> {
     let until = Instant::now() + t;
-    let mut buf = [0u8; MAX_FRAME];
-    while Instant::now() < until {
-        if let Some(n) = nic.recv(&mut buf).unwrap() {
-            return Some(buf[..n].to_vec());
-        }
+    let mut got = None;
+    while got.is_none() && Instant::now() < until {
+        nic.receive(&mut |f| got = Some(f.to_vec())).unwrap();
     }
-    None
+    got
 }
 
 #[test]
@@ -145,4 +145,80 @@ fn opening_a_missing_or_down_interface_says_what_is_wrong() {
     );
     assert!(r.1, "{}", r.2);
     assert!(r.2.contains("ip link set"), "{}", r.2);
+}
+
+#[test]
+#[ignore = "needs root (network namespaces): run as root with --ignored"]
+fn a_frame_longer_than_the_buffer_is_reported_not_cut() {
+    assert!(
+        is_root(),
+        "this test builds network namespaces, which needs root: run it as root"
+    );
+    let net = TestNet::new("t", true);
+    // Jumbo frames on the link, as on a network where a station's MTU is too large.
+    for i in 0..2 {
+        ip(&["-n", &net.ns[i], "link", "set", &net.ifs[i], "mtu", "3000"]);
+    }
+    let (ready_tx, ready_rx) = std::sync::mpsc::channel::<()>();
+    let receiver = net.in_ns(1, move |ifname| {
+        let mut nic = AfPacket::open(&ifname, Duration::from_millis(20)).unwrap();
+        ready_tx.send(()).unwrap();
+        let until = Instant::now() + Duration::from_secs(3);
+        let mut results = Vec::new();
+        while results.len() < 3 && Instant::now() < until {
+            let mut len = None;
+            match nic.receive(&mut |f| len = Some(f.len())) {
+                Ok(true) => results.push(Ok(len.expect("the closure ran"))),
+                Ok(false) => {}
+                Err(e) => results.push(Err(e)),
+            }
+        }
+        results
+    });
+    ready_rx.recv().unwrap();
+    net.in_ns(0, move |ifname| {
+        let mut nic = AfPacket::open(&ifname, Duration::from_millis(1)).unwrap();
+        let (dst, src) = ([2, 9, 9, 9, 9, 9], nic.mac().0);
+        let pn = |len: usize| frame(dst, src, ETHERTYPE_PROFINET, &vec![0x80; len - 14]);
+        // The backend sends no frame longer than MAX_FRAME: the long one goes out through a
+        // pnet channel, which sends what it is given.
+        let e = nic.send(&pn(2000)).unwrap_err();
+        assert!(matches!(e, SendError::TooLong { len: 2000, .. }), "{e}");
+        nic.send(&pn(60)).unwrap();
+        send_unchecked(&ifname, &pn(2000));
+        nic.send(&pn(MAX_FRAME)).unwrap();
+    })
+    .join()
+    .expect("sending failed");
+    let results = receiver.join().expect("receiving failed");
+    assert_eq!(results.len(), 3, "{results:?}");
+    assert!(matches!(results[0], Ok(60)), "{results:?}");
+    match &results[1] {
+        Err(e @ RecvError::TooLong { len: 2000, max, .. }) => {
+            assert_eq!(*max, MAX_FRAME);
+            let m = e.to_string();
+            assert!(
+                m.contains(&net.ifs[1]) && m.contains("2000") && m.contains("MTU"),
+                "{m}"
+            );
+        }
+        other => panic!("the long frame came as {other:?}"),
+    }
+    assert!(matches!(results[2], Ok(MAX_FRAME)), "{results:?}");
+}
+
+/// Sends `f` on `ifname` whatever its length, through pnet's channel.
+fn send_unchecked(ifname: &str, f: &[u8]) {
+    let iface = pnet_datalink::interfaces()
+        .into_iter()
+        .find(|i| i.name == ifname)
+        .expect("the interface");
+    let pnet_datalink::Channel::Ethernet(mut tx, _rx) =
+        pnet_datalink::channel(&iface, Default::default()).expect("a pnet channel")
+    else {
+        panic!("not an Ethernet channel");
+    };
+    tx.send_to(f, None)
+        .expect("pnet took the frame")
+        .expect("the long frame was sent");
 }

@@ -10,7 +10,7 @@
 //! and datagram that crossed the simulated network, in both directions, must dissect clean in
 //! Wireshark.
 
-use procimg_nic::{MAX_FRAME, Nic, sim_link};
+use procimg_nic::{Nic, sim_link};
 use procimg_profinet::controller::plan::ControllerIdentity;
 use procimg_profinet::controller::{Action, Controller, DeviceEvent, DeviceState, RecordRequest};
 use procimg_profinet::device_sim::DeviceAction;
@@ -157,9 +157,8 @@ impl World {
             now_ns: now,
         };
         // The plant takes what the controller sent and does its work.
-        let mut buf = [0u8; MAX_FRAME];
-        while let Some(n) = self.plant.recv(&mut buf).unwrap() {
-            let f = buf[..n].to_vec();
+        let mut f = Vec::new();
+        while self.plant.receive(&mut |frame| f = frame.to_vec()).unwrap() {
             self.record_frame(&f, true);
             for d in 0..self.devices.len() {
                 let mut out = Vec::new();

@@ -5,7 +5,7 @@
 use anyhow::Context;
 use procimg_nic::af_packet::AfPacket;
 use procimg_nic::capture::CaptureWriter;
-use procimg_nic::{MAX_FRAME, Nic};
+use procimg_nic::{Nic, RecvError};
 use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,20 +31,38 @@ pub fn run(
         output.display()
     );
     let mut frames = 0u64;
-    let mut buf = [0u8; MAX_FRAME];
+    let mut too_long = 0u64;
     while !stop.load(Ordering::Relaxed)
         && until.is_none_or(|u| Instant::now() < u)
         && count.is_none_or(|c| frames < c)
     {
-        if let Some(n) = nic.recv(&mut buf)? {
+        let mut written = Ok(());
+        let received = nic.receive(&mut |frame| {
             let now = SystemTime::now()
                 .duration_since(UNIX_EPOCH)
                 .unwrap_or_default();
-            writer.write(now, &buf[..n])?;
-            frames += 1;
+            written = writer.write(now, frame);
+        });
+        match received {
+            Ok(true) => {
+                written?;
+                frames += 1;
+            }
+            Ok(false) => {}
+            // Not recorded (the interface dropped it); said once, counted at the end.
+            Err(e @ RecvError::TooLong { .. }) => {
+                if too_long == 0 {
+                    eprintln!("warning: {e}");
+                }
+                too_long += 1;
+            }
+            Err(e) => return Err(e.into()),
         }
     }
     writer.finish()?;
     println!("{frames} frames written to {}", output.display());
+    if too_long > 0 {
+        eprintln!("{too_long} frames longer than a PROFINET frame were not recorded");
+    }
     Ok(())
 }

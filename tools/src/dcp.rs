@@ -4,7 +4,7 @@
 use anyhow::{Context, bail};
 use clap::Subcommand;
 use procimg_nic::af_packet::{AfPacket, OpenError};
-use procimg_nic::{MAX_FRAME, Nic};
+use procimg_nic::{Nic, RecvError};
 use procimg_profinet::dcp_client::{Identify, Set};
 use procimg_profinet::wire::MacAddress;
 use std::net::Ipv4Addr;
@@ -127,7 +127,6 @@ pub fn iface_error(error: OpenError) -> anyhow::Error {
 pub fn run(iface: &str, op: DcpCommand) -> anyhow::Result<()> {
     let mut nic = AfPacket::open(iface, Duration::from_millis(10)).map_err(iface_error)?;
     let me = nic.mac();
-    let mut buf = [0u8; MAX_FRAME];
     match op {
         DcpCommand::Scan { name, wait_ms } => {
             let mut id = Identify::new(xid());
@@ -136,9 +135,9 @@ pub fn run(iface: &str, op: DcpCommand) -> anyhow::Result<()> {
             nic.send(&id.request(me, name.as_deref(), rdf)?)?;
             let until = Instant::now() + Duration::from_millis(wait_ms + 100);
             while Instant::now() < until {
-                if let Some(n) = nic.recv(&mut buf)? {
-                    id.on_frame(&buf[..n]);
-                }
+                receive(&mut nic, &mut |frame| {
+                    id.on_frame(frame);
+                })?;
             }
             if id.devices().is_empty() {
                 bail!(
@@ -197,14 +196,13 @@ pub fn run(iface: &str, op: DcpCommand) -> anyhow::Result<()> {
 /// Sends a Set and waits for the answer: 1 s, three tries.
 fn set(nic: &mut AfPacket, request: Set) -> anyhow::Result<()> {
     let frame = request.request(nic.mac())?;
-    let mut buf = [0u8; MAX_FRAME];
     for _ in 0..3 {
         nic.send(&frame).context("sending the DCP request")?;
         let until = Instant::now() + Duration::from_secs(1);
         while Instant::now() < until {
-            if let Some(n) = nic.recv(&mut buf)?
-                && let Some(outcome) = request.on_frame(&buf[..n])
-            {
+            let mut outcome = None;
+            receive(nic, &mut |frame| outcome = request.on_frame(frame))?;
+            if let Some(outcome) = outcome {
                 println!("{outcome}");
                 return match outcome {
                     procimg_profinet::dcp_client::SetOutcome::Done => Ok(()),
@@ -214,4 +212,17 @@ fn set(nic: &mut AfPacket, request: Set) -> anyhow::Result<()> {
         }
     }
     bail!("the device did not answer in 3 s: check the MAC address and that it is on this network")
+}
+
+/// Receives a frame into `f`, if one comes within the interface's timeout. A frame too long
+/// for any PROFINET station is not the answer waited for: it is skipped, with a warning.
+fn receive(nic: &mut AfPacket, f: &mut dyn FnMut(&[u8])) -> anyhow::Result<()> {
+    match nic.receive(f) {
+        Ok(_) => Ok(()),
+        Err(e @ RecvError::TooLong { .. }) => {
+            eprintln!("warning: {e}");
+            Ok(())
+        }
+        Err(e) => Err(e.into()),
+    }
 }

@@ -4,8 +4,8 @@
 //! fails clearly. The device is a small DCP responder built on procimg's own codecs. Needs
 //! root; skipped otherwise.
 
+use procimg_nic::Nic;
 use procimg_nic::af_packet::AfPacket;
-use procimg_nic::{MAX_FRAME, Nic};
 use procimg_profinet::dcp_client;
 use procimg_profinet::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType};
 use procimg_profinet::wire::ethernet;
@@ -18,12 +18,13 @@ use std::time::Duration;
 /// Answers Identify (as "echo" until renamed) and every Set with success, recording the Sets.
 fn responder(nic: &mut AfPacket, stop: &AtomicBool, sets: &Mutex<Vec<String>>) {
     let mut name = String::from("echo");
-    let mut buf = [0u8; MAX_FRAME];
+    let mut buf = Vec::new();
     while !stop.load(Ordering::Relaxed) {
-        let Ok(Some(n)) = nic.recv(&mut buf) else {
+        // Copied out: the answer is sent through the interface the frame is in.
+        let Ok(true) = nic.receive(&mut |f| buf = f.to_vec()) else {
             continue;
         };
-        let Ok(eth) = ethernet::Frame::new_checked(&buf[..n]) else {
+        let Ok(eth) = ethernet::Frame::new_checked(&buf[..]) else {
             continue;
         };
         let from = eth.src();

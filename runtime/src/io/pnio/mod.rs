@@ -15,7 +15,7 @@ pub mod channel;
 use super::{CycleTime, IoSystem};
 use crate::image::Image;
 use channel::{Channel, FromCycle, NetCounters, ToCycle};
-use procimg_nic::{MAX_FRAME, Nic};
+use procimg_nic::{Nic, RecvError, SendError};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
@@ -59,7 +59,6 @@ pub struct PnioIo {
     retired: Vec<Box<CyclicAr>>,
     /// Reports that did not fit the queue yet (capacity reserved).
     pending: Vec<FromCycle>,
-    rx: Box<[u8; MAX_FRAME]>,
     /// 31.25 µs units per cycle, for the CycleCounter.
     cycle_units: u64,
 }
@@ -83,7 +82,6 @@ impl PnioIo {
             device_submodules,
             retired: Vec::with_capacity(4 * n + 8),
             pending: Vec::with_capacity(4 * n + 8),
-            rx: Box::new([0; MAX_FRAME]),
             cycle_units: (cycle_ns / crate::config::CYCLE_UNIT_NS).max(1),
         }
     }
@@ -167,9 +165,8 @@ impl PnioIo {
         }
     }
 
-    fn take_frame(&mut self, len: usize, now_ns: u64, image: &mut Image) {
+    fn take_frame(&mut self, frame: &[u8], now_ns: u64, image: &mut Image) {
         let counters = &self.channel.counters;
-        let frame = &self.rx[..len.min(MAX_FRAME)];
         let Ok(eth) = ethernet::Frame::new_checked(frame) else {
             NetCounters::count(&counters.malformed);
             return;
@@ -275,6 +272,24 @@ impl PnioIo {
     }
 }
 
+/// Stands in for the interface while the receive loop has it, and is never used: it has no
+/// frames and drops what it is given.
+struct SetAside;
+
+impl Nic for SetAside {
+    fn mac(&self) -> procimg_profinet::wire::MacAddress {
+        procimg_profinet::wire::MacAddress::default()
+    }
+
+    fn send(&mut self, _: &[u8]) -> Result<(), SendError> {
+        Ok(())
+    }
+
+    fn receive(&mut self, _: &mut dyn FnMut(&[u8])) -> Result<bool, RecvError> {
+        Ok(false)
+    }
+}
+
 /// Marks a device's submodules as not exchanged: inputs and the device's consumer status
 /// BAD, except directions without data, which stay GOOD as IO-Base specifies.
 fn mark_disconnected(image: &mut Image, range: core::ops::Range<usize>) {
@@ -311,16 +326,23 @@ impl IoSystem for PnioIo {
                 self.stop(d, Some(image));
             }
         }
+        // The interface is set aside while it receives, so that the closure parsing its frames
+        // in place may use the rest of `self`; the stand-in, a box of a zero-sized type,
+        // allocates nothing.
+        let mut nic = core::mem::replace(&mut self.nic, Box::new(SetAside));
         let mut frames = 0;
         while frames < MAX_FRAMES_PER_CYCLE {
-            match self.nic.recv(&mut self.rx[..]) {
-                Ok(Some(n)) => {
+            match nic.receive(&mut |frame| self.take_frame(frame, t.now_ns, image)) {
+                Ok(true) => frames += 1,
+                // Dropped by the interface: a frame longer than any PROFINET frame.
+                Err(RecvError::TooLong { .. }) => {
                     frames += 1;
-                    self.take_frame(n, t.now_ns, image);
+                    NetCounters::count(&self.channel.counters.malformed);
                 }
-                Ok(None) | Err(_) => break,
+                Ok(false) | Err(RecvError::Io { .. }) => break,
             }
         }
+        self.nic = nic;
         self.check_watchdogs(t.now_ns, image);
     }
 

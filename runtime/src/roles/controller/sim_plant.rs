@@ -105,41 +105,50 @@ pub fn spawn(
             // Without the right to (not root), the devices run at normal priority, as the
             // cycle thread then does too.
             let _ = crate::sys::rt::set_fifo(priority);
-            let mut buf = [0u8; procimg_nic::MAX_FRAME];
             let mut out = Vec::new();
+            // The devices' frames, sent once the link is not being read.
+            let mut frames = Vec::new();
             while !stop.load(Ordering::Acquire) {
                 let now = now_ns();
-                while let Ok(Some(n)) = link.recv(&mut buf) {
+                while let Ok(true) = link.receive(&mut |frame| {
                     for d in &mut devices {
-                        d.on_frame(&buf[..n], now, &mut out);
-                        deliver(&mut out, d, &mut link, &udp);
+                        d.on_frame(frame, now, &mut out);
+                        deliver(&mut out, d, &mut frames, &udp);
                     }
+                }) {
+                    send_all(&mut frames, &mut link);
                 }
                 while let Ok(g) = udp.rx.try_recv() {
                     if let Some(d) = devices.iter_mut().find(|d| d.ip() == g.to.ip().octets()) {
                         d.on_datagram(g.from, g.to.port(), &g.payload, now, &mut out);
-                        deliver(&mut out, d, &mut link, &udp);
+                        deliver(&mut out, d, &mut frames, &udp);
                     }
                 }
+                send_all(&mut frames, &mut link);
                 let mut next = now + MAX_SLEEP_NS;
                 for d in &mut devices {
                     d.poll(now, &mut out);
-                    deliver(&mut out, d, &mut link, &udp);
+                    deliver(&mut out, d, &mut frames, &udp);
                     if let Some(t) = d.next_deadline_ns() {
                         next = next.min(t);
                     }
                 }
+                send_all(&mut frames, &mut link);
                 sleep_until_ns(next.max(now + 20_000));
             }
         })
 }
 
-fn deliver(out: &mut Vec<DeviceAction>, d: &DemoDevice, link: &mut LinkEnd, udp: &SimDatagramPeer) {
+/// Sends the datagrams of `out` and moves its frames to `frames`.
+fn deliver(
+    out: &mut Vec<DeviceAction>,
+    d: &DemoDevice,
+    frames: &mut Vec<Vec<u8>>,
+    udp: &SimDatagramPeer,
+) {
     for a in out.drain(..) {
         match a {
-            DeviceAction::Frame(f) => {
-                let _ = link.send(&f);
-            }
+            DeviceAction::Frame(f) => frames.push(f),
             DeviceAction::Datagram {
                 to,
                 from_port,
@@ -152,5 +161,12 @@ fn deliver(out: &mut Vec<DeviceAction>, d: &DemoDevice, link: &mut LinkEnd, udp:
                 });
             }
         }
+    }
+}
+
+fn send_all(frames: &mut Vec<Vec<u8>>, link: &mut LinkEnd) {
+    for f in frames.drain(..) {
+        // A full link drops, as a real one does.
+        let _ = link.send(&f);
     }
 }
