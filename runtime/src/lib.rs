@@ -9,7 +9,7 @@
 //!   cycle::thread ─ cycle::Engine ─────┘   (SCHED_FIFO, no allocation)
 //!                 │
 //!                 ▼
-//!        io::pnio (cyclic frames) ◀── phy (AF_PACKET, simulated link)
+//!        io::pnio (cyclic frames) ◀── procimg_nic (AF_PACKET, simulated link, replay)
 //!                 ▲
 //!                 │ channel
 //!   acyclic (thread) ── roles::Role (controller: DCP, RPC, alarms)
