@@ -166,9 +166,12 @@ impl Nic for AfPacket {
                     if self.rx_timeout.is_zero() {
                         return Ok(false);
                     }
-                    let deadline =
-                        *deadline.get_or_insert_with(|| Instant::now() + self.rx_timeout);
-                    let left = deadline.saturating_duration_since(Instant::now());
+                    // `None`: a timeout past the clock's range; each wait then takes all of it.
+                    let deadline = *deadline
+                        .get_or_insert_with(|| Instant::now().checked_add(self.rx_timeout));
+                    let left = deadline.map_or(self.rx_timeout, |d| {
+                        d.saturating_duration_since(Instant::now())
+                    });
                     if left.is_zero() || !self.socket.wait(left) {
                         return Ok(false);
                     }
