@@ -56,8 +56,37 @@ impl TestNet {
         ip(&["-n", &net.ns[0], "link", "set", &net.ifs[0], "up"]);
         if second_up {
             ip(&["-n", &net.ns[1], "link", "set", &net.ifs[1], "up"]);
+            for i in 0..2 {
+                net.wait_until_running(i);
+            }
         }
         net
+    }
+
+    /// Waits until end `i` carries frames. `ip link set up` returns before the kernel's link
+    /// watch has given the veth its queue: until then a frame sent is dropped without an
+    /// error, and a test that sends once (a DCP Identify) waits for an answer that never
+    /// comes. The link watch runs from a work queue, late on a loaded machine.
+    fn wait_until_running(&self, i: usize) {
+        let until = std::time::Instant::now() + std::time::Duration::from_secs(10);
+        loop {
+            let out = Command::new("ip")
+                .args(["-n", &self.ns[i], "link", "show", "dev", &self.ifs[i]])
+                .output()
+                .expect("the ip command (iproute2)");
+            let line = String::from_utf8_lossy(&out.stdout);
+            // `qdisc noop` is the placeholder that drops everything; `state UP` comes once the
+            // carrier is on both ends.
+            if line.contains("state UP") && !line.contains("qdisc noop") {
+                return;
+            }
+            assert!(
+                std::time::Instant::now() < until,
+                "{} did not come up within 10 s: {line}",
+                self.ifs[i]
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
     }
 
     /// Runs `f` on a thread that has entered namespace `i`.
