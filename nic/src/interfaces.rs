@@ -21,6 +21,19 @@ pub fn exists(name: &str) -> bool {
     pnet_datalink::interfaces().iter().any(|i| i.name == name)
 }
 
+/// The first IPv4 address of interface `name`, if it has one.
+pub fn ipv4(name: &str) -> Option<std::net::Ipv4Addr> {
+    pnet_datalink::interfaces()
+        .into_iter()
+        .find(|i| i.name == name)?
+        .ips
+        .into_iter()
+        .find_map(|ip| match ip.ip() {
+            std::net::IpAddr::V4(v4) => Some(v4),
+            _ => None,
+        })
+}
+
 /// `names`, for a message: `eth0, lo`, or `none` when there are none.
 pub fn list(names: &[String]) -> String {
     if names.is_empty() {
@@ -50,6 +63,8 @@ mod tests {
         assert!(exists("lo"));
         assert!(names().iter().any(|n| n == "lo"));
         assert!(!exists("nosuchif0"));
+        assert_eq!(ipv4("lo"), Some(std::net::Ipv4Addr::LOCALHOST));
+        assert_eq!(ipv4("nosuchif0"), None);
         let m = missing("nosuchif0");
         assert!(m.contains("\"nosuchif0\" does not exist"), "{m}");
         assert!(m.contains("lo"), "{m}");

@@ -114,8 +114,8 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                         origin: config.origin.clone(),
                         error,
                     })?;
-                let ip =
-                    interface_ipv4(name).ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
+                let ip = procimg_nic::interfaces::ipv4(name)
+                    .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
                 let udp = UdpDatagrams::bind(ip)?;
                 let mac = nic.mac();
                 (Box::new(nic), Box::new(udp), mac, ip)
@@ -214,17 +214,4 @@ fn open_advice(error: &OpenError) -> String {
         }
         OpenError::Down { .. } | OpenError::Io { .. } => error.to_string(),
     }
-}
-
-/// The first IPv4 address of interface `name`.
-fn interface_ipv4(name: &str) -> Option<Ipv4Addr> {
-    pnet_datalink::interfaces()
-        .into_iter()
-        .find(|i| i.name == name)?
-        .ips
-        .into_iter()
-        .find_map(|ip| match ip.ip() {
-            std::net::IpAddr::V4(v4) => Some(v4),
-            _ => None,
-        })
 }
