@@ -51,18 +51,19 @@
 //! assert!(world.port().exchanges().count() == 1, "after {cycles} cycles");
 //! ```
 
+mod intercept;
 mod port;
 pub mod tap;
 #[cfg(test)]
 mod tests;
 
+pub use intercept::{Intercepted, Interceptor, Kind};
 pub use port::{Direct, Port, Report, Tick};
 use procimg_profinet::controller::plan::{ControllerIdentity, DevicePlan};
 use procimg_profinet::controller::{Action, Controller, DeviceEvent, DeviceState};
 use procimg_profinet::device_sim::{Application, DeviceAction, SimDevice};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
-use procimg_profinet::wire::rt::FrameIdClass;
 use std::net::{Ipv4Addr, SocketAddrV4};
 use tap::{Filter, Message, Origin, Record};
 
@@ -118,58 +119,12 @@ pub fn controller_identity(
     }
 }
 
-/// The kind of a message a device sends toward the controller.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Kind {
-    /// A UDP datagram.
-    Datagram,
-    /// An acyclic frame (DCP, alarm) or one without a FrameID.
-    Acyclic,
-    /// A cyclic (RT) frame.
-    Cyclic,
-}
-
-impl Kind {
-    /// The kind of an Ethernet frame, tagged or not, by its FrameID.
-    pub fn of_frame(frame: &[u8]) -> Kind {
-        let at = if frame.get(12..14) == Some(&[0x81, 0x00]) {
-            16
-        } else {
-            12
-        };
-        let id = frame
-            .get(at + 2..at + 4)
-            .map_or(0, |b| u16::from_be_bytes([b[0], b[1]]));
-        if FrameIdClass::of(id).is_cyclic() {
-            Kind::Cyclic
-        } else {
-            Kind::Acyclic
-        }
-    }
-}
-
-/// A message a device sends toward the controller, handed to an [`Interceptor`].
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Intercepted {
-    /// The sending device.
-    pub device: usize,
-    /// What it is.
-    pub kind: Kind,
-    /// The frame, or the datagram's payload.
-    pub bytes: Vec<u8>,
-}
-
-/// A faulty network between the devices and the controller: given each message a device
-/// sends toward the controller, it returns what arrives instead (nothing: dropped; changed
-/// bytes: corrupted; two: repeated).
-pub type Interceptor = Box<dyn FnMut(Intercepted) -> Vec<Vec<u8>>>;
-
 /// What crossed the world's network so far.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     /// Frames the controller's port put on the segment.
     pub controller_frames: u64,
-    /// Frames that reached the controller's port (after an interceptor).
+    /// Frames that reached the controller's port (after an interceptor; injected ones too).
     pub device_frames: u64,
     /// Datagrams the controller sent.
     pub controller_datagrams: u64,
@@ -318,7 +273,8 @@ impl<A: Application, P: Port> World<A, P> {
     }
 
     /// Starts recording: from now on every frame and datagram is shown to `keep`, and kept
-    /// if it says so. Replaces an earlier tap and what it kept.
+    /// if it says so. The tap sees each message as its sender put it on the network, before
+    /// an interceptor changes or drops it. Replaces an earlier tap and what it kept.
     pub fn tap(&mut self, keep: impl FnMut(&Record) -> bool + 'static) -> &mut Self {
         self.tap = Some(Tap {
             keep: Box::new(keep),
