@@ -74,7 +74,10 @@ const IOXS_GOOD: u8 = 0x80;
 /// One running exchange of [`Direct`].
 #[derive(Debug)]
 struct Exchange {
+    /// As the controller handed it over.
     ar: Box<CyclicAr>,
+    /// The output frame this port sends; the AR's own stays as it came.
+    frame: Vec<u8>,
     /// When its last input frame arrived; `None` before the first (the watchdog is armed by
     /// the first frame, as the consumer side of the standard has it).
     last_rx_ns: Option<u64>,
@@ -99,7 +102,7 @@ impl Direct {
         Direct::default()
     }
 
-    /// The running exchanges, by device index.
+    /// The running exchanges, by device index, as the controller handed them over.
     pub fn exchanges(&self) -> impl Iterator<Item = &CyclicAr> + '_ {
         self.running.iter().map(|e| &*e.ar)
     }
@@ -141,6 +144,7 @@ impl Port for Direct {
         self.running.insert(
             at,
             Exchange {
+                frame: ar.frame.clone(),
                 ar,
                 last_rx_ns: None,
             },
@@ -187,7 +191,7 @@ impl Port for Direct {
     fn send(&mut self, tick: Tick) {
         let counter = (tick.now_ns / COUNTER_UNIT_NS) as u16;
         for e in &mut self.running {
-            let ar = &mut e.ar;
+            let (ar, frame) = (&e.ar, &mut e.frame);
             if !tick
                 .cycle
                 .is_multiple_of(u64::from(ar.timing.every_cycles.max(1)))
@@ -196,15 +200,15 @@ impl Port for Direct {
             }
             let c_sdu = ar.payload_offset() + 2;
             for o in &ar.output.objects {
-                ar.frame[c_sdu + o.iops] = IOXS_GOOD;
+                frame[c_sdu + o.iops] = IOXS_GOOD;
             }
             for c in &ar.output.iocs {
-                ar.frame[c_sdu + c.offset] = IOXS_GOOD;
+                frame[c_sdu + c.offset] = IOXS_GOOD;
             }
             let trailer = c_sdu + ar.output.data_length;
             let [hi, lo] = counter.to_be_bytes();
-            ar.frame[trailer..trailer + 4].copy_from_slice(&[hi, lo, data_status::OPERATE, 0]);
-            self.outgoing.push(ar.frame.clone());
+            frame[trailer..trailer + 4].copy_from_slice(&[hi, lo, data_status::OPERATE, 0]);
+            self.outgoing.push(frame.clone());
         }
     }
 }

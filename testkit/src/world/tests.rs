@@ -4,6 +4,7 @@
 
 use super::tap::{Message, Origin, Record, pcap};
 use super::*;
+use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::plan::{DeviceSpec, SubmoduleSpec};
 use procimg_profinet::device_sim::{SimDeviceSpec, SimSubmodule};
 
@@ -102,6 +103,13 @@ fn the_devices_come_up_and_exchange_data() {
     let records = bring_up(&mut w);
     let exchanges: Vec<usize> = w.port().exchanges().map(|ar| ar.device).collect();
     assert_eq!(exchanges, [0, 1]);
+    // As the controller handed them over: the port sends from frames of its own.
+    for ar in w.port().exchanges() {
+        let plan = w.controller().plan(ar.device).unwrap();
+        let ids = (ar.input.frame_id, ar.output.frame_id);
+        let own = w.controller().identity().mac;
+        assert_eq!(*ar, CyclicAr::new(plan, ar.epoch, own, ar.peer, ids));
+    }
     assert!(w.devices().iter().all(|d| d.ar_uuid().is_some()));
     assert!(
         w.events()
