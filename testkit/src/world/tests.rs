@@ -176,4 +176,7 @@ fn an_injected_frame_reaches_the_controller_port_and_the_tap() {
     // Not a PROFINET frame: the port drops it, and nothing breaks.
     w.step();
     assert_eq!(w.cycle(), 2);
+    w.run_until(10 * MS);
+    assert_eq!((w.now(), w.cycle()), (10 * MS, 10));
+    assert!(w.events().is_empty(), "offline, the controller did nothing");
 }
