@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The controller and simulated devices on a simulated network in simulated time, built as
-//! `runtime/tests/controller_bringup.rs` builds it (controller, cycle-thread IO system over an
-//! in-process link, simulated devices), driven by a sequence of operations ([`ops`]) that
-//! let libFuzzer advance time, inject arbitrary frames and datagrams, corrupt, cut, drop or
-//! repeat what the devices send, and act as a client would (online/offline, activation,
-//! record jobs, alarm acknowledgements, output data).
+//! The controller and simulated devices on the test kit's simulated network in simulated
+//! time ([`procimg_testkit::world`]), with procimgd's cycle thread as the controller's port
+//! ([`Cycle`]: the PROFINET IO system over an in-process link, and its image), driven by a
+//! sequence of operations ([`ops`]) that let libFuzzer advance time, inject arbitrary frames
+//! and datagrams, corrupt, cut, drop or repeat what the devices send, and act as a client
+//! would (online/offline, activation, record jobs, alarm acknowledgements, output data).
 //!
 //! The controller draws its ARUUIDs from a fixed seed here, so a run replays exactly; still,
 //! corrupting the live answers of real simulated devices reaches every state of the
@@ -17,15 +17,12 @@
 use crate::ops::{Reader, Writer};
 use crate::wire_check;
 use procimg_nic::{MAX_FRAME, Nic, sim_link};
-use procimg_profinet::controller::plan::ControllerIdentity;
-use procimg_profinet::controller::{
-    Action, AlarmTicket, Controller, DeviceEvent, DeviceState, RecordRequest,
-};
+use procimg_profinet::controller::cyclic::CyclicAr;
+use procimg_profinet::controller::{AlarmTicket, DeviceEvent, DeviceState, RecordRequest};
 use procimg_profinet::device_sim::DeviceAction;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
-use procimg_profinet::wire::rt::FrameIdClass;
-use procimg_runtime::config::{self, Config};
+use procimg_runtime::config::{self, Config, SimBehaviour};
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
@@ -34,7 +31,9 @@ use procimg_runtime::roles::controller::sim_plant;
 use procimg_runtime::roles::controller::sim_plant::DemoDevice;
 use procimg_runtime::roles::controller::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
-use std::net::{Ipv4Addr, SocketAddrV4};
+use procimg_testkit::world::tap::{Message, Origin, Record};
+use procimg_testkit::world::{self as net, Intercepted, Kind, Port, Report, Setup, Tick};
+use std::net::SocketAddrV4;
 use std::sync::{Arc, OnceLock};
 
 /// One millisecond in ns, the cycle time of [`CONFIG`].
@@ -172,27 +171,42 @@ struct Tamper {
     how: How,
 }
 
-/// The kind of a message for [`Tamper::filter`].
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Kind {
-    Datagram,
-    Acyclic,
-    Cyclic,
-}
-
-fn frame_kind(frame: &[u8]) -> Kind {
-    let at = if frame.get(12..14) == Some(&[0x81, 0x00]) {
-        16
-    } else {
-        12
+/// Applies a pending [`Tamper`] to a device's message: the messages to deliver instead. The
+/// tamper is used up once it changed a message.
+fn tampered(pending: &mut Option<Tamper>, m: Intercepted) -> Vec<Vec<u8>> {
+    let Some(t) = pending.as_mut() else {
+        return vec![m.bytes];
     };
-    let id = frame
-        .get(at + 2..at + 4)
-        .map_or(0, |b| u16::from_be_bytes([b[0], b[1]]));
-    if FrameIdClass::of(id).is_cyclic() {
-        Kind::Cyclic
-    } else {
-        Kind::Acyclic
+    let wanted = match t.filter {
+        1 => m.kind == Kind::Datagram,
+        2 => m.kind == Kind::Acyclic,
+        3 => m.kind == Kind::Cyclic,
+        _ => true,
+    };
+    if !wanted {
+        return vec![m.bytes];
+    }
+    if t.skip > 0 {
+        t.skip -= 1;
+        return vec![m.bytes];
+    }
+    let how = t.how;
+    *pending = None;
+    let mut msg = m.bytes;
+    match how {
+        How::Flip { at, xor } => {
+            if !msg.is_empty() {
+                let i = at % msg.len();
+                msg[i] ^= xor;
+            }
+            vec![msg]
+        }
+        How::Cut(n) => {
+            msg.truncate(n);
+            vec![msg]
+        }
+        How::Drop => Vec::new(),
+        How::Twice => vec![msg.clone(), msg],
     }
 }
 
@@ -205,22 +219,106 @@ pub enum Sent {
     Datagram(u64, u16, u16, Vec<u8>),
 }
 
-/// The controller, the cycle thread's IO system and the simulated devices.
-pub struct World {
-    controller: Controller,
-    devices: Vec<DemoDevice>,
+/// procimgd's cycle thread as the controller's port: the PROFINET IO system over an
+/// in-process link whose other end is the simulated segment, with the image it fills and
+/// sends from. Full queues drop frames and commands, as they would in procimgd.
+pub struct Cycle {
     io: PnioIo,
     channel: Arc<Channel>,
+    /// The segment's end of the link.
     plant: sim_link::LinkEnd,
     image: Image,
+}
+
+impl Cycle {
+    fn new(config: &Config, tables: &Tables, ranges: Vec<core::ops::Range<usize>>) -> Cycle {
+        let (nic, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
+        let channel = Arc::new(Channel::new());
+        Cycle {
+            io: PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns),
+            channel,
+            plant,
+            image: Image::new(tables),
+        }
+    }
+
+    const fn time(tick: Tick) -> CycleTime {
+        CycleTime {
+            cycle: tick.cycle,
+            now_ns: tick.now_ns,
+        }
+    }
+}
+
+impl Port for Cycle {
+    fn transmit(&mut self, frame: Vec<u8>) {
+        wire_check::emitted_frame("the controller", &frame);
+        let _ = self.channel.send(&frame);
+    }
+
+    fn start(&mut self, ar: Box<CyclicAr>) {
+        let _ = self.channel.to_cycle.push(ToCycle::Start(ar));
+    }
+
+    fn stop(&mut self, device: usize) {
+        let _ = self.channel.to_cycle.push(ToCycle::Stop { device });
+    }
+
+    fn arrive(&mut self, frame: &[u8]) {
+        // A full link drops the frame, as a real one would.
+        let _ = self.plant.send(&frame[..frame.len().min(MAX_FRAME)]);
+    }
+
+    fn depart(&mut self, out: &mut Vec<Vec<u8>>) {
+        while let Ok(true) = self.plant.receive(&mut |frame| out.push(frame.to_vec())) {}
+    }
+
+    fn receive(&mut self, tick: Tick, reports: &mut Vec<Report>) {
+        self.io
+            .receive(Cycle::time(tick), Mode::Operate, &mut self.image);
+        while let Some(r) = self.channel.from_cycle.pop() {
+            match r {
+                FromCycle::Received(f) => {
+                    reports.push(Report::Frame(f.bytes().to_vec()));
+                    self.channel.recycle(f);
+                }
+                FromCycle::WatchdogExpired { device, epoch } => {
+                    reports.push(Report::Watchdog { device, epoch })
+                }
+                FromCycle::DataStarted { device, epoch } => {
+                    reports.push(Report::DataStarted { device, epoch })
+                }
+                FromCycle::Retired(_) => {}
+            }
+        }
+    }
+
+    fn send(&mut self, tick: Tick) {
+        self.io.send(Cycle::time(tick), Mode::Operate, &self.image);
+    }
+}
+
+/// Checks what the controller and the devices send, before the network changes it; what the
+/// controller sends as frames is checked on its way to the cycle ([`Cycle`]).
+fn check(r: &Record) {
+    let who = match r.origin {
+        Origin::Controller => "the controller",
+        Origin::Device(_) => "a simulated device",
+        Origin::Injected => return,
+    };
+    match &r.message {
+        Message::Frame(f) if r.origin != Origin::Controller => wire_check::emitted_frame(who, f),
+        Message::Frame(_) => {}
+        Message::Datagram { payload, .. } => wire_check::emitted_datagram(who, payload),
+    }
+}
+
+/// The controller, the cycle thread's IO system and the simulated devices.
+pub struct World {
+    net: net::World<SimBehaviour, Cycle>,
     /// Image submodule index of each device's IO submodule (slot 1).
     io_submodules: Vec<usize>,
-    cycle: u64,
     cycles_run: u32,
-    tickets: Vec<AlarmTicket>,
-    tamper: Option<Tamper>,
-    /// What was sent to device 0, when recording.
-    recording: Option<Vec<Sent>>,
 }
 
 impl Default for World {
@@ -239,14 +337,7 @@ impl World {
             .iter()
             .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
             .collect();
-        let id = ControllerIdentity {
-            mac: SIM_CONTROLLER_MAC,
-            ip: SIM_CONTROLLER_IP,
-            station_name: "procimgd-fuzz".into(),
-            vendor_id: 0x0493,
-            device_id: 0x0fff,
-            instance: 1,
-        };
+        let id = net::controller_identity(SIM_CONTROLLER_MAC, SIM_CONTROLLER_IP, "procimgd-fuzz");
         let io_submodules = config
             .devices
             .iter()
@@ -258,46 +349,63 @@ impl World {
                     .position(|s| s.device as usize == d && s.slot == 1)
             })
             .collect();
-        let (nic, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
-        let channel = Arc::new(Channel::new());
+        let cycle = Cycle::new(config, &tables, ranges);
+        let mut net = net::World::new(Setup::new(id, plans), sim_plant::devices(config), cycle);
+        net.tap(|r| {
+            check(r);
+            false
+        });
         World {
-            controller: Controller::new(id, plans, 1, 1),
-            devices: sim_plant::devices(config),
-            io: PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns),
-            channel,
-            plant,
-            image: Image::new(&tables),
+            net,
             io_submodules,
-            cycle: 1,
             cycles_run: 0,
-            tickets: Vec::new(),
-            tamper: None,
-            recording: None,
         }
     }
 
     /// Records what the controller sends to device 0 from now on.
     pub fn start_recording(&mut self) {
-        self.recording = Some(Vec::new());
+        let mac = sim_plant::device_mac(0);
+        let ip = config().devices[0]
+            .ip
+            .map_or(sim_plant::own_ip(0), |ip| ip.octets());
+        self.net.tap(move |r| {
+            check(r);
+            r.origin == Origin::Controller
+                && match &r.message {
+                    Message::Frame(f) => {
+                        f.get(..6) == Some(&mac.0[..])
+                            || f.get(..6) == Some(&MacAddress::DCP_IDENTIFY.0[..])
+                    }
+                    Message::Datagram { to, .. } => to.ip().octets() == ip,
+                }
+        });
     }
 
     /// What was recorded.
-    pub fn recorded(&self) -> &[Sent] {
-        self.recording.as_deref().unwrap_or(&[])
+    pub fn recorded(&self) -> Vec<Sent> {
+        self.net
+            .tapped()
+            .iter()
+            .map(|r| {
+                let cycle = r.at_ns / MS;
+                match &r.message {
+                    Message::Frame(f) => Sent::Frame(cycle, f.clone()),
+                    Message::Datagram { from, to, payload } => {
+                        Sent::Datagram(cycle, from.port(), to.port(), payload.clone())
+                    }
+                }
+            })
+            .collect()
     }
 
     /// The controller's view of every device.
     pub fn states(&self) -> Vec<DeviceState> {
-        self.controller.states().collect()
+        self.net.states()
     }
 
     /// The current cycle (= ms of simulated time).
     pub const fn cycle(&self) -> u64 {
-        self.cycle
-    }
-
-    fn now(&self) -> u64 {
-        self.cycle * MS
+        self.net.cycle()
     }
 
     /// Runs a whole operation sequence; stops at the first incomplete operation.
@@ -308,8 +416,6 @@ impl World {
 
     /// One operation; `None` when the input ended inside it.
     fn op(&mut self, r: &mut Reader<'_>) -> Option<()> {
-        let now = self.now();
-        let mut out = Vec::new();
         match r.u8()? % ops::COUNT {
             ops::STEP => {
                 for _ in 0..r.u8()?.max(1) {
@@ -317,19 +423,24 @@ impl World {
                 }
             }
             ops::SKIP => self.advance(u64::from(r.u16()?.max(1))),
-            ops::FRAME => self.controller.on_frame(r.bytes()?, now, &mut out),
+            ops::FRAME => {
+                let f = r.bytes()?;
+                self.net
+                    .with_controller(|c, now, out| c.on_frame(f, now, out));
+            }
             ops::DATAGRAM => {
                 let d = usize::from(r.u8()?);
                 let port = r.u16()?;
-                let ip = self.devices.get(d % self.devices.len()).map(DemoDevice::ip);
+                let devices = self.net.devices();
+                let ip = devices.get(d % devices.len()).map(DemoDevice::ip);
                 let from = SocketAddrV4::new(ip.unwrap_or([0; 4]).into(), port);
-                self.controller.on_datagram(from, r.bytes()?, now, &mut out);
+                let bytes = r.bytes()?;
+                self.net
+                    .with_controller(|c, now, out| c.on_datagram(from, bytes, now, out));
             }
             ops::WIRE => {
                 let f = r.bytes()?;
-                let f = &f[..f.len().min(MAX_FRAME)];
-                // A full link drops the frame, as a real one would.
-                let _ = self.plant.send(f);
+                self.net.inject_frame(&f[..f.len().min(MAX_FRAME)]);
             }
             ops::TAMPER => {
                 let (filter, skip, how) = (r.u8()?, r.u8()?, r.u8()?);
@@ -343,17 +454,24 @@ impl World {
                     2 => How::Drop,
                     _ => How::Twice,
                 };
-                self.tamper = Some(Tamper {
+                let mut pending = Some(Tamper {
                     filter: filter % 4,
                     skip,
                     how,
                 });
+                self.net
+                    .intercept(Some(Box::new(move |m| tampered(&mut pending, m))));
             }
-            ops::ONLINE => self.controller.set_online(r.u8()? % 2 == 1, now, &mut out),
+            ops::ONLINE => {
+                let online = r.u8()? % 2 == 1;
+                self.net.set_online(online);
+            }
             ops::ACTIVATE => {
                 let (d, active) = (usize::from(r.u8()?), r.u8()? % 2 == 1);
                 // Also an index past the devices: the controller must refuse it.
-                let _ = self.controller.activate(d % 4, active, now, &mut out);
+                self.net.with_controller(|c, now, out| {
+                    let _ = c.activate(d % 4, active, now, out);
+                });
             }
             ops::RECORD => {
                 let device = usize::from(r.u8()? % 4);
@@ -361,52 +479,63 @@ impl World {
                 let max_len = u32::from(r.u16()?);
                 let write = r.u8()? % 2 == 1;
                 let data = r.bytes()?;
-                self.controller.record(
-                    RecordRequest {
-                        reference: self.cycle,
-                        device,
-                        api: 0,
-                        slot,
-                        subslot,
-                        index,
-                        max_len,
-                        write: write.then(|| data.to_vec()),
-                    },
-                    &mut out,
-                );
+                let request = RecordRequest {
+                    reference: self.net.cycle(),
+                    device,
+                    api: 0,
+                    slot,
+                    subslot,
+                    index,
+                    max_len,
+                    write: write.then(|| data.to_vec()),
+                };
+                self.net.with_controller(|c, _, out| c.record(request, out));
             }
             ops::ACK_ALARMS => {
-                for t in core::mem::take(&mut self.tickets) {
-                    let _ = self.controller.acknowledge_alarm(t, now, &mut out);
-                }
+                // Every alarm reported since the last acknowledgement.
+                let tickets: Vec<AlarmTicket> = self
+                    .net
+                    .take_events()
+                    .into_iter()
+                    .filter_map(|e| match e {
+                        DeviceEvent::Alarm { ticket, .. } => Some(ticket),
+                        _ => None,
+                    })
+                    .collect();
+                self.net.with_controller(|c, now, out| {
+                    for t in tickets {
+                        let _ = c.acknowledge_alarm(t, now, out);
+                    }
+                });
             }
             ops::RAISE_ALARM => {
-                let d = usize::from(r.u8()?) % self.devices.len();
+                let d = usize::from(r.u8()?) % self.net.devices().len();
                 let usi = r.u16()?;
                 let data = r.bytes()?;
-                let mut dout = Vec::new();
-                let _ = self.devices[d].raise_process_alarm(0, 1, 1, usi, data, now, &mut dout);
-                out.extend(self.device_actions(d, dout, now));
+                self.net.with_device(d, |dev, now, out| {
+                    let _ = dev.raise_process_alarm(0, 1, 1, usi, data, now, out);
+                });
             }
             ops::WATCHDOG => {
                 let (d, epoch) = (usize::from(r.u8()?), r.u32()?);
-                self.controller.on_watchdog(d % 4, epoch, now, &mut out);
+                self.net
+                    .with_controller(|c, now, out| c.on_watchdog(d % 4, epoch, now, out));
             }
             ops::OUTPUTS => {
                 let s = usize::from(r.u8()?) % self.io_submodules.len();
                 let good = r.u8()? % 2 == 1;
                 let data = r.bytes()?;
                 let s = self.io_submodules[s];
-                let outputs = self.image.outputs_mut(s);
+                let image = &mut self.net.port_mut().image;
+                let outputs = image.outputs_mut(s);
                 let n = outputs.len().min(data.len());
                 outputs[..n].copy_from_slice(&data[..n]);
-                let mut st = self.image.status(s);
+                let mut st = image.status(s);
                 st.output_iops = if good { IOXS_GOOD } else { IOXS_BAD };
-                self.image.set_status(s, st);
+                image.set_status(s, st);
             }
             _ => unreachable!("opcode taken modulo COUNT"),
         }
-        self.controller_actions(out);
         Some(())
     }
 
@@ -416,184 +545,9 @@ impl World {
             return;
         }
         self.cycles_run += 1;
-        self.cycle += ms;
-        self.step();
-    }
-
-    /// Applies a pending [`Tamper`] to a message of `kind`: the messages to deliver instead.
-    fn tampered(&mut self, kind: Kind, msg: Vec<u8>) -> Vec<Vec<u8>> {
-        let Some(t) = self.tamper.as_mut() else {
-            return vec![msg];
-        };
-        let wanted = match t.filter {
-            1 => kind == Kind::Datagram,
-            2 => kind == Kind::Acyclic,
-            3 => kind == Kind::Cyclic,
-            _ => true,
-        };
-        if !wanted {
-            return vec![msg];
-        }
-        if t.skip > 0 {
-            t.skip -= 1;
-            return vec![msg];
-        }
-        let how = t.how;
-        self.tamper = None;
-        match how {
-            How::Flip { at, xor } => {
-                let mut msg = msg;
-                if !msg.is_empty() {
-                    let i = at % msg.len();
-                    msg[i] ^= xor;
-                }
-                vec![msg]
-            }
-            How::Cut(n) => {
-                let mut msg = msg;
-                msg.truncate(n);
-                vec![msg]
-            }
-            How::Drop => Vec::new(),
-            How::Twice => vec![msg.clone(), msg],
-        }
-    }
-
-    /// Carries out the controller's actions, and what they lead to, until none are left.
-    fn controller_actions(&mut self, out: Vec<Action>) {
-        let now = self.now();
-        let mut pending = out;
-        while !pending.is_empty() {
-            let mut next = Vec::new();
-            for a in pending {
-                match a {
-                    Action::Frame(f) => {
-                        wire_check::emitted_frame("the controller", &f);
-                        // A full queue drops the frame, as the cycle thread would.
-                        let _ = self.channel.send(&f);
-                    }
-                    Action::Datagram { to, payload } => {
-                        wire_check::emitted_datagram("the controller", &payload);
-                        let Some(d) = self.devices.iter().position(|d| d.ip() == to.ip().octets())
-                        else {
-                            continue;
-                        };
-                        if d == 0
-                            && let Some(rec) = self.recording.as_mut()
-                        {
-                            rec.push(Sent::Datagram(
-                                self.cycle,
-                                RPC_PORT,
-                                to.port(),
-                                payload.clone(),
-                            ));
-                        }
-                        let from = SocketAddrV4::new(SIM_CONTROLLER_IP, RPC_PORT);
-                        let mut dout = Vec::new();
-                        self.devices[d].on_datagram(from, to.port(), &payload, now, &mut dout);
-                        next.extend(self.device_actions(d, dout, now));
-                    }
-                    Action::Start(ar) => {
-                        let _ = self.channel.to_cycle.push(ToCycle::Start(ar));
-                    }
-                    Action::Stop { device } => {
-                        let _ = self.channel.to_cycle.push(ToCycle::Stop { device });
-                    }
-                    Action::Event(DeviceEvent::Alarm { ticket, .. }) => self.tickets.push(ticket),
-                    Action::Event(_) => {}
-                }
-            }
-            pending = next;
-        }
-    }
-
-    /// Carries out a device's actions; returns what the controller answered to datagrams.
-    fn device_actions(&mut self, d: usize, out: Vec<DeviceAction>, now: u64) -> Vec<Action> {
-        let mut answers = Vec::new();
-        for a in out {
-            match a {
-                DeviceAction::Frame(f) => {
-                    wire_check::emitted_frame("a simulated device", &f);
-                    for f in self.tampered(frame_kind(&f), f) {
-                        let _ = self.plant.send(&f[..f.len().min(MAX_FRAME)]);
-                    }
-                }
-                DeviceAction::Datagram {
-                    to,
-                    from_port,
-                    payload,
-                } => {
-                    wire_check::emitted_datagram("a simulated device", &payload);
-                    if *to.ip() != SIM_CONTROLLER_IP {
-                        continue;
-                    }
-                    let from = SocketAddrV4::new(Ipv4Addr::from(self.devices[d].ip()), from_port);
-                    for p in self.tampered(Kind::Datagram, payload) {
-                        self.controller.on_datagram(from, &p, now, &mut answers);
-                    }
-                }
-            }
-        }
-        answers
-    }
-
-    /// One cycle: the devices take what was sent and do their work, then the cycle thread
-    /// and the controller run.
-    fn step(&mut self) {
-        let now = self.now();
-        let t = CycleTime {
-            cycle: self.cycle,
-            now_ns: now,
-        };
-        let mut buf = Vec::new();
-        while let Ok(true) = self.plant.receive(&mut |frame| {
-            buf.clear();
-            buf.extend_from_slice(frame);
-        }) {
-            let f = &buf[..];
-            for d in 0..self.devices.len() {
-                let mac = self.devices[d].mac();
-                if d == 0
-                    && let Some(rec) = self.recording.as_mut()
-                    && (f.get(..6) == Some(&mac.0[..])
-                        || f.get(..6) == Some(&MacAddress::DCP_IDENTIFY.0[..]))
-                {
-                    rec.push(Sent::Frame(self.cycle, f.to_vec()));
-                }
-                let mut out = Vec::new();
-                self.devices[d].on_frame(f, now, &mut out);
-                let answers = self.device_actions(d, out, now);
-                self.controller_actions(answers);
-            }
-        }
-        for d in 0..self.devices.len() {
-            let mut out = Vec::new();
-            self.devices[d].poll(now, &mut out);
-            let answers = self.device_actions(d, out, now);
-            self.controller_actions(answers);
-        }
-        self.io.receive(t, Mode::Operate, &mut self.image);
-        let mut out = Vec::new();
-        while let Some(r) = self.channel.from_cycle.pop() {
-            match r {
-                FromCycle::Received(f) => {
-                    self.controller.on_frame(f.bytes(), now, &mut out);
-                    self.channel.recycle(f);
-                }
-                FromCycle::WatchdogExpired { device, epoch } => {
-                    self.controller.on_watchdog(device, epoch, now, &mut out)
-                }
-                FromCycle::DataStarted { device, epoch } => {
-                    self.controller.on_data_started(device, epoch)
-                }
-                FromCycle::Retired(_) => {}
-            }
-        }
-        self.controller.poll(now, &mut out);
-        self.controller_actions(out);
-        self.io.send(t, Mode::Operate, &self.image);
+        self.net.advance(ms * MS);
         // The controller never asks to be polled later than it needs to.
-        if let Some(d) = self.controller.deadline() {
+        if let Some(d) = self.net.controller().deadline() {
             assert!(d > 0, "a deadline at time 0");
         }
     }
@@ -626,7 +580,7 @@ pub fn record_bringup() -> (Vec<u8>, Vec<Sent>) {
         seed.u8(ops::STEP).u8(n as u8);
         steps -= n;
     }
-    (seed.finish(), w.recorded().to_vec())
+    (seed.finish(), w.recorded())
 }
 
 /// One simulated device alone: the `device_sim` target.

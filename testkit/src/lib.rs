@@ -3,7 +3,8 @@
 //! child process that is stopped even when a test fails ([`Procimgd`]), unique instance
 //! names, the workspace's binaries built up to date, two network namespaces joined by a veth
 //! pair ([`netns::TestNet`]), Wireshark's verdict on frames ([`tshark::dissect_clean`]),
-//! C and C++ programs built against `libprocimg` ([`c`]), and hex fixtures.
+//! C and C++ programs built against `libprocimg` ([`c`]), hex fixtures, and the deterministic
+//! in-memory PROFINET network of a controller and simulated devices ([`world`]).
 //!
 //! Dev-only (`publish = false`): no production crate depends on it.
 
@@ -18,6 +19,7 @@ mod procimgd;
 pub mod signal;
 pub mod tshark;
 pub mod udp;
+pub mod world;
 
 pub use build::{procimgd_bin, profile_dir, workspace_bin, workspace_dir};
 pub use pattern::{pattern, pattern_value};

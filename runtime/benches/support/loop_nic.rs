@@ -19,11 +19,6 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// The controller's MAC address in the benchmarks.
 pub const OWN_MAC: MacAddress = MacAddress([0x02, 0x00, 0x00, 0x00, 0xff, 0xfe]);
 
-/// The MAC address of device `d`.
-pub fn device_mac(d: usize) -> MacAddress {
-    MacAddress([0x02, 0x00, 0x00, 0x01, (d >> 8) as u8, d as u8])
-}
-
 /// What the interface saw, shared with the benchmark.
 #[derive(Default)]
 pub struct NicCounters {

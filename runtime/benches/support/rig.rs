@@ -17,7 +17,7 @@
 //! cycle on the client side: that would stretch each benchmark to minutes without changing
 //! what the server does.
 
-use super::loop_nic::{LoopNic, NicCounters, OWN_MAC, device_mac};
+use super::loop_nic::{LoopNic, NicCounters, OWN_MAC};
 use super::null_io::NullIo;
 use super::shape::{self, Shape};
 use iceoryx2::node::Node;
@@ -33,7 +33,7 @@ use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
-use procimg_runtime::roles::controller::ControllerServices;
+use procimg_runtime::roles::controller::{ControllerServices, SIM_CONTROLLER_IP};
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::Ipc;
 use procimg_runtime::shm::{ControlPorts, CyclePorts};
@@ -43,6 +43,7 @@ use procimg_shm_layout::{
     CLIENT_SET_OUTPUT_IOPS, CLIENT_WROTE_OUTPUTS, IMAGE_MAGIC, IOXS_GOOD, ImageHeader, Mode,
     OutputHeader,
 };
+use procimg_testkit::world::{self, Setup, World};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
@@ -57,25 +58,48 @@ pub enum Io {
     Pnio,
 }
 
+/// Cycles of the configuration's cycle time the bring-up of [`exchanges`] may take.
+const BRING_UP_CYCLES: u64 = 1_000;
+
+/// The exchanges the controller hands over to the cycle thread once every device of
+/// `config` is up: the simulated devices brought up in the test kit's world, so that the
+/// cycle runs exactly what procimgd's controller sets up.
+pub fn exchanges(config: &Config) -> Vec<CyclicAr> {
+    let plans = procimg_runtime::roles::controller::plan_devices(config)
+        .expect("the shape fits PROFINET frames");
+    let id = world::controller_identity(OWN_MAC, SIM_CONTROLLER_IP, "procimgd-bench");
+    let setup = Setup {
+        period_ns: config.cycle_ns,
+        start_ns: config.cycle_ns,
+        ..Setup::new(id, plans)
+    };
+    let mut w = World::direct(
+        setup,
+        procimg_runtime::roles::controller::sim_plant::devices(config),
+    );
+    w.set_online(true);
+    let up = w.step_until_running(BRING_UP_CYCLES);
+    assert!(
+        up.is_some(),
+        "the devices did not come up: {:?}, {:?}",
+        w.states(),
+        w.events()
+    );
+    w.port().exchanges().cloned().collect()
+}
+
 /// The PROFINET IO system of `config` over a [`LoopNic`], with every device's exchange
 /// already handed to it (it starts them at its first `receive`).
 pub fn pnio_io(config: &Config, counters: Arc<NicCounters>) -> (PnioIo, Arc<Channel>) {
-    let plans = procimg_runtime::roles::controller::plan_devices(config)
-        .expect("the shape fits PROFINET frames");
-    let ars: Vec<CyclicAr> = plans
-        .iter()
-        .map(|p| CyclicAr::new(p, 1, OWN_MAC, device_mac(p.device), p.frame_ids))
-        .collect();
+    let ars = exchanges(config);
     let nic = LoopNic::new(&ars, counters);
+    // Every device is up: their exchanges cover the whole submodule table, in order.
+    let ranges = ars.iter().map(|ar| ar.submodules.clone()).collect();
     let channel = Arc::new(Channel::new());
     for ar in ars {
         let queued = channel.to_cycle.push(ToCycle::Start(Box::new(ar))).is_ok();
         assert!(queued, "more devices than the start queue holds");
     }
-    let ranges = plans
-        .iter()
-        .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
-        .collect();
     let io = PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns);
     (io, channel)
 }

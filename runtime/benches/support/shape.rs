@@ -4,10 +4,18 @@
 use procimg_runtime::config::{Config, DeviceConfig, SimBehaviour, SubmoduleConfig};
 use procimg_shm_layout::NO_ADDRESS;
 
-/// Cycle time of every benchmark configuration. Long, so that a device's watchdog (255
-/// cycles) never runs out while criterion pauses between samples; the server's work per
-/// cycle does not depend on it.
+/// Cycle time of every benchmark configuration. Long, so that a device's watchdog
+/// ([`WATCHDOG_FACTOR`] cycles) never runs out while criterion pauses between samples; the
+/// server's work per cycle does not depend on it.
 pub const CYCLE_NS: u64 = 32_000_000;
+
+/// The longest data hold time (DataHoldFactor × cycle) a device accepts in a Connect: the
+/// standard's limit for RT.
+const MAX_DATA_HOLD_NS: u64 = 1_920_000_000;
+
+/// Every device's watchdog factor: the longest watchdog a device accepts at [`CYCLE_NS`]
+/// (the devices are brought up by the controller, see `rig::exchanges`).
+pub const WATCHDOG_FACTOR: u16 = (MAX_DATA_HOLD_NS / CYCLE_NS) as u16;
 
 /// The size of an IO system.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,7 +94,7 @@ pub fn config(instance: &str, shape: Shape) -> Config {
                 ip: None,
                 gsdml: None,
                 sim: SimBehaviour::None,
-                watchdog_factor: 255,
+                watchdog_factor: WATCHDOG_FACTOR,
                 reduction_ratio: 1,
                 submodules,
                 ..template.clone()
