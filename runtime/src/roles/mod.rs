@@ -22,7 +22,7 @@
 pub mod controller;
 
 use crate::cycle::thread::IoFactory;
-use crate::server::Notices;
+use crate::shm::Notices;
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_shm_layout::control::{
     DeviceReport, NetworkReport, Request, Response, SubscriberReport,

@@ -5,17 +5,15 @@
 //! only through [`Shared`].
 
 pub mod force;
-mod notices;
 mod registry;
 
 pub use force::ForceTable;
-pub use notices::Notices;
 pub use registry::{ClientEntry, Registry};
 
 use crate::cycle::{Command, Shared};
 use crate::image::Tables;
 use crate::roles::RoleServices;
-use crate::shm::{ControlPorts, Ipc, iox2_config};
+use crate::shm::{ControlPorts, Ipc, Notices, iox2_config};
 use crate::stats::{StatsCollector, load};
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::port::publisher::Publisher;

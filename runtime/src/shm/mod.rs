@@ -10,9 +10,11 @@
 
 mod config;
 pub mod dir;
+mod notices;
 mod ports;
 
 pub use config::iox2_config;
+pub use notices::Notices;
 
 pub use ports::{ControlPorts, CyclePorts, ShmError, cleanup_dead_nodes, server_node};
 

@@ -16,7 +16,7 @@ use crate::acyclic::DatagramCounters;
 use crate::image::Tables;
 use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
-use crate::server::Notices;
+use crate::shm::Notices;
 use crate::stats::load;
 use procimg_profinet::controller::{
     self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The notification service of the control side: every role publishes its events, alarms
+//! The notification service, published by the control side: every role publishes its events, alarms
 //! and confirmations through it, one JSON [`Notification`] per sample, and wakes the
 //! subscribers.
 
