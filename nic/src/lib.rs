@@ -67,6 +67,22 @@ pub trait Nic: Send {
     fn receive(&mut self, f: &mut dyn FnMut(&[u8])) -> Result<bool, RecvError>;
 }
 
+/// A boxed interface is one: callers that choose the backend at run time hold a
+/// `Box<dyn Nic>`.
+impl<N: Nic + ?Sized> Nic for Box<N> {
+    fn mac(&self) -> MacAddress {
+        (**self).mac()
+    }
+
+    fn send(&mut self, frame: &[u8]) -> Result<(), SendError> {
+        (**self).send(frame)
+    }
+
+    fn receive(&mut self, f: &mut dyn FnMut(&[u8])) -> Result<bool, RecvError> {
+        (**self).receive(f)
+    }
+}
+
 /// Why a frame was not received.
 ///
 /// Creating one allocates nothing (the interface name is shared), so the cycle thread may

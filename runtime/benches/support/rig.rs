@@ -90,7 +90,7 @@ pub fn exchanges(config: &Config) -> Vec<CyclicAr> {
 
 /// The PROFINET IO system of `config` over a [`LoopNic`], with every device's exchange
 /// already handed to it (it starts them at its first `receive`).
-pub fn pnio_io(config: &Config, counters: Arc<NicCounters>) -> (PnioIo, Arc<Channel>) {
+pub fn pnio_io(config: &Config, counters: Arc<NicCounters>) -> (PnioIo<LoopNic>, Arc<Channel>) {
     let ars = exchanges(config);
     let nic = LoopNic::new(&ars, counters);
     // Every device is up: their exchanges cover the whole submodule table, in order.
@@ -100,7 +100,7 @@ pub fn pnio_io(config: &Config, counters: Arc<NicCounters>) -> (PnioIo, Arc<Chan
         let queued = channel.to_cycle.push(ToCycle::Start(Box::new(ar))).is_ok();
         assert!(queued, "more devices than the start queue holds");
     }
-    let io = PnioIo::new(Box::new(nic), channel.clone(), ranges, config.cycle_ns);
+    let io = PnioIo::new(nic, channel.clone(), ranges, config.cycle_ns);
     (io, channel)
 }
 
@@ -416,7 +416,7 @@ impl Drop for Rig {
 
 /// The PROFINET IO system alone, driven with injected time (one cycle per call pair).
 pub struct PnioRig {
-    io: PnioIo,
+    io: PnioIo<LoopNic>,
     /// The image the frames go to and come from.
     pub image: Image,
     /// The PROFINET channel (counters).

@@ -15,7 +15,7 @@ pub mod channel;
 use super::{CycleTime, IoSystem};
 use crate::image::Image;
 use channel::{Channel, FromCycle, NetCounters, ToCycle};
-use procimg_nic::{Nic, RecvError, SendError};
+use procimg_nic::{Nic, RecvError};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
@@ -42,9 +42,17 @@ struct Running {
     reported: bool,
 }
 
-/// The PROFINET IO system of the cycle thread.
-pub struct PnioIo {
-    nic: Box<dyn Nic>,
+/// The PROFINET IO system of the cycle thread, over interface `N`. Generic over the
+/// interface, so that the per-frame receive and send calls are direct and the closure that
+/// parses a frame in place is inlined into the backend's receive.
+pub struct PnioIo<N: Nic = Box<dyn Nic>> {
+    nic: N,
+    ex: Exchanges,
+}
+
+/// Everything of the IO system but the interface: the running exchanges and the reports
+/// for the acyclic side.
+struct Exchanges {
     channel: Arc<Channel>,
     /// Per device: its running exchange.
     running: Vec<Option<Running>>,
@@ -63,18 +71,30 @@ pub struct PnioIo {
     cycle_units: u64,
 }
 
-impl PnioIo {
+impl<N: Nic> PnioIo<N> {
     /// An IO system over `nic` for devices whose submodules occupy `device_submodules` of
     /// the submodule table.
     pub fn new(
-        nic: Box<dyn Nic>,
+        nic: N,
         channel: Arc<Channel>,
         device_submodules: Vec<core::ops::Range<usize>>,
         cycle_ns: u64,
-    ) -> PnioIo {
-        let n = device_submodules.len();
+    ) -> PnioIo<N> {
         PnioIo {
             nic,
+            ex: Exchanges::new(channel, device_submodules, cycle_ns),
+        }
+    }
+}
+
+impl Exchanges {
+    fn new(
+        channel: Arc<Channel>,
+        device_submodules: Vec<core::ops::Range<usize>>,
+        cycle_ns: u64,
+    ) -> Exchanges {
+        let n = device_submodules.len();
+        Exchanges {
             channel,
             running: (0..n).map(|_| None).collect(),
             // 128 KiB, once: a slot for every FrameID.
@@ -135,7 +155,7 @@ impl PnioIo {
         }
     }
 
-    fn apply_commands(&mut self, t: CycleTime, image: &mut Image) {
+    fn apply_commands(&mut self, nic: &mut impl Nic, t: CycleTime, image: &mut Image) {
         while let Some(c) = self.channel.to_cycle.pop() {
             match c {
                 ToCycle::Start(ar) => {
@@ -156,7 +176,7 @@ impl PnioIo {
                 }
                 ToCycle::Stop { device } => self.stop(device, Some(image)),
                 ToCycle::Send(buf) => {
-                    if self.nic.send(buf.bytes()).is_err() {
+                    if nic.send(buf.bytes()).is_err() {
                         NetCounters::count(&self.channel.counters.send_errors);
                     }
                     let _ = self.channel.free.push(buf);
@@ -272,24 +292,6 @@ impl PnioIo {
     }
 }
 
-/// Stands in for the interface while the receive loop has it, and is never used: it has no
-/// frames and drops what it is given.
-struct SetAside;
-
-impl Nic for SetAside {
-    fn mac(&self) -> procimg_profinet::wire::MacAddress {
-        procimg_profinet::wire::MacAddress::default()
-    }
-
-    fn send(&mut self, _: &[u8]) -> Result<(), SendError> {
-        Ok(())
-    }
-
-    fn receive(&mut self, _: &mut dyn FnMut(&[u8])) -> Result<bool, RecvError> {
-        Ok(false)
-    }
-}
-
 /// Marks a device's submodules as not exchanged: inputs and the device's consumer status
 /// BAD, except directions without data, which stay GOOD as IO-Base specifies.
 fn mark_disconnected(image: &mut Image, range: core::ops::Range<usize>) {
@@ -315,45 +317,45 @@ fn mark_disconnected(image: &mut Image, range: core::ops::Range<usize>) {
     }
 }
 
-impl IoSystem for PnioIo {
+impl<N: Nic + 'static> IoSystem for PnioIo<N> {
     fn receive(&mut self, t: CycleTime, mode: Mode, image: &mut Image) {
-        self.flush_reports();
-        self.apply_commands(t, image);
+        let ex = &mut self.ex;
+        ex.flush_reports();
+        ex.apply_commands(&mut self.nic, t, image);
         if mode == Mode::Offline {
             // OFFLINE exchanges nothing, from its first cycle on: the controller releases
             // the ARs on its own time, but the image says so at once.
-            for d in 0..self.device_submodules.len() {
-                self.stop(d, Some(image));
+            for d in 0..ex.device_submodules.len() {
+                ex.stop(d, Some(image));
             }
         }
-        // The interface is set aside while it receives, so that the closure parsing its frames
-        // in place may use the rest of `self`; the stand-in, a box of a zero-sized type,
-        // allocates nothing.
-        let mut nic = core::mem::replace(&mut self.nic, Box::new(SetAside));
         let mut frames = 0;
         while frames < MAX_FRAMES_PER_CYCLE {
-            match nic.receive(&mut |frame| self.take_frame(frame, t.now_ns, image)) {
+            match self
+                .nic
+                .receive(&mut |frame| ex.take_frame(frame, t.now_ns, image))
+            {
                 Ok(true) => frames += 1,
                 // Dropped by the interface: a frame longer than any PROFINET frame.
                 Err(RecvError::TooLong { .. }) => {
                     frames += 1;
-                    NetCounters::count(&self.channel.counters.malformed);
+                    NetCounters::count(&ex.channel.counters.malformed);
                 }
                 Ok(false) | Err(RecvError::Io { .. }) => break,
             }
         }
-        self.nic = nic;
-        self.check_watchdogs(t.now_ns, image);
+        ex.check_watchdogs(t.now_ns, image);
     }
 
     fn send(&mut self, t: CycleTime, mode: Mode, image: &Image) {
-        let counter = t.cycle.wrapping_mul(self.cycle_units) as u16;
+        let ex = &mut self.ex;
+        let counter = t.cycle.wrapping_mul(ex.cycle_units) as u16;
         // In CLEAR the provider is stopped: the device applies its substitute values.
         let status = match mode {
             Mode::Operate => data_status::OPERATE,
             _ => data_status::CLEAR,
         };
-        for r in self.running.iter_mut().flatten() {
+        for r in ex.running.iter_mut().flatten() {
             if !t
                 .cycle
                 .is_multiple_of(u64::from(r.ar.timing.every_cycles.max(1)))
@@ -386,7 +388,7 @@ impl IoSystem for PnioIo {
                 t.copy_from_slice(&[(counter >> 8) as u8, counter as u8, status, 0]);
             }
             if self.nic.send(frame).is_err() {
-                NetCounters::count(&self.channel.counters.send_errors);
+                NetCounters::count(&ex.channel.counters.send_errors);
             }
         }
     }

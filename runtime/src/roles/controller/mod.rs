@@ -20,6 +20,7 @@ use super::RoleSystem;
 use crate::acyclic::{self, DatagramCounters};
 use crate::config::{Config, Network};
 use crate::cycle::Shared;
+use crate::cycle::thread::IoFactory;
 use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::Channel;
 use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
@@ -85,42 +86,53 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     })?;
     let plant_stop = Arc::new(AtomicBool::new(false));
     let mut threads = Vec::new();
-    let (nic, udp, mac, ip): (Box<dyn Nic>, Box<dyn Datagrams>, MacAddress, Ipv4Addr) =
-        match &config.network {
-            Network::Sim => {
-                let (ours, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
-                let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
-                let devices = sim_plant::devices(config);
-                threads.push(
-                    sim_plant::spawn(
-                        devices,
-                        plant,
-                        peer,
-                        plant_stop.clone(),
-                        sim_priority(config.cycle_thread.priority),
-                    )
-                    .map_err(|e| NetworkError::Thread("simulated plant", e))?,
-                );
-                (
-                    Box::new(ours),
-                    Box::new(udp),
-                    SIM_CONTROLLER_MAC,
-                    SIM_CONTROLLER_IP,
+    let device_submodules: Vec<_> = plans
+        .iter()
+        .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
+        .collect();
+    let channel = Arc::new(Channel::new());
+    let (ch, cycle_ns) = (channel.clone(), config.cycle_ns);
+    let (io, udp, mac, ip): (IoFactory, Box<dyn Datagrams>, MacAddress, Ipv4Addr) = match &config
+        .network
+    {
+        Network::Sim => {
+            let (ours, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
+            let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
+            let devices = sim_plant::devices(config);
+            threads.push(
+                sim_plant::spawn(
+                    devices,
+                    plant,
+                    peer,
+                    plant_stop.clone(),
+                    sim_priority(config.cycle_thread.priority),
                 )
-            }
-            Network::Interface(name) => {
-                let nic =
-                    AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| NetworkError::Open {
-                        origin: config.origin.clone(),
-                        error,
-                    })?;
-                let ip = procimg_nic::interfaces::ipv4(name)
-                    .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
-                let udp = UdpDatagrams::bind(ip)?;
-                let mac = nic.mac();
-                (Box::new(nic), Box::new(udp), mac, ip)
-            }
-        };
+                .map_err(|e| NetworkError::Thread("simulated plant", e))?,
+            );
+            (
+                cycle_io(ours, ch, device_submodules, cycle_ns),
+                Box::new(udp),
+                SIM_CONTROLLER_MAC,
+                SIM_CONTROLLER_IP,
+            )
+        }
+        Network::Interface(name) => {
+            let nic = AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| NetworkError::Open {
+                origin: config.origin.clone(),
+                error,
+            })?;
+            let ip = procimg_nic::interfaces::ipv4(name)
+                .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
+            let udp = UdpDatagrams::bind(ip)?;
+            let mac = nic.mac();
+            (
+                cycle_io(nic, ch, device_submodules, cycle_ns),
+                Box::new(udp),
+                mac,
+                ip,
+            )
+        }
+    };
     let id = ControllerIdentity {
         mac,
         ip,
@@ -129,13 +141,8 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         device_id: 0x0fff,
         instance: 1,
     };
-    let device_submodules = plans
-        .iter()
-        .map(|p| p.first_submodule..p.first_submodule + p.submodules.len())
-        .collect();
     let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
     let states = Arc::new(DeviceStates::new(plans.len()));
-    let channel = Arc::new(Channel::new());
     let datagrams = Arc::new(DatagramCounters::default());
     let boot_time = (crate::sys::clock::now_ns() / 1_000_000_000) as u32;
     // AR and activity UUIDs nobody can guess or repeat across restarts.
@@ -158,7 +165,6 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         })
         .map_err(|e| NetworkError::Thread("PROFINET controller", e))?,
     );
-    let cycle_ns = config.cycle_ns;
     let link = ControllerLink {
         commands,
         events: event_rx,
@@ -167,13 +173,22 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         datagrams,
     };
     Ok(RoleSystem {
-        io: Some(Box::new(move || {
-            Box::new(PnioIo::new(nic, channel, device_submodules, cycle_ns))
-        })),
+        io: Some(io),
         services: Some(Box::new(ControllerServices::new(names, Some(link)))),
         threads,
         stop: Some(Box::new(move || plant_stop.store(true, Ordering::Release))),
     })
+}
+
+/// The cycle thread's IO system over `nic`, built on the cycle thread itself. Made for the
+/// backend's own type, so that no frame goes through a dynamic call.
+fn cycle_io<N: Nic + 'static>(
+    nic: N,
+    channel: Arc<Channel>,
+    device_submodules: Vec<core::ops::Range<usize>>,
+    cycle_ns: u64,
+) -> IoFactory {
+    Box::new(move || Box::new(PnioIo::new(nic, channel, device_submodules, cycle_ns)))
 }
 
 /// The simulated devices' priority: they stand for field devices, which answer in real time,
