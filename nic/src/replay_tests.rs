@@ -8,6 +8,7 @@ use crate::MAX_FRAME;
 use crate::capture::CaptureWriter;
 use pcap_file::pcapng::PcapNgWriter;
 use pcap_file::pcapng::blocks::enhanced_packet::EnhancedPacketBlock;
+use procimg_testkit::files::{pcap, temp_dir};
 use procimg_testkit::fixtures::profinet_capture as capture;
 use proptest::prelude::*;
 use std::borrow::Cow;
@@ -37,32 +38,6 @@ fn options(pacing: Pacing) -> ReplayOptions {
         pacing,
         ..ReplayOptions::new(OWN)
     }
-}
-
-/// A pcap file (nanosecond timestamps, big-endian) of `records`.
-fn pcap(records: &[(u64, Vec<u8>)]) -> Vec<u8> {
-    let header = PcapHeader {
-        ts_resolution: TsResolution::NanoSecond,
-        ..PcapHeader::default()
-    };
-    let mut w = PcapWriter::with_header(Vec::new(), header).unwrap();
-    for (ts, f) in records {
-        w.write_packet(&PcapPacket::new(
-            Duration::from_nanos(*ts),
-            f.len() as u32,
-            f,
-        ))
-        .unwrap();
-    }
-    w.into_writer()
-}
-
-/// A fresh directory for the files of one test.
-fn temp_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("procimg-replay-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Every frame the replay hands over now.
@@ -108,7 +83,7 @@ fn the_filter_is_the_af_packet_one() {
 /// it was captured, without our own frames.
 #[test]
 fn a_file_of_the_capture_writer_replays_its_frames() {
-    let dir = temp_dir("round-trip");
+    let dir = temp_dir("replay-round-trip");
     let path = dir.join("capture.pcap");
     let mut w = CaptureWriter::create(&path).unwrap();
     let frames = [
@@ -445,7 +420,7 @@ fn pcapng_interfaces_blocks_and_resolutions() {
 
 #[test]
 fn sent_frames_are_kept_and_written_on_flush_and_on_drop() {
-    let dir = temp_dir("sent");
+    let dir = temp_dir("replay-sent");
     let out = dir.join("sent.pcap");
     let file = pcap(&[
         (T0, pn_frame(DEVICE, 1)),
@@ -530,7 +505,7 @@ fn as_fast_as_polled_stamps_sent_frames_with_the_replay_position() {
 
 #[test]
 fn errors_name_the_file_and_say_what_to_do() {
-    let dir = temp_dir("errors");
+    let dir = temp_dir("replay-errors");
     let msg = |r: Result<Replay, ReplayError>| match r {
         Ok(_) => panic!("accepted"),
         Err(e) => (e.to_string(), e),

@@ -5,8 +5,7 @@
 //! proves the count moves), and a replayed cyclic frame lands in the image of the cycle
 //! thread's PROFINET IO.
 
-use pcap_file::TsResolution;
-use pcap_file::pcap::{PcapHeader, PcapPacket, PcapParser, PcapWriter};
+use pcap_file::pcap::{PcapPacket, PcapParser, PcapWriter};
 use procimg_nic::replay::{Pacing, Replay, ReplayOptions};
 use procimg_nic::{MAX_FRAME, Nic};
 use procimg_profinet::controller::cyclic::CyclicAr;
@@ -21,8 +20,9 @@ use procimg_runtime::sys::rt_alloc::{
     rt_heap_allocations,
 };
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
+use procimg_testkit::files::{pcap, temp_dir};
 use procimg_testkit::fixtures::profinet_capture;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
@@ -73,8 +73,7 @@ fn exchange(nic: &mut dyn Nic, rounds: usize, out: &[u8]) -> usize {
 #[test]
 fn replaying_and_sending_allocate_nothing() {
     let file = capture();
-    let dir = std::env::temp_dir().join(format!("procimg-replay-alloc-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("replay-alloc");
     let mut clock_ns = 0u64;
     let pacings = [
         Pacing::AsFastAsPolled,
@@ -141,32 +140,6 @@ const PNET_DEVICE: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8])
 const T0: u64 = 1_787_840_000 * 1_000_000_000;
 const MS: u64 = 1_000_000;
 
-/// A pcap file (nanosecond timestamps) of `records`.
-fn pcap(records: &[(u64, Vec<u8>)]) -> Vec<u8> {
-    let header = PcapHeader {
-        ts_resolution: TsResolution::NanoSecond,
-        ..PcapHeader::default()
-    };
-    let mut w = PcapWriter::with_header(Vec::new(), header).unwrap();
-    for (ts, f) in records {
-        w.write_packet(&PcapPacket::new(
-            Duration::from_nanos(*ts),
-            f.len() as u32,
-            f,
-        ))
-        .unwrap();
-    }
-    w.into_writer()
-}
-
-/// A fresh directory for the files of one test.
-fn temp_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("procimg-replay-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// The p-net sample device with the submodules the S7 configured (records aside: they do not
 /// change the frames).
 const PNET_SAMPLE: &str = r#"
@@ -217,7 +190,7 @@ fn a_replayed_cyclic_frame_lands_in_the_image() {
         );
     }
 
-    let dir = temp_dir("image");
+    let dir = temp_dir("replay-image");
     let out = dir.join("sent.pcap");
     let file = pcap(&[
         (T0, profinet_capture("rt/rtc_cpu_8001")),

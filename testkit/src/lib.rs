@@ -10,6 +10,7 @@
 
 pub mod build;
 pub mod c;
+pub mod files;
 pub mod fixtures;
 pub mod netns;
 pub mod pattern;

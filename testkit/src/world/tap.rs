@@ -3,10 +3,7 @@
 //! with the time, kept where a filter wants it ([`World::tap`](super::World::tap)), and
 //! written as a pcap file for Wireshark or a replay.
 
-use pcap_file::TsResolution;
-use pcap_file::pcap::{PcapHeader, PcapPacket, PcapWriter};
 use std::net::SocketAddrV4;
-use std::time::Duration;
 
 /// Who put a message on the network.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -68,16 +65,9 @@ pub type Filter = Box<dyn FnMut(&Record) -> bool>;
 /// A pcap file (nanosecond timestamps) of `records` as frames ([`Record::to_frame`]), each at
 /// its time after `epoch_ns`.
 pub fn pcap(records: &[Record], epoch_ns: u64) -> Vec<u8> {
-    let header = PcapHeader {
-        ts_resolution: TsResolution::NanoSecond,
-        ..PcapHeader::default()
-    };
-    let mut w = PcapWriter::with_header(Vec::new(), header).expect("a pcap header fits a Vec");
-    for r in records {
-        let frame = r.to_frame();
-        let at = Duration::from_nanos(epoch_ns.saturating_add(r.at_ns));
-        w.write_packet(&PcapPacket::new(at, frame.len() as u32, &frame))
-            .expect("a frame fits a Vec");
-    }
-    w.into_writer()
+    let frames: Vec<(u64, Vec<u8>)> = records
+        .iter()
+        .map(|r| (epoch_ns.saturating_add(r.at_ns), r.to_frame()))
+        .collect();
+    crate::files::pcap(&frames)
 }
