@@ -21,8 +21,25 @@
 /// conversions both ways as `From` and as `const fn`s (`from_raw`, `raw`) for `const`
 /// contexts and sub-byte fields, and `name()` with the readable text of the known values.
 /// Extra attributes before `pub enum` (docs, further derives) go onto the enum; it always
-/// derives `Clone, Copy, Debug, PartialEq, Eq, Hash`.
+/// derives `Clone, Copy, Debug, PartialEq, Eq, Hash`. With `display "FORMAT"` after the wire
+/// type, it also implements `Display`: the readable text of a known value, FORMAT with the
+/// raw value for an unknown one.
 macro_rules! enum_with_unknown {
+    (
+        $(#[$m:meta])*
+        pub enum $name:ident($ty:ty) display $unknown:literal { $($body:tt)+ }
+    ) => {
+        enum_with_unknown! { $(#[$m])* pub enum $name($ty) { $($body)+ } }
+
+        impl core::fmt::Display for $name {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                match self.name() {
+                    Some(name) => f.write_str(name),
+                    None => write!(f, $unknown, self.raw()),
+                }
+            }
+        }
+    };
     (
         $(#[$m:meta])*
         pub enum $name:ident($ty:ty) {

@@ -126,7 +126,7 @@ const PREFIX_LEN: usize = 2;
 
 enum_with_unknown! {
     /// DCP ServiceID.
-    pub enum ServiceId(u8) {
+    pub enum ServiceId(u8) display "Service({:#04x})" {
         /// 3: Get.
         Get = 3 => "Get",
         /// 4: Set.
@@ -138,33 +138,15 @@ enum_with_unknown! {
     }
 }
 
-impl core::fmt::Display for ServiceId {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self.name() {
-            Some(name) => f.write_str(name),
-            None => write!(f, "Service({:#04x})", self.raw()),
-        }
-    }
-}
-
 enum_with_unknown! {
     /// DCP ServiceType.
-    pub enum ServiceType(u8) {
+    pub enum ServiceType(u8) display "Type({:#04x})" {
         /// 0x00: request.
         Request = 0x00 => "Request",
         /// 0x01: response, success.
         Success = 0x01 => "Success",
         /// 0x05: response, request not supported.
         NotSupported = 0x05 => "NotSupported",
-    }
-}
-
-impl core::fmt::Display for ServiceType {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self.name() {
-            Some(name) => f.write_str(name),
-            None => write!(f, "Type({:#04x})", self.raw()),
-        }
     }
 }
 

@@ -176,7 +176,7 @@ pub const REPLY_FLAGS1: u8 = flags1::LAST_FRAGMENT | flags1::NO_FACK;
 
 enum_with_unknown! {
     /// The PacketType of a connectionless PDU.
-    pub enum PacketType(u8) {
+    pub enum PacketType(u8) display "type {:#04x}" {
         /// 0: request (a call).
         Request = 0 => "request",
         /// 1: ping (client asks whether a call is still running).
@@ -199,15 +199,6 @@ enum_with_unknown! {
         Fack = 9 => "fack",
         /// 10: cancel ack.
         CancelAck = 10 => "cancel-ack",
-    }
-}
-
-impl core::fmt::Display for PacketType {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self.name() {
-            Some(name) => f.write_str(name),
-            None => write!(f, "type {:#04x}", self.raw()),
-        }
     }
 }
 

@@ -65,7 +65,7 @@ const ADD_FLAGS_TACK: u8 = 0x10;
 
 enum_with_unknown! {
     /// The type of an RTA PDU: the low nibble of PDUType (the high nibble is the version).
-    pub enum PduType(u8) {
+    pub enum PduType(u8) display "PDUType({})" {
         /// 1: DATA-RTA, carries an alarm block.
         Data = 1 => "DATA",
         /// 2: NACK-RTA.
@@ -86,15 +86,6 @@ impl PduType {
     /// The PDUType byte of this type and `version`: both are nibbles, higher bits are dropped.
     pub const fn pdu_type_byte(self, version: u8) -> u8 {
         (version << 4) | (self.raw() & 0x0f)
-    }
-}
-
-impl core::fmt::Display for PduType {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self.name() {
-            Some(name) => f.write_str(name),
-            None => write!(f, "PDUType({})", self.raw()),
-        }
     }
 }
 
