@@ -34,7 +34,7 @@ max_len() {
         frame | dcp | alarm | rpc) echo 1600 ;;
         control) echo 512 ;;
         connect | record | rta_channel) echo 4096 ;;
-        controller | device_sim | config) echo 8192 ;;
+        controller | device | config) echo 8192 ;;
         gsdml) echo 32768 ;;
         *) echo 4096 ;;
     esac

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The byte format of the targets that take a sequence of operations (`controller`,
-//! `device_sim`, `rta_channel`): an operation is one opcode byte followed by its arguments,
+//! `device`, `rta_channel`): an operation is one opcode byte followed by its arguments,
 //! big-endian integers and byte strings with a u16 length. A truncated argument ends the
 //! sequence, so every input means something and libFuzzer's mutations stay meaningful.
 //!

@@ -11,7 +11,7 @@
 //! controller's state machine with inputs that differ from valid ones in a few bytes, which
 //! recorded answers could not do once an operation changed the course of the exchange.
 //!
-//! [`DeviceBench`] drives one simulated device alone (the `device_sim` target); its seeds
+//! [`DeviceBench`] drives one simulated device alone (the `device` target); its seeds
 //! are what the controller sent to that device in a recorded bring-up ([`record_bringup`]).
 
 use crate::ops::{Reader, Writer};
@@ -19,7 +19,7 @@ use crate::wire_check;
 use procimg_nic::{MAX_FRAME, Nic, sim_link};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::{AlarmTicket, DeviceEvent, DeviceState, RecordRequest};
-use procimg_profinet::device_sim::DeviceAction;
+use procimg_profinet::device::DeviceAction;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_runtime::config::{self, Config, SimBehaviour};
@@ -138,7 +138,7 @@ pub mod ops {
     pub const COUNT: u8 = 13;
 }
 
-/// Opcodes of the `device_sim` target.
+/// Opcodes of the `device` target.
 pub mod device_ops {
     /// `n: u8`: `max(n, 1)` ms of time, polling every ms.
     pub const STEP: u8 = 0;
@@ -555,7 +555,7 @@ impl World {
 
 /// Runs the fuzz network from OFFLINE until both devices are in data exchange, then 20 ms
 /// more; returns the operations that did it (a seed for the `controller` target) and what
-/// the controller sent to device 0 (the material of the `device_sim` seeds).
+/// the controller sent to device 0 (the material of the `device` seeds).
 pub fn record_bringup() -> (Vec<u8>, Vec<Sent>) {
     let mut seed = Writer::new();
     let mut w = World::new();
@@ -583,7 +583,7 @@ pub fn record_bringup() -> (Vec<u8>, Vec<Sent>) {
     (seed.finish(), w.recorded())
 }
 
-/// One simulated device alone: the `device_sim` target.
+/// One simulated device alone: the `device` target.
 pub struct DeviceBench {
     device: DemoDevice,
     now: u64,
@@ -659,7 +659,7 @@ impl DeviceBench {
     }
 }
 
-/// The `device_sim` seed for what the controller sent to device 0: the frames and datagrams
+/// The `device` seed for what the controller sent to device 0: the frames and datagrams
 /// at the cycles they were sent.
 pub fn device_seed(sent: &[Sent]) -> Vec<u8> {
     let mut w = Writer::new();

@@ -16,8 +16,8 @@
 //!     ControllerIdentity, DevicePlan, DeviceSpec, SubmoduleSpec,
 //! };
 //! use procimg_profinet::controller::{Action, Controller};
-//! use procimg_profinet::device_sim::{
-//!     Application, DeviceAction, SimDevice, SimDeviceSpec, SimSubmodule,
+//! use procimg_profinet::device::{
+//!     Application, DeviceAction, Device, DeviceSetup, PluggedSubmodule,
 //! };
 //! use procimg_profinet::wire::{MacAddress, ethernet, rpc::RPC_PORT};
 //! use std::net::{Ipv4Addr, SocketAddrV4};
@@ -42,10 +42,10 @@
 //!         input_length, output_length, records: vec![],
 //!     }).collect(),
 //! };
-//! let mut device = SimDevice::new(SimDeviceSpec {
+//! let mut device = Device::new(DeviceSetup {
 //!     name: spec.name.clone(), mac: MacAddress([2, 0, 0, 0, 0, 11]), ip: Some(device_ip.octets()),
 //!     vendor_id: spec.vendor_id, device_id: spec.device_id, instance: 1,
-//!     submodules: spec.submodules.iter().map(|s| SimSubmodule {
+//!     submodules: spec.submodules.iter().map(|s| PluggedSubmodule {
 //!         api: s.api, slot: s.slot, subslot: s.subslot, module_ident: s.module_ident,
 //!         submodule_ident: s.submodule_ident, input_length: s.input_length,
 //!         output_length: s.output_length,
@@ -132,7 +132,7 @@
 
 pub mod controller;
 pub mod dcp_client;
-pub mod device_sim;
+pub mod device;
 pub mod iocr_layout;
 pub mod rta;
 #[cfg(test)]

@@ -6,7 +6,7 @@
 use procimg_client::{
     AlarmReport, FailureCause, Notification, RecordError, RecordTarget, ServiceOptions, Services,
 };
-use procimg_profinet::device_sim::{SIM_ALARM_INDEX, SIM_ALARM_USI};
+use procimg_profinet::device::{SIM_ALARM_INDEX, SIM_ALARM_USI};
 use procimg_profinet::wire::record::Im0;
 use procimg_testkit::Procimgd;
 use std::time::{Duration, Instant};

@@ -8,9 +8,7 @@
 //! of the `pnio` crate 0.1.0, MIT OR Apache-2.0) and requests built with our codecs.
 
 use procimg_profinet::dcp_client;
-use procimg_profinet::device_sim::{
-    DeviceAction, SimDevice, SimDeviceSpec, SimDeviceState, SimSubmodule,
-};
+use procimg_profinet::device::{ArState, Device, DeviceAction, DeviceSetup, PluggedSubmodule};
 use procimg_profinet::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use procimg_profinet::wire::connect::ConnectRequest;
 use procimg_profinet::wire::control::ControlBlock;
@@ -47,7 +45,7 @@ fn device(drop_slot: Option<u16>) -> DemoDevice {
         .flat_map(|b| b.modules.iter())
         .filter(|m| Some(m.slot) != drop_slot)
         .flat_map(|m| {
-            m.submodules.iter().map(|s| SimSubmodule {
+            m.submodules.iter().map(|s| PluggedSubmodule {
                 api: m.api,
                 slot: m.slot,
                 subslot: s.subslot,
@@ -63,7 +61,7 @@ fn device(drop_slot: Option<u16>) -> DemoDevice {
         let (_, data, _) = IodHeader::split(Pdu::parse(&res).unwrap().blocks).unwrap();
         Im0::parse(data).unwrap()
     };
-    SimDevice::new(SimDeviceSpec {
+    Device::new(DeviceSetup {
         name: "rt-labs-dev".into(),
         mac: DEVICE_MAC,
         ip: None,
@@ -266,7 +264,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     )
     .unwrap();
     dev.on_datagram(SocketAddrV4::new(S7_IP, 56424), 0xc001, &res, t, &mut out);
-    assert_eq!(dev.state(), SimDeviceState::Data);
+    assert_eq!(dev.state(), ArState::Data);
 
     // Data exchange: the S7's output frames, our input frames; a process alarm, the S7's
     // transport ACK and AlarmAck, our ACK.
@@ -333,7 +331,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         now,
         &mut out,
     );
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
     wire.take(&mut out);
 
     // Another device with slot 3 missing: a Connect response with a ModuleDiffBlock, its
@@ -357,7 +355,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     );
     short.on_frame(&capture("rt/rtc_cpu_8001"), 0, &mut out);
     let mut t = 0;
-    while short.state() != SimDeviceState::Idle {
+    while short.state() != ArState::Idle {
         t = short.next_deadline_ns().unwrap();
         short.poll(t, &mut out);
     }

@@ -11,10 +11,10 @@
 //! Each target gets the part of a frame it parses: whole frames (`frame`), the PROFINET PDU
 //! behind the EtherType (`dcp`, `alarm`), the UDP payload (`rpc`), the PNIO blocks after the
 //! RPC and NDR headers (`connect`, `control`, `record`), operation sequences (`controller`,
-//! `device_sim`, `rta_channel`), text (`config`, `gsdml`). Run it again when the captures,
+//! `device`, `rta_channel`), text (`config`, `gsdml`). Run it again when the captures,
 //! the operation formats in `src/world.rs` or the fuzz network change. The output is the same
 //! every time except for the ARUUIDs and activity UUIDs the controller draws at random, which
-//! appear in the `device_sim` bring-up seed.
+//! appear in the `device` bring-up seed.
 
 use procimg_fuzz::captures::{self, Captured, profinet_pdu, rpc_blocks, udp_payload};
 use procimg_fuzz::ops::Writer;
@@ -245,7 +245,7 @@ fn sessions(caps: &[Captured], seeds: &mut Seeds) {
 
     // The simulated device: what the controller sent it, and the S7's side of the captured
     // session, addressed to the simulated device.
-    add(seeds, "device_sim", "bringup", &world::device_seed(&sent));
+    add(seeds, "device", "bringup", &world::device_seed(&sent));
     let by_name = |name: &str| caps.iter().find(|c| c.name == name);
     let s7 = [
         "cm/dcp_set_req",
@@ -264,16 +264,16 @@ fn sessions(caps: &[Captured], seeds: &mut Seeds) {
         "alarm/alarm_err_rta_cpu",
     ];
     let session = device_messages(s7.iter().filter_map(|n| by_name(n)));
-    add(seeds, "device_sim", "s7-session", &session);
+    add(seeds, "device", "s7-session", &session);
     add(
         seeds,
-        "device_sim",
+        "device",
         "every-capture",
         &device_messages(caps.iter()),
     );
 }
 
-/// `device_sim` operations delivering captured frames and datagrams to the simulated device:
+/// `device` operations delivering captured frames and datagrams to the simulated device:
 /// frames re-addressed to its MAC, RPC requests to its port 34964, other RPC PDUs (answers to
 /// its own calls) to another port, 2 ms apart.
 fn device_messages<'a>(caps: impl Iterator<Item = &'a Captured>) -> Vec<u8> {

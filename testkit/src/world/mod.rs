@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! One deterministic PROFINET network in memory: a [`Controller`] and simulated devices
-//! ([`SimDevice`]) on a virtual Ethernet segment and a virtual UDP network, in virtual time
+//! ([`Device`]) on a virtual Ethernet segment and a virtual UDP network, in virtual time
 //! that the caller steps. The controller draws its UUIDs from a seed and every frame and
 //! datagram goes in one fixed order, so a run with the same seed and the same steps sends the
 //! same bytes at the same times: what a [tap](World::tap) records replays exactly.
@@ -11,7 +11,7 @@
 //!
 //! ```
 //! use procimg_profinet::controller::plan::{DevicePlan, DeviceSpec, SubmoduleSpec};
-//! use procimg_profinet::device_sim::{Application, SimDevice, SimDeviceSpec, SimSubmodule};
+//! use procimg_profinet::device::{Application, Device, DeviceSetup, PluggedSubmodule};
 //! use procimg_profinet::wire::MacAddress;
 //! use procimg_testkit::world::{Setup, World, controller_identity};
 //! use std::net::Ipv4Addr;
@@ -32,10 +32,10 @@
 //!     device_id: 1, instance: 1, reduction_ratio: 1, watchdog_factor: 3,
 //!     submodules: vec![SubmoduleSpec { slot: 0, input_length: 0, output_length: 0, ..io.clone() }, io],
 //! };
-//! let device = SimDevice::new(SimDeviceSpec {
+//! let device = Device::new(DeviceSetup {
 //!     name: spec.name.clone(), mac: MacAddress([2, 0, 0, 0, 0, 11]), ip: None,
 //!     vendor_id: spec.vendor_id, device_id: spec.device_id, instance: 1,
-//!     submodules: spec.submodules.iter().map(|s| SimSubmodule {
+//!     submodules: spec.submodules.iter().map(|s| PluggedSubmodule {
 //!         api: s.api, slot: s.slot, subslot: s.subslot, module_ident: s.module_ident,
 //!         submodule_ident: s.submodule_ident, input_length: s.input_length,
 //!         output_length: s.output_length,
@@ -61,7 +61,7 @@ pub use intercept::{Intercepted, Interceptor, Kind};
 pub use port::{Direct, Port, Report, Tick};
 use procimg_profinet::controller::plan::{ControllerIdentity, DevicePlan};
 use procimg_profinet::controller::{Action, Controller, DeviceEvent, DeviceState};
-use procimg_profinet::device_sim::{Application, DeviceAction, SimDevice};
+use procimg_profinet::device::{Application, Device, DeviceAction};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -141,7 +141,7 @@ struct Tap {
 /// The controller, the devices and their network; see the [module](self).
 pub struct World<A: Application, P: Port = Direct> {
     controller: Controller,
-    devices: Vec<SimDevice<A>>,
+    devices: Vec<Device<A>>,
     port: P,
     controller_ip: Ipv4Addr,
     period_ns: u64,
@@ -154,7 +154,7 @@ pub struct World<A: Application, P: Port = Direct> {
 
 impl<A: Application> World<A, Direct> {
     /// The controller of `setup` and `devices` on a [`Direct`] port, offline.
-    pub fn direct(setup: Setup, devices: Vec<SimDevice<A>>) -> World<A, Direct> {
+    pub fn direct(setup: Setup, devices: Vec<Device<A>>) -> World<A, Direct> {
         World::new(setup, devices, Direct::new())
     }
 }
@@ -162,7 +162,7 @@ impl<A: Application> World<A, Direct> {
 impl<A: Application, P: Port> World<A, P> {
     /// The controller of `setup` and `devices` (device `d` is the one of plan `d`), the
     /// controller reaching the segment through `port`; the controller is offline.
-    pub fn new(setup: Setup, devices: Vec<SimDevice<A>>, port: P) -> World<A, P> {
+    pub fn new(setup: Setup, devices: Vec<Device<A>>, port: P) -> World<A, P> {
         let controller_ip = setup.identity.ip;
         World {
             controller: Controller::new(setup.identity, setup.plans, setup.boot_time, setup.seed),
@@ -204,7 +204,7 @@ impl<A: Application, P: Port> World<A, P> {
     }
 
     /// The devices.
-    pub fn devices(&self) -> &[SimDevice<A>] {
+    pub fn devices(&self) -> &[Device<A>] {
         &self.devices
     }
 
@@ -250,7 +250,7 @@ impl<A: Application, P: Port> World<A, P> {
     pub fn with_device<R>(
         &mut self,
         d: usize,
-        f: impl FnOnce(&mut SimDevice<A>, u64, &mut Vec<DeviceAction>) -> R,
+        f: impl FnOnce(&mut Device<A>, u64, &mut Vec<DeviceAction>) -> R,
     ) -> R {
         let mut out = Vec::new();
         let r = f(&mut self.devices[d], self.now_ns, &mut out);

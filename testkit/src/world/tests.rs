@@ -6,7 +6,7 @@ use super::tap::{Message, Origin, Record, pcap};
 use super::*;
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::plan::{DeviceSpec, SubmoduleSpec};
-use procimg_profinet::device_sim::{SimDeviceSpec, SimSubmodule};
+use procimg_profinet::device::{DeviceSetup, PluggedSubmodule};
 
 /// Inputs that count the frames produced.
 struct Counter;
@@ -51,7 +51,7 @@ fn world(seed: u64) -> World<Counter> {
         .iter()
         .enumerate()
         .map(|(d, s)| {
-            SimDevice::new(SimDeviceSpec {
+            Device::new(DeviceSetup {
                 name: s.name.clone(),
                 mac: MacAddress([2, 0, 0, 0, 1, d as u8]),
                 ip: s.ip.is_none().then_some([192, 168, 0, 20 + d as u8]),
@@ -61,7 +61,7 @@ fn world(seed: u64) -> World<Counter> {
                 submodules: s
                     .submodules
                     .iter()
-                    .map(|m| SimSubmodule {
+                    .map(|m| PluggedSubmodule {
                         api: m.api,
                         slot: m.slot,
                         subslot: m.subslot,

@@ -12,7 +12,7 @@
 //! `k` counts the device's produced frames. Nothing here allocates.
 
 use crate::config::SimBehaviour;
-use procimg_profinet::device_sim::Application;
+use procimg_profinet::device::Application;
 
 /// Counts per position of the digital-io walking bit.
 pub const WALKING_BIT_PERIOD: u64 = 100;

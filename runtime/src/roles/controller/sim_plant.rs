@@ -9,10 +9,10 @@ use crate::config::SimBehaviour;
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
 use procimg_nic::Nic;
 use procimg_nic::sim_link::LinkEnd;
-use procimg_profinet::device_sim::{DeviceAction, SimDevice, SimDeviceSpec, SimSubmodule};
+use procimg_profinet::device::{Device, DeviceAction, DeviceSetup, PluggedSubmodule};
 
 /// A simulated device running one of the demo's behaviours.
-pub type DemoDevice = SimDevice<SimBehaviour>;
+pub type DemoDevice = Device<SimBehaviour>;
 use crate::sys::clock::{now_ns, sleep_until_ns};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
@@ -45,7 +45,7 @@ pub fn devices(config: &Config) -> Vec<DemoDevice> {
         .iter()
         .enumerate()
         .map(|(d, dev)| {
-            SimDevice::new(SimDeviceSpec {
+            Device::new(DeviceSetup {
                 name: dev.name.clone(),
                 mac: device_mac(d),
                 ip: dev.ip.is_none().then(|| own_ip(d)),
@@ -55,7 +55,7 @@ pub fn devices(config: &Config) -> Vec<DemoDevice> {
                 submodules: dev
                     .submodules
                     .iter()
-                    .map(|s| SimSubmodule {
+                    .map(|s| PluggedSubmodule {
                         api: s.api,
                         slot: s.slot,
                         subslot: s.subslot,

@@ -10,7 +10,7 @@
 //!
 //! [`ConnectRequest::parse`]: crate::wire::connect::ConnectRequest::parse
 
-use super::SimSubmodule;
+use super::PluggedSubmodule;
 use crate::wire::common::blocks;
 use crate::wire::connect::{
     AlarmCrBlockReq, AlarmCrBlockRes, ArBlockReq, ArBlockRes, ArServerBlock, ExpectedSubmodule,
@@ -450,7 +450,7 @@ pub(super) enum Fit {
 /// ModuleDiffBlock listing the differences (`None` when there are none).
 pub(super) fn module_diff(
     expected: &[Expected],
-    real: &[SimSubmodule],
+    real: &[PluggedSubmodule],
 ) -> (Vec<Fit>, Option<ModuleDiffBlock>) {
     let fits: Vec<Fit> = expected
         .iter()

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Record data: the Write (single and WriteMultiple 0xE040) and Read services of the
-//! simulated device.
+//! device.
 //!
 //! Writes are accepted for user indices (0x0000–0x7FFF) of any plugged submodule, for the
 //! PDev records (0x8000–0x80FF) of the interface and port submodules (subslots 0x8000 and
@@ -9,7 +9,7 @@
 //! what was written, and the diagnosis indices (empty: the simulated device has none). The
 //! rest is refused with a PNIORW status: invalid index, invalid slot/subslot, access denied.
 
-use super::SimSubmodule;
+use super::PluggedSubmodule;
 use super::connect::{CMRPC, CMRPC_AR_UUID_UNKNOWN, CMRPC_ARGS_LENGTH, CMRPC_UNKNOWN_BLOCKS};
 use crate::wire::record::Im0;
 use crate::wire::record::{
@@ -49,7 +49,7 @@ pub(super) struct ArRecords<'a> {
 /// Handles a Write request's blocks: the RPC-level status and the response blocks.
 pub(super) fn write(
     ar: Option<ArRecords<'_>>,
-    real: &[SimSubmodule],
+    real: &[PluggedSubmodule],
     blocks: &[u8],
 ) -> (PnioStatus, Vec<u8>) {
     let Ok((outer, data, rest)) = IodHeader::split(blocks) else {
@@ -106,14 +106,14 @@ pub(super) fn write(
 }
 
 /// Whether (API, slot, subslot) is plugged.
-fn plugged(real: &[SimSubmodule], api: u32, slot: u16, subslot: u16) -> bool {
+fn plugged(real: &[PluggedSubmodule], api: u32, slot: u16, subslot: u16) -> bool {
     real.iter()
         .any(|r| (r.api, r.slot, r.subslot) == (api, slot, subslot))
 }
 
 fn write_one(
     records: &mut Records,
-    real: &[SimSubmodule],
+    real: &[PluggedSubmodule],
     h: &IodHeader,
     data: &[u8],
 ) -> PnioStatus {
@@ -157,7 +157,7 @@ fn is_diagnosis(index: u16) -> bool {
 pub(super) fn read(
     implicit: bool,
     ar: Option<(Uuid, &Records)>,
-    real: &[SimSubmodule],
+    real: &[PluggedSubmodule],
     im0: &Im0,
     blocks: &[u8],
 ) -> (PnioStatus, Vec<u8>) {
@@ -198,7 +198,7 @@ pub(super) fn read(
 
 fn read_one(
     records: Option<&Records>,
-    real: &[SimSubmodule],
+    real: &[PluggedSubmodule],
     im0: &Im0,
     h: &IodHeader,
 ) -> Result<Vec<u8>, PnioStatus> {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The DCP responder of the simulated device: Identify (all, by name and the other filters,
+//! The DCP responder of the device: Identify (all, by name and the other filters,
 //! answered after the ResponseDelay the request asks for), Get, and Set of the IP parameters
 //! and NameOfStation, Signal, start/stop transaction and reset to factory.
 

@@ -81,13 +81,13 @@ fn pnet_im0() -> Im0 {
 }
 
 /// What the S7 expects in the connect capture, as what is plugged.
-fn pnet_submodules() -> Vec<SimSubmodule> {
+fn pnet_submodules() -> Vec<PluggedSubmodule> {
     let req = ConnectRequest::parse(&captured_blocks("cm/connect_req")).unwrap();
     req.expected
         .iter()
         .flat_map(|b| b.modules.iter())
         .flat_map(|m| {
-            m.submodules.iter().map(|s| SimSubmodule {
+            m.submodules.iter().map(|s| PluggedSubmodule {
                 api: m.api,
                 slot: m.slot,
                 subslot: s.subslot,
@@ -100,8 +100,8 @@ fn pnet_submodules() -> Vec<SimSubmodule> {
         .collect()
 }
 
-fn pnet_spec(behaviour: TestApp) -> SimDeviceSpec<TestApp> {
-    SimDeviceSpec {
+fn pnet_spec(behaviour: TestApp) -> DeviceSetup<TestApp> {
+    DeviceSetup {
         name: "rt-labs-dev".into(),
         mac: PNET_MAC,
         ip: None,
@@ -115,8 +115,8 @@ fn pnet_spec(behaviour: TestApp) -> SimDeviceSpec<TestApp> {
 }
 
 /// The p-net sample device, with the IP the S7 gives it.
-fn pnet_device(behaviour: TestApp) -> SimDevice<TestApp> {
-    let mut d = SimDevice::new(SimDeviceSpec {
+fn pnet_device(behaviour: TestApp) -> Device<TestApp> {
+    let mut d = Device::new(DeviceSetup {
         ip: Some(DEVICE_IP),
         ..pnet_spec(behaviour)
     });
@@ -165,7 +165,7 @@ fn parse_reply(payload: &[u8]) -> Reply {
 }
 
 /// Sends `payload` from `from` to the RPC port; the one response.
-fn call_from(dev: &mut SimDevice<TestApp>, from: SocketAddrV4, payload: &[u8], now: u64) -> Reply {
+fn call_from(dev: &mut Device<TestApp>, from: SocketAddrV4, payload: &[u8], now: u64) -> Reply {
     let mut out = Vec::new();
     dev.on_datagram(from, RPC_PORT, payload, now, &mut out);
     let d = datagrams(&out);
@@ -174,7 +174,7 @@ fn call_from(dev: &mut SimDevice<TestApp>, from: SocketAddrV4, payload: &[u8], n
     parse_reply(&d[0].2)
 }
 
-fn call(dev: &mut SimDevice<TestApp>, payload: &[u8], now: u64) -> Reply {
+fn call(dev: &mut Device<TestApp>, payload: &[u8], now: u64) -> Reply {
     call_from(dev, S7_CLIENT, payload, now)
 }
 
@@ -183,7 +183,7 @@ fn status(r: &Reply) -> PnioStatus {
 }
 
 /// Polls at every deadline up to `until`; everything sent.
-fn run_until(dev: &mut SimDevice<TestApp>, until: u64) -> Vec<(u64, DeviceAction)> {
+fn run_until(dev: &mut Device<TestApp>, until: u64) -> Vec<(u64, DeviceAction)> {
     let mut all = Vec::new();
     while let Some(t) = dev.next_deadline_ns().filter(|t| *t <= until) {
         let mut out = Vec::new();
@@ -194,7 +194,7 @@ fn run_until(dev: &mut SimDevice<TestApp>, until: u64) -> Vec<(u64, DeviceAction
 }
 
 /// The captured S7 requests up to PrmEnd, answered; the ApplicationReady the device sends.
-fn bring_up_to_app_ready(dev: &mut SimDevice<TestApp>) -> (Reply, u64) {
+fn bring_up_to_app_ready(dev: &mut Device<TestApp>) -> (Reply, u64) {
     assert_eq!(
         status(&call(dev, &rpc_capture("cm/connect_req"), 0)),
         PnioStatus::OK
@@ -226,7 +226,7 @@ fn s7_app_ready_response(activity: Uuid) -> Vec<u8> {
 }
 
 /// The device in data exchange after the captured bring-up.
-fn pnet_in_data(behaviour: TestApp) -> (SimDevice<TestApp>, u64) {
+fn pnet_in_data(behaviour: TestApp) -> (Device<TestApp>, u64) {
     let mut dev = pnet_device(behaviour);
     let (app_ready, t) = bring_up_to_app_ready(&mut dev);
     let mut out = Vec::new();
@@ -239,7 +239,7 @@ fn pnet_in_data(behaviour: TestApp) -> (SimDevice<TestApp>, u64) {
         &mut out,
     );
     assert!(out.is_empty(), "{out:?}");
-    assert_eq!(dev.state(), SimDeviceState::Data);
+    assert_eq!(dev.state(), ArState::Data);
     (dev, t + MS)
 }
 
@@ -250,7 +250,7 @@ fn patch_block(payload: &mut [u8], at: usize, bytes: &[u8]) {
 
 #[test]
 fn dcp_identify_and_set_ip_answer_like_pnet() {
-    let mut dev = SimDevice::new(pnet_spec(TestApp::None));
+    let mut dev = Device::new(pnet_spec(TestApp::None));
     dev.set_type_of_station("P-Net Sample Application");
     let req = wire_dcp::Repr::identify_by_name(0x0300_012c, 1, "rt-labs-dev");
     let frame = dcp_client::frame(MacAddress::DCP_IDENTIFY, S7_MAC, &req).unwrap();
@@ -379,7 +379,7 @@ fn dcp_filters_delay_get_set_name_and_signal() {
 
 #[test]
 fn captured_s7_bring_up_gets_pnets_answers() {
-    let mut dev = SimDevice::new(pnet_spec(TestApp::Echo));
+    let mut dev = Device::new(pnet_spec(TestApp::Echo));
     dev.set_type_of_station("P-Net Sample Application");
     let mut out = Vec::new();
     // No IP yet: no RPC endpoint.
@@ -412,7 +412,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
         (ours.header.flags1, pnet.header.flags1),
         (flags1::LAST_FRAGMENT | flags1::NO_FACK, 0x28)
     );
-    assert_eq!(dev.state(), SimDeviceState::Connected);
+    assert_eq!(dev.state(), ArState::Connected);
 
     // WriteMultiple: PDInterfaceAdjust and the three user records, each answered OK.
     let ours = call(&mut dev, &rpc_capture("cm/write_req"), MS);
@@ -428,7 +428,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     let pnet = parse_reply(&rpc_capture("cm/prmend_res"));
     assert_eq!(ours.blocks, pnet.blocks, "PrmEnd response blocks");
     same_rpc_reply(&ours, &pnet);
-    assert_eq!(dev.state(), SimDeviceState::Parameterized);
+    assert_eq!(dev.state(), ArState::Parameterized);
 
     // ApplicationReady to the S7's RPC server port 34964 from 0xC001, like p-net's: the
     // same blocks and header except the activity UUID (each device makes its own).
@@ -459,7 +459,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
         pnet.header
     );
     assert_eq!(ours.header.interface, CONTROLLER_INTERFACE);
-    assert_eq!(dev.state(), SimDeviceState::WaitAppReadyConfirm);
+    assert_eq!(dev.state(), ArState::WaitAppReadyConfirm);
     // The input CR started at PrmEnd: one frame so far, status BAD until the confirmation.
     let first = frames(&out);
     assert_eq!(first.len(), 1);
@@ -478,7 +478,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
         t + MS,
         &mut out,
     );
-    assert_eq!(dev.state(), SimDeviceState::Data);
+    assert_eq!(dev.state(), ArState::Data);
 
     // The S7's output frame with the echo values; the next input frame has p-net's layout:
     // the same addresses, tag, FrameID, DataStatus and status bytes, the echoed data at the
@@ -523,7 +523,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     assert_eq!(status(&r), PnioStatus::OK);
     let done = ControlBlock::parse(&r.blocks).unwrap();
     assert!(done.answers(&ControlBlock::parse(&release).unwrap()));
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
     assert_eq!(dev.last_abort(), None);
     assert_eq!(dev.next_deadline_ns(), None);
 }
@@ -614,7 +614,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
     for s in spec.submodules.iter_mut().filter(|s| s.slot == 4) {
         s.submodule_ident = 0x141;
     }
-    let mut dev = SimDevice::new(spec);
+    let mut dev = Device::new(spec);
     let r = call(&mut dev, &rpc_capture("cm/connect_req"), 0);
     assert_eq!(status(&r), PnioStatus::OK, "a difference is not an error");
     let res = ConnectResponse::parse(&r.blocks).unwrap();
@@ -657,7 +657,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
         2 * MS,
         &mut out,
     );
-    assert_eq!(dev.state(), SimDeviceState::Data);
+    assert_eq!(dev.state(), ArState::Data);
     out.clear();
     let t = dev.next_deadline_ns().unwrap();
     dev.poll(t, &mut out);
@@ -758,13 +758,13 @@ const ACTIVITY: Uuid = Uuid::from_fields(0xaaaa_0001, 1, 0x4000, [8, 7, 6, 5, 4,
 const AR_UUID: Uuid = Uuid::from_fields(0x1234_5678, 0x9abc, 0x4def, [1, 2, 3, 4, 5, 6, 7, 8]);
 
 /// A counter device: DAP and 4 bytes in, 2 bytes out.
-fn counter_device() -> (SimDevice<TestApp>, ConnectRequest) {
+fn counter_device() -> (Device<TestApp>, ConnectRequest) {
     let subs = [
         (0, 1, 0x1, 0x1, 0, 0),
         (1, 1, 0x30, 0x1, 4, 0),
         (2, 1, 0x31, 0x1, 0, 2),
     ];
-    let dev = SimDevice::new(SimDeviceSpec {
+    let dev = Device::new(DeviceSetup {
         name: "counter".into(),
         mac: PNET_MAC,
         ip: Some(DEVICE_IP),
@@ -773,7 +773,7 @@ fn counter_device() -> (SimDevice<TestApp>, ConnectRequest) {
         instance: 1,
         submodules: subs
             .iter()
-            .map(|&(slot, subslot, m, s, i, o)| SimSubmodule {
+            .map(|&(slot, subslot, m, s, i, o)| PluggedSubmodule {
                 api: 0,
                 slot,
                 subslot,
@@ -791,7 +791,7 @@ fn counter_device() -> (SimDevice<TestApp>, ConnectRequest) {
 }
 
 /// Connect, PrmEnd and the ApplicationReady answered with our codecs, at `t0`.
-fn to_data(dev: &mut SimDevice<TestApp>, connect: &ConnectRequest, t0: u64) -> u64 {
+fn to_data(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u64) -> u64 {
     let r = call(
         dev,
         &request(
@@ -820,7 +820,7 @@ fn to_data(dev: &mut SimDevice<TestApp>, connect: &ConnectRequest, t0: u64) -> u
     )
     .unwrap();
     dev.on_datagram(d[0].0, rpc::CLIENT_PORT, &res, t, &mut out);
-    assert_eq!(dev.state(), SimDeviceState::Data);
+    assert_eq!(dev.state(), ArState::Data);
     t
 }
 
@@ -933,7 +933,7 @@ fn cyclic_frames_keep_period_offsets_and_counters_and_the_watchdog_aborts() {
     // Then silence: DataHoldFactor 3 × 2 ms after the last frame, the AR is aborted with an
     // ERR-RTA (consumer DHT expired) on the low-priority alarm channel.
     let sent = run_until(&mut dev, now + 10 * MS);
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
     assert_eq!(dev.last_abort(), Some(AbortCode::ConsumerDhtExpired));
     let (at, err) = sent
         .iter()
@@ -963,7 +963,7 @@ fn negative_responses_name_the_fault() {
         patch(&mut p);
         let r = call(&mut dev, &p, 0);
         assert!(r.blocks.is_empty());
-        assert_eq!(dev.state(), SimDeviceState::Idle);
+        assert_eq!(dev.state(), ArState::Idle);
         status(&r)
     };
     // The input IOCR's FrameID (ARBlockReq is 95 bytes; FrameID at 6 + 12 in the IOCR).
@@ -1006,14 +1006,14 @@ fn negative_responses_name_the_fault() {
     patch_block(&mut other, 8, &[0xff]);
     other[64] = 9; // a new sequence number, not a duplicate
     assert_eq!(status(&call(&mut dev, &other, MS)), refuse(0x40, 4));
-    assert_eq!(dev.state(), SimDeviceState::Connected);
+    assert_eq!(dev.state(), ArState::Connected);
     let mut rerun = connect.clone();
     rerun[64] = 10;
     let mut out = Vec::new();
     dev.on_datagram(S7_CLIENT, RPC_PORT, &rerun, 2 * MS, &mut out);
     assert_eq!(status(&parse_reply(&datagrams(&out)[0].2)), refuse(0x3d, 0));
     assert_eq!(frames(&out).len(), 1, "an ERR-RTA");
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
     assert_eq!(dev.last_abort(), Some(AbortCode::RerunAbortsExisting));
 
     // PrmEnd with a wrong session key, and for an unknown AR.
@@ -1067,7 +1067,7 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
     assert_eq!(ours.blocks, expected);
     assert_eq!(status(&ours), PnioStatus::OK);
 
-    let read = |dev: &mut SimDevice<TestApp>, seq: u32, slot: u16, subslot: u16, index: u16| {
+    let read = |dev: &mut Device<TestApp>, seq: u32, slot: u16, subslot: u16, index: u16| {
         let h = IodHeader::read_request(0, ar_uuid, 0, slot, subslot, index, 4096);
         call(
             dev,
@@ -1093,7 +1093,7 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
         PnioStatus::from_bytes([0xde, 0x80, 0xb2, 0x00])
     );
     // A write to I&M0 is denied; to an unknown index refused.
-    let write = |dev: &mut SimDevice<TestApp>, seq: u32, index: u16| {
+    let write = |dev: &mut Device<TestApp>, seq: u32, index: u16| {
         let h = IodHeader::write_request(0, ar_uuid, 0, 0, 1, index, 2);
         let mut b = h.to_bytes().to_vec();
         b.extend_from_slice(&[1, 2]);
@@ -1149,7 +1149,7 @@ fn duplicates_pings_and_fragments() {
     out.clear();
     dev.on_datagram(S7_CLIENT, RPC_PORT, &connect, MS, &mut out);
     assert_eq!(datagrams(&out), first);
-    assert_eq!(dev.state(), SimDeviceState::Connected);
+    assert_eq!(dev.state(), ArState::Connected);
     // A ping for it: the response again; for an unknown call: no-call.
     let ping = |seq: u32| {
         let h = Header {
@@ -1274,7 +1274,7 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
     err[6..12].copy_from_slice(&S7_MAC.0);
     dev.on_frame(&err, t + 3 * MS, &mut out);
     assert!(out.is_empty());
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
     assert_eq!(dev.last_abort(), Some(AbortCode::AlarmIndicationError));
 }
 
@@ -1312,7 +1312,7 @@ fn an_unanswered_application_ready_is_repeated_then_the_ar_aborted() {
         })
         .collect();
     assert_eq!(repeats, vec![t + 2_000 * MS, t + 4_000 * MS]);
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
     assert_eq!(dev.last_abort(), Some(AbortCode::RpcClientCallNegative));
 }
 
@@ -1337,7 +1337,7 @@ fn a_station_name_change_by_dcp_ends_the_ar() {
         t,
         &mut out,
     );
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
     assert_eq!(dev.last_abort(), Some(AbortCode::StationNameChanged));
     assert_eq!(frames(&out).len(), 2, "the Set response and the ERR-RTA");
 }
@@ -1406,7 +1406,7 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
     );
     assert_eq!(status(&r), PnioStatus::OK);
     assert!(ControlBlock::parse(&r.blocks).unwrap().answers(&begin));
-    assert_eq!(dev.state(), SimDeviceState::Connected);
+    assert_eq!(dev.state(), ArState::Connected);
     let prm = ControlBlock::prm_end(AR_UUID, 1).to_bytes();
     let r = call(
         &mut dev,
@@ -1418,7 +1418,7 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
     dev.poll(t + APP_READY_DELAY_NS, &mut out);
     let app = parse_reply(&datagrams(&out)[0].2);
     assert_eq!(app.header.interface, CONTROLLER_INTERFACE);
-    assert_eq!(dev.state(), SimDeviceState::WaitAppReadyConfirm);
+    assert_eq!(dev.state(), ArState::WaitAppReadyConfirm);
     // A Release with the wrong SessionKey is refused, an unknown opnum rejected.
     let release = ControlBlock::release(AR_UUID, 9).to_bytes();
     let r = call(
@@ -1450,5 +1450,5 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
         t,
     );
     assert_eq!(status(&r), PnioStatus::OK);
-    assert_eq!(dev.state(), SimDeviceState::Idle);
+    assert_eq!(dev.state(), ArState::Idle);
 }

@@ -6,8 +6,8 @@
 use super::ar::Ar;
 use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
 use super::{
-    APP_READY_DELAY_NS, Application, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, SimDevice,
-    SimDeviceState, records, rpc,
+    APP_READY_DELAY_NS, Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI,
+    records, rpc,
 };
 use crate::wire::control::{self, ControlBlock};
 use crate::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
@@ -37,7 +37,7 @@ pub(super) const fn pnio(error_code: u8, c1: u8, c2: u8) -> PnioStatus {
     }
 }
 
-impl<A: Application> SimDevice<A> {
+impl<A: Application> Device<A> {
     /// Executes a whole request and answers it.
     pub(super) fn call(
         &mut self,
@@ -180,15 +180,15 @@ impl<A: Application> SimDevice<A> {
             return fail(faulty, 9);
         }
         match (c.block_type, ar.state) {
-            (BlockType::PrmEndReq, SimDeviceState::Connected) => {
-                ar.state = SimDeviceState::Parameterized;
+            (BlockType::PrmEndReq, ArState::Connected) => {
+                ar.state = ArState::Parameterized;
                 ar.provider.start(now_ns);
                 ar.app_ready_due = Some(now_ns.saturating_add(APP_READY_DELAY_NS));
             }
-            (BlockType::PrmBeginReq, SimDeviceState::Data) => {
+            (BlockType::PrmBeginReq, ArState::Data) => {
                 // Re-parameterization: records may be written again until the next PrmEnd;
                 // the CRs keep running.
-                ar.state = SimDeviceState::Connected;
+                ar.state = ArState::Connected;
             }
             _ => return fail(CMDEV, CMDEV_STATE_CONFLICT),
         }
@@ -242,7 +242,7 @@ impl<A: Application> SimDevice<A> {
         match call.on_pdu(h, body, now_ns, out) {
             rpc::CallOutcome::Confirmed => {
                 ar.app_ready = None;
-                ar.state = SimDeviceState::Data;
+                ar.state = ArState::Data;
                 ar.cmi_deadline = None;
                 ar.consumer.arm(now_ns);
             }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! One application relation of the simulated device: its submodules and where their data
+//! One application relation of the device: its submodules and where their data
 //! and status bytes sit in the two CRs, the provider and consumer, the alarm channels and the
 //! ApplicationReady call.
 
@@ -7,7 +7,7 @@ use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, MAX_ALARM_DATA_LENGT
 use super::cyclic::{Consumer, Provider};
 use super::records::Records;
 use super::rpc::ClientCall;
-use super::{Application, DeviceAction, SimDeviceState, ethernet_frame};
+use super::{Application, ArState, DeviceAction, ethernet_frame};
 use crate::rta::{RtaChannel, RtaEvent};
 use crate::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use crate::wire::connect::{IocrBlockReq, IocrEntry, ModuleDiffBlock};
@@ -65,7 +65,7 @@ pub(super) struct Ar {
     pub(super) initiator_object: Uuid,
     /// Where the ApplicationReady goes: the Connect's IP, the controller's RPC server port.
     pub(super) controller: SocketAddrV4,
-    pub(super) state: SimDeviceState,
+    pub(super) state: ArState,
     pub(super) submodules: Vec<ArSubmodule>,
     pub(super) module_diff: Option<ModuleDiffBlock>,
     pub(super) provider: Provider,
@@ -122,7 +122,7 @@ impl Ar {
             session_key: plan.ar.session_key,
             initiator_object: plan.ar.initiator_object_uuid,
             controller,
-            state: SimDeviceState::Connected,
+            state: ArState::Connected,
             submodules,
             module_diff,
             provider: Provider::new(&plan.input, input_frame_id, controller_mac),
@@ -170,7 +170,7 @@ impl Ar {
     /// Whether the AR is in data exchange (ApplicationReady confirmed): only then are our
     /// IOPS and IOCS GOOD.
     pub(super) fn in_data(&self) -> bool {
-        self.state == SimDeviceState::Data
+        self.state == ArState::Data
     }
 
     /// Takes the C_SDU of an accepted output frame: each submodule's outputs and IOPS, and

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! A simulated PROFINET IO device (RT class 1), sans-IO: what `procimgd --demo` puts on its
-//! in-process network so that the controller runs its real protocol end to end without root
-//! or hardware.
+//! The PROFINET IO device's protocol engine (RT class 1), sans-IO: procimgd's device role
+//! runs it on a real interface, and `procimgd --demo` puts instances of it on its in-process
+//! network so that the controller runs its real protocol end to end without root or
+//! hardware.
 //!
 //! It behaves like a standard device towards a controller: it answers DCP (Identify with the
 //! requested response delay, Get, Set IP / NameOfStation / Signal / reset), serves the PNIO
@@ -14,8 +15,8 @@
 //! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
 //! No socket and no clock inside: feed it every Ethernet frame on the link
-//! ([`SimDevice::on_frame`]), every UDP datagram to its IP ([`SimDevice::on_datagram`]) and
-//! call [`SimDevice::poll`] at [`SimDevice::next_deadline_ns`]; put the [`DeviceAction`]s it
+//! ([`Device::on_frame`]), every UDP datagram to its IP ([`Device::on_datagram`]) and
+//! call [`Device::poll`] at [`Device::next_deadline_ns`]; put the [`DeviceAction`]s it
 //! returns on the link. Times are `CLOCK_MONOTONIC` nanoseconds.
 //!
 //! ```text
@@ -59,9 +60,9 @@ pub use application::Application;
 use ar::Ar;
 use std::net::SocketAddrV4;
 
-/// What the simulated device is and what is plugged into it.
+/// What the device is and what is plugged into it.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct SimDeviceSpec<A> {
+pub struct DeviceSetup<A> {
     /// NameOfStation at start (DCP may change it).
     pub name: String,
     /// The device's MAC address.
@@ -75,7 +76,7 @@ pub struct SimDeviceSpec<A> {
     /// Device instance (the object UUID's instance, GSDML ObjectUUID_LocalIndex).
     pub instance: u16,
     /// The submodules really plugged.
-    pub submodules: Vec<SimSubmodule>,
+    pub submodules: Vec<PluggedSubmodule>,
     /// What fills its inputs.
     pub application: A,
     /// The I&M0 record (index 0xAFF0) of every submodule.
@@ -84,7 +85,7 @@ pub struct SimDeviceSpec<A> {
 
 /// One plugged submodule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct SimSubmodule {
+pub struct PluggedSubmodule {
     /// API.
     pub api: u32,
     /// Slot.
@@ -119,7 +120,7 @@ pub enum DeviceAction {
 
 /// Where the device's AR stands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SimDeviceState {
+pub enum ArState {
     /// No AR.
     Idle,
     /// Connect accepted; parameters may be written until PrmEnd.
@@ -154,10 +155,10 @@ fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]
     eth.frame(pdu, MIN_FRAME_LEN)
 }
 
-/// A simulated PROFINET IO device.
-pub struct SimDevice<A> {
+/// A PROFINET IO device.
+pub struct Device<A> {
     id: dcp::Identity,
-    submodules: Vec<SimSubmodule>,
+    submodules: Vec<PluggedSubmodule>,
     app: A,
     im0: Im0,
     dcp: dcp::Responder,
@@ -170,16 +171,16 @@ pub struct SimDevice<A> {
     acks: Vec<AlarmAck>,
 }
 
-impl<A: Application> SimDevice<A> {
+impl<A: Application> Device<A> {
     /// A device as `spec` describes it, without an AR.
-    pub fn new(spec: SimDeviceSpec<A>) -> SimDevice<A> {
+    pub fn new(spec: DeviceSetup<A>) -> Device<A> {
         let ip = spec.ip.unwrap_or([0; 4]);
         let mask = if ip == [0; 4] {
             [0; 4]
         } else {
             [255, 255, 255, 0]
         };
-        SimDevice {
+        Device {
             id: dcp::Identity {
                 mac: spec.mac,
                 name: spec.name,
@@ -227,8 +228,8 @@ impl<A: Application> SimDevice<A> {
     }
 
     /// Where the AR stands.
-    pub fn state(&self) -> SimDeviceState {
-        self.ar.as_ref().map_or(SimDeviceState::Idle, |a| a.state)
+    pub fn state(&self) -> ArState {
+        self.ar.as_ref().map_or(ArState::Idle, |a| a.state)
     }
 
     /// The ARUUID of the current AR.
@@ -455,7 +456,7 @@ impl<A: Application> SimDevice<A> {
             };
             call.transmit(now_ns, out);
             ar.app_ready = Some(call);
-            ar.state = SimDeviceState::WaitAppReadyConfirm;
+            ar.state = ArState::WaitAppReadyConfirm;
         }
         if let Some(call) = ar.app_ready.as_mut()
             && !call.poll(now_ns, out)

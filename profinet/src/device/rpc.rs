@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The connectionless DCE/RPC plumbing of the simulated device: the server side of port 34964
+//! The connectionless DCE/RPC plumbing of the device: the server side of port 34964
 //! (duplicate requests answered from a cache, fragment reassembly with FACK, ping, reject,
 //! fragmented responses) and the client side of the one call a device makes, the
 //! ApplicationReady CControl.
