@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! procimgd's library: configuration, the cycle engine, the shared-memory services, and the
+//! procimgd's library: the cycle engine, the shared-memory services, and the
 //! daemon side of the PROFINET roles.
 //!
 //! ```text
@@ -16,7 +16,9 @@
 //!   server::Control (requests, claims, liveness, status) ── roles::RoleServices
 //! ```
 pub mod acyclic;
-pub mod config;
+/// The configuration file, from its own crate (`procimg-config`), which the command line
+/// reads too.
+pub use procimg_config as config;
 pub mod cycle;
 pub mod image;
 pub mod io;

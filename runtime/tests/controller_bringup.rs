@@ -18,11 +18,12 @@ use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
 use procimg_profinet::wire::record::Im0;
 use procimg_profinet::wire::rpc::{self, RPC_PORT};
-use procimg_runtime::config::{Config, SimBehaviour};
+use procimg_runtime::config::Config;
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
+use procimg_runtime::roles::controller::sim_behaviour::DemoApplication;
 use procimg_runtime::roles::controller::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode};
 use procimg_testkit::world::tap::{Message, Origin, Record};
@@ -42,7 +43,7 @@ struct Cycle {
     image: Image,
 }
 
-type World = net::World<SimBehaviour, Cycle>;
+type World = net::World<DemoApplication, Cycle>;
 
 fn cycle_time(tick: Tick) -> CycleTime {
     CycleTime {

@@ -18,6 +18,7 @@ use procimg_profinet::wire::rpc::{self, Header, PacketType, Pdu, flags1, opnum};
 use procimg_profinet::wire::rta_pdu::RtaPdu;
 use procimg_profinet::wire::{MacAddress, PnioStatus, ethernet};
 use procimg_runtime::config::SimBehaviour;
+use procimg_runtime::roles::controller::sim_behaviour::DemoApplication;
 use procimg_runtime::roles::controller::sim_plant::DemoDevice;
 use procimg_testkit::fixtures::profinet_capture as capture;
 use procimg_testkit::udp::udp_frame;
@@ -69,7 +70,7 @@ fn device(drop_slot: Option<u16>) -> DemoDevice {
         device_id: 0x0002,
         instance: 1,
         submodules,
-        application: SimBehaviour::Echo,
+        application: DemoApplication(SimBehaviour::Echo),
         im0,
     })
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! How the demo's simulated devices compute their inputs: the byte logic behind
-//! [`SimBehaviour`], the application the protocol crate's device engine runs.
+//! How the demo's simulated devices compute their inputs: the byte logic behind a
+//! configuration's [`SimBehaviour`], run by the protocol crate's device engine as
+//! [`DemoApplication`].
 //!
 //! * **echo**: a submodule's inputs are its own last outputs (the first `min(in, out)` bytes);
 //! * **counter**: every 4 input bytes hold the count `k` as a big-endian u32;
@@ -57,7 +58,11 @@ pub fn fill_inputs(
     }
 }
 
-impl Application for SimBehaviour {
+/// A demo device's program: the behaviour its configuration chose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DemoApplication(pub SimBehaviour);
+
+impl Application for DemoApplication {
     fn fill_inputs(
         &mut self,
         k: u64,
@@ -66,7 +71,7 @@ impl Application for SimBehaviour {
         device_outputs: &[u8],
         last: bool,
     ) {
-        fill_inputs(*self, k, inputs, own_outputs, device_outputs, last);
+        fill_inputs(self.0, k, inputs, own_outputs, device_outputs, last);
     }
 }
 

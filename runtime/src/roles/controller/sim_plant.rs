@@ -4,15 +4,15 @@
 //! normal priority. The controller reaches them exactly as it reaches real devices: DCP,
 //! RPC, alarms and cyclic frames, byte for byte.
 
+use super::sim_behaviour::DemoApplication;
 use crate::config::Config;
-use crate::config::SimBehaviour;
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
 use procimg_nic::Nic;
 use procimg_nic::sim_link::LinkEnd;
 use procimg_profinet::device::{Device, DeviceAction, DeviceSetup, PluggedSubmodule};
 
 /// A simulated device running one of the demo's behaviours.
-pub type DemoDevice = Device<SimBehaviour>;
+pub type DemoDevice = Device<DemoApplication>;
 use crate::sys::clock::{now_ns, sleep_until_ns};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
@@ -65,7 +65,7 @@ pub fn devices(config: &Config) -> Vec<DemoDevice> {
                         output_length: s.output_length,
                     })
                     .collect(),
-                application: dev.sim,
+                application: DemoApplication(dev.sim),
                 im0: Im0 {
                     vendor_id: dev.vendor_id,
                     order_id: blank_padded("PROCIMG-SIM").unwrap_or([b' '; 20]),

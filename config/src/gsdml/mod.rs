@@ -16,7 +16,7 @@
 //! a [`GsdmlError`] naming the file, the line, the element and the attribute; nothing panics.
 //!
 //! ```
-//! use procimg_runtime::config::gsdml::Gsdml;
+//! use procimg_config::gsdml::Gsdml;
 //!
 //! let text = r#"<ISO15745Profile><ProfileBody>
 //!   <DeviceIdentity VendorID="0x0493" DeviceID="0x0001"/>
@@ -43,7 +43,7 @@
 //! assert_eq!((gsdml.vendor_id, gsdml.device_id), (0x0493, 0x0001));
 //! let lengths = gsdml.io_lengths(&gsdml.modules[0].submodules[0])?;
 //! assert_eq!((lengths.input, lengths.output), (4, 0));
-//! # Ok::<(), procimg_runtime::config::gsdml::GsdmlError>(())
+//! # Ok::<(), procimg_config::gsdml::GsdmlError>(())
 //! ```
 
 mod data;

@@ -18,7 +18,7 @@
 //! outputs (Q space) independently, the lowest address at which its range fits.
 //!
 //! ```
-//! let config = procimg_runtime::config::parse(
+//! let config = procimg_config::parse(
 //!     r#"
 //!     cycle_time = "2ms"
 //!     [[device]]
@@ -36,7 +36,7 @@
 //! )?;
 //! assert_eq!(config.cycle_ns, 2_000_000);
 //! assert_eq!(config.devices[0].submodules[0].input_address, 0);
-//! # Ok::<(), procimg_runtime::config::ConfigError>(())
+//! # Ok::<(), procimg_config::ConfigError>(())
 //! ```
 
 mod address;
