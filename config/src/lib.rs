@@ -47,6 +47,7 @@ pub mod gsdml;
 mod import;
 mod raw;
 mod span;
+pub mod station;
 mod validate;
 
 use std::net::Ipv4Addr;
@@ -56,6 +57,7 @@ pub use address::LAST_ADDRESS;
 pub use duration::{DurationError, format_duration, parse_duration};
 pub use error::ConfigError;
 use procimg_shm_layout::Mode;
+pub use station::StationConfig;
 
 /// The built-in demo configuration (three simulated devices on a simulated network), which is
 /// also the commented example configuration.
@@ -63,6 +65,13 @@ pub const DEMO_TOML: &str = include_str!("demo.toml");
 
 /// Origin named in messages about [`DEMO_TOML`].
 pub const DEMO_ORIGIN: &str = "<built-in demo>";
+
+/// The built-in demo of the IO device role (one station on a simulated network, with
+/// procimg's own controller as the PLC), which is also the commented example of the role.
+pub const DEMO_DEVICE_TOML: &str = include_str!("demo_device.toml");
+
+/// Origin named in messages about [`DEMO_DEVICE_TOML`].
+pub const DEMO_DEVICE_ORIGIN: &str = "<built-in device demo>";
 
 /// Default instance name.
 pub const DEFAULT_INSTANCE: &str = "procimg";
@@ -126,6 +135,9 @@ fn build(cx: &context::Cx<'_>) -> Result<Config, ConfigError> {
 pub struct Config {
     /// Where it came from (the file name as given, or [`DEMO_ORIGIN`]).
     pub origin: String,
+    /// The PROFINET role the server plays (key `role`: `"controller"` (default) or
+    /// `"device"`).
+    pub role: Role,
     /// Name of the server instance (key `instance`, default `"procimg"`): 1 to 32 characters of
     /// `A-Z a-z 0-9 _ -`.
     pub instance: String,
@@ -148,8 +160,12 @@ pub struct Config {
     pub cycle_thread: CycleThreadConfig,
     /// Access to the shared memory (table `[access]`).
     pub access: AccessConfig,
-    /// The IO devices (array of tables `[[device]]`), in configuration order.
+    /// The IO devices (array of tables `[[device]]`), in configuration order; with
+    /// `role = "controller"` only.
     pub devices: Vec<DeviceConfig>,
+    /// This server as an IO device (table `[station]`); with `role = "device"`, and only
+    /// then.
+    pub station: Option<StationConfig>,
 }
 
 impl Config {
@@ -160,9 +176,40 @@ impl Config {
         parse(DEMO_TOML, DEMO_ORIGIN).expect("the built-in demo configuration is valid")
     }
 
-    /// Number of submodules over all devices.
+    /// The built-in demo of the device role: [`DEMO_DEVICE_TOML`] parsed, with origin
+    /// [`DEMO_DEVICE_ORIGIN`].
+    pub fn demo_device() -> Config {
+        // A constant that a test parses, with no CPU set.
+        parse(DEMO_DEVICE_TOML, DEMO_DEVICE_ORIGIN)
+            .expect("the built-in device demo configuration is valid")
+    }
+
+    /// Number of submodules in the image: over all devices, or the station's.
     pub fn submodule_count(&self) -> usize {
-        self.devices.iter().map(|d| d.submodules.len()).sum()
+        match &self.station {
+            Some(station) => station.submodules.len(),
+            None => self.devices.iter().map(|d| d.submodules.len()).sum(),
+        }
+    }
+}
+
+/// The PROFINET role of the server (key `role`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Role {
+    /// `"controller"` (default): the server is the IO controller of the `[[device]]`s.
+    #[default]
+    Controller,
+    /// `"device"`: the server is the IO device `[station]` describes, for a PLC to connect.
+    Device,
+}
+
+impl Role {
+    /// The spelling in the configuration file.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Role::Controller => "controller",
+            Role::Device => "device",
+        }
     }
 }
 

@@ -8,6 +8,7 @@ use toml::Spanned;
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub(super) struct RawConfig {
+    pub role: Option<Spanned<String>>,
     pub instance: Option<Spanned<String>>,
     pub cycle_time: Option<Spanned<String>>,
     pub opdone_deadline: Option<Spanned<String>>,
@@ -19,6 +20,7 @@ pub(super) struct RawConfig {
     pub access: Option<RawAccess>,
     #[serde(default)]
     pub device: Vec<Spanned<RawDevice>>,
+    pub station: Option<Spanned<RawStation>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -82,4 +84,65 @@ pub(super) struct RawSubmodule {
 pub(super) struct RawRecord {
     pub index: u16,
     pub data: Vec<u8>,
+}
+
+/// `[station]`: this server as an IO device (`role = "device"`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawStation {
+    pub name: Spanned<String>,
+    pub ip: Option<Spanned<String>>,
+    pub netmask: Option<Spanned<String>>,
+    pub gateway: Option<Spanned<String>>,
+    pub vendor_id: Spanned<u16>,
+    pub device_id: Spanned<u16>,
+    pub instance: Option<Spanned<u16>>,
+    pub device_type: Option<Spanned<String>>,
+    pub order_number: Option<Spanned<String>>,
+    pub serial_number: Option<Spanned<String>>,
+    pub hardware_revision: Option<Spanned<u16>>,
+    pub software_revision: Option<Spanned<String>>,
+    pub state_file: Option<Spanned<String>>,
+    pub dcp_hello: Option<bool>,
+    pub dap: Option<Spanned<RawDap>>,
+    #[serde(default)]
+    pub submodule: Vec<Spanned<RawStationSubmodule>>,
+}
+
+/// `[station.dap]`: the device access point in slot 0.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawDap {
+    pub module_ident: Option<Spanned<u32>>,
+    pub submodule_ident: Option<Spanned<u32>>,
+    pub interface_ident: Option<Spanned<u32>>,
+    pub port_ident: Option<Spanned<u32>>,
+}
+
+/// An entry of `[[station.submodule]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawStationSubmodule {
+    pub api: Option<Spanned<u32>>,
+    pub slot: Spanned<u16>,
+    pub subslot: Option<Spanned<u16>>,
+    pub module_ident: Spanned<u32>,
+    pub submodule_ident: Spanned<u32>,
+    pub input_length: Option<Spanned<u16>>,
+    pub output_length: Option<Spanned<u16>>,
+    pub input_address: Option<Spanned<u32>>,
+    pub output_address: Option<Spanned<u32>>,
+    pub diagnostic_address: Option<Spanned<u32>>,
+    pub im: Option<bool>,
+    #[serde(default)]
+    pub records: Vec<Spanned<RawAcceptedRecord>>,
+}
+
+/// An element of a station submodule's `records`: a parameter record it accepts.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawAcceptedRecord {
+    pub index: Spanned<u16>,
+    pub length: Spanned<u16>,
+    pub data: Option<Spanned<Vec<u8>>>,
 }

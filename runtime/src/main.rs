@@ -120,6 +120,14 @@ fn run(args: Args) -> anyhow::Result<()> {
 
 /// Refuses what this build cannot do, before anything starts.
 fn check_supported(config: &Config) -> anyhow::Result<()> {
+    if config.role == config::Role::Device {
+        bail!(
+            "{}: role = \"device\": this procimgd reads the device role's configuration (and \
+             `procimg gsdml` turns it into the device's GSDML file), but does not run the role \
+             on the network yet; run it with role = \"controller\"",
+            config.origin
+        );
+    }
     if config.access.mode & 0o077 != 0 || config.access.group.is_some() {
         bail!(
             "{}: [access] mode = \"{:04o}\"{}: the shared-memory layer (iceoryx2 0.10) creates \

@@ -72,7 +72,7 @@ fn is_port_name(label: &str) -> bool {
     }
 }
 
-fn device_ip(text: &str) -> Result<Ipv4Addr, String> {
+pub(super) fn device_ip(text: &str) -> Result<Ipv4Addr, String> {
     let ip: Ipv4Addr = text.parse().map_err(|_| {
         format!("{text:?} is not an IPv4 address; write it like \"192.168.0.10\", or leave ip out")
     })?;
@@ -112,7 +112,7 @@ fn watchdog_factor(value: i64) -> Result<u16, String> {
     }
 }
 
-fn data_length(value: u16, noun: &str) -> Result<u16, String> {
+pub(super) fn data_length(value: u16, noun: &str) -> Result<u16, String> {
     if value > MAX_SUBMODULE_DATA_LEN {
         return Err(format!(
             "{value} bytes of {noun} data are more than the {MAX_SUBMODULE_DATA_LEN} one \
@@ -123,13 +123,46 @@ fn data_length(value: u16, noun: &str) -> Result<u16, String> {
     Ok(value)
 }
 
+/// The logical addresses of `named` submodules (with their device's name and their draft),
+/// in the I space and in the Q space, in their order.
+pub(super) fn addresses(
+    cx: &Cx<'_>,
+    named: &[(&str, &Draft, &SubmoduleConfig)],
+) -> Result<[Vec<u32>; 2], ConfigError> {
+    let place = |space: Space| {
+        let items: Vec<Item<'_>> = named
+            .iter()
+            .map(|&(device_name, draft, sub)| {
+                let diagnostic = space == Space::Input && sub.has_no_data();
+                let (length, explicit) = match space {
+                    Space::Input if diagnostic => (0, draft.diagnostic_address.clone()),
+                    Space::Input => (sub.input_length, draft.input_address.clone()),
+                    Space::Output => (sub.output_length, draft.output_address.clone()),
+                };
+                Item {
+                    key: &draft.key,
+                    device_name,
+                    slot: sub.slot,
+                    subslot: sub.subslot,
+                    length,
+                    span: draft.span.clone(),
+                    explicit,
+                    diagnostic,
+                }
+            })
+            .collect();
+        address::assign(cx, space, &items)
+    };
+    Ok([place(Space::Input)?, place(Space::Output)?])
+}
+
 /// A submodule checked on its own, with what address assignment needs.
-struct Draft {
-    key: String,
-    span: Range<usize>,
-    input_address: Option<(u32, Range<usize>)>,
-    output_address: Option<(u32, Range<usize>)>,
-    diagnostic_address: Option<(u32, Range<usize>)>,
+pub(super) struct Draft {
+    pub key: String,
+    pub span: Range<usize>,
+    pub input_address: Option<(u32, Range<usize>)>,
+    pub output_address: Option<(u32, Range<usize>)>,
+    pub diagnostic_address: Option<(u32, Range<usize>)>,
 }
 
 pub(super) fn devices(
@@ -191,36 +224,21 @@ pub(super) fn devices(
         drafts.push(device_drafts);
     }
 
-    for space in [Space::Input, Space::Output] {
-        let mut items = Vec::new();
-        for (device, device_drafts) in devices.iter().zip(&drafts) {
-            for (draft, sub) in device_drafts.iter().zip(&device.submodules) {
-                let diagnostic = space == Space::Input && sub.has_no_data();
-                let (length, explicit) = match space {
-                    Space::Input if diagnostic => (0, draft.diagnostic_address.clone()),
-                    Space::Input => (sub.input_length, draft.input_address.clone()),
-                    Space::Output => (sub.output_length, draft.output_address.clone()),
-                };
-                items.push(Item {
-                    key: &draft.key,
-                    device_name: &device.name,
-                    slot: sub.slot,
-                    subslot: sub.subslot,
-                    length,
-                    span: draft.span.clone(),
-                    explicit,
-                    diagnostic,
-                });
-            }
-        }
-        let addresses = address::assign(cx, space, &items)?;
-        let targets = devices.iter_mut().flat_map(|d| d.submodules.iter_mut());
-        for (sub, address) in targets.zip(addresses) {
-            match space {
-                Space::Input => sub.input_address = address,
-                Space::Output => sub.output_address = address,
-            }
-        }
+    let named: Vec<(&str, &Draft, &SubmoduleConfig)> = devices
+        .iter()
+        .zip(&drafts)
+        .flat_map(|(device, device_drafts)| {
+            device_drafts
+                .iter()
+                .zip(&device.submodules)
+                .map(|(draft, sub)| (device.name.as_str(), draft, sub))
+        })
+        .collect();
+    let [inputs, outputs] = addresses(cx, &named)?;
+    let targets = devices.iter_mut().flat_map(|d| d.submodules.iter_mut());
+    for ((sub, input), output) in targets.zip(inputs).zip(outputs) {
+        sub.input_address = input;
+        sub.output_address = output;
     }
     Ok(devices)
 }
@@ -690,7 +708,7 @@ fn submodule_config(
 }
 
 /// A diagnostic address only for a submodule without IO data, and no input address for one.
-fn diagnostic_address_fits(
+pub(super) fn diagnostic_address_fits(
     draft: &Draft,
     input_length: u16,
     output_length: u16,

@@ -18,14 +18,27 @@ use super::raw::{RawAccess, RawConfig, RawCycleThread, RawDevice, RawSubmodule};
 use super::{
     AccessConfig, CYCLE_UNIT_NS, Config, CycleThreadConfig, DEFAULT_CYCLE_NS, DEFAULT_INSTANCE,
     DeviceConfig, GsdmlSource, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network,
-    OpdoneWait, OutputTiming, ParameterRecord, SimBehaviour, SubmoduleConfig,
+    OpdoneWait, OutputTiming, ParameterRecord, Role, SimBehaviour, SubmoduleConfig,
 };
 
 mod devices;
+mod station;
 use devices::devices;
 
 /// Checks `raw` and resolves defaults and addresses.
 pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> {
+    let role = match &raw.role {
+        Some(v) => cx.check(
+            v,
+            "role",
+            choose(
+                v.get_ref(),
+                "a role",
+                &[("controller", Role::Controller), ("device", Role::Device)],
+            ),
+        )?,
+        None => Role::Controller,
+    };
     let instance = match raw.instance {
         Some(v) => {
             cx.check(&v, "instance", instance_name(v.get_ref()))?;
@@ -106,9 +119,42 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
         Some(a) => access(a, cx)?,
         None => AccessConfig::default(),
     };
-    let devices = devices(raw.device, cx)?;
+    let (devices, station) = match (role, raw.station) {
+        (Role::Controller, Some(station)) => {
+            return Err(cx.invalid(
+                station.span(),
+                "station",
+                "[station] describes this server as an IO device, and the role is \
+                 \"controller\"; add `role = \"device\"` at the top, or remove [station]",
+            ));
+        }
+        (Role::Controller, None) => (devices(raw.device, cx)?, None),
+        (Role::Device, station) => {
+            if let Some(device) = raw.device.first() {
+                return Err(cx.invalid(
+                    device.span(),
+                    "device[0]",
+                    "[[device]] describes an IO device this server controls, and the role is \
+                     \"device\"; describe this server's own modules in [[station.submodule]], \
+                     or set `role = \"controller\"`",
+                ));
+            }
+            let Some(station) = station else {
+                let at = raw.role.as_ref().map_or(0..0, Spanned::span);
+                return Err(cx.missing(
+                    at,
+                    "station",
+                    "station",
+                    "with `role = \"device\"` add a [station] table with the device's name, \
+                     vendor_id and device_id (`procimgd --print-demo-device-config` shows one)",
+                ));
+            };
+            (Vec::new(), Some(station::station(station, cx)?))
+        }
+    };
     Ok(Config {
         origin: cx.origin.to_owned(),
+        role,
         instance,
         cycle_ns,
         opdone_deadline_ns,
@@ -119,6 +165,7 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
         cycle_thread,
         access,
         devices,
+        station,
     })
 }
 

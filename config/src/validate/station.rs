@@ -1,0 +1,487 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The checks of `[station]`, `[station.dap]` and `[[station.submodule]]`: the identity a
+//! PLC and an engineering tool see (name, address, ident numbers, I&M0), what is plugged and
+//! whether its cyclic data fits a frame, the parameter records, the logical addresses.
+
+use std::collections::HashMap;
+use std::net::Ipv4Addr;
+use std::ops::Range;
+use std::path::PathBuf;
+
+use procimg_shm_layout::NO_ADDRESS;
+use toml::Spanned;
+
+use super::devices::{
+    Draft, addresses, data_length, device_ip, diagnostic_address_fits, station_name,
+};
+use crate::SubmoduleConfig;
+use crate::context::Cx;
+use crate::error::ConfigError;
+use crate::raw::{RawAcceptedRecord, RawDap, RawStation, RawStationSubmodule};
+use crate::station::{
+    AcceptedRecord, DAP_SUBSLOT, DapConfig, INTERFACE_SUBSLOT, MAX_CR_DATA, MAX_RECORD_LENGTH,
+    MAX_STATION_SLOT, PORT_SUBSLOT, SoftwareVersion, StationConfig, StationSubmodule,
+};
+
+/// Checks `[station]`.
+pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationConfig, ConfigError> {
+    let span = raw.span();
+    let raw = raw.into_inner();
+    cx.check(&raw.name, "station.name", station_name(raw.name.get_ref()))?;
+    let ip = match &raw.ip {
+        Some(v) => Some(cx.check(v, "station.ip", device_ip(v.get_ref()))?),
+        None => None,
+    };
+    let netmask = match (&raw.netmask, ip) {
+        (Some(v), Some(_)) => cx.check(v, "station.netmask", netmask(v.get_ref()))?,
+        (Some(v), None) => {
+            return Err(cx.invalid(
+                v.span(),
+                "station.netmask",
+                "a netmask without an ip; give `ip` too, or leave netmask out",
+            ));
+        }
+        (None, Some(_)) => Ipv4Addr::new(255, 255, 255, 0),
+        (None, None) => Ipv4Addr::UNSPECIFIED,
+    };
+    let gateway = match (&raw.gateway, ip) {
+        (Some(v), Some(ip)) => cx.check(v, "station.gateway", gateway(v.get_ref(), ip, netmask))?,
+        (Some(v), None) => {
+            return Err(cx.invalid(
+                v.span(),
+                "station.gateway",
+                "a gateway without an ip; give `ip` too, or leave gateway out",
+            ));
+        }
+        (None, _) => Ipv4Addr::UNSPECIFIED,
+    };
+    let text = |v: &Option<Spanned<String>>, key: &str, max: usize, default: &str| match v {
+        Some(v) => cx
+            .check(v, format!("station.{key}"), visible_ascii(v.get_ref(), max))
+            .map(|()| v.get_ref().clone()),
+        None => Ok(default.to_owned()),
+    };
+    let device_type = text(&raw.device_type, "device_type", 240, "procimg")?;
+    if device_type.is_empty() {
+        let v = raw.device_type.as_ref().map_or(span.clone(), Spanned::span);
+        return Err(cx.invalid(
+            v,
+            "station.device_type",
+            "the type of station is empty; give 1 to 240 characters, e.g. \"procimg\"",
+        ));
+    }
+    let order_number = text(&raw.order_number, "order_number", 20, "")?;
+    let serial_number = text(&raw.serial_number, "serial_number", 16, "")?;
+    let software_revision = match &raw.software_revision {
+        Some(v) => cx.check(
+            v,
+            "station.software_revision",
+            software_version(v.get_ref()),
+        )?,
+        None => SoftwareVersion {
+            prefix: 'V',
+            functional: 0,
+            bug_fix: 1,
+            internal: 0,
+        },
+    };
+    let instance = match &raw.instance {
+        Some(v) => *v.get_ref(),
+        None => 1,
+    };
+    let state_file = match &raw.state_file {
+        Some(v) if v.get_ref().is_empty() => {
+            return Err(cx.invalid(
+                v.span(),
+                "station.state_file",
+                "the path is empty; give a file such as \"/var/lib/procimg/station.toml\", or \
+                 leave state_file out",
+            ));
+        }
+        Some(v) => Some(PathBuf::from(v.get_ref())),
+        None => None,
+    };
+    let dap = match raw.dap {
+        Some(d) => dap(d.into_inner()),
+        None => DapConfig::default(),
+    };
+
+    let mut submodules = dap_submodules(&dap);
+    let mut drafts: Vec<Draft> = submodules
+        .iter()
+        .map(|s| Draft {
+            key: format!("station.dap (slot 0 subslot 0x{:04X})", s.submodule.subslot),
+            span: span.clone(),
+            input_address: None,
+            output_address: None,
+            diagnostic_address: None,
+        })
+        .collect();
+    let mut seen: HashMap<(u32, u16, u16), usize> = HashMap::new();
+    let mut module_of_slot: HashMap<(u32, u16), (u32, usize, usize)> = HashMap::new();
+    for (s, raw_sub) in raw.submodule.into_iter().enumerate() {
+        let (sub, draft) = submodule(s, raw_sub, cx, &mut seen, &mut module_of_slot)?;
+        submodules.push(sub);
+        drafts.push(draft);
+    }
+    frame_fits(&submodules, span.clone(), cx)?;
+
+    let name = raw.name.into_inner();
+    let named: Vec<(&str, &Draft, &SubmoduleConfig)> = drafts
+        .iter()
+        .zip(&submodules)
+        .map(|(d, s)| (name.as_str(), d, &s.submodule))
+        .collect();
+    let [inputs, outputs] = addresses(cx, &named)?;
+    for ((s, input), output) in submodules.iter_mut().zip(inputs).zip(outputs) {
+        s.submodule.input_address = input;
+        s.submodule.output_address = output;
+    }
+
+    Ok(StationConfig {
+        name,
+        ip,
+        netmask,
+        gateway,
+        vendor_id: *raw.vendor_id.get_ref(),
+        device_id: *raw.device_id.get_ref(),
+        instance,
+        device_type,
+        order_number,
+        serial_number,
+        hardware_revision: raw.hardware_revision.map_or(1, |v| *v.get_ref()),
+        software_revision,
+        state_file,
+        dcp_hello: raw.dcp_hello.unwrap_or(false),
+        dap,
+        submodules,
+    })
+}
+
+fn dap(raw: RawDap) -> DapConfig {
+    let d = DapConfig::default();
+    let or = |v: Option<Spanned<u32>>, default: u32| v.map_or(default, |v| *v.get_ref());
+    DapConfig {
+        module_ident: or(raw.module_ident, d.module_ident),
+        submodule_ident: or(raw.submodule_ident, d.submodule_ident),
+        interface_ident: or(raw.interface_ident, d.interface_ident),
+        port_ident: or(raw.port_ident, d.port_ident),
+    }
+}
+
+/// The DAP's submodule, interface and port: no IO data; the DAP's own speaks for the
+/// device's I&M.
+fn dap_submodules(dap: &DapConfig) -> Vec<StationSubmodule> {
+    [
+        (DAP_SUBSLOT, dap.submodule_ident),
+        (INTERFACE_SUBSLOT, dap.interface_ident),
+        (PORT_SUBSLOT, dap.port_ident),
+    ]
+    .into_iter()
+    .map(|(subslot, submodule_ident)| StationSubmodule {
+        submodule: SubmoduleConfig {
+            api: 0,
+            slot: 0,
+            subslot,
+            module_ident: dap.module_ident,
+            submodule_ident,
+            input_length: 0,
+            output_length: 0,
+            input_address: NO_ADDRESS,
+            output_address: NO_ADDRESS,
+            rt_class: 1,
+            records: Vec::new(),
+        },
+        accepts: Vec::new(),
+        im: subslot == DAP_SUBSLOT,
+    })
+    .collect()
+}
+
+fn submodule(
+    s: usize,
+    raw: Spanned<RawStationSubmodule>,
+    cx: &Cx<'_>,
+    seen: &mut HashMap<(u32, u16, u16), usize>,
+    module_of_slot: &mut HashMap<(u32, u16), (u32, usize, usize)>,
+) -> Result<(StationSubmodule, Draft), ConfigError> {
+    let base = format!("station.submodule[{s}]");
+    let key = |k: &str| format!("{base}.{k}");
+    let span = raw.span();
+    let raw = raw.into_inner();
+    let slot = *raw.slot.get_ref();
+    if slot == 0 || slot > MAX_STATION_SLOT {
+        return Err(cx.invalid(
+            raw.slot.span(),
+            key("slot"),
+            format!(
+                "slot {slot} is not for a submodule of [[station.submodule]]; slot 0 is the \
+                 device access point (its ident numbers are [station.dap]), use 1 to \
+                 {MAX_STATION_SLOT}"
+            ),
+        ));
+    }
+    let subslot = raw.subslot.as_ref().map_or(1, |v| *v.get_ref());
+    if subslot == 0 || subslot >= 0x8000 {
+        let at = raw.subslot.as_ref().map_or(span.clone(), Spanned::span);
+        return Err(cx.invalid(
+            at,
+            key("subslot"),
+            format!(
+                "subslot {subslot} is not for an IO submodule; use 1 to 32767 (0x8000 and up \
+                 are interfaces and ports)"
+            ),
+        ));
+    }
+    let api = raw.api.as_ref().map_or(0, |v| *v.get_ref());
+    if let Some(other) = seen.insert((api, slot, subslot), s) {
+        return Err(cx.invalid(
+            raw.slot.span(),
+            key("slot"),
+            format!(
+                "slot {slot} subslot {subslot} (api {api}) is already station.submodule[{other}]; \
+                 give each submodule its own slot and subslot"
+            ),
+        ));
+    }
+    let module_ident = *raw.module_ident.get_ref();
+    match module_of_slot.get(&(api, slot)) {
+        Some(&(other_ident, other, other_line)) if other_ident != module_ident => {
+            return Err(cx.invalid(
+                raw.module_ident.span(),
+                key("module_ident"),
+                format!(
+                    "slot {slot} holds one module: station.submodule[{other}] (line \
+                     {other_line}) gives it module_ident 0x{other_ident:08X}, this one \
+                     0x{module_ident:08X}; give the submodules of a slot the same module_ident"
+                ),
+            ));
+        }
+        _ => {
+            let line = cx.line(raw.module_ident.span().start);
+            module_of_slot.insert((api, slot), (module_ident, s, line));
+        }
+    }
+    let length = |v: &Option<Spanned<u16>>, k: &str, noun: &str| match v {
+        Some(v) => cx.check(v, key(k), data_length(*v.get_ref(), noun)),
+        None => Ok(0),
+    };
+    let input_length = length(&raw.input_length, "input_length", "input")?;
+    let output_length = length(&raw.output_length, "output_length", "output")?;
+
+    let mut accepts: Vec<AcceptedRecord> = Vec::with_capacity(raw.records.len());
+    for (r, record) in raw.records.into_iter().enumerate() {
+        let accepted = accepted_record(&key(&format!("records[{r}]")), record, cx)?;
+        if accepts.iter().any(|a| a.index == accepted.index) {
+            return Err(cx.invalid(
+                span.clone(),
+                key(&format!("records[{r}].index")),
+                format!(
+                    "record index {} is listed twice for this submodule; list each index once",
+                    accepted.index
+                ),
+            ));
+        }
+        accepts.push(accepted);
+    }
+
+    let explicit = |a: &Option<Spanned<u32>>| a.as_ref().map(|v| (*v.get_ref(), v.span()));
+    let draft = Draft {
+        key: base.clone(),
+        span,
+        input_address: explicit(&raw.input_address),
+        output_address: explicit(&raw.output_address),
+        diagnostic_address: explicit(&raw.diagnostic_address),
+    };
+    diagnostic_address_fits(&draft, input_length, output_length, cx)?;
+    let submodule = SubmoduleConfig {
+        api,
+        slot,
+        subslot,
+        module_ident,
+        submodule_ident: *raw.submodule_ident.get_ref(),
+        input_length,
+        output_length,
+        input_address: NO_ADDRESS,
+        output_address: NO_ADDRESS,
+        rt_class: 1,
+        records: Vec::new(),
+    };
+    let station_submodule = StationSubmodule {
+        submodule,
+        accepts,
+        im: raw.im.unwrap_or(false),
+    };
+    Ok((station_submodule, draft))
+}
+
+fn accepted_record(
+    base: &str,
+    raw: Spanned<RawAcceptedRecord>,
+    cx: &Cx<'_>,
+) -> Result<AcceptedRecord, ConfigError> {
+    let raw = raw.into_inner();
+    let index = *raw.index.get_ref();
+    if index > 0x7FFF {
+        return Err(cx.invalid(
+            raw.index.span(),
+            format!("{base}.index"),
+            format!(
+                "index 0x{index:04X} is not a parameter record of the device's own; use \
+                 0x0000 to 0x7FFF (the indexes above belong to PROFINET and procimg answers \
+                 them itself)"
+            ),
+        ));
+    }
+    let length = *raw.length.get_ref();
+    if length == 0 || length > MAX_RECORD_LENGTH {
+        return Err(cx.invalid(
+            raw.length.span(),
+            format!("{base}.length"),
+            format!("a record of {length} bytes; give 1 to {MAX_RECORD_LENGTH}"),
+        ));
+    }
+    let initial = match raw.data {
+        Some(d) if d.get_ref().len() != usize::from(length) => {
+            return Err(cx.invalid(
+                d.span(),
+                format!("{base}.data"),
+                format!(
+                    "{} bytes of data for a record of length {length}; give exactly {length} \
+                     bytes, or leave data out for zeros",
+                    d.get_ref().len()
+                ),
+            ));
+        }
+        Some(d) => d.into_inner(),
+        None => vec![0; usize::from(length)],
+    };
+    Ok(AcceptedRecord {
+        index,
+        length,
+        initial,
+    })
+}
+
+/// Each direction's C_SDU must fit one frame: the input CR carries every submodule's input
+/// data with its IOPS and an IOCS for every submodule with outputs (and for each dataless
+/// one, an IOPS in the input CR and an IOCS in the output CR); the output CR the mirror.
+fn frame_fits(
+    submodules: &[StationSubmodule],
+    span: Range<usize>,
+    cx: &Cx<'_>,
+) -> Result<(), ConfigError> {
+    let (mut input_cr, mut output_cr) = (0usize, 0usize);
+    for s in submodules.iter().map(|s| &s.submodule) {
+        let (i, o) = (usize::from(s.input_length), usize::from(s.output_length));
+        if s.has_no_data() {
+            input_cr += 1;
+            output_cr += 1;
+            continue;
+        }
+        if i > 0 {
+            input_cr += i + 1;
+            output_cr += 1;
+        }
+        if o > 0 {
+            output_cr += o + 1;
+            input_cr += 1;
+        }
+    }
+    for (bytes, what) in [(input_cr, "input"), (output_cr, "output")] {
+        if bytes > MAX_CR_DATA {
+            return Err(cx.invalid(
+                span.clone(),
+                "station.submodule",
+                format!(
+                    "the {what} frame would carry {bytes} bytes of data and status, more than \
+                     the {MAX_CR_DATA} of one RT frame; plug fewer or shorter submodules"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn netmask(text: &str) -> Result<Ipv4Addr, String> {
+    let mask: Ipv4Addr = text
+        .parse()
+        .map_err(|_| format!("{text:?} is not a netmask; write it like \"255.255.255.0\""))?;
+    let bits = u32::from(mask);
+    if bits == 0 || bits.leading_ones() + bits.trailing_zeros() != 32 {
+        return Err(format!(
+            "{text:?} is not a netmask (ones, then zeros); write it like \"255.255.255.0\""
+        ));
+    }
+    Ok(mask)
+}
+
+fn gateway(text: &str, ip: Ipv4Addr, mask: Ipv4Addr) -> Result<Ipv4Addr, String> {
+    let gw: Ipv4Addr = text.parse().map_err(|_| {
+        format!(
+            "{text:?} is not an IPv4 address; write it like \"192.168.0.1\", or leave gateway out"
+        )
+    })?;
+    let net = |a: Ipv4Addr| u32::from(a) & u32::from(mask);
+    if !gw.is_unspecified() && net(gw) != net(ip) {
+        return Err(format!(
+            "gateway {gw} is not in the station's subnet {ip}/{}; give a router of that \
+             subnet, or leave gateway out",
+            u32::from(mask).leading_ones()
+        ));
+    }
+    Ok(gw)
+}
+
+fn visible_ascii(text: &str, max: usize) -> Result<(), String> {
+    if let Some(c) = text.chars().find(|c| !(c.is_ascii_graphic() || *c == ' ')) {
+        return Err(format!(
+            "{text:?} contains {c:?}; use visible ASCII characters and blanks"
+        ));
+    }
+    if text.len() > max {
+        return Err(format!(
+            "{text:?} is {} characters long; give at most {max}",
+            text.len()
+        ));
+    }
+    Ok(())
+}
+
+fn software_version(text: &str) -> Result<SoftwareVersion, String> {
+    const HOW: &str = "write a letter V (release), R (revision), P (prototype), U (under test) \
+                       or T (test device) and three numbers 0 to 255, e.g. \"V1.2.0\"";
+    let mut chars = text.chars();
+    let prefix = chars.next().filter(|c| "VRPUT".contains(*c));
+    let numbers: Vec<Option<u8>> = chars.as_str().split('.').map(|n| n.parse().ok()).collect();
+    match (prefix, numbers.as_slice()) {
+        (Some(prefix), [Some(functional), Some(bug_fix), Some(internal)]) => Ok(SoftwareVersion {
+            prefix,
+            functional: *functional,
+            bug_fix: *bug_fix,
+            internal: *internal,
+        }),
+        _ => Err(format!("{text:?} is not a software revision; {HOW}")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn netmasks() {
+        assert!(netmask("255.255.255.0").is_ok());
+        assert!(netmask("255.0.255.0").is_err());
+        assert!(netmask("0.0.0.0").is_err());
+    }
+
+    #[test]
+    fn software_versions() {
+        let v = software_version("V1.2.3").unwrap();
+        assert_eq!(v.to_string(), "V1.2.3");
+        for bad in ["1.2.3", "X1.2.3", "V1.2", "V1.2.300", ""] {
+            assert!(software_version(bad).is_err(), "{bad}");
+        }
+    }
+}
