@@ -46,6 +46,10 @@ struct Args {
     /// Print the built-in demo configuration (a commented example file) and exit.
     #[arg(long)]
     print_demo_config: bool,
+    /// Print the commented example configuration of the IO device role (`role = "device"`)
+    /// and exit.
+    #[arg(long)]
+    print_demo_device_config: bool,
     /// Check the configuration for this machine (its network interface must exist), print the
     /// resulting image layout and exit.
     #[arg(long)]
@@ -65,7 +69,11 @@ const NO_CONFIGURATION: &str = "no configuration: give one with -c FILE, or run 
 
 fn main() {
     let args = Args::parse();
-    if args.config.is_none() && !args.demo && !args.print_demo_config {
+    if args.config.is_none()
+        && !args.demo
+        && !args.print_demo_config
+        && !args.print_demo_device_config
+    {
         Args::command()
             .error(ErrorKind::MissingRequiredArgument, NO_CONFIGURATION)
             .exit();
@@ -95,6 +103,10 @@ fn colour_on_stderr() -> bool {
 fn run(args: Args) -> anyhow::Result<()> {
     if args.print_demo_config {
         print!("{}", config::DEMO_TOML);
+        return Ok(());
+    }
+    if args.print_demo_device_config {
+        print!("{}", config::DEMO_DEVICE_TOML);
         return Ok(());
     }
     let mut config = match &args.config {
@@ -147,6 +159,10 @@ fn check_supported(config: &Config) -> anyhow::Result<()> {
 }
 
 fn print_layout(config: &Config, tables: &Tables) {
+    if let Some(station) = &config.station {
+        print_station(config, station);
+        return;
+    }
     println!(
         "{}: instance \"{}\", cycle {} ns, OPDONE deadline {} ns, {} devices, {} submodules",
         config.origin,
@@ -173,6 +189,46 @@ fn print_layout(config: &Config, tables: &Tables) {
             s.subslot,
             s.address_text(false),
             s.address_text(true)
+        );
+    }
+}
+
+/// The device role's `--check`: the station and its submodules with their logical addresses
+/// (I: what the device provides, Q: what the PLC writes).
+fn print_station(config: &Config, station: &config::StationConfig) {
+    println!(
+        "{}: instance \"{}\", role device, station \"{}\" (vendor 0x{:04X}, device 0x{:04X}), \
+         cycle {} ns, {} submodules",
+        config.origin,
+        config.instance,
+        station.name,
+        station.vendor_id,
+        station.device_id,
+        config.cycle_ns,
+        station.submodules.len()
+    );
+    println!(
+        "{:>5} {:>7} {:>10} {:>10} {:>5} {:>5} {:>12} {:>12}",
+        "slot", "subslot", "module", "submodule", "I len", "Q len", "I addr", "Q addr"
+    );
+    let address = |a: u32| {
+        if a == procimg_shm_layout::NO_ADDRESS {
+            "-".to_owned()
+        } else {
+            a.to_string()
+        }
+    };
+    for s in station.submodule_configs() {
+        println!(
+            "{:>5} {:>#7x} {:>#10x} {:>#10x} {:>5} {:>5} {:>12} {:>12}",
+            s.slot,
+            s.subslot,
+            s.module_ident,
+            s.submodule_ident,
+            s.input_length,
+            s.output_length,
+            address(s.input_address),
+            address(s.output_address)
         );
     }
 }
