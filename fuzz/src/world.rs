@@ -22,7 +22,8 @@ use procimg_profinet::controller::{AlarmTicket, DeviceEvent, DeviceState, Record
 use procimg_profinet::device::DeviceAction;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
-use procimg_runtime::config::{self, Config, SimBehaviour};
+use procimg_runtime::config::{self, Config};
+use procimg_runtime::roles::controller::sim_behaviour::DemoApplication;
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
@@ -315,7 +316,7 @@ fn check(r: &Record) {
 
 /// The controller, the cycle thread's IO system and the simulated devices.
 pub struct World {
-    net: net::World<SimBehaviour, Cycle>,
+    net: net::World<DemoApplication, Cycle>,
     /// Image submodule index of each device's IO submodule (slot 1).
     io_submodules: Vec<usize>,
     cycles_run: u32,
@@ -650,6 +651,8 @@ impl DeviceBench {
                 DeviceAction::Datagram { payload, .. } => {
                     wire_check::emitted_datagram("the simulated device", &payload)
                 }
+                // Only after hand_over_cyclic, which this device does not do.
+                DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
             }
         }
         if let Some(d) = self.device.next_deadline_ns() {

@@ -101,6 +101,8 @@
 //!                     let from = SocketAddrV4::new(device_ip, from_port);
 //!                     controller.on_datagram(from, &payload, now, &mut to_device)
 //!                 }
+//!                 // This device exchanges its cyclic data itself.
+//!                 DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
 //!             }
 //!         }
 //!     }
@@ -131,6 +133,7 @@
 #![forbid(unsafe_code)]
 
 pub mod controller;
+pub mod cyclic;
 pub mod dcp_client;
 pub mod device;
 pub mod iocr_layout;

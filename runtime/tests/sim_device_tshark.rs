@@ -83,14 +83,22 @@ struct Wire {
 impl Wire {
     fn take(&mut self, out: &mut Vec<DeviceAction>) -> Vec<DeviceAction> {
         for a in out.iter() {
-            self.frames.push(match a {
-                DeviceAction::Frame(f) => f.clone(),
+            match a {
+                DeviceAction::Frame(f) => self.frames.push(f.clone()),
                 DeviceAction::Datagram {
                     to,
                     from_port,
                     payload,
-                } => udp_frame(DEVICE_IP, to.ip().octets(), *from_port, to.port(), payload),
-            });
+                } => self.frames.push(udp_frame(
+                    DEVICE_IP,
+                    to.ip().octets(),
+                    *from_port,
+                    to.port(),
+                    payload,
+                )),
+                // This device runs its own cyclic exchange.
+                DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
+            }
         }
         std::mem::take(out)
     }
@@ -101,7 +109,7 @@ fn datagram(actions: &[DeviceAction]) -> (SocketAddrV4, Vec<u8>) {
         .iter()
         .find_map(|a| match a {
             DeviceAction::Datagram { to, payload, .. } => Some((*to, payload.clone())),
-            DeviceAction::Frame(_) => None,
+            _ => None,
         })
         .expect("a datagram")
 }

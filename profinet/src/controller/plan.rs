@@ -4,6 +4,8 @@
 //! the timing of the CRs and the parameter records. Each connect attempt then only fills in
 //! the AR's identity (ARUUID, session key).
 
+use crate::cyclic::CLOCK_UNIT_NS;
+pub use crate::cyclic::CrTiming;
 use crate::iocr_layout::{IocrLayout, SubmoduleIo, TooLarge};
 use crate::wire::connect::{
     ALARM_CR_TYPE, AR_TYPE_IOC_SINGLE, AlarmCrBlockReq, ArBlockReq, ConnectRequest, ExpectedModule,
@@ -17,39 +19,6 @@ use std::net::Ipv4Addr;
 const MAX_SEND_CLOCK_FACTOR: u64 = 128;
 /// The largest ReductionRatio for RT class 1/2.
 const MAX_REDUCTION_RATIO: u64 = 512;
-/// One send clock unit, 31.25 µs.
-const CLOCK_UNIT_NS: u64 = 31_250;
-
-/// The send clock and reduction ratio of a device's CRs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct CrTiming {
-    /// SendClockFactor (× 31.25 µs).
-    pub send_clock_factor: u16,
-    /// ReductionRatio: one frame every this many send clocks.
-    pub reduction_ratio: u16,
-    /// Frames go out every this many controller cycles.
-    pub every_cycles: u32,
-    /// DataHoldFactor = WatchdogFactor.
-    pub data_hold_factor: u16,
-}
-
-impl CrTiming {
-    /// The time between two frames of the CR, in ns.
-    pub const fn period_ns(&self) -> u64 {
-        self.send_clock_factor as u64 * self.reduction_ratio as u64 * CLOCK_UNIT_NS
-    }
-
-    /// How long the consumer waits for a frame before it gives up: DataHoldFactor periods.
-    pub const fn watchdog_ns(&self) -> u64 {
-        self.period_ns() * self.data_hold_factor as u64
-    }
-
-    /// CycleCounter increment per frame (the counter counts 31.25 µs units).
-    pub const fn counter_step(&self) -> u16 {
-        // Not a length: the CycleCounter runs modulo 2^16, so the step is taken modulo 2^16.
-        (self.send_clock_factor as u32 * self.reduction_ratio as u32) as u16
-    }
-}
 
 /// Why a device cannot be planned.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

@@ -8,6 +8,7 @@ use super::cyclic::{Consumer, Provider};
 use super::records::Records;
 use super::rpc::ClientCall;
 use super::{Application, ArState, DeviceAction, ethernet_frame};
+use crate::cyclic::{CrMap, CrTiming, DataMap, IocsMap};
 use crate::rta::{RtaChannel, RtaEvent};
 use crate::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use crate::wire::connect::{IocrBlockReq, IocrEntry, ModuleDiffBlock};
@@ -79,6 +80,9 @@ pub(super) struct Ar {
     pub(super) cmi_deadline: Option<u64>,
     /// Records written in this AR.
     pub(super) records: Records,
+    /// Send clock, reduction ratio and data hold factor of the output CR (the input CR's are
+    /// the same for RT class 1/2); `every_cycles` is left at 1 for the caller to set.
+    pub(super) timing: CrTiming,
     /// The outputs of all submodules as the behaviour sees them (zeros where invalid).
     device_outputs: Vec<u8>,
     c_sdu: Vec<u8>,
@@ -157,6 +161,12 @@ impl Ar {
                 now_ns.saturating_add(u64::from(plan.ar.activity_timeout_factor) * 100_000_000),
             ),
             records: Records::new(),
+            timing: CrTiming {
+                send_clock_factor: plan.output.send_clock_factor,
+                reduction_ratio: plan.output.reduction_ratio,
+                every_cycles: 1,
+                data_hold_factor: plan.output.data_hold_factor,
+            },
             device_outputs: Vec::new(),
             c_sdu: Vec::new(),
         }
@@ -251,6 +261,50 @@ impl Ar {
         }
         self.provider
             .frame(src, cycle_counter, data_status::OPERATE, &self.c_sdu)
+    }
+
+    /// Where the submodules' data and status sit in the two CRs, for a cycle thread that
+    /// runs the exchange over a submodule table: the CR consumed (the output CR: data, the
+    /// controller's IOPS, its IOCS for our inputs) and the CR produced (the input CR).
+    /// `table` gives a submodule's index in that table; submodules that are not the
+    /// expected ones, or not in the table, are left out, so their status bytes stay 0 (BAD).
+    pub(super) fn cr_maps(&self, table: impl Fn(&Expected) -> Option<usize>) -> (CrMap, CrMap) {
+        let mut consumed = CrMap {
+            frame_id: self.consumer.frame_id,
+            data_length: self.consumer.data_length,
+            objects: Vec::new(),
+            iocs: Vec::new(),
+        };
+        let mut produced = CrMap {
+            frame_id: self.provider.frame_id,
+            data_length: self.provider.data_length,
+            objects: Vec::new(),
+            iocs: Vec::new(),
+        };
+        for s in self.submodules.iter().filter(|s| s.proper) {
+            let Some(index) = table(&s.expected) else {
+                continue;
+            };
+            let data = |at: usize, len: usize| DataMap {
+                submodule: index,
+                data: at,
+                len,
+                iops: at + len,
+            };
+            let iocs = |offset: usize| IocsMap {
+                submodule: index,
+                offset,
+            };
+            consumed
+                .objects
+                .extend(s.out_data.map(|at| data(at, s.outputs.len())));
+            consumed.iocs.extend(s.out_iocs.map(iocs));
+            produced
+                .objects
+                .extend(s.in_data.map(|at| data(at, s.inputs.len())));
+            produced.iocs.extend(s.in_iocs.map(iocs));
+        }
+        (consumed, produced)
     }
 
     /// When [`Ar`] needs a poll next.

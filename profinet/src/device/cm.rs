@@ -127,6 +127,11 @@ impl<A: Application> Device<A> {
             Ok(p) => p,
             Err(s) => return (s, Vec::new()),
         };
+        if let Some(h) = &self.handover
+            && let Err(s) = connect::check_period(&plan, |period| h.fits(period))
+        {
+            return (s, Vec::new());
+        }
         if let Some(existing) = &self.ar {
             if existing.ar_uuid == plan.ar.ar_uuid {
                 // A re-run of the AR the device still holds: it ends, and this Connect is
@@ -167,6 +172,8 @@ impl<A: Application> Device<A> {
             BlockType::PrmBeginReq => (FAULTY_PRM_BEGIN, control::command::PRM_BEGIN),
             _ => return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
         };
+        // With the exchange handed over, the caller's cycle produces and supervises.
+        let own_cyclic = self.handover.is_none();
         let Some(ar) = self.ar.as_mut().filter(|a| a.ar_uuid == c.ar_uuid) else {
             return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
         };
@@ -182,7 +189,9 @@ impl<A: Application> Device<A> {
         match (c.block_type, ar.state) {
             (BlockType::PrmEndReq, ArState::Connected) => {
                 ar.state = ArState::Parameterized;
-                ar.provider.start(now_ns);
+                if own_cyclic {
+                    ar.provider.start(now_ns);
+                }
                 ar.app_ready_due = Some(now_ns.saturating_add(APP_READY_DELAY_NS));
             }
             (BlockType::PrmBeginReq, ArState::Data) => {
@@ -233,6 +242,7 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) {
+        let own_cyclic = self.handover.is_none();
         let Some(ar) = self.ar.as_mut() else {
             return;
         };
@@ -244,7 +254,9 @@ impl<A: Application> Device<A> {
                 ar.app_ready = None;
                 ar.state = ArState::Data;
                 ar.cmi_deadline = None;
-                ar.consumer.arm(now_ns);
+                if own_cyclic {
+                    ar.consumer.arm(now_ns);
+                }
             }
             rpc::CallOutcome::Failed => self.abort_ar(AbortCode::RpcClientCallNegative, out),
             rpc::CallOutcome::Pending | rpc::CallOutcome::NotOurs => {}

@@ -313,6 +313,15 @@ fn check_descriptions(s: &ExpectedSubmodule) -> Result<(), PnioStatus> {
     first_failure(EXPECTED, &checks)
 }
 
+/// Refuses a Connect whose IO CRs' period the device cannot keep (`fits` says which it
+/// can), as a faulty ReductionRatio of the first such IOCRBlockReq.
+pub(super) fn check_period(plan: &Plan, fits: impl Fn(u64) -> bool) -> Result<(), PnioStatus> {
+    for c in [&plan.input, &plan.output] {
+        first_failure(IOCR, &[(fits(c.period_ns()), 11)])?;
+    }
+    Ok(())
+}
+
 /// Whether `n` is a power of two within `1..=max`.
 fn power_of_two(n: u16, max: u16) -> bool {
     n.is_power_of_two() && n <= max

@@ -41,11 +41,15 @@ mod cm;
 mod connect;
 mod cyclic;
 mod dcp;
+mod handover;
+#[cfg(test)]
+mod handover_tests;
 mod records;
 mod rpc;
 #[cfg(test)]
 mod tests;
 
+use crate::cyclic::CyclicAr;
 use crate::wire::alarm::{
     AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType, Priority,
 };
@@ -116,6 +120,14 @@ pub enum DeviceAction {
         /// The UDP payload.
         payload: Vec<u8>,
     },
+    /// Start the cyclic exchange of an AR on the caller's cycle (only after
+    /// [`Device::hand_over_cyclic`]).
+    StartCyclic(Box<CyclicAr>),
+    /// Stop the cyclic exchange `epoch` (only after [`Device::hand_over_cyclic`]).
+    StopCyclic {
+        /// The epoch of the [`CyclicAr`] that was started.
+        epoch: u32,
+    },
 }
 
 /// Where the device's AR stands.
@@ -169,6 +181,8 @@ pub struct Device<A> {
     last_abort: Option<AbortCode>,
     signals: u32,
     acks: Vec<AlarmAck>,
+    /// Set when the caller's cycle runs the cyclic exchange.
+    handover: Option<handover::Handover>,
 }
 
 impl<A: Application> Device<A> {
@@ -203,6 +217,7 @@ impl<A: Application> Device<A> {
             last_abort: None,
             signals: 0,
             acks: Vec::new(),
+            handover: None,
         }
     }
 
@@ -284,6 +299,11 @@ impl<A: Application> Device<A> {
 
     /// Takes an Ethernet frame seen on the link; what is not for us is ignored.
     pub fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
+        self.take_frame(frame, now_ns, out);
+        self.sync_handover(now_ns, out);
+    }
+
+    fn take_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
         let Ok(eth) = ethernet::Frame::new_checked(frame) else {
             return;
         };
@@ -360,6 +380,18 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) {
+        self.take_datagram(from, to_port, payload, now_ns, out);
+        self.sync_handover(now_ns, out);
+    }
+
+    fn take_datagram(
+        &mut self,
+        from: SocketAddrV4,
+        to_port: u16,
+        payload: &[u8],
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) {
         // Without an address the device has no UDP endpoint.
         if self.id.ip == [0; 4] {
             return;
@@ -408,6 +440,11 @@ impl<A: Application> Device<A> {
     /// Runs the timers: delayed DCP responses, the ApplicationReady and its retransmission,
     /// input CR frames, the watchdogs, alarm retransmissions.
     pub fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
+        self.run_timers(now_ns, out);
+        self.sync_handover(now_ns, out);
+    }
+
+    fn run_timers(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.dcp.poll(now_ns, out);
         let mac = self.id.mac;
         let activity = if self

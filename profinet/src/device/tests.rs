@@ -28,7 +28,7 @@ use std::net::Ipv4Addr;
 /// The applications these tests need: inputs left alone, the echo of the submodule's own
 /// outputs, or a big-endian u32 count of the frames produced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum TestApp {
+pub(super) enum TestApp {
     None,
     Echo,
     Counter,
@@ -53,14 +53,14 @@ impl Application for TestApp {
 }
 
 /// The S7-1515 of the captures.
-const S7_MAC: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f]);
+pub(super) const S7_MAC: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f]);
 /// The p-net sample device of the captures.
-const PNET_MAC: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8]);
+pub(super) const PNET_MAC: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8]);
 const S7_IP: Ipv4Addr = Ipv4Addr::new(172, 16, 2, 100);
 const DEVICE_IP: [u8; 4] = [172, 16, 2, 10];
 /// The S7's RPC client socket in the captures.
 const S7_CLIENT: SocketAddrV4 = SocketAddrV4::new(S7_IP, 54766);
-const MS: u64 = 1_000_000;
+pub(super) const MS: u64 = 1_000_000;
 
 /// The UDP payload (RPC PDU) of a captured Ethernet/IPv4/UDP frame.
 fn rpc_capture(name: &str) -> Vec<u8> {
@@ -125,7 +125,7 @@ fn pnet_device(behaviour: TestApp) -> Device<TestApp> {
 }
 
 /// The datagrams among `out`: (to, from port, payload).
-fn datagrams(out: &[DeviceAction]) -> Vec<(SocketAddrV4, u16, Vec<u8>)> {
+pub(super) fn datagrams(out: &[DeviceAction]) -> Vec<(SocketAddrV4, u16, Vec<u8>)> {
     out.iter()
         .filter_map(|a| match a {
             DeviceAction::Datagram {
@@ -133,29 +133,29 @@ fn datagrams(out: &[DeviceAction]) -> Vec<(SocketAddrV4, u16, Vec<u8>)> {
                 from_port,
                 payload,
             } => Some((*to, *from_port, payload.clone())),
-            DeviceAction::Frame(_) => None,
+            _ => None,
         })
         .collect()
 }
 
 /// The frames among `out`.
-fn frames(out: &[DeviceAction]) -> Vec<Vec<u8>> {
+pub(super) fn frames(out: &[DeviceAction]) -> Vec<Vec<u8>> {
     out.iter()
         .filter_map(|a| match a {
             DeviceAction::Frame(f) => Some(f.clone()),
-            DeviceAction::Datagram { .. } => None,
+            _ => None,
         })
         .collect()
 }
 
 /// An RPC PDU parsed into owned parts.
-struct Reply {
+pub(super) struct Reply {
     header: Header,
     ndr: Ndr,
     blocks: Vec<u8>,
 }
 
-fn parse_reply(payload: &[u8]) -> Reply {
+pub(super) fn parse_reply(payload: &[u8]) -> Reply {
     let p = Pdu::parse(payload).unwrap_or_else(|e| panic!("{e}: {payload:02x?}"));
     Reply {
         header: p.header,
@@ -174,16 +174,16 @@ fn call_from(dev: &mut Device<TestApp>, from: SocketAddrV4, payload: &[u8], now:
     parse_reply(&d[0].2)
 }
 
-fn call(dev: &mut Device<TestApp>, payload: &[u8], now: u64) -> Reply {
+pub(super) fn call(dev: &mut Device<TestApp>, payload: &[u8], now: u64) -> Reply {
     call_from(dev, S7_CLIENT, payload, now)
 }
 
-fn status(r: &Reply) -> PnioStatus {
+pub(super) fn status(r: &Reply) -> PnioStatus {
     r.ndr.status().expect("a response")
 }
 
 /// Polls at every deadline up to `until`; everything sent.
-fn run_until(dev: &mut Device<TestApp>, until: u64) -> Vec<(u64, DeviceAction)> {
+pub(super) fn run_until(dev: &mut Device<TestApp>, until: u64) -> Vec<(u64, DeviceAction)> {
     let mut all = Vec::new();
     while let Some(t) = dev.next_deadline_ns().filter(|t| *t <= until) {
         let mut out = Vec::new();
@@ -672,7 +672,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
 
 /// A Connect like the S7's, built from a list of submodules (slot, subslot, module ident,
 /// submodule ident, in, out), with the CRs' timing given.
-fn built_connect(
+pub(super) fn built_connect(
     subs: &[(u16, u16, u32, u32, u16, u16)],
     ar_uuid: Uuid,
     (scf, rr, dhf): (u16, u16, u16),
@@ -740,7 +740,13 @@ fn built_connect(
 }
 
 /// A request PDU on the device interface.
-fn request(op: u16, activity: Uuid, seq: u32, blocks: &[u8], little_endian: bool) -> Vec<u8> {
+pub(super) fn request(
+    op: u16,
+    activity: Uuid,
+    seq: u32,
+    blocks: &[u8],
+    little_endian: bool,
+) -> Vec<u8> {
     let h = Header {
         little_endian,
         ..Header::request(
@@ -754,11 +760,13 @@ fn request(op: u16, activity: Uuid, seq: u32, blocks: &[u8], little_endian: bool
     wire_rpc::emit_request(&h, 1340, blocks).unwrap()
 }
 
-const ACTIVITY: Uuid = Uuid::from_fields(0xaaaa_0001, 1, 0x4000, [8, 7, 6, 5, 4, 3, 2, 1]);
-const AR_UUID: Uuid = Uuid::from_fields(0x1234_5678, 0x9abc, 0x4def, [1, 2, 3, 4, 5, 6, 7, 8]);
+pub(super) const ACTIVITY: Uuid =
+    Uuid::from_fields(0xaaaa_0001, 1, 0x4000, [8, 7, 6, 5, 4, 3, 2, 1]);
+pub(super) const AR_UUID: Uuid =
+    Uuid::from_fields(0x1234_5678, 0x9abc, 0x4def, [1, 2, 3, 4, 5, 6, 7, 8]);
 
 /// A counter device: DAP and 4 bytes in, 2 bytes out.
-fn counter_device() -> (Device<TestApp>, ConnectRequest) {
+pub(super) fn counter_device() -> (Device<TestApp>, ConnectRequest) {
     let subs = [
         (0, 1, 0x1, 0x1, 0, 0),
         (1, 1, 0x30, 0x1, 4, 0),
@@ -791,7 +799,7 @@ fn counter_device() -> (Device<TestApp>, ConnectRequest) {
 }
 
 /// Connect, PrmEnd and the ApplicationReady answered with our codecs, at `t0`.
-fn to_data(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u64) -> u64 {
+pub(super) fn to_data(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u64) -> u64 {
     let r = call(
         dev,
         &request(
@@ -886,7 +894,7 @@ fn cyclic_frames_keep_period_offsets_and_counters_and_the_watchdog_aborts() {
         .into_iter()
         .filter_map(|(t, a)| match a {
             DeviceAction::Frame(f) => Some((t, f)),
-            DeviceAction::Datagram { .. } => None,
+            _ => None,
         })
         .collect();
     assert_eq!(
@@ -1308,7 +1316,7 @@ fn an_unanswered_application_ready_is_repeated_then_the_ar_aborted() {
                 assert_eq!(parse_reply(payload).header, app.header);
                 Some(*at)
             }
-            DeviceAction::Frame(_) => None,
+            _ => None,
         })
         .collect();
     assert_eq!(repeats, vec![t + 2_000 * MS, t + 4_000 * MS]);

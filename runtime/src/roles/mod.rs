@@ -23,7 +23,7 @@ pub mod controller;
 
 use crate::cycle::thread::IoFactory;
 use crate::shm::Notices;
-use procimg_profinet::controller::cyclic::CyclicAr;
+use procimg_profinet::cyclic::CyclicAr;
 use procimg_shm_layout::control::{
     DeviceReport, NetworkReport, Request, Response, SubscriberReport,
 };

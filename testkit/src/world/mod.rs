@@ -504,6 +504,8 @@ impl<A: Application, P: Port> World<A, P> {
                         self.controller.on_datagram(from, &p, now, &mut answers);
                     }
                 }
+                // The world's devices run their own cyclic exchange.
+                DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
             }
         }
         answers

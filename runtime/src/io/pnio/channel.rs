@@ -8,7 +8,7 @@
 
 use crossbeam_queue::ArrayQueue;
 use procimg_nic::MAX_FRAME;
-use procimg_profinet::controller::cyclic::CyclicAr;
+use procimg_profinet::cyclic::CyclicAr;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Frame buffers in circulation.

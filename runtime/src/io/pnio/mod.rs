@@ -16,7 +16,7 @@ use super::{CycleTime, IoSystem};
 use crate::image::Image;
 use channel::{Channel, FromCycle, NetCounters, ToCycle};
 use procimg_nic::{Nic, RecvError};
-use procimg_profinet::controller::cyclic::CyclicAr;
+use procimg_profinet::cyclic::CyclicAr;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};

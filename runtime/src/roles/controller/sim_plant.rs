@@ -160,6 +160,8 @@ fn deliver(
                     payload,
                 });
             }
+            // The simulated devices run their own cyclic exchange.
+            DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
         }
     }
 }
