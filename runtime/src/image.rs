@@ -4,15 +4,22 @@
 //! it; each cycle it is copied once into the published shared-memory sample.
 
 use procimg_shm_layout::{
-    DeviceEntry, ImageLayout, LayoutError, STATION_NAME_LEN, SubmoduleEntry, SubmoduleStatus,
-    layout_hash,
+    DeviceEntry, ImageLayout, LayoutError, ROLE_CONTROLLER, ROLE_DEVICE, STATION_NAME_LEN,
+    SubmoduleEntry, SubmoduleStatus, layout_hash,
 };
 
-use crate::config::Config;
+use crate::config::{Config, StationConfig, SubmoduleConfig};
 
 /// The tables of an IO system as shared memory describes them.
+///
+/// In the device role the device table has one entry, the station itself, and the image's
+/// directions are those of the data: the server-written part (a submodule's `input_*`
+/// fields) holds the Q data the PLC wrote, the client-written part (`output_*`) the I data
+/// clients provide (see [`ROLE_DEVICE`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tables {
+    /// The server's role: [`ROLE_CONTROLLER`] or [`ROLE_DEVICE`].
+    pub role: u32,
     /// Device table.
     pub devices: Vec<DeviceEntry>,
     /// Submodule table, with offsets assigned.
@@ -26,15 +33,14 @@ pub struct Tables {
 impl Tables {
     /// Builds the tables of a validated configuration.
     pub fn from_config(config: &Config) -> Result<Tables, LayoutError> {
+        if let Some(station) = &config.station {
+            return Tables::of_station(station);
+        }
         let mut devices = Vec::with_capacity(config.devices.len());
         let mut submodules = Vec::new();
         for (d, dev) in config.devices.iter().enumerate() {
-            let mut station_name = [0u8; STATION_NAME_LEN];
-            let name = dev.name.as_bytes();
-            let n = name.len().min(STATION_NAME_LEN);
-            station_name[..n].copy_from_slice(&name[..n]);
             devices.push(DeviceEntry {
-                station_name,
+                station_name: station_name(&dev.name),
                 vendor_id: dev.vendor_id,
                 device_id: dev.device_id,
                 instance: dev.instance,
@@ -45,26 +51,51 @@ impl Tables {
                 watchdog_factor: dev.watchdog_factor,
                 reserved: 0,
             });
-            for s in &dev.submodules {
-                submodules.push(SubmoduleEntry {
-                    device: d as u16,
-                    slot: s.slot,
-                    subslot: s.subslot,
-                    rt_class: s.rt_class,
-                    api: s.api,
-                    module_ident: s.module_ident,
-                    submodule_ident: s.submodule_ident,
-                    input_address: s.input_address,
-                    output_address: s.output_address,
-                    input_length: s.input_length,
-                    output_length: s.output_length,
-                    ..SubmoduleEntry::EMPTY
-                });
-            }
+            submodules.extend(dev.submodules.iter().map(|s| entry(d, s)));
         }
+        Tables::laid_out(ROLE_CONTROLLER, devices, submodules)
+    }
+
+    /// The device role's tables: the station as the one device, each submodule with its Q
+    /// data in the server-written part and its I data in the client-written part.
+    fn of_station(station: &StationConfig) -> Result<Tables, LayoutError> {
+        let devices = vec![DeviceEntry {
+            station_name: station_name(&station.name),
+            vendor_id: station.vendor_id,
+            device_id: station.device_id,
+            instance: station.instance,
+            reduction_ratio: 1,
+            ip_address: station.ip.map(|ip| ip.octets()).unwrap_or([0; 4]),
+            first_submodule: 0,
+            submodule_count: station.submodules.len() as u32,
+            watchdog_factor: 0,
+            reserved: 0,
+        }];
+        let submodules = station
+            .submodule_configs()
+            .map(|s| {
+                let e = entry(0, s);
+                SubmoduleEntry {
+                    input_length: s.output_length,
+                    output_length: s.input_length,
+                    input_address: s.output_address,
+                    output_address: s.input_address,
+                    ..e
+                }
+            })
+            .collect();
+        Tables::laid_out(ROLE_DEVICE, devices, submodules)
+    }
+
+    fn laid_out(
+        role: u32,
+        devices: Vec<DeviceEntry>,
+        mut submodules: Vec<SubmoduleEntry>,
+    ) -> Result<Tables, LayoutError> {
         let layout = ImageLayout::assign(&mut submodules)?;
-        let hash = layout_hash(&layout, &devices, &submodules);
+        let hash = layout_hash(role, &layout, &devices, &submodules);
         Ok(Tables {
+            role,
             devices,
             submodules,
             layout,
@@ -78,6 +109,32 @@ impl Tables {
             .get(d)
             .and_then(|d| d.station_name())
             .unwrap_or("?")
+    }
+}
+
+/// A station name as the device table holds it: NUL-padded, cut at the field's length.
+fn station_name(name: &str) -> [u8; STATION_NAME_LEN] {
+    let mut field = [0u8; STATION_NAME_LEN];
+    let n = name.len().min(STATION_NAME_LEN);
+    field[..n].copy_from_slice(&name.as_bytes()[..n]);
+    field
+}
+
+/// The table entry of submodule `s` of device `d`, in the controller's directions.
+fn entry(d: usize, s: &SubmoduleConfig) -> SubmoduleEntry {
+    SubmoduleEntry {
+        device: d as u16,
+        slot: s.slot,
+        subslot: s.subslot,
+        rt_class: s.rt_class,
+        api: s.api,
+        module_ident: s.module_ident,
+        submodule_ident: s.submodule_ident,
+        input_address: s.input_address,
+        output_address: s.output_address,
+        input_length: s.input_length,
+        output_length: s.output_length,
+        ..SubmoduleEntry::EMPTY
     }
 }
 

@@ -43,6 +43,10 @@ struct Args {
     /// Run the built-in demo: simulated devices on an in-process network, no root needed.
     #[arg(long, conflicts_with = "config")]
     demo: bool,
+    /// Run the built-in demo of the IO device role: procimgd is a PROFINET device, and
+    /// procimg's own IO controller plays the PLC on an in-process network; no root needed.
+    #[arg(long, conflicts_with_all = ["config", "demo"])]
+    demo_device: bool,
     /// Print the built-in demo configuration (a commented example file) and exit.
     #[arg(long)]
     print_demo_config: bool,
@@ -71,6 +75,7 @@ fn main() {
     let args = Args::parse();
     if args.config.is_none()
         && !args.demo
+        && !args.demo_device
         && !args.print_demo_config
         && !args.print_demo_device_config
     {
@@ -111,6 +116,7 @@ fn run(args: Args) -> anyhow::Result<()> {
     }
     let mut config = match &args.config {
         Some(path) => config::load(path)?,
+        None if args.demo_device => Config::demo_device(),
         None => Config::demo(),
     };
     if let Some(name) = args.instance {
@@ -132,14 +138,6 @@ fn run(args: Args) -> anyhow::Result<()> {
 
 /// Refuses what this build cannot do, before anything starts.
 fn check_supported(config: &Config) -> anyhow::Result<()> {
-    if config.role == config::Role::Device {
-        bail!(
-            "{}: role = \"device\": this procimgd reads the device role's configuration (and \
-             `procimg gsdml` turns it into the device's GSDML file), but does not run the role \
-             on the network yet; run it with role = \"controller\"",
-            config.origin
-        );
-    }
     if config.access.mode & 0o077 != 0 || config.access.group.is_some() {
         bail!(
             "{}: [access] mode = \"{:04o}\"{}: the shared-memory layer (iceoryx2 0.10) creates \
@@ -284,7 +282,10 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         opdone_wait: config.cycle_thread.opdone_wait,
         generation,
     };
-    let mut role = roles::controller::start(&config, shared.clone())?;
+    let mut role = match config.role {
+        config::Role::Controller => roles::controller::start(&config, shared.clone())?,
+        config::Role::Device => roles::device::start(&config, shared.clone())?,
+    };
     let io = role.io.take().context("the IO system was already taken")?;
     let services = role
         .services

@@ -83,6 +83,20 @@
 #define PROCIMG_STATION_NAME_LEN 240
 
 /**
+ * The server is an IO controller: the image's inputs come from its devices, its outputs
+ * go to them (`LayoutHeader::role`).
+ */
+#define ROLE_CONTROLLER 0
+
+/**
+ * The server is an IO device: the server-written part of the image (the submodule table's
+ * `input_*` fields) carries the output data the PLC wrote (Q), the client-written part
+ * (`output_*`) the device's input data that the PLC reads (I). Directions are named from
+ * the PLC's view, as in IO-Base's device interface.
+ */
+#define ROLE_DEVICE 1
+
+/**
  * Mode OFFLINE: no IO data is exchanged with the devices.
  */
 #define PROCIMG_MODE_OFFLINE 0
@@ -494,9 +508,9 @@ typedef struct {
    */
   uint32_t client_status_offset;
   /**
-   * Reserved, zero.
+   * The PROFINET role of the server: [`ROLE_CONTROLLER`] or [`ROLE_DEVICE`].
    */
-  uint32_t reserved;
+  uint32_t role;
 } procimg_layout_header_t;
 
 /**

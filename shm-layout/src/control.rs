@@ -345,6 +345,14 @@ pub enum Refusal {
         /// The most forced bytes.
         max: u32,
     },
+    /// The request is a service of the other PROFINET role than the server plays (an IO
+    /// controller's record job asked of a server in the device role, say).
+    WrongRole {
+        /// The role the server plays: `"controller"` or `"device"`.
+        role: String,
+        /// The service asked for.
+        service: String,
+    },
     /// The answer could not be handed over (the control service had no room for it).
     AnswerLost {
         /// Bytes of the answer.
@@ -433,6 +441,11 @@ impl core::fmt::Display for Refusal {
                  (`procimg io unforce --all` clears it)"
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
+            Refusal::WrongRole { role, service } => write!(
+                f,
+                "this server plays the IO {role} role, and {service} is a service of the other \
+                 role; use the {role} role's services, or run procimgd with the other `role`"
+            ),
             Refusal::AnswerLost { bytes, detail } => write!(
                 f,
                 "the server could not hand over its {bytes}-byte answer ({detail}); ask again, \
@@ -565,6 +578,12 @@ pub struct NetworkReport {
 pub struct StatusReport {
     /// Instance name.
     pub instance: String,
+    /// The server's PROFINET role: `"controller"` or `"device"`.
+    #[serde(default = "controller_role")]
+    pub role: String,
+    /// In the device role: the station and its AR.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub station: Option<StationReport>,
     /// Server process id.
     pub pid: u32,
     /// Server generation (in JSON a hex string: see [`hex_id`]).
@@ -624,6 +643,42 @@ pub struct StatusReport {
     /// Forced bytes, one entry per run of consecutive forced addresses.
     #[serde(default)]
     pub forces: Vec<ForceReport>,
+}
+
+fn controller_role() -> String {
+    String::from("controller")
+}
+
+/// The station of a server in the IO device role, for the status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StationReport {
+    /// NameOfStation now.
+    pub name: String,
+    /// IPv4 address now (`0.0.0.0`: none).
+    pub ip: String,
+    /// VendorID.
+    pub vendor_id: u16,
+    /// DeviceID.
+    pub device_id: u16,
+    /// The AR with a PLC, if there is one.
+    pub ar: Option<ArReport>,
+    /// ARs that ended other than by the PLC's Release.
+    pub aborted_ars: u64,
+    /// Why the last one ended so.
+    #[serde(default)]
+    pub last_abort: Option<String>,
+}
+
+/// An AR of the device role, for the status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ArReport {
+    /// Where it stands: connected, parameterized, waiting-for-application-ready-confirm or
+    /// data.
+    pub state: String,
+    /// The ARUUID.
+    pub ar_uuid: String,
+    /// The PLC's MAC address.
+    pub controller_mac: String,
 }
 
 /// A run of forced bytes in a status report.

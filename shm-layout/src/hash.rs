@@ -22,14 +22,17 @@ impl Fnv {
     }
 }
 
-/// The hash of a layout: its version, its sizes and every field of its tables.
+/// The hash of a layout: its version, the server's role, its sizes and every field of its
+/// tables.
 pub fn layout_hash(
+    role: u32,
     layout: &ImageLayout,
     devices: &[DeviceEntry],
     submodules: &[SubmoduleEntry],
 ) -> u64 {
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
     h.u32(LAYOUT_VERSION);
+    h.u32(role);
     for v in [
         layout.submodule_count,
         layout.input_size,
@@ -63,10 +66,10 @@ mod tests {
             ..SubmoduleEntry::EMPTY
         }];
         let l = ImageLayout::assign(&mut t).unwrap();
-        let a = layout_hash(&l, &[], &t);
+        let a = layout_hash(crate::ROLE_CONTROLLER, &l, &[], &t);
         t[0].input_address = 0;
-        let b = layout_hash(&l, &[], &t);
+        let b = layout_hash(crate::ROLE_CONTROLLER, &l, &[], &t);
         assert_ne!(a, b);
-        assert_eq!(b, layout_hash(&l, &[], &t));
+        assert_eq!(b, layout_hash(crate::ROLE_CONTROLLER, &l, &[], &t));
     }
 }

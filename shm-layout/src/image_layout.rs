@@ -152,9 +152,12 @@ impl ImageLayout {
         if end == 0 { 8 } else { end as u32 }
     }
 
-    /// The layout header describing this layout.
+    /// The layout header describing this layout, for a server in `role`
+    /// ([`crate::ROLE_CONTROLLER`] or [`crate::ROLE_DEVICE`]).
+    #[allow(clippy::too_many_arguments)]
     pub const fn header(
         &self,
+        role: u32,
         device_count: u32,
         layout_hash: u64,
         generation: u64,
@@ -180,7 +183,7 @@ impl ImageLayout {
             status_offset: self.status_offset,
             output_mirror_offset: self.output_mirror_offset,
             client_status_offset: self.client_status_offset,
-            reserved: 0,
+            role,
         }
     }
 
@@ -242,7 +245,7 @@ mod tests {
     fn header_round_trips() {
         let mut t = [sub(3, 5)];
         let l = ImageLayout::assign(&mut t).unwrap();
-        let h = l.header(1, 7, 9, 1_000_000, 500_000);
+        let h = l.header(crate::ROLE_CONTROLLER, 1, 7, 9, 1_000_000, 500_000);
         assert_eq!(ImageLayout::from_header(&h), l);
         assert_eq!(h.submodule_table_offset, 264);
     }

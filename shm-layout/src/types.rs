@@ -26,6 +26,15 @@ pub const CYCLE_COUNT_UNIT_NS: u64 = 31_250;
 /// Bytes of a station name field, NUL-padded (PROFINET NameOfStation is at most 240).
 pub const STATION_NAME_LEN: usize = 240;
 
+/// The server is an IO controller: the image's inputs come from its devices, its outputs
+/// go to them (`LayoutHeader::role`).
+pub const ROLE_CONTROLLER: u32 = 0;
+/// The server is an IO device: the server-written part of the image (the submodule table's
+/// `input_*` fields) carries the output data the PLC wrote (Q), the client-written part
+/// (`output_*`) the device's input data that the PLC reads (I). Directions are named from
+/// the PLC's view, as in IO-Base's device interface.
+pub const ROLE_DEVICE: u32 = 1;
+
 /// Mode OFFLINE: no IO data is exchanged with the devices.
 pub const MODE_OFFLINE: u32 = 0;
 /// Mode CLEAR: the devices are connected, outputs go out marked invalid.
@@ -39,6 +48,9 @@ pub const IOXS_GOOD: u8 = 0x80;
 pub const IOXS_BAD: u8 = 0x00;
 /// IOPS/IOCS value BAD, detected by the IO controller (device failed, client late, mode CLEAR).
 pub const IOXS_BAD_BY_CONTROLLER: u8 = 0x60;
+/// IOPS/IOCS value BAD, detected by the IO device: what a server in the device role sends
+/// for data no client provides (no owner, client late, mode CLEAR).
+pub const IOXS_BAD_BY_DEVICE: u8 = 0x40;
 
 /// `ClientSubmoduleStatus::flags`: the client wrote this submodule's output data.
 pub const CLIENT_WROTE_OUTPUTS: u8 = 0x01;
@@ -265,8 +277,8 @@ pub struct LayoutHeader {
     pub output_mirror_offset: u32,
     /// Offset of the client status array in an output-sample payload.
     pub client_status_offset: u32,
-    /// Reserved, zero.
-    pub reserved: u32,
+    /// The PROFINET role of the server: [`ROLE_CONTROLLER`] or [`ROLE_DEVICE`].
+    pub role: u32,
 }
 
 /// The iceoryx2 user header of an output sample sent by a client.
@@ -318,7 +330,7 @@ const _: () = {
     assert!(size_of::<ClientSubmoduleStatus>() == 4);
     assert!(size_of::<LayoutHeader>() == 96);
     assert!(offset_of!(LayoutHeader, device_count) == 48);
-    assert!(offset_of!(LayoutHeader, reserved) == 92);
+    assert!(offset_of!(LayoutHeader, role) == 92);
     assert!(size_of::<OutputHeader>() == 48 && offset_of!(OutputHeader, sent_ns) == 40);
     assert!(offset_of!(OutputHeader, client_slot) == 32);
 };
@@ -539,7 +551,7 @@ impl Default for LayoutHeader {
             status_offset: 0,
             output_mirror_offset: 0,
             client_status_offset: 0,
-            reserved: 0,
+            role: ROLE_CONTROLLER,
         }
     }
 }

@@ -236,7 +236,7 @@ fn layout_facts() -> (FieldFacts, SizeFacts) {
             status_offset,
             output_mirror_offset,
             client_status_offset,
-            reserved
+            role
         ]
     );
     fields!(

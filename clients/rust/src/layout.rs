@@ -42,6 +42,13 @@ impl Layout {
         ImageLayout::from_header(&self.header)
     }
 
+    /// Whether the server is an IO device ([`procimg_shm_layout::ROLE_DEVICE`]): then the
+    /// image's inputs are the Q data the PLC wrote and its outputs the I data the device
+    /// provides (directions named from the PLC's view, as in IO-Base's device interface).
+    pub fn is_device(&self) -> bool {
+        self.header.role == procimg_shm_layout::ROLE_DEVICE
+    }
+
     /// The layout hash.
     pub fn hash(&self) -> u64 {
         self.header.layout_hash

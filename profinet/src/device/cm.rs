@@ -38,6 +38,17 @@ pub(super) const fn pnio(error_code: u8, c1: u8, c2: u8) -> PnioStatus {
 }
 
 impl<A: Application> Device<A> {
+    /// Whether the device takes part: when it stops (its application goes away, say) the AR
+    /// ends with an ERR-RTA and Connects are refused (CMDEV state conflict) until it takes
+    /// part again. It does from the start.
+    pub fn set_accepting(&mut self, accepting: bool, now_ns: u64, out: &mut Vec<DeviceAction>) {
+        self.accepting = accepting;
+        if !accepting {
+            self.abort_ar(AbortCode::AbortRequest, out);
+            self.sync_handover(now_ns, out);
+        }
+    }
+
     /// Executes a whole request and answers it.
     pub(super) fn call(
         &mut self,
@@ -127,6 +138,9 @@ impl<A: Application> Device<A> {
             Ok(p) => p,
             Err(s) => return (s, Vec::new()),
         };
+        if !self.accepting {
+            return (refuse(CMDEV, CMDEV_STATE_CONFLICT), Vec::new());
+        }
         if let Some(h) = &self.handover
             && let Err(s) = connect::check_period(&plan, |period| h.fits(period))
         {

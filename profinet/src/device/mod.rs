@@ -183,6 +183,8 @@ pub struct Device<A> {
     acks: Vec<AlarmAck>,
     /// Set when the caller's cycle runs the cyclic exchange.
     handover: Option<handover::Handover>,
+    /// Whether a Connect may make an AR (see [`Device::set_accepting`]).
+    accepting: bool,
 }
 
 impl<A: Application> Device<A> {
@@ -218,6 +220,7 @@ impl<A: Application> Device<A> {
             signals: 0,
             acks: Vec::new(),
             handover: None,
+            accepting: true,
         }
     }
 
@@ -250,6 +253,11 @@ impl<A: Application> Device<A> {
     /// The ARUUID of the current AR.
     pub fn ar_uuid(&self) -> Option<Uuid> {
         self.ar.as_ref().map(|a| a.ar_uuid)
+    }
+
+    /// The MAC address of the controller of the current AR.
+    pub fn controller_mac(&self) -> Option<MacAddress> {
+        self.ar.as_ref().map(Ar::controller_mac)
     }
 
     /// Why the last AR ended other than by Release, if one did.

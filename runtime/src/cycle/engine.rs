@@ -21,8 +21,8 @@ use procimg_shm_layout::events::{
 };
 use procimg_shm_layout::{
     CLIENT_SET_INPUT_IOCS, CLIENT_SET_OUTPUT_IOPS, CLIENT_WROTE_OUTPUTS, CycleInfo, IMAGE_MAGIC,
-    IOXS_BAD_BY_CONTROLLER, IOXS_GOOD, ImageHeader, MAX_CLIENTS, MODE_HISTORY, Mode,
-    OUTPUT_SYNCHRONOUS, OutputHeader, cycle_count,
+    IOXS_BAD_BY_CONTROLLER, IOXS_BAD_BY_DEVICE, IOXS_GOOD, ImageHeader, MAX_CLIENTS, MODE_HISTORY,
+    Mode, OUTPUT_SYNCHRONOUS, OutputHeader, ROLE_DEVICE, cycle_count,
 };
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -69,6 +69,9 @@ struct State {
     clients: [ClientRt; MAX_CLIENTS],
     /// Per submodule: the output IOPS the owning client set.
     output_iops: Vec<u8>,
+    /// The IOPS of data no client provides: BAD, detected by the controller, or in the
+    /// device role by the device.
+    bad_by_us: u8,
     /// Per submodule: the input IOCS the clients set.
     input_iocs: Vec<u8>,
     /// Per submodule: its owner is late (faulted) and the policy is IOPS BAD.
@@ -111,6 +114,11 @@ impl<L: ClientLink> Engine<L> {
         stats: StatsRecorder,
     ) -> Engine<L> {
         let n = tables.submodules.len();
+        let bad_by_us = if tables.role == ROLE_DEVICE {
+            IOXS_BAD_BY_DEVICE
+        } else {
+            IOXS_BAD_BY_CONTROLLER
+        };
         let mut header = ImageHeader::new(tables.hash, settings.generation);
         header.submodule_count = n as u32;
         header.payload_size = tables.layout.input_payload_size;
@@ -132,7 +140,8 @@ impl<L: ClientLink> Engine<L> {
                 image: Image::new(tables),
                 header,
                 clients: [ClientRt::default(); MAX_CLIENTS],
-                output_iops: vec![IOXS_BAD_BY_CONTROLLER; n],
+                output_iops: vec![bad_by_us; n],
+                bad_by_us,
                 input_iocs: vec![IOXS_GOOD; n],
                 late_bad: vec![false; n],
                 last_owner: vec![0; n],
@@ -367,7 +376,7 @@ impl State {
             let owner = self.shared.owner(s);
             if owner != self.last_owner[s] {
                 self.last_owner[s] = owner;
-                self.output_iops[s] = IOXS_BAD_BY_CONTROLLER;
+                self.output_iops[s] = self.bad_by_us;
             }
         }
     }
@@ -386,7 +395,7 @@ impl State {
             // IO-Base: in OFFLINE, the outputs and local states written are lost.
             for s in 0..self.output_iops.len() {
                 self.image.outputs_mut(s).fill(0);
-                self.output_iops[s] = IOXS_BAD_BY_CONTROLLER;
+                self.output_iops[s] = self.bad_by_us;
                 self.input_iocs[s] = IOXS_GOOD;
             }
         }
@@ -412,7 +421,7 @@ impl State {
             st.input_iocs = if connected {
                 self.input_iocs[s]
             } else {
-                IOXS_BAD_BY_CONTROLLER
+                self.bad_by_us
             };
             self.image.set_status(s, st);
         }
@@ -545,7 +554,7 @@ impl State {
             st.output_iops = match self.mode {
                 Mode::Operate if self.force.forces_outputs_of(s) => IOXS_GOOD,
                 Mode::Operate if owned && !self.late_bad[s] => self.output_iops[s],
-                _ => IOXS_BAD_BY_CONTROLLER,
+                _ => self.bad_by_us,
             };
             self.image.set_status(s, st);
         }

@@ -20,15 +20,22 @@
 //! thread's IO system, the running acyclic thread, and the role's client services.
 
 pub mod controller;
+pub mod device;
 
+use crate::acyclic::DatagramCounters;
 use crate::cycle::thread::IoFactory;
+use crate::io::pnio::PnioIo;
+use crate::io::pnio::channel::Channel;
 use crate::shm::Notices;
+use crate::stats::load;
+use procimg_nic::Nic;
 use procimg_profinet::cyclic::CyclicAr;
 use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Request, Response, SubscriberReport,
+    DeviceReport, NetworkReport, Request, Response, StationReport, SubscriberReport,
 };
 use std::collections::HashSet;
 use std::net::SocketAddrV4;
+use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
 
@@ -133,6 +140,11 @@ pub trait RoleServices: Send {
     fn network(&self) -> NetworkReport;
     /// The announced subscribers, for the status report.
     fn subscribers(&self) -> Vec<SubscriberReport>;
+    /// In the device role, the station and its AR, for the status report (`None`: the
+    /// server is an IO controller).
+    fn station(&self) -> Option<StationReport> {
+        None
+    }
     /// Whether the role holds no connection any more: the server waits for this on shutdown,
     /// so that every peer is released before the cyclic data ends.
     fn released(&self) -> bool;
@@ -159,5 +171,35 @@ impl RoleSystem {
         for t in self.threads.drain(..) {
             let _ = t.join();
         }
+    }
+}
+
+/// How long the cycle thread's receive may block: not at all.
+pub(crate) const NIC_RX_TIMEOUT: Duration = Duration::ZERO;
+
+/// The cycle thread's IO system over `nic`, built on the cycle thread itself. Made for the
+/// backend's own type, so that no frame goes through a dynamic call.
+pub(crate) fn cycle_io<N: Nic + 'static>(
+    nic: N,
+    channel: Arc<Channel>,
+    peer_submodules: Vec<core::ops::Range<usize>>,
+    cycle_ns: u64,
+) -> IoFactory {
+    Box::new(move || Box::new(PnioIo::new(nic, channel, peer_submodules, cycle_ns)))
+}
+
+/// The interface and datagram counters, for the status report.
+pub(crate) fn network_report(channel: &Channel, datagrams: &DatagramCounters) -> NetworkReport {
+    let c = &channel.counters;
+    NetworkReport {
+        cyclic_frames: load(&c.cyclic_frames),
+        malformed: load(&c.malformed),
+        unknown: load(&c.unknown),
+        stale: load(&c.stale),
+        dropped: load(&c.dropped),
+        send_errors: load(&c.send_errors),
+        watchdog_expiries: load(&c.watchdog_expiries),
+        malformed_datagrams: load(&datagrams.malformed),
+        unexpected_datagrams: load(&datagrams.unexpected),
     }
 }

@@ -308,8 +308,16 @@ impl Control {
                     .collect(),
             })
             .collect();
+        let station = self.role.station();
         StatusReport {
             instance: self.info.instance.clone(),
+            role: if station.is_some() {
+                "device"
+            } else {
+                "controller"
+            }
+            .to_owned(),
+            station,
             pid: std::process::id(),
             generation: self.info.generation,
             layout_hash: self.tables.hash,

@@ -306,6 +306,7 @@ impl ControlPorts {
             .loan_slice_uninit(payload_len)
             .map_err(|e| err(instance, "layout sample", e))?;
         *sample.user_header_mut() = tables.layout.header(
+            tables.role,
             devices,
             tables.hash,
             generation,

@@ -16,12 +16,11 @@ pub use role::{ControllerCommand, ControllerRole};
 pub use services::{ControllerLink, ControllerServices};
 pub use states::DeviceStates;
 
-use super::RoleSystem;
+use super::{RoleSystem, cycle_io};
 use crate::acyclic::{self, DatagramCounters};
 use crate::config::{Config, Network};
 use crate::cycle::Shared;
 use crate::cycle::thread::IoFactory;
-use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::Channel;
 use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
 use procimg_nic::Nic;
@@ -33,14 +32,11 @@ use procimg_profinet::wire::MacAddress;
 use std::net::Ipv4Addr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
 
 /// The controller's address on the simulated network.
 pub const SIM_CONTROLLER_IP: Ipv4Addr = Ipv4Addr::new(192, 168, 0, 1);
 /// The controller's MAC address on the simulated network.
 pub const SIM_CONTROLLER_MAC: MacAddress = MacAddress([0x02, 0x50, 0x49, 0xff, 0x00, 0x01]);
-/// How long the cycle thread's receive may block: not at all.
-const NIC_RX_TIMEOUT: Duration = Duration::ZERO;
 
 /// Why the IO system could not be started.
 #[derive(Debug, thiserror::Error)]
@@ -92,47 +88,48 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         .collect();
     let channel = Arc::new(Channel::new());
     let (ch, cycle_ns) = (channel.clone(), config.cycle_ns);
-    let (io, udp, mac, ip): (IoFactory, Box<dyn Datagrams>, MacAddress, Ipv4Addr) = match &config
-        .network
-    {
-        Network::Sim => {
-            let (ours, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
-            let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
-            let devices = sim_plant::devices(config);
-            threads.push(
-                sim_plant::spawn(
-                    devices,
-                    plant,
-                    peer,
-                    plant_stop.clone(),
-                    sim_priority(config.cycle_thread.priority),
+    let (io, udp, mac, ip): (IoFactory, Box<dyn Datagrams>, MacAddress, Ipv4Addr) =
+        match &config.network {
+            Network::Sim => {
+                let (ours, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
+                let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
+                let devices = sim_plant::devices(config);
+                threads.push(
+                    sim_plant::spawn(
+                        devices,
+                        plant,
+                        peer,
+                        plant_stop.clone(),
+                        sim_priority(config.cycle_thread.priority),
+                    )
+                    .map_err(|e| NetworkError::Thread("simulated plant", e))?,
+                );
+                (
+                    cycle_io(ours, ch, device_submodules, cycle_ns),
+                    Box::new(udp),
+                    SIM_CONTROLLER_MAC,
+                    SIM_CONTROLLER_IP,
                 )
-                .map_err(|e| NetworkError::Thread("simulated plant", e))?,
-            );
-            (
-                cycle_io(ours, ch, device_submodules, cycle_ns),
-                Box::new(udp),
-                SIM_CONTROLLER_MAC,
-                SIM_CONTROLLER_IP,
-            )
-        }
-        Network::Interface(name) => {
-            let nic = AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| NetworkError::Open {
-                origin: config.origin.clone(),
-                error,
-            })?;
-            let ip = procimg_nic::interfaces::ipv4(name)
-                .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
-            let udp = UdpDatagrams::bind(ip)?;
-            let mac = nic.mac();
-            (
-                cycle_io(nic, ch, device_submodules, cycle_ns),
-                Box::new(udp),
-                mac,
-                ip,
-            )
-        }
-    };
+            }
+            Network::Interface(name) => {
+                let nic = AfPacket::open(name, super::NIC_RX_TIMEOUT).map_err(|error| {
+                    NetworkError::Open {
+                        origin: config.origin.clone(),
+                        error,
+                    }
+                })?;
+                let ip = procimg_nic::interfaces::ipv4(name)
+                    .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
+                let udp = UdpDatagrams::bind(ip)?;
+                let mac = nic.mac();
+                (
+                    cycle_io(nic, ch, device_submodules, cycle_ns),
+                    Box::new(udp),
+                    mac,
+                    ip,
+                )
+            }
+        };
     let id = ControllerIdentity {
         mac,
         ip,
@@ -180,21 +177,10 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     })
 }
 
-/// The cycle thread's IO system over `nic`, built on the cycle thread itself. Made for the
-/// backend's own type, so that no frame goes through a dynamic call.
-fn cycle_io<N: Nic + 'static>(
-    nic: N,
-    channel: Arc<Channel>,
-    device_submodules: Vec<core::ops::Range<usize>>,
-    cycle_ns: u64,
-) -> IoFactory {
-    Box::new(move || Box::new(PnioIo::new(nic, channel, device_submodules, cycle_ns)))
-}
-
 /// The simulated devices' priority: they stand for field devices, which answer in real time,
 /// so they run SCHED_FIFO (where allowed) below the cycle thread; at normal priority a loaded
 /// machine starves them past their watchdog.
-fn sim_priority(cycle_priority: u8) -> u8 {
+pub(crate) fn sim_priority(cycle_priority: u8) -> u8 {
     cycle_priority.saturating_sub(10).max(1)
 }
 

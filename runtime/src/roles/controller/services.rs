@@ -17,7 +17,6 @@ use crate::image::Tables;
 use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
 use crate::shm::Notices;
-use crate::stats::load;
 use procimg_profinet::controller::{
     self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
 };
@@ -658,21 +657,9 @@ impl RoleServices for ControllerServices {
     }
 
     fn network(&self) -> NetworkReport {
-        let Some(l) = &self.link else {
-            return NetworkReport::default();
-        };
-        let c = &l.channel.counters;
-        NetworkReport {
-            cyclic_frames: load(&c.cyclic_frames),
-            malformed: load(&c.malformed),
-            unknown: load(&c.unknown),
-            stale: load(&c.stale),
-            dropped: load(&c.dropped),
-            send_errors: load(&c.send_errors),
-            watchdog_expiries: load(&c.watchdog_expiries),
-            malformed_datagrams: load(&l.datagrams.malformed),
-            unexpected_datagrams: load(&l.datagrams.unexpected),
-        }
+        self.link.as_ref().map_or_else(NetworkReport::default, |l| {
+            crate::roles::network_report(&l.channel, &l.datagrams)
+        })
     }
 
     fn subscribers(&self) -> Vec<SubscriberReport> {

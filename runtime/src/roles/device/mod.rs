@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO device role: the PC is a field device on a PLC. Puts the role together for a
+//! configuration with `[station]`: the interface (real, or the simulated link with the
+//! demo's PLC), the protocol crate's device engine on the acyclic thread ([`DeviceRole`]),
+//! with its cyclic exchange handed to the cycle thread, and the role's client services
+//! ([`DeviceServices`]).
+//!
+//! The image's server-written part carries the PLC's output data (Q), its client-written
+//! part the device's input data (I), one submodule table entry per configured submodule in
+//! configuration order: the order the engine maps the AR's cyclic data onto.
+
+mod role;
+mod services;
+pub mod sim_plc;
+mod station;
+
+pub use role::{DeviceCommand, DeviceRole, ImageApplication};
+pub use services::DeviceServices;
+pub use station::{Station, StationEvent, engine, state_name};
+
+use super::controller::{NetworkError, sim_priority};
+use super::{NIC_RX_TIMEOUT, RoleSystem, cycle_io};
+use crate::acyclic::{self, DatagramCounters};
+use crate::config::{Config, Network, StationConfig};
+use crate::cycle::Shared;
+use crate::cycle::thread::IoFactory;
+use crate::io::pnio::channel::Channel;
+use crate::phy::datagram::{self, Datagrams, UdpDatagrams};
+use procimg_nic::Nic;
+use procimg_nic::af_packet::AfPacket;
+use procimg_nic::sim_link;
+use procimg_profinet::wire::MacAddress;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Why the device role could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum DeviceStartError {
+    /// The configuration has no `[station]`.
+    #[error(
+        "{0}: the device role needs a [station] table; add one (see `procimgd --print-demo-device-config`)"
+    )]
+    NoStation(String),
+    /// The interface's address is not the station's.
+    #[error(
+        "{origin}: network interface \"{interface}\" has {found}, and [station] ip is {wanted}: \
+         the device answers the PLC's connection services on the interface's address; give \
+         the interface the station's address (ip addr add {wanted}/24 dev {interface}) or set \
+         `ip` to the interface's"
+    )]
+    AddressMismatch {
+        /// Configuration file.
+        origin: String,
+        /// The interface.
+        interface: String,
+        /// The station's configured address.
+        wanted: String,
+        /// What the interface has.
+        found: String,
+    },
+    /// The network could not be set up.
+    #[error(transparent)]
+    Network(#[from] NetworkError),
+}
+
+/// Starts the device of `config` (and, with `network = "sim"`, the demo's PLC). The device
+/// takes part while the mode of `shared` is CLEAR or OPERATE and ends when `shared.stop` is
+/// set, aborting its AR.
+pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceStartError> {
+    let station = config
+        .station
+        .as_ref()
+        .ok_or_else(|| DeviceStartError::NoStation(config.origin.clone()))?;
+    let plc_stop = Arc::new(AtomicBool::new(false));
+    let mut threads = Vec::new();
+    let channel = Arc::new(Channel::new());
+    let (ch, cycle_ns) = (channel.clone(), config.cycle_ns);
+    // One peer, the PLC, whose AR covers the whole table.
+    let all = std::iter::once(0..station.submodules.len()).collect::<Vec<_>>();
+    let (io, udp, mac, station): (IoFactory, Box<dyn Datagrams>, MacAddress, StationConfig) =
+        match &config.network {
+            Network::Sim => {
+                let (ours, plc_end) =
+                    sim_link::link(sim_plc::SIM_STATION_MAC, sim_plc::SIM_PLC_MAC);
+                let mut station = station.clone();
+                station.ip = Some(sim_plc::station_ip(&station));
+                let (udp, peer) = datagram::sim_network(sim_plc::station_ip(&station));
+                let plans =
+                    sim_plc::plan(&station, cycle_ns).map_err(|problem| NetworkError::Plan {
+                        origin: config.origin.clone(),
+                        problem,
+                    })?;
+                threads.push(
+                    sim_plc::spawn(
+                        plans,
+                        sim_plc::plc_ip(&station),
+                        cycle_ns,
+                        plc_end,
+                        peer,
+                        plc_stop.clone(),
+                        sim_priority(config.cycle_thread.priority),
+                    )
+                    .map_err(|e| NetworkError::Thread("demo PLC", e))?,
+                );
+                (
+                    cycle_io(ours, ch, all, cycle_ns),
+                    Box::new(udp),
+                    sim_plc::SIM_STATION_MAC,
+                    station,
+                )
+            }
+            Network::Interface(name) => {
+                let nic =
+                    AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| NetworkError::Open {
+                        origin: config.origin.clone(),
+                        error,
+                    })?;
+                let ip = procimg_nic::interfaces::ipv4(name)
+                    .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
+                let mut station = station.clone();
+                match station.ip {
+                    Some(wanted) if wanted != ip => {
+                        return Err(DeviceStartError::AddressMismatch {
+                            origin: config.origin.clone(),
+                            interface: name.clone(),
+                            wanted: wanted.to_string(),
+                            found: ip.to_string(),
+                        });
+                    }
+                    _ => station.ip = Some(ip),
+                }
+                let udp = UdpDatagrams::bind(ip).map_err(NetworkError::from)?;
+                let mac = nic.mac();
+                (
+                    cycle_io(nic, ch, all, cycle_ns),
+                    Box::new(udp),
+                    mac,
+                    station,
+                )
+            }
+        };
+    let shown = Arc::new(Station::new(&station));
+    let device = engine(&station, mac, cycle_ns);
+    let datagrams = Arc::new(DatagramCounters::default());
+    let (_commands, command_rx) = std::sync::mpsc::channel();
+    let (events, event_rx) = std::sync::mpsc::channel();
+    threads.push(
+        acyclic::spawn(acyclic::AcyclicSetup {
+            role: DeviceRole::new(device, shown.clone()),
+            channel: channel.clone(),
+            datagrams: udp,
+            shared,
+            counters: datagrams.clone(),
+            commands: command_rx,
+            events: Some(events),
+        })
+        .map_err(|e| NetworkError::Thread("PROFINET device", e))?,
+    );
+    tracing::info!(
+        "station \"{}\" (vendor 0x{:04X}, device 0x{:04X}) at {} on {}",
+        station.name,
+        station.vendor_id,
+        station.device_id,
+        station
+            .ip
+            .map_or_else(|| "no address".to_owned(), |ip| ip.to_string()),
+        config.network
+    );
+    Ok(RoleSystem {
+        io: Some(io),
+        services: Some(Box::new(DeviceServices::new(
+            shown, event_rx, channel, datagrams,
+        ))),
+        threads,
+        stop: Some(Box::new(move || plc_stop.store(true, Ordering::Release))),
+    })
+}

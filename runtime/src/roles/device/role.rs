@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO device as a [`Role`]: the protocol crate's device engine, with its cyclic exchange
+//! handed over to the cycle thread, and the daemon's bookkeeping around it (the station
+//! report the control side reads, the log).
+
+use super::station::{Station, StationEvent};
+use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
+use procimg_profinet::device::{Application, ArState, Device, DeviceAction};
+use procimg_profinet::wire::rpc::RPC_PORT;
+use std::net::SocketAddrV4;
+use std::sync::Arc;
+
+/// The device's program as the engine sees it: nothing, since the cycle thread moves the IO
+/// data between the image and the frames.
+pub struct ImageApplication;
+
+impl Application for ImageApplication {
+    fn fill_inputs(&mut self, _: u64, _: &mut [u8], _: &[u8], _: &[u8], _: bool) {}
+}
+
+/// What the client services ask of the device (none yet: the device answers the PLC on its
+/// own, with the configured defaults).
+#[derive(Debug)]
+pub enum DeviceCommand {}
+
+/// The device on the acyclic thread.
+pub struct DeviceRole {
+    device: Device<ImageApplication>,
+    station: Arc<Station>,
+    /// The engine's actions before they become effects (kept for its capacity).
+    actions: Vec<DeviceAction>,
+    /// Where the AR stood after the last call, to tell its changes.
+    last_state: ArState,
+    /// DCP Signal requests seen so far.
+    signals: u32,
+}
+
+impl DeviceRole {
+    /// `device` (its cyclic exchange already handed over), publishing to `station`.
+    pub fn new(device: Device<ImageApplication>, station: Arc<Station>) -> DeviceRole {
+        DeviceRole {
+            device,
+            station,
+            actions: Vec::new(),
+            last_state: ArState::Idle,
+            signals: 0,
+        }
+    }
+
+    /// Turns the engine's actions into effects, and what changed into events.
+    fn hand_over(&mut self, out: &mut Vec<Effect<StationEvent>>) {
+        for a in self.actions.drain(..) {
+            out.push(match a {
+                DeviceAction::Frame(f) => Effect::Frame(f),
+                // Client calls (the ApplicationReady) go from port 34964 too: the PLC answers
+                // to the port a call came from.
+                DeviceAction::Datagram { to, payload, .. } => Effect::Datagram { to, payload },
+                DeviceAction::StartCyclic(ar) => Effect::Start(ar),
+                DeviceAction::StopCyclic { .. } => Effect::Stop { device: 0 },
+            });
+        }
+        let state = self.device.state();
+        if state != self.last_state {
+            let event = if state == ArState::Idle {
+                StationEvent::ArEnded {
+                    abort: self.device.last_abort().map(|a| a.to_string()),
+                }
+            } else {
+                StationEvent::Ar(state)
+            };
+            self.station.note(&self.device, &event);
+            out.push(Effect::Event(event));
+            self.last_state = state;
+        }
+        if self.device.signal_count() != self.signals {
+            self.signals = self.device.signal_count();
+            self.station.note(&self.device, &StationEvent::Blink);
+            out.push(Effect::Event(StationEvent::Blink));
+        }
+    }
+}
+
+impl Role for DeviceRole {
+    type Command = DeviceCommand;
+    type Event = StationEvent;
+
+    fn set_online(&mut self, online: bool, now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
+        self.device.set_accepting(online, now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn command(&mut self, c: DeviceCommand, _: u64, _: &mut Vec<Effect<StationEvent>>) {
+        match c {}
+    }
+
+    fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
+        self.device.on_frame(frame, now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn on_datagram(
+        &mut self,
+        from: SocketAddrV4,
+        payload: &[u8],
+        now_ns: u64,
+        out: &mut Vec<Effect<StationEvent>>,
+    ) {
+        self.device
+            .on_datagram(from, RPC_PORT, payload, now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn on_cycle(&mut self, report: CycleReport, now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
+        match report {
+            CycleReport::DataStarted { epoch, .. } => {
+                if self.device.cyclic_started(epoch, now_ns) {
+                    tracing::debug!("the PLC's output data arrives");
+                }
+            }
+            CycleReport::WatchdogExpired { epoch, .. } => {
+                self.device.cyclic_expired(epoch, now_ns, &mut self.actions)
+            }
+        }
+        self.hand_over(out);
+    }
+
+    fn poll(&mut self, now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
+        self.device.poll(now_ns, &mut self.actions);
+        self.hand_over(out);
+    }
+
+    fn deadline(&self) -> Option<u64> {
+        self.device.next_deadline_ns()
+    }
+
+    fn dropped_datagrams(&self) -> DroppedDatagrams {
+        DroppedDatagrams::default()
+    }
+}

@@ -1,0 +1,411 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The device demo's PLC (`network = "sim"` in the device role): procimg's own IO controller
+//! in a thread of procimgd, on the in-process link and UDP network to the station. It
+//! connects the station as configured — DCP, Connect, the parameter records with their
+//! configured values, PrmEnd, ApplicationReady — and then runs the controller's end of the
+//! cyclic exchange with a small PLC program: a submodule's output data (Q) is its input data
+//! (I) plus one, byte by byte, so that whatever a client of the station writes comes back
+//! changed; output bytes without input bytes count the PLC's cycles.
+//!
+//! Nothing here is the device: the station is procimgd's device role, which cannot tell
+//! this PLC from a real one.
+
+use crate::config::{DeviceConfig, SimBehaviour, StationConfig};
+use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
+use crate::roles::controller::device_spec;
+use crate::sys::clock::{now_ns, sleep_until_ns};
+use procimg_nic::Nic;
+use procimg_nic::sim_link::LinkEnd;
+use procimg_profinet::controller::plan::{ControllerIdentity, DevicePlan, PlanError};
+use procimg_profinet::controller::{Action, Controller, DeviceEvent};
+use procimg_profinet::cyclic::CyclicAr;
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::wire::rpc::RPC_PORT;
+use procimg_profinet::wire::rt::{self, cycle_counter_is_newer, data_status};
+use std::net::{Ipv4Addr, SocketAddrV4};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
+
+/// The demo PLC's MAC address.
+pub const SIM_PLC_MAC: MacAddress = MacAddress([0x02, 0x50, 0x49, 0xfe, 0x00, 0x01]);
+/// The station's MAC address on the simulated network.
+pub const SIM_STATION_MAC: MacAddress = MacAddress([0x02, 0x50, 0x49, 0xfe, 0x00, 0x02]);
+/// The station's address on the simulated network when its configuration gives none (the
+/// PLC then assigns it by DCP, as to a new device).
+pub const SIM_STATION_IP: Ipv4Addr = Ipv4Addr::new(192, 168, 0, 50);
+/// Frame periods the station waits for the PLC's data before it gives up: generous, since
+/// the PLC is a thread that a loaded machine may delay (real PLCs: 3).
+const SIM_WATCHDOG_FACTOR: u16 = 100;
+/// How long the PLC waits for the station's first input frame after the exchange started.
+const FIRST_FRAME_GRACE_NS: u64 = 5_000_000_000;
+/// How often the PLC logs what it reads and writes.
+const REPORT_EVERY_NS: u64 = 5_000_000_000;
+/// IOxS GOOD.
+const IOXS_GOOD: u8 = 0x80;
+
+/// The address the station has on the simulated network.
+pub fn station_ip(station: &StationConfig) -> Ipv4Addr {
+    station.ip.unwrap_or(SIM_STATION_IP)
+}
+
+/// The PLC's address: the station's subnet, host 1 (or 2 if the station is host 1).
+pub fn plc_ip(station: &StationConfig) -> Ipv4Addr {
+    let [a, b, c, d] = station_ip(station).octets();
+    Ipv4Addr::new(a, b, c, if d == 1 { 2 } else { 1 })
+}
+
+/// The station as the PLC's configuration would describe it: every submodule expected as
+/// configured, each accepted record written with its configured value.
+fn as_device(station: &StationConfig) -> DeviceConfig {
+    DeviceConfig {
+        name: station.name.clone(),
+        ip: Some(station_ip(station)),
+        vendor_id: station.vendor_id,
+        device_id: station.device_id,
+        gsdml: None,
+        instance: station.instance,
+        reduction_ratio: 1,
+        watchdog_factor: SIM_WATCHDOG_FACTOR,
+        sim: SimBehaviour::None,
+        submodules: station
+            .submodules
+            .iter()
+            .map(|s| {
+                let mut sub = s.submodule.clone();
+                sub.records = s
+                    .accepts
+                    .iter()
+                    .map(|r| crate::config::ParameterRecord {
+                        index: r.index,
+                        data: r.initial.clone(),
+                    })
+                    .collect();
+                sub
+            })
+            .collect(),
+    }
+}
+
+/// The PLC's plan of the station, for a cycle of `cycle_ns`.
+pub fn plan(station: &StationConfig, cycle_ns: u64) -> Result<Vec<DevicePlan>, PlanError> {
+    DevicePlan::all(&[device_spec(&as_device(station))], cycle_ns)
+}
+
+/// Starts the PLC for the station of `plans` on `link` and `udp` until `stop`, cycling every
+/// `cycle_ns`, at SCHED_FIFO `priority` where allowed.
+pub fn spawn(
+    plans: Vec<DevicePlan>,
+    ip: Ipv4Addr,
+    cycle_ns: u64,
+    link: LinkEnd,
+    udp: SimDatagramPeer,
+    stop: Arc<AtomicBool>,
+    priority: u8,
+) -> std::io::Result<JoinHandle<()>> {
+    std::thread::Builder::new()
+        .name("procimg-sim-plc".into())
+        .spawn(move || {
+            let _ = crate::sys::rt::set_fifo(priority);
+            let id = ControllerIdentity {
+                mac: SIM_PLC_MAC,
+                ip,
+                station_name: "demo-plc".into(),
+                vendor_id: 0x0493,
+                device_id: 0x0fff,
+                instance: 1,
+            };
+            let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
+            let controller = Controller::new(id, plans, 0, now_ns());
+            Plc {
+                controller,
+                names,
+                link,
+                udp,
+                ip,
+                cycle_ns: cycle_ns.max(1),
+                exchange: None,
+                actions: Vec::new(),
+            }
+            .run(&stop);
+        })
+}
+
+/// The PLC's end of the cyclic exchange.
+struct Exchange {
+    ar: Box<CyclicAr>,
+    started_ns: u64,
+    last_rx_ns: Option<u64>,
+    last_counter: Option<u16>,
+    /// The station's input data of the last valid frame, per submodule with inputs.
+    inputs: Vec<(usize, Vec<u8>)>,
+    last_report_ns: u64,
+}
+
+struct Plc {
+    controller: Controller,
+    names: Vec<String>,
+    link: LinkEnd,
+    udp: SimDatagramPeer,
+    ip: Ipv4Addr,
+    cycle_ns: u64,
+    exchange: Option<Exchange>,
+    actions: Vec<Action>,
+}
+
+impl Plc {
+    fn run(mut self, stop: &AtomicBool) {
+        let start = now_ns();
+        self.controller.set_online(true, start, &mut self.actions);
+        let mut next_cycle = start;
+        let mut k: u64 = 0;
+        while !stop.load(Ordering::Acquire) {
+            let now = now_ns();
+            let Plc {
+                controller,
+                link,
+                exchange,
+                actions,
+                ..
+            } = &mut self;
+            while let Ok(true) = link.receive(&mut |frame| {
+                if !exchange
+                    .as_mut()
+                    .is_some_and(|x| x.take(frame, now, controller))
+                {
+                    controller.on_frame(frame, now, actions);
+                }
+            }) {}
+            while let Ok(g) = self.udp.rx.try_recv() {
+                self.controller
+                    .on_datagram(g.from, &g.payload, now, &mut self.actions);
+            }
+            self.controller.poll(now, &mut self.actions);
+            if now >= next_cycle {
+                self.cycle(k, now);
+                k += 1;
+                let missed = (now - next_cycle) / self.cycle_ns;
+                next_cycle += self.cycle_ns * (missed + 1);
+            }
+            self.carry_out(now);
+            let wake = self
+                .controller
+                .deadline()
+                .map_or(next_cycle, |d| d.min(next_cycle));
+            sleep_until_ns(wake.max(now + 20_000));
+        }
+        let mut out = Vec::new();
+        self.controller.set_online(false, now_ns(), &mut out);
+        self.actions.extend(out);
+        self.carry_out(now_ns());
+    }
+
+    /// One PLC cycle: the output frame if due, the watchdog.
+    fn cycle(&mut self, k: u64, now: u64) {
+        let Some(x) = self.exchange.as_mut() else {
+            return;
+        };
+        let every = u64::from(x.ar.timing.every_cycles.max(1));
+        if k.is_multiple_of(every) {
+            x.fill_outputs(
+                (k / every) as u32,
+                k.wrapping_mul(self.cycle_ns / 31_250) as u16,
+            );
+            let _ = self.link.send(&x.ar.frame);
+        }
+        let limit = match x.last_rx_ns {
+            Some(_) => x.ar.timing.watchdog_ns(),
+            None => x.ar.timing.watchdog_ns().max(FIRST_FRAME_GRACE_NS),
+        };
+        let since = x.last_rx_ns.unwrap_or(x.started_ns);
+        if now.saturating_sub(since) > limit {
+            let (device, epoch) = (x.ar.device, x.ar.epoch);
+            self.exchange = None;
+            tracing::warn!("demo PLC: no input data from the station within the watchdog");
+            self.controller
+                .on_watchdog(device, epoch, now, &mut self.actions);
+        } else if now.saturating_sub(x.last_report_ns) >= REPORT_EVERY_NS && x.last_rx_ns.is_some()
+        {
+            x.last_report_ns = now;
+            for (sub, data) in &x.inputs {
+                tracing::info!(
+                    "demo PLC: reads I = {:02x?} of submodule {sub}",
+                    &data[..data.len().min(16)]
+                );
+            }
+        }
+    }
+
+    fn carry_out(&mut self, now: u64) {
+        for a in std::mem::take(&mut self.actions) {
+            match a {
+                Action::Frame(f) => {
+                    let _ = self.link.send(&f);
+                }
+                Action::Datagram { to, payload } => {
+                    let _ = self.udp.tx.send(SimDatagram {
+                        from: SocketAddrV4::new(self.ip, RPC_PORT),
+                        to,
+                        payload,
+                    });
+                }
+                Action::Start(ar) => {
+                    self.exchange = Some(Exchange {
+                        ar,
+                        started_ns: now,
+                        last_rx_ns: None,
+                        last_counter: None,
+                        inputs: Vec::new(),
+                        last_report_ns: now,
+                    })
+                }
+                Action::Stop { .. } => self.exchange = None,
+                Action::Event(e) => {
+                    log(&e, &self.names);
+                    // The PLC program takes every alarm at once (an OB that returns).
+                    if let DeviceEvent::Alarm { ticket, .. } = e {
+                        let mut acks = Vec::new();
+                        self.controller.acknowledge_alarm(ticket, now, &mut acks);
+                        self.actions.extend(acks);
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Exchange {
+    /// Takes `frame` if it is the station's input frame: its data, and the first one
+    /// reported to the controller. `false` for any other frame.
+    fn take(&mut self, frame: &[u8], now: u64, controller: &mut Controller) -> bool {
+        let Ok(eth) = ethernet::Frame::new_checked(frame) else {
+            return false;
+        };
+        let pdu = eth.payload();
+        if eth.ethertype() != ETHERTYPE_PROFINET
+            || eth.src() != self.ar.peer
+            || pdu.get(..2) != Some(&self.ar.input.frame_id.to_be_bytes()[..])
+        {
+            return false;
+        }
+        let Ok(packet) = rt::Packet::new_checked(pdu, self.ar.input.data_length) else {
+            return true;
+        };
+        let Ok(repr) = rt::Repr::parse(&packet) else {
+            return true;
+        };
+        if self
+            .last_counter
+            .is_some_and(|last| !cycle_counter_is_newer(repr.cycle_counter, last))
+            || !repr.data_usable()
+        {
+            return true;
+        }
+        self.last_counter = Some(repr.cycle_counter);
+        if self.last_rx_ns.is_none() {
+            controller.on_data_started(self.ar.device, self.ar.epoch);
+        }
+        self.last_rx_ns = Some(now);
+        let data = packet.data();
+        for o in self.ar.input.objects.iter().filter(|o| o.len > 0) {
+            let (Some(d), Some(&iops)) = (data.get(o.data..o.data + o.len), data.get(o.iops))
+            else {
+                continue;
+            };
+            // Data its provider marks BAD is not used: the program sees zeros.
+            let fresh = |v: &mut Vec<u8>| {
+                v.clear();
+                if iops & IOXS_GOOD != 0 {
+                    v.extend_from_slice(d);
+                } else {
+                    v.resize(d.len(), 0);
+                }
+            };
+            match self.inputs.iter_mut().find(|(s, _)| *s == o.submodule) {
+                Some((_, v)) => fresh(v),
+                None => {
+                    let mut v = Vec::new();
+                    fresh(&mut v);
+                    self.inputs.push((o.submodule, v));
+                }
+            }
+        }
+        true
+    }
+
+    /// The PLC program: a submodule's output bytes are its input bytes plus one; output
+    /// bytes without an input byte are `count`, big-endian, repeated; every status GOOD.
+    fn fill_outputs(&mut self, count: u32, cycle_counter: u16) {
+        let at = self.ar.payload_offset() + 2;
+        let CyclicAr { output, frame, .. } = &mut *self.ar;
+        let Some(c_sdu) = frame.get_mut(at..at + output.data_length) else {
+            return;
+        };
+        let word = count.to_be_bytes();
+        for o in &output.objects {
+            let inputs = self
+                .inputs
+                .iter()
+                .find(|(s, _)| *s == o.submodule)
+                .map_or(&[][..], |(_, v)| &v[..]);
+            if let Some(d) = c_sdu.get_mut(o.data..o.data + o.len) {
+                for (i, b) in d.iter_mut().enumerate() {
+                    *b = inputs.get(i).map_or(word[i % 4], |v| v.wrapping_add(1));
+                }
+            }
+            if let Some(b) = c_sdu.get_mut(o.iops) {
+                *b = IOXS_GOOD;
+            }
+        }
+        for c in &output.iocs {
+            if let Some(b) = c_sdu.get_mut(c.offset) {
+                *b = IOXS_GOOD;
+            }
+        }
+        let trailer = at + output.data_length;
+        if let Some(t) = frame.get_mut(trailer..trailer + 4) {
+            let [hi, lo] = cycle_counter.to_be_bytes();
+            t.copy_from_slice(&[hi, lo, data_status::OPERATE, 0]);
+        }
+    }
+}
+
+fn log(e: &DeviceEvent, names: &[String]) {
+    let name = |d: usize| names.get(d).map_or("?", String::as_str);
+    match e {
+        DeviceEvent::State { device, state } => {
+            tracing::debug!("demo PLC: station {:?} {state}", name(*device))
+        }
+        DeviceEvent::Return { device } => {
+            tracing::info!("demo PLC: station {:?} in data exchange", name(*device))
+        }
+        DeviceEvent::Failure { device, reason, .. } => {
+            tracing::warn!("demo PLC: station {:?} failed: {reason}", name(*device))
+        }
+        DeviceEvent::Problem { device, reason, .. } => {
+            tracing::warn!("demo PLC: station {:?}: {reason}", name(*device))
+        }
+        DeviceEvent::ModuleDiff { device, diff } => {
+            for (api, slot, subslot, st) in diff.submodules() {
+                tracing::warn!(
+                    "demo PLC: station {:?}: API {api} slot {slot} subslot {subslot:#06x} \
+                     differs: {st:?}",
+                    name(*device)
+                );
+            }
+        }
+        DeviceEvent::Alarm {
+            device,
+            notification,
+            ..
+        } => tracing::info!(
+            "demo PLC: alarm {:?} from station {:?} slot {} subslot {:#06x}",
+            notification.alarm_type,
+            name(*device),
+            notification.slot,
+            notification.subslot
+        ),
+        DeviceEvent::Record(_) | DeviceEvent::Activation { .. } => {}
+    }
+}

@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The station: the device engine built from `[station]`, and what the control side reports
+//! of it (name, address, identity, the AR), kept up to date by the acyclic thread.
+
+use super::role::ImageApplication;
+use crate::config::StationConfig;
+use procimg_profinet::device::{ArState, Device, DeviceSetup, PluggedSubmodule};
+use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
+use procimg_shm_layout::control::{ArReport, StationReport};
+use std::sync::Mutex;
+
+/// What the device tells its client services and the log.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StationEvent {
+    /// The AR reached this state.
+    Ar(ArState),
+    /// The AR ended: by the PLC's Release (`abort` none), or aborted.
+    ArEnded {
+        /// Why it was aborted, if it was.
+        abort: Option<String>,
+    },
+    /// DCP Signal: the engineering tool asks the station to make itself seen.
+    Blink,
+}
+
+/// The station as the status report shows it.
+pub struct Station {
+    report: Mutex<StationReport>,
+}
+
+impl Station {
+    /// The station of `config` before anything happened.
+    pub fn new(config: &StationConfig) -> Station {
+        Station {
+            report: Mutex::new(StationReport {
+                name: config.name.clone(),
+                ip: config
+                    .ip
+                    .map_or_else(|| "0.0.0.0".to_owned(), |ip| ip.to_string()),
+                vendor_id: config.vendor_id,
+                device_id: config.device_id,
+                ar: None,
+                aborted_ars: 0,
+                last_abort: None,
+            }),
+        }
+    }
+
+    /// The report now.
+    pub fn report(&self) -> StationReport {
+        self.lock().clone()
+    }
+
+    /// Whether an AR is up (the shutdown waits for none).
+    pub fn has_ar(&self) -> bool {
+        self.lock().ar.is_some()
+    }
+
+    /// Takes in `event` of `device`, and logs it.
+    pub fn note<A>(&self, device: &Device<A>, event: &StationEvent)
+    where
+        A: procimg_profinet::device::Application,
+    {
+        let mut r = self.lock();
+        r.name = device.name().to_owned();
+        r.ip = std::net::Ipv4Addr::from(device.ip()).to_string();
+        match event {
+            StationEvent::Ar(state) => {
+                let report = ArReport {
+                    state: state_name(*state).to_owned(),
+                    ar_uuid: device.ar_uuid().map(|u| u.to_string()).unwrap_or_default(),
+                    controller_mac: device
+                        .controller_mac()
+                        .map(|m| m.to_string())
+                        .unwrap_or_default(),
+                };
+                if *state == ArState::Data {
+                    tracing::info!(
+                        "AR {} with PLC {} is in data exchange",
+                        report.ar_uuid,
+                        report.controller_mac
+                    );
+                } else {
+                    tracing::debug!("AR {}: {}", report.ar_uuid, report.state);
+                }
+                r.ar = Some(report);
+            }
+            StationEvent::ArEnded { abort } => {
+                let uuid = r.ar.take().map(|a| a.ar_uuid).unwrap_or_default();
+                match abort {
+                    Some(reason) => {
+                        r.aborted_ars += 1;
+                        r.last_abort = Some(reason.clone());
+                        tracing::warn!("AR {uuid} aborted: {reason}");
+                    }
+                    None => tracing::info!("AR {uuid} released by the PLC"),
+                }
+            }
+            StationEvent::Blink => {
+                tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
+            }
+        }
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, StationReport> {
+        // A panic elsewhere does not make the report wrong: take it as it is.
+        self.report.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+/// How the status report names an AR state.
+pub fn state_name(state: ArState) -> &'static str {
+    match state {
+        ArState::Idle => "none",
+        ArState::Connected => "connected",
+        ArState::Parameterized => "parameterized",
+        ArState::WaitAppReadyConfirm => "waiting-for-application-ready-confirm",
+        ArState::Data => "data",
+    }
+}
+
+/// The device engine of `station` on an interface with MAC `mac`, with its cyclic exchange
+/// handed over to a cycle of `cycle_ns`.
+pub fn engine(station: &StationConfig, mac: MacAddress, cycle_ns: u64) -> Device<ImageApplication> {
+    let mut device = Device::new(DeviceSetup {
+        name: station.name.clone(),
+        mac,
+        ip: station.ip.map(|ip| ip.octets()),
+        vendor_id: station.vendor_id,
+        device_id: station.device_id,
+        instance: station.instance,
+        submodules: station
+            .submodule_configs()
+            .map(|s| PluggedSubmodule {
+                api: s.api,
+                slot: s.slot,
+                subslot: s.subslot,
+                module_ident: s.module_ident,
+                submodule_ident: s.submodule_ident,
+                input_length: s.input_length,
+                output_length: s.output_length,
+            })
+            .collect(),
+        application: ImageApplication,
+        im0: im0(station),
+    });
+    device.set_type_of_station(&station.device_type);
+    device.hand_over_cyclic(cycle_ns);
+    device
+}
+
+/// I&M0 of the station, from the configuration (the texts are checked there to fit).
+fn im0(station: &StationConfig) -> Im0 {
+    let v = station.software_revision;
+    Im0 {
+        vendor_id: station.vendor_id,
+        order_id: blank_padded(&station.order_number).unwrap_or([b' '; 20]),
+        serial_number: blank_padded(&station.serial_number).unwrap_or([b' '; 16]),
+        hardware_revision: station.hardware_revision,
+        software_revision: SoftwareRevision {
+            prefix: u8::try_from(v.prefix).unwrap_or(b'V'),
+            functional_enhancement: v.functional,
+            bug_fix: v.bug_fix,
+            internal_change: v.internal,
+        },
+        revision_counter: 0,
+        profile_id: 0,
+        profile_specific_type: 0,
+        im_version: (1, 1),
+        im_supported: 0,
+    }
+}
