@@ -11,7 +11,9 @@
 //! the device and `module` on its submodules, the ident numbers, IO lengths and default
 //! parameter records come from the file, and the device access point's own submodules
 //! (slot 0: the DAP submodule, the interface and the ports) are added unless slot 0 is
-//! listed. See [`gsdml`] for what is read from the file.
+//! listed. See [`gsdml`] for what is read from the file. The other way round,
+//! [`gsdml::export`] writes the GSDML file of a `role = "device"` station, for the PLC's
+//! engineering tool (`procimg gsdml`).
 //!
 //! Logical addresses: explicit `input_address`/`output_address` values are placed first; then
 //! every submodule without one gets, in configuration order and for inputs (I space) and

@@ -3,6 +3,7 @@
 
 mod capture;
 mod dcp;
+mod gsdml;
 mod interrupt;
 mod io;
 mod services;
@@ -13,7 +14,7 @@ use procimg_client::{ControlHandle, Mode};
 
 /// The command line of the procimg process-image server: status, the image by logical
 /// address (read, write, watch, force), mode, layout, records, events, devices, diagnosis,
-/// DCP and capture.
+/// DCP, capture, and the GSDML file of a device-role configuration.
 #[derive(Parser)]
 #[command(name = "procimg", version)]
 struct Cli {
@@ -112,6 +113,9 @@ enum Command {
         #[arg(long)]
         seconds: Option<f64>,
     },
+    /// Write the GSDML file of procimgd as an IO device (a configuration with
+    /// role = "device"), for the PLC's engineering tool.
+    Gsdml(gsdml::GsdmlArgs),
 }
 
 #[derive(Subcommand)]
@@ -155,6 +159,7 @@ fn main() {
             seconds,
             ..
         } => capture::run(&iface, &output, count, seconds),
+        Command::Gsdml(args) => gsdml::run(args),
     };
     if let Err(e) = result {
         eprintln!("procimg: {e:#}");

@@ -15,6 +15,9 @@
 //! module this import cannot handle only matters when it is used. Any input gives a result or
 //! a [`GsdmlError`] naming the file, the line, the element and the attribute; nothing panics.
 //!
+//! The other way round, [`export`] writes the GSDML file of procimgd's own station (the
+//! device role), which this import reads back as it was configured.
+//!
 //! ```
 //! use procimg_config::gsdml::Gsdml;
 //!
@@ -47,6 +50,7 @@
 //! ```
 
 mod data;
+pub mod export;
 mod reader;
 
 use core::fmt;

@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg gsdml`: the GSDML file of procimgd's own station (`role = "device"`), for the
+//! engineering tool of the PLC that connects to it.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use anyhow::{Context, anyhow, bail};
+use clap::Args;
+use procimg_config::Role;
+use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
+
+#[derive(Args)]
+pub struct GsdmlArgs {
+    /// The configuration file, with `role = "device"` and its [station].
+    #[arg(short, long)]
+    config: PathBuf,
+    /// Write the file here (atomically) instead of to standard output.
+    #[arg(short, long, conflicts_with = "dir")]
+    output: Option<PathBuf>,
+    /// Write the file into this directory under its standard name
+    /// (GSDML-V2.4-procimg-<device_type>-<date>.xml) and print its path.
+    #[arg(short, long)]
+    dir: Option<PathBuf>,
+    /// The file's date, YYYYMMDD or YYYY-MM-DD (default: today, UTC).
+    #[arg(long)]
+    date: Option<GsdmlDate>,
+    /// Hides the global --instance: gsdml reads a configuration file, not a procimgd.
+    #[arg(long, short, hide = true, value_parser = no_instance)]
+    instance: Option<String>,
+}
+
+fn no_instance(_: &str) -> Result<String, String> {
+    Err(
+        "`procimg gsdml` reads the configuration file given with -c, not a running \
+         procimgd, so it takes no --instance; leave it out"
+            .to_owned(),
+    )
+}
+
+pub fn run(args: GsdmlArgs) -> anyhow::Result<()> {
+    let config = procimg_config::load(&args.config).map_err(|e| anyhow!("{e}"))?;
+    let Some(station) = config
+        .station
+        .as_ref()
+        .filter(|_| config.role == Role::Device)
+    else {
+        bail!(
+            "{}: this is a configuration of the controller role (role = \"{}\"); `procimg \
+             gsdml` describes procimgd itself as an IO device, and the devices it controls come \
+             with their vendors' GSDML files. Give a configuration with role = \"device\" and \
+             a [station] (config/src/demo_device.toml in procimg's source is a commented \
+             example)",
+            args.config.display(),
+            config.role.as_str()
+        );
+    };
+    let date = match args.date {
+        Some(date) => date,
+        None => today()?,
+    };
+    let gsdml = station_gsdml(station, config.cycle_ns, date)
+        .map_err(|e| anyhow!("{}: {e}", args.config.display()))?;
+    let path = match (args.output, args.dir) {
+        (Some(file), _) => file,
+        (None, Some(dir)) => dir.join(&gsdml.file_name),
+        (None, None) => {
+            let mut out = std::io::stdout().lock();
+            out.write_all(gsdml.xml.as_bytes())
+                .and_then(|()| out.flush())
+                .context("cannot write to standard output")?;
+            return Ok(());
+        }
+    };
+    write_atomically(&path, gsdml.xml.as_bytes())?;
+    println!("{}", path.display());
+    Ok(())
+}
+
+fn today() -> anyhow::Result<GsdmlDate> {
+    let seconds = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_err(|_| anyhow!("the system clock is before 1970; give the date with --date"))?
+        .as_secs();
+    i64::try_from(seconds / 86_400)
+        .ok()
+        .and_then(GsdmlDate::from_unix_days)
+        .ok_or_else(|| anyhow!("the system clock is past year 9999; give the date with --date"))
+}
+
+/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: a reader
+/// (or an engineering tool importing the file) sees the old file or the whole new one.
+fn write_atomically(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| anyhow!("{}: give a file name, not a directory", path.display()))?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut temporary = name.to_os_string();
+    temporary.push(format!(".{}.tmp", std::process::id()));
+    let temporary = dir.join(temporary);
+    let written = (|| {
+        let mut file = std::fs::File::create(&temporary)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        std::fs::rename(&temporary, path)
+    })();
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temporary);
+        return Err(anyhow!(
+            "cannot write {}: {e}; check that the directory {} exists and is writable",
+            path.display(),
+            dir.display()
+        ));
+    }
+    Ok(())
+}
