@@ -50,7 +50,7 @@ pub fn run(args: GsdmlArgs) -> anyhow::Result<()> {
             "{}: this is a configuration of the controller role (role = \"{}\"); `procimg \
              gsdml` describes procimgd itself as an IO device, and the devices it controls come \
              with their vendors' GSDML files. Give a configuration with role = \"device\" and \
-             a [station] (config/src/demo_device.toml in procimg's source is a commented \
+             a [station] (`procimgd --print-demo-device-config` prints a commented \
              example)",
             args.config.display(),
             config.role.as_str()
