@@ -12,6 +12,8 @@
 //! ApplicationReady CControl to the controller and retransmits it until answered, produces
 //! the input CR and consumes the output CR at the offsets the controller chose, supervises
 //! the output CR with the data hold watchdog, and acknowledges alarms on both RTA channels.
+//! Its port announces the station by LLDP ([`lldp`]: at start, every 5 s and at once after
+//! DCP changed its name or address; [`Device::set_lldp`] turns that off).
 //! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
 //! No socket and no clock inside: feed it every Ethernet frame on the link
@@ -41,6 +43,7 @@ mod cm;
 mod connect;
 mod cyclic;
 mod dcp;
+pub mod lldp;
 mod records;
 mod rpc;
 #[cfg(test)]
@@ -169,6 +172,7 @@ pub struct Device<A> {
     last_abort: Option<AbortCode>,
     signals: u32,
     acks: Vec<AlarmAck>,
+    lldp: Option<lldp::Announcer>,
 }
 
 impl<A: Application> Device<A> {
@@ -180,7 +184,7 @@ impl<A: Application> Device<A> {
         } else {
             [255, 255, 255, 0]
         };
-        Device {
+        let mut device = Device {
             id: dcp::Identity {
                 mac: spec.mac,
                 name: spec.name,
@@ -203,13 +207,50 @@ impl<A: Application> Device<A> {
             last_abort: None,
             signals: 0,
             acks: Vec::new(),
+            lldp: None,
+        };
+        device.set_lldp(true);
+        device
+    }
+
+    /// Turns the LLDP announcements of the device's port on (the default) or off. On, the
+    /// port (port-001, from the device's MAC address) announces the station at the next
+    /// [`poll`](Self::poll), then every 5 s and at once after DCP changed its name or
+    /// address; see [`lldp`].
+    pub fn set_lldp(&mut self, on: bool) {
+        if on == self.lldp.is_some() {
+            return;
         }
+        self.lldp = on.then(|| {
+            let id = &self.id;
+            let ip = (id.ip != [0; 4]).then_some(id.ip);
+            let mut station = lldp::LldpStation::new(&id.name, id.mac, id.mac, ip, 1);
+            station.system_identification =
+                lldp::system_identification(&id.type_of_station, &self.im0);
+            lldp::Announcer::new(station)
+        });
+    }
+
+    /// The LLDP announcer, when LLDP is on: what it announces.
+    pub fn lldp(&self) -> Option<&lldp::Announcer> {
+        self.lldp.as_ref()
+    }
+
+    /// The LLDP announcer, when LLDP is on, to tell it about the port (its link, its
+    /// ifIndex, its own MAC address). The name and the address follow DCP; setting them
+    /// here is overwritten by the next DCP change.
+    pub fn lldp_mut(&mut self) -> Option<&mut lldp::Announcer> {
+        self.lldp.as_mut()
     }
 
     /// Sets the DeviceVendor (type of station) text DCP reports; "procimg simulated device"
     /// by default.
     pub fn set_type_of_station(&mut self, text: &str) {
         self.id.type_of_station = text.to_string();
+        let sysid = lldp::system_identification(text, &self.im0);
+        if let Some(l) = self.lldp.as_mut() {
+            l.update(|s| s.system_identification = sysid);
+        }
     }
 
     /// The IP address (0.0.0.0 when none is set).
@@ -322,6 +363,12 @@ impl<A: Application> Device<A> {
         } else if changes.name || changes.ip {
             self.abort_ar(AbortCode::StationNameChanged, out);
         }
+        // The neighbour learns the new name or address at once.
+        if let Some(l) = self.lldp.as_mut() {
+            let ip = (self.id.ip != [0; 4]).then_some(self.id.ip);
+            l.set_name(&self.id.name);
+            l.set_ip(ip);
+        }
     }
 
     fn on_rta(&mut self, src: MacAddress, pdu: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
@@ -405,10 +452,13 @@ impl<A: Application> Device<A> {
         )
     }
 
-    /// Runs the timers: delayed DCP responses, the ApplicationReady and its retransmission,
-    /// input CR frames, the watchdogs, alarm retransmissions.
+    /// Runs the timers: delayed DCP responses, LLDP announcements, the ApplicationReady and
+    /// its retransmission, input CR frames, the watchdogs, alarm retransmissions.
     pub fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.dcp.poll(now_ns, out);
+        if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now_ns)) {
+            out.push(DeviceAction::Frame(frame));
+        }
         let mac = self.id.mac;
         let activity = if self
             .ar
@@ -476,6 +526,7 @@ impl<A: Application> Device<A> {
     pub fn next_deadline_ns(&self) -> Option<u64> {
         [
             self.dcp.next_deadline_ns(),
+            self.lldp.as_ref().map(lldp::Announcer::next_deadline_ns),
             self.ar.as_ref().and_then(Ar::deadline),
         ]
         .into_iter()
