@@ -28,9 +28,9 @@
 //!   sysDescr layout of DeviceType, OrderID, serial number, hardware and software
 //!   revision), as p-net's "standard" mode sends, or the MAC address when there is none.
 
-use crate::wire::MacAddress;
 use crate::wire::lldp::{self, Id, MacPhyStatus, ManagementAddress, TlvRepr};
 use crate::wire::record::Im0;
+use crate::wire::{BlockHeader, MacAddress};
 
 /// How often a port announces itself: every 5 s.
 pub const TX_INTERVAL_NS: u64 = 5_000_000_000;
@@ -56,6 +56,27 @@ impl NameOfDeviceMode {
         } else {
             NameOfDeviceMode::PortAndStationName
         }
+    }
+}
+
+/// Record index of PDInterfaceAdjust, written to the interface submodule.
+pub const INDEX_PD_INTERFACE_ADJUST: u16 = 0x8071;
+/// Block type of PDInterfaceAdjust.
+const BLOCK_PD_INTERFACE_ADJUST: u16 = 0x0250;
+
+/// The naming mode a PDInterfaceAdjust record sets: its block (type 0x0250, version 1.0),
+/// two padding bytes and MultipleInterfaceMode (u32). `None` for anything else.
+pub fn name_of_device_mode(record: &[u8]) -> Option<NameOfDeviceMode> {
+    let h = BlockHeader::parse(record).ok()?;
+    if h.block_type.raw() != BLOCK_PD_INTERFACE_ADJUST || (h.version_high, h.version_low) != (1, 0)
+    {
+        return None;
+    }
+    match h.body(record) {
+        [_, _, a, b, c, d] => Some(NameOfDeviceMode::from_multiple_interface_mode(
+            u32::from_be_bytes([*a, *b, *c, *d]),
+        )),
+        _ => None,
     }
 }
 
@@ -384,6 +405,23 @@ mod tests {
             NameOfDeviceMode::from_multiple_interface_mode(0xfffe),
             NameOfDeviceMode::PortName
         );
+    }
+
+    #[test]
+    fn pd_interface_adjust() {
+        // The S7-1515's PDInterfaceAdjust of the captures (cm/write_req).
+        let s7 = [0x02, 0x50, 0x00, 0x08, 0x01, 0x00, 0, 0, 0, 0, 0, 1];
+        assert_eq!(
+            name_of_device_mode(&s7),
+            Some(NameOfDeviceMode::PortAndStationName)
+        );
+        let mut zero = s7;
+        zero[11] = 0;
+        assert_eq!(name_of_device_mode(&zero), Some(NameOfDeviceMode::PortName));
+        let mut other = s7;
+        other[1] = 0x51;
+        assert_eq!(name_of_device_mode(&other), None);
+        assert_eq!(name_of_device_mode(&s7[..11]), None);
     }
 
     #[test]

@@ -368,6 +368,28 @@ impl<A: Application> Device<A> {
             let ip = (self.id.ip != [0; 4]).then_some(self.id.ip);
             l.set_name(&self.id.name);
             l.set_ip(ip);
+            if changes.reset {
+                l.set_mode(lldp::NameOfDeviceMode::default());
+            }
+        }
+    }
+
+    /// Applies a PDInterfaceAdjust the controller wrote to an interface submodule: where
+    /// the LLDP frames carry the name (kept after the AR, as a PDev parameter is).
+    fn adjust_lldp(&mut self) {
+        let Some(ar) = self.ar.as_ref() else {
+            return;
+        };
+        let mode = ar
+            .records
+            .iter()
+            .find_map(|(&(_, _, subslot, index), data)| {
+                (index == lldp::INDEX_PD_INTERFACE_ADJUST && subslot >= 0x8000)
+                    .then(|| lldp::name_of_device_mode(data))
+                    .flatten()
+            });
+        if let (Some(mode), Some(l)) = (mode, self.lldp.as_mut()) {
+            l.set_mode(mode);
         }
     }
 

@@ -1557,3 +1557,41 @@ fn lldp_announces_at_start_every_five_seconds_and_after_dcp_changes() {
     dev.poll(60_001 * MS, &mut out);
     assert!(lldp_announcement(&out).is_some());
 }
+
+#[test]
+fn the_s7s_pd_interface_adjust_puts_the_name_into_the_lldp_port_id() {
+    use crate::wire::lldp::Id;
+    let mut dev = Device::new(DeviceSetup {
+        ip: Some(DEVICE_IP),
+        ..pnet_spec(TestApp::None)
+    });
+    let mut out = Vec::new();
+    dev.poll(0, &mut out);
+    let r = lldp_announcement(&out).unwrap();
+    assert_eq!(r.port_id, Id::Local("port-001".into()));
+    // The captured WriteMultiple carries PDInterfaceAdjust with MultipleInterfaceMode 1.
+    assert_eq!(
+        status(&call(&mut dev, &rpc_capture("cm/connect_req"), MS)),
+        PnioStatus::OK
+    );
+    assert_eq!(
+        status(&call(&mut dev, &rpc_capture("cm/write_req"), 2 * MS)),
+        PnioStatus::OK
+    );
+    assert_eq!(
+        dev.lldp().unwrap().station().mode,
+        lldp::NameOfDeviceMode::PortAndStationName
+    );
+    assert_eq!(dev.next_deadline_ns(), Some(0), "announced at once");
+    out.clear();
+    dev.poll(2 * MS, &mut out);
+    let r = lldp_announcement(&out).unwrap();
+    assert_eq!(r.port_id, Id::Local("port-001.rt-labs-dev".into()));
+    // The chassis ID is the SystemIdentification, starting with the type of station.
+    assert_eq!(
+        r.chassis_id
+            .local()
+            .and_then(|c| c.split_whitespace().next()),
+        Some("procimg")
+    );
+}
