@@ -13,7 +13,8 @@
 //! the input CR and consumes the output CR at the offsets the controller chose, supervises
 //! the output CR with the data hold watchdog, and acknowledges alarms on both RTA channels.
 //! Its port announces the station by LLDP ([`lldp`]: at start, every 5 s and at once after
-//! DCP changed its name or address; [`Device::set_lldp`] turns that off).
+//! DCP changed its name or address; [`Device::set_lldp`] turns that off), and it sends a DCP
+//! Hello request at start-up when asked to ([`Device::set_hello`]).
 //! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
 //! No socket and no clock inside: feed it every Ethernet frame on the link
@@ -173,6 +174,8 @@ pub struct Device<A> {
     signals: u32,
     acks: Vec<AlarmAck>,
     lldp: Option<lldp::Announcer>,
+    /// A DCP Hello request is to go out at the next poll.
+    hello_due: bool,
 }
 
 impl<A: Application> Device<A> {
@@ -195,6 +198,7 @@ impl<A: Application> Device<A> {
                 device_id: spec.device_id,
                 instance: spec.instance,
                 type_of_station: "procimg simulated device".into(),
+                hello: false,
             },
             submodules: spec.submodules,
             app: spec.application,
@@ -208,6 +212,7 @@ impl<A: Application> Device<A> {
             signals: 0,
             acks: Vec::new(),
             lldp: None,
+            hello_due: false,
         };
         device.set_lldp(true);
         device
@@ -229,6 +234,16 @@ impl<A: Application> Device<A> {
                 lldp::system_identification(&id.type_of_station, &self.im0);
             lldp::Announcer::new(station)
         });
+    }
+
+    /// Makes the device send a DCP Hello request (to 01:0E:CF:00:00:01, with its name, IP
+    /// parameters, DeviceID, DeviceVendor, DeviceRole and DeviceInitiative) at its next
+    /// [`poll`](Self::poll): at start-up when set before the first poll, as a device with
+    /// fast start-up does. Its DeviceInitiative (DCP 06/01) reads 1 while this is on. Off by
+    /// default.
+    pub fn set_hello(&mut self, on: bool) {
+        self.id.hello = on;
+        self.hello_due = on;
     }
 
     /// The LLDP announcer, when LLDP is on: what it announces.
@@ -478,6 +493,9 @@ impl<A: Application> Device<A> {
     /// its retransmission, input CR frames, the watchdogs, alarm retransmissions.
     pub fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.dcp.poll(now_ns, out);
+        if std::mem::take(&mut self.hello_due) {
+            out.extend(dcp::hello_frame(&self.id).map(DeviceAction::Frame));
+        }
         if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now_ns)) {
             out.push(DeviceAction::Frame(frame));
         }
@@ -547,6 +565,7 @@ impl<A: Application> Device<A> {
     /// When [`poll`](Self::poll) needs calling next, if anything is pending.
     pub fn next_deadline_ns(&self) -> Option<u64> {
         [
+            self.hello_due.then_some(0),
             self.dcp.next_deadline_ns(),
             self.lldp.as_ref().map(lldp::Announcer::next_deadline_ns),
             self.ar.as_ref().and_then(Ar::deadline),

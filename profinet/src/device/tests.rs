@@ -1595,3 +1595,61 @@ fn the_s7s_pd_interface_adjust_puts_the_name_into_the_lldp_port_id() {
         Some("procimg")
     );
 }
+
+#[test]
+fn dcp_hello_at_start_up() {
+    let mut dev = quiet_device(DeviceSetup {
+        ip: Some(DEVICE_IP),
+        ..pnet_spec(TestApp::None)
+    });
+    let mut out = Vec::new();
+    dev.poll(0, &mut out);
+    assert!(out.is_empty(), "no Hello unless asked for");
+    dev.set_hello(true);
+    assert_eq!(dev.next_deadline_ns(), Some(0));
+    dev.poll(MS, &mut out);
+    let f = frames(&out);
+    assert_eq!(f.len(), 1);
+    assert_eq!(&f[0][..6], &MacAddress::DCP_HELLO.0);
+    assert_eq!(&f[0][6..12], &PNET_MAC.0);
+    let hello = parse_dcp(&f[0]);
+    assert_eq!(hello.frame_id, wire_dcp::FRAME_ID_HELLO);
+    assert_eq!(
+        (hello.service_id, hello.service_type),
+        (wire_dcp::ServiceId::Hello, wire_dcp::ServiceType::Request)
+    );
+    let codes: Vec<(u8, u8)> = hello.blocks.iter().map(|b| b.value.code()).collect();
+    use wire_dcp::code;
+    assert_eq!(
+        codes,
+        [
+            code::NAME_OF_STATION,
+            code::IP_PARAMETER,
+            code::DEVICE_ID,
+            code::DEVICE_VENDOR,
+            code::DEVICE_ROLE,
+            code::DEVICE_INITIATIVE
+        ]
+    );
+    assert_eq!(hello.name_of_station(), Some("rt-labs-dev"));
+    assert_eq!(hello.ip(), Some((DEVICE_IP, [255, 255, 255, 0], [0; 4])));
+    assert!(
+        hello
+            .blocks
+            .contains(&wire_dcp::Block::new(0, BlockRepr::DeviceInitiative(1)))
+    );
+    // Once.
+    out.clear();
+    dev.poll(2 * MS, &mut out);
+    assert!(out.is_empty());
+    assert_eq!(dev.next_deadline_ns(), None);
+    // Get reads the DeviceInitiative.
+    let get = wire_dcp::Repr::get(9, &[code::DEVICE_INITIATIVE]);
+    dev.on_frame(
+        &dcp_client::frame(PNET_MAC, S7_MAC, &get).unwrap(),
+        3 * MS,
+        &mut out,
+    );
+    let res = parse_dcp(&frames(&out)[0]);
+    assert_eq!(res.blocks[0].value, BlockRepr::DeviceInitiative(1));
+}
