@@ -212,9 +212,15 @@ impl LldpStation {
 /// number (16), hardware revision (5 digits) and software revision (prefix and 3 × 3
 /// digits), each left-aligned or right-aligned in its width and separated by a blank, as
 /// IEC 61158-6-10 lays out sysDescr and p-net sends it.
+/// Control characters (the NULs of an unset I&M0 field) become blanks.
 pub fn system_identification(device_type: &str, im0: &Im0) -> String {
+    let printable = |c: char| if c.is_control() { ' ' } else { c };
     let text = |b: &[u8], n: usize| {
-        let s: String = String::from_utf8_lossy(b).chars().take(n).collect();
+        let s: String = String::from_utf8_lossy(b)
+            .chars()
+            .map(printable)
+            .take(n)
+            .collect();
         format!("{:<n$}", s.trim_end())
     };
     let sw = &im0.software_revision;
@@ -224,7 +230,7 @@ pub fn system_identification(device_type: &str, im0: &Im0) -> String {
         text(&im0.order_id, 20),
         text(&im0.serial_number, 16),
         im0.hardware_revision,
-        char::from(sw.prefix),
+        printable(char::from(sw.prefix)),
         sw.functional_enhancement,
         sw.bug_fix,
         sw.internal_change,
@@ -449,6 +455,11 @@ mod tests {
             "P-Net Sample Application  12345 Abcdefghijk    007                  3 V  0  2  0"
         );
         assert_eq!(s.len(), 25 + 1 + 20 + 1 + 16 + 1 + 5 + 1 + 10);
+        // An unset I&M0 (NULs) gives blanks, never a control character.
+        let blank = system_identification("x", &Im0::default());
+        assert_eq!(blank.len(), 80);
+        assert!(blank.starts_with("x ") && blank.ends_with("    0    0  0  0"));
+        assert!(!blank.chars().any(char::is_control));
     }
 
     #[test]
