@@ -2,7 +2,8 @@
 //! Everything the simulated PROFINET device emits in a full bring-up must decode in
 //! Wireshark's dissectors without malformed packets or error-level expert items: DCP
 //! answers, RPC responses (positive, negative, with a ModuleDiffBlock, reject, no-call,
-//! FACK), the ApplicationReady request, cyclic input frames and alarm frames.
+//! FACK), the ApplicationReady request, cyclic input frames, alarm frames and the LLDP
+//! announcements (at start-up, after the Set IP and after the PDInterfaceAdjust).
 //!
 //! The controller's side is the S7-1515's captured requests where there are some (test data
 //! of the `pnio` crate 0.1.0, MIT OR Apache-2.0) and requests built with our codecs.
@@ -133,6 +134,10 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     let mut dev = device(None);
     let mut wire = Wire { frames: Vec::new() };
     let mut out = Vec::new();
+    // The first LLDP announcement, at once; the next is 5 s away, after this bring-up.
+    assert_eq!(dev.next_deadline_ns(), Some(0));
+    dev.poll(0, &mut out);
+    assert_eq!(wire.take(&mut out).len(), 1);
 
     // DCP: Identify by name (at once), Identify All (after its delay), Get, Set IP (the
     // captured request), Signal.
@@ -172,6 +177,10 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     );
     assert_eq!(wire.take(&mut out).len(), 5);
     assert_eq!(dev.ip(), DEVICE_IP);
+    // The new address is announced by LLDP at once.
+    assert_eq!(dev.next_deadline_ns(), Some(0));
+    dev.poll(0, &mut out);
+    assert_eq!(wire.take(&mut out).len(), 1);
 
     // A refused Connect (input CR FrameID out of its range), then the real one.
     let mut bad = rpc_capture("cm/connect_req");
@@ -255,6 +264,11 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     );
     let n = wire.take(&mut out).len();
     assert!(n >= 9, "{n}");
+    // The PDInterfaceAdjust of the captured write asks for the NameOfStation in the LLDP
+    // port ID: announced at once.
+    assert_eq!(dev.next_deadline_ns(), Some(0));
+    dev.poll(0, &mut out);
+    assert_eq!(wire.take(&mut out).len(), 1);
 
     // The ApplicationReady; the first input frames (status BAD); the S7's confirmation.
     let t = dev.next_deadline_ns().unwrap();
@@ -377,11 +391,12 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     let protocols: std::collections::BTreeSet<&str> =
         d.iter().map(|f| f.protocol.as_str()).collect();
     assert!(
-        d.iter()
-            .all(|f| f.protocol.starts_with("PN") || f.protocol == "DCERPC"),
+        d.iter().all(|f| f.protocol.starts_with("PN")
+            || f.protocol == "DCERPC"
+            || f.protocol == "LLDP"),
         "{d:#?}"
     );
-    for p in ["PN-DCP", "PNIO-CM", "PNIO", "PNIO-AL"] {
+    for p in ["PN-DCP", "PNIO-CM", "PNIO", "PNIO-AL", "LLDP"] {
         assert!(protocols.contains(p), "no {p} among {protocols:?}");
     }
     let info: Vec<&str> = d.iter().map(|f| f.info.as_str()).collect();

@@ -19,6 +19,20 @@ pub struct Dissected {
 /// item, and returns what it made of each frame. Panics with tshark's full dissection of the
 /// offending frames otherwise.
 pub fn dissect_clean(name: &str, frames: &[Vec<u8>]) -> Vec<Dissected> {
+    clean_fields(name, frames, &["_ws.col.Protocol", "_ws.col.Info"])
+        .into_iter()
+        .map(|mut f| {
+            let info = f.pop().unwrap_or_default();
+            let protocol = f.pop().unwrap_or_default();
+            Dissected { protocol, info }
+        })
+        .collect()
+}
+
+/// Like [`dissect_clean`], then the values tshark reads for `fields` (display filter field
+/// names such as `lldp.chassis.id`) in each frame: one string per field, empty where the
+/// frame has none, several occurrences joined by commas.
+pub fn clean_fields(name: &str, frames: &[Vec<u8>], fields: &[&str]) -> Vec<Vec<String>> {
     let dir = std::env::temp_dir().join(format!("procimg-tshark-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(format!("{name}.pcap"));
@@ -59,29 +73,27 @@ pub fn dissect_clean(name: &str, frames: &[Vec<u8>]) -> Vec<Dissected> {
         let detail = tshark(&["-Y", &filter, "-V"]);
         panic!("tshark finds frames {numbers:?} of {name} malformed or in error:\n{detail}");
     }
-    let columns = tshark(&[
-        "-T",
-        "fields",
-        "-e",
-        "_ws.col.Protocol",
-        "-e",
-        "_ws.col.Info",
-    ]);
-    let dissected: Vec<Dissected> = columns
+    let mut args = vec!["-T", "fields"];
+    for f in fields {
+        args.extend(["-e", f]);
+    }
+    let values: Vec<Vec<String>> = tshark(&args)
         .lines()
         .map(|l| {
-            let (p, i) = l.split_once('\t').unwrap_or((l, ""));
-            Dissected {
-                protocol: p.to_string(),
-                info: i.to_string(),
-            }
+            // The last field keeps any tab of its own (an info column may hold one).
+            let mut v: Vec<String> = l
+                .splitn(fields.len().max(1), '\t')
+                .map(str::to_string)
+                .collect();
+            v.resize(fields.len(), String::new());
+            v
         })
         .collect();
     assert_eq!(
-        dissected.len(),
+        values.len(),
         frames.len(),
         "tshark read a different number of frames"
     );
     let _ = std::fs::remove_file(&path);
-    dissected
+    values
 }

@@ -112,6 +112,7 @@ impl<A: Application> Device<A> {
             .respond(h, from, status, ndr.args_maximum, &res, out);
         if h.opnum == opnum::WRITE && status.is_ok() {
             self.alarm_on_request(blocks, now_ns, out);
+            self.adjust_lldp();
         }
     }
 

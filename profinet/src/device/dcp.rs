@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The DCP responder of the device: Identify (all, by name and the other filters,
 //! answered after the ResponseDelay the request asks for), Get, and Set of the IP parameters
-//! and NameOfStation, Signal, start/stop transaction and reset to factory.
+//! and NameOfStation, Signal, start/stop transaction and reset to factory; and the Hello
+//! request a device may send at start-up.
 
 use super::{DeviceAction, ethernet_frame};
 use crate::wire::MacAddress;
@@ -17,8 +18,13 @@ const MAX_NAME_LEN: usize = 240;
 /// answered (a bound against a flood, far above what a network of controllers sends).
 const MAX_PENDING: usize = 64;
 
+/// The Xid of the Hello request (one per start-up, as p-net's).
+const HELLO_XID: u32 = 1;
+/// DeviceInitiative bit 0: the device sends a Hello request at start-up.
+const INITIATIVE_HELLO: u16 = 0x0001;
+
 /// The (option, suboption) pairs we answer in Get and announce in DeviceOptions.
-const OPTIONS: [(u8, u8); 13] = [
+const OPTIONS: [(u8, u8); 14] = [
     code::MAC_ADDRESS,
     code::IP_PARAMETER,
     code::FULL_IP_SUITE,
@@ -32,6 +38,7 @@ const OPTIONS: [(u8, u8); 13] = [
     code::CONTROL_STOP,
     code::CONTROL_SIGNAL,
     code::RESET_TO_FACTORY,
+    code::DEVICE_INITIATIVE,
 ];
 
 /// What the device is called and where it is, as DCP reads and sets it.
@@ -46,6 +53,8 @@ pub(super) struct Identity {
     pub(super) device_id: u16,
     pub(super) instance: u16,
     pub(super) type_of_station: String,
+    /// Whether the device sends a Hello request at start-up (its DeviceInitiative).
+    pub(super) hello: bool,
 }
 
 /// What a Set changed, for the device to act on (an AR ends when its station changes).
@@ -219,6 +228,9 @@ fn value(id: &Identity, (option, suboption): (u8, u8)) -> Option<Block> {
             let [high, low] = id.instance.to_be_bytes();
             BlockRepr::DeviceInstance { high, low }
         }
+        code::DEVICE_INITIATIVE => {
+            BlockRepr::DeviceInitiative(if id.hello { INITIATIVE_HELLO } else { 0 })
+        }
         _ => return None,
     };
     // BlockInfo of the IP blocks: whether an address is set; 0 for the others.
@@ -246,6 +258,33 @@ fn identify_blocks(id: &Identity) -> Vec<Block> {
     .into_iter()
     .filter_map(|c| value(id, c))
     .collect()
+}
+
+/// The Hello request (device initiative) to [`MacAddress::DCP_HELLO`], untagged: the
+/// blocks IEC 61158-6-10's DCP-Hello-ReqPDU lists (as p-net quotes its syntax:
+/// NameOfStation, IPParameter, DeviceID, DeviceOptions or DeviceVendor, DeviceRole,
+/// DeviceInitiative), each with its BlockInfo, the DeviceVendor chosen of the two.
+pub(super) fn hello_frame(id: &Identity) -> Option<Vec<u8>> {
+    let blocks = [
+        code::NAME_OF_STATION,
+        code::IP_PARAMETER,
+        code::DEVICE_ID,
+        code::DEVICE_VENDOR,
+        code::DEVICE_ROLE,
+        code::DEVICE_INITIATIVE,
+    ]
+    .into_iter()
+    .filter_map(|c| value(id, c))
+    .collect();
+    let req = dcp::Repr {
+        frame_id: dcp::FRAME_ID_HELLO,
+        service_id: ServiceId::Hello,
+        service_type: ServiceType::Request,
+        xid: HELLO_XID,
+        response_delay: 0,
+        blocks,
+    };
+    frame(id.mac, MacAddress::DCP_HELLO, &req)
 }
 
 /// The answer to one Get pair: its value, or a ControlResponse with the reason.

@@ -12,6 +12,9 @@
 //! ApplicationReady CControl to the controller and retransmits it until answered, produces
 //! the input CR and consumes the output CR at the offsets the controller chose, supervises
 //! the output CR with the data hold watchdog, and acknowledges alarms on both RTA channels.
+//! Its port announces the station by LLDP ([`lldp`]: at start, every 5 s and at once after
+//! DCP changed its name or address; [`Device::set_lldp`] turns that off), and it sends a DCP
+//! Hello request at start-up when asked to ([`Device::set_hello`]).
 //! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
 //! No socket and no clock inside: feed it every Ethernet frame on the link
@@ -44,6 +47,7 @@ mod dcp;
 mod handover;
 #[cfg(test)]
 mod handover_tests;
+pub mod lldp;
 mod records;
 mod rpc;
 #[cfg(test)]
@@ -185,6 +189,9 @@ pub struct Device<A> {
     handover: Option<handover::Handover>,
     /// Whether a Connect may make an AR (see [`Device::set_accepting`]).
     accepting: bool,
+    lldp: Option<lldp::Announcer>,
+    /// A DCP Hello request is to go out at the next poll.
+    hello_due: bool,
 }
 
 impl<A: Application> Device<A> {
@@ -196,7 +203,7 @@ impl<A: Application> Device<A> {
         } else {
             [255, 255, 255, 0]
         };
-        Device {
+        let mut device = Device {
             id: dcp::Identity {
                 mac: spec.mac,
                 name: spec.name,
@@ -207,6 +214,7 @@ impl<A: Application> Device<A> {
                 device_id: spec.device_id,
                 instance: spec.instance,
                 type_of_station: "procimg simulated device".into(),
+                hello: false,
             },
             submodules: spec.submodules,
             app: spec.application,
@@ -221,13 +229,61 @@ impl<A: Application> Device<A> {
             acks: Vec::new(),
             handover: None,
             accepting: true,
+            lldp: None,
+            hello_due: false,
+        };
+        device.set_lldp(true);
+        device
+    }
+
+    /// Turns the LLDP announcements of the device's port on (the default) or off. On, the
+    /// port (port-001, from the device's MAC address) announces the station at the next
+    /// [`poll`](Self::poll), then every 5 s and at once after DCP changed its name or
+    /// address; see [`lldp`].
+    pub fn set_lldp(&mut self, on: bool) {
+        if on == self.lldp.is_some() {
+            return;
         }
+        self.lldp = on.then(|| {
+            let id = &self.id;
+            let ip = (id.ip != [0; 4]).then_some(id.ip);
+            let mut station = lldp::LldpStation::new(&id.name, id.mac, id.mac, ip, 1);
+            station.system_identification =
+                lldp::system_identification(&id.type_of_station, &self.im0);
+            lldp::Announcer::new(station)
+        });
+    }
+
+    /// Makes the device send a DCP Hello request (to 01:0E:CF:00:00:01, with its name, IP
+    /// parameters, DeviceID, DeviceVendor, DeviceRole and DeviceInitiative) at its next
+    /// [`poll`](Self::poll): at start-up when set before the first poll, as a device with
+    /// fast start-up does. Its DeviceInitiative (DCP 06/01) reads 1 while this is on. Off by
+    /// default.
+    pub fn set_hello(&mut self, on: bool) {
+        self.id.hello = on;
+        self.hello_due = on;
+    }
+
+    /// The LLDP announcer, when LLDP is on: what it announces.
+    pub fn lldp(&self) -> Option<&lldp::Announcer> {
+        self.lldp.as_ref()
+    }
+
+    /// The LLDP announcer, when LLDP is on, to tell it about the port (its link, its
+    /// ifIndex, its own MAC address). The name and the address follow DCP; setting them
+    /// here is overwritten by the next DCP change.
+    pub fn lldp_mut(&mut self) -> Option<&mut lldp::Announcer> {
+        self.lldp.as_mut()
     }
 
     /// Sets the DeviceVendor (type of station) text DCP reports; "procimg simulated device"
     /// by default.
     pub fn set_type_of_station(&mut self, text: &str) {
         self.id.type_of_station = text.to_string();
+        let sysid = lldp::system_identification(text, &self.im0);
+        if let Some(l) = self.lldp.as_mut() {
+            l.update(|s| s.system_identification = sysid);
+        }
     }
 
     /// The IP address (0.0.0.0 when none is set).
@@ -350,6 +406,34 @@ impl<A: Application> Device<A> {
         } else if changes.name || changes.ip {
             self.abort_ar(AbortCode::StationNameChanged, out);
         }
+        // The neighbour learns the new name or address at once.
+        if let Some(l) = self.lldp.as_mut() {
+            let ip = (self.id.ip != [0; 4]).then_some(self.id.ip);
+            l.set_name(&self.id.name);
+            l.set_ip(ip);
+            if changes.reset {
+                l.set_mode(lldp::NameOfDeviceMode::default());
+            }
+        }
+    }
+
+    /// Applies a PDInterfaceAdjust the controller wrote to an interface submodule: where
+    /// the LLDP frames carry the name (kept after the AR, as a PDev parameter is).
+    fn adjust_lldp(&mut self) {
+        let Some(ar) = self.ar.as_ref() else {
+            return;
+        };
+        let mode = ar
+            .records
+            .iter()
+            .find_map(|(&(_, _, subslot, index), data)| {
+                (index == lldp::INDEX_PD_INTERFACE_ADJUST && subslot >= 0x8000)
+                    .then(|| lldp::name_of_device_mode(data))
+                    .flatten()
+            });
+        if let (Some(mode), Some(l)) = (mode, self.lldp.as_mut()) {
+            l.set_mode(mode);
+        }
     }
 
     fn on_rta(&mut self, src: MacAddress, pdu: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
@@ -445,8 +529,8 @@ impl<A: Application> Device<A> {
         )
     }
 
-    /// Runs the timers: delayed DCP responses, the ApplicationReady and its retransmission,
-    /// input CR frames, the watchdogs, alarm retransmissions.
+    /// Runs the timers: delayed DCP responses, LLDP announcements, the ApplicationReady and
+    /// its retransmission, input CR frames, the watchdogs, alarm retransmissions.
     pub fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.run_timers(now_ns, out);
         self.sync_handover(now_ns, out);
@@ -454,6 +538,12 @@ impl<A: Application> Device<A> {
 
     fn run_timers(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.dcp.poll(now_ns, out);
+        if std::mem::take(&mut self.hello_due) {
+            out.extend(dcp::hello_frame(&self.id).map(DeviceAction::Frame));
+        }
+        if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now_ns)) {
+            out.push(DeviceAction::Frame(frame));
+        }
         let mac = self.id.mac;
         let activity = if self
             .ar
@@ -520,7 +610,9 @@ impl<A: Application> Device<A> {
     /// When [`poll`](Self::poll) needs calling next, if anything is pending.
     pub fn next_deadline_ns(&self) -> Option<u64> {
         [
+            self.hello_due.then_some(0),
             self.dcp.next_deadline_ns(),
+            self.lldp.as_ref().map(lldp::Announcer::next_deadline_ns),
             self.ar.as_ref().and_then(Ar::deadline),
         ]
         .into_iter()

@@ -5,7 +5,8 @@
 //! Writes are accepted for user indices (0x0000–0x7FFF) of any plugged submodule, for the
 //! PDev records (0x8000–0x80FF) of the interface and port submodules (subslots 0x8000 and
 //! up; an S7 writes PDInterfaceAdjust 0x8071 there) and for I&M1–3; the data is kept for the
-//! AR and read back as written. Reads serve I&M0 (0xAFF0) from the device's description,
+//! AR and read back as written. PDInterfaceAdjust also sets where the device's LLDP frames
+//! carry its name ([`super::lldp::NameOfDeviceMode`]). Reads serve I&M0 (0xAFF0) from the device's description,
 //! what was written, and the diagnosis indices (empty: the simulated device has none). The
 //! rest is refused with a PNIORW status: invalid index, invalid slot/subslot, access denied.
 

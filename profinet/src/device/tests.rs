@@ -114,9 +114,17 @@ fn pnet_spec(behaviour: TestApp) -> DeviceSetup<TestApp> {
     }
 }
 
+/// A device without LLDP: these tests look at what it sends for DCP, RPC, alarms and the
+/// cyclic exchange, frame by frame; its LLDP announcements have tests of their own.
+fn quiet_device(spec: DeviceSetup<TestApp>) -> Device<TestApp> {
+    let mut d = Device::new(spec);
+    d.set_lldp(false);
+    d
+}
+
 /// The p-net sample device, with the IP the S7 gives it.
 fn pnet_device(behaviour: TestApp) -> Device<TestApp> {
-    let mut d = Device::new(DeviceSetup {
+    let mut d = quiet_device(DeviceSetup {
         ip: Some(DEVICE_IP),
         ..pnet_spec(behaviour)
     });
@@ -250,7 +258,7 @@ fn patch_block(payload: &mut [u8], at: usize, bytes: &[u8]) {
 
 #[test]
 fn dcp_identify_and_set_ip_answer_like_pnet() {
-    let mut dev = Device::new(pnet_spec(TestApp::None));
+    let mut dev = quiet_device(pnet_spec(TestApp::None));
     dev.set_type_of_station("P-Net Sample Application");
     let req = wire_dcp::Repr::identify_by_name(0x0300_012c, 1, "rt-labs-dev");
     let frame = dcp_client::frame(MacAddress::DCP_IDENTIFY, S7_MAC, &req).unwrap();
@@ -379,7 +387,7 @@ fn dcp_filters_delay_get_set_name_and_signal() {
 
 #[test]
 fn captured_s7_bring_up_gets_pnets_answers() {
-    let mut dev = Device::new(pnet_spec(TestApp::Echo));
+    let mut dev = quiet_device(pnet_spec(TestApp::Echo));
     dev.set_type_of_station("P-Net Sample Application");
     let mut out = Vec::new();
     // No IP yet: no RPC endpoint.
@@ -614,7 +622,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
     for s in spec.submodules.iter_mut().filter(|s| s.slot == 4) {
         s.submodule_ident = 0x141;
     }
-    let mut dev = Device::new(spec);
+    let mut dev = quiet_device(spec);
     let r = call(&mut dev, &rpc_capture("cm/connect_req"), 0);
     assert_eq!(status(&r), PnioStatus::OK, "a difference is not an error");
     let res = ConnectResponse::parse(&r.blocks).unwrap();
@@ -772,7 +780,7 @@ pub(super) fn counter_device() -> (Device<TestApp>, ConnectRequest) {
         (1, 1, 0x30, 0x1, 4, 0),
         (2, 1, 0x31, 0x1, 0, 2),
     ];
-    let dev = Device::new(DeviceSetup {
+    let dev = quiet_device(DeviceSetup {
         name: "counter".into(),
         mac: PNET_MAC,
         ip: Some(DEVICE_IP),
@@ -1459,4 +1467,197 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
     );
     assert_eq!(status(&r), PnioStatus::OK);
     assert_eq!(dev.state(), ArState::Idle);
+}
+
+/// The LLDPDU of an LLDP frame among `out`, if there is one.
+fn lldp_announcement(out: &[DeviceAction]) -> Option<crate::wire::lldp::Repr> {
+    use crate::wire::lldp;
+    frames(out).iter().find_map(|f| {
+        let eth = ethernet::Frame::new_checked(&f[..]).ok()?;
+        if eth.ethertype() != lldp::ETHERTYPE_LLDP {
+            return None;
+        }
+        assert_eq!(eth.dst(), lldp::MULTICAST_NEAREST_BRIDGE);
+        assert_eq!(eth.src(), PNET_MAC);
+        lldp::Repr::parse(&lldp::Packet::new_checked(eth.payload()).ok()?).ok()
+    })
+}
+
+#[test]
+fn lldp_announces_at_start_every_five_seconds_and_after_dcp_changes() {
+    use crate::wire::lldp::Id;
+    let mut dev = Device::new(pnet_spec(TestApp::None));
+    assert_eq!(
+        dev.next_deadline_ns(),
+        Some(0),
+        "the first announcement at once"
+    );
+    let mut out = Vec::new();
+    dev.poll(MS, &mut out);
+    let r = lldp_announcement(&out).expect("an announcement");
+    assert_eq!(out.len(), 1);
+    assert_eq!(r.chassis_id, Id::Local("rt-labs-dev".into()));
+    assert_eq!(r.port_id, Id::Local("port-001".into()));
+    assert_eq!((r.ttl, r.management_ipv4()), (20, None));
+    assert_eq!(r.profinet_chassis_mac(), Some(PNET_MAC));
+    assert_eq!(dev.next_deadline_ns(), Some(MS + 5_000 * MS));
+    out.clear();
+    dev.poll(5_000 * MS, &mut out);
+    assert!(out.is_empty());
+    dev.poll(5_001 * MS, &mut out);
+    assert!(lldp_announcement(&out).is_some());
+
+    // DCP sets the address, then the name: each is announced at once.
+    out.clear();
+    dev.on_frame(&capture("cm/dcp_set_req"), 6_000 * MS, &mut out);
+    assert_eq!(frames(&out).len(), 1, "the Set response");
+    assert_eq!(dev.next_deadline_ns(), Some(0));
+    out.clear();
+    dev.poll(6_000 * MS, &mut out);
+    let r = lldp_announcement(&out).unwrap();
+    assert_eq!(r.management_ipv4(), Some(DEVICE_IP));
+    let set = wire_dcp::Repr::set_name(7, "renamed", false);
+    out.clear();
+    dev.on_frame(
+        &dcp_client::frame(PNET_MAC, S7_MAC, &set).unwrap(),
+        6_500 * MS,
+        &mut out,
+    );
+    out.clear();
+    dev.poll(6_500 * MS, &mut out);
+    let r = lldp_announcement(&out).unwrap();
+    assert_eq!(r.chassis_id, Id::Local("renamed".into()));
+    assert_eq!(dev.lldp().unwrap().station().name, "renamed");
+    assert_eq!(dev.next_deadline_ns(), Some(11_500 * MS));
+
+    // Reset to factory: no name, no address; the chassis ID becomes the MAC address.
+    let reset = wire_dcp::Repr {
+        frame_id: wire_dcp::FRAME_ID_GET_SET,
+        service_id: wire_dcp::ServiceId::Set,
+        service_type: wire_dcp::ServiceType::Request,
+        xid: 8,
+        response_delay: 0,
+        blocks: vec![wire_dcp::Block::new(
+            0x0002,
+            BlockRepr::ResetToFactory(0x0002),
+        )],
+    };
+    out.clear();
+    dev.on_frame(
+        &dcp_client::frame(PNET_MAC, S7_MAC, &reset).unwrap(),
+        7_000 * MS,
+        &mut out,
+    );
+    out.clear();
+    dev.poll(7_000 * MS, &mut out);
+    let r = lldp_announcement(&out).unwrap();
+    assert_eq!(r.chassis_id, Id::MacAddress(PNET_MAC));
+    assert_eq!(r.management_ipv4(), None);
+
+    // Off: nothing more, and no deadline of its own.
+    dev.set_lldp(false);
+    assert_eq!(dev.next_deadline_ns(), None);
+    out.clear();
+    dev.poll(60_000 * MS, &mut out);
+    assert!(out.is_empty());
+    // On again: at once.
+    dev.set_lldp(true);
+    dev.poll(60_001 * MS, &mut out);
+    assert!(lldp_announcement(&out).is_some());
+}
+
+#[test]
+fn the_s7s_pd_interface_adjust_puts_the_name_into_the_lldp_port_id() {
+    use crate::wire::lldp::Id;
+    let mut dev = Device::new(DeviceSetup {
+        ip: Some(DEVICE_IP),
+        ..pnet_spec(TestApp::None)
+    });
+    let mut out = Vec::new();
+    dev.poll(0, &mut out);
+    let r = lldp_announcement(&out).unwrap();
+    assert_eq!(r.port_id, Id::Local("port-001".into()));
+    // The captured WriteMultiple carries PDInterfaceAdjust with MultipleInterfaceMode 1.
+    assert_eq!(
+        status(&call(&mut dev, &rpc_capture("cm/connect_req"), MS)),
+        PnioStatus::OK
+    );
+    assert_eq!(
+        status(&call(&mut dev, &rpc_capture("cm/write_req"), 2 * MS)),
+        PnioStatus::OK
+    );
+    assert_eq!(
+        dev.lldp().unwrap().station().mode,
+        lldp::NameOfDeviceMode::PortAndStationName
+    );
+    assert_eq!(dev.next_deadline_ns(), Some(0), "announced at once");
+    out.clear();
+    dev.poll(2 * MS, &mut out);
+    let r = lldp_announcement(&out).unwrap();
+    assert_eq!(r.port_id, Id::Local("port-001.rt-labs-dev".into()));
+    // The chassis ID is the SystemIdentification, starting with the type of station.
+    assert_eq!(
+        r.chassis_id
+            .local()
+            .and_then(|c| c.split_whitespace().next()),
+        Some("procimg")
+    );
+}
+
+#[test]
+fn dcp_hello_at_start_up() {
+    let mut dev = quiet_device(DeviceSetup {
+        ip: Some(DEVICE_IP),
+        ..pnet_spec(TestApp::None)
+    });
+    let mut out = Vec::new();
+    dev.poll(0, &mut out);
+    assert!(out.is_empty(), "no Hello unless asked for");
+    dev.set_hello(true);
+    assert_eq!(dev.next_deadline_ns(), Some(0));
+    dev.poll(MS, &mut out);
+    let f = frames(&out);
+    assert_eq!(f.len(), 1);
+    assert_eq!(&f[0][..6], &MacAddress::DCP_HELLO.0);
+    assert_eq!(&f[0][6..12], &PNET_MAC.0);
+    let hello = parse_dcp(&f[0]);
+    assert_eq!(hello.frame_id, wire_dcp::FRAME_ID_HELLO);
+    assert_eq!(
+        (hello.service_id, hello.service_type),
+        (wire_dcp::ServiceId::Hello, wire_dcp::ServiceType::Request)
+    );
+    let codes: Vec<(u8, u8)> = hello.blocks.iter().map(|b| b.value.code()).collect();
+    use wire_dcp::code;
+    assert_eq!(
+        codes,
+        [
+            code::NAME_OF_STATION,
+            code::IP_PARAMETER,
+            code::DEVICE_ID,
+            code::DEVICE_VENDOR,
+            code::DEVICE_ROLE,
+            code::DEVICE_INITIATIVE
+        ]
+    );
+    assert_eq!(hello.name_of_station(), Some("rt-labs-dev"));
+    assert_eq!(hello.ip(), Some((DEVICE_IP, [255, 255, 255, 0], [0; 4])));
+    assert!(
+        hello
+            .blocks
+            .contains(&wire_dcp::Block::new(0, BlockRepr::DeviceInitiative(1)))
+    );
+    // Once.
+    out.clear();
+    dev.poll(2 * MS, &mut out);
+    assert!(out.is_empty());
+    assert_eq!(dev.next_deadline_ns(), None);
+    // Get reads the DeviceInitiative.
+    let get = wire_dcp::Repr::get(9, &[code::DEVICE_INITIATIVE]);
+    dev.on_frame(
+        &dcp_client::frame(PNET_MAC, S7_MAC, &get).unwrap(),
+        3 * MS,
+        &mut out,
+    );
+    let res = parse_dcp(&frames(&out)[0]);
+    assert_eq!(res.blocks[0].value, BlockRepr::DeviceInitiative(1));
 }

@@ -101,6 +101,7 @@ pub mod control;
 mod cursor;
 pub mod dcp;
 pub mod ethernet;
+pub mod lldp;
 pub mod record;
 pub mod rpc;
 pub mod rt;
