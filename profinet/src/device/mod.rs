@@ -41,6 +41,7 @@ mod cm;
 mod connect;
 mod cyclic;
 mod dcp;
+pub mod diagnosis;
 mod records;
 mod rpc;
 #[cfg(test)]
