@@ -8,6 +8,7 @@ use super::records::{DiagnosisScope, Selection, diagnosis_index};
 use super::*;
 use crate::test_fixtures::{capture, hex};
 use crate::wire::connect::SubmoduleState;
+use crate::wire::diagnosis::{CHANNEL_NUMBER_SUBMODULE, ChannelDirection};
 use crate::wire::record::DiagnosisData;
 
 /// The p-net sample device's submodule of the captures: API 0, slot 1, subslot 1.
