@@ -14,6 +14,15 @@
 //! the output CR with the data hold watchdog, and acknowledges alarms on both RTA channels.
 //! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
+//! The application reports to the controller through it: process alarms
+//! ([`Device::raise_process_alarm`]) and diagnosis ([`Device::add_diagnosis`],
+//! [`Device::remove_diagnosis`], [`Device::clear_diagnosis`]), which the device keeps in its
+//! [`DiagnosisStore`], announces with diagnosis alarms, reports in the SubmoduleStates of the
+//! ModuleDiffBlock and, while a fault is pending, in the station problem of the DataStatus.
+//! The device serves the records that describe it itself: the diagnosis records of every
+//! level, the expected and real identification, the AR's ModuleDiffBlock, I&M0–I&M4 (I&M1–4
+//! writable and kept in the engine, [`ImRecords`]) and I&M0FilterData.
+//!
 //! No socket and no clock inside: feed it every Ethernet frame on the link
 //! ([`Device::on_frame`]), every UDP datagram to its IP ([`Device::on_datagram`]) and
 //! call [`Device::poll`] at [`Device::next_deadline_ns`]; put the [`DeviceAction`]s it
@@ -30,7 +39,8 @@
 //!   or reset by DCP, a Connect re-running the AR
 //! ```
 //!
-//! The input CR runs from PrmEnd on (as p-net does) with DataStatus 0x35; its IOPS and IOCS
+//! The input CR runs from PrmEnd on (as p-net does) with DataStatus 0x35 (0x15 while a fault
+//! is pending); its IOPS and IOCS
 //! stay BAD until the controller confirmed the ApplicationReady, then turn GOOD. The consumer
 //! watchdog starts with the first valid output frame, at the latest when data exchange
 //! begins.

@@ -25,6 +25,8 @@ use crate::wire::rt::{self, data_status};
 use crate::wire::rta_pdu::{ErrRta, RtaBody};
 use std::net::Ipv4Addr;
 
+mod diagnosis;
+
 /// The applications these tests need: inputs left alone, the echo of the submodule's own
 /// outputs, or a big-endian u32 count of the frames produced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
