@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Record services: IOD Read/Write request and response headers and the data they split off,
-//! WriteMultiple requests and responses, I&M0, and record error statuses.
+//! WriteMultiple requests and responses, I&M0, and record error statuses; the records a
+//! device serves itself: diagnosis, identification, I&M1–I&M4 and I&M0FilterData.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use procimg_profinet::wire::record::{
-    IOD_HEADER_LEN, Im0, IodHeader, IodKind, RecordError, join_write_multiple_to_vec,
-    split_write_multiple, split_write_multiple_response, write_multiple_len,
+    DiagnosisData, IOD_HEADER_LEN, IdentificationData, Im0, Im0FilterData, Im1, Im2, Im3, Im4,
+    IodHeader, IodKind, RecordError, join_write_multiple_to_vec, split_write_multiple,
+    split_write_multiple_response, write_multiple_len,
 };
 
 fuzz_target!(|data: &[u8]| {
@@ -21,8 +23,9 @@ fuzz_target!(|data: &[u8]| {
         if h.is_write_multiple() && h.kind == IodKind::WriteReq {
             write_multiple(record);
         }
-        // The record data of an I&M0 read.
+        // The record data of an I&M0 read, or of the other records a device serves.
         im0(record);
+        served(record);
     }
     // The record data of a WriteMultiple without its outer header, and a response.
     write_multiple(data);
@@ -31,6 +34,7 @@ fuzz_target!(|data: &[u8]| {
         assert!(inner.iter().all(|h| h.kind == IodKind::WriteRes));
     }
     im0(data);
+    served(data);
 });
 
 fn header(h: &IodHeader) {
@@ -78,4 +82,40 @@ fn im0(data: &[u8]) {
     assert_eq!(&bytes[..4], &data[..4]);
     assert_eq!(&bytes[6..], &data[6..bytes.len()]);
     assert_eq!(Im0::parse(&bytes), Ok(i));
+}
+
+/// The records a device serves itself: what parses emits back.
+fn served(data: &[u8]) {
+    // A diagnosis record is whole blocks to its last byte, each kept as it is.
+    if let Ok(blocks) = DiagnosisData::parse_record(data) {
+        let bytes = DiagnosisData::record_to_vec(&blocks).expect("parsed blocks emit");
+        assert_eq!(bytes, data);
+    }
+    // Identification lists fill their block exactly.
+    if let Ok(i) = IdentificationData::parse(data) {
+        let bytes = i.to_vec().expect("parsed identification emits");
+        assert_eq!(&bytes[..], &data[..bytes.len()]);
+    }
+    // I&M0FilterData drops empty blocks and puts them in order: the same lists again.
+    if let Ok(f) = Im0FilterData::parse(data) {
+        let bytes = f.to_vec().expect("parsed filter data emits");
+        assert_eq!(Im0FilterData::parse(&bytes), Ok(f));
+    }
+    // I&M1–I&M4: every byte but the block version, which parsing does not check.
+    let same = |bytes: &[u8]| {
+        assert_eq!(&bytes[..4], &data[..4]);
+        assert_eq!(&bytes[6..], &data[6..bytes.len()]);
+    };
+    if let Ok(i) = Im1::parse(data) {
+        same(&i.to_bytes());
+    }
+    if let Ok(i) = Im2::parse(data) {
+        same(&i.to_bytes());
+    }
+    if let Ok(i) = Im3::parse(data) {
+        same(&i.to_bytes());
+    }
+    if let Ok(i) = Im4::parse(data) {
+        same(&i.to_bytes());
+    }
 }

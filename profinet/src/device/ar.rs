@@ -5,13 +5,14 @@
 
 use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, MAX_ALARM_DATA_LENGTH, Plan};
 use super::cyclic::{Consumer, Provider};
+use super::diagnosis::SubslotAddr;
 use super::records::Records;
 use super::rpc::ClientCall;
 use super::{Application, ArState, DeviceAction, ethernet_frame};
 use crate::cyclic::{CrMap, CrTiming, DataMap, IocsMap};
 use crate::rta::{RtaChannel, RtaEvent};
 use crate::wire::alarm::{AlarmAck, AlarmBlock, Priority};
-use crate::wire::connect::{IocrBlockReq, IocrEntry, ModuleDiffBlock};
+use crate::wire::connect::{IocrBlockReq, IocrEntry};
 use crate::wire::rt::data_status;
 use crate::wire::rta_pdu::{AbortCode, RtaBody, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
@@ -68,7 +69,6 @@ pub(super) struct Ar {
     pub(super) controller: SocketAddrV4,
     pub(super) state: ArState,
     pub(super) submodules: Vec<ArSubmodule>,
-    pub(super) module_diff: Option<ModuleDiffBlock>,
     pub(super) provider: Provider,
     pub(super) consumer: Consumer,
     pub(super) alarms: Alarms,
@@ -93,7 +93,6 @@ impl Ar {
     pub(super) fn new(
         plan: &Plan,
         fits: &[Fit],
-        module_diff: Option<ModuleDiffBlock>,
         (input_frame_id, output_frame_id): (u16, u16),
         controller: SocketAddrV4,
         now_ns: u64,
@@ -128,7 +127,6 @@ impl Ar {
             controller,
             state: ArState::Connected,
             submodules,
-            module_diff,
             provider: Provider::new(&plan.input, input_frame_id, controller_mac),
             consumer: Consumer::new(&plan.output, output_frame_id, controller_mac),
             alarms: Alarms {
@@ -172,6 +170,19 @@ impl Ar {
         }
     }
 
+    /// The expected submodules, in the Connect's order.
+    pub(super) fn expected(&self) -> Vec<Expected> {
+        self.submodules.iter().map(|s| s.expected).collect()
+    }
+
+    /// Where the submodules this AR owns (the proper ones) are.
+    pub(super) fn owned(&self) -> impl Iterator<Item = SubslotAddr> + '_ {
+        self.submodules
+            .iter()
+            .filter(|s| s.proper)
+            .map(|s| s.expected.addr())
+    }
+
     /// The controller's MAC.
     pub(super) fn controller_mac(&self) -> MacAddress {
         self.alarms.controller_mac
@@ -201,13 +212,15 @@ impl Ar {
         }
     }
 
-    /// Produces the inputs for count `k` and the next input CR frame.
+    /// Produces the inputs for count `k` and the next input CR frame; `station_ok` is the
+    /// DataStatus StationProblemIndicator (false while a fault is pending).
     pub(super) fn produce(
         &mut self,
         app: &mut impl Application,
         k: u64,
         src: MacAddress,
         cycle_counter: u16,
+        station_ok: bool,
     ) -> Option<Vec<u8>> {
         // The outputs as the behaviour sees them: invalid ones read as substitute value 0.
         self.device_outputs.clear();
@@ -259,8 +272,12 @@ impl Ar {
                 *b = status;
             }
         }
-        self.provider
-            .frame(src, cycle_counter, data_status::OPERATE, &self.c_sdu)
+        let status = if station_ok {
+            data_status::OPERATE
+        } else {
+            data_status::OPERATE & !data_status::STATION_OK
+        };
+        self.provider.frame(src, cycle_counter, status, &self.c_sdu)
     }
 
     /// Where the submodules' data and status sit in the two CRs, for a cycle thread that

@@ -5,6 +5,7 @@
 
 use super::ar::Ar;
 use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
+use super::diagnosis::SubslotAddr;
 use super::{
     APP_READY_DELAY_NS, Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI,
     records, rpc,
@@ -93,9 +94,17 @@ impl<A: Application> Device<A> {
             opnum::RELEASE => self.release(blocks),
             opnum::READ | opnum::READ_IMPLICIT => records::read(
                 h.opnum == opnum::READ_IMPLICIT,
-                self.ar.as_ref().map(|a| (a.ar_uuid, &a.records)),
-                &self.submodules,
-                &self.im0,
+                self.ar.as_ref().map(|a| records::ArView {
+                    ar_uuid: a.ar_uuid,
+                    records: &a.records,
+                    submodules: &a.submodules,
+                }),
+                &records::DeviceRead {
+                    real: &self.submodules,
+                    im0: &self.im0,
+                    im: &self.im,
+                    diagnosis: &self.diagnosis,
+                },
                 blocks,
             ),
             opnum::WRITE => records::write(
@@ -103,7 +112,11 @@ impl<A: Application> Device<A> {
                     ar_uuid: a.ar_uuid,
                     records: &mut a.records,
                 }),
-                &self.submodules,
+                records::DeviceWrite {
+                    real: &self.submodules,
+                    im: &mut self.im,
+                    im_writes: &mut self.im_writes,
+                },
                 blocks,
             ),
             _ => self.control(blocks, now_ns),
@@ -156,7 +169,10 @@ impl<A: Application> Device<A> {
             }
             return (refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES), Vec::new());
         }
-        let (fits, diff) = connect::module_diff(&plan.expected, &self.submodules);
+        let diagnosis = &self.diagnosis;
+        let state =
+            |api, slot, subslot| diagnosis.submodule_state(SubslotAddr::new(api, slot, subslot));
+        let (fits, diff) = connect::module_diff(&plan.expected, &self.submodules, state);
         let ids = connect::frame_ids(&plan);
         let Ok(res) = connect::response_blocks(
             &plan,
@@ -169,7 +185,7 @@ impl<A: Application> Device<A> {
             return (refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES), Vec::new());
         };
         let controller = SocketAddrV4::new(*from.ip(), plan.rpc_port.unwrap_or(wire_rpc::RPC_PORT));
-        self.ar = Some(Ar::new(&plan, &fits, diff, ids, controller, now_ns));
+        self.ar = Some(Ar::new(&plan, &fits, ids, controller, now_ns));
         (PnioStatus::OK, res)
     }
 

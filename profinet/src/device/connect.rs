@@ -11,6 +11,7 @@
 //! [`ConnectRequest::parse`]: crate::wire::connect::ConnectRequest::parse
 
 use super::PluggedSubmodule;
+use super::diagnosis::SubslotAddr;
 use crate::wire::common::blocks;
 use crate::wire::connect::{
     AlarmCrBlockReq, AlarmCrBlockRes, ArBlockReq, ArBlockRes, ArServerBlock, ExpectedSubmodule,
@@ -82,6 +83,11 @@ impl Expected {
     /// Outputs: data + IOPS in the output CR, IOCS in the input CR.
     pub(super) const fn is_output(&self) -> bool {
         self.output_length > 0
+    }
+
+    /// Where it is.
+    pub(super) const fn addr(&self) -> SubslotAddr {
+        SubslotAddr::new(self.api, self.slot, self.subslot)
     }
 }
 
@@ -456,10 +462,14 @@ pub(super) enum Fit {
 }
 
 /// Compares the expected submodules with the real ones: the fit of each, in order, and the
-/// ModuleDiffBlock listing the differences (`None` when there are none).
+/// ModuleDiffBlock listing the differences (`None` when there are none). `diagnosis` gives
+/// the diagnosis bits of a plugged submodule's SubmoduleState (QualifiedInfo,
+/// MaintenanceRequired/Demanded, DiagInfo): an expected submodule that is plugged but has
+/// diagnosis is listed too, with IdentInfo OK and those bits, its module as the proper one.
 pub(super) fn module_diff(
     expected: &[Expected],
     real: &[PluggedSubmodule],
+    diagnosis: impl Fn(u32, u16, u16) -> u16,
 ) -> (Vec<Fit>, Option<ModuleDiffBlock>) {
     let fits: Vec<Fit> = expected
         .iter()
@@ -483,7 +493,11 @@ pub(super) fn module_diff(
         .collect();
     let mut apis: Vec<ModuleDiffApi> = Vec::new();
     for (e, fit) in expected.iter().zip(&fits) {
-        if *fit == Fit::Proper {
+        let diag_bits = match fit {
+            Fit::Proper => diagnosis(e.api, e.slot, e.subslot),
+            Fit::Wrong | Fit::Missing => 0,
+        };
+        if *fit == Fit::Proper && diag_bits == 0 {
             continue;
         }
         let real_module = real
@@ -525,20 +539,23 @@ pub(super) fn module_diff(
         let real_sub = real
             .iter()
             .find(|r| (r.api, r.slot, r.subslot) == (e.api, e.slot, e.subslot));
-        let (ident, ident_info) = match real_sub {
-            Some(r) => (r.submodule_ident, IDENT_WRONG),
-            None => (0, IDENT_NO_SUBMODULE),
+        let (ident, ident_info) = match (fit, real_sub) {
+            (Fit::Proper, Some(r)) => (r.submodule_ident, IDENT_OK),
+            (_, Some(r)) => (r.submodule_ident, IDENT_WRONG),
+            (_, None) => (0, IDENT_NO_SUBMODULE),
         };
         modules[module_at].submodules.push(ModuleDiffSubmodule {
             subslot: e.subslot,
             submodule_ident: ident,
-            state: SubmoduleState(SubmoduleState::FORMAT_INDICATOR | ident_info << 11),
+            state: SubmoduleState(SubmoduleState::FORMAT_INDICATOR | ident_info << 11 | diag_bits),
         });
     }
     let diff = (!apis.is_empty()).then_some(ModuleDiffBlock { apis });
     (fits, diff)
 }
 
+/// SubmoduleState IdentInfo: the expected submodule.
+const IDENT_OK: u16 = 0;
 /// SubmoduleState IdentInfo: wrong submodule.
 const IDENT_WRONG: u16 = 2;
 /// SubmoduleState IdentInfo: no submodule.

@@ -17,6 +17,15 @@
 //! Hello request at start-up when asked to ([`Device::set_hello`]).
 //! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
+//! The application reports to the controller through it: process alarms
+//! ([`Device::raise_process_alarm`]) and diagnosis ([`Device::add_diagnosis`],
+//! [`Device::remove_diagnosis`], [`Device::clear_diagnosis`]), which the device keeps in its
+//! [`DiagnosisStore`], announces with diagnosis alarms, reports in the SubmoduleStates of the
+//! ModuleDiffBlock and, while a fault is pending, in the station problem of the DataStatus.
+//! The device serves the records that describe it itself: the diagnosis records of every
+//! level, the expected and real identification, the AR's ModuleDiffBlock, I&M0–I&M4 (I&M1–4
+//! writable and kept in the engine, [`ImRecords`]) and I&M0FilterData.
+//!
 //! No socket and no clock inside: feed it every Ethernet frame on the link
 //! ([`Device::on_frame`]), every UDP datagram to its IP ([`Device::on_datagram`]) and
 //! call [`Device::poll`] at [`Device::next_deadline_ns`]; put the [`DeviceAction`]s it
@@ -33,20 +42,25 @@
 //!   or reset by DCP, a Connect re-running the AR
 //! ```
 //!
-//! The input CR runs from PrmEnd on (as p-net does) with DataStatus 0x35; its IOPS and IOCS
+//! The input CR runs from PrmEnd on (as p-net does) with DataStatus 0x35 (0x15 while a fault
+//! is pending); its IOPS and IOCS
 //! stay BAD until the controller confirmed the ApplicationReady, then turn GOOD. The consumer
 //! watchdog starts with the first valid output frame, at the latest when data exchange
 //! begins.
 
+mod alarms;
 mod application;
 mod ar;
 mod cm;
 mod connect;
 mod cyclic;
 mod dcp;
+pub mod diagnosis;
 mod handover;
 #[cfg(test)]
 mod handover_tests;
+mod identification;
+mod im;
 pub mod lldp;
 mod records;
 mod rpc;
@@ -54,9 +68,7 @@ mod rpc;
 mod tests;
 
 use crate::cyclic::CyclicAr;
-use crate::wire::alarm::{
-    AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType, Priority,
-};
+use crate::wire::alarm::AlarmAck;
 use crate::wire::control::ControlBlock;
 use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use crate::wire::record::Im0;
@@ -64,8 +76,14 @@ use crate::wire::rpc::{self as wire_rpc, Header, PacketType};
 use crate::wire::rt::FrameIdClass;
 use crate::wire::rta_pdu::{self, AbortCode, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
+pub use alarms::DiagnosisChange;
 pub use application::Application;
 use ar::Ar;
+pub use diagnosis::{
+    ChannelDiag, DiagEntry, DiagKey, DiagnosisError, DiagnosisStore, GenericDiag, Severity,
+    SubslotAddr,
+};
+pub use im::ImRecords;
 use std::net::SocketAddrV4;
 
 /// What the device is and what is plugged into it.
@@ -192,6 +210,9 @@ pub struct Device<A> {
     lldp: Option<lldp::Announcer>,
     /// A DCP Hello request is to go out at the next poll.
     hello_due: bool,
+    diagnosis: DiagnosisStore,
+    im: ImRecords,
+    im_writes: u64,
 }
 
 impl<A: Application> Device<A> {
@@ -231,6 +252,9 @@ impl<A: Application> Device<A> {
             accepting: true,
             lldp: None,
             hello_due: false,
+            diagnosis: DiagnosisStore::new(),
+            im: ImRecords::default(),
+            im_writes: 0,
         };
         device.set_lldp(true);
         device
@@ -545,12 +569,19 @@ impl<A: Application> Device<A> {
             out.push(DeviceAction::Frame(frame));
         }
         let mac = self.id.mac;
+        let station_ok = !self.diagnosis.has_fault();
         let activity = if self
             .ar
             .as_ref()
             .is_some_and(|a| a.app_ready_due.is_some_and(|d| now_ns >= d))
         {
-            Some(self.new_activity())
+            // The ApplicationReady carries the differences as they are now, diagnosis that
+            // came since the Connect included.
+            let diff = self
+                .ar_module_diff()
+                .and_then(|d| d.to_vec().ok())
+                .unwrap_or_default();
+            Some((self.new_activity(), diff))
         } else {
             None
         };
@@ -571,13 +602,8 @@ impl<A: Application> Device<A> {
             self.end_ar(a.code);
             return;
         }
-        if let Some(activity) = activity {
+        if let Some((activity, diff)) = activity {
             ar.app_ready_due = None;
-            let diff = ar
-                .module_diff
-                .as_ref()
-                .and_then(|d| d.to_vec().ok())
-                .unwrap_or_default();
             let call = rpc::ClientCall::control(
                 ControlBlock::application_ready(ar.ar_uuid, ar.session_key),
                 &diff,
@@ -600,7 +626,8 @@ impl<A: Application> Device<A> {
             return;
         }
         if let Some(cc) = ar.provider.take_due(now_ns)
-            && let Some(frame) = ar.produce(&mut self.app, self.frames_produced, mac, cc)
+            && let Some(frame) =
+                ar.produce(&mut self.app, self.frames_produced, mac, cc, station_ok)
         {
             self.frames_produced += 1;
             out.push(DeviceAction::Frame(frame));
@@ -618,71 +645,6 @@ impl<A: Application> Device<A> {
         .into_iter()
         .flatten()
         .min()
-    }
-
-    /// Raises a process alarm (high priority, manufacturer-specific USI 0x0000–0x7FFF with
-    /// `data`) for a submodule of the AR in data exchange. `false` when there is no such AR
-    /// or submodule, the USI is not manufacturer-specific, or the notification is longer than
-    /// the AR's MaxAlarmDataLength (at most 200 bytes; a longer one would not fit what the
-    /// controller accepts, or even one frame). The controller's AlarmAck shows up in
-    /// [`alarm_acks`](Self::alarm_acks).
-    #[allow(clippy::too_many_arguments)]
-    pub fn raise_process_alarm(
-        &mut self,
-        api: u32,
-        slot: u16,
-        subslot: u16,
-        usi: u16,
-        data: &[u8],
-        now_ns: u64,
-        out: &mut Vec<DeviceAction>,
-    ) -> bool {
-        let mac = self.id.mac;
-        if usi >= 0x8000 {
-            return false;
-        }
-        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
-            return false;
-        };
-        let Some(s) = ar.submodules.iter().find(|s| {
-            let e = &s.expected;
-            s.proper && (e.api, e.slot, e.subslot) == (api, slot, subslot)
-        }) else {
-            return false;
-        };
-        let n = AlarmNotification {
-            priority: Priority::High,
-            alarm_type: AlarmType::Process,
-            api,
-            slot,
-            subslot,
-            module_ident: s.expected.module_ident,
-            submodule_ident: s.expected.submodule_ident,
-            specifier: AlarmSpecifier {
-                sequence_number: ar.alarms.sequence,
-                ..AlarmSpecifier::default()
-            },
-            maintenance: None,
-            item: Some(AlarmItem::Other {
-                usi,
-                data: data.to_vec(),
-            }),
-        };
-        if n.buffer_len() > usize::from(ar.alarms.max_data_length) {
-            return false;
-        }
-        ar.alarms.sequence = (ar.alarms.sequence + 1) & AlarmSpecifier::SEQUENCE_MASK;
-        let abort = ar.alarms.send(
-            Priority::High,
-            vec![AlarmBlock::Notification(n)],
-            mac,
-            now_ns,
-            out,
-        );
-        if let Some(a) = abort {
-            self.end_ar(a.code);
-        }
-        true
     }
 
     /// Ends the AR from our side: ERR-RTA to the controller, back to Idle.

@@ -2,20 +2,32 @@
 //! Record data: the Write (single and WriteMultiple 0xE040) and Read services of the
 //! device.
 //!
+//! The device serves these records itself:
+//! - I&M0 (0xAFF0) from its description, I&M1–I&M4 (0xAFF1–0xAFF4) as written (see
+//!   [`super::im`]), I&M0FilterData (0xF840);
+//! - the diagnosis records of every level (0x800A–0x8013, 0xC00A–0xC013, 0xE00A–0xE013,
+//!   0xF00A–0xF013, 0xF80C) from the diagnosis store;
+//! - the identification records: expected 0x8000/0xC000/0xE000 (the AR's), real
+//!   0x8001/0xC001/0xE001/0xF000 (what is plugged), and the AR's ModuleDiffBlock 0xE002.
+//!
 //! Writes are accepted for user indices (0x0000–0x7FFF) of any plugged submodule, for the
 //! PDev records (0x8000–0x80FF) of the interface and port submodules (subslots 0x8000 and
-//! up; an S7 writes PDInterfaceAdjust 0x8071 there) and for I&M1–3; the data is kept for the
-//! AR and read back as written. PDInterfaceAdjust also sets where the device's LLDP frames
-//! carry its name ([`super::lldp::NameOfDeviceMode`]). Reads serve I&M0 (0xAFF0) from the device's description,
-//! what was written, and the diagnosis indices (empty: the simulated device has none). The
-//! rest is refused with a PNIORW status: invalid index, invalid slot/subslot, access denied.
+//! up; an S7 writes PDInterfaceAdjust 0x8071 there) and for I&M1–I&M4; the user and PDev
+//! data is kept for the AR and read back as written. PDInterfaceAdjust also sets where the
+//! device's LLDP frames carry its name ([`super::lldp::NameOfDeviceMode`]). The records the
+//! device serves are read-only; the rest is refused with a PNIORW status: invalid index,
+//! invalid slot/subslot, access denied, state conflict (the AR's records without an AR).
 
 use super::PluggedSubmodule;
+use super::ar::ArSubmodule;
 use super::connect::{CMRPC, CMRPC_AR_UUID_UNKNOWN, CMRPC_ARGS_LENGTH, CMRPC_UNKNOWN_BLOCKS};
-use crate::wire::record::Im0;
+use super::diagnosis::records::{DiagnosisScope, diagnosis_index};
+use super::diagnosis::{DiagnosisStore, SubslotAddr};
+use super::identification::{expected_data, module_diff, real_data};
+use super::im::{ImRecords, filter_data};
 use crate::wire::record::{
-    ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, IodHeader, IodKind, RecordError, RecordErrorCode,
-    split_write_multiple,
+    ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, INDEX_IM0_FILTER_DATA, INDEX_IM4,
+    INDEX_MODULE_DIFF, Im0, IodHeader, IodKind, RecordError, RecordErrorCode, split_write_multiple,
 };
 use crate::wire::{PnioStatus, Uuid};
 use std::collections::HashMap;
@@ -47,10 +59,20 @@ pub(super) struct ArRecords<'a> {
     pub(super) records: &'a mut Records,
 }
 
+/// What of the device a write may change besides the AR's records.
+pub(super) struct DeviceWrite<'a> {
+    /// What is plugged.
+    pub(super) real: &'a [PluggedSubmodule],
+    /// I&M1–I&M4.
+    pub(super) im: &'a mut ImRecords,
+    /// Writes of I&M1–I&M4 taken.
+    pub(super) im_writes: &'a mut u64,
+}
+
 /// Handles a Write request's blocks: the RPC-level status and the response blocks.
 pub(super) fn write(
     ar: Option<ArRecords<'_>>,
-    real: &[PluggedSubmodule],
+    dev: DeviceWrite<'_>,
     blocks: &[u8],
 ) -> (PnioStatus, Vec<u8>) {
     let Ok((outer, data, rest)) = IodHeader::split(blocks) else {
@@ -75,8 +97,9 @@ pub(super) fn write(
         let s = pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_ARGS_LENGTH);
         return (s, respond(&outer, s).to_bytes().to_vec());
     }
+    let mut dev = dev;
     if !outer.is_write_multiple() {
-        let s = write_one(ar.records, real, &outer, data);
+        let s = write_one(ar.records, &mut dev, &outer, data);
         return (s, respond(&outer, s).to_bytes().to_vec());
     }
     let Ok(writes) = split_write_multiple(data) else {
@@ -89,7 +112,7 @@ pub(super) fn write(
             if h.ar_uuid != ar.ar_uuid {
                 RecordError::write(RecordErrorCode::StateConflict, 0).status()
             } else {
-                write_one(ar.records, real, h, d)
+                write_one(ar.records, &mut dev, h, d)
             }
         })
         .collect();
@@ -107,26 +130,45 @@ pub(super) fn write(
 }
 
 /// Whether (API, slot, subslot) is plugged.
-fn plugged(real: &[PluggedSubmodule], api: u32, slot: u16, subslot: u16) -> bool {
-    real.iter()
-        .any(|r| (r.api, r.slot, r.subslot) == (api, slot, subslot))
+fn plugged(real: &[PluggedSubmodule], at: SubslotAddr) -> bool {
+    real.iter().any(|r| r.addr() == at)
+}
+
+/// Whether `index` is one the device serves itself and so cannot be written: the
+/// identification, ModuleDiff and diagnosis records.
+fn served(index: u16) -> bool {
+    matches!(
+        index,
+        0x8000 | 0x8001 | 0xc000 | 0xc001 | 0xe000..=0xe002 | 0xf000
+    ) || diagnosis_index(index).is_some()
+        || index == INDEX_IM0_FILTER_DATA
 }
 
 fn write_one(
     records: &mut Records,
-    real: &[PluggedSubmodule],
+    dev: &mut DeviceWrite<'_>,
     h: &IodHeader,
     data: &[u8],
 ) -> PnioStatus {
     let fail = |code| RecordError::write(code, 0).status();
-    if !plugged(real, h.api, h.slot, h.subslot) {
+    if !plugged(dev.real, SubslotAddr::new(h.api, h.slot, h.subslot)) {
         return fail(RecordErrorCode::InvalidSlotSubslot);
+    }
+    if served(h.index) {
+        return fail(RecordErrorCode::AccessDenied);
+    }
+    if (INDEX_IM0..=INDEX_IM4).contains(&h.index) {
+        return match dev.im.write(h.index - INDEX_IM0, data) {
+            Ok(()) => {
+                *dev.im_writes = dev.im_writes.saturating_add(1);
+                PnioStatus::OK
+            }
+            Err(e) => e.status(),
+        };
     }
     let writable = match h.index {
         0x0000..=0x7fff => true,
         0x8000..=0x80ff => h.subslot >= 0x8000,
-        0xaff1..=0xaff3 => true,
-        INDEX_IM0 => return fail(RecordErrorCode::AccessDenied),
         _ => false,
     };
     if !writable {
@@ -145,21 +187,34 @@ fn write_one(
     PnioStatus::OK
 }
 
-/// Whether `index` is one of the diagnosis records (channel, all, DMQS, maintenance) at
-/// subslot, slot, AR, API or device level: the device has no diagnosis, so they read empty.
-fn is_diagnosis(index: u16) -> bool {
-    let low = index & 0x0fff;
-    let level_ok = matches!(index >> 12, 0x8 | 0xc | 0xe | 0xf);
-    (level_ok && matches!(low, 0x00a..=0x00c | 0x010..=0x013)) || index == 0xf80c
+/// The AR a read may see: the one it names (Read) or targets (ReadImplicit).
+pub(super) struct ArView<'a> {
+    /// ARUUID.
+    pub(super) ar_uuid: Uuid,
+    /// What was written in it.
+    pub(super) records: &'a Records,
+    /// Its expected submodules.
+    pub(super) submodules: &'a [ArSubmodule],
+}
+
+/// What of the device a read may see.
+pub(super) struct DeviceRead<'a> {
+    /// What is plugged.
+    pub(super) real: &'a [PluggedSubmodule],
+    /// I&M0.
+    pub(super) im0: &'a Im0,
+    /// I&M1–I&M4.
+    pub(super) im: &'a ImRecords,
+    /// The pending diagnosis.
+    pub(super) diagnosis: &'a DiagnosisStore,
 }
 
 /// Handles a Read (or ReadImplicit) request's blocks: the RPC-level status and the response
 /// blocks. `ar` is the current AR; a Read (not implicit) must name it.
 pub(super) fn read(
     implicit: bool,
-    ar: Option<(Uuid, &Records)>,
-    real: &[PluggedSubmodule],
-    im0: &Im0,
+    ar: Option<ArView<'_>>,
+    dev: &DeviceRead<'_>,
     blocks: &[u8],
 ) -> (PnioStatus, Vec<u8>) {
     let Ok(h) = IodHeader::parse(blocks) else {
@@ -172,13 +227,13 @@ pub(super) fn read(
         );
     }
     let result = if implicit {
-        // ReadImplicit runs outside any AR; records written in an AR are read through it
-        // when the TargetARUUID names it.
-        let records = ar.filter(|(u, _)| *u == h.target_ar_uuid).map(|(_, r)| r);
-        read_one(records, real, im0, &h)
+        // ReadImplicit runs outside any AR; the AR's records (written or its own) are read
+        // through it when the TargetARUUID names it.
+        let ar = ar.filter(|a| a.ar_uuid == h.target_ar_uuid);
+        read_one(ar.as_ref(), dev, &h)
     } else {
-        match ar.filter(|(u, _)| *u == h.ar_uuid) {
-            Some((_, records)) => read_one(Some(records), real, im0, &h),
+        match ar.filter(|a| a.ar_uuid == h.ar_uuid) {
+            Some(a) => read_one(Some(&a), dev, &h),
             None => Err(pnio(ERROR_CODE_READ, CMRPC, CMRPC_AR_UUID_UNKNOWN)),
         }
     };
@@ -197,26 +252,108 @@ pub(super) fn read(
     (status, out)
 }
 
+/// The expected submodules of `ar` that `keep` selects.
+fn expected_of<'a>(
+    ar: Option<&'a ArView<'_>>,
+    keep: impl Fn(SubslotAddr) -> bool + 'a,
+) -> impl Iterator<Item = &'a ArSubmodule> + 'a {
+    ar.into_iter()
+        .flat_map(|a| a.submodules.iter())
+        .filter(move |s| keep(s.expected.addr()))
+}
+
 fn read_one(
-    records: Option<&Records>,
-    real: &[PluggedSubmodule],
-    im0: &Im0,
+    ar: Option<&ArView<'_>>,
+    dev: &DeviceRead<'_>,
     h: &IodHeader,
 ) -> Result<Vec<u8>, PnioStatus> {
     let fail = |code| RecordError::read(code, 0).status();
-    if !plugged(real, h.api, h.slot, h.subslot) {
-        return Err(fail(RecordErrorCode::InvalidSlotSubslot));
+    let at = SubslotAddr::new(h.api, h.slot, h.subslot);
+    let in_ar = |pick: &dyn Fn(SubslotAddr) -> bool| expected_of(ar, pick).next().is_some();
+    // The levels: the subslot and slot must exist (plugged or expected), the others not.
+    let subslot_known = plugged(dev.real, at) || in_ar(&|a| a == at);
+    let same_slot = |a: SubslotAddr| (a.api, a.slot) == (at.api, at.slot);
+    let slot_known = dev.real.iter().any(|r| same_slot(r.addr())) || in_ar(&same_slot);
+    let emitted = |r: crate::wire::EmitResult<Vec<u8>>| {
+        r.map_err(|_| fail(RecordErrorCode::ReadConstrainConflict))
+    };
+    if let Some((scope, selection)) = diagnosis_index(h.index) {
+        let mut real: Vec<SubslotAddr> = dev.real.iter().map(PluggedSubmodule::addr).collect();
+        real.sort();
+        let subslots: Vec<SubslotAddr> = match scope {
+            DiagnosisScope::Subslot if !subslot_known => {
+                return Err(fail(RecordErrorCode::InvalidSlotSubslot));
+            }
+            DiagnosisScope::Slot if !slot_known => {
+                return Err(fail(RecordErrorCode::InvalidSlotSubslot));
+            }
+            DiagnosisScope::Subslot => vec![at],
+            DiagnosisScope::Slot => real.into_iter().filter(|a| same_slot(*a)).collect(),
+            // Without an AR there are none of its submodules to report on.
+            DiagnosisScope::Ar => expected_of(ar, |_| true)
+                .filter(|s| s.proper)
+                .map(|s| s.expected.addr())
+                .collect(),
+            DiagnosisScope::Api => real.into_iter().filter(|a| a.api == at.api).collect(),
+            DiagnosisScope::Device => real,
+        };
+        return emitted(dev.diagnosis.record(selection, subslots));
     }
-    if h.index == INDEX_IM0 {
-        return Ok(im0.to_bytes().to_vec());
+    let needs_ar = || ar.ok_or_else(|| fail(RecordErrorCode::StateConflict));
+    match h.index {
+        0x8000 | 0x8001 if !subslot_known => Err(fail(RecordErrorCode::InvalidSlotSubslot)),
+        0xc000 | 0xc001 if !slot_known => Err(fail(RecordErrorCode::InvalidSlotSubslot)),
+        0x8000 | 0xc000 | 0xe000 => {
+            needs_ar()?;
+            let pick = |a: SubslotAddr| match h.index {
+                0x8000 => a == at,
+                0xc000 => same_slot(a),
+                _ => true,
+            };
+            let expected: Vec<_> = expected_of(ar, pick).map(|s| &s.expected).collect();
+            // Nothing of it in the AR: nothing to report.
+            if expected.is_empty() {
+                return Ok(Vec::new());
+            }
+            emitted(expected_data(expected).to_vec())
+        }
+        0x8001 | 0xc001 | 0xe001 | 0xf000 => {
+            let real: Vec<&PluggedSubmodule> = match h.index {
+                0x8001 => dev.real.iter().filter(|r| r.addr() == at).collect(),
+                0xc001 => dev.real.iter().filter(|r| same_slot(r.addr())).collect(),
+                0xe001 => {
+                    let a = needs_ar()?;
+                    dev.real
+                        .iter()
+                        .filter(|r| a.submodules.iter().any(|s| s.expected.addr() == r.addr()))
+                        .collect()
+                }
+                _ => dev.real.iter().filter(|r| r.api == at.api).collect(),
+            };
+            if real.is_empty() {
+                return Ok(Vec::new());
+            }
+            emitted(real_data(real).to_vec())
+        }
+        INDEX_MODULE_DIFF => {
+            let a = needs_ar()?;
+            let expected: Vec<_> = a.submodules.iter().map(|s| s.expected).collect();
+            match module_diff(&expected, dev.real, dev.diagnosis) {
+                Some(d) => emitted(d.to_vec()),
+                None => Ok(Vec::new()),
+            }
+        }
+        INDEX_IM0_FILTER_DATA => emitted(filter_data(dev.real).to_vec()),
+        _ if !plugged(dev.real, at) => Err(fail(RecordErrorCode::InvalidSlotSubslot)),
+        INDEX_IM0..=INDEX_IM4 => dev
+            .im
+            .read(dev.im0, h.index - INDEX_IM0)
+            .ok_or_else(|| fail(RecordErrorCode::InvalidIndex)),
+        _ => ar
+            .and_then(|a| a.records.get(&(h.api, h.slot, h.subslot, h.index)))
+            .cloned()
+            .ok_or_else(|| fail(RecordErrorCode::InvalidIndex)),
     }
-    if let Some(d) = records.and_then(|r| r.get(&(h.api, h.slot, h.subslot, h.index))) {
-        return Ok(d.clone());
-    }
-    if is_diagnosis(h.index) {
-        return Ok(Vec::new());
-    }
-    Err(fail(RecordErrorCode::InvalidIndex))
 }
 
 #[cfg(test)]
@@ -224,12 +361,15 @@ mod tests {
     use super::*;
 
     #[test]
-    fn diagnosis_indices() {
-        for i in [0x800a, 0x800c, 0x8010, 0xc00b, 0xe00a, 0xf00c, 0xf80c] {
-            assert!(is_diagnosis(i), "{i:#06x}");
+    fn served_indices_are_read_only() {
+        for i in [
+            0x800a, 0x800c, 0x8010, 0xc00b, 0xe00a, 0xf00c, 0xf80c, 0x8000, 0x8001, 0xe002, 0xf000,
+            0xf840,
+        ] {
+            assert!(served(i), "{i:#06x}");
         }
-        for i in [0x8000, 0x8071, 0xaff0, 0x000a, 0xf841] {
-            assert!(!is_diagnosis(i), "{i:#06x}");
+        for i in [0x8071, 0xaff0, 0xaff1, 0x000a, 0xf841, 0x802f] {
+            assert!(!served(i), "{i:#06x}");
         }
     }
 }

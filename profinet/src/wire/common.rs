@@ -85,8 +85,28 @@ enum_with_unknown! {
         IodWriteReqHeader = 0x0008 => "IODWriteReqHeader",
         /// 0x0009 IODReadReqHeader.
         IodReadReqHeader = 0x0009 => "IODReadReqHeader",
+        /// 0x0010 DiagnosisData (the diagnosis records).
+        DiagnosisData = 0x0010 => "DiagnosisData",
+        /// 0x0012 ExpectedIdentificationData (records 0x8000, 0xC000, 0xE000).
+        ExpectedIdentificationData = 0x0012 => "ExpectedIdentificationData",
+        /// 0x0013 RealIdentificationData (records 0x8001, 0xC001, 0xE001, 0xF000).
+        RealIdentificationData = 0x0013 => "RealIdentificationData",
         /// 0x0020 I&M0.
         Im0 = 0x0020 => "I&M0",
+        /// 0x0021 I&M1.
+        Im1 = 0x0021 => "I&M1",
+        /// 0x0022 I&M2.
+        Im2 = 0x0022 => "I&M2",
+        /// 0x0023 I&M3.
+        Im3 = 0x0023 => "I&M3",
+        /// 0x0024 I&M4.
+        Im4 = 0x0024 => "I&M4",
+        /// 0x0030 I&M0FilterDataSubmodule (record 0xF840).
+        Im0FilterDataSubmodule = 0x0030 => "I&M0FilterDataSubmodule",
+        /// 0x0031 I&M0FilterDataModule (record 0xF840).
+        Im0FilterDataModule = 0x0031 => "I&M0FilterDataModule",
+        /// 0x0032 I&M0FilterDataDevice (record 0xF840).
+        Im0FilterDataDevice = 0x0032 => "I&M0FilterDataDevice",
         /// 0x0101 ARBlockReq.
         ArBlockReq = 0x0101 => "ARBlockReq",
         /// 0x0102 IOCRBlockReq.

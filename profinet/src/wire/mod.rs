@@ -100,6 +100,7 @@ pub mod connect;
 pub mod control;
 mod cursor;
 pub mod dcp;
+pub mod diagnosis;
 pub mod ethernet;
 pub mod lldp;
 pub mod record;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Record data Read and Write: the IOD request and response headers, WriteMultiple (index
-//! 0xE040), the I&M0 record and the PNIORW error codes.
+//! 0xE040), the PNIORW error codes, and the records a device serves itself: I&M0–I&M4
+//! ([`Im0`] to [`Im4`]), the diagnosis records ([`DiagnosisData`]), the identification records and
+//! I&M0FilterData ([`IdentificationData`], [`Im0FilterData`]).
 //!
 //! A Read (opnum 2, or 5 for ReadImplicit) or Write (opnum 3) carries, after the RPC and NDR
 //! headers, one header block with a 58-byte body (BlockLength 0x003C, 64 bytes in all),
@@ -29,15 +31,62 @@ use super::common::BLOCK_HEADER_LEN;
 use super::cursor::{Reader, Writer};
 use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, PnioStatus, Result, Uuid};
 
+mod diagnosis;
+mod identification;
+mod im;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_examples;
+
+pub use diagnosis::DiagnosisData;
+pub use identification::{
+    IdentApi, IdentModule, IdentSubmodule, IdentificationData, IdentificationKind, Im0FilterData,
+    Im0FilterKind,
+};
+pub use im::{IM0_LEN, IM1_LEN, IM2_LEN, Im0, Im1, Im2, Im3, Im4, SoftwareRevision, blank_padded};
+
+/// BlockVersion of the diagnosis and identification records: 1.0 knows API 0 alone and has
+/// no field for the API, 1.1 carries it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RecordVersion {
+    /// 1.0: API 0 implied.
+    V1_0,
+    /// 1.1: with the API.
+    V1_1,
+}
+
+impl RecordVersion {
+    /// BlockVersionLow.
+    pub const fn low(self) -> u8 {
+        match self {
+            RecordVersion::V1_0 => 0,
+            RecordVersion::V1_1 => 1,
+        }
+    }
+
+    /// The version of a block header; `None` for anything but 1.0 and 1.1.
+    pub(crate) const fn of(h: &BlockHeader) -> Option<RecordVersion> {
+        match (h.version_high, h.version_low) {
+            (1, 0) => Some(RecordVersion::V1_0),
+            (1, 1) => Some(RecordVersion::V1_1),
+            _ => None,
+        }
+    }
+}
 
 /// Index of a WriteMultiple.
 pub const INDEX_WRITE_MULTIPLE: u16 = 0xe040;
 /// Index of I&M0 (I&M1..I&M15 follow at 0xAFF1..0xAFFF).
 pub const INDEX_IM0: u16 = 0xaff0;
+/// Index of I&M4, the last I&M record the device serves.
+pub const INDEX_IM4: u16 = 0xaff4;
 /// Index of I&M0FilterData (which submodules carry their own I&M0).
 pub const INDEX_IM0_FILTER_DATA: u16 = 0xf840;
+/// Index of the ModuleDiffBlock of an AR.
+pub const INDEX_MODULE_DIFF: u16 = 0xe002;
+/// Index of the device-level diagnosis record (diagnosis, maintenance, qualified, status).
+pub const INDEX_DEVICE_DIAGNOSIS: u16 = 0xf80c;
 /// API of the outer header of a WriteMultiple.
 pub const WRITE_MULTIPLE_API: u32 = 0xffff_ffff;
 /// Slot and subslot of the outer header of a WriteMultiple.
@@ -49,10 +98,6 @@ pub const WRITE_MULTIPLE_ALIGN: usize = 4;
 pub const IOD_HEADER_BODY_LEN: usize = 58;
 /// Bytes of a whole IOD header block.
 pub const IOD_HEADER_LEN: usize = BLOCK_HEADER_LEN + IOD_HEADER_BODY_LEN;
-/// Bytes of a whole I&M0 block.
-pub const IM0_LEN: usize = 60;
-/// Bytes of an I&M0 body (after the block header).
-const IM0_BODY_LEN: usize = IM0_LEN - BLOCK_HEADER_LEN;
 
 /// ErrorCode of a failed record read (IODReadRes).
 pub const ERROR_CODE_READ: u8 = 0xde;
@@ -450,166 +495,6 @@ pub fn split_write_multiple_response(b: &[u8]) -> Result<(IodHeader, Vec<IodHead
     }
     let outer = headers.remove(0);
     Ok((outer, headers))
-}
-
-/// SoftwareRevision of I&M0: a prefix character and three numbers, e.g. `V0.2.0`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct SoftwareRevision {
-    /// SWRevisionPrefix: an ASCII character, 'V' official release, 'R' revision,
-    /// 'P' prototype, 'U' under test, 'T' test device.
-    pub prefix: u8,
-    /// SWRevisionFunctionalEnhancement.
-    pub functional_enhancement: u8,
-    /// SWRevisionBugFix.
-    pub bug_fix: u8,
-    /// SWRevisionInternalChange.
-    pub internal_change: u8,
-}
-
-impl core::fmt::Display for SoftwareRevision {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        if self.prefix.is_ascii_graphic() {
-            write!(f, "{}", char::from(self.prefix))?;
-        } else {
-            write!(f, "<{:#04x}>", self.prefix)?;
-        }
-        write!(
-            f,
-            "{}.{}.{}",
-            self.functional_enhancement, self.bug_fix, self.internal_change
-        )
-    }
-}
-
-/// The I&M0 record (block 0x0020, 60 bytes), read at index 0xAFF0.
-///
-/// The strings are fixed-size, blank-padded visible ASCII; they are kept as bytes so that
-/// parsing is lossless, see [`Im0::order_id_str`] and [`blank_padded`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Im0 {
-    /// VendorID (MANUFACTURER_ID).
-    pub vendor_id: u16,
-    /// OrderID, 20 bytes.
-    pub order_id: [u8; 20],
-    /// IM_Serial_Number, 16 bytes.
-    pub serial_number: [u8; 16],
-    /// IM_Hardware_Revision.
-    pub hardware_revision: u16,
-    /// IM_Software_Revision.
-    pub software_revision: SoftwareRevision,
-    /// IM_Revision_Counter.
-    pub revision_counter: u16,
-    /// IM_Profile_ID.
-    pub profile_id: u16,
-    /// IM_Profile_Specific_Type.
-    pub profile_specific_type: u16,
-    /// IM_Version (major, minor), e.g. (1, 1).
-    pub im_version: (u8, u8),
-    /// IM_Supported: bit n set = I&Mn (n = 1..=15) is available.
-    pub im_supported: u16,
-}
-
-impl Im0 {
-    /// Parses the I&M0 block at the start of `b` (the record data of a Read response of
-    /// index 0xAFF0). Another block type or a body of the wrong length gives [`Error`].
-    pub fn parse(b: &[u8]) -> Result<Im0> {
-        let h = BlockHeader::parse(b)?;
-        if h.block_type != BlockType::Im0 || h.body_len() != IM0_BODY_LEN {
-            return Err(Error);
-        }
-        let mut r = Reader::new(h.body(b));
-        Ok(Im0 {
-            vendor_id: r.u16()?,
-            order_id: r.array()?,
-            serial_number: r.array()?,
-            hardware_revision: r.u16()?,
-            software_revision: SoftwareRevision {
-                prefix: r.u8()?,
-                functional_enhancement: r.u8()?,
-                bug_fix: r.u8()?,
-                internal_change: r.u8()?,
-            },
-            revision_counter: r.u16()?,
-            profile_id: r.u16()?,
-            profile_specific_type: r.u16()?,
-            im_version: (r.u8()?, r.u8()?),
-            im_supported: r.u16()?,
-        })
-    }
-
-    /// Bytes of the block ([`IM0_LEN`]).
-    pub const fn buffer_len(&self) -> usize {
-        IM0_LEN
-    }
-
-    /// Writes the block into the first [`IM0_LEN`] bytes of `buf`; a shorter buffer gives
-    /// [`EmitError::BufferTooShort`].
-    pub fn emit(&self, buf: &mut [u8]) -> EmitResult<()> {
-        EmitError::check_len("I&M0 block", IM0_LEN, buf.len())?;
-        let mut w = Writer::new("I&M0 block", buf);
-        w.block_header(BlockType::Im0, IM0_BODY_LEN)?;
-        w.u16(self.vendor_id)?;
-        w.put(&self.order_id)?;
-        w.put(&self.serial_number)?;
-        w.u16(self.hardware_revision)?;
-        let s = self.software_revision;
-        w.put(&[
-            s.prefix,
-            s.functional_enhancement,
-            s.bug_fix,
-            s.internal_change,
-        ])?;
-        w.u16(self.revision_counter)?;
-        w.u16(self.profile_id)?;
-        w.u16(self.profile_specific_type)?;
-        w.put(&[self.im_version.0, self.im_version.1])?;
-        w.u16(self.im_supported)
-    }
-
-    /// The block as 60 bytes.
-    pub fn to_bytes(&self) -> [u8; IM0_LEN] {
-        let mut b = [0u8; IM0_LEN];
-        // Cannot fail: the buffer has exactly the length emit needs.
-        let _ = self.emit(&mut b);
-        b
-    }
-
-    /// OrderID without the trailing blanks; `None` if it is not UTF-8.
-    pub fn order_id_str(&self) -> Option<&str> {
-        trimmed(&self.order_id)
-    }
-
-    /// IM_Serial_Number without the trailing blanks; `None` if it is not UTF-8.
-    pub fn serial_number_str(&self) -> Option<&str> {
-        trimmed(&self.serial_number)
-    }
-
-    /// Whether I&Mn is available according to IM_Supported (`n` in 1..=15; false otherwise).
-    pub const fn supports(&self, n: u8) -> bool {
-        n >= 1 && n <= 15 && self.im_supported & (1 << n) != 0
-    }
-}
-
-/// `b` without trailing blanks and NULs, as text.
-fn trimmed(b: &[u8]) -> Option<&str> {
-    let end = b
-        .iter()
-        .rposition(|&c| c != b' ' && c != 0)
-        .map_or(0, |i| i + 1);
-    core::str::from_utf8(b.get(..end)?).ok()
-}
-
-/// `s` as an `N`-byte blank-padded field (I&M strings). Anything but visible ASCII and blanks,
-/// or more than `N` bytes, gives [`Error`].
-pub fn blank_padded<const N: usize>(s: &str) -> Result<[u8; N]> {
-    let mut out = [b' '; N];
-    if s.len() > N || !s.bytes().all(|c| c == b' ' || c.is_ascii_graphic()) {
-        return Err(Error);
-    }
-    out.get_mut(..s.len())
-        .ok_or(Error)?
-        .copy_from_slice(s.as_bytes());
-    Ok(out)
 }
 
 /// The class of a PNIORW ErrorCode1 (its high nibble).

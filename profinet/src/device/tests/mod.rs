@@ -10,7 +10,7 @@ use crate::dcp_client;
 use crate::iocr_layout::{IocrLayout, SubmoduleIo};
 use crate::test_fixtures::capture;
 use crate::wire::PnioStatus;
-use crate::wire::alarm::AlarmAck;
+use crate::wire::alarm::{AlarmAck, AlarmBlock, Priority};
 use crate::wire::connect::{
     AlarmCrBlockReq, ArBlockReq, ConnectRequest, ConnectResponse, ExpectedModule,
     ExpectedSubmodule, ExpectedSubmoduleBlockReq, IdentInfo, IocrBlockReq, ModuleState,
@@ -24,6 +24,8 @@ use crate::wire::rpc::{Ndr, opnum};
 use crate::wire::rt::{self, data_status};
 use crate::wire::rta_pdu::{ErrRta, RtaBody};
 use std::net::Ipv4Addr;
+
+mod diagnosis;
 
 /// The applications these tests need: inputs left alone, the echo of the submodule's own
 /// outputs, or a big-endian u32 count of the frames produced.
@@ -1127,15 +1129,20 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
         PnioStatus::from_bytes([0xdf, 0x80, 0xb6, 0])
     );
     assert_eq!(
-        write(&mut dev, 6, 0xc000),
+        write(&mut dev, 6, 0xb000),
         PnioStatus::from_bytes([0xdf, 0x80, 0xb0, 0])
     );
-    assert_eq!(write(&mut dev, 7, 0x0010), PnioStatus::OK);
+    // The records the device serves itself are read-only too.
+    assert_eq!(
+        write(&mut dev, 7, 0xc000),
+        PnioStatus::from_bytes([0xdf, 0x80, 0xb6, 0])
+    );
+    assert_eq!(write(&mut dev, 8, 0x0010), PnioStatus::OK);
     // ReadImplicit of I&M0 works without naming the AR.
     let h = IodHeader::read_request(0, Uuid::NIL, 0, 0, 1, 0xaff0, 4096);
     let r = call(
         &mut dev,
-        &request(opnum::READ_IMPLICIT, ACTIVITY, 8, &h.to_bytes(), true),
+        &request(opnum::READ_IMPLICIT, ACTIVITY, 9, &h.to_bytes(), true),
         10 * MS,
     );
     let (_, data, _) = IodHeader::split(&r.blocks).unwrap();

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! What is expected and what is plugged, as the identification records (0x8000/0x8001,
+//! 0xC000/0xC001, 0xE000/0xE001, 0xF000) and the ModuleDiffBlock (Connect response,
+//! ApplicationReady, record 0xE002) give it.
+//!
+//! The identification blocks are written in BlockVersion 1.1 (with the API level), as
+//! current devices do; the expected configuration is the AR's, in the Connect's order, the
+//! real one sorted by API, slot and subslot.
+
+use super::connect::{self, Expected};
+use super::diagnosis::{DiagnosisStore, SubslotAddr};
+use super::{Application, Device, PluggedSubmodule};
+use crate::wire::connect::ModuleDiffBlock;
+use crate::wire::record::{IdentApi, IdentificationData, IdentificationKind, RecordVersion};
+
+/// ExpectedIdentificationData of `expected`.
+pub(super) fn expected_data<'a>(
+    expected: impl IntoIterator<Item = &'a Expected>,
+) -> IdentificationData {
+    IdentificationData {
+        kind: IdentificationKind::Expected,
+        version: RecordVersion::V1_1,
+        apis: IdentApi::group(
+            expected
+                .into_iter()
+                .map(|e| (e.api, e.slot, e.module_ident, e.subslot, e.submodule_ident)),
+        ),
+    }
+}
+
+/// RealIdentificationData of `real`, sorted by API, slot and subslot.
+pub(super) fn real_data<'a>(
+    real: impl IntoIterator<Item = &'a PluggedSubmodule>,
+) -> IdentificationData {
+    let mut real: Vec<&PluggedSubmodule> = real.into_iter().collect();
+    real.sort_by_key(|r| r.addr());
+    IdentificationData {
+        kind: IdentificationKind::Real,
+        version: RecordVersion::V1_1,
+        apis: IdentApi::group(
+            real.iter()
+                .map(|r| (r.api, r.slot, r.module_ident, r.subslot, r.submodule_ident)),
+        ),
+    }
+}
+
+/// The ModuleDiffBlock of `expected` against `real` with the diagnosis as it is now; `None`
+/// when everything is as expected and free of diagnosis.
+pub(super) fn module_diff(
+    expected: &[Expected],
+    real: &[PluggedSubmodule],
+    diagnosis: &DiagnosisStore,
+) -> Option<ModuleDiffBlock> {
+    let state =
+        |api, slot, subslot| diagnosis.submodule_state(SubslotAddr::new(api, slot, subslot));
+    connect::module_diff(expected, real, state).1
+}
+
+impl<A: Application> Device<A> {
+    /// The ModuleDiffBlock of the current AR as things are now.
+    pub(super) fn ar_module_diff(&self) -> Option<ModuleDiffBlock> {
+        let ar = self.ar.as_ref()?;
+        module_diff(&ar.expected(), &self.submodules, &self.diagnosis)
+    }
+}
