@@ -46,6 +46,8 @@ enum Ready {
 pub struct Launch {
     instance: String,
     config: Option<String>,
+    /// Without a configuration: `--demo` or `--demo-device`.
+    demo: &'static str,
     netns: Option<String>,
     nice: Option<i32>,
     log_file: bool,
@@ -59,11 +61,21 @@ impl Launch {
         Launch {
             instance: unique_instance(tag),
             config: None,
+            demo: "--demo",
             netns: None,
             nice: None,
             log_file: false,
             rust_log: "warn".into(),
             ready: Ready::DevicesRunning,
+        }
+    }
+
+    /// `procimgd --demo-device` (the IO device role, procimg's controller as the PLC) under
+    /// a fresh instance name; by default it waits until the AR is in data exchange.
+    pub fn demo_device(tag: &str) -> Launch {
+        Launch {
+            demo: "--demo-device",
+            ..Launch::demo(tag)
         }
     }
 
@@ -146,7 +158,7 @@ impl Launch {
                 cmd.arg("--config").arg(path);
             }
             None => {
-                cmd.args(["--demo", "--quiet"]);
+                cmd.args([self.demo, "--quiet"]);
             }
         }
         cmd.args(["--instance", &self.instance])
@@ -289,12 +301,16 @@ impl Procimgd {
         self.wait_until(timeout, "did not start cycling", |s| s.cycle_count > 5);
     }
 
-    /// Waits until every device is in data exchange.
+    /// Waits until every device is in data exchange; in the device role, until the station's
+    /// AR is.
     pub fn wait_devices_running(&self, timeout: Duration) {
         self.wait_until(
             timeout,
-            "did not bring its devices into data exchange",
-            |s| s.devices.iter().all(|d| d.state == "running"),
+            "did not bring its devices (or its station's AR) into data exchange",
+            |s| match &s.station {
+                Some(station) => station.ar.as_ref().is_some_and(|a| a.state == "data"),
+                None => s.devices.iter().all(|d| d.state == "running"),
+            },
         );
     }
 

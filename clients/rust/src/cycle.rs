@@ -145,6 +145,11 @@ impl<'c> Cycle<'c> {
         &self.client.layout
     }
 
+    /// The server instance.
+    pub fn instance(&self) -> &str {
+        self.client.instance()
+    }
+
     /// All input data of this cycle, in place in shared memory.
     pub fn inputs(&self) -> &[u8] {
         let n = self.client.layout.header.input_size as usize;

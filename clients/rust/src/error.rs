@@ -162,6 +162,16 @@ pub enum IoError {
         /// Instance name.
         instance: String,
     },
+    /// A call of the device role (I and Q data named from the PLC's view) on a server that
+    /// is an IO controller.
+    #[error(
+        "instance \"{instance}\" is an IO controller, and this is a call of the IO device role; \
+         use the controller's inputs and outputs, or attach to a procimgd with role = \"device\""
+    )]
+    NotDevice {
+        /// Instance name.
+        instance: String,
+    },
 }
 
 /// Why a control request (claim, mode, status) failed.
@@ -170,6 +180,15 @@ pub enum ControlError {
     /// The server refused.
     #[error("{0}")]
     Refused(Refusal),
+    /// A request of the device role on a server that is an IO controller.
+    #[error(
+        "instance \"{instance}\" is an IO controller, and this is a request of the IO device \
+         role; attach to a procimgd with role = \"device\""
+    )]
+    NotDevice {
+        /// Instance name.
+        instance: String,
+    },
     /// The server did not answer.
     #[error("instance \"{instance}\" did not answer within {timeout:?}")]
     NoAnswer {

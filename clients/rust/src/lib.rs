@@ -35,6 +35,7 @@ mod client;
 mod connection;
 mod control;
 mod cycle;
+mod device;
 mod error;
 mod io;
 mod layout;

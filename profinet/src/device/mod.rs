@@ -201,6 +201,8 @@ pub struct Device<A> {
     frames_produced: u64,
     activities: u32,
     last_abort: Option<AbortCode>,
+    /// ARs that ended other than by Release.
+    aborted_ars: u64,
     signals: u32,
     acks: Vec<AlarmAck>,
     /// Set when the caller's cycle runs the cyclic exchange.
@@ -246,6 +248,7 @@ impl<A: Application> Device<A> {
             frames_produced: 0,
             activities: 0,
             last_abort: None,
+            aborted_ars: 0,
             signals: 0,
             acks: Vec::new(),
             handover: None,
@@ -338,6 +341,11 @@ impl<A: Application> Device<A> {
     /// The MAC address of the controller of the current AR.
     pub fn controller_mac(&self) -> Option<MacAddress> {
         self.ar.as_ref().map(Ar::controller_mac)
+    }
+
+    /// How many ARs ended other than by Release (aborted by either side).
+    pub fn aborted_ars(&self) -> u64 {
+        self.aborted_ars
     }
 
     /// Why the last AR ended other than by Release, if one did.
@@ -653,6 +661,7 @@ impl<A: Application> Device<A> {
         if let Some(mut ar) = self.ar.take() {
             ar.alarms.abort(code, mac, out);
             self.last_abort = Some(code);
+            self.aborted_ars += 1;
         }
     }
 
@@ -661,6 +670,7 @@ impl<A: Application> Device<A> {
     fn end_ar(&mut self, code: AbortCode) {
         if self.ar.take().is_some() {
             self.last_abort = Some(code);
+            self.aborted_ars += 1;
         }
     }
 }

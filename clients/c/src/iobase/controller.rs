@@ -197,6 +197,16 @@ fn attach_failure(cp: u32, instance: &str, e: &AttachError) -> u32 {
 fn attach_and_claim(cp: u32, instance: &str, opts: AttachOptions) -> Result<Client, u32> {
     let mut client =
         Client::attach(instance, opts).map_err(|e| attach_failure(cp, instance, &e))?;
+    if client.is_device() {
+        return Err(fail(
+            OPEN,
+            PNIO_ERR_INVALID_CONFIG,
+            format_args!(
+                "instance \"{instance}\" is an IO device (role = \"device\"): the IO-Base \
+                 controller interface needs a procimgd in the controller role"
+            ),
+        ));
+    }
     let outputs: Vec<usize> = client.layout().output_submodules().collect();
     if !outputs.is_empty() {
         client.claim(&outputs).map_err(|e| {

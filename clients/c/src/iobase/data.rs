@@ -134,6 +134,8 @@ fn io_failure(f: &str, ctl: &Controller, e: IoError) -> u32 {
             ),
         ),
         IoError::NoImage { .. } | IoError::ServerGone { .. } => fail(f, PNIO_ERR_NO_CONNECTION, e),
+        // The controller API makes no device-role calls.
+        IoError::NotDevice { .. } => fail(f, PNIO_ERR_INVALID_CONFIG, e),
     }
 }
 

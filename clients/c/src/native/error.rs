@@ -150,6 +150,9 @@ impl From<IoError> for Fail {
             IoError::NoImage { .. } => PROCIMG_ERR_NO_IMAGE,
             IoError::NotDelivered(_) => PROCIMG_ERR_NOT_DELIVERED,
             IoError::ServerGone { .. } => PROCIMG_ERR_SERVER_GONE,
+            // The native API makes no device-role calls; should one come, the server's role
+            // refuses it.
+            IoError::NotDevice { .. } => PROCIMG_ERR_REFUSED,
         };
         Fail::new(code, e.to_string())
     }
@@ -158,7 +161,7 @@ impl From<IoError> for Fail {
 impl From<ControlError> for Fail {
     fn from(e: ControlError) -> Fail {
         let code = match &e {
-            ControlError::Refused(_) => PROCIMG_ERR_REFUSED,
+            ControlError::Refused(_) | ControlError::NotDevice { .. } => PROCIMG_ERR_REFUSED,
             ControlError::NoAnswer { .. } => PROCIMG_ERR_TIMEOUT,
             // Control requests come from an attached client: its server went away.
             ControlError::NoServer { .. } | ControlError::Transport { .. } => {

@@ -9,7 +9,7 @@
 use crossbeam_queue::ArrayQueue;
 use procimg_nic::MAX_FRAME;
 use procimg_profinet::cyclic::CyclicAr;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// Frame buffers in circulation.
 const BUFFERS: usize = 256;
@@ -102,6 +102,9 @@ pub struct Channel {
     pub free: ArrayQueue<Box<FrameBuf>>,
     /// Interface counters.
     pub counters: NetCounters,
+    /// In the device role: the station has a fault diagnosis pending, which the produced
+    /// frames' DataStatus says (StationProblemIndicator); set by the acyclic side.
+    pub station_problem: AtomicBool,
 }
 
 impl Default for Channel {
@@ -125,6 +128,7 @@ impl Channel {
             from_cycle: ArrayQueue::new(DEPTH),
             free,
             counters: NetCounters::default(),
+            station_problem: AtomicBool::new(false),
         }
     }
 

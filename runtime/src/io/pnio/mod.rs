@@ -21,6 +21,7 @@ use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
 use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 /// How long a started exchange may wait for the device's first frame: devices begin
 /// sending only once their ApplicationReady is answered, after the record writes and PrmEnd
@@ -351,10 +352,13 @@ impl<N: Nic + 'static> IoSystem for PnioIo<N> {
         let ex = &mut self.ex;
         let counter = t.cycle.wrapping_mul(ex.cycle_units) as u16;
         // In CLEAR the provider is stopped: the device applies its substitute values.
-        let status = match mode {
+        let mut status = match mode {
             Mode::Operate => data_status::OPERATE,
             _ => data_status::CLEAR,
         };
+        if ex.channel.station_problem.load(Ordering::Relaxed) {
+            status &= !data_status::STATION_OK;
+        }
         for r in ex.running.iter_mut().flatten() {
             if !t
                 .cycle

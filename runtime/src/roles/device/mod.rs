@@ -146,7 +146,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     let (events, event_rx) = std::sync::mpsc::channel();
     threads.push(
         acyclic::spawn(acyclic::AcyclicSetup {
-            role: DeviceRole::new(device, shown.clone()),
+            role: DeviceRole::new(device, shown.clone(), channel.clone()),
             channel: channel.clone(),
             datagrams: udp,
             shared,

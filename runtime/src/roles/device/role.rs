@@ -4,11 +4,14 @@
 //! report the control side reads, the log).
 
 use super::station::{Station, StationEvent};
+use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
 use procimg_profinet::device::{Application, ArState, Device, DeviceAction};
 use procimg_profinet::wire::rpc::RPC_PORT;
+use procimg_profinet::wire::rta_pdu::AbortCode;
 use std::net::SocketAddrV4;
 use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 /// The device's program as the engine sees it: nothing, since the cycle thread moves the IO
 /// data between the image and the frames.
@@ -27,23 +30,34 @@ pub enum DeviceCommand {}
 pub struct DeviceRole {
     device: Device<ImageApplication>,
     station: Arc<Station>,
+    /// Where the cycle thread learns of the station problem indicator.
+    channel: Arc<Channel>,
     /// The engine's actions before they become effects (kept for its capacity).
     actions: Vec<DeviceAction>,
     /// Where the AR stood after the last call, to tell its changes.
     last_state: ArState,
     /// DCP Signal requests seen so far.
     signals: u32,
+    /// Aborted ARs seen so far, to tell an abort from a Release.
+    aborted: u64,
 }
 
 impl DeviceRole {
-    /// `device` (its cyclic exchange already handed over), publishing to `station`.
-    pub fn new(device: Device<ImageApplication>, station: Arc<Station>) -> DeviceRole {
+    /// `device` (its cyclic exchange already handed over), publishing to `station` and, for
+    /// the cycle thread, to `channel`.
+    pub fn new(
+        device: Device<ImageApplication>,
+        station: Arc<Station>,
+        channel: Arc<Channel>,
+    ) -> DeviceRole {
         DeviceRole {
             device,
             station,
+            channel,
             actions: Vec::new(),
             last_state: ArState::Idle,
             signals: 0,
+            aborted: 0,
         }
     }
 
@@ -59,11 +73,19 @@ impl DeviceRole {
                 DeviceAction::StopCyclic { .. } => Effect::Stop { device: 0 },
             });
         }
+        self.channel
+            .station_problem
+            .store(self.device.station_problem(), Ordering::Relaxed);
         let state = self.device.state();
         if state != self.last_state {
             let event = if state == ArState::Idle {
+                let aborted = self.device.aborted_ars() != self.aborted;
+                self.aborted = self.device.aborted_ars();
+                let code = self.device.last_abort().filter(|_| aborted);
                 StationEvent::ArEnded {
-                    abort: self.device.last_abort().map(|a| a.to_string()),
+                    abort: code.map(|a| a.to_string()),
+                    // Ended by this device taking part no more (procimgd stopping, OFFLINE).
+                    planned: code == Some(AbortCode::AbortRequest),
                 }
             } else {
                 StationEvent::Ar(state)

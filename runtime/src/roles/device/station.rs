@@ -19,6 +19,8 @@ pub enum StationEvent {
     ArEnded {
         /// Why it was aborted, if it was.
         abort: Option<String>,
+        /// This side ended it on purpose (procimgd stopping or going OFFLINE).
+        planned: bool,
     },
     /// DCP Signal: the engineering tool asks the station to make itself seen.
     Blink,
@@ -86,9 +88,12 @@ impl Station {
                 }
                 r.ar = Some(report);
             }
-            StationEvent::ArEnded { abort } => {
+            StationEvent::ArEnded { abort, planned } => {
                 let uuid = r.ar.take().map(|a| a.ar_uuid).unwrap_or_default();
                 match abort {
+                    Some(_) if *planned => {
+                        tracing::info!("AR {uuid} ended: this device stopped taking part")
+                    }
                     Some(reason) => {
                         r.aborted_ars += 1;
                         r.last_abort = Some(reason.clone());

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A device program for procimgd's IO device role: it owns the I data of every submodule
+//! and, every cycle, echoes each submodule's Q data (what the PLC wrote) into its I data
+//! (what the PLC reads); I bytes beyond the Q data count the cycles. It prints what it saw.
+//!
+//! Run against `procimgd --demo-device`, whose PLC writes each submodule's I data plus one
+//! into its Q data, so that the values climb by one every round trip:
+//!   cargo run --release --example device_app -- --cycles 5000
+
+use anyhow::{Context, bail};
+use clap::Parser;
+use procimg_client::{AttachOptions, Client, Event, Ioxs};
+use std::time::Duration;
+
+#[derive(Parser)]
+struct Args {
+    /// Instance to attach to.
+    #[arg(long, default_value = "procimg")]
+    instance: String,
+    /// Cycles to run (0: until the server goes away).
+    #[arg(long, default_value_t = 5_000)]
+    cycles: u64,
+    /// SCHED_FIFO priority of the loop (0: stay at normal priority).
+    #[arg(long, default_value_t = 70)]
+    priority: u8,
+}
+
+fn main() {
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("device_app: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> anyhow::Result<()> {
+    if args.priority > 0
+        && let Err(e) = procimg_client::realtime::make_current_thread_realtime(args.priority)
+    {
+        eprintln!(
+            "warning: cannot run SCHED_FIFO at priority {} ({e}); OPDONE may miss the \
+             deadline under load",
+            args.priority
+        );
+    }
+    let mut client = Client::attach(&args.instance, AttachOptions::synchronous("device_app"))
+        .context("attaching")?;
+    if !client.is_device() {
+        bail!(
+            "instance \"{}\" is an IO controller; run this against a procimgd with \
+             role = \"device\" (e.g. procimgd --demo-device)",
+            args.instance
+        );
+    }
+    let mine = client.claim_i_data().context("claiming the I data")?;
+    println!(
+        "device_app: providing the I data of {} submodules of instance \"{}\"",
+        mine.len(),
+        args.instance
+    );
+    let (mut done, mut q_good, mut opfaults) = (0u64, 0u64, 0u64);
+    let mut q = Vec::new();
+    while args.cycles == 0 || done < args.cycles {
+        let mut cycle = match client.wait_startop(Duration::from_secs(5)) {
+            Ok(c) => c,
+            Err(e) if args.cycles == 0 => {
+                println!("device_app: {e}; stopping");
+                break;
+            }
+            Err(e) => return Err(e).context("waiting for STARTOP"),
+        };
+        let k = cycle.number();
+        let mut all_good = true;
+        for &s in &mine {
+            q.clear();
+            q.extend_from_slice(cycle.q_data(s)?);
+            all_good &= q.is_empty() || cycle.q_status(s)? == Ioxs::Good;
+            let count = (k as u32).to_be_bytes();
+            for (j, b) in cycle.i_data_mut(s)?.iter_mut().enumerate() {
+                *b = q.get(j).copied().unwrap_or(count[j % 4]);
+            }
+        }
+        q_good += u64::from(all_good);
+        cycle.set_opdone()?;
+        opfaults += client
+            .events()
+            .iter()
+            .filter(|e| matches!(e, Event::OpFault { .. }))
+            .count() as u64;
+        done += 1;
+    }
+    println!("device_app: cycles {done}  with every Q GOOD {q_good}  OPFAULTs {opfaults}");
+    Ok(())
+}

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO device role's view of the image: a server with `role = "device"` is a PROFINET
+//! IO device, and its clients provide the device's input data (I), which the PLC reads, and
+//! consume the output data (Q) the PLC wrote. Directions are named from the PLC's view, as
+//! in IO-Base's device interface.
+//!
+//! The image keeps its two directions (see [`procimg_shm_layout::ROLE_DEVICE`]): the Q data
+//! is in the server-written part, the I data in the client-written part, so the generic
+//! calls work too; these name them as a device program thinks of them. A device call on a
+//! controller's server is an error ([`IoError::NotDevice`]), never a silent mix-up.
+//!
+//! ```no_run
+//! use procimg_client::{AttachOptions, Client};
+//! use std::time::Duration;
+//!
+//! let mut client = Client::attach("procimg", AttachOptions::synchronous("echo"))?;
+//! let mine = client.claim_i_data()?;
+//! loop {
+//!     let mut cycle = client.wait_startop(Duration::from_secs(1))?;
+//!     for &s in &mine {
+//!         // Q into I: what the PLC writes comes back to it.
+//!         let q = cycle.q_data(s)?.to_vec();
+//!         let i = cycle.i_data_mut(s)?;
+//!         let n = i.len().min(q.len());
+//!         i[..n].copy_from_slice(&q[..n]);
+//!     }
+//!     cycle.set_opdone()?;
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use crate::client::Client;
+use crate::cycle::Cycle;
+use crate::error::{ControlError, IoError};
+use crate::status::Ioxs;
+
+impl Client {
+    /// Whether the server is an IO device (`role = "device"`).
+    pub fn is_device(&self) -> bool {
+        self.layout().is_device()
+    }
+
+    /// In the device role: claims the I data of every submodule that has some (those no other
+    /// client holds), for this client to provide; returns their indexes. Until a client owns
+    /// a submodule's I data, the PLC gets it with IOPS BAD.
+    pub fn claim_i_data(&mut self) -> Result<Vec<usize>, ControlError> {
+        if !self.is_device() {
+            return Err(ControlError::NotDevice {
+                instance: self.instance().to_owned(),
+            });
+        }
+        let mine: Vec<usize> = self.layout().output_submodules().collect();
+        self.claim(&mine)?;
+        Ok(mine)
+    }
+}
+
+impl Cycle<'_> {
+    fn device_only(&self) -> Result<(), IoError> {
+        if self.layout().is_device() {
+            Ok(())
+        } else {
+            Err(IoError::NotDevice {
+                instance: self.instance().to_owned(),
+            })
+        }
+    }
+
+    /// The Q data of submodule `s` in this cycle (what the PLC wrote), in place; empty for a
+    /// submodule without Q data.
+    pub fn q_data(&self, s: usize) -> Result<&[u8], IoError> {
+        self.device_only()?;
+        Ok(self.input(s).unwrap_or(&[]))
+    }
+
+    /// The PLC's provider status of submodule `s`'s Q data (BAD when the PLC is in STOP,
+    /// the AR is down, or the submodule is not in the AR).
+    pub fn q_status(&self, s: usize) -> Result<Ioxs, IoError> {
+        self.device_only()?;
+        Ok(self.status(s).map_or(Ioxs::Bad, |st| st.input_remote))
+    }
+
+    /// The I data of submodule `s` for this cycle (what the PLC will read), writable in
+    /// place, starting as last sent; marked written with provider status GOOD. The client
+    /// must hold the claim.
+    pub fn i_data_mut(&mut self, s: usize) -> Result<&mut [u8], IoError> {
+        self.device_only()?;
+        self.output_mut(s)
+    }
+
+    /// Sets the provider status (IOPS) the PLC gets with submodule `s`'s I data.
+    pub fn set_i_status(&mut self, s: usize, local: Ioxs) -> Result<(), IoError> {
+        self.device_only()?;
+        self.set_output_status(s, local)
+    }
+
+    /// The PLC's consumer status (IOCS) of submodule `s`'s I data, from its last frame.
+    pub fn plc_iocs(&self, s: usize) -> Result<Ioxs, IoError> {
+        self.device_only()?;
+        Ok(self.status(s).map_or(Ioxs::Bad, |st| st.output_remote))
+    }
+}

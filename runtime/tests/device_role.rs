@@ -1,0 +1,334 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! procimgd in the IO device role, as its users see it: the demo (procimg's own controller
+//! as the PLC) with a client that provides the I data and reads the Q data, and — as root —
+//! procimg as controller against procimg as device, each in a network namespace of its own
+//! on a veth pair, with a client on each side and every frame on the wire dissected by
+//! tshark.
+
+use procimg_client::{AttachOptions, Client, Ioxs, ServiceOptions, Services};
+use procimg_testkit::Launch;
+use procimg_testkit::netns::TestNet;
+use std::time::{Duration, Instant};
+
+/// Generous: a loaded machine may be slow to connect.
+const BRING_UP: Duration = Duration::from_secs(30);
+
+/// The index of the submodule at `slot`/`subslot` (of the first device).
+fn at(client: &Client, slot: u16, subslot: u16) -> usize {
+    client
+        .layout()
+        .submodules
+        .iter()
+        .position(|e| (e.slot, e.subslot) == (slot, subslot))
+        .unwrap_or_else(|| panic!("no submodule at slot {slot} subslot {subslot}"))
+}
+
+#[test]
+fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
+    let server = Launch::demo_device("devdemo").start();
+    let status = server.status();
+    assert_eq!(status.role, "device");
+    let station = status.station.expect("a station in the device role");
+    assert_eq!((station.vendor_id, station.device_id), (0x0493, 0x0100));
+    assert_eq!(station.name, "procimg-device");
+    assert_eq!(station.ar.map(|a| a.state).as_deref(), Some("data"));
+
+    let mut client = Client::attach(&server.instance, AttachOptions::synchronous("devapp"))
+        .expect("attach to the device");
+    assert!(client.is_device());
+    let mine = client.claim_i_data().expect("claim the I data");
+    let echo = at(&client, 1, 1);
+    assert!(mine.contains(&echo), "slot 1 has I data: {mine:?}");
+    // The demo's PLC answers every I byte with that byte plus one in the Q data.
+    let written = [0x10, 0x21, 0x32, 0x43, 0x54, 0x65, 0x76, 0x87];
+    let wanted: Vec<u8> = written.iter().map(|b| b + 1).collect();
+    let until = Instant::now() + BRING_UP;
+    loop {
+        let mut cycle = client
+            .wait_startop(Duration::from_secs(5))
+            .expect("STARTOP");
+        let last = cycle.q_data(echo).expect("Q data").to_vec();
+        let good = cycle.q_status(echo).expect("Q status") == Ioxs::Good;
+        cycle
+            .i_data_mut(echo)
+            .expect("I data")
+            .copy_from_slice(&written);
+        cycle.set_opdone().expect("OPDONE");
+        if good && last == wanted {
+            break;
+        }
+        assert!(
+            Instant::now() < until,
+            "the PLC's Q data never answered the I data: last Q {last:02x?}"
+        );
+    }
+
+    // The controller's services are not the device's: asked for, they say so.
+    let refused = Services::open(&server.instance, ServiceOptions::new("devapp-services"));
+    let message = refused.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(message.contains("IO device role"), "{message}");
+    assert_eq!(server.status().network.watchdog_expiries, 0);
+}
+
+#[test]
+fn a_device_call_on_a_controller_is_an_error() {
+    let server = Launch::demo("devctl").start();
+    let mut client = Client::attach(&server.instance, AttachOptions::asynchronous("devctl"))
+        .expect("attach to the controller");
+    assert!(!client.is_device());
+    let e = client
+        .claim_i_data()
+        .expect_err("a controller has no I data to claim");
+    assert!(e.to_string().contains("IO controller"), "{e}");
+}
+
+/// The station both sides describe: the access point, 8 bytes each way in slot 1 with a
+/// parameter record, 4 input bytes in slot 2.
+const DEVICE_TOML: &str = r#"
+role = "device"
+network = "IFACE"
+[station]
+name = "pc-device"
+ip = "10.47.0.50"
+vendor_id = 0x0493
+device_id = 0x0100
+order_number = "PC-DEVICE-TEST"
+[[station.submodule]]
+slot = 1
+module_ident = 0x10
+submodule_ident = 1
+input_length = 8
+output_length = 8
+records = [{ index = 1, length = 4, data = [0, 0, 0, 10] }]
+[[station.submodule]]
+slot = 2
+module_ident = 0x20
+submodule_ident = 1
+input_length = 4
+"#;
+
+/// The same station as the controller's configuration describes it. The watchdog allows
+/// ten frames: two cycle threads and four clients share two virtual CPUs here.
+const CONTROLLER_TOML: &str = r#"
+network = "IFACE"
+[[device]]
+name = "pc-device"
+ip = "10.47.0.50"
+vendor_id = 0x0493
+device_id = 0x0100
+watchdog_factor = 10
+[[device.submodule]]
+slot = 0
+subslot = 1
+module_ident = 1
+submodule_ident = 1
+[[device.submodule]]
+slot = 0
+subslot = 0x8000
+module_ident = 1
+submodule_ident = 0x8000
+[[device.submodule]]
+slot = 0
+subslot = 0x8001
+module_ident = 1
+submodule_ident = 0x8001
+[[device.submodule]]
+slot = 1
+subslot = 1
+module_ident = 0x10
+submodule_ident = 1
+input_length = 8
+output_length = 8
+records = [{ index = 1, data = [0, 0, 0, 7] }]
+[[device.submodule]]
+slot = 2
+subslot = 1
+module_ident = 0x20
+submodule_ident = 1
+input_length = 4
+"#;
+
+/// Runs the device's side for `cycles`: Q of slot 1 echoed into its I data.
+fn device_echo(instance: String, cycles: u64) -> std::thread::JoinHandle<u64> {
+    std::thread::spawn(move || {
+        let _ = procimg_client::realtime::make_current_thread_realtime(60);
+        let mut client = Client::attach(&instance, AttachOptions::synchronous("dev-echo"))
+            .expect("attach to the device");
+        client.claim_i_data().expect("claim the I data");
+        let s = at(&client, 1, 1);
+        let mut echoed = 0;
+        for _ in 0..cycles {
+            let Ok(mut cycle) = client.wait_startop(Duration::from_secs(5)) else {
+                break;
+            };
+            let q = cycle.q_data(s).expect("Q data").to_vec();
+            echoed += u64::from(cycle.q_status(s).expect("Q status") == Ioxs::Good);
+            cycle.i_data_mut(s).expect("I data").copy_from_slice(&q);
+            cycle.set_opdone().expect("OPDONE");
+        }
+        echoed
+    })
+}
+
+/// What the controller's client saw.
+#[derive(Debug, Default)]
+struct Seen {
+    cycles: u64,
+    /// Valid inputs that carried a pattern written before.
+    echoes: u64,
+    /// Valid inputs that carried something never written.
+    wrong: u64,
+}
+
+/// Runs the controller's side for `cycles`: a pattern per cycle into Q of slot 1, its I
+/// data checked against the patterns written.
+fn controller_pattern(instance: &str, cycles: u64) -> Seen {
+    let _ = procimg_client::realtime::make_current_thread_realtime(60);
+    let mut client = Client::attach(instance, AttachOptions::synchronous("ctl-pattern"))
+        .expect("attach to the controller");
+    client.claim_device("pc-device").expect("claim the outputs");
+    let s = at(&client, 1, 1);
+    let pattern = |k: u64| {
+        let mut p = (k as u32).to_be_bytes().to_vec();
+        p.extend_from_slice(&(!(k as u32)).to_be_bytes());
+        p
+    };
+    let mut written = std::collections::VecDeque::new();
+    let mut seen = Seen::default();
+    for _ in 0..cycles {
+        let mut cycle = client
+            .wait_startop(Duration::from_secs(5))
+            .expect("STARTOP");
+        let k = cycle.number();
+        let valid = cycle
+            .status(s)
+            .is_some_and(|st| st.input_remote == Ioxs::Good);
+        let input = cycle.input(s).unwrap_or(&[]).to_vec();
+        cycle
+            .output_mut(s)
+            .expect("outputs")
+            .copy_from_slice(&pattern(k));
+        cycle.set_opdone().expect("OPDONE");
+        if valid && input != [0; 8] {
+            if written.contains(&input) {
+                seen.echoes += 1;
+            } else {
+                seen.wrong += 1;
+            }
+        }
+        written.push_back(pattern(k));
+        if written.len() > 4096 {
+            written.pop_front();
+        }
+        seen.cycles += 1;
+    }
+    seen
+}
+
+/// The frames that tshark flags: malformed, or an expert item of error level.
+fn flagged(pcap: &std::path::Path) -> String {
+    let out = std::process::Command::new("tshark")
+        .args(["-r"])
+        .arg(pcap)
+        .args(["-Y", "_ws.malformed || _ws.expert.severity >= error"])
+        .output()
+        .expect("tshark");
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+#[test]
+#[ignore = "needs root: network namespaces, veth, AF_PACKET"]
+fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
+    let net = TestNet::new("dv", true);
+    for (i, ip) in [(0, "10.47.0.1/24"), (1, "10.47.0.50/24")] {
+        procimg_testkit::netns::ip(&["-n", &net.ns[i], "addr", "add", ip, "dev", &net.ifs[i]]);
+    }
+    // Every frame on the wire, from before the device starts.
+    let dir = procimg_testkit::files::temp_dir("device-role-veth");
+    let pcap = dir.join("wire.pcapng");
+    let mut capture = std::process::Command::new("ip")
+        .args([
+            "netns",
+            "exec",
+            &net.ns[0],
+            "tshark",
+            "-q",
+            "-i",
+            &net.ifs[0],
+            "-w",
+        ])
+        .arg(&pcap)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("tshark");
+    std::thread::sleep(Duration::from_secs(2));
+
+    let device = Launch::config("dvd", &DEVICE_TOML.replace("IFACE", &net.ifs[1]))
+        .netns(&net.ns[1])
+        .until_cycling()
+        .start();
+    let controller = Launch::config("dvc", &CONTROLLER_TOML.replace("IFACE", &net.ifs[0]))
+        .netns(&net.ns[0])
+        .start();
+    device.wait_devices_running(BRING_UP);
+    let ar = device.status().station.and_then(|s| s.ar).expect("an AR");
+    assert_eq!(ar.state, "data");
+
+    // 10 s at 1 ms: the controller's patterns come back through the device's client.
+    let expiries = |s: &procimg_client::StatusReport| s.network.watchdog_expiries;
+    let before = (expiries(&controller.status()), expiries(&device.status()));
+    let echo = device_echo(device.instance.clone(), 11_000);
+    let seen = controller_pattern(&controller.instance, 10_000);
+    let echoed = echo.join().expect("the device's client");
+    let after = (expiries(&controller.status()), expiries(&device.status()));
+    assert_eq!(seen.cycles, 10_000);
+    assert_eq!(seen.wrong, 0, "{seen:?}");
+    assert!(seen.echoes > 9_000, "{seen:?}");
+    assert!(
+        echoed > 9_000,
+        "the device's client saw GOOD Q data {echoed} times"
+    );
+    assert_eq!(after, before, "watchdog expiries (controller, device)");
+
+    // With no client providing the device's I data, the PLC gets it BAD; a new owner makes
+    // it GOOD again.
+    let mut watcher = Client::attach(&controller.instance, AttachOptions::asynchronous("watch"))
+        .expect("attach to the controller");
+    let s = at(&watcher, 1, 1);
+    let wait_remote = |watcher: &mut Client, want: Ioxs| {
+        let until = Instant::now() + Duration::from_secs(5);
+        loop {
+            let st = watcher
+                .newest_status(s)
+                .ok()
+                .flatten()
+                .map(|st| st.input_remote);
+            if st == Some(want) {
+                return;
+            }
+            assert!(
+                Instant::now() < until,
+                "the I data did not turn {want:?}: {st:?}"
+            );
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    };
+    wait_remote(&mut watcher, Ioxs::Bad);
+    let again = device_echo(device.instance.clone(), 500);
+    wait_remote(&mut watcher, Ioxs::Good);
+    let _ = again.join();
+
+    drop(watcher);
+    drop(controller);
+    drop(device);
+    std::thread::sleep(Duration::from_millis(500));
+    let _ = std::process::Command::new("kill")
+        .args(["-INT", &capture.id().to_string()])
+        .status();
+    let _ = capture.wait();
+    assert!(pcap.exists(), "tshark wrote no capture");
+    let bad = flagged(&pcap);
+    assert!(bad.is_empty(), "tshark flags frames on the wire:\n{bad}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
