@@ -127,6 +127,12 @@
 #define PROCIMG_IOXS_BAD_BY_CONTROLLER 96
 
 /**
+ * IOPS/IOCS value BAD, detected by the IO device: what a server in the device role sends
+ * for data no client provides (no owner, client late, mode CLEAR).
+ */
+#define IOXS_BAD_BY_DEVICE 64
+
+/**
  * `ClientSubmoduleStatus::flags`: the client wrote this submodule's output data.
  */
 #define PROCIMG_CLIENT_WROTE_OUTPUTS 1
