@@ -5,7 +5,12 @@
 //! on a veth pair, with a client on each side and every frame on the wire dissected by
 //! tshark.
 
-use procimg_client::{AttachOptions, Client, Ioxs, ServiceOptions, Services};
+use procimg_client::{
+    AlarmReport, AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Ioxs, Notification,
+    RecordTarget, ServiceOptions, Services,
+};
+use procimg_profinet::wire::alarm::AlarmItem;
+use procimg_profinet::wire::record::DiagnosisData;
 use procimg_testkit::Launch;
 use procimg_testkit::netns::TestNet;
 use std::time::{Duration, Instant};
@@ -225,6 +230,44 @@ fn controller_pattern(instance: &str, cycles: u64) -> Seen {
     seen
 }
 
+/// The next alarm among the controller's notifications.
+fn next_alarm(services: &mut Services) -> AlarmReport {
+    let until = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < until {
+        if let Some(Notification::Alarm(a)) = services.next(Duration::from_millis(100)) {
+            return a;
+        }
+    }
+    panic!("no alarm within 5 s");
+}
+
+/// The (channel, error type) pairs of record 0x800A of slot 1 subslot 1, read by the
+/// controller from the device.
+fn channel_errors(services: &mut Services) -> Vec<(u16, u16)> {
+    let target = RecordTarget {
+        device: 0,
+        api: 0,
+        slot: 1,
+        subslot: 1,
+        index: 0x800A,
+    };
+    let data = services
+        .read_record(target, 4096, Duration::from_secs(5))
+        .expect("read record 0x800A");
+    DiagnosisData::parse_record(&data)
+        .expect("DiagnosisData blocks")
+        .into_iter()
+        .flat_map(|d| match d.item {
+            AlarmItem::Diagnosis(diag) => diag
+                .entries
+                .iter()
+                .map(|e| (e.channel_number, e.channel_error_type))
+                .collect(),
+            AlarmItem::Other { .. } => Vec::new(),
+        })
+        .collect()
+}
+
 /// The frames that tshark flags: malformed, or an expert item of error level.
 fn flagged(pcap: &std::path::Path) -> String {
     let out = std::process::Command::new("tshark")
@@ -318,6 +361,43 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     let again = device_echo(device.instance.clone(), 500);
     wait_remote(&mut watcher, Ioxs::Good);
     let _ = again.join();
+
+    // A diagnosis the device's client adds reaches the controller's client as an alarm and
+    // in record 0x800A of the submodule; its removal too.
+    let mut services = Services::open(
+        &controller.instance,
+        ServiceOptions::new("ctl-services").acknowledge_alarms(true),
+    )
+    .expect("the controller's services");
+    let dev_client = Client::attach(&device.instance, AttachOptions::asynchronous("dev-diag"))
+        .expect("attach to the device");
+    let wire_break = DiagnosisEntry {
+        channel: 3,
+        error_type: 6,
+        direction: DiagnosisDirection::Input,
+        data_type: 1,
+        ..DiagnosisEntry::default()
+    };
+    dev_client
+        .add_diagnosis((0, 1, 1), wire_break.clone())
+        .expect("add a diagnosis");
+    let alarm = next_alarm(&mut services);
+    assert_eq!(
+        (alarm.alarm_type, alarm.slot, alarm.subslot),
+        (1, 1, 1),
+        "{alarm:?}"
+    );
+    services.acknowledge(&alarm).expect("acknowledge the alarm");
+    assert_eq!(channel_errors(&mut services), [(3, 6)]);
+    dev_client
+        .remove_diagnosis((0, 1, 1), wire_break)
+        .expect("remove the diagnosis");
+    let gone = next_alarm(&mut services);
+    assert_eq!((gone.slot, gone.subslot), (1, 1), "{gone:?}");
+    services.acknowledge(&gone).expect("acknowledge the alarm");
+    assert_eq!(channel_errors(&mut services), []);
+    drop(dev_client);
+    drop(services);
 
     drop(watcher);
     drop(controller);

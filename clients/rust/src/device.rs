@@ -33,6 +33,7 @@ use crate::client::Client;
 use crate::cycle::Cycle;
 use crate::error::{ControlError, IoError};
 use crate::status::Ioxs;
+use procimg_shm_layout::control::{DiagnosisEntry, Request, StationDiagnosisChange};
 
 impl Client {
     /// Whether the server is an IO device (`role = "device"`).
@@ -52,6 +53,56 @@ impl Client {
         let mine: Vec<usize> = self.layout().output_submodules().collect();
         self.claim(&mine)?;
         Ok(mine)
+    }
+
+    /// In the device role: `entry` appears on the submodule at `api`/`slot`/`subslot` (or an
+    /// entry of the same channel and error changes its severity). The PLC gets the diagnosis
+    /// alarm while its AR runs, and the entry in the diagnosis records (0x800A and the
+    /// others); a fault turns the station problem indicator on.
+    pub fn add_diagnosis(
+        &self,
+        (api, slot, subslot): (u32, u16, u16),
+        entry: DiagnosisEntry,
+    ) -> Result<(), ControlError> {
+        self.station_diagnosis(StationDiagnosisChange::Add {
+            api,
+            slot,
+            subslot,
+            entry,
+        })
+    }
+
+    /// In the device role: the entry of the same channel and error (or USI) disappears from
+    /// the submodule, with its alarm.
+    pub fn remove_diagnosis(
+        &self,
+        (api, slot, subslot): (u32, u16, u16),
+        entry: DiagnosisEntry,
+    ) -> Result<(), ControlError> {
+        self.station_diagnosis(StationDiagnosisChange::Remove {
+            api,
+            slot,
+            subslot,
+            entry,
+        })
+    }
+
+    /// In the device role: every entry of the submodule disappears, with one alarm.
+    pub fn clear_diagnosis(
+        &self,
+        (api, slot, subslot): (u32, u16, u16),
+    ) -> Result<(), ControlError> {
+        self.station_diagnosis(StationDiagnosisChange::Clear { api, slot, subslot })
+    }
+
+    fn station_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
+        if !self.is_device() {
+            return Err(ControlError::NotDevice {
+                instance: self.instance().to_owned(),
+            });
+        }
+        self.control()
+            .request_done(&Request::StationDiagnosis { change })
     }
 }
 

@@ -52,7 +52,10 @@ pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
-pub use procimg_shm_layout::control::{ClientRole, ForceReport, Refusal, StatusReport};
+pub use procimg_shm_layout::control::{
+    ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, ForceReport,
+    Refusal, StatusReport,
+};
 pub use procimg_shm_layout::services::{
     AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause, Notification, RecordConfirmation,
     RecordStatus, RecordTarget, SubmoduleDiff,

@@ -191,7 +191,8 @@ impl Control {
             | Request::RecordWrite { .. }
             | Request::ActivateDevice { .. }
             | Request::AcknowledgeAlarm { .. }
-            | Request::Diagnosis => {
+            | Request::Diagnosis
+            | Request::StationDiagnosis { .. } => {
                 let online = self.shared.mode() != Mode::Offline
                     || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
                 return self.role.handle(req, online, &mut self.notices);

@@ -9,6 +9,7 @@
 //! part the device's input data (I), one submodule table entry per configured submodule in
 //! configuration order: the order the engine maps the AR's cyclic data onto.
 
+mod diagnosis;
 mod role;
 mod services;
 pub mod sim_plc;
@@ -140,9 +141,10 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
             }
         };
     let shown = Arc::new(Station::new(&station));
-    let device = engine(&station, mac, cycle_ns);
+    let mut device = engine(&station, mac, cycle_ns);
+    device.set_hello(station.dcp_hello);
     let datagrams = Arc::new(DatagramCounters::default());
-    let (_commands, command_rx) = std::sync::mpsc::channel();
+    let (commands, command_rx) = std::sync::mpsc::channel();
     let (events, event_rx) = std::sync::mpsc::channel();
     threads.push(
         acyclic::spawn(acyclic::AcyclicSetup {
@@ -169,7 +171,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     Ok(RoleSystem {
         io: Some(io),
         services: Some(Box::new(DeviceServices::new(
-            shown, event_rx, channel, datagrams,
+            shown, commands, event_rx, channel, datagrams,
         ))),
         threads,
         stop: Some(Box::new(move || plc_stop.store(true, Ordering::Release))),

@@ -3,15 +3,18 @@
 //! handed over to the cycle thread, and the daemon's bookkeeping around it (the station
 //! report the control side reads, the log).
 
+use super::diagnosis;
 use super::station::{Station, StationEvent};
 use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
 use procimg_profinet::device::{Application, ArState, Device, DeviceAction};
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rta_pdu::AbortCode;
+use procimg_shm_layout::control::StationDiagnosisChange;
 use std::net::SocketAddrV4;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
+use std::sync::mpsc::SyncSender;
 
 /// The device's program as the engine sees it: nothing, since the cycle thread moves the IO
 /// data between the image and the frames.
@@ -21,10 +24,17 @@ impl Application for ImageApplication {
     fn fill_inputs(&mut self, _: u64, _: &mut [u8], _: &[u8], _: &[u8], _: bool) {}
 }
 
-/// What the client services ask of the device (none yet: the device answers the PLC on its
-/// own, with the configured defaults).
+/// What the client services ask of the device.
 #[derive(Debug)]
-pub enum DeviceCommand {}
+pub enum DeviceCommand {
+    /// Change the station's diagnosis; the outcome goes back on `reply`.
+    Diagnosis {
+        /// The change.
+        change: StationDiagnosisChange,
+        /// Where the outcome goes: `Err` says why the change was refused.
+        reply: SyncSender<Result<(), String>>,
+    },
+}
 
 /// The device on the acyclic thread.
 pub struct DeviceRole {
@@ -111,8 +121,15 @@ impl Role for DeviceRole {
         self.hand_over(out);
     }
 
-    fn command(&mut self, c: DeviceCommand, _: u64, _: &mut Vec<Effect<StationEvent>>) {
-        match c {}
+    fn command(&mut self, c: DeviceCommand, now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
+        match c {
+            DeviceCommand::Diagnosis { change, reply } => {
+                let r = diagnosis::apply(&mut self.device, &change, now_ns, &mut self.actions);
+                // The asker may have given up waiting: nothing to tell then.
+                let _ = reply.try_send(r);
+            }
+        }
+        self.hand_over(out);
     }
 
     fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {

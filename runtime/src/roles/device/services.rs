@@ -3,38 +3,47 @@
 //! clear refusal of the IO controller's services (record jobs towards devices, activation,
 //! alarm acknowledgement, the controller's diagnosis).
 
+use super::role::DeviceCommand;
 use super::station::{Station, StationEvent};
 use crate::acyclic::DatagramCounters;
 use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
 use crate::shm::Notices;
 use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Refusal, Request, Response, StationReport, SubscriberReport,
+    DeviceReport, NetworkReport, Refusal, Request, Response, StationDiagnosisChange, StationReport,
+    SubscriberReport,
 };
 use std::collections::HashSet;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::time::Duration;
+
+/// How long a client's request waits for the acyclic thread to carry it out: it only
+/// changes the engine's state and queues frames.
+const COMMAND_WAIT: Duration = Duration::from_millis(500);
 
 /// The device role's client services.
 pub struct DeviceServices {
     station: Arc<Station>,
+    commands: Sender<DeviceCommand>,
     events: Receiver<StationEvent>,
     channel: Arc<Channel>,
     datagrams: Arc<DatagramCounters>,
 }
 
 impl DeviceServices {
-    /// The services of `station`, taking the role's `events`; `channel` and `datagrams`
-    /// hold the network counters.
+    /// The services of `station`, giving the role `commands` and taking its `events`;
+    /// `channel` and `datagrams` hold the network counters.
     pub fn new(
         station: Arc<Station>,
+        commands: Sender<DeviceCommand>,
         events: Receiver<StationEvent>,
         channel: Arc<Channel>,
         datagrams: Arc<DatagramCounters>,
     ) -> DeviceServices {
         DeviceServices {
             station,
+            commands,
             events,
             channel,
             datagrams,
@@ -55,19 +64,47 @@ fn service_name(request: &Request) -> &'static str {
     }
 }
 
+impl DeviceServices {
+    /// Has the acyclic thread carry out `change` and waits for the outcome.
+    fn diagnosis(&self, change: StationDiagnosisChange) -> Response {
+        let (reply, outcome) = std::sync::mpsc::sync_channel(1);
+        let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
+        if self
+            .commands
+            .send(DeviceCommand::Diagnosis { change, reply })
+            .is_err()
+        {
+            return refused("the device's PROFINET thread has ended".into());
+        }
+        match outcome.recv_timeout(COMMAND_WAIT) {
+            Ok(Ok(())) => Response::Done,
+            Ok(Err(why)) => refused(why),
+            Err(_) => refused(format!(
+                "the device's PROFINET thread did not take the diagnosis within {COMMAND_WAIT:?}; \
+                 try again"
+            )),
+        }
+    }
+}
+
 impl RoleServices for DeviceServices {
     fn handle(&mut self, request: Request, _online: bool, _notices: &mut Notices) -> Response {
-        Response::Refused(Refusal::WrongRole {
-            role: "device".to_owned(),
-            service: service_name(&request).to_owned(),
-        })
+        match request {
+            Request::StationDiagnosis { change } => self.diagnosis(change),
+            other => Response::Refused(Refusal::WrongRole {
+                role: "device".to_owned(),
+                service: service_name(&other).to_owned(),
+            }),
+        }
     }
 
     fn poll(&mut self, wait: Duration, _notices: &mut Notices) {
         // The station logs its events as it notes them; the client notifications of the
         // device role come with its application interface.
         match self.events.recv_timeout(wait) {
-            Ok(_) | Err(RecvTimeoutError::Timeout) | Err(RecvTimeoutError::Disconnected) => {}
+            Ok(_) | Err(RecvTimeoutError::Timeout) => {}
+            // The acyclic thread has ended (procimgd is stopping): wait all the same.
+            Err(RecvTimeoutError::Disconnected) => std::thread::sleep(wait),
         }
         while self.events.try_recv().is_ok() {}
     }

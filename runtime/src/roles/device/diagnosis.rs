@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Diagnosis from clients: the control protocol's [`StationDiagnosisChange`] in the device
+//! engine's terms, and carried out on it (the store changes, the PLC gets the alarm).
+
+use super::role::ImageApplication;
+use procimg_profinet::device::{
+    ChannelDiag, Device, DeviceAction, DiagEntry, GenericDiag, Severity,
+};
+use procimg_profinet::wire::alarm::{ChannelDirection, DiagnosisFormat};
+use procimg_shm_layout::control::{
+    DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosisChange,
+};
+
+/// `entry` as the engine takes it.
+pub fn entry(e: &DiagnosisEntry) -> Result<DiagEntry, String> {
+    if e.kind == DiagnosisKind::Manufacturer {
+        if e.usi > 0x7FFF {
+            return Err(format!(
+                "USI {:#06x} is not manufacturer specific; give 0x0000 to 0x7FFF",
+                e.usi
+            ));
+        }
+        return Ok(DiagEntry::Generic(GenericDiag::new(e.usi, &e.data)));
+    }
+    let base = ChannelDiag::new(e.channel, e.error_type);
+    let channel = match e.kind {
+        DiagnosisKind::Extended => {
+            ChannelDiag::extended(e.channel, e.error_type, e.ext_error_type, e.ext_add_value)
+        }
+        DiagnosisKind::Qualified => ChannelDiag::qualified(
+            e.channel,
+            e.error_type,
+            e.ext_error_type,
+            e.ext_add_value,
+            e.qualifier,
+        ),
+        _ => base,
+    };
+    let direction = match e.direction {
+        DiagnosisDirection::Manufacturer => ChannelDirection::Manufacturer,
+        DiagnosisDirection::Input => ChannelDirection::Input,
+        DiagnosisDirection::Output => ChannelDirection::Output,
+        DiagnosisDirection::InputOutput => ChannelDirection::InputOutput,
+    };
+    let mut channel = channel
+        .with_direction(direction)
+        .with_data_type(e.data_type)
+        .with_accumulative(e.accumulative);
+    if channel.format != DiagnosisFormat::Qualified {
+        channel = channel.with_severity(match e.severity {
+            DiagnosisSeverity::Fault => Severity::Fault,
+            DiagnosisSeverity::MaintenanceRequired => Severity::MaintenanceRequired,
+            DiagnosisSeverity::MaintenanceDemanded => Severity::MaintenanceDemanded,
+        });
+    }
+    Ok(DiagEntry::Channel(channel))
+}
+
+/// Carries out `change` on `device`: what it sends goes to `out`; `Err` says why the change
+/// was refused.
+pub fn apply(
+    device: &mut Device<ImageApplication>,
+    change: &StationDiagnosisChange,
+    now_ns: u64,
+    out: &mut Vec<DeviceAction>,
+) -> Result<(), String> {
+    let result = match change {
+        StationDiagnosisChange::Add {
+            api,
+            slot,
+            subslot,
+            entry: e,
+        } => device.add_diagnosis(*api, *slot, *subslot, entry(e)?, now_ns, out),
+        StationDiagnosisChange::Remove {
+            api,
+            slot,
+            subslot,
+            entry: e,
+        } => device.remove_diagnosis(*api, *slot, *subslot, &entry(e)?.key(), now_ns, out),
+        StationDiagnosisChange::Clear { api, slot, subslot } => {
+            device.clear_diagnosis(*api, *slot, *subslot, now_ns, out)
+        }
+    };
+    match result {
+        Ok(c) if c.alarms_too_long > 0 => Err(format!(
+            "the diagnosis changed, but {} alarm(s) were longer than the AR allows and not \
+             sent; shorten the manufacturer data",
+            c.alarms_too_long
+        )),
+        Ok(_) => Ok(()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn entries_in_the_engines_terms() {
+        let e = DiagnosisEntry {
+            channel: 3,
+            error_type: 6,
+            direction: DiagnosisDirection::Output,
+            severity: DiagnosisSeverity::MaintenanceRequired,
+            ..DiagnosisEntry::default()
+        };
+        let DiagEntry::Channel(c) = entry(&e).unwrap() else {
+            panic!("a channel entry");
+        };
+        assert_eq!((c.channel_number, c.error_type), (3, 6));
+        assert_eq!(c.direction, ChannelDirection::Output);
+        assert_eq!(c.severity, Severity::MaintenanceRequired);
+        assert_eq!(c.format, DiagnosisFormat::Channel);
+        let m = DiagnosisEntry {
+            kind: DiagnosisKind::Manufacturer,
+            usi: 0x8000,
+            ..DiagnosisEntry::default()
+        };
+        assert!(entry(&m).is_err());
+    }
+}
