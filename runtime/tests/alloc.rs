@@ -1,16 +1,19 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Steady-state cycles allocate nothing: the cycle engine runs on this test's thread, with
-//! procimgd's allocator installed and the demo's PROFINET IO system (the controller on its
-//! thread, the simulated devices exchanging cyclic frames), while a synchronous and an
+//! procimgd's allocator installed and a demo's PROFINET IO system, while a synchronous and an
 //! asynchronous client work against it; over 2000 cycles the thread must not call the
-//! system allocator once.
+//! system allocator once. In the controller role the IO system is the demo's (the
+//! controller on its thread, the simulated devices exchanging cyclic frames); in the device
+//! role the device demo's (the station's engine on its thread, procimg's controller as the
+//! PLC exchanging cyclic frames with the cycle).
 
 use procimg_client::{AttachOptions, Client, Ioxs};
 use procimg_runtime::config::Config;
 use procimg_runtime::cycle::{Engine, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
-use procimg_runtime::roles::controller;
+use procimg_runtime::roles::RoleSystem;
 use procimg_runtime::roles::controller::ControllerServices;
+use procimg_runtime::roles::{controller, device};
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::{ControlPorts, CyclePorts};
 use procimg_runtime::stats::stats_channel;
@@ -27,9 +30,56 @@ use std::time::Duration;
 #[global_allocator]
 static ALLOCATOR: RtAllocator = RtAllocator;
 
+/// Where the clients work: the synchronous one writes all of a submodule each cycle, the
+/// asynchronous one writes 2 bytes at an address and reads 4 at another.
+#[derive(Clone, Copy)]
+struct Work {
+    /// (station, slot, subslot) of the synchronous client's submodule.
+    sync: (&'static str, u16, u16),
+    /// (station, slot, subslot) of the asynchronous client's submodule.
+    async_sub: (&'static str, u16, u16),
+    /// The asynchronous client's write address and read address.
+    addresses: (u32, u32),
+    /// Cyclic frames the IO system takes in per cycle at least.
+    frames_per_cycle: u64,
+}
+
 #[test]
 fn steady_state_cycles_allocate_nothing() {
-    let mut config = Config::demo();
+    let work = Work {
+        sync: ("echo", 1, 1),
+        async_sub: ("dio", 2, 1),
+        addresses: (16, 16),
+        frames_per_cycle: 3,
+    };
+    steady_state(Config::demo(), work, |config, shared| {
+        controller::start(config, shared).unwrap()
+    });
+}
+
+#[test]
+fn steady_state_cycles_of_the_device_role_allocate_nothing() {
+    let work = Work {
+        sync: ("procimg-device", 1, 1),
+        async_sub: ("procimg-device", 2, 1),
+        // I 8..9 (slot 2's I data, which the client provides), Q 0..3 (slot 1's, the PLC's).
+        addresses: (8, 0),
+        frames_per_cycle: 1,
+    };
+    steady_state(Config::demo_device(), work, |config, shared| {
+        device::start(config, shared).unwrap()
+    });
+}
+
+/// One measurement at a time: the allocation counters are the process's.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn steady_state(
+    mut config: Config,
+    work: Work,
+    start: impl FnOnce(&Config, Arc<Shared>) -> RoleSystem,
+) {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     config.instance = procimg_testkit::unique_instance("alloc");
     let instance = config.instance.clone();
     let tables = Tables::from_config(&config).unwrap();
@@ -80,7 +130,7 @@ fn steady_state_cycles_allocate_nothing() {
         opdone_wait: config.cycle_thread.opdone_wait,
         generation,
     };
-    let mut pnio = controller::start(&config, shared.clone()).unwrap();
+    let mut pnio = start(&config, shared.clone());
     let io = (pnio.io.take().unwrap())();
     let mut engine = Engine::new(settings, &tables, ports, io, shared.clone(), recorder);
 
@@ -89,6 +139,7 @@ fn steady_state_cycles_allocate_nothing() {
         .into_iter()
         .map(|synchronous| {
             let (instance, stop) = (instance.clone(), stop.clone());
+            let (write_at, read_at) = work.addresses;
             std::thread::spawn(move || {
                 let opts = if synchronous {
                     AttachOptions::synchronous("alloc-sync")
@@ -96,11 +147,12 @@ fn steady_state_cycles_allocate_nothing() {
                     AttachOptions::asynchronous("alloc-async")
                 };
                 let mut c = Client::attach(&instance, opts).unwrap();
-                let sub = if synchronous {
-                    c.layout().find("echo", 1, 1).unwrap()
+                let (name, slot, subslot) = if synchronous {
+                    work.sync
                 } else {
-                    c.layout().find("dio", 2, 1).unwrap()
+                    work.async_sub
                 };
+                let sub = c.layout().find(name, slot, subslot).unwrap();
                 c.claim(&[sub]).unwrap();
                 let mut buf = [0u8; 4];
                 let mut n = 0u8;
@@ -114,8 +166,8 @@ fn steady_state_cycles_allocate_nothing() {
                         Ok(cycle) => {
                             drop(cycle);
                             n = n.wrapping_add(1);
-                            let _ = c.data_write(16, &[n, !n], Ioxs::Good);
-                            let _ = c.data_read(16, &mut buf, Ioxs::Good);
+                            let _ = c.data_write(write_at, &[n, !n], Ioxs::Good);
+                            let _ = c.data_read(read_at, &mut buf, Ioxs::Good);
                         }
                         Err(_) => {}
                     }
@@ -167,9 +219,9 @@ fn steady_state_cycles_allocate_nothing() {
     pnio.join();
 
     assert!(handshakes_before > 0);
-    // Three devices, a frame each per cycle: the cycle really exchanged PROFINET frames.
+    // A frame per device (or the PLC) per cycle: the cycle really exchanged PROFINET frames.
     assert!(
-        frames_after - frames_before > 3 * 1500,
+        frames_after - frames_before > work.frames_per_cycle * 1500,
         "only {} cyclic frames in 2000 cycles",
         frames_after - frames_before
     );
