@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! A device program for procimgd's IO device role: it owns the I data of every submodule
 //! and, every cycle, echoes each submodule's Q data (what the PLC wrote) into its I data
-//! (what the PLC reads); I bytes beyond the Q data count the cycles. It prints what it saw.
+//! (what the PLC reads); I bytes beyond the Q data count the cycles. Half-way it raises a
+//! channel diagnosis on slot 1 (a wire break on channel 0, which the PLC gets as an alarm and
+//! in its diagnosis records), and clears it three quarters in. It prints what it saw.
 //!
 //! Run against `procimgd --demo-device`, whose PLC writes each submodule's I data plus one
 //! into its Q data, so that the values climb by one every round trip:
@@ -9,7 +11,7 @@
 
 use anyhow::{Context, bail};
 use clap::Parser;
-use procimg_client::{AttachOptions, Client, Event, Ioxs};
+use procimg_client::{AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Event, Ioxs};
 use std::time::Duration;
 
 #[derive(Parser)]
@@ -57,6 +59,18 @@ fn run(args: Args) -> anyhow::Result<()> {
         mine.len(),
         args.instance
     );
+    // Wire break (ChannelErrorType 6) on input channel 0 of slot 1.
+    let wire_break = DiagnosisEntry {
+        channel: 0,
+        error_type: 6,
+        direction: DiagnosisDirection::Input,
+        data_type: 1,
+        ..DiagnosisEntry::default()
+    };
+    let (raise_at, clear_at) = match args.cycles {
+        0 => (5_000, 10_000),
+        n => (n / 2, n * 3 / 4),
+    };
     let (mut done, mut q_good, mut opfaults) = (0u64, 0u64, 0u64);
     let mut q = Vec::new();
     while args.cycles == 0 || done < args.cycles {
@@ -87,6 +101,18 @@ fn run(args: Args) -> anyhow::Result<()> {
             .filter(|e| matches!(e, Event::OpFault { .. }))
             .count() as u64;
         done += 1;
+        // Between cycles: a control request takes longer than a cycle's work.
+        if done == raise_at {
+            client
+                .add_diagnosis((0, 1, 1), wire_break.clone())
+                .context("raising the diagnosis")?;
+            println!("device_app: wire break on channel 0 of slot 1 reported to the PLC");
+        } else if done == clear_at {
+            client
+                .remove_diagnosis((0, 1, 1), wire_break.clone())
+                .context("clearing the diagnosis")?;
+            println!("device_app: the wire break is gone");
+        }
     }
     println!("device_app: cycles {done}  with every Q GOOD {q_good}  OPFAULTs {opfaults}");
     Ok(())

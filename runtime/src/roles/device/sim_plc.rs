@@ -400,11 +400,12 @@ fn log(e: &DeviceEvent, names: &[String]) {
             notification,
             ..
         } => tracing::info!(
-            "demo PLC: alarm {:?} from station {:?} slot {} subslot {:#06x}",
+            "demo PLC: {} alarm from station {:?} slot {} subslot {:#06x} ({:?}), acknowledged",
             notification.alarm_type,
             name(*device),
             notification.slot,
-            notification.subslot
+            notification.subslot,
+            notification.specifier
         ),
         DeviceEvent::Record(_) | DeviceEvent::Activation { .. } => {}
     }
