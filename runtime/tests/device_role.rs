@@ -2,8 +2,9 @@
 //! procimgd in the IO device role, as its users see it: the demo (procimg's own controller
 //! as the PLC) with a client that provides the I data and reads the Q data, and — as root —
 //! procimg as controller against procimg as device, each in a network namespace of its own
-//! on a veth pair, with a client on each side and every frame on the wire dissected by
-//! tshark.
+//! on a veth pair: the station named by DCP as an engineering tool does it, data both ways
+//! through a client on each side, a diagnosis, the device killed and restarted with its name
+//! kept, and every frame on the wire dissected by tshark.
 
 use procimg_client::{
     AlarmReport, AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Ioxs, Notification,
@@ -93,11 +94,12 @@ const DEVICE_TOML: &str = r#"
 role = "device"
 network = "IFACE"
 [station]
-name = "pc-device"
+name = "fresh-device"
 ip = "10.47.0.50"
 vendor_id = 0x0493
 device_id = 0x0100
 order_number = "PC-DEVICE-TEST"
+state_file = "STATE"
 [[station.submodule]]
 slot = 1
 module_ident = 0x10
@@ -166,10 +168,18 @@ fn device_echo(instance: String, cycles: u64) -> std::thread::JoinHandle<u64> {
             let Ok(mut cycle) = client.wait_startop(Duration::from_secs(5)) else {
                 break;
             };
-            let q = cycle.q_data(s).expect("Q data").to_vec();
-            echoed += u64::from(cycle.q_status(s).expect("Q status") == Ioxs::Good);
-            cycle.i_data_mut(s).expect("I data").copy_from_slice(&q);
-            cycle.set_opdone().expect("OPDONE");
+            // The server may go away under it (the test kills it): then it stops.
+            let (Ok(q), Ok(st)) = (cycle.q_data(s).map(<[u8]>::to_vec), cycle.q_status(s)) else {
+                break;
+            };
+            echoed += u64::from(st == Ioxs::Good);
+            let Ok(i) = cycle.i_data_mut(s) else {
+                break;
+            };
+            i.copy_from_slice(&q);
+            if cycle.set_opdone().is_err() {
+                break;
+            }
         }
         echoed
     })
@@ -228,6 +238,38 @@ fn controller_pattern(instance: &str, cycles: u64) -> Seen {
         seen.cycles += 1;
     }
     seen
+}
+
+/// Waits until the device's station has `name`.
+fn wait_station_name(device: &procimg_testkit::Procimgd, name: &str) {
+    let until = Instant::now() + BRING_UP;
+    loop {
+        let now = device.status().station.map(|s| s.name).unwrap_or_default();
+        if now == name {
+            return;
+        }
+        assert!(
+            Instant::now() < until,
+            "the station is {now:?}, not {name:?}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The next device failure or return among the controller's notifications.
+fn next_device_event(services: &mut Services, what: &str) -> Notification {
+    let until = Instant::now() + BRING_UP;
+    while Instant::now() < until {
+        if let Some(n) = services.next(Duration::from_millis(100))
+            && matches!(
+                n,
+                Notification::DeviceFailure { .. } | Notification::DeviceReturn { .. }
+            )
+        {
+            return n;
+        }
+    }
+    panic!("no device {what} within {BRING_UP:?}");
 }
 
 /// The next alarm among the controller's notifications.
@@ -307,10 +349,42 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         .expect("tshark");
     std::thread::sleep(Duration::from_secs(2));
 
-    let device = Launch::config("dvd", &DEVICE_TOML.replace("IFACE", &net.ifs[1]))
+    let state = dir.join("station.toml");
+    let device_toml = DEVICE_TOML
+        .replace("IFACE", &net.ifs[1])
+        .replace("STATE", &state.display().to_string());
+    let mut device = Launch::config("dvd", &device_toml)
         .netns(&net.ns[1])
         .until_cycling()
         .start();
+    // Commissioning: the engineering tool names the station for good.
+    let mac = device.status().station.expect("a station").mac;
+    let procimg = procimg_testkit::workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
+    let named = std::process::Command::new("ip")
+        .args(["netns", "exec", &net.ns[0]])
+        .arg(&procimg)
+        .args([
+            "dcp",
+            "--iface",
+            &net.ifs[0],
+            "set-name",
+            &mac,
+            "pc-device",
+            "--permanent",
+        ])
+        .output()
+        .expect("procimg dcp set-name");
+    assert!(
+        named.status.success(),
+        "{}",
+        String::from_utf8_lossy(&named.stderr)
+    );
+    wait_station_name(&device, "pc-device");
+    assert!(
+        std::fs::read_to_string(&state)
+            .unwrap()
+            .contains("pc-device")
+    );
     let controller = Launch::config("dvc", &CONTROLLER_TOML.replace("IFACE", &net.ifs[0]))
         .netns(&net.ns[0])
         .start();
@@ -361,6 +435,8 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     let again = device_echo(device.instance.clone(), 500);
     wait_remote(&mut watcher, Ioxs::Good);
     let _ = again.join();
+    // Keep the device's I data owned while the diagnosis goes through.
+    let again = device_echo(device.instance.clone(), 60_000);
 
     // A diagnosis the device's client adds reaches the controller's client as an alarm and
     // in record 0x800A of the submodule; its removal too.
@@ -397,6 +473,25 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     services.acknowledge(&gone).expect("acknowledge the alarm");
     assert_eq!(channel_errors(&mut services), []);
     drop(dev_client);
+
+    // The device dies: the controller reports DEV_FAILURE; restarted, it comes back under
+    // the name the state file kept, and the controller reports DEV_RETURN.
+    while services.next(Duration::from_millis(10)).is_some() {}
+    drop(again);
+    device.kill();
+    let failure = next_device_event(&mut services, "failure");
+    assert!(
+        matches!(failure, Notification::DeviceFailure { .. }),
+        "{failure:?}"
+    );
+    device.restart();
+    wait_station_name(&device, "pc-device");
+    let back = next_device_event(&mut services, "return");
+    assert!(
+        matches!(back, Notification::DeviceReturn { .. }),
+        "{back:?}"
+    );
+    controller.wait_devices_running(BRING_UP);
     drop(services);
 
     drop(watcher);

@@ -792,6 +792,9 @@ impl Default for DiagnosisEntry {
 pub struct StationReport {
     /// NameOfStation now.
     pub name: String,
+    /// The station's MAC address (the interface's).
+    #[serde(default)]
+    pub mac: String,
     /// IPv4 address now (`0.0.0.0`: none).
     pub ip: String,
     /// VendorID.

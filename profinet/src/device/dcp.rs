@@ -62,6 +62,10 @@ pub(super) struct Identity {
 pub(super) struct Changes {
     pub(super) name: bool,
     pub(super) ip: bool,
+    /// The name was set to be kept permanently (BlockQualifier bit 0), changed or not.
+    pub(super) store_name: bool,
+    /// The IP suite was set to be kept permanently.
+    pub(super) store_ip: bool,
     /// A Signal request arrived (flash the LED).
     pub(super) signal: bool,
     /// Reset to factory (communication parameters).
@@ -128,7 +132,7 @@ impl Responder {
                     .iter()
                     .map(|b| {
                         let (option, suboption) = b.value.code();
-                        let error = set(id, &b.value, &mut changes);
+                        let error = set(id, b, &mut changes);
                         Block::bare(BlockRepr::ControlResponse {
                             option,
                             suboption,
@@ -308,8 +312,10 @@ fn unsupported(option: u8) -> u8 {
 }
 
 /// Applies one Set block; returns its BlockError.
-fn set(id: &mut Identity, v: &BlockRepr, changes: &mut Changes) -> u8 {
-    match v {
+fn set(id: &mut Identity, b: &Block, changes: &mut Changes) -> u8 {
+    // BlockQualifier bit 0: keep the value across a restart (permanent), else until then.
+    let permanent = b.prefix & 1 == 1;
+    match &b.value {
         BlockRepr::IpParameter { ip, mask, gateway }
         | BlockRepr::FullIpSuite {
             ip, mask, gateway, ..
@@ -318,6 +324,7 @@ fn set(id: &mut Identity, v: &BlockRepr, changes: &mut Changes) -> u8 {
                 return block_error::SET_NOT_POSSIBLE;
             }
             changes.ip |= (id.ip, id.mask, id.gateway) != (*ip, *mask, *gateway);
+            changes.store_ip |= permanent;
             (id.ip, id.mask, id.gateway) = (*ip, *mask, *gateway);
             block_error::OK
         }
@@ -326,6 +333,7 @@ fn set(id: &mut Identity, v: &BlockRepr, changes: &mut Changes) -> u8 {
                 return block_error::SET_NOT_POSSIBLE;
             }
             changes.name |= id.name != *n;
+            changes.store_name |= permanent;
             id.name.clone_from(n);
             block_error::OK
         }
@@ -337,6 +345,9 @@ fn set(id: &mut Identity, v: &BlockRepr, changes: &mut Changes) -> u8 {
         BlockRepr::ResetToFactory(_) | BlockRepr::FactoryReset(_) => {
             // Resetting the communication parameters: no name, no IP.
             changes.reset = true;
+            // What a restart comes back with, too: the factory state.
+            changes.store_name = true;
+            changes.store_ip = true;
             id.name.clear();
             (id.ip, id.mask, id.gateway) = ([0; 4], [0; 4], [0; 4]);
             block_error::OK

@@ -152,6 +152,17 @@ pub enum DeviceAction {
     },
 }
 
+/// The identity a device keeps across a restart, as DCP set it.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct KeptIdentity {
+    /// NameOfStation to keep (empty: none), if DCP set one permanently or reset the device.
+    pub name: Option<String>,
+    /// IP address, subnet mask and gateway to keep (zeros: none), likewise.
+    pub ip_suite: Option<[[u8; 4]; 3]>,
+    /// Changes so far: a caller that stores the identity stores it again when this grows.
+    pub changes: u64,
+}
+
 /// Where the device's AR stands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ArState {
@@ -205,6 +216,8 @@ pub struct Device<A> {
     aborted_ars: u64,
     signals: u32,
     acks: Vec<AlarmAck>,
+    /// What DCP set to be kept across a restart.
+    kept: KeptIdentity,
     /// Set when the caller's cycle runs the cyclic exchange.
     handover: Option<handover::Handover>,
     /// Whether a Connect may make an AR (see [`Device::set_accepting`]).
@@ -251,6 +264,7 @@ impl<A: Application> Device<A> {
             aborted_ars: 0,
             signals: 0,
             acks: Vec::new(),
+            kept: KeptIdentity::default(),
             handover: None,
             accepting: true,
             lldp: None,
@@ -316,6 +330,35 @@ impl<A: Application> Device<A> {
     /// The IP address (0.0.0.0 when none is set).
     pub fn ip(&self) -> [u8; 4] {
         self.id.ip
+    }
+
+    /// Subnet mask and default gateway (0.0.0.0 when none is set).
+    pub fn mask_and_gateway(&self) -> ([u8; 4], [u8; 4]) {
+        (self.id.mask, self.id.gateway)
+    }
+
+    /// Sets the address, subnet mask and gateway, before the device goes on the network
+    /// (the configuration's, or what a restart keeps); no AR is touched.
+    pub fn set_ip_suite(&mut self, ip: [u8; 4], mask: [u8; 4], gateway: [u8; 4]) {
+        (self.id.ip, self.id.mask, self.id.gateway) = (ip, mask, gateway);
+        if let Some(l) = self.lldp.as_mut() {
+            l.set_ip((ip != [0; 4]).then_some(ip));
+        }
+    }
+
+    /// Sets the NameOfStation before the device goes on the network (what a restart
+    /// keeps); no AR is touched.
+    pub fn set_name(&mut self, name: &str) {
+        self.id.name = name.to_owned();
+        if let Some(l) = self.lldp.as_mut() {
+            l.set_name(name);
+        }
+    }
+
+    /// What DCP set to be kept across a restart (a Set with the permanent qualifier, a reset
+    /// to factory): the caller stores it and gives it back at the next start.
+    pub fn kept_identity(&self) -> &KeptIdentity {
+        &self.kept
     }
 
     /// The NameOfStation (empty when none is set).
@@ -431,6 +474,15 @@ impl<A: Application> Device<A> {
     fn after_dcp(&mut self, changes: dcp::Changes, out: &mut Vec<DeviceAction>) {
         if changes.signal {
             self.signals = self.signals.saturating_add(1);
+        }
+        if changes.store_name {
+            self.kept.name = Some(self.id.name.clone());
+        }
+        if changes.store_ip {
+            self.kept.ip_suite = Some([self.id.ip, self.id.mask, self.id.gateway]);
+        }
+        if changes.store_name || changes.store_ip {
+            self.kept.changes += 1;
         }
         // The AR is bound to the station's name and address: a change ends it (CMINA).
         if changes.reset {

@@ -26,6 +26,7 @@ use crate::wire::rta_pdu::{ErrRta, RtaBody};
 use std::net::Ipv4Addr;
 
 mod diagnosis;
+mod kept_identity;
 
 /// The applications these tests need: inputs left alone, the echo of the submodule's own
 /// outputs, or a big-endian u32 count of the frames produced.

@@ -469,6 +469,16 @@ impl Repr {
         )
     }
 
+    /// Reset to factory (05/06) in reset `mode` (1 application data, 2 communication
+    /// parameters, 8 all data, …), carried in bits 1 to 15 of the BlockQualifier.
+    pub fn reset_to_factory(xid: u32, mode: u16) -> Repr {
+        let qualifier = mode << 1;
+        Repr::set(
+            xid,
+            Block::new(qualifier, BlockRepr::ResetToFactory(qualifier)),
+        )
+    }
+
     /// Flash the device's LED: ControlSignal, qualifier 0, SignalValue 0x0100.
     pub fn signal(xid: u32) -> Repr {
         Repr::set(

@@ -13,9 +13,10 @@ mod diagnosis;
 mod role;
 mod services;
 pub mod sim_plc;
+mod state_file;
 mod station;
 
-pub use role::{DeviceCommand, DeviceRole, ImageApplication};
+pub use role::{DeviceCommand, DeviceRole, ImageApplication, Kept};
 pub use services::DeviceServices;
 pub use station::{Station, StationEvent, engine, state_name};
 
@@ -59,6 +60,9 @@ pub enum DeviceStartError {
         /// What the interface has.
         found: String,
     },
+    /// The state file could not be read.
+    #[error(transparent)]
+    StateFile(#[from] state_file::StateFileError),
     /// The network could not be set up.
     #[error(transparent)]
     Network(#[from] NetworkError),
@@ -68,10 +72,18 @@ pub enum DeviceStartError {
 /// takes part while the mode of `shared` is CLEAR or OPERATE and ends when `shared.stop` is
 /// set, aborting its AR.
 pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceStartError> {
-    let station = config
+    let configured = config
         .station
         .as_ref()
         .ok_or_else(|| DeviceStartError::NoStation(config.origin.clone()))?;
+    // What the last run kept overrides the configuration's first-start values.
+    let kept = match &configured.state_file {
+        Some(path) => Some(Kept::new(path.clone(), state_file::load(path)?)),
+        None => None,
+    };
+    let station = &kept
+        .as_ref()
+        .map_or_else(|| configured.clone(), |k| with_kept(configured, &k.state));
     let plc_stop = Arc::new(AtomicBool::new(false));
     let mut threads = Vec::new();
     let channel = Arc::new(Channel::new());
@@ -140,15 +152,32 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
                 )
             }
         };
-    let shown = Arc::new(Station::new(&station));
+    let shown = Arc::new(Station::new(&station, mac));
     let mut device = engine(&station, mac, cycle_ns);
     device.set_hello(station.dcp_hello);
+    let ip = station.ip.map_or([0; 4], |ip| ip.octets());
+    let (mask, gateway) = match station.ip {
+        Some(_) => (station.netmask.octets(), station.gateway.octets()),
+        None => ([0; 4], [0; 4]),
+    };
+    device.set_ip_suite(ip, mask, gateway);
+    if let Some(im) = kept.as_ref().and_then(|k| k.state.im.as_ref()) {
+        // Checked when the file was loaded.
+        if let Ok(records) = state_file::im_records(im) {
+            device.set_im_records(records);
+        }
+    }
     let datagrams = Arc::new(DatagramCounters::default());
     let (commands, command_rx) = std::sync::mpsc::channel();
     let (events, event_rx) = std::sync::mpsc::channel();
     threads.push(
         acyclic::spawn(acyclic::AcyclicSetup {
-            role: DeviceRole::new(device, shown.clone(), channel.clone()),
+            role: match kept {
+                Some(k) => {
+                    DeviceRole::new(device, shown.clone(), channel.clone()).with_state_file(k)
+                }
+                None => DeviceRole::new(device, shown.clone(), channel.clone()),
+            },
             channel: channel.clone(),
             datagrams: udp,
             shared,
@@ -176,4 +205,18 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
         threads,
         stop: Some(Box::new(move || plc_stop.store(true, Ordering::Release))),
     })
+}
+
+/// `station` with what the state file kept: a name or address DCP set permanently.
+fn with_kept(station: &StationConfig, kept: &state_file::KeptState) -> StationConfig {
+    let mut s = station.clone();
+    if let Some(name) = &kept.name {
+        s.name.clone_from(name);
+    }
+    if let Some(ip) = kept.ip {
+        s.ip = (!ip.is_unspecified()).then_some(ip);
+        s.netmask = kept.netmask.unwrap_or(s.netmask);
+        s.gateway = kept.gateway.unwrap_or(s.gateway);
+    }
+    s
 }

@@ -4,6 +4,7 @@
 //! report the control side reads, the log).
 
 use super::diagnosis;
+use super::state_file::{self, KeptState};
 use super::station::{Station, StationEvent};
 use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
@@ -12,6 +13,7 @@ use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rta_pdu::AbortCode;
 use procimg_shm_layout::control::StationDiagnosisChange;
 use std::net::SocketAddrV4;
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::SyncSender;
@@ -50,6 +52,29 @@ pub struct DeviceRole {
     signals: u32,
     /// Aborted ARs seen so far, to tell an abort from a Release.
     aborted: u64,
+    /// The state file and what it holds, if the station has one.
+    kept: Option<Kept>,
+}
+
+/// The state file as the role keeps it up to date.
+pub struct Kept {
+    /// Where it is.
+    pub path: PathBuf,
+    /// What it holds.
+    pub state: KeptState,
+    /// The engine's kept-identity changes and I&M writes already in it.
+    seen: (u64, u64),
+}
+
+impl Kept {
+    /// `state`, as loaded from `path`.
+    pub fn new(path: PathBuf, state: KeptState) -> Kept {
+        Kept {
+            path,
+            state,
+            seen: (0, 0),
+        }
+    }
 }
 
 impl DeviceRole {
@@ -68,6 +93,36 @@ impl DeviceRole {
             last_state: ArState::Idle,
             signals: 0,
             aborted: 0,
+            kept: None,
+        }
+    }
+
+    /// Keeps what must survive a restart in `kept` from now on.
+    pub fn with_state_file(mut self, kept: Kept) -> DeviceRole {
+        self.kept = Some(kept);
+        self
+    }
+
+    /// Writes the state file when DCP set something to keep or the PLC wrote I&M data.
+    fn keep(&mut self) {
+        let Some(k) = self.kept.as_mut() else {
+            return;
+        };
+        let now = (
+            self.device.kept_identity().changes,
+            self.device.im_write_count(),
+        );
+        if now == k.seen {
+            return;
+        }
+        k.seen = now;
+        state_file::keep_identity(&mut k.state, self.device.kept_identity());
+        if self.device.im_write_count() > 0 {
+            k.state.im = Some(state_file::kept_im(self.device.im_records()));
+        }
+        match state_file::save(&k.path, &k.state) {
+            Ok(()) => tracing::debug!("state file {} written", k.path.display()),
+            Err(e) => tracing::error!("{e}"),
         }
     }
 
@@ -86,6 +141,8 @@ impl DeviceRole {
         self.channel
             .station_problem
             .store(self.device.station_problem(), Ordering::Relaxed);
+        self.keep();
+        self.station.refresh(&self.device);
         let state = self.device.state();
         if state != self.last_state {
             let event = if state == ArState::Idle {

@@ -32,11 +32,12 @@ pub struct Station {
 }
 
 impl Station {
-    /// The station of `config` before anything happened.
-    pub fn new(config: &StationConfig) -> Station {
+    /// The station of `config` at MAC address `mac`, before anything happened.
+    pub fn new(config: &StationConfig, mac: MacAddress) -> Station {
         Station {
             report: Mutex::new(StationReport {
                 name: config.name.clone(),
+                mac: mac.to_string(),
                 ip: config
                     .ip
                     .map_or_else(|| "0.0.0.0".to_owned(), |ip| ip.to_string()),
@@ -57,6 +58,25 @@ impl Station {
     /// Whether an AR is up (the shutdown waits for none).
     pub fn has_ar(&self) -> bool {
         self.lock().ar.is_some()
+    }
+
+    /// Takes in the device's name and address, which DCP may have changed.
+    pub fn refresh<A>(&self, device: &Device<A>)
+    where
+        A: procimg_profinet::device::Application,
+    {
+        let ip = std::net::Ipv4Addr::from(device.ip()).to_string();
+        let mut r = self.lock();
+        if r.name != device.name() || r.ip != ip {
+            tracing::info!(
+                "the station is now \"{}\" at {ip} (was \"{}\" at {})",
+                device.name(),
+                r.name,
+                r.ip
+            );
+            r.name = device.name().to_owned();
+            r.ip = ip;
+        }
     }
 
     /// Takes in `event` of `device`, and logs it.
