@@ -240,6 +240,15 @@ fn controller_pattern(instance: &str, cycles: u64) -> Seen {
     seen
 }
 
+/// Waits until `done`, for at most 5 s.
+fn wait_for(mut done: impl FnMut() -> bool, what: &str) {
+    let until = Instant::now() + Duration::from_secs(5);
+    while !done() {
+        assert!(Instant::now() < until, "{what} did not show within 5 s");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
 /// Waits until the device's station has `name`.
 fn wait_station_name(device: &procimg_testkit::Procimgd, name: &str) {
     let until = Instant::now() + BRING_UP;
@@ -407,6 +416,20 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         "the device's client saw GOOD Q data {echoed} times"
     );
     assert_eq!(after, before, "watchdog expiries (controller, device)");
+
+    // The PLC's STOP (its controller in CLEAR) and RUN reach the device's status.
+    let plc_running = |device: &procimg_testkit::Procimgd| {
+        device
+            .status()
+            .station
+            .and_then(|s| s.ar)
+            .and_then(|a| a.plc_running)
+    };
+    assert_eq!(plc_running(&device), Some(true));
+    controller.set_mode(procimg_client::Mode::Clear);
+    wait_for(|| plc_running(&device) == Some(false), "the PLC's STOP");
+    controller.set_mode(procimg_client::Mode::Operate);
+    wait_for(|| plc_running(&device) == Some(true), "the PLC's RUN");
 
     // With no client providing the device's I data, the PLC gets it BAD; a new owner makes
     // it GOOD again.

@@ -820,6 +820,10 @@ pub struct ArReport {
     pub ar_uuid: String,
     /// The PLC's MAC address.
     pub controller_mac: String,
+    /// Whether the PLC's provider is in RUN (its output frames' DataStatus); none before its
+    /// first frame.
+    #[serde(default)]
+    pub plc_running: Option<bool>,
 }
 
 /// A run of forced bytes in a status report.

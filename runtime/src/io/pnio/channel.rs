@@ -9,7 +9,7 @@
 use crossbeam_queue::ArrayQueue;
 use procimg_nic::MAX_FRAME;
 use procimg_profinet::cyclic::CyclicAr;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, AtomicU64, Ordering};
 
 /// Frame buffers in circulation.
 const BUFFERS: usize = 256;
@@ -105,6 +105,9 @@ pub struct Channel {
     /// In the device role: the station has a fault diagnosis pending, which the produced
     /// frames' DataStatus says (StationProblemIndicator); set by the acyclic side.
     pub station_problem: AtomicBool,
+    /// The DataStatus of the last cyclic frame taken from a peer (in the device role, the
+    /// PLC's: RUN or STOP, valid or not); set by the cycle thread.
+    pub peer_data_status: AtomicU8,
 }
 
 impl Default for Channel {
@@ -129,6 +132,7 @@ impl Channel {
             free,
             counters: NetCounters::default(),
             station_problem: AtomicBool::new(false),
+            peer_data_status: AtomicU8::new(0),
         }
     }
 

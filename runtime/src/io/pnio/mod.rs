@@ -244,6 +244,9 @@ impl Exchanges {
         NetCounters::count(&counters.cyclic_frames);
         let data = packet.data();
         let usable = repr.data_usable();
+        self.channel
+            .peer_data_status
+            .store(repr.data_status, Ordering::Relaxed);
         for o in &run.ar.input.objects {
             let (Some(src), Some(&iops)) = (data.get(o.data..o.data + o.len), data.get(o.iops))
             else {

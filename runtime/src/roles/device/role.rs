@@ -10,6 +10,7 @@ use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
 use procimg_profinet::device::{Application, ArState, Device, DeviceAction};
 use procimg_profinet::wire::rpc::RPC_PORT;
+use procimg_profinet::wire::rt::data_status::PROVIDER_RUN;
 use procimg_profinet::wire::rta_pdu::AbortCode;
 use procimg_shm_layout::control::StationDiagnosisChange;
 use std::net::SocketAddrV4;
@@ -54,6 +55,10 @@ pub struct DeviceRole {
     aborted: u64,
     /// The state file and what it holds, if the station has one.
     kept: Option<Kept>,
+    /// RUN or STOP, as the PLC's last output frame said, while its data flows.
+    plc_running: Option<bool>,
+    /// The cycle took the PLC's first valid frame of the current exchange.
+    data_flows: bool,
 }
 
 /// The state file as the role keeps it up to date.
@@ -94,6 +99,8 @@ impl DeviceRole {
             signals: 0,
             aborted: 0,
             kept: None,
+            plc_running: None,
+            data_flows: false,
         }
     }
 
@@ -144,6 +151,9 @@ impl DeviceRole {
         self.keep();
         self.station.refresh(&self.device);
         let state = self.device.state();
+        if state == ArState::Idle {
+            self.data_flows = false;
+        }
         if state != self.last_state {
             let event = if state == ArState::Idle {
                 let aborted = self.device.aborted_ars() != self.aborted;
@@ -160,6 +170,17 @@ impl DeviceRole {
             self.station.note(&self.device, &event);
             out.push(Effect::Event(event));
             self.last_state = state;
+        }
+        // The PLC's RUN/STOP, from its output frames' DataStatus, once its data flows.
+        let running = (self.device.state() == ArState::Data && self.data_flows)
+            .then(|| self.channel.peer_data_status.load(Ordering::Relaxed) & PROVIDER_RUN != 0);
+        if running != self.plc_running {
+            self.plc_running = running;
+            if let Some(r) = running {
+                self.station
+                    .note(&self.device, &StationEvent::PlcRunning(r));
+                out.push(Effect::Event(StationEvent::PlcRunning(r)));
+            }
         }
         if self.device.signal_count() != self.signals {
             self.signals = self.device.signal_count();
@@ -210,6 +231,7 @@ impl Role for DeviceRole {
         match report {
             CycleReport::DataStarted { epoch, .. } => {
                 if self.device.cyclic_started(epoch, now_ns) {
+                    self.data_flows = true;
                     tracing::debug!("the PLC's output data arrives");
                 }
             }

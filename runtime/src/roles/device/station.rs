@@ -24,6 +24,8 @@ pub enum StationEvent {
     },
     /// DCP Signal: the engineering tool asks the station to make itself seen.
     Blink,
+    /// The PLC's output frames say RUN (`true`) or STOP.
+    PlcRunning(bool),
 }
 
 /// The station as the status report shows it.
@@ -96,6 +98,7 @@ impl Station {
                         .controller_mac()
                         .map(|m| m.to_string())
                         .unwrap_or_default(),
+                    plc_running: r.ar.as_ref().and_then(|a| a.plc_running),
                 };
                 if *state == ArState::Data {
                     tracing::info!(
@@ -124,6 +127,12 @@ impl Station {
             }
             StationEvent::Blink => {
                 tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
+            }
+            StationEvent::PlcRunning(running) => {
+                tracing::info!("the PLC is in {}", if *running { "RUN" } else { "STOP" });
+                if let Some(ar) = r.ar.as_mut() {
+                    ar.plc_running = Some(*running);
+                }
             }
         }
     }
