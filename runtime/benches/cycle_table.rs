@@ -135,10 +135,15 @@ fn main() {
         ("cycle null 0 cl.", Io::Null, 0),
         ("cycle null 1 cl.", Io::Null, 1),
         ("cycle pnio 1 cl.", Io::Pnio, 1),
+        ("cycle device 1 cl.", Io::PnioDevice, 1),
     ] {
         let mut points = Vec::new();
         for shape in cases::SIZES {
-            if io == Io::Pnio && !shape.fits_profinet() {
+            if io != Io::Null && !shape.fits_profinet() {
+                continue;
+            }
+            // The device role has one AR: one device.
+            if io == Io::PnioDevice && shape.devices != 1 {
                 continue;
             }
             let ns = cycle_median(runs, shape, io, clients);
@@ -153,7 +158,10 @@ fn main() {
                 bytes: Copied::cycle(shape, io, clients).total(),
             });
         }
-        fits.push((part, "KiB of image (inputs)", fit(&points)));
+        // Two sizes only for the device role (one AR): no fit.
+        if io != Io::PnioDevice {
+            fits.push((part, "KiB of image (inputs)", fit(&points)));
+        }
     }
     // The merge's share: the same engine with and without the client.
     for (shape, with) in merge_points {

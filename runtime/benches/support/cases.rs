@@ -104,7 +104,7 @@ impl Copied {
             },
             ..Copied::default()
         };
-        if io == Io::Pnio {
+        if io != Io::Null {
             c.receive = tables.layout.input_size as usize;
             c.send = Copied::frames(shape);
         }

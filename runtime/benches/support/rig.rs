@@ -56,6 +56,10 @@ pub enum Io {
     Null,
     /// [`PnioIo`] over a [`LoopNic`]: one input and one output frame per device and cycle.
     Pnio,
+    /// The same in the IO device role: the shape's one device is procimgd's station, the
+    /// loop interface plays the PLC (one output frame consumed, one input frame produced
+    /// per cycle), the image's directions are the device's.
+    PnioDevice,
 }
 
 /// Cycles of the configuration's cycle time the bring-up of [`exchanges`] may take.
@@ -88,10 +92,37 @@ pub fn exchanges(config: &Config) -> Vec<CyclicAr> {
     w.port().exchanges().cloned().collect()
 }
 
+/// The device's end of the controller's exchanges: what a device consumes is what the
+/// controller produces, and the other way round.
+fn mirrored(ars: Vec<CyclicAr>) -> Vec<CyclicAr> {
+    ars.into_iter()
+        .map(|ar| {
+            CyclicAr::from_maps(
+                ar.device,
+                ar.epoch,
+                (OWN_MAC, ar.peer),
+                ar.output,
+                ar.input,
+                ar.timing,
+                ar.submodules,
+            )
+        })
+        .collect()
+}
+
 /// The PROFINET IO system of `config` over a [`LoopNic`], with every device's exchange
-/// already handed to it (it starts them at its first `receive`).
-pub fn pnio_io(config: &Config, counters: Arc<NicCounters>) -> (PnioIo<LoopNic>, Arc<Channel>) {
-    let ars = exchanges(config);
+/// already handed to it (it starts them at its first `receive`); with `device`, the
+/// device's end of the one exchange.
+pub fn pnio_io(
+    config: &Config,
+    device: bool,
+    counters: Arc<NicCounters>,
+) -> (PnioIo<LoopNic>, Arc<Channel>) {
+    let ars = if device {
+        mirrored(exchanges(config))
+    } else {
+        exchanges(config)
+    };
     let nic = LoopNic::new(&ars, counters);
     // Every device is up: their exchanges cover the whole submodule table, in order.
     let ranges = ars.iter().map(|ar| ar.submodules.clone()).collect();
@@ -261,7 +292,11 @@ impl Rig {
     /// them (client i owns a contiguous share of the submodules), already in OPERATE.
     pub fn new(instance: &str, shape: Shape, io: Io, clients: usize) -> Rig {
         let config = shape::config(instance, shape);
-        let tables = Tables::from_config(&config).expect("the shape lays out");
+        let tables = match io {
+            Io::PnioDevice => Tables::from_config(&shape::as_station(&config)),
+            _ => Tables::from_config(&config),
+        }
+        .expect("the shape lays out");
         let generation = now_ns();
         let shared = Arc::new(Shared::new(tables.submodules.len()));
         shared
@@ -273,8 +308,8 @@ impl Rig {
         let nic = Arc::new(NicCounters::default());
         let (io, channel): (Box<dyn IoSystem>, _) = match io {
             Io::Null => (Box::new(NullIo), None),
-            Io::Pnio => {
-                let (io, channel) = pnio_io(&config, nic.clone());
+            Io::Pnio | Io::PnioDevice => {
+                let (io, channel) = pnio_io(&config, io == Io::PnioDevice, nic.clone());
                 (Box::new(io), Some(channel))
             }
         };
@@ -432,7 +467,7 @@ impl PnioRig {
         let config = shape::config("bench-pnio", shape);
         let tables = Tables::from_config(&config).expect("the shape lays out");
         let nic = Arc::new(NicCounters::default());
-        let (io, channel) = pnio_io(&config, nic.clone());
+        let (io, channel) = pnio_io(&config, false, nic.clone());
         let mut rig = PnioRig {
             io,
             image: Image::new(&tables),

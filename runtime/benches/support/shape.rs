@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Configurations of a given size: devices, submodules and bytes of IO data, spread evenly.
 
-use procimg_runtime::config::{Config, DeviceConfig, SimBehaviour, SubmoduleConfig};
+use procimg_runtime::config::station::{
+    DapConfig, SoftwareVersion, StationConfig, StationSubmodule,
+};
+use procimg_runtime::config::{Config, DeviceConfig, Role, SimBehaviour, SubmoduleConfig};
 use procimg_shm_layout::NO_ADDRESS;
 
 /// Cycle time of every benchmark configuration. Long, so that a device's watchdog
@@ -102,4 +105,47 @@ pub fn config(instance: &str, shape: Shape) -> Config {
         })
         .collect();
     config
+}
+
+/// `config`'s first device as procimgd's own station (the IO device role), with the same
+/// submodules in the same order and no access point: the table the device's end of the
+/// device's exchange maps onto.
+pub fn as_station(config: &Config) -> Config {
+    let d = &config.devices[0];
+    Config {
+        role: Role::Device,
+        devices: Vec::new(),
+        station: Some(StationConfig {
+            name: d.name.clone(),
+            ip: Some(std::net::Ipv4Addr::new(192, 168, 0, 50)),
+            netmask: std::net::Ipv4Addr::new(255, 255, 255, 0),
+            gateway: std::net::Ipv4Addr::UNSPECIFIED,
+            vendor_id: d.vendor_id,
+            device_id: d.device_id,
+            instance: d.instance,
+            device_type: "procimg bench".into(),
+            order_number: String::new(),
+            serial_number: String::new(),
+            hardware_revision: 1,
+            software_revision: SoftwareVersion {
+                prefix: 'V',
+                functional: 0,
+                bug_fix: 1,
+                internal: 0,
+            },
+            state_file: None,
+            dcp_hello: false,
+            dap: DapConfig::default(),
+            submodules: d
+                .submodules
+                .iter()
+                .map(|s| StationSubmodule {
+                    submodule: s.clone(),
+                    accepts: Vec::new(),
+                    im: false,
+                })
+                .collect(),
+        }),
+        ..config.clone()
+    }
 }
