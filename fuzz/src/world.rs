@@ -19,15 +19,15 @@ use crate::wire_check;
 use procimg_nic::{MAX_FRAME, Nic, sim_link};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::{AlarmTicket, DeviceEvent, DeviceState, RecordRequest};
-use procimg_profinet::device::DeviceAction;
+use procimg_profinet::device::{ChannelDiag, DeviceAction, DiagEntry, Severity};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_runtime::config::{self, Config};
-use procimg_runtime::roles::controller::sim_behaviour::DemoApplication;
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, FromCycle, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
+use procimg_runtime::roles::controller::sim_behaviour::DemoApplication;
 use procimg_runtime::roles::controller::sim_plant;
 use procimg_runtime::roles::controller::sim_plant::DemoDevice;
 use procimg_runtime::roles::controller::{SIM_CONTROLLER_IP, SIM_CONTROLLER_MAC};
@@ -151,8 +151,19 @@ pub mod device_ops {
     pub const DATAGRAM: u8 = 2;
     /// `usi: u16, bytes`: the device raises a process alarm on its IO submodule.
     pub const RAISE_ALARM: u8 = 3;
+    /// `ms: u8`: the device hands its cyclic exchange over to a cycle of `max(ms, 1)` ms (as
+    /// procimgd's device role does); what it hands out is checked against its frames.
+    pub const HAND_OVER: u8 = 4;
+    /// `expired: u8, epoch: u8`: the cycle reports the first frame (even) or the watchdog
+    /// (odd) of exchange `epoch`.
+    pub const CYCLE_REPORT: u8 = 5;
+    /// `op: u8, slot: u8, channel: u16, error: u16, severity: u8`: a diagnosis added (op
+    /// even) or removed on slot `slot % 3`, subslot 1.
+    pub const DIAGNOSIS: u8 = 6;
+    /// `on: u8`: the device takes part (odd) or stops.
+    pub const ACCEPTING: u8 = 7;
     /// Number of opcodes.
-    pub const COUNT: u8 = 4;
+    pub const COUNT: u8 = 8;
 }
 
 /// How a message is changed.
@@ -643,6 +654,44 @@ impl DeviceBench {
                     .device
                     .raise_process_alarm(0, 1, 1, usi, data, self.now, &mut out);
             }
+            device_ops::HAND_OVER => {
+                let ms = u64::from(r.u8()?.max(1));
+                self.device.hand_over_cyclic(ms * MS);
+            }
+            device_ops::CYCLE_REPORT => {
+                let (expired, epoch) = (r.u8()? % 2 == 1, u32::from(r.u8()?));
+                if expired {
+                    self.device.cyclic_expired(epoch, self.now, &mut out);
+                } else {
+                    let _ = self.device.cyclic_started(epoch, self.now);
+                }
+            }
+            device_ops::DIAGNOSIS => {
+                let (op, slot) = (r.u8()?, u16::from(r.u8()? % 3));
+                let (channel, error, severity) = (r.u16()?, r.u16()?, r.u8()?);
+                let entry = ChannelDiag::new(channel, error).with_severity(match severity % 3 {
+                    0 => Severity::Fault,
+                    1 => Severity::MaintenanceRequired,
+                    _ => Severity::MaintenanceDemanded,
+                });
+                let _ = if op % 2 == 0 {
+                    self.device
+                        .add_diagnosis(0, slot, 1, entry, self.now, &mut out)
+                } else {
+                    self.device.remove_diagnosis(
+                        0,
+                        slot,
+                        1,
+                        &DiagEntry::from(entry).key(),
+                        self.now,
+                        &mut out,
+                    )
+                };
+            }
+            device_ops::ACCEPTING => {
+                let on = r.u8()? % 2 == 1;
+                self.device.set_accepting(on, self.now, &mut out);
+            }
             _ => unreachable!("opcode taken modulo COUNT"),
         }
         for a in out {
@@ -651,14 +700,55 @@ impl DeviceBench {
                 DeviceAction::Datagram { payload, .. } => {
                     wire_check::emitted_datagram("the simulated device", &payload)
                 }
-                // Only after hand_over_cyclic, which this device does not do.
-                DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
+                DeviceAction::StartCyclic(ar) => self.check_exchange(&ar),
+                DeviceAction::StopCyclic { .. } => {}
             }
         }
         if let Some(d) = self.device.next_deadline_ns() {
             assert!(d > 0, "a deadline at time 0");
         }
         Some(())
+    }
+}
+
+impl DeviceBench {
+    /// An exchange handed to a cycle must stay within its frames and the submodule table,
+    /// whatever the Connect asked for: the cycle thread trusts it.
+    fn check_exchange(&self, ar: &CyclicAr) {
+        let plugged = ar.submodules.end;
+        for (cr, what) in [(&ar.input, "consumed"), (&ar.output, "produced")] {
+            assert!(
+                cr.data_length <= procimg_profinet::wire::rt::MAX_DATA_LENGTH,
+                "the {what} CR's C_SDU is {} bytes",
+                cr.data_length
+            );
+            for o in &cr.objects {
+                assert!(
+                    o.data + o.len <= cr.data_length && o.iops < cr.data_length,
+                    "a data object of the {what} CR lies outside it: {o:?}"
+                );
+                assert!(
+                    o.submodule < plugged,
+                    "a data object of no plugged submodule: {o:?}"
+                );
+            }
+            for c in &cr.iocs {
+                assert!(
+                    c.offset < cr.data_length,
+                    "an IOCS of the {what} CR lies outside it"
+                );
+                assert!(
+                    c.submodule < plugged,
+                    "an IOCS of no plugged submodule: {c:?}"
+                );
+            }
+        }
+        assert_eq!(
+            ar.frame.len(),
+            ar.payload_offset() + 2 + ar.output.data_length + 4,
+            "the produced frame's length"
+        );
+        assert!(ar.timing.every_cycles >= 1);
     }
 }
 
