@@ -8,11 +8,12 @@ use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rpc::{self, Header, PacketType};
 use procimg_profinet::wire::rt::{self, FrameIdClass};
 use procimg_profinet::wire::rta_pdu::{self, RtaPdu};
-use procimg_profinet::wire::{MacAddress, dcp};
+use procimg_profinet::wire::{MacAddress, dcp, lldp};
 
 /// Checks an Ethernet frame `who` sent: at most [`MAX_FRAME`] bytes, a whole Ethernet header,
 /// EtherType 0x8892, and a PDU that parses as what its FrameID says (DCP, RTA) or, for
-/// cyclic frames, is long enough for the smallest C_SDU and the APDU status.
+/// cyclic frames, is long enough for the smallest C_SDU and the APDU status; or EtherType
+/// 0x88CC and an LLDPDU that parses (a device's announcements).
 pub fn emitted_frame(who: &str, frame: &[u8]) {
     assert!(
         frame.len() <= MAX_FRAME,
@@ -21,6 +22,15 @@ pub fn emitted_frame(who: &str, frame: &[u8]) {
     );
     let eth = ethernet::Frame::new_checked(frame)
         .unwrap_or_else(|_| panic!("{who} sent a frame without a whole Ethernet header"));
+    if eth.ethertype() == lldp::ETHERTYPE_LLDP {
+        let pdu = eth.payload();
+        let p = lldp::Packet::new_checked(pdu)
+            .unwrap_or_else(|_| panic!("{who} sent a truncated LLDPDU: {pdu:02x?}"));
+        if let Err(e) = lldp::Repr::parse(&p) {
+            panic!("{who} sent an LLDPDU that does not parse ({e}): {pdu:02x?}");
+        }
+        return;
+    }
     assert_eq!(
         eth.ethertype(),
         ETHERTYPE_PROFINET,
