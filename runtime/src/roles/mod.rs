@@ -203,3 +203,19 @@ pub(crate) fn network_report(channel: &Channel, datagrams: &DatagramCounters) ->
         unexpected_datagrams: load(&datagrams.unexpected),
     }
 }
+
+/// A configured submodule as the device engine has it plugged (the demo's simulated devices,
+/// the device role's station).
+pub(crate) fn plugged(
+    s: &crate::config::SubmoduleConfig,
+) -> procimg_profinet::device::PluggedSubmodule {
+    procimg_profinet::device::PluggedSubmodule {
+        api: s.api,
+        slot: s.slot,
+        subslot: s.subslot,
+        module_ident: s.module_ident,
+        submodule_ident: s.submodule_ident,
+        input_length: s.input_length,
+        output_length: s.output_length,
+    }
+}

@@ -9,7 +9,7 @@ use crate::config::Config;
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
 use procimg_nic::Nic;
 use procimg_nic::sim_link::LinkEnd;
-use procimg_profinet::device::{Device, DeviceAction, DeviceSetup, PluggedSubmodule};
+use procimg_profinet::device::{Device, DeviceAction, DeviceSetup};
 
 /// A simulated device running one of the demo's behaviours.
 pub type DemoDevice = Device<DemoApplication>;
@@ -52,19 +52,7 @@ pub fn devices(config: &Config) -> Vec<DemoDevice> {
                 vendor_id: dev.vendor_id,
                 device_id: dev.device_id,
                 instance: dev.instance,
-                submodules: dev
-                    .submodules
-                    .iter()
-                    .map(|s| PluggedSubmodule {
-                        api: s.api,
-                        slot: s.slot,
-                        subslot: s.subslot,
-                        module_ident: s.module_ident,
-                        submodule_ident: s.submodule_ident,
-                        input_length: s.input_length,
-                        output_length: s.output_length,
-                    })
-                    .collect(),
+                submodules: dev.submodules.iter().map(crate::roles::plugged).collect(),
                 application: DemoApplication(dev.sim),
                 im0: Im0 {
                     vendor_id: dev.vendor_id,

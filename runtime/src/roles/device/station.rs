@@ -4,7 +4,7 @@
 
 use super::role::ImageApplication;
 use crate::config::StationConfig;
-use procimg_profinet::device::{ArState, Device, DeviceSetup, PluggedSubmodule};
+use procimg_profinet::device::{ArState, Device, DeviceSetup};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use procimg_shm_layout::control::{ArReport, StationReport};
@@ -166,15 +166,7 @@ pub fn engine(station: &StationConfig, mac: MacAddress, cycle_ns: u64) -> Device
         instance: station.instance,
         submodules: station
             .submodule_configs()
-            .map(|s| PluggedSubmodule {
-                api: s.api,
-                slot: s.slot,
-                subslot: s.subslot,
-                module_ident: s.module_ident,
-                submodule_ident: s.submodule_ident,
-                input_length: s.input_length,
-                output_length: s.output_length,
-            })
+            .map(crate::roles::plugged)
             .collect(),
         application: ImageApplication,
         im0: im0(station),
