@@ -11,7 +11,7 @@ use crate::roles::{CycleReport, Effect, Role};
 use crate::sys::clock::now_ns;
 use procimg_shm_layout::Mode;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 use std::sync::mpsc::{Receiver, Sender};
 use std::thread::JoinHandle;
 use std::time::Duration;
@@ -19,14 +19,7 @@ use std::time::Duration;
 /// The longest the loop sleeps: retransmissions and the mode are checked this often.
 const MAX_WAIT: Duration = Duration::from_millis(5);
 
-/// Datagrams of port 34964 the role dropped, published for the status report.
-#[derive(Default)]
-pub struct DatagramCounters {
-    /// RPC datagrams that did not parse.
-    pub malformed: AtomicU64,
-    /// RPC datagrams nothing was waiting for.
-    pub unexpected: AtomicU64,
-}
+pub use crate::roles::DatagramCounters;
 
 /// What the acyclic thread works with.
 pub struct AcyclicSetup<R: Role> {

@@ -6,7 +6,6 @@
 use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, MAX_ALARM_DATA_LENGTH, Plan};
 use super::cyclic::{Consumer, Provider};
 use super::diagnosis::SubslotAddr;
-use super::records::Records;
 use super::rpc::ClientCall;
 use super::{Application, ArState, DeviceAction, ethernet_frame};
 use crate::cyclic::{CrMap, CrTiming, DataMap, IocsMap};
@@ -17,6 +16,12 @@ use crate::wire::rt::data_status;
 use crate::wire::rta_pdu::{AbortCode, RtaBody, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
 use std::net::SocketAddrV4;
+
+/// (API, slot, subslot, index) of a record.
+pub(super) type RecordKey = (u32, u16, u16, u16);
+
+/// The records written during an AR.
+pub(super) type Records = std::collections::HashMap<RecordKey, Vec<u8>>;
 
 /// IOxS GOOD.
 pub(super) const IOXS_GOOD: u8 = 0x80;

@@ -19,7 +19,7 @@
 //! invalid slot/subslot, access denied, state conflict (the AR's records without an AR).
 
 use super::PluggedSubmodule;
-use super::ar::ArSubmodule;
+use super::ar::{ArSubmodule, Records};
 use super::connect::{CMRPC, CMRPC_AR_UUID_UNKNOWN, CMRPC_ARGS_LENGTH, CMRPC_UNKNOWN_BLOCKS};
 use super::diagnosis::records::{DiagnosisScope, diagnosis_index};
 use super::diagnosis::{DiagnosisStore, SubslotAddr};
@@ -30,13 +30,6 @@ use crate::wire::record::{
     INDEX_MODULE_DIFF, Im0, IodHeader, IodKind, RecordError, RecordErrorCode, split_write_multiple,
 };
 use crate::wire::{PnioStatus, Uuid};
-use std::collections::HashMap;
-
-/// (API, slot, subslot, index) of a record.
-pub(super) type RecordKey = (u32, u16, u16, u16);
-
-/// The records written during an AR.
-pub(super) type Records = HashMap<RecordKey, Vec<u8>>;
 
 /// Bytes of record data kept per AR: a bound against a controller that writes without end.
 const MAX_STORED: usize = 64 * 1024;

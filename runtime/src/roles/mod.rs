@@ -22,7 +22,6 @@
 pub mod controller;
 pub mod device;
 
-use crate::acyclic::DatagramCounters;
 use crate::cycle::thread::IoFactory;
 use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::Channel;
@@ -79,6 +78,16 @@ pub enum CycleReport {
         /// The AR's epoch.
         epoch: u32,
     },
+}
+
+/// Datagrams of port 34964 the role dropped, published by the acyclic thread for the status
+/// report.
+#[derive(Default)]
+pub struct DatagramCounters {
+    /// RPC datagrams that did not parse.
+    pub malformed: std::sync::atomic::AtomicU64,
+    /// RPC datagrams nothing was waiting for.
+    pub unexpected: std::sync::atomic::AtomicU64,
 }
 
 /// Datagrams of port 34964 the role dropped, for the status report.

@@ -2,7 +2,7 @@
 //! Diagnosis from clients: the control protocol's [`StationDiagnosisChange`] in the device
 //! engine's terms, and carried out on it (the store changes, the PLC gets the alarm).
 
-use super::role::ImageApplication;
+use super::station::ImageApplication;
 use procimg_profinet::device::{
     ChannelDiag, Device, DeviceAction, DiagEntry, GenericDiag, Severity,
 };

@@ -16,9 +16,9 @@ pub mod sim_plc;
 mod state_file;
 mod station;
 
-pub use role::{DeviceCommand, DeviceRole, ImageApplication, Kept};
+pub use role::{DeviceCommand, DeviceRole, Kept};
 pub use services::DeviceServices;
-pub use station::{Station, StationEvent, engine, state_name};
+pub use station::{ImageApplication, Station, StationEvent, engine, state_name};
 
 use super::controller::{NetworkError, sim_priority};
 use super::{NIC_RX_TIMEOUT, RoleSystem, cycle_io};

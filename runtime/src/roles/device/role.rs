@@ -5,10 +5,10 @@
 
 use super::diagnosis;
 use super::state_file::{self, KeptState};
-use super::station::{Station, StationEvent};
+use super::station::{ImageApplication, Station, StationEvent};
 use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
-use procimg_profinet::device::{Application, ArState, Device, DeviceAction};
+use procimg_profinet::device::{ArState, Device, DeviceAction};
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rt::data_status::PROVIDER_RUN;
 use procimg_profinet::wire::rta_pdu::AbortCode;
@@ -18,14 +18,6 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::SyncSender;
-
-/// The device's program as the engine sees it: nothing, since the cycle thread moves the IO
-/// data between the image and the frames.
-pub struct ImageApplication;
-
-impl Application for ImageApplication {
-    fn fill_inputs(&mut self, _: u64, _: &mut [u8], _: &[u8], _: &[u8], _: bool) {}
-}
 
 /// What the client services ask of the device.
 #[derive(Debug)]

@@ -2,13 +2,20 @@
 //! The station: the device engine built from `[station]`, and what the control side reports
 //! of it (name, address, identity, the AR), kept up to date by the acyclic thread.
 
-use super::role::ImageApplication;
 use crate::config::StationConfig;
-use procimg_profinet::device::{ArState, Device, DeviceSetup};
+use procimg_profinet::device::{Application, ArState, Device, DeviceSetup};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use procimg_shm_layout::control::{ArReport, StationReport};
 use std::sync::Mutex;
+
+/// The device's program as the engine sees it: nothing, since the cycle thread moves the IO
+/// data between the image and the frames.
+pub struct ImageApplication;
+
+impl Application for ImageApplication {
+    fn fill_inputs(&mut self, _: u64, _: &mut [u8], _: &[u8], _: &[u8], _: bool) {}
+}
 
 /// What the device tells its client services and the log.
 #[derive(Clone, Debug, PartialEq, Eq)]
