@@ -495,6 +495,29 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     assert_eq!((gone.slot, gone.subslot), (1, 1), "{gone:?}");
     services.acknowledge(&gone).expect("acknowledge the alarm");
     assert_eq!(channel_errors(&mut services), []);
+    // A process alarm (high priority) reaches the controller's client with its data; the
+    // acknowledgement reaches the device.
+    dev_client
+        .raise_process_alarm((0, 2, 1), 0x0042, &[1, 2, 3])
+        .expect("raise a process alarm");
+    let process = next_alarm(&mut services);
+    assert_eq!(
+        (process.alarm_type, process.slot, process.high_priority),
+        (2, 2, true)
+    );
+    assert!(process.payload.ends_with(&[1, 2, 3]), "{process:?}");
+    services
+        .acknowledge(&process)
+        .expect("acknowledge the alarm");
+    wait_for(
+        || {
+            device
+                .status()
+                .station
+                .is_some_and(|s| s.alarms_acknowledged >= 3)
+        },
+        "the PLC's acknowledgement of three alarms",
+    );
     drop(dev_client);
 
     // The device dies: the controller reports DEV_FAILURE; restarted, it comes back under

@@ -179,6 +179,21 @@ pub enum Request {
         /// What changes.
         change: StationDiagnosisChange,
     },
+    /// In the device role: a process alarm (high priority) of one of the station's
+    /// submodules to the PLC, with a manufacturer-specific USI and its data; answered with
+    /// [`Response::Done`] once it went out (its acknowledgement shows in the status).
+    StationProcessAlarm {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// UserStructureIdentifier, 0x0000 to 0x7FFF.
+        usi: u16,
+        /// The alarm's data.
+        data: Vec<u8>,
+    },
     /// The cycle thread's latency histograms since start, bucket by bucket; answered with
     /// [`Response::Histograms`]. Two answers subtracted give the histograms of the time
     /// between them.
@@ -805,6 +820,9 @@ pub struct StationReport {
     pub ar: Option<ArReport>,
     /// ARs that ended other than by the PLC's Release.
     pub aborted_ars: u64,
+    /// AlarmAcks the PLCs sent for the station's alarms.
+    #[serde(default)]
+    pub alarms_acknowledged: u64,
     /// Why the last one ended so.
     #[serde(default)]
     pub last_abort: Option<String>,

@@ -95,6 +95,30 @@ impl Client {
         self.station_diagnosis(StationDiagnosisChange::Clear { api, slot, subslot })
     }
 
+    /// In the device role: a process alarm of the submodule at `api`/`slot`/`subslot`
+    /// (high priority) to the PLC, with manufacturer-specific `usi` (0x0000–0x7FFF) and
+    /// `data`. Refused without an AR in data exchange that holds the submodule. The PLC's
+    /// acknowledgement shows in the station's status (`alarms_acknowledged`).
+    pub fn raise_process_alarm(
+        &self,
+        (api, slot, subslot): (u32, u16, u16),
+        usi: u16,
+        data: &[u8],
+    ) -> Result<(), ControlError> {
+        if !self.is_device() {
+            return Err(ControlError::NotDevice {
+                instance: self.instance().to_owned(),
+            });
+        }
+        self.control().request_done(&Request::StationProcessAlarm {
+            api,
+            slot,
+            subslot,
+            usi,
+            data: data.to_vec(),
+        })
+    }
+
     fn station_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
         if !self.is_device() {
             return Err(ControlError::NotDevice {

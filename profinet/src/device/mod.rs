@@ -186,6 +186,8 @@ const APP_READY_DELAY_NS: u64 = 1_000_000;
 pub const SIM_ALARM_INDEX: u16 = 0x7FF0;
 /// The UserStructureIdentifier of such an alarm (manufacturer-specific).
 pub const SIM_ALARM_USI: u16 = 0x0001;
+/// AlarmAcks [`Device::alarm_acks`] keeps, the most recent.
+pub const MAX_KEPT_ACKS: usize = 64;
 /// The smallest Ethernet frame without FCS; shorter frames are padded.
 const MIN_FRAME_LEN: usize = 60;
 
@@ -216,6 +218,8 @@ pub struct Device<A> {
     aborted_ars: u64,
     signals: u32,
     acks: Vec<AlarmAck>,
+    /// AlarmAcks received in all.
+    ack_count: u64,
     /// What DCP set to be kept across a restart.
     kept: KeptIdentity,
     /// Set when the caller's cycle runs the cyclic exchange.
@@ -264,6 +268,7 @@ impl<A: Application> Device<A> {
             aborted_ars: 0,
             signals: 0,
             acks: Vec::new(),
+            ack_count: 0,
             kept: KeptIdentity::default(),
             handover: None,
             accepting: true,
@@ -406,9 +411,16 @@ impl<A: Application> Device<A> {
         self.signals
     }
 
-    /// The AlarmAcks the controller sent for our alarms, oldest first.
+    /// The AlarmAcks the controller sent for our alarms, oldest first (the last
+    /// [`MAX_KEPT_ACKS`]).
     pub fn alarm_acks(&self) -> &[AlarmAck] {
         &self.acks
+    }
+
+    /// AlarmAcks the controller sent for our alarms since the device was made (of which
+    /// [`alarm_acks`](Self::alarm_acks) keeps the last [`MAX_KEPT_ACKS`]).
+    pub fn alarm_ack_count(&self) -> u64 {
+        self.ack_count
     }
 
     fn ar_submodule(&self, api: u32, slot: u16, subslot: u16) -> Option<&ar::ArSubmodule> {
@@ -532,7 +544,14 @@ impl<A: Application> Device<A> {
             return;
         };
         let abort = ar.alarms.on_pdu(&pdu, mac, now_ns, out);
+        self.ack_count += ar.alarms.acks.len() as u64;
         self.acks.append(&mut ar.alarms.acks);
+        // The most recent ones are what a caller looks at; a long-running device must not
+        // grow without bound.
+        if self.acks.len() > MAX_KEPT_ACKS {
+            let excess = self.acks.len() - MAX_KEPT_ACKS;
+            self.acks.drain(..excess);
+        }
         if let Some(a) = abort {
             self.end_ar(a.code);
         }

@@ -192,7 +192,8 @@ impl Control {
             | Request::ActivateDevice { .. }
             | Request::AcknowledgeAlarm { .. }
             | Request::Diagnosis
-            | Request::StationDiagnosis { .. } => {
+            | Request::StationDiagnosis { .. }
+            | Request::StationProcessAlarm { .. } => {
                 let online = self.shared.mode() != Mode::Offline
                     || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
                 return self.role.handle(req, online, &mut self.notices);

@@ -29,6 +29,18 @@ pub enum DeviceCommand {
         /// Where the outcome goes: `Err` says why the change was refused.
         reply: SyncSender<Result<(), String>>,
     },
+    /// Send a process alarm of submodule (`api`, `slot`, `subslot`); the outcome goes back
+    /// on `reply`.
+    ProcessAlarm {
+        /// Where: API, slot, subslot.
+        at: (u32, u16, u16),
+        /// Manufacturer-specific UserStructureIdentifier.
+        usi: u16,
+        /// The alarm's data.
+        data: Vec<u8>,
+        /// Where the outcome goes.
+        reply: SyncSender<Result<(), String>>,
+    },
 }
 
 /// The device on the acyclic thread.
@@ -196,6 +208,34 @@ impl Role for DeviceRole {
             DeviceCommand::Diagnosis { change, reply } => {
                 let r = diagnosis::apply(&mut self.device, &change, now_ns, &mut self.actions);
                 // The asker may have given up waiting: nothing to tell then.
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::ProcessAlarm {
+                at: (api, slot, subslot),
+                usi,
+                data,
+                reply,
+            } => {
+                let sent = self.device.raise_process_alarm(
+                    api,
+                    slot,
+                    subslot,
+                    usi,
+                    &data,
+                    now_ns,
+                    &mut self.actions,
+                );
+                let r = if sent {
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "no process alarm went out for API {api} slot {slot} subslot \
+                         {subslot:#06x}: it needs an AR in data exchange with that submodule \
+                         (the PLC's AR is {}), a USI of 0x0000 to 0x7FFF, and data the AR's \
+                         alarm length allows",
+                        super::station::state_name(self.device.state())
+                    ))
+                };
                 let _ = reply.try_send(r);
             }
         }

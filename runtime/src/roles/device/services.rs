@@ -10,8 +10,7 @@ use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
 use crate::shm::Notices;
 use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Refusal, Request, Response, StationDiagnosisChange, StationReport,
-    SubscriberReport,
+    DeviceReport, NetworkReport, Refusal, Request, Response, StationReport, SubscriberReport,
 };
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -65,22 +64,21 @@ fn service_name(request: &Request) -> &'static str {
 }
 
 impl DeviceServices {
-    /// Has the acyclic thread carry out `change` and waits for the outcome.
-    fn diagnosis(&self, change: StationDiagnosisChange) -> Response {
+    /// Has the acyclic thread carry out the command `make` builds and waits for the outcome.
+    fn carry_out(
+        &self,
+        make: impl FnOnce(std::sync::mpsc::SyncSender<Result<(), String>>) -> DeviceCommand,
+    ) -> Response {
         let (reply, outcome) = std::sync::mpsc::sync_channel(1);
         let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
-        if self
-            .commands
-            .send(DeviceCommand::Diagnosis { change, reply })
-            .is_err()
-        {
+        if self.commands.send(make(reply)).is_err() {
             return refused("the device's PROFINET thread has ended".into());
         }
         match outcome.recv_timeout(COMMAND_WAIT) {
             Ok(Ok(())) => Response::Done,
             Ok(Err(why)) => refused(why),
             Err(_) => refused(format!(
-                "the device's PROFINET thread did not take the diagnosis within {COMMAND_WAIT:?}; \
+                "the device's PROFINET thread did not take the request within {COMMAND_WAIT:?}; \
                  try again"
             )),
         }
@@ -90,7 +88,21 @@ impl DeviceServices {
 impl RoleServices for DeviceServices {
     fn handle(&mut self, request: Request, _online: bool, _notices: &mut Notices) -> Response {
         match request {
-            Request::StationDiagnosis { change } => self.diagnosis(change),
+            Request::StationDiagnosis { change } => {
+                self.carry_out(|reply| DeviceCommand::Diagnosis { change, reply })
+            }
+            Request::StationProcessAlarm {
+                api,
+                slot,
+                subslot,
+                usi,
+                data,
+            } => self.carry_out(|reply| DeviceCommand::ProcessAlarm {
+                at: (api, slot, subslot),
+                usi,
+                data,
+                reply,
+            }),
             other => Response::Refused(Refusal::WrongRole {
                 role: "device".to_owned(),
                 service: service_name(&other).to_owned(),

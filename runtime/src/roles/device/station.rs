@@ -54,6 +54,7 @@ impl Station {
                 device_id: config.device_id,
                 ar: None,
                 aborted_ars: 0,
+                alarms_acknowledged: 0,
                 last_abort: None,
             }),
         }
@@ -76,6 +77,7 @@ impl Station {
     {
         let ip = std::net::Ipv4Addr::from(device.ip()).to_string();
         let mut r = self.lock();
+        r.alarms_acknowledged = device.alarm_ack_count();
         if r.name != device.name() || r.ip != ip {
             tracing::info!(
                 "the station is now \"{}\" at {ip} (was \"{}\" at {})",
