@@ -17,6 +17,10 @@
 static int failures;
 static atomic_int mode_seen = -1;
 static atomic_int mode_calls;
+/* Holds the first MODE_IND (CLEAR) until the test has asked for a second mode: the library
+ * reports OPERATE only after it returns, so the change is still pending then, however the
+ * threads are scheduled. */
+static atomic_int second_request_made;
 static PNIO_UINT32 handle;
 /* What the calls made inside the MODE_IND callback returned (first callback only). */
 static atomic_uint in_cb_set_mode = 0xffffffffu;
@@ -67,6 +71,9 @@ static void on_mode(PNIO_CBE_PRM *p) {
         atomic_store(&in_cb_register, PNIO_register_cbf(handle, PNIO_CBE_DEV_ACT_CONF, on_record));
         atomic_store(&in_cb_read, PNIO_data_read(handle, &i0, 16, &n, buf, PNIO_S_GOOD, &rem));
         atomic_store(&in_cb_write, PNIO_data_write(handle, &q0, 16, buf, PNIO_S_GOOD, &rem));
+        for (int i = 0; i < 10000 && !atomic_load(&second_request_made); i++) {
+            sleep_ms(1);
+        }
     }
     atomic_store(&mode_seen, (int)p->ModeInd.Mode);
 }
@@ -224,6 +231,7 @@ int main(void) {
     expect("set_mode: OPERATE", PNIO_set_mode(h, PNIO_MODE_OPERATE), PNIO_OK);
     expect("set_mode: OFFLINE before OPERATE was reported", PNIO_set_mode(h, PNIO_MODE_OFFLINE),
            PNIO_ERR_SEQUENCE);
+    atomic_store(&second_request_made, 1);
     expect("OPERATE reported", (PNIO_UINT32)wait_mode(PNIO_MODE_OPERATE), 1);
     expect("MODE_IND twice for OFFLINE -> OPERATE (CLEAR, OPERATE)",
            (PNIO_UINT32)atomic_load(&mode_calls), 2);
