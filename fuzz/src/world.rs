@@ -708,6 +708,8 @@ impl DeviceBench {
                 }
                 DeviceAction::StartCyclic(ar) => self.check_exchange(&ar),
                 DeviceAction::StopCyclic { .. } => {}
+                // Its records are not given to an application.
+                DeviceAction::Record(_) => {}
             }
         }
         // A poll does what is due: what it leaves is due later (else its caller would spin).

@@ -102,7 +102,9 @@
 //!                     controller.on_datagram(from, &payload, now, &mut to_device)
 //!                 }
 //!                 // This device exchanges its cyclic data itself.
-//!                 DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
+//!                 DeviceAction::StartCyclic(_)
+//!                 | DeviceAction::StopCyclic { .. }
+//!                 | DeviceAction::Record(_) => {}
 //!             }
 //!         }
 //!     }

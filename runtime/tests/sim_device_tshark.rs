@@ -98,7 +98,9 @@ impl Wire {
                     payload,
                 )),
                 // This device runs its own cyclic exchange.
-                DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
+                DeviceAction::StartCyclic(_)
+                | DeviceAction::StopCyclic { .. }
+                | DeviceAction::Record(_) => {}
             }
         }
         std::mem::take(out)

@@ -79,6 +79,8 @@ pub(super) struct Ar {
     pub(super) alarms: Alarms,
     /// When the ApplicationReady is to be sent (after PrmEnd).
     pub(super) app_ready_due: Option<u64>,
+    /// Until when the application holds the ApplicationReady after PrmEnd.
+    pub(super) app_ready_held: Option<u64>,
     /// The outstanding ApplicationReady.
     pub(super) app_ready: Option<ClientCall>,
     /// The AR must reach data exchange before this (CMInitiatorActivityTimeoutFactor).
@@ -159,6 +161,7 @@ impl Ar {
                 max_data_length: a.max_alarm_data_length.min(MAX_ALARM_DATA_LENGTH),
             },
             app_ready_due: None,
+            app_ready_held: None,
             app_ready: None,
             cmi_deadline: Some(
                 now_ns.saturating_add(u64::from(plan.ar.activity_timeout_factor) * 100_000_000),
@@ -336,6 +339,7 @@ impl Ar {
             self.consumer.deadline(),
             self.cmi_deadline,
             self.app_ready_due,
+            self.app_ready_held,
             self.app_ready.as_ref().map(ClientCall::deadline),
             self.alarms.deadline(),
         ]

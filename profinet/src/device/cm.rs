@@ -7,8 +7,7 @@ use super::ar::Ar;
 use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
 use super::diagnosis::SubslotAddr;
 use super::{
-    APP_READY_DELAY_NS, Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI,
-    records, rpc,
+    Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, records, rpc,
 };
 use crate::wire::control::{self, ControlBlock};
 use crate::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
@@ -92,33 +91,53 @@ impl<A: Application> Device<A> {
         let (status, res) = match h.opnum {
             opnum::CONNECT => self.connect(blocks, from, now_ns, out),
             opnum::RELEASE => self.release(blocks),
-            opnum::READ | opnum::READ_IMPLICIT => records::read(
-                h.opnum == opnum::READ_IMPLICIT,
-                self.ar.as_ref().map(|a| records::ArView {
-                    ar_uuid: a.ar_uuid,
-                    records: &a.records,
-                    submodules: &a.submodules,
-                }),
-                &records::DeviceRead {
-                    real: &self.submodules,
-                    im0: &self.im0,
-                    im: &self.im,
-                    diagnosis: &self.diagnosis,
-                },
-                blocks,
-            ),
-            opnum::WRITE => records::write(
-                self.ar.as_mut().map(|a| records::ArRecords {
-                    ar_uuid: a.ar_uuid,
-                    records: &mut a.records,
-                }),
-                records::DeviceWrite {
-                    real: &self.submodules,
-                    im: &mut self.im,
-                    im_writes: &mut self.im_writes,
-                },
-                blocks,
-            ),
+            opnum::READ | opnum::READ_IMPLICIT => {
+                let outcome = records::read(
+                    h.opnum == opnum::READ_IMPLICIT,
+                    self.ar.as_ref().map(|a| records::ArView {
+                        ar_uuid: a.ar_uuid,
+                        records: &a.records,
+                        submodules: &a.submodules,
+                    }),
+                    &records::DeviceRead {
+                        real: &self.submodules,
+                        im0: &self.im0,
+                        im: &self.im,
+                        diagnosis: &self.diagnosis,
+                        params: &self.params,
+                    },
+                    blocks,
+                );
+                match outcome {
+                    records::Outcome::Done(s, b) => (s, b),
+                    records::Outcome::Pending(p) => {
+                        self.wait_for_application(p, (*h, from, ndr.args_maximum), now_ns, out);
+                        return;
+                    }
+                }
+            }
+            opnum::WRITE => {
+                let outcome = records::write(
+                    self.ar.as_mut().map(|a| records::ArRecords {
+                        ar_uuid: a.ar_uuid,
+                        records: &mut a.records,
+                    }),
+                    records::DeviceWrite {
+                        real: &self.submodules,
+                        im: &mut self.im,
+                        im_writes: &mut self.im_writes,
+                        params: &self.params,
+                    },
+                    blocks,
+                );
+                match outcome {
+                    records::Outcome::Done(s, b) => (s, b),
+                    records::Outcome::Pending(p) => {
+                        self.wait_for_application(p, (*h, from, ndr.args_maximum), now_ns, out);
+                        return;
+                    }
+                }
+            }
             _ => self.control(blocks, now_ns),
         };
         self.rpc
@@ -126,6 +145,19 @@ impl<A: Application> Device<A> {
         if h.opnum == opnum::WRITE && status.is_ok() {
             self.alarm_on_request(blocks, now_ns, out);
             self.adjust_lldp();
+        }
+    }
+
+    /// Hands a call's records to the application; answers it at once if it cannot wait.
+    fn wait_for_application(
+        &mut self,
+        pending: records::Pending,
+        call: (Header, SocketAddrV4, u32),
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) {
+        if let Some(f) = self.waiting.start(pending, call, now_ns, out) {
+            self.respond_finished(f, out);
         }
     }
 
@@ -223,7 +255,7 @@ impl<A: Application> Device<A> {
                 if own_cyclic {
                     ar.provider.start(now_ns);
                 }
-                ar.app_ready_due = Some(now_ns.saturating_add(APP_READY_DELAY_NS));
+                self.schedule_app_ready(now_ns);
             }
             (BlockType::PrmBeginReq, ArState::Data) => {
                 // Re-parameterization: records may be written again until the next PrmEnd;

@@ -49,6 +49,8 @@
 //! begins.
 
 mod alarms;
+mod app_ready;
+mod app_records;
 mod application;
 mod ar;
 mod cm;
@@ -77,6 +79,10 @@ use crate::wire::rt::FrameIdClass;
 use crate::wire::rta_pdu::{self, AbortCode, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
 pub use alarms::DiagnosisChange;
+pub use app_ready::APP_READY_HOLD_TIMEOUT_NS;
+pub use app_records::{
+    MAX_WAITING_CALLS, ParameterRecord, RECORD_ANSWER_TIMEOUT_NS, RecordRequest, UnknownRecordJob,
+};
 pub use application::Application;
 use ar::Ar;
 pub use diagnosis::{
@@ -150,6 +156,9 @@ pub enum DeviceAction {
         /// The epoch of the [`CyclicAr`] that was started.
         epoch: u32,
     },
+    /// A record for the application to read or write (only for submodules given to it with
+    /// [`Device::delegate_records`]); answer with [`Device::answer_record`].
+    Record(RecordRequest),
 }
 
 /// The identity a device keeps across a restart, as DCP set it.
@@ -232,6 +241,14 @@ pub struct Device<A> {
     diagnosis: DiagnosisStore,
     im: ImRecords,
     im_writes: u64,
+    /// Which user records are accepted, and which the application answers.
+    params: app_records::ParameterRecords,
+    /// Calls waiting for the application's record answers.
+    waiting: app_records::Waiting,
+    /// Whether the ApplicationReady waits for [`Device::release_application_ready`].
+    hold_app_ready: bool,
+    /// ApplicationReadys that went out because the application did not release them.
+    app_ready_hold_timeouts: u64,
 }
 
 impl<A: Application> Device<A> {
@@ -277,6 +294,10 @@ impl<A: Application> Device<A> {
             diagnosis: DiagnosisStore::new(),
             im: ImRecords::default(),
             im_writes: 0,
+            params: app_records::ParameterRecords::default(),
+            waiting: app_records::Waiting::default(),
+            hold_app_ready: false,
+            app_ready_hold_timeouts: 0,
         };
         device.set_lldp(true);
         device
@@ -602,6 +623,14 @@ impl<A: Application> Device<A> {
             return;
         };
         let server = to_port == wire_rpc::RPC_PORT;
+        if server && self.waiting.has_call(&header) {
+            // The call waits for the application: a retransmission is dropped, a ping learns
+            // that we are at it.
+            if header.packet_type == PacketType::Ping {
+                self.rpc.working(&header, from, out);
+            }
+            return;
+        }
         match header.packet_type {
             PacketType::Request if server => {
                 if let Some((h, body)) = self.rpc.request(&header, body, from, out) {
@@ -641,6 +670,8 @@ impl<A: Application> Device<A> {
 
     fn run_timers(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.dcp.poll(now_ns, out);
+        self.expire_record_jobs(now_ns, out);
+        self.expire_app_ready_hold(now_ns);
         if std::mem::take(&mut self.hello_due) {
             out.extend(dcp::hello_frame(&self.id).map(DeviceAction::Frame));
         }
@@ -720,6 +751,7 @@ impl<A: Application> Device<A> {
             self.dcp.next_deadline_ns(),
             self.lldp.as_ref().map(lldp::Announcer::next_deadline_ns),
             self.ar.as_ref().and_then(Ar::deadline),
+            self.waiting.deadline(),
         ]
         .into_iter()
         .flatten()

@@ -19,6 +19,7 @@
 //! invalid slot/subslot, access denied, state conflict (the AR's records without an AR).
 
 use super::PluggedSubmodule;
+use super::app_records::ParameterRecords;
 use super::ar::{ArSubmodule, Records};
 use super::connect::{CMRPC, CMRPC_AR_UUID_UNKNOWN, CMRPC_ARGS_LENGTH, CMRPC_UNKNOWN_BLOCKS};
 use super::diagnosis::records::{DiagnosisScope, diagnosis_index};
@@ -60,66 +61,139 @@ pub(super) struct DeviceWrite<'a> {
     pub(super) im: &'a mut ImRecords,
     /// Writes of I&M1–I&M4 taken.
     pub(super) im_writes: &'a mut u64,
+    /// Which user records are accepted, and which the application answers.
+    pub(super) params: &'a ParameterRecords,
 }
 
-/// Handles a Write request's blocks: the RPC-level status and the response blocks.
-pub(super) fn write(
-    ar: Option<ArRecords<'_>>,
-    dev: DeviceWrite<'_>,
-    blocks: &[u8],
+/// What became of a Write or Read request: answered at once, or waiting for the application
+/// (some of its records are the application's, see [`super::app_records`]).
+pub(super) enum Outcome {
+    /// The RPC-level status and the response blocks.
+    Done(PnioStatus, Vec<u8>),
+    /// The request waits for the application's answers.
+    Pending(Pending),
+}
+
+/// A Write or Read whose records the application answers, as far as the device got.
+pub(super) enum Pending {
+    /// A Write (single: one part, `outer` is its header) or WriteMultiple.
+    Write {
+        /// The request's header.
+        outer: IodHeader,
+        /// Each write: its header, and its status or the data the application is to take.
+        parts: Vec<(IodHeader, Result<PnioStatus, Vec<u8>>)>,
+    },
+    /// A Read (or ReadImplicit) of one of the application's records.
+    Read {
+        /// The request's header.
+        header: IodHeader,
+        /// The AR it reads in: the one it names (Read), or targets (ReadImplicit).
+        ar_uuid: Uuid,
+    },
+}
+
+/// The response to a Write (`outer`) whose writes ended with `parts`' statuses: the
+/// RPC-level status (the first failure, or OK) and the blocks.
+pub(super) fn write_response(
+    outer: &IodHeader,
+    parts: &[(IodHeader, PnioStatus)],
 ) -> (PnioStatus, Vec<u8>) {
-    let Ok((outer, data, rest)) = IodHeader::split(blocks) else {
-        return (pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
-    };
-    if outer.kind != IodKind::WriteReq {
-        return (
-            pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_UNKNOWN_BLOCKS),
-            Vec::new(),
-        );
-    }
     let respond = |h: &IodHeader, status: PnioStatus| IodHeader {
         status,
         // p-net answers every write with RecordDataLength 0; the S7 accepts it.
         ..h.response(0)
     };
-    let Some(ar) = ar.filter(|a| a.ar_uuid == outer.ar_uuid) else {
-        let s = pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_AR_UUID_UNKNOWN);
-        return (s, respond(&outer, s).to_bytes().to_vec());
-    };
-    if !rest.is_empty() {
-        let s = pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_ARGS_LENGTH);
-        return (s, respond(&outer, s).to_bytes().to_vec());
-    }
-    let mut dev = dev;
     if !outer.is_write_multiple() {
-        let s = write_one(ar.records, &mut dev, &outer, data);
-        return (s, respond(&outer, s).to_bytes().to_vec());
+        let s = parts.first().map_or(PnioStatus::OK, |(_, s)| *s);
+        return (s, respond(outer, s).to_bytes().to_vec());
     }
-    let Ok(writes) = split_write_multiple(data) else {
-        let s = RecordError::write(RecordErrorCode::InvalidParameter, 0).status();
-        return (s, respond(&outer, s).to_bytes().to_vec());
-    };
-    let statuses: Vec<PnioStatus> = writes
-        .iter()
-        .map(|(h, d)| {
-            if h.ar_uuid != ar.ar_uuid {
-                RecordError::write(RecordErrorCode::StateConflict, 0).status()
-            } else {
-                write_one(ar.records, &mut dev, h, d)
-            }
-        })
-        .collect();
     // The call fails with the first failing write; each write reports its own status.
-    let overall = statuses
+    let overall = parts
         .iter()
-        .copied()
+        .map(|(_, s)| *s)
         .find(|s| !s.is_ok())
         .unwrap_or(PnioStatus::OK);
-    let mut out = respond(&outer, overall).to_bytes().to_vec();
-    for ((h, _), s) in writes.iter().zip(statuses) {
-        out.extend_from_slice(&respond(h, s).to_bytes());
+    let mut out = respond(outer, overall).to_bytes().to_vec();
+    for (h, s) in parts {
+        out.extend_from_slice(&respond(h, *s).to_bytes());
     }
     (overall, out)
+}
+
+/// The response to a Read (`h`) of `data`, or its failure.
+pub(super) fn read_response(
+    h: &IodHeader,
+    result: Result<Vec<u8>, PnioStatus>,
+) -> (PnioStatus, Vec<u8>) {
+    let (status, data) = match result {
+        Ok(mut d) => {
+            d.truncate(usize::try_from(h.record_data_length).unwrap_or(usize::MAX));
+            (PnioStatus::OK, d)
+        }
+        Err(s) => (s, Vec::new()),
+    };
+    let Ok(len) = u32::try_from(data.len()) else {
+        return (pnio(ERROR_CODE_READ, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
+    };
+    let mut out = h.response(len).to_bytes().to_vec();
+    out.extend_from_slice(&data);
+    (status, out)
+}
+
+/// Handles a Write request's blocks: answered at once, or waiting for the application.
+pub(super) fn write(ar: Option<ArRecords<'_>>, dev: DeviceWrite<'_>, blocks: &[u8]) -> Outcome {
+    let Ok((outer, data, rest)) = IodHeader::split(blocks) else {
+        return Outcome::Done(pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
+    };
+    if outer.kind != IodKind::WriteReq {
+        return Outcome::Done(
+            pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_UNKNOWN_BLOCKS),
+            Vec::new(),
+        );
+    }
+    let done = |s: PnioStatus| {
+        let (s, b) = write_response(&outer, &[(outer, s)]);
+        Outcome::Done(s, b)
+    };
+    let Some(ar) = ar.filter(|a| a.ar_uuid == outer.ar_uuid) else {
+        return done(pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_AR_UUID_UNKNOWN));
+    };
+    if !rest.is_empty() {
+        return done(pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_ARGS_LENGTH));
+    }
+    let mut dev = dev;
+    let writes = if outer.is_write_multiple() {
+        let Ok(writes) = split_write_multiple(data) else {
+            return done(RecordError::write(RecordErrorCode::InvalidParameter, 0).status());
+        };
+        writes
+    } else {
+        vec![(outer, data)]
+    };
+    let parts: Vec<(IodHeader, Result<PnioStatus, Vec<u8>>)> = writes
+        .iter()
+        .map(|(h, d)| {
+            let r = if h.ar_uuid != ar.ar_uuid {
+                Ok(RecordError::write(RecordErrorCode::StateConflict, 0).status())
+            } else if dev.params.delegated(h.api, h.slot, h.subslot, h.index)
+                && plugged(dev.real, SubslotAddr::new(h.api, h.slot, h.subslot))
+            {
+                Err(d.to_vec())
+            } else {
+                Ok(write_one(ar.records, &mut dev, h, d))
+            };
+            (*h, r)
+        })
+        .collect();
+    if parts.iter().any(|(_, r)| r.is_err()) {
+        return Outcome::Pending(Pending::Write { outer, parts });
+    }
+    let parts: Vec<(IodHeader, PnioStatus)> = parts
+        .into_iter()
+        .map(|(h, r)| (h, r.unwrap_or(PnioStatus::OK)))
+        .collect();
+    let (s, b) = write_response(&outer, &parts);
+    Outcome::Done(s, b)
 }
 
 /// Whether (API, slot, subslot) is plugged.
@@ -158,6 +232,12 @@ fn write_one(
             }
             Err(e) => e.status(),
         };
+    }
+    if let Err(code) = dev
+        .params
+        .check_write(h.api, h.slot, h.subslot, h.index, data.len())
+    {
+        return fail(code);
     }
     let writable = match h.index {
         0x0000..=0x7fff => true,
@@ -200,49 +280,51 @@ pub(super) struct DeviceRead<'a> {
     pub(super) im: &'a ImRecords,
     /// The pending diagnosis.
     pub(super) diagnosis: &'a DiagnosisStore,
+    /// Which user records are accepted, and which the application answers.
+    pub(super) params: &'a ParameterRecords,
 }
 
-/// Handles a Read (or ReadImplicit) request's blocks: the RPC-level status and the response
-/// blocks. `ar` is the current AR; a Read (not implicit) must name it.
+/// Handles a Read (or ReadImplicit) request's blocks: answered at once, or waiting for the
+/// application. `ar` is the current AR; a Read (not implicit) must name it.
 pub(super) fn read(
     implicit: bool,
     ar: Option<ArView<'_>>,
     dev: &DeviceRead<'_>,
     blocks: &[u8],
-) -> (PnioStatus, Vec<u8>) {
+) -> Outcome {
     let Ok(h) = IodHeader::parse(blocks) else {
-        return (pnio(ERROR_CODE_READ, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
+        return Outcome::Done(pnio(ERROR_CODE_READ, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
     };
     if h.kind != IodKind::ReadReq {
-        return (
+        return Outcome::Done(
             pnio(ERROR_CODE_READ, CMRPC, CMRPC_UNKNOWN_BLOCKS),
             Vec::new(),
         );
     }
-    let result = if implicit {
+    let ar = if implicit {
         // ReadImplicit runs outside any AR; the AR's records (written or its own) are read
         // through it when the TargetARUUID names it.
-        let ar = ar.filter(|a| a.ar_uuid == h.target_ar_uuid);
-        read_one(ar.as_ref(), dev, &h)
+        Ok(ar.filter(|a| a.ar_uuid == h.target_ar_uuid))
     } else {
-        match ar.filter(|a| a.ar_uuid == h.ar_uuid) {
-            Some(a) => read_one(Some(&a), dev, &h),
-            None => Err(pnio(ERROR_CODE_READ, CMRPC, CMRPC_AR_UUID_UNKNOWN)),
-        }
+        ar.filter(|a| a.ar_uuid == h.ar_uuid).map(Some).ok_or(pnio(
+            ERROR_CODE_READ,
+            CMRPC,
+            CMRPC_AR_UUID_UNKNOWN,
+        ))
     };
-    let (status, data) = match result {
-        Ok(mut d) => {
-            d.truncate(usize::try_from(h.record_data_length).unwrap_or(usize::MAX));
-            (PnioStatus::OK, d)
-        }
-        Err(s) => (s, Vec::new()),
-    };
-    let Ok(len) = u32::try_from(data.len()) else {
-        return (pnio(ERROR_CODE_READ, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
-    };
-    let mut out = h.response(len).to_bytes().to_vec();
-    out.extend_from_slice(&data);
-    (status, out)
+    let application = dev.params.delegated(h.api, h.slot, h.subslot, h.index)
+        && plugged(dev.real, SubslotAddr::new(h.api, h.slot, h.subslot));
+    if application && ar.is_ok() {
+        let ar_uuid = if implicit {
+            h.target_ar_uuid
+        } else {
+            h.ar_uuid
+        };
+        return Outcome::Pending(Pending::Read { header: h, ar_uuid });
+    }
+    let result = ar.and_then(|a| read_one(a.as_ref(), dev, &h));
+    let (s, b) = read_response(&h, result);
+    Outcome::Done(s, b)
 }
 
 /// The expected submodules of `ar` that `keep` selects.
@@ -345,6 +427,7 @@ fn read_one(
         _ => ar
             .and_then(|a| a.records.get(&(h.api, h.slot, h.subslot, h.index)))
             .cloned()
+            .or_else(|| dev.params.initial(h.api, h.slot, h.subslot, h.index))
             .ok_or_else(|| fail(RecordErrorCode::InvalidIndex)),
     }
 }

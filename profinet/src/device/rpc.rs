@@ -7,8 +7,9 @@
 //! A CL server must answer a retransmitted request (same activity, same sequence number) with
 //! the response it already sent, without executing the call again: a PNIO controller
 //! retransmits when a response is lost and a Write or PrmEnd executed twice would be wrong.
-//! Calls complete at once here, so a ping always finds a finished call (its response is sent
-//! again) or none (no-call).
+//! Most calls complete at once; one whose records the application answers is still being
+//! carried out for a while: the device drops retransmissions of it and answers pings with
+//! "working" (see [`super::app_records`]).
 
 use super::DeviceAction;
 use crate::wire::control::ControlBlock;
@@ -239,6 +240,17 @@ impl Server {
                     out.push(datagram(from, d));
                 }
             }
+        }
+    }
+
+    /// A ping for a call that is still being carried out: "working".
+    pub(super) fn working(&self, header: &Header, from: SocketAddrV4, out: &mut Vec<DeviceAction>) {
+        let h = Header {
+            packet_type: PacketType::Working,
+            ..header.reply(SERVER_BOOT_TIME)
+        };
+        if let Some(d) = pdu(&h, &[]) {
+            out.push(datagram(from, d));
         }
     }
 

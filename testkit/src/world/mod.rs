@@ -505,7 +505,9 @@ impl<A: Application, P: Port> World<A, P> {
                     }
                 }
                 // The world's devices run their own cyclic exchange.
-                DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
+                DeviceAction::StartCyclic(_)
+                | DeviceAction::StopCyclic { .. }
+                | DeviceAction::Record(_) => {}
             }
         }
         answers

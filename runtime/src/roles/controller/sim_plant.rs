@@ -149,7 +149,9 @@ fn deliver(
                 });
             }
             // The simulated devices run their own cyclic exchange.
-            DeviceAction::StartCyclic(_) | DeviceAction::StopCyclic { .. } => {}
+            DeviceAction::StartCyclic(_)
+            | DeviceAction::StopCyclic { .. }
+            | DeviceAction::Record(_) => {}
         }
     }
 }

@@ -147,6 +147,8 @@ impl DeviceRole {
                 DeviceAction::Datagram { to, payload, .. } => Effect::Datagram { to, payload },
                 DeviceAction::StartCyclic(ar) => Effect::Start(ar),
                 DeviceAction::StopCyclic { .. } => Effect::Stop { device: 0 },
+                // No submodule's records are given to a client yet.
+                DeviceAction::Record(_) => continue,
             });
         }
         self.channel

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The application's hold on the ApplicationReady (GOAL's END_OF_PARAM answered later,
+//! IO-Base's `PNIO_set_appl_state_ready` after `PNIO_CBF_PRM_END_IND`): after the PLC's
+//! PrmEnd the device waits with its ApplicationReady until the application has taken over
+//! its parameters and releases it, at most [`APP_READY_HOLD_TIMEOUT_NS`] and never past the
+//! AR's CMI activity timeout, after which the ApplicationReady goes out all the same.
+
+use super::{APP_READY_DELAY_NS, Application, ArState, Device};
+
+/// The longest the application may hold the ApplicationReady.
+pub const APP_READY_HOLD_TIMEOUT_NS: u64 = 10_000_000_000;
+/// How long before the AR's CMI activity timeout a held ApplicationReady goes out anyway,
+/// so that the controller still takes it.
+const CMI_MARGIN_NS: u64 = 1_000_000_000;
+
+impl<A: Application> Device<A> {
+    /// Whether the ApplicationReady waits after each PrmEnd until
+    /// [`release_application_ready`](Self::release_application_ready) (or the hold's
+    /// timeout). Off from the start.
+    pub fn hold_application_ready(&mut self, hold: bool) {
+        self.hold_app_ready = hold;
+    }
+
+    /// Lets a held ApplicationReady go out; `false` when none is held (no AR, the PLC's
+    /// PrmEnd has not come, or it went out already).
+    pub fn release_application_ready(&mut self, now_ns: u64) -> bool {
+        let Some(ar) = self.ar.as_mut().filter(|a| a.app_ready_held.is_some()) else {
+            return false;
+        };
+        ar.app_ready_held = None;
+        ar.app_ready_due = Some(now_ns);
+        true
+    }
+
+    /// Whether the AR's ApplicationReady waits for the application now.
+    pub fn application_ready_held(&self) -> bool {
+        self.ar.as_ref().is_some_and(|a| a.app_ready_held.is_some())
+    }
+
+    /// ApplicationReadys that went out because the application did not release them in time.
+    pub fn app_ready_hold_timeouts(&self) -> u64 {
+        self.app_ready_hold_timeouts
+    }
+
+    /// At PrmEnd: when the ApplicationReady of the AR goes out, or that it is held.
+    pub(super) fn schedule_app_ready(&mut self, now_ns: u64) {
+        let hold = self.hold_app_ready;
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        if hold {
+            let mut until = now_ns.saturating_add(APP_READY_HOLD_TIMEOUT_NS);
+            if let Some(cmi) = ar.cmi_deadline {
+                until = until.min(cmi.saturating_sub(CMI_MARGIN_NS)).max(now_ns);
+            }
+            ar.app_ready_held = Some(until);
+        } else {
+            ar.app_ready_due = Some(now_ns.saturating_add(APP_READY_DELAY_NS));
+        }
+    }
+
+    /// Sends a held ApplicationReady whose time is up.
+    pub(super) fn expire_app_ready_hold(&mut self, now_ns: u64) {
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        if ar.state == ArState::Parameterized && ar.app_ready_held.is_some_and(|d| now_ns >= d) {
+            ar.app_ready_held = None;
+            ar.app_ready_due = Some(now_ns);
+            self.app_ready_hold_timeouts += 1;
+        }
+    }
+}
