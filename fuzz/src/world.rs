@@ -19,8 +19,9 @@ use crate::wire_check;
 use procimg_nic::{MAX_FRAME, Nic, sim_link};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::{AlarmTicket, DeviceEvent, DeviceState, RecordRequest};
-use procimg_profinet::device::{ChannelDiag, DeviceAction, DiagEntry, Severity};
+use procimg_profinet::device::{ChannelDiag, DeviceAction, DiagEntry, Severity, SubslotAddr};
 use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_runtime::config::{self, Config};
 use procimg_runtime::image::{Image, Tables};
@@ -162,8 +163,13 @@ pub mod device_ops {
     pub const DIAGNOSIS: u8 = 6;
     /// `on: u8`: the device takes part (odd) or stops.
     pub const ACCEPTING: u8 = 7;
+    /// `what: u8, arg: u8, len: u8`: the application's part (`what % 4`): 0 takes (arg odd)
+    /// or gives back the records of slot `arg % 3`, subslot 1; 1 answers job `arg` of those
+    /// given out (with `len` bytes, or an error when `len` > 200; a job number never given out
+    /// when there are none); 2 holds the ApplicationReady (arg odd) or not; 3 releases it.
+    pub const APPLICATION: u8 = 8;
     /// Number of opcodes.
-    pub const COUNT: u8 = 8;
+    pub const COUNT: u8 = 9;
 }
 
 /// How a message is changed.
@@ -598,6 +604,8 @@ pub fn record_bringup() -> (Vec<u8>, Vec<Sent>) {
 /// One simulated device alone: the `device` target.
 pub struct DeviceBench {
     device: DemoDevice,
+    /// Record jobs given to the application so far.
+    jobs: Vec<u64>,
     now: u64,
     steps: u32,
     /// The last operation polled the device at `now`.
@@ -616,9 +624,36 @@ impl DeviceBench {
         let device = sim_plant::devices(config()).swap_remove(0);
         DeviceBench {
             device,
+            jobs: Vec::new(),
             now: MS,
             steps: 0,
             polled: false,
+        }
+    }
+
+    /// The application's part of [`device_ops::APPLICATION`].
+    fn application(&mut self, what: u8, arg: u8, len: u8, out: &mut Vec<DeviceAction>) {
+        match what {
+            0 => self
+                .device
+                .delegate_records(SubslotAddr::new(0, u16::from(arg % 3), 1), arg % 2 == 1),
+            1 => {
+                let job = match self.jobs.len() {
+                    0 => u64::from(arg) << 40,
+                    n => self.jobs.remove(usize::from(arg) % n),
+                };
+                let answer = if len > 200 {
+                    Err((RecordErrorCode::InvalidParameter, len))
+                } else {
+                    Ok(vec![len; usize::from(len)])
+                };
+                // Answered jobs, timed-out ones and unknown numbers are refused: fine.
+                let _ = self.device.answer_record(job, answer, out);
+            }
+            2 => self.device.hold_application_ready(arg % 2 == 1),
+            _ => {
+                let _ = self.device.release_application_ready(self.now);
+            }
         }
     }
 
@@ -698,6 +733,10 @@ impl DeviceBench {
                 let on = r.u8()? % 2 == 1;
                 self.device.set_accepting(on, self.now, &mut out);
             }
+            device_ops::APPLICATION => {
+                let (what, arg, len) = (r.u8()? % 4, r.u8()?, r.u8()?);
+                self.application(what, arg, len, &mut out);
+            }
             _ => unreachable!("opcode taken modulo COUNT"),
         }
         for a in out {
@@ -708,8 +747,13 @@ impl DeviceBench {
                 }
                 DeviceAction::StartCyclic(ar) => self.check_exchange(&ar),
                 DeviceAction::StopCyclic { .. } => {}
-                // Its records are not given to an application.
-                DeviceAction::Record(_) => {}
+                DeviceAction::Record(job) => {
+                    assert!(
+                        job.index <= 0x7fff,
+                        "only user records go to the application: {job:?}"
+                    );
+                    self.jobs.push(job.job);
+                }
             }
         }
         // A poll does what is due: what it leaves is due later (else its caller would spin).

@@ -3,7 +3,9 @@
 //! of it (name, address, identity, the AR), kept up to date by the acyclic thread.
 
 use crate::config::StationConfig;
-use procimg_profinet::device::{Application, ArState, Device, DeviceSetup};
+use procimg_profinet::device::{
+    Application, ArState, Device, DeviceSetup, ParameterRecord, SubslotAddr,
+};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use procimg_shm_layout::control::{ArReport, StationReport};
@@ -181,8 +183,26 @@ pub fn engine(station: &StationConfig, mac: MacAddress, cycle_ns: u64) -> Device
         im0: im0(station),
     });
     device.set_type_of_station(&station.device_type);
+    device.set_parameter_records(&parameter_records(station));
     device.hand_over_cyclic(cycle_ns);
     device
+}
+
+/// The user records the station accepts: each submodule's configured `records`.
+fn parameter_records(station: &StationConfig) -> Vec<ParameterRecord> {
+    station
+        .submodules
+        .iter()
+        .flat_map(|s| {
+            let c = &s.submodule;
+            s.accepts.iter().map(|r| ParameterRecord {
+                at: SubslotAddr::new(c.api, c.slot, c.subslot),
+                index: r.index,
+                length: r.length,
+                initial: r.initial.clone(),
+            })
+        })
+        .collect()
 }
 
 /// I&M0 of the station, from the configuration (the texts are checked there to fit).
