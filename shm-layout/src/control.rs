@@ -194,6 +194,56 @@ pub enum Request {
         /// The alarm's data.
         data: Vec<u8>,
     },
+    /// In the device role: take (`own`) or give back the user records (indices
+    /// 0x0000–0x7FFF) of a submodule of the station. The PLC's reads and writes of them then
+    /// come to this subscriber as
+    /// [`Notification::StationRecord`](crate::services::Notification::StationRecord) jobs,
+    /// each to be answered with [`Request::StationRecordAnswer`] within
+    /// [`STATION_RECORD_TIMEOUT_MS`](crate::services::STATION_RECORD_TIMEOUT_MS). One
+    /// subscriber at a time takes a submodule's records; they come back when it unsubscribes
+    /// or its process ends.
+    StationOwnRecords {
+        /// The subscriber's id.
+        subscriber: u64,
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// Take (`true`) or give back.
+        own: bool,
+    },
+    /// In the device role: the answer to a record job.
+    StationRecordAnswer {
+        /// The subscriber's id (the one the job went to).
+        subscriber: u64,
+        /// The job.
+        job: u64,
+        /// For a read, the record (cut to what the PLC takes); ignored for a write.
+        #[serde(default)]
+        data: Vec<u8>,
+        /// The PNIORW error the PLC gets instead: ErrorCode1 (0xB0 invalid index, 0xB1 write
+        /// length error, 0xB8 invalid parameter, …) and ErrorCode2 (user specific).
+        #[serde(default)]
+        error: Option<(u8, u8)>,
+    },
+    /// In the device role: hold the ApplicationReady after every PrmEnd (END_OF_PARAM) until
+    /// this subscriber says its parameters are applied ([`Request::StationApplicationReady`]),
+    /// or stop holding it. It goes out when every holder said so, or after
+    /// [`APP_READY_HOLD_TIMEOUT_MS`](crate::services::APP_READY_HOLD_TIMEOUT_MS).
+    StationHoldApplicationReady {
+        /// The subscriber's id.
+        subscriber: u64,
+        /// Hold (`true`) or not.
+        hold: bool,
+    },
+    /// In the device role: this subscriber applied the PLC's parameters; the ApplicationReady
+    /// may go out as far as it is concerned.
+    StationApplicationReady {
+        /// The subscriber's id.
+        subscriber: u64,
+    },
     /// The cycle thread's latency histograms since start, bucket by bucket; answered with
     /// [`Response::Histograms`]. Two answers subtracted give the histograms of the time
     /// between them.
@@ -375,6 +425,31 @@ pub enum Refusal {
         /// The service asked for.
         service: String,
     },
+    /// Another subscriber took the records of this submodule of the station.
+    RecordsTaken {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// The name of the subscriber that took them.
+        by: String,
+    },
+    /// The station has no such submodule.
+    NoSuchStationSubmodule {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+    },
+    /// No record job of this number waits for this subscriber's answer.
+    StaleRecordJob {
+        /// The job.
+        job: u64,
+    },
     /// The answer could not be handed over (the control service had no room for it).
     AnswerLost {
         /// Bytes of the answer.
@@ -467,6 +542,26 @@ impl core::fmt::Display for Refusal {
                 f,
                 "this server plays the IO {role} role, and {service} is a service of the other \
                  role; use the {role} role's services, or run procimgd with the other `role`"
+            ),
+            Refusal::RecordsTaken {
+                api,
+                slot,
+                subslot,
+                by,
+            } => write!(
+                f,
+                "the records of API {api} slot {slot} subslot {subslot:#06x} are taken by \
+                 subscriber \"{by}\"; it gives them back when it unsubscribes or ends"
+            ),
+            Refusal::NoSuchStationSubmodule { api, slot, subslot } => write!(
+                f,
+                "the station has no submodule at API {api} slot {slot} subslot \
+                 {subslot:#06x}; `procimgd --check` lists what is plugged"
+            ),
+            Refusal::StaleRecordJob { job } => write!(
+                f,
+                "record job {job} waits for no answer from this subscriber: it was answered, \
+                 it timed out (the station then answered the PLC itself) or it is another's"
             ),
             Refusal::AnswerLost { bytes, detail } => write!(
                 f,

@@ -329,3 +329,37 @@ pub struct DeviceDiagnosis {
     #[serde(default)]
     pub module_diff: Vec<SubmoduleDiff>,
 }
+
+/// How long the station waits for a subscriber's answer to a record job before it answers
+/// the PLC itself with PNIORW "resource busy" (0xC2): a PLC repeats its call after about a
+/// second and gives up after a few.
+pub const STATION_RECORD_TIMEOUT_MS: u64 = 2000;
+
+/// The longest the subscribers may hold the ApplicationReady after a PrmEnd.
+pub const APP_READY_HOLD_TIMEOUT_MS: u64 = 10_000;
+
+/// A record of the station that the PLC reads or writes, for the subscriber that took the
+/// submodule's records (GOAL's record callbacks, IO-Base's `PNIO_CBF_REC_READ/WRITE`).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StationRecordJob {
+    /// The job, named in the answer.
+    pub job: u64,
+    /// A write (`true`) or a read.
+    pub write: bool,
+    /// The AR it came in (all zeros: an implicit read outside any AR).
+    pub ar_uuid: String,
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// Record index.
+    pub index: u16,
+    /// What the PLC wrote (empty for a read).
+    #[serde(default)]
+    pub data: Vec<u8>,
+    /// For a read, the most bytes the PLC takes.
+    #[serde(default)]
+    pub max_len: u32,
+}

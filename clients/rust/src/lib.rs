@@ -43,6 +43,7 @@ mod layout;
 #[allow(unsafe_code)]
 pub mod realtime;
 mod services;
+mod station_services;
 mod status;
 
 pub use access::{AccessError, Space};
@@ -57,11 +58,13 @@ pub use procimg_shm_layout::control::{
     Refusal, StatusReport,
 };
 pub use procimg_shm_layout::services::{
-    AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause, Notification, RecordConfirmation,
-    RecordStatus, RecordTarget, SubmoduleDiff,
+    APP_READY_HOLD_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
+    Notification, RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS,
+    StationRecordJob, SubmoduleDiff,
 };
 pub use procimg_shm_layout::{CycleInfo, Mode};
 pub use services::{RecordError, ServiceOptions, Services};
+pub use station_services::RecordRefusal;
 pub use status::{Ioxs, SubmoduleIoxs};
 
 /// Output samples the server buffers per client between two cycles (see `procimgd`).

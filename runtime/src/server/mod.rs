@@ -193,7 +193,11 @@ impl Control {
             | Request::AcknowledgeAlarm { .. }
             | Request::Diagnosis
             | Request::StationDiagnosis { .. }
-            | Request::StationProcessAlarm { .. } => {
+            | Request::StationProcessAlarm { .. }
+            | Request::StationOwnRecords { .. }
+            | Request::StationRecordAnswer { .. }
+            | Request::StationHoldApplicationReady { .. }
+            | Request::StationApplicationReady { .. } => {
                 let online = self.shared.mode() != Mode::Offline
                     || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
                 return self.role.handle(req, online, &mut self.notices);

@@ -16,8 +16,10 @@ use crate::roles::controller::device_spec;
 use crate::sys::clock::{now_ns, sleep_until_ns};
 use procimg_nic::Nic;
 use procimg_nic::sim_link::LinkEnd;
-use procimg_profinet::controller::plan::{ControllerIdentity, DevicePlan, PlanError};
-use procimg_profinet::controller::{Action, Controller, DeviceEvent};
+use procimg_profinet::controller::plan::{
+    ControllerIdentity, DevicePlan, PlanError, PlannedRecord,
+};
+use procimg_profinet::controller::{Action, Controller, DeviceEvent, RecordRequest};
 use procimg_profinet::cyclic::CyclicAr;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
@@ -44,6 +46,10 @@ const FIRST_FRAME_GRACE_NS: u64 = 5_000_000_000;
 const REPORT_EVERY_NS: u64 = 5_000_000_000;
 /// IOxS GOOD.
 const IOXS_GOOD: u8 = 0x80;
+/// How often the PLC program writes the station's first parameter record anew while the
+/// data flows (as a program's WRREC of a recipe would), so that a client that took the
+/// record sees writes and its answers reach the PLC.
+const RECIPE_EVERY_NS: u64 = 3_000_000_000;
 
 /// The address the station has on the simulated network.
 pub fn station_ip(station: &StationConfig) -> Ipv4Addr {
@@ -117,10 +123,13 @@ pub fn spawn(
                 instance: 1,
             };
             let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
+            let recipe = plans.first().and_then(|p| p.records.first().cloned());
             let controller = Controller::new(id, plans, 0, now_ns());
             Plc {
                 controller,
                 names,
+                recipe,
+                recipe_writes: 0,
                 link,
                 udp,
                 ip,
@@ -141,11 +150,17 @@ struct Exchange {
     /// The station's input data of the last valid frame, per submodule with inputs.
     inputs: Vec<(usize, Vec<u8>)>,
     last_report_ns: u64,
+    /// When the program last wrote the parameter record.
+    last_recipe_ns: u64,
 }
 
 struct Plc {
     controller: Controller,
     names: Vec<String>,
+    /// The station's first parameter record, which the program writes now and then.
+    recipe: Option<PlannedRecord>,
+    /// Writes of it by the program so far.
+    recipe_writes: u32,
     link: LinkEnd,
     udp: SimDatagramPeer,
     ip: Ipv4Addr,
@@ -225,6 +240,36 @@ impl Plc {
             tracing::warn!("demo PLC: no input data from the station within the watchdog");
             self.controller
                 .on_watchdog(device, epoch, now, &mut self.actions);
+        } else if let Some(r) = self.recipe.as_ref().filter(|_| {
+            x.last_rx_ns.is_some() && now.saturating_sub(x.last_recipe_ns) >= RECIPE_EVERY_NS
+        }) {
+            x.last_recipe_ns = now;
+            self.recipe_writes += 1;
+            // The value: the write's number, big-endian, in the record's last bytes.
+            let mut data = vec![0u8; r.data.len()];
+            let n = self.recipe_writes.to_be_bytes();
+            let k = data.len().min(4);
+            let at = data.len() - k;
+            data[at..].copy_from_slice(&n[4 - k..]);
+            tracing::info!(
+                "demo PLC: writes record {} of slot {} subslot {:#06x}: {data:02x?}",
+                r.index,
+                r.slot,
+                r.subslot
+            );
+            self.controller.record(
+                RecordRequest {
+                    reference: u64::from(self.recipe_writes),
+                    device: x.ar.device,
+                    api: r.api,
+                    slot: r.slot,
+                    subslot: r.subslot,
+                    index: r.index,
+                    max_len: 0,
+                    write: Some(data),
+                },
+                &mut self.actions,
+            );
         } else if now.saturating_sub(x.last_report_ns) >= REPORT_EVERY_NS && x.last_rx_ns.is_some()
         {
             x.last_report_ns = now;
@@ -258,6 +303,7 @@ impl Plc {
                         last_counter: None,
                         inputs: Vec::new(),
                         last_report_ns: now,
+                        last_recipe_ns: now,
                     })
                 }
                 Action::Stop { .. } => self.exchange = None,
@@ -407,6 +453,19 @@ fn log(e: &DeviceEvent, names: &[String]) {
             notification.subslot,
             notification.specifier
         ),
-        DeviceEvent::Record(_) | DeviceEvent::Activation { .. } => {}
+        DeviceEvent::Record(r) => {
+            let what = format!(
+                "record {} of station {:?} slot {} subslot {:#06x}",
+                r.request.index,
+                name(r.request.device),
+                r.request.slot,
+                r.request.subslot
+            );
+            match &r.result {
+                Ok(_) => tracing::info!("demo PLC: {what} written"),
+                Err(f) => tracing::warn!("demo PLC: writing {what} failed: {}", f.reason),
+            }
+        }
+        DeviceEvent::Activation { .. } => {}
     }
 }

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A device program's say in the PLC's AR, through its [`Services`] handle (GOAL's record
+//! and END_OF_PARAM callbacks, IO-Base's `PNIO_CBF_REC_READ/WRITE`, `PNIO_CBF_PRM_END_IND`
+//! and `PNIO_set_appl_state_ready`): the records of the submodules it takes come to it as
+//! [`Notification::StationRecord`](crate::Notification::StationRecord) jobs, and it may hold
+//! the station's ApplicationReady until its parameters are applied.
+//!
+//! ```no_run
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! use procimg_client::{Notification, RecordRefusal, ServiceOptions, Services};
+//! use std::time::Duration;
+//! let mut services = Services::open("procimg", ServiceOptions::new("params"))?;
+//! services.take_records((0, 1, 1))?;
+//! while let Some(n) = services.next(Duration::from_secs(1)) {
+//!     if let Notification::StationRecord { job, .. } = n {
+//!         let answer = match (job.write, job.index, job.data.len()) {
+//!             (true, 1, 4) => Ok(&[][..]),
+//!             (true, 1, _) => Err(RecordRefusal::new(RecordRefusal::WRITE_LENGTH_ERROR)),
+//!             _ => Err(RecordRefusal::new(RecordRefusal::INVALID_INDEX)),
+//!         };
+//!         services.answer_record(&job, answer)?;
+//!     }
+//! }
+//! # Ok(()) }
+//! ```
+
+use crate::services::Services;
+use crate::{ControlError, DEFAULT_CONTROL_TIMEOUT};
+use procimg_shm_layout::control::{Request, Response};
+use procimg_shm_layout::services::StationRecordJob;
+
+/// The PNIORW error a record job ends with instead of data: ErrorCode1 (class and code) and
+/// ErrorCode2 (user specific).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RecordRefusal {
+    /// ErrorCode1.
+    pub code1: u8,
+    /// ErrorCode2.
+    pub code2: u8,
+}
+
+impl RecordRefusal {
+    /// Application: read error.
+    pub const READ_ERROR: u8 = 0xa0;
+    /// Application: write error.
+    pub const WRITE_ERROR: u8 = 0xa1;
+    /// Application: busy.
+    pub const BUSY: u8 = 0xa7;
+    /// Access: invalid index.
+    pub const INVALID_INDEX: u8 = 0xb0;
+    /// Access: write length error.
+    pub const WRITE_LENGTH_ERROR: u8 = 0xb1;
+    /// Access: state conflict.
+    pub const STATE_CONFLICT: u8 = 0xb5;
+    /// Access: access denied.
+    pub const ACCESS_DENIED: u8 = 0xb6;
+    /// Access: invalid range.
+    pub const INVALID_RANGE: u8 = 0xb7;
+    /// Access: invalid parameter.
+    pub const INVALID_PARAMETER: u8 = 0xb8;
+    /// Resource: resource busy.
+    pub const RESOURCE_BUSY: u8 = 0xc2;
+
+    /// The error `code1` with ErrorCode2 0.
+    pub const fn new(code1: u8) -> RecordRefusal {
+        RecordRefusal { code1, code2: 0 }
+    }
+}
+
+impl Services {
+    /// Sends `req`, which is answered with Done.
+    fn station_request(&self, req: &Request) -> Result<(), ControlError> {
+        match self.control().request(req, DEFAULT_CONTROL_TIMEOUT)? {
+            Response::Done | Response::Accepted => Ok(()),
+            Response::Refused(r) => Err(ControlError::Refused(r)),
+            other => Err(ControlError::Protocol {
+                instance: self.control().instance().to_string(),
+                detail: format!("{other:?}"),
+            }),
+        }
+    }
+
+    /// Takes the user records (indices 0x0000–0x7FFF) of the station's submodule
+    /// (`api`, `slot`, `subslot`): the PLC's reads and writes of them come to this handle as
+    /// [`Notification::StationRecord`](crate::Notification::StationRecord) jobs, to be
+    /// answered with [`answer_record`](Self::answer_record) within
+    /// [`STATION_RECORD_TIMEOUT_MS`](crate::STATION_RECORD_TIMEOUT_MS). Refused when another
+    /// handle took them.
+    pub fn take_records(&self, (api, slot, subslot): (u32, u16, u16)) -> Result<(), ControlError> {
+        self.station_request(&Request::StationOwnRecords {
+            subscriber: self.id(),
+            api,
+            slot,
+            subslot,
+            own: true,
+        })
+    }
+
+    /// Gives the records of a submodule back to the station, which answers them itself again.
+    pub fn give_back_records(
+        &self,
+        (api, slot, subslot): (u32, u16, u16),
+    ) -> Result<(), ControlError> {
+        self.station_request(&Request::StationOwnRecords {
+            subscriber: self.id(),
+            api,
+            slot,
+            subslot,
+            own: false,
+        })
+    }
+
+    /// Answers record job `job`: `Ok` with the record read (cut to what the PLC takes; any
+    /// bytes for a write, which are ignored), or the PNIORW error the PLC gets. An answer after
+    /// the timeout is refused with `StaleRecordJob` (the PLC had "resource busy").
+    pub fn answer_record(
+        &self,
+        job: &StationRecordJob,
+        answer: Result<&[u8], RecordRefusal>,
+    ) -> Result<(), ControlError> {
+        let (data, error) = match answer {
+            Ok(d) if !job.write => (d.to_vec(), None),
+            Ok(_) => (Vec::new(), None),
+            Err(e) => (Vec::new(), Some((e.code1, e.code2))),
+        };
+        self.station_request(&Request::StationRecordAnswer {
+            subscriber: self.id(),
+            job: job.job,
+            data,
+            error,
+        })
+    }
+
+    /// Holds the station's ApplicationReady after every PrmEnd (a
+    /// [`Notification::StationAr`](crate::Notification::StationAr) with state
+    /// "parameterized") until this handle calls
+    /// [`application_ready`](Self::application_ready) — or not (`false`).
+    pub fn hold_application_ready(&self, hold: bool) -> Result<(), ControlError> {
+        self.station_request(&Request::StationHoldApplicationReady {
+            subscriber: self.id(),
+            hold,
+        })
+    }
+
+    /// Says that this handle applied the PLC's parameters: the ApplicationReady goes out once
+    /// every handle that holds it said so.
+    pub fn application_ready(&self) -> Result<(), ControlError> {
+        self.station_request(&Request::StationApplicationReady {
+            subscriber: self.id(),
+        })
+    }
+}
