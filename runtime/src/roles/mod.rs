@@ -21,6 +21,7 @@
 
 pub mod controller;
 pub mod device;
+pub mod subscribers;
 
 use crate::cycle::thread::IoFactory;
 use crate::io::pnio::PnioIo;
