@@ -53,8 +53,8 @@ pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_shm_layout::control::{
-    ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, ForceReport,
-    Refusal, StatusReport,
+    ArReport, ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity,
+    ForceReport, Refusal, StationReport, StatusReport,
 };
 pub use procimg_shm_layout::services::{
     AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause, Notification, RecordConfirmation,
