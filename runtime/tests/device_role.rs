@@ -503,7 +503,10 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         .netns(&net.ns[1])
         .until_cycling()
         .start();
-    // Commissioning: the engineering tool names the station for good.
+    // Commissioning: the engineering tool names the station for good; the device's program
+    // hears of it.
+    let mut station_events = Services::open(&device.instance, ServiceOptions::new("dev-events"))
+        .expect("the device's services");
     let mac = device.status().station.expect("a station").mac;
     let procimg = procimg_testkit::workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
     let named = std::process::Command::new("ip")
@@ -526,6 +529,21 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         String::from_utf8_lossy(&named.stderr)
     );
     wait_station_name(&device, "pc-device");
+    let Some(Notification::StationIdentity {
+        name,
+        ip,
+        permanent,
+        factory_reset,
+        ..
+    }) = next_station(&mut station_events, BRING_UP)
+    else {
+        panic!("no notification of the new name");
+    };
+    assert_eq!(
+        (name.as_str(), ip.as_str(), permanent, factory_reset),
+        ("pc-device", "10.47.0.50", true, false)
+    );
+    drop(station_events);
     assert!(
         std::fs::read_to_string(&state)
             .unwrap()
