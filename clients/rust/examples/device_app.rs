@@ -78,8 +78,13 @@ fn run(args: Args) -> anyhow::Result<()> {
         .ok()
         .and_then(|s| s.station)
         .and_then(|s| s.ar)
+        && let Some(line) = describe(&Notification::StationAr {
+            state: ar.state,
+            ar_uuid: ar.ar_uuid,
+            controller_mac: ar.controller_mac,
+        })
     {
-        println!("device_app: AR {} is {}", ar.ar_uuid, ar.state);
+        println!("device_app: {line}");
     }
     // Wire break (ChannelErrorType 6) on input channel 0 of slot 1.
     let wire_break = DiagnosisEntry {
