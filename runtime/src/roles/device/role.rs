@@ -161,7 +161,7 @@ impl DeviceRole {
             .store(self.device.station_problem(), Ordering::Relaxed);
         self.keep();
         self.station.refresh(&self.device);
-        // Before the AR's end a new name or address causes.
+        // Told before the AR's end that a new name or address brings about.
         if let Some(event) = self.identity.check(&self.device) {
             self.tell(event, out);
         }

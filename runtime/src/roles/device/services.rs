@@ -98,15 +98,15 @@ impl RoleServices for DeviceServices {
     fn handle(&mut self, request: Request, _online: bool, _notices: &mut Notices) -> Response {
         match request {
             // Notifications go to every client of the notification service; announcing
-            // makes the subscriber known (status report, reaping). The device role has no
-            // alarms waiting for acknowledgement: `acknowledge_alarms` is kept for the
-            // report and has no effect.
+            // makes the subscriber known (status report, reaping). `acknowledge_alarms` is
+            // ignored: the station's alarms are the PLC's to acknowledge, none waits for a
+            // client, and the status says so.
             Request::Subscribe {
                 subscriber,
                 name,
                 pid,
                 node_id,
-                acknowledge_alarms,
+                acknowledge_alarms: _,
             } => {
                 self.subscribers.subscribe(
                     subscriber,
@@ -114,7 +114,7 @@ impl RoleServices for DeviceServices {
                         name,
                         pid,
                         node_id,
-                        acknowledges: acknowledge_alarms,
+                        acknowledges: false,
                     },
                 );
                 Response::Done
