@@ -22,6 +22,7 @@ pub mod sim_plc;
 mod state_file;
 mod station;
 
+pub use identity::Identity;
 pub use role::{DeviceCommand, DeviceRole, Kept};
 pub use services::DeviceServices;
 pub use station::{ImageApplication, Station, StationEvent, engine, state_name};

@@ -46,7 +46,7 @@ pub enum StationEvent {
     PlcRunning(bool),
     /// DCP set the station's name or IP suite (to a new value, or to keep the value across a
     /// restart), or reset it to factory. The engine has no event for it: the role tells it
-    /// from what the engine holds ([`super::identity::IdentityWatch`]).
+    /// from what the engine holds (`identity.rs`).
     Identity {
         /// The name and IP suite now.
         identity: Identity,
