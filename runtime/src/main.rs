@@ -387,6 +387,8 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         bail!("the cycle thread panicked");
     }
     role.join();
+    // The AR's end, which the role reported while releasing, for the subscribers.
+    control.finish();
     drop(view);
     drop(control);
     info!("stopped; shared memory of instance \"{instance}\" released");

@@ -7,8 +7,8 @@
 //! kept, and every frame on the wire dissected by tshark.
 
 use procimg_client::{
-    AlarmReport, AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Ioxs, Notification,
-    RecordTarget, ServiceOptions, Services,
+    AlarmReport, AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Ioxs, Mode,
+    Notification, RecordTarget, ServiceOptions, Services,
 };
 use procimg_profinet::wire::alarm::AlarmItem;
 use procimg_profinet::wire::record::DiagnosisData;
@@ -69,11 +69,149 @@ fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
         );
     }
 
-    // The controller's services are not the device's: asked for, they say so.
-    let refused = Services::open(&server.instance, ServiceOptions::new("devapp-services"));
-    let message = refused.err().map(|e| e.to_string()).unwrap_or_default();
+    // The device's services are the station's events; the controller's, asked for, say so.
+    let services = Services::open(&server.instance, ServiceOptions::new("devapp-services"))
+        .expect("the device's services");
+    let message = services
+        .diagnosis()
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
     assert!(message.contains("IO device role"), "{message}");
     assert_eq!(server.status().network.watchdog_expiries, 0);
+}
+
+/// The next station notification, skipping the others; `None` after `within`.
+fn next_station(services: &mut Services, within: Duration) -> Option<Notification> {
+    let until = Instant::now() + within;
+    while Instant::now() < until {
+        if let Some(
+            n @ (Notification::StationAr { .. }
+            | Notification::StationArEnded { .. }
+            | Notification::StationPlcRunning { .. }
+            | Notification::StationBlink
+            | Notification::StationIdentity { .. }),
+        ) = services.next(Duration::from_millis(100))
+        {
+            return Some(n);
+        }
+    }
+    None
+}
+
+/// The AR states reported until one reaches data exchange: those of the AR that did (a
+/// loaded machine may see an attempt fail first), and its ARUUID.
+fn states_until_data(services: &mut Services) -> (Vec<String>, String) {
+    let mut states = Vec::new();
+    loop {
+        let n = next_station(services, BRING_UP).expect("the AR's states within 30 s");
+        match n {
+            Notification::StationAr { state, ar_uuid, .. } => {
+                if state == "connected" {
+                    states.clear();
+                }
+                states.push(state.clone());
+                if state == "data" {
+                    return (states, ar_uuid);
+                }
+            }
+            Notification::StationArEnded { .. } => states.clear(),
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn a_device_program_follows_the_ar_through_the_station_notifications() {
+    let mut server = Launch::demo_device("devnote").start();
+    let first = server
+        .status()
+        .station
+        .and_then(|s| s.ar)
+        .expect("the demo's AR");
+    // Subscribed after the demo's AR came up: the handle sees what follows, whatever the
+    // timing, because the test makes the AR end and come again itself.
+    let mut services = Services::open(
+        &server.instance,
+        ServiceOptions::new("devnote").acknowledge_alarms(true),
+    )
+    .expect("the device's services");
+    // Listed; alarm acknowledgement, asked for, means nothing here: the PLC acknowledges.
+    let listed = server.status().subscribers;
+    assert!(
+        listed
+            .iter()
+            .any(|s| s.name == "devnote" && s.pid == std::process::id() && !s.acknowledges_alarms),
+        "{listed:?}"
+    );
+
+    // OFFLINE: the station ends the AR on purpose.
+    server.set_mode(Mode::Offline);
+    let (ar_uuid, reason, aborted, planned) = loop {
+        match next_station(&mut services, BRING_UP) {
+            Some(Notification::StationArEnded {
+                ar_uuid,
+                reason,
+                aborted,
+                planned,
+            }) => break (ar_uuid, reason, aborted, planned),
+            Some(Notification::StationPlcRunning { .. }) => {}
+            Some(other) => panic!("before the AR's end: {other:?}"),
+            None => panic!("the AR did not end within 30 s of OFFLINE"),
+        }
+    };
+    assert_eq!(
+        (ar_uuid, aborted, planned),
+        (first.ar_uuid.clone(), true, true)
+    );
+    assert!(reason.contains("stopped taking part"), "{reason}");
+
+    // OPERATE: the PLC connects again, and every step of the new AR is reported.
+    server.set_mode(Mode::Operate);
+    let (states, uuid) = states_until_data(&mut services);
+    assert_eq!(
+        states,
+        [
+            "connected",
+            "parameterized",
+            "waiting-for-application-ready-confirm",
+            "data"
+        ]
+    );
+    assert_ne!(uuid, first.ar_uuid);
+    let ar = server.status().station.and_then(|s| s.ar).expect("an AR");
+    assert_eq!((ar.state.as_str(), &ar.ar_uuid), ("data", &uuid));
+    // The demo's PLC is in RUN once its data flows.
+    let next = next_station(&mut services, BRING_UP);
+    assert_eq!(
+        next,
+        Some(Notification::StationPlcRunning { running: true }),
+        "after data exchange"
+    );
+
+    // procimgd stops (SIGTERM): its last notification is the AR's planned end.
+    let exit = server.terminate();
+    assert!(exit.success(), "procimgd exited with {exit}");
+    let mut after = Vec::new();
+    while let Some(n) = next_station(&mut services, Duration::from_secs(2)) {
+        after.push(n);
+    }
+    let ends: Vec<&Notification> = after
+        .iter()
+        .filter(|n| matches!(n, Notification::StationArEnded { .. }))
+        .collect();
+    assert_eq!(ends.len(), 1, "{after:?}");
+    assert!(
+        matches!(ends[0], Notification::StationArEnded { ar_uuid, aborted: true, planned: true, .. }
+            if *ar_uuid == uuid),
+        "{after:?}"
+    );
+    assert!(
+        !after
+            .iter()
+            .any(|n| matches!(n, Notification::StationAr { .. })),
+        "{after:?}"
+    );
 }
 
 #[test]
@@ -366,7 +504,10 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         .netns(&net.ns[1])
         .until_cycling()
         .start();
-    // Commissioning: the engineering tool names the station for good.
+    // Commissioning: the engineering tool names the station for good; the device's program
+    // hears of it.
+    let mut station_events = Services::open(&device.instance, ServiceOptions::new("dev-events"))
+        .expect("the device's services");
     let mac = device.status().station.expect("a station").mac;
     let procimg = procimg_testkit::workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
     let named = std::process::Command::new("ip")
@@ -389,6 +530,21 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         String::from_utf8_lossy(&named.stderr)
     );
     wait_station_name(&device, "pc-device");
+    let Some(Notification::StationIdentity {
+        name,
+        ip,
+        permanent,
+        factory_reset,
+        ..
+    }) = next_station(&mut station_events, BRING_UP)
+    else {
+        panic!("no notification of the new name");
+    };
+    assert_eq!(
+        (name.as_str(), ip.as_str(), permanent, factory_reset),
+        ("pc-device", "10.47.0.50", true, false)
+    );
+    drop(station_events);
     assert!(
         std::fs::read_to_string(&state)
             .unwrap()

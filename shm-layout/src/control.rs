@@ -121,6 +121,8 @@ pub enum Request {
         node_id: String,
         /// The server waits for this subscriber's [`Request::AcknowledgeAlarm`] before it
         /// acknowledges an alarm to the device (IO-Base: when the alarm callback returns).
+        /// A server in the device role takes it and ignores it: the PLC acknowledges the
+        /// station's alarms.
         acknowledge_alarms: bool,
     },
     /// Withdraw a subscriber; alarms waiting for it are acknowledged if nobody else waits.

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The controller services clients use besides the process image: record read/write jobs,
-//! device activation, alarms with acknowledgement, device events and diagnosis.
+//! The services clients use besides the process image: of an IO controller, record
+//! read/write jobs, device activation, alarms with acknowledgement, device events and
+//! diagnosis; of an IO device (`role = "device"`), the station's events (its AR, the PLC's
+//! RUN/STOP, DCP).
 //!
 //! Requests go over the control service (see [`crate::control::Request`]); what happens later
 //! arrives on the notification service `procimg/<instance>/notifications`, one JSON
 //! [`Notification`] per sample, with a wake-up on the event service
-//! `procimg/<instance>/notify-events`. Alarms and device events go to every subscriber;
+//! `procimg/<instance>/notify-events`. Alarms, device and station events go to every subscriber;
 //! confirmations carry the `reply_to` of the subscriber that asked, so every subscriber sees
 //! only its own. Both services outlive a server restart, like the control service: a
 //! subscriber keeps its ports and learns of the new server from [`Notification::ServerStarted`].
@@ -231,15 +233,77 @@ pub enum Notification {
         /// Whether the device took it.
         ok: bool,
     },
+    /// Device role: the station's AR reached a state (GOAL's and IO-Base's AR indications).
+    StationAr {
+        /// "connected" (a PLC's Connect was accepted: a new AR), "parameterized" (the PLC's
+        /// PrmEnd came: END_OF_PARAM), "waiting-for-application-ready-confirm" (the
+        /// station's ApplicationReady went out) or "data" (the PLC confirmed it: IN_DATA,
+        /// data exchange). A state passed within one step of the station may not be
+        /// reported on its own; "data" always is.
+        state: String,
+        /// The ARUUID.
+        ar_uuid: String,
+        /// The PLC's MAC address.
+        controller_mac: String,
+    },
+    /// Device role: the station's AR ended.
+    StationArEnded {
+        /// The ARUUID.
+        ar_uuid: String,
+        /// Why, in words: "released by the PLC", or the abort code (an IO data timeout when
+        /// the PLC's frames stopped, a name change by DCP, …).
+        reason: String,
+        /// It was aborted (by either side), not released by the PLC.
+        aborted: bool,
+        /// This station ended it on purpose: procimgd stopping or going OFFLINE.
+        planned: bool,
+    },
+    /// Device role: the PLC's output frames say RUN (`true`) or STOP (their DataStatus).
+    StationPlcRunning {
+        /// RUN.
+        running: bool,
+    },
+    /// Device role: DCP Signal, an engineering tool asks the station to make itself seen
+    /// (flash its LED).
+    StationBlink,
+    /// Device role: DCP set the station's name or IP suite, or reset it to factory. A new
+    /// name or address ends the AR, if one is up (a [`Notification::StationArEnded`]
+    /// follows).
+    StationIdentity {
+        /// NameOfStation (empty: none).
+        name: String,
+        /// IP address ("0.0.0.0": none).
+        ip: String,
+        /// Subnet mask.
+        netmask: String,
+        /// Default gateway.
+        gateway: String,
+        /// The change is kept across a restart (DCP's "permanent"), in the state file.
+        permanent: bool,
+        /// It was a reset to factory: the station has no name and no address now and
+        /// keeps it so. (A permanent Set of an empty name and address 0.0.0.0 leaves the
+        /// same state and is reported the same.)
+        factory_reset: bool,
+    },
+    /// Device role: the PLC reads or writes a record of a submodule whose records `reply_to`
+    /// took ([`crate::control::Request::StationOwnRecords`]); answer with
+    /// [`crate::control::Request::StationRecordAnswer`] within
+    /// [`STATION_RECORD_TIMEOUT_MS`].
+    StationRecord {
+        /// The subscriber that took the records.
+        reply_to: u64,
+        /// The job.
+        job: StationRecordJob,
+    },
 }
 
 impl Notification {
     /// The subscriber this notification is for, or `None` for all.
     pub fn reply_to(&self) -> Option<u64> {
         match self {
-            Notification::Record { reply_to, .. } | Notification::Activation { reply_to, .. } => {
-                Some(*reply_to)
-            }
+            Notification::Record { reply_to, .. }
+            | Notification::Activation { reply_to, .. }
+            | Notification::StationRecord { reply_to, .. } => Some(*reply_to),
             _ => None,
         }
     }
@@ -362,4 +426,61 @@ pub struct StationRecordJob {
     /// For a read, the most bytes the PLC takes.
     #[serde(default)]
     pub max_len: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::control::{decode, encode};
+    use alloc::string::ToString;
+    use alloc::vec;
+
+    #[test]
+    fn station_notifications_go_to_everyone_under_their_snake_case_names() {
+        let all = vec![
+            (
+                Notification::StationAr {
+                    state: "data".into(),
+                    ar_uuid: "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2".into(),
+                    controller_mac: "02:50:49:fe:00:01".into(),
+                },
+                "station_ar",
+            ),
+            (
+                Notification::StationArEnded {
+                    ar_uuid: "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2".into(),
+                    reason: "released by the PLC".into(),
+                    aborted: false,
+                    planned: false,
+                },
+                "station_ar_ended",
+            ),
+            (
+                Notification::StationPlcRunning { running: false },
+                "station_plc_running",
+            ),
+            (Notification::StationBlink, "station_blink"),
+            (
+                Notification::StationIdentity {
+                    name: "pc-device".into(),
+                    ip: "10.47.0.50".into(),
+                    netmask: "255.255.255.0".into(),
+                    gateway: "0.0.0.0".into(),
+                    permanent: true,
+                    factory_reset: false,
+                },
+                "station_identity",
+            ),
+        ];
+        for (n, tag) in all {
+            let bytes = encode(&n);
+            let text = core::str::from_utf8(&bytes).unwrap().to_string();
+            assert!(
+                text.contains(&format!("\"notification\":\"{tag}\"")),
+                "{text}"
+            );
+            assert_eq!(decode::<Notification>(&bytes).unwrap(), n);
+            assert_eq!(n.reply_to(), None);
+        }
+    }
 }

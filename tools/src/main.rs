@@ -56,7 +56,8 @@ enum Command {
         #[command(subcommand)]
         op: services::RecordCommand,
     },
-    /// Print device events, alarms and confirmations as they come.
+    /// Print device events, alarms and confirmations as they come (of a device-role server:
+    /// the station's AR, the PLC's RUN/STOP, DCP).
     Events {
         /// One JSON object per line.
         #[arg(long)]

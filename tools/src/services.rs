@@ -125,7 +125,8 @@ pub fn record(instance: &str, op: RecordCommand) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `procimg events`: prints device events, alarms and confirmations as they come.
+/// `procimg events`: prints device events, alarms and confirmations (or the station's
+/// events, in the device role) as they come.
 pub fn events(
     instance: &str,
     json: bool,
@@ -196,6 +197,47 @@ fn describe(n: &Notification) -> String {
         Notification::Activation { device, active, .. } => format!(
             "device #{device} {}",
             if *active { "activated" } else { "deactivated" }
+        ),
+        Notification::StationAr {
+            state,
+            ar_uuid,
+            controller_mac,
+        } => format!("station: AR {ar_uuid} with PLC {controller_mac}: {state}"),
+        Notification::StationArEnded {
+            ar_uuid, reason, ..
+        } => format!("station: AR {ar_uuid} ended: {reason}"),
+        Notification::StationPlcRunning { running } => {
+            format!(
+                "station: the PLC is in {}",
+                if *running { "RUN" } else { "STOP" }
+            )
+        }
+        Notification::StationBlink => "station: DCP Signal (blink)".to_owned(),
+        Notification::StationIdentity {
+            name,
+            ip,
+            netmask,
+            gateway,
+            permanent,
+            factory_reset,
+        } => format!(
+            "station: {}\"{name}\" at {ip}/{netmask} via {gateway}{}",
+            if *factory_reset {
+                "reset to factory: "
+            } else {
+                ""
+            },
+            if *permanent { " (kept)" } else { "" }
+        ),
+        // Only the subscriber that took the records gets these, and `procimg events` takes
+        // none.
+        Notification::StationRecord { job, .. } => format!(
+            "station: record {:#06x} of slot {} subslot {:#06x} {} (job {})",
+            job.index,
+            job.slot,
+            job.subslot,
+            if job.write { "written" } else { "read" },
+            job.job
         ),
     }
 }

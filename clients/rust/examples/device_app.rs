@@ -3,7 +3,9 @@
 //! and, every cycle, echoes each submodule's Q data (what the PLC wrote) into its I data
 //! (what the PLC reads); I bytes beyond the Q data count the cycles. Half-way it raises a
 //! channel diagnosis on slot 1 (a wire break on channel 0, which the PLC gets as an alarm and
-//! in its diagnosis records), and clears it three quarters in. It prints what it saw.
+//! in its diagnosis records), and clears it three quarters in. Between cycles it prints the
+//! station's notifications (the PLC's AR coming up or ending, its RUN/STOP, DCP). It prints
+//! what it saw.
 //!
 //! Run against `procimgd --demo-device`, whose PLC writes each submodule's I data plus one
 //! into its Q data, so that the values climb by one every round trip:
@@ -11,7 +13,10 @@
 
 use anyhow::{Context, bail};
 use clap::Parser;
-use procimg_client::{AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Event, Ioxs};
+use procimg_client::{
+    AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Event, Ioxs, Notification,
+    ServiceOptions, Services,
+};
 use std::time::Duration;
 
 #[derive(Parser)]
@@ -59,6 +64,28 @@ fn run(args: Args) -> anyhow::Result<()> {
         mine.len(),
         args.instance
     );
+    // The station's events from now on; where the AR stands already is in the status.
+    let mut station = match Services::open(&args.instance, ServiceOptions::new("device_app")) {
+        Ok(s) => Some(s),
+        Err(e) => {
+            eprintln!("warning: no station notifications ({e}); running without them");
+            None
+        }
+    };
+    if let Some(ar) = client
+        .control()
+        .status()
+        .ok()
+        .and_then(|s| s.station)
+        .and_then(|s| s.ar)
+        && let Some(line) = describe(&Notification::StationAr {
+            state: ar.state,
+            ar_uuid: ar.ar_uuid,
+            controller_mac: ar.controller_mac,
+        })
+    {
+        println!("device_app: {line}");
+    }
     // Wire break (ChannelErrorType 6) on input channel 0 of slot 1.
     let wire_break = DiagnosisEntry {
         channel: 0,
@@ -101,6 +128,12 @@ fn run(args: Args) -> anyhow::Result<()> {
             .filter(|e| matches!(e, Event::OpFault { .. }))
             .count() as u64;
         done += 1;
+        // Between cycles, without waiting: what the station reported.
+        while let Some(n) = station.as_mut().and_then(Services::try_next) {
+            if let Some(line) = describe(&n) {
+                println!("device_app: {line}");
+            }
+        }
         // Between cycles: a control request takes longer than a cycle's work.
         if done == raise_at {
             client
@@ -116,4 +149,25 @@ fn run(args: Args) -> anyhow::Result<()> {
     }
     println!("device_app: cycles {done}  with every Q GOOD {q_good}  OPFAULTs {opfaults}");
     Ok(())
+}
+
+/// A station notification in words (`None` for the controller's, which a device does not get).
+fn describe(n: &Notification) -> Option<String> {
+    Some(match n {
+        Notification::StationAr { state, ar_uuid, .. } if state == "data" => {
+            format!("AR {ar_uuid} is in data exchange")
+        }
+        Notification::StationAr { state, ar_uuid, .. } => format!("AR {ar_uuid} is {state}"),
+        Notification::StationArEnded {
+            ar_uuid, reason, ..
+        } => format!("AR {ar_uuid} ended: {reason}"),
+        Notification::StationPlcRunning { running } => {
+            format!("the PLC is in {}", if *running { "RUN" } else { "STOP" })
+        }
+        Notification::StationBlink => "DCP Signal: this station is asked to blink".to_owned(),
+        Notification::StationIdentity { name, ip, .. } => {
+            format!("the station is now \"{name}\" at {ip}")
+        }
+        _ => return None,
+    })
 }

@@ -9,10 +9,26 @@
 //! calls work too; these name them as a device program thinks of them. A device call on a
 //! controller's server is an error ([`IoError::NotDevice`]), never a silent mix-up.
 //!
+//! A device program follows its AR — GOAL's and IO-Base's AR indications — through a
+//! [`Services`](crate::Services) handle: [`Services::next`](crate::Services::next) (or
+//! [`try_next`](crate::Services::try_next) between cycles) gives a
+//! [`Notification::StationAr`](crate::Notification::StationAr) as the PLC's AR reaches
+//! "connected" (Connect accepted), "parameterized" (the PLC's PrmEnd),
+//! "waiting-for-application-ready-confirm" and "data" (IN_DATA: the PLC confirmed the
+//! ApplicationReady), then [`StationArEnded`](crate::Notification::StationArEnded) with
+//! why it ended (released by the PLC, an IO data timeout, procimgd stopping). Also
+//! [`StationPlcRunning`](crate::Notification::StationPlcRunning) for the PLC's RUN/STOP,
+//! [`StationBlink`](crate::Notification::StationBlink) for DCP Signal and
+//! [`StationIdentity`](crate::Notification::StationIdentity) when DCP gave the station a
+//! name or address. A handle sees what happens after it was opened: where the AR stands
+//! already is in the status ([`ControlHandle::status`](crate::ControlHandle::status),
+//! `station.ar`).
+//!
 //! ```no_run
-//! use procimg_client::{AttachOptions, Client};
+//! use procimg_client::{AttachOptions, Client, Notification, ServiceOptions, Services};
 //! use std::time::Duration;
 //!
+//! let mut events = Services::open("procimg", ServiceOptions::new("echo-events"))?;
 //! let mut client = Client::attach("procimg", AttachOptions::synchronous("echo"))?;
 //! let mine = client.claim_i_data()?;
 //! loop {
@@ -25,6 +41,13 @@
 //!         i[..n].copy_from_slice(&q[..n]);
 //!     }
 //!     cycle.set_opdone()?;
+//!     while let Some(n) = events.try_next() {
+//!         match n {
+//!             Notification::StationAr { state, .. } if state == "data" => println!("IN_DATA"),
+//!             Notification::StationArEnded { reason, .. } => println!("AR ended: {reason}"),
+//!             _ => {}
+//!         }
+//!     }
 //! }
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

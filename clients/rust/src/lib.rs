@@ -54,8 +54,8 @@ pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_shm_layout::control::{
-    ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, ForceReport,
-    Refusal, StatusReport,
+    ArReport, ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity,
+    ForceReport, Refusal, StationReport, StatusReport,
 };
 pub use procimg_shm_layout::services::{
     APP_READY_HOLD_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,

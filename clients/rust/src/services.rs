@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The controller services: device events, alarms with acknowledgement, asynchronous record
-//! read/write, device activation and diagnosis.
+//! The services besides the process image. Of an IO controller: device events, alarms with
+//! acknowledgement, asynchronous record read/write, device activation and diagnosis. Of an
+//! IO device (`role = "device"`): the station's events, its AR coming up and ending, the
+//! PLC's RUN/STOP and DCP (see [`crate::Client::is_device`] and the device role's notes in
+//! its module docs); the controller's requests are refused there with
+//! [`Refusal::WrongRole`](crate::Refusal::WrongRole).
 //!
 //! A [`Services`] handle has its own iceoryx2 node and ports, independent of a [`Client`]:
 //! open it on the thread that waits for notifications (the ports are not `Send`), as IO-Base
@@ -35,7 +39,8 @@ pub struct ServiceOptions {
     pub name: String,
     /// The server waits for this handle's [`Services::acknowledge`] before it acknowledges
     /// an alarm to the device (IO-Base: when the alarm callback returns). Without it, alarms
-    /// are acknowledged as soon as they are delivered.
+    /// are acknowledged as soon as they are delivered. Ignored in the device role, whose
+    /// alarms the PLC acknowledges.
     pub acknowledge_alarms: bool,
 }
 
@@ -80,7 +85,8 @@ pub enum RecordError {
     },
 }
 
-/// A handle on the controller services of an instance.
+/// A handle on the services of an instance: an IO controller's, or an IO device's station
+/// events.
 pub struct Services {
     id: u64,
     options: ServiceOptions,

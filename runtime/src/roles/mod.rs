@@ -21,6 +21,7 @@
 
 pub mod controller;
 pub mod device;
+pub mod subscribers;
 
 use crate::cycle::thread::IoFactory;
 use crate::io::pnio::PnioIo;
@@ -140,6 +141,12 @@ pub trait RoleServices: Send {
     /// Waits up to `wait` for what the role reports and publishes it to the subscribers;
     /// handles the role's timeouts.
     fn poll(&mut self, wait: Duration, notices: &mut Notices);
+    /// Publishes what the role reported on its way out, once its threads have ended (the
+    /// device role: its AR's end). By default nothing: the IO controller's subscribers learn
+    /// of the shutdown from the next server's [`Notification::ServerStarted`].
+    ///
+    /// [`Notification::ServerStarted`]: procimg_shm_layout::services::Notification::ServerStarted
+    fn finish(&mut self, _notices: &mut Notices) {}
     /// Forgets subscribers whose process is gone (`alive`: the live iceoryx2 node ids);
     /// returns who they were.
     fn reap(&mut self, alive: &HashSet<String>) -> Vec<String>;

@@ -263,6 +263,12 @@ impl Control {
         self.role.poll(wait, &mut self.notices);
     }
 
+    /// Publishes what the role reported on its way out; for after its threads have ended
+    /// (see [`RoleServices::finish`]).
+    pub fn finish(&mut self) {
+        self.role.finish(&mut self.notices);
+    }
+
     /// Whether the role holds no connection any more (see [`RoleServices::released`]).
     pub fn released(&self) -> bool {
         self.role.released()

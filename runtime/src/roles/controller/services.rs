@@ -16,6 +16,7 @@ use crate::acyclic::DatagramCounters;
 use crate::image::Tables;
 use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
+use crate::roles::subscribers::{Subscriber, Subscribers};
 use crate::shm::Notices;
 use procimg_profinet::controller::{
     self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
@@ -47,14 +48,6 @@ pub struct ControllerLink {
     pub channel: Arc<Channel>,
     /// The datagrams the controller dropped.
     pub datagrams: Arc<DatagramCounters>,
-}
-
-/// An announced subscriber.
-struct Subscriber {
-    name: String,
-    pid: u32,
-    node_id: String,
-    acknowledges: bool,
 }
 
 /// An alarm whose AlarmAck waits for subscribers.
@@ -101,7 +94,7 @@ pub struct ControllerServices {
     link: Option<ControllerLink>,
     names: Vec<String>,
     devices: Vec<DeviceRecord>,
-    subscribers: HashMap<u64, Subscriber>,
+    subscribers: Subscribers,
     alarms: Vec<PendingAlarm>,
     next_alarm: u64,
     jobs: HashMap<u64, Job>,
@@ -126,7 +119,7 @@ impl ControllerServices {
             activations: names.iter().map(|_| VecDeque::new()).collect(),
             names,
             devices,
-            subscribers: HashMap::new(),
+            subscribers: Subscribers::default(),
             alarms: Vec::new(),
             next_alarm: 1,
             jobs: HashMap::new(),
@@ -159,51 +152,31 @@ impl ControllerServices {
         }
     }
 
-    /// Announces a subscriber (again: its settings are replaced).
-    fn subscribe(
-        &mut self,
-        subscriber: u64,
-        name: String,
-        pid: u32,
-        node_id: String,
-        acknowledge_alarms: bool,
-    ) {
-        self.subscribers.insert(
-            subscriber,
-            Subscriber {
-                name,
-                pid,
-                node_id,
-                acknowledges: acknowledge_alarms,
-            },
-        );
-        if !acknowledge_alarms {
-            self.release_waits(subscriber);
+    /// Announces a subscriber (again: its settings are replaced); alarms stop waiting for
+    /// one that no longer acknowledges.
+    fn subscribe(&mut self, id: u64, subscriber: Subscriber) {
+        let acknowledges = subscriber.acknowledges;
+        self.subscribers.subscribe(id, subscriber);
+        if !acknowledges {
+            self.release_waits(id);
         }
     }
 
     /// Withdraws a subscriber.
     fn unsubscribe(&mut self, subscriber: u64) -> Result<(), Refusal> {
-        self.subscribers
-            .remove(&subscriber)
-            .ok_or(Refusal::UnknownSubscriber)?;
+        self.subscribers.unsubscribe(subscriber)?;
         self.release_waits(subscriber);
         Ok(())
     }
 
     /// Forgets subscribers whose process is gone (`alive`: the live iceoryx2 node ids).
     fn reap(&mut self, alive: &HashSet<String>) -> Vec<String> {
-        let dead: Vec<u64> = self
-            .subscribers
-            .iter()
-            .filter(|(_, s)| !alive.contains(&s.node_id))
-            .map(|(&id, _)| id)
-            .collect();
-        dead.into_iter()
-            .filter_map(|id| {
-                let s = self.subscribers.remove(&id)?;
+        self.subscribers
+            .reap(alive)
+            .into_iter()
+            .map(|(id, s)| {
                 self.release_waits(id);
-                Some(format!("{} (pid {})", s.name, s.pid))
+                s.to_string()
             })
             .collect()
     }
@@ -276,7 +249,7 @@ impl ControllerServices {
 
     /// A subscriber acknowledges an alarm.
     fn acknowledge(&mut self, subscriber: u64, alarm: u64) -> Result<(), Refusal> {
-        if !self.subscribers.contains_key(&subscriber) {
+        if self.subscribers.get(subscriber).is_none() {
             return Err(Refusal::UnknownSubscriber);
         }
         let Some(i) = self
@@ -341,8 +314,8 @@ impl ControllerServices {
         if !late.is_empty() {
             let names: Vec<String> = late
                 .iter()
-                .filter_map(|s| self.subscribers.get(s))
-                .map(|s| format!("{} (pid {})", s.name, s.pid))
+                .filter_map(|&s| self.subscribers.get(s))
+                .map(ToString::to_string)
                 .collect();
             tracing::warn!(
                 "alarm not acknowledged within {ALARM_ACK_TIMEOUT_MS} ms by {}; \
@@ -477,12 +450,7 @@ impl ControllerServices {
             specifier: n.specifier.to_u16(),
             payload,
         };
-        let waiting: Vec<u64> = self
-            .subscribers
-            .iter()
-            .filter(|(_, s)| s.acknowledges)
-            .map(|(&id, _)| id)
-            .collect();
+        let waiting = self.subscribers.acknowledging();
         notices.publish(&Notification::Alarm(report));
         if waiting.is_empty() {
             let _ = self.command(ControllerCommand::AcknowledgeAlarm(ticket));
@@ -553,24 +521,14 @@ impl ControllerServices {
         }
     }
 
-    /// The announced subscribers.
+    /// The announced subscribers, with the alarms waiting for each.
     fn subscribers(&self) -> Vec<SubscriberReport> {
-        let mut v: Vec<SubscriberReport> = self
-            .subscribers
-            .iter()
-            .map(|(id, s)| SubscriberReport {
-                name: s.name.clone(),
-                pid: s.pid,
-                acknowledges_alarms: s.acknowledges,
-                alarms_waiting: self
-                    .alarms
-                    .iter()
-                    .filter(|a| a.waiting.contains(id))
-                    .count() as u32,
-            })
-            .collect();
-        v.sort_by(|a, b| (a.pid, &a.name).cmp(&(b.pid, &b.name)));
-        v
+        self.subscribers.report(|id| {
+            self.alarms
+                .iter()
+                .filter(|a| a.waiting.contains(&id))
+                .count() as u32
+        })
     }
 }
 
@@ -584,7 +542,15 @@ impl RoleServices for ControllerServices {
                 node_id,
                 acknowledge_alarms,
             } => {
-                self.subscribe(subscriber, name, pid, node_id, acknowledge_alarms);
+                self.subscribe(
+                    subscriber,
+                    Subscriber {
+                        name,
+                        pid,
+                        node_id,
+                        acknowledges: acknowledge_alarms,
+                    },
+                );
                 Ok(())
             }
             Request::Unsubscribe { subscriber } => self.unsubscribe(subscriber),

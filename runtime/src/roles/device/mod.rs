@@ -5,17 +5,24 @@
 //! with its cyclic exchange handed to the cycle thread, and the role's client services
 //! ([`DeviceServices`]).
 //!
+//! The station's events (its AR's states and end, the PLC's RUN/STOP, DCP Signal and DCP's
+//! changes of its name or address) go from the role, as [`StationEvent`]s on a channel, to
+//! the client services, which publish each as a notification to the subscribers.
+//!
 //! The image's server-written part carries the PLC's output data (Q), its client-written
 //! part the device's input data (I), one submodule table entry per configured submodule in
 //! configuration order: the order the engine maps the AR's cyclic data onto.
 
 mod diagnosis;
+mod identity;
+mod notifications;
 mod role;
 mod services;
 pub mod sim_plc;
 mod state_file;
 mod station;
 
+pub use identity::Identity;
 pub use role::{DeviceCommand, DeviceRole, Kept};
 pub use services::DeviceServices;
 pub use station::{ImageApplication, Station, StationEvent, engine, state_name};

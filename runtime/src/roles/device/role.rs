@@ -4,6 +4,7 @@
 //! report the control side reads, the log).
 
 use super::diagnosis;
+use super::identity::IdentityWatch;
 use super::state_file::{self, KeptState};
 use super::station::{ImageApplication, Station, StationEvent};
 use crate::io::pnio::channel::Channel;
@@ -53,6 +54,10 @@ pub struct DeviceRole {
     actions: Vec<DeviceAction>,
     /// Where the AR stood after the last call, to tell its changes.
     last_state: ArState,
+    /// The ARUUID of the AR up, for its end (when the engine no longer has it).
+    ar_uuid: String,
+    /// The station's name and address as last seen, to tell DCP's changes.
+    identity: IdentityWatch,
     /// DCP Signal requests seen so far.
     signals: u32,
     /// Aborted ARs seen so far, to tell an abort from a Release.
@@ -95,11 +100,13 @@ impl DeviceRole {
         channel: Arc<Channel>,
     ) -> DeviceRole {
         DeviceRole {
+            identity: IdentityWatch::new(&device),
             device,
             station,
             channel,
             actions: Vec::new(),
             last_state: ArState::Idle,
+            ar_uuid: String::new(),
             signals: 0,
             aborted: 0,
             kept: None,
@@ -156,6 +163,10 @@ impl DeviceRole {
             .store(self.device.station_problem(), Ordering::Relaxed);
         self.keep();
         self.station.refresh(&self.device);
+        // Told before the AR's end that a new name or address brings about.
+        if let Some(event) = self.identity.check(&self.device) {
+            self.tell(event, out);
+        }
         let state = self.device.state();
         if state == ArState::Idle {
             self.data_flows = false;
@@ -166,15 +177,28 @@ impl DeviceRole {
                 self.aborted = self.device.aborted_ars();
                 let code = self.device.last_abort().filter(|_| aborted);
                 StationEvent::ArEnded {
-                    abort: code.map(|a| a.to_string()),
+                    ar_uuid: std::mem::take(&mut self.ar_uuid),
+                    abort: code,
                     // Ended by this device taking part no more (procimgd stopping, OFFLINE).
                     planned: code == Some(AbortCode::AbortRequest),
                 }
             } else {
-                StationEvent::Ar(state)
+                self.ar_uuid = self
+                    .device
+                    .ar_uuid()
+                    .map(|u| u.to_string())
+                    .unwrap_or_default();
+                StationEvent::Ar {
+                    state,
+                    ar_uuid: self.ar_uuid.clone(),
+                    controller_mac: self
+                        .device
+                        .controller_mac()
+                        .map(|m| m.to_string())
+                        .unwrap_or_default(),
+                }
             };
-            self.station.note(&self.device, &event);
-            out.push(Effect::Event(event));
+            self.tell(event, out);
             self.last_state = state;
         }
         // The PLC's RUN/STOP, from its output frames' DataStatus, once its data flows.
@@ -183,16 +207,19 @@ impl DeviceRole {
         if running != self.plc_running {
             self.plc_running = running;
             if let Some(r) = running {
-                self.station
-                    .note(&self.device, &StationEvent::PlcRunning(r));
-                out.push(Effect::Event(StationEvent::PlcRunning(r)));
+                self.tell(StationEvent::PlcRunning(r), out);
             }
         }
         if self.device.signal_count() != self.signals {
             self.signals = self.device.signal_count();
-            self.station.note(&self.device, &StationEvent::Blink);
-            out.push(Effect::Event(StationEvent::Blink));
+            self.tell(StationEvent::Blink, out);
         }
+    }
+
+    /// Tells the station report (and the log), then the client services, of `event`.
+    fn tell(&self, event: StationEvent, out: &mut Vec<Effect<StationEvent>>) {
+        self.station.note(&event);
+        out.push(Effect::Event(event));
     }
 }
 

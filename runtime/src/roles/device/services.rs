@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The device role's part of the client services: the station in the status report, and a
-//! clear refusal of the IO controller's services (record jobs towards devices, activation,
-//! alarm acknowledgement, the controller's diagnosis).
+//! The device role's part of the client services: the station in the status report, its
+//! diagnosis and process alarms, its events as notifications to the subscribers, and a clear
+//! refusal of the IO controller's services (record jobs towards devices, activation, alarm
+//! acknowledgement, the controller's diagnosis).
 
+use super::notifications::notification;
 use super::role::DeviceCommand;
 use super::station::{Station, StationEvent};
 use crate::acyclic::DatagramCounters;
 use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
+use crate::roles::subscribers::{Subscriber, Subscribers};
 use crate::shm::Notices;
 use procimg_shm_layout::control::{
     DeviceReport, NetworkReport, Refusal, Request, Response, StationReport, SubscriberReport,
@@ -28,6 +31,7 @@ pub struct DeviceServices {
     events: Receiver<StationEvent>,
     channel: Arc<Channel>,
     datagrams: Arc<DatagramCounters>,
+    subscribers: Subscribers,
 }
 
 impl DeviceServices {
@@ -46,14 +50,19 @@ impl DeviceServices {
             events,
             channel,
             datagrams,
+            subscribers: Subscribers::default(),
         }
+    }
+
+    /// Publishes `event` to the subscribers.
+    fn publish(event: StationEvent, notices: &mut Notices) {
+        notices.publish(&notification(event));
     }
 }
 
 /// The name of a request of the controller's services, for the refusal.
 fn service_name(request: &Request) -> &'static str {
     match request {
-        Request::Subscribe { .. } | Request::Unsubscribe { .. } => "the device event subscription",
         Request::RecordRead { .. } => "reading a record of an IO device",
         Request::RecordWrite { .. } => "writing a record of an IO device",
         Request::ActivateDevice { .. } => "activating an IO device",
@@ -88,6 +97,32 @@ impl DeviceServices {
 impl RoleServices for DeviceServices {
     fn handle(&mut self, request: Request, _online: bool, _notices: &mut Notices) -> Response {
         match request {
+            // Notifications go to every client of the notification service; announcing
+            // makes the subscriber known (status report, reaping). `acknowledge_alarms` is
+            // ignored: the station's alarms are the PLC's to acknowledge, none waits for a
+            // client, and the status says so.
+            Request::Subscribe {
+                subscriber,
+                name,
+                pid,
+                node_id,
+                acknowledge_alarms: _,
+            } => {
+                self.subscribers.subscribe(
+                    subscriber,
+                    Subscriber {
+                        name,
+                        pid,
+                        node_id,
+                        acknowledges: false,
+                    },
+                );
+                Response::Done
+            }
+            Request::Unsubscribe { subscriber } => match self.subscribers.unsubscribe(subscriber) {
+                Ok(_) => Response::Done,
+                Err(r) => Response::Refused(r),
+            },
             Request::StationDiagnosis { change } => {
                 self.carry_out(|reply| DeviceCommand::Diagnosis { change, reply })
             }
@@ -110,19 +145,32 @@ impl RoleServices for DeviceServices {
         }
     }
 
-    fn poll(&mut self, wait: Duration, _notices: &mut Notices) {
-        // The station logs its events as it notes them; the client notifications of the
-        // device role come with its application interface.
+    fn poll(&mut self, wait: Duration, notices: &mut Notices) {
+        // The station has logged its events as it noted them; here they become notifications.
         match self.events.recv_timeout(wait) {
-            Ok(_) | Err(RecvTimeoutError::Timeout) => {}
+            Ok(event) => Self::publish(event, notices),
+            Err(RecvTimeoutError::Timeout) => {}
             // The acyclic thread has ended (procimgd is stopping): wait all the same.
             Err(RecvTimeoutError::Disconnected) => std::thread::sleep(wait),
         }
-        while self.events.try_recv().is_ok() {}
+        while let Ok(event) = self.events.try_recv() {
+            Self::publish(event, notices);
+        }
     }
 
-    fn reap(&mut self, _alive: &HashSet<String>) -> Vec<String> {
-        Vec::new()
+    fn finish(&mut self, notices: &mut Notices) {
+        // The role's threads have ended: what is left is the AR's end.
+        while let Ok(event) = self.events.try_recv() {
+            Self::publish(event, notices);
+        }
+    }
+
+    fn reap(&mut self, alive: &HashSet<String>) -> Vec<String> {
+        self.subscribers
+            .reap(alive)
+            .into_iter()
+            .map(|(_, s)| s.to_string())
+            .collect()
     }
 
     fn devices(&self) -> Vec<DeviceReport> {
@@ -134,7 +182,8 @@ impl RoleServices for DeviceServices {
     }
 
     fn subscribers(&self) -> Vec<SubscriberReport> {
-        Vec::new()
+        // No alarm waits for a subscriber in the device role.
+        self.subscribers.report(|_| 0)
     }
 
     fn station(&self) -> Option<StationReport> {

@@ -2,12 +2,14 @@
 //! The station: the device engine built from `[station]`, and what the control side reports
 //! of it (name, address, identity, the AR), kept up to date by the acyclic thread.
 
+use super::identity::Identity;
 use crate::config::StationConfig;
 use procimg_profinet::device::{
     Application, ArState, Device, DeviceSetup, ParameterRecord, SubslotAddr,
 };
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
+use procimg_profinet::wire::rta_pdu::AbortCode;
 use procimg_shm_layout::control::{ArReport, StationReport};
 use std::sync::Mutex;
 
@@ -23,11 +25,20 @@ impl Application for ImageApplication {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum StationEvent {
     /// The AR reached this state.
-    Ar(ArState),
+    Ar {
+        /// The state.
+        state: ArState,
+        /// The ARUUID.
+        ar_uuid: String,
+        /// The PLC's MAC address.
+        controller_mac: String,
+    },
     /// The AR ended: by the PLC's Release (`abort` none), or aborted.
     ArEnded {
+        /// The ARUUID.
+        ar_uuid: String,
         /// Why it was aborted, if it was.
-        abort: Option<String>,
+        abort: Option<AbortCode>,
         /// This side ended it on purpose (procimgd stopping or going OFFLINE).
         planned: bool,
     },
@@ -35,6 +46,20 @@ pub enum StationEvent {
     Blink,
     /// The PLC's output frames say RUN (`true`) or STOP.
     PlcRunning(bool),
+    /// DCP set the station's name or IP suite (to a new value, or to keep the value across a
+    /// restart), or reset it to factory. The engine has no event for it: the role tells it
+    /// from what the engine holds (`identity.rs`).
+    Identity {
+        /// The name and IP suite now.
+        identity: Identity,
+        /// DCP set it to be kept across a restart: the engine's count of kept changes grew.
+        permanent: bool,
+        /// A reset to factory, as told from the state it leaves: no name and no address,
+        /// and that kept. A permanent Set of an empty name and address 0.0.0.0 leaves the
+        /// same state and is told the same: the station cannot tell them apart afterwards,
+        /// and neither can its next start.
+        factory_reset: bool,
+    },
 }
 
 /// The station as the status report shows it.
@@ -72,43 +97,28 @@ impl Station {
         self.lock().ar.is_some()
     }
 
-    /// Takes in the device's name and address, which DCP may have changed.
+    /// Takes in the counters of `device` (the name and address come with
+    /// [`StationEvent::Identity`]).
     pub fn refresh<A>(&self, device: &Device<A>)
     where
         A: procimg_profinet::device::Application,
     {
-        let ip = std::net::Ipv4Addr::from(device.ip()).to_string();
-        let mut r = self.lock();
-        r.alarms_acknowledged = device.alarm_ack_count();
-        if r.name != device.name() || r.ip != ip {
-            tracing::info!(
-                "the station is now \"{}\" at {ip} (was \"{}\" at {})",
-                device.name(),
-                r.name,
-                r.ip
-            );
-            r.name = device.name().to_owned();
-            r.ip = ip;
-        }
+        self.lock().alarms_acknowledged = device.alarm_ack_count();
     }
 
-    /// Takes in `event` of `device`, and logs it.
-    pub fn note<A>(&self, device: &Device<A>, event: &StationEvent)
-    where
-        A: procimg_profinet::device::Application,
-    {
+    /// Takes in `event`, and logs it.
+    pub fn note(&self, event: &StationEvent) {
         let mut r = self.lock();
-        r.name = device.name().to_owned();
-        r.ip = std::net::Ipv4Addr::from(device.ip()).to_string();
         match event {
-            StationEvent::Ar(state) => {
+            StationEvent::Ar {
+                state,
+                ar_uuid,
+                controller_mac,
+            } => {
                 let report = ArReport {
                     state: state_name(*state).to_owned(),
-                    ar_uuid: device.ar_uuid().map(|u| u.to_string()).unwrap_or_default(),
-                    controller_mac: device
-                        .controller_mac()
-                        .map(|m| m.to_string())
-                        .unwrap_or_default(),
+                    ar_uuid: ar_uuid.clone(),
+                    controller_mac: controller_mac.clone(),
                     plc_running: r.ar.as_ref().and_then(|a| a.plc_running),
                 };
                 if *state == ArState::Data {
@@ -122,16 +132,20 @@ impl Station {
                 }
                 r.ar = Some(report);
             }
-            StationEvent::ArEnded { abort, planned } => {
-                let uuid = r.ar.take().map(|a| a.ar_uuid).unwrap_or_default();
+            StationEvent::ArEnded {
+                ar_uuid: uuid,
+                abort,
+                planned,
+            } => {
+                r.ar = None;
                 match abort {
                     Some(_) if *planned => {
                         tracing::info!("AR {uuid} ended: this device stopped taking part")
                     }
-                    Some(reason) => {
+                    Some(code) => {
                         r.aborted_ars += 1;
-                        r.last_abort = Some(reason.clone());
-                        tracing::warn!("AR {uuid} aborted: {reason}");
+                        r.last_abort = Some(code.to_string());
+                        tracing::warn!("AR {uuid} aborted: {code}");
                     }
                     None => tracing::info!("AR {uuid} released by the PLC"),
                 }
@@ -144,6 +158,36 @@ impl Station {
                 if let Some(ar) = r.ar.as_mut() {
                     ar.plc_running = Some(*running);
                 }
+            }
+            StationEvent::Identity {
+                identity,
+                permanent,
+                factory_reset,
+            } => {
+                let ip = identity.ip.to_string();
+                let kept = if *permanent {
+                    ", kept across restarts"
+                } else {
+                    ""
+                };
+                if *factory_reset {
+                    tracing::info!(
+                        "DCP reset the station to factory: no name, no address (was \"{}\" at {})",
+                        r.name,
+                        r.ip
+                    );
+                } else if r.name != identity.name || r.ip != ip {
+                    tracing::info!(
+                        "the station is now \"{}\" at {ip}{kept} (was \"{}\" at {})",
+                        identity.name,
+                        r.name,
+                        r.ip
+                    );
+                } else {
+                    tracing::info!("the station stays \"{}\" at {ip}{kept}", identity.name);
+                }
+                r.name.clone_from(&identity.name);
+                r.ip = ip;
             }
         }
     }

@@ -104,10 +104,18 @@ fn handle(shared: &Shared, n: Notification) {
             device, active, ok, ..
         } => activation_done(shared, device, active, ok),
         // The handle announces itself to a new server by itself; device states and module
-        // differences have no IO-Base event (the device's own alarms report the latter).
+        // differences have no IO-Base event (the device's own alarms report the latter);
+        // the station's events are of a server in the device role, which this IO
+        // controller interface does not serve.
         Notification::ServerStarted { .. }
         | Notification::DeviceState { .. }
-        | Notification::ModuleDiff { .. } => {}
+        | Notification::ModuleDiff { .. }
+        | Notification::StationAr { .. }
+        | Notification::StationArEnded { .. }
+        | Notification::StationPlcRunning { .. }
+        | Notification::StationBlink
+        | Notification::StationIdentity { .. }
+        | Notification::StationRecord { .. } => {}
     }
 }
 

@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The station's events as its clients get them: one [`Notification`] each, to every
+//! subscriber (what GOAL's and IO-Base's device interfaces give as AR indications).
+
+use super::station::{StationEvent, state_name};
+use procimg_profinet::wire::rta_pdu::AbortCode;
+use procimg_shm_layout::services::Notification;
+
+/// Why an AR ended, when the PLC released it.
+pub const RELEASED: &str = "released by the PLC";
+
+/// The notification of `event`.
+pub fn notification(event: StationEvent) -> Notification {
+    match event {
+        StationEvent::Ar {
+            state,
+            ar_uuid,
+            controller_mac,
+        } => Notification::StationAr {
+            state: state_name(state).to_owned(),
+            ar_uuid,
+            controller_mac,
+        },
+        StationEvent::ArEnded {
+            ar_uuid,
+            abort,
+            planned,
+        } => Notification::StationArEnded {
+            ar_uuid,
+            reason: abort.map_or_else(|| RELEASED.to_owned(), |code| reason(code, planned)),
+            aborted: abort.is_some(),
+            planned,
+        },
+        StationEvent::PlcRunning(running) => Notification::StationPlcRunning { running },
+        StationEvent::Blink => Notification::StationBlink,
+        StationEvent::Identity {
+            identity,
+            permanent,
+            factory_reset,
+        } => Notification::StationIdentity {
+            name: identity.name,
+            ip: identity.ip.to_string(),
+            netmask: identity.netmask.to_string(),
+            gateway: identity.gateway.to_string(),
+            permanent,
+            factory_reset,
+        },
+    }
+}
+
+/// An abort in words: the code, and for the usual ones what it means for the program.
+fn reason(code: AbortCode, planned: bool) -> String {
+    let meaning = match code {
+        _ if planned => "this station stopped taking part (procimgd stopping or going OFFLINE)",
+        AbortCode::ConsumerDhtExpired => {
+            "IO data timeout: the PLC's output frames stopped coming within its watchdog time"
+        }
+        AbortCode::StationNameChanged => "DCP gave the station another name or address",
+        AbortCode::ResetToFactory => "DCP reset the station to factory",
+        _ => return code.to_string(),
+    };
+    format!("{code}: {meaning}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::roles::device::identity::Identity;
+    use procimg_profinet::device::ArState;
+    use std::net::Ipv4Addr;
+
+    const UUID: &str = "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2";
+
+    fn ended(abort: Option<AbortCode>, planned: bool) -> Notification {
+        notification(StationEvent::ArEnded {
+            ar_uuid: UUID.into(),
+            abort,
+            planned,
+        })
+    }
+
+    #[test]
+    fn every_ar_state_has_the_status_reports_word() {
+        for (state, word) in [
+            (ArState::Connected, "connected"),
+            (ArState::Parameterized, "parameterized"),
+            (
+                ArState::WaitAppReadyConfirm,
+                "waiting-for-application-ready-confirm",
+            ),
+            (ArState::Data, "data"),
+        ] {
+            let n = notification(StationEvent::Ar {
+                state,
+                ar_uuid: UUID.into(),
+                controller_mac: "02:50:49:fe:00:01".into(),
+            });
+            assert_eq!(
+                n,
+                Notification::StationAr {
+                    state: word.into(),
+                    ar_uuid: UUID.into(),
+                    controller_mac: "02:50:49:fe:00:01".into(),
+                }
+            );
+        }
+    }
+
+    #[test]
+    fn a_release_an_abort_and_a_planned_end_are_told_apart() {
+        assert_eq!(
+            ended(None, false),
+            Notification::StationArEnded {
+                ar_uuid: UUID.into(),
+                reason: RELEASED.into(),
+                aborted: false,
+                planned: false,
+            }
+        );
+        let Notification::StationArEnded {
+            reason,
+            aborted: true,
+            planned: false,
+            ..
+        } = ended(Some(AbortCode::ConsumerDhtExpired), false)
+        else {
+            panic!("an abort");
+        };
+        assert!(reason.contains("data hold time expired"), "{reason}");
+        assert!(reason.contains("IO data timeout"), "{reason}");
+        let Notification::StationArEnded {
+            reason,
+            aborted: true,
+            planned: true,
+            ..
+        } = ended(Some(AbortCode::AbortRequest), true)
+        else {
+            panic!("a planned end");
+        };
+        assert!(reason.contains("stopped taking part"), "{reason}");
+        let Notification::StationArEnded { reason, .. } =
+            ended(Some(AbortCode::ProtocolViolation), false)
+        else {
+            panic!("an abort");
+        };
+        assert_eq!(reason, AbortCode::ProtocolViolation.to_string());
+    }
+
+    #[test]
+    fn the_plc_dcp_and_identity_events_map_one_to_one() {
+        assert_eq!(
+            notification(StationEvent::PlcRunning(false)),
+            Notification::StationPlcRunning { running: false }
+        );
+        assert_eq!(
+            notification(StationEvent::Blink),
+            Notification::StationBlink
+        );
+        assert_eq!(
+            notification(StationEvent::Identity {
+                identity: Identity {
+                    name: "pc-device".into(),
+                    ip: Ipv4Addr::new(10, 47, 0, 50),
+                    netmask: Ipv4Addr::new(255, 255, 255, 0),
+                    gateway: Ipv4Addr::UNSPECIFIED,
+                },
+                permanent: true,
+                factory_reset: false,
+            }),
+            Notification::StationIdentity {
+                name: "pc-device".into(),
+                ip: "10.47.0.50".into(),
+                netmask: "255.255.255.0".into(),
+                gateway: "0.0.0.0".into(),
+                permanent: true,
+                factory_reset: false,
+            }
+        );
+    }
+}
