@@ -7,8 +7,9 @@
 //! kept, and every frame on the wire dissected by tshark.
 
 use procimg_client::{
-    AlarmReport, AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Ioxs, Mode,
-    Notification, RecordTarget, ServiceOptions, Services,
+    AlarmReport, AttachOptions, Client, ControlError, DiagnosisDirection, DiagnosisEntry, Ioxs,
+    Mode, Notification, RecordRefusal, RecordTarget, Refusal, ServiceOptions, Services,
+    StationRecordJob,
 };
 use procimg_profinet::wire::alarm::AlarmItem;
 use procimg_profinet::wire::record::DiagnosisData;
@@ -212,6 +213,129 @@ fn a_device_program_follows_the_ar_through_the_station_notifications() {
             .any(|n| matches!(n, Notification::StationAr { .. })),
         "{after:?}"
     );
+}
+
+/// The next record job for `services`, answering none; `None` after `within`.
+fn next_job(services: &mut Services, within: Duration) -> Option<StationRecordJob> {
+    let until = Instant::now() + within;
+    while Instant::now() < until {
+        if let Some(Notification::StationRecord { job, .. }) =
+            services.next(Duration::from_millis(100))
+        {
+            return Some(job);
+        }
+    }
+    None
+}
+
+#[test]
+fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
+    let server = Launch::demo_device("devrec").debug_log().start();
+    server.wait_status("the demo's AR in data exchange", |s| {
+        s.station
+            .as_ref()
+            .and_then(|st| st.ar.as_ref())
+            .is_some_and(|ar| ar.state == "data")
+    });
+    let mut services =
+        Services::open(&server.instance, ServiceOptions::new("devrec")).expect("services");
+    let other = Services::open(&server.instance, ServiceOptions::new("devrec-2")).expect("other");
+    services.take_records((0, 1, 1)).expect("slot 1's records");
+    let e = other
+        .take_records((0, 1, 1))
+        .expect_err("taken by the first handle");
+    assert!(
+        matches!(&e, ControlError::Refused(Refusal::RecordsTaken { by, .. }) if by == "devrec"),
+        "{e}"
+    );
+    let e = services.take_records((0, 9, 1)).expect_err("no slot 9");
+    assert!(
+        matches!(
+            e,
+            ControlError::Refused(Refusal::NoSuchStationSubmodule { slot: 9, .. })
+        ),
+        "{e}"
+    );
+
+    // The demo PLC's program writes record 1 of slot 1 every 3 s: refused once, then taken.
+    let job = next_job(&mut services, BRING_UP).expect("the PLC's write of record 1");
+    assert_eq!(
+        (job.write, job.index, job.slot, job.data.len()),
+        (true, 1, 1, 4)
+    );
+    services
+        .answer_record(
+            &job,
+            Err(RecordRefusal::new(RecordRefusal::INVALID_PARAMETER)),
+        )
+        .expect("the answer");
+    let e = services
+        .answer_record(&job, Ok(&[]))
+        .expect_err("a job is answered once");
+    assert!(
+        matches!(e, ControlError::Refused(Refusal::StaleRecordJob { .. })),
+        "{e}"
+    );
+    let e = other
+        .answer_record(&job, Ok(&[]))
+        .expect_err("not the other handle's job");
+    assert!(
+        matches!(e, ControlError::Refused(Refusal::StaleRecordJob { .. })),
+        "{e}"
+    );
+    // What the PLC's program last heard of its writes, in its log.
+    let last_write = || {
+        server
+            .log()
+            .lines()
+            .rev()
+            .find(|l| l.contains("demo PLC: ") && l.contains("record 1 of station"))
+            .map(str::to_owned)
+            .unwrap_or_default()
+    };
+    server.wait_status("the PLC's log of the refused write", |_| {
+        last_write().contains("failed: Write failed: access: invalid parameter")
+    });
+    let job = next_job(&mut services, BRING_UP).expect("the PLC's next write");
+    services.answer_record(&job, Ok(&[])).expect("the answer");
+    server.wait_status("the PLC's log of the taken write", |_| {
+        last_write().ends_with("written")
+    });
+
+    // Held: after the PLC's PrmEnd the station waits for this handle; the PLC's parameter
+    // writes in the new AR come here too.
+    services.hold_application_ready(true).expect("hold");
+    server.set_mode(Mode::Offline);
+    server.wait_status("the AR's end", |s| {
+        s.station.as_ref().is_some_and(|st| st.ar.is_none())
+    });
+    server.set_mode(Mode::Operate);
+    let until = Instant::now() + BRING_UP;
+    let mut parameter_writes = 0;
+    loop {
+        assert!(Instant::now() < until, "no PrmEnd within 30 s");
+        match services.next(Duration::from_millis(100)) {
+            Some(Notification::StationRecord { job, .. }) => {
+                parameter_writes += u32::from(job.write);
+                services.answer_record(&job, Ok(&[])).expect("the answer");
+            }
+            Some(Notification::StationAr { state, .. }) if state == "parameterized" => break,
+            _ => {}
+        }
+    }
+    assert!(
+        parameter_writes >= 1,
+        "the PLC writes the configured record"
+    );
+    // It stays held (up to 10 s): the status shows it parameterized, not in data exchange.
+    let ar = server.status().station.and_then(|s| s.ar).expect("the AR");
+    assert_eq!(ar.state, "parameterized");
+    services.application_ready().expect("ready");
+    let (states, _) = states_until_data(&mut services);
+    assert_eq!(states.last().map(String::as_str), Some("data"));
+    assert_eq!(server.status().network.watchdog_expiries, 0);
+    drop(other);
+    drop(services);
 }
 
 #[test]

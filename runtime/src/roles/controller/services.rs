@@ -589,6 +589,17 @@ impl RoleServices for ControllerServices {
             } => self.activate(reply_to, device, active, online),
             Request::AcknowledgeAlarm { subscriber, alarm } => self.acknowledge(subscriber, alarm),
             Request::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
+            Request::StationDiagnosis { .. }
+            | Request::StationProcessAlarm { .. }
+            | Request::StationOwnRecords { .. }
+            | Request::StationRecordAnswer { .. }
+            | Request::StationHoldApplicationReady { .. }
+            | Request::StationApplicationReady { .. } => Err(Refusal::WrongRole {
+                role: "controller".to_owned(),
+                service: "the IO device's station services (its records, ApplicationReady, \
+                          diagnosis and alarms)"
+                    .to_owned(),
+            }),
             // The control side answers the other requests itself and never hands them here.
             _ => Err(Refusal::BadRequest {
                 message: "the IO controller's services do not answer this request".into(),

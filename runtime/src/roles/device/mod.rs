@@ -13,6 +13,8 @@
 //! part the device's input data (I), one submodule table entry per configured submodule in
 //! configuration order: the order the engine maps the AR's cyclic data onto.
 
+mod application;
+use application::ApplicationSay;
 mod diagnosis;
 mod identity;
 mod notifications;
@@ -207,7 +209,16 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     Ok(RoleSystem {
         io: Some(io),
         services: Some(Box::new(DeviceServices::new(
-            shown, commands, event_rx, channel, datagrams,
+            shown,
+            ApplicationSay::new(
+                station
+                    .submodule_configs()
+                    .map(|s| procimg_profinet::device::SubslotAddr::new(s.api, s.slot, s.subslot)),
+            ),
+            commands,
+            event_rx,
+            channel,
+            datagrams,
         ))),
         threads,
         stop: Some(Box::new(move || plc_stop.store(true, Ordering::Release))),

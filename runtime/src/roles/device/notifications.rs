@@ -4,7 +4,7 @@
 
 use super::station::{StationEvent, state_name};
 use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::services::Notification;
+use procimg_shm_layout::services::{Notification, StationRecordJob};
 
 /// Why an AR ended, when the PLC released it.
 pub const RELEASED: &str = "released by the PLC";
@@ -44,6 +44,21 @@ pub fn notification(event: StationEvent) -> Notification {
             gateway: identity.gateway.to_string(),
             permanent,
             factory_reset,
+        },
+        // Not for everyone: the services fill in the client that took the records.
+        StationEvent::Record(r) => Notification::StationRecord {
+            reply_to: 0,
+            job: StationRecordJob {
+                job: r.job,
+                write: r.write,
+                ar_uuid: r.ar_uuid.to_string(),
+                api: r.api,
+                slot: r.slot,
+                subslot: r.subslot,
+                index: r.index,
+                data: r.data,
+                max_len: r.max_len,
+            },
         },
     }
 }

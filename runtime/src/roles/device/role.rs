@@ -9,7 +9,8 @@ use super::state_file::{self, KeptState};
 use super::station::{ImageApplication, Station, StationEvent};
 use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
-use procimg_profinet::device::{ArState, Device, DeviceAction};
+use procimg_profinet::device::{ArState, Device, DeviceAction, SubslotAddr};
+use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rt::data_status::PROVIDER_RUN;
 use procimg_profinet::wire::rta_pdu::AbortCode;
@@ -42,6 +43,22 @@ pub enum DeviceCommand {
         /// Where the outcome goes.
         reply: SyncSender<Result<(), String>>,
     },
+    /// Give the user records of a submodule to a client (`true`) or answer them again.
+    Records(SubslotAddr, bool),
+    /// A client's answer to record job `job`: the record read (anything for a write) or the
+    /// PNIORW error; the outcome goes back on `reply`.
+    AnswerRecord {
+        /// The job.
+        job: u64,
+        /// The answer.
+        answer: Result<Vec<u8>, (RecordErrorCode, u8)>,
+        /// Where the outcome goes: `Err` when the job waits no more.
+        reply: SyncSender<Result<(), String>>,
+    },
+    /// Hold the ApplicationReady after each PrmEnd, or not.
+    HoldApplicationReady(bool),
+    /// Let a held ApplicationReady go out.
+    ReleaseApplicationReady,
 }
 
 /// The device on the acyclic thread.
@@ -154,8 +171,7 @@ impl DeviceRole {
                 DeviceAction::Datagram { to, payload, .. } => Effect::Datagram { to, payload },
                 DeviceAction::StartCyclic(ar) => Effect::Start(ar),
                 DeviceAction::StopCyclic { .. } => Effect::Stop { device: 0 },
-                // No submodule's records are given to a client yet.
-                DeviceAction::Record(_) => continue,
+                DeviceAction::Record(r) => Effect::Event(StationEvent::Record(r)),
             });
         }
         self.channel
@@ -266,6 +282,22 @@ impl Role for DeviceRole {
                     ))
                 };
                 let _ = reply.try_send(r);
+            }
+            DeviceCommand::Records(at, to_client) => {
+                self.device.delegate_records(at, to_client);
+            }
+            DeviceCommand::AnswerRecord { job, answer, reply } => {
+                let r = self
+                    .device
+                    .answer_record(job, answer, &mut self.actions)
+                    .map_err(|e| e.to_string());
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::HoldApplicationReady(hold) => self.device.hold_application_ready(hold),
+            DeviceCommand::ReleaseApplicationReady => {
+                if self.device.release_application_ready(now_ns) {
+                    tracing::debug!("the clients applied the parameters: ApplicationReady goes");
+                }
             }
         }
         self.hand_over(out);

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The device role's part of the client services: the station in the status report, its
-//! diagnosis and process alarms, its events as notifications to the subscribers, and a clear
-//! refusal of the IO controller's services (record jobs towards devices, activation, alarm
+//! diagnosis and process alarms, its events as notifications to the subscribers, the
+//! subscribers' say in the AR (records they take, the ApplicationReady they hold: see
+//! [`super::application`]), and a clear refusal of the IO controller's services (record jobs towards devices, activation, alarm
 //! acknowledgement, the controller's diagnosis).
 
+use super::application::{ApplicationSay, Order};
 use super::notifications::notification;
 use super::role::DeviceCommand;
 use super::station::{Station, StationEvent};
@@ -12,13 +14,16 @@ use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
 use crate::roles::subscribers::{Subscriber, Subscribers};
 use crate::shm::Notices;
+use procimg_profinet::device::{ArState, SubslotAddr};
+use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_shm_layout::control::{
     DeviceReport, NetworkReport, Refusal, Request, Response, StationReport, SubscriberReport,
 };
+use procimg_shm_layout::services::Notification;
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// How long a client's request waits for the acyclic thread to carry it out: it only
 /// changes the engine's state and queues frames.
@@ -32,13 +37,16 @@ pub struct DeviceServices {
     channel: Arc<Channel>,
     datagrams: Arc<DatagramCounters>,
     subscribers: Subscribers,
+    say: ApplicationSay,
 }
 
 impl DeviceServices {
-    /// The services of `station`, giving the role `commands` and taking its `events`;
-    /// `channel` and `datagrams` hold the network counters.
+    /// The services of `station` (the clients' `say` over its submodules), giving the role
+    /// `commands` and taking its `events`; `channel` and `datagrams` hold the network
+    /// counters.
     pub fn new(
         station: Arc<Station>,
+        say: ApplicationSay,
         commands: Sender<DeviceCommand>,
         events: Receiver<StationEvent>,
         channel: Arc<Channel>,
@@ -51,12 +59,96 @@ impl DeviceServices {
             channel,
             datagrams,
             subscribers: Subscribers::default(),
+            say,
         }
     }
 
-    /// Publishes `event` to the subscribers.
-    fn publish(event: StationEvent, notices: &mut Notices) {
-        notices.publish(&notification(event));
+    /// Publishes `event` to the subscribers; a record job to the one that took its records.
+    fn publish(&mut self, event: StationEvent, notices: &mut Notices) {
+        if let StationEvent::Ar {
+            state: ArState::Parameterized,
+            ..
+        } = &event
+        {
+            self.say.parameters_ended();
+        }
+        match notification(event) {
+            Notification::StationRecord { job, .. } => {
+                let at = SubslotAddr::new(job.api, job.slot, job.subslot);
+                match self.say.job(job.job, at, Instant::now()) {
+                    Ok(reply_to) => notices.publish(&Notification::StationRecord { reply_to, job }),
+                    Err(order) => self.order(order),
+                }
+            }
+            n => notices.publish(&n),
+        }
+    }
+
+    /// Passes an order of the clients' say to the engine.
+    fn order(&self, order: Order) {
+        let command = match order {
+            Order::Records(at, to_client) => DeviceCommand::Records(at, to_client),
+            Order::Hold(hold) => DeviceCommand::HoldApplicationReady(hold),
+            Order::Release => DeviceCommand::ReleaseApplicationReady,
+            Order::Busy(job) => {
+                // Nobody waits for the outcome: the job is the station's to end.
+                let (reply, _) = std::sync::mpsc::sync_channel(1);
+                DeviceCommand::AnswerRecord {
+                    job,
+                    answer: Err((RecordErrorCode::ResourceBusy, 0)),
+                    reply,
+                }
+            }
+        };
+        // The acyclic thread has ended only when procimgd stops: nothing to do then.
+        let _ = self.commands.send(command);
+    }
+
+    /// A subscriber's say: `subscriber` must be announced.
+    fn known(&self, subscriber: u64) -> Result<(), Refusal> {
+        self.subscribers
+            .get(subscriber)
+            .map(|_| ())
+            .ok_or(Refusal::UnknownSubscriber)
+    }
+
+    fn own_records(&mut self, subscriber: u64, at: SubslotAddr, own: bool) -> Result<(), Refusal> {
+        self.known(subscriber)?;
+        let subscribers = &self.subscribers;
+        let name = |id: u64| {
+            subscribers
+                .get(id)
+                .map_or_else(|| format!("{id:x}"), |s| s.name.clone())
+        };
+        if let Some(order) = self.say.own(subscriber, at, own, name)? {
+            self.order(order);
+        }
+        Ok(())
+    }
+
+    fn answer_record(
+        &mut self,
+        subscriber: u64,
+        job: u64,
+        data: Vec<u8>,
+        error: Option<(u8, u8)>,
+    ) -> Response {
+        if let Err(r) = self.say.answer(subscriber, job) {
+            return Response::Refused(r);
+        }
+        let answer = match error {
+            None => Ok(data),
+            Some((c1, c2)) => Err((RecordErrorCode::from(c1), c2)),
+        };
+        match self.carry_out(|reply| DeviceCommand::AnswerRecord { job, answer, reply }) {
+            // The engine's timeout came first.
+            Response::Refused(Refusal::BadRequest { message })
+                if message.starts_with("record job") =>
+            {
+                Response::Refused(Refusal::StaleRecordJob { job })
+            }
+            r => r,
+        }
     }
 }
 
@@ -120,9 +212,41 @@ impl RoleServices for DeviceServices {
                 Response::Done
             }
             Request::Unsubscribe { subscriber } => match self.subscribers.unsubscribe(subscriber) {
-                Ok(_) => Response::Done,
+                Ok(_) => {
+                    for o in self.say.forget(subscriber) {
+                        self.order(o);
+                    }
+                    Response::Done
+                }
                 Err(r) => Response::Refused(r),
             },
+            Request::StationOwnRecords {
+                subscriber,
+                api,
+                slot,
+                subslot,
+                own,
+            } => done(self.own_records(subscriber, SubslotAddr::new(api, slot, subslot), own)),
+            Request::StationRecordAnswer {
+                subscriber,
+                job,
+                data,
+                error,
+            } => self.answer_record(subscriber, job, data, error),
+            Request::StationHoldApplicationReady { subscriber, hold } => {
+                done(self.known(subscriber).map(|()| {
+                    for o in self.say.hold(subscriber, hold) {
+                        self.order(o);
+                    }
+                }))
+            }
+            Request::StationApplicationReady { subscriber } => {
+                done(self.known(subscriber).map(|()| {
+                    if let Some(o) = self.say.ready(subscriber) {
+                        self.order(o);
+                    }
+                }))
+            }
             Request::StationDiagnosis { change } => {
                 self.carry_out(|reply| DeviceCommand::Diagnosis { change, reply })
             }
@@ -148,29 +272,31 @@ impl RoleServices for DeviceServices {
     fn poll(&mut self, wait: Duration, notices: &mut Notices) {
         // The station has logged its events as it noted them; here they become notifications.
         match self.events.recv_timeout(wait) {
-            Ok(event) => Self::publish(event, notices),
+            Ok(event) => self.publish(event, notices),
             Err(RecvTimeoutError::Timeout) => {}
             // The acyclic thread has ended (procimgd is stopping): wait all the same.
             Err(RecvTimeoutError::Disconnected) => std::thread::sleep(wait),
         }
         while let Ok(event) = self.events.try_recv() {
-            Self::publish(event, notices);
+            self.publish(event, notices);
         }
     }
 
     fn finish(&mut self, notices: &mut Notices) {
         // The role's threads have ended: what is left is the AR's end.
         while let Ok(event) = self.events.try_recv() {
-            Self::publish(event, notices);
+            self.publish(event, notices);
         }
     }
 
     fn reap(&mut self, alive: &HashSet<String>) -> Vec<String> {
-        self.subscribers
-            .reap(alive)
-            .into_iter()
-            .map(|(_, s)| s.to_string())
-            .collect()
+        let gone = self.subscribers.reap(alive);
+        for (id, _) in &gone {
+            for o in self.say.forget(*id) {
+                self.order(o);
+            }
+        }
+        gone.into_iter().map(|(_, s)| s.to_string()).collect()
     }
 
     fn devices(&self) -> Vec<DeviceReport> {
@@ -192,5 +318,13 @@ impl RoleServices for DeviceServices {
 
     fn released(&self) -> bool {
         !self.station.has_ar()
+    }
+}
+
+/// A request's outcome as its response.
+fn done(r: Result<(), Refusal>) -> Response {
+    match r {
+        Ok(()) => Response::Done,
+        Err(r) => Response::Refused(r),
     }
 }

@@ -5,7 +5,7 @@
 use super::identity::Identity;
 use crate::config::StationConfig;
 use procimg_profinet::device::{
-    Application, ArState, Device, DeviceSetup, ParameterRecord, SubslotAddr,
+    Application, ArState, Device, DeviceSetup, ParameterRecord, RecordRequest, SubslotAddr,
 };
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
@@ -60,6 +60,8 @@ pub enum StationEvent {
         /// and neither can its next start.
         factory_reset: bool,
     },
+    /// The PLC reads or writes a record whose submodule's records a client took.
+    Record(RecordRequest),
 }
 
 /// The station as the status report shows it.
@@ -153,6 +155,14 @@ impl Station {
             StationEvent::Blink => {
                 tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
             }
+            StationEvent::Record(j) => tracing::debug!(
+                "record job {}: the PLC {} record {:#06x} of slot {} subslot {:#06x}",
+                j.job,
+                if j.write { "writes" } else { "reads" },
+                j.index,
+                j.slot,
+                j.subslot
+            ),
             StationEvent::PlcRunning(running) => {
                 tracing::info!("the PLC is in {}", if *running { "RUN" } else { "STOP" });
                 if let Some(ar) = r.ar.as_mut() {

@@ -1,0 +1,271 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The clients' say in the PLC's AR (GOAL's record and END_OF_PARAM callbacks, IO-Base's
+//! `PNIO_CBF_REC_READ/WRITE`, `PNIO_CBF_PRM_END_IND` and `PNIO_set_appl_state_ready`), as
+//! the control side keeps it: which subscriber took which submodule's records, the record
+//! jobs waiting for their answers, and who holds the ApplicationReady.
+//!
+//! The defaults when nobody answers: the station answers the records nobody took itself
+//! (its configured parameter records, "invalid index" otherwise); a job its taker leaves
+//! unanswered ends after [`STATION_RECORD_TIMEOUT_MS`] with "resource busy" to the PLC; a
+//! held ApplicationReady goes out after [`APP_READY_HOLD_TIMEOUT_MS`] (both in the engine).
+//! What a subscriber took or held ends with it (unsubscribed, or its process gone).
+
+use procimg_profinet::device::SubslotAddr;
+use procimg_shm_layout::control::Refusal;
+use procimg_shm_layout::services::{APP_READY_HOLD_TIMEOUT_MS, STATION_RECORD_TIMEOUT_MS};
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::{Duration, Instant};
+
+/// What the engine is to do after a change of the clients' say.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Order {
+    /// Give the records of a submodule to a client (`true`) or answer them again.
+    Records(SubslotAddr, bool),
+    /// Hold the ApplicationReady after each PrmEnd, or not.
+    Hold(bool),
+    /// Let a held ApplicationReady go out.
+    Release,
+    /// Answer a job that has no taker any more: "resource busy".
+    Busy(u64),
+}
+
+/// How long a job is remembered after it was given out: its timeout in the engine and a
+/// margin, so that a late answer is refused as stale here already.
+const JOB_MEMORY: Duration = Duration::from_millis(STATION_RECORD_TIMEOUT_MS + 1000);
+
+/// The clients' say in the AR.
+#[derive(Debug, Default)]
+pub struct ApplicationSay {
+    /// The station's submodules.
+    submodules: BTreeSet<SubslotAddr>,
+    /// Who took the records of a submodule.
+    owners: BTreeMap<SubslotAddr, u64>,
+    /// Jobs given out: to whom, and when.
+    jobs: BTreeMap<u64, (u64, Instant)>,
+    /// Subscribers that hold the ApplicationReady.
+    holders: BTreeSet<u64>,
+    /// Holders that applied the parameters since the last PrmEnd.
+    ready: BTreeSet<u64>,
+}
+
+impl ApplicationSay {
+    /// The say over a station with `submodules`.
+    pub fn new(submodules: impl IntoIterator<Item = SubslotAddr>) -> ApplicationSay {
+        ApplicationSay {
+            submodules: submodules.into_iter().collect(),
+            ..ApplicationSay::default()
+        }
+    }
+
+    /// `subscriber` takes (`own`) or gives back the records of `at`; `name` names a
+    /// subscriber for the refusal.
+    pub fn own(
+        &mut self,
+        subscriber: u64,
+        at: SubslotAddr,
+        own: bool,
+        name: impl Fn(u64) -> String,
+    ) -> Result<Option<Order>, Refusal> {
+        if !self.submodules.contains(&at) {
+            return Err(Refusal::NoSuchStationSubmodule {
+                api: at.api,
+                slot: at.slot,
+                subslot: at.subslot,
+            });
+        }
+        match (self.owners.get(&at).copied(), own) {
+            (Some(o), true) if o != subscriber => Err(Refusal::RecordsTaken {
+                api: at.api,
+                slot: at.slot,
+                subslot: at.subslot,
+                by: name(o),
+            }),
+            (Some(_), true) => Ok(None),
+            (None, true) => {
+                self.owners.insert(at, subscriber);
+                Ok(Some(Order::Records(at, true)))
+            }
+            (Some(o), false) if o == subscriber => {
+                self.owners.remove(&at);
+                Ok(Some(Order::Records(at, false)))
+            }
+            (_, false) => Ok(None),
+        }
+    }
+
+    /// A job of the engine: the subscriber it goes to, or the order to answer it when nobody
+    /// took its submodule's records (any more).
+    pub fn job(&mut self, job: u64, at: SubslotAddr, now: Instant) -> Result<u64, Order> {
+        self.jobs
+            .retain(|_, (_, t)| now.duration_since(*t) < JOB_MEMORY);
+        match self.owners.get(&at) {
+            Some(&o) => {
+                self.jobs.insert(job, (o, now));
+                Ok(o)
+            }
+            None => Err(Order::Busy(job)),
+        }
+    }
+
+    /// `subscriber` answers `job`: it must be the one the job went to.
+    pub fn answer(&mut self, subscriber: u64, job: u64) -> Result<(), Refusal> {
+        match self.jobs.get(&job) {
+            Some((o, _)) if *o == subscriber => {
+                self.jobs.remove(&job);
+                Ok(())
+            }
+            _ => Err(Refusal::StaleRecordJob { job }),
+        }
+    }
+
+    /// `subscriber` holds the ApplicationReady (or not).
+    pub fn hold(&mut self, subscriber: u64, hold: bool) -> Vec<Order> {
+        let before = !self.holders.is_empty();
+        if hold {
+            self.holders.insert(subscriber);
+        } else {
+            self.holders.remove(&subscriber);
+            self.ready.remove(&subscriber);
+        }
+        self.after_holders_changed(before)
+    }
+
+    /// The PLC's PrmEnd: every holder is to say again that its parameters are applied.
+    pub fn parameters_ended(&mut self) {
+        self.ready.clear();
+    }
+
+    /// `subscriber` applied the parameters: the ApplicationReady goes once every holder did.
+    pub fn ready(&mut self, subscriber: u64) -> Option<Order> {
+        if !self.holders.contains(&subscriber) {
+            return None;
+        }
+        self.ready.insert(subscriber);
+        self.all_ready().then_some(Order::Release)
+    }
+
+    /// `subscriber` is gone: what it took comes back, its hold ends.
+    pub fn forget(&mut self, subscriber: u64) -> Vec<Order> {
+        let mut orders: Vec<Order> = self
+            .owners
+            .iter()
+            .filter(|(_, o)| **o == subscriber)
+            .map(|(at, _)| Order::Records(*at, false))
+            .collect();
+        self.owners.retain(|_, o| *o != subscriber);
+        self.jobs.retain(|_, (o, _)| *o != subscriber);
+        let before = !self.holders.is_empty();
+        self.holders.remove(&subscriber);
+        self.ready.remove(&subscriber);
+        orders.extend(self.after_holders_changed(before));
+        orders
+    }
+
+    fn all_ready(&self) -> bool {
+        self.holders.is_subset(&self.ready)
+    }
+
+    /// The orders after a holder came or went: hold on or off; a held ApplicationReady
+    /// goes when the holders left are ready.
+    fn after_holders_changed(&self, held_before: bool) -> Vec<Order> {
+        let held = !self.holders.is_empty();
+        let mut orders = Vec::new();
+        if held != held_before {
+            orders.push(Order::Hold(held));
+        }
+        if held_before && self.all_ready() {
+            orders.push(Order::Release);
+        }
+        orders
+    }
+}
+
+/// The engine's and the clients' timeouts agree.
+const _: () = {
+    assert!(
+        procimg_profinet::device::RECORD_ANSWER_TIMEOUT_NS == STATION_RECORD_TIMEOUT_MS * 1_000_000
+    );
+    assert!(
+        procimg_profinet::device::APP_READY_HOLD_TIMEOUT_NS
+            == APP_READY_HOLD_TIMEOUT_MS * 1_000_000
+    );
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SLOT1: SubslotAddr = SubslotAddr::new(0, 1, 1);
+
+    fn say() -> ApplicationSay {
+        ApplicationSay::new([SubslotAddr::new(0, 0, 1), SLOT1])
+    }
+
+    #[test]
+    fn one_subscriber_takes_a_submodules_records_and_its_jobs() {
+        let mut s = say();
+        let name = |id: u64| format!("client {id}");
+        assert_eq!(
+            s.own(1, SLOT1, true, name),
+            Ok(Some(Order::Records(SLOT1, true)))
+        );
+        assert_eq!(s.own(1, SLOT1, true, name), Ok(None));
+        assert_eq!(
+            s.own(2, SLOT1, true, name),
+            Err(Refusal::RecordsTaken {
+                api: 0,
+                slot: 1,
+                subslot: 1,
+                by: "client 1".into()
+            })
+        );
+        assert!(matches!(
+            s.own(1, SubslotAddr::new(0, 9, 1), true, name),
+            Err(Refusal::NoSuchStationSubmodule { slot: 9, .. })
+        ));
+        let now = Instant::now();
+        assert_eq!(s.job(7, SLOT1, now), Ok(1));
+        assert_eq!(
+            s.job(8, SubslotAddr::new(0, 0, 1), now),
+            Err(Order::Busy(8))
+        );
+        assert_eq!(s.answer(2, 7), Err(Refusal::StaleRecordJob { job: 7 }));
+        assert_eq!(s.answer(1, 7), Ok(()));
+        assert_eq!(s.answer(1, 7), Err(Refusal::StaleRecordJob { job: 7 }));
+        // Gone: its records come back, its jobs are stale.
+        assert_eq!(s.job(9, SLOT1, now), Ok(1));
+        assert_eq!(s.forget(1), [Order::Records(SLOT1, false)]);
+        assert_eq!(s.answer(1, 9), Err(Refusal::StaleRecordJob { job: 9 }));
+        assert_eq!(
+            s.own(2, SLOT1, true, name),
+            Ok(Some(Order::Records(SLOT1, true)))
+        );
+    }
+
+    #[test]
+    fn old_jobs_are_forgotten() {
+        let mut s = say();
+        s.own(1, SLOT1, true, |_| String::new()).unwrap();
+        let then = Instant::now();
+        assert_eq!(s.job(1, SLOT1, then), Ok(1));
+        assert_eq!(s.job(2, SLOT1, then + JOB_MEMORY), Ok(1));
+        assert_eq!(s.answer(1, 1), Err(Refusal::StaleRecordJob { job: 1 }));
+        assert_eq!(s.answer(1, 2), Ok(()));
+    }
+
+    #[test]
+    fn the_application_ready_goes_when_every_holder_is_ready() {
+        let mut s = say();
+        assert_eq!(s.hold(1, true), [Order::Hold(true)]);
+        assert_eq!(s.hold(2, true), []);
+        s.parameters_ended();
+        assert_eq!(s.ready(3), None, "not a holder");
+        assert_eq!(s.ready(1), None);
+        assert_eq!(s.ready(2), Some(Order::Release));
+        // The next PrmEnd: both say it again; one goes away meanwhile.
+        s.parameters_ended();
+        assert_eq!(s.ready(2), None);
+        assert_eq!(s.forget(1), [Order::Release]);
+        assert_eq!(s.hold(2, false), [Order::Hold(false), Order::Release]);
+    }
+}
