@@ -257,7 +257,7 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
         "{e}"
     );
 
-    // The demo PLC's program writes record 1 of slot 1 every 3 s: refused once, then taken.
+    // The demo PLC's program writes record 1 of slot 1 every 2 s: refused once, then taken.
     let job = next_job(&mut services, BRING_UP).expect("the PLC's write of record 1");
     assert_eq!(
         (job.write, job.index, job.slot, job.data.len()),

@@ -4,8 +4,10 @@
 //! (what the PLC reads); I bytes beyond the Q data count the cycles. Half-way it raises a
 //! channel diagnosis on slot 1 (a wire break on channel 0, which the PLC gets as an alarm and
 //! in its diagnosis records), and clears it three quarters in. Between cycles it prints the
-//! station's notifications (the PLC's AR coming up or ending, its RUN/STOP, DCP). It prints
-//! what it saw.
+//! station's notifications (the PLC's AR coming up or ending, its RUN/STOP, DCP) and
+//! answers the PLC's reads and writes of slot 1's parameter record 1 (4 bytes), which it
+//! takes: a write of 4 bytes is its new value, a read gives it back, anything else is
+//! refused with the PNIORW error a device gives. It prints what it saw.
 //!
 //! Run against `procimgd --demo-device`, whose PLC writes each submodule's I data plus one
 //! into its Q data, so that the values climb by one every round trip:
@@ -15,7 +17,7 @@ use anyhow::{Context, bail};
 use clap::Parser;
 use procimg_client::{
     AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Event, Ioxs, Notification,
-    ServiceOptions, Services,
+    RecordRefusal, ServiceOptions, Services, StationRecordJob,
 };
 use std::time::Duration;
 
@@ -72,6 +74,14 @@ fn run(args: Args) -> anyhow::Result<()> {
             None
         }
     };
+    // Slot 1's records are this program's to answer from now on.
+    if let Some(s) = station.as_ref() {
+        match s.take_records(PARAMETER_AT) {
+            Ok(()) => println!("device_app: answering the PLC's records of slot 1"),
+            Err(e) => eprintln!("warning: slot 1's records stay the station's ({e})"),
+        }
+    }
+    let mut parameter = Parameter::default();
     if let Some(ar) = client
         .control()
         .status()
@@ -130,7 +140,14 @@ fn run(args: Args) -> anyhow::Result<()> {
         done += 1;
         // Between cycles, without waiting: what the station reported.
         while let Some(n) = station.as_mut().and_then(Services::try_next) {
-            if let Some(line) = describe(&n) {
+            if let Notification::StationRecord { job, .. } = &n {
+                let answer = parameter.answer(job);
+                if let Some(s) = station.as_ref()
+                    && let Err(e) = s.answer_record(job, answer.as_deref().map_err(|e| *e))
+                {
+                    eprintln!("warning: record job {} not answered: {e}", job.job);
+                }
+            } else if let Some(line) = describe(&n) {
                 println!("device_app: {line}");
             }
         }
@@ -147,8 +164,47 @@ fn run(args: Args) -> anyhow::Result<()> {
             println!("device_app: the wire break is gone");
         }
     }
-    println!("device_app: cycles {done}  with every Q GOOD {q_good}  OPFAULTs {opfaults}");
+    println!(
+        "device_app: cycles {done}  with every Q GOOD {q_good}  OPFAULTs {opfaults}  \
+         parameter records answered {}",
+        parameter.answered
+    );
     Ok(())
+}
+
+/// Where the program's parameter record is: API 0, slot 1, subslot 1.
+const PARAMETER_AT: (u32, u16, u16) = (0, 1, 1);
+/// Its index.
+const PARAMETER_INDEX: u16 = 1;
+
+/// The parameter record the program keeps: 4 bytes, as the station's GSDML declares it.
+#[derive(Default)]
+struct Parameter {
+    value: [u8; 4],
+    answered: u64,
+}
+
+impl Parameter {
+    /// The answer to the PLC's read or write `job`.
+    fn answer(&mut self, job: &StationRecordJob) -> Result<Vec<u8>, RecordRefusal> {
+        self.answered += 1;
+        match (job.write, job.index) {
+            (true, PARAMETER_INDEX) => match <[u8; 4]>::try_from(job.data.as_slice()) {
+                Ok(v) => {
+                    self.value = v;
+                    println!(
+                        "device_app: the PLC set parameter record {PARAMETER_INDEX} of slot 1 \
+                         to {}",
+                        u32::from_be_bytes(v)
+                    );
+                    Ok(Vec::new())
+                }
+                Err(_) => Err(RecordRefusal::new(RecordRefusal::WRITE_LENGTH_ERROR)),
+            },
+            (false, PARAMETER_INDEX) => Ok(self.value.to_vec()),
+            _ => Err(RecordRefusal::new(RecordRefusal::INVALID_INDEX)),
+        }
+    }
 }
 
 /// A station notification in words (`None` for the controller's, which a device does not get).

@@ -49,7 +49,7 @@ const IOXS_GOOD: u8 = 0x80;
 /// How often the PLC program writes the station's first parameter record anew while the
 /// data flows (as a program's WRREC of a recipe would), so that a client that took the
 /// record sees writes and its answers reach the PLC.
-const RECIPE_EVERY_NS: u64 = 3_000_000_000;
+const RECIPE_EVERY_NS: u64 = 2_000_000_000;
 
 /// The address the station has on the simulated network.
 pub fn station_ip(station: &StationConfig) -> Ipv4Addr {
