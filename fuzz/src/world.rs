@@ -163,10 +163,12 @@ pub mod device_ops {
     pub const DIAGNOSIS: u8 = 6;
     /// `on: u8`: the device takes part (odd) or stops.
     pub const ACCEPTING: u8 = 7;
-    /// `what: u8, arg: u8, len: u8`: the application's part (`what % 4`): 0 takes (arg odd)
+    /// `what: u8, arg: u8, len: u8`: the application's part (`what % 6`): 0 takes (arg odd)
     /// or gives back the records of slot `arg % 3`, subslot 1; 1 answers job `arg` of those
     /// given out (with `len` bytes, or an error when `len` > 200; a job number never given out
-    /// when there are none); 2 holds the ApplicationReady (arg odd) or not; 3 releases it.
+    /// when there are none); 2 holds the ApplicationReady (arg odd) or not; 3 releases it;
+    /// 4 checks new ARs (arg odd) or not; 5 answers the last AR check (accepts when `len` is
+    /// even, else refuses with ErrorCode1 `arg`, ErrorCode2 `len`).
     pub const APPLICATION: u8 = 8;
     /// Number of opcodes.
     pub const COUNT: u8 = 9;
@@ -606,6 +608,8 @@ pub struct DeviceBench {
     device: DemoDevice,
     /// Record jobs given to the application so far.
     jobs: Vec<u64>,
+    /// AR checks given to the application so far.
+    checks: Vec<u64>,
     now: u64,
     steps: u32,
     /// The last operation polled the device at `now`.
@@ -625,6 +629,7 @@ impl DeviceBench {
         DeviceBench {
             device,
             jobs: Vec::new(),
+            checks: Vec::new(),
             now: MS,
             steps: 0,
             polled: false,
@@ -651,8 +656,19 @@ impl DeviceBench {
                 let _ = self.device.answer_record(job, answer, out);
             }
             2 => self.device.hold_application_ready(arg % 2 == 1),
-            _ => {
+            3 => {
                 let _ = self.device.release_application_ready(self.now);
+            }
+            4 => self.device.check_connects(arg % 2 == 1),
+            _ => {
+                let answer = if len.is_multiple_of(2) {
+                    Ok(())
+                } else {
+                    Err((arg, len))
+                };
+                let check = self.checks.pop().unwrap_or(u64::from(arg) << 40);
+                // Answered, timed-out and unknown checks are refused: fine.
+                let _ = self.device.answer_connect(check, answer, self.now, out);
             }
         }
     }
@@ -734,7 +750,7 @@ impl DeviceBench {
                 self.device.set_accepting(on, self.now, &mut out);
             }
             device_ops::APPLICATION => {
-                let (what, arg, len) = (r.u8()? % 4, r.u8()?, r.u8()?);
+                let (what, arg, len) = (r.u8()? % 6, r.u8()?, r.u8()?);
                 self.application(what, arg, len, &mut out);
             }
             _ => unreachable!("opcode taken modulo COUNT"),
@@ -754,6 +770,7 @@ impl DeviceBench {
                     );
                     self.jobs.push(job.job);
                 }
+                DeviceAction::ArCheck(check) => self.checks.push(check.job),
             }
         }
         // A poll does what is due: what it leaves is due later (else its caller would spin).

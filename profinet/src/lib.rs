@@ -104,7 +104,8 @@
 //!                 // This device exchanges its cyclic data itself.
 //!                 DeviceAction::StartCyclic(_)
 //!                 | DeviceAction::StopCyclic { .. }
-//!                 | DeviceAction::Record(_) => {}
+//!                 | DeviceAction::Record(_)
+//!                 | DeviceAction::ArCheck(_) => {}
 //!             }
 //!         }
 //!     }

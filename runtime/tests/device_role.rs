@@ -7,9 +7,9 @@
 //! kept, and every frame on the wire dissected by tshark.
 
 use procimg_client::{
-    AlarmReport, AttachOptions, Client, ControlError, DiagnosisDirection, DiagnosisEntry, Ioxs,
-    Mode, Notification, RecordRefusal, RecordTarget, Refusal, ServiceOptions, Services,
-    StationRecordJob,
+    AR_REFUSED_NO_RESOURCES, AlarmReport, AttachOptions, Client, ControlError, DiagnosisDirection,
+    DiagnosisEntry, Ioxs, Mode, Notification, RecordRefusal, RecordTarget, Refusal, ServiceOptions,
+    Services, StationRecordJob,
 };
 use procimg_profinet::wire::alarm::AlarmItem;
 use procimg_profinet::wire::record::DiagnosisData;
@@ -336,6 +336,77 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
     assert_eq!(server.status().network.watchdog_expiries, 0);
     drop(other);
     drop(services);
+}
+
+#[test]
+fn a_device_program_refuses_a_new_ar_and_accepts_the_next() {
+    let server = Launch::demo_device("devchk").start();
+    server.wait_status("the demo's AR in data exchange", |s| {
+        s.station
+            .as_ref()
+            .and_then(|st| st.ar.as_ref())
+            .is_some_and(|ar| ar.state == "data")
+    });
+    let mut services =
+        Services::open(&server.instance, ServiceOptions::new("devchk")).expect("services");
+    let other = Services::open(&server.instance, ServiceOptions::new("devchk-2")).expect("other");
+    services.check_ars(true).expect("check ARs");
+    let e = other.check_ars(true).expect_err("one handle checks");
+    assert!(
+        matches!(&e, ControlError::Refused(Refusal::ArChecksTaken { by }) if by == "devchk"),
+        "{e}"
+    );
+    server.set_mode(Mode::Offline);
+    server.wait_status("the AR's end", |s| {
+        s.station.as_ref().is_some_and(|st| st.ar.is_none())
+    });
+    server.set_mode(Mode::Operate);
+    let next_check = |services: &mut Services| {
+        let until = Instant::now() + BRING_UP;
+        while Instant::now() < until {
+            if let Some(Notification::StationArCheck { check, .. }) =
+                services.next(Duration::from_millis(100))
+            {
+                return check;
+            }
+        }
+        panic!("no AR check within 30 s");
+    };
+    let first = next_check(&mut services);
+    assert_eq!(first.controller_name, "demo-plc");
+    // Slot 1 as the PLC expects it, and what is plugged there.
+    let slot1 = first
+        .expected
+        .iter()
+        .find(|e| (e.slot, e.subslot) == (1, 1))
+        .expect("slot 1 expected");
+    assert_eq!(
+        slot1.plugged,
+        Some((slot1.module_ident, slot1.submodule_ident))
+    );
+    services
+        .answer_ar_check(&first, Err(AR_REFUSED_NO_RESOURCES))
+        .expect("refused");
+    let e = services
+        .answer_ar_check(&first, Ok(()))
+        .expect_err("answered once");
+    assert!(
+        matches!(e, ControlError::Refused(Refusal::StaleArCheck { .. })),
+        "{e}"
+    );
+    // The PLC tries again; this time the program takes the AR.
+    let second = next_check(&mut services);
+    services.answer_ar_check(&second, Ok(())).expect("accepted");
+    let (states, uuid) = states_until_data(&mut services);
+    assert_eq!(states.last().map(String::as_str), Some("data"));
+    assert_eq!(uuid, second.ar_uuid);
+    assert!(
+        server
+            .status()
+            .station
+            .is_some_and(|s| s.ar.is_some_and(|a| a.ar_uuid == uuid))
+    );
+    drop(other);
 }
 
 #[test]

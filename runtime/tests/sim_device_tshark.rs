@@ -100,7 +100,8 @@ impl Wire {
                 // This device runs its own cyclic exchange.
                 DeviceAction::StartCyclic(_)
                 | DeviceAction::StopCyclic { .. }
-                | DeviceAction::Record(_) => {}
+                | DeviceAction::Record(_)
+                | DeviceAction::ArCheck(_) => {}
             }
         }
         std::mem::take(out)

@@ -216,6 +216,28 @@ pub enum Request {
         /// Take (`true`) or give back.
         own: bool,
     },
+    /// In the device role: check every new AR (`check`), or stop. The PLC's Connect then
+    /// waits for this subscriber's [`Request::StationArCheckAnswer`] to a
+    /// [`Notification::StationArCheck`](crate::services::Notification::StationArCheck), at
+    /// most [`AR_CHECK_TIMEOUT_MS`](crate::services::AR_CHECK_TIMEOUT_MS), after which the AR
+    /// is accepted. One subscriber at a time checks.
+    StationCheckArs {
+        /// The subscriber's id.
+        subscriber: u64,
+        /// Check (`true`) or stop.
+        check: bool,
+    },
+    /// In the device role: accept a new AR, or refuse it with a Connect error.
+    StationArCheckAnswer {
+        /// The subscriber's id (the one the check went to).
+        subscriber: u64,
+        /// The check.
+        job: u64,
+        /// `None` accepts; else the Connect's ErrorCode1 and ErrorCode2 (ErrorCode 0xDB,
+        /// ErrorDecode PNIO): (0x40, 0x04) "out of AR resources" is what a busy device says.
+        #[serde(default)]
+        refuse: Option<(u8, u8)>,
+    },
     /// In the device role: the answer to a record job.
     StationRecordAnswer {
         /// The subscriber's id (the one the job went to).
@@ -447,6 +469,16 @@ pub enum Refusal {
         /// Subslot.
         subslot: u16,
     },
+    /// Another subscriber checks the station's new ARs.
+    ArChecksTaken {
+        /// The name of the subscriber that checks them.
+        by: String,
+    },
+    /// No AR check of this number waits for this subscriber's answer.
+    StaleArCheck {
+        /// The check.
+        job: u64,
+    },
     /// No record job of this number waits for this subscriber's answer.
     StaleRecordJob {
         /// The job.
@@ -559,6 +591,16 @@ impl core::fmt::Display for Refusal {
                 f,
                 "the station has no submodule at API {api} slot {slot} subslot \
                  {subslot:#06x}; `procimgd --check` lists what is plugged"
+            ),
+            Refusal::ArChecksTaken { by } => write!(
+                f,
+                "subscriber \"{by}\" checks the station's new ARs; it stops when it unsubscribes \
+                 or ends"
+            ),
+            Refusal::StaleArCheck { job } => write!(
+                f,
+                "AR check {job} waits for no answer from this subscriber: it was answered, it \
+                 timed out (the AR was then accepted) or it is another's"
             ),
             Refusal::StaleRecordJob { job } => write!(
                 f,

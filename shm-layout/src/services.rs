@@ -295,6 +295,16 @@ pub enum Notification {
         /// The job.
         job: StationRecordJob,
     },
+    /// Device role: a PLC connects (GOAL's NEW_AR, IO-Base's `PNIO_CBF_AR_CHECK_IND`): the
+    /// subscriber that checks ARs ([`crate::control::Request::StationCheckArs`]) accepts or
+    /// refuses it with [`crate::control::Request::StationArCheckAnswer`] within
+    /// [`AR_CHECK_TIMEOUT_MS`].
+    StationArCheck {
+        /// The subscriber that checks.
+        reply_to: u64,
+        /// The new AR.
+        check: StationArCheckJob,
+    },
 }
 
 impl Notification {
@@ -303,7 +313,8 @@ impl Notification {
         match self {
             Notification::Record { reply_to, .. }
             | Notification::Activation { reply_to, .. }
-            | Notification::StationRecord { reply_to, .. } => Some(*reply_to),
+            | Notification::StationRecord { reply_to, .. }
+            | Notification::StationArCheck { reply_to, .. } => Some(*reply_to),
             _ => None,
         }
     }
@@ -398,6 +409,51 @@ pub struct DeviceDiagnosis {
 /// the PLC itself with PNIORW "resource busy" (0xC2): a PLC repeats its call after about a
 /// second and gives up after a few.
 pub const STATION_RECORD_TIMEOUT_MS: u64 = 2000;
+
+/// How long a PLC's Connect waits for the checking subscriber's answer before the station
+/// accepts the AR.
+pub const AR_CHECK_TIMEOUT_MS: u64 = 2000;
+
+/// A new AR for the subscriber that checks ARs.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StationArCheckJob {
+    /// The check, named in the answer.
+    pub job: u64,
+    /// ARUUID.
+    pub ar_uuid: String,
+    /// ARType (1: IO controller AR).
+    pub ar_type: u16,
+    /// SessionKey.
+    pub session_key: u16,
+    /// The PLC's MAC address.
+    pub controller_mac: String,
+    /// The PLC's station name.
+    pub controller_name: String,
+    /// Every submodule the PLC expects, with what is plugged there (GOAL's EXP_SUBMOD).
+    pub expected: Vec<ExpectedSubmodule>,
+}
+
+/// A submodule the PLC expects in a new AR.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ExpectedSubmodule {
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// The expected ModuleIdentNumber.
+    pub module_ident: u32,
+    /// The expected SubmoduleIdentNumber.
+    pub submodule_ident: u32,
+    /// Expected input bytes.
+    pub input_length: u16,
+    /// Expected output bytes.
+    pub output_length: u16,
+    /// The (module, submodule) ident numbers plugged there, if anything is.
+    #[serde(default)]
+    pub plugged: Option<(u32, u32)>,
+}
 
 /// The longest the subscribers may hold the ApplicationReady after a PrmEnd.
 pub const APP_READY_HOLD_TIMEOUT_MS: u64 = 10_000;

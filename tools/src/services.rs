@@ -231,6 +231,10 @@ fn describe(n: &Notification) -> String {
         ),
         // Only the subscriber that took the records gets these, and `procimg events` takes
         // none.
+        Notification::StationArCheck { check, .. } => format!(
+            "station: PLC {} ({}) connects AR {} (check {})",
+            check.controller_mac, check.controller_name, check.ar_uuid, check.job
+        ),
         Notification::StationRecord { job, .. } => format!(
             "station: record {:#06x} of slot {} subslot {:#06x} {} (job {})",
             job.index,

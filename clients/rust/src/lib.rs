@@ -58,13 +58,13 @@ pub use procimg_shm_layout::control::{
     ForceReport, Refusal, StationReport, StatusReport,
 };
 pub use procimg_shm_layout::services::{
-    APP_READY_HOLD_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
-    Notification, RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS,
-    StationRecordJob, SubmoduleDiff,
+    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport,
+    ExpectedSubmodule, FailureCause, Notification, RecordConfirmation, RecordStatus, RecordTarget,
+    STATION_RECORD_TIMEOUT_MS, StationArCheckJob, StationRecordJob, SubmoduleDiff,
 };
 pub use procimg_shm_layout::{CycleInfo, Mode};
 pub use services::{RecordError, ServiceOptions, Services};
-pub use station_services::RecordRefusal;
+pub use station_services::{AR_REFUSED_NO_RESOURCES, RecordRefusal};
 pub use status::{Ioxs, SubmoduleIoxs};
 
 /// Output samples the server buffers per client between two cycles (see `procimgd`).

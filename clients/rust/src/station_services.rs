@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! A device program's say in the PLC's AR, through its [`Services`] handle (GOAL's record
-//! and END_OF_PARAM callbacks, IO-Base's `PNIO_CBF_REC_READ/WRITE`, `PNIO_CBF_PRM_END_IND`
-//! and `PNIO_set_appl_state_ready`): the records of the submodules it takes come to it as
+//! A device program's say in the PLC's AR, through its [`Services`] handle (GOAL's NEW_AR,
+//! record and END_OF_PARAM callbacks, IO-Base's `PNIO_CBF_AR_CHECK_IND`,
+//! `PNIO_CBF_REC_READ/WRITE`, `PNIO_CBF_PRM_END_IND` and `PNIO_set_appl_state_ready`): it may
+//! check new ARs ([`Notification::StationArCheck`](crate::Notification::StationArCheck)),
+//! the records of the submodules it takes come to it as
 //! [`Notification::StationRecord`](crate::Notification::StationRecord) jobs, and it may hold
 //! the station's ApplicationReady until its parameters are applied.
 //!
@@ -27,7 +29,11 @@
 use crate::services::Services;
 use crate::{ControlError, DEFAULT_CONTROL_TIMEOUT};
 use procimg_shm_layout::control::{Request, Response};
-use procimg_shm_layout::services::StationRecordJob;
+use procimg_shm_layout::services::{StationArCheckJob, StationRecordJob};
+
+/// The Connect error (ErrorCode1 CMRPC, ErrorCode2 "out of AR resources") a device gives
+/// when it cannot take an AR now.
+pub const AR_REFUSED_NO_RESOURCES: (u8, u8) = (0x40, 0x04);
 
 /// The PNIORW error a record job ends with instead of data: ErrorCode1 (class and code) and
 /// ErrorCode2 (user specific).
@@ -128,6 +134,33 @@ impl Services {
             job: job.job,
             data,
             error,
+        })
+    }
+
+    /// Checks every new AR from now on (`true`) or not: a PLC's Connect waits for this
+    /// handle's [`answer_ar_check`](Self::answer_ar_check) to a
+    /// [`Notification::StationArCheck`](crate::Notification::StationArCheck), at most
+    /// [`AR_CHECK_TIMEOUT_MS`](crate::AR_CHECK_TIMEOUT_MS) (then the AR is accepted). One
+    /// handle at a time checks.
+    pub fn check_ars(&self, check: bool) -> Result<(), ControlError> {
+        self.station_request(&Request::StationCheckArs {
+            subscriber: self.id(),
+            check,
+        })
+    }
+
+    /// Accepts the new AR of `check` (`Ok`), or refuses it with the Connect's ErrorCode1 and
+    /// ErrorCode2 (ErrorCode 0xDB, ErrorDecode PNIO; [`AR_REFUSED_NO_RESOURCES`] is what a
+    /// busy device says). An answer after the timeout is refused with `StaleArCheck`.
+    pub fn answer_ar_check(
+        &self,
+        check: &StationArCheckJob,
+        answer: Result<(), (u8, u8)>,
+    ) -> Result<(), ControlError> {
+        self.station_request(&Request::StationArCheckAnswer {
+            subscriber: self.id(),
+            job: check.job,
+            refuse: answer.err(),
         })
     }
 

@@ -247,16 +247,16 @@ fn sessions(caps: &[Captured], seeds: &mut Seeds) {
     // session, addressed to the simulated device.
     add(seeds, "device", "bringup", &world::device_seed(&sent));
     // The same with the application's part: slots 0 and 1 give their records to it, the
-    // ApplicationReady held; afterwards jobs answered (one with an error) and the hold
-    // released.
+    // ApplicationReady held, new ARs checked; afterwards the check accepted, jobs answered
+    // (one with an error) and the hold released.
     let mut w = Writer::new();
-    for (what, arg, len) in [(0, 1, 0), (0, 3, 0), (2, 1, 0)] {
+    for (what, arg, len) in [(0, 1, 0), (0, 3, 0), (2, 1, 0), (4, 1, 0)] {
         w.u8(device_ops::APPLICATION).u8(what).u8(arg).u8(len);
     }
     let mut application = w.finish();
     application.extend_from_slice(&world::device_seed(&sent));
     let mut w = Writer::new();
-    for (what, arg, len) in [(1, 0, 4), (1, 1, 255), (1, 0, 0), (3, 0, 0)] {
+    for (what, arg, len) in [(5, 0, 0), (1, 0, 4), (1, 1, 255), (1, 0, 0), (3, 0, 0)] {
         w.u8(device_ops::APPLICATION).u8(what).u8(arg).u8(len);
     }
     w.u8(device_ops::STEP).u8(50);

@@ -89,7 +89,17 @@ impl<A: Application> Device<A> {
             }
         };
         let (status, res) = match h.opnum {
-            opnum::CONNECT => self.connect(blocks, from, now_ns, out),
+            opnum::CONNECT if self.ar_checks.on => match self.admit(blocks, out) {
+                Err(s) => (s, Vec::new()),
+                Ok(plan) => {
+                    let call = (*h, from, ndr.args_maximum);
+                    match self.check_connect(&plan, call, blocks, now_ns, out) {
+                        Some(s) => (s, Vec::new()),
+                        None => return,
+                    }
+                }
+            },
+            opnum::CONNECT => self.establish(blocks, from, now_ns, out),
             opnum::RELEASE => self.release(blocks),
             opnum::READ | opnum::READ_IMPLICIT => {
                 let outcome = records::read(
@@ -173,34 +183,43 @@ impl<A: Application> Device<A> {
         }
     }
 
-    fn connect(
+    /// The checks of a Connect before an AR is made: its plan, or the refusal.
+    fn admit(
         &mut self,
         blocks: &[u8],
-        from: SocketAddrV4,
-        now_ns: u64,
         out: &mut Vec<DeviceAction>,
-    ) -> (PnioStatus, Vec<u8>) {
-        let plan = match connect::validate(blocks) {
-            Ok(p) => p,
-            Err(s) => return (s, Vec::new()),
-        };
+    ) -> Result<connect::Plan, PnioStatus> {
+        let plan = connect::validate(blocks)?;
         if !self.accepting {
-            return (refuse(CMDEV, CMDEV_STATE_CONFLICT), Vec::new());
+            return Err(refuse(CMDEV, CMDEV_STATE_CONFLICT));
         }
-        if let Some(h) = &self.handover
-            && let Err(s) = connect::check_period(&plan, |period| h.fits(period))
-        {
-            return (s, Vec::new());
+        if let Some(h) = &self.handover {
+            connect::check_period(&plan, |period| h.fits(period))?;
         }
         if let Some(existing) = &self.ar {
             if existing.ar_uuid == plan.ar.ar_uuid {
                 // A re-run of the AR the device still holds: it ends, and this Connect is
                 // refused; the controller's next attempt finds the device free (p-net).
                 self.abort_ar(AbortCode::RerunAbortsExisting, out);
-                return (refuse(CMDEV, CMDEV_STATE_CONFLICT), Vec::new());
+                return Err(refuse(CMDEV, CMDEV_STATE_CONFLICT));
             }
-            return (refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES), Vec::new());
+            return Err(refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES));
         }
+        Ok(plan)
+    }
+
+    /// Runs a Connect: the AR, or the refusal.
+    pub(super) fn establish(
+        &mut self,
+        blocks: &[u8],
+        from: SocketAddrV4,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> (PnioStatus, Vec<u8>) {
+        let plan = match self.admit(blocks, out) {
+            Ok(p) => p,
+            Err(s) => return (s, Vec::new()),
+        };
         let diagnosis = &self.diagnosis;
         let state =
             |api, slot, subslot| diagnosis.submodule_state(SubslotAddr::new(api, slot, subslot));

@@ -53,6 +53,7 @@ mod app_ready;
 mod app_records;
 mod application;
 mod ar;
+mod ar_check;
 mod cm;
 mod connect;
 mod cyclic;
@@ -85,6 +86,7 @@ pub use app_records::{
 };
 pub use application::Application;
 use ar::Ar;
+pub use ar_check::{AR_CHECK_TIMEOUT_NS, ArCheck, ExpectedAt, UnknownArCheck};
 pub use diagnosis::{
     ChannelDiag, DiagEntry, DiagKey, DiagnosisError, DiagnosisStore, GenericDiag, Severity,
     SubslotAddr,
@@ -159,6 +161,9 @@ pub enum DeviceAction {
     /// A record for the application to read or write (only for submodules given to it with
     /// [`Device::delegate_records`]); answer with [`Device::answer_record`].
     Record(RecordRequest),
+    /// A new AR for the application to accept or refuse (only with
+    /// [`Device::check_connects`]); answer with [`Device::answer_connect`].
+    ArCheck(ArCheck),
 }
 
 /// The identity a device keeps across a restart, as DCP set it.
@@ -249,6 +254,8 @@ pub struct Device<A> {
     hold_app_ready: bool,
     /// ApplicationReadys that went out because the application did not release them.
     app_ready_hold_timeouts: u64,
+    /// The application's checks of new ARs.
+    ar_checks: ar_check::ArChecks,
 }
 
 impl<A: Application> Device<A> {
@@ -298,6 +305,7 @@ impl<A: Application> Device<A> {
             waiting: app_records::Waiting::default(),
             hold_app_ready: false,
             app_ready_hold_timeouts: 0,
+            ar_checks: ar_check::ArChecks::default(),
         };
         device.set_lldp(true);
         device
@@ -623,7 +631,7 @@ impl<A: Application> Device<A> {
             return;
         };
         let server = to_port == wire_rpc::RPC_PORT;
-        if server && self.waiting.has_call(&header) {
+        if server && (self.waiting.has_call(&header) || self.ar_checks.has_call(&header)) {
             // The call waits for the application: a retransmission is dropped, a ping learns
             // that we are at it.
             if header.packet_type == PacketType::Ping {
@@ -671,6 +679,7 @@ impl<A: Application> Device<A> {
     fn run_timers(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.dcp.poll(now_ns, out);
         self.expire_record_jobs(now_ns, out);
+        self.expire_ar_check(now_ns, out);
         self.expire_app_ready_hold(now_ns);
         if std::mem::take(&mut self.hello_due) {
             out.extend(dcp::hello_frame(&self.id).map(DeviceAction::Frame));
@@ -752,6 +761,7 @@ impl<A: Application> Device<A> {
             self.lldp.as_ref().map(lldp::Announcer::next_deadline_ns),
             self.ar.as_ref().and_then(Ar::deadline),
             self.waiting.deadline(),
+            self.ar_checks.deadline(),
         ]
         .into_iter()
         .flatten()

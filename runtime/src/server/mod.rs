@@ -195,6 +195,8 @@ impl Control {
             | Request::StationDiagnosis { .. }
             | Request::StationProcessAlarm { .. }
             | Request::StationOwnRecords { .. }
+            | Request::StationCheckArs { .. }
+            | Request::StationArCheckAnswer { .. }
             | Request::StationRecordAnswer { .. }
             | Request::StationHoldApplicationReady { .. }
             | Request::StationApplicationReady { .. } => {

@@ -507,7 +507,8 @@ impl<A: Application, P: Port> World<A, P> {
                 // The world's devices run their own cyclic exchange.
                 DeviceAction::StartCyclic(_)
                 | DeviceAction::StopCyclic { .. }
-                | DeviceAction::Record(_) => {}
+                | DeviceAction::Record(_)
+                | DeviceAction::ArCheck(_) => {}
             }
         }
         answers

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The application's records and its hold on the ApplicationReady: jobs, answers, stale
+//! The application's check of a new AR, its records and its hold on the ApplicationReady: jobs, answers, stale
 //! answers, timeouts, WriteMultiple with records of both, the configured parameter records,
 //! and retransmissions and pings while a call waits.
 
@@ -352,4 +352,86 @@ fn a_held_application_ready_goes_out_by_itself_before_the_cmi_timeout() {
     assert_eq!(app_readies(&sent), [t + APP_READY_HOLD_TIMEOUT_NS]);
     assert_eq!(dev.app_ready_hold_timeouts(), 1);
     assert!(!dev.application_ready_held());
+}
+
+/// The AR checks among `out`.
+fn checks(out: &[DeviceAction]) -> Vec<ArCheck> {
+    out.iter()
+        .filter_map(|a| match a {
+            DeviceAction::ArCheck(c) => Some(c.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The counter device checking its Connects, the Connect sent: the check.
+fn connect_waiting() -> (Device<TestApp>, ConnectRequest, ArCheck) {
+    let (mut dev, connect) = counter_device();
+    dev.check_connects(true);
+    let out = send(&mut dev, opnum::CONNECT, 0, &connect.to_vec().unwrap(), 0);
+    assert!(
+        datagrams(&out).is_empty(),
+        "no answer before the check's: {out:?}"
+    );
+    let c = checks(&out);
+    assert_eq!(c.len(), 1);
+    assert_eq!(dev.state(), ArState::Idle);
+    (dev, connect, c[0].clone())
+}
+
+#[test]
+fn a_new_ar_waits_for_the_applications_check_and_is_accepted() {
+    let (mut dev, _, check) = connect_waiting();
+    assert_eq!((check.ar_uuid, check.session_key), (AR_UUID, 1));
+    assert_eq!(check.controller_name, "procimgd");
+    assert_eq!(check.expected.len(), 3);
+    let slot1 = check.expected[1];
+    assert_eq!(
+        (slot1.at, slot1.module_ident, slot1.input_length),
+        (SubslotAddr::new(0, 1, 1), 0x30, 4)
+    );
+    assert_eq!(slot1.plugged.map(|p| p.module_ident), Some(0x30));
+    // Its retransmission waits too.
+    let again = send(&mut dev, opnum::CONNECT, 0, &[], MS);
+    assert!(again.is_empty(), "{again:?}");
+    let mut out = Vec::new();
+    dev.answer_connect(check.job, Ok(()), 2 * MS, &mut out)
+        .unwrap();
+    assert_eq!(status(&response(&out)), PnioStatus::OK);
+    assert_eq!(dev.state(), ArState::Connected);
+    assert_eq!(
+        dev.answer_connect(check.job, Ok(()), 2 * MS, &mut out),
+        Err(UnknownArCheck(check.job))
+    );
+}
+
+#[test]
+fn a_refused_ar_gets_the_applications_error_and_an_unanswered_one_is_accepted() {
+    let (mut dev, connect, check) = connect_waiting();
+    let mut out = Vec::new();
+    dev.answer_connect(check.job, Err((0x40, 0x04)), MS, &mut out)
+        .unwrap();
+    assert_eq!(
+        status(&response(&out)),
+        PnioStatus::from_bytes([0xdb, 0x81, 0x40, 0x04])
+    );
+    assert_eq!(dev.state(), ArState::Idle);
+    // The controller tries again (a new call): nobody answers, the AR is accepted.
+    let out = send(
+        &mut dev,
+        opnum::CONNECT,
+        1,
+        &connect.to_vec().unwrap(),
+        10 * MS,
+    );
+    assert_eq!(checks(&out).len(), 1);
+    let sent = run_until(&mut dev, 10 * MS + AR_CHECK_TIMEOUT_NS);
+    let answers: Vec<DeviceAction> = sent
+        .into_iter()
+        .map(|(_, a)| a)
+        .filter(|a| matches!(a, DeviceAction::Datagram { to, .. } if *to == S7_CLIENT))
+        .collect();
+    assert_eq!(status(&response(&answers)), PnioStatus::OK);
+    assert_eq!(dev.state(), ArState::Connected);
+    assert_eq!(dev.ar_check_timeouts(), 1);
 }

@@ -592,6 +592,8 @@ impl RoleServices for ControllerServices {
             Request::StationDiagnosis { .. }
             | Request::StationProcessAlarm { .. }
             | Request::StationOwnRecords { .. }
+            | Request::StationCheckArs { .. }
+            | Request::StationArCheckAnswer { .. }
             | Request::StationRecordAnswer { .. }
             | Request::StationHoldApplicationReady { .. }
             | Request::StationApplicationReady { .. } => Err(Refusal::WrongRole {

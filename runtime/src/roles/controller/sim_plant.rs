@@ -151,7 +151,8 @@ fn deliver(
             // The simulated devices run their own cyclic exchange.
             DeviceAction::StartCyclic(_)
             | DeviceAction::StopCyclic { .. }
-            | DeviceAction::Record(_) => {}
+            | DeviceAction::Record(_)
+            | DeviceAction::ArCheck(_) => {}
         }
     }
 }

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The clients' say in the PLC's AR (GOAL's record and END_OF_PARAM callbacks, IO-Base's
-//! `PNIO_CBF_REC_READ/WRITE`, `PNIO_CBF_PRM_END_IND` and `PNIO_set_appl_state_ready`), as
-//! the control side keeps it: which subscriber took which submodule's records, the record
-//! jobs waiting for their answers, and who holds the ApplicationReady.
+//! The clients' say in the PLC's AR (GOAL's NEW_AR, record and END_OF_PARAM callbacks,
+//! IO-Base's `PNIO_CBF_AR_CHECK_IND`, `PNIO_CBF_REC_READ/WRITE`, `PNIO_CBF_PRM_END_IND` and
+//! `PNIO_set_appl_state_ready`), as the control side keeps it: who checks new ARs, which
+//! subscriber took which submodule's records, the checks and record jobs waiting for their
+//! answers, and who holds the ApplicationReady.
 //!
-//! The defaults when nobody answers: the station answers the records nobody took itself
+//! The defaults when nobody answers: a new AR nobody checks, or whose check is not answered
+//! within [`AR_CHECK_TIMEOUT_MS`], is accepted; the station answers the records nobody took
+//! itself
 //! (its configured parameter records, "invalid index" otherwise); a job its taker leaves
 //! unanswered ends after [`STATION_RECORD_TIMEOUT_MS`] with "resource busy" to the PLC; a
 //! held ApplicationReady goes out after [`APP_READY_HOLD_TIMEOUT_MS`] (both in the engine).
@@ -12,7 +15,9 @@
 
 use procimg_profinet::device::SubslotAddr;
 use procimg_shm_layout::control::Refusal;
-use procimg_shm_layout::services::{APP_READY_HOLD_TIMEOUT_MS, STATION_RECORD_TIMEOUT_MS};
+use procimg_shm_layout::services::{
+    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, STATION_RECORD_TIMEOUT_MS,
+};
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::{Duration, Instant};
 
@@ -27,6 +32,10 @@ pub enum Order {
     Release,
     /// Answer a job that has no taker any more: "resource busy".
     Busy(u64),
+    /// Have new ARs checked by a client, or not.
+    Check(bool),
+    /// Accept an AR whose checker is gone.
+    Accept(u64),
 }
 
 /// How long a job is remembered after it was given out: its timeout in the engine and a
@@ -46,6 +55,10 @@ pub struct ApplicationSay {
     holders: BTreeSet<u64>,
     /// Holders that applied the parameters since the last PrmEnd.
     ready: BTreeSet<u64>,
+    /// The subscriber that checks new ARs.
+    checker: Option<u64>,
+    /// AR checks given out: to whom, and when.
+    checks: BTreeMap<u64, (u64, Instant)>,
 }
 
 impl ApplicationSay {
@@ -118,6 +131,53 @@ impl ApplicationSay {
         }
     }
 
+    /// `subscriber` checks new ARs (or stops); `name` names a subscriber for the refusal.
+    pub fn check(
+        &mut self,
+        subscriber: u64,
+        check: bool,
+        name: impl Fn(u64) -> String,
+    ) -> Result<Option<Order>, Refusal> {
+        match (self.checker, check) {
+            (Some(c), true) if c != subscriber => Err(Refusal::ArChecksTaken { by: name(c) }),
+            (Some(_), true) => Ok(None),
+            (None, true) => {
+                self.checker = Some(subscriber);
+                Ok(Some(Order::Check(true)))
+            }
+            (Some(c), false) if c == subscriber => {
+                self.checker = None;
+                Ok(Some(Order::Check(false)))
+            }
+            (_, false) => Ok(None),
+        }
+    }
+
+    /// An AR check of the engine: the subscriber it goes to, or the order to accept it when
+    /// nobody checks (any more).
+    pub fn ar_check(&mut self, job: u64, now: Instant) -> Result<u64, Order> {
+        self.checks
+            .retain(|_, (_, t)| now.duration_since(*t) < JOB_MEMORY);
+        match self.checker {
+            Some(c) => {
+                self.checks.insert(job, (c, now));
+                Ok(c)
+            }
+            None => Err(Order::Accept(job)),
+        }
+    }
+
+    /// `subscriber` answers AR check `job`: it must be the one the check went to.
+    pub fn answer_check(&mut self, subscriber: u64, job: u64) -> Result<(), Refusal> {
+        match self.checks.get(&job) {
+            Some((c, _)) if *c == subscriber => {
+                self.checks.remove(&job);
+                Ok(())
+            }
+            _ => Err(Refusal::StaleArCheck { job }),
+        }
+    }
+
     /// `subscriber` holds the ApplicationReady (or not).
     pub fn hold(&mut self, subscriber: u64, hold: bool) -> Vec<Order> {
         let before = !self.holders.is_empty();
@@ -154,6 +214,18 @@ impl ApplicationSay {
             .collect();
         self.owners.retain(|_, o| *o != subscriber);
         self.jobs.retain(|_, (o, _)| *o != subscriber);
+        if self.checker == Some(subscriber) {
+            self.checker = None;
+            orders.push(Order::Check(false));
+            // Its waiting checks: the ARs are accepted, as without a checker.
+            orders.extend(
+                self.checks
+                    .iter()
+                    .filter(|(_, (c, _))| *c == subscriber)
+                    .map(|(job, _)| Order::Accept(*job)),
+            );
+            self.checks.retain(|_, (c, _)| *c != subscriber);
+        }
         let before = !self.holders.is_empty();
         self.holders.remove(&subscriber);
         self.ready.remove(&subscriber);
@@ -189,6 +261,7 @@ const _: () = {
         procimg_profinet::device::APP_READY_HOLD_TIMEOUT_NS
             == APP_READY_HOLD_TIMEOUT_MS * 1_000_000
     );
+    assert!(procimg_profinet::device::AR_CHECK_TIMEOUT_NS == AR_CHECK_TIMEOUT_MS * 1_000_000);
 };
 
 #[cfg(test)]
@@ -251,6 +324,28 @@ mod tests {
         assert_eq!(s.job(2, SLOT1, then + JOB_MEMORY), Ok(1));
         assert_eq!(s.answer(1, 1), Err(Refusal::StaleRecordJob { job: 1 }));
         assert_eq!(s.answer(1, 2), Ok(()));
+    }
+
+    #[test]
+    fn one_subscriber_checks_new_ars_and_its_checks_are_accepted_when_it_goes() {
+        let mut s = say();
+        let name = |id: u64| format!("client {id}");
+        let now = Instant::now();
+        assert_eq!(s.ar_check(1, now), Err(Order::Accept(1)), "nobody checks");
+        assert_eq!(s.check(1, true, name), Ok(Some(Order::Check(true))));
+        assert_eq!(
+            s.check(2, true, name),
+            Err(Refusal::ArChecksTaken {
+                by: "client 1".into()
+            })
+        );
+        assert_eq!(s.ar_check(2, now), Ok(1));
+        assert_eq!(s.answer_check(2, 2), Err(Refusal::StaleArCheck { job: 2 }));
+        assert_eq!(s.answer_check(1, 2), Ok(()));
+        assert_eq!(s.answer_check(1, 2), Err(Refusal::StaleArCheck { job: 2 }));
+        assert_eq!(s.ar_check(3, now), Ok(1));
+        assert_eq!(s.forget(1), [Order::Check(false), Order::Accept(3)]);
+        assert_eq!(s.check(2, true, name), Ok(Some(Order::Check(true))));
     }
 
     #[test]

@@ -4,7 +4,9 @@
 
 use super::station::{StationEvent, state_name};
 use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::services::{Notification, StationRecordJob};
+use procimg_shm_layout::services::{
+    ExpectedSubmodule, Notification, StationArCheckJob, StationRecordJob,
+};
 
 /// Why an AR ended, when the PLC released it.
 pub const RELEASED: &str = "released by the PLC";
@@ -44,6 +46,32 @@ pub fn notification(event: StationEvent) -> Notification {
             gateway: identity.gateway.to_string(),
             permanent,
             factory_reset,
+        },
+        // Not for everyone: the services fill in the client that checks.
+        StationEvent::ArCheck(c) => Notification::StationArCheck {
+            reply_to: 0,
+            check: StationArCheckJob {
+                job: c.job,
+                ar_uuid: c.ar_uuid.to_string(),
+                ar_type: c.ar_type,
+                session_key: c.session_key,
+                controller_mac: c.controller_mac.to_string(),
+                controller_name: c.controller_name,
+                expected: c
+                    .expected
+                    .iter()
+                    .map(|e| ExpectedSubmodule {
+                        api: e.at.api,
+                        slot: e.at.slot,
+                        subslot: e.at.subslot,
+                        module_ident: e.module_ident,
+                        submodule_ident: e.submodule_ident,
+                        input_length: e.input_length,
+                        output_length: e.output_length,
+                        plugged: e.plugged.map(|p| (p.module_ident, p.submodule_ident)),
+                    })
+                    .collect(),
+            },
         },
         // Not for everyone: the services fill in the client that took the records.
         StationEvent::Record(r) => Notification::StationRecord {

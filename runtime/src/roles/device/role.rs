@@ -55,6 +55,18 @@ pub enum DeviceCommand {
         /// Where the outcome goes: `Err` when the job waits no more.
         reply: SyncSender<Result<(), String>>,
     },
+    /// Have new ARs checked by a client, or not.
+    CheckConnects(bool),
+    /// A client's answer to AR check `job`: accept, or refuse with ErrorCode1/2; the
+    /// outcome goes back on `reply`.
+    AnswerConnect {
+        /// The check.
+        job: u64,
+        /// The answer.
+        answer: Result<(), (u8, u8)>,
+        /// Where the outcome goes: `Err` when the check waits no more.
+        reply: SyncSender<Result<(), String>>,
+    },
     /// Hold the ApplicationReady after each PrmEnd, or not.
     HoldApplicationReady(bool),
     /// Let a held ApplicationReady go out.
@@ -172,6 +184,7 @@ impl DeviceRole {
                 DeviceAction::StartCyclic(ar) => Effect::Start(ar),
                 DeviceAction::StopCyclic { .. } => Effect::Stop { device: 0 },
                 DeviceAction::Record(r) => Effect::Event(StationEvent::Record(r)),
+                DeviceAction::ArCheck(c) => Effect::Event(StationEvent::ArCheck(c)),
             });
         }
         self.channel
@@ -290,6 +303,14 @@ impl Role for DeviceRole {
                 let r = self
                     .device
                     .answer_record(job, answer, &mut self.actions)
+                    .map_err(|e| e.to_string());
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::CheckConnects(on) => self.device.check_connects(on),
+            DeviceCommand::AnswerConnect { job, answer, reply } => {
+                let r = self
+                    .device
+                    .answer_connect(job, answer, now_ns, &mut self.actions)
                     .map_err(|e| e.to_string());
                 let _ = reply.try_send(r);
             }

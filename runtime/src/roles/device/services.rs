@@ -80,6 +80,14 @@ impl DeviceServices {
                     Err(order) => self.order(order),
                 }
             }
+            Notification::StationArCheck { check, .. } => {
+                match self.say.ar_check(check.job, Instant::now()) {
+                    Ok(reply_to) => {
+                        notices.publish(&Notification::StationArCheck { reply_to, check })
+                    }
+                    Err(order) => self.order(order),
+                }
+            }
             n => notices.publish(&n),
         }
     }
@@ -90,6 +98,16 @@ impl DeviceServices {
             Order::Records(at, to_client) => DeviceCommand::Records(at, to_client),
             Order::Hold(hold) => DeviceCommand::HoldApplicationReady(hold),
             Order::Release => DeviceCommand::ReleaseApplicationReady,
+            Order::Check(on) => DeviceCommand::CheckConnects(on),
+            Order::Accept(job) => {
+                // Nobody waits for the outcome: the check is the station's to end.
+                let (reply, _) = std::sync::mpsc::sync_channel(1);
+                DeviceCommand::AnswerConnect {
+                    job,
+                    answer: Ok(()),
+                    reply,
+                }
+            }
             Order::Busy(job) => {
                 // Nobody waits for the outcome: the job is the station's to end.
                 let (reply, _) = std::sync::mpsc::sync_channel(1);
@@ -124,6 +142,36 @@ impl DeviceServices {
             self.order(order);
         }
         Ok(())
+    }
+
+    fn check_ars(&mut self, subscriber: u64, check: bool) -> Result<(), Refusal> {
+        self.known(subscriber)?;
+        let subscribers = &self.subscribers;
+        let name = |id: u64| {
+            subscribers
+                .get(id)
+                .map_or_else(|| format!("{id:x}"), |s| s.name.clone())
+        };
+        if let Some(order) = self.say.check(subscriber, check, name)? {
+            self.order(order);
+        }
+        Ok(())
+    }
+
+    fn answer_ar_check(&mut self, subscriber: u64, job: u64, refuse: Option<(u8, u8)>) -> Response {
+        if let Err(r) = self.say.answer_check(subscriber, job) {
+            return Response::Refused(r);
+        }
+        let answer = refuse.map_or(Ok(()), Err);
+        match self.carry_out(|reply| DeviceCommand::AnswerConnect { job, answer, reply }) {
+            // The engine's timeout came first.
+            Response::Refused(Refusal::BadRequest { message })
+                if message.starts_with("AR check") =>
+            {
+                Response::Refused(Refusal::StaleArCheck { job })
+            }
+            r => r,
+        }
     }
 
     fn answer_record(
@@ -227,6 +275,14 @@ impl RoleServices for DeviceServices {
                 subslot,
                 own,
             } => done(self.own_records(subscriber, SubslotAddr::new(api, slot, subslot), own)),
+            Request::StationCheckArs { subscriber, check } => {
+                done(self.check_ars(subscriber, check))
+            }
+            Request::StationArCheckAnswer {
+                subscriber,
+                job,
+                refuse,
+            } => self.answer_ar_check(subscriber, job, refuse),
             Request::StationRecordAnswer {
                 subscriber,
                 job,

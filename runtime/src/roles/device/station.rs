@@ -5,7 +5,7 @@
 use super::identity::Identity;
 use crate::config::StationConfig;
 use procimg_profinet::device::{
-    Application, ArState, Device, DeviceSetup, ParameterRecord, RecordRequest, SubslotAddr,
+    Application, ArCheck, ArState, Device, DeviceSetup, ParameterRecord, RecordRequest, SubslotAddr,
 };
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
@@ -62,6 +62,8 @@ pub enum StationEvent {
     },
     /// The PLC reads or writes a record whose submodule's records a client took.
     Record(RecordRequest),
+    /// A PLC connects and a client checks new ARs.
+    ArCheck(ArCheck),
 }
 
 /// The station as the status report shows it.
@@ -155,6 +157,13 @@ impl Station {
             StationEvent::Blink => {
                 tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
             }
+            StationEvent::ArCheck(c) => tracing::debug!(
+                "AR check {}: PLC {} ({}) connects AR {}",
+                c.job,
+                c.controller_mac,
+                c.controller_name,
+                c.ar_uuid
+            ),
             StationEvent::Record(j) => tracing::debug!(
                 "record job {}: the PLC {} record {:#06x} of slot {} subslot {:#06x}",
                 j.job,

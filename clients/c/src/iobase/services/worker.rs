@@ -115,7 +115,8 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::StationPlcRunning { .. }
         | Notification::StationBlink
         | Notification::StationIdentity { .. }
-        | Notification::StationRecord { .. } => {}
+        | Notification::StationRecord { .. }
+        | Notification::StationArCheck { .. } => {}
     }
 }
 
