@@ -771,6 +771,8 @@ impl DeviceBench {
                     self.jobs.push(job.job);
                 }
                 DeviceAction::ArCheck(check) => self.checks.push(check.job),
+                // DCP Sets are not checked here.
+                DeviceAction::DcpSetCheck(_) => {}
             }
         }
         // A poll does what is due: what it leaves is due later (else its caller would spin).

@@ -105,7 +105,8 @@
 //!                 DeviceAction::StartCyclic(_)
 //!                 | DeviceAction::StopCyclic { .. }
 //!                 | DeviceAction::Record(_)
-//!                 | DeviceAction::ArCheck(_) => {}
+//!                 | DeviceAction::ArCheck(_)
+//!                 | DeviceAction::DcpSetCheck(_) => {}
 //!             }
 //!         }
 //!     }

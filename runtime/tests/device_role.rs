@@ -421,6 +421,83 @@ fn a_device_call_on_a_controller_is_an_error() {
     assert!(e.to_string().contains("IO controller"), "{e}");
 }
 
+#[test]
+#[ignore = "needs root: network namespaces, veth, AF_PACKET"]
+fn a_device_program_vetoes_a_dcp_name_change_and_allows_the_next() {
+    let net = TestNet::new("dk", true);
+    for (i, ip) in [(0, "10.47.0.1/24"), (1, "10.47.0.50/24")] {
+        procimg_testkit::netns::ip(&["-n", &net.ns[i], "addr", "add", ip, "dev", &net.ifs[i]]);
+    }
+    let dir = procimg_testkit::files::temp_dir("device-role-dcp-veto");
+    let device_toml = DEVICE_TOML
+        .replace("IFACE", &net.ifs[1])
+        .replace("STATE", &dir.join("station.toml").display().to_string());
+    let device = Launch::config("dkd", &device_toml)
+        .netns(&net.ns[1])
+        .until_cycling()
+        .start();
+    let mut services =
+        Services::open(&device.instance, ServiceOptions::new("dk-veto")).expect("services");
+    services.verify_dcp_sets(true).expect("verify DCP");
+    let mac = device.status().station.expect("a station").mac;
+    let procimg = procimg_testkit::workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
+    // The engineering tool names the station; it waits for the DCP response meanwhile.
+    let set_name = |name: &str| {
+        std::process::Command::new("ip")
+            .args(["netns", "exec", &net.ns[0]])
+            .arg(&procimg)
+            .args(["dcp", "--iface", &net.ifs[0], "set-name", &mac, name])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("procimg dcp set-name")
+    };
+    let next_check = |services: &mut Services| {
+        let until = Instant::now() + BRING_UP;
+        while Instant::now() < until {
+            if let Some(Notification::StationDcpSetCheck { check, .. }) =
+                services.next(Duration::from_millis(20))
+            {
+                return check;
+            }
+        }
+        panic!("no DCP Set check within 30 s");
+    };
+    let tool = set_name("vetoed-name");
+    let check = next_check(&mut services);
+    assert_eq!(
+        (check.name.as_deref(), check.ip_suite.clone(), check.reset),
+        (Some("vetoed-name"), None, false)
+    );
+    // Answered within the station's 500 ms unless the machine stalls; then the Set went
+    // ahead and the answer is stale, which the test tells apart below.
+    let vetoed = services.answer_dcp_set(&check, false);
+    let out = tool.wait_with_output().expect("the tool's end");
+    match vetoed {
+        Ok(()) => {
+            assert!(!out.status.success(), "a vetoed name was set");
+            assert_eq!(
+                device.status().station.map(|s| s.name),
+                Some("fresh-device".into())
+            );
+        }
+        Err(e) => assert!(
+            matches!(e, ControlError::Refused(Refusal::StaleDcpCheck { .. })),
+            "{e}"
+        ),
+    }
+    let tool = set_name("allowed-name");
+    let check = next_check(&mut services);
+    let _ = services.answer_dcp_set(&check, true);
+    let out = tool.wait_with_output().expect("the tool's end");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    wait_station_name(&device, "allowed-name");
+}
+
 /// The station both sides describe: the access point, 8 bytes each way in slot 1 with a
 /// parameter record, 4 input bytes in slot 2.
 const DEVICE_TOML: &str = r#"

@@ -101,7 +101,8 @@ impl Wire {
                 DeviceAction::StartCyclic(_)
                 | DeviceAction::StopCyclic { .. }
                 | DeviceAction::Record(_)
-                | DeviceAction::ArCheck(_) => {}
+                | DeviceAction::ArCheck(_)
+                | DeviceAction::DcpSetCheck(_) => {}
             }
         }
         std::mem::take(out)

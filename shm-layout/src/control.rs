@@ -238,6 +238,28 @@ pub enum Request {
         #[serde(default)]
         refuse: Option<(u8, u8)>,
     },
+    /// In the device role: check DCP's changes of the station's name and address (and its
+    /// reset to factory), or stop. A DCP Set then waits for this subscriber's
+    /// [`Request::StationDcpSetAnswer`] to a
+    /// [`Notification::StationDcpSetCheck`](crate::services::Notification::StationDcpSetCheck),
+    /// at most [`DCP_SET_CHECK_TIMEOUT_MS`](crate::services::DCP_SET_CHECK_TIMEOUT_MS), after
+    /// which it is carried out. One subscriber at a time checks.
+    StationVerifyDcp {
+        /// The subscriber's id.
+        subscriber: u64,
+        /// Check (`true`) or stop.
+        verify: bool,
+    },
+    /// In the device role: allow a DCP Set of the station's name or address, or veto it (the
+    /// DCP client gets "SET not possible").
+    StationDcpSetAnswer {
+        /// The subscriber's id (the one the check went to).
+        subscriber: u64,
+        /// The check.
+        job: u64,
+        /// Allow (`true`) or veto.
+        allow: bool,
+    },
     /// In the device role: the answer to a record job.
     StationRecordAnswer {
         /// The subscriber's id (the one the job went to).
@@ -474,6 +496,16 @@ pub enum Refusal {
         /// The name of the subscriber that checks them.
         by: String,
     },
+    /// Another subscriber checks DCP's changes of the station.
+    DcpChecksTaken {
+        /// The name of the subscriber that checks them.
+        by: String,
+    },
+    /// No DCP Set check of this number waits for this subscriber's answer.
+    StaleDcpCheck {
+        /// The check.
+        job: u64,
+    },
     /// No AR check of this number waits for this subscriber's answer.
     StaleArCheck {
         /// The check.
@@ -596,6 +628,16 @@ impl core::fmt::Display for Refusal {
                 f,
                 "subscriber \"{by}\" checks the station's new ARs; it stops when it unsubscribes \
                  or ends"
+            ),
+            Refusal::DcpChecksTaken { by } => write!(
+                f,
+                "subscriber \"{by}\" checks DCP's changes of the station; it stops when it \
+                 unsubscribes or ends"
+            ),
+            Refusal::StaleDcpCheck { job } => write!(
+                f,
+                "DCP Set check {job} waits for no answer from this subscriber: it was answered, \
+                 it timed out (the Set was then carried out) or it is another's"
             ),
             Refusal::StaleArCheck { job } => write!(
                 f,

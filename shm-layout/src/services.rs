@@ -305,6 +305,16 @@ pub enum Notification {
         /// The new AR.
         check: StationArCheckJob,
     },
+    /// Device role: a DCP Set gives the station a name or address, or resets it (GOAL's
+    /// STATION_NAME_VERIFY, NET_IP_SET_VERIFY): the subscriber that checks DCP's changes
+    /// ([`crate::control::Request::StationVerifyDcp`]) allows or vetoes it with
+    /// [`crate::control::Request::StationDcpSetAnswer`] within [`DCP_SET_CHECK_TIMEOUT_MS`].
+    StationDcpSetCheck {
+        /// The subscriber that checks.
+        reply_to: u64,
+        /// The change.
+        check: StationDcpSetJob,
+    },
 }
 
 impl Notification {
@@ -314,7 +324,8 @@ impl Notification {
             Notification::Record { reply_to, .. }
             | Notification::Activation { reply_to, .. }
             | Notification::StationRecord { reply_to, .. }
-            | Notification::StationArCheck { reply_to, .. } => Some(*reply_to),
+            | Notification::StationArCheck { reply_to, .. }
+            | Notification::StationDcpSetCheck { reply_to, .. } => Some(*reply_to),
             _ => None,
         }
     }
@@ -413,6 +424,29 @@ pub const STATION_RECORD_TIMEOUT_MS: u64 = 2000;
 /// How long a PLC's Connect waits for the checking subscriber's answer before the station
 /// accepts the AR.
 pub const AR_CHECK_TIMEOUT_MS: u64 = 2000;
+
+/// How long a DCP Set of the station waits for the checking subscriber's verdict before it
+/// is carried out: a DCP client waits about a second for its response.
+pub const DCP_SET_CHECK_TIMEOUT_MS: u64 = 500;
+
+/// A DCP Set of the station's name or address, for the subscriber that checks them.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StationDcpSetJob {
+    /// The check, named in the answer.
+    pub job: u64,
+    /// The DCP client's MAC address.
+    pub from: String,
+    /// The new NameOfStation, if the Set gives one.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The new IP address, subnet mask and gateway, if the Set gives them.
+    #[serde(default)]
+    pub ip_suite: Option<[String; 3]>,
+    /// To be kept across a restart.
+    pub permanent: bool,
+    /// A reset to factory (no name, no address).
+    pub reset: bool,
+}
 
 /// A new AR for the subscriber that checks ARs.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]

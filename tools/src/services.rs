@@ -231,6 +231,18 @@ fn describe(n: &Notification) -> String {
         ),
         // Only the subscriber that took the records gets these, and `procimg events` takes
         // none.
+        Notification::StationDcpSetCheck { check, .. } => format!(
+            "station: DCP client {} sets name {:?}, address {:?}{} (check {})",
+            check.from,
+            check.name,
+            check.ip_suite,
+            if check.reset {
+                ", reset to factory"
+            } else {
+                ""
+            },
+            check.job
+        ),
         Notification::StationArCheck { check, .. } => format!(
             "station: PLC {} ({}) connects AR {} (check {})",
             check.controller_mac, check.controller_name, check.ar_uuid, check.job

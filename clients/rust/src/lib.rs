@@ -58,9 +58,10 @@ pub use procimg_shm_layout::control::{
     ForceReport, Refusal, StationReport, StatusReport,
 };
 pub use procimg_shm_layout::services::{
-    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport,
-    ExpectedSubmodule, FailureCause, Notification, RecordConfirmation, RecordStatus, RecordTarget,
-    STATION_RECORD_TIMEOUT_MS, StationArCheckJob, StationRecordJob, SubmoduleDiff,
+    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DCP_SET_CHECK_TIMEOUT_MS,
+    DeviceDiagnosis, DiagnosisReport, ExpectedSubmodule, FailureCause, Notification,
+    RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS, StationArCheckJob,
+    StationDcpSetJob, StationRecordJob, SubmoduleDiff,
 };
 pub use procimg_shm_layout::{CycleInfo, Mode};
 pub use services::{RecordError, ServiceOptions, Services};

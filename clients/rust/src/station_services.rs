@@ -29,7 +29,7 @@
 use crate::services::Services;
 use crate::{ControlError, DEFAULT_CONTROL_TIMEOUT};
 use procimg_shm_layout::control::{Request, Response};
-use procimg_shm_layout::services::{StationArCheckJob, StationRecordJob};
+use procimg_shm_layout::services::{StationArCheckJob, StationDcpSetJob, StationRecordJob};
 
 /// The Connect error (ErrorCode1 CMRPC, ErrorCode2 "out of AR resources") a device gives
 /// when it cannot take an AR now.
@@ -161,6 +161,33 @@ impl Services {
             subscriber: self.id(),
             job: check.job,
             refuse: answer.err(),
+        })
+    }
+
+    /// Checks DCP's changes of the station's name and address (and its reset to factory)
+    /// from now on (`true`) or not: a DCP Set then waits for this handle's
+    /// [`answer_dcp_set`](Self::answer_dcp_set) to a
+    /// [`Notification::StationDcpSetCheck`](crate::Notification::StationDcpSetCheck), at most
+    /// [`DCP_SET_CHECK_TIMEOUT_MS`](crate::DCP_SET_CHECK_TIMEOUT_MS) (then it is carried
+    /// out). One handle at a time checks.
+    pub fn verify_dcp_sets(&self, verify: bool) -> Result<(), ControlError> {
+        self.station_request(&Request::StationVerifyDcp {
+            subscriber: self.id(),
+            verify,
+        })
+    }
+
+    /// Allows (`true`) or vetoes the DCP Set of `check` (the DCP client gets "SET not
+    /// possible" and the station keeps its name and address).
+    pub fn answer_dcp_set(
+        &self,
+        check: &StationDcpSetJob,
+        allow: bool,
+    ) -> Result<(), ControlError> {
+        self.station_request(&Request::StationDcpSetAnswer {
+            subscriber: self.id(),
+            job: check.job,
+            allow,
         })
     }
 

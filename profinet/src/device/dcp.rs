@@ -4,6 +4,7 @@
 //! and NameOfStation, Signal, start/stop transaction and reset to factory; and the Hello
 //! request a device may send at start-up.
 
+use super::dcp_check::{DcpChecks, Hold};
 use super::{DeviceAction, ethernet_frame};
 use crate::wire::MacAddress;
 use crate::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType, block_error, code};
@@ -84,6 +85,7 @@ impl Responder {
     pub(super) fn on_pdu(
         &mut self,
         id: &mut Identity,
+        checks: &mut DcpChecks,
         dst: MacAddress,
         src: MacAddress,
         pdu: &[u8],
@@ -126,23 +128,24 @@ impl Responder {
                 Changes::default()
             }
             (dcp::FRAME_ID_GET_SET, ServiceId::Set) if to_us => {
-                let mut changes = Changes::default();
-                let blocks = req
-                    .blocks
-                    .iter()
-                    .map(|b| {
-                        let (option, suboption) = b.value.code();
-                        let error = set(id, b, &mut changes);
-                        Block::bare(BlockRepr::ControlResponse {
-                            option,
-                            suboption,
-                            error,
-                        })
-                    })
-                    .collect();
-                let res = response(&req, dcp::FRAME_ID_GET_SET, blocks);
-                out.extend(frame(id.mac, src, &res).map(DeviceAction::Frame));
-                changes
+                match checks.hold(src, &req, now_ns) {
+                    Hold::GoAhead => answer_set(id, src, &req, true, out),
+                    Hold::Wait(check) => {
+                        out.push(DeviceAction::DcpSetCheck(check));
+                        Changes::default()
+                    }
+                    Hold::Repeat => Changes::default(),
+                    Hold::Busy => {
+                        let blocks = req
+                            .blocks
+                            .iter()
+                            .map(|b| control_response(b, block_error::RESOURCE_ERROR))
+                            .collect();
+                        let res = response(&req, dcp::FRAME_ID_GET_SET, blocks);
+                        out.extend(frame(id.mac, src, &res).map(DeviceAction::Frame));
+                        Changes::default()
+                    }
+                }
             }
             _ => Changes::default(),
         }
@@ -309,6 +312,53 @@ fn unsupported(option: u8) -> u8 {
     } else {
         block_error::OPTION_UNSUPPORTED
     }
+}
+
+/// Carries out Set request `req` from `src` and answers it; with `allow` false its name,
+/// address and reset blocks are refused ("SET not possible") and leave the station alone.
+/// Returns what changed.
+pub(super) fn answer_set(
+    id: &mut Identity,
+    src: MacAddress,
+    req: &dcp::Repr,
+    allow: bool,
+    out: &mut Vec<DeviceAction>,
+) -> Changes {
+    let mut changes = Changes::default();
+    let blocks = req
+        .blocks
+        .iter()
+        .map(|b| {
+            let vetoed = !allow
+                && matches!(
+                    b.value,
+                    BlockRepr::NameOfStation(_)
+                        | BlockRepr::IpParameter { .. }
+                        | BlockRepr::FullIpSuite { .. }
+                        | BlockRepr::ResetToFactory(_)
+                        | BlockRepr::FactoryReset(_)
+                );
+            let error = if vetoed {
+                block_error::SET_NOT_POSSIBLE
+            } else {
+                set(id, b, &mut changes)
+            };
+            control_response(b, error)
+        })
+        .collect();
+    let res = response(req, dcp::FRAME_ID_GET_SET, blocks);
+    out.extend(frame(id.mac, src, &res).map(DeviceAction::Frame));
+    changes
+}
+
+/// The ControlResponse block answering Set block `b` with `error`.
+fn control_response(b: &Block, error: u8) -> Block {
+    let (option, suboption) = b.value.code();
+    Block::bare(BlockRepr::ControlResponse {
+        option,
+        suboption,
+        error,
+    })
 }
 
 /// Applies one Set block; returns its BlockError.

@@ -58,6 +58,7 @@ mod cm;
 mod connect;
 mod cyclic;
 mod dcp;
+mod dcp_check;
 pub mod diagnosis;
 mod handover;
 #[cfg(test)]
@@ -87,6 +88,7 @@ pub use app_records::{
 pub use application::Application;
 use ar::Ar;
 pub use ar_check::{AR_CHECK_TIMEOUT_NS, ArCheck, ExpectedAt, UnknownArCheck};
+pub use dcp_check::{DCP_SET_CHECK_TIMEOUT_NS, DcpSetCheck, UnknownDcpSetCheck};
 pub use diagnosis::{
     ChannelDiag, DiagEntry, DiagKey, DiagnosisError, DiagnosisStore, GenericDiag, Severity,
     SubslotAddr,
@@ -164,6 +166,9 @@ pub enum DeviceAction {
     /// A new AR for the application to accept or refuse (only with
     /// [`Device::check_connects`]); answer with [`Device::answer_connect`].
     ArCheck(ArCheck),
+    /// A DCP Set of the station's name or address for the application to allow or veto
+    /// (only with [`Device::verify_dcp_sets`]); answer with [`Device::answer_dcp_set`].
+    DcpSetCheck(DcpSetCheck),
 }
 
 /// The identity a device keeps across a restart, as DCP set it.
@@ -256,6 +261,8 @@ pub struct Device<A> {
     app_ready_hold_timeouts: u64,
     /// The application's checks of new ARs.
     ar_checks: ar_check::ArChecks,
+    /// The application's checks of DCP's changes.
+    dcp_checks: dcp_check::DcpChecks,
 }
 
 impl<A: Application> Device<A> {
@@ -306,6 +313,7 @@ impl<A: Application> Device<A> {
             hold_app_ready: false,
             app_ready_hold_timeouts: 0,
             ar_checks: ar_check::ArChecks::default(),
+            dcp_checks: dcp_check::DcpChecks::default(),
         };
         device.set_lldp(true);
         device
@@ -501,7 +509,15 @@ impl<A: Application> Device<A> {
         let frame_id = u16::from_be_bytes([hi, lo]);
         match FrameIdClass::of(frame_id) {
             FrameIdClass::Dcp if dcp::is_request_frame_id(frame_id) => {
-                let changes = self.dcp.on_pdu(&mut self.id, dst, src, pdu, now_ns, out);
+                let changes = self.dcp.on_pdu(
+                    &mut self.id,
+                    &mut self.dcp_checks,
+                    dst,
+                    src,
+                    pdu,
+                    now_ns,
+                    out,
+                );
                 self.after_dcp(changes, out);
             }
             FrameIdClass::AlarmHigh | FrameIdClass::AlarmLow if dst == mac => {
@@ -680,6 +696,7 @@ impl<A: Application> Device<A> {
         self.dcp.poll(now_ns, out);
         self.expire_record_jobs(now_ns, out);
         self.expire_ar_check(now_ns, out);
+        self.expire_dcp_check(now_ns, out);
         self.expire_app_ready_hold(now_ns);
         if std::mem::take(&mut self.hello_due) {
             out.extend(dcp::hello_frame(&self.id).map(DeviceAction::Frame));
@@ -762,6 +779,7 @@ impl<A: Application> Device<A> {
             self.ar.as_ref().and_then(Ar::deadline),
             self.waiting.deadline(),
             self.ar_checks.deadline(),
+            self.dcp_checks.held.as_ref().map(|h| h.deadline),
         ]
         .into_iter()
         .flatten()

@@ -196,6 +196,8 @@ impl Control {
             | Request::StationProcessAlarm { .. }
             | Request::StationOwnRecords { .. }
             | Request::StationCheckArs { .. }
+            | Request::StationVerifyDcp { .. }
+            | Request::StationDcpSetAnswer { .. }
             | Request::StationArCheckAnswer { .. }
             | Request::StationRecordAnswer { .. }
             | Request::StationHoldApplicationReady { .. }

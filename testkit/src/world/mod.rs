@@ -508,7 +508,8 @@ impl<A: Application, P: Port> World<A, P> {
                 DeviceAction::StartCyclic(_)
                 | DeviceAction::StopCyclic { .. }
                 | DeviceAction::Record(_)
-                | DeviceAction::ArCheck(_) => {}
+                | DeviceAction::ArCheck(_)
+                | DeviceAction::DcpSetCheck(_) => {}
             }
         }
         answers

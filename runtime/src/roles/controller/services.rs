@@ -593,6 +593,8 @@ impl RoleServices for ControllerServices {
             | Request::StationProcessAlarm { .. }
             | Request::StationOwnRecords { .. }
             | Request::StationCheckArs { .. }
+            | Request::StationVerifyDcp { .. }
+            | Request::StationDcpSetAnswer { .. }
             | Request::StationArCheckAnswer { .. }
             | Request::StationRecordAnswer { .. }
             | Request::StationHoldApplicationReady { .. }

@@ -152,7 +152,8 @@ fn deliver(
             DeviceAction::StartCyclic(_)
             | DeviceAction::StopCyclic { .. }
             | DeviceAction::Record(_)
-            | DeviceAction::ArCheck(_) => {}
+            | DeviceAction::ArCheck(_)
+            | DeviceAction::DcpSetCheck(_) => {}
         }
     }
 }

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The clients' say in the PLC's AR (GOAL's NEW_AR, record and END_OF_PARAM callbacks,
 //! IO-Base's `PNIO_CBF_AR_CHECK_IND`, `PNIO_CBF_REC_READ/WRITE`, `PNIO_CBF_PRM_END_IND` and
-//! `PNIO_set_appl_state_ready`), as the control side keeps it: who checks new ARs, which
+//! `PNIO_set_appl_state_ready`; GOAL's STATION_NAME_VERIFY and NET_IP_SET_VERIFY), as the
+//! control side keeps it: who checks new ARs and DCP's changes, which
 //! subscriber took which submodule's records, the checks and record jobs waiting for their
 //! answers, and who holds the ApplicationReady.
 //!
 //! The defaults when nobody answers: a new AR nobody checks, or whose check is not answered
-//! within [`AR_CHECK_TIMEOUT_MS`], is accepted; the station answers the records nobody took
+//! within [`AR_CHECK_TIMEOUT_MS`], is accepted; a DCP Set likewise is carried out (after
+//! [`DCP_SET_CHECK_TIMEOUT_MS`]); the station answers the records nobody took
 //! itself
 //! (its configured parameter records, "invalid index" otherwise); a job its taker leaves
 //! unanswered ends after [`STATION_RECORD_TIMEOUT_MS`] with "resource busy" to the PLC; a
@@ -16,7 +18,8 @@
 use procimg_profinet::device::SubslotAddr;
 use procimg_shm_layout::control::Refusal;
 use procimg_shm_layout::services::{
-    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, STATION_RECORD_TIMEOUT_MS,
+    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, DCP_SET_CHECK_TIMEOUT_MS,
+    STATION_RECORD_TIMEOUT_MS,
 };
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::{Duration, Instant};
@@ -36,6 +39,10 @@ pub enum Order {
     Check(bool),
     /// Accept an AR whose checker is gone.
     Accept(u64),
+    /// Have DCP's changes checked by a client, or not.
+    VerifyDcp(bool),
+    /// Allow a DCP Set whose checker is gone.
+    AllowDcp(u64),
 }
 
 /// How long a job is remembered after it was given out: its timeout in the engine and a
@@ -55,10 +62,71 @@ pub struct ApplicationSay {
     holders: BTreeSet<u64>,
     /// Holders that applied the parameters since the last PrmEnd.
     ready: BTreeSet<u64>,
-    /// The subscriber that checks new ARs.
-    checker: Option<u64>,
-    /// AR checks given out: to whom, and when.
-    checks: BTreeMap<u64, (u64, Instant)>,
+    /// Who checks new ARs, and the checks given out.
+    ars: Checker,
+    /// Who checks DCP's changes, and the checks given out.
+    dcp: Checker,
+}
+
+/// One subscriber that checks something, and the checks it was given: to whom, and when.
+#[derive(Debug, Default)]
+struct Checker {
+    by: Option<u64>,
+    given: BTreeMap<u64, (u64, Instant)>,
+}
+
+impl Checker {
+    /// `subscriber` checks (or stops): `Ok(Some(on))` when that changes, `Err(holder)` when
+    /// another one checks.
+    fn take(&mut self, subscriber: u64, on: bool) -> Result<Option<bool>, u64> {
+        match (self.by, on) {
+            (Some(c), true) if c != subscriber => Err(c),
+            (Some(_), true) => Ok(None),
+            (None, true) => {
+                self.by = Some(subscriber);
+                Ok(Some(true))
+            }
+            (Some(c), false) if c == subscriber => {
+                self.by = None;
+                Ok(Some(false))
+            }
+            (_, false) => Ok(None),
+        }
+    }
+
+    /// Check `job`: the subscriber it goes to, if one checks.
+    fn give(&mut self, job: u64, now: Instant) -> Option<u64> {
+        self.given
+            .retain(|_, (_, t)| now.duration_since(*t) < JOB_MEMORY);
+        let c = self.by?;
+        self.given.insert(job, (c, now));
+        Some(c)
+    }
+
+    /// Whether `subscriber` may answer `job` (it is then answered).
+    fn answer(&mut self, subscriber: u64, job: u64) -> bool {
+        let mine = self.given.get(&job).is_some_and(|(c, _)| *c == subscriber);
+        if mine {
+            self.given.remove(&job);
+        }
+        mine
+    }
+
+    /// `subscriber` is gone: whether it was the checker, and its open checks.
+    fn forget(&mut self, subscriber: u64) -> (bool, Vec<u64>) {
+        let was = self.by == Some(subscriber);
+        if was {
+            self.by = None;
+        }
+        let open = self
+            .given
+            .iter()
+            .filter(|(_, (c, _))| *c == subscriber)
+            .map(|(j, _)| *j)
+            .collect();
+        self.given.retain(|_, (c, _)| *c != subscriber);
+        (was, open)
+    }
 }
 
 impl ApplicationSay {
@@ -138,43 +206,51 @@ impl ApplicationSay {
         check: bool,
         name: impl Fn(u64) -> String,
     ) -> Result<Option<Order>, Refusal> {
-        match (self.checker, check) {
-            (Some(c), true) if c != subscriber => Err(Refusal::ArChecksTaken { by: name(c) }),
-            (Some(_), true) => Ok(None),
-            (None, true) => {
-                self.checker = Some(subscriber);
-                Ok(Some(Order::Check(true)))
-            }
-            (Some(c), false) if c == subscriber => {
-                self.checker = None;
-                Ok(Some(Order::Check(false)))
-            }
-            (_, false) => Ok(None),
-        }
+        self.ars
+            .take(subscriber, check)
+            .map(|c| c.map(Order::Check))
+            .map_err(|c| Refusal::ArChecksTaken { by: name(c) })
     }
 
     /// An AR check of the engine: the subscriber it goes to, or the order to accept it when
     /// nobody checks (any more).
     pub fn ar_check(&mut self, job: u64, now: Instant) -> Result<u64, Order> {
-        self.checks
-            .retain(|_, (_, t)| now.duration_since(*t) < JOB_MEMORY);
-        match self.checker {
-            Some(c) => {
-                self.checks.insert(job, (c, now));
-                Ok(c)
-            }
-            None => Err(Order::Accept(job)),
-        }
+        self.ars.give(job, now).ok_or(Order::Accept(job))
     }
 
     /// `subscriber` answers AR check `job`: it must be the one the check went to.
     pub fn answer_check(&mut self, subscriber: u64, job: u64) -> Result<(), Refusal> {
-        match self.checks.get(&job) {
-            Some((c, _)) if *c == subscriber => {
-                self.checks.remove(&job);
-                Ok(())
-            }
-            _ => Err(Refusal::StaleArCheck { job }),
+        if self.ars.answer(subscriber, job) {
+            Ok(())
+        } else {
+            Err(Refusal::StaleArCheck { job })
+        }
+    }
+
+    /// `subscriber` checks DCP's changes of the station (or stops).
+    pub fn verify_dcp(
+        &mut self,
+        subscriber: u64,
+        verify: bool,
+        name: impl Fn(u64) -> String,
+    ) -> Result<Option<Order>, Refusal> {
+        self.dcp
+            .take(subscriber, verify)
+            .map(|c| c.map(Order::VerifyDcp))
+            .map_err(|c| Refusal::DcpChecksTaken { by: name(c) })
+    }
+
+    /// A DCP Set check of the engine: the subscriber it goes to, or the order to allow it.
+    pub fn dcp_check(&mut self, job: u64, now: Instant) -> Result<u64, Order> {
+        self.dcp.give(job, now).ok_or(Order::AllowDcp(job))
+    }
+
+    /// `subscriber` answers DCP Set check `job`.
+    pub fn answer_dcp(&mut self, subscriber: u64, job: u64) -> Result<(), Refusal> {
+        if self.dcp.answer(subscriber, job) {
+            Ok(())
+        } else {
+            Err(Refusal::StaleDcpCheck { job })
         }
     }
 
@@ -214,18 +290,17 @@ impl ApplicationSay {
             .collect();
         self.owners.retain(|_, o| *o != subscriber);
         self.jobs.retain(|_, (o, _)| *o != subscriber);
-        if self.checker == Some(subscriber) {
-            self.checker = None;
+        // Its open checks are decided as without a checker: the AR accepted, the Set allowed.
+        let (was, open) = self.ars.forget(subscriber);
+        if was {
             orders.push(Order::Check(false));
-            // Its waiting checks: the ARs are accepted, as without a checker.
-            orders.extend(
-                self.checks
-                    .iter()
-                    .filter(|(_, (c, _))| *c == subscriber)
-                    .map(|(job, _)| Order::Accept(*job)),
-            );
-            self.checks.retain(|_, (c, _)| *c != subscriber);
         }
+        orders.extend(open.into_iter().map(Order::Accept));
+        let (was, open) = self.dcp.forget(subscriber);
+        if was {
+            orders.push(Order::VerifyDcp(false));
+        }
+        orders.extend(open.into_iter().map(Order::AllowDcp));
         let before = !self.holders.is_empty();
         self.holders.remove(&subscriber);
         self.ready.remove(&subscriber);
@@ -262,6 +337,9 @@ const _: () = {
             == APP_READY_HOLD_TIMEOUT_MS * 1_000_000
     );
     assert!(procimg_profinet::device::AR_CHECK_TIMEOUT_NS == AR_CHECK_TIMEOUT_MS * 1_000_000);
+    assert!(
+        procimg_profinet::device::DCP_SET_CHECK_TIMEOUT_NS == DCP_SET_CHECK_TIMEOUT_MS * 1_000_000
+    );
 };
 
 #[cfg(test)]
@@ -346,6 +424,29 @@ mod tests {
         assert_eq!(s.ar_check(3, now), Ok(1));
         assert_eq!(s.forget(1), [Order::Check(false), Order::Accept(3)]);
         assert_eq!(s.check(2, true, name), Ok(Some(Order::Check(true))));
+    }
+
+    #[test]
+    fn one_subscriber_checks_dcps_changes_and_its_checks_are_allowed_when_it_goes() {
+        let mut s = say();
+        let name = |id: u64| format!("client {id}");
+        let now = Instant::now();
+        assert_eq!(s.dcp_check(1, now), Err(Order::AllowDcp(1)));
+        assert_eq!(
+            s.verify_dcp(1, true, name),
+            Ok(Some(Order::VerifyDcp(true)))
+        );
+        assert_eq!(
+            s.verify_dcp(2, true, name),
+            Err(Refusal::DcpChecksTaken {
+                by: "client 1".into()
+            })
+        );
+        assert_eq!(s.dcp_check(2, now), Ok(1));
+        assert_eq!(s.answer_dcp(2, 2), Err(Refusal::StaleDcpCheck { job: 2 }));
+        assert_eq!(s.answer_dcp(1, 2), Ok(()));
+        assert_eq!(s.dcp_check(3, now), Ok(1));
+        assert_eq!(s.forget(1), [Order::VerifyDcp(false), Order::AllowDcp(3)]);
     }
 
     #[test]

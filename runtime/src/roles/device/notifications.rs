@@ -5,7 +5,7 @@
 use super::station::{StationEvent, state_name};
 use procimg_profinet::wire::rta_pdu::AbortCode;
 use procimg_shm_layout::services::{
-    ExpectedSubmodule, Notification, StationArCheckJob, StationRecordJob,
+    ExpectedSubmodule, Notification, StationArCheckJob, StationDcpSetJob, StationRecordJob,
 };
 
 /// Why an AR ended, when the PLC released it.
@@ -48,6 +48,19 @@ pub fn notification(event: StationEvent) -> Notification {
             factory_reset,
         },
         // Not for everyone: the services fill in the client that checks.
+        StationEvent::DcpSetCheck(c) => Notification::StationDcpSetCheck {
+            reply_to: 0,
+            check: StationDcpSetJob {
+                job: c.job,
+                from: c.from.to_string(),
+                name: c.name,
+                ip_suite: c
+                    .ip_suite
+                    .map(|s| s.map(|a| std::net::Ipv4Addr::from(a).to_string())),
+                permanent: c.permanent,
+                reset: c.reset,
+            },
+        },
         StationEvent::ArCheck(c) => Notification::StationArCheck {
             reply_to: 0,
             check: StationArCheckJob {

@@ -67,6 +67,17 @@ pub enum DeviceCommand {
         /// Where the outcome goes: `Err` when the check waits no more.
         reply: SyncSender<Result<(), String>>,
     },
+    /// Have DCP's changes of the station checked by a client, or not.
+    VerifyDcpSets(bool),
+    /// A client's verdict on DCP Set check `job`; the outcome goes back on `reply`.
+    AnswerDcpSet {
+        /// The check.
+        job: u64,
+        /// Allow (`true`) or veto.
+        allow: bool,
+        /// Where the outcome goes: `Err` when the check waits no more.
+        reply: SyncSender<Result<(), String>>,
+    },
     /// Hold the ApplicationReady after each PrmEnd, or not.
     HoldApplicationReady(bool),
     /// Let a held ApplicationReady go out.
@@ -185,6 +196,7 @@ impl DeviceRole {
                 DeviceAction::StopCyclic { .. } => Effect::Stop { device: 0 },
                 DeviceAction::Record(r) => Effect::Event(StationEvent::Record(r)),
                 DeviceAction::ArCheck(c) => Effect::Event(StationEvent::ArCheck(c)),
+                DeviceAction::DcpSetCheck(c) => Effect::Event(StationEvent::DcpSetCheck(c)),
             });
         }
         self.channel
@@ -311,6 +323,14 @@ impl Role for DeviceRole {
                 let r = self
                     .device
                     .answer_connect(job, answer, now_ns, &mut self.actions)
+                    .map_err(|e| e.to_string());
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::VerifyDcpSets(on) => self.device.verify_dcp_sets(on),
+            DeviceCommand::AnswerDcpSet { job, allow, reply } => {
+                let r = self
+                    .device
+                    .answer_dcp_set(job, allow, now_ns, &mut self.actions)
                     .map_err(|e| e.to_string());
                 let _ = reply.try_send(r);
             }

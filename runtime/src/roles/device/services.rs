@@ -80,6 +80,14 @@ impl DeviceServices {
                     Err(order) => self.order(order),
                 }
             }
+            Notification::StationDcpSetCheck { check, .. } => {
+                match self.say.dcp_check(check.job, Instant::now()) {
+                    Ok(reply_to) => {
+                        notices.publish(&Notification::StationDcpSetCheck { reply_to, check })
+                    }
+                    Err(order) => self.order(order),
+                }
+            }
             Notification::StationArCheck { check, .. } => {
                 match self.say.ar_check(check.job, Instant::now()) {
                     Ok(reply_to) => {
@@ -105,6 +113,16 @@ impl DeviceServices {
                 DeviceCommand::AnswerConnect {
                     job,
                     answer: Ok(()),
+                    reply,
+                }
+            }
+            Order::VerifyDcp(on) => DeviceCommand::VerifyDcpSets(on),
+            Order::AllowDcp(job) => {
+                // Nobody waits for the outcome: the check is the station's to end.
+                let (reply, _) = std::sync::mpsc::sync_channel(1);
+                DeviceCommand::AnswerDcpSet {
+                    job,
+                    allow: true,
                     reply,
                 }
             }
@@ -156,6 +174,35 @@ impl DeviceServices {
             self.order(order);
         }
         Ok(())
+    }
+
+    fn verify_dcp(&mut self, subscriber: u64, verify: bool) -> Result<(), Refusal> {
+        self.known(subscriber)?;
+        let subscribers = &self.subscribers;
+        let name = |id: u64| {
+            subscribers
+                .get(id)
+                .map_or_else(|| format!("{id:x}"), |s| s.name.clone())
+        };
+        if let Some(order) = self.say.verify_dcp(subscriber, verify, name)? {
+            self.order(order);
+        }
+        Ok(())
+    }
+
+    fn answer_dcp_set(&mut self, subscriber: u64, job: u64, allow: bool) -> Response {
+        if let Err(r) = self.say.answer_dcp(subscriber, job) {
+            return Response::Refused(r);
+        }
+        match self.carry_out(|reply| DeviceCommand::AnswerDcpSet { job, allow, reply }) {
+            // The engine's timeout came first.
+            Response::Refused(Refusal::BadRequest { message })
+                if message.starts_with("DCP Set check") =>
+            {
+                Response::Refused(Refusal::StaleDcpCheck { job })
+            }
+            r => r,
+        }
     }
 
     fn answer_ar_check(&mut self, subscriber: u64, job: u64, refuse: Option<(u8, u8)>) -> Response {
@@ -275,6 +322,14 @@ impl RoleServices for DeviceServices {
                 subslot,
                 own,
             } => done(self.own_records(subscriber, SubslotAddr::new(api, slot, subslot), own)),
+            Request::StationVerifyDcp { subscriber, verify } => {
+                done(self.verify_dcp(subscriber, verify))
+            }
+            Request::StationDcpSetAnswer {
+                subscriber,
+                job,
+                allow,
+            } => self.answer_dcp_set(subscriber, job, allow),
             Request::StationCheckArs { subscriber, check } => {
                 done(self.check_ars(subscriber, check))
             }

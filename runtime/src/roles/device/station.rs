@@ -5,7 +5,8 @@
 use super::identity::Identity;
 use crate::config::StationConfig;
 use procimg_profinet::device::{
-    Application, ArCheck, ArState, Device, DeviceSetup, ParameterRecord, RecordRequest, SubslotAddr,
+    Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, ParameterRecord,
+    RecordRequest, SubslotAddr,
 };
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
@@ -64,6 +65,8 @@ pub enum StationEvent {
     Record(RecordRequest),
     /// A PLC connects and a client checks new ARs.
     ArCheck(ArCheck),
+    /// DCP sets the station's name or address and a client checks such changes.
+    DcpSetCheck(DcpSetCheck),
 }
 
 /// The station as the status report shows it.
@@ -157,6 +160,14 @@ impl Station {
             StationEvent::Blink => {
                 tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
             }
+            StationEvent::DcpSetCheck(c) => tracing::debug!(
+                "DCP Set check {}: {} sets name {:?}, address {:?}{}",
+                c.job,
+                c.from,
+                c.name,
+                c.ip_suite.map(|[ip, ..]| std::net::Ipv4Addr::from(ip)),
+                if c.reset { ", reset to factory" } else { "" }
+            ),
             StationEvent::ArCheck(c) => tracing::debug!(
                 "AR check {}: PLC {} ({}) connects AR {}",
                 c.job,

@@ -116,7 +116,8 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::StationBlink
         | Notification::StationIdentity { .. }
         | Notification::StationRecord { .. }
-        | Notification::StationArCheck { .. } => {}
+        | Notification::StationArCheck { .. }
+        | Notification::StationDcpSetCheck { .. } => {}
     }
 }
 
