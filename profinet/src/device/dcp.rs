@@ -77,6 +77,8 @@ pub(super) struct Changes {
 #[derive(Default)]
 pub(super) struct Responder {
     pending: Vec<(u64, Vec<u8>)>,
+    /// The application's checks of Sets that change the station.
+    pub(super) checks: DcpChecks,
 }
 
 impl Responder {
@@ -85,7 +87,6 @@ impl Responder {
     pub(super) fn on_pdu(
         &mut self,
         id: &mut Identity,
-        checks: &mut DcpChecks,
         dst: MacAddress,
         src: MacAddress,
         pdu: &[u8],
@@ -128,7 +129,7 @@ impl Responder {
                 Changes::default()
             }
             (dcp::FRAME_ID_GET_SET, ServiceId::Set) if to_us => {
-                match checks.hold(src, &req, now_ns) {
+                match self.checks.hold(src, &req, now_ns) {
                     Hold::GoAhead => answer_set(id, src, &req, true, out),
                     Hold::Wait(check) => {
                         out.push(DeviceAction::DcpSetCheck(check));

@@ -136,7 +136,7 @@ impl<A: Application> Device<A> {
     /// the application's [`answer_dcp_set`](Self::answer_dcp_set) (a
     /// [`DeviceAction::DcpSetCheck`]), or not. Off from the start.
     pub fn verify_dcp_sets(&mut self, on: bool) {
-        self.dcp_checks.on = on;
+        self.dcp.checks.on = on;
     }
 
     /// The application's verdict on DCP Set check `job`: carry it out (`true`) or refuse
@@ -149,7 +149,8 @@ impl<A: Application> Device<A> {
         out: &mut Vec<DeviceAction>,
     ) -> Result<(), UnknownDcpSetCheck> {
         let held = self
-            .dcp_checks
+            .dcp
+            .checks
             .held
             .take_if(|h| h.job == job)
             .ok_or(UnknownDcpSetCheck(job))?;
@@ -160,13 +161,13 @@ impl<A: Application> Device<A> {
 
     /// DCP Set checks the application did not answer in time (the Sets were carried out).
     pub fn dcp_set_check_timeouts(&self) -> u64 {
-        self.dcp_checks.timeouts
+        self.dcp.checks.timeouts
     }
 
     /// Carries out a held Set whose time is up.
     pub(super) fn expire_dcp_check(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
-        if let Some(h) = self.dcp_checks.held.take_if(|h| now_ns >= h.deadline) {
-            self.dcp_checks.timeouts += 1;
+        if let Some(h) = self.dcp.checks.held.take_if(|h| now_ns >= h.deadline) {
+            self.dcp.checks.timeouts += 1;
             self.carry_out_set(&h, true, out);
         }
     }

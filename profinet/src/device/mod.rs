@@ -261,8 +261,6 @@ pub struct Device<A> {
     app_ready_hold_timeouts: u64,
     /// The application's checks of new ARs.
     ar_checks: ar_check::ArChecks,
-    /// The application's checks of DCP's changes.
-    dcp_checks: dcp_check::DcpChecks,
 }
 
 impl<A: Application> Device<A> {
@@ -313,7 +311,6 @@ impl<A: Application> Device<A> {
             hold_app_ready: false,
             app_ready_hold_timeouts: 0,
             ar_checks: ar_check::ArChecks::default(),
-            dcp_checks: dcp_check::DcpChecks::default(),
         };
         device.set_lldp(true);
         device
@@ -509,15 +506,7 @@ impl<A: Application> Device<A> {
         let frame_id = u16::from_be_bytes([hi, lo]);
         match FrameIdClass::of(frame_id) {
             FrameIdClass::Dcp if dcp::is_request_frame_id(frame_id) => {
-                let changes = self.dcp.on_pdu(
-                    &mut self.id,
-                    &mut self.dcp_checks,
-                    dst,
-                    src,
-                    pdu,
-                    now_ns,
-                    out,
-                );
+                let changes = self.dcp.on_pdu(&mut self.id, dst, src, pdu, now_ns, out);
                 self.after_dcp(changes, out);
             }
             FrameIdClass::AlarmHigh | FrameIdClass::AlarmLow if dst == mac => {
@@ -779,7 +768,7 @@ impl<A: Application> Device<A> {
             self.ar.as_ref().and_then(Ar::deadline),
             self.waiting.deadline(),
             self.ar_checks.deadline(),
-            self.dcp_checks.held.as_ref().map(|h| h.deadline),
+            self.dcp.checks.held.as_ref().map(|h| h.deadline),
         ]
         .into_iter()
         .flatten()
