@@ -101,45 +101,39 @@ impl<A: Application> Device<A> {
             },
             opnum::CONNECT => self.establish(blocks, from, now_ns, out),
             opnum::RELEASE => self.release(blocks),
-            opnum::READ | opnum::READ_IMPLICIT => {
-                let outcome = records::read(
-                    h.opnum == opnum::READ_IMPLICIT,
-                    self.ar.as_ref().map(|a| records::ArView {
-                        ar_uuid: a.ar_uuid,
-                        records: &a.records,
-                        submodules: &a.submodules,
-                    }),
-                    &records::DeviceRead {
-                        real: &self.submodules,
-                        im0: &self.im0,
-                        im: &self.im,
-                        diagnosis: &self.diagnosis,
-                        params: &self.params,
-                    },
-                    blocks,
-                );
-                match outcome {
-                    records::Outcome::Done(s, b) => (s, b),
-                    records::Outcome::Pending(p) => {
-                        self.wait_for_application(p, (*h, from, ndr.args_maximum), now_ns, out);
-                        return;
-                    }
-                }
-            }
-            opnum::WRITE => {
-                let outcome = records::write(
-                    self.ar.as_mut().map(|a| records::ArRecords {
-                        ar_uuid: a.ar_uuid,
-                        records: &mut a.records,
-                    }),
-                    records::DeviceWrite {
-                        real: &self.submodules,
-                        im: &mut self.im,
-                        im_writes: &mut self.im_writes,
-                        params: &self.params,
-                    },
-                    blocks,
-                );
+            opnum::READ | opnum::READ_IMPLICIT | opnum::WRITE => {
+                let outcome = if h.opnum == opnum::WRITE {
+                    records::write(
+                        self.ar.as_mut().map(|a| records::ArRecords {
+                            ar_uuid: a.ar_uuid,
+                            records: &mut a.records,
+                        }),
+                        records::DeviceWrite {
+                            real: &self.submodules,
+                            im: &mut self.im,
+                            im_writes: &mut self.im_writes,
+                            params: &self.params,
+                        },
+                        blocks,
+                    )
+                } else {
+                    records::read(
+                        h.opnum == opnum::READ_IMPLICIT,
+                        self.ar.as_ref().map(|a| records::ArView {
+                            ar_uuid: a.ar_uuid,
+                            records: &a.records,
+                            submodules: &a.submodules,
+                        }),
+                        &records::DeviceRead {
+                            real: &self.submodules,
+                            im0: &self.im0,
+                            im: &self.im,
+                            diagnosis: &self.diagnosis,
+                            params: &self.params,
+                        },
+                        blocks,
+                    )
+                };
                 match outcome {
                     records::Outcome::Done(s, b) => (s, b),
                     records::Outcome::Pending(p) => {

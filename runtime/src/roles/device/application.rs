@@ -145,7 +145,7 @@ impl ApplicationSay {
         subscriber: u64,
         at: SubslotAddr,
         own: bool,
-        name: impl Fn(u64) -> String,
+        name: &dyn Fn(u64) -> String,
     ) -> Result<Option<Order>, Refusal> {
         if !self.submodules.contains(&at) {
             return Err(Refusal::NoSuchStationSubmodule {
@@ -204,7 +204,7 @@ impl ApplicationSay {
         &mut self,
         subscriber: u64,
         check: bool,
-        name: impl Fn(u64) -> String,
+        name: &dyn Fn(u64) -> String,
     ) -> Result<Option<Order>, Refusal> {
         self.ars
             .take(subscriber, check)
@@ -232,7 +232,7 @@ impl ApplicationSay {
         &mut self,
         subscriber: u64,
         verify: bool,
-        name: impl Fn(u64) -> String,
+        name: &dyn Fn(u64) -> String,
     ) -> Result<Option<Order>, Refusal> {
         self.dcp
             .take(subscriber, verify)
@@ -355,7 +355,7 @@ mod tests {
     #[test]
     fn one_subscriber_takes_a_submodules_records_and_its_jobs() {
         let mut s = say();
-        let name = |id: u64| format!("client {id}");
+        let name: &dyn Fn(u64) -> String = &|id| format!("client {id}");
         assert_eq!(
             s.own(1, SLOT1, true, name),
             Ok(Some(Order::Records(SLOT1, true)))
@@ -396,7 +396,7 @@ mod tests {
     #[test]
     fn old_jobs_are_forgotten() {
         let mut s = say();
-        s.own(1, SLOT1, true, |_| String::new()).unwrap();
+        s.own(1, SLOT1, true, &|_| String::new()).unwrap();
         let then = Instant::now();
         assert_eq!(s.job(1, SLOT1, then), Ok(1));
         assert_eq!(s.job(2, SLOT1, then + JOB_MEMORY), Ok(1));
@@ -407,7 +407,7 @@ mod tests {
     #[test]
     fn one_subscriber_checks_new_ars_and_its_checks_are_accepted_when_it_goes() {
         let mut s = say();
-        let name = |id: u64| format!("client {id}");
+        let name: &dyn Fn(u64) -> String = &|id| format!("client {id}");
         let now = Instant::now();
         assert_eq!(s.ar_check(1, now), Err(Order::Accept(1)), "nobody checks");
         assert_eq!(s.check(1, true, name), Ok(Some(Order::Check(true))));
@@ -429,7 +429,7 @@ mod tests {
     #[test]
     fn one_subscriber_checks_dcps_changes_and_its_checks_are_allowed_when_it_goes() {
         let mut s = say();
-        let name = |id: u64| format!("client {id}");
+        let name: &dyn Fn(u64) -> String = &|id| format!("client {id}");
         let now = Instant::now();
         assert_eq!(s.dcp_check(1, now), Err(Order::AllowDcp(1)));
         assert_eq!(

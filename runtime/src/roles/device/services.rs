@@ -22,7 +22,7 @@ use procimg_shm_layout::control::{
 use procimg_shm_layout::services::Notification;
 use std::collections::HashSet;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, SyncSender};
 use std::time::{Duration, Instant};
 
 /// How long a client's request waits for the acyclic thread to carry it out: it only
@@ -148,7 +148,16 @@ impl DeviceServices {
             .ok_or(Refusal::UnknownSubscriber)
     }
 
-    fn own_records(&mut self, subscriber: u64, at: SubslotAddr, own: bool) -> Result<(), Refusal> {
+    /// A subscriber's change of its say (`change` gets the say, the subscriber and a way to
+    /// name another subscriber), passed on to the engine.
+    fn change_say(
+        &mut self,
+        subscriber: u64,
+        change: impl FnOnce(
+            &mut ApplicationSay,
+            &dyn Fn(u64) -> String,
+        ) -> Result<Option<Order>, Refusal>,
+    ) -> Result<(), Refusal> {
         self.known(subscriber)?;
         let subscribers = &self.subscribers;
         let name = |id: u64| {
@@ -156,53 +165,39 @@ impl DeviceServices {
                 .get(id)
                 .map_or_else(|| format!("{id:x}"), |s| s.name.clone())
         };
-        if let Some(order) = self.say.own(subscriber, at, own, name)? {
+        if let Some(order) = change(&mut self.say, &name)? {
             self.order(order);
         }
         Ok(())
     }
 
-    fn check_ars(&mut self, subscriber: u64, check: bool) -> Result<(), Refusal> {
-        self.known(subscriber)?;
-        let subscribers = &self.subscribers;
-        let name = |id: u64| {
-            subscribers
-                .get(id)
-                .map_or_else(|| format!("{id:x}"), |s| s.name.clone())
-        };
-        if let Some(order) = self.say.check(subscriber, check, name)? {
-            self.order(order);
+    /// Passes a subscriber's answer to the engine; `stale` is the refusal when the engine's
+    /// timeout came first (its error then starts with `engine_says`).
+    fn answer(
+        &self,
+        command: impl FnOnce(SyncSender<Result<(), String>>) -> DeviceCommand,
+        engine_says: &str,
+        stale: Refusal,
+    ) -> Response {
+        match self.carry_out(command) {
+            Response::Refused(Refusal::BadRequest { message })
+                if message.starts_with(engine_says) =>
+            {
+                Response::Refused(stale)
+            }
+            r => r,
         }
-        Ok(())
-    }
-
-    fn verify_dcp(&mut self, subscriber: u64, verify: bool) -> Result<(), Refusal> {
-        self.known(subscriber)?;
-        let subscribers = &self.subscribers;
-        let name = |id: u64| {
-            subscribers
-                .get(id)
-                .map_or_else(|| format!("{id:x}"), |s| s.name.clone())
-        };
-        if let Some(order) = self.say.verify_dcp(subscriber, verify, name)? {
-            self.order(order);
-        }
-        Ok(())
     }
 
     fn answer_dcp_set(&mut self, subscriber: u64, job: u64, allow: bool) -> Response {
         if let Err(r) = self.say.answer_dcp(subscriber, job) {
             return Response::Refused(r);
         }
-        match self.carry_out(|reply| DeviceCommand::AnswerDcpSet { job, allow, reply }) {
-            // The engine's timeout came first.
-            Response::Refused(Refusal::BadRequest { message })
-                if message.starts_with("DCP Set check") =>
-            {
-                Response::Refused(Refusal::StaleDcpCheck { job })
-            }
-            r => r,
-        }
+        self.answer(
+            |reply| DeviceCommand::AnswerDcpSet { job, allow, reply },
+            "DCP Set check",
+            Refusal::StaleDcpCheck { job },
+        )
     }
 
     fn answer_ar_check(&mut self, subscriber: u64, job: u64, refuse: Option<(u8, u8)>) -> Response {
@@ -210,15 +205,11 @@ impl DeviceServices {
             return Response::Refused(r);
         }
         let answer = refuse.map_or(Ok(()), Err);
-        match self.carry_out(|reply| DeviceCommand::AnswerConnect { job, answer, reply }) {
-            // The engine's timeout came first.
-            Response::Refused(Refusal::BadRequest { message })
-                if message.starts_with("AR check") =>
-            {
-                Response::Refused(Refusal::StaleArCheck { job })
-            }
-            r => r,
-        }
+        self.answer(
+            |reply| DeviceCommand::AnswerConnect { job, answer, reply },
+            "AR check",
+            Refusal::StaleArCheck { job },
+        )
     }
 
     fn answer_record(
@@ -235,15 +226,11 @@ impl DeviceServices {
             None => Ok(data),
             Some((c1, c2)) => Err((RecordErrorCode::from(c1), c2)),
         };
-        match self.carry_out(|reply| DeviceCommand::AnswerRecord { job, answer, reply }) {
-            // The engine's timeout came first.
-            Response::Refused(Refusal::BadRequest { message })
-                if message.starts_with("record job") =>
-            {
-                Response::Refused(Refusal::StaleRecordJob { job })
-            }
-            r => r,
-        }
+        self.answer(
+            |reply| DeviceCommand::AnswerRecord { job, answer, reply },
+            "record job",
+            Refusal::StaleRecordJob { job },
+        )
     }
 }
 
@@ -321,9 +308,13 @@ impl RoleServices for DeviceServices {
                 slot,
                 subslot,
                 own,
-            } => done(self.own_records(subscriber, SubslotAddr::new(api, slot, subslot), own)),
+            } => done(self.change_say(subscriber, |say, name| {
+                say.own(subscriber, SubslotAddr::new(api, slot, subslot), own, name)
+            })),
             Request::StationVerifyDcp { subscriber, verify } => {
-                done(self.verify_dcp(subscriber, verify))
+                done(self.change_say(subscriber, |say, name| {
+                    say.verify_dcp(subscriber, verify, name)
+                }))
             }
             Request::StationDcpSetAnswer {
                 subscriber,
@@ -331,7 +322,7 @@ impl RoleServices for DeviceServices {
                 allow,
             } => self.answer_dcp_set(subscriber, job, allow),
             Request::StationCheckArs { subscriber, check } => {
-                done(self.check_ars(subscriber, check))
+                done(self.change_say(subscriber, |say, name| say.check(subscriber, check, name)))
             }
             Request::StationArCheckAnswer {
                 subscriber,
