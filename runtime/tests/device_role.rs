@@ -215,17 +215,28 @@ fn a_device_program_follows_the_ar_through_the_station_notifications() {
     );
 }
 
-/// The next record job for `services`, answering none; `None` after `within`.
-fn next_job(services: &mut Services, within: Duration) -> Option<StationRecordJob> {
-    let until = Instant::now() + within;
+/// The next notification for `services` that `pick` takes, skipping the others; panics
+/// naming `what` after 30 s.
+fn next_picked<T>(
+    services: &mut Services,
+    what: &str,
+    pick: impl Fn(Notification) -> Option<T>,
+) -> T {
+    let until = Instant::now() + BRING_UP;
     while Instant::now() < until {
-        if let Some(Notification::StationRecord { job, .. }) =
-            services.next(Duration::from_millis(100))
-        {
-            return Some(job);
+        if let Some(t) = services.next(Duration::from_millis(20)).and_then(&pick) {
+            return t;
         }
     }
-    None
+    panic!("no {what} within 30 s");
+}
+
+/// The next record job for `services`.
+fn next_job(services: &mut Services) -> StationRecordJob {
+    next_picked(services, "record job", |n| match n {
+        Notification::StationRecord { job, .. } => Some(job),
+        _ => None,
+    })
 }
 
 #[test]
@@ -258,7 +269,7 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
     );
 
     // The demo PLC's program writes record 1 of slot 1 every 2 s: refused once, then taken.
-    let job = next_job(&mut services, BRING_UP).expect("the PLC's write of record 1");
+    let job = next_job(&mut services);
     assert_eq!(
         (job.write, job.index, job.slot, job.data.len()),
         (true, 1, 1, 4)
@@ -296,7 +307,7 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
     server.wait_status("the PLC's log of the refused write", |_| {
         last_write().contains("failed: Write failed: access: invalid parameter")
     });
-    let job = next_job(&mut services, BRING_UP).expect("the PLC's next write");
+    let job = next_job(&mut services);
     services.answer_record(&job, Ok(&[])).expect("the answer");
     server.wait_status("the PLC's log of the taken write", |_| {
         last_write().ends_with("written")
@@ -362,15 +373,10 @@ fn a_device_program_refuses_a_new_ar_and_accepts_the_next() {
     });
     server.set_mode(Mode::Operate);
     let next_check = |services: &mut Services| {
-        let until = Instant::now() + BRING_UP;
-        while Instant::now() < until {
-            if let Some(Notification::StationArCheck { check, .. }) =
-                services.next(Duration::from_millis(100))
-            {
-                return check;
-            }
-        }
-        panic!("no AR check within 30 s");
+        next_picked(services, "AR check", |n| match n {
+            Notification::StationArCheck { check, .. } => Some(check),
+            _ => None,
+        })
     };
     let first = next_check(&mut services);
     assert_eq!(first.controller_name, "demo-plc");
@@ -453,15 +459,10 @@ fn a_device_program_vetoes_a_dcp_name_change_and_allows_the_next() {
             .expect("procimg dcp set-name")
     };
     let next_check = |services: &mut Services| {
-        let until = Instant::now() + BRING_UP;
-        while Instant::now() < until {
-            if let Some(Notification::StationDcpSetCheck { check, .. }) =
-                services.next(Duration::from_millis(20))
-            {
-                return check;
-            }
-        }
-        panic!("no DCP Set check within 30 s");
+        next_picked(services, "DCP Set check", |n| match n {
+            Notification::StationDcpSetCheck { check, .. } => Some(check),
+            _ => None,
+        })
     };
     let tool = set_name("vetoed-name");
     let check = next_check(&mut services);

@@ -318,6 +318,26 @@ pub enum Request {
     },
 }
 
+impl Request {
+    /// Whether it is one of the IO device role's station services (the station's
+    /// diagnosis, alarms, records, AR checks, DCP checks and ApplicationReady).
+    pub const fn is_station_service(&self) -> bool {
+        matches!(
+            self,
+            Request::StationDiagnosis { .. }
+                | Request::StationProcessAlarm { .. }
+                | Request::StationOwnRecords { .. }
+                | Request::StationCheckArs { .. }
+                | Request::StationVerifyDcp { .. }
+                | Request::StationDcpSetAnswer { .. }
+                | Request::StationArCheckAnswer { .. }
+                | Request::StationRecordAnswer { .. }
+                | Request::StationHoldApplicationReady { .. }
+                | Request::StationApplicationReady { .. }
+        )
+    }
+}
+
 /// The two address spaces of an IO system.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -144,6 +144,13 @@ impl Control {
         Vec::new()
     }
 
+    /// Has the role answer `req`, one of its services.
+    fn role_handles(&mut self, req: Request) -> Response {
+        let online = self.shared.mode() != Mode::Offline
+            || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
+        self.role.handle(req, online, &mut self.notices)
+    }
+
     /// Handles one request.
     pub fn handle(&mut self, req: Request) -> Response {
         let shared = &*self.shared;
@@ -192,6 +199,7 @@ impl Control {
             | Request::ActivateDevice { .. }
             | Request::AcknowledgeAlarm { .. }
             | Request::Diagnosis
+            // The device role's services: listed, so that a new request is routed on purpose.
             | Request::StationDiagnosis { .. }
             | Request::StationProcessAlarm { .. }
             | Request::StationOwnRecords { .. }
@@ -201,11 +209,7 @@ impl Control {
             | Request::StationArCheckAnswer { .. }
             | Request::StationRecordAnswer { .. }
             | Request::StationHoldApplicationReady { .. }
-            | Request::StationApplicationReady { .. } => {
-                let online = self.shared.mode() != Mode::Offline
-                    || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
-                return self.role.handle(req, online, &mut self.notices);
-            }
+            | Request::StationApplicationReady { .. } => return self.role_handles(req),
             Request::Histograms => {
                 self.stats.collect();
                 let cycles = crate::stats::load(&self.shared.counters.cycles);

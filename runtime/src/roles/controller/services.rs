@@ -589,16 +589,7 @@ impl RoleServices for ControllerServices {
             } => self.activate(reply_to, device, active, online),
             Request::AcknowledgeAlarm { subscriber, alarm } => self.acknowledge(subscriber, alarm),
             Request::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
-            Request::StationDiagnosis { .. }
-            | Request::StationProcessAlarm { .. }
-            | Request::StationOwnRecords { .. }
-            | Request::StationCheckArs { .. }
-            | Request::StationVerifyDcp { .. }
-            | Request::StationDcpSetAnswer { .. }
-            | Request::StationArCheckAnswer { .. }
-            | Request::StationRecordAnswer { .. }
-            | Request::StationHoldApplicationReady { .. }
-            | Request::StationApplicationReady { .. } => Err(Refusal::WrongRole {
+            r if r.is_station_service() => Err(Refusal::WrongRole {
                 role: "controller".to_owned(),
                 service: "the IO device's station services (its records, ApplicationReady, \
                           diagnosis and alarms)"
