@@ -10,7 +10,7 @@ use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 
 /// The mark procimgd puts on the addresses (`IFA_PROTO`) and routes (`rtm_protocol`) it
 /// adds, so that a later run tells its own leftovers (after a crash) from the
-/// administrator's. Unassigned in iproute2's `rt_protos`; `ip addr` shows it as `proto 80`.
+/// administrator's. Unassigned in iproute2's `rt_protos`; `ip route` shows it as `proto 80`.
 pub const PROCIMG_PROTOCOL: u8 = 80;
 
 // linux/netlink.h
