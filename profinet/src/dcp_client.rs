@@ -166,6 +166,16 @@ impl Set {
         }
     }
 
+    /// Resets the device's communication parameters to factory (reset mode 2: no name, no
+    /// IP address).
+    pub fn reset_to_factory(xid: u32, device: MacAddress) -> Set {
+        Set {
+            xid,
+            device,
+            repr: dcp::Repr::reset_to_factory(xid, 2),
+        }
+    }
+
     /// Flashes the device's LED (DCP Signal).
     pub fn signal(xid: u32, device: MacAddress) -> Set {
         Set {
@@ -243,5 +253,19 @@ mod tests {
             .request(me)
             .unwrap();
         assert_eq!(&f[..6], &[2; 6]);
+        let f = Set::reset_to_factory(7, MacAddress([2; 6]))
+            .request(me)
+            .unwrap();
+        let eth = ethernet::Frame::new_checked(&f[..]).unwrap();
+        let r = dcp::Repr::parse(&dcp::Packet::new_checked(eth.payload()).unwrap()).unwrap();
+        assert_eq!((r.xid, r.service_id), (7, ServiceId::Set));
+        // Reset mode 2 (communication parameters) in bits 1 to 15 of the qualifier.
+        assert!(matches!(
+            r.blocks[..],
+            [dcp::Block {
+                value: dcp::BlockRepr::ResetToFactory(4),
+                ..
+            }]
+        ));
     }
 }

@@ -982,3 +982,178 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     assert!(bad.is_empty(), "tshark flags frames on the wire:\n{bad}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// What `ip -n NS CMD... dev IF` prints.
+fn ip_show(ns: &str, args: &[&str], interface: &str) -> String {
+    let out = std::process::Command::new("ip")
+        .args(["-n", ns])
+        .args(args)
+        .args(["dev", interface])
+        .output()
+        .expect("the ip command (iproute2)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Runs `procimg dcp --iface IF ARGS` in namespace `ns`; panics if it fails.
+fn dcp(ns: &str, interface: &str, args: &[&str]) {
+    let procimg = procimg_testkit::workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
+    let out = std::process::Command::new("ip")
+        .args(["netns", "exec", ns])
+        .arg(&procimg)
+        .args(["dcp", "--iface", interface])
+        .args(args)
+        .output()
+        .expect("procimg dcp");
+    assert!(
+        out.status.success(),
+        "procimg dcp {}: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// A station as it leaves the factory: no address in its configuration, none on its
+/// interface; only its name, as the engineering tool gave it.
+fn fresh_device_toml(interface: &str, state: &std::path::Path) -> String {
+    DEVICE_TOML
+        .replace("fresh-device", "pc-device")
+        .replace("ip = \"10.47.0.50\"\n", "")
+        .replace("IFACE", interface)
+        .replace("STATE", &state.display().to_string())
+}
+
+#[test]
+#[ignore = "needs root: network namespaces, veth, AF_PACKET, interface addresses"]
+fn the_plc_gives_a_fresh_station_its_address_and_dcp_changes_it_on_the_interface() {
+    let net = TestNet::new("da", true);
+    procimg_testkit::netns::ip(&[
+        "-n",
+        &net.ns[0],
+        "addr",
+        "add",
+        "10.47.0.1/24",
+        "dev",
+        &net.ifs[0],
+    ]);
+    let (dev_ns, dev_if) = (net.ns[1].clone(), net.ifs[1].clone());
+    let addresses = || ip_show(&dev_ns, &["-4", "addr", "show"], &dev_if);
+    let default_route = || ip_show(&dev_ns, &["-4", "route", "show", "default"], &dev_if);
+    let dir = procimg_testkit::files::temp_dir("device-role-address");
+    let state = dir.join("station.toml");
+    let toml = fresh_device_toml(&dev_if, &state);
+    assert!(!toml.contains("ip ="), "{toml}");
+    let mut device = Launch::config("dva", &toml)
+        .netns(&dev_ns)
+        .until_cycling()
+        .start();
+    assert!(!addresses().contains("inet "), "{}", addresses());
+    let station = device.status().station.expect("a station");
+    assert_eq!(station.ip, "0.0.0.0");
+
+    // The PLC finds the station by its name, sets its address by DCP (for now, as a PLC
+    // does) and connects to it.
+    let controller = Launch::config("dvac", &CONTROLLER_TOML.replace("IFACE", &net.ifs[0]))
+        .netns(&net.ns[0])
+        .start();
+    device.wait_devices_running(BRING_UP);
+    controller.wait_devices_running(BRING_UP);
+    let station = device.status().station.expect("a station");
+    assert_eq!(station.ip, "10.47.0.50");
+    assert_eq!(station.ar.expect("an AR").state, "data");
+    assert!(
+        addresses().contains("inet 10.47.0.50/24"),
+        "{}",
+        addresses()
+    );
+    drop(controller);
+
+    // A reset to factory takes it away; the answer comes once it is gone.
+    dcp(&net.ns[0], &net.ifs[0], &["reset", &station.mac]);
+    assert!(!addresses().contains("inet "), "{}", addresses());
+    assert_eq!(device.status().station.expect("a station").ip, "0.0.0.0");
+
+    // An address for good, with a router: the interface gets both.
+    dcp(
+        &net.ns[0],
+        &net.ifs[0],
+        &[
+            "set-ip",
+            &station.mac,
+            "10.47.0.60",
+            "255.255.255.0",
+            "10.47.0.1",
+            "--permanent",
+        ],
+    );
+    assert!(
+        addresses().contains("inet 10.47.0.60/24"),
+        "{}",
+        addresses()
+    );
+    assert!(!addresses().contains("10.47.0.50"), "{}", addresses());
+    let route = default_route();
+    assert!(
+        route.contains("via 10.47.0.1") && route.contains("metric 34964"),
+        "{route}"
+    );
+
+    // Stopped, the station takes its address and route along; restarted, it comes back with
+    // the address the state file kept.
+    assert!(device.terminate().success());
+    assert!(!addresses().contains("inet "), "{}", addresses());
+    assert!(default_route().is_empty(), "{}", default_route());
+    device.restart();
+    assert!(
+        addresses().contains("inet 10.47.0.60/24"),
+        "{}",
+        addresses()
+    );
+    assert!(
+        default_route().contains("via 10.47.0.1"),
+        "{}",
+        default_route()
+    );
+    drop(device);
+    assert!(!addresses().contains("inet "), "{}", addresses());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+#[ignore = "needs root: network namespaces, veth, AF_PACKET, interface addresses"]
+fn a_station_does_not_share_its_interface_with_other_addresses() {
+    let net = TestNet::new("dx", true);
+    let (ns, interface) = (&net.ns[1], &net.ifs[1]);
+    procimg_testkit::netns::ip(&["-n", ns, "addr", "add", "192.0.2.7/24", "dev", interface]);
+    let dir = procimg_testkit::files::temp_dir("device-role-foreign");
+    let config = dir.join("device.toml");
+    std::fs::write(
+        &config,
+        fresh_device_toml(interface, &dir.join("state.toml")),
+    )
+    .unwrap();
+    let out = std::process::Command::new("ip")
+        .args(["netns", "exec", ns])
+        .arg(procimg_testkit::procimgd_bin())
+        .arg("--config")
+        .arg(&config)
+        .args(["--instance", &procimg_testkit::unique_instance("dvx")])
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("procimgd");
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{said}");
+    assert!(
+        said.contains(&format!("\"{interface}\" carries 192.0.2.7/24"))
+            && said.contains(&format!("ip -4 addr flush dev {interface}")),
+        "{said}"
+    );
+    // Left as it was.
+    let kept = ip_show(ns, &["-4", "addr", "show"], interface);
+    assert!(kept.contains("inet 192.0.2.7/24"), "{kept}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

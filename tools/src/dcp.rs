@@ -47,6 +47,13 @@ pub enum DcpCommand {
         #[arg(long)]
         permanent: bool,
     },
+    /// Reset the device's communication parameters to factory: no name, no IP address (it
+    /// ends the device's connection to its PLC).
+    Reset {
+        /// The device's MAC address.
+        #[arg(value_parser = parse_mac)]
+        mac: MacAddress,
+    },
     /// Flash the device's LED so you can find it in the cabinet.
     Blink {
         /// The device's MAC address.
@@ -189,6 +196,7 @@ pub fn run(iface: &str, op: DcpCommand) -> anyhow::Result<()> {
                 permanent,
             ),
         ),
+        DcpCommand::Reset { mac } => set(&mut nic, Set::reset_to_factory(xid(), mac)),
         DcpCommand::Blink { mac } => set(&mut nic, Set::signal(xid(), mac)),
     }
 }

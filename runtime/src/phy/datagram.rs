@@ -33,6 +33,21 @@ pub struct BindError {
     pub error: std::io::Error,
 }
 
+/// Why the RPC socket on an interface could not be opened.
+#[derive(Debug, thiserror::Error)]
+// Not a `source`: the message already holds it, and error chains would repeat it.
+#[error(
+    "cannot open UDP port {RPC_PORT} on network interface \"{interface}\" for the PROFINET \
+     connection services: {error}; is another PROFINET stack (or procimgd instance) using the \
+     port on this host without an interface of its own?"
+)]
+pub struct InterfaceBindError {
+    /// The interface.
+    pub interface: String,
+    /// The OS error.
+    pub error: std::io::Error,
+}
+
 /// A real UDP socket on port 34964.
 pub struct UdpDatagrams {
     socket: UdpSocket,
@@ -43,6 +58,20 @@ impl UdpDatagrams {
     pub fn bind(addr: Ipv4Addr) -> Result<UdpDatagrams, BindError> {
         let socket = UdpSocket::bind(SocketAddrV4::new(addr, RPC_PORT))
             .map_err(|error| BindError { addr, error })?;
+        Ok(UdpDatagrams { socket })
+    }
+
+    /// Opens port 34964 on every address of `interface`, present and future: the device
+    /// role's station changes its address by DCP while the socket stays. Answers leave
+    /// from the interface's address in the PLC's subnet, which is the station's, as the
+    /// station owns the interface's addresses.
+    pub fn on_interface(interface: &str) -> Result<UdpDatagrams, InterfaceBindError> {
+        let socket = crate::sys::udp::bound_to_device(interface, RPC_PORT).map_err(|error| {
+            InterfaceBindError {
+                interface: interface.to_owned(),
+                error,
+            }
+        })?;
         Ok(UdpDatagrams { socket })
     }
 }

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The operating-system calls of the server: clocks, real-time scheduling, memory locking.
+//! The operating-system calls of the server: clocks, real-time scheduling, memory locking,
+//! the device role's interface address and UDP socket.
 //! The only place in the crate besides the shared-memory services where `unsafe` may appear.
 pub mod clock;
+pub mod netlink;
 pub mod poll;
 pub mod random;
 pub mod rt;
 pub mod rt_alloc;
+pub mod udp;

@@ -3,7 +3,8 @@
 //! configuration with `[station]`: the interface (real, or the simulated link with the
 //! demo's PLC), the protocol crate's device engine on the acyclic thread ([`DeviceRole`]),
 //! with its cyclic exchange handed to the cycle thread, and the role's client services
-//! ([`DeviceServices`]).
+//! ([`DeviceServices`]). On a real interface the station owns the interface's IPv4 address
+//! (`address.rs`): procimgd gives it the station's and follows DCP's changes.
 //!
 //! The station's events (its AR's states and end, the PLC's RUN/STOP, DCP Signal and DCP's
 //! changes of its name or address) go from the role, as [`StationEvent`]s on a channel, to
@@ -13,7 +14,9 @@
 //! part the device's input data (I), one submodule table entry per configured submodule in
 //! configuration order: the order the engine maps the AR's cyclic data onto.
 
+mod address;
 mod application;
+use address::InterfaceAddress;
 use application::ApplicationSay;
 mod diagnosis;
 mod identity;
@@ -52,22 +55,21 @@ pub enum DeviceStartError {
         "{0}: the device role needs a [station] table; add one (see `procimgd --print-demo-device-config`)"
     )]
     NoStation(String),
-    /// The interface's address is not the station's.
-    #[error(
-        "{origin}: network interface \"{interface}\" has {found}, and [station] ip is {wanted}: \
-         the device answers the PLC's connection services on the interface's address; give \
-         the interface the station's address (ip addr add {wanted}/24 dev {interface}) or set \
-         `ip` to the interface's"
-    )]
-    AddressMismatch {
+    /// The station could not take its interface's address.
+    #[error("{origin}: {error}")]
+    Address {
         /// Configuration file.
         origin: String,
-        /// The interface.
-        interface: String,
-        /// The station's configured address.
-        wanted: String,
-        /// What the interface has.
-        found: String,
+        /// What went wrong.
+        error: address::AddressStartError,
+    },
+    /// Port 34964 could not be opened on the interface.
+    #[error("{origin}: {error}")]
+    Bind {
+        /// Configuration file.
+        origin: String,
+        /// What went wrong.
+        error: datagram::InterfaceBindError,
     },
     /// The state file could not be read.
     #[error(transparent)]
@@ -99,68 +101,69 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     let (ch, cycle_ns) = (channel.clone(), config.cycle_ns);
     // One peer, the PLC, whose AR covers the whole table.
     let all = std::iter::once(0..station.submodules.len()).collect::<Vec<_>>();
-    let (io, udp, mac, station): (IoFactory, Box<dyn Datagrams>, MacAddress, StationConfig) =
-        match &config.network {
-            Network::Sim => {
-                let (ours, plc_end) =
-                    sim_link::link(sim_plc::SIM_STATION_MAC, sim_plc::SIM_PLC_MAC);
-                let mut station = station.clone();
-                station.ip = Some(sim_plc::station_ip(&station));
-                let (udp, peer) = datagram::sim_network(sim_plc::station_ip(&station));
-                let plans =
-                    sim_plc::plan(&station, cycle_ns).map_err(|problem| NetworkError::Plan {
-                        origin: config.origin.clone(),
-                        problem,
-                    })?;
-                threads.push(
-                    sim_plc::spawn(
-                        plans,
-                        sim_plc::plc_ip(&station),
-                        cycle_ns,
-                        plc_end,
-                        peer,
-                        plc_stop.clone(),
-                        sim_priority(config.cycle_thread.priority),
-                    )
-                    .map_err(|e| NetworkError::Thread("demo PLC", e))?,
-                );
-                (
-                    cycle_io(ours, ch, all, cycle_ns),
-                    Box::new(udp),
-                    sim_plc::SIM_STATION_MAC,
-                    station,
+    type Parts = (
+        IoFactory,
+        Box<dyn Datagrams>,
+        MacAddress,
+        StationConfig,
+        Option<InterfaceAddress>,
+    );
+    let (io, udp, mac, station, address): Parts = match &config.network {
+        Network::Sim => {
+            let (ours, plc_end) = sim_link::link(sim_plc::SIM_STATION_MAC, sim_plc::SIM_PLC_MAC);
+            let mut station = station.clone();
+            station.ip = Some(sim_plc::station_ip(&station));
+            let (udp, peer) = datagram::sim_network(sim_plc::station_ip(&station));
+            let plans =
+                sim_plc::plan(&station, cycle_ns).map_err(|problem| NetworkError::Plan {
+                    origin: config.origin.clone(),
+                    problem,
+                })?;
+            threads.push(
+                sim_plc::spawn(
+                    plans,
+                    sim_plc::plc_ip(&station),
+                    cycle_ns,
+                    plc_end,
+                    peer,
+                    plc_stop.clone(),
+                    sim_priority(config.cycle_thread.priority),
                 )
-            }
-            Network::Interface(name) => {
-                let nic =
-                    AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| NetworkError::Open {
+                .map_err(|e| NetworkError::Thread("demo PLC", e))?,
+            );
+            (
+                cycle_io(ours, ch, all, cycle_ns),
+                Box::new(udp),
+                sim_plc::SIM_STATION_MAC,
+                station,
+                None,
+            )
+        }
+        Network::Interface(name) => {
+            let nic = AfPacket::open(name, NIC_RX_TIMEOUT).map_err(|error| NetworkError::Open {
+                origin: config.origin.clone(),
+                error,
+            })?;
+            let address =
+                InterfaceAddress::take(name, station.ip, station.netmask, station.gateway)
+                    .map_err(|error| DeviceStartError::Address {
                         origin: config.origin.clone(),
                         error,
                     })?;
-                let ip = procimg_nic::interfaces::ipv4(name)
-                    .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
-                let mut station = station.clone();
-                match station.ip {
-                    Some(wanted) if wanted != ip => {
-                        return Err(DeviceStartError::AddressMismatch {
-                            origin: config.origin.clone(),
-                            interface: name.clone(),
-                            wanted: wanted.to_string(),
-                            found: ip.to_string(),
-                        });
-                    }
-                    _ => station.ip = Some(ip),
-                }
-                let udp = UdpDatagrams::bind(ip).map_err(NetworkError::from)?;
-                let mac = nic.mac();
-                (
-                    cycle_io(nic, ch, all, cycle_ns),
-                    Box::new(udp),
-                    mac,
-                    station,
-                )
-            }
-        };
+            let udp = UdpDatagrams::on_interface(name).map_err(|error| DeviceStartError::Bind {
+                origin: config.origin.clone(),
+                error,
+            })?;
+            let mac = nic.mac();
+            (
+                cycle_io(nic, ch, all, cycle_ns),
+                Box::new(udp),
+                mac,
+                station.clone(),
+                Some(address),
+            )
+        }
+    };
     let shown = Arc::new(Station::new(&station, mac));
     let mut device = engine(&station, mac, cycle_ns);
     device.set_hello(station.dcp_hello);
@@ -181,11 +184,16 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     let (events, event_rx) = std::sync::mpsc::channel();
     threads.push(
         acyclic::spawn(acyclic::AcyclicSetup {
-            role: match kept {
-                Some(k) => {
-                    DeviceRole::new(device, shown.clone(), channel.clone()).with_state_file(k)
+            role: {
+                let role = DeviceRole::new(device, shown.clone(), channel.clone());
+                let role = match kept {
+                    Some(k) => role.with_state_file(k),
+                    None => role,
+                };
+                match address {
+                    Some(a) => role.with_address(a),
+                    None => role,
                 }
-                None => DeviceRole::new(device, shown.clone(), channel.clone()),
             },
             channel: channel.clone(),
             datagrams: udp,

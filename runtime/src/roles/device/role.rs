@@ -3,6 +3,7 @@
 //! handed over to the cycle thread, and the daemon's bookkeeping around it (the station
 //! report the control side reads, the log).
 
+use super::address::InterfaceAddress;
 use super::diagnosis;
 use super::identity::IdentityWatch;
 use super::state_file::{self, KeptState};
@@ -104,6 +105,8 @@ pub struct DeviceRole {
     aborted: u64,
     /// The state file and what it holds, if the station has one.
     kept: Option<Kept>,
+    /// The station's address on a real interface, which follows DCP's changes.
+    address: Option<InterfaceAddress>,
     /// RUN or STOP, as the PLC's last output frame said, while its data flows.
     plc_running: Option<bool>,
     /// The cycle took the PLC's first valid frame of the current exchange.
@@ -150,6 +153,7 @@ impl DeviceRole {
             signals: 0,
             aborted: 0,
             kept: None,
+            address: None,
             plc_running: None,
             data_flows: false,
         }
@@ -158,6 +162,12 @@ impl DeviceRole {
     /// Keeps what must survive a restart in `kept` from now on.
     pub fn with_state_file(mut self, kept: Kept) -> DeviceRole {
         self.kept = Some(kept);
+        self
+    }
+
+    /// Gives the interface the station's address whenever DCP changes it, from now on.
+    pub fn with_address(mut self, address: InterfaceAddress) -> DeviceRole {
+        self.address = Some(address);
         self
     }
 
@@ -206,6 +216,13 @@ impl DeviceRole {
         self.station.refresh(&self.device);
         // Told before the AR's end that a new name or address brings about.
         if let Some(event) = self.identity.check(&self.device) {
+            // Before the DCP answer (among `out`) goes: the PLC connects to the new address
+            // as soon as it has the answer.
+            if let (Some(a), StationEvent::Identity { identity, .. }) =
+                (self.address.as_mut(), &event)
+            {
+                a.follow(identity);
+            }
             self.tell(event, out);
         }
         let state = self.device.state();

@@ -104,6 +104,15 @@ pub fn load(path: &Path) -> Result<KeptState, StateFileError> {
         path: path.to_path_buf(),
         message: e.message().to_owned(),
     })?;
+    // The station's address goes onto its interface with the netmask's prefix length.
+    if let Some(mask) = state.netmask
+        && super::address::prefix_len(mask).is_none()
+    {
+        return Err(StateFileError::Damaged {
+            path: path.to_path_buf(),
+            message: format!("netmask {mask} is not ones followed by zeros"),
+        });
+    }
     if let Some(im) = &state.im {
         im_records(im).map_err(|message| StateFileError::Damaged {
             path: path.to_path_buf(),
@@ -204,6 +213,9 @@ mod tests {
         std::fs::write(&path, "name = 7\n").unwrap();
         let e = load(&path).unwrap_err().to_string();
         assert!(e.contains("station.toml") && e.contains("remove it"), "{e}");
+        std::fs::write(&path, "ip = \"10.0.0.5\"\nnetmask = \"255.0.255.0\"\n").unwrap();
+        let e = load(&path).unwrap_err().to_string();
+        assert!(e.contains("netmask 255.0.255.0"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
