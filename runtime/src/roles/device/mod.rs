@@ -167,6 +167,13 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     let shown = Arc::new(Station::new(&station, mac));
     let mut device = engine(&station, mac, cycle_ns);
     device.set_hello(station.dcp_hello);
+    // LLDP's management address names the port by its interface index (the MIB's ifIndex).
+    if let Network::Interface(name) = &config.network
+        && let Ok(index) = crate::sys::netlink::interface_index(name)
+        && let Some(lldp) = device.lldp_mut()
+    {
+        lldp.update(|s| s.if_index = index);
+    }
     let ip = station.ip.map_or([0; 4], |ip| ip.octets());
     let (mask, gateway) = match station.ip {
         Some(_) => (station.netmask.octets(), station.gateway.octets()),
