@@ -59,6 +59,7 @@ mod connect;
 mod cyclic;
 mod dcp;
 mod dcp_check;
+mod dcp_verify;
 pub mod diagnosis;
 mod handover;
 #[cfg(test)]
@@ -66,6 +67,7 @@ mod handover_tests;
 mod identification;
 mod im;
 pub mod lldp;
+mod params;
 mod records;
 mod rpc;
 #[cfg(test)]
@@ -83,7 +85,7 @@ use crate::wire::{MacAddress, Uuid};
 pub use alarms::DiagnosisChange;
 pub use app_ready::APP_READY_HOLD_TIMEOUT_NS;
 pub use app_records::{
-    MAX_WAITING_CALLS, ParameterRecord, RECORD_ANSWER_TIMEOUT_NS, RecordRequest, UnknownRecordJob,
+    MAX_WAITING_CALLS, RECORD_ANSWER_TIMEOUT_NS, RecordRequest, UnknownRecordJob,
 };
 pub use application::Application;
 use ar::Ar;
@@ -94,6 +96,7 @@ pub use diagnosis::{
     SubslotAddr,
 };
 pub use im::ImRecords;
+pub use params::ParameterRecord;
 use std::net::SocketAddrV4;
 
 /// What the device is and what is plugged into it.
@@ -252,7 +255,7 @@ pub struct Device<A> {
     im: ImRecords,
     im_writes: u64,
     /// Which user records are accepted, and which the application answers.
-    params: app_records::ParameterRecords,
+    params: params::ParameterRecords,
     /// Calls waiting for the application's record answers.
     waiting: app_records::Waiting,
     /// Whether the ApplicationReady waits for [`Device::release_application_ready`].
@@ -306,7 +309,7 @@ impl<A: Application> Device<A> {
             diagnosis: DiagnosisStore::new(),
             im: ImRecords::default(),
             im_writes: 0,
-            params: app_records::ParameterRecords::default(),
+            params: params::ParameterRecords::default(),
             waiting: app_records::Waiting::default(),
             hold_app_ready: false,
             app_ready_hold_timeouts: 0,

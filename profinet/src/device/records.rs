@@ -19,13 +19,13 @@
 //! invalid slot/subslot, access denied, state conflict (the AR's records without an AR).
 
 use super::PluggedSubmodule;
-use super::app_records::ParameterRecords;
 use super::ar::{ArSubmodule, Records};
 use super::connect::{CMRPC, CMRPC_AR_UUID_UNKNOWN, CMRPC_ARGS_LENGTH, CMRPC_UNKNOWN_BLOCKS};
 use super::diagnosis::records::{DiagnosisScope, diagnosis_index};
 use super::diagnosis::{DiagnosisStore, SubslotAddr};
 use super::identification::{expected_data, module_diff, real_data};
 use super::im::{ImRecords, filter_data};
+use super::params::ParameterRecords;
 use crate::wire::record::{
     ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, INDEX_IM0_FILTER_DATA, INDEX_IM4,
     INDEX_MODULE_DIFF, Im0, IodHeader, IodKind, RecordError, RecordErrorCode, split_write_multiple,

@@ -3,7 +3,6 @@
 //! engine applies them without an event of its own, so the role compares what the engine
 //! holds after each step with what it saw before.
 
-use super::station::StationEvent;
 use procimg_profinet::device::{Application, Device, KeptIdentity};
 use std::net::Ipv4Addr;
 
@@ -38,6 +37,18 @@ impl Identity {
     }
 }
 
+/// A change DCP made: the identity now, whether it is kept across a restart, whether it was
+/// a reset to factory (see `StationEvent::Identity`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct IdentityChange {
+    /// The name and IP suite now.
+    pub identity: Identity,
+    /// DCP set it to be kept: the engine's count of kept changes grew.
+    pub permanent: bool,
+    /// A reset to factory, as told from the state it leaves.
+    pub factory_reset: bool,
+}
+
 /// What the role saw last of the station's identity.
 #[derive(Debug)]
 pub struct IdentityWatch {
@@ -56,14 +67,14 @@ impl IdentityWatch {
         }
     }
 
-    /// The event that tells what DCP changed since the last look, if anything.
-    pub fn check<A: Application>(&mut self, device: &Device<A>) -> Option<StationEvent> {
+    /// What DCP changed since the last look, if anything.
+    pub fn check<A: Application>(&mut self, device: &Device<A>) -> Option<IdentityChange> {
         self.compare(Identity::of(device), device.kept_identity())
     }
 
     /// `now` against what was seen, with the engine's kept identity `kept`. A Set to keep
     /// reports even when the value stays (it is now kept across a restart).
-    fn compare(&mut self, now: Identity, kept: &KeptIdentity) -> Option<StationEvent> {
+    fn compare(&mut self, now: Identity, kept: &KeptIdentity) -> Option<IdentityChange> {
         let permanent = kept.changes != self.kept_changes;
         if now == self.seen && !permanent {
             return None;
@@ -72,7 +83,7 @@ impl IdentityWatch {
         self.seen = now.clone();
         // A reset keeps the factory state (no name, no address) for the next start too.
         let kept_factory = kept.name.as_deref() == Some("") && kept.ip_suite == Some([[0; 4]; 3]);
-        Some(StationEvent::Identity {
+        Some(IdentityChange {
             factory_reset: permanent && kept_factory && now.is_factory(),
             identity: now,
             permanent,
@@ -115,15 +126,8 @@ mod tests {
         }
     }
 
-    fn reported(e: Option<StationEvent>) -> Option<(String, bool, bool)> {
-        match e {
-            Some(StationEvent::Identity {
-                identity,
-                permanent,
-                factory_reset,
-            }) => Some((identity.name, permanent, factory_reset)),
-            _ => None,
-        }
+    fn reported(e: Option<IdentityChange>) -> Option<(String, bool, bool)> {
+        e.map(|c| (c.identity.name, c.permanent, c.factory_reset))
     }
 
     #[test]

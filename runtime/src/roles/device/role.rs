@@ -5,7 +5,7 @@
 
 use super::address::InterfaceAddress;
 use super::diagnosis;
-use super::identity::IdentityWatch;
+use super::identity::{IdentityChange, IdentityWatch};
 use super::state_file::{self, KeptState};
 use super::station::{ImageApplication, Station, StationEvent};
 use crate::io::pnio::channel::Channel;
@@ -215,15 +215,25 @@ impl DeviceRole {
         self.keep();
         self.station.refresh(&self.device);
         // Told before the AR's end that a new name or address brings about.
-        if let Some(event) = self.identity.check(&self.device) {
+        if let Some(change) = self.identity.check(&self.device) {
             // Before the DCP answer (among `out`) goes: the PLC connects to the new address
             // as soon as it has the answer.
-            if let (Some(a), StationEvent::Identity { identity, .. }) =
-                (self.address.as_mut(), &event)
-            {
-                a.follow(identity);
+            if let Some(a) = self.address.as_mut() {
+                a.follow(&change.identity);
             }
-            self.tell(event, out);
+            let IdentityChange {
+                identity,
+                permanent,
+                factory_reset,
+            } = change;
+            self.tell(
+                StationEvent::Identity {
+                    identity,
+                    permanent,
+                    factory_reset,
+                },
+                out,
+            );
         }
         let state = self.device.state();
         if state == ArState::Idle {
