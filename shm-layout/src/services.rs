@@ -6,11 +6,11 @@
 //!
 //! Requests go over the control service (see [`crate::control::Request`]); what happens later
 //! arrives on the notification service `procimg/<instance>/notifications`, one JSON
-//! [`Notification`] per sample, with a wake-up on the event service
+//! [`Notification`](crate::services::Notification) per sample, with a wake-up on the event service
 //! `procimg/<instance>/notify-events`. Alarms, device and station events go to every subscriber;
 //! confirmations carry the `reply_to` of the subscriber that asked, so every subscriber sees
 //! only its own. Both services outlive a server restart, like the control service: a
-//! subscriber keeps its ports and learns of the new server from [`Notification::ServerStarted`].
+//! subscriber keeps its ports and learns of the new server from [`Notification::ServerStarted`](crate::services::Notification::ServerStarted).
 
 use alloc::format;
 use alloc::string::String;

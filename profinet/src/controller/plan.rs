@@ -183,7 +183,7 @@ pub struct ControllerIdentity {
 }
 
 impl ControllerIdentity {
-    /// The CMInitiatorObjectUUID: DEA00000-6C97-11D1-8271-<instance><device><vendor>.
+    /// The CMInitiatorObjectUUID: `DEA00000-6C97-11D1-8271-<instance><device><vendor>`.
     pub const fn object_uuid(&self) -> Uuid {
         crate::wire::rpc::object_uuid(self.instance, self.device_id, self.vendor_id)
     }

@@ -48,7 +48,7 @@ impl Handover {
 
 impl<A: Application> Device<A> {
     /// From now on the caller's cycle, running every `cycle_ns`, exchanges the cyclic data
-    /// (see the [module](self)). Call it before the first Connect.
+    /// (see the module docs). Call it before the first Connect.
     pub fn hand_over_cyclic(&mut self, cycle_ns: u64) {
         self.handover = Some(Handover::new(cycle_ns));
     }

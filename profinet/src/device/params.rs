@@ -90,7 +90,7 @@ impl<A: Application> Device<A> {
     }
 
     /// Hands the user records (0x0000–0x7FFF) of submodule `at` to the application
-    /// (`true`) as [`DeviceAction::Record`] jobs, or has the device answer them again.
+    /// (`true`) as [`DeviceAction::Record`](super::DeviceAction::Record) jobs, or has the device answer them again.
     pub fn delegate_records(&mut self, at: SubslotAddr, to_application: bool) {
         if to_application {
             self.params.delegated.insert(at);

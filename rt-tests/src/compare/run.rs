@@ -131,7 +131,7 @@ fn kill_group(pgid: u32) {
     }
 }
 
-/// "NAME failed (exit status: 1): <its last line of output>".
+/// `"NAME failed (exit status: 1): <its last line of output>"`.
 fn failure(name: &str, status: ExitStatus, log: &Path) -> String {
     let text = std::fs::read_to_string(log).unwrap_or_default();
     let last = text

@@ -16,7 +16,7 @@ pub struct ForceRun {
     pub submodule: u32,
     /// First byte inside the submodule's data.
     pub offset: u32,
-    /// Where the values start in [`ForcePlan::values`].
+    /// Where the values start in `ForcePlan::values`.
     pub value_at: u32,
     /// Bytes.
     pub len: u32,

@@ -105,7 +105,7 @@ impl Control {
         }
     }
 
-    /// Answers every pending request; every [`LIVENESS_PERIOD`] reaps dead clients. Returns
+    /// Answers every pending request; every `LIVENESS_PERIOD` reaps dead clients. Returns
     /// the names of clients reaped in this call.
     pub fn poll(&mut self) -> Vec<String> {
         while let Ok(Some(active)) = self.server.receive() {

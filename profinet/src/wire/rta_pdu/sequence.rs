@@ -27,7 +27,7 @@ pub enum Received {
     /// The last received number again (our ACK was lost): answer with the ACK-RTA again, do
     /// not deliver.
     Duplicate,
-    /// Anything else: a sequence error (NACK-RTA, abort with [`AbortCode::SequenceError`]).
+    /// Anything else: a sequence error (NACK-RTA, abort with [`AbortCode::SequenceError`](crate::wire::rta_pdu::AbortCode::SequenceError)).
     OutOfOrder,
 }
 

@@ -24,7 +24,7 @@ use std::thread::JoinHandle;
 /// The longest the plant sleeps between looks at the link.
 const MAX_SLEEP_NS: u64 = 500_000;
 
-/// The MAC address of simulated device `d`: locally administered, 02:50:49:00:<d>.
+/// The MAC address of simulated device `d`: locally administered, `02:50:49:00:<d>`.
 pub fn device_mac(d: usize) -> MacAddress {
     let d = d as u16;
     MacAddress([0x02, 0x50, 0x49, 0x00, (d >> 8) as u8, d as u8])
