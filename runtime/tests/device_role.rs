@@ -215,6 +215,15 @@ fn a_device_program_follows_the_ar_through_the_station_notifications() {
     );
 }
 
+/// OFFLINE until the station's AR has ended, then OPERATE: the demo PLC connects again.
+fn end_the_ar_and_let_the_plc_connect_again(server: &procimg_testkit::Procimgd) {
+    server.set_mode(Mode::Offline);
+    server.wait_status("the AR's end", |s| {
+        s.station.as_ref().is_some_and(|st| st.ar.is_none())
+    });
+    server.set_mode(Mode::Operate);
+}
+
 /// The next notification for `services` that `pick` takes, skipping the others; panics
 /// naming `what` after 30 s.
 fn next_picked<T>(
@@ -242,12 +251,7 @@ fn next_job(services: &mut Services) -> StationRecordJob {
 #[test]
 fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
     let server = Launch::demo_device("devrec").debug_log().start();
-    server.wait_status("the demo's AR in data exchange", |s| {
-        s.station
-            .as_ref()
-            .and_then(|st| st.ar.as_ref())
-            .is_some_and(|ar| ar.state == "data")
-    });
+    server.wait_devices_running(BRING_UP);
     let mut services =
         Services::open(&server.instance, ServiceOptions::new("devrec")).expect("services");
     let other = Services::open(&server.instance, ServiceOptions::new("devrec-2")).expect("other");
@@ -316,11 +320,7 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
     // Held: after the PLC's PrmEnd the station waits for this handle; the PLC's parameter
     // writes in the new AR come here too.
     services.hold_application_ready(true).expect("hold");
-    server.set_mode(Mode::Offline);
-    server.wait_status("the AR's end", |s| {
-        s.station.as_ref().is_some_and(|st| st.ar.is_none())
-    });
-    server.set_mode(Mode::Operate);
+    end_the_ar_and_let_the_plc_connect_again(&server);
     let until = Instant::now() + BRING_UP;
     let mut parameter_writes = 0;
     loop {
@@ -352,12 +352,7 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
 #[test]
 fn a_device_program_refuses_a_new_ar_and_accepts_the_next() {
     let server = Launch::demo_device("devchk").start();
-    server.wait_status("the demo's AR in data exchange", |s| {
-        s.station
-            .as_ref()
-            .and_then(|st| st.ar.as_ref())
-            .is_some_and(|ar| ar.state == "data")
-    });
+    server.wait_devices_running(BRING_UP);
     let mut services =
         Services::open(&server.instance, ServiceOptions::new("devchk")).expect("services");
     let other = Services::open(&server.instance, ServiceOptions::new("devchk-2")).expect("other");
@@ -367,11 +362,7 @@ fn a_device_program_refuses_a_new_ar_and_accepts_the_next() {
         matches!(&e, ControlError::Refused(Refusal::ArChecksTaken { by }) if by == "devchk"),
         "{e}"
     );
-    server.set_mode(Mode::Offline);
-    server.wait_status("the AR's end", |s| {
-        s.station.as_ref().is_some_and(|st| st.ar.is_none())
-    });
-    server.set_mode(Mode::Operate);
+    end_the_ar_and_let_the_plc_connect_again(&server);
     let next_check = |services: &mut Services| {
         next_picked(services, "AR check", |n| match n {
             Notification::StationArCheck { check, .. } => Some(check),
