@@ -84,7 +84,7 @@ fn the_filter_is_the_af_packet_one() {
 #[test]
 fn a_file_of_the_capture_writer_replays_its_frames() {
     let dir = temp_dir("replay-round-trip");
-    let path = dir.join("capture.pcap");
+    let path = dir.path().join("capture.pcap");
     let mut w = CaptureWriter::create(&path).unwrap();
     let frames = [
         pn_frame(DEVICE, 1),
@@ -120,7 +120,6 @@ fn a_file_of_the_capture_writer_replays_its_frames() {
         vec![frames[0].clone(), frames[3].clone(), frames[4].clone()]
     );
     assert!(r.is_finished());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A capture of a connection built from the S7 fixtures: DCP, RPC over UDP, cyclic and alarm
@@ -421,7 +420,7 @@ fn pcapng_interfaces_blocks_and_resolutions() {
 #[test]
 fn sent_frames_are_kept_and_written_on_flush_and_on_drop() {
     let dir = temp_dir("replay-sent");
-    let out = dir.join("sent.pcap");
+    let out = dir.path().join("sent.pcap");
     let file = pcap(&[
         (T0, pn_frame(DEVICE, 1)),
         (T0 + 10 * MS, pn_frame(DEVICE, 2)),
@@ -482,7 +481,6 @@ fn sent_frames_are_kept_and_written_on_flush_and_on_drop() {
         rest = rem;
     }
     assert_eq!(stamps, vec![at, at, Duration::from_nanos(T0 + 7 * MS)]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -512,7 +510,7 @@ fn errors_name_the_file_and_say_what_to_do() {
     };
     let fast = || options(Pacing::AsFastAsPolled);
 
-    let missing = dir.join("missing.pcap");
+    let missing = dir.path().join("missing.pcap");
     let (m, e) = msg(Replay::open(&missing, fast()));
     assert!(matches!(e, ReplayError::NotFound { .. }), "{m}");
     assert!(m.contains(&missing.display().to_string()) && m.contains("check the path"));
@@ -598,7 +596,7 @@ fn errors_name_the_file_and_say_what_to_do() {
     assert!(m.contains("interface 3"), "{m}");
 
     let file = pcap(&[(T0, pn_frame(DEVICE, 1))]);
-    let out = dir.join("no-such-dir").join("out.pcap");
+    let out = dir.path().join("no-such-dir").join("out.pcap");
     let (m, e) = msg(Replay::from_bytes(
         Path::new("x.pcap"),
         &file,
@@ -609,7 +607,6 @@ fn errors_name_the_file_and_say_what_to_do() {
     ));
     assert!(matches!(e, ReplayError::Output { .. }), "{m}");
     assert!(m.contains(&out.display().to_string()) && m.contains("writable"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Opens `bytes` and, if that works, plays it to the end (repeating files once around).

@@ -426,9 +426,10 @@ fn a_device_program_vetoes_a_dcp_name_change_and_allows_the_next() {
         procimg_testkit::netns::ip(&["-n", &net.ns[i], "addr", "add", ip, "dev", &net.ifs[i]]);
     }
     let dir = procimg_testkit::files::temp_dir("device-role-dcp-veto");
-    let device_toml = DEVICE_TOML
-        .replace("IFACE", &net.ifs[1])
-        .replace("STATE", &dir.join("station.toml").display().to_string());
+    let device_toml = DEVICE_TOML.replace("IFACE", &net.ifs[1]).replace(
+        "STATE",
+        &dir.path().join("station.toml").display().to_string(),
+    );
     let device = Launch::config("dkd", &device_toml)
         .netns(&net.ns[1])
         .until_cycling()
@@ -741,7 +742,7 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     }
     // Every frame on the wire, from before the device starts.
     let dir = procimg_testkit::files::temp_dir("device-role-veth");
-    let pcap = dir.join("wire.pcapng");
+    let pcap = dir.path().join("wire.pcapng");
     let mut capture = std::process::Command::new("ip")
         .args([
             "netns",
@@ -760,7 +761,7 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         .expect("tshark");
     std::thread::sleep(Duration::from_secs(2));
 
-    let state = dir.join("station.toml");
+    let state = dir.path().join("station.toml");
     let device_toml = DEVICE_TOML
         .replace("IFACE", &net.ifs[1])
         .replace("STATE", &state.display().to_string());
@@ -1035,7 +1036,7 @@ fn the_plc_gives_a_fresh_station_its_address_and_dcp_changes_it_on_the_interface
     let addresses = || ip_show(&dev_ns, &["-4", "addr", "show"], &dev_if);
     let default_route = || ip_show(&dev_ns, &["-4", "route", "show", "default"], &dev_if);
     let dir = procimg_testkit::files::temp_dir("device-role-address");
-    let state = dir.join("station.toml");
+    let state = dir.path().join("station.toml");
     let toml = fresh_device_toml(&dev_if, &state);
     assert!(!toml.contains("ip ="), "{toml}");
     let mut device = Launch::config("dva", &toml)
@@ -1121,10 +1122,10 @@ fn a_station_does_not_share_its_interface_with_other_addresses() {
     let (ns, interface) = (&net.ns[1], &net.ifs[1]);
     procimg_testkit::netns::ip(&["-n", ns, "addr", "add", "192.0.2.7/24", "dev", interface]);
     let dir = procimg_testkit::files::temp_dir("device-role-foreign");
-    let config = dir.join("device.toml");
+    let config = dir.path().join("device.toml");
     std::fs::write(
         &config,
-        fresh_device_toml(interface, &dir.join("state.toml")),
+        fresh_device_toml(interface, &dir.path().join("state.toml")),
     )
     .unwrap();
     let out = std::process::Command::new("ip")

@@ -3,8 +3,8 @@
 //! lengths, the DAP submodules, parameter records), the refusals with both files' lines, the
 //! demo's GSDML files against demo.toml, and no panics on any XML.
 
+use procimg_testkit::files::TempDir;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use procimg_runtime::config::gsdml::{Gsdml, GsdmlError, SubmoduleKind};
 use procimg_runtime::config::{
@@ -27,17 +27,9 @@ fn sample_text() -> String {
     std::fs::read_to_string(package_file(SAMPLE)).unwrap()
 }
 
-/// A fresh directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    static NEXT: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "procimg-gsdml-{}-{}-{name}",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::Relaxed)
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory for one test, removed when the guard drops.
+fn scratch(name: &str) -> TempDir {
+    procimg_testkit::files::temp_dir(&format!("gsdml-{name}"))
 }
 
 /// The 1-based line of the only line of `text` containing `needle`.
@@ -322,7 +314,8 @@ fn slot_zero_listed_replaces_the_automatic_dap() {
 
 #[test]
 fn relative_paths_start_at_the_configuration_file() {
-    let dir = scratch("relative");
+    let scratch = scratch("relative");
+    let dir = scratch.path();
     std::fs::create_dir_all(dir.join("gsdml")).unwrap();
     std::fs::write(dir.join("gsdml/device.xml"), sample_text()).unwrap();
     let text = "[[device]]\nname = \"pnio\"\ngsdml = \"gsdml/device.xml\"\n\
@@ -453,16 +446,17 @@ fn small_gsdml(dap_extra: &str, sub_body: &str) -> String {
 }
 
 /// Writes `xml` as `dev.xml` into a fresh directory and returns a configuration using its
-/// module `M` in slot 1 (with `extra` keys), and the file's path.
-fn with_file(name: &str, xml: &str, extra: &str) -> (String, PathBuf) {
-    let path = scratch(name).join("dev.xml");
+/// module `M` in slot 1 (with `extra` keys), the file's path, and the directory's guard.
+fn with_file(name: &str, xml: &str, extra: &str) -> (String, PathBuf, TempDir) {
+    let dir = scratch(name);
+    let path = dir.path().join("dev.xml");
     std::fs::write(&path, xml).unwrap();
     let text = format!(
         "[[device]]\nname = \"x\"\ngsdml = {:?}\n[[device.submodule]]\nslot = 1\n\
          module = \"M\"\n{extra}\n",
         path.display().to_string()
     );
-    (text, path)
+    (text, path, dir)
 }
 
 #[test]
@@ -486,7 +480,7 @@ fn record_encoding() {
                 <ParameterRecordDataItem Index="0x30" Length="1" Access="prm;read"/>
               </RecordDataList>"#,
     );
-    let (text, path) = with_file("encoding", &xml, "");
+    let (text, path, _dir) = with_file("encoding", &xml, "");
     let c = accepted(&text);
     let m = c.devices[0].submodules.last().unwrap();
     assert_eq!(
@@ -677,7 +671,7 @@ fn unreadable_and_broken_files_name_both_lines() {
 
     // Not XML: the GSDML line of the damage.
     let broken = sample_text().replacen("</ModuleItem>", "</ModuleItm>", 2);
-    let (text, path) = with_file("broken", &broken, "");
+    let (text, path, _dir) = with_file("broken", &broken, "");
     let e = refused_at(&text, "gsdml", "device[0].gsdml", &["not well-formed XML"]);
     let ConfigError::Gsdml { error, .. } = &e else {
         panic!("{e:?}")
@@ -694,7 +688,7 @@ fn unreadable_and_broken_files_name_both_lines() {
         "<IOData>\n<Input>\n<DataItem DataType=\"Real\"/>\n</Input>\n</IOData>",
     );
     let data_line = line_of(&xml, "\"Real\"");
-    let (text, path) = with_file("datatype", &xml, "");
+    let (text, path, _dir) = with_file("datatype", &xml, "");
     let e = refused_at(
         &text,
         "module =",
@@ -716,7 +710,7 @@ fn unreadable_and_broken_files_name_both_lines() {
     let chain = format!("{:#}", anyhow::Error::from(e));
     assert_eq!(chain.matches(message.as_str()).count(), 1, "{chain}");
     // ... unless the configuration gives both lengths itself.
-    let (text, _) = with_file("datatype-own", &xml, "input_length = 4\noutput_length = 0");
+    let (text, _, _dir) = with_file("datatype-own", &xml, "input_length = 4\noutput_length = 0");
     let m = accepted(&text).devices[0].submodules[1].clone();
     assert_eq!((m.input_length, m.output_length), (4, 0));
 
@@ -728,7 +722,7 @@ fn unreadable_and_broken_files_name_both_lines() {
          </ParameterRecordDataItem>\n</RecordDataList>",
     );
     let ref_line = line_of(&xml, "<Ref ");
-    let (text, path) = with_file("record", &xml, "");
+    let (text, path, _dir) = with_file("record", &xml, "");
     refused_at(
         &text,
         "module =",
@@ -741,7 +735,7 @@ fn unreadable_and_broken_files_name_both_lines() {
             "give the submodule's records in the configuration instead",
         ],
     );
-    let (text, _) = with_file("record-own", &xml, "records = []");
+    let (text, _, _dir) = with_file("record-own", &xml, "records = []");
     assert!(accepted(&text).devices[0].submodules[1].records.is_empty());
 
     // PROFIsafe records are not built.
@@ -749,7 +743,7 @@ fn unreadable_and_broken_files_name_both_lines() {
         "",
         "<RecordDataList><F_ParameterRecordDataItem F_ParamDescCRC=\"1\"/></RecordDataList>",
     );
-    let (text, _) = with_file("safety", &xml, "");
+    let (text, _, _dir) = with_file("safety", &xml, "");
     refused_at(
         &text,
         "module =",
@@ -758,7 +752,7 @@ fn unreadable_and_broken_files_name_both_lines() {
     );
 
     // A document that is not a GSDML file.
-    let (text, _) = with_file("other", "<?xml version=\"1.0\"?>\n<html/>", "");
+    let (text, _, _dir) = with_file("other", "<?xml version=\"1.0\"?>\n<html/>", "");
     refused_at(
         &text,
         "gsdml",
@@ -783,7 +777,7 @@ fn pluggable_submodules_go_where_their_module_allows() {
          <DataItem DataType=\"Unsigned16\"/></Output></IOData></SubmoduleItem>\n\
          </SubmoduleList>",
     );
-    let (text, _) = with_file("pluggable", &xml, "");
+    let (text, _, _dir) = with_file("pluggable", &xml, "");
     let plugged = format!("{text}[[device.submodule]]\nslot = 1\nmodule = \"M\"\nsubslot = 3\n");
     let c = accepted(&plugged);
     let subs = &c.devices[0].submodules;
@@ -822,7 +816,7 @@ fn dap_submodules_sharing_a_subslot_are_refused() {
          SubmoduleIdentNumber=\"0x8000\"/>\n</SystemDefinedSubmoduleList>",
         "",
     );
-    let (text, _) = with_file("shared-subslot", &xml, "");
+    let (text, _, _dir) = with_file("shared-subslot", &xml, "");
     refused_at(
         &text,
         "gsdml",
@@ -849,7 +843,7 @@ fn records_are_bounded() {
         "",
         &format!("<RecordDataList>\n{}</RecordDataList>", one.repeat(17)),
     );
-    let (text, _) = with_file("many-records", &xml, "");
+    let (text, _, _dir) = with_file("many-records", &xml, "");
     refused_at(
         &text,
         "module =",
@@ -860,7 +854,7 @@ fn records_are_bounded() {
         "",
         "<RecordDataList><ParameterRecordDataItem Index=\"1\" Length=\"65536\"/></RecordDataList>",
     );
-    let (text, _) = with_file("long-record", &xml, "");
+    let (text, _, _dir) = with_file("long-record", &xml, "");
     refused_at(
         &text,
         "module =",
@@ -888,7 +882,7 @@ fn several_daps_need_a_choice() {
         "<ExternalTextList><PrimaryLanguage><Text TextId=\"T_B\" Value=\"Second DAP\"/>\
          </PrimaryLanguage></ExternalTextList></ApplicationProcess>",
     );
-    let (text, _) = with_file("daps", &xml, "");
+    let (text, _, _dir) = with_file("daps", &xml, "");
     refused_at(
         &text,
         "gsdml",

@@ -95,7 +95,7 @@ fn replaying_and_sending_allocate_nothing() {
                     repeat: Some(Duration::from_micros(10)),
                     // Fills up within the rounds: dropping must not allocate either.
                     sent_buffer: 64 * 1024,
-                    output: Some(dir.join(format!("out-{i}.pcap"))),
+                    output: Some(dir.path().join(format!("out-{i}.pcap"))),
                     ..ReplayOptions::new(OWN)
                 },
             )
@@ -129,7 +129,6 @@ fn replaying_and_sending_allocate_nothing() {
     assert!(received[2] > 0);
     assert!(replays.iter().all(|r| r.sent_dropped() > 0));
     drop(replays);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The S7's port MAC: "ours" in the captures.
@@ -191,7 +190,7 @@ fn a_replayed_cyclic_frame_lands_in_the_image() {
     }
 
     let dir = temp_dir("replay-image");
-    let out = dir.join("sent.pcap");
+    let out = dir.path().join("sent.pcap");
     let file = pcap(&[
         (T0, profinet_capture("rt/rtc_cpu_8001")),
         (T0 + MS / 2, profinet_capture("cm/connect_res")),
@@ -271,5 +270,4 @@ fn a_replayed_cyclic_frame_lands_in_the_image() {
     assert_eq!(&p.data[..n - 4], &expected[..n - 4], "cyclic output frame");
     assert_eq!(&p.data[n - 2..], &expected[n - 2..]);
     assert_eq!(p.timestamp, Duration::from_nanos(T0));
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,8 +3,8 @@
 
 use pcap_file::TsResolution;
 use pcap_file::pcap::{PcapHeader, PcapPacket, PcapWriter};
-use std::path::PathBuf;
 use std::time::Duration;
+pub use tempfile::TempDir;
 
 /// A pcap file (nanosecond timestamps) of `frames`, each `(timestamp in ns, frame)`.
 pub fn pcap(frames: &[(u64, Vec<u8>)]) -> Vec<u8> {
@@ -22,12 +22,11 @@ pub fn pcap(frames: &[(u64, Vec<u8>)]) -> Vec<u8> {
     w.into_writer()
 }
 
-/// A fresh, empty directory for the files of test `name` of this process (what an earlier
-/// run left there is removed).
-pub fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("procimg-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir)
-        .unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
-    dir
+/// A fresh, empty directory for the files of test `name`, removed with all it holds when
+/// the returned guard drops, whether the test passed or failed.
+pub fn temp_dir(name: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("procimg-{name}-"))
+        .tempdir()
+        .unwrap_or_else(|e| panic!("cannot create a directory for test {name}: {e}"))
 }

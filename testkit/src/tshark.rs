@@ -33,9 +33,9 @@ pub fn dissect_clean(name: &str, frames: &[Vec<u8>]) -> Vec<Dissected> {
 /// names such as `lldp.chassis.id`) in each frame: one string per field, empty where the
 /// frame has none, several occurrences joined by commas.
 pub fn clean_fields(name: &str, frames: &[Vec<u8>], fields: &[&str]) -> Vec<Vec<String>> {
-    let dir = std::env::temp_dir().join(format!("procimg-tshark-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(format!("{name}.pcap"));
+    // Removed when this returns or panics: a failure prints what tshark said.
+    let dir = crate::files::temp_dir("tshark");
+    let path = dir.path().join("frames.pcap");
     let file = std::fs::File::create(&path).expect("create the pcap file");
     let mut w = PcapWriter::new(std::io::BufWriter::new(file)).expect("write the pcap header");
     for (i, f) in frames.iter().enumerate() {
@@ -94,6 +94,5 @@ pub fn clean_fields(name: &str, frames: &[Vec<u8>], fields: &[&str]) -> Vec<Vec<
         frames.len(),
         "tshark read a different number of frames"
     );
-    let _ = std::fs::remove_file(&path);
     values
 }
