@@ -296,25 +296,7 @@ fn held_at_prm_end() -> (Device<TestApp>, u64) {
     let (mut dev, connect) = counter_device();
     dev.hold_application_ready(true);
     let t = 10 * MS;
-    let r = call(
-        &mut dev,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            false,
-        ),
-        t,
-    );
-    assert_eq!(status(&r), PnioStatus::OK);
-    let prm = ControlBlock::prm_end(AR_UUID, 1).to_bytes();
-    let r = call(
-        &mut dev,
-        &request(opnum::CONTROL, ACTIVITY, 1, &prm, false),
-        t,
-    );
-    assert_eq!(status(&r), PnioStatus::OK);
+    to_prm_end(&mut dev, &connect, t);
     (dev, t)
 }
 

@@ -810,8 +810,8 @@ pub(super) fn counter_device() -> (Device<TestApp>, ConnectRequest) {
     (dev, built_connect(&subs, AR_UUID, (32, 2, 3)))
 }
 
-/// Connect, PrmEnd and the ApplicationReady answered with our codecs, at `t0`.
-pub(super) fn to_data(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u64) -> u64 {
+/// Connect and PrmEnd with our codecs, both answered OK, at `t0`.
+pub(super) fn to_prm_end(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u64) {
     let r = call(
         dev,
         &request(
@@ -827,6 +827,11 @@ pub(super) fn to_data(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u
     let prm = ControlBlock::prm_end(AR_UUID, 1).to_bytes();
     let r = call(dev, &request(opnum::CONTROL, ACTIVITY, 1, &prm, false), t0);
     assert_eq!(status(&r), PnioStatus::OK);
+}
+
+/// Connect, PrmEnd and the ApplicationReady answered with our codecs, at `t0`.
+pub(super) fn to_data(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u64) -> u64 {
+    to_prm_end(dev, connect, t0);
     let mut out = Vec::new();
     let t = t0 + APP_READY_DELAY_NS;
     dev.poll(t, &mut out);
