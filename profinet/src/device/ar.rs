@@ -50,6 +50,9 @@ pub(super) struct ArSubmodule {
     pub(super) outputs_valid: bool,
     /// The controller's IOCS for our inputs.
     pub(super) controller_iocs: u8,
+    /// The AlarmSequenceNumber of the plug alarm whose sub-cycle (records, PlugPrmEnd,
+    /// PlugApplicationReady) this submodule is in; it exchanges data again at its end.
+    pub(super) plugging: Option<u16>,
 }
 
 /// Where `e`'s data object and IOCS sit in CR `c`, if it has them.
@@ -87,6 +90,14 @@ pub(super) struct Ar {
     pub(super) cmi_deadline: Option<u64>,
     /// Records written in this AR.
     pub(super) records: Records,
+    /// Grows whenever a submodule starts or stops exchanging data in the AR (pull, the end
+    /// of a plug sub-cycle), so that a handed-over exchange is handed out again.
+    pub(super) exchange_generation: u32,
+    /// PlugApplicationReadys to send (the submodule and its plug alarm's sequence number),
+    /// one at a time, each when due.
+    pub(super) plug_ready: std::collections::VecDeque<(SubslotAddr, u16, u64)>,
+    /// The outstanding PlugApplicationReady and its submodule.
+    pub(super) plug_call: Option<(ClientCall, SubslotAddr)>,
     /// Send clock, reduction ratio and data hold factor of the output CR (the input CR's are
     /// the same for RT class 1/2); `every_cycles` is left at 1 for the caller to set.
     pub(super) timing: CrTiming,
@@ -122,6 +133,7 @@ impl Ar {
                     outputs: vec![0; usize::from(e.output_length)],
                     outputs_valid: false,
                     controller_iocs: IOXS_BAD,
+                    plugging: None,
                 }
             })
             .collect();
@@ -167,6 +179,9 @@ impl Ar {
                 now_ns.saturating_add(u64::from(plan.ar.activity_timeout_factor) * 100_000_000),
             ),
             records: Records::new(),
+            exchange_generation: 0,
+            plug_ready: std::collections::VecDeque::new(),
+            plug_call: None,
             timing: CrTiming {
                 send_clock_factor: plan.output.send_clock_factor,
                 reduction_ratio: plan.output.reduction_ratio,
@@ -341,6 +356,11 @@ impl Ar {
             self.app_ready_due,
             self.app_ready_held,
             self.app_ready.as_ref().map(ClientCall::deadline),
+            self.plug_call.as_ref().map(|(c, _)| c.deadline()),
+            self.plug_ready
+                .front()
+                .filter(|_| self.plug_call.is_none())
+                .map(|(_, _, due)| *due),
             self.alarms.deadline(),
         ]
         .into_iter()

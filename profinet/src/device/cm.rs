@@ -244,7 +244,9 @@ impl<A: Application> Device<A> {
             return fail(CMRPC, connect::CMRPC_ARGS_LENGTH);
         }
         let (faulty, command) = match c.block_type {
-            BlockType::PrmEndReq => (FAULTY_PRM_END, control::command::PRM_END),
+            BlockType::PrmEndReq | BlockType::PlugPrmEndReq => {
+                (FAULTY_PRM_END, control::command::PRM_END)
+            }
             BlockType::PrmBeginReq => (FAULTY_PRM_BEGIN, control::command::PRM_BEGIN),
             _ => return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
         };
@@ -269,6 +271,11 @@ impl<A: Application> Device<A> {
                     ar.provider.start(now_ns);
                 }
                 self.schedule_app_ready(now_ns);
+            }
+            (BlockType::PlugPrmEndReq, ArState::Data) => {
+                if let Err(code) = self.plug_prm_end(&c, now_ns) {
+                    return fail(CMDEV, code);
+                }
             }
             (BlockType::PrmBeginReq, ArState::Data) => {
                 // Re-parameterization: records may be written again until the next PrmEnd;
@@ -318,6 +325,9 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) {
+        if self.plug_ready_pdu(h, body, now_ns, out) {
+            return;
+        }
         let own_cyclic = self.handover.is_none();
         let Some(ar) = self.ar.as_mut() else {
             return;

@@ -6,8 +6,11 @@
 //! demo's simulated devices). After [`Device::hand_over_cyclic`] it leaves both to the
 //! caller's cycle, which runs every `cycle_ns`: when an AR's parameterization ends (PrmEnd)
 //! the engine hands out the AR's [`CyclicAr`] in [`DeviceAction::StartCyclic`], mapped onto
-//! the device's submodules in the order they were plugged, and when the AR ends,
-//! [`DeviceAction::StopCyclic`]. The cycle reports back the first valid output frame
+//! the device's submodules in the order they were set up, and when the AR ends,
+//! [`DeviceAction::StopCyclic`]. When a submodule of the running AR is pulled, or a plugged
+//! one finished its plug sub-cycle, the exchange is handed out again under a new epoch
+//! (without a stop: it replaces the running one), so that the cycle exchanges exactly the
+//! submodules that are plugged and proper. The cycle reports back the first valid output frame
 //! ([`Device::cyclic_started`]) and the data hold watchdog running out
 //! ([`Device::cyclic_expired`], which ends the AR as the device's own watchdog would).
 //!
@@ -25,8 +28,9 @@ use crate::wire::rta_pdu::AbortCode;
 pub(super) struct Handover {
     /// The period of the caller's cycle.
     pub(super) cycle_ns: u64,
-    /// The AR whose exchange runs (its ARUUID and session key) and its epoch.
-    running: Option<(Uuid, u16, u32)>,
+    /// The AR whose exchange runs (its ARUUID and session key), its epoch, and the AR's
+    /// [`exchange_generation`](Ar::exchange_generation) it was made from.
+    running: Option<(Uuid, u16, u32, u32)>,
     /// Epochs handed out so far.
     epochs: u32,
 }
@@ -73,7 +77,7 @@ impl<A: Application> Device<A> {
     }
 
     fn running_epoch(&self) -> Option<u32> {
-        self.handover.and_then(|h| h.running).map(|(_, _, e)| e)
+        self.handover.and_then(|h| h.running).map(|(_, _, e, _)| e)
     }
 
     /// Hands out or takes back the exchange after whatever changed the AR: a stop when the
@@ -83,19 +87,20 @@ impl<A: Application> Device<A> {
             return;
         };
         let current = self.ar.as_ref().map(|a| (a.ar_uuid, a.session_key));
-        if let Some((uuid, key, epoch)) = h.running
+        if let Some((uuid, key, epoch, _)) = h.running
             && current != Some((uuid, key))
         {
             out.push(DeviceAction::StopCyclic { epoch });
             h.running = None;
         }
-        if h.running.is_none()
-            && let Some(ar) = self.ar.as_ref().filter(|a| a.state != ArState::Connected)
+        let generation = h.running.map(|(_, _, _, g)| g);
+        if let Some(ar) = self.ar.as_ref().filter(|a| a.state != ArState::Connected)
+            && generation != Some(ar.exchange_generation)
         {
             h.epochs = h.epochs.wrapping_add(1);
             let exchange = self.exchange(ar, h.epochs, h.cycle_ns);
             out.push(DeviceAction::StartCyclic(Box::new(exchange)));
-            h.running = Some((ar.ar_uuid, ar.session_key, h.epochs));
+            h.running = Some((ar.ar_uuid, ar.session_key, h.epochs, ar.exchange_generation));
         }
         self.handover = Some(h);
     }
@@ -103,7 +108,7 @@ impl<A: Application> Device<A> {
     /// `ar`'s exchange over the plugged submodules' order.
     fn exchange(&self, ar: &Ar, epoch: u32, cycle_ns: u64) -> CyclicAr {
         let (consumed, produced) = ar.cr_maps(|e| {
-            self.submodules
+            self.table
                 .iter()
                 .position(|s| (s.api, s.slot, s.subslot) == (e.api, e.slot, e.subslot))
         });
@@ -118,7 +123,7 @@ impl<A: Application> Device<A> {
             consumed,
             produced,
             timing,
-            0..self.submodules.len(),
+            0..self.table.len(),
         )
     }
 }

@@ -68,6 +68,9 @@ mod identification;
 mod im;
 pub mod lldp;
 mod params;
+mod plug;
+#[cfg(test)]
+mod plug_tests;
 mod records;
 mod rpc;
 #[cfg(test)]
@@ -97,6 +100,7 @@ pub use diagnosis::{
 };
 pub use im::ImRecords;
 pub use params::ParameterRecord;
+pub use plug::PlugError;
 use std::net::SocketAddrV4;
 
 /// What the device is and what is plugged into it.
@@ -227,7 +231,16 @@ fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]
 /// A PROFINET IO device.
 pub struct Device<A> {
     id: dcp::Identity,
+    /// The submodules plugged now: [`table`](Self::table) less the pulled ones, with the
+    /// ident numbers they were plugged with.
     submodules: Vec<PluggedSubmodule>,
+    /// Every position the device was set up with, in that order: what
+    /// [`plug_submodule`](Self::plug_submodule) may plug, and the order of the exchange's
+    /// submodule table.
+    table: Vec<PluggedSubmodule>,
+    /// Per entry of `table`: the (module, submodule) ident numbers plugged there, or `None`
+    /// when pulled.
+    plugged: Vec<Option<(u32, u32)>>,
     app: A,
     im0: Im0,
     dcp: dcp::Responder,
@@ -288,6 +301,12 @@ impl<A: Application> Device<A> {
                 type_of_station: "procimg simulated device".into(),
                 hello: false,
             },
+            plugged: spec
+                .submodules
+                .iter()
+                .map(|s| Some((s.module_ident, s.submodule_ident)))
+                .collect(),
+            table: spec.submodules.clone(),
             submodules: spec.submodules,
             app: spec.application,
             im0: spec.im0,
@@ -753,6 +772,10 @@ impl<A: Application> Device<A> {
             self.abort_ar(AbortCode::RpcClientCallNegative, out);
             return;
         }
+        self.run_plug_ready(now_ns, out);
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
         if let Some(cc) = ar.provider.take_due(now_ns)
             && let Some(frame) =
                 ar.produce(&mut self.app, self.frames_produced, mac, cc, station_ok)

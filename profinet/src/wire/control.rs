@@ -241,6 +241,43 @@ impl ControlBlock {
         )
     }
 
+    /// The PlugPrmEnd request (0x0111) the controller sends when it has written the
+    /// parameters of a submodule the device announced with the plug alarm numbered
+    /// `alarm_sequence_number`.
+    pub const fn plug_prm_end(
+        ar_uuid: Uuid,
+        session_key: u16,
+        alarm_sequence_number: u16,
+    ) -> ControlBlock {
+        ControlBlock {
+            alarm_sequence_number,
+            ..ControlBlock::new(
+                BlockType::PlugPrmEndReq,
+                ar_uuid,
+                session_key,
+                command::PRM_END,
+            )
+        }
+    }
+
+    /// The PlugApplicationReady request (0x0113) a device sends when the submodule of the
+    /// plug alarm numbered `alarm_sequence_number` is ready for data exchange.
+    pub const fn plug_application_ready(
+        ar_uuid: Uuid,
+        session_key: u16,
+        alarm_sequence_number: u16,
+    ) -> ControlBlock {
+        ControlBlock {
+            alarm_sequence_number,
+            ..ControlBlock::new(
+                BlockType::PlugApplicationReadyReq,
+                ar_uuid,
+                session_key,
+                command::APPLICATION_READY,
+            )
+        }
+    }
+
     /// The Release request that ends an AR (RPC opnum 1).
     pub const fn release(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
         ControlBlock::new(
@@ -294,12 +331,13 @@ impl ControlBlock {
     }
 
     /// Whether `self` is the Done response to `request`: the matching response type, the same
-    /// ARUUID and SessionKey, and Done.
+    /// ARUUID, SessionKey and AlarmSequenceNumber (0 outside the plug variants), and Done.
     pub fn answers(&self, request: &ControlBlock) -> bool {
         request.is_request()
             && self.block_type == request.block_type.response()
             && self.ar_uuid == request.ar_uuid
             && self.session_key == request.session_key
+            && self.alarm_sequence_number == request.alarm_sequence_number
             && self.is_done()
     }
 

@@ -30,6 +30,17 @@ impl SubslotAddr {
     }
 }
 
+/// "API 0 slot 1 subslot 0x0001", as engineering tools name a position.
+impl core::fmt::Display for SubslotAddr {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "API {} slot {} subslot {:#06x}",
+            self.api, self.slot, self.subslot
+        )
+    }
+}
+
 /// QualifiedChannelQualifier bits of each severity (bits 0–2 are reserved).
 const QUALIFIER_ADVICE: u32 = 0x0000_0078;
 const QUALIFIER_REQUIRED: u32 = 0x0001_ff80;
@@ -432,11 +443,7 @@ pub enum DiagnosisError {
 impl core::fmt::Display for DiagnosisError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
-            DiagnosisError::UnknownSubmodule(a) => write!(
-                f,
-                "no submodule is plugged at API {} slot {} subslot {:#06x}",
-                a.api, a.slot, a.subslot
-            ),
+            DiagnosisError::UnknownSubmodule(a) => write!(f, "no submodule is plugged at {a}"),
             DiagnosisError::InvalidEntry(why) => write!(f, "invalid diagnosis entry: {why}"),
             DiagnosisError::TooManyEntries(a) => write!(
                 f,

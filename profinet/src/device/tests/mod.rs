@@ -162,9 +162,9 @@ pub(super) fn frames(out: &[DeviceAction]) -> Vec<Vec<u8>> {
 
 /// An RPC PDU parsed into owned parts.
 pub(super) struct Reply {
-    header: Header,
-    ndr: Ndr,
-    blocks: Vec<u8>,
+    pub(super) header: Header,
+    pub(super) ndr: Ndr,
+    pub(super) blocks: Vec<u8>,
 }
 
 pub(super) fn parse_reply(payload: &[u8]) -> Reply {

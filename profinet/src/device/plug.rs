@@ -1,0 +1,343 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Plugging and pulling submodules while the device runs (IO-Base's `PNIO_sub_plug` and
+//! `PNIO_sub_pull`, GOAL's and GS20-PN's add and remove item), and the return of a
+//! submodule.
+//!
+//! The device's positions are the ones it was set up with ([`DeviceSetup::submodules`](super::DeviceSetup)):
+//! a pull empties one, a plug fills an empty one again, with the configured data lengths
+//! and the ident numbers of whatever is plugged. What the controller learns depends on the
+//! AR:
+//!
+//! - without an AR, nothing: the next Connect's ModuleDiffBlock and the identification
+//!   records show the tree as it is;
+//! - between the Connect and data exchange, plug and pull are refused
+//!   ([`PlugError::ArStartingUp`], IO-Base's `PNIO_AR_REASON_PULLPLUG`): the controller is
+//!   parameterizing what it saw in the Connect response;
+//! - in data exchange, for a submodule the AR expects, an alarm on the low-priority channel:
+//!   - pull: a Pull alarm, and the submodule's IOPS and IOCS turn BAD at once;
+//!   - plug of the expected submodule: a Plug alarm, then the re-parameterization
+//!     sub-cycle: the controller acknowledges, writes the submodule's parameter records and
+//!     sends a PlugPrmEnd (0x0111) with the alarm's sequence number; the device answers it
+//!     and sends its PlugApplicationReady (0x0113), and when the controller confirms, the
+//!     submodule exchanges data with GOOD status again;
+//!   - plug of something else: a Plug Wrong Submodule alarm; the submodule stays BAD (the
+//!     controller parameterizes nothing it did not engineer);
+//!   - return: a Return of Submodule alarm for a proper submodule whose data was BAD for a
+//!     while (its provider went away and came back); the controller does not parameterize.
+//!
+//! Alarms and IOxS follow the AR's expectations; a submodule the AR does not expect changes
+//! only the device's identification records.
+
+use super::ar::IOXS_BAD;
+use super::diagnosis::SubslotAddr;
+use super::rpc::ClientCall;
+use super::{APP_READY_DELAY_NS, Application, ArState, Device, DeviceAction, PluggedSubmodule};
+use crate::wire::alarm::{AlarmBlock, AlarmNotification, AlarmSpecifier, AlarmType, Priority};
+use crate::wire::control::ControlBlock;
+
+/// Why a plug, pull or return was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, thiserror::Error)]
+pub enum PlugError {
+    /// The device was not set up with a submodule at this position.
+    #[error(
+        "no submodule is configured at {0}: only configured positions can be plugged; add \
+         it to the configuration (its ident numbers and IO lengths) and restart"
+    )]
+    NotConfigured(SubslotAddr),
+    /// Something is plugged there already.
+    #[error("a submodule is plugged at {0} already: pull it first")]
+    AlreadyPlugged(SubslotAddr),
+    /// Nothing is plugged there.
+    #[error("no submodule is plugged at {0}: plug it first")]
+    NotPlugged(SubslotAddr),
+    /// The AR is between its Connect and data exchange.
+    #[error(
+        "the PLC's AR is starting up (between its Connect and data exchange), when plug and \
+         pull are not allowed: try again once the AR is in data exchange"
+    )]
+    ArStartingUp,
+}
+
+impl<A: Application> Device<A> {
+    /// Whether a submodule is plugged at `at` (a configured position not pulled).
+    pub fn is_plugged(&self, at: SubslotAddr) -> bool {
+        self.submodules.iter().any(|s| s.addr() == at)
+    }
+
+    /// Pulls the submodule at `at`; its pending diagnosis goes with it. Returns the alarm
+    /// that announced it (a Pull alarm to the AR in data exchange that expects it), if any.
+    pub fn pull_submodule(
+        &mut self,
+        at: SubslotAddr,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> Result<Option<AlarmType>, PlugError> {
+        let i = self.position(at)?;
+        if self.plugged[i].is_none() {
+            return Err(PlugError::NotPlugged(at));
+        }
+        self.plug_allowed()?;
+        self.plugged[i] = None;
+        self.refresh_plugged();
+        // Its diagnosis ends with it; the Pull alarm says so.
+        let _ = self.diagnosis.clear(at);
+        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+            return Ok(None);
+        };
+        let Some(s) = ar.submodules.iter_mut().find(|s| s.expected.addr() == at) else {
+            return Ok(None);
+        };
+        if s.proper {
+            ar.exchange_generation = ar.exchange_generation.wrapping_add(1);
+        }
+        s.proper = false;
+        s.plugging = None;
+        s.outputs_valid = false;
+        s.controller_iocs = IOXS_BAD;
+        ar.plug_ready.retain(|(p, _, _)| *p != at);
+        if ar.plug_call.as_ref().is_some_and(|(_, p)| *p == at) {
+            ar.plug_call = None;
+        }
+        // What is plugged there now: the module, if other submodules of its slot remain.
+        let module = self
+            .submodules
+            .iter()
+            .find(|r| (r.api, r.slot) == (at.api, at.slot))
+            .map_or(0, |r| r.module_ident);
+        Ok(self.send_plug_alarm(at, AlarmType::Pull, (module, 0), now_ns, out))
+    }
+
+    /// Plugs a submodule with these ident numbers at the configured position `at` (with its
+    /// configured data lengths). Returns the alarm that announced it to the AR in data
+    /// exchange that expects a submodule there, if any: Plug when it is the expected one
+    /// (the re-parameterization sub-cycle follows), Plug Wrong Submodule otherwise.
+    pub fn plug_submodule(
+        &mut self,
+        at: SubslotAddr,
+        module_ident: u32,
+        submodule_ident: u32,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> Result<Option<AlarmType>, PlugError> {
+        let i = self.position(at)?;
+        if self.plugged[i].is_some() {
+            return Err(PlugError::AlreadyPlugged(at));
+        }
+        self.plug_allowed()?;
+        self.plugged[i] = Some((module_ident, submodule_ident));
+        self.refresh_plugged();
+        let real = self.table[i];
+        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+            return Ok(None);
+        };
+        let sequence = ar.alarms.sequence;
+        let Some(s) = ar.submodules.iter_mut().find(|s| s.expected.addr() == at) else {
+            return Ok(None);
+        };
+        let e = s.expected;
+        let proper = (e.module_ident, e.submodule_ident) == (module_ident, submodule_ident)
+            && (e.input_length, e.output_length) == (real.input_length, real.output_length);
+        let alarm = if proper {
+            // Exchanges data again at the end of the sub-cycle this alarm starts.
+            s.plugging = Some(sequence);
+            AlarmType::Plug
+        } else {
+            AlarmType::PlugWrongSubmodule
+        };
+        Ok(self.send_plug_alarm(at, alarm, (module_ident, submodule_ident), now_ns, out))
+    }
+
+    /// Announces that the proper submodule at `at` provides valid data again (a Return of
+    /// Submodule alarm to the AR in data exchange). Returns the alarm, if one went out.
+    pub fn return_submodule(
+        &mut self,
+        at: SubslotAddr,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> Result<Option<AlarmType>, PlugError> {
+        let i = self.position(at)?;
+        let Some(idents) = self.plugged[i] else {
+            return Err(PlugError::NotPlugged(at));
+        };
+        let owned = self
+            .ar
+            .as_ref()
+            .filter(|a| a.in_data())
+            .is_some_and(|a| a.owned().any(|o| o == at));
+        if !owned {
+            return Ok(None);
+        }
+        Ok(self.send_plug_alarm(at, AlarmType::ReturnOfSubmodule, idents, now_ns, out))
+    }
+
+    /// A PlugPrmEnd from the controller for the AR in data exchange: the end of a plugged
+    /// submodule's parameters. `Err` with the PNIO ErrorCode1/ErrorCode2 pair when no
+    /// submodule waits for it.
+    pub(super) fn plug_prm_end(&mut self, c: &ControlBlock, now_ns: u64) -> Result<(), u8> {
+        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+            return Err(super::connect::CMDEV_STATE_CONFLICT);
+        };
+        let Some(s) = ar
+            .submodules
+            .iter_mut()
+            .find(|s| s.plugging == Some(c.alarm_sequence_number))
+        else {
+            return Err(super::connect::CMDEV_STATE_CONFLICT);
+        };
+        s.plugging = None;
+        let at = s.expected.addr();
+        ar.plug_ready.push_back((
+            at,
+            c.alarm_sequence_number,
+            now_ns.saturating_add(APP_READY_DELAY_NS),
+        ));
+        Ok(())
+    }
+
+    /// Sends the next due PlugApplicationReady and retransmits the outstanding one.
+    pub(super) fn run_plug_ready(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
+        let Some(ar) = self.ar.as_ref() else {
+            return;
+        };
+        if ar.plug_call.is_none() && ar.plug_ready.front().is_some_and(|r| now_ns >= r.2) {
+            let activity = self.new_activity();
+            let Some(ar) = self.ar.as_mut() else {
+                return;
+            };
+            let Some((at, sequence, _)) = ar.plug_ready.pop_front() else {
+                return;
+            };
+            let call = ClientCall::control(
+                ControlBlock::plug_application_ready(ar.ar_uuid, ar.session_key, sequence),
+                &[],
+                ar.initiator_object,
+                activity,
+                ar.controller,
+            );
+            if let Some(mut call) = call {
+                call.transmit(now_ns, out);
+                ar.plug_call = Some((call, at));
+            }
+        }
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        if let Some((call, _)) = ar.plug_call.as_mut()
+            && !call.poll(now_ns, out)
+        {
+            // Unanswered: the controller lost the submodule; it stays BAD until it is
+            // pulled and plugged again.
+            ar.plug_call = None;
+        }
+    }
+
+    /// A response that may answer the outstanding PlugApplicationReady: `true` if it did.
+    pub(super) fn plug_ready_pdu(
+        &mut self,
+        h: &crate::wire::rpc::Header,
+        body: &[u8],
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> bool {
+        let Some(ar) = self.ar.as_mut() else {
+            return false;
+        };
+        let Some((call, at)) = ar.plug_call.as_mut() else {
+            return false;
+        };
+        let at = *at;
+        match call.on_pdu(h, body, now_ns, out) {
+            super::rpc::CallOutcome::Confirmed => {
+                ar.plug_call = None;
+                if let Some(s) = ar.submodules.iter_mut().find(|s| s.expected.addr() == at) {
+                    s.proper = true;
+                    ar.exchange_generation = ar.exchange_generation.wrapping_add(1);
+                }
+                true
+            }
+            super::rpc::CallOutcome::Failed => {
+                ar.plug_call = None;
+                true
+            }
+            super::rpc::CallOutcome::Pending => true,
+            super::rpc::CallOutcome::NotOurs => false,
+        }
+    }
+
+    /// The index of position `at` in the device's table.
+    fn position(&self, at: SubslotAddr) -> Result<usize, PlugError> {
+        self.table
+            .iter()
+            .position(|s| s.addr() == at)
+            .ok_or(PlugError::NotConfigured(at))
+    }
+
+    /// Refuses plug and pull while an AR is between its Connect and data exchange.
+    fn plug_allowed(&self) -> Result<(), PlugError> {
+        match self.ar.as_ref().map(|a| a.state) {
+            None | Some(ArState::Idle | ArState::Data) => Ok(()),
+            Some(_) => Err(PlugError::ArStartingUp),
+        }
+    }
+
+    /// Rebuilds the list of plugged submodules from the table.
+    fn refresh_plugged(&mut self) {
+        self.submodules = self
+            .table
+            .iter()
+            .zip(&self.plugged)
+            .filter_map(|(s, p)| {
+                p.map(|(module_ident, submodule_ident)| PluggedSubmodule {
+                    module_ident,
+                    submodule_ident,
+                    ..*s
+                })
+            })
+            .collect();
+    }
+
+    /// Sends a plug, pull or return alarm for `at` to the AR in data exchange, with the
+    /// (module, submodule) ident numbers of what is plugged there.
+    fn send_plug_alarm(
+        &mut self,
+        at: SubslotAddr,
+        alarm_type: AlarmType,
+        (module_ident, submodule_ident): (u32, u32),
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> Option<AlarmType> {
+        let mac = self.id.mac;
+        let diagnosis = &self.diagnosis;
+        let ar = self.ar.as_mut().filter(|a| a.in_data())?;
+        let ar_fault = ar.owned().any(|o| diagnosis.has_fault_at(o));
+        let n = AlarmNotification {
+            priority: Priority::Low,
+            alarm_type,
+            api: at.api,
+            slot: at.slot,
+            subslot: at.subslot,
+            module_ident,
+            submodule_ident,
+            specifier: AlarmSpecifier {
+                sequence_number: ar.alarms.sequence,
+                submodule_diagnosis: diagnosis.has_fault_at(at),
+                ar_diagnosis: ar_fault,
+                ..AlarmSpecifier::default()
+            },
+            maintenance: None,
+            item: None,
+        };
+        ar.alarms.sequence = (ar.alarms.sequence + 1) & AlarmSpecifier::SEQUENCE_MASK;
+        let abort = ar.alarms.send(
+            Priority::Low,
+            vec![AlarmBlock::Notification(n)],
+            mac,
+            now_ns,
+            out,
+        );
+        if let Some(a) = abort {
+            self.end_ar(a.code);
+        }
+        Some(alarm_type)
+    }
+}
