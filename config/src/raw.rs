@@ -134,6 +134,7 @@ pub(super) struct RawStationSubmodule {
     pub output_address: Option<Spanned<u32>>,
     pub diagnostic_address: Option<Spanned<u32>>,
     pub im: Option<bool>,
+    pub plugged: Option<bool>,
     #[serde(default)]
     pub records: Vec<Spanned<RawAcceptedRecord>>,
 }

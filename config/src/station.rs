@@ -142,6 +142,11 @@ pub struct StationSubmodule {
     /// Whether the submodule has I&M data of its own (key `im`; default: only the DAP's
     /// own submodule, which speaks for the whole device).
     pub im: bool,
+    /// Whether it is plugged when procimgd starts (key `plugged`, default true). A
+    /// submodule not plugged at start keeps its place in the image and waits for a client
+    /// to plug it (the managing client of the IO-Base device API, GOAL's and GS20-PN's
+    /// "add item"); the PLC sees it missing until then.
+    pub plugged: bool,
 }
 
 /// A parameter record a station submodule accepts (an element of its `records`).

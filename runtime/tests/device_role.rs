@@ -1155,3 +1155,107 @@ fn a_station_does_not_share_its_interface_with_other_addresses() {
     let kept = ip_show(ns, &["-4", "addr", "show"], interface);
     assert!(kept.contains("inet 192.0.2.7/24"), "{kept}");
 }
+
+/// Runs cycles (I data echoed from nothing: zeros) until the Q status of submodule `s` is
+/// `want`, that is until the PLC's side of it is exchanged (GOOD) or not (BAD).
+fn until_q_status(client: &mut Client, s: usize, want: Ioxs, what: &str) {
+    let until = Instant::now() + BRING_UP;
+    loop {
+        let cycle = client
+            .wait_startop(Duration::from_secs(5))
+            .expect("STARTOP");
+        let now = cycle.q_status(s).expect("Q status");
+        cycle.set_opdone().expect("OPDONE");
+        if now == want {
+            return;
+        }
+        assert!(
+            Instant::now() < until,
+            "{what}: the Q status stayed {now:?}"
+        );
+    }
+}
+
+/// The next plug notification.
+fn next_plug(services: &mut Services) -> (bool, u32, String) {
+    next_picked(services, "plug notification", |n| match n {
+        Notification::StationPlug {
+            plugged,
+            submodule_ident,
+            alarm,
+            ..
+        } => Some((plugged, submodule_ident, alarm)),
+        _ => None,
+    })
+}
+
+#[test]
+fn a_managing_client_pulls_and_plugs_a_submodule_and_the_plc_follows() {
+    let server = Launch::demo_device("devplug").start();
+    let mut services = Services::open(&server.instance, ServiceOptions::new("devplug-events"))
+        .expect("the device's services");
+    let mut client = Client::attach(&server.instance, AttachOptions::synchronous("devplug"))
+        .expect("attach to the device");
+    client.claim_i_data().expect("claim the I data");
+    let echo = at(&client, 1, 1);
+    until_q_status(&mut client, echo, Ioxs::Good, "before the pull");
+
+    // Pulled: the PLC gets a Pull alarm, the submodule's data turns BAD.
+    client.pull_submodule((0, 1, 1)).expect("pull slot 1");
+    assert_eq!(next_plug(&mut services), (false, 0, "pull".to_owned()));
+    until_q_status(&mut client, echo, Ioxs::Bad, "after the pull");
+    let again = client.pull_submodule((0, 1, 1)).unwrap_err().to_string();
+    assert!(again.contains("no submodule is plugged at"), "{again}");
+
+    // Plugged again, the expected one: a Plug alarm, the PLC's parameters, GOOD again.
+    client
+        .plug_submodule((0, 1, 1), 0x10, 0x1)
+        .expect("plug slot 1");
+    assert_eq!(next_plug(&mut services), (true, 0x1, "plug".to_owned()));
+    until_q_status(&mut client, echo, Ioxs::Good, "after the plug");
+
+    // Only configured positions exist.
+    let elsewhere = client
+        .plug_submodule((0, 9, 1), 0x10, 0x1)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        elsewhere.contains("no submodule is configured at API 0 slot 9"),
+        "{elsewhere}"
+    );
+    let status = server.status();
+    assert_eq!(
+        status
+            .station
+            .and_then(|s| s.ar)
+            .map(|a| a.state)
+            .as_deref(),
+        Some("data"),
+        "the AR stayed up through pull and plug"
+    );
+    assert_eq!(status.network.watchdog_expiries, 0);
+}
+
+#[test]
+fn a_submodule_not_plugged_at_start_waits_for_its_client() {
+    let toml = procimg_config::DEMO_DEVICE_TOML.replacen(
+        "input_length = 8\noutput_length = 8\n",
+        "input_length = 8\noutput_length = 8\nplugged = false\n",
+        1,
+    );
+    assert_ne!(toml, procimg_config::DEMO_DEVICE_TOML);
+    let server = Launch::config("devunplugged", &toml).start();
+    let mut services = Services::open(&server.instance, ServiceOptions::new("unplugged-events"))
+        .expect("the device's services");
+    let mut client = Client::attach(&server.instance, AttachOptions::synchronous("unplugged"))
+        .expect("attach to the device");
+    client.claim_i_data().expect("claim the I data");
+    // The PLC connected all the same, without slot 1.
+    let echo = at(&client, 1, 1);
+    until_q_status(&mut client, echo, Ioxs::Bad, "before the plug");
+    client
+        .plug_submodule((0, 1, 1), 0x10, 0x1)
+        .expect("plug slot 1");
+    assert_eq!(next_plug(&mut services), (true, 0x1, "plug".to_owned()));
+    until_q_status(&mut client, echo, Ioxs::Good, "after the plug");
+}

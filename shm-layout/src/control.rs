@@ -196,6 +196,46 @@ pub enum Request {
         /// The alarm's data.
         data: Vec<u8>,
     },
+    /// In the device role: plug a submodule at a configured position of the station, with
+    /// these ident numbers and the configured IO lengths (IO-Base's `PNIO_sub_plug`, GOAL's
+    /// and GS20-PN's add item). Answered with [`Response::Done`]; to a PLC's AR in data
+    /// exchange it is a Plug alarm (the expected submodule: the PLC writes its parameters
+    /// again, then its data turns GOOD) or a Plug Wrong Submodule alarm (other ident
+    /// numbers: its data stays BAD). Refused between a PLC's Connect and data exchange.
+    StationPlug {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// ModuleIdentNumber of what is plugged.
+        module_ident: u32,
+        /// SubmoduleIdentNumber of what is plugged.
+        submodule_ident: u32,
+    },
+    /// In the device role: pull the submodule at a position of the station (IO-Base's
+    /// `PNIO_sub_pull`); its place in the image stays, its data turns BAD towards the PLC,
+    /// which gets a Pull alarm. Answered with [`Response::Done`].
+    StationPull {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+    },
+    /// In the device role: say that a submodule's data is valid again after it was BAD for
+    /// a while (IO-Base's `PNIO_ret_of_sub_alarm_send`): a Return of Submodule alarm to the
+    /// PLC's AR in data exchange. Answered with [`Response::Done`].
+    StationReturnSubmodule {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+    },
     /// In the device role: take (`own`) or give back the user records (indices
     /// 0x0000–0x7FFF) of a submodule of the station. The PLC's reads and writes of them then
     /// come to this subscriber as
@@ -326,6 +366,9 @@ impl Request {
             self,
             Request::StationDiagnosis { .. }
                 | Request::StationProcessAlarm { .. }
+                | Request::StationPlug { .. }
+                | Request::StationPull { .. }
+                | Request::StationReturnSubmodule { .. }
                 | Request::StationOwnRecords { .. }
                 | Request::StationCheckArs { .. }
                 | Request::StationVerifyDcp { .. }

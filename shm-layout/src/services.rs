@@ -285,6 +285,26 @@ pub enum Notification {
         /// same state and is reported the same.)
         factory_reset: bool,
     },
+    /// Device role: a submodule of the station was plugged or pulled (by a client's
+    /// [`crate::control::Request::StationPlug`] or
+    /// [`crate::control::Request::StationPull`]).
+    StationPlug {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// Plugged (`true`) or pulled.
+        plugged: bool,
+        /// ModuleIdentNumber of what is plugged (0 when pulled).
+        module_ident: u32,
+        /// SubmoduleIdentNumber of what is plugged (0 when pulled).
+        submodule_ident: u32,
+        /// The alarm the PLC got: "pull", "plug", "plug wrong submodule", or "" (no AR in
+        /// data exchange expects a submodule there).
+        alarm: String,
+    },
     /// Device role: the PLC reads or writes a record of a submodule whose records `reply_to`
     /// took ([`crate::control::Request::StationOwnRecords`]); answer with
     /// [`crate::control::Request::StationRecordAnswer`] within

@@ -229,6 +229,27 @@ fn describe(n: &Notification) -> String {
             },
             if *permanent { " (kept)" } else { "" }
         ),
+        Notification::StationPlug {
+            slot,
+            subslot,
+            plugged,
+            module_ident,
+            submodule_ident,
+            alarm,
+            ..
+        } => format!(
+            "station: slot {slot} subslot {subslot:#06x} {}{}",
+            if *plugged {
+                format!("plugged (module {module_ident:#010x}, submodule {submodule_ident:#010x})")
+            } else {
+                "pulled".to_owned()
+            },
+            if alarm.is_empty() {
+                String::new()
+            } else {
+                format!(", {alarm} alarm to the PLC")
+            }
+        ),
         // Only the subscriber that took the records gets these, and `procimg events` takes
         // none.
         Notification::StationDcpSetCheck { check, .. } => format!(

@@ -128,12 +128,7 @@ impl Client {
         usi: u16,
         data: &[u8],
     ) -> Result<(), ControlError> {
-        if !self.is_device() {
-            return Err(ControlError::NotDevice {
-                instance: self.instance().to_owned(),
-            });
-        }
-        self.control().request_done(&Request::StationProcessAlarm {
+        self.station_request(&Request::StationProcessAlarm {
             api,
             slot,
             subslot,
@@ -143,13 +138,17 @@ impl Client {
     }
 
     fn station_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
+        self.station_request(&Request::StationDiagnosis { change })
+    }
+
+    /// Sends a request of the device role's services; a controller's server is an error.
+    pub(crate) fn station_request(&self, request: &Request) -> Result<(), ControlError> {
         if !self.is_device() {
             return Err(ControlError::NotDevice {
                 instance: self.instance().to_owned(),
             });
         }
-        self.control()
-            .request_done(&Request::StationDiagnosis { change })
+        self.control().request_done(request)
     }
 }
 

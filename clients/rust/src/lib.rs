@@ -39,6 +39,7 @@ mod device;
 mod error;
 mod io;
 mod layout;
+mod plug;
 // SCHED_FIFO and mlockall are system calls.
 #[allow(unsafe_code)]
 pub mod realtime;

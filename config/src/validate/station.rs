@@ -194,6 +194,7 @@ fn dap_submodules(dap: &DapConfig) -> Vec<StationSubmodule> {
         },
         accepts: Vec::new(),
         im: subslot == DAP_SUBSLOT,
+        plugged: true,
     })
     .collect()
 }
@@ -311,6 +312,7 @@ fn submodule(
         submodule,
         accepts,
         im: raw.im.unwrap_or(false),
+        plugged: raw.plugged.unwrap_or(true),
     };
     Ok((station_submodule, draft))
 }

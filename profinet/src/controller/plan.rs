@@ -311,6 +311,13 @@ impl DevicePlan {
         self.device as u16
     }
 
+    /// Whether the plan expects a submodule at (API, slot, subslot).
+    pub fn has_submodule(&self, api: u32, slot: u16, subslot: u16) -> bool {
+        self.submodules
+            .iter()
+            .any(|s| (s.api, s.slot, s.subslot) == (api, slot, subslot))
+    }
+
     /// The RPC object UUID of the device.
     pub const fn object_uuid(&self) -> Uuid {
         crate::wire::rpc::object_uuid(self.instance, self.device_id, self.vendor_id)

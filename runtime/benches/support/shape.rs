@@ -143,6 +143,7 @@ pub fn as_station(config: &Config) -> Config {
                     submodule: s.clone(),
                     accepts: Vec::new(),
                     im: false,
+                    plugged: true,
                 })
                 .collect(),
         }),

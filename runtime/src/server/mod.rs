@@ -202,6 +202,9 @@ impl Control {
             // The device role's services: listed, so that a new request is routed on purpose.
             | Request::StationDiagnosis { .. }
             | Request::StationProcessAlarm { .. }
+            | Request::StationPlug { .. }
+            | Request::StationPull { .. }
+            | Request::StationReturnSubmodule { .. }
             | Request::StationOwnRecords { .. }
             | Request::StationCheckArs { .. }
             | Request::StationVerifyDcp { .. }

@@ -3,6 +3,7 @@
 //! acknowledgement sends.
 
 use super::*;
+use crate::wire::alarm::AlarmType;
 
 impl DeviceAr {
     pub(super) fn on_rta_events(
@@ -81,6 +82,16 @@ impl DeviceAr {
             return false;
         };
         let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
+        // A Plug alarm of a submodule we parameterize starts its sub-cycle once acknowledged
+        // (a Plug Wrong Submodule alarm does not: we parameterize nothing we did not plan).
+        if n.alarm_type == AlarmType::Plug && self.plan.has_submodule(n.api, n.slot, n.subslot) {
+            self.plugs.push_back(Plug {
+                api: n.api,
+                slot: n.slot,
+                subslot: n.subslot,
+                seq: n.specifier.sequence_number,
+            });
+        }
         let mut sent = Vec::new();
         ar.channel(ticket.priority)
             .send(vec![AlarmBlock::Ack(ack)], now, &mut sent);
@@ -91,6 +102,7 @@ impl DeviceAr {
                 out.push(Action::Frame(f));
             }
         }
+        self.next_record(now, out);
         true
     }
 }

@@ -14,7 +14,7 @@ use super::{
 use crate::dcp_client::{self, Identify, Set, SetOutcome};
 use crate::rta::{RtaChannel, RtaEvent};
 use crate::wire::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
-use crate::wire::connect::ConnectResponse;
+use crate::wire::connect::{ConnectResponse, IdentInfo, ModuleDiffBlock, ModuleState};
 use crate::wire::control::ControlBlock;
 use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use crate::wire::record::{self, IodHeader};
@@ -29,7 +29,7 @@ mod alarms;
 mod records;
 mod step;
 use records::{record_result, write_failure};
-use step::{Ar, Phase, Step, priority_slot};
+use step::{Ar, Phase, Plug, Step, priority_slot};
 
 /// How long Identify responses are awaited.
 const IDENTIFY_WINDOW_NS: u64 = 500_000_000;
@@ -60,6 +60,9 @@ pub struct DeviceAr {
     failures: u32,
     xid: u32,
     records: VecDeque<RecordRequest>,
+    /// Plugged submodules whose sub-cycle waits for the AR to be free (before client
+    /// records).
+    plugs: VecDeque<Plug>,
     /// ARUUIDs and activity UUIDs.
     uuids: UuidSource,
 }
@@ -82,6 +85,7 @@ impl DeviceAr {
             failures: 0,
             xid,
             records: VecDeque::new(),
+            plugs: VecDeque::new(),
             uuids,
         }
     }
@@ -189,6 +193,7 @@ impl DeviceAr {
         out.push(Action::Stop {
             device: self.plan.device,
         });
+        self.abort_accepted_ar(out);
         // The AR ends here; a record job on the wire is failed with the queued ones.
         if let Step::Ar {
             phase: Phase::Record { request, .. },
@@ -219,6 +224,29 @@ impl DeviceAr {
             until: now + backoff,
         };
         self.set_state(DeviceState::Failed, out);
+    }
+
+    /// Tells the device that an AR it accepted is given up (an ERR-RTA "abort requested" on
+    /// the low-priority alarm channel), so that it frees the AR at once for the next
+    /// Connect instead of holding it until its CMI timeout. Nothing for an AR whose Connect
+    /// is still unanswered.
+    fn abort_accepted_ar(&mut self, out: &mut Vec<Action>) {
+        let Step::Ar { ar, phase } = &mut self.step else {
+            return;
+        };
+        if matches!(phase, Phase::Connect(_)) {
+            return;
+        }
+        let mut events = Vec::new();
+        ar.alarm_low
+            .abort(rta_pdu::AbortCode::AbortRequest, &mut events);
+        for e in events {
+            if let RtaEvent::Send(pdu) = e
+                && let Some(f) = alarms::rta_frame(ar.own_mac, ar.peer_mac, &pdu)
+            {
+                out.push(Action::Frame(f));
+            }
+        }
     }
 
     /// The next timer.
@@ -401,6 +429,8 @@ impl DeviceAr {
             alarm_low: RtaChannel::new(Priority::Low, local, 0, hi, lo),
             record_seq: 0,
             unacked: [None, None],
+            absent: Vec::new(),
+            own_mac: id.mac,
         });
         call.send(ar.rpc_server(), out);
         self.step = Step::Ar {
@@ -526,6 +556,38 @@ impl DeviceAr {
                     self.fail(FailureCause::Refused, &why, now, out);
                 }
             }
+            Phase::PlugWrite { plug, .. } => match write_failure(status, &blocks) {
+                None => self.plug_prm_end(ar, plug, now, out),
+                Some(why) => {
+                    let why = format!(
+                        "the parameters of the submodule plugged at slot {} subslot {:#06x}: \
+                         {why}",
+                        plug.slot, plug.subslot
+                    );
+                    self.fail(FailureCause::Refused, &why, now, out)
+                }
+            },
+            Phase::PlugPrmEnd { plug, .. } => {
+                let request = ControlBlock::plug_prm_end(ar.uuid, ar.session_key, plug.seq);
+                let ok = status.is_ok()
+                    && ControlBlock::parse(&blocks).is_ok_and(|b| b.answers(&request));
+                self.step = Step::Ar {
+                    ar,
+                    phase: Phase::Running,
+                };
+                if ok {
+                    self.next_record(now, out);
+                } else {
+                    let why = format!(
+                        "PlugPrmEnd of the submodule plugged at slot {} subslot {:#06x} \
+                         failed: {}",
+                        plug.slot,
+                        plug.subslot,
+                        rpc::describe(status)
+                    );
+                    self.fail(FailureCause::Refused, &why, now, out);
+                }
+            }
             Phase::Record { request, .. } => {
                 let result = record_result(&request, status, &blocks);
                 out.push(Action::Event(DeviceEvent::Record(RecordResult {
@@ -582,6 +644,11 @@ impl DeviceAr {
         let local = self.plan.alarm_reference();
         ar.alarm_high = RtaChannel::new(Priority::High, local, remote, f, r);
         ar.alarm_low = RtaChannel::new(Priority::Low, local, remote, f, r);
+        // What the device lacks, or has something else plugged at, gets no parameters (as
+        // an S7 does): the device would refuse them, and its plug alarm brings them later.
+        if let Some(diff) = &res.module_diff {
+            ar.absent = absent_submodules(diff, &self.plan);
+        }
         if let Some(diff) = res.module_diff.clone() {
             out.push(Action::Event(DeviceEvent::ModuleDiff {
                 device: self.plan.device,
@@ -598,6 +665,13 @@ impl DeviceAr {
         self.write_records(ar, now, out);
     }
 
+    fn plug_prm_end(&mut self, ar: Box<Ar>, plug: Plug, now: u64, out: &mut Vec<Action>) {
+        let block = ControlBlock::plug_prm_end(ar.uuid, ar.session_key, plug.seq).to_bytes();
+        self.call(ar, opnum::CONTROL, &block, now, out, |call| {
+            Phase::PlugPrmEnd { call, plug }
+        });
+    }
+
     fn prm_end(&mut self, ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
         let block = ControlBlock::prm_end(ar.uuid, ar.session_key).to_bytes();
         self.call(ar, opnum::CONTROL, &block, now, out, Phase::PrmEnd);
@@ -612,7 +686,7 @@ impl DeviceAr {
         blocks: &[u8],
         now: u64,
         out: &mut Vec<Action>,
-        phase: fn(RpcCall) -> Phase,
+        phase: impl FnOnce(RpcCall) -> Phase,
     ) {
         match ar.next_call(self.plan.object_uuid(), op, blocks, 0, now) {
             Some(call) => {
@@ -644,6 +718,10 @@ impl DeviceAr {
         };
         if block.ar_uuid != ar.uuid {
             return None;
+        }
+        if block.block_type == crate::wire::BlockType::PlugApplicationReadyReq {
+            // The end of a plug sub-cycle: the submodule's IOPS turns GOOD in its data.
+            return ControlBlock::done_response_for(block);
         }
         let answer = ControlBlock::application_ready_done(ar.uuid, ar.session_key);
         if matches!(phase, Phase::WaitAppReady { .. }) {
@@ -678,4 +756,32 @@ impl DeviceAr {
     pub fn ar_uuid(&self) -> Option<Uuid> {
         self.step.ar().map(|a| a.uuid)
     }
+}
+
+/// The submodules of `plan` that `diff` says are not there or are something else: those of
+/// an empty slot (which lists none of its submodules) and those listed as wrong or missing.
+fn absent_submodules(diff: &ModuleDiffBlock, plan: &DevicePlan) -> Vec<(u32, u16, u16)> {
+    let mut absent = Vec::new();
+    for a in &diff.apis {
+        for m in &a.modules {
+            if m.state == ModuleState::NoModule {
+                absent.extend(
+                    plan.submodules
+                        .iter()
+                        .filter(|s| (s.api, s.slot) == (a.api, m.slot))
+                        .map(|s| (s.api, s.slot, s.subslot)),
+                );
+                continue;
+            }
+            absent.extend(
+                m.submodules
+                    .iter()
+                    .filter(|s| {
+                        !matches!(s.state.ident_info(), IdentInfo::Ok | IdentInfo::Substitute)
+                    })
+                    .map(|s| (a.api, m.slot, s.subslot)),
+            );
+        }
+    }
+    absent
 }

@@ -3,10 +3,13 @@
 //! clients' record jobs in data exchange, one call at a time on the AR's activity.
 
 use super::*;
+use crate::controller::plan::PlannedRecord;
 
 impl DeviceAr {
     /// Fails every queued record job with `why`.
     pub(super) fn fail_records(&mut self, why: &str, out: &mut Vec<Action>) {
+        // Plug sub-cycles end with the AR: the next Connect sees the tree as it is.
+        self.plugs.clear();
         while let Some(r) = self.records.pop_front() {
             out.push(Action::Event(DeviceEvent::Record(RecordResult {
                 request: r,
@@ -33,39 +36,16 @@ impl DeviceAr {
     /// Writes the parameter records on the just connected `ar` (PrmEnd at once when there
     /// are none).
     pub(super) fn write_records(&mut self, mut ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
-        if self.plan.records.is_empty() {
+        let records: Vec<&PlannedRecord> = self
+            .plan
+            .records
+            .iter()
+            .filter(|r| !ar.absent.contains(&(r.api, r.slot, r.subslot)))
+            .collect();
+        if records.is_empty() {
             return self.prm_end(ar, now, out);
         }
-        let mut headers = Vec::with_capacity(self.plan.records.len());
-        for r in &self.plan.records {
-            ar.record_seq = ar.record_seq.wrapping_add(1);
-            headers.push(record_data_length(&r.data).map(|len| {
-                IodHeader::write_request(
-                    ar.record_seq,
-                    ar.uuid,
-                    r.api,
-                    r.slot,
-                    r.subslot,
-                    r.index,
-                    len,
-                )
-            }));
-        }
-        let headers: Result<Vec<IodHeader>, EmitError> = headers.into_iter().collect();
-        let body = headers.and_then(|headers| {
-            if let ([h], [r]) = (&headers[..], &self.plan.records[..]) {
-                return Ok(with_data(h, &r.data));
-            }
-            let writes: Vec<(IodHeader, &[u8])> = headers
-                .iter()
-                .zip(&self.plan.records)
-                .map(|(h, r)| (*h, &r.data[..]))
-                .collect();
-            let data = record::join_write_multiple_to_vec(&writes)?;
-            let outer = IodHeader::write_multiple(0, ar.uuid, record_data_length(&data)?);
-            Ok(with_data(&outer, &data))
-        });
-        let Ok(body) = body else {
+        let Ok(body) = write_body(&mut ar, &records) else {
             return self.fail(
                 FailureCause::Internal,
                 "the parameter records do not fit a Write request",
@@ -74,6 +54,40 @@ impl DeviceAr {
             );
         };
         self.call(ar, opnum::WRITE, &body, now, out, Phase::Write);
+    }
+
+    /// Starts the plug sub-cycle of a submodule the device announced with the plug alarm
+    /// numbered `seq`: its parameter records, then PlugPrmEnd (at once when it has none).
+    pub(super) fn write_plug_records(
+        &mut self,
+        mut ar: Box<Ar>,
+        plug: Plug,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
+        let at = (plug.api, plug.slot, plug.subslot);
+        ar.absent.retain(|a| *a != at);
+        let records: Vec<&PlannedRecord> = self
+            .plan
+            .records
+            .iter()
+            .filter(|r| (r.api, r.slot, r.subslot) == at)
+            .collect();
+        if records.is_empty() {
+            return self.plug_prm_end(ar, plug, now, out);
+        }
+        let Ok(body) = write_body(&mut ar, &records) else {
+            return self.fail(
+                FailureCause::Internal,
+                "the parameter records do not fit a Write request",
+                now,
+                out,
+            );
+        };
+        self.call(ar, opnum::WRITE, &body, now, out, |call| Phase::PlugWrite {
+            call,
+            plug,
+        });
     }
 
     /// Starts the next queued record job when the AR is in data exchange with none running.
@@ -85,6 +99,12 @@ impl DeviceAr {
         else {
             return;
         };
+        if let Some(plug) = self.plugs.pop_front() {
+            let Step::Ar { ar, .. } = core::mem::replace(&mut self.step, Step::Idle) else {
+                return;
+            };
+            return self.write_plug_records(ar, plug, now, out);
+        }
         let Some(request) = self.records.pop_front() else {
             return;
         };
@@ -138,6 +158,34 @@ impl DeviceAr {
             }))),
         }
     }
+}
+
+/// A Write of `records` on `ar`: one Write, or a WriteMultiple for several.
+fn write_body(ar: &mut Ar, records: &[&PlannedRecord]) -> Result<Vec<u8>, EmitError> {
+    let mut headers = Vec::with_capacity(records.len());
+    for r in records {
+        ar.record_seq = ar.record_seq.wrapping_add(1);
+        headers.push(IodHeader::write_request(
+            ar.record_seq,
+            ar.uuid,
+            r.api,
+            r.slot,
+            r.subslot,
+            r.index,
+            record_data_length(&r.data)?,
+        ));
+    }
+    if let ([h], [r]) = (&headers[..], records) {
+        return Ok(with_data(h, &r.data));
+    }
+    let writes: Vec<(IodHeader, &[u8])> = headers
+        .iter()
+        .zip(records)
+        .map(|(h, r)| (*h, &r.data[..]))
+        .collect();
+    let data = record::join_write_multiple_to_vec(&writes)?;
+    let outer = IodHeader::write_multiple(0, ar.uuid, record_data_length(&data)?);
+    Ok(with_data(&outer, &data))
 }
 
 /// The RecordDataLength of `data`; [`EmitError::TooLong`] above `u32::MAX` bytes.

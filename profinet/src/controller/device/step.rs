@@ -21,6 +21,11 @@ pub(super) struct Ar {
     /// The delivered alarm of each priority whose AlarmAck waits for the clients
     /// (`[high, low]`).
     pub(super) unacked: [Option<Box<AlarmNotification>>; 2],
+    /// The submodules the Connect response's ModuleDiffBlock says are missing or wrong:
+    /// their parameter records are not written.
+    pub(super) absent: Vec<(u32, u16, u16)>,
+    /// The controller's MAC address (source of the AR's alarm frames).
+    pub(super) own_mac: MacAddress,
 }
 
 impl Ar {
@@ -60,6 +65,17 @@ pub(super) const fn priority_slot(p: Priority) -> usize {
     }
 }
 
+/// A submodule the device plugged during data exchange (a Plug alarm the clients
+/// acknowledged), whose parameters the controller writes before its PlugPrmEnd.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Plug {
+    pub(super) api: u32,
+    pub(super) slot: u16,
+    pub(super) subslot: u16,
+    /// The plug alarm's AlarmSequenceNumber, which the PlugPrmEnd carries.
+    pub(super) seq: u16,
+}
+
 /// What an AR is doing.
 pub(super) enum Phase {
     /// Connect sent.
@@ -77,6 +93,10 @@ pub(super) enum Phase {
         call: RpcCall,
         request: RecordRequest,
     },
+    /// Data exchange, writing the parameters of a plugged submodule.
+    PlugWrite { call: RpcCall, plug: Plug },
+    /// Data exchange, PlugPrmEnd of a plugged submodule sent.
+    PlugPrmEnd { call: RpcCall, plug: Plug },
 }
 
 impl Phase {
@@ -86,7 +106,9 @@ impl Phase {
             Phase::Connect(c)
             | Phase::Write(c)
             | Phase::PrmEnd(c)
-            | Phase::Record { call: c, .. } => Some(c),
+            | Phase::Record { call: c, .. }
+            | Phase::PlugWrite { call: c, .. }
+            | Phase::PlugPrmEnd { call: c, .. } => Some(c),
             Phase::WaitAppReady { .. } | Phase::Running => None,
         }
     }
@@ -97,7 +119,9 @@ impl Phase {
             Phase::Connect(c)
             | Phase::Write(c)
             | Phase::PrmEnd(c)
-            | Phase::Record { call: c, .. } => Some(c),
+            | Phase::Record { call: c, .. }
+            | Phase::PlugWrite { call: c, .. }
+            | Phase::PlugPrmEnd { call: c, .. } => Some(c),
             Phase::WaitAppReady { .. } | Phase::Running => None,
         }
     }

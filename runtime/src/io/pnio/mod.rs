@@ -166,6 +166,13 @@ impl Exchanges {
                         continue;
                     }
                     self.stop(d, None);
+                    // A replacement may leave submodules out (a device pulled them): their
+                    // status turns BAD now rather than keep what the last exchange gave.
+                    if let Some(range) = self.device_submodules.get(d) {
+                        for s in range.clone().filter(|&s| !exchanges(&ar, s)) {
+                            mark_disconnected(image, s..s + 1);
+                        }
+                    }
                     // Devices are at most MAX_DEVICES (256): the index fits.
                     self.device_by_frame_id[usize::from(ar.input.frame_id)] = d as u16 + 1;
                     self.running[d] = Some(Running {
@@ -294,6 +301,14 @@ impl Exchanges {
             }
         }
     }
+}
+
+/// Whether exchange `ar` carries anything of submodule `s`: data or a status byte in
+/// either CR.
+fn exchanges(ar: &CyclicAr, s: usize) -> bool {
+    [&ar.input, &ar.output].iter().any(|cr| {
+        cr.objects.iter().any(|o| o.submodule == s) || cr.iocs.iter().any(|i| i.submodule == s)
+    })
 }
 
 /// Marks a device's submodules as not exchanged: inputs and the device's consumer status

@@ -35,6 +35,18 @@ pub fn notification(event: StationEvent) -> Notification {
         },
         StationEvent::PlcRunning(running) => Notification::StationPlcRunning { running },
         StationEvent::Blink => Notification::StationBlink,
+        StationEvent::Plug { at, idents, alarm } => {
+            let (module_ident, submodule_ident) = idents.unwrap_or((0, 0));
+            Notification::StationPlug {
+                api: at.api,
+                slot: at.slot,
+                subslot: at.subslot,
+                plugged: idents.is_some(),
+                module_ident,
+                submodule_ident,
+                alarm: alarm.map(|a| a.to_string()).unwrap_or_default(),
+            }
+        }
         StationEvent::Identity {
             identity,
             permanent,

@@ -44,6 +44,23 @@ pub enum DeviceCommand {
         /// Where the outcome goes.
         reply: SyncSender<Result<(), String>>,
     },
+    /// Plug (`Some` ident numbers: module, submodule) or pull (`None`) the submodule at a
+    /// position; the outcome goes back on `reply`.
+    Plug {
+        /// Where.
+        at: SubslotAddr,
+        /// What is plugged, or `None` to pull.
+        idents: Option<(u32, u32)>,
+        /// Where the outcome goes: `Err` says why it was refused.
+        reply: SyncSender<Result<(), String>>,
+    },
+    /// Announce the return of the submodule at a position (a Return of Submodule alarm).
+    ReturnSubmodule {
+        /// Where.
+        at: SubslotAddr,
+        /// Where the outcome goes.
+        reply: SyncSender<Result<(), String>>,
+    },
     /// Give the user records of a submodule to a client (`true`) or answer them again.
     Records(SubslotAddr, bool),
     /// A client's answer to record job `job`: the record read (anything for a write) or the
@@ -333,6 +350,33 @@ impl Role for DeviceRole {
                         super::station::state_name(self.device.state())
                     ))
                 };
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::Plug { at, idents, reply } => {
+                let r = match idents {
+                    Some((m, sub)) => {
+                        self.device
+                            .plug_submodule(at, m, sub, now_ns, &mut self.actions)
+                    }
+                    None => self.device.pull_submodule(at, now_ns, &mut self.actions),
+                };
+                let r = r.map_err(|e| e.to_string()).map(|alarm| {
+                    self.tell(StationEvent::Plug { at, idents, alarm }, out);
+                });
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::ReturnSubmodule { at, reply } => {
+                let r = self
+                    .device
+                    .return_submodule(at, now_ns, &mut self.actions)
+                    .map_err(|e| e.to_string())
+                    .and_then(|alarm| match alarm {
+                        Some(_) => Ok(()),
+                        None => Err(format!(
+                            "no Return of Submodule alarm went out for {at}: it needs the PLC's                              AR in data exchange with that submodule (the AR is {})",
+                            super::station::state_name(self.device.state())
+                        )),
+                    });
                 let _ = reply.try_send(r);
             }
             DeviceCommand::Records(at, to_client) => {

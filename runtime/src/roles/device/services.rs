@@ -364,6 +364,30 @@ impl RoleServices for DeviceServices {
                 data,
                 reply,
             }),
+            Request::StationPlug {
+                api,
+                slot,
+                subslot,
+                module_ident,
+                submodule_ident,
+            } => self.carry_out(|reply| DeviceCommand::Plug {
+                at: SubslotAddr::new(api, slot, subslot),
+                idents: Some((module_ident, submodule_ident)),
+                reply,
+            }),
+            Request::StationPull { api, slot, subslot } => {
+                self.carry_out(|reply| DeviceCommand::Plug {
+                    at: SubslotAddr::new(api, slot, subslot),
+                    idents: None,
+                    reply,
+                })
+            }
+            Request::StationReturnSubmodule { api, slot, subslot } => {
+                self.carry_out(|reply| DeviceCommand::ReturnSubmodule {
+                    at: SubslotAddr::new(api, slot, subslot),
+                    reply,
+                })
+            }
             other => Response::Refused(Refusal::WrongRole {
                 role: "device".to_owned(),
                 service: service_name(&other).to_owned(),

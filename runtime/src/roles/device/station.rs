@@ -9,6 +9,7 @@ use procimg_profinet::device::{
     RecordRequest, SubslotAddr,
 };
 use procimg_profinet::wire::MacAddress;
+use procimg_profinet::wire::alarm::AlarmType;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use procimg_profinet::wire::rta_pdu::AbortCode;
 use procimg_shm_layout::control::{ArReport, StationReport};
@@ -60,6 +61,16 @@ pub enum StationEvent {
         /// same state and is told the same: the station cannot tell them apart afterwards,
         /// and neither can its next start.
         factory_reset: bool,
+    },
+    /// A client plugged (`idents`: module and submodule ident numbers) or pulled (`None`)
+    /// the submodule at `at`; `alarm` is what the PLC got.
+    Plug {
+        /// Where.
+        at: SubslotAddr,
+        /// What is plugged now, or `None`.
+        idents: Option<(u32, u32)>,
+        /// The alarm to the PLC's AR, if one went out.
+        alarm: Option<AlarmType>,
     },
     /// The PLC reads or writes a record whose submodule's records a client took.
     Record(RecordRequest),
@@ -160,6 +171,15 @@ impl Station {
             StationEvent::Blink => {
                 tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
             }
+            StationEvent::Plug { at, idents, alarm } => {
+                let alarm = alarm.map_or(String::new(), |a| format!(", {a} alarm to the PLC"));
+                match idents {
+                    Some((m, sub)) => tracing::info!(
+                        "{at} plugged: module {m:#010x}, submodule {sub:#010x}{alarm}"
+                    ),
+                    None => tracing::info!("{at} pulled{alarm}"),
+                }
+            }
             StationEvent::DcpSetCheck(c) => tracing::debug!(
                 "DCP Set check {}: {} sets name {:?}, address {:?}{}",
                 c.job,
@@ -256,6 +276,13 @@ pub fn engine(station: &StationConfig, mac: MacAddress, cycle_ns: u64) -> Device
         application: ImageApplication,
         im0: im0(station),
     });
+    // Submodules not plugged at start keep their place and wait for a client to plug them.
+    for s in station.submodules.iter().filter(|s| !s.plugged) {
+        let c = &s.submodule;
+        let at = SubslotAddr::new(c.api, c.slot, c.subslot);
+        // Configured and plugged, with no AR yet: a pull cannot be refused.
+        let _ = device.pull_submodule(at, 0, &mut Vec::new());
+    }
     device.set_type_of_station(&station.device_type);
     device.set_parameter_records(&parameter_records(station));
     device.hand_over_cyclic(cycle_ns);

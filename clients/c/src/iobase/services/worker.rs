@@ -115,6 +115,7 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::StationPlcRunning { .. }
         | Notification::StationBlink
         | Notification::StationIdentity { .. }
+        | Notification::StationPlug { .. }
         | Notification::StationRecord { .. }
         | Notification::StationArCheck { .. }
         | Notification::StationDcpSetCheck { .. } => {}
