@@ -946,6 +946,29 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         },
         "the PLC's acknowledgement of three alarms",
     );
+    // The device's managing client pulls slot 1: the controller's client gets the Pull
+    // alarm and the I data BAD; plugged again, the Plug alarm, the controller writes its
+    // parameters (the plug sub-cycle) and the I data is GOOD again.
+    dev_client.pull_submodule((0, 1, 1)).expect("pull slot 1");
+    let pull = next_alarm(&mut services);
+    assert_eq!(
+        (pull.alarm_type, pull.slot, pull.subslot),
+        (3, 1, 1),
+        "{pull:?}"
+    );
+    services.acknowledge(&pull).expect("acknowledge the alarm");
+    wait_remote(&mut watcher, Ioxs::Bad);
+    dev_client
+        .plug_submodule((0, 1, 1), 0x10, 0x1)
+        .expect("plug slot 1");
+    let plug = next_alarm(&mut services);
+    assert_eq!(
+        (plug.alarm_type, plug.slot, plug.subslot),
+        (4, 1, 1),
+        "{plug:?}"
+    );
+    services.acknowledge(&plug).expect("acknowledge the alarm");
+    wait_remote(&mut watcher, Ioxs::Good);
     drop(dev_client);
 
     // The device dies: the controller reports DEV_FAILURE; restarted, it comes back under
