@@ -163,12 +163,14 @@ pub mod device_ops {
     pub const DIAGNOSIS: u8 = 6;
     /// `on: u8`: the device takes part (odd) or stops.
     pub const ACCEPTING: u8 = 7;
-    /// `what: u8, arg: u8, len: u8`: the application's part (`what % 6`): 0 takes (arg odd)
+    /// `what: u8, arg: u8, len: u8`: the application's part (`what % 8`): 0 takes (arg odd)
     /// or gives back the records of slot `arg % 3`, subslot 1; 1 answers job `arg` of those
     /// given out (with `len` bytes, or an error when `len` > 200; a job number never given out
     /// when there are none); 2 holds the ApplicationReady (arg odd) or not; 3 releases it;
     /// 4 checks new ARs (arg odd) or not; 5 answers the last AR check (accepts when `len` is
-    /// even, else refuses with ErrorCode1 `arg`, ErrorCode2 `len`).
+    /// even, else refuses with ErrorCode1 `arg`, ErrorCode2 `len`); 6 pulls the submodule
+    /// of slot `arg % 3`, subslot 1, if it is plugged, else plugs it (with what was there
+    /// when `len` is even, else with module `len`, submodule `arg`); 7 announces its return.
     pub const APPLICATION: u8 = 8;
     /// Number of opcodes.
     pub const COUNT: u8 = 9;
@@ -610,6 +612,8 @@ pub struct DeviceBench {
     jobs: Vec<u64>,
     /// AR checks given to the application so far.
     checks: Vec<u64>,
+    /// What was plugged at each position pulled so far: (position, module, submodule).
+    pulled: Vec<(SubslotAddr, u32, u32)>,
     now: u64,
     steps: u32,
     /// The last operation polled the device at `now`.
@@ -630,6 +634,7 @@ impl DeviceBench {
             device,
             jobs: Vec::new(),
             checks: Vec::new(),
+            pulled: Vec::new(),
             now: MS,
             steps: 0,
             polled: false,
@@ -660,6 +665,32 @@ impl DeviceBench {
                 let _ = self.device.release_application_ready(self.now);
             }
             4 => self.device.check_connects(arg % 2 == 1),
+            6 => {
+                let at = SubslotAddr::new(0, u16::from(arg % 3), 1);
+                // Refusals (unconfigured, starting up) are part of what is tried: fine.
+                if self.device.is_plugged(at) {
+                    let was = self.device.real_submodule(at);
+                    if self.device.pull_submodule(at, self.now, out).is_ok()
+                        && let Some((m, sub)) = was
+                    {
+                        self.pulled.push((at, m, sub));
+                    }
+                } else {
+                    let idents = self
+                        .pulled
+                        .iter()
+                        .rev()
+                        .find(|p| p.0 == at && len.is_multiple_of(2))
+                        .map_or((u32::from(len), u32::from(arg)), |p| (p.1, p.2));
+                    let _ = self
+                        .device
+                        .plug_submodule(at, idents.0, idents.1, self.now, out);
+                }
+            }
+            7 => {
+                let at = SubslotAddr::new(0, u16::from(arg % 3), 1);
+                let _ = self.device.return_submodule(at, self.now, out);
+            }
             _ => {
                 let answer = if len.is_multiple_of(2) {
                     Ok(())
@@ -750,7 +781,7 @@ impl DeviceBench {
                 self.device.set_accepting(on, self.now, &mut out);
             }
             device_ops::APPLICATION => {
-                let (what, arg, len) = (r.u8()? % 6, r.u8()?, r.u8()?);
+                let (what, arg, len) = (r.u8()? % 8, r.u8()?, r.u8()?);
                 self.application(what, arg, len, &mut out);
             }
             _ => unreachable!("opcode taken modulo COUNT"),

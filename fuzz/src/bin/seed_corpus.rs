@@ -262,6 +262,16 @@ fn sessions(caps: &[Captured], seeds: &mut Seeds) {
     w.u8(device_ops::STEP).u8(50);
     application.extend_from_slice(&w.finish());
     add(seeds, "device", "bringup-application", &application);
+    // The same bring-up, then slot 1 pulled, plugged again as it was, pulled, plugged with
+    // other ident numbers, and the return of slot 2 announced.
+    let mut plugging = world::device_seed(&sent);
+    let mut w = Writer::new();
+    for (what, arg, len) in [(6, 1, 0), (6, 1, 0), (6, 1, 0), (6, 1, 1), (7, 2, 0)] {
+        w.u8(device_ops::APPLICATION).u8(what).u8(arg).u8(len);
+        w.u8(device_ops::STEP).u8(5);
+    }
+    plugging.extend_from_slice(&w.finish());
+    add(seeds, "device", "bringup-plugging", &plugging);
     let by_name = |name: &str| caps.iter().find(|c| c.name == name);
     let s7 = [
         "cm/dcp_set_req",

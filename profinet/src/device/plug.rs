@@ -61,7 +61,15 @@ pub enum PlugError {
 impl<A: Application> Device<A> {
     /// Whether a submodule is plugged at `at` (a configured position not pulled).
     pub fn is_plugged(&self, at: SubslotAddr) -> bool {
-        self.submodules.iter().any(|s| s.addr() == at)
+        self.real_submodule(at).is_some()
+    }
+
+    /// The (module, submodule) ident numbers of what is plugged at `at`, if anything.
+    pub fn real_submodule(&self, at: SubslotAddr) -> Option<(u32, u32)> {
+        self.submodules
+            .iter()
+            .find(|s| s.addr() == at)
+            .map(|s| (s.module_ident, s.submodule_ident))
     }
 
     /// Pulls the submodule at `at`; its pending diagnosis goes with it. Returns the alarm
