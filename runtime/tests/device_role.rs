@@ -1259,15 +1259,20 @@ fn a_managing_client_pulls_and_plugs_a_submodule_and_the_plc_follows() {
     assert_eq!(status.network.watchdog_expiries, 0);
 }
 
-#[test]
-fn a_submodule_not_plugged_at_start_waits_for_its_client() {
+/// The demo device's configuration with slot 1 not plugged at start.
+fn slot_1_unplugged() -> String {
     let toml = procimg_config::DEMO_DEVICE_TOML.replacen(
         "input_length = 8\noutput_length = 8\n",
         "input_length = 8\noutput_length = 8\nplugged = false\n",
         1,
     );
     assert_ne!(toml, procimg_config::DEMO_DEVICE_TOML);
-    let server = Launch::config("devunplugged", &toml).start();
+    toml
+}
+
+#[test]
+fn a_submodule_not_plugged_at_start_waits_for_its_client() {
+    let server = Launch::config("devunplugged", &slot_1_unplugged()).start();
     let mut services = Services::open(&server.instance, ServiceOptions::new("unplugged-events"))
         .expect("the device's services");
     let mut client = Client::attach(&server.instance, AttachOptions::synchronous("unplugged"))
@@ -1281,4 +1286,33 @@ fn a_submodule_not_plugged_at_start_waits_for_its_client() {
         .expect("plug slot 1");
     assert_eq!(next_plug(&mut services), (true, 0x1, "plug".to_owned()));
     until_q_status(&mut client, echo, Ioxs::Good, "after the plug");
+}
+
+#[test]
+fn the_demo_plc_connects_what_the_client_plugged_as_an_engineering_tool_learns_it() {
+    let server = Launch::config("devlearn", &slot_1_unplugged()).start();
+    let mut services = Services::open(&server.instance, ServiceOptions::new("learn-events"))
+        .expect("the device's services");
+    let mut client = Client::attach(&server.instance, AttachOptions::synchronous("learn"))
+        .expect("attach to the device");
+    client.claim_i_data().expect("claim the I data");
+    let echo = at(&client, 1, 1);
+    // Another submodule than the configuration's: wrong for the running AR.
+    client
+        .plug_submodule((0, 1, 1), 0x10, 0x5)
+        .expect("plug slot 1");
+    assert_eq!(
+        next_plug(&mut services),
+        (true, 0x5, "plug wrong submodule".to_owned())
+    );
+    // The PLC's next AR reads the station's RealIdentificationData first and expects
+    // what is plugged: slot 1 is exchanged.
+    end_the_ar_and_let_the_plc_connect_again(&server);
+    server.wait_status("the station's AR in data exchange", in_data);
+    until_q_status(
+        &mut client,
+        echo,
+        Ioxs::Good,
+        "after the PLC learnt the tree",
+    );
 }

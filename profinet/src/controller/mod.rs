@@ -337,6 +337,15 @@ impl Controller {
         true
     }
 
+    /// Whether every device's RealIdentificationData (0xF000) is read before each Connect,
+    /// the expected ident numbers then following what is plugged at the planned positions
+    /// (as an engineering tool learns a station). Off from the start.
+    pub fn learn_real_identification(&mut self, on: bool) {
+        for d in &mut self.devices {
+            d.learn_real_identification(on);
+        }
+    }
+
     /// Sends the AlarmAck of the alarm `ticket` names (positive, as IO-Base does when the
     /// alarm callback returns). `false` when that alarm is no longer waiting (acknowledged
     /// already, or its AR is gone).

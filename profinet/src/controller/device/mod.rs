@@ -26,6 +26,7 @@ use std::collections::VecDeque;
 use std::net::{Ipv4Addr, SocketAddrV4};
 
 mod alarms;
+mod learn;
 mod records;
 mod step;
 use records::{record_result, write_failure};
@@ -65,6 +66,8 @@ pub struct DeviceAr {
     plugs: VecDeque<Plug>,
     /// ARUUIDs and activity UUIDs.
     uuids: UuidSource,
+    /// Read the device's RealIdentificationData before each Connect (`learn.rs`).
+    learn_tree: bool,
 }
 
 impl DeviceAr {
@@ -87,6 +90,7 @@ impl DeviceAr {
             records: VecDeque::new(),
             plugs: VecDeque::new(),
             uuids,
+            learn_tree: false,
         }
     }
 
@@ -260,6 +264,7 @@ impl DeviceAr {
                 ..
             } => Some(since + APP_READY_TIMEOUT_NS),
             Step::Ar { phase, .. } => phase.call().map(RpcCall::deadline_ns),
+            Step::Learn { call } => Some(call.deadline_ns()),
             Step::Backoff { until } => Some(*until),
             Step::Idle => None,
         }
@@ -322,6 +327,17 @@ impl DeviceAr {
                     self.fail(FailureCause::RpcTimeout, &why, now, out);
                 }
             }
+            Step::Learn { call } => {
+                if call.retry_due(now) {
+                    call.resent(now);
+                    if let Some(ip) = self.ip {
+                        call.send(SocketAddrV4::new(ip, rpc::RPC_PORT), out);
+                    }
+                } else if call.expired(now) {
+                    // Unanswered: connect with the plan as it is.
+                    self.connect(id, now, out);
+                }
+            }
             Step::Backoff { until } if now >= *until => {
                 if self.wanted {
                     self.start(id, now, out);
@@ -372,7 +388,7 @@ impl DeviceAr {
                     );
                 };
                 self.ip = Some(ip);
-                self.connect(id, now, out);
+                self.connect_or_learn(id, now, out);
             }
         }
     }
@@ -462,7 +478,7 @@ impl DeviceAr {
                 match set.on_frame(frame) {
                     Some(SetOutcome::Done) => {
                         self.ip = self.plan.ip;
-                        self.connect(id, now, out);
+                        self.connect_or_learn(id, now, out);
                     }
                     Some(other) => {
                         let why = format!("DCP Set IP refused: {other}");
@@ -501,6 +517,26 @@ impl DeviceAr {
         now: u64,
         out: &mut Vec<Action>,
     ) -> bool {
+        if let Step::Learn { call } = &mut self.step {
+            let mut facks = Vec::new();
+            let reply = call.take(datagram, &mut facks);
+            if let Some(ip) = self.ip {
+                for f in facks {
+                    out.push(Action::Datagram {
+                        to: SocketAddrV4::new(ip, rpc::RPC_PORT),
+                        payload: f,
+                    });
+                }
+            }
+            return match reply {
+                Reply::Foreign => false,
+                Reply::Partial => true,
+                Reply::Done(answer) => {
+                    self.learned(answer, id, now, out);
+                    true
+                }
+            };
+        }
         let Step::Ar { ar, phase } = &mut self.step else {
             return false;
         };

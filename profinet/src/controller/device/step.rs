@@ -135,6 +135,8 @@ pub(super) enum Step {
     Identify { since: u64, id: Identify },
     /// Giving the device its IP address.
     SetIp { since: u64, set: Set },
+    /// Reading the device's RealIdentificationData before the Connect.
+    Learn { call: RpcCall },
     /// From the Connect on: the AR and what it is doing.
     Ar { ar: Box<Ar>, phase: Phase },
     /// After a failure, until the next attempt.

@@ -124,7 +124,10 @@ pub fn spawn(
             };
             let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
             let recipe = plans.first().and_then(|p| p.records.first().cloned());
-            let controller = Controller::new(id, plans, 0, now_ns());
+            let mut controller = Controller::new(id, plans, 0, now_ns());
+            // Like an engineering tool, the demo PLC reads what the station has plugged
+            // before it connects: whatever the managing client plugged is cycled.
+            controller.learn_real_identification(true);
             Plc {
                 controller,
                 names,
