@@ -4,8 +4,8 @@
 //! is refused.
 
 use super::tests::{
-    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, TestApp, call, counter_device, datagrams, frames,
-    parse_reply, request, status, to_data, to_prm_end,
+    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, TestApp, built_connect, call, counter_device,
+    datagrams, frames, parse_reply, request, status, to_data, to_prm_end,
 };
 use super::*;
 use crate::wire::PnioStatus;
@@ -300,4 +300,58 @@ fn plug_and_pull_wait_for_data_exchange_and_before_an_ar_only_change_the_tree() 
         dev.pull_submodule(INPUT, MS, &mut Vec::new()),
         Err(PlugError::ArStartingUp)
     );
+}
+
+#[test]
+fn during_the_ar_check_the_application_plugs_what_the_plc_expects() {
+    // The PLC expects submodule 0x99 in slot 1, where 0x1 is plugged.
+    let (mut dev, _) = counter_device();
+    let connect = built_connect(
+        &[
+            (0, 1, 0x1, 0x1, 0, 0),
+            (1, 1, 0x30, 0x99, 4, 0),
+            (2, 1, 0x31, 0x1, 0, 2),
+        ],
+        AR_UUID,
+        (32, 2, 3),
+    );
+    dev.check_connects(true);
+    let mut out = Vec::new();
+    dev.on_datagram(
+        SocketAddrV4::new([172, 16, 2, 100].into(), 54766),
+        RPC_PORT,
+        &request(
+            opnum::CONNECT,
+            ACTIVITY,
+            0,
+            &connect.to_vec().unwrap(),
+            false,
+        ),
+        MS,
+        &mut out,
+    );
+    let check = out
+        .iter()
+        .find_map(|a| match a {
+            DeviceAction::ArCheck(c) => Some(c.clone()),
+            _ => None,
+        })
+        .expect("an AR check");
+    let slot1 = check.expected[1];
+    assert_eq!(slot1.at, INPUT);
+    assert_eq!(slot1.plugged.map(|p| p.submodule_ident), Some(0x1));
+    // EXP_SUBMOD: the application plugs what is expected, then accepts.
+    assert_eq!(dev.pull_submodule(INPUT, MS, &mut Vec::new()), Ok(None));
+    assert_eq!(
+        dev.plug_submodule(INPUT, 0x30, 0x99, MS, &mut Vec::new()),
+        Ok(None)
+    );
+    let mut out = Vec::new();
+    dev.answer_connect(check.job, Ok(()), 2 * MS, &mut out)
+        .unwrap();
+    let (_, _, payload) = datagrams(&out).remove(0);
+    let r = parse_reply(&payload);
+    assert_eq!(status(&r), PnioStatus::OK);
+    let res = crate::wire::connect::ConnectResponse::parse(&r.blocks).unwrap();
+    assert_eq!(res.module_diff, None, "everything as expected");
 }
