@@ -48,11 +48,10 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> bool {
-        let mac = self.id.mac;
         if usi >= 0x8000 {
             return false;
         }
-        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+        let Some(ar) = self.ar.as_ref().filter(|a| a.in_data()) else {
             return false;
         };
         let at = SubslotAddr::new(api, slot, subslot);
@@ -71,10 +70,7 @@ impl<A: Application> Device<A> {
             subslot,
             module_ident: s.expected.module_ident,
             submodule_ident: s.expected.submodule_ident,
-            specifier: AlarmSpecifier {
-                sequence_number: ar.alarms.sequence,
-                ..AlarmSpecifier::default()
-            },
+            specifier: AlarmSpecifier::default(),
             maintenance: None,
             item: Some(AlarmItem::Other {
                 usi,
@@ -84,18 +80,29 @@ impl<A: Application> Device<A> {
         if n.buffer_len() > usize::from(ar.alarms.max_data_length) {
             return false;
         }
+        self.send_alarm(n, now_ns, out);
+        true
+    }
+
+    /// Numbers `n` with the AR's next AlarmSequenceNumber and sends it on the channel of
+    /// its priority; an abort the channel reports ends the AR. Nothing without an AR.
+    pub(super) fn send_alarm(
+        &mut self,
+        mut n: AlarmNotification,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) {
+        let mac = self.id.mac;
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        n.specifier.sequence_number = ar.alarms.sequence;
         ar.alarms.sequence = (ar.alarms.sequence + 1) & AlarmSpecifier::SEQUENCE_MASK;
-        let abort = ar.alarms.send(
-            Priority::High,
-            vec![AlarmBlock::Notification(n)],
-            mac,
-            now_ns,
-            out,
-        );
-        if let Some(a) = abort {
+        let priority = n.priority;
+        let block = vec![AlarmBlock::Notification(n)];
+        if let Some(a) = ar.alarms.send(priority, block, mac, now_ns, out) {
             self.end_ar(a.code);
         }
-        true
     }
 
     /// The pending diagnosis.

@@ -32,7 +32,7 @@ use super::ar::IOXS_BAD;
 use super::diagnosis::SubslotAddr;
 use super::rpc::ClientCall;
 use super::{APP_READY_DELAY_NS, Application, ArState, Device, DeviceAction, PluggedSubmodule};
-use crate::wire::alarm::{AlarmBlock, AlarmNotification, AlarmSpecifier, AlarmType, Priority};
+use crate::wire::alarm::{AlarmNotification, AlarmSpecifier, AlarmType, Priority};
 use crate::wire::control::ControlBlock;
 
 /// Why a plug, pull or return was refused.
@@ -80,13 +80,7 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> Result<Option<AlarmType>, PlugError> {
-        let i = self.position(at)?;
-        if self.plugged[i].is_none() {
-            return Err(PlugError::NotPlugged(at));
-        }
-        self.plug_allowed()?;
-        self.plugged[i] = None;
-        self.refresh_plugged();
+        self.replug(at, None)?;
         // Its diagnosis ends with it; the Pull alarm says so.
         let _ = self.diagnosis.clear(at);
         let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
@@ -127,13 +121,7 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> Result<Option<AlarmType>, PlugError> {
-        let i = self.position(at)?;
-        if self.plugged[i].is_some() {
-            return Err(PlugError::AlreadyPlugged(at));
-        }
-        self.plug_allowed()?;
-        self.plugged[i] = Some((module_ident, submodule_ident));
-        self.refresh_plugged();
+        let i = self.replug(at, Some((module_ident, submodule_ident)))?;
         let real = self.table[i];
         let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
             return Ok(None);
@@ -280,12 +268,24 @@ impl<A: Application> Device<A> {
             .ok_or(PlugError::NotConfigured(at))
     }
 
-    /// Refuses plug and pull while an AR is between its Connect and data exchange.
-    fn plug_allowed(&self) -> Result<(), PlugError> {
-        match self.ar.as_ref().map(|a| a.state) {
-            None | Some(ArState::Idle | ArState::Data) => Ok(()),
-            Some(_) => Err(PlugError::ArStartingUp),
+    /// Puts `idents` (or nothing) at position `at`, which must hold nothing (or something);
+    /// refused while an AR is between its Connect and data exchange. Returns the position's
+    /// index in the table.
+    fn replug(&mut self, at: SubslotAddr, idents: Option<(u32, u32)>) -> Result<usize, PlugError> {
+        let i = self.position(at)?;
+        match (self.plugged[i], idents) {
+            (None, None) => return Err(PlugError::NotPlugged(at)),
+            (Some(_), Some(_)) => return Err(PlugError::AlreadyPlugged(at)),
+            _ => {}
         }
+        if let Some(ar) = self.ar.as_ref()
+            && !matches!(ar.state, ArState::Idle | ArState::Data)
+        {
+            return Err(PlugError::ArStartingUp);
+        }
+        self.plugged[i] = idents;
+        self.refresh_plugged();
+        Ok(i)
     }
 
     /// Rebuilds the list of plugged submodules from the table.
@@ -314,9 +314,8 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> Option<AlarmType> {
-        let mac = self.id.mac;
         let diagnosis = &self.diagnosis;
-        let ar = self.ar.as_mut().filter(|a| a.in_data())?;
+        let ar = self.ar.as_ref().filter(|a| a.in_data())?;
         let ar_fault = ar.owned().any(|o| diagnosis.has_fault_at(o));
         let n = AlarmNotification {
             priority: Priority::Low,
@@ -327,7 +326,6 @@ impl<A: Application> Device<A> {
             module_ident,
             submodule_ident,
             specifier: AlarmSpecifier {
-                sequence_number: ar.alarms.sequence,
                 submodule_diagnosis: diagnosis.has_fault_at(at),
                 ar_diagnosis: ar_fault,
                 ..AlarmSpecifier::default()
@@ -335,17 +333,7 @@ impl<A: Application> Device<A> {
             maintenance: None,
             item: None,
         };
-        ar.alarms.sequence = (ar.alarms.sequence + 1) & AlarmSpecifier::SEQUENCE_MASK;
-        let abort = ar.alarms.send(
-            Priority::Low,
-            vec![AlarmBlock::Notification(n)],
-            mac,
-            now_ns,
-            out,
-        );
-        if let Some(a) = abort {
-            self.end_ar(a.code);
-        }
+        self.send_alarm(n, now_ns, out);
         Some(alarm_type)
     }
 }

@@ -4,8 +4,8 @@
 //! is refused.
 
 use super::tests::{
-    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, TestApp, built_connect, call, counter_device,
-    datagrams, frames, parse_reply, request, status, to_data, to_prm_end,
+    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, TestApp, built_connect, call, connect_request,
+    counter_device, datagrams, frames, parse_reply, request, status, to_data, to_prm_end,
 };
 use super::*;
 use crate::wire::PnioStatus;
@@ -273,17 +273,7 @@ fn plug_and_pull_wait_for_data_exchange_and_before_an_ar_only_change_the_tree() 
     let mut out = Vec::new();
     assert_eq!(dev.pull_submodule(INPUT, 0, &mut out), Ok(None));
     assert!(out.is_empty());
-    let r = call(
-        &mut dev,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            false,
-        ),
-        MS,
-    );
+    let r = call(&mut dev, &connect_request(&connect), MS);
     assert_eq!(status(&r), PnioStatus::OK);
     let res = crate::wire::connect::ConnectResponse::parse(&r.blocks).unwrap();
     let diff = res.module_diff.expect("a ModuleDiffBlock");
@@ -320,13 +310,7 @@ fn during_the_ar_check_the_application_plugs_what_the_plc_expects() {
     dev.on_datagram(
         SocketAddrV4::new([172, 16, 2, 100].into(), 54766),
         RPC_PORT,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            false,
-        ),
+        &connect_request(&connect),
         MS,
         &mut out,
     );

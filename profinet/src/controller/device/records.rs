@@ -34,26 +34,18 @@ impl DeviceAr {
     }
 
     /// Writes the parameter records on the just connected `ar` (PrmEnd at once when there
-    /// are none).
-    pub(super) fn write_records(&mut self, mut ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
-        let records: Vec<&PlannedRecord> = self
+    /// are none); not those of submodules the device lacks.
+    pub(super) fn write_records(&mut self, ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
+        let records: Vec<PlannedRecord> = self
             .plan
             .records
             .iter()
             .filter(|r| !ar.absent.contains(&(r.api, r.slot, r.subslot)))
+            .cloned()
             .collect();
-        if records.is_empty() {
-            return self.prm_end(ar, now, out);
+        if let Err(ar) = self.write_planned(ar, &records, now, out, Phase::Write) {
+            self.prm_end(ar, now, out);
         }
-        let Ok(body) = write_body(&mut ar, &records) else {
-            return self.fail(
-                FailureCause::Internal,
-                "the parameter records do not fit a Write request",
-                now,
-                out,
-            );
-        };
-        self.call(ar, opnum::WRITE, &body, now, out, Phase::Write);
     }
 
     /// Starts the plug sub-cycle of a submodule the device announced with the plug alarm
@@ -67,27 +59,42 @@ impl DeviceAr {
     ) {
         let at = (plug.api, plug.slot, plug.subslot);
         ar.absent.retain(|a| *a != at);
-        let records: Vec<&PlannedRecord> = self
+        let records: Vec<PlannedRecord> = self
             .plan
             .records
             .iter()
             .filter(|r| (r.api, r.slot, r.subslot) == at)
+            .cloned()
             .collect();
-        if records.is_empty() {
-            return self.plug_prm_end(ar, plug, now, out);
+        let phase = |call| Phase::PlugWrite { call, plug };
+        if let Err(ar) = self.write_planned(ar, &records, now, out, phase) {
+            self.plug_prm_end(ar, plug, now, out);
         }
-        let Ok(body) = write_body(&mut ar, &records) else {
-            return self.fail(
+    }
+
+    /// Writes `records` on `ar`, the call going on in the phase `phase` makes of it;
+    /// `Err` gives the AR back when there is nothing to write.
+    fn write_planned(
+        &mut self,
+        mut ar: Box<Ar>,
+        records: &[PlannedRecord],
+        now: u64,
+        out: &mut Vec<Action>,
+        phase: impl FnOnce(RpcCall) -> Phase,
+    ) -> Result<(), Box<Ar>> {
+        if records.is_empty() {
+            return Err(ar);
+        }
+        match write_body(&mut ar, records) {
+            Ok(body) => self.call(ar, opnum::WRITE, &body, now, out, phase),
+            Err(_) => self.fail(
                 FailureCause::Internal,
                 "the parameter records do not fit a Write request",
                 now,
                 out,
-            );
-        };
-        self.call(ar, opnum::WRITE, &body, now, out, |call| Phase::PlugWrite {
-            call,
-            plug,
-        });
+            ),
+        }
+        Ok(())
     }
 
     /// Starts the next queued record job when the AR is in data exchange with none running.
@@ -161,7 +168,7 @@ impl DeviceAr {
 }
 
 /// A Write of `records` on `ar`: one Write, or a WriteMultiple for several.
-fn write_body(ar: &mut Ar, records: &[&PlannedRecord]) -> Result<Vec<u8>, EmitError> {
+fn write_body(ar: &mut Ar, records: &[PlannedRecord]) -> Result<Vec<u8>, EmitError> {
     let mut headers = Vec::with_capacity(records.len());
     for r in records {
         ar.record_seq = ar.record_seq.wrapping_add(1);

@@ -810,19 +810,20 @@ pub(super) fn counter_device() -> (Device<TestApp>, ConnectRequest) {
     (dev, built_connect(&subs, AR_UUID, (32, 2, 3)))
 }
 
+/// The RPC request carrying `connect` (activity [`ACTIVITY`], sequence 0).
+pub(super) fn connect_request(connect: &ConnectRequest) -> Vec<u8> {
+    request(
+        opnum::CONNECT,
+        ACTIVITY,
+        0,
+        &connect.to_vec().unwrap(),
+        false,
+    )
+}
+
 /// Connect and PrmEnd with our codecs, both answered OK, at `t0`.
 pub(super) fn to_prm_end(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u64) {
-    let r = call(
-        dev,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            false,
-        ),
-        t0,
-    );
+    let r = call(dev, &connect_request(connect), t0);
     assert_eq!(status(&r), PnioStatus::OK);
     let prm = ControlBlock::prm_end(AR_UUID, 1).to_bytes();
     let r = call(dev, &request(opnum::CONTROL, ACTIVITY, 1, &prm, false), t0);
