@@ -108,6 +108,7 @@ fn installed_library_builds_and_runs_the_examples() {
         "procimg_shm.h",
         "pniobase.h",
         "pniousrx.h",
+        "pniousrd.h",
         "pnioerrx.h",
     ] {
         assert!(

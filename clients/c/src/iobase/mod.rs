@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The IO-Base compatible controller API (`pniousrx.h`, `pniobase.h`, `pnioerrx.h`).
+//! The IO-Base compatible controller API (`pniousrx.h`, `pniobase.h`, `pnioerrx.h`), and the
+//! types of the device API (`pniousrd.h`).
 //!
 //! * [`types`] and [`errors`]: the C types and return codes, with the manual's names.
+//! * [`device_types`]: the C types, callback types and function prototypes of the device
+//!   API, which is declared but not implemented yet.
 //! * `api`: the exported `PNIO_*` functions; `controller`: an open controller, its mode
 //!   and its threads; `data`: the IO data functions; `callbacks`: the callback table and
 //!   the one place that calls the program back; `services`: records, alarms, device
@@ -11,6 +14,7 @@ pub mod api;
 pub(crate) mod callbacks;
 mod controller;
 mod data;
+pub mod device_types;
 pub mod errors;
 pub(crate) mod services;
 pub mod types;
