@@ -433,6 +433,23 @@ use crate::services::{DiagnosisReport, RecordTarget};
 
 use alloc::boxed::Box;
 
+/// Why a plug, pull or return of a station submodule was refused
+/// ([`Refusal::StationPlug`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlugRefusal {
+    /// The station's configuration has no submodule at the position.
+    NotConfigured,
+    /// Something is plugged there already.
+    AlreadyPlugged,
+    /// Nothing is plugged there.
+    NotPlugged,
+    /// The PLC's AR is between its Connect and data exchange.
+    ArStartingUp,
+    /// No AR in data exchange holds the submodule (a return needs one).
+    NotInDataExchange,
+}
+
 /// Why the server refused a request.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
@@ -501,6 +518,13 @@ pub enum Refusal {
     /// The request could not be decoded.
     BadRequest {
         /// What was wrong.
+        message: String,
+    },
+    /// A plug, pull or return of a station submodule was refused.
+    StationPlug {
+        /// Why, for a program to act on.
+        refused: PlugRefusal,
+        /// Why, in words that name the position.
         message: String,
     },
     /// No submodule has IO data at this address.
@@ -667,6 +691,7 @@ impl core::fmt::Display for Refusal {
                  (`procimg io unforce --all` clears it)"
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
+            Refusal::StationPlug { message, .. } => f.write_str(message),
             Refusal::WrongRole { role, service } => write!(
                 f,
                 "this server plays the IO {role} role, and {service} is a service of the other \

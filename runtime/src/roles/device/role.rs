@@ -10,12 +10,12 @@ use super::state_file::{self, KeptState};
 use super::station::{ImageApplication, Station, StationEvent};
 use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
-use procimg_profinet::device::{ArState, Device, DeviceAction, SubslotAddr};
+use procimg_profinet::device::{ArState, Device, DeviceAction, PlugError, SubslotAddr};
 use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rt::data_status::PROVIDER_RUN;
 use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::control::StationDiagnosisChange;
+use procimg_shm_layout::control::{PlugRefusal, Refusal, StationDiagnosisChange};
 use std::net::SocketAddrV4;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -52,14 +52,14 @@ pub enum DeviceCommand {
         /// What is plugged, or `None` to pull.
         idents: Option<(u32, u32)>,
         /// Where the outcome goes: `Err` says why it was refused.
-        reply: SyncSender<Result<(), String>>,
+        reply: SyncSender<Result<(), Refusal>>,
     },
     /// Announce the return of the submodule at a position (a Return of Submodule alarm).
     ReturnSubmodule {
         /// Where.
         at: SubslotAddr,
         /// Where the outcome goes.
-        reply: SyncSender<Result<(), String>>,
+        reply: SyncSender<Result<(), Refusal>>,
     },
     /// Give the user records of a submodule to a client (`true`) or answer them again.
     Records(SubslotAddr, bool),
@@ -360,7 +360,7 @@ impl Role for DeviceRole {
                     }
                     None => self.device.pull_submodule(at, now_ns, &mut self.actions),
                 };
-                let r = r.map_err(|e| e.to_string()).map(|alarm| {
+                let r = r.map_err(plug_refusal).map(|alarm| {
                     self.tell(StationEvent::Plug { at, idents, alarm }, out);
                 });
                 let _ = reply.try_send(r);
@@ -369,13 +369,17 @@ impl Role for DeviceRole {
                 let r = self
                     .device
                     .return_submodule(at, now_ns, &mut self.actions)
-                    .map_err(|e| e.to_string())
+                    .map_err(plug_refusal)
                     .and_then(|alarm| match alarm {
                         Some(_) => Ok(()),
-                        None => Err(format!(
-                            "no Return of Submodule alarm went out for {at}: it needs the PLC's                              AR in data exchange with that submodule (the AR is {})",
-                            super::station::state_name(self.device.state())
-                        )),
+                        None => Err(Refusal::StationPlug {
+                            refused: PlugRefusal::NotInDataExchange,
+                            message: format!(
+                                "no Return of Submodule alarm went out for {at}: it needs the \
+                                 PLC's AR in data exchange with that submodule (the AR is {})",
+                                super::station::state_name(self.device.state())
+                            ),
+                        }),
                     });
                 let _ = reply.try_send(r);
             }
@@ -458,5 +462,19 @@ impl Role for DeviceRole {
 
     fn dropped_datagrams(&self) -> DroppedDatagrams {
         DroppedDatagrams::default()
+    }
+}
+
+/// The refusal a client gets for a plug, pull or return the engine refused.
+fn plug_refusal(e: PlugError) -> Refusal {
+    let refused = match e {
+        PlugError::NotConfigured(_) => PlugRefusal::NotConfigured,
+        PlugError::AlreadyPlugged(_) => PlugRefusal::AlreadyPlugged,
+        PlugError::NotPlugged(_) => PlugRefusal::NotPlugged,
+        PlugError::ArStartingUp => PlugRefusal::ArStartingUp,
+    };
+    Refusal::StationPlug {
+        refused,
+        message: e.to_string(),
     }
 }

@@ -246,11 +246,30 @@ fn service_name(request: &Request) -> &'static str {
     }
 }
 
+/// What the acyclic thread answers a refused command with.
+trait IntoRefusal {
+    fn into_refusal(self) -> Refusal;
+}
+
+/// A message: the request was wrong in a way the message explains.
+impl IntoRefusal for String {
+    fn into_refusal(self) -> Refusal {
+        Refusal::BadRequest { message: self }
+    }
+}
+
+/// A refusal of its own kind (a plug's), for programs to act on.
+impl IntoRefusal for Refusal {
+    fn into_refusal(self) -> Refusal {
+        self
+    }
+}
+
 impl DeviceServices {
     /// Has the acyclic thread carry out the command `make` builds and waits for the outcome.
-    fn carry_out(
+    fn carry_out<E: IntoRefusal>(
         &self,
-        make: impl FnOnce(std::sync::mpsc::SyncSender<Result<(), String>>) -> DeviceCommand,
+        make: impl FnOnce(std::sync::mpsc::SyncSender<Result<(), E>>) -> DeviceCommand,
     ) -> Response {
         let (reply, outcome) = std::sync::mpsc::sync_channel(1);
         let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
@@ -259,7 +278,7 @@ impl DeviceServices {
         }
         match outcome.recv_timeout(COMMAND_WAIT) {
             Ok(Ok(())) => Response::Done,
-            Ok(Err(why)) => refused(why),
+            Ok(Err(why)) => Response::Refused(why.into_refusal()),
             Err(_) => refused(format!(
                 "the device's PROFINET thread did not take the request within {COMMAND_WAIT:?}; \
                  try again"
