@@ -10,13 +10,50 @@
  * its ARs with the PLC, its cyclic data, records and alarms; the program plugs, answers the
  * callbacks and moves the data.
  *
- * Status: this version of libprocimg declares the device API but does not define its
- * functions yet; a program calling them compiles but does not link.
+ * Status: this version of libprocimg defines the management and configuration functions
+ * (PNIO_device_open, _open_ext, _close, _start, _stop, PNIO_api_add, _add_ext, _remove,
+ * PNIO_mod_plug, _pull, PNIO_sub_plug, _plug_ext, _plug_ext_IM, _pull) and calls
+ * PNIO_CBF_PULL_PLUG_CONF and PNIO_CBF_DEVICE_STOPPED. The other functions are declared
+ * but not defined yet (a program calling them compiles but does not link), and the other
+ * callbacks are not called yet.
+ *
+ * Open, start, stop. CpIndex names a procimgd instance as for the controller (PROCIMG_CP<n>,
+ * else PROCIMG_INSTANCE, else "procimg"); it must be in the device role (otherwise
+ * PNIO_ERR_PRM_CP_ID) with the VendorId and DeviceId given (otherwise
+ * PNIO_ERR_INVALID_CONFIG), and have an IP address (otherwise PNIO_ERR_CONFIG_IN_UPDATE: open
+ * again later). PNIO_device_open takes the server to OFFLINE, so that no PLC connects before
+ * PNIO_device_start, which takes it to OPERATE; PNIO_device_stop takes it to OFFLINE again
+ * (the PLC's AR ends) and PNIO_CBF_DEVICE_STOPPED confirms on a library thread.
+ * PNIO_device_close leaves the server as it is. procimgd's station serves one AR at a time,
+ * whatever MaxAr says; the annotation is checked but the station shows its configuration's.
  *
  * Plugging. What the program plugs must lie at positions procimgd's configuration of the
  * station has (`[[station.submodule]]`, with those IO lengths); its ident numbers are what
  * the PLC sees (a plug with other ident numbers is a wrong or substitute submodule for the
- * PLC). A plug elsewhere is refused with PNIO_ERR_PRM_ADD.
+ * PLC). A plug elsewhere, or in an API not added, or outside 1..MaxSubslots, is refused with
+ * PNIO_ERR_PRM_ADD. PNIO_mod_plug records the slot's ModuleIdentNumber; each submodule plug
+ * is carried out on procimgd on a library thread and confirmed by PNIO_CBF_PULL_PLUG_CONF
+ * (if given): at a position where procimgd has nothing, the program's submodule is plugged;
+ * where procimgd has a submodule with the same ident numbers, that one is taken as the
+ * program's (no pull, no alarm); where it has one with other ident numbers, that one is
+ * pulled and the program's plugged. (What procimgd has is its configuration's, or what this
+ * library plugged or pulled since open; another client's plugs meanwhile are not seen.)
+ * PNIO_device_start first pulls every position outside slot 0 that the program did not
+ * plug, so that the PLC sees the program's tree; slot 0 (the DAP, its interface and ports)
+ * stays as procimgd has it unless the program plugs there. PNIO_sub_pull and PNIO_mod_pull
+ * pull the program's submodules on procimgd. After start, plug and pull need
+ * PNIO_CBF_PULL_PLUG_CONF (otherwise PNIO_ERR_SEQUENCE) and reach the PLC as Pull, Plug or
+ * Plug Wrong alarms; between the PLC's Connect and data exchange procimgd refuses them and
+ * the confirmation carries PNIO_ERR_SEQUENCE. AlarmType and IM0_bits are checked, but
+ * procimgd picks the alarm by what the PLC expects and keeps I&M0FilterData itself.
+ *
+ * Sequence. open -> api_add -> mod_plug, sub_plug -> start -> stop (DEVICE_STOPPED) ->
+ * mod_pull -> api_remove -> close; calls out of it answer PNIO_ERR_SEQUENCE: a submodule
+ * before its module, a second plug at a position, a pull of what the program did not plug,
+ * api_add/api_remove or close while started or stopping, close with plugs or pulls not yet
+ * confirmed by PNIO_CBF_PULL_PLUG_CONF, a second open of the same instance, and every call
+ * but the IO data functions inside a callback. An API added twice answers
+ * PNIO_ERR_ALREADY_DONE.
  *
  * Layout. As in pniobase.h: ATTR_PACKED is alignment 4, not byte packing, and enums are
  * int-sized. PNIO_BLOCK_HEADER alone is a plain struct (6 bytes), so that the I&M records

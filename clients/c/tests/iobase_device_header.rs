@@ -5,9 +5,9 @@
 //! C++17 compiler see them. A program generated from the Rust facts checks them all and
 //! names each mismatch.
 //!
-//! The device functions are declared, not implemented yet, so the programs do not link
-//! them: a prototype is compared in unevaluated contexts only, C11 with `_Generic` on the
-//! function's address, C++17 with `std::is_same` on its `decltype`. C's `_Generic` takes an
+//! Not every device function is implemented yet, so the programs do not link them: a
+//! prototype is compared in unevaluated contexts only, C11 with `_Generic` on the function's
+//! address, C++17 with `std::is_same` on its `decltype`. C's `_Generic` takes an
 //! enum for the integer type it is compatible with; C++ tells them apart. The size of each
 //! parameter's Rust type is compared with its C type's as well, so that the Rust prototypes
 //! in `device_types::prototypes` and the callback aliases say what the header says.

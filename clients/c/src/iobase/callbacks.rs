@@ -144,6 +144,13 @@ pub(crate) fn invoke_cp(cbf: PNIO_CP_CBF, prm: &mut PNIO_CP_CBE_PRM) {
     let _ = catch_unwind(AssertUnwindSafe(|| unsafe { f(prm) }));
 }
 
+/// Runs `call` (one call of a device callback, `pniousrd.h`'s typed ones) as a callback:
+/// inside it only the IO-data functions are allowed, and a panic stops here.
+pub(crate) fn invoke_device(call: impl FnOnce()) {
+    let _inside = InCallback::enter();
+    let _ = catch_unwind(AssertUnwindSafe(call));
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,7 +4,8 @@
 //!
 //! * [`types`] and [`errors`]: the C types and return codes, with the manual's names.
 //! * [`device_types`]: the C types, callback types and function prototypes of the device
-//!   API, which is declared but not implemented yet.
+//!   API; `device_api` exports its management and configuration functions, and `device`
+//!   is the open device behind them (the other device functions are declared only).
 //! * `api`: the exported `PNIO_*` functions; `controller`: an open controller, its mode
 //!   and its threads; `data`: the IO data functions; `callbacks`: the callback table and
 //!   the one place that calls the program back; `services`: records, alarms, device
@@ -14,6 +15,8 @@ pub mod api;
 pub(crate) mod callbacks;
 mod controller;
 mod data;
+pub(crate) mod device;
+pub mod device_api;
 pub mod device_types;
 pub mod errors;
 pub(crate) mod services;

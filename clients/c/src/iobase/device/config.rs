@@ -1,0 +1,387 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The configuration functions after the handle checks: APIs, modules and submodules, their
+//! address and sequence checks, and the jobs they give the library thread.
+//!
+//! Codes where the manual leaves the choice: an API not added, a slot above MaxSlots, a
+//! subslot outside 1..MaxSubslots, an address that is not geographical or a position the
+//! station's configuration does not have answer `PNIO_ERR_PRM_ADD`; a submodule plugged
+//! before its module, at a position the program plugged already, a pull of what the program
+//! did not plug, a module plugged twice, an API added twice or removed while it has modules,
+//! and plug or pull after start without `PNIO_CBF_PULL_PLUG_CONF` answer
+//! `PNIO_ERR_SEQUENCE`. An AlarmType other than PLUG and PLUG_WRONG, or IM0_bits none of the
+//! four, answer `PNIO_ERR_PRM_INVALIDARG` (procimgd picks the alarm by what the PLC expects,
+//! and keeps I&M0FilterData itself).
+
+use super::state::{Config, Device, Life, Pos};
+use super::worker::Job;
+use crate::iobase::controller::lock;
+use crate::iobase::device_types::*;
+use crate::iobase::errors::*;
+use crate::iobase::types::PNIO_ADDR_GEO;
+use std::sync::MutexGuard;
+
+/// The configuration when plug and pull are allowed now: before start, after stop, and after
+/// start with `PNIO_CBF_PULL_PLUG_CONF`.
+fn may_plug<'a>(f: &str, dev: &'a Device) -> Result<MutexGuard<'a, Config>, u32> {
+    let c = lock(&dev.config);
+    match c.life {
+        Life::Opened | Life::Stopped => Ok(c),
+        Life::Started if dev.cbf.cbf_pull_plug_conf.is_some() => Ok(c),
+        Life::Started => Err(fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            "after PNIO_device_start, plug and pull need PNIO_CBF_PULL_PLUG_CONF (given to \
+             PNIO_device_open); without it stop the device, plug or pull, and start again",
+        )),
+        other => Err(fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!(
+                "the device is {}: wait for PNIO_CBF_DEVICE_STOPPED",
+                other.name()
+            ),
+        )),
+    }
+}
+
+/// The configuration when APIs may be added or removed: not while started or stopping.
+fn may_configure<'a>(f: &str, dev: &'a Device) -> Result<MutexGuard<'a, Config>, u32> {
+    let c = lock(&dev.config);
+    match c.life {
+        Life::Opened | Life::Stopped => Ok(c),
+        other => Err(fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!(
+                "the device is {}: APIs are added and removed before PNIO_device_start or \
+                 after PNIO_CBF_DEVICE_STOPPED",
+                other.name()
+            ),
+        )),
+    }
+}
+
+/// `PNIO_api_add` (`high` for `PNIO_api_add_ext`: the device's open_ext numbers).
+pub(crate) fn api_add(f: &str, dev: &Device, api: u32, high: (u16, u16)) -> u32 {
+    let mut c = match may_configure(f, dev) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    if c.apis.contains_key(&api) {
+        return fail(
+            f,
+            PNIO_ERR_ALREADY_DONE,
+            format_args!("API {api} is added already"),
+        );
+    }
+    if !dev.positions.iter().any(|p| p.at.0 == api) {
+        return fail(
+            f,
+            PNIO_ERR_PRM_ADD,
+            format_args!(
+                "the station of instance \"{}\" has no submodule in API {api}",
+                dev.instance
+            ),
+        );
+    }
+    if high.1 == 0 {
+        return fail(f, PNIO_ERR_PRM_INVALIDARG, "MaxSubslots is 0");
+    }
+    c.apis.insert(api, high);
+    PNIO_OK
+}
+
+/// `PNIO_api_remove`.
+pub(crate) fn api_remove(f: &str, dev: &Device, api: u32) -> u32 {
+    let mut c = match may_configure(f, dev) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    if !c.apis.contains_key(&api) {
+        return fail(f, PNIO_ERR_PRM_ADD, format_args!("API {api} is not added"));
+    }
+    if c.modules.keys().any(|(a, _)| *a == api) {
+        return fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!("API {api} still has modules: pull them first (PNIO_mod_pull)"),
+        );
+    }
+    c.apis.remove(&api);
+    PNIO_OK
+}
+
+/// The slot, and with `sub` the subslot, of `addr` in `api`, checked against the added API
+/// and the station's positions.
+fn address(
+    f: &str,
+    dev: &Device,
+    c: &Config,
+    api: u32,
+    addr: &PNIO_DEV_ADDR,
+    sub: bool,
+) -> Result<Pos, u32> {
+    if addr.AddrType != PNIO_ADDR_GEO {
+        return Err(fail(
+            f,
+            PNIO_ERR_PRM_ADD,
+            format_args!("pAddr->AddrType {} is not PNIO_ADDR_GEO", addr.AddrType),
+        ));
+    }
+    let Some(&(max_slots, max_subslots)) = c.apis.get(&api) else {
+        return Err(fail(
+            f,
+            PNIO_ERR_PRM_ADD,
+            format_args!("API {api} is not added (PNIO_api_add)"),
+        ));
+    };
+    let g = addr.geo_addr();
+    let slot = match u16::try_from(g.Slot) {
+        Ok(s) if s <= max_slots => s,
+        _ => {
+            return Err(fail(
+                f,
+                PNIO_ERR_PRM_ADD,
+                format_args!("slot {} is above API {api}'s MaxSlots {max_slots}", g.Slot),
+            ));
+        }
+    };
+    if !sub {
+        if !dev
+            .positions
+            .iter()
+            .any(|p| (p.at.0, p.at.1) == (api, slot))
+        {
+            return Err(fail(
+                f,
+                PNIO_ERR_PRM_ADD,
+                format_args!(
+                    "the station of instance \"{}\" has no slot {slot} in API {api} (only its \
+                     configured positions can be plugged)",
+                    dev.instance
+                ),
+            ));
+        }
+        return Ok((api, slot, 0));
+    }
+    let subslot = match u16::try_from(g.Subslot) {
+        Ok(s) if s >= 1 && s <= max_subslots => s,
+        _ => {
+            return Err(fail(
+                f,
+                PNIO_ERR_PRM_ADD,
+                format_args!(
+                    "subslot {:#x} is not in 1..MaxSubslots ({max_subslots:#x}) of API {api}",
+                    g.Subslot
+                ),
+            ));
+        }
+    };
+    if dev.position((api, slot, subslot)).is_none() {
+        return Err(fail(
+            f,
+            PNIO_ERR_PRM_ADD,
+            format_args!(
+                "the station of instance \"{}\" has no submodule at API {api} slot {slot} \
+                 subslot {subslot:#06x} (only its configured positions can be plugged)",
+                dev.instance
+            ),
+        ));
+    }
+    Ok((api, slot, subslot))
+}
+
+/// Counts the job as waiting for its confirmation and gives it to the library thread.
+fn queue(f: &str, dev: &Device, mut c: MutexGuard<'_, Config>, job: Job) -> u32 {
+    c.pending += 1;
+    drop(c);
+    match dev.send(job) {
+        Ok(()) => PNIO_OK,
+        Err(code) => {
+            let mut c = lock(&dev.config);
+            c.pending = c.pending.saturating_sub(1);
+            fail(f, code, "the device's thread has ended")
+        }
+    }
+}
+
+/// `PNIO_mod_plug`.
+pub(crate) fn mod_plug(f: &str, dev: &Device, api: u32, addr: PNIO_DEV_ADDR, ident: u32) -> u32 {
+    let mut c = match may_plug(f, dev) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let (_, slot, _) = match address(f, dev, &c, api, &addr, false) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    if c.modules.contains_key(&(api, slot)) {
+        return fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!("a module is plugged in API {api} slot {slot} already: pull it first"),
+        );
+    }
+    c.modules.insert((api, slot), ident);
+    queue(
+        f,
+        dev,
+        c,
+        Job::Confirm {
+            api,
+            action: PNIO_MOD_PLUG,
+            addr,
+        },
+    )
+}
+
+/// `PNIO_mod_pull`: the module's submodules come out of procimgd's station.
+pub(crate) fn mod_pull(f: &str, dev: &Device, api: u32, addr: PNIO_DEV_ADDR) -> u32 {
+    let mut c = match may_plug(f, dev) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let (_, slot, _) = match address(f, dev, &c, api, &addr, false) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    let Some(ident) = c.modules.remove(&(api, slot)) else {
+        return fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!("no module of the program is plugged in API {api} slot {slot}"),
+        );
+    };
+    let subs: Vec<(Pos, u32)> = c
+        .subs
+        .iter()
+        .filter(|(p, _)| (p.0, p.1) == (api, slot))
+        .map(|(p, s)| (*p, *s))
+        .collect();
+    for (p, _) in &subs {
+        c.subs.remove(p);
+    }
+    queue(
+        f,
+        dev,
+        c,
+        Job::Pull {
+            api,
+            at: subs,
+            action: PNIO_MOD_PULL,
+            module: Some(((api, slot), ident)),
+            addr,
+        },
+    )
+}
+
+/// `PNIO_sub_plug`, `PNIO_sub_plug_ext` and `PNIO_sub_plug_ext_IM`.
+pub(crate) fn sub_plug(
+    f: &str,
+    dev: &Device,
+    api: u32,
+    addr: PNIO_DEV_ADDR,
+    ident: u32,
+    alarm_type: u32,
+    im0_bits: PNIO_PLUG_IM0_BITS,
+) -> u32 {
+    if alarm_type != PNIO_ALARM_TYPE_PLUG && alarm_type != PNIO_ALARM_TYPE_PLUG_WRONG {
+        return fail(
+            f,
+            PNIO_ERR_PRM_INVALIDARG,
+            format_args!(
+                "AlarmType {alarm_type:#x} is neither PNIO_ALARM_TYPE_PLUG nor \
+                 PNIO_ALARM_TYPE_PLUG_WRONG"
+            ),
+        );
+    }
+    if ![
+        PNIO_PLUG_IM0_BITS_NOTHING,
+        PNIO_PLUG_IM0_BITS_SUBMODULE,
+        PNIO_PLUG_IM0_BITS_SUBMODULE_REP_MODULE,
+        PNIO_PLUG_IM0_BITS_SUBMODULE_REP_MOD_DEV,
+    ]
+    .contains(&im0_bits)
+    {
+        return fail(
+            f,
+            PNIO_ERR_PRM_INVALIDARG,
+            format_args!("IM0_bits {im0_bits:#x} is none of the PNIO_PLUG_IM0_BITS_* values"),
+        );
+    }
+    let mut c = match may_plug(f, dev) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let at = match address(f, dev, &c, api, &addr, true) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    let Some(&module) = c.modules.get(&(api, at.1)) else {
+        return fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!(
+                "no module is plugged in API {api} slot {}: PNIO_mod_plug first, then its \
+                 submodules",
+                at.1
+            ),
+        );
+    };
+    if c.subs.contains_key(&at) {
+        return fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!(
+                "the program plugged API {api} slot {} subslot {:#06x} already: pull it first",
+                at.1, at.2
+            ),
+        );
+    }
+    c.subs.insert(at, ident);
+    queue(
+        f,
+        dev,
+        c,
+        Job::Plug {
+            api,
+            at,
+            idents: (module, ident),
+            addr,
+        },
+    )
+}
+
+/// `PNIO_sub_pull`.
+pub(crate) fn sub_pull(f: &str, dev: &Device, api: u32, addr: PNIO_DEV_ADDR) -> u32 {
+    let mut c = match may_plug(f, dev) {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    let at = match address(f, dev, &c, api, &addr, true) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    let Some(ident) = c.subs.remove(&at) else {
+        return fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!(
+                "the program has no submodule plugged at API {api} slot {} subslot {:#06x}",
+                at.1, at.2
+            ),
+        );
+    };
+    queue(
+        f,
+        dev,
+        c,
+        Job::Pull {
+            api,
+            at: vec![(at, ident)],
+            action: PNIO_SUB_PULL,
+            module: None,
+            addr,
+        },
+    )
+}

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO device side of the IO-Base API (`pniousrd.h`): management (`PNIO_device_open`,
+//! `_close`, `_start`, `_stop`) and configuration (`PNIO_api_add`, `_remove`,
+//! `PNIO_mod_plug`, `_pull`, `PNIO_sub_plug`, `_ext`, `_ext_IM`, `PNIO_sub_pull`) over
+//! procimgd's device role.
+//!
+//! * `open`: the checks of `PNIO_device_open`'s parameters, and attaching to the station;
+//! * `state`: an open device, its lifecycle and the program's configuration, and the table of
+//!   handles;
+//! * `config`: the address and sequence checks of the configuration functions;
+//! * `worker`: the library thread that carries plugs, pulls, start and stop out on procimgd
+//!   and calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED`.
+//!
+//! # Lifecycle
+//!
+//! `PNIO_device_open` attaches to the procimgd instance that CpIndex names (as for the
+//! controller: `PROCIMG_CP<n>`, else `PROCIMG_INSTANCE`, else `procimg`), which must be in the
+//! device role with the VendorID and DeviceID given, and takes the server to OFFLINE: the
+//! station takes no AR until `PNIO_device_start`, which takes it to OPERATE.
+//! `PNIO_device_stop` takes it to OFFLINE again (the PLC's AR ends with an abort) and
+//! confirms with `PNIO_CBF_DEVICE_STOPPED` on the library thread. `PNIO_device_close` leaves
+//! the server as it is (OFFLINE after a stop). Open → (api_add, plug) → start → stop → (pull,
+//! api_remove) → close; every call out of this order answers `PNIO_ERR_SEQUENCE`, as does
+//! every call but the IO data ones from inside a callback.
+//!
+//! # Plugging
+//!
+//! procimgd's station has the positions its configuration gives, each with its IO lengths.
+//! The program's plugs must lie at those positions (any other: `PNIO_ERR_PRM_ADD`); their
+//! IO lengths are the configured ones. `PNIO_mod_plug` only records the slot's
+//! ModuleIdentNumber (procimgd plugs submodules, each with its module's ident number); each
+//! submodule plug is carried out on procimgd on the library thread, then confirmed:
+//!
+//! * an empty position is plugged with the program's ident numbers;
+//! * a position where procimgd has a submodule with the same ident numbers is taken as the
+//!   program's as it is (no pull, no alarm);
+//! * a position where procimgd has a submodule with other ident numbers is pulled and
+//!   plugged with the program's.
+//!
+//! What procimgd has at a position is, as far as the library knows, what its configuration
+//! says, or what this library plugged or pulled there since open; a plug or pull by another
+//! client of the instance meanwhile is not seen.
+//!
+//! `PNIO_device_start` pulls every position of the station outside slot 0 that the program
+//! has not plugged, so that the PLC sees the program's tree; slot 0 (the DAP, its interface
+//! and ports) stays as procimgd has it unless the program plugs there. Pulls
+//! (`PNIO_sub_pull`, `PNIO_mod_pull`) take the program's submodules out of procimgd's
+//! station. After start, plug and pull need `PNIO_CBF_PULL_PLUG_CONF` (without it:
+//! `PNIO_ERR_SEQUENCE`) and reach the PLC as Pull, Plug or Plug Wrong alarms; between the
+//! PLC's Connect and data exchange procimgd refuses them, and the confirmation carries
+//! `PNIO_ERR_SEQUENCE`.
+
+pub(crate) mod config;
+pub(crate) mod open;
+pub(crate) mod state;
+pub(crate) mod worker;

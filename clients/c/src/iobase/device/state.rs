@@ -1,0 +1,172 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! One open IO device: its lifecycle, the program's configuration (APIs, modules,
+//! submodules), its client and library thread; and the process-wide table of handles.
+
+use super::worker::{Job, Worker};
+use crate::iobase::controller::lock;
+use crate::iobase::device_types::PNIO_CBF_FUNCTIONS;
+use crate::iobase::errors::*;
+use procimg_client::Client;
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// API, slot, subslot.
+pub(crate) type Pos = (u32, u16, u16);
+
+/// Where a device stands in the manual's program sequence.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Life {
+    /// After `PNIO_device_open`: APIs are added and modules plugged.
+    Opened,
+    /// After `PNIO_device_start`: PLCs may connect.
+    Started,
+    /// `PNIO_device_stop` called, `PNIO_CBF_DEVICE_STOPPED` not yet.
+    Stopping,
+    /// `PNIO_CBF_DEVICE_STOPPED` came: pull, remove the APIs, close (or start again).
+    Stopped,
+}
+
+impl Life {
+    /// The manual's name of the state, for error texts.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Life::Opened => "opened (not started)",
+            Life::Started => "started",
+            Life::Stopping => "stopping (PNIO_CBF_DEVICE_STOPPED not yet called)",
+            Life::Stopped => "stopped",
+        }
+    }
+}
+
+/// A configured position of procimgd's station, with the ident numbers it is configured
+/// with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Position {
+    /// API, slot, subslot.
+    pub at: Pos,
+    /// ModuleIdentNumber in the configuration.
+    pub module_ident: u32,
+    /// SubmoduleIdentNumber in the configuration.
+    pub submodule_ident: u32,
+}
+
+/// What the program configured, and where it stands.
+pub(crate) struct Config {
+    /// The lifecycle.
+    pub life: Life,
+    /// The added APIs with their highest slot and subslot numbers.
+    pub apis: BTreeMap<u32, (u16, u16)>,
+    /// The program's modules: (API, slot) → ModuleIdentNumber.
+    pub modules: BTreeMap<(u32, u16), u32>,
+    /// The program's submodules: position → SubmoduleIdentNumber.
+    pub subs: BTreeMap<Pos, u32>,
+    /// Plugs and pulls given to the library thread whose confirmation has not been called.
+    pub pending: u32,
+}
+
+/// One open device.
+pub(crate) struct Device {
+    /// The device handle.
+    pub handle: u32,
+    /// The procimgd instance CpIndex names.
+    pub instance: String,
+    /// The program's callbacks.
+    pub cbf: PNIO_CBF_FUNCTIONS,
+    /// `PNIO_device_open_ext`'s highest slot and subslot numbers.
+    pub high: Option<(u16, u16)>,
+    /// The station's configured positions.
+    pub positions: Vec<Position>,
+    /// The program's configuration and the lifecycle.
+    pub config: Mutex<Config>,
+    /// The client of the instance (plug, pull, mode).
+    pub client: Mutex<Client>,
+    worker: Mutex<Option<Worker>>,
+}
+
+static NEXT_HANDLE: AtomicU32 = AtomicU32::new(1);
+static DEVICES: Mutex<BTreeMap<u32, Arc<Device>>> = Mutex::new(BTreeMap::new());
+
+/// The open device with this handle.
+pub(crate) fn lookup(handle: u32) -> Option<Arc<Device>> {
+    lock(&DEVICES).get(&handle).cloned()
+}
+
+/// Whether a device of this process has instance `instance` open.
+pub(crate) fn instance_open(instance: &str) -> bool {
+    lock(&DEVICES).values().any(|d| d.instance == instance)
+}
+
+/// The text for a handle that is not an open device.
+pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
+    fail(
+        function,
+        PNIO_ERR_WRONG_HND,
+        format_args!(
+            "handle {handle} is not an open device (closed, or never returned by \
+             PNIO_device_open)"
+        ),
+    )
+}
+
+impl Device {
+    /// Makes an opened device and starts its library thread; returns its handle.
+    pub(crate) fn register(
+        instance: String,
+        cbf: PNIO_CBF_FUNCTIONS,
+        high: Option<(u16, u16)>,
+        positions: Vec<Position>,
+        client: Client,
+    ) -> Result<u32, u32> {
+        let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
+        let dev = Arc::new(Device {
+            handle,
+            instance,
+            cbf,
+            high,
+            positions,
+            config: Mutex::new(Config {
+                life: Life::Opened,
+                apis: BTreeMap::new(),
+                modules: BTreeMap::new(),
+                subs: BTreeMap::new(),
+                pending: 0,
+            }),
+            client: Mutex::new(client),
+            worker: Mutex::new(None),
+        });
+        let worker = Worker::start(dev.clone()).map_err(|e| {
+            fail(
+                "PNIO_device_open",
+                PNIO_ERR_START_THREAD_FAILED,
+                format_args!("cannot start the device's thread: {e}"),
+            )
+        })?;
+        *lock(&dev.worker) = Some(worker);
+        lock(&DEVICES).insert(handle, dev);
+        Ok(handle)
+    }
+
+    /// Gives a job to the library thread.
+    pub(crate) fn send(&self, job: Job) -> Result<(), u32> {
+        match lock(&self.worker).as_ref() {
+            Some(w) => w.send(job),
+            None => Err(PNIO_ERR_WRONG_HND),
+        }
+    }
+
+    /// `PNIO_device_close` after the checks: the library thread finishes its jobs and ends,
+    /// the handle goes, then the client.
+    pub(crate) fn close(&self) {
+        lock(&DEVICES).remove(&self.handle);
+        let worker = lock(&self.worker).take();
+        if let Some(w) = worker {
+            w.stop();
+        }
+    }
+
+    /// The station's position at `at`, if configured.
+    pub(crate) fn position(&self, at: Pos) -> Option<&Position> {
+        self.positions.iter().find(|p| p.at == at)
+    }
+}

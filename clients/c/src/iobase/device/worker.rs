@@ -1,0 +1,288 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The device's library thread: carries the program's plugs and pulls, `PNIO_device_start`
+//! and `PNIO_device_stop` out on procimgd, one at a time in the order they were called, and
+//! calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED` (as callbacks: inside them
+//! only the IO data functions are allowed).
+
+use super::state::{Device, Life, Pos};
+use crate::iobase::callbacks::invoke_device;
+use crate::iobase::controller::lock;
+use crate::iobase::device_types::*;
+use crate::iobase::errors::*;
+use procimg_client::{Client, ControlError, Mode, Refusal};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender, SyncSender, channel};
+use std::thread::JoinHandle;
+
+/// What the library thread does.
+pub(crate) enum Job {
+    /// Plug the program's submodule at `at`; confirm with `PNIO_SUB_PLUG`.
+    Plug {
+        /// The API of the call.
+        api: u32,
+        /// Where.
+        at: Pos,
+        /// ModuleIdentNumber, SubmoduleIdentNumber.
+        idents: (u32, u32),
+        /// The program's address, for the confirmation.
+        addr: PNIO_DEV_ADDR,
+    },
+    /// Pull the program's submodules at `at` (a submodule, or a module's); confirm with
+    /// `action`. On failure the program keeps what `restore` says.
+    Pull {
+        /// The API of the call.
+        api: u32,
+        /// The submodules.
+        at: Vec<(Pos, u32)>,
+        /// `PNIO_SUB_PULL` or `PNIO_MOD_PULL`.
+        action: PNIO_DEV_ACTION,
+        /// The module to restore on failure (`PNIO_mod_pull`).
+        module: Option<((u32, u16), u32)>,
+        /// The program's address, for the confirmation.
+        addr: PNIO_DEV_ADDR,
+    },
+    /// Confirm a call that needs nothing of procimgd (`PNIO_mod_plug`).
+    Confirm {
+        /// The API of the call.
+        api: u32,
+        /// What is confirmed.
+        action: PNIO_DEV_ACTION,
+        /// The program's address.
+        addr: PNIO_DEV_ADDR,
+    },
+    /// `PNIO_device_start`: pull what the program did not plug, then OPERATE; the result
+    /// goes back to the caller.
+    Start(SyncSender<Result<(), (u32, String)>>),
+    /// `PNIO_device_stop`: OFFLINE, then `PNIO_CBF_DEVICE_STOPPED`.
+    Stop,
+}
+
+/// The library thread of a device.
+pub(crate) struct Worker {
+    jobs: Sender<Job>,
+    thread: JoinHandle<()>,
+}
+
+impl Worker {
+    /// Starts the thread for `dev`.
+    pub(crate) fn start(dev: Arc<Device>) -> std::io::Result<Worker> {
+        let (jobs, rx) = channel();
+        let thread = std::thread::Builder::new()
+            .name(format!("pnio-dev-{}", dev.handle))
+            .spawn(move || run(dev, rx))?;
+        Ok(Worker { jobs, thread })
+    }
+
+    /// Queues a job.
+    pub(crate) fn send(&self, job: Job) -> Result<(), u32> {
+        self.jobs.send(job).map_err(|_| PNIO_ERR_INTERNAL)
+    }
+
+    /// Lets the thread finish its jobs and waits for it.
+    pub(crate) fn stop(self) {
+        drop(self.jobs);
+        // A panic on that thread already ended it.
+        let _ = self.thread.join();
+    }
+}
+
+/// What procimgd has at each position, as far as this library knows: the configured ident
+/// numbers at first, then what the library plugged (`Some`) or pulled (`None`).
+type Occupants = BTreeMap<Pos, Option<(u32, u32)>>;
+
+fn run(dev: Arc<Device>, rx: Receiver<Job>) {
+    let mut occupants: Occupants = dev
+        .positions
+        .iter()
+        .map(|p| (p.at, Some((p.module_ident, p.submodule_ident))))
+        .collect();
+    while let Ok(job) = rx.recv() {
+        match job {
+            Job::Plug {
+                api,
+                at,
+                idents,
+                mut addr,
+            } => {
+                let code = plug(&lock(&dev.client), &mut occupants, at, idents);
+                if code != PNIO_OK {
+                    let mut c = lock(&dev.config);
+                    if c.subs.get(&at) == Some(&idents.1) {
+                        c.subs.remove(&at);
+                    }
+                }
+                confirm(&dev, api, PNIO_SUB_PLUG, &mut addr, code);
+            }
+            Job::Pull {
+                api,
+                at,
+                action,
+                module,
+                mut addr,
+            } => {
+                let mut code = PNIO_OK;
+                let mut kept = Vec::new();
+                {
+                    let client = lock(&dev.client);
+                    for (p, ident) in at {
+                        let c = pull(&client, &mut occupants, p);
+                        if c != PNIO_OK {
+                            code = c;
+                            kept.push((p, ident));
+                        }
+                    }
+                }
+                if code != PNIO_OK {
+                    let mut c = lock(&dev.config);
+                    c.subs.extend(kept);
+                    if let Some((m, ident)) = module {
+                        c.modules.insert(m, ident);
+                    }
+                }
+                confirm(&dev, api, action, &mut addr, code);
+            }
+            Job::Confirm {
+                api,
+                action,
+                mut addr,
+            } => confirm(&dev, api, action, &mut addr, PNIO_OK),
+            Job::Start(reply) => {
+                let _ = reply.send(start(&dev, &mut occupants));
+            }
+            Job::Stop => {
+                let code = match lock(&dev.client).control().set_mode(Mode::Offline) {
+                    Ok(()) => PNIO_OK,
+                    Err(e) => code_of(&e),
+                };
+                lock(&dev.config).life = if code == PNIO_OK {
+                    Life::Stopped
+                } else {
+                    Life::Started
+                };
+                if let Some(f) = dev.cbf.cbf_device_stopped {
+                    // SAFETY: a PNIO_CBF_DEVICE_STOPPED the program gave PNIO_device_open,
+                    // callable until PNIO_device_close (which waits for this thread).
+                    invoke_device(|| unsafe { f(dev.handle, code) });
+                }
+            }
+        }
+    }
+}
+
+/// Counts a confirmation and calls `PNIO_CBF_PULL_PLUG_CONF`, if registered.
+fn confirm(dev: &Device, api: u32, action: PNIO_DEV_ACTION, addr: &mut PNIO_DEV_ADDR, code: u32) {
+    {
+        let mut c = lock(&dev.config);
+        c.pending = c.pending.saturating_sub(1);
+    }
+    if let Some(f) = dev.cbf.cbf_pull_plug_conf {
+        let addr: *mut PNIO_DEV_ADDR = addr;
+        // SAFETY: a PNIO_CBF_PULL_PLUG_CONF the program gave PNIO_device_open, callable until
+        // PNIO_device_close (which waits for this thread); `addr` is valid for the call.
+        invoke_device(|| unsafe { f(dev.handle, api, action, addr, code) });
+    }
+}
+
+/// Plugs `idents` at `at` on procimgd as the module doc says: into an empty position; a
+/// submodule there with the same ident numbers is taken; one with others is pulled first.
+fn plug(client: &Client, occupants: &mut Occupants, at: Pos, idents: (u32, u32)) -> u32 {
+    match client.plug_submodule(at, idents.0, idents.1) {
+        Ok(()) => {
+            occupants.insert(at, Some(idents));
+            return PNIO_OK;
+        }
+        Err(e) if !already_plugged(&e) => return code_of(&e),
+        Err(_) => {}
+    }
+    if occupants.get(&at) == Some(&Some(idents)) {
+        return PNIO_OK;
+    }
+    let code = pull(client, occupants, at);
+    if code != PNIO_OK {
+        return code;
+    }
+    match client.plug_submodule(at, idents.0, idents.1) {
+        Ok(()) => {
+            occupants.insert(at, Some(idents));
+            PNIO_OK
+        }
+        Err(e) => code_of(&e),
+    }
+}
+
+/// Pulls what procimgd has at `at` (nothing there is as good as pulled).
+fn pull(client: &Client, occupants: &mut Occupants, at: Pos) -> u32 {
+    match client.pull_submodule(at) {
+        Ok(()) => {
+            occupants.insert(at, None);
+            PNIO_OK
+        }
+        Err(e) if not_plugged(&e) => {
+            occupants.insert(at, None);
+            PNIO_OK
+        }
+        Err(e) => code_of(&e),
+    }
+}
+
+/// `PNIO_device_start`: pulls the positions outside slot 0 that the program did not plug,
+/// then takes procimgd to OPERATE. `Err` with the code and the text for the caller.
+fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
+    let mine: Vec<Pos> = lock(&dev.config).subs.keys().copied().collect();
+    let client = lock(&dev.client);
+    for p in &dev.positions {
+        if p.at.1 == 0 || mine.contains(&p.at) || occupants.get(&p.at) == Some(&None) {
+            continue;
+        }
+        let code = pull(&client, occupants, p.at);
+        if code != PNIO_OK {
+            let (api, slot, subslot) = p.at;
+            return Err((
+                code,
+                format!(
+                    "instance \"{}\" did not pull API {api} slot {slot} subslot {subslot:#06x}, \
+                     which the program did not plug",
+                    dev.instance
+                ),
+            ));
+        }
+    }
+    client.control().set_mode(Mode::Operate).map_err(|e| {
+        (
+            code_of(&e),
+            format!("instance \"{}\" did not take OPERATE: {e}", dev.instance),
+        )
+    })
+}
+
+/// The refusal's text, if procimgd refused a station request.
+fn refusal_text(e: &ControlError) -> Option<&str> {
+    match e {
+        ControlError::Refused(Refusal::BadRequest { message }) => Some(message),
+        _ => None,
+    }
+}
+
+/// procimgd refused a plug because a submodule is plugged there (its PlugError text).
+fn already_plugged(e: &ControlError) -> bool {
+    refusal_text(e).is_some_and(|m| m.contains("already"))
+}
+
+/// procimgd refused a pull because nothing is plugged there.
+fn not_plugged(e: &ControlError) -> bool {
+    refusal_text(e).is_some_and(|m| m.contains("no submodule is plugged"))
+}
+
+/// The IO-Base code for a failed request: a plug or pull between the PLC's Connect and data
+/// exchange is out of sequence; no answer from procimgd is no firmware communication.
+pub(crate) fn code_of(e: &ControlError) -> u32 {
+    match e {
+        ControlError::Refused(_) if refusal_text(e).is_some_and(|m| m.contains("starting up")) => {
+            PNIO_ERR_SEQUENCE
+        }
+        ControlError::Refused(Refusal::BadRequest { .. }) => PNIO_ERR_PRM_ADD,
+        ControlError::Refused(_) | ControlError::NotDevice { .. } => PNIO_ERR_INTERNAL,
+        _ => PNIO_ERR_NO_FW_COMMUNICATION,
+    }
+}

@@ -1,0 +1,556 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The exported device functions of `pniousrd.h` for management and configuration, with the
+//! signatures of `device_types::prototypes`. Each runs inside [`crate::ffi::guard`]: a panic
+//! becomes `PNIO_ERR_INTERNAL` and a text, never an unwind into C. What they do on procimgd
+//! is in [`super::device`]'s documentation.
+#![allow(non_snake_case)]
+
+use super::callbacks::in_callback;
+use super::controller::lock;
+use super::device::config;
+use super::device::open::{self, OpenRequest};
+use super::device::state::{Device, Life, lookup, wrong_handle};
+use super::device::worker::Job;
+use super::device_types::*;
+use super::errors::fail;
+use super::errors::*;
+use super::types::*;
+use crate::ffi::guard;
+use std::sync::Arc;
+use std::sync::mpsc::sync_channel;
+
+/// The answer of these functions when called inside a callback.
+fn not_in_callback(f: &str) -> u32 {
+    fail(
+        f,
+        PNIO_ERR_SEQUENCE,
+        "not allowed inside a callback: there only the IO data functions may be called; \
+         leave the callback (set a flag) and call it from your program's thread",
+    )
+}
+
+/// The open device with handle `h` for function `f`, checked that the caller is not inside
+/// a callback.
+fn device(f: &str, h: u32) -> Result<Arc<Device>, u32> {
+    if in_callback() {
+        return Err(not_in_callback(f));
+    }
+    lookup(h).ok_or_else(|| wrong_handle(f, h))
+}
+
+/// Reads a device address from C.
+///
+/// # Safety
+/// `p` is NULL or points to a readable `PNIO_DEV_ADDR`.
+unsafe fn read_addr(f: &str, p: *const PNIO_DEV_ADDR) -> Result<PNIO_DEV_ADDR, u32> {
+    if p.is_null() {
+        return Err(fail(f, PNIO_ERR_PRM_ADD, "pAddr is NULL"));
+    }
+    // SAFETY: not NULL, readable by the caller's contract.
+    Ok(unsafe { p.read_unaligned() })
+}
+
+/// `PNIO_device_open` and `PNIO_device_open_ext` after reading their arguments.
+///
+/// # Safety
+/// The pointers are NULL or valid as `PNIO_device_open` says.
+#[allow(clippy::too_many_arguments)]
+unsafe fn open_device(
+    f: &str,
+    CpIndex: PNIO_UINT32,
+    ExtPar: PNIO_UINT32,
+    VendorId: PNIO_UINT16,
+    DeviceId: PNIO_UINT16,
+    InstanceId: PNIO_UINT16,
+    MaxAr: PNIO_UINT32,
+    pDevAnnotation: *mut PNIO_ANNOTATION,
+    pCbf: *mut PNIO_CBF_FUNCTIONS,
+    high: Option<(u16, u16)>,
+    pDevHndl: *mut PNIO_UINT32,
+) -> PNIO_UINT32 {
+    if in_callback() {
+        return not_in_callback(f);
+    }
+    if pDevHndl.is_null() {
+        return fail(f, PNIO_ERR_PRM_HND, "pDevHndl (the out pointer) is NULL");
+    }
+    let annotation = (!pDevAnnotation.is_null()).then(|| {
+        // SAFETY: not NULL, readable by the caller's contract.
+        unsafe { pDevAnnotation.read_unaligned() }
+    });
+    let cbf_size = (!pCbf.is_null()).then(|| {
+        // SAFETY: not NULL; every version of the table begins with its size.
+        unsafe { std::ptr::addr_of!((*pCbf).size).read_unaligned() }
+    });
+    let cbf = cbf_size
+        .filter(|&s| s as usize == size_of::<PNIO_CBF_FUNCTIONS>())
+        .map(|_| {
+            // SAFETY: not NULL, and its size says it is this header's table, readable by the
+            // caller's contract.
+            unsafe { pCbf.read_unaligned() }
+        });
+    let req = OpenRequest {
+        cp_index: CpIndex,
+        ext_par: ExtPar,
+        vendor_id: VendorId,
+        device_id: DeviceId,
+        instance_id: InstanceId,
+        max_ar: MaxAr,
+        annotation,
+        cbf_size,
+        cbf,
+        high,
+    };
+    let result = open::check(&req).and_then(|cbf| open::open(&req, cbf));
+    match result {
+        Ok(h) => {
+            // SAFETY: not NULL, writable by the caller's contract.
+            unsafe { pDevHndl.write_unaligned(h) };
+            PNIO_OK
+        }
+        Err(code) => code,
+    }
+}
+
+/// Opens the IO device on CP `CpIndex` (the procimgd instance it names, in the device role
+/// with this VendorId and DeviceId) and registers the callbacks; the station takes no AR
+/// until `PNIO_device_start`.
+///
+/// # Safety
+/// `pDevHndl` is NULL or writable; `pDevAnnotation` and `pCbf` are NULL or readable, and the
+/// callbacks stay callable until the device is closed.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_device_open(
+    CpIndex: PNIO_UINT32,
+    ExtPar: PNIO_UINT32,
+    VendorId: PNIO_UINT16,
+    DeviceId: PNIO_UINT16,
+    InstanceId: PNIO_UINT16,
+    MaxAr: PNIO_UINT32,
+    pDevAnnotation: *mut PNIO_ANNOTATION,
+    pCbf: *mut PNIO_CBF_FUNCTIONS,
+    pDevHndl: *mut PNIO_UINT32,
+) -> PNIO_UINT32 {
+    guard(PNIO_ERR_INTERNAL, || {
+        // SAFETY: the pointers come with the caller's contract.
+        unsafe {
+            open_device(
+                "PNIO_device_open",
+                CpIndex,
+                ExtPar,
+                VendorId,
+                DeviceId,
+                InstanceId,
+                MaxAr,
+                pDevAnnotation,
+                pCbf,
+                None,
+                pDevHndl,
+            )
+        }
+    })
+}
+
+/// `PNIO_device_open` with the highest slot and subslot numbers that `PNIO_api_add_ext`
+/// gives every API.
+///
+/// # Safety
+/// As `PNIO_device_open`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_device_open_ext(
+    CpIndex: PNIO_UINT32,
+    ExtPar: PNIO_UINT32,
+    VendorId: PNIO_UINT16,
+    DeviceId: PNIO_UINT16,
+    InstanceId: PNIO_UINT16,
+    MaxAr: PNIO_UINT32,
+    pDevAnnotation: *mut PNIO_ANNOTATION,
+    pCbf: *mut PNIO_CBF_FUNCTIONS,
+    highSlotNum: PNIO_UINT16,
+    highSubslotNum: PNIO_UINT16,
+    pDevHndl: *mut PNIO_UINT32,
+) -> PNIO_UINT32 {
+    guard(PNIO_ERR_INTERNAL, || {
+        // SAFETY: the pointers come with the caller's contract.
+        unsafe {
+            open_device(
+                "PNIO_device_open_ext",
+                CpIndex,
+                ExtPar,
+                VendorId,
+                DeviceId,
+                InstanceId,
+                MaxAr,
+                pDevAnnotation,
+                pCbf,
+                Some((highSlotNum, highSubslotNum)),
+                pDevHndl,
+            )
+        }
+    })
+}
+
+/// Closes the device: before start or after `PNIO_CBF_DEVICE_STOPPED`, with every plug and
+/// pull confirmed; no callback runs once it returned.
+///
+/// # Safety
+/// None beyond the C ABI; any value of `DevHndl` is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_device_close(DevHndl: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_device_close";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match device(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        {
+            let c = lock(&dev.config);
+            if matches!(c.life, Life::Started | Life::Stopping) {
+                return fail(
+                    F,
+                    PNIO_ERR_SEQUENCE,
+                    format_args!(
+                        "the device is {}: PNIO_device_stop and its PNIO_CBF_DEVICE_STOPPED \
+                         come first",
+                        c.life.name()
+                    ),
+                );
+            }
+            if c.pending > 0 && dev.cbf.cbf_pull_plug_conf.is_some() {
+                return fail(
+                    F,
+                    PNIO_ERR_SEQUENCE,
+                    format_args!(
+                        "{} plug or pull jobs are not confirmed yet: wait for their \
+                         PNIO_CBF_PULL_PLUG_CONF and close again",
+                        c.pending
+                    ),
+                );
+            }
+        }
+        dev.close();
+        PNIO_OK
+    })
+}
+
+/// Starts the device: pulls the station's positions outside slot 0 the program did not
+/// plug, then takes procimgd to OPERATE, where PLCs may connect.
+///
+/// # Safety
+/// None beyond the C ABI; any value of `DevHndl` is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_device_start(DevHndl: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_device_start";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match device(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        {
+            let c = lock(&dev.config);
+            if !matches!(c.life, Life::Opened | Life::Stopped) {
+                return fail(
+                    F,
+                    PNIO_ERR_SEQUENCE,
+                    format_args!("the device is {}", c.life.name()),
+                );
+            }
+        }
+        let (reply, answer) = sync_channel(1);
+        if dev.send(Job::Start(reply)).is_err() {
+            return fail(F, PNIO_ERR_INTERNAL, "the device's thread has ended");
+        }
+        match answer.recv() {
+            Ok(Ok(())) => {
+                lock(&dev.config).life = Life::Started;
+                PNIO_OK
+            }
+            Ok(Err((code, text))) => fail(F, code, text),
+            Err(_) => fail(F, PNIO_ERR_INTERNAL, "the device's thread has ended"),
+        }
+    })
+}
+
+/// Stops the device: procimgd goes OFFLINE (the PLC's AR ends) and
+/// `PNIO_CBF_DEVICE_STOPPED` confirms on the library thread.
+///
+/// # Safety
+/// None beyond the C ABI; any value of `DevHndl` is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_device_stop(DevHndl: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_device_stop";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match device(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        let mut c = lock(&dev.config);
+        if c.life != Life::Started {
+            return fail(
+                F,
+                PNIO_ERR_SEQUENCE,
+                format_args!(
+                    "the device is {}: only a started device can be stopped",
+                    c.life.name()
+                ),
+            );
+        }
+        c.life = Life::Stopping;
+        drop(c);
+        if dev.send(Job::Stop).is_err() {
+            lock(&dev.config).life = Life::Started;
+            return fail(F, PNIO_ERR_INTERNAL, "the device's thread has ended");
+        }
+        PNIO_OK
+    })
+}
+
+/// Adds an API with the highest slot and subslot numbers used in it.
+///
+/// # Safety
+/// None beyond the C ABI; every value is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_api_add(
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    MaxSlots: PNIO_UINT16,
+    MaxSubslots: PNIO_UINT16,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_api_add";
+    guard(PNIO_ERR_INTERNAL, || match device(F, DevHndl) {
+        Ok(dev) => config::api_add(F, &dev, Api, (MaxSlots, MaxSubslots)),
+        Err(code) => code,
+    })
+}
+
+/// Adds an API with the highest numbers given to `PNIO_device_open_ext`.
+///
+/// # Safety
+/// None beyond the C ABI; every value is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_api_add_ext(DevHndl: PNIO_UINT32, Api: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_api_add_ext";
+    guard(PNIO_ERR_INTERNAL, || match device(F, DevHndl) {
+        Ok(dev) => match dev.high {
+            Some(high) => config::api_add(F, &dev, Api, high),
+            None => fail(
+                F,
+                PNIO_ERR_SEQUENCE,
+                "the device was opened with PNIO_device_open, which gives no highest slot and \
+                 subslot numbers: use PNIO_api_add",
+            ),
+        },
+        Err(code) => code,
+    })
+}
+
+/// Removes an API without modules.
+///
+/// # Safety
+/// None beyond the C ABI; every value is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_api_remove(DevHndl: PNIO_UINT32, Api: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_api_remove";
+    guard(PNIO_ERR_INTERNAL, || match device(F, DevHndl) {
+        Ok(dev) => config::api_remove(F, &dev, Api),
+        Err(code) => code,
+    })
+}
+
+/// Plugs a module: records its ident number for its submodules; `PNIO_CBF_PULL_PLUG_CONF`
+/// confirms.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_mod_plug(
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+    ModIdent: PNIO_UINT32,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_mod_plug";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match device(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        // SAFETY: the pointer comes with the caller's contract.
+        match unsafe { read_addr(F, pAddr) } {
+            Ok(addr) => config::mod_plug(F, &dev, Api, addr, ModIdent),
+            Err(code) => code,
+        }
+    })
+}
+
+/// Pulls a module and the program's submodules in it; `PNIO_CBF_PULL_PLUG_CONF` confirms.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_mod_pull(
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_mod_pull";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match device(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        // SAFETY: the pointer comes with the caller's contract.
+        match unsafe { read_addr(F, pAddr) } {
+            Ok(addr) => config::mod_pull(F, &dev, Api, addr),
+            Err(code) => code,
+        }
+    })
+}
+
+/// The three submodule plugs after their own checks.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+unsafe fn plug_sub(
+    f: &str,
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+    SubIdent: PNIO_UINT32,
+    AlarmType: PNIO_UINT32,
+    IM0_bits: PNIO_PLUG_IM0_BITS,
+) -> PNIO_UINT32 {
+    let dev = match device(f, DevHndl) {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
+    // SAFETY: the pointer comes with the caller's contract.
+    match unsafe { read_addr(f, pAddr) } {
+        Ok(addr) => config::sub_plug(f, &dev, Api, addr, SubIdent, AlarmType, IM0_bits),
+        Err(code) => code,
+    }
+}
+
+/// Plugs a submodule (deprecated form: a Plug alarm, no I&M data).
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_sub_plug(
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+    SubIdent: PNIO_UINT32,
+) -> PNIO_UINT32 {
+    guard(PNIO_ERR_INTERNAL, || {
+        // SAFETY: the pointer comes with the caller's contract.
+        unsafe {
+            plug_sub(
+                "PNIO_sub_plug",
+                DevHndl,
+                Api,
+                pAddr,
+                SubIdent,
+                PNIO_ALARM_TYPE_PLUG,
+                PNIO_PLUG_IM0_BITS_NOTHING,
+            )
+        }
+    })
+}
+
+/// Plugs a submodule with an alarm type (deprecated form, no I&M data).
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_sub_plug_ext(
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+    SubIdent: PNIO_UINT32,
+    AlarmType: PNIO_UINT32,
+) -> PNIO_UINT32 {
+    guard(PNIO_ERR_INTERNAL, || {
+        // SAFETY: the pointer comes with the caller's contract.
+        unsafe {
+            plug_sub(
+                "PNIO_sub_plug_ext",
+                DevHndl,
+                Api,
+                pAddr,
+                SubIdent,
+                AlarmType,
+                PNIO_PLUG_IM0_BITS_NOTHING,
+            )
+        }
+    })
+}
+
+/// Plugs a submodule; `PNIO_CBF_PULL_PLUG_CONF` confirms.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_sub_plug_ext_IM(
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+    SubIdent: PNIO_UINT32,
+    AlarmType: PNIO_UINT32,
+    IM0_bits: PNIO_PLUG_IM0_BITS,
+) -> PNIO_UINT32 {
+    guard(PNIO_ERR_INTERNAL, || {
+        // SAFETY: the pointer comes with the caller's contract.
+        unsafe {
+            plug_sub(
+                "PNIO_sub_plug_ext_IM",
+                DevHndl,
+                Api,
+                pAddr,
+                SubIdent,
+                AlarmType,
+                IM0_bits,
+            )
+        }
+    })
+}
+
+/// Pulls the program's submodule; `PNIO_CBF_PULL_PLUG_CONF` confirms.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_sub_pull(
+    DevHndl: PNIO_UINT32,
+    Api: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_sub_pull";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match device(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        // SAFETY: the pointer comes with the caller's contract.
+        match unsafe { read_addr(F, pAddr) } {
+            Ok(addr) => config::sub_pull(F, &dev, Api, addr),
+            Err(code) => code,
+        }
+    })
+}
+
+// Each implementation has the type `pniousrd.h` declares.
+const _: prototypes::PNIO_device_open = PNIO_device_open;
+const _: prototypes::PNIO_device_open_ext = PNIO_device_open_ext;
+const _: prototypes::PNIO_device_close = PNIO_device_close;
+const _: prototypes::PNIO_device_start = PNIO_device_start;
+const _: prototypes::PNIO_device_stop = PNIO_device_stop;
+const _: prototypes::PNIO_api_add = PNIO_api_add;
+const _: prototypes::PNIO_api_add_ext = PNIO_api_add_ext;
+const _: prototypes::PNIO_api_remove = PNIO_api_remove;
+const _: prototypes::PNIO_mod_plug = PNIO_mod_plug;
+const _: prototypes::PNIO_mod_pull = PNIO_mod_pull;
+const _: prototypes::PNIO_sub_plug = PNIO_sub_plug;
+const _: prototypes::PNIO_sub_plug_ext = PNIO_sub_plug_ext;
+const _: prototypes::PNIO_sub_plug_ext_IM = PNIO_sub_plug_ext_IM;
+const _: prototypes::PNIO_sub_pull = PNIO_sub_pull;

@@ -1,0 +1,279 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The IO-Base device management and configuration functions against `procimgd
+//! --demo-device`: `tests/c/iobase_device.c` built with strict warnings against
+//! `pniousrd.h`, linked static and shared (with ASan and UBSan when `PROCIMG_C_SANITIZE=1`),
+//! checks open's parameters, wrong handles, calls out of sequence, plug and pull with their
+//! confirmations, start, stop and close; and the functions called from Rust check what the
+//! PLC sees: the AR ends at open (OFFLINE), the program's tree once it started (a position
+//! with other ident numbers pulled and plugged, one it did not plug pulled), and the AR ends
+//! again at stop.
+
+// The Rust half calls the C ABI and gives it callbacks.
+#![allow(unsafe_code)]
+
+use procimg::iobase::device_api::*;
+use procimg::iobase::device_types::*;
+use procimg::iobase::errors::*;
+use procimg::iobase::types::{PNIO_CEP_MODE_CTRL, PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IOXS};
+use procimg_client::{Mode, Notification, ServiceOptions, Services, StatusReport};
+use procimg_testkit::Launch;
+use procimg_testkit::c::{
+    Link, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
+};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::{Duration, Instant};
+
+const RUN_TIMEOUT: Duration = Duration::from_secs(90);
+const WAIT: Duration = Duration::from_secs(20);
+
+/// Held while this binary spawns a program or changes its environment: the two must not
+/// meet.
+static ENV: Mutex<()> = Mutex::new(());
+
+#[test]
+fn management_and_configuration_from_c() {
+    for link in [Link::Static, Link::Shared] {
+        let server = Launch::demo_device(&format!("devapi-c-{link:?}").to_lowercase()).start();
+        let src = crate_dir().join("tests/c/iobase_device.c");
+        let program = scratch("iobase_device").join(format!("{link:?}").to_lowercase());
+        compile(&[src], &program, link, sanitize_from_env());
+        let o = {
+            let _env = ENV.lock().unwrap_or_else(|e| e.into_inner());
+            run(&program, &[], &server.instance, RUN_TIMEOUT)
+        };
+        assert_success(&o, &format!("iobase_device ({link:?})"));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            stdout.contains("all checks held"),
+            "iobase_device ({link:?}) said:\n{stdout}"
+        );
+    }
+}
+
+// ---- The program's side, in Rust --------------------------------------------------------
+
+static STOPPED: AtomicU32 = AtomicU32::new(0);
+static STOPPED_CODE: AtomicU32 = AtomicU32::new(u32::MAX);
+
+unsafe extern "C" fn data(_: u32, _: *mut PNIO_DEV_ADDR, _: u32, _: *mut u8, _: PNIO_IOXS) -> u32 {
+    0
+}
+unsafe extern "C" fn rec(
+    _: u32,
+    _: u32,
+    _: u16,
+    _: u16,
+    _: u32,
+    _: *mut PNIO_DEV_ADDR,
+    _: u32,
+    _: *mut u32,
+    _: *mut u8,
+    _: *mut PNIO_ERR_STAT,
+) {
+}
+unsafe extern "C" fn req_done(_: u32, _: u32, _: u32, _: *mut PNIO_ERR_STAT) {}
+unsafe extern "C" fn check_ind(
+    _: u32,
+    _: u32,
+    _: u16,
+    _: u16,
+    _: *mut PNIO_DEV_ADDR,
+    _: *mut u32,
+    _: *mut u16,
+    _: *mut u32,
+    _: *mut u16,
+) {
+}
+unsafe extern "C" fn ar_check_ind(
+    _: u32,
+    _: u32,
+    _: u16,
+    _: PNIO_UUID_TYPE,
+    _: u32,
+    _: PNIO_UUID_TYPE,
+    _: u16,
+    _: *mut u8,
+    _: *mut PNIO_AR_TYPE,
+) {
+}
+unsafe extern "C" fn ar_info_ind(_: u32, _: u16, _: u16, _: *mut PNIO_AR_TYPE) {}
+unsafe extern "C" fn ar_indata_ind(_: u32, _: u16, _: u16) {}
+unsafe extern "C" fn ar_end_ind(_: u32, _: u16, _: u16, _: PNIO_AR_REASON) {}
+unsafe extern "C" fn apdu_ind(_: u32, _: u16, _: u16, _: PNIO_APDU_STATUS_IND) {}
+unsafe extern "C" fn prm_end_ind(_: u32, _: u16, _: u16, _: u32, _: u16, _: u16) {}
+unsafe extern "C" fn cp_stop_req(_: u32) {}
+unsafe extern "C" fn device_stopped(_: u32, code: u32) {
+    STOPPED_CODE.store(code, Ordering::SeqCst);
+    STOPPED.fetch_add(1, Ordering::SeqCst);
+}
+
+/// Every mandatory callback; no PULL_PLUG_CONF (plugs before start need none).
+fn table() -> PNIO_CBF_FUNCTIONS {
+    PNIO_CBF_FUNCTIONS {
+        size: size_of::<PNIO_CBF_FUNCTIONS>() as u32,
+        cbf_data_write: Some(data),
+        cbf_data_read: Some(data),
+        cbf_rec_read: Some(rec),
+        cbf_rec_write: Some(rec),
+        cbf_alarm_done: Some(req_done),
+        cbf_check_ind: Some(check_ind),
+        cbf_ar_check_ind: Some(ar_check_ind),
+        cbf_ar_info_ind: Some(ar_info_ind),
+        cbf_ar_indata_ind: Some(ar_indata_ind),
+        cbf_ar_abort_ind: Some(ar_end_ind),
+        cbf_ar_offline_ind: Some(ar_end_ind),
+        cbf_apdu_status_ind: Some(apdu_ind),
+        cbf_prm_end_ind: Some(prm_end_ind),
+        cbf_cp_stop_req: Some(cp_stop_req),
+        cbf_device_stopped: Some(device_stopped),
+        ..PNIO_CBF_FUNCTIONS::default()
+    }
+}
+
+fn ar_state(s: &StatusReport) -> Option<String> {
+    s.station
+        .as_ref()
+        .and_then(|s| s.ar.as_ref())
+        .map(|a| a.state.clone())
+}
+
+fn wait_for(server: &procimg_testkit::Procimgd, what: &str, ok: impl Fn(&StatusReport) -> bool) {
+    let until = Instant::now() + WAIT;
+    loop {
+        let s = server.status();
+        if ok(&s) {
+            return;
+        }
+        assert!(
+            Instant::now() < until,
+            "{what} did not happen within {WAIT:?}: AR {:?}, mode {:?}",
+            ar_state(&s),
+            s.mode
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// (slot, subslot, plugged, submodule ident) of every station_plug notification so far.
+fn plugs(services: &mut Services, into: &mut Vec<(u16, u16, bool, u32)>) {
+    while let Some(n) = services.try_next() {
+        if let Notification::StationPlug {
+            slot,
+            subslot,
+            plugged,
+            submodule_ident,
+            ..
+        } = n
+        {
+            into.push((slot, subslot, plugged, submodule_ident));
+        }
+    }
+}
+
+#[test]
+fn the_plc_sees_the_programs_tree_between_start_and_stop() {
+    let server = Launch::demo_device("devapi-tree").start();
+    assert_eq!(ar_state(&server.status()).as_deref(), Some("data"));
+    {
+        let _env = ENV.lock().unwrap_or_else(|e| e.into_inner());
+        // SAFETY: this binary's other test spawns its programs and reads nothing of the
+        // environment outside this lock; no other thread of this test touches it.
+        unsafe { std::env::set_var("PROCIMG_CP9", &server.instance) };
+    }
+    let mut services = Services::open(&server.instance, ServiceOptions::new("devapi-tree"))
+        .expect("the station's notifications");
+    let mut ann = PNIO_ANNOTATION {
+        deviceType: [0; 26],
+        orderId: [0; 21],
+        hwRevision: 1,
+        swRevisionPrefix: b'V',
+        swRevision1: 0,
+        swRevision2: 1,
+        swRevision3: 0,
+    };
+    let mut cbf = table();
+    let mut h = 0;
+    // SAFETY: valid pointers for the call; the callbacks live for the whole program.
+    let rc = unsafe {
+        PNIO_device_open(
+            9,
+            PNIO_CEP_MODE_CTRL,
+            0x0493,
+            0x0100,
+            1,
+            1,
+            &mut ann,
+            &mut cbf,
+            &mut h,
+        )
+    };
+    assert_eq!(rc, PNIO_OK, "{}", last_error());
+    wait_for(&server, "the AR's end at open (OFFLINE)", |s| {
+        s.mode == Mode::Offline && ar_state(s).is_none()
+    });
+
+    let mut dap = PNIO_DEV_ADDR::geo(PNIO_IO_IN, 0, 1);
+    let mut one = PNIO_DEV_ADDR::geo(PNIO_IO_IN, 1, 1);
+    // SAFETY: each call gets a valid handle or value and addresses that live for the call.
+    unsafe {
+        assert_eq!(PNIO_api_add(h, 0, 2, 0x8001), PNIO_OK);
+        assert_eq!(PNIO_mod_plug(h, 0, &mut dap, 0x1), PNIO_OK);
+        assert_eq!(
+            PNIO_sub_plug_ext_IM(
+                h,
+                0,
+                &mut dap,
+                0x1,
+                PNIO_ALARM_TYPE_PLUG,
+                PNIO_PLUG_IM0_BITS_SUBMODULE_REP_MOD_DEV
+            ),
+            PNIO_OK
+        );
+        assert_eq!(PNIO_mod_plug(h, 0, &mut one, 0x10), PNIO_OK);
+        // Other ident numbers than the configuration's: pulled and plugged again.
+        assert_eq!(PNIO_sub_plug(h, 0, &mut one, 0x2), PNIO_OK);
+        assert_eq!(PNIO_device_start(h), PNIO_OK, "{}", last_error());
+    }
+    wait_for(&server, "the PLC's AR in data exchange after start", |s| {
+        s.mode == Mode::Operate && ar_state(s).as_deref() == Some("data")
+    });
+    let mut seen: Vec<(u16, u16, bool, u32)> = Vec::new();
+    let until = Instant::now() + WAIT;
+    while !seen.iter().any(|p| p.0 == 2) && Instant::now() < until {
+        plugs(&mut services, &mut seen);
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(
+        seen,
+        vec![(1, 1, false, 0), (1, 1, true, 0x2), (2, 1, false, 0)],
+        "slot 1 pulled and plugged with the program's ident numbers, slot 2 (not the \
+         program's) pulled, the DAP taken as it is"
+    );
+
+    // SAFETY: a valid handle.
+    assert_eq!(unsafe { PNIO_device_stop(h) }, PNIO_OK);
+    let until = Instant::now() + WAIT;
+    while STOPPED.load(Ordering::SeqCst) == 0 {
+        assert!(Instant::now() < until, "no PNIO_CBF_DEVICE_STOPPED");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert_eq!(STOPPED_CODE.load(Ordering::SeqCst), PNIO_OK);
+    wait_for(&server, "the AR's end at stop (OFFLINE)", |s| {
+        s.mode == Mode::Offline && ar_state(s).is_none()
+    });
+    // SAFETY: each call gets a valid handle and addresses that live for the call.
+    unsafe {
+        assert_eq!(PNIO_mod_pull(h, 0, &mut one), PNIO_OK);
+        assert_eq!(PNIO_mod_pull(h, 0, &mut dap), PNIO_OK);
+        assert_eq!(PNIO_api_remove(h, 0), PNIO_OK);
+        assert_eq!(PNIO_device_close(h), PNIO_OK, "{}", last_error());
+    }
+}
+
+fn last_error() -> String {
+    // SAFETY: the library's text for this thread, NUL-terminated, valid until its next call.
+    unsafe { std::ffi::CStr::from_ptr(procimg::ffi::last_error_ptr()) }
+        .to_string_lossy()
+        .into_owned()
+}
