@@ -56,7 +56,7 @@ pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_shm_layout::control::{
     ArReport, ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity,
-    ForceReport, Refusal, StationReport, StatusReport,
+    ForceReport, PlugRefusal, Refusal, StationReport, StatusReport,
 };
 pub use procimg_shm_layout::services::{
     APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DCP_SET_CHECK_TIMEOUT_MS,

@@ -17,7 +17,10 @@
 //!   once the AR is in data exchange (IO-Base's `PNIO_AR_REASON_PULLPLUG`).
 //!
 //! Every subscriber learns of it by a
-//! [`Notification::StationPlug`](crate::Notification::StationPlug).
+//! [`Notification::StationPlug`](crate::Notification::StationPlug). A refusal is
+//! [`ControlError::Refused`] with a [`Refusal::StationPlug`](crate::Refusal::StationPlug),
+//! whose [`PlugRefusal`](crate::PlugRefusal) says why (no such position, taken, empty,
+//! the AR starting up).
 
 use crate::client::Client;
 use crate::error::ControlError;

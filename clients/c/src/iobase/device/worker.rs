@@ -9,7 +9,7 @@ use crate::iobase::callbacks::invoke_device;
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
-use procimg_client::{Client, ControlError, Mode, Refusal};
+use procimg_client::{Client, ControlError, Mode, PlugRefusal, Refusal};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, SyncSender, channel};
@@ -256,31 +256,35 @@ fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
     })
 }
 
-/// The refusal's text, if procimgd refused a station request.
-fn refusal_text(e: &ControlError) -> Option<&str> {
+/// Why procimgd refused a plug, pull or return, if it did.
+fn plug_refusal(e: &ControlError) -> Option<PlugRefusal> {
     match e {
-        ControlError::Refused(Refusal::BadRequest { message }) => Some(message),
+        ControlError::Refused(Refusal::StationPlug { refused, .. }) => Some(*refused),
         _ => None,
     }
 }
 
-/// procimgd refused a plug because a submodule is plugged there (its PlugError text).
+/// procimgd refused a plug because a submodule is plugged there.
 fn already_plugged(e: &ControlError) -> bool {
-    refusal_text(e).is_some_and(|m| m.contains("already"))
+    plug_refusal(e) == Some(PlugRefusal::AlreadyPlugged)
 }
 
 /// procimgd refused a pull because nothing is plugged there.
 fn not_plugged(e: &ControlError) -> bool {
-    refusal_text(e).is_some_and(|m| m.contains("no submodule is plugged"))
+    plug_refusal(e) == Some(PlugRefusal::NotPlugged)
 }
 
 /// The IO-Base code for a failed request: a plug or pull between the PLC's Connect and data
-/// exchange is out of sequence; no answer from procimgd is no firmware communication.
+/// exchange is out of sequence, one at a position the station lacks a parameter error; no
+/// answer from procimgd is no firmware communication.
 pub(crate) fn code_of(e: &ControlError) -> u32 {
     match e {
-        ControlError::Refused(_) if refusal_text(e).is_some_and(|m| m.contains("starting up")) => {
-            PNIO_ERR_SEQUENCE
-        }
+        ControlError::Refused(Refusal::StationPlug { refused, .. }) => match refused {
+            PlugRefusal::ArStartingUp | PlugRefusal::NotInDataExchange => PNIO_ERR_SEQUENCE,
+            PlugRefusal::NotConfigured | PlugRefusal::AlreadyPlugged | PlugRefusal::NotPlugged => {
+                PNIO_ERR_PRM_ADD
+            }
+        },
         ControlError::Refused(Refusal::BadRequest { .. }) => PNIO_ERR_PRM_ADD,
         ControlError::Refused(_) | ControlError::NotDevice { .. } => PNIO_ERR_INTERNAL,
         _ => PNIO_ERR_NO_FW_COMMUNICATION,
