@@ -12,10 +12,32 @@
  *
  * Status: this version of libprocimg defines the management and configuration functions
  * (PNIO_device_open, _open_ext, _close, _start, _stop, PNIO_api_add, _add_ext, _remove,
- * PNIO_mod_plug, _pull, PNIO_sub_plug, _plug_ext, _plug_ext_IM, _pull) and calls
- * PNIO_CBF_PULL_PLUG_CONF and PNIO_CBF_DEVICE_STOPPED. The other functions are declared
- * but not defined yet (a program calling them compiles but does not link), and the other
- * callbacks are not called yet.
+ * PNIO_mod_plug, _pull, PNIO_sub_plug, _plug_ext, _plug_ext_IM, _pull) and the AR's
+ * (PNIO_set_appl_state_ready, PNIO_device_ar_abort), and calls PNIO_CBF_PULL_PLUG_CONF,
+ * PNIO_CBF_DEVICE_STOPPED and the AR callbacks. The other functions are declared but not
+ * defined yet (a program calling them compiles but does not link), and the data, record,
+ * alarm, LED and stop request callbacks are not called yet.
+ *
+ * ARs. From open to close the device checks the station's ARs and holds its
+ * ApplicationReady. All callbacks come from one library thread, in the manual's order: for
+ * a PLC's Connect PNIO_CBF_AR_CHECK_IND (ArNumber 1, 2, ... per open, the station's
+ * SessionKey, ArType, ArUUID, the PLC's station name; HostIp, ArProperties and CmiObjUUID
+ * are 0), PNIO_CBF_CHECK_IND per expected submodule where other ident numbers are plugged
+ * (a PROPER or SUBSTITUTED answer with other ident numbers plugs those before the Connect
+ * is answered), then the Connect is accepted (PNIO_device_ar_abort refuses it afterwards);
+ * PNIO_CBF_AR_INFO_IND (IOCRs and modules from the Connect, valid during the call; the
+ * IOCRs' timing fields are 0); PNIO_CBF_PRM_END_IND (subslot 0) at the PLC's PrmEnd;
+ * PNIO_set_appl_state_ready then sends the ApplicationReady (procimgd sends it itself after
+ * 10 s; the list of submodules that are not ready is not forwarded);
+ * PNIO_CBF_AR_INDATA_IND; PNIO_CBF_APDU_STATUS_IND (RUN or STOP, with STATION_OK) when the
+ * PLC's state changes, a change before data exchange right after AR_INDATA_IND; at the
+ * AR's end PNIO_CBF_AR_OFFLINE_IND after AR_INDATA_IND, else PNIO_CBF_AR_ABORT_IND, whose
+ * ReasonCode is the RTA abort code (1..34 are the same numbers), PNIO_AR_REASON_REL for the
+ * PLC's release, PNIO_AR_REASON_ABORT for the station's own end with another code.
+ * PNIO_device_stop gives the end callback before PNIO_CBF_DEVICE_STOPPED;
+ * PNIO_device_ar_abort ends the AR by OFFLINE, then OPERATE again. In the per-AR calls an
+ * ArNumber never given answers PNIO_ERR_SEQUENCE, an ended AR's or a wrong SessionKey
+ * PNIO_ERR_SESSION.
  *
  * Open, start, stop. CpIndex names a procimgd instance as for the controller (PROCIMG_CP<n>,
  * else PROCIMG_INSTANCE, else "procimg"); it must be in the device role (otherwise

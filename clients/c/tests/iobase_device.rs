@@ -3,10 +3,13 @@
 //! --demo-device`: `tests/c/iobase_device.c` built with strict warnings against
 //! `pniousrd.h`, linked static and shared (with ASan and UBSan when `PROCIMG_C_SANITIZE=1`),
 //! checks open's parameters, wrong handles, calls out of sequence, plug and pull with their
-//! confirmations, start, stop and close; and the functions called from Rust check what the
-//! PLC sees: the AR ends at open (OFFLINE), the program's tree once it started (a position
-//! with other ident numbers pulled and plugged, one it did not plug pulled), and the AR ends
-//! again at stop.
+//! confirmations, start, the AR indications in the manual's order with
+//! `PNIO_set_appl_state_ready`, ArNumber and SessionKey checks, `PNIO_device_ar_abort` and
+//! the PLC's next AR, stop (`AR_OFFLINE_IND` before `DEVICE_STOPPED`) and close; and the
+//! functions called from Rust check what the PLC sees: the AR ends at open (OFFLINE), the
+//! program's tree once it started (a position with other ident numbers pulled and plugged,
+//! one it did not plug pulled), data exchange after `PNIO_set_appl_state_ready`, and the
+//! AR's end at stop.
 
 // The Rust half calls the C ABI and gives it callbacks.
 #![allow(unsafe_code)]
@@ -55,6 +58,12 @@ fn management_and_configuration_from_c() {
 
 static STOPPED: AtomicU32 = AtomicU32::new(0);
 static STOPPED_CODE: AtomicU32 = AtomicU32::new(u32::MAX);
+/// ArNumber << 16 | SessionKey of the last PRM_END_IND (0: none yet).
+static PRM_END: AtomicU32 = AtomicU32::new(0);
+/// ArNumber << 16 | SessionKey of the last AR_OFFLINE_IND, and whether it came before
+/// DEVICE_STOPPED.
+static OFFLINE: AtomicU32 = AtomicU32::new(0);
+static OFFLINE_BEFORE_STOPPED: AtomicU32 = AtomicU32::new(0);
 
 unsafe extern "C" fn data(_: u32, _: *mut PNIO_DEV_ADDR, _: u32, _: *mut u8, _: PNIO_IOXS) -> u32 {
     0
@@ -100,8 +109,16 @@ unsafe extern "C" fn ar_check_ind(
 unsafe extern "C" fn ar_info_ind(_: u32, _: u16, _: u16, _: *mut PNIO_AR_TYPE) {}
 unsafe extern "C" fn ar_indata_ind(_: u32, _: u16, _: u16) {}
 unsafe extern "C" fn ar_end_ind(_: u32, _: u16, _: u16, _: PNIO_AR_REASON) {}
+unsafe extern "C" fn ar_offline_ind(_: u32, ar: u16, sk: u16, _: PNIO_AR_REASON) {
+    OFFLINE.store(u32::from(ar) << 16 | u32::from(sk), Ordering::SeqCst);
+    if STOPPED.load(Ordering::SeqCst) == 0 {
+        OFFLINE_BEFORE_STOPPED.store(1, Ordering::SeqCst);
+    }
+}
 unsafe extern "C" fn apdu_ind(_: u32, _: u16, _: u16, _: PNIO_APDU_STATUS_IND) {}
-unsafe extern "C" fn prm_end_ind(_: u32, _: u16, _: u16, _: u32, _: u16, _: u16) {}
+unsafe extern "C" fn prm_end_ind(_: u32, ar: u16, sk: u16, _: u32, _: u16, _: u16) {
+    PRM_END.store(u32::from(ar) << 16 | u32::from(sk), Ordering::SeqCst);
+}
 unsafe extern "C" fn cp_stop_req(_: u32) {}
 unsafe extern "C" fn device_stopped(_: u32, code: u32) {
     STOPPED_CODE.store(code, Ordering::SeqCst);
@@ -122,7 +139,7 @@ fn table() -> PNIO_CBF_FUNCTIONS {
         cbf_ar_info_ind: Some(ar_info_ind),
         cbf_ar_indata_ind: Some(ar_indata_ind),
         cbf_ar_abort_ind: Some(ar_end_ind),
-        cbf_ar_offline_ind: Some(ar_end_ind),
+        cbf_ar_offline_ind: Some(ar_offline_ind),
         cbf_apdu_status_ind: Some(apdu_ind),
         cbf_prm_end_ind: Some(prm_end_ind),
         cbf_cp_stop_req: Some(cp_stop_req),
@@ -235,6 +252,30 @@ fn the_plc_sees_the_programs_tree_between_start_and_stop() {
         assert_eq!(PNIO_sub_plug(h, 0, &mut one, 0x2), PNIO_OK);
         assert_eq!(PNIO_device_start(h), PNIO_OK, "{}", last_error());
     }
+    // The program says it is ready once the PLC's parameters came.
+    let until = Instant::now() + WAIT;
+    let prm_end = loop {
+        let p = PRM_END.load(Ordering::SeqCst);
+        if p != 0 {
+            break p;
+        }
+        assert!(Instant::now() < until, "no PNIO_CBF_PRM_END_IND");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let (ar, sk) = ((prm_end >> 16) as u16, prm_end as u16);
+    // SAFETY: a valid handle; the list may be NULL.
+    unsafe {
+        assert_eq!(
+            PNIO_set_appl_state_ready(h, ar, sk.wrapping_add(1), std::ptr::null_mut()),
+            PNIO_ERR_SESSION
+        );
+        assert_eq!(
+            PNIO_set_appl_state_ready(h, ar, sk, std::ptr::null_mut()),
+            PNIO_OK,
+            "{}",
+            last_error()
+        );
+    }
     wait_for(&server, "the PLC's AR in data exchange after start", |s| {
         s.mode == Mode::Operate && ar_state(s).as_deref() == Some("data")
     });
@@ -259,6 +300,14 @@ fn the_plc_sees_the_programs_tree_between_start_and_stop() {
         std::thread::sleep(Duration::from_millis(10));
     }
     assert_eq!(STOPPED_CODE.load(Ordering::SeqCst), PNIO_OK);
+    assert_eq!(
+        (
+            OFFLINE.load(Ordering::SeqCst),
+            OFFLINE_BEFORE_STOPPED.load(Ordering::SeqCst)
+        ),
+        (prm_end, 1),
+        "AR_OFFLINE_IND for the AR, before DEVICE_STOPPED"
+    );
     wait_for(&server, "the AR's end at stop (OFFLINE)", |s| {
         s.mode == Mode::Offline && ar_state(s).is_none()
     });

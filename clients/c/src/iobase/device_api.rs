@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The exported device functions of `pniousrd.h` for management and configuration, with the
-//! signatures of `device_types::prototypes`. Each runs inside [`crate::ffi::guard`]: a panic
+//! The exported device functions of `pniousrd.h` for management, configuration and AR
+//! control, with the signatures of `device_types::prototypes`. Each runs inside [`crate::ffi::guard`]: a panic
 //! becomes `PNIO_ERR_INTERNAL` and a text, never an unwind into C. What they do on procimgd
 //! is in [`super::device`]'s documentation.
 #![allow(non_snake_case)]
 
 use super::callbacks::in_callback;
 use super::controller::lock;
+use super::device::ar::Phase;
 use super::device::config;
 use super::device::open::{self, OpenRequest};
 use super::device::state::{Device, Life, lookup, wrong_handle};
@@ -539,6 +540,113 @@ pub unsafe extern "C" fn PNIO_sub_pull(
     })
 }
 
+/// The open, started device with handle `h` for per-AR function `f`.
+fn started(f: &str, h: u32) -> Result<Arc<Device>, u32> {
+    let dev = device(f, h)?;
+    let life = lock(&dev.config).life;
+    if life != Life::Started {
+        return Err(fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            format_args!("the device is {}: it has no AR", life.name()),
+        ));
+    }
+    Ok(dev)
+}
+
+/// Says that the program is ready for the AR after `PNIO_CBF_PRM_END_IND`: the station's
+/// ApplicationReady goes out. The list of submodules that are not ready is not forwarded
+/// (procimgd's ApplicationReady has no per-submodule state): they should keep their IOPS BAD.
+///
+/// # Safety
+/// None beyond the C ABI: `pList` is not read.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_set_appl_state_ready(
+    DevHndl: PNIO_UINT32,
+    ArNumber: PNIO_UINT16,
+    SessionKey: PNIO_UINT16,
+    pList: *mut PNIO_APPL_READY_LIST_TYPE,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_set_appl_state_ready";
+    let _ = pList;
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match started(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        {
+            let mut ars = lock(&dev.ars);
+            if let Err(code) = ars.check(F, ArNumber, SessionKey) {
+                return code;
+            }
+            let Some(ar) = ars.current.as_mut() else {
+                return fail(F, PNIO_ERR_INTERNAL, "the AR went while checked");
+            };
+            if ar.phase != Phase::PrmEnd {
+                let why = if ar.phase == Phase::Checked {
+                    "PNIO_CBF_PRM_END_IND has not come yet"
+                } else {
+                    "it was called for this AR already"
+                };
+                return fail(
+                    F,
+                    PNIO_ERR_SEQUENCE,
+                    format_args!("not now for AR {ArNumber}: {why}"),
+                );
+            }
+            ar.phase = Phase::ApplReady;
+        }
+        match lock(&dev.services).application_ready() {
+            Ok(()) => PNIO_OK,
+            Err(e) => {
+                if let Some(ar) = lock(&dev.ars).current.as_mut()
+                    && ar.number == ArNumber
+                    && ar.phase == Phase::ApplReady
+                {
+                    ar.phase = Phase::PrmEnd;
+                }
+                fail(
+                    F,
+                    PNIO_ERR_NO_FW_COMMUNICATION,
+                    format_args!(
+                        "instance \"{}\" did not take the ApplicationReady: {e}",
+                        dev.instance
+                    ),
+                )
+            }
+        }
+    })
+}
+
+/// Aborts the AR: `PNIO_CBF_AR_OFFLINE_IND` (after `AR_INDATA_IND`) or
+/// `PNIO_CBF_AR_ABORT_IND` follows on the library thread. procimgd has no abort of one AR:
+/// the station goes OFFLINE until the AR's end was reported, then OPERATE again (the PLC
+/// may connect again at once, with a new AR).
+///
+/// # Safety
+/// None beyond the C ABI; every value is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_device_ar_abort(
+    DevHndl: PNIO_UINT32,
+    ArNumber: PNIO_UINT16,
+    SessionKey: PNIO_UINT16,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_device_ar_abort";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match started(F, DevHndl) {
+            Ok(d) => d,
+            Err(code) => return code,
+        };
+        if let Err(code) = lock(&dev.ars).check(F, ArNumber, SessionKey) {
+            return code;
+        }
+        match dev.send(Job::Abort(ArNumber)) {
+            Ok(()) => PNIO_OK,
+            Err(_) => fail(F, PNIO_ERR_INTERNAL, "the device's thread has ended"),
+        }
+    })
+}
+
 // Each implementation has the type `pniousrd.h` declares.
 const _: prototypes::PNIO_device_open = PNIO_device_open;
 const _: prototypes::PNIO_device_open_ext = PNIO_device_open_ext;
@@ -554,3 +662,5 @@ const _: prototypes::PNIO_sub_plug = PNIO_sub_plug;
 const _: prototypes::PNIO_sub_plug_ext = PNIO_sub_plug_ext;
 const _: prototypes::PNIO_sub_plug_ext_IM = PNIO_sub_plug_ext_IM;
 const _: prototypes::PNIO_sub_pull = PNIO_sub_pull;
+const _: prototypes::PNIO_set_appl_state_ready = PNIO_set_appl_state_ready;
+const _: prototypes::PNIO_device_ar_abort = PNIO_device_ar_abort;

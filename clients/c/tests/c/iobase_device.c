@@ -4,7 +4,10 @@
  * program uses them, against `procimgd --demo-device` (CpIndex 1 = the instance in
  * PROCIMG_INSTANCE): the checks of PNIO_device_open, wrong handles, calls out of sequence,
  * plug and pull before start with their PNIO_CBF_PULL_PLUG_CONF on a library thread, start,
- * stop with PNIO_CBF_DEVICE_STOPPED, pull, remove and close.
+ * the AR indications in the manual's order (AR_CHECK_IND, AR_INFO_IND, PRM_END_IND, then
+ * PNIO_set_appl_state_ready and AR_INDATA_IND; no CHECK_IND, as the demo PLC reads what
+ * the station has plugged and expects that), ArNumber and SessionKey checks, PNIO_device_ar_abort and the PLC's
+ * next AR, stop with AR_OFFLINE_IND before PNIO_CBF_DEVICE_STOPPED, pull, remove and close.
  *
  * The demo's station: VendorID 0x0493, DeviceID 0x0100; the DAP in slot 0 (module and
  * submodule ident 1), slot 1 (module 0x10, submodule 1), slot 2 (module 0x20, submodule 1),
@@ -66,6 +69,90 @@ typedef struct {
 } conf_t;
 
 static conf_t conf;
+
+/* The AR callbacks and DEVICE_STOPPED in the order they came. */
+enum {
+    EV_AR_CHECK = 1,
+    EV_CHECK,
+    EV_AR_INFO,
+    EV_PRM_END,
+    EV_INDATA,
+    EV_ABORT,
+    EV_OFFLINE,
+    EV_APDU,
+    EV_STOPPED
+};
+static const char *const ev_names[] = {"?",          "AR_CHECK_IND",    "CHECK_IND",
+                                       "AR_INFO_IND", "PRM_END_IND",     "AR_INDATA_IND",
+                                       "AR_ABORT_IND", "AR_OFFLINE_IND", "APDU_STATUS_IND",
+                                       "DEVICE_STOPPED"};
+typedef struct {
+    int type;
+    PNIO_UINT16 ar, sk;
+    PNIO_UINT32 a, b, c;
+    int on_main_thread;
+} event_t;
+#define MAX_EVENTS 64
+static event_t events[MAX_EVENTS];
+static int nevents;
+
+static void record(int type, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_UINT32 a, PNIO_UINT32 b,
+                   PNIO_UINT32 c) {
+    pthread_mutex_lock(&mu);
+    if (nevents < MAX_EVENTS) {
+        event_t e = {type, ar, sk, a, b, c, pthread_equal(pthread_self(), main_thread)};
+        events[nevents++] = e;
+    }
+    pthread_cond_broadcast(&cv);
+    pthread_mutex_unlock(&mu);
+}
+
+static struct timespec deadline(void);
+
+/* Waits for an event of `type` at index `from` or later; its index, or fails. */
+static int wait_event(int line, int type, int from) {
+    struct timespec until = deadline();
+    pthread_mutex_lock(&mu);
+    for (;;) {
+        for (int i = from; i < nevents; i++) {
+            if (events[i].type == type) {
+                pthread_mutex_unlock(&mu);
+                return i;
+            }
+        }
+        if (pthread_cond_timedwait(&cv, &mu, &until) != 0) break;
+    }
+    pthread_mutex_unlock(&mu);
+    fail(line, "%s did not come (%d events)", ev_names[type], nevents);
+    return -1;
+}
+
+/* The events from index `from` to `to` (inclusive) without APDU_STATUS_IND must be the
+ * types in `want` (0-terminated). */
+static void expect_order(int line, int from, int to, const int *want) {
+    pthread_mutex_lock(&mu);
+    int w = 0;
+    for (int i = from; i <= to; i++) {
+        int t = events[i].type;
+        if (t == EV_APDU) continue;
+        if (want[w] == 0 || want[w] != t) {
+            pthread_mutex_unlock(&mu);
+            fail(line, "event %d is %s, expected %s", i, ev_names[t],
+                 want[w] ? ev_names[want[w]] : "nothing more");
+        }
+        w++;
+    }
+    pthread_mutex_unlock(&mu);
+    if (want[w] != 0) fail(line, "%s did not come in order", ev_names[want[w]]);
+}
+
+static event_t event(int i) {
+    pthread_mutex_lock(&mu);
+    event_t e = events[i];
+    pthread_mutex_unlock(&mu);
+    return e;
+}
+
 static int stopped;
 static PNIO_UINT32 stopped_handle, stopped_code;
 static int stopped_on_main_thread;
@@ -96,6 +183,7 @@ static void device_stopped(PNIO_UINT32 DevHndl, PNIO_UINT32 ErrorCode) {
     stopped_on_main_thread = pthread_equal(pthread_self(), main_thread);
     pthread_cond_broadcast(&cv);
     pthread_mutex_unlock(&mu);
+    record(EV_STOPPED, 0, 0, ErrorCode, 0, 0);
 }
 
 static struct timespec deadline(void) {
@@ -130,7 +218,7 @@ static void expect_conf(int line, int n, PNIO_UINT32 h, PNIO_DEV_ACTION action, 
              (unsigned)c.call_inside);
 }
 
-/* ---- The other callbacks: mandatory, not called by these functions -------------------- */
+/* ---- The other callbacks ---------------------------------------------------------------- */
 
 static PNIO_IOXS data_write(PNIO_UINT32 h, PNIO_DEV_ADDR *a, PNIO_UINT32 len, PNIO_UINT8 *buf,
                             PNIO_IOXS rem) {
@@ -151,31 +239,56 @@ static void rec(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk, 
 static void req_done(PNIO_UINT32 h, PNIO_UINT32 u, PNIO_UINT32 s, PNIO_ERR_STAT *st) {
     (void)h, (void)u, (void)s, (void)st;
 }
+/* Not called against the demo PLC, which expects what is plugged; were it, the program
+ * would say that its submodule there is the proper one, ident 1. */
 static void check_ind(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk,
                       PNIO_DEV_ADDR *a, PNIO_UINT32 *mi, PNIO_UINT16 *ms, PNIO_UINT32 *si,
                       PNIO_UINT16 *ss) {
-    (void)h, (void)api, (void)ar, (void)sk, (void)a, (void)mi, (void)ms, (void)si, (void)ss;
+    (void)h, (void)api;
+    record(EV_CHECK, ar, sk, a->u.Geo.Slot << 16 | a->u.Geo.Subslot, *si, *ss);
+    (void)mi;
+    *ms = PNIO_MOD_STATE_PROPER_MODULE;
+    *si = 0x1;
+    *ss = PNIO_SUB_CHECK_PROPER_SUBMODULE;
 }
 static void ar_check_ind(PNIO_UINT32 h, PNIO_UINT32 ip, PNIO_UINT16 t, PNIO_UUID_TYPE u,
                          PNIO_UINT32 p, PNIO_UUID_TYPE c, PNIO_UINT16 l, PNIO_UINT8 *n,
                          PNIO_AR_TYPE *ar) {
-    (void)h, (void)ip, (void)t, (void)u, (void)p, (void)c, (void)l, (void)n, (void)ar;
+    (void)ip, (void)u, (void)p, (void)c, (void)n;
+    /* Only the IO data functions are allowed here. */
+    PNIO_UINT32 inside = PNIO_device_ar_abort(h, ar->ArNumber, ar->SessionKey);
+    PNIO_UINT32 empty = ar->NumOfMod == 0 && ar->pModList == NULL;
+    record(EV_AR_CHECK, ar->ArNumber, ar->SessionKey, t, inside, empty | (PNIO_UINT32)l << 1);
 }
 static void ar_info_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_AR_TYPE *p) {
-    (void)h, (void)ar, (void)sk, (void)p;
+    (void)h;
+    /* Slot 1's first submodule ident, or 0. */
+    PNIO_UINT32 slot1 = 0;
+    for (PNIO_UINT32 i = 0; i < p->NumOfMod; i++)
+        if (p->pModList[i].SlotNum == 1 && p->pModList[i].NumOfSubmod > 0)
+            slot1 = p->pModList[i].ModIdent << 8 | p->pModList[i].pSubList[0].SubMIdent;
+    record(EV_AR_INFO, ar, sk, p->NumOfMod, p->NumOfIocr, slot1);
 }
 static void ar_indata_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk) {
-    (void)h, (void)ar, (void)sk;
+    (void)h;
+    record(EV_INDATA, ar, sk, 0, 0, 0);
 }
-static void ar_end_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_AR_REASON r) {
-    (void)h, (void)ar, (void)sk, (void)r;
+static void ar_abort_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_AR_REASON r) {
+    (void)h;
+    record(EV_ABORT, ar, sk, r, 0, 0);
+}
+static void ar_offline_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_AR_REASON r) {
+    (void)h;
+    record(EV_OFFLINE, ar, sk, r, 0, 0);
 }
 static void apdu_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_APDU_STATUS_IND s) {
-    (void)h, (void)ar, (void)sk, (void)s;
+    (void)h;
+    record(EV_APDU, ar, sk, s, 0, 0);
 }
 static void prm_end_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_UINT32 api,
                         PNIO_UINT16 slot, PNIO_UINT16 subslot) {
-    (void)h, (void)ar, (void)sk, (void)api, (void)slot, (void)subslot;
+    (void)h;
+    record(EV_PRM_END, ar, sk, api, (PNIO_UINT32)slot << 16 | subslot, 0);
 }
 static void cp_stop_req(PNIO_UINT32 h) { (void)h; }
 
@@ -192,8 +305,8 @@ static PNIO_CBF_FUNCTIONS table(void) {
     c.cbf_ar_check_ind = ar_check_ind;
     c.cbf_ar_info_ind = ar_info_ind;
     c.cbf_ar_indata_ind = ar_indata_ind;
-    c.cbf_ar_abort_ind = ar_end_ind;
-    c.cbf_ar_offline_ind = ar_end_ind;
+    c.cbf_ar_abort_ind = ar_abort_ind;
+    c.cbf_ar_offline_ind = ar_offline_ind;
     c.cbf_apdu_status_ind = apdu_ind;
     c.cbf_prm_end_ind = prm_end_ind;
     c.pnio_cbf_cp_stop_req = cp_stop_req;
@@ -317,9 +430,11 @@ int main(void) {
     /* ---- Pull and plug again before start ---- */
     CHECK_RC(PNIO_sub_pull(h, 0, &a), PNIO_OK);
     expect_conf(__LINE__, ++n, h, PNIO_SUB_PULL, 1, 1);
-    CHECK_RC(PNIO_sub_plug_ext(h, 0, &a, 0x1, PNIO_ALARM_TYPE_PLUG), PNIO_OK);
+    /* Submodule ident 2, not the configured 1: the demo PLC expects it (AR_INFO_IND). */
+    CHECK_RC(PNIO_sub_plug_ext(h, 0, &a, 0x2, PNIO_ALARM_TYPE_PLUG), PNIO_OK);
     expect_conf(__LINE__, ++n, h, PNIO_SUB_PLUG, 1, 1);
     CHECK_RC(PNIO_api_remove(h, 0), PNIO_ERR_SEQUENCE); /* it has modules */
+    CHECK_RC(PNIO_set_appl_state_ready(h, 1, 0, NULL), PNIO_ERR_SEQUENCE); /* not started */
 
     /* ---- Start: slot 2, not plugged by the program, is pulled ---- */
     CHECK_RC(PNIO_device_start(h), PNIO_OK);
@@ -328,7 +443,59 @@ int main(void) {
     CHECK_RC(PNIO_api_remove(h, 0), PNIO_ERR_SEQUENCE);
     CHECK_RC(PNIO_device_close(h), PNIO_ERR_SEQUENCE);
 
-    /* ---- Stop, confirmed on the library thread ---- */
+    /* ---- The PLC's AR: the indications in the manual's order ---- */
+    static const int setup[] = {EV_AR_CHECK, EV_AR_INFO, EV_PRM_END, 0};
+    int iprm = wait_event(__LINE__, EV_PRM_END, 0);
+    expect_order(__LINE__, 0, iprm, setup);
+    event_t chk = event(0);
+    PNIO_UINT16 ar = chk.ar, sk = chk.sk;
+    CHECK(ar == 1, "the first AR's ArNumber is %u", (unsigned)ar);
+    CHECK(chk.a == PNIO_AR_TYPE_SINGLE, "ArType %u", (unsigned)chk.a);
+    CHECK(chk.b == PNIO_ERR_SEQUENCE, "PNIO_device_ar_abort inside AR_CHECK_IND: 0x%x",
+          (unsigned)chk.b);
+    CHECK((chk.c & 1) && (chk.c >> 1) > 0, "AR_CHECK_IND: pAr has modules or no PLC name");
+    for (int i = 0; i <= iprm; i++) {
+        event_t e = event(i);
+        CHECK(e.ar == ar && e.sk == sk, "%s for AR %u/%u, not %u/%u", ev_names[e.type],
+              (unsigned)e.ar, (unsigned)e.sk, (unsigned)ar, (unsigned)sk);
+        CHECK(!e.on_main_thread, "%s came on the program's thread", ev_names[e.type]);
+        if (e.type == EV_AR_INFO)
+            CHECK(e.a >= 2 && e.b == 2 && e.c == (0x10u << 8 | 2),
+                  "AR_INFO_IND: %u modules, %u IOCRs, slot 1 0x%x", (unsigned)e.a,
+                  (unsigned)e.b, (unsigned)e.c);
+        if (e.type == EV_PRM_END)
+            CHECK(e.a == 0 && e.b == 0, "PRM_END_IND for one submodule");
+    }
+    CHECK_RC(PNIO_set_appl_state_ready(h, ar, (PNIO_UINT16)(sk + 1), NULL), PNIO_ERR_SESSION);
+    CHECK_RC(PNIO_set_appl_state_ready(h, (PNIO_UINT16)(ar + 1), sk, NULL), PNIO_ERR_SEQUENCE);
+    CHECK_RC(PNIO_set_appl_state_ready(wrong, ar, sk, NULL), PNIO_ERR_WRONG_HND);
+    CHECK_RC(PNIO_device_ar_abort(h, ar, (PNIO_UINT16)(sk + 1)), PNIO_ERR_SESSION);
+    CHECK_RC(PNIO_device_ar_abort(h, 0, sk), PNIO_ERR_SEQUENCE);
+    PNIO_APPL_READY_LIST_TYPE ready;
+    PNIO_LIST_INITIALIZE(&ready.ap_list);
+    CHECK_RC(PNIO_set_appl_state_ready(h, ar, sk, &ready), PNIO_OK);
+    CHECK_RC(PNIO_set_appl_state_ready(h, ar, sk, &ready), PNIO_ERR_SEQUENCE);
+    static const int indata[] = {EV_PRM_END, EV_INDATA, 0};
+    int iin = wait_event(__LINE__, EV_INDATA, iprm);
+    expect_order(__LINE__, iprm, iin, indata);
+
+    /* ---- The program aborts the AR: OFFLINE_IND, and the PLC connects again ---- */
+    CHECK_RC(PNIO_device_ar_abort(h, ar, sk), PNIO_OK);
+    int ioff = wait_event(__LINE__, EV_OFFLINE, iin);
+    event_t off = event(ioff);
+    CHECK(off.ar == ar && off.sk == sk && off.a != PNIO_AR_REASON_NONE,
+          "AR_OFFLINE_IND for AR %u/%u reason %u", (unsigned)off.ar, (unsigned)off.sk,
+          (unsigned)off.a);
+    static const int again[] = {EV_AR_CHECK, EV_AR_INFO, EV_PRM_END, 0};
+    int iprm2 = wait_event(__LINE__, EV_PRM_END, ioff);
+    expect_order(__LINE__, ioff + 1, iprm2, again);
+    event_t chk2 = event(wait_event(__LINE__, EV_AR_CHECK, ioff));
+    CHECK(chk2.ar == 2, "the second AR's ArNumber is %u", (unsigned)chk2.ar);
+    CHECK_RC(PNIO_set_appl_state_ready(h, ar, sk, NULL), PNIO_ERR_SESSION); /* ended */
+    CHECK_RC(PNIO_set_appl_state_ready(h, chk2.ar, chk2.sk, NULL), PNIO_OK);
+    int iin2 = wait_event(__LINE__, EV_INDATA, iprm2);
+
+    /* ---- Stop: OFFLINE_IND, then DEVICE_STOPPED, on the library thread ---- */
     CHECK_RC(PNIO_device_stop(h), PNIO_OK);
     CHECK_RC(PNIO_device_stop(h), PNIO_ERR_SEQUENCE);
     struct timespec until = deadline();
@@ -342,6 +509,12 @@ int main(void) {
     CHECK(stopped_handle == h && stopped_code == PNIO_OK,
           "DEVICE_STOPPED(handle %u, code 0x%x)", (unsigned)stopped_handle, (unsigned)stopped_code);
     CHECK(!stopped_on_main_thread, "DEVICE_STOPPED came on the program's thread");
+    static const int stop[] = {EV_INDATA, EV_OFFLINE, EV_STOPPED, 0};
+    int istop = wait_event(__LINE__, EV_STOPPED, iin2);
+    expect_order(__LINE__, iin2, istop, stop);
+    CHECK(event(wait_event(__LINE__, EV_OFFLINE, iin2)).ar == chk2.ar,
+          "OFFLINE_IND not for the second AR");
+    CHECK_RC(PNIO_device_ar_abort(h, chk2.ar, chk2.sk), PNIO_ERR_SEQUENCE); /* stopped */
 
     /* ---- Pull, remove, close ---- */
     CHECK_RC(PNIO_mod_pull(h, 0, &a), PNIO_OK);

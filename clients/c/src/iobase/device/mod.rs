@@ -1,24 +1,32 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The IO device side of the IO-Base API (`pniousrd.h`): management (`PNIO_device_open`,
-//! `_close`, `_start`, `_stop`) and configuration (`PNIO_api_add`, `_remove`,
-//! `PNIO_mod_plug`, `_pull`, `PNIO_sub_plug`, `_ext`, `_ext_IM`, `PNIO_sub_pull`) over
+//! `_close`, `_start`, `_stop`), configuration (`PNIO_api_add`, `_remove`,
+//! `PNIO_mod_plug`, `_pull`, `PNIO_sub_plug`, `_ext`, `_ext_IM`, `PNIO_sub_pull`) and AR
+//! control (`PNIO_set_appl_state_ready`, `PNIO_device_ar_abort`, the AR callbacks) over
 //! procimgd's device role.
 //!
 //! * `open`: the checks of `PNIO_device_open`'s parameters, and attaching to the station;
 //! * `state`: an open device, its lifecycle and the program's configuration, and the table of
 //!   handles;
 //! * `config`: the address and sequence checks of the configuration functions;
-//! * `worker`: the library thread that carries plugs, pulls, start and stop out on procimgd
-//!   and calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED`.
+//! * `worker`: the library thread that carries plugs, pulls, start, stop and AR aborts out
+//!   on procimgd and calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED`, and
+//!   between them hands the station's notifications to `ar`;
+//! * `ar`: the AR indications (`AR_CHECK_IND`, `CHECK_IND`, `AR_INFO_IND`, `PRM_END_IND`,
+//!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`) from the
+//!   station's notifications, the reason codes, and the ArNumber and SessionKey rules.
 //!
 //! # Lifecycle
 //!
 //! `PNIO_device_open` attaches to the procimgd instance that CpIndex names (as for the
 //! controller: `PROCIMG_CP<n>`, else `PROCIMG_INSTANCE`, else `procimg`), which must be in the
 //! device role with the VendorID and DeviceID given, and takes the server to OFFLINE: the
-//! station takes no AR until `PNIO_device_start`, which takes it to OPERATE.
-//! `PNIO_device_stop` takes it to OFFLINE again (the PLC's AR ends with an abort) and
-//! confirms with `PNIO_CBF_DEVICE_STOPPED` on the library thread. `PNIO_device_close` leaves
+//! station takes no AR until `PNIO_device_start`, which takes it to OPERATE. From open to
+//! close the device checks the station's ARs and holds its ApplicationReady, so that the
+//! AR callbacks come in the manual's order and `PNIO_set_appl_state_ready` sends it (see
+//! `ar`). `PNIO_device_stop` takes it to OFFLINE again (the PLC's AR ends with an abort:
+//! `AR_OFFLINE_IND`, or `AR_ABORT_IND` before data exchange) and confirms with
+//! `PNIO_CBF_DEVICE_STOPPED` on the library thread. `PNIO_device_close` leaves
 //! the server as it is (OFFLINE after a stop). Open → (api_add, plug) → start → stop → (pull,
 //! api_remove) → close; every call out of this order answers `PNIO_ERR_SEQUENCE`, as does
 //! every call but the IO data ones from inside a callback.
@@ -50,6 +58,7 @@
 //! PLC's Connect and data exchange procimgd refuses them, and the confirmation carries
 //! `PNIO_ERR_SEQUENCE`.
 
+pub(crate) mod ar;
 pub(crate) mod config;
 pub(crate) mod open;
 pub(crate) mod state;

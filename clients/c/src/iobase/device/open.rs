@@ -5,14 +5,15 @@
 //! answers `PNIO_ERR_PRM_CP_ID` (CpIndex names no IO device), a VendorId or DeviceId other
 //! than the station's `PNIO_ERR_INVALID_CONFIG`, InstanceId other than 1
 //! `PNIO_ERR_PRM_INVALIDARG`, a second open of the same instance in one process
-//! `PNIO_ERR_SEQUENCE`; no server (or no answer) is `PNIO_ERR_NO_FW_COMMUNICATION`.
+//! `PNIO_ERR_SEQUENCE`; no server (or no answer) is `PNIO_ERR_NO_FW_COMMUNICATION`; an
+//! instance whose ARs another program checks `PNIO_ERR_CREATE_INSTANCE`.
 
 use super::state::{Device, Position, instance_open};
 use crate::iobase::controller::instance_for;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::types::*;
-use procimg_client::{AttachError, AttachOptions, Client, Mode, Refusal};
+use procimg_client::{AttachError, AttachOptions, Client, Mode, Refusal, ServiceOptions, Services};
 
 const F: &str = "PNIO_device_open";
 
@@ -263,6 +264,23 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
             ),
         ));
     }
+    // The AR indications: this device checks the station's ARs and holds its
+    // ApplicationReady until PNIO_set_appl_state_ready.
+    let services = Services::open(&instance, ServiceOptions::new(&name))
+        .map_err(|e| attach_failure(cp, &instance, &e))?;
+    services
+        .check_ars(true)
+        .and_then(|()| services.hold_application_ready(true))
+        .map_err(|e| {
+            fail(
+                F,
+                PNIO_ERR_CREATE_INSTANCE,
+                format_args!(
+                    "instance \"{instance}\" did not let this device check its ARs and hold \
+                     its ApplicationReady (does another program check them?): {e}"
+                ),
+            )
+        })?;
     // The manual's device is not reachable for PLCs before PNIO_device_start.
     client.control().set_mode(Mode::Offline).map_err(|e| {
         fail(
@@ -281,7 +299,7 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
             submodule_ident: s.submodule_ident,
         })
         .collect();
-    Device::register(instance, cbf, req.high, positions, client)
+    Device::register(instance, cbf, req.high, positions, client, services)
 }
 
 #[cfg(test)]

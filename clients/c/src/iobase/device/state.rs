@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! One open IO device: its lifecycle, the program's configuration (APIs, modules,
-//! submodules), its client and library thread; and the process-wide table of handles.
+//! submodules), its ARs, its client, services handle and library thread; and the
+//! process-wide table of handles.
 
+use super::ar::Ars;
 use super::worker::{Job, Worker};
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::PNIO_CBF_FUNCTIONS;
 use crate::iobase::errors::*;
-use procimg_client::Client;
+use procimg_client::{Client, Services};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
@@ -81,6 +83,10 @@ pub(crate) struct Device {
     pub config: Mutex<Config>,
     /// The client of the instance (plug, pull, mode).
     pub client: Mutex<Client>,
+    /// The station's notifications; it checks ARs and holds the ApplicationReady.
+    pub services: Mutex<Services>,
+    /// The current AR and the next ArNumber.
+    pub ars: Mutex<Ars>,
     worker: Mutex<Option<Worker>>,
 }
 
@@ -117,6 +123,7 @@ impl Device {
         high: Option<(u16, u16)>,
         positions: Vec<Position>,
         client: Client,
+        services: Services,
     ) -> Result<u32, u32> {
         let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
         let dev = Arc::new(Device {
@@ -133,6 +140,8 @@ impl Device {
                 pending: 0,
             }),
             client: Mutex::new(client),
+            services: Mutex::new(services),
+            ars: Mutex::new(Ars::new()),
             worker: Mutex::new(None),
         });
         let worker = Worker::start(dev.clone()).map_err(|e| {
@@ -156,13 +165,18 @@ impl Device {
     }
 
     /// `PNIO_device_close` after the checks: the library thread finishes its jobs and ends,
-    /// the handle goes, then the client.
+    /// the handle goes, the station no longer waits for this device's AR checks and
+    /// ApplicationReady, then the client goes.
     pub(crate) fn close(&self) {
         lock(&DEVICES).remove(&self.handle);
         let worker = lock(&self.worker).take();
         if let Some(w) = worker {
             w.stop();
         }
+        let services = lock(&self.services);
+        // Dropping the handle releases both as well; these say it at once.
+        let _ = services.check_ars(false);
+        let _ = services.hold_application_ready(false);
     }
 
     /// The station's position at `at`, if configured.

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The device's library thread: carries the program's plugs and pulls, `PNIO_device_start`
-//! and `PNIO_device_stop` out on procimgd, one at a time in the order they were called, and
-//! calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED` (as callbacks: inside them
-//! only the IO data functions are allowed).
+//! The device's library thread: carries the program's plugs and pulls, `PNIO_device_start`,
+//! `PNIO_device_stop` and `PNIO_device_ar_abort` out on procimgd, one at a time in the order
+//! they were called, and calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED`;
+//! between jobs it gives the station's notifications to [`super::ar`] for the AR
+//! callbacks. All callbacks of a device come from this thread, so in the order of their
+//! causes (inside them only the IO data functions are allowed).
 
+use super::ar;
 use super::state::{Device, Life, Pos};
 use crate::iobase::callbacks::invoke_device;
 use crate::iobase::controller::lock;
@@ -12,8 +15,15 @@ use crate::iobase::errors::*;
 use procimg_client::{Client, ControlError, Mode, PlugRefusal, Refusal};
 use std::collections::BTreeMap;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, Sender, SyncSender, channel};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, SyncSender, channel};
 use std::thread::JoinHandle;
+use std::time::Duration;
+
+/// How often the thread looks for the station's notifications while it has no job.
+const POLL: Duration = Duration::from_millis(10);
+/// How long a stop or an AR abort waits for the station to report the AR's end; then the
+/// library ends it itself (`PNIO_AR_REASON_ABORT`).
+const END_WAIT: Duration = Duration::from_secs(5);
 
 /// What the library thread does.
 pub(crate) enum Job {
@@ -54,8 +64,12 @@ pub(crate) enum Job {
     /// `PNIO_device_start`: pull what the program did not plug, then OPERATE; the result
     /// goes back to the caller.
     Start(SyncSender<Result<(), (u32, String)>>),
-    /// `PNIO_device_stop`: OFFLINE, then `PNIO_CBF_DEVICE_STOPPED`.
+    /// `PNIO_device_stop`: OFFLINE, the current AR's `AR_OFFLINE_IND` or `AR_ABORT_IND`, then
+    /// `PNIO_CBF_DEVICE_STOPPED`.
     Stop,
+    /// `PNIO_device_ar_abort` of the AR with this ArNumber: OFFLINE until the AR's end
+    /// callback was given, then OPERATE again.
+    Abort(u16),
 }
 
 /// The library thread of a device.
@@ -89,7 +103,7 @@ impl Worker {
 
 /// What procimgd has at each position, as far as this library knows: the configured ident
 /// numbers at first, then what the library plugged (`Some`) or pulled (`None`).
-type Occupants = BTreeMap<Pos, Option<(u32, u32)>>;
+pub(crate) type Occupants = BTreeMap<Pos, Option<(u32, u32)>>;
 
 fn run(dev: Arc<Device>, rx: Receiver<Job>) {
     let mut occupants: Occupants = dev
@@ -97,73 +111,120 @@ fn run(dev: Arc<Device>, rx: Receiver<Job>) {
         .iter()
         .map(|p| (p.at, Some((p.module_ident, p.submodule_ident))))
         .collect();
-    while let Ok(job) = rx.recv() {
-        match job {
-            Job::Plug {
-                api,
-                at,
-                idents,
-                mut addr,
-            } => {
-                let code = plug(&lock(&dev.client), &mut occupants, at, idents);
-                if code != PNIO_OK {
-                    let mut c = lock(&dev.config);
-                    if c.subs.get(&at) == Some(&idents.1) {
-                        c.subs.remove(&at);
+    loop {
+        let job = match rx.recv_timeout(POLL) {
+            Ok(job) => Some(job),
+            Err(RecvTimeoutError::Timeout) => None,
+            Err(RecvTimeoutError::Disconnected) => break,
+        };
+        if let Some(job) = job {
+            run_job(&dev, &mut occupants, job);
+        }
+        loop {
+            let n = lock(&dev.services).try_next();
+            match n {
+                Some(n) => ar::handle(&dev, &mut occupants, n),
+                None => break,
+            }
+        }
+    }
+}
+
+/// The uuid of the current AR, if there is one.
+fn current_uuid(dev: &Device) -> Option<String> {
+    lock(&dev.ars).current.as_ref().map(|a| a.uuid.clone())
+}
+
+fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
+    match job {
+        Job::Plug {
+            api,
+            at,
+            idents,
+            mut addr,
+        } => {
+            let code = plug(&lock(&dev.client), occupants, at, idents);
+            if code != PNIO_OK {
+                let mut c = lock(&dev.config);
+                if c.subs.get(&at) == Some(&idents.1) {
+                    c.subs.remove(&at);
+                }
+            }
+            confirm(dev, api, PNIO_SUB_PLUG, &mut addr, code);
+        }
+        Job::Pull {
+            api,
+            at,
+            action,
+            module,
+            mut addr,
+        } => {
+            let mut code = PNIO_OK;
+            let mut kept = Vec::new();
+            {
+                let client = lock(&dev.client);
+                for (p, ident) in at {
+                    let c = pull(&client, occupants, p);
+                    if c != PNIO_OK {
+                        code = c;
+                        kept.push((p, ident));
                     }
                 }
-                confirm(&dev, api, PNIO_SUB_PLUG, &mut addr, code);
             }
-            Job::Pull {
-                api,
-                at,
-                action,
-                module,
-                mut addr,
-            } => {
-                let mut code = PNIO_OK;
-                let mut kept = Vec::new();
-                {
-                    let client = lock(&dev.client);
-                    for (p, ident) in at {
-                        let c = pull(&client, &mut occupants, p);
-                        if c != PNIO_OK {
-                            code = c;
-                            kept.push((p, ident));
-                        }
-                    }
+            if code != PNIO_OK {
+                let mut c = lock(&dev.config);
+                c.subs.extend(kept);
+                if let Some((m, ident)) = module {
+                    c.modules.insert(m, ident);
                 }
-                if code != PNIO_OK {
-                    let mut c = lock(&dev.config);
-                    c.subs.extend(kept);
-                    if let Some((m, ident)) = module {
-                        c.modules.insert(m, ident);
-                    }
-                }
-                confirm(&dev, api, action, &mut addr, code);
             }
-            Job::Confirm {
-                api,
-                action,
-                mut addr,
-            } => confirm(&dev, api, action, &mut addr, PNIO_OK),
-            Job::Start(reply) => {
-                let _ = reply.send(start(&dev, &mut occupants));
+            confirm(dev, api, action, &mut addr, code);
+        }
+        Job::Confirm {
+            api,
+            action,
+            mut addr,
+        } => confirm(dev, api, action, &mut addr, PNIO_OK),
+        Job::Start(reply) => {
+            let _ = reply.send(start(dev, occupants));
+        }
+        Job::Stop => {
+            let running = current_uuid(dev);
+            let code = match lock(&dev.client).control().set_mode(Mode::Offline) {
+                Ok(()) => PNIO_OK,
+                Err(e) => code_of(&e),
+            };
+            if let Some(uuid) = running {
+                ar::until_ended(dev, occupants, &uuid, END_WAIT);
             }
-            Job::Stop => {
-                let code = match lock(&dev.client).control().set_mode(Mode::Offline) {
-                    Ok(()) => PNIO_OK,
-                    Err(e) => code_of(&e),
-                };
-                lock(&dev.config).life = if code == PNIO_OK {
-                    Life::Stopped
-                } else {
-                    Life::Started
-                };
-                if let Some(f) = dev.cbf.cbf_device_stopped {
-                    // SAFETY: a PNIO_CBF_DEVICE_STOPPED the program gave PNIO_device_open,
-                    // callable until PNIO_device_close (which waits for this thread).
-                    invoke_device(|| unsafe { f(dev.handle, code) });
+            lock(&dev.config).life = if code == PNIO_OK {
+                Life::Stopped
+            } else {
+                Life::Started
+            };
+            if let Some(f) = dev.cbf.cbf_device_stopped {
+                // SAFETY: a PNIO_CBF_DEVICE_STOPPED the program gave PNIO_device_open,
+                // callable until PNIO_device_close (which waits for this thread).
+                invoke_device(|| unsafe { f(dev.handle, code) });
+            }
+        }
+        Job::Abort(number) => {
+            let Some(uuid) = lock(&dev.ars)
+                .current
+                .as_ref()
+                .filter(|a| a.number == number)
+                .map(|a| a.uuid.clone())
+            else {
+                // Ended meanwhile: its end callback was given.
+                return;
+            };
+            let client = lock(&dev.client);
+            if client.control().set_mode(Mode::Offline).is_ok() {
+                drop(client);
+                ar::until_ended(dev, occupants, &uuid, END_WAIT);
+                // Unless PNIO_device_stop came meanwhile, PLCs may connect again.
+                if lock(&dev.config).life == Life::Started {
+                    let _ = lock(&dev.client).control().set_mode(Mode::Operate);
                 }
             }
         }
@@ -186,7 +247,7 @@ fn confirm(dev: &Device, api: u32, action: PNIO_DEV_ACTION, addr: &mut PNIO_DEV_
 
 /// Plugs `idents` at `at` on procimgd as the module doc says: into an empty position; a
 /// submodule there with the same ident numbers is taken; one with others is pulled first.
-fn plug(client: &Client, occupants: &mut Occupants, at: Pos, idents: (u32, u32)) -> u32 {
+pub(crate) fn plug(client: &Client, occupants: &mut Occupants, at: Pos, idents: (u32, u32)) -> u32 {
     match client.plug_submodule(at, idents.0, idents.1) {
         Ok(()) => {
             occupants.insert(at, Some(idents));

@@ -1,0 +1,650 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The AR indications: the station's notifications turned into the manual's callbacks on
+//! the device's library thread, and the ArNumber and SessionKey rules of the per-AR calls.
+//!
+//! # Callbacks and when they come
+//!
+//! The device checks the station's ARs and holds its ApplicationReady from
+//! `PNIO_device_open` to `PNIO_device_close`. For a PLC's Connect (the station's AR check):
+//!
+//! 1. `PNIO_CBF_AR_CHECK_IND` with the new ArNumber (1, 2, … per open), the station's
+//!    SessionKey, the ARType and ARUUID of the Connect and the PLC's station name. HostIp,
+//!    ArProperties and CmiObjUUID are 0: procimgd does not report them (the PLC's MAC
+//!    address, which it does report, has no place in the callback).
+//! 2. `PNIO_CBF_CHECK_IND` once per expected submodule where something other than the
+//!    expected ident numbers is plugged (not where nothing is: the station reports that
+//!    itself). The out parameters come filled with what is plugged, the states WRONG (or
+//!    PROPER_MODULE where the module ident matches). If the program answers a submodule
+//!    state PROPER or SUBSTITUTED with other ident numbers than plugged, those are plugged
+//!    there before the Connect is answered (the PLC then sees them; procimgd knows no
+//!    "substitute", so ident numbers other than the expected ones are wrong to the PLC).
+//! 3. The station's AR check is answered accepting once these callbacks returned: the
+//!    manual's way to refuse is `PNIO_device_ar_abort`, which the program calls after the
+//!    callback.
+//! 4. `PNIO_CBF_AR_INFO_IND` with the AR's IOCRs and modules, built from the Connect's
+//!    expected submodules: an input IOCR with every submodule that has inputs or no data, an
+//!    output IOCR with every one that has outputs (RT class 1; CycleTime, SendClock,
+//!    ReductioFactor and Phase 0, not reported by procimgd), a module per (API, slot) with
+//!    its expected ModuleIdentNumber, and per submodule its ident, type and lengths (one
+//!    byte of IOPS and IOCS per direction it has; a submodule without data has the input
+//!    side's). The memory is the library's and valid only during the callback.
+//! 5. `PNIO_CBF_PRM_END_IND` (API, slot and subslot 0) when the station reports the AR
+//!    "parameterized" (the PLC's PrmEnd); the ApplicationReady waits for
+//!    `PNIO_set_appl_state_ready` (procimgd sends it by itself after 10 s).
+//! 6. `PNIO_CBF_AR_INDATA_IND` when the station reports "data".
+//! 7. `PNIO_CBF_APDU_STATUS_IND` when the PLC's frames change between RUN and STOP:
+//!    `PNIO_EVENT_APDU_STATUS_RUN` or `_STOP`, each with `_STATION_OK` (procimgd reports no
+//!    station problem); a change before data exchange is given right after
+//!    `AR_INDATA_IND`.
+//! 8. `PNIO_CBF_AR_OFFLINE_IND` when the AR ends after `AR_INDATA_IND`, else
+//!    `PNIO_CBF_AR_ABORT_IND`, with the reason of [`reason_code`].
+//!
+//! Notifications about an AR whose check this device did not get (one that connected
+//! before `PNIO_device_open`) give no callbacks.
+//!
+//! # ArNumber and SessionKey
+//!
+//! Only the current AR is known. In `PNIO_set_appl_state_ready` and `PNIO_device_ar_abort`
+//! an ArNumber this open never gave answers `PNIO_ERR_SEQUENCE`; the ArNumber of an AR that
+//! has ended, or the current one's with another SessionKey, `PNIO_ERR_SESSION`.
+
+use super::state::{Device, Pos};
+use super::worker::{Occupants, plug};
+use crate::iobase::callbacks::invoke_device;
+use crate::iobase::controller::lock;
+use crate::iobase::device_types::*;
+use crate::iobase::errors::*;
+use crate::iobase::types::PNIO_IO_IN;
+use procimg_client::Notification;
+use procimg_shm_layout::services::{ExpectedSubmodule, StationArCheckJob};
+use std::time::{Duration, Instant};
+
+/// How far an AR got, in the manual's per-AR order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(crate) enum Phase {
+    /// `AR_CHECK_IND` (and `AR_INFO_IND`) given.
+    Checked,
+    /// `PRM_END_IND` given: `PNIO_set_appl_state_ready` may come.
+    PrmEnd,
+    /// `PNIO_set_appl_state_ready` called.
+    ApplReady,
+    /// `AR_INDATA_IND` given.
+    InData,
+}
+
+/// The current AR of a device.
+#[derive(Clone, Debug)]
+pub(crate) struct Ar {
+    /// ArNumber.
+    pub number: u16,
+    /// SessionKey.
+    pub session_key: u16,
+    /// ARUUID, as procimgd writes it.
+    pub uuid: String,
+    /// How far it got.
+    pub phase: Phase,
+    /// A RUN/STOP change before data exchange, given after `AR_INDATA_IND`.
+    pub apdu_pending: Option<bool>,
+}
+
+/// The ARs of an open device.
+pub(crate) struct Ars {
+    /// The ArNumber the next AR gets.
+    pub next_number: u16,
+    /// The AR, if one is up.
+    pub current: Option<Ar>,
+}
+
+impl Ars {
+    /// No AR yet.
+    pub(crate) fn new() -> Ars {
+        Ars {
+            next_number: 1,
+            current: None,
+        }
+    }
+
+    /// Checks ArNumber and SessionKey of a per-AR call of function `f`; the current AR.
+    pub(crate) fn check(&self, f: &str, number: u16, session_key: u16) -> Result<Ar, u32> {
+        match &self.current {
+            Some(ar) if ar.number == number && ar.session_key == session_key => Ok(ar.clone()),
+            Some(ar) if ar.number == number => Err(fail(
+                f,
+                PNIO_ERR_SESSION,
+                format_args!(
+                    "SessionKey {session_key} is not AR {number}'s ({}): use the one \
+                     PNIO_CBF_AR_CHECK_IND gave",
+                    ar.session_key
+                ),
+            )),
+            _ if number != 0 && number < self.next_number => Err(fail(
+                f,
+                PNIO_ERR_SESSION,
+                format_args!("AR {number} has ended"),
+            )),
+            _ => Err(fail(
+                f,
+                PNIO_ERR_SEQUENCE,
+                format_args!(
+                    "ArNumber {number} was never given by PNIO_CBF_AR_CHECK_IND of this device"
+                ),
+            )),
+        }
+    }
+}
+
+/// The `PNIO_AR_REASON` of an ended AR. procimgd gives the RTA abort code in its text
+/// ("AR consumer data hold time expired (0x05): …", "abort code 0x2a"); the manual's
+/// reasons 1 to 34 are those codes, so:
+///
+/// * released by the PLC (no abort) → `PNIO_AR_REASON_REL`;
+/// * an abort with code 0x01..=0x22 → that value (0x05 `MISS`, the PLC's frames stopped;
+///   0x10 `PAS`, the station went OFFLINE; 0x1f `DCP_NAME`; 0x20 `DCP_RESET`; …);
+/// * any other code, or none to read → `PNIO_AR_REASON_ABORT` when this station ended it
+///   on purpose (stop, OFFLINE, `PNIO_device_ar_abort`), else `PNIO_AR_REASON_NONE`.
+pub(crate) fn reason_code(reason: &str, aborted: bool, planned: bool) -> PNIO_AR_REASON {
+    if !aborted {
+        return PNIO_AR_REASON_REL;
+    }
+    let code = reason.find("0x").and_then(|i| {
+        let hex: String = reason[i + 2..]
+            .chars()
+            .take_while(char::is_ascii_hexdigit)
+            .collect();
+        u32::from_str_radix(&hex, 16).ok()
+    });
+    match code {
+        Some(c) if (PNIO_AR_REASON_RESERVED1..=PNIO_AR_REASON_IRDATA).contains(&c) => c,
+        _ if planned => PNIO_AR_REASON_ABORT,
+        _ => PNIO_AR_REASON_NONE,
+    }
+}
+
+/// The UUID procimgd writes ("0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2"); zero if it is none.
+pub(crate) fn uuid(text: &str) -> PNIO_UUID_TYPE {
+    let hex: String = text.chars().filter(|c| *c != '-').collect();
+    let mut b = [0u8; 16];
+    if hex.len() != 32 || !hex.chars().all(|c| c.is_ascii_hexdigit()) {
+        return PNIO_UUID_TYPE::default();
+    }
+    for (i, byte) in b.iter_mut().enumerate() {
+        *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap_or(0);
+    }
+    PNIO_UUID_TYPE {
+        TimeLow: u32::from_be_bytes([b[0], b[1], b[2], b[3]]),
+        TimeMid: u16::from_be_bytes([b[4], b[5]]),
+        TimeHiAndVersion: u16::from_be_bytes([b[6], b[7]]),
+        ClockSeqHiAndReserved: b[8],
+        ClockSeqLow: b[9],
+        Node: [b[10], b[11], b[12], b[13], b[14], b[15]],
+    }
+}
+
+/// The structures of `PNIO_CBF_AR_INFO_IND`: `ar` points into the vectors, whose buffers
+/// do not move while this lives.
+pub(crate) struct ArTree {
+    /// The AR.
+    pub ar: PNIO_AR_TYPE,
+    _iocrs: Vec<PNIO_IOCR_TYPE>,
+    _iocs: [Vec<PNIO_IOCS_TYPE>; 2],
+    _modules: Vec<PNIO_MODULE_TYPE>,
+    _subs: Vec<Vec<PNIO_SUBMOD_TYPE>>,
+}
+
+/// `PNIO_SUB_PROP_TYPE_*` of a submodule with these lengths.
+fn sub_type(e: &ExpectedSubmodule) -> u32 {
+    match (e.input_length > 0, e.output_length > 0) {
+        (true, true) => PNIO_SUB_PROP_TYPE_INPUT_OUTPUT,
+        (true, false) => PNIO_SUB_PROP_TYPE_INPUT,
+        (false, true) => PNIO_SUB_PROP_TYPE_OUTPUT,
+        (false, false) => PNIO_SUB_PROP_TYPE_NO_DATA,
+    }
+}
+
+/// Builds the AR's IOCRs and modules from the Connect's expected submodules.
+pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]) -> ArTree {
+    let mut sorted: Vec<&ExpectedSubmodule> = expected.iter().collect();
+    sorted.sort_by_key(|e| (e.api, e.slot, e.subslot));
+    let mut subs: Vec<Vec<PNIO_SUBMOD_TYPE>> = Vec::new();
+    let mut keys: Vec<(u32, u16, u32)> = Vec::new();
+    let mut iocs = [Vec::new(), Vec::new()];
+    for e in sorted {
+        let t = sub_type(e);
+        let input_side = t != PNIO_SUB_PROP_TYPE_OUTPUT;
+        let output_side = t == PNIO_SUB_PROP_TYPE_OUTPUT || t == PNIO_SUB_PROP_TYPE_INPUT_OUTPUT;
+        let s = PNIO_SUBMOD_TYPE {
+            SlotNum: e.slot.into(),
+            SubSlotNum: e.subslot.into(),
+            SubMProperties: t,
+            SubMIdent: e.submodule_ident,
+            InDatLen: e.input_length.into(),
+            InIopsLen: input_side.into(),
+            InIocsLen: input_side.into(),
+            OutDatLen: e.output_length.into(),
+            OutIopsLen: output_side.into(),
+            OutIocsLen: output_side.into(),
+            reserved: [0; 8],
+        };
+        let io = PNIO_IOCS_TYPE {
+            SlotNum: e.slot.into(),
+            SubslotNum: e.subslot.into(),
+            reserved: 0,
+        };
+        if input_side {
+            iocs[0].push(io);
+        }
+        if output_side {
+            iocs[1].push(io);
+        }
+        match keys.last() {
+            Some(&(api, slot, _)) if (api, slot) == (e.api, e.slot) => {
+                if let Some(v) = subs.last_mut() {
+                    v.push(s);
+                }
+            }
+            _ => {
+                keys.push((e.api, e.slot, e.module_ident));
+                subs.push(vec![s]);
+            }
+        }
+    }
+    let modules: Vec<PNIO_MODULE_TYPE> = keys
+        .iter()
+        .zip(subs.iter_mut())
+        .map(|(&(api, slot, ident), v)| PNIO_MODULE_TYPE {
+            Api: api,
+            SlotNum: slot.into(),
+            NumOfSubmod: v.len() as u32,
+            ModProperties: 0,
+            ModIdent: ident,
+            pSubList: v.as_mut_ptr(),
+        })
+        .collect();
+    let mut iocrs: Vec<PNIO_IOCR_TYPE> = [PNIO_IOCR_TYPE_INPUT, PNIO_IOCR_TYPE_OUTPUT]
+        .into_iter()
+        .zip(iocs.iter_mut())
+        .map(|(direction, list)| PNIO_IOCR_TYPE {
+            CycleTime: 0,
+            Direction: direction,
+            IOCRProperties: PNIO_IOCR_PROP_RT_CLASS_1,
+            SendClock: 0,
+            ReductioFactor: 0,
+            Phase: 0,
+            NumOfIoCs: list.len() as u32,
+            pIoCsList: list.as_mut_ptr(),
+            reserved: [0; 3],
+        })
+        .collect();
+    let mut modules = modules;
+    let ar = PNIO_AR_TYPE {
+        pNextAr: std::ptr::null_mut(),
+        ArNumber: number,
+        SessionKey: session_key,
+        NumOfIocr: iocrs.len() as u32,
+        pIoCrList: iocrs.as_mut_ptr(),
+        NumOfMod: modules.len() as u32,
+        pModList: modules.as_mut_ptr(),
+    };
+    ArTree {
+        ar,
+        _iocrs: iocrs,
+        _iocs: iocs,
+        _modules: modules,
+        _subs: subs,
+    }
+}
+
+/// Turns one notification of the station into the callbacks it means.
+pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
+    match n {
+        Notification::StationArCheck { check, .. } => new_ar(dev, occupants, &check),
+        Notification::StationAr { state, ar_uuid, .. } => progress(dev, &state, &ar_uuid),
+        Notification::StationArEnded {
+            ar_uuid,
+            reason,
+            aborted,
+            planned,
+        } => {
+            let ended = {
+                let mut ars = lock(&dev.ars);
+                match &ars.current {
+                    Some(ar) if ar.uuid == ar_uuid => ars.current.take(),
+                    _ => None,
+                }
+            };
+            if let Some(ar) = ended {
+                end(dev, &ar, reason_code(&reason, aborted, planned));
+            }
+        }
+        Notification::StationPlcRunning { running } => {
+            let deliver = {
+                let mut ars = lock(&dev.ars);
+                match ars.current.as_mut() {
+                    Some(ar) if ar.phase == Phase::InData => Some((ar.number, ar.session_key)),
+                    Some(ar) => {
+                        ar.apdu_pending = Some(running);
+                        None
+                    }
+                    None => None,
+                }
+            };
+            if let Some((number, key)) = deliver {
+                apdu(dev, number, key, running);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Gives `AR_OFFLINE_IND` (after data exchange began) or `AR_ABORT_IND` for `ar`.
+pub(crate) fn end(dev: &Device, ar: &Ar, reason: PNIO_AR_REASON) {
+    let (n, k) = (ar.number, ar.session_key);
+    if ar.phase == Phase::InData {
+        if let Some(f) = dev.cbf.cbf_ar_offline_ind {
+            // SAFETY: a callback the program gave PNIO_device_open, callable until
+            // PNIO_device_close (which waits for this thread).
+            invoke_device(|| unsafe { f(dev.handle, n, k, reason) });
+        }
+    } else if let Some(f) = dev.cbf.cbf_ar_abort_ind {
+        // SAFETY: as above.
+        invoke_device(|| unsafe { f(dev.handle, n, k, reason) });
+    }
+}
+
+fn apdu(dev: &Device, number: u16, key: u16, running: bool) {
+    let status = PNIO_EVENT_APDU_STATUS_STATION_OK
+        | if running {
+            PNIO_EVENT_APDU_STATUS_RUN
+        } else {
+            PNIO_EVENT_APDU_STATUS_STOP
+        };
+    if let Some(f) = dev.cbf.cbf_apdu_status_ind {
+        // SAFETY: a callback the program gave PNIO_device_open, callable until
+        // PNIO_device_close (which waits for this thread).
+        invoke_device(|| unsafe { f(dev.handle, number, key, status) });
+    }
+}
+
+/// A PLC's Connect: `AR_CHECK_IND`, `CHECK_IND` per mismatch, the answer, `AR_INFO_IND`.
+fn new_ar(dev: &Device, occupants: &mut Occupants, check: &StationArCheckJob) {
+    let replaced = {
+        let mut ars = lock(&dev.ars);
+        let number = ars.next_number;
+        ars.next_number = ars.next_number.checked_add(1).unwrap_or(1);
+        ars.current.replace(Ar {
+            number,
+            session_key: check.session_key,
+            uuid: check.ar_uuid.clone(),
+            phase: Phase::Checked,
+            apdu_pending: None,
+        })
+    };
+    if let Some(old) = replaced {
+        end(dev, &old, PNIO_AR_REASON_RERUN);
+    }
+    let (number, key) = match &lock(&dev.ars).current {
+        Some(ar) => (ar.number, ar.session_key),
+        None => return,
+    };
+    let mut ar = PNIO_AR_TYPE {
+        pNextAr: std::ptr::null_mut(),
+        ArNumber: number,
+        SessionKey: key,
+        NumOfIocr: 0,
+        pIoCrList: std::ptr::null_mut(),
+        NumOfMod: 0,
+        pModList: std::ptr::null_mut(),
+    };
+    let mut name = check.controller_name.as_bytes().to_vec();
+    let name_len = name.len().min(u16::MAX as usize) as u16;
+    if let Some(f) = dev.cbf.cbf_ar_check_ind {
+        let (ar_ptr, name_ptr): (*mut PNIO_AR_TYPE, *mut u8) = (&mut ar, name.as_mut_ptr());
+        let ar_uuid = uuid(&check.ar_uuid);
+        // SAFETY: a callback the program gave PNIO_device_open, callable until
+        // PNIO_device_close (which waits for this thread); the pointers are valid for the
+        // call.
+        invoke_device(|| unsafe {
+            f(
+                dev.handle,
+                0,
+                check.ar_type,
+                ar_uuid,
+                0,
+                PNIO_UUID_TYPE::default(),
+                name_len,
+                name_ptr,
+                ar_ptr,
+            )
+        });
+    }
+    for e in &check.expected {
+        let Some(plugged) = e.plugged else { continue };
+        if plugged == (e.module_ident, e.submodule_ident) {
+            continue;
+        }
+        check_ind(dev, occupants, number, key, e, plugged);
+    }
+    // Accepting: the manual's refusal is PNIO_device_ar_abort, after the callbacks. A
+    // failed answer is taken as accepted by the station after its timeout.
+    let _ = lock(&dev.services).answer_ar_check(check, Ok(()));
+    let mut t = tree(number, key, &check.expected);
+    if let Some(f) = dev.cbf.cbf_ar_info_ind {
+        let p: *mut PNIO_AR_TYPE = &mut t.ar;
+        // SAFETY: a callback the program gave PNIO_device_open, callable until
+        // PNIO_device_close; `p` and what it points to live until the call returned.
+        invoke_device(|| unsafe { f(dev.handle, number, key, p) });
+    }
+}
+
+/// `CHECK_IND` for a submodule the PLC expects other than plugged; plugs what the program
+/// answers as proper or substituted if it is not what is plugged.
+fn check_ind(
+    dev: &Device,
+    occupants: &mut Occupants,
+    number: u16,
+    key: u16,
+    e: &ExpectedSubmodule,
+    plugged: (u32, u32),
+) {
+    let Some(f) = dev.cbf.cbf_check_ind else {
+        return;
+    };
+    let mut addr = PNIO_DEV_ADDR::geo(PNIO_IO_IN, e.slot.into(), e.subslot.into());
+    let mut mod_ident = plugged.0;
+    let mut mod_state = if plugged.0 == e.module_ident {
+        PNIO_MOD_STATE_PROPER_MODULE
+    } else {
+        PNIO_MOD_STATE_WRONG_MODULE
+    } as u16;
+    let mut sub_ident = plugged.1;
+    let mut sub_state = PNIO_SUB_CHECK_WRONG_SUBMODULE as u16;
+    {
+        let pa: *mut PNIO_DEV_ADDR = &mut addr;
+        let (pmi, pms, psi, pss): (*mut u32, *mut u16, *mut u32, *mut u16) = (
+            &mut mod_ident,
+            &mut mod_state,
+            &mut sub_ident,
+            &mut sub_state,
+        );
+        // SAFETY: a callback the program gave PNIO_device_open, callable until
+        // PNIO_device_close; every pointer is valid for the call.
+        invoke_device(|| unsafe { f(dev.handle, e.api, number, key, pa, pmi, pms, psi, pss) });
+    }
+    let ident_bits = u32::from(sub_state) & PNIO_SUB_STATE_IDENT_MASK;
+    let takes =
+        ident_bits == PNIO_SUB_STATE_IDENT_OK || ident_bits == PNIO_SUB_STATE_IDENT_SUBSTITUTE;
+    let idents = (mod_ident, sub_ident);
+    if !takes || idents == plugged {
+        return;
+    }
+    let at: Pos = (e.api, e.slot, e.subslot);
+    if plug(&lock(&dev.client), occupants, at, idents) == PNIO_OK {
+        let mut c = lock(&dev.config);
+        c.subs.insert(at, idents.1);
+        c.modules.insert((at.0, at.1), idents.0);
+    }
+}
+
+/// The station reports the AR at `state`.
+fn progress(dev: &Device, state: &str, ar_uuid: &str) {
+    let target = match state {
+        "parameterized" => Phase::PrmEnd,
+        "data" => Phase::InData,
+        _ => return,
+    };
+    let (number, key, apdu_pending) = {
+        let mut ars = lock(&dev.ars);
+        let Some(ar) = ars.current.as_mut().filter(|a| a.uuid == ar_uuid) else {
+            return;
+        };
+        if ar.phase >= target {
+            return;
+        }
+        ar.phase = target;
+        let pending = if target == Phase::InData {
+            ar.apdu_pending.take()
+        } else {
+            None
+        };
+        (ar.number, ar.session_key, pending)
+    };
+    match target {
+        Phase::PrmEnd => {
+            if let Some(f) = dev.cbf.cbf_prm_end_ind {
+                // SAFETY: a callback the program gave PNIO_device_open, callable until
+                // PNIO_device_close (which waits for this thread).
+                invoke_device(|| unsafe { f(dev.handle, number, key, 0, 0, 0) });
+            }
+        }
+        _ => {
+            if let Some(f) = dev.cbf.cbf_ar_indata_ind {
+                // SAFETY: as above.
+                invoke_device(|| unsafe { f(dev.handle, number, key) });
+            }
+            if let Some(running) = apdu_pending {
+                apdu(dev, number, key, running);
+            }
+        }
+    }
+}
+
+/// Delivers the station's notifications until the AR `uuid` has ended (its callback given)
+/// or `timeout` passed; then, if it is still current, ends it with `PNIO_AR_REASON_ABORT`.
+pub(crate) fn until_ended(dev: &Device, occupants: &mut Occupants, uuid: &str, timeout: Duration) {
+    let until = Instant::now() + timeout;
+    let current = |dev: &Device| {
+        lock(&dev.ars)
+            .current
+            .as_ref()
+            .is_some_and(|a| a.uuid == uuid)
+    };
+    while current(dev) && Instant::now() < until {
+        let n = lock(&dev.services).try_next();
+        match n {
+            Some(n) => handle(dev, occupants, n),
+            None => std::thread::sleep(Duration::from_millis(10)),
+        }
+    }
+    let left = {
+        let mut ars = lock(&dev.ars);
+        match &ars.current {
+            Some(a) if a.uuid == uuid => ars.current.take(),
+            _ => None,
+        }
+    };
+    if let Some(ar) = left {
+        end(dev, &ar, PNIO_AR_REASON_ABORT);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reasons_are_the_abort_codes() {
+        assert_eq!(
+            reason_code("released by the PLC", false, false),
+            PNIO_AR_REASON_REL
+        );
+        assert_eq!(
+            reason_code(
+                "AR consumer data hold time expired (0x05): IO data timeout",
+                true,
+                false
+            ),
+            PNIO_AR_REASON_MISS
+        );
+        assert_eq!(
+            reason_code("AR device deactivated (0x10): this station", true, true),
+            PNIO_AR_REASON_PAS
+        );
+        assert_eq!(
+            reason_code("abort code 0x7f", true, true),
+            PNIO_AR_REASON_ABORT
+        );
+        assert_eq!(
+            reason_code("unspecified (0x00)", true, false),
+            PNIO_AR_REASON_NONE
+        );
+    }
+
+    #[test]
+    fn uuids_are_read_big_endian() {
+        let u = uuid("0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2");
+        assert_eq!(u.TimeLow, 0x0f2c0a43);
+        assert_eq!(u.TimeMid, 0x1b53);
+        assert_eq!(u.TimeHiAndVersion, 0x4a8f);
+        assert_eq!((u.ClockSeqHiAndReserved, u.ClockSeqLow), (0x9e, 0x57));
+        assert_eq!(u.Node, [0x8c, 0x4b, 0xd8, 0xb1, 0xf7, 0xa2]);
+        assert_eq!(uuid("none"), PNIO_UUID_TYPE::default());
+    }
+
+    #[test]
+    fn the_tree_has_a_module_per_slot_and_an_iocr_per_direction() {
+        let e = |slot, subslot, i, o| ExpectedSubmodule {
+            api: 0,
+            slot,
+            subslot,
+            module_ident: 0x10 + u32::from(slot),
+            submodule_ident: 1,
+            input_length: i,
+            output_length: o,
+            plugged: None,
+        };
+        let t = tree(
+            3,
+            7,
+            &[
+                e(1, 1, 2, 0),
+                e(0, 1, 0, 0),
+                e(0, 0x8000, 0, 0),
+                e(2, 1, 0, 4),
+            ],
+        );
+        assert_eq!((t.ar.ArNumber, t.ar.SessionKey), (3, 7));
+        assert_eq!((t.ar.NumOfIocr, t.ar.NumOfMod), (2, 3));
+        // SAFETY: the tree's pointers point into its own vectors, alive with it.
+        unsafe {
+            let m0 = &*t.ar.pModList;
+            assert_eq!((m0.SlotNum, m0.NumOfSubmod, m0.ModIdent), (0, 2, 0x10));
+            let m2 = &*t.ar.pModList.add(2);
+            let s = &*m2.pSubList;
+            assert_eq!(
+                (s.SubMProperties, s.OutDatLen, s.OutIocsLen, s.InIopsLen),
+                (2, 4, 1, 0)
+            );
+            let input = &*t.ar.pIoCrList;
+            let output = &*t.ar.pIoCrList.add(1);
+            assert_eq!(
+                (input.Direction, input.NumOfIoCs),
+                (PNIO_IOCR_TYPE_INPUT, 3)
+            );
+            assert_eq!(
+                (output.Direction, output.NumOfIoCs),
+                (PNIO_IOCR_TYPE_OUTPUT, 1)
+            );
+            assert_eq!((*output.pIoCsList).SlotNum, 2);
+        }
+    }
+}
