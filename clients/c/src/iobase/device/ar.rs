@@ -37,7 +37,10 @@
 //!    station problem); a change before data exchange is given right after
 //!    `AR_INDATA_IND`.
 //! 8. `PNIO_CBF_AR_OFFLINE_IND` when the AR ends after `AR_INDATA_IND`, else
-//!    `PNIO_CBF_AR_ABORT_IND`, with the reason of [`reason_code`].
+//!    `PNIO_CBF_AR_ABORT_IND`, with the reason of [`reason_code`]. An AR that a new
+//!    Connect replaced before its end was reported ends with `PNIO_AR_REASON_RERUN`; one
+//!    whose end a stop or `PNIO_device_ar_abort` waited for in vain (5 s) with
+//!    `PNIO_AR_REASON_ABORT`.
 //!
 //! Notifications about an AR whose check this device did not get (one that connected
 //! before `PNIO_device_open`) give no callbacks.
@@ -248,7 +251,7 @@ pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]
             }
         }
     }
-    let modules: Vec<PNIO_MODULE_TYPE> = keys
+    let mut modules: Vec<PNIO_MODULE_TYPE> = keys
         .iter()
         .zip(subs.iter_mut())
         .map(|(&(api, slot, ident), v)| PNIO_MODULE_TYPE {
@@ -275,7 +278,6 @@ pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]
             reserved: [0; 3],
         })
         .collect();
-    let mut modules = modules;
     let ar = PNIO_AR_TYPE {
         pNextAr: std::ptr::null_mut(),
         ArNumber: number,
@@ -367,13 +369,13 @@ fn apdu(dev: &Device, number: u16, key: u16, running: bool) {
 
 /// A PLC's Connect: `AR_CHECK_IND`, `CHECK_IND` per mismatch, the answer, `AR_INFO_IND`.
 fn new_ar(dev: &Device, occupants: &mut Occupants, check: &StationArCheckJob) {
+    let (number, key) = (lock(&dev.ars).next_number, check.session_key);
     let replaced = {
         let mut ars = lock(&dev.ars);
-        let number = ars.next_number;
-        ars.next_number = ars.next_number.checked_add(1).unwrap_or(1);
+        ars.next_number = number.checked_add(1).unwrap_or(1);
         ars.current.replace(Ar {
             number,
-            session_key: check.session_key,
+            session_key: key,
             uuid: check.ar_uuid.clone(),
             phase: Phase::Checked,
             apdu_pending: None,
@@ -382,10 +384,6 @@ fn new_ar(dev: &Device, occupants: &mut Occupants, check: &StationArCheckJob) {
     if let Some(old) = replaced {
         end(dev, &old, PNIO_AR_REASON_RERUN);
     }
-    let (number, key) = match &lock(&dev.ars).current {
-        Some(ar) => (ar.number, ar.session_key),
-        None => return,
-    };
     let mut ar = PNIO_AR_TYPE {
         pNextAr: std::ptr::null_mut(),
         ArNumber: number,
