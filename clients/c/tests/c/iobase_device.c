@@ -478,6 +478,8 @@ int main(void) {
     static const int indata[] = {EV_PRM_END, EV_INDATA, 0};
     int iin = wait_event(__LINE__, EV_INDATA, iprm);
     expect_order(__LINE__, iprm, iin, indata);
+    for (int i = 0; i < iin; i++)
+        CHECK(event(i).type != EV_APDU, "APDU_STATUS_IND before AR_INDATA_IND");
 
     /* ---- The program aborts the AR: OFFLINE_IND, and the PLC connects again ---- */
     CHECK_RC(PNIO_device_ar_abort(h, ar, sk), PNIO_OK);
@@ -515,6 +517,14 @@ int main(void) {
     CHECK(event(wait_event(__LINE__, EV_OFFLINE, iin2)).ar == chk2.ar,
           "OFFLINE_IND not for the second AR");
     CHECK_RC(PNIO_device_ar_abort(h, chk2.ar, chk2.sk), PNIO_ERR_SEQUENCE); /* stopped */
+    for (int i = 0; i < istop; i++) {
+        event_t e = event(i);
+        PNIO_UINT32 run = e.a & PNIO_EVENT_APDU_STATUS_RUN;
+        PNIO_UINT32 stp = e.a & PNIO_EVENT_APDU_STATUS_STOP;
+        if (e.type == EV_APDU)
+            CHECK((e.a & PNIO_EVENT_APDU_STATUS_STATION_OK) && (!run != !stp),
+                  "APDU_STATUS_IND 0x%x", (unsigned)e.a);
+    }
 
     /* ---- Pull, remove, close ---- */
     CHECK_RC(PNIO_mod_pull(h, 0, &a), PNIO_OK);

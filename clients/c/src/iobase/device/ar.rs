@@ -468,19 +468,25 @@ fn check_ind(
         // PNIO_device_close; every pointer is valid for the call.
         invoke_device(|| unsafe { f(dev.handle, e.api, number, key, pa, pmi, pms, psi, pss) });
     }
-    let ident_bits = u32::from(sub_state) & PNIO_SUB_STATE_IDENT_MASK;
-    let takes =
-        ident_bits == PNIO_SUB_STATE_IDENT_OK || ident_bits == PNIO_SUB_STATE_IDENT_SUBSTITUTE;
-    let idents = (mod_ident, sub_ident);
-    if !takes || idents == plugged {
+    let Some(idents) = substitute(plugged, (mod_ident, sub_ident), sub_state) else {
         return;
-    }
+    };
     let at: Pos = (e.api, e.slot, e.subslot);
     if plug(&lock(&dev.client), occupants, at, idents) == PNIO_OK {
         let mut c = lock(&dev.config);
         c.subs.insert(at, idents.1);
         c.modules.insert((at.0, at.1), idents.0);
     }
+}
+
+/// What `CHECK_IND`'s answer plugs at a position where `plugged` is: the ident numbers the
+/// program answered, if it says its submodule there is proper or a substitute and they are
+/// not what is plugged.
+fn substitute(plugged: (u32, u32), answer: (u32, u32), sub_state: u16) -> Option<(u32, u32)> {
+    let ident_bits = u32::from(sub_state) & PNIO_SUB_STATE_IDENT_MASK;
+    let takes =
+        ident_bits == PNIO_SUB_STATE_IDENT_OK || ident_bits == PNIO_SUB_STATE_IDENT_SUBSTITUTE;
+    (takes && answer != plugged).then_some(answer)
 }
 
 /// The station reports the AR at `state`.
@@ -585,6 +591,22 @@ mod tests {
             reason_code("unspecified (0x00)", true, false),
             PNIO_AR_REASON_NONE
         );
+    }
+
+    #[test]
+    fn check_ind_plugs_a_proper_or_substitute_answer() {
+        let plugged = (0x10, 2);
+        let proper = PNIO_SUB_CHECK_PROPER_SUBMODULE as u16;
+        let subst = PNIO_SUB_CHECK_SUBSTITUTED_SUBMODULE as u16;
+        let wrong = PNIO_SUB_CHECK_WRONG_SUBMODULE as u16;
+        assert_eq!(substitute(plugged, (0x10, 1), proper), Some((0x10, 1)));
+        assert_eq!(substitute(plugged, (0x10, 3), subst), Some((0x10, 3)));
+        assert_eq!(
+            substitute(plugged, (0x10, 1), wrong),
+            None,
+            "wrong: left as it is"
+        );
+        assert_eq!(substitute(plugged, plugged, proper), None, "already there");
     }
 
     #[test]
