@@ -7,11 +7,11 @@
 
 use super::callbacks::in_callback;
 use super::controller::lock;
-use super::device::ar::Phase;
+use super::device::ars::Phase;
 use super::device::config;
+use super::device::jobs::Job;
 use super::device::open::{self, OpenRequest};
 use super::device::state::{Device, Life, lookup, wrong_handle};
-use super::device::worker::Job;
 use super::device_types::*;
 use super::errors::fail;
 use super::errors::*;

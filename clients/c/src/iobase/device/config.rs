@@ -12,8 +12,9 @@
 //! four, answer `PNIO_ERR_PRM_INVALIDARG` (procimgd picks the alarm by what the PLC expects,
 //! and keeps I&M0FilterData itself).
 
-use super::state::{Config, Device, Life, Pos};
-use super::worker::Job;
+use super::Pos;
+use super::jobs::Job;
+use super::state::{Config, Device, Life};
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;

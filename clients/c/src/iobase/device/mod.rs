@@ -9,9 +9,14 @@
 //! * `state`: an open device, its lifecycle and the program's configuration, and the table of
 //!   handles;
 //! * `config`: the address and sequence checks of the configuration functions;
+//! * `jobs`: what the program's calls give the library thread, and the thread's handle;
 //! * `worker`: the library thread that carries plugs, pulls, start, stop and AR aborts out
 //!   on procimgd and calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED`, and
 //!   between them hands the station's notifications to `ar`;
+//! * `station`: a plug or pull on procimgd's station, and the IO-Base codes of its
+//!   refusals;
+//! * `ars`: the ARs as the program knows them (ArNumber, SessionKey, phase) and the checks
+//!   of the per-AR calls;
 //! * `ar`: the AR indications (`AR_CHECK_IND`, `CHECK_IND`, `AR_INFO_IND`, `PRM_END_IND`,
 //!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`) from the
 //!   station's notifications, the reason codes, and the ArNumber and SessionKey rules.
@@ -58,8 +63,14 @@
 //! PLC's Connect and data exchange procimgd refuses them, and the confirmation carries
 //! `PNIO_ERR_SEQUENCE`.
 
+/// API, slot, subslot.
+pub(crate) type Pos = (u32, u16, u16);
+
 pub(crate) mod ar;
+pub(crate) mod ars;
 pub(crate) mod config;
+pub(crate) mod jobs;
 pub(crate) mod open;
 pub(crate) mod state;
+pub(crate) mod station;
 pub(crate) mod worker;

@@ -299,7 +299,15 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
             submodule_ident: s.submodule_ident,
         })
         .collect();
-    Device::register(instance, cbf, req.high, positions, client, services)
+    Device::register(
+        instance,
+        cbf,
+        req.high,
+        positions,
+        client,
+        services,
+        super::worker::spawn,
+    )
 }
 
 #[cfg(test)]

@@ -3,8 +3,9 @@
 //! submodules), its ARs, its client, services handle and library thread; and the
 //! process-wide table of handles.
 
-use super::ar::Ars;
-use super::worker::{Job, Worker};
+use super::Pos;
+use super::ars::Ars;
+use super::jobs::{Job, Worker};
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::PNIO_CBF_FUNCTIONS;
 use crate::iobase::errors::*;
@@ -12,9 +13,6 @@ use procimg_client::{Client, Services};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
-
-/// API, slot, subslot.
-pub(crate) type Pos = (u32, u16, u16);
 
 /// Where a device stands in the manual's program sequence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -116,7 +114,8 @@ pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
 }
 
 impl Device {
-    /// Makes an opened device and starts its library thread; returns its handle.
+    /// Makes an opened device and starts its library thread with `spawn`; returns its
+    /// handle.
     pub(crate) fn register(
         instance: String,
         cbf: PNIO_CBF_FUNCTIONS,
@@ -124,6 +123,7 @@ impl Device {
         positions: Vec<Position>,
         client: Client,
         services: Services,
+        spawn: impl FnOnce(Arc<Device>) -> std::io::Result<Worker>,
     ) -> Result<u32, u32> {
         let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
         let dev = Arc::new(Device {
@@ -144,7 +144,7 @@ impl Device {
             ars: Mutex::new(Ars::new()),
             worker: Mutex::new(None),
         });
-        let worker = Worker::start(dev.clone()).map_err(|e| {
+        let worker = spawn(dev.clone()).map_err(|e| {
             fail(
                 "PNIO_device_open",
                 PNIO_ERR_START_THREAD_FAILED,

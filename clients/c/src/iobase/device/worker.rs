@@ -6,17 +6,18 @@
 //! callbacks. All callbacks of a device come from this thread, so in the order of their
 //! causes (inside them only the IO data functions are allowed).
 
+use super::Pos;
 use super::ar;
-use super::state::{Device, Life, Pos};
+use super::jobs::{Job, Worker};
+use super::state::{Device, Life};
+use super::station::{Occupants, code_of, plug, pull};
 use crate::iobase::callbacks::invoke_device;
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
-use procimg_client::{Client, ControlError, Mode, PlugRefusal, Refusal};
-use std::collections::BTreeMap;
+use procimg_client::Mode;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, SyncSender, channel};
-use std::thread::JoinHandle;
+use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
 use std::time::Duration;
 
 /// How often the thread looks for the station's notifications while it has no job.
@@ -25,85 +26,14 @@ const POLL: Duration = Duration::from_millis(10);
 /// library ends it itself (`PNIO_AR_REASON_ABORT`).
 const END_WAIT: Duration = Duration::from_secs(5);
 
-/// What the library thread does.
-pub(crate) enum Job {
-    /// Plug the program's submodule at `at`; confirm with `PNIO_SUB_PLUG`.
-    Plug {
-        /// The API of the call.
-        api: u32,
-        /// Where.
-        at: Pos,
-        /// ModuleIdentNumber, SubmoduleIdentNumber.
-        idents: (u32, u32),
-        /// The program's address, for the confirmation.
-        addr: PNIO_DEV_ADDR,
-    },
-    /// Pull the program's submodules at `at` (a submodule, or a module's); confirm with
-    /// `action`. On failure the program keeps what `restore` says.
-    Pull {
-        /// The API of the call.
-        api: u32,
-        /// The submodules.
-        at: Vec<(Pos, u32)>,
-        /// `PNIO_SUB_PULL` or `PNIO_MOD_PULL`.
-        action: PNIO_DEV_ACTION,
-        /// The module to restore on failure (`PNIO_mod_pull`).
-        module: Option<((u32, u16), u32)>,
-        /// The program's address, for the confirmation.
-        addr: PNIO_DEV_ADDR,
-    },
-    /// Confirm a call that needs nothing of procimgd (`PNIO_mod_plug`).
-    Confirm {
-        /// The API of the call.
-        api: u32,
-        /// What is confirmed.
-        action: PNIO_DEV_ACTION,
-        /// The program's address.
-        addr: PNIO_DEV_ADDR,
-    },
-    /// `PNIO_device_start`: pull what the program did not plug, then OPERATE; the result
-    /// goes back to the caller.
-    Start(SyncSender<Result<(), (u32, String)>>),
-    /// `PNIO_device_stop`: OFFLINE, the current AR's `AR_OFFLINE_IND` or `AR_ABORT_IND`, then
-    /// `PNIO_CBF_DEVICE_STOPPED`.
-    Stop,
-    /// `PNIO_device_ar_abort` of the AR with this ArNumber: OFFLINE until the AR's end
-    /// callback was given, then OPERATE again.
-    Abort(u16),
+/// Starts the library thread of `dev`.
+pub(crate) fn spawn(dev: Arc<Device>) -> std::io::Result<Worker> {
+    let (jobs, rx) = channel();
+    let thread = std::thread::Builder::new()
+        .name(format!("pnio-dev-{}", dev.handle))
+        .spawn(move || run(dev, rx))?;
+    Ok(Worker::new(jobs, thread))
 }
-
-/// The library thread of a device.
-pub(crate) struct Worker {
-    jobs: Sender<Job>,
-    thread: JoinHandle<()>,
-}
-
-impl Worker {
-    /// Starts the thread for `dev`.
-    pub(crate) fn start(dev: Arc<Device>) -> std::io::Result<Worker> {
-        let (jobs, rx) = channel();
-        let thread = std::thread::Builder::new()
-            .name(format!("pnio-dev-{}", dev.handle))
-            .spawn(move || run(dev, rx))?;
-        Ok(Worker { jobs, thread })
-    }
-
-    /// Queues a job.
-    pub(crate) fn send(&self, job: Job) -> Result<(), u32> {
-        self.jobs.send(job).map_err(|_| PNIO_ERR_INTERNAL)
-    }
-
-    /// Lets the thread finish its jobs and waits for it.
-    pub(crate) fn stop(self) {
-        drop(self.jobs);
-        // A panic on that thread already ended it.
-        let _ = self.thread.join();
-    }
-}
-
-/// What procimgd has at each position, as far as this library knows: the configured ident
-/// numbers at first, then what the library plugged (`Some`) or pulled (`None`).
-pub(crate) type Occupants = BTreeMap<Pos, Option<(u32, u32)>>;
 
 fn run(dev: Arc<Device>, rx: Receiver<Job>) {
     let mut occupants: Occupants = dev
@@ -245,48 +175,6 @@ fn confirm(dev: &Device, api: u32, action: PNIO_DEV_ACTION, addr: &mut PNIO_DEV_
     }
 }
 
-/// Plugs `idents` at `at` on procimgd as the module doc says: into an empty position; a
-/// submodule there with the same ident numbers is taken; one with others is pulled first.
-pub(crate) fn plug(client: &Client, occupants: &mut Occupants, at: Pos, idents: (u32, u32)) -> u32 {
-    match client.plug_submodule(at, idents.0, idents.1) {
-        Ok(()) => {
-            occupants.insert(at, Some(idents));
-            return PNIO_OK;
-        }
-        Err(e) if !already_plugged(&e) => return code_of(&e),
-        Err(_) => {}
-    }
-    if occupants.get(&at) == Some(&Some(idents)) {
-        return PNIO_OK;
-    }
-    let code = pull(client, occupants, at);
-    if code != PNIO_OK {
-        return code;
-    }
-    match client.plug_submodule(at, idents.0, idents.1) {
-        Ok(()) => {
-            occupants.insert(at, Some(idents));
-            PNIO_OK
-        }
-        Err(e) => code_of(&e),
-    }
-}
-
-/// Pulls what procimgd has at `at` (nothing there is as good as pulled).
-fn pull(client: &Client, occupants: &mut Occupants, at: Pos) -> u32 {
-    match client.pull_submodule(at) {
-        Ok(()) => {
-            occupants.insert(at, None);
-            PNIO_OK
-        }
-        Err(e) if not_plugged(&e) => {
-            occupants.insert(at, None);
-            PNIO_OK
-        }
-        Err(e) => code_of(&e),
-    }
-}
-
 /// `PNIO_device_start`: pulls the positions outside slot 0 that the program did not plug,
 /// then takes procimgd to OPERATE. `Err` with the code and the text for the caller.
 fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
@@ -315,39 +203,4 @@ fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
             format!("instance \"{}\" did not take OPERATE: {e}", dev.instance),
         )
     })
-}
-
-/// Why procimgd refused a plug, pull or return, if it did.
-fn plug_refusal(e: &ControlError) -> Option<PlugRefusal> {
-    match e {
-        ControlError::Refused(Refusal::StationPlug { refused, .. }) => Some(*refused),
-        _ => None,
-    }
-}
-
-/// procimgd refused a plug because a submodule is plugged there.
-fn already_plugged(e: &ControlError) -> bool {
-    plug_refusal(e) == Some(PlugRefusal::AlreadyPlugged)
-}
-
-/// procimgd refused a pull because nothing is plugged there.
-fn not_plugged(e: &ControlError) -> bool {
-    plug_refusal(e) == Some(PlugRefusal::NotPlugged)
-}
-
-/// The IO-Base code for a failed request: a plug or pull between the PLC's Connect and data
-/// exchange is out of sequence, one at a position the station lacks a parameter error; no
-/// answer from procimgd is no firmware communication.
-pub(crate) fn code_of(e: &ControlError) -> u32 {
-    match e {
-        ControlError::Refused(Refusal::StationPlug { refused, .. }) => match refused {
-            PlugRefusal::ArStartingUp | PlugRefusal::NotInDataExchange => PNIO_ERR_SEQUENCE,
-            PlugRefusal::NotConfigured | PlugRefusal::AlreadyPlugged | PlugRefusal::NotPlugged => {
-                PNIO_ERR_PRM_ADD
-            }
-        },
-        ControlError::Refused(Refusal::BadRequest { .. }) => PNIO_ERR_PRM_ADD,
-        ControlError::Refused(_) | ControlError::NotDevice { .. } => PNIO_ERR_INTERNAL,
-        _ => PNIO_ERR_NO_FW_COMMUNICATION,
-    }
 }
