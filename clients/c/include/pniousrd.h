@@ -13,10 +13,26 @@
  * Status: this version of libprocimg defines the management and configuration functions
  * (PNIO_device_open, _open_ext, _close, _start, _stop, PNIO_api_add, _add_ext, _remove,
  * PNIO_mod_plug, _pull, PNIO_sub_plug, _plug_ext, _plug_ext_IM, _pull) and the AR's
- * (PNIO_set_appl_state_ready, PNIO_device_ar_abort), and calls PNIO_CBF_PULL_PLUG_CONF,
- * PNIO_CBF_DEVICE_STOPPED and the AR callbacks. The other functions are declared but not
- * defined yet (a program calling them compiles but does not link), and the data, record,
- * alarm, LED and stop request callbacks are not called yet.
+ * (PNIO_set_appl_state_ready, PNIO_device_ar_abort) and the IO data
+ * (PNIO_initiate_data_write, _write_ext, _read, _read_ext), and calls PNIO_CBF_PULL_PLUG_CONF,
+ * PNIO_CBF_DEVICE_STOPPED, the AR callbacks and PNIO_CBF_DATA_WRITE/_READ. The other
+ * functions are declared but not defined yet (a program calling them compiles but does not
+ * link), and the record, alarm, LED and stop request callbacks are not called yet.
+ *
+ * IO data. PNIO_initiate_data_write(_ext) and _read(_ext) call PNIO_CBF_DATA_WRITE and
+ * PNIO_CBF_DATA_READ on the caller's thread, one call per submodule the program plugged that
+ * has I data (write) or Q data (read), and return when all returned; they may be called
+ * inside callbacks. The buffer is the library's copy of the image: for a write it starts as
+ * the I data last sent, and all submodules' I data goes out with the IOPS returned in one
+ * cycle; for a read it holds the newest Q data, and the IOCS returned reaches the PLC in the
+ * next cycle. A return value other than PNIO_S_GOOD counts as PNIO_S_BAD. From
+ * PNIO_device_start to PNIO_device_stop the library owns the program's I data on procimgd
+ * (until the first write the PLC gets it with IOPS BAD). The plain calls visit RT data; _ext
+ * selects by pAddr (NULL, a slot with subslot 0, or one submodule, in every API; one the
+ * program has not plugged: PNIO_ERR_PRM_ADD) and AccessType (PNIO_ACCESS_ALL_WITH_LOCK and
+ * PNIO_ACCESS_IRT_WITH_LOCK: PNIO_ERR_PRM_ACCESS_TYPE). Before start: PNIO_ERR_SEQUENCE;
+ * without an AR for which PNIO_set_appl_state_ready was called, or with nothing selected:
+ * PNIO_WARN_NO_SUBMODULES.
  *
  * ARs. From open to close the device checks the station's ARs and holds its
  * ApplicationReady. All callbacks come from one library thread, in the manual's order: for

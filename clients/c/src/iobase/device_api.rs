@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The exported device functions of `pniousrd.h` for management, configuration and AR
-//! control, with the signatures of `device_types::prototypes`. Each runs inside [`crate::ffi::guard`]: a panic
+//! The exported device functions of `pniousrd.h` for management, configuration, IO data
+//! and AR control, with the signatures of `device_types::prototypes`. Each runs inside [`crate::ffi::guard`]: a panic
 //! becomes `PNIO_ERR_INTERNAL` and a text, never an unwind into C. What they do on procimgd
 //! is in [`super::device`]'s documentation.
 #![allow(non_snake_case)]
@@ -9,6 +9,7 @@ use super::callbacks::in_callback;
 use super::controller::lock;
 use super::device::ars::Phase;
 use super::device::config;
+use super::device::data::{self as io, Classes, Direction};
 use super::device::jobs::Job;
 use super::device::open::{self, OpenRequest};
 use super::device::state::{Device, Life, lookup, wrong_handle};
@@ -664,3 +665,114 @@ const _: prototypes::PNIO_sub_plug_ext_IM = PNIO_sub_plug_ext_IM;
 const _: prototypes::PNIO_sub_pull = PNIO_sub_pull;
 const _: prototypes::PNIO_set_appl_state_ready = PNIO_set_appl_state_ready;
 const _: prototypes::PNIO_device_ar_abort = PNIO_device_ar_abort;
+
+/// The device for an IO data function: these may be called inside callbacks.
+fn data_device(f: &str, h: u32) -> Result<Arc<Device>, u32> {
+    lookup(h).ok_or_else(|| wrong_handle(f, h))
+}
+
+/// An IO data function after its arguments: `addr` NULL or readable.
+///
+/// # Safety
+/// `addr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+unsafe fn initiate(
+    f: &str,
+    h: u32,
+    addr: *const PNIO_DEV_ADDR,
+    access: Result<Classes, u32>,
+    dir: Direction,
+) -> u32 {
+    let dev = match data_device(f, h) {
+        Ok(d) => d,
+        Err(code) => return code,
+    };
+    let classes = match access {
+        Ok(c) => c,
+        Err(code) => return code,
+    };
+    // SAFETY: NULL or readable by the caller's contract.
+    let addr = (!addr.is_null()).then(|| unsafe { addr.read_unaligned() });
+    io::initiate(f, &dev, addr, classes, dir)
+}
+
+/// Calls `PNIO_CBF_DATA_WRITE` on this thread for each of the program's submodules with RT
+/// input data while an AR is up, and sends what they wrote with the IOPS they returned.
+///
+/// # Safety
+/// None beyond the C ABI; any value of `DevHndl` is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_initiate_data_write(DevHndl: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_initiate_data_write";
+    guard(PNIO_ERR_INTERNAL, || {
+        // SAFETY: no address.
+        unsafe {
+            initiate(
+                F,
+                DevHndl,
+                std::ptr::null(),
+                Ok(Classes::Rt),
+                Direction::Write,
+            )
+        }
+    })
+}
+
+/// `PNIO_initiate_data_write` for the submodules `pAddr` selects (NULL: all; subslot 0:
+/// the slot's) and the data `AccessType` selects.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_initiate_data_write_ext(
+    DevHndl: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+    AccessType: PNIO_ACCESS_ENUM,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_initiate_data_write_ext";
+    guard(PNIO_ERR_INTERNAL, || {
+        let access = Classes::of(F, AccessType);
+        // SAFETY: pAddr as the caller's contract says.
+        unsafe { initiate(F, DevHndl, pAddr, access, Direction::Write) }
+    })
+}
+
+/// Calls `PNIO_CBF_DATA_READ` on this thread for each of the program's submodules with RT
+/// output data while an AR is up, with the PLC's data and IOPS; the IOCS they return go to
+/// the PLC.
+///
+/// # Safety
+/// None beyond the C ABI; any value of `DevHndl` is checked.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_initiate_data_read(DevHndl: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_initiate_data_read";
+    guard(PNIO_ERR_INTERNAL, || {
+        // SAFETY: no address.
+        unsafe {
+            initiate(
+                F,
+                DevHndl,
+                std::ptr::null(),
+                Ok(Classes::Rt),
+                Direction::Read,
+            )
+        }
+    })
+}
+
+/// `PNIO_initiate_data_read` selected as `PNIO_initiate_data_write_ext` selects.
+///
+/// # Safety
+/// `pAddr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_initiate_data_read_ext(
+    DevHndl: PNIO_UINT32,
+    pAddr: *mut PNIO_DEV_ADDR,
+    AccessType: PNIO_ACCESS_ENUM,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_initiate_data_read_ext";
+    guard(PNIO_ERR_INTERNAL, || {
+        let access = Classes::of(F, AccessType);
+        // SAFETY: pAddr as the caller's contract says.
+        unsafe { initiate(F, DevHndl, pAddr, access, Direction::Read) }
+    })
+}

@@ -8,6 +8,9 @@
  * PNIO_set_appl_state_ready and AR_INDATA_IND; no CHECK_IND, as the demo PLC reads what
  * the station has plugged and expects that), ArNumber and SessionKey checks, PNIO_device_ar_abort and the PLC's
  * next AR, stop with AR_OFFLINE_IND before PNIO_CBF_DEVICE_STOPPED, pull, remove and close.
+ * Between them the IO data: PNIO_initiate_data_write/_read(_ext) with their checks, one
+ * inside AR_INDATA_IND, and a few hundred rounds of I data (a counter pattern, IOPS GOOD)
+ * until the PLC's Q data came back as I + 1 with IOPS GOOD.
  *
  * The demo's station: VendorID 0x0493, DeviceID 0x0100; the DAP in slot 0 (module and
  * submodule ident 1), slot 1 (module 0x10, submodule 1), slot 2 (module 0x20, submodule 1),
@@ -220,14 +223,47 @@ static void expect_conf(int line, int n, PNIO_UINT32 h, PNIO_DEV_ACTION action, 
 
 /* ---- The other callbacks ---------------------------------------------------------------- */
 
+/* The IO data callbacks: what they saw. The main loop sets `pattern` (written as I data)
+ * and reads `q`, `q_iops` (the PLC's Q data and IOPS). */
+typedef struct {
+    int writes, reads;
+    int bad_len, bad_addr, off_thread;
+    int from_main; /* whether the current initiate_* call is the program's main loop */
+    PNIO_UINT8 pattern;
+    PNIO_UINT8 q[8];
+    PNIO_IOXS q_iops;
+    PNIO_IOXS iocs; /* the PLC's IOCS of the I data last written */
+} io_t;
+static io_t io;
+
 static PNIO_IOXS data_write(PNIO_UINT32 h, PNIO_DEV_ADDR *a, PNIO_UINT32 len, PNIO_UINT8 *buf,
                             PNIO_IOXS rem) {
-    (void)h, (void)a, (void)len, (void)buf, (void)rem;
+    (void)h;
+    pthread_mutex_lock(&mu);
+    io.writes++;
+    if (len != 8) io.bad_len++;
+    if (a == NULL || a->AddrType != PNIO_ADDR_GEO || a->IODataType != PNIO_IO_IN ||
+        a->u.Geo.Slot != 1 || a->u.Geo.Subslot != 1)
+        io.bad_addr++;
+    if (io.from_main && !pthread_equal(pthread_self(), main_thread)) io.off_thread++;
+    for (PNIO_UINT32 i = 0; i < len && i < 8; i++) buf[i] = (PNIO_UINT8)(io.pattern + i);
+    io.iocs = rem;
+    pthread_mutex_unlock(&mu);
     return PNIO_S_GOOD;
 }
 static PNIO_IOXS data_read(PNIO_UINT32 h, PNIO_DEV_ADDR *a, PNIO_UINT32 len, PNIO_UINT8 *buf,
                            PNIO_IOXS rem) {
-    (void)h, (void)a, (void)len, (void)buf, (void)rem;
+    (void)h;
+    pthread_mutex_lock(&mu);
+    io.reads++;
+    if (len != 8) io.bad_len++;
+    if (a == NULL || a->AddrType != PNIO_ADDR_GEO || a->IODataType != PNIO_IO_OUT ||
+        a->u.Geo.Slot != 1 || a->u.Geo.Subslot != 1)
+        io.bad_addr++;
+    if (io.from_main && !pthread_equal(pthread_self(), main_thread)) io.off_thread++;
+    for (PNIO_UINT32 i = 0; i < len && i < 8; i++) io.q[i] = buf[i];
+    io.q_iops = rem;
+    pthread_mutex_unlock(&mu);
     return PNIO_S_GOOD;
 }
 static void rec(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_UINT32 seq,
@@ -270,8 +306,9 @@ static void ar_info_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_AR_T
     record(EV_AR_INFO, ar, sk, p->NumOfMod, p->NumOfIocr, slot1);
 }
 static void ar_indata_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk) {
-    (void)h;
-    record(EV_INDATA, ar, sk, 0, 0, 0);
+    /* The IO data functions are allowed inside a callback. */
+    PNIO_UINT32 rd = PNIO_initiate_data_read(h);
+    record(EV_INDATA, ar, sk, rd, 0, 0);
 }
 static void ar_abort_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_AR_REASON r) {
     (void)h;
@@ -435,6 +472,8 @@ int main(void) {
     expect_conf(__LINE__, ++n, h, PNIO_SUB_PLUG, 1, 1);
     CHECK_RC(PNIO_api_remove(h, 0), PNIO_ERR_SEQUENCE); /* it has modules */
     CHECK_RC(PNIO_set_appl_state_ready(h, 1, 0, NULL), PNIO_ERR_SEQUENCE); /* not started */
+    CHECK_RC(PNIO_initiate_data_write(h), PNIO_ERR_SEQUENCE);              /* not started */
+    CHECK_RC(PNIO_initiate_data_read(h), PNIO_ERR_SEQUENCE);
 
     /* ---- Start: slot 2, not plugged by the program, is pulled ---- */
     CHECK_RC(PNIO_device_start(h), PNIO_OK);
@@ -466,6 +505,9 @@ int main(void) {
         if (e.type == EV_PRM_END)
             CHECK(e.a == 0 && e.b == 0, "PRM_END_IND for one submodule");
     }
+    /* Before the application is ready nothing is exchanged. */
+    CHECK_RC(PNIO_initiate_data_write(h), PNIO_WARN_NO_SUBMODULES);
+    CHECK_RC(PNIO_initiate_data_read(h), PNIO_WARN_NO_SUBMODULES);
     CHECK_RC(PNIO_set_appl_state_ready(h, ar, (PNIO_UINT16)(sk + 1), NULL), PNIO_ERR_SESSION);
     CHECK_RC(PNIO_set_appl_state_ready(h, (PNIO_UINT16)(ar + 1), sk, NULL), PNIO_ERR_SEQUENCE);
     CHECK_RC(PNIO_set_appl_state_ready(wrong, ar, sk, NULL), PNIO_ERR_WRONG_HND);
@@ -480,6 +522,73 @@ int main(void) {
     expect_order(__LINE__, iprm, iin, indata);
     for (int i = 0; i < iin; i++)
         CHECK(event(i).type != EV_APDU, "APDU_STATUS_IND before AR_INDATA_IND");
+    CHECK(event(iin).a == PNIO_OK, "PNIO_initiate_data_read inside AR_INDATA_IND: 0x%x",
+          (unsigned)event(iin).a);
+
+    /* ---- Data exchange: I = a counter pattern, Q comes back as I + 1 (the demo PLC) ---- */
+    CHECK_RC(PNIO_initiate_data_write(wrong), PNIO_ERR_WRONG_HND);
+    CHECK_RC(PNIO_initiate_data_read(wrong), PNIO_ERR_WRONG_HND);
+    CHECK_RC(PNIO_initiate_data_write_ext(h, NULL, PNIO_ACCESS_ALL_WITH_LOCK),
+             PNIO_ERR_PRM_ACCESS_TYPE);
+    CHECK_RC(PNIO_initiate_data_read_ext(h, NULL, PNIO_ACCESS_IRT_WITH_LOCK),
+             PNIO_ERR_PRM_ACCESS_TYPE);
+    CHECK_RC(PNIO_initiate_data_read_ext(h, NULL, (PNIO_ACCESS_ENUM)9), PNIO_ERR_PRM_ACCESS_TYPE);
+    PNIO_DEV_ADDR pulled = at(2, 1);
+    CHECK_RC(PNIO_initiate_data_write_ext(h, &pulled, PNIO_ACCESS_RT_WITH_LOCK), PNIO_ERR_PRM_ADD);
+    /* No IRT data on this station: nothing to visit. */
+    CHECK_RC(PNIO_initiate_data_read_ext(h, NULL, PNIO_ACCESS_IRT_WITHOUT_LOCK),
+             PNIO_WARN_NO_SUBMODULES);
+    pthread_mutex_lock(&mu);
+    memset(&io, 0, sizeof io);
+    io.from_main = 1;
+    pthread_mutex_unlock(&mu);
+    PNIO_DEV_ADDR slot1 = at(1, 0);
+    int rounds = 0, echoed = 0, writes = 0, reads = 0;
+    unsigned char written[256] = {0};
+    /* A few hundred rounds, and on until the echo came (at most 4000 rounds). */
+    while ((rounds < 300 || !echoed) && rounds < 4000) {
+        PNIO_UINT8 c = (PNIO_UINT8)rounds;
+        pthread_mutex_lock(&mu);
+        io.pattern = c;
+        pthread_mutex_unlock(&mu);
+        written[c] = 1;
+        if (rounds % 2)
+            CHECK_RC(PNIO_initiate_data_write_ext(h, &slot1, PNIO_ACCESS_RT_WITHOUT_LOCK), PNIO_OK);
+        else
+            CHECK_RC(PNIO_initiate_data_write(h), PNIO_OK);
+        writes++;
+        if (rounds % 3)
+            CHECK_RC(PNIO_initiate_data_read(h), PNIO_OK);
+        else
+            CHECK_RC(PNIO_initiate_data_read_ext(h, NULL, PNIO_ACCESS_ALL_WITHOUT_LOCK), PNIO_OK);
+        reads++;
+        pthread_mutex_lock(&mu);
+        io_t seen = io;
+        pthread_mutex_unlock(&mu);
+        /* Q is some I written before, plus one: q[k] = c0 + k + 1. */
+        int match = seen.q_iops == PNIO_S_GOOD && written[(PNIO_UINT8)(seen.q[0] - 1)];
+        for (int k = 1; k < 8; k++)
+            if (seen.q[k] != (PNIO_UINT8)(seen.q[0] + k)) match = 0;
+        if (match) echoed++;
+        rounds++;
+        struct timespec pause = {0, 2 * 1000 * 1000};
+        nanosleep(&pause, NULL);
+    }
+    pthread_mutex_lock(&mu);
+    io_t seen = io;
+    io.from_main = 0;
+    pthread_mutex_unlock(&mu);
+    CHECK(echoed > 0, "Q never came back as I + 1 with IOPS GOOD in %d rounds: Q %02x %02x .. "
+          "IOPS 0x%x", rounds, seen.q[0], seen.q[1], (unsigned)seen.q_iops);
+    CHECK(seen.writes == writes && seen.reads == reads,
+          "DATA_WRITE %d times for %d calls, DATA_READ %d for %d", seen.writes, writes,
+          seen.reads, reads);
+    CHECK(seen.bad_len == 0 && seen.bad_addr == 0,
+          "the IO data callbacks saw %d wrong lengths and %d wrong addresses", seen.bad_len,
+          seen.bad_addr);
+    CHECK(seen.off_thread == 0, "%d IO data callbacks came off the caller's thread",
+          seen.off_thread);
+    CHECK(seen.iocs == PNIO_S_GOOD, "the PLC's IOCS of the I data is 0x%x", (unsigned)seen.iocs);
 
     /* ---- The program aborts the AR: OFFLINE_IND, and the PLC connects again ---- */
     CHECK_RC(PNIO_device_ar_abort(h, ar, sk), PNIO_OK);
@@ -517,6 +626,8 @@ int main(void) {
     CHECK(event(wait_event(__LINE__, EV_OFFLINE, iin2)).ar == chk2.ar,
           "OFFLINE_IND not for the second AR");
     CHECK_RC(PNIO_device_ar_abort(h, chk2.ar, chk2.sk), PNIO_ERR_SEQUENCE); /* stopped */
+    CHECK_RC(PNIO_initiate_data_write(h), PNIO_WARN_NO_SUBMODULES);           /* no AR */
+    CHECK_RC(PNIO_initiate_data_read(h), PNIO_WARN_NO_SUBMODULES);
     for (int i = 0; i < istop; i++) {
         event_t e = event(i);
         PNIO_UINT32 run = e.a & PNIO_EVENT_APDU_STATUS_RUN;

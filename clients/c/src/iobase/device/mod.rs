@@ -2,8 +2,9 @@
 //! The IO device side of the IO-Base API (`pniousrd.h`): management (`PNIO_device_open`,
 //! `_close`, `_start`, `_stop`), configuration (`PNIO_api_add`, `_remove`,
 //! `PNIO_mod_plug`, `_pull`, `PNIO_sub_plug`, `_ext`, `_ext_IM`, `PNIO_sub_pull`) and AR
-//! control (`PNIO_set_appl_state_ready`, `PNIO_device_ar_abort`, the AR callbacks) over
-//! procimgd's device role.
+//! control (`PNIO_set_appl_state_ready`, `PNIO_device_ar_abort`, the AR callbacks) and the
+//! IO data (`PNIO_initiate_data_write`, `_read` and their `_ext`, with `PNIO_CBF_DATA_WRITE`
+//! and `PNIO_CBF_DATA_READ`) over procimgd's device role.
 //!
 //! * `open`: the checks of `PNIO_device_open`'s parameters, and attaching to the station;
 //! * `state`: an open device, its lifecycle and the program's configuration, and the table of
@@ -17,6 +18,8 @@
 //!   refusals;
 //! * `ars`: the ARs as the program knows them (ArNumber, SessionKey, phase) and the checks
 //!   of the per-AR calls;
+//! * `data`: the IO data functions (the callbacks on the caller's thread, the IOxS they
+//!   return sent), and the claims of the program's I data from start to stop;
 //! * `ar`: the AR indications (`AR_CHECK_IND`, `CHECK_IND`, `AR_INFO_IND`, `PRM_END_IND`,
 //!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`) from the
 //!   station's notifications, the reason codes, and the ArNumber and SessionKey rules.
@@ -62,6 +65,25 @@
 //! `PNIO_ERR_SEQUENCE`) and reach the PLC as Pull, Plug or Plug Wrong alarms; between the
 //! PLC's Connect and data exchange procimgd refuses them, and the confirmation carries
 //! `PNIO_ERR_SEQUENCE`.
+//!
+//! # IO data
+//!
+//! The device's client of procimgd is asynchronous: the program exchanges data when it likes
+//! and procimgd's cycle never waits for it. From start to stop the client claims the I data
+//! of the program's submodules (and of each one plugged after start, released at each pull),
+//! so that the PLC gets them with the IOPS the program returns; before the first write they
+//! go with IOPS BAD. `PNIO_initiate_data_write(_ext)` calls `PNIO_CBF_DATA_WRITE` on the
+//! caller's thread for each of the program's submodules with I data (the PLC's IOCS of the I
+//! data sent before as `IOremState`, the buffer starting as last sent) and sends all of them
+//! with their IOPS in one sample; `PNIO_initiate_data_read(_ext)` calls
+//! `PNIO_CBF_DATA_READ` for each with Q data, with the newest image's Q data and the PLC's
+//! IOPS, and sends the IOCS returned. The plain calls visit RT data; `_ext` selects by
+//! `pAddr` (NULL, a slot with subslot 0, or one submodule; one the program has not plugged:
+//! `PNIO_ERR_PRM_ADD`) and `AccessType` (`ALL_WITH_LOCK` and `IRT_WITH_LOCK`, unsupported as
+//! in IO-Base, and unknown values: `PNIO_ERR_PRM_ACCESS_TYPE`). Before start they answer
+//! `PNIO_ERR_SEQUENCE`; with no AR that the program has called `PNIO_set_appl_state_ready`
+//! for, or nothing selected, `PNIO_WARN_NO_SUBMODULES`. They may be called inside callbacks.
+//! The buffers are copies, not the shared memory itself (see `data` for why).
 
 /// API, slot, subslot.
 pub(crate) type Pos = (u32, u16, u16);
@@ -69,6 +91,7 @@ pub(crate) type Pos = (u32, u16, u16);
 pub(crate) mod ar;
 pub(crate) mod ars;
 pub(crate) mod config;
+pub(crate) mod data;
 pub(crate) mod jobs;
 pub(crate) mod open;
 pub(crate) mod state;

@@ -8,6 +8,7 @@
 
 use super::Pos;
 use super::ar;
+use super::data;
 use super::jobs::{Job, Worker};
 use super::state::{Device, Life};
 use super::station::{Occupants, code_of, plug, pull};
@@ -73,7 +74,14 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
             idents,
             mut addr,
         } => {
-            let code = plug(&lock(&dev.client), occupants, at, idents);
+            let mut code = plug(&lock(&dev.client), occupants, at, idents);
+            let started = lock(&dev.config).life == Life::Started;
+            if code == PNIO_OK
+                && started
+                && data::claim(dev, &mut lock(&dev.client), &[at]).is_err()
+            {
+                code = PNIO_ERR_NO_CONNECTION;
+            }
             if code != PNIO_OK {
                 let mut c = lock(&dev.config);
                 if c.subs.get(&at) == Some(&idents.1) {
@@ -92,7 +100,10 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
             let mut code = PNIO_OK;
             let mut kept = Vec::new();
             {
-                let client = lock(&dev.client);
+                let mut client = lock(&dev.client);
+                for &(p, _) in &at {
+                    data::release(dev, &mut client, Some(p));
+                }
                 for (p, ident) in at {
                     let c = pull(&client, occupants, p);
                     if c != PNIO_OK {
@@ -126,6 +137,9 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
             };
             if let Some(uuid) = running {
                 ar::until_ended(dev, occupants, &uuid, END_WAIT);
+            }
+            if code == PNIO_OK {
+                data::release(dev, &mut lock(&dev.client), None);
             }
             lock(&dev.config).life = if code == PNIO_OK {
                 Life::Stopped
@@ -179,7 +193,7 @@ fn confirm(dev: &Device, api: u32, action: PNIO_DEV_ACTION, addr: &mut PNIO_DEV_
 /// then takes procimgd to OPERATE. `Err` with the code and the text for the caller.
 fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
     let mine: Vec<Pos> = lock(&dev.config).subs.keys().copied().collect();
-    let client = lock(&dev.client);
+    let mut client = lock(&dev.client);
     for p in &dev.positions {
         if p.at.1 == 0 || mine.contains(&p.at) || occupants.get(&p.at) == Some(&None) {
             continue;
@@ -197,6 +211,12 @@ fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
             ));
         }
     }
+    data::claim(dev, &mut client, &mine).map_err(|e| {
+        (
+            PNIO_ERR_NO_CONNECTION,
+            format!("instance \"{}\": {e}", dev.instance),
+        )
+    })?;
     client.control().set_mode(Mode::Operate).map_err(|e| {
         (
             code_of(&e),

@@ -1,0 +1,333 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The device's IO data: `PNIO_initiate_data_write(_ext)` and `PNIO_initiate_data_read(_ext)`
+//! after their handle checks, and the claims of the program's I data.
+//!
+//! The device's client of procimgd (attached at open, asynchronous: the program calls the
+//! `initiate_*` functions when it likes, as the manual says it need not follow the bus
+//! cycle, and a synchronous client would hold up procimgd's cycle between two of its calls)
+//! reads the newest image and writes without the STARTOP/OPDONE handshake. While the device
+//! is started the client claims the I data of the program's submodules (start, and each plug
+//! after it), so that the PLC gets them with the program's IOPS; it releases them at stop
+//! and at each pull.
+//!
+//! One call walks the program's submodules that have data in its direction (I data for a
+//! write: what the PLC reads; Q data for a read: what the PLC wrote), selected by `pAddr`
+//! (NULL: all; subslot 0: the slot's; else that one, in any API) and by RT class
+//! (`PNIO_ACCESS_*`), and calls the program's callback for each on the caller's thread. There
+//! is something to visit only while an AR is up and the program has called
+//! `PNIO_set_appl_state_ready` for it (else `PNIO_WARN_NO_SUBMODULES`, as inside
+//! `PRM_END_IND`); the program's submodules are the station's tree from start on, so they are
+//! taken as the AR's.
+//!
+//! Not zero-copy: the callbacks get a buffer of the library's, copied from or into the
+//! image. The Q data of the newest image is mapped read-only while `PNIO_CBF_DATA_READ`'s
+//! buffer is writable; and the client stays unlocked while callbacks run, because a callback
+//! may call `initiate_*` again and the library thread needs the client for plugs and pulls
+//! meanwhile. A write gathers every callback's I data and IOPS and sends them in one sample,
+//! applied whole in one cycle; the IOCS a read's callback returns reaches the PLC in the next
+//! cycle. What a callback returns other than `PNIO_S_GOOD` counts as `PNIO_S_BAD`.
+
+use super::Pos;
+use super::ars::Phase;
+use super::state::{Device, Life};
+use crate::iobase::callbacks::invoke_device;
+use crate::iobase::controller::lock;
+use crate::iobase::device_types::*;
+use crate::iobase::errors::*;
+use crate::iobase::types::{
+    PNIO_ADDR_GEO, PNIO_IO_IN, PNIO_IO_OUT, PNIO_IOXS, PNIO_S_BAD, PNIO_S_GOOD,
+};
+use procimg_client::{Client, IoError, Ioxs};
+use procimg_shm_layout::{NO_ADDRESS, RT_CLASS_3};
+
+/// Which data the call visits, by RT class (`PNIO_ACCESS_ENUM`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Classes {
+    /// RT and IRT.
+    All,
+    /// RT only (the plain calls).
+    Rt,
+    /// IRT only.
+    Irt,
+}
+
+impl Classes {
+    /// The classes `AccessType` selects, or the code for one the manual marks unsupported
+    /// or does not have.
+    pub(crate) fn of(f: &str, access: PNIO_ACCESS_ENUM) -> Result<Classes, u32> {
+        match access {
+            PNIO_ACCESS_ALL_WITHOUT_LOCK => Ok(Classes::All),
+            PNIO_ACCESS_RT_WITH_LOCK | PNIO_ACCESS_RT_WITHOUT_LOCK => Ok(Classes::Rt),
+            PNIO_ACCESS_IRT_WITHOUT_LOCK => Ok(Classes::Irt),
+            PNIO_ACCESS_ALL_WITH_LOCK | PNIO_ACCESS_IRT_WITH_LOCK => Err(fail(
+                f,
+                PNIO_ERR_PRM_ACCESS_TYPE,
+                format_args!("AccessType {access} is not supported (as in IO-Base)"),
+            )),
+            _ => Err(fail(
+                f,
+                PNIO_ERR_PRM_ACCESS_TYPE,
+                format_args!("AccessType {access} is not a PNIO_ACCESS_ENUM value"),
+            )),
+        }
+    }
+
+    fn has(self, rt_class: u8) -> bool {
+        match self {
+            Classes::All => true,
+            Classes::Rt => rt_class != RT_CLASS_3,
+            Classes::Irt => rt_class == RT_CLASS_3,
+        }
+    }
+}
+
+/// The direction of a call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Direction {
+    /// `initiate_data_write`: the I data, `PNIO_CBF_DATA_WRITE`.
+    Write,
+    /// `initiate_data_read`: the Q data, `PNIO_CBF_DATA_READ`.
+    Read,
+}
+
+fn pnio(v: Ioxs) -> PNIO_IOXS {
+    match v {
+        Ioxs::Good => PNIO_S_GOOD,
+        Ioxs::Bad => PNIO_S_BAD,
+    }
+}
+
+fn ioxs(v: PNIO_IOXS) -> Ioxs {
+    if v == PNIO_S_GOOD {
+        Ioxs::Good
+    } else {
+        Ioxs::Bad
+    }
+}
+
+/// The layout indexes of the submodules at `mine` with I data the client can claim.
+fn claimable(dev: &Device, client: &Client, mine: &[Pos]) -> Vec<usize> {
+    client
+        .layout()
+        .submodules
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.output_length > 0 && e.output_address != NO_ADDRESS)
+        .filter(|(i, _)| mine.contains(&dev.positions[*i].at))
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// Claims the I data of the program's submodules at `mine` that the client does not hold
+/// yet.
+pub(crate) fn claim(dev: &Device, client: &mut Client, mine: &[Pos]) -> Result<(), String> {
+    let want: Vec<usize> = claimable(dev, client, mine)
+        .into_iter()
+        .filter(|&s| !client.holds(s))
+        .collect();
+    if want.is_empty() {
+        return Ok(());
+    }
+    client
+        .claim(&want)
+        .map_err(|e| format!("cannot claim the program's I data: {e}"))
+}
+
+/// Releases what the client holds: everything, or the submodule at `at`.
+pub(crate) fn release(dev: &Device, client: &mut Client, at: Option<Pos>) {
+    let held: Vec<usize> = (0..dev.positions.len())
+        .filter(|&s| client.holds(s) && at.is_none_or(|a| a == dev.positions[s].at))
+        .collect();
+    if !held.is_empty() {
+        // A server that is gone holds nothing any more.
+        let _ = client.release(&held);
+    }
+}
+
+/// One submodule a call visits.
+struct Visit {
+    slot: u16,
+    subslot: u16,
+    address: u32,
+    buf: Vec<u8>,
+    remote: Ioxs,
+    local: PNIO_IOXS,
+}
+
+fn io_failure(f: &str, dev: &Device, e: IoError) -> u32 {
+    match e {
+        IoError::NotClaimed { .. } => fail(
+            f,
+            PNIO_ERR_NO_CONNECTION,
+            format_args!(
+                "{e}: the I data claim was lost (instance \"{}\" restarted?)",
+                dev.instance
+            ),
+        ),
+        IoError::NotDelivered(_) => fail(f, PNIO_ERR_NO_RESOURCE, e),
+        _ => fail(f, PNIO_ERR_NO_CONNECTION, e),
+    }
+}
+
+/// `PNIO_initiate_data_write(_ext)` and `PNIO_initiate_data_read(_ext)` after the handle
+/// check: `addr` is the `pAddr` read (None for NULL).
+pub(crate) fn initiate(
+    f: &str,
+    dev: &Device,
+    addr: Option<PNIO_DEV_ADDR>,
+    classes: Classes,
+    dir: Direction,
+) -> u32 {
+    let filter = match addr {
+        None => None,
+        Some(a) if a.AddrType != PNIO_ADDR_GEO => {
+            return fail(
+                f,
+                PNIO_ERR_PRM_ADD,
+                format_args!(
+                    "pAddr->AddrType is {}; device addresses are geographical \
+                     (PNIO_ADDR_GEO)",
+                    a.AddrType
+                ),
+            );
+        }
+        Some(a) => {
+            // SAFETY: every field of the union's variants is an integer.
+            let g = unsafe { a.u.Geo };
+            Some((g.Slot, g.Subslot))
+        }
+    };
+    let life = lock(&dev.config).life;
+    if life == Life::Opened {
+        return fail(
+            f,
+            PNIO_ERR_SEQUENCE,
+            "the device is not started: call PNIO_device_start, then exchange data after \
+             PNIO_CBF_AR_INDATA_IND",
+        );
+    }
+    let mine: Vec<Pos> = lock(&dev.config).subs.keys().copied().collect();
+    let chosen: Vec<usize> = (0..dev.positions.len())
+        .filter(|&i| mine.contains(&dev.positions[i].at))
+        .filter(|&i| {
+            let (_, slot, subslot) = dev.positions[i].at;
+            filter
+                .is_none_or(|(s, ss)| s == u32::from(slot) && (ss == 0 || ss == u32::from(subslot)))
+        })
+        .collect();
+    if let Some((slot, subslot)) = filter
+        && chosen.is_empty()
+    {
+        return fail(
+            f,
+            PNIO_ERR_PRM_ADD,
+            format_args!("the program has plugged no submodule at slot {slot} subslot {subslot}"),
+        );
+    }
+    let in_ar = lock(&dev.ars)
+        .current
+        .as_ref()
+        .is_some_and(|a| a.phase >= Phase::ApplReady);
+    if !in_ar {
+        return PNIO_WARN_NO_SUBMODULES;
+    }
+    let mut visits = Vec::new();
+    {
+        let mut client = lock(&dev.client);
+        let entries = client.layout().submodules.clone();
+        for i in chosen {
+            let e = entries[i];
+            let (len, address) = match dir {
+                Direction::Write => (e.output_length, e.output_address),
+                Direction::Read => (e.input_length, e.input_address),
+            };
+            if len == 0 || address == NO_ADDRESS || !classes.has(e.rt_class) {
+                continue;
+            }
+            let mut buf = vec![0u8; len as usize];
+            let remote = match dir {
+                // The I data as last sent, with the PLC's IOCS of it.
+                Direction::Write => match client.output_data_read(address, &mut buf) {
+                    Ok(r) => r.remote,
+                    Err(e) => return io_failure(f, dev, e),
+                },
+                Direction::Read => match client.newest_input(i) {
+                    Ok(Some(q)) => {
+                        let n = buf.len().min(q.len());
+                        buf[..n].copy_from_slice(&q[..n]);
+                        match client.newest_status(i) {
+                            Ok(st) => st.map_or(Ioxs::Bad, |st| st.input_remote),
+                            Err(e) => return io_failure(f, dev, e),
+                        }
+                    }
+                    Ok(None) => continue,
+                    Err(e) => return io_failure(f, dev, e),
+                },
+            };
+            let (_, slot, subslot) = dev.positions[i].at;
+            visits.push(Visit {
+                slot,
+                subslot,
+                address,
+                buf,
+                remote,
+                local: PNIO_S_BAD,
+            });
+        }
+    }
+    if visits.is_empty() {
+        return PNIO_WARN_NO_SUBMODULES;
+    }
+    for v in &mut visits {
+        let io_type = match dir {
+            Direction::Write => PNIO_IO_IN,
+            Direction::Read => PNIO_IO_OUT,
+        };
+        let mut a = PNIO_DEV_ADDR::geo(io_type, u32::from(v.slot), u32::from(v.subslot));
+        let pa: *mut PNIO_DEV_ADDR = &mut a;
+        let len = v.buf.len() as u32;
+        let pb = v.buf.as_mut_ptr();
+        let rem = pnio(v.remote);
+        let mut local = PNIO_S_BAD;
+        match dir {
+            Direction::Write => {
+                if let Some(cb) = dev.cbf.cbf_data_write {
+                    // SAFETY: the program's PNIO_CBF_DATA_WRITE, callable until close; `pa`
+                    // and `pb` (BufLen bytes) are valid for the call.
+                    invoke_device(|| local = unsafe { cb(dev.handle, pa, len, pb, rem) });
+                }
+            }
+            Direction::Read => {
+                if let Some(cb) = dev.cbf.cbf_data_read {
+                    // SAFETY: the program's PNIO_CBF_DATA_READ, callable until close; `pa`
+                    // and `pb` (BufLen bytes) are valid for the call.
+                    invoke_device(|| local = unsafe { cb(dev.handle, pa, len, pb, rem) });
+                }
+            }
+        }
+        v.local = local;
+    }
+    let mut client = lock(&dev.client);
+    match dir {
+        Direction::Write => {
+            for v in &visits {
+                if let Err(e) = client.data_write_cache(v.address, &v.buf, ioxs(v.local)) {
+                    return io_failure(f, dev, e);
+                }
+            }
+            if let Err(e) = client.data_write_cache_flush() {
+                return io_failure(f, dev, e);
+            }
+        }
+        Direction::Read => {
+            for v in &visits {
+                // Reads again only to hand the IOCS over; sent when it changed.
+                let mut scratch = vec![0u8; v.buf.len()];
+                if let Err(e) = client.data_read(v.address, &mut scratch, ioxs(v.local)) {
+                    return io_failure(f, dev, e);
+                }
+            }
+        }
+    }
+    PNIO_OK
+}
