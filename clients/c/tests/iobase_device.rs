@@ -6,8 +6,8 @@
 //! confirmations, start, the AR indications in the manual's order with
 //! `PNIO_set_appl_state_ready`, ArNumber and SessionKey checks, `PNIO_device_ar_abort` and
 //! the PLC's next AR, the IO data (`PNIO_initiate_data_write`/`_read` and `_ext`: I data
-//! out with IOPS GOOD until the PLC's Q data comes back as I + 1, the callbacks' lengths and
-//! addresses), stop (`AR_OFFLINE_IND` before `DEVICE_STOPPED`) and close; and the
+//! out with IOPS GOOD until the PLC's Q data comes back as I + 1, then with IOPS BAD until
+//! the PLC takes it as zeros, the callbacks' lengths and addresses), stop (`AR_OFFLINE_IND` before `DEVICE_STOPPED`) and close; and the
 //! functions called from Rust check what the PLC sees: the AR ends at open (OFFLINE), the
 //! program's tree once it started (a position with other ident numbers pulled and plugged,
 //! one it did not plug pulled), data exchange after `PNIO_set_appl_state_ready`, and the

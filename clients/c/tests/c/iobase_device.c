@@ -10,7 +10,8 @@
  * next AR, stop with AR_OFFLINE_IND before PNIO_CBF_DEVICE_STOPPED, pull, remove and close.
  * Between them the IO data: PNIO_initiate_data_write/_read(_ext) with their checks, one
  * inside AR_INDATA_IND, and a few hundred rounds of I data (a counter pattern, IOPS GOOD)
- * until the PLC's Q data came back as I + 1 with IOPS GOOD.
+ * until the PLC's Q data came back as I + 1 with IOPS GOOD, then IOPS BAD until the PLC
+ * took the I data as zeros.
  *
  * The demo's station: VendorID 0x0493, DeviceID 0x0100; the DAP in slot 0 (module and
  * submodule ident 1), slot 1 (module 0x10, submodule 1), slot 2 (module 0x20, submodule 1),
@@ -233,6 +234,7 @@ typedef struct {
     PNIO_UINT8 q[8];
     PNIO_IOXS q_iops;
     PNIO_IOXS iocs; /* the PLC's IOCS of the I data last written */
+    PNIO_IOXS iops; /* what DATA_WRITE returns */
 } io_t;
 static io_t io;
 
@@ -248,8 +250,9 @@ static PNIO_IOXS data_write(PNIO_UINT32 h, PNIO_DEV_ADDR *a, PNIO_UINT32 len, PN
     if (io.from_main && !pthread_equal(pthread_self(), main_thread)) io.off_thread++;
     for (PNIO_UINT32 i = 0; i < len && i < 8; i++) buf[i] = (PNIO_UINT8)(io.pattern + i);
     io.iocs = rem;
+    PNIO_IOXS iops = io.iops;
     pthread_mutex_unlock(&mu);
-    return PNIO_S_GOOD;
+    return iops;
 }
 static PNIO_IOXS data_read(PNIO_UINT32 h, PNIO_DEV_ADDR *a, PNIO_UINT32 len, PNIO_UINT8 *buf,
                            PNIO_IOXS rem) {
@@ -540,6 +543,7 @@ int main(void) {
              PNIO_WARN_NO_SUBMODULES);
     pthread_mutex_lock(&mu);
     memset(&io, 0, sizeof io);
+    io.iops = PNIO_S_GOOD;
     io.from_main = 1;
     pthread_mutex_unlock(&mu);
     PNIO_DEV_ADDR slot1 = at(1, 0);
@@ -589,6 +593,30 @@ int main(void) {
     CHECK(seen.off_thread == 0, "%d IO data callbacks came off the caller's thread",
           seen.off_thread);
     CHECK(seen.iocs == PNIO_S_GOOD, "the PLC's IOCS of the I data is 0x%x", (unsigned)seen.iocs);
+
+    /* IOPS BAD: the demo PLC takes the I data as zeros, so Q comes back as 01 .. 01. */
+    pthread_mutex_lock(&mu);
+    io.iops = PNIO_S_BAD;
+    io.from_main = 1;
+    pthread_mutex_unlock(&mu);
+    int zeros = 0;
+    for (rounds = 0; !zeros && rounds < 4000; rounds++) {
+        CHECK_RC(PNIO_initiate_data_write(h), PNIO_OK);
+        CHECK_RC(PNIO_initiate_data_read(h), PNIO_OK);
+        pthread_mutex_lock(&mu);
+        io_t q = io;
+        pthread_mutex_unlock(&mu);
+        zeros = q.q_iops == PNIO_S_GOOD;
+        for (int k = 0; k < 8; k++)
+            if (q.q[k] != 1) zeros = 0;
+        struct timespec pause = {0, 2 * 1000 * 1000};
+        nanosleep(&pause, NULL);
+    }
+    pthread_mutex_lock(&mu);
+    io.iops = PNIO_S_GOOD;
+    io.from_main = 0;
+    pthread_mutex_unlock(&mu);
+    CHECK(zeros, "with IOPS BAD the PLC did not take the I data as zeros in %d rounds", rounds);
 
     /* ---- The program aborts the AR: OFFLINE_IND, and the PLC connects again ---- */
     CHECK_RC(PNIO_device_ar_abort(h, ar, sk), PNIO_OK);
