@@ -160,7 +160,8 @@ fn io_failure(f: &str, dev: &Device, e: IoError) -> u32 {
             f,
             PNIO_ERR_NO_CONNECTION,
             format_args!(
-                "{e}: the I data claim was lost (instance \"{}\" restarted?)",
+                "{e}: the device does not own this I data on instance \"{}\" (another \
+                 client of it does, or it restarted)",
                 dev.instance
             ),
         ),

@@ -74,13 +74,12 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
             idents,
             mut addr,
         } => {
-            let mut code = plug(&lock(&dev.client), occupants, at, idents);
+            let code = plug(&lock(&dev.client), occupants, at, idents);
             let started = lock(&dev.config).life == Life::Started;
-            if code == PNIO_OK
-                && started
-                && data::claim(dev, &mut lock(&dev.client), &[at]).is_err()
-            {
-                code = PNIO_ERR_NO_CONNECTION;
+            if code == PNIO_OK && started {
+                // Plugged all the same: without the claim the PLC gets the I data with IOPS
+                // BAD, and PNIO_initiate_data_write says why.
+                let _ = data::claim(dev, &mut lock(&dev.client), &[at]);
             }
             if code != PNIO_OK {
                 let mut c = lock(&dev.config);
@@ -113,6 +112,12 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
                 }
             }
             if code != PNIO_OK {
+                let started = lock(&dev.config).life == Life::Started;
+                if started {
+                    // The program keeps these: its I data too.
+                    let at: Vec<Pos> = kept.iter().map(|&(p, _)| p).collect();
+                    let _ = data::claim(dev, &mut lock(&dev.client), &at);
+                }
                 let mut c = lock(&dev.config);
                 c.subs.extend(kept);
                 if let Some((m, ident)) = module {
