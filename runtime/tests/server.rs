@@ -412,7 +412,8 @@ fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
     let server = Procimgd::demo("fetched");
     let mut c = Client::attach(&server.instance, AttachOptions::synchronous("fetched")).unwrap();
     // With the bug, wait_startop never handed out the cycle data_read had fetched (it waited
-    // for the next one); now it does, unless a newer cycle arrived in between (then that one).
+    // for the next one); now it does, unless a newer cycle arrived in between (then that one,
+    // which a loaded machine makes common: only the bug makes it every time).
     let mut same = 0;
     for _ in 0..20 {
         let cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
@@ -430,8 +431,8 @@ fn wait_startop_hands_out_a_cycle_another_call_already_fetched() {
         cycle.set_opdone().unwrap();
     }
     assert!(
-        same >= 15,
-        "the fetched cycle was handed out only {same} times in 20"
+        same > 0,
+        "the fetched cycle was never handed out in 20 tries: wait_startop skips it"
     );
 }
 
