@@ -5,7 +5,7 @@
 //! C++17 compiler see them. A program generated from the Rust facts checks them all and
 //! names each mismatch.
 //!
-//! Not every device function is implemented yet, so the programs do not link them: a
+//! Not every device function is implemented yet, so the programs do not use them: a
 //! prototype is compared in unevaluated contexts only, C11 with `_Generic` on the function's
 //! address, C++17 with `std::is_same` on its `decltype`. C's `_Generic` takes an
 //! enum for the integer type it is compatible with; C++ tells them apart. The size of each
@@ -27,10 +27,8 @@ fn header() -> String {
     std::fs::read_to_string(include_dir().join("pniousrd.h")).expect("read include/pniousrd.h")
 }
 
-/// `(C type, size, alignment)`.
-type Sizes = Vec<(&'static str, usize, usize)>;
-/// `(C type, C member designator, offset)`.
-type Offsets = Vec<(&'static str, &'static str, usize)>;
+mod layout_check;
+use layout_check::{Offsets, Sizes};
 
 fn layout_facts() -> (Sizes, Offsets) {
     let mut sizes: Sizes = Vec::new();
@@ -425,43 +423,13 @@ fn program(cpp: bool) -> (String, usize) {
     let mut s = String::new();
     // With the controller header: a program may use both roles.
     writeln!(s, "#include \"pniousrd.h\"\n#include \"pniousrx.h\"").unwrap();
-    writeln!(s, "#include <stddef.h>\n#include <stdio.h>").unwrap();
     if cpp {
         writeln!(s, "#include <type_traits>").unwrap();
-        writeln!(s, "#define ALIGN_OF(t) alignof(t)").unwrap();
-    } else {
-        writeln!(s, "#define ALIGN_OF(t) _Alignof(t)").unwrap();
     }
-    writeln!(
-        s,
-        "static int fails;\n\
-         static void check(unsigned long long c, unsigned long long rust, const char *what) {{\n\
-         \x20   if (c != rust) {{\n\
-         \x20       printf(\"MISMATCH %s: C %llu, Rust %llu\\n\", what, c, rust);\n\
-         \x20       fails++;\n\
-         \x20   }}\n\
-         }}"
-    )
-    .unwrap();
+    layout_check::prelude(&mut s, cpp);
     s.push_str(LIST_CHECK);
     writeln!(s, "int main(void) {{").unwrap();
-    for (t, size, align) in &sizes {
-        writeln!(
-            s,
-            "    check(sizeof({t}), {size}u, \"sizeof({t})\");\n    \
-             check(ALIGN_OF({t}), {align}u, \"alignof({t})\");"
-        )
-        .unwrap();
-        checks += 2;
-    }
-    for (t, f, o) in &offsets {
-        writeln!(
-            s,
-            "    check(offsetof({t}, {f}), {o}u, \"offsetof({t}, {f})\");"
-        )
-        .unwrap();
-        checks += 1;
-    }
+    checks += layout_check::layout_checks(&mut s, &sizes, &offsets);
     for (n, v) in &constants {
         writeln!(s, "    check((unsigned long long)({n}), {v}ull, \"{n}\");").unwrap();
         checks += 1;
@@ -518,38 +486,9 @@ fn program(cpp: bool) -> (String, usize) {
 }
 
 fn build_and_run(cpp: bool) {
-    let dir = procimg_testkit::c::scratch("iobase-device-header");
-    let (src, exe) = if cpp {
-        (dir.join("check.cpp"), dir.join("check-cpp"))
-    } else {
-        (dir.join("check.c"), dir.join("check-c"))
-    };
-    std::fs::write(&src, program(cpp).0).unwrap();
-    // Without libprocimg: nothing the program uses needs linking.
-    let out = Command::new(if cpp { "g++" } else { "gcc" })
-        .arg(if cpp { "-std=c++17" } else { "-std=c11" })
-        .args(["-Wall", "-Wextra", "-Werror", "-pedantic"])
-        .arg("-I")
-        .arg(include_dir())
-        .arg(&src)
-        .arg("-o")
-        .arg(&exe)
-        .output()
-        .expect("run the C compiler (install gcc and g++)");
-    assert!(
-        out.status.success(),
-        "compiling {} failed:\n{}",
-        src.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let run = Command::new(&exe).output().expect("run the check program");
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "the {} compiler disagrees with the Rust mirrors in src/iobase/device_types.rs:\n{stdout}",
-        if cpp { "C++17" } else { "C11" },
-    );
-    println!("{}: {}", if cpp { "C++17" } else { "C11" }, stdout.trim());
+    let mirrors = "src/iobase/device_types.rs";
+    let out = layout_check::build_and_run("iobase-device-header", &program(cpp).0, cpp, mirrors);
+    println!("{}: {}", if cpp { "C++17" } else { "C11" }, out.trim());
 }
 
 #[test]

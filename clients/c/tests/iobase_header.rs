@@ -16,10 +16,8 @@ fn crate_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// `(C type, size, alignment)`.
-type Sizes = Vec<(&'static str, usize, usize)>;
-/// `(C type, C field, offset)`.
-type Offsets = Vec<(&'static str, &'static str, usize)>;
+mod layout_check;
+use layout_check::{Offsets, Sizes};
 
 fn layout_facts() -> (Sizes, Offsets) {
     let mut sizes: Sizes = Vec::new();
@@ -426,23 +424,7 @@ fn program(cpp: bool) -> String {
     let (sizes, offsets) = layout_facts();
     let mut s = String::new();
     writeln!(s, "#include \"pniousrx.h\"").unwrap();
-    writeln!(s, "#include <stddef.h>\n#include <stdio.h>").unwrap();
-    if cpp {
-        writeln!(s, "#define ALIGN_OF(t) alignof(t)").unwrap();
-    } else {
-        writeln!(s, "#define ALIGN_OF(t) _Alignof(t)").unwrap();
-    }
-    writeln!(
-        s,
-        "static int fails;\n\
-         static void check(unsigned long long c, unsigned long long rust, const char *what) {{\n\
-         \x20   if (c != rust) {{\n\
-         \x20       printf(\"MISMATCH %s: C %llu, Rust %llu\\n\", what, c, rust);\n\
-         \x20       fails++;\n\
-         \x20   }}\n\
-         }}"
-    )
-    .unwrap();
+    layout_check::prelude(&mut s, cpp);
     // Each prototype must have exactly the manual's type: assigning the function to a
     // pointer of that type compiles only then (C++ is strict about it, C warns, -Werror).
     for (i, (f, t)) in FUNCTIONS.iter().enumerate() {
@@ -453,21 +435,7 @@ fn program(cpp: bool) -> String {
     for (i, (f, _)) in FUNCTIONS.iter().enumerate() {
         writeln!(s, "    check(fn{i} == NULL, 0, \"{f}\");").unwrap();
     }
-    for (t, size, align) in &sizes {
-        writeln!(
-            s,
-            "    check(sizeof({t}), {size}u, \"sizeof({t})\");\n    \
-             check(ALIGN_OF({t}), {align}u, \"alignof({t})\");"
-        )
-        .unwrap();
-    }
-    for (t, f, o) in &offsets {
-        writeln!(
-            s,
-            "    check(offsetof({t}, {f}), {o}u, \"offsetof({t}, {f})\");"
-        )
-        .unwrap();
-    }
+    layout_check::layout_checks(&mut s, &sizes, &offsets);
     for (n, v) in constants() {
         writeln!(s, "    check((unsigned long long)({n}), {v}ull, \"{n}\");").unwrap();
     }
@@ -481,22 +449,8 @@ fn program(cpp: bool) -> String {
 }
 
 fn build_and_run(cpp: bool) {
-    let dir = procimg_testkit::c::scratch("iobase-header");
-    let (src, exe) = if cpp {
-        (dir.join("check.cpp"), dir.join("check-cpp"))
-    } else {
-        (dir.join("check.c"), dir.join("check-c"))
-    };
-    std::fs::write(&src, program(cpp)).unwrap();
     // Linked with the library: every function the header declares must be exported.
-    procimg_testkit::c::compile(&[src], &exe, procimg_testkit::c::Link::Static, false);
-    let run = Command::new(&exe).output().expect("run the check program");
-    assert!(
-        run.status.success(),
-        "the {} compiler disagrees with the Rust mirrors in src/iobase:\n{}",
-        if cpp { "C++17" } else { "C11" },
-        String::from_utf8_lossy(&run.stdout)
-    );
+    layout_check::build_and_run("iobase-header", &program(cpp), cpp, "src/iobase");
 }
 
 #[test]
