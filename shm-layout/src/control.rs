@@ -180,6 +180,11 @@ pub enum Request {
     StationDiagnosis {
         /// What changes.
         change: StationDiagnosisChange,
+        /// Only the store changes (the records, the SubmoduleState, the station problem):
+        /// the alarm is the client's to send ([`Request::StationAlarm`]), as IO-Base's
+        /// device interface has it.
+        #[serde(default)]
+        silent: bool,
     },
     /// In the device role: a process alarm (high priority) of one of the station's
     /// submodules to the PLC, with a manufacturer-specific USI and its data; answered with
@@ -194,6 +199,32 @@ pub enum Request {
         /// UserStructureIdentifier, 0x0000 to 0x7FFF.
         usi: u16,
         /// The alarm's data.
+        data: Vec<u8>,
+    },
+    /// In the device role: an alarm of one of the station's submodules, of the client's
+    /// making, to the PLC's AR in data exchange; answered with [`Response::Done`] once it
+    /// went out, then the PLC's acknowledgement comes to the subscriber as
+    /// [`Notification::StationAlarmDone`](crate::services::Notification::StationAlarmDone)
+    /// with `tag`.
+    StationAlarm {
+        /// The subscriber the acknowledgement goes to.
+        subscriber: u64,
+        /// The client's name for the alarm, given back with its acknowledgement.
+        tag: u64,
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+        /// What alarm.
+        alarm: StationAlarmKind,
+        /// UserStructureIdentifier of the item: 0x0000–0x7FFF manufacturer data (process
+        /// and diagnosis alarms), 0x8000 channel and 0x8002 extended channel diagnosis.
+        #[serde(default)]
+        usi: u16,
+        /// The item's data after the USI (none: no item).
+        #[serde(default)]
         data: Vec<u8>,
     },
     /// In the device role: plug a submodule at a configured position of the station, with
@@ -255,6 +286,10 @@ pub enum Request {
         subslot: u16,
         /// Take (`true`) or give back.
         own: bool,
+        /// With them the submodule's I&M0–I&M4 records (0xAFF0–0xAFF4), which procimgd
+        /// answers otherwise.
+        #[serde(default)]
+        im: bool,
     },
     /// In the device role: check every new AR (`check`), or stop. The PLC's Connect then
     /// waits for this subscriber's [`Request::StationArCheckAnswer`] to a
@@ -366,6 +401,7 @@ impl Request {
             self,
             Request::StationDiagnosis { .. }
                 | Request::StationProcessAlarm { .. }
+                | Request::StationAlarm { .. }
                 | Request::StationPlug { .. }
                 | Request::StationPull { .. }
                 | Request::StationReturnSubmodule { .. }
@@ -450,6 +486,34 @@ pub enum PlugRefusal {
     NotInDataExchange,
 }
 
+/// An alarm a client of the device role sends ([`Request::StationAlarm`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StationAlarmKind {
+    /// A process alarm (high priority).
+    Process,
+    /// A diagnosis appears (the entry is in the store already).
+    DiagnosisAppears,
+    /// A diagnosis disappears (the entry is out of the store already).
+    DiagnosisDisappears,
+    /// Return of Submodule: the submodule's data is good again.
+    ReturnOfSubmodule,
+}
+
+/// Why an alarm did not go out ([`Refusal::StationAlarm`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AlarmRefusal {
+    /// No AR is in data exchange.
+    NotInDataExchange,
+    /// The AR holds no proper submodule at the address.
+    NotInAr,
+    /// The USI does not fit the alarm.
+    InvalidUsi,
+    /// The alarm is longer than the AR takes.
+    TooLong,
+}
+
 /// Why the server refused a request.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "reason", rename_all = "snake_case")]
@@ -518,6 +582,13 @@ pub enum Refusal {
     /// The request could not be decoded.
     BadRequest {
         /// What was wrong.
+        message: String,
+    },
+    /// An alarm of the station was not sent.
+    StationAlarm {
+        /// Why, for a program to act on.
+        refused: AlarmRefusal,
+        /// Why, in words that name the submodule.
         message: String,
     },
     /// A plug, pull or return of a station submodule was refused.
@@ -691,7 +762,9 @@ impl core::fmt::Display for Refusal {
                  (`procimg io unforce --all` clears it)"
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
-            Refusal::StationPlug { message, .. } => f.write_str(message),
+            Refusal::StationPlug { message, .. } | Refusal::StationAlarm { message, .. } => {
+                f.write_str(message)
+            }
             Refusal::WrongRole { role, service } => write!(
                 f,
                 "this server plays the IO {role} role, and {service} is a service of the other \

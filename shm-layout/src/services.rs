@@ -305,6 +305,17 @@ pub enum Notification {
         /// data exchange expects a submodule there).
         alarm: String,
     },
+    /// Device role: the PLC acknowledged the alarm `reply_to` sent with
+    /// [`crate::control::Request::StationAlarm`], or its AR ended first.
+    StationAlarmDone {
+        /// The subscriber that sent the alarm.
+        reply_to: u64,
+        /// The alarm's tag.
+        tag: u64,
+        /// The AlarmAck's PNIOStatus (ErrorCode, ErrorDecode, ErrorCode1, ErrorCode2; all
+        /// zero: accepted), or none when the AR ended before the acknowledgement came.
+        status: Option<[u8; 4]>,
+    },
     /// Device role: the PLC reads or writes a record of a submodule whose records `reply_to`
     /// took ([`crate::control::Request::StationOwnRecords`]); answer with
     /// [`crate::control::Request::StationRecordAnswer`] within
@@ -344,6 +355,7 @@ impl Notification {
             Notification::Record { reply_to, .. }
             | Notification::Activation { reply_to, .. }
             | Notification::StationRecord { reply_to, .. }
+            | Notification::StationAlarmDone { reply_to, .. }
             | Notification::StationArCheck { reply_to, .. }
             | Notification::StationDcpSetCheck { reply_to, .. } => Some(*reply_to),
             _ => None,

@@ -268,6 +268,10 @@ fn describe(n: &Notification) -> String {
             "station: PLC {} ({}) connects AR {} (check {})",
             check.controller_mac, check.controller_name, check.ar_uuid, check.job
         ),
+        Notification::StationAlarmDone { tag, status, .. } => match status {
+            Some(s) => format!("station: alarm {tag} acknowledged by the PLC, status {s:02x?}"),
+            None => format!("station: alarm {tag} not acknowledged: the AR ended"),
+        },
         Notification::StationRecord { job, .. } => format!(
             "station: record {:#06x} of slot {} subslot {:#06x} {} (job {})",
             job.index,

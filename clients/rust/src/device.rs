@@ -138,7 +138,10 @@ impl Client {
     }
 
     fn station_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
-        self.station_request(&Request::StationDiagnosis { change })
+        self.station_request(&Request::StationDiagnosis {
+            change,
+            silent: false,
+        })
     }
 
     /// Sends a request of the device role's services; a controller's server is an error.

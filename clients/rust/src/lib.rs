@@ -44,6 +44,7 @@ mod plug;
 #[allow(unsafe_code)]
 pub mod realtime;
 mod services;
+mod station_alarms;
 mod station_services;
 mod status;
 
@@ -55,8 +56,9 @@ pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_shm_layout::control::{
-    ArReport, ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity,
-    ForceReport, PlugRefusal, Refusal, StationReport, StatusReport,
+    AlarmRefusal, ArReport, ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind,
+    DiagnosisSeverity, ForceReport, PlugRefusal, Refusal, StationAlarmKind, StationDiagnosisChange,
+    StationReport, StatusReport,
 };
 pub use procimg_shm_layout::services::{
     APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DCP_SET_CHECK_TIMEOUT_MS,

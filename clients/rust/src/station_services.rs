@@ -75,7 +75,7 @@ impl RecordRefusal {
 
 impl Services {
     /// Sends `req`, which is answered with Done.
-    fn station_request(&self, req: &Request) -> Result<(), ControlError> {
+    pub(crate) fn station_request(&self, req: &Request) -> Result<(), ControlError> {
         match self.control().request(req, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Done | Response::Accepted => Ok(()),
             Response::Refused(r) => Err(ControlError::Refused(r)),
@@ -99,10 +99,30 @@ impl Services {
             slot,
             subslot,
             own: true,
+            im: false,
         })
     }
 
-    /// Gives the records of a submodule back to the station, which answers them itself again.
+    /// [`take_records`](Self::take_records), and the submodule's I&M0–I&M4 records
+    /// (0xAFF0–0xAFF4) with them: reads and writes of those come as jobs too, which the
+    /// handle answers with the whole record (BlockHeader included; a refused write with
+    /// [`RecordRefusal::ACCESS_DENIED`] for I&M0).
+    pub fn take_records_and_im(
+        &self,
+        (api, slot, subslot): (u32, u16, u16),
+    ) -> Result<(), ControlError> {
+        self.station_request(&Request::StationOwnRecords {
+            subscriber: self.id(),
+            api,
+            slot,
+            subslot,
+            own: true,
+            im: true,
+        })
+    }
+
+    /// Gives the records of a submodule (and its I&M records, if it took them) back to the
+    /// station, which answers them itself again.
     pub fn give_back_records(
         &self,
         (api, slot, subslot): (u32, u16, u16),
@@ -113,6 +133,7 @@ impl Services {
             slot,
             subslot,
             own: false,
+            im: true,
         })
     }
 

@@ -8,6 +8,7 @@
 //! and of the ApplicationReady, and from the records. The AR's MaxAlarmDataLength bounds every
 //! AlarmNotification: a longer one is not sent.
 
+use super::app_alarms::AlarmError;
 use super::diagnosis::{
     DiagEntry, DiagKey, DiagnosisAlarm, DiagnosisError, DiagnosisStore, SubslotAddr,
 };
@@ -48,40 +49,37 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> bool {
-        if usi >= 0x8000 {
-            return false;
-        }
-        let Some(ar) = self.ar.as_ref().filter(|a| a.in_data()) else {
-            return false;
-        };
         let at = SubslotAddr::new(api, slot, subslot);
-        let Some(s) = ar
-            .submodules
-            .iter()
-            .find(|s| s.proper && s.expected.addr() == at)
-        else {
-            return false;
-        };
-        let n = AlarmNotification {
-            priority: Priority::High,
-            alarm_type: AlarmType::Process,
-            api,
-            slot,
-            subslot,
-            module_ident: s.expected.module_ident,
-            submodule_ident: s.expected.submodule_ident,
-            specifier: AlarmSpecifier::default(),
-            maintenance: None,
-            item: Some(AlarmItem::Other {
-                usi,
-                data: data.to_vec(),
-            }),
-        };
-        if n.buffer_len() > usize::from(ar.alarms.max_data_length) {
-            return false;
+        self.send_process_alarm(at, usi, data, now_ns, out).is_ok()
+    }
+
+    /// [`raise_process_alarm`](Self::raise_process_alarm), saying why it did not go out, or
+    /// with the alarm's AlarmSequenceNumber.
+    pub fn send_process_alarm(
+        &mut self,
+        at: SubslotAddr,
+        usi: u16,
+        data: &[u8],
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> Result<u16, AlarmError> {
+        if usi >= 0x8000 {
+            return Err(AlarmError::InvalidUsi(usi));
         }
-        self.send_alarm(n, now_ns, out);
-        true
+        let item = Some(AlarmItem::Other {
+            usi,
+            data: data.to_vec(),
+        });
+        let specifier = AlarmSpecifier::default();
+        self.raise_alarm(
+            at,
+            Priority::High,
+            AlarmType::Process,
+            specifier,
+            item,
+            now_ns,
+            out,
+        )
     }
 
     /// Numbers `n` with the AR's next AlarmSequenceNumber and sends it on the channel of

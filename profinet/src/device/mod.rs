@@ -49,6 +49,9 @@
 //! begins.
 
 mod alarms;
+mod app_alarms;
+#[cfg(test)]
+mod app_alarms_tests;
 mod app_ready;
 mod app_records;
 mod application;
@@ -86,6 +89,7 @@ use crate::wire::rt::FrameIdClass;
 use crate::wire::rta_pdu::{self, AbortCode, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
 pub use alarms::DiagnosisChange;
+pub use app_alarms::{AlarmError, DiagnosisEdit};
 pub use app_ready::APP_READY_HOLD_TIMEOUT_NS;
 pub use app_records::{
     MAX_WAITING_CALLS, RECORD_ANSWER_TIMEOUT_NS, RecordRequest, UnknownRecordJob,

@@ -5,7 +5,7 @@
 
 use super::diagnosis::SubslotAddr;
 use super::{Application, Device};
-use crate::wire::record::RecordErrorCode;
+use crate::wire::record::{INDEX_IM0, INDEX_IM4, RecordErrorCode};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// A user record the device accepts itself.
@@ -31,15 +31,19 @@ pub(super) struct ParameterRecords {
     accepted: Option<Accepted>,
     /// Submodules whose user records the application answers.
     delegated: BTreeSet<SubslotAddr>,
+    /// Submodules whose I&M0–I&M4 (0xAFF0–0xAFF4) the application answers.
+    delegated_im: BTreeSet<SubslotAddr>,
 }
 
 impl ParameterRecords {
     /// Whether the application answers record `index` of (`api`, `slot`, `subslot`).
     pub(super) fn delegated(&self, api: u32, slot: u16, subslot: u16, index: u16) -> bool {
-        index <= 0x7fff
-            && self
-                .delegated
-                .contains(&SubslotAddr::new(api, slot, subslot))
+        let at = SubslotAddr::new(api, slot, subslot);
+        match index {
+            0x0000..=0x7fff => self.delegated.contains(&at),
+            INDEX_IM0..=INDEX_IM4 => self.delegated_im.contains(&at),
+            _ => false,
+        }
     }
 
     /// Whether the device takes a write of `len` bytes to user record `index` (other
@@ -96,6 +100,18 @@ impl<A: Application> Device<A> {
             self.params.delegated.insert(at);
         } else {
             self.params.delegated.remove(&at);
+        }
+    }
+
+    /// Hands the I&M records (I&M0–I&M4, 0xAFF0–0xAFF4) of submodule `at` to the
+    /// application (`true`), as IO-Base's device interface does for a submodule it plugged
+    /// as an I&M carrier, or has the device answer them again. I&M0FilterData (0xF840)
+    /// stays the device's.
+    pub fn delegate_im_records(&mut self, at: SubslotAddr, to_application: bool) {
+        if to_application {
+            self.params.delegated_im.insert(at);
+        } else {
+            self.params.delegated_im.remove(&at);
         }
     }
 }

@@ -202,6 +202,7 @@ impl Control {
             // The device role's services: listed, so that a new request is routed on purpose.
             | Request::StationDiagnosis { .. }
             | Request::StationProcessAlarm { .. }
+            | Request::StationAlarm { .. }
             | Request::StationPlug { .. }
             | Request::StationPull { .. }
             | Request::StationReturnSubmodule { .. }

@@ -4,8 +4,9 @@
 //!
 //! * [`types`] and [`errors`]: the C types and return codes, with the manual's names.
 //! * [`device_types`]: the C types, callback types and function prototypes of the device
-//!   API; `device_api` exports its management and configuration functions, and `device`
-//!   is the open device behind them (the other device functions are declared only).
+//!   API; `device_api` exports its management, configuration, AR and IO data functions,
+//!   `device_alarm_api` its diagnosis and alarm functions, and `device` is the open device
+//!   behind them.
 //! * `api`: the exported `PNIO_*` functions; `controller`: an open controller, its mode
 //!   and its threads; `data`: the IO data functions; `callbacks`: the callback table and
 //!   the one place that calls the program back; `services`: records, alarms, device
@@ -16,6 +17,7 @@ pub(crate) mod callbacks;
 mod controller;
 mod data;
 pub(crate) mod device;
+pub mod device_alarm_api;
 pub mod device_api;
 pub mod device_types;
 pub mod errors;

@@ -84,12 +84,16 @@ enum {
     EV_ABORT,
     EV_OFFLINE,
     EV_APDU,
-    EV_STOPPED
+    EV_STOPPED,
+    EV_REC_WRITE,
+    EV_REC_READ,
+    EV_REQ_DONE
 };
 static const char *const ev_names[] = {"?",          "AR_CHECK_IND",    "CHECK_IND",
                                        "AR_INFO_IND", "PRM_END_IND",     "AR_INDATA_IND",
                                        "AR_ABORT_IND", "AR_OFFLINE_IND", "APDU_STATUS_IND",
-                                       "DEVICE_STOPPED"};
+                                       "DEVICE_STOPPED", "REC_WRITE", "REC_READ",
+                                       "REQ_DONE"};
 typedef struct {
     int type;
     PNIO_UINT16 ar, sk;
@@ -138,7 +142,8 @@ static void expect_order(int line, int from, int to, const int *want) {
     int w = 0;
     for (int i = from; i <= to; i++) {
         int t = events[i].type;
-        if (t == EV_APDU) continue;
+        /* RUN/STOP, records and alarm confirmations come between the AR's steps. */
+        if (t == EV_APDU || t >= EV_REC_WRITE) continue;
         if (want[w] == 0 || want[w] != t) {
             pthread_mutex_unlock(&mu);
             fail(line, "event %d is %s, expected %s", i, ev_names[t],
@@ -269,15 +274,65 @@ static PNIO_IOXS data_read(PNIO_UINT32 h, PNIO_DEV_ADDR *a, PNIO_UINT32 len, PNI
     pthread_mutex_unlock(&mu);
     return PNIO_S_GOOD;
 }
-static void rec(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_UINT32 seq,
-                PNIO_DEV_ADDR *a, PNIO_UINT32 idx, PNIO_UINT32 *len, PNIO_UINT8 *buf,
-                PNIO_ERR_STAT *st) {
-    (void)h, (void)api, (void)ar, (void)sk, (void)seq, (void)a, (void)idx, (void)len,
-        (void)buf, (void)st;
+/* The parameter record (index 1, 4 bytes) as the PLC last wrote it. */
+static PNIO_UINT8 param[4];
+static PNIO_UINT32 param_seq;
+static void rec_write(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk,
+                      PNIO_UINT32 seq, PNIO_DEV_ADDR *a, PNIO_UINT32 idx, PNIO_UINT32 *len,
+                      PNIO_UINT8 *buf, PNIO_ERR_STAT *st) {
+    (void)h, (void)api;
+    pthread_mutex_lock(&mu);
+    if (idx == 1 && *len == sizeof param) {
+        memcpy(param, buf, sizeof param);
+        param_seq = seq;
+    } else {
+        /* IODWriteRes, PNIORW, "invalid index" */
+        st->ErrCode = 0xDF, st->ErrDecode = 0x80, st->ErrCode1 = 0xB0;
+    }
+    pthread_mutex_unlock(&mu);
+    record(EV_REC_WRITE, ar, sk, idx, *len, a->u.Geo.Slot << 16 | a->u.Geo.Subslot);
+}
+static void rec_read(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk,
+                     PNIO_UINT32 seq, PNIO_DEV_ADDR *a, PNIO_UINT32 idx, PNIO_UINT32 *len,
+                     PNIO_UINT8 *buf, PNIO_ERR_STAT *st) {
+    (void)h, (void)api, (void)seq;
+    pthread_mutex_lock(&mu);
+    if (idx == 1 && *len >= sizeof param) {
+        memcpy(buf, param, sizeof param);
+        *len = sizeof param;
+    } else {
+        /* IODReadRes, PNIORW, "invalid index" */
+        st->ErrCode = 0xDE, st->ErrDecode = 0x80, st->ErrCode1 = 0xB0;
+        *len = 0;
+    }
+    pthread_mutex_unlock(&mu);
+    record(EV_REC_READ, ar, sk, idx, *len, a->u.Geo.Slot << 16 | a->u.Geo.Subslot);
 }
 static void req_done(PNIO_UINT32 h, PNIO_UINT32 u, PNIO_UINT32 s, PNIO_ERR_STAT *st) {
-    (void)h, (void)u, (void)s, (void)st;
+    (void)h;
+    PNIO_UINT32 status = (PNIO_UINT32)st->ErrCode << 24 | (PNIO_UINT32)st->ErrDecode << 16 |
+                         (PNIO_UINT32)st->ErrCode1 << 8 | st->ErrCode2;
+    record(EV_REQ_DONE, 0, 0, u, s, status);
 }
+
+/* Waits for REQ_DONE with UserHndl `user` from event `from` on; checks that the PLC
+ * acknowledged the alarm. */
+static int expect_done(int line, PNIO_UINT32 user, int from) {
+    for (;;) {
+        int i = wait_event(line, EV_REQ_DONE, from);
+        event_t e = event(i);
+        if (e.a != user) {
+            from = i + 1;
+            continue;
+        }
+        if (e.b != PNIO_OK || e.c != 0)
+            fail(line, "REQ_DONE of alarm %u: Status 0x%x, PNIO status %08x", (unsigned)user,
+                 (unsigned)e.b, (unsigned)e.c);
+        if (e.on_main_thread) fail(line, "REQ_DONE came on the program's thread");
+        return i;
+    }
+}
+
 /* Not called against the demo PLC, which expects what is plugged; were it, the program
  * would say that its submodule there is the proper one, ident 1. */
 static void check_ind(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk,
@@ -338,8 +393,8 @@ static PNIO_CBF_FUNCTIONS table(void) {
     c.size = sizeof c;
     c.cbf_data_write = data_write;
     c.cbf_data_read = data_read;
-    c.cbf_rec_read = rec;
-    c.cbf_rec_write = rec;
+    c.cbf_rec_read = rec_read;
+    c.cbf_rec_write = rec_write;
     c.cbf_alarm_done = req_done;
     c.cbf_check_ind = check_ind;
     c.cbf_ar_check_ind = ar_check_ind;
@@ -516,6 +571,8 @@ int main(void) {
     CHECK_RC(PNIO_set_appl_state_ready(wrong, ar, sk, NULL), PNIO_ERR_WRONG_HND);
     CHECK_RC(PNIO_device_ar_abort(h, ar, (PNIO_UINT16)(sk + 1)), PNIO_ERR_SESSION);
     CHECK_RC(PNIO_device_ar_abort(h, 0, sk), PNIO_ERR_SEQUENCE);
+    PNIO_UINT8 alarm_data[173] = {0xbe, 0xef};
+    CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, alarm_data, 2, 1, 99), PNIO_ERR_SEQUENCE);
     PNIO_APPL_READY_LIST_TYPE ready;
     PNIO_LIST_INITIALIZE(&ready.ap_list);
     CHECK_RC(PNIO_set_appl_state_ready(h, ar, sk, &ready), PNIO_OK);
@@ -617,6 +674,94 @@ int main(void) {
     io.from_main = 0;
     pthread_mutex_unlock(&mu);
     CHECK(zeros, "with IOPS BAD the PLC did not take the I data as zeros in %d rounds", rounds);
+
+    /* ---- Records: the PLC's parameter record came to REC_WRITE ---- */
+    {
+        int iw = wait_event(__LINE__, EV_REC_WRITE, 0);
+        event_t w = event(iw);
+        CHECK(w.a == 1 && w.b == 4 && w.c == (1u << 16 | 1),
+              "REC_WRITE of record %u, %u bytes, slot/subslot 0x%x", (unsigned)w.a,
+              (unsigned)w.b, (unsigned)w.c);
+        CHECK(w.ar == ar && w.sk == sk, "REC_WRITE for AR %u/%u", (unsigned)w.ar,
+              (unsigned)w.sk);
+        CHECK(!w.on_main_thread, "REC_WRITE came on the program's thread");
+        pthread_mutex_lock(&mu);
+        PNIO_UINT32 seq = param_seq;
+        pthread_mutex_unlock(&mu);
+        CHECK(seq >= 1, "REC_WRITE's SequenceNum is %u", (unsigned)seq);
+    }
+
+    /* ---- A process alarm, acknowledged by the PLC ---- */
+    int ialarm;
+    {
+        pthread_mutex_lock(&mu);
+        int from = nevents;
+        pthread_mutex_unlock(&mu);
+        CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, alarm_data, 173, 1, 1),
+                 PNIO_ERR_VALUE_LEN);
+        CHECK_RC(PNIO_process_alarm_send(h, 0, ar, (PNIO_UINT16)(sk + 1), &a, alarm_data, 2, 1,
+                                         1),
+                 PNIO_ERR_SESSION);
+        CHECK_RC(PNIO_process_alarm_send(wrong, 0, ar, sk, &a, alarm_data, 2, 1, 1),
+                 PNIO_ERR_WRONG_HND);
+        CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, NULL, alarm_data, 2, 1, 1),
+                 PNIO_ERR_PRM_ADD);
+        CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, NULL, 2, 1, 1), PNIO_ERR_PRM_BUF);
+        CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, alarm_data, 2, 0x8000, 1),
+                 PNIO_ERR_PRM_INVALIDARG);
+        PNIO_DEV_ADDR none = at(1, 2);
+        CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &none, alarm_data, 2, 1, 1),
+                 PNIO_ERR_UNKNOWN_ADDR);
+        CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, alarm_data, 172, 1, 1), PNIO_OK);
+        ialarm = expect_done(__LINE__, 1, from);
+    }
+
+    /* ---- A channel diagnosis appears and disappears, each with its alarm ---- */
+    {
+        PNIO_UINT16 appears = PNIO_build_channel_properties(
+            h, PNIO_DIAG_CHANPROP_TYPE_SUBMOD, PNIO_DIAG_CHAN_SPEC_ERROR_APPEARS,
+            PNIO_DIAG_CHAN_DIRECTION_MANUFACTURE);
+        CHECK(appears == 0x0800, "ChannelProperties 0x%x", (unsigned)appears);
+        CHECK_RC(PNIO_diag_channel_add(h, 0, &a, 0x8000, appears, 0x0006, 0), PNIO_ERR_PRM_INVALIDARG);
+        CHECK_RC(PNIO_diag_channel_add(wrong, 0, &a, 0x8000, appears, 0x0006, 7),
+                 PNIO_ERR_WRONG_HND);
+        CHECK_RC(PNIO_diag_channel_add(h, 0, NULL, 0x8000, appears, 0x0006, 7), PNIO_ERR_PRM_ADD);
+        CHECK_RC(PNIO_diag_channel_add(h, 0, &a, 0x8000, appears, 0x0006, 7), PNIO_OK);
+        /* ChannelNumber, ChannelProperties, ChannelErrorType: big-endian. */
+        PNIO_UINT8 item[6] = {0x80, 0x00, (PNIO_UINT8)(appears >> 8), (PNIO_UINT8)appears,
+                              0x00, 0x06};
+        CHECK_RC(PNIO_diag_alarm_send(h, 0, ar, sk, 3, &a, item, sizeof item,
+                                      PNIO_USR_STRUC_ID_CHANNEL_DIAG, 2),
+                 PNIO_ERR_PRM_INVALIDARG);
+        CHECK_RC(PNIO_diag_alarm_send(h, 0, ar, sk, PNIO_STATE_ALARM_APPEARS, &a, item,
+                                      sizeof item, PNIO_USR_STRUC_ID_CHANNEL_DIAG, 2),
+                 PNIO_OK);
+        int i2 = expect_done(__LINE__, 2, ialarm + 1);
+        PNIO_UINT16 gone = PNIO_build_channel_properties(
+            h, PNIO_DIAG_CHANPROP_TYPE_SUBMOD, PNIO_DIAG_CHAN_SPEC_ERROR_DISAPP_FREE,
+            PNIO_DIAG_CHAN_DIRECTION_MANUFACTURE);
+        CHECK_RC(PNIO_diag_channel_remove(h, 0, &a, 99), PNIO_OK); /* unknown tag: no error */
+        CHECK_RC(PNIO_diag_channel_remove(h, 0, &a, 7), PNIO_OK);
+        item[2] = (PNIO_UINT8)(gone >> 8), item[3] = (PNIO_UINT8)gone;
+        CHECK_RC(PNIO_diag_alarm_send(h, 0, ar, sk, PNIO_STATE_ALARM_DISAPPEARS, &a, item,
+                                      sizeof item, PNIO_USR_STRUC_ID_CHANNEL_DIAG, 3),
+                 PNIO_OK);
+        int i3 = expect_done(__LINE__, 3, i2 + 1);
+        /* Manufacturer diagnosis: kept and removed; a wrong subslot in an alarm is no
+         * error, its REQ_DONE says so. */
+        PNIO_UINT8 info[4] = {1, 2, 3, 4};
+        CHECK_RC(PNIO_diag_generic_add(h, 0, &a, 0, appears, 5, 0x0042, info, 1405),
+                 PNIO_ERR_PRM_LEN);
+        CHECK_RC(PNIO_diag_generic_add(h, 0, &a, 0, appears, 5, 0x0042, info, sizeof info),
+                 PNIO_OK);
+        CHECK_RC(PNIO_diag_generic_remove(h, 0, &a, 0), PNIO_OK);
+        PNIO_DEV_ADDR none = at(1, 2);
+        CHECK_RC(PNIO_ret_of_sub_alarm_send(h, 0, ar, sk, &none, 4), PNIO_OK);
+        int i4 = wait_event(__LINE__, EV_REQ_DONE, i3 + 1);
+        CHECK(event(i4).a == 4 && event(i4).b == PNIO_ERR_UNKNOWN_ADDR,
+              "REQ_DONE of the return alarm for no submodule: %u 0x%x", (unsigned)event(i4).a,
+              (unsigned)event(i4).b);
+    }
 
     /* ---- The program aborts the AR: OFFLINE_IND, and the PLC connects again ---- */
     CHECK_RC(PNIO_device_ar_abort(h, ar, sk), PNIO_OK);

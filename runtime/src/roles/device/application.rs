@@ -27,8 +27,9 @@ use std::time::{Duration, Instant};
 /// What the engine is to do after a change of the clients' say.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Order {
-    /// Give the records of a submodule to a client (`true`) or answer them again.
-    Records(SubslotAddr, bool),
+    /// Give the records of a submodule to a client (`true`; its I&M records too with the
+    /// second `true`) or answer them again.
+    Records(SubslotAddr, bool, bool),
     /// Hold the ApplicationReady after each PrmEnd, or not.
     Hold(bool),
     /// Let a held ApplicationReady go out.
@@ -138,13 +139,14 @@ impl ApplicationSay {
         }
     }
 
-    /// `subscriber` takes (`own`) or gives back the records of `at`; `name` names a
-    /// subscriber for the refusal.
+    /// `subscriber` takes (`own`; with the I&M records if `im`) or gives back the records of
+    /// `at`; `name` names a subscriber for the refusal.
     pub fn own(
         &mut self,
         subscriber: u64,
         at: SubslotAddr,
         own: bool,
+        im: bool,
         name: &dyn Fn(u64) -> String,
     ) -> Result<Option<Order>, Refusal> {
         if !self.submodules.contains(&at) {
@@ -161,14 +163,15 @@ impl ApplicationSay {
                 subslot: at.subslot,
                 by: name(o),
             }),
-            (Some(_), true) => Ok(None),
+            // Taken again: with or without the I&M records, as said now.
+            (Some(_), true) => Ok(Some(Order::Records(at, true, im))),
             (None, true) => {
                 self.owners.insert(at, subscriber);
-                Ok(Some(Order::Records(at, true)))
+                Ok(Some(Order::Records(at, true, im)))
             }
             (Some(o), false) if o == subscriber => {
                 self.owners.remove(&at);
-                Ok(Some(Order::Records(at, false)))
+                Ok(Some(Order::Records(at, false, false)))
             }
             (_, false) => Ok(None),
         }
@@ -286,7 +289,7 @@ impl ApplicationSay {
             .owners
             .iter()
             .filter(|(_, o)| **o == subscriber)
-            .map(|(at, _)| Order::Records(*at, false))
+            .map(|(at, _)| Order::Records(*at, false, false))
             .collect();
         self.owners.retain(|_, o| *o != subscriber);
         self.jobs.retain(|_, (o, _)| *o != subscriber);
@@ -357,12 +360,15 @@ mod tests {
         let mut s = say();
         let name: &dyn Fn(u64) -> String = &|id| format!("client {id}");
         assert_eq!(
-            s.own(1, SLOT1, true, name),
-            Ok(Some(Order::Records(SLOT1, true)))
+            s.own(1, SLOT1, true, false, name),
+            Ok(Some(Order::Records(SLOT1, true, false)))
         );
-        assert_eq!(s.own(1, SLOT1, true, name), Ok(None));
         assert_eq!(
-            s.own(2, SLOT1, true, name),
+            s.own(1, SLOT1, true, true, name),
+            Ok(Some(Order::Records(SLOT1, true, true)))
+        );
+        assert_eq!(
+            s.own(2, SLOT1, true, false, name),
             Err(Refusal::RecordsTaken {
                 api: 0,
                 slot: 1,
@@ -371,7 +377,7 @@ mod tests {
             })
         );
         assert!(matches!(
-            s.own(1, SubslotAddr::new(0, 9, 1), true, name),
+            s.own(1, SubslotAddr::new(0, 9, 1), true, false, name),
             Err(Refusal::NoSuchStationSubmodule { slot: 9, .. })
         ));
         let now = Instant::now();
@@ -385,18 +391,18 @@ mod tests {
         assert_eq!(s.answer(1, 7), Err(Refusal::StaleRecordJob { job: 7 }));
         // Gone: its records come back, its jobs are stale.
         assert_eq!(s.job(9, SLOT1, now), Ok(1));
-        assert_eq!(s.forget(1), [Order::Records(SLOT1, false)]);
+        assert_eq!(s.forget(1), [Order::Records(SLOT1, false, false)]);
         assert_eq!(s.answer(1, 9), Err(Refusal::StaleRecordJob { job: 9 }));
         assert_eq!(
-            s.own(2, SLOT1, true, name),
-            Ok(Some(Order::Records(SLOT1, true)))
+            s.own(2, SLOT1, true, false, name),
+            Ok(Some(Order::Records(SLOT1, true, false)))
         );
     }
 
     #[test]
     fn old_jobs_are_forgotten() {
         let mut s = say();
-        s.own(1, SLOT1, true, &|_| String::new()).unwrap();
+        s.own(1, SLOT1, true, false, &|_| String::new()).unwrap();
         let then = Instant::now();
         assert_eq!(s.job(1, SLOT1, then), Ok(1));
         assert_eq!(s.job(2, SLOT1, then + JOB_MEMORY), Ok(1));

@@ -4,7 +4,7 @@
 
 use super::station::ImageApplication;
 use procimg_profinet::device::{
-    ChannelDiag, Device, DeviceAction, DiagEntry, GenericDiag, Severity,
+    ChannelDiag, Device, DeviceAction, DiagEntry, DiagnosisEdit, GenericDiag, Severity, SubslotAddr,
 };
 use procimg_profinet::wire::alarm::{ChannelDirection, DiagnosisFormat};
 use procimg_shm_layout::control::{
@@ -90,6 +90,42 @@ pub fn apply(
         Ok(_) => Ok(()),
         Err(e) => Err(e.to_string()),
     }
+}
+
+/// Carries out `change` on `device`'s store only, without an alarm (the client sends its
+/// own); `Err` says why the change was refused.
+pub fn keep(
+    device: &mut Device<ImageApplication>,
+    change: &StationDiagnosisChange,
+) -> Result<(), String> {
+    let (at, edit) = match change {
+        StationDiagnosisChange::Add {
+            api,
+            slot,
+            subslot,
+            entry: e,
+        } => (
+            SubslotAddr::new(*api, *slot, *subslot),
+            DiagnosisEdit::Add(entry(e)?),
+        ),
+        StationDiagnosisChange::Remove {
+            api,
+            slot,
+            subslot,
+            entry: e,
+        } => (
+            SubslotAddr::new(*api, *slot, *subslot),
+            DiagnosisEdit::Remove(entry(e)?.key()),
+        ),
+        StationDiagnosisChange::Clear { api, slot, subslot } => (
+            SubslotAddr::new(*api, *slot, *subslot),
+            DiagnosisEdit::Clear,
+        ),
+    };
+    device
+        .keep_diagnosis(at, edit)
+        .map(|_| ())
+        .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

@@ -15,6 +15,7 @@
 //! configuration order: the order the engine maps the AR's cyclic data onto.
 
 mod address;
+mod alarms;
 mod application;
 use address::InterfaceAddress;
 use application::ApplicationSay;

@@ -34,6 +34,15 @@ pub fn notification(event: StationEvent) -> Notification {
             planned,
         },
         StationEvent::PlcRunning(running) => Notification::StationPlcRunning { running },
+        StationEvent::AlarmDone {
+            subscriber,
+            tag,
+            status,
+        } => Notification::StationAlarmDone {
+            reply_to: subscriber,
+            tag,
+            status,
+        },
         StationEvent::Blink => Notification::StationBlink,
         StationEvent::Plug { at, idents, alarm } => {
             let (module_ident, submodule_ident) = idents.unwrap_or((0, 0));

@@ -4,6 +4,7 @@
 //! report the control side reads, the log).
 
 use super::address::InterfaceAddress;
+use super::alarms::{AlarmOrder, ClientAlarms};
 use super::diagnosis;
 use super::identity::{IdentityChange, IdentityWatch};
 use super::state_file::{self, KeptState};
@@ -29,6 +30,8 @@ pub enum DeviceCommand {
     Diagnosis {
         /// The change.
         change: StationDiagnosisChange,
+        /// Only the store changes: the client sends the alarm.
+        silent: bool,
         /// Where the outcome goes: `Err` says why the change was refused.
         reply: SyncSender<Result<(), String>>,
     },
@@ -61,8 +64,17 @@ pub enum DeviceCommand {
         /// Where the outcome goes.
         reply: SyncSender<Result<(), Refusal>>,
     },
-    /// Give the user records of a submodule to a client (`true`) or answer them again.
-    Records(SubslotAddr, bool),
+    /// A client's alarm; whether it went out goes back on `reply`, its acknowledgement
+    /// later as [`StationEvent::AlarmDone`].
+    Alarm {
+        /// The alarm.
+        order: AlarmOrder,
+        /// Where the outcome goes.
+        reply: SyncSender<Result<(), Refusal>>,
+    },
+    /// Give the user records of a submodule to a client (`true`; its I&M records too with
+    /// the second `true`) or answer them again.
+    Records(SubslotAddr, bool, bool),
     /// A client's answer to record job `job`: the record read (anything for a write) or the
     /// PNIORW error; the outcome goes back on `reply`.
     AnswerRecord {
@@ -128,6 +140,8 @@ pub struct DeviceRole {
     plc_running: Option<bool>,
     /// The cycle took the PLC's first valid frame of the current exchange.
     data_flows: bool,
+    /// The clients' alarms waiting for the PLC's acknowledgement.
+    alarms: ClientAlarms,
 }
 
 /// The state file as the role keeps it up to date.
@@ -173,6 +187,7 @@ impl DeviceRole {
             address: None,
             plc_running: None,
             data_flows: false,
+            alarms: ClientAlarms::default(),
         }
     }
 
@@ -256,6 +271,10 @@ impl DeviceRole {
         if state == ArState::Idle {
             self.data_flows = false;
         }
+        // Before the AR's end is told: its acknowledgements came while it was up.
+        for event in self.alarms.ended(&self.device, state == ArState::Idle) {
+            self.tell(event, out);
+        }
         if state != self.last_state {
             let event = if state == ArState::Idle {
                 let aborted = self.device.aborted_ars() != self.aborted;
@@ -319,8 +338,16 @@ impl Role for DeviceRole {
 
     fn command(&mut self, c: DeviceCommand, now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
         match c {
-            DeviceCommand::Diagnosis { change, reply } => {
-                let r = diagnosis::apply(&mut self.device, &change, now_ns, &mut self.actions);
+            DeviceCommand::Diagnosis {
+                change,
+                silent,
+                reply,
+            } => {
+                let r = if silent {
+                    diagnosis::keep(&mut self.device, &change)
+                } else {
+                    diagnosis::apply(&mut self.device, &change, now_ns, &mut self.actions)
+                };
                 // The asker may have given up waiting: nothing to tell then.
                 let _ = reply.try_send(r);
             }
@@ -383,8 +410,15 @@ impl Role for DeviceRole {
                     });
                 let _ = reply.try_send(r);
             }
-            DeviceCommand::Records(at, to_client) => {
+            DeviceCommand::Alarm { order, reply } => {
+                let r = self
+                    .alarms
+                    .send(&mut self.device, order, now_ns, &mut self.actions);
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::Records(at, to_client, im) => {
                 self.device.delegate_records(at, to_client);
+                self.device.delegate_im_records(at, to_client && im);
             }
             DeviceCommand::AnswerRecord { job, answer, reply } => {
                 let r = self

@@ -5,6 +5,7 @@
 //! [`super::application`]), and a clear refusal of the IO controller's services (record jobs towards devices, activation, alarm
 //! acknowledgement, the controller's diagnosis).
 
+use super::alarms::AlarmOrder;
 use super::application::{ApplicationSay, Order};
 use super::notifications::notification;
 use super::role::DeviceCommand;
@@ -103,7 +104,7 @@ impl DeviceServices {
     /// Passes an order of the clients' say to the engine.
     fn order(&self, order: Order) {
         let command = match order {
-            Order::Records(at, to_client) => DeviceCommand::Records(at, to_client),
+            Order::Records(at, to_client, im) => DeviceCommand::Records(at, to_client, im),
             Order::Hold(hold) => DeviceCommand::HoldApplicationReady(hold),
             Order::Release => DeviceCommand::ReleaseApplicationReady,
             Order::Check(on) => DeviceCommand::CheckConnects(on),
@@ -327,8 +328,15 @@ impl RoleServices for DeviceServices {
                 slot,
                 subslot,
                 own,
+                im,
             } => done(self.change_say(subscriber, |say, name| {
-                say.own(subscriber, SubslotAddr::new(api, slot, subslot), own, name)
+                say.own(
+                    subscriber,
+                    SubslotAddr::new(api, slot, subslot),
+                    own,
+                    im,
+                    name,
+                )
             })),
             Request::StationVerifyDcp { subscriber, verify } => {
                 done(self.change_say(subscriber, |say, name| {
@@ -368,9 +376,36 @@ impl RoleServices for DeviceServices {
                     }
                 }))
             }
-            Request::StationDiagnosis { change } => {
-                self.carry_out(|reply| DeviceCommand::Diagnosis { change, reply })
+            Request::StationDiagnosis { change, silent } => {
+                self.carry_out(|reply| DeviceCommand::Diagnosis {
+                    change,
+                    silent,
+                    reply,
+                })
             }
+            Request::StationAlarm {
+                subscriber,
+                tag,
+                api,
+                slot,
+                subslot,
+                alarm,
+                usi,
+                data,
+            } => match self.known(subscriber) {
+                Ok(()) => self.carry_out(|reply| DeviceCommand::Alarm {
+                    order: AlarmOrder {
+                        subscriber,
+                        tag,
+                        at: SubslotAddr::new(api, slot, subslot),
+                        alarm,
+                        usi,
+                        data,
+                    },
+                    reply,
+                }),
+                Err(r) => Response::Refused(r),
+            },
             Request::StationProcessAlarm {
                 api,
                 slot,

@@ -74,6 +74,16 @@ pub enum StationEvent {
     },
     /// The PLC reads or writes a record whose submodule's records a client took.
     Record(RecordRequest),
+    /// A client's alarm ended: the PLC acknowledged it (`status`: the AlarmAck's
+    /// PNIOStatus), or its AR ended first (`None`).
+    AlarmDone {
+        /// The subscriber that sent it.
+        subscriber: u64,
+        /// Its tag.
+        tag: u64,
+        /// The AlarmAck's PNIOStatus.
+        status: Option<[u8; 4]>,
+    },
     /// A PLC connects and a client checks new ARs.
     ArCheck(ArCheck),
     /// DCP sets the station's name or address and a client checks such changes.
@@ -203,6 +213,10 @@ impl Station {
                 j.slot,
                 j.subslot
             ),
+            StationEvent::AlarmDone { tag, status, .. } => match status {
+                Some(s) => tracing::debug!("alarm {tag} acknowledged by the PLC: {s:02x?}"),
+                None => tracing::debug!("alarm {tag} unacknowledged: the AR ended"),
+            },
             StationEvent::PlcRunning(running) => {
                 tracing::info!("the PLC is in {}", if *running { "RUN" } else { "STOP" });
                 if let Some(ar) = r.ar.as_mut() {

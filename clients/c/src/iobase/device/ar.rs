@@ -52,7 +52,10 @@
 //! has ended, or the current one's with another SessionKey, `PNIO_ERR_SESSION`.
 
 use super::Pos;
+use super::alarms;
 use super::ars::{Ar, Phase};
+use super::identify;
+use super::records;
 use super::state::Device;
 use super::station::{Occupants, plug};
 use crate::iobase::callbacks::invoke_device;
@@ -262,6 +265,15 @@ pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
                 apdu(dev, number, key, running);
             }
         }
+        Notification::StationRecord { job, .. } => records::job(dev, &job),
+        Notification::StationAlarmDone { tag, status, .. } => {
+            alarms::acknowledged(dev, tag, status)
+        }
+        Notification::StationBlink => identify::blink(dev),
+        Notification::StationIdentity {
+            factory_reset: true,
+            ..
+        } => identify::stop_request(dev),
         _ => {}
     }
 }

@@ -340,6 +340,11 @@ pub(crate) fn sub_plug(
         );
     }
     c.subs.insert(at, ident);
+    if im0_bits == PNIO_PLUG_IM0_BITS_NOTHING {
+        c.im.remove(&at);
+    } else {
+        c.im.insert(at);
+    }
     queue(
         f,
         dev,

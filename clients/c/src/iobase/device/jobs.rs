@@ -53,6 +53,13 @@ pub(crate) enum Job {
     /// `PNIO_device_ar_abort` of the AR with this ArNumber: OFFLINE until the AR's end
     /// callback was given, then OPERATE again.
     Abort(u16),
+    /// `PNIO_CBF_REQ_DONE` of an alarm that did not go out, with `status`.
+    AlarmDone {
+        /// The program's UserHndl.
+        user: u32,
+        /// The Status.
+        status: u32,
+    },
 }
 
 /// The library thread of a device.

@@ -88,12 +88,16 @@
 /// API, slot, subslot.
 pub(crate) type Pos = (u32, u16, u16);
 
+pub(crate) mod alarms;
 pub(crate) mod ar;
 pub(crate) mod ars;
 pub(crate) mod config;
 pub(crate) mod data;
+pub(crate) mod diag;
+pub(crate) mod identify;
 pub(crate) mod jobs;
 pub(crate) mod open;
+pub(crate) mod records;
 pub(crate) mod state;
 pub(crate) mod station;
 pub(crate) mod worker;

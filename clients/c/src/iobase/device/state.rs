@@ -4,15 +4,18 @@
 //! process-wide table of handles.
 
 use super::Pos;
+use super::alarms::Waiting;
 use super::ars::Ars;
+use super::diag::Entries;
 use super::jobs::{Job, Worker};
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::PNIO_CBF_FUNCTIONS;
 use crate::iobase::errors::*;
 use procimg_client::{Client, Services};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
+use std::time::Instant;
 
 /// Where a device stands in the manual's program sequence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -63,6 +66,10 @@ pub(crate) struct Config {
     pub subs: BTreeMap<Pos, u32>,
     /// Plugs and pulls given to the library thread whose confirmation has not been called.
     pub pending: u32,
+    /// The program's submodules plugged with I&M0 bits: their I&M records are the program's.
+    pub im: BTreeSet<Pos>,
+    /// The SequenceNum of the last record job.
+    pub record_sequence: u32,
 }
 
 /// One open device.
@@ -85,6 +92,12 @@ pub(crate) struct Device {
     pub services: Mutex<Services>,
     /// The current AR and the next ArNumber.
     pub ars: Mutex<Ars>,
+    /// The program's alarms waiting for the PLC's acknowledgement.
+    pub alarms: Mutex<Waiting>,
+    /// The program's diagnosis entries.
+    pub diag: Mutex<Entries>,
+    /// While the station identifies itself (DCP Signal): when its LED flashing ends.
+    pub flashing_until: Mutex<Option<Instant>>,
     worker: Mutex<Option<Worker>>,
 }
 
@@ -138,10 +151,15 @@ impl Device {
                 modules: BTreeMap::new(),
                 subs: BTreeMap::new(),
                 pending: 0,
+                im: BTreeSet::new(),
+                record_sequence: 0,
             }),
             client: Mutex::new(client),
             services: Mutex::new(services),
             ars: Mutex::new(Ars::new()),
+            alarms: Mutex::new(Waiting::default()),
+            diag: Mutex::new(Entries::new()),
+            flashing_until: Mutex::new(None),
             worker: Mutex::new(None),
         });
         let worker = spawn(dev.clone()).map_err(|e| {

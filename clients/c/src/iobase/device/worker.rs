@@ -7,15 +7,19 @@
 //! causes (inside them only the IO data functions are allowed).
 
 use super::Pos;
+use super::alarms;
 use super::ar;
 use super::data;
+use super::identify;
 use super::jobs::{Job, Worker};
+use super::records;
 use super::state::{Device, Life};
 use super::station::{Occupants, code_of, plug, pull};
 use crate::iobase::callbacks::invoke_device;
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use crate::iobase::types::PNIO_ERR_STAT;
 use procimg_client::Mode;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
@@ -42,6 +46,7 @@ fn run(dev: Arc<Device>, rx: Receiver<Job>) {
         .iter()
         .map(|p| (p.at, Some((p.module_ident, p.submodule_ident))))
         .collect();
+    let mut taken = records::Taken::new();
     loop {
         let job = match rx.recv_timeout(POLL) {
             Ok(job) => Some(job),
@@ -51,6 +56,8 @@ fn run(dev: Arc<Device>, rx: Receiver<Job>) {
         if let Some(job) = job {
             run_job(&dev, &mut occupants, job);
         }
+        records::follow(&dev, &mut taken);
+        identify::tick(&dev);
         loop {
             let n = lock(&dev.services).try_next();
             match n {
@@ -156,6 +163,9 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
                 // callable until PNIO_device_close (which waits for this thread).
                 invoke_device(|| unsafe { f(dev.handle, code) });
             }
+        }
+        Job::AlarmDone { user, status } => {
+            alarms::done(dev, user, status, PNIO_ERR_STAT::default())
         }
         Job::Abort(number) => {
             let Some(uuid) = lock(&dev.ars)

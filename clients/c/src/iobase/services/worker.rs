@@ -117,6 +117,7 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::StationIdentity { .. }
         | Notification::StationPlug { .. }
         | Notification::StationRecord { .. }
+        | Notification::StationAlarmDone { .. }
         | Notification::StationArCheck { .. }
         | Notification::StationDcpSetCheck { .. } => {}
     }
