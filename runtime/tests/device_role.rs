@@ -946,6 +946,58 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         },
         "the PLC's acknowledgement of three alarms",
     );
+    // An alarm of the device client's own making (IO-Base's PNIO_diag_alarm_send): a
+    // diagnosis kept without an alarm, then its alarm; the acknowledgement comes back to
+    // the sender with the alarm's tag.
+    let mut dev_services = Services::open(&device.instance, ServiceOptions::new("dev-alarms"))
+        .expect("the device's services");
+    let change = procimg_client::StationDiagnosisChange::Add {
+        api: 0,
+        slot: 1,
+        subslot: 1,
+        entry: DiagnosisEntry {
+            channel: 0x8000,
+            error_type: 5,
+            ..DiagnosisEntry::default()
+        },
+    };
+    dev_services
+        .keep_diagnosis(change)
+        .expect("keep a diagnosis");
+    dev_services
+        .send_alarm(
+            (0, 1, 1),
+            procimg_client::StationAlarmKind::DiagnosisAppears,
+            0x8000,
+            &[0x80, 0x00, 0x08, 0x00, 0x00, 0x05],
+            77,
+        )
+        .expect("send the diagnosis alarm");
+    let own = next_alarm(&mut services);
+    assert_eq!(
+        (own.alarm_type, own.slot, own.subslot),
+        (1, 1, 1),
+        "{own:?}"
+    );
+    services.acknowledge(&own).expect("acknowledge the alarm");
+    let until = Instant::now() + Duration::from_secs(5);
+    let done = loop {
+        assert!(Instant::now() < until, "no StationAlarmDone within 5 s");
+        if let Some(Notification::StationAlarmDone { tag, status, .. }) =
+            dev_services.next(Duration::from_millis(100))
+        {
+            break (tag, status);
+        }
+    };
+    assert_eq!(done, (77, Some([0, 0, 0, 0])));
+    assert_eq!(channel_errors(&mut services), [(0x8000, 5)]);
+    dev_client
+        .clear_diagnosis((0, 1, 1))
+        .expect("clear the diagnosis");
+    let cleared = next_alarm(&mut services);
+    services
+        .acknowledge(&cleared)
+        .expect("acknowledge the alarm");
     // The device's managing client pulls slot 1: the controller's client gets the Pull
     // alarm and the I data BAD; plugged again, the Plug alarm, the controller writes its
     // parameters (the plug sub-cycle) and the I data is GOOD again.

@@ -10,14 +10,9 @@
  * its ARs with the PLC, its cyclic data, records and alarms; the program plugs, answers the
  * callbacks and moves the data.
  *
- * Status: this version of libprocimg defines the management and configuration functions
- * (PNIO_device_open, _open_ext, _close, _start, _stop, PNIO_api_add, _add_ext, _remove,
- * PNIO_mod_plug, _pull, PNIO_sub_plug, _plug_ext, _plug_ext_IM, _pull) and the AR's
- * (PNIO_set_appl_state_ready, PNIO_device_ar_abort) and the IO data
- * (PNIO_initiate_data_write, _write_ext, _read, _read_ext), and calls PNIO_CBF_PULL_PLUG_CONF,
- * PNIO_CBF_DEVICE_STOPPED, the AR callbacks and PNIO_CBF_DATA_WRITE/_READ. The other
- * functions are declared but not defined yet (a program calling them compiles but does not
- * link), and the record, alarm, LED and stop request callbacks are not called yet.
+ * Status: libprocimg defines the management and configuration functions, the AR's, the IO
+ * data functions, the records, diagnosis and alarm functions, and calls every callback of
+ * PNIO_CBF_FUNCTIONS. The isochronous and watchdog functions are pniobase.h's (see below).
  *
  * IO data. PNIO_initiate_data_write(_ext) and _read(_ext) call PNIO_CBF_DATA_WRITE and
  * PNIO_CBF_DATA_READ on the caller's thread, one call per submodule the program plugged that
@@ -55,6 +50,53 @@
  * ArNumber never given answers PNIO_ERR_SEQUENCE, an ended AR's or a wrong SessionKey
  * PNIO_ERR_SESSION.
  *
+ * Records. From PNIO_device_start to PNIO_device_stop the PLC's reads and writes of the
+ * user records (0x0000..0x7FFF) of every submodule the program plugged come to
+ * PNIO_CBF_REC_READ and PNIO_CBF_REC_WRITE on the library thread; those of I&M0..I&M4
+ * (0xAFF0..0xAFF4) too for a submodule plugged with PNIO_sub_plug_ext_IM and IM0_bits other
+ * than NOTHING: the program answers them with the whole record, PNIO_BLOCK_HEADER included
+ * (the PNIO_IMn_TYPE structs), stores I&M1..4 itself and refuses writes to I&M0. The other
+ * records (identification, diagnosis, ModuleDiff, I&M0FilterData, and I&M of submodules
+ * plugged without I&M bits) are procimgd's. ArNumber and SessionKey are the AR's (0 for a
+ * read outside any AR); SequenceNum counts the jobs from 1. A read's *pBufLen is the most
+ * the PLC takes, and what the callback leaves there is the length sent. A PNIO_ERR_STAT
+ * other than all zeros refuses the job with its ErrCode1 and ErrCode2 (procimgd sends
+ * ErrorCode 0xDE for a read, 0xDF for a write, ErrorDecode PNIORW; ErrCode1 0 means "read
+ * error" or "write error"). The callback has 2 s; after that the PLC got "resource busy".
+ *
+ * Diagnosis. PNIO_diag_channel_add, _ext_channel_add and _generic_add put the entry into
+ * procimgd's diagnosis of the submodule at once and without an alarm (the PLC reads it in the
+ * diagnosis records and the submodule's state); PNIO_diag_alarm_send announces it. The
+ * program's submodule only (else PNIO_ERR_PRM_ADD); DiagTag 0 is refused with
+ * PNIO_ERR_PRM_INVALIDARG on add and removes all entries of the function's kind on remove; an
+ * unknown DiagTag is no error. procimgd keys entries by channel, direction and error type
+ * (manufacturer ones by UserStructIdent): entries of two tags with the same key are one,
+ * which goes with the last of its tags. ChannelProp's maintenance bits make the entry
+ * "maintenance required" or "demanded" instead of a fault. They may be called from open to
+ * stop, and inside callbacks.
+ *
+ * Alarms. PNIO_process_alarm_send, PNIO_diag_alarm_send and PNIO_ret_of_sub_alarm_send need
+ * the AR the program called PNIO_set_appl_state_ready for (before: PNIO_ERR_SEQUENCE; a wrong
+ * SessionKey: PNIO_ERR_SESSION), at most 172 bytes of data (PNIO_ERR_VALUE_LEN), a data
+ * pointer when DataLen is not 0 (PNIO_ERR_PRM_BUF) and a UserStructIdent that fits the alarm
+ * (0x0000..0x7FFF for a process alarm; never 0x8001: PNIO_ERR_PRM_INVALIDARG). The call
+ * returns PNIO_OK once procimgd sent the alarm; PNIO_CBF_REQ_DONE follows on the library
+ * thread with the UserHndl: PNIO_OK and a zero PNIO_ERR_STAT when the PLC acknowledged it
+ * positively, PNIO_ERR_ALARM_DATA_FORMAT with the AlarmAck's PNIOStatus when it refused it,
+ * PNIO_ERR_ABORT when the AR ended first. A process alarm of a submodule the program did not
+ * plug or the AR does not hold answers PNIO_ERR_UNKNOWN_ADDR; a diagnosis or return alarm
+ * of one returns PNIO_OK, as the manual says, and REQ_DONE brings PNIO_ERR_UNKNOWN_ADDR. A
+ * diagnosis alarm's data is the item after its UserStructIdent (0x8000 channel, 0x8002
+ * extended channel diagnosis, big-endian); it is DiagnosisDisappears when nothing is left on
+ * the submodule, else Diagnosis, with the AlarmSpecifier of procimgd's store. They may be
+ * called inside callbacks.
+ *
+ * Identification and stop request. A DCP Signal from an engineering tool calls
+ * PNIO_CBF_START_LED_FLASH (2 Hz) and, three seconds later, PNIO_CBF_STOP_LED_FLASH. A DCP
+ * reset to factory, which takes the station's name and address (its setup over the network),
+ * calls PNIO_CBF_CP_STOP_REQ: close the device outside the callback, and open it again once
+ * the station has an address (until then open answers PNIO_ERR_CONFIG_IN_UPDATE).
+ *
  * Open, start, stop. CpIndex names a procimgd instance as for the controller (PROCIMG_CP<n>,
  * else PROCIMG_INSTANCE, else "procimg"); it must be in the device role (otherwise
  * PNIO_ERR_PRM_CP_ID) with the VendorId and DeviceId given (otherwise
@@ -83,7 +125,8 @@
  * PNIO_CBF_PULL_PLUG_CONF (otherwise PNIO_ERR_SEQUENCE) and reach the PLC as Pull, Plug or
  * Plug Wrong alarms; between the PLC's Connect and data exchange procimgd refuses them and
  * the confirmation carries PNIO_ERR_SEQUENCE. AlarmType and IM0_bits are checked, but
- * procimgd picks the alarm by what the PLC expects and keeps I&M0FilterData itself.
+ * procimgd picks the alarm by what the PLC expects and keeps I&M0FilterData itself; IM0_bits
+ * other than NOTHING give the program the submodule's I&M records (see Records).
  *
  * Sequence. open -> api_add -> mod_plug, sub_plug -> start -> stop (DEVICE_STOPPED) ->
  * mod_pull -> api_remove -> close; calls out of it answer PNIO_ERR_SEQUENCE: a submodule

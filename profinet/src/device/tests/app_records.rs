@@ -231,6 +231,37 @@ fn a_read_gets_the_applications_data_cut_to_what_the_controller_takes() {
 }
 
 #[test]
+fn im_records_go_to_the_application_only_when_handed_to_it() {
+    let (mut dev, t) = delegating_device();
+    // Slot 1's user records are the application's, its I&M not yet.
+    let h = IodHeader::read_request(0, AR_UUID, 0, 1, 1, 0xaff1, 64);
+    let out = send(&mut dev, opnum::READ, 5, &h.to_bytes(), t);
+    assert!(jobs(&out).is_empty());
+    dev.delegate_im_records(SubslotAddr::new(0, 1, 1), true);
+    let out = send(&mut dev, opnum::READ, 6, &h.to_bytes(), t);
+    let j = jobs(&out);
+    assert_eq!((j.len(), j[0].index, j[0].write), (1, 0xaff1, false));
+    dev.answer_record(j[0].job, Ok(vec![0; 4]), &mut Vec::new())
+        .unwrap();
+    let out = send(
+        &mut dev,
+        opnum::WRITE,
+        7,
+        &write_blocks(1, 0xaff0, &[0; 4]),
+        t,
+    );
+    let j = jobs(&out);
+    assert_eq!((j.len(), j[0].index, j[0].write), (1, 0xaff0, true));
+    dev.answer_record(j[0].job, Ok(Vec::new()), &mut Vec::new())
+        .unwrap();
+    // I&M0FilterData stays the device's; so do I&M records once taken back.
+    let f = IodHeader::read_request(0, AR_UUID, 0, 1, 1, 0xf840, 256);
+    assert!(jobs(&send(&mut dev, opnum::READ, 8, &f.to_bytes(), t)).is_empty());
+    dev.delegate_im_records(SubslotAddr::new(0, 1, 1), false);
+    assert!(jobs(&send(&mut dev, opnum::READ, 9, &h.to_bytes(), t)).is_empty());
+}
+
+#[test]
 fn configured_parameter_records_check_index_and_length_and_read_their_initial_data() {
     let (mut dev, connect) = counter_device();
     dev.set_parameter_records(&[ParameterRecord {
