@@ -201,6 +201,14 @@ pub enum Request {
         /// The alarm's data.
         data: Vec<u8>,
     },
+    /// In the device role: the application reports a problem of the station (`true`) or
+    /// none: the PLC sees it in the StationProblemIndicator of the input data's DataStatus,
+    /// as it sees a pending fault diagnosis (IO-Base's `PNIO_set_dev_state`); answered with
+    /// [`Response::Done`].
+    StationProblem {
+        /// A problem (`true`) or none.
+        problem: bool,
+    },
     /// In the device role: an alarm of one of the station's submodules, of the client's
     /// making, to the PLC's AR in data exchange; answered with [`Response::Done`] once it
     /// went out, then the PLC's acknowledgement comes to the subscriber as
@@ -402,6 +410,7 @@ impl Request {
             Request::StationDiagnosis { .. }
                 | Request::StationProcessAlarm { .. }
                 | Request::StationAlarm { .. }
+                | Request::StationProblem { .. }
                 | Request::StationPlug { .. }
                 | Request::StationPull { .. }
                 | Request::StationReturnSubmodule { .. }

@@ -137,6 +137,13 @@ impl Client {
         })
     }
 
+    /// In the device role: reports a problem of the station (`true`) or none. The PLC sees
+    /// it in the StationProblemIndicator of the input data's DataStatus, as it sees a pending
+    /// fault diagnosis (which it shows whatever this says).
+    pub fn set_station_problem(&self, problem: bool) -> Result<(), ControlError> {
+        self.station_request(&Request::StationProblem { problem })
+    }
+
     fn station_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
         self.station_request(&Request::StationDiagnosis {
             change,

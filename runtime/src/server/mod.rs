@@ -203,6 +203,7 @@ impl Control {
             | Request::StationDiagnosis { .. }
             | Request::StationProcessAlarm { .. }
             | Request::StationAlarm { .. }
+            | Request::StationProblem { .. }
             | Request::StationPlug { .. }
             | Request::StationPull { .. }
             | Request::StationReturnSubmodule { .. }

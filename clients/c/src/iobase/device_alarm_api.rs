@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The exported diagnosis and alarm functions of `pniousrd.h` (`PNIO_build_channel_properties`,
-//! `PNIO_diag_*`, `PNIO_process_alarm_send`, `PNIO_diag_alarm_send`,
-//! `PNIO_ret_of_sub_alarm_send`), with the signatures of `device_types::prototypes`. Each
+//! The exported diagnosis, alarm and state functions of `pniousrd.h`
+//! (`PNIO_build_channel_properties`, `PNIO_diag_*`, `PNIO_process_alarm_send`,
+//! `PNIO_diag_alarm_send`, `PNIO_ret_of_sub_alarm_send`, `PNIO_set_dev_state`), with the signatures of `device_types::prototypes`. Each
 //! runs inside [`crate::ffi::guard`]. They may be called inside callbacks: they go to
 //! procimgd directly, not through the library thread. What they do is in
 //! [`super::device::diag`] and [`super::device::alarms`].
@@ -11,6 +11,7 @@ use super::device::Pos;
 use super::device::alarms::{self, AlarmCall, MAX_ALARM_DATA};
 use super::device::diag::{self, DiagFn};
 use super::device::state::{Device, lookup, wrong_handle};
+use super::controller::lock;
 use super::device_types::*;
 use super::errors::*;
 use super::types::*;
@@ -474,6 +475,39 @@ unsafe fn alarm(
     )
 }
 
+/// Reports the station's state to the PLC: `PNIO_DEVSTAT_STATION_PROBLEM` sets the
+/// StationProblemIndicator of the input data (as a pending fault diagnosis does),
+/// `PNIO_DEVSTAT_OK` takes the report back.
+#[unsafe(no_mangle)]
+pub extern "C" fn PNIO_set_dev_state(DevHndl: PNIO_UINT32, DevState: PNIO_UINT32) -> PNIO_UINT32 {
+    const F: &str = "PNIO_set_dev_state";
+    guard(PNIO_ERR_INTERNAL, || {
+        let dev = match device(F, DevHndl) {
+            Ok(d) => d,
+            Err(c) => return c,
+        };
+        let problem = match DevState {
+            PNIO_DEVSTAT_OK => false,
+            PNIO_DEVSTAT_STATION_PROBLEM => true,
+            other => {
+                return fail(
+                    F,
+                    PNIO_ERR_PRM_DEV_STATE,
+                    format_args!(
+                        "DevState {other} is neither PNIO_DEVSTAT_OK nor \
+                         PNIO_DEVSTAT_STATION_PROBLEM"
+                    ),
+                );
+            }
+        };
+        match lock(&dev.client).set_station_problem(problem) {
+            Ok(()) => PNIO_OK,
+            Err(e) => fail(F, PNIO_ERR_NO_FW_COMMUNICATION, format_args!("{e}")),
+        }
+    })
+}
+
+const _: prototypes::PNIO_set_dev_state = PNIO_set_dev_state;
 const _: prototypes::PNIO_build_channel_properties = PNIO_build_channel_properties;
 const _: prototypes::PNIO_diag_channel_add = PNIO_diag_channel_add;
 const _: prototypes::PNIO_diag_channel_remove = PNIO_diag_channel_remove;

@@ -763,6 +763,12 @@ int main(void) {
               (unsigned)event(i4).b);
     }
 
+    /* ---- The station's state as the program reports it ---- */
+    CHECK_RC(PNIO_set_dev_state(h, 3), PNIO_ERR_PRM_DEV_STATE);
+    CHECK_RC(PNIO_set_dev_state(wrong, PNIO_DEVSTAT_OK), PNIO_ERR_WRONG_HND);
+    CHECK_RC(PNIO_set_dev_state(h, PNIO_DEVSTAT_STATION_PROBLEM), PNIO_OK);
+    CHECK_RC(PNIO_set_dev_state(h, PNIO_DEVSTAT_OK), PNIO_OK);
+
     /* ---- The program aborts the AR: OFFLINE_IND, and the PLC connects again ---- */
     CHECK_RC(PNIO_device_ar_abort(h, ar, sk), PNIO_OK);
     int ioff = wait_event(__LINE__, EV_OFFLINE, iin);

@@ -64,6 +64,13 @@ pub enum DeviceCommand {
         /// Where the outcome goes.
         reply: SyncSender<Result<(), Refusal>>,
     },
+    /// The application reports a station problem, or none; done goes back on `reply`.
+    Problem {
+        /// A problem or none.
+        problem: bool,
+        /// Where the outcome goes.
+        reply: SyncSender<Result<(), String>>,
+    },
     /// A client's alarm; whether it went out goes back on `reply`, its acknowledgement
     /// later as [`StationEvent::AlarmDone`].
     Alarm {
@@ -142,6 +149,8 @@ pub struct DeviceRole {
     data_flows: bool,
     /// The clients' alarms waiting for the PLC's acknowledgement.
     alarms: ClientAlarms,
+    /// A client reports a problem of the station.
+    problem: bool,
 }
 
 /// The state file as the role keeps it up to date.
@@ -188,6 +197,7 @@ impl DeviceRole {
             plc_running: None,
             data_flows: false,
             alarms: ClientAlarms::default(),
+            problem: false,
         }
     }
 
@@ -241,9 +251,11 @@ impl DeviceRole {
                 DeviceAction::DcpSetCheck(c) => Effect::Event(StationEvent::DcpSetCheck(c)),
             });
         }
+        // A pending fault, or what a client reported.
+        let problem = self.device.station_problem() || self.problem;
         self.channel
             .station_problem
-            .store(self.device.station_problem(), Ordering::Relaxed);
+            .store(problem, Ordering::Relaxed);
         self.keep();
         self.station.refresh(&self.device);
         // Told before the AR's end that a new name or address brings about.
@@ -409,6 +421,10 @@ impl Role for DeviceRole {
                         }),
                     });
                 let _ = reply.try_send(r);
+            }
+            DeviceCommand::Problem { problem, reply } => {
+                self.problem = problem;
+                let _ = reply.try_send(Ok(()));
             }
             DeviceCommand::Alarm { order, reply } => {
                 let r = self

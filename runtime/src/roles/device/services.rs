@@ -383,6 +383,9 @@ impl RoleServices for DeviceServices {
                     reply,
                 })
             }
+            Request::StationProblem { problem } => {
+                self.carry_out(|reply| DeviceCommand::Problem { problem, reply })
+            }
             Request::StationAlarm {
                 subscriber,
                 tag,
