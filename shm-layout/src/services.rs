@@ -305,6 +305,18 @@ pub enum Notification {
         /// data exchange expects a submodule there).
         alarm: String,
     },
+    /// Device role: the PLC ended the parameters of a submodule plugged in data exchange
+    /// (its PlugPrmEnd; IO-Base's `PNIO_CBF_PRM_END_IND` with a subslot). A subscriber that
+    /// holds the ApplicationReady releases the submodule's PlugApplicationReady with
+    /// [`crate::control::Request::StationApplicationReady`].
+    StationPlugParameterized {
+        /// API.
+        api: u32,
+        /// Slot.
+        slot: u16,
+        /// Subslot.
+        subslot: u16,
+    },
     /// Device role: the PLC acknowledged the alarm `reply_to` sent with
     /// [`crate::control::Request::StationAlarm`], or its AR ended first.
     StationAlarmDone {

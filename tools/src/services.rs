@@ -268,6 +268,10 @@ fn describe(n: &Notification) -> String {
             "station: PLC {} ({}) connects AR {} (check {})",
             check.controller_mac, check.controller_name, check.ar_uuid, check.job
         ),
+        Notification::StationPlugParameterized { api, slot, subslot } => format!(
+            "station: the PLC ended the parameters of API {api} slot {slot} subslot \
+             {subslot:#06x} (plugged)"
+        ),
         Notification::StationAlarmDone { tag, status, .. } => match status {
             Some(s) => format!("station: alarm {tag} acknowledged by the PLC, status {s:02x?}"),
             None => format!("station: alarm {tag} not acknowledged: the AR ended"),

@@ -45,6 +45,9 @@
  * AR's end PNIO_CBF_AR_OFFLINE_IND after AR_INDATA_IND, else PNIO_CBF_AR_ABORT_IND, whose
  * ReasonCode is the RTA abort code (1..34 are the same numbers), PNIO_AR_REASON_REL for the
  * PLC's release, PNIO_AR_REASON_ABORT for the station's own end with another code.
+ * A submodule plugged in data exchange is parameterized by the PLC again: PRM_END_IND then
+ * names it (API, slot, subslot), and PNIO_set_appl_state_ready (once per such PRM_END_IND)
+ * lets its PlugApplicationReady go, after which its data and alarms are the AR's again.
  * PNIO_device_stop gives the end callback before PNIO_CBF_DEVICE_STOPPED;
  * PNIO_device_ar_abort ends the AR by OFFLINE, then OPERATE again. In the per-AR calls an
  * ArNumber never given answers PNIO_ERR_SEQUENCE, an ended AR's or a wrong SessionKey

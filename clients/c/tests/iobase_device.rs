@@ -39,7 +39,9 @@ static ENV: Mutex<()> = Mutex::new(());
 #[test]
 fn management_and_configuration_from_c() {
     for link in [Link::Static, Link::Shared] {
-        let server = Launch::demo_device(&format!("devapi-c-{link:?}").to_lowercase()).start();
+        let server = Launch::demo_device(&format!("devapi-c-{link:?}").to_lowercase())
+            .debug_log()
+            .start();
         let src = crate_dir().join("tests/c/iobase_device.c");
         let program = scratch("iobase_device").join(format!("{link:?}").to_lowercase());
         compile(&[src], &program, link, sanitize_from_env());

@@ -21,12 +21,23 @@ impl<A: Application> Device<A> {
         self.hold_app_ready = hold;
     }
 
-    /// Lets a held ApplicationReady go out; `false` when none is held (no AR, the PLC's
+    /// Lets a held ApplicationReady go out, and the held PlugApplicationReady of plugged
+    /// submodules; `false` when none is held (no AR, the PLC's
     /// PrmEnd has not come, or it went out already).
     pub fn release_application_ready(&mut self, now_ns: u64) -> bool {
-        let Some(ar) = self.ar.as_mut().filter(|a| a.app_ready_held.is_some()) else {
+        let Some(ar) = self.ar.as_mut() else {
             return false;
         };
+        // A plugged submodule's PlugApplicationReady that waits (with the hold timeout as
+        // its due time) goes now.
+        let mut released = false;
+        for r in ar.plug_ready.iter_mut().filter(|r| r.2 > now_ns) {
+            r.2 = now_ns;
+            released = true;
+        }
+        if ar.app_ready_held.is_none() {
+            return released;
+        }
         ar.app_ready_held = None;
         ar.app_ready_due = Some(now_ns);
         true

@@ -276,6 +276,9 @@ pub struct Device<A> {
     /// Calls waiting for the application's record answers.
     waiting: app_records::Waiting,
     /// Whether the ApplicationReady waits for [`Device::release_application_ready`].
+    /// Plugged submodules whose parameters the controller ended (PlugPrmEnd) since
+    /// [`take_plug_parameterized`](Self::take_plug_parameterized) was last called.
+    plug_parameterized: Vec<SubslotAddr>,
     hold_app_ready: bool,
     /// ApplicationReadys that went out because the application did not release them.
     app_ready_hold_timeouts: u64,
@@ -335,6 +338,7 @@ impl<A: Application> Device<A> {
             params: params::ParameterRecords::default(),
             waiting: app_records::Waiting::default(),
             hold_app_ready: false,
+            plug_parameterized: Vec::new(),
             app_ready_hold_timeouts: 0,
             ar_checks: ar_check::ArChecks::default(),
         };

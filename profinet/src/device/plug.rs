@@ -31,7 +31,10 @@
 use super::ar::IOXS_BAD;
 use super::diagnosis::SubslotAddr;
 use super::rpc::ClientCall;
-use super::{APP_READY_DELAY_NS, Application, ArState, Device, DeviceAction, PluggedSubmodule};
+use super::{
+    APP_READY_DELAY_NS, APP_READY_HOLD_TIMEOUT_NS, Application, ArState, Device, DeviceAction,
+    PluggedSubmodule,
+};
 use crate::wire::alarm::{AlarmNotification, AlarmSpecifier, AlarmType, Priority};
 use crate::wire::control::ControlBlock;
 
@@ -182,12 +185,25 @@ impl<A: Application> Device<A> {
         };
         s.plugging = None;
         let at = s.expected.addr();
-        ar.plug_ready.push_back((
-            at,
-            c.alarm_sequence_number,
-            now_ns.saturating_add(APP_READY_DELAY_NS),
-        ));
+        // Held like the AR's ApplicationReady: the application releases it once it took the
+        // submodule's parameters, at the latest after the hold timeout.
+        let delay = if self.hold_app_ready {
+            APP_READY_HOLD_TIMEOUT_NS
+        } else {
+            APP_READY_DELAY_NS
+        };
+        ar.plug_ready
+            .push_back((at, c.alarm_sequence_number, now_ns.saturating_add(delay)));
+        self.plug_parameterized.push(at);
         Ok(())
+    }
+
+    /// The plugged submodules whose parameters the controller ended (PlugPrmEnd) since the
+    /// last call: each one's PlugApplicationReady waits for
+    /// [`release_application_ready`](Self::release_application_ready) while the application
+    /// holds the ApplicationReady ([`hold_application_ready`](Self::hold_application_ready)).
+    pub fn take_plug_parameterized(&mut self) -> Vec<SubslotAddr> {
+        std::mem::take(&mut self.plug_parameterized)
     }
 
     /// Sends the next due PlugApplicationReady and retransmits the outstanding one.

@@ -339,3 +339,35 @@ fn during_the_ar_check_the_application_plugs_what_the_plc_expects() {
     let res = crate::wire::connect::ConnectResponse::parse(&r.blocks).unwrap();
     assert_eq!(res.module_diff, None, "everything as expected");
 }
+
+#[test]
+fn a_held_application_ready_holds_the_plug_application_ready_too() {
+    let (mut dev, connect) = counter_device();
+    // The caller's cycle runs the exchange: no watchdog of the PLC's frames here.
+    dev.hand_over_cyclic(MS);
+    let t = to_data(&mut dev, &connect, 1_000 * MS);
+    dev.hold_application_ready(true);
+    let mut out = Vec::new();
+    dev.pull_submodule(INPUT, t, &mut out).unwrap();
+    ack_transport(&mut dev, &out, t + MS);
+    let t = t + 2 * MS;
+    let mut out = Vec::new();
+    dev.plug_submodule(INPUT, 0x30, 0x1, t, &mut out).unwrap();
+    let seq = alarms(&out)[0].specifier.sequence_number;
+    assert!(dev.take_plug_parameterized().is_empty());
+    let prm = ControlBlock::plug_prm_end(AR_UUID, 1, seq);
+    let r = call(
+        &mut dev,
+        &request(opnum::CONTROL, ACTIVITY, 6, &prm.to_bytes(), false),
+        t,
+    );
+    assert_eq!(status(&r), PnioStatus::OK);
+    assert_eq!(dev.take_plug_parameterized(), [INPUT]);
+    assert!(dev.take_plug_parameterized().is_empty());
+    // Held: nothing goes out until the application releases it.
+    assert!(plug_ready_done(&run(&mut dev, t, t + 5 * MS)).is_none());
+    assert!(dev.release_application_ready(t + 5 * MS));
+    let out = run(&mut dev, t + 5 * MS, t + 7 * MS);
+    let (_, _, n) = plug_ready_done(&out).expect("the PlugApplicationReady once released");
+    assert_eq!(n, seq);
+}

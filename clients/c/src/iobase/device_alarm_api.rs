@@ -7,11 +7,11 @@
 //! [`super::device::diag`] and [`super::device::alarms`].
 #![allow(non_snake_case)]
 
+use super::controller::lock;
 use super::device::Pos;
 use super::device::alarms::{self, AlarmCall, MAX_ALARM_DATA};
 use super::device::diag::{self, DiagFn};
 use super::device::state::{Device, lookup, wrong_handle};
-use super::controller::lock;
 use super::device_types::*;
 use super::errors::*;
 use super::types::*;

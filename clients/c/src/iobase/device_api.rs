@@ -583,6 +583,15 @@ pub unsafe extern "C" fn PNIO_set_appl_state_ready(
             let Some(ar) = ars.current.as_mut() else {
                 return fail(F, PNIO_ERR_INTERNAL, "the AR went while checked");
             };
+            if ar.phase == Phase::InData && ar.plug_prm_ends > 0 {
+                // A submodule plugged in data exchange has its parameters.
+                ar.plug_prm_ends -= 1;
+                drop(ars);
+                return match lock(&dev.services).application_ready() {
+                    Ok(()) => PNIO_OK,
+                    Err(e) => fail(F, PNIO_ERR_NO_FW_COMMUNICATION, format_args!("{e}")),
+                };
+            }
             if ar.phase != Phase::PrmEnd {
                 let why = if ar.phase == Phase::Checked {
                     "PNIO_CBF_PRM_END_IND has not come yet"

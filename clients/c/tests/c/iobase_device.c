@@ -130,8 +130,13 @@ static int wait_event(int line, int type, int from) {
         }
         if (pthread_cond_timedwait(&cv, &mu, &until) != 0) break;
     }
+    char seen[512] = "";
+    for (int i = 0; i < nevents; i++) {
+        size_t used = strlen(seen);
+        snprintf(seen + used, sizeof seen - used, " %s", ev_names[events[i].type]);
+    }
     pthread_mutex_unlock(&mu);
-    fail(line, "%s did not come (%d events)", ev_names[type], nevents);
+    fail(line, "%s did not come after event %d; events:%s", ev_names[type], from, seen);
     return -1;
 }
 
@@ -768,6 +773,39 @@ int main(void) {
     CHECK_RC(PNIO_set_dev_state(wrong, PNIO_DEVSTAT_OK), PNIO_ERR_WRONG_HND);
     CHECK_RC(PNIO_set_dev_state(h, PNIO_DEVSTAT_STATION_PROBLEM), PNIO_OK);
     CHECK_RC(PNIO_set_dev_state(h, PNIO_DEVSTAT_OK), PNIO_OK);
+
+    /* ---- Pulled and plugged in data exchange: the PLC parameterizes the submodule again,
+     * PRM_END_IND names it, and PNIO_set_appl_state_ready lets it go ---- */
+    {
+        pthread_mutex_lock(&mu);
+        int from = nevents;
+        pthread_mutex_unlock(&mu);
+        CHECK_RC(PNIO_sub_pull(h, 0, &a), PNIO_OK);
+        expect_conf(__LINE__, ++n, h, PNIO_SUB_PULL, 1, 1);
+        CHECK_RC(PNIO_sub_plug(h, 0, &a, 0x2), PNIO_OK); /* what the PLC expects */
+        expect_conf(__LINE__, ++n, h, PNIO_SUB_PLUG, 1, 1);
+        int ip = wait_event(__LINE__, EV_PRM_END, from);
+        event_t p = event(ip);
+        CHECK(p.ar == ar && p.sk == sk && p.a == 0 && p.b == (1u << 16 | 1),
+              "PRM_END_IND of the plugged submodule: AR %u/%u API %u slot/subslot 0x%x",
+              (unsigned)p.ar, (unsigned)p.sk, (unsigned)p.a, (unsigned)p.b);
+        CHECK_RC(PNIO_set_appl_state_ready(h, ar, sk, NULL), PNIO_OK);
+        CHECK_RC(PNIO_set_appl_state_ready(h, ar, sk, NULL), PNIO_ERR_SEQUENCE);
+        /* The submodule is the AR's again: its alarms go out. */
+        int good = 0;
+        for (int k = 0; !good && k < 500; k++) {
+            PNIO_UINT32 rc = PNIO_process_alarm_send(h, 0, ar, sk, &a, alarm_data, 1, 1, 5);
+            if (rc == PNIO_OK) {
+                good = 1;
+                expect_done(__LINE__, 5, from);
+            } else {
+                CHECK(rc == PNIO_ERR_UNKNOWN_ADDR, "alarm after the plug: 0x%x", (unsigned)rc);
+                struct timespec pause = {0, 10 * 1000 * 1000};
+                nanosleep(&pause, NULL);
+            }
+        }
+        CHECK(good, "the plugged submodule never took an alarm again");
+    }
 
     /* ---- The program aborts the AR: OFFLINE_IND, and the PLC connects again ---- */
     CHECK_RC(PNIO_device_ar_abort(h, ar, sk), PNIO_OK);

@@ -34,6 +34,11 @@ pub fn notification(event: StationEvent) -> Notification {
             planned,
         },
         StationEvent::PlcRunning(running) => Notification::StationPlcRunning { running },
+        StationEvent::PlugParameterized(at) => Notification::StationPlugParameterized {
+            api: at.api,
+            slot: at.slot,
+            subslot: at.subslot,
+        },
         StationEvent::AlarmDone {
             subscriber,
             tag,

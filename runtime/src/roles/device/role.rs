@@ -283,6 +283,9 @@ impl DeviceRole {
         if state == ArState::Idle {
             self.data_flows = false;
         }
+        for at in self.device.take_plug_parameterized() {
+            self.tell(StationEvent::PlugParameterized(at), out);
+        }
         // Before the AR's end is told: its acknowledgements came while it was up.
         for event in self.alarms.ended(&self.device, state == ArState::Idle) {
             self.tell(event, out);

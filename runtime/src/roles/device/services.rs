@@ -66,11 +66,13 @@ impl DeviceServices {
 
     /// Publishes `event` to the subscribers; a record job to the one that took its records.
     fn publish(&mut self, event: StationEvent, notices: &mut Notices) {
-        if let StationEvent::Ar {
-            state: ArState::Parameterized,
-            ..
-        } = &event
-        {
+        if matches!(
+            event,
+            StationEvent::Ar {
+                state: ArState::Parameterized,
+                ..
+            } | StationEvent::PlugParameterized(_)
+        ) {
             self.say.parameters_ended();
         }
         match notification(event) {

@@ -74,6 +74,8 @@ pub enum StationEvent {
     },
     /// The PLC reads or writes a record whose submodule's records a client took.
     Record(RecordRequest),
+    /// The PLC ended the parameters of the submodule plugged at `0` (its PlugPrmEnd).
+    PlugParameterized(SubslotAddr),
     /// A client's alarm ended: the PLC acknowledged it (`status`: the AlarmAck's
     /// PNIOStatus), or its AR ended first (`None`).
     AlarmDone {
@@ -213,6 +215,9 @@ impl Station {
                 j.slot,
                 j.subslot
             ),
+            StationEvent::PlugParameterized(at) => {
+                tracing::debug!("the PLC ended the parameters of {at} (PlugPrmEnd)")
+            }
             StationEvent::AlarmDone { tag, status, .. } => match status {
                 Some(s) => tracing::debug!("alarm {tag} acknowledged by the PLC: {s:02x?}"),
                 None => tracing::debug!("alarm {tag} unacknowledged: the AR ended"),

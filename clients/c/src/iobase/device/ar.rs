@@ -265,6 +265,9 @@ pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
                 apdu(dev, number, key, running);
             }
         }
+        Notification::StationPlugParameterized { api, slot, subslot } => {
+            plug_prm_end(dev, api, slot, subslot)
+        }
         Notification::StationRecord { job, .. } => records::job(dev, &job),
         Notification::StationAlarmDone { tag, status, .. } => {
             alarms::acknowledged(dev, tag, status)
@@ -275,6 +278,26 @@ pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
             ..
         } => identify::stop_request(dev),
         _ => {}
+    }
+}
+
+/// The PLC ended the parameters of a submodule plugged in data exchange: `PRM_END_IND` with
+/// its address; `PNIO_set_appl_state_ready` releases its PlugApplicationReady.
+fn plug_prm_end(dev: &Device, api: u32, slot: u16, subslot: u16) {
+    let ar = {
+        let mut ars = lock(&dev.ars);
+        match ars.current.as_mut() {
+            Some(ar) if ar.phase == Phase::InData => {
+                ar.plug_prm_ends += 1;
+                Some((ar.number, ar.session_key))
+            }
+            _ => None,
+        }
+    };
+    if let (Some((number, key)), Some(f)) = (ar, dev.cbf.cbf_prm_end_ind) {
+        // SAFETY: a callback the program gave PNIO_device_open, callable until
+        // PNIO_device_close (which waits for this thread).
+        invoke_device(|| unsafe { f(dev.handle, number, key, api, slot, subslot) });
     }
 }
 
@@ -319,6 +342,7 @@ fn new_ar(dev: &Device, occupants: &mut Occupants, check: &StationArCheckJob) {
             uuid: check.ar_uuid.clone(),
             phase: Phase::Checked,
             apdu_pending: None,
+            plug_prm_ends: 0,
         })
     };
     if let Some(old) = replaced {

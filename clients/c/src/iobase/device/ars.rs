@@ -30,6 +30,9 @@ pub(crate) struct Ar {
     pub phase: Phase,
     /// A RUN/STOP change before data exchange, given after `AR_INDATA_IND`.
     pub apdu_pending: Option<bool>,
+    /// Submodules plugged in data exchange whose `PRM_END_IND` was given and whose
+    /// `PNIO_set_appl_state_ready` has not come yet.
+    pub plug_prm_ends: u32,
 }
 
 /// The ARs of an open device.

@@ -118,6 +118,7 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::StationPlug { .. }
         | Notification::StationRecord { .. }
         | Notification::StationAlarmDone { .. }
+        | Notification::StationPlugParameterized { .. }
         | Notification::StationArCheck { .. }
         | Notification::StationDcpSetCheck { .. } => {}
     }
