@@ -10,6 +10,9 @@
 //!   and its threads; `data`: the IO data functions; `callbacks`: the callback table and
 //!   the one place that calls the program back; `services`: records, alarms, device
 //!   activation and diagnosis.
+//! * `isochronous`: the STARTOP..OPDONE handshake and the registration rules both roles
+//!   share; `handles`: the one handle counter of both; [`watchdog`]: the CP application
+//!   watchdog of both.
 
 pub mod api;
 pub(crate) mod callbacks;
@@ -19,5 +22,8 @@ pub(crate) mod device;
 pub mod device_api;
 pub mod device_types;
 pub mod errors;
+mod handles;
+mod isochronous;
 pub(crate) mod services;
 pub mod types;
+pub mod watchdog;

@@ -92,6 +92,7 @@ pub(crate) mod ar;
 pub(crate) mod ars;
 pub(crate) mod config;
 pub(crate) mod data;
+pub(crate) mod isochronous;
 pub(crate) mod jobs;
 pub(crate) mod open;
 pub(crate) mod state;
