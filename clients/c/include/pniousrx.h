@@ -63,7 +63,8 @@
  * MP_DEVICE_DISABLED (deactivated). DEVICE_DIAGNOSTIC fills Mode only.
  *
  * Isochronous mode. Registering PNIO_CP_CBE_STARTOP_IND (after PNIO_CP_CBE_OPFAULT_IND,
- * else PNIO_ERR_SEQUENCE) makes the controller take part in the server's cycle handshake:
+ * else PNIO_ERR_OPFAULT_NOT_REG; PNIO_CP_CBE_NEWCYCLE_IND only before it, else
+ * PNIO_ERR_NEWCYCLE_SEQUENCE_REG) makes the controller take part in the server's cycle handshake:
  * STARTOP_IND comes every cycle, on a thread of the library, from then on (also in OFFLINE).
  * Between STARTOP_IND and PNIO_CP_set_opdone, data_read and data_write act on this cycle's
  * consistent image, and the outputs written go out with PNIO_CP_set_opdone. procimg
@@ -94,8 +95,10 @@
  *
  * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types), the
  * PN Driver interface functions (PNIO_interface_*), the PN Driver services (SERV_CP_*),
- * PNIO_iosystem_reconfig, PNIO_data_cache_exchange and the CP watchdog functions: procimg
- * does not offer them. LED flashing and CP_STOP_REQ can be registered but never occur.
+ * PNIO_iosystem_reconfig and PNIO_data_cache_exchange: procimg does not offer them. LED
+ * flashing and CP_STOP_REQ can be registered but never occur. The CP application watchdog
+ * (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
+ * pniobase.h's, shared with the device side; what its expiry does is said there.
  */
 #ifndef PNIOUSRX_H
 #define PNIOUSRX_H
