@@ -364,11 +364,8 @@ fn a_device_follows_the_cycle_with_startop_and_opdone() {
     wait_until("NEWCYCLE_IND", || NEWCYCLES.load(Ordering::SeqCst) >= 10);
     plug_start_ready(h);
     // SAFETY: a valid handle and callback.
-    assert_eq!(
-        unsafe { PNIO_CP_register_cbf(h, PNIO_CP_CBE_OPFAULT_IND, Some(on_opfault)) },
-        PNIO_ERR_SEQUENCE,
-        "registration after start"
-    );
+    let rc = unsafe { PNIO_CP_register_cbf(h, PNIO_CP_CBE_OPFAULT_IND, Some(on_opfault)) };
+    assert_eq!(rc, PNIO_ERR_SEQUENCE, "registration after start");
     let writes = WRITES_OK.load(Ordering::SeqCst);
     let opdone = OPDONE_OK.load(Ordering::SeqCst);
     wait_until("100 cycles with I data written inside STARTOP", || {
