@@ -610,8 +610,8 @@ typedef struct {
 /* ---- Callbacks ----------------------------------------------------------------------- */
 
 /* Callbacks run on threads of the library. Inside one only PNIO_initiate_data_read(_ext),
- * PNIO_initiate_data_write(_ext) and PNIO_CP_set_opdone may be called. Pointers passed to
- * a callback are valid during the call only. */
+ * PNIO_initiate_data_write(_ext), PNIO_CP_set_opdone and PNIO_CP_trigger_watchdog may be
+ * called. Pointers passed to a callback are valid during the call only. */
 
 /* Inputs: copy at most BufLen bytes into pBuffer; IOremState is the PLC's IOCS of the
  * inputs sent before. Returns the device's IOPS. */

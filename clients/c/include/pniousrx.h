@@ -82,8 +82,8 @@
  * Callbacks run on threads of the library, never inside an API call on the caller's thread.
  * Inside a callback only the IO data functions (PNIO_data_read, PNIO_output_data_read,
  * PNIO_data_read_cache_refresh, PNIO_data_read_cache, PNIO_data_write,
- * PNIO_data_write_cache, PNIO_data_write_cache_flush) and PNIO_CP_set_opdone may be called;
- * every other function returns PNIO_ERR_SEQUENCE there (including PNIO_controller_close).
+ * PNIO_data_write_cache, PNIO_data_write_cache_flush), PNIO_CP_set_opdone and
+ * PNIO_CP_trigger_watchdog may be called; every other function returns PNIO_ERR_SEQUENCE there (including PNIO_controller_close).
  * Callbacks may still run while PNIO_controller_close runs; none runs after it returned.
  * PNIO_controller_open starts the controller's threads, and they take the scheduling policy,
  * priority and CPU affinity of the thread that calls it: an isochronous program raises that

@@ -193,9 +193,10 @@ impl Device {
     /// the handle goes, the station no longer waits for this device's AR checks and
     /// ApplicationReady, then the client goes.
     pub(crate) fn close(&self) {
-        lock(&DEVICES).remove(&self.handle);
-        // No isochronous callback runs once close returned.
+        // No isochronous callback runs once close returned; one running now still finds
+        // the handle for its PNIO_CP_set_opdone.
         self.iso.stop();
+        lock(&DEVICES).remove(&self.handle);
         watchdog::forget(self.handle);
         let worker = lock(&self.worker).take();
         if let Some(w) = worker {
