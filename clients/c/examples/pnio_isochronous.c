@@ -220,14 +220,15 @@ static int isochronous(long want) {
                PNIO_controller_open(1, PNIO_CEP_MODE_CTRL, on_record, on_record, NULL, &handle))) {
         return 1;
     }
-    /* In OFFLINE: the mode callback, then OPFAULT before STARTOP. */
+    /* In OFFLINE: the mode callback, then OPFAULT and NEWCYCLE before STARTOP (IO-Base's
+     * order: PNIO_ERR_OPFAULT_NOT_REG and PNIO_ERR_NEWCYCLE_SEQUENCE_REG otherwise). */
     ok = check("PNIO_register_cbf(MODE_IND)", PNIO_register_cbf(handle, PNIO_CBE_MODE_IND, on_mode)) &&
          check("PNIO_CP_register_cbf(OPFAULT)",
                PNIO_CP_register_cbf(handle, PNIO_CP_CBE_OPFAULT_IND, on_opfault)) &&
-         check("PNIO_CP_register_cbf(STARTOP)",
-               PNIO_CP_register_cbf(handle, PNIO_CP_CBE_STARTOP_IND, on_startop)) &&
          check("PNIO_CP_register_cbf(NEWCYCLE)",
                PNIO_CP_register_cbf(handle, PNIO_CP_CBE_NEWCYCLE_IND, on_newcycle)) &&
+         check("PNIO_CP_register_cbf(STARTOP)",
+               PNIO_CP_register_cbf(handle, PNIO_CP_CBE_STARTOP_IND, on_startop)) &&
          check("PNIO_set_mode(OPERATE)", PNIO_set_mode(handle, PNIO_MODE_OPERATE));
     if (ok && (!wait_mode_reports(2) || atomic_load(&current_mode) != PNIO_MODE_OPERATE)) {
         fprintf(stderr, "pnio_isochronous: OPERATE was not reported\n");

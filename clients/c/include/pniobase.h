@@ -222,10 +222,13 @@ typedef void (*PNIO_CP_CBF)(PNIO_CP_CBE_PRM *pCbfPrm);
 
 /* ---- Isochronous functions (controller and device) ---------------------------------- */
 
-/* Registers an isochronous callback; only in OFFLINE, OPFAULT before STARTOP, each type
- * once. Registering STARTOP makes the controller take part in the cycle handshake. */
+/* Registers an isochronous callback: a controller in OFFLINE, a device before
+ * PNIO_device_start; each type once (else PNIO_ERR_ALLREADY_DONE), OPFAULT before STARTOP
+ * (else PNIO_ERR_OPFAULT_NOT_REG), NEWCYCLE before STARTOP (else
+ * PNIO_ERR_NEWCYCLE_SEQUENCE_REG). Registering STARTOP makes the controller or device take
+ * part in the cycle handshake. */
 PNIO_UINT32 PNIO_CODE_ATTR PNIO_CP_register_cbf(
-    PNIO_UINT32 CpHandle,     /* in: the handle of PNIO_controller_open */
+    PNIO_UINT32 CpHandle,     /* in: the handle of PNIO_controller_open or PNIO_device_open */
     PNIO_CP_CBE_TYPE CbeType, /* in */
     PNIO_CP_CBF Cbf);         /* in: not NULL */
 
@@ -234,6 +237,33 @@ PNIO_UINT32 PNIO_CODE_ATTR PNIO_CP_register_cbf(
 PNIO_UINT32 PNIO_CODE_ATTR PNIO_CP_set_opdone(
     PNIO_UINT32 CpHandle,        /* in */
     PNIO_CYCLE_INFO *CycleInfo); /* out, may be NULL */
+
+/* ---- The CP application watchdog (controller and device) ---------------------------- */
+
+/* Called once when the watchdog of CPIndex expires (on a thread of the library). */
+typedef void (*PNIO_CBF_APPL_WATCHDOG)(PNIO_UINT32 CPIndex);
+
+/* Registers the application watchdog of CPIndex (one per CPIndex in a process: a second
+ * gives PNIO_ERR_ALLREADY_DONE); wdTimeOutInMs 0 with pnio_appl_wd_cbf NULL deregisters it
+ * (0 with a callback: PNIO_ERR_PRM_TIMEOUT; a timeout with NULL: PNIO_ERR_PRM_CALLBACK).
+ * Monitoring starts at the first PNIO_CP_trigger_watchdog. The watchdog is libprocimg's,
+ * per process; procimgd does not know it. When no trigger comes within the timeout:
+ * every controller and device of this process open on the procimgd instance CPIndex names
+ * is stopped (the outputs, a device's I data, it holds go out once more with IOPS BAD, so
+ * the devices or the PLC see IOPS BAD; an isochronous one's later cycles end with them BAD
+ * and its STARTOP_IND is no longer called), then the callback is called once; from then on
+ * every call with such a handle answers PNIO_ERR_NO_FW_COMMUNICATION except
+ * PNIO_controller_close and PNIO_device_close (which also stops a started device). Open
+ * again to resume; deregister and register to arm the watchdog again. Unlike a real CP,
+ * the programs of other processes on the same procimgd instance are not affected. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_CP_set_appl_watchdog(
+    PNIO_UINT32 CPIndex,                        /* in: 1..255 */
+    PNIO_UINT32 wdTimeOutInMs,                  /* in: 0 to deregister */
+    PNIO_CBF_APPL_WATCHDOG pnio_appl_wd_cbf);   /* in: NULL to deregister */
+
+/* Retriggers the watchdog of CPIndex: PNIO_ERR_SEQUENCE when none is registered,
+ * PNIO_ERR_NO_FW_COMMUNICATION after it expired. May be called inside callbacks. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_CP_trigger_watchdog(PNIO_UINT32 CPIndex); /* in: 1..255 */
 
 #ifdef __cplusplus
 }

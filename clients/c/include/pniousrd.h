@@ -154,12 +154,29 @@
  * PNIO_UINT32). IO-Base declares PNIO_device_open_ext and PNIO_api_add_ext only when the
  * program defines PNIO_DEVICE_IF_EXT_01; here they are always declared.
  *
- * The isochronous functions PNIO_CP_register_cbf and PNIO_CP_set_opdone are pniobase.h's;
- * a device passes its device handle as CpHandle. Error codes are pnioerrx.h's.
+ * Isochronous mode. PNIO_CP_register_cbf and PNIO_CP_set_opdone are pniobase.h's; a
+ * device passes its device handle as CpHandle (controller and device handles never share a
+ * number). Registering is allowed before PNIO_device_start only (else PNIO_ERR_SEQUENCE),
+ * with the controller's rules: OPFAULT before STARTOP (else PNIO_ERR_OPFAULT_NOT_REG),
+ * NEWCYCLE before STARTOP (else PNIO_ERR_NEWCYCLE_SEQUENCE_REG), each type once (else
+ * PNIO_ERR_ALLREADY_DONE), Cbf not NULL (else PNIO_ERR_PRM_CALLBACK). With STARTOP the
+ * device takes part in procimgd's cycle handshake, as an isochronous controller does:
+ * from the registration on (before start and without an AR too) STARTOP_IND comes every
+ * cycle on a thread of the library; inside it PNIO_initiate_data_read and _write act on
+ * this cycle (the I data written goes out with PNIO_CP_set_opdone, in one piece), then
+ * PNIO_CP_set_opdone ends the cycle. A PNIO_CP_set_opdone after procimgd's deadline still
+ * answers PNIO_OK; OPFAULT_IND reports it and that cycle's I data is not used. One without
+ * an open cycle gives PNIO_ERR_SEQUENCE, one without STARTOP registered
+ * PNIO_ERR_STARTOP_NOT_REGISTERED. Outside the window the data functions work as without
+ * STARTOP (no PNIO_WARN_IRT_INCONSISTENT). While a plug or pull is carried out on procimgd
+ * the device misses that cycle (an OPFAULT). PNIO_CYCLE_INFO is as for the controller
+ * (pniousrx.h).
  *
- * Not here: the CP watchdog (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog,
- * PNIO_CBF_APPL_WATCHDOG), the SERV_CP_* services and PROFIenergy: procimg does not offer
- * them.
+ * The CP application watchdog (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog,
+ * PNIO_CBF_APPL_WATCHDOG) is pniobase.h's, for controllers and devices alike; what its
+ * expiry does is said there. Error codes are pnioerrx.h's.
+ *
+ * Not here: the SERV_CP_* services and PROFIenergy: procimg does not offer them.
  */
 #ifndef PNIOUSRD_H
 #define PNIOUSRD_H
@@ -639,8 +656,8 @@ typedef struct {
 /* ---- Callbacks ----------------------------------------------------------------------- */
 
 /* Callbacks run on threads of the library. Inside one only PNIO_initiate_data_read(_ext),
- * PNIO_initiate_data_write(_ext) and PNIO_CP_set_opdone may be called. Pointers passed to
- * a callback are valid during the call only. */
+ * PNIO_initiate_data_write(_ext), PNIO_CP_set_opdone and PNIO_CP_trigger_watchdog may be
+ * called. Pointers passed to a callback are valid during the call only. */
 
 /* Inputs: copy at most BufLen bytes into pBuffer; IOremState is the PLC's IOCS of the
  * inputs sent before. Returns the device's IOPS. */

@@ -63,7 +63,8 @@
  * MP_DEVICE_DISABLED (deactivated). DEVICE_DIAGNOSTIC fills Mode only.
  *
  * Isochronous mode. Registering PNIO_CP_CBE_STARTOP_IND (after PNIO_CP_CBE_OPFAULT_IND,
- * else PNIO_ERR_SEQUENCE) makes the controller take part in the server's cycle handshake:
+ * else PNIO_ERR_OPFAULT_NOT_REG; PNIO_CP_CBE_NEWCYCLE_IND only before it, else
+ * PNIO_ERR_NEWCYCLE_SEQUENCE_REG) makes the controller take part in the server's cycle handshake:
  * STARTOP_IND comes every cycle, on a thread of the library, from then on (also in OFFLINE).
  * Between STARTOP_IND and PNIO_CP_set_opdone, data_read and data_write act on this cycle's
  * consistent image, and the outputs written go out with PNIO_CP_set_opdone. procimg
@@ -81,8 +82,8 @@
  * Callbacks run on threads of the library, never inside an API call on the caller's thread.
  * Inside a callback only the IO data functions (PNIO_data_read, PNIO_output_data_read,
  * PNIO_data_read_cache_refresh, PNIO_data_read_cache, PNIO_data_write,
- * PNIO_data_write_cache, PNIO_data_write_cache_flush) and PNIO_CP_set_opdone may be called;
- * every other function returns PNIO_ERR_SEQUENCE there (including PNIO_controller_close).
+ * PNIO_data_write_cache, PNIO_data_write_cache_flush), PNIO_CP_set_opdone and
+ * PNIO_CP_trigger_watchdog may be called; every other function returns PNIO_ERR_SEQUENCE there (including PNIO_controller_close).
  * Callbacks may still run while PNIO_controller_close runs; none runs after it returned.
  * PNIO_controller_open starts the controller's threads, and they take the scheduling policy,
  * priority and CPU affinity of the thread that calls it: an isochronous program raises that
@@ -94,8 +95,10 @@
  *
  * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types), the
  * PN Driver interface functions (PNIO_interface_*), the PN Driver services (SERV_CP_*),
- * PNIO_iosystem_reconfig, PNIO_data_cache_exchange and the CP watchdog functions: procimg
- * does not offer them. LED flashing and CP_STOP_REQ can be registered but never occur.
+ * PNIO_iosystem_reconfig and PNIO_data_cache_exchange: procimg does not offer them. LED
+ * flashing and CP_STOP_REQ can be registered but never occur. The CP application watchdog
+ * (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
+ * pniobase.h's, shared with the device side; what its expiry does is said there.
  */
 #ifndef PNIOUSRX_H
 #define PNIOUSRX_H

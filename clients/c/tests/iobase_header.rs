@@ -7,6 +7,7 @@
 use procimg::iobase::api::*;
 use procimg::iobase::errors;
 use procimg::iobase::types::*;
+use procimg::iobase::watchdog::*;
 use std::fmt::Write as _;
 use std::mem::{align_of, offset_of, size_of};
 use std::path::PathBuf;
@@ -366,6 +367,11 @@ const FUNCTIONS: &[(&str, &str)] = &[
         "PNIO_CP_set_opdone",
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CYCLE_INFO *)",
     ),
+    (
+        "PNIO_CP_set_appl_watchdog",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_UINT32, PNIO_CBF_APPL_WATCHDOG)",
+    ),
+    ("PNIO_CP_trigger_watchdog", "PNIO_UINT32 (*)(PNIO_UINT32)"),
 ];
 
 /// The Rust functions have the manual's parameter types (as the C types map to Rust).
@@ -417,7 +423,11 @@ fn rust_signatures_are_the_manuals() {
     let _: unsafe extern "C" fn(U, *mut PNIO_CTRL_DIAG) -> U = PNIO_ctrl_diag_req;
     let _: unsafe extern "C" fn(U, PNIO_CP_CBE_TYPE, PNIO_CP_CBF) -> U = PNIO_CP_register_cbf;
     let _: unsafe extern "C" fn(U, *mut PNIO_CYCLE_INFO) -> U = PNIO_CP_set_opdone;
-    assert_eq!(FUNCTIONS.len(), 17);
+    let _: unsafe extern "C" fn(U, U, PNIO_CBF_APPL_WATCHDOG) -> U = PNIO_CP_set_appl_watchdog;
+    let _: unsafe extern "C" fn(U) -> U = PNIO_CP_trigger_watchdog;
+    // The callback's type is the manual's: void (*)(PNIO_UINT32).
+    let _: PNIO_CBF_APPL_WATCHDOG = None::<unsafe extern "C" fn(U)>;
+    assert_eq!(FUNCTIONS.len(), 19);
 }
 
 fn program(cpp: bool) -> String {
@@ -431,10 +441,21 @@ fn program(cpp: bool) -> String {
         let decl = t.replacen("(*)", &format!("(*fn{i})"), 1);
         writeln!(s, "static {decl} = {f};").unwrap();
     }
+    // The watchdog's callback type has the manual's shape.
+    writeln!(
+        s,
+        "static void (*wd_shape)(PNIO_UINT32) = (PNIO_CBF_APPL_WATCHDOG)0;"
+    )
+    .unwrap();
     writeln!(s, "int main(void) {{").unwrap();
     for (i, (f, _)) in FUNCTIONS.iter().enumerate() {
         writeln!(s, "    check(fn{i} == NULL, 0, \"{f}\");").unwrap();
     }
+    writeln!(
+        s,
+        "    check(wd_shape != NULL, 0, \"PNIO_CBF_APPL_WATCHDOG\");"
+    )
+    .unwrap();
     layout_check::layout_checks(&mut s, &sizes, &offsets);
     for (n, v) in constants() {
         writeln!(s, "    check((unsigned long long)({n}), {v}ull, \"{n}\");").unwrap();
@@ -442,7 +463,7 @@ fn program(cpp: bool) -> String {
     writeln!(
         s,
         "    printf(\"%d mismatches, %d checks\\n\", fails, {});\n    return fails != 0;\n}}",
-        sizes.len() * 2 + offsets.len() + constants().len() + FUNCTIONS.len()
+        sizes.len() * 2 + offsets.len() + constants().len() + FUNCTIONS.len() + 1
     )
     .unwrap();
     s

@@ -5,12 +5,21 @@
 #![allow(non_snake_case)]
 
 use super::callbacks::in_callback;
-use super::controller::{Controller, OpenRequest, lookup, wrong_handle};
+use super::controller::{Controller, OpenRequest, is_controller, lookup, wrong_handle};
 use super::data::{self, ReadArgs, ReadKind, WriteArgs};
+use super::device::isochronous as device_iso;
+use super::device::state as device_state;
 use super::errors::fail;
 use super::errors::*;
+use super::isochronous;
 use super::types::*;
 use crate::ffi::guard;
+
+/// Whether `h` is a device's handle (from `PNIO_device_open`): the isochronous functions
+/// take both kinds, and the two never share a number.
+fn is_device(h: u32) -> bool {
+    !is_controller(h) && device_state::lookup_any(h).is_some()
+}
 
 /// The answer of every function but the IO data ones when called inside a callback.
 fn not_in_callback(f: &str) -> u32 {
@@ -431,24 +440,14 @@ pub unsafe extern "C" fn PNIO_CP_register_cbf(
         if in_callback() {
             return not_in_callback(F);
         }
+        if is_device(CpHandle) {
+            return device_iso::register(CpHandle, CbeType, Cbf);
+        }
         let Some(ctl) = lookup(CpHandle) else {
             return wrong_handle(F, CpHandle);
         };
-        if Cbf.is_none() {
-            return fail(F, PNIO_ERR_PRM_CALLBACK, "Cbf is NULL");
-        }
-        if !matches!(
-            CbeType,
-            PNIO_CP_CBE_STARTOP_IND | PNIO_CP_CBE_OPFAULT_IND | PNIO_CP_CBE_NEWCYCLE_IND
-        ) {
-            return fail(
-                F,
-                PNIO_ERR_PRM_TYPE,
-                format_args!(
-                    "CbeType {CbeType} is none of PNIO_CP_CBE_STARTOP_IND, _OPFAULT_IND, \
-                     _NEWCYCLE_IND"
-                ),
-            );
+        if let Err(code) = isochronous::check_args(CbeType, Cbf) {
+            return code;
         }
         if !ctl.may_register() {
             return fail(
@@ -460,30 +459,10 @@ pub unsafe extern "C" fn PNIO_CP_register_cbf(
                 ),
             );
         }
-        if ctl.callbacks.get_cp(CbeType).is_some() {
-            return fail(
-                F,
-                PNIO_ERR_ALLREADY_DONE,
-                format_args!("a callback for CbeType {CbeType} is registered already"),
-            );
+        if let Err(code) = isochronous::store(&ctl.callbacks, CbeType, Cbf) {
+            return code;
         }
-        if CbeType == PNIO_CP_CBE_STARTOP_IND
-            && ctl.callbacks.get_cp(PNIO_CP_CBE_OPFAULT_IND).is_none()
-        {
-            return fail(
-                F,
-                PNIO_ERR_SEQUENCE,
-                "register PNIO_CP_CBE_OPFAULT_IND before PNIO_CP_CBE_STARTOP_IND",
-            );
-        }
-        if !ctl.callbacks.set_cp_once(CbeType, Cbf) {
-            return fail(
-                F,
-                PNIO_ERR_ALLREADY_DONE,
-                format_args!("a callback for CbeType {CbeType} is registered already"),
-            );
-        }
-        if CbeType == PNIO_CP_CBE_OPFAULT_IND {
+        if !isochronous::needs_reattach(CbeType) {
             return PNIO_OK;
         }
         // STARTOP makes the client synchronous, NEWCYCLE asks for NEWCYCLE events: both
@@ -525,9 +504,21 @@ pub unsafe extern "C" fn PNIO_CP_set_opdone(
     CpHandle: PNIO_UINT32,
     CycleInfo: *mut PNIO_CYCLE_INFO,
 ) -> PNIO_UINT32 {
-    // SAFETY: the pointer comes with the caller's contract.
-    guard(PNIO_ERR_INTERNAL, || unsafe {
-        data::set_opdone(CpHandle, CycleInfo)
+    guard(PNIO_ERR_INTERNAL, || {
+        if !is_device(CpHandle) {
+            // SAFETY: the pointer comes with the caller's contract.
+            return unsafe { data::set_opdone(CpHandle, CycleInfo) };
+        }
+        match device_iso::set_opdone(CpHandle) {
+            Ok(info) => {
+                if !CycleInfo.is_null() {
+                    // SAFETY: not NULL, writable by the caller's contract.
+                    unsafe { CycleInfo.write_unaligned(info) };
+                }
+                PNIO_OK
+            }
+            Err(code) => code,
+        }
     })
 }
 

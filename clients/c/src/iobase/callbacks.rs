@@ -54,6 +54,12 @@ pub(crate) struct CallbackTable {
     cp: Mutex<[PNIO_CP_CBF; CP_CBE_TYPES]>,
 }
 
+impl Default for CallbackTable {
+    fn default() -> CallbackTable {
+        CallbackTable::new()
+    }
+}
+
 impl CallbackTable {
     /// An empty table.
     pub(crate) fn new() -> CallbackTable {

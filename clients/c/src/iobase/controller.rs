@@ -11,16 +11,19 @@
 //! * the services worker (`super::services`) delivers record, alarm, activation and
 //!   diagnosis callbacks.
 
-use super::callbacks::{CallbackTable, invoke_cp};
+use super::callbacks::CallbackTable;
 use super::errors::*;
+use super::handles;
+use super::isochronous::{self, Window};
 use super::services::{ServiceContext, ServiceWorker};
 use super::types::*;
+use super::watchdog;
 use procimg_client::{
-    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, DetachedCycle,
-    Event, Layout, Mode, Refusal, now_ns,
+    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, Event, Layout,
+    Mode, Refusal, now_ns,
 };
 use std::collections::{BTreeMap, VecDeque};
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -45,10 +48,7 @@ pub(crate) struct Io {
     /// `None` only when re-attaching failed (the server went away meanwhile).
     pub client: Option<Client>,
     /// The open STARTOP..OPDONE window of an isochronous controller.
-    pub window: Option<DetachedCycle>,
-    /// The window was found over (the next cycle had begun) before its OPDONE: that
-    /// OPDONE is late, not out of sequence.
-    pub expired: bool,
+    pub window: Window,
 }
 
 /// The controller's mode as the program sees it.
@@ -95,11 +95,16 @@ pub(crate) struct Controller {
     services: Mutex<Option<ServiceWorker>>,
 }
 
-static NEXT_HANDLE: AtomicU32 = AtomicU32::new(1);
 static CONTROLLERS: Mutex<BTreeMap<u32, Arc<Controller>>> = Mutex::new(BTreeMap::new());
 
-/// The open controller with this handle (not one being closed).
+/// The open controller with this handle (not one being closed, nor one the watchdog's
+/// expiry stopped).
 pub(crate) fn lookup(handle: u32) -> Option<Arc<Controller>> {
+    lookup_any(handle).filter(|c| !watchdog::expired(c.handle))
+}
+
+/// The open controller with this handle, also after the watchdog's expiry (for close).
+fn lookup_any(handle: u32) -> Option<Arc<Controller>> {
     lock(&CONTROLLERS)
         .get(&handle)
         .filter(|c| !c.closed.load(Ordering::Acquire))
@@ -109,11 +114,32 @@ pub(crate) fn lookup(handle: u32) -> Option<Arc<Controller>> {
 /// The controller with this handle for the IO data functions: also while it is being
 /// closed, because its callbacks may still run then and may use them.
 pub(crate) fn lookup_io(handle: u32) -> Option<Arc<Controller>> {
-    lock(&CONTROLLERS).get(&handle).cloned()
+    lock(&CONTROLLERS)
+        .get(&handle)
+        .filter(|c| !watchdog::expired(c.handle))
+        .cloned()
 }
 
-/// The text for a handle that is not (or no longer) open.
+/// Whether `handle` is a controller's (open, or being closed).
+pub(crate) fn is_controller(handle: u32) -> bool {
+    lock(&CONTROLLERS).contains_key(&handle)
+}
+
+/// The open controllers on procimgd instance `instance`.
+pub(crate) fn on_instance(instance: &str) -> Vec<Arc<Controller>> {
+    lock(&CONTROLLERS)
+        .values()
+        .filter(|c| c.instance == instance && !c.closed.load(Ordering::Acquire))
+        .cloned()
+        .collect()
+}
+
+/// The text for a handle that is not (or no longer) open; for one the watchdog's expiry
+/// stopped, the watchdog's answer.
 pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
+    if watchdog::expired(handle) && is_controller(handle) {
+        return watchdog::refused(function, handle);
+    }
     fail(
         function,
         PNIO_ERR_WRONG_HND,
@@ -269,7 +295,7 @@ impl Controller {
     pub(crate) fn open(req: OpenRequest) -> Result<u32, u32> {
         let cp = req.cp_index;
         let instance = instance_for(cp);
-        let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
+        let handle = handles::next();
         let mode_ctrl = req.ext_par & PNIO_CEP_MODE_CTRL != 0;
         let slice = req.ext_par & PNIO_CEP_SLICE_ACCESS != 0;
         let name = format!("PNIO controller {handle} (CP {cp})");
@@ -341,8 +367,7 @@ impl Controller {
             isochronous,
             io: Mutex::new(Io {
                 client: Some(client),
-                window: None,
-                expired: false,
+                window: Window::default(),
             }),
             mode: Mutex::new(ModeState {
                 mode,
@@ -385,7 +410,7 @@ impl Controller {
     /// `PNIO_controller_close` after the checks: stops the threads (a callback running now
     /// finishes first), then lets go of the client and the handle.
     pub(crate) fn close(handle: u32) -> u32 {
-        let Some(ctl) = lookup(handle) else {
+        let Some(ctl) = lookup_any(handle) else {
             return wrong_handle("PNIO_controller_close", handle);
         };
         if ctl.closed.swap(true, Ordering::AcqRel) {
@@ -410,10 +435,26 @@ impl Controller {
         }
         self.callbacks.clear();
         lock(&CONTROLLERS).remove(&self.handle);
+        watchdog::forget(self.handle);
         let mut io = lock(&self.io);
-        io.window = None;
+        io.window = Window::default();
         // Unregisters from the server: the claims go with it.
         io.client = None;
+    }
+
+    /// The watchdog expired: the outputs go out BAD from now on (the event thread answers
+    /// every later cycle so).
+    pub(crate) fn outputs_bad(&self) {
+        let mut guard = lock(&self.io);
+        let io = &mut *guard;
+        let Some(client) = io.client.as_mut() else {
+            return;
+        };
+        if io.window.is_open() {
+            io.window.finish_bad(client);
+        } else {
+            isochronous::outputs_bad(client);
+        }
     }
 
     /// The services worker (for the record, activation and diagnosis functions).
@@ -537,7 +578,7 @@ impl Controller {
         let mut io = lock(&self.io);
         // A window open now (a STARTOP_IND still running on the event thread) ends here: its
         // PNIO_CP_set_opdone is answered as a late one, not refused.
-        io.expired = io.window.take().is_some();
+        io.window.end();
         // The old registration goes first: its claims are the new one's to take.
         io.client = None;
         let mut client = attach_and_claim(self.cp_index, &self.instance, opts)?;
@@ -571,12 +612,7 @@ impl Controller {
     }
 
     fn report_cp(&self, t: PNIO_CP_CBE_TYPE, info: PNIO_CYCLE_INFO) {
-        let cbf = self.callbacks.get_cp(t);
-        if cbf.is_none() {
-            return;
-        }
-        let mut prm = PNIO_CP_CBE_PRM::new(t, self.cp_index, self.handle, info);
-        invoke_cp(cbf, &mut prm);
+        isochronous::report(&self.callbacks, t, self.cp_index, self.handle, info);
     }
 }
 
@@ -594,11 +630,12 @@ fn collect(ctl: &Controller) -> Option<Collected> {
     let client = io.client.as_mut()?;
     let mut startop = None;
     if ctl.isochronous.load(Ordering::Acquire) {
-        if let Ok(cycle) = client.wait_startop(Duration::ZERO) {
-            startop = Some(cycle.info());
-            // A window not closed by now is over: its outputs were not sent (OPFAULT).
-            io.window = Some(cycle.detach());
-            io.expired = false;
+        startop = io.window.take_startop(client);
+        if startop.is_some() && watchdog::expired(ctl.handle) {
+            // After the watchdog's expiry the program gets no cycle: the library ends it
+            // with the outputs BAD.
+            io.window.finish_bad(client);
+            startop = None;
         }
     } else if !client.connected() {
         // Waiting is also how the client finds a restarted server.

@@ -3,12 +3,12 @@
 //! parameter checks in its order, then procimg-client's access by logical address, inside
 //! the STARTOP..OPDONE window when the controller is isochronous and a window is open.
 
-use super::controller::{Controller, Io, cycle_info, lock, lookup_io, wrong_handle};
+use super::controller::{Controller, Io, lock, lookup_io, wrong_handle};
 use super::errors::fail;
 use super::errors::*;
 use super::types::*;
 use procimg_client::access::{AccessError, Resolved, Space, resolve_read, resolve_write};
-use procimg_client::{Client, Cycle, IoError, Ioxs, now_ns};
+use procimg_client::{Client, Cycle, IoError, Ioxs};
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
@@ -171,15 +171,8 @@ fn delivered<R>(
 
 /// Runs `op` inside the open STARTOP window; `None` when none is open (or it is over).
 fn in_window<R>(io: &mut Io, op: impl FnOnce(&mut Cycle<'_>) -> R) -> Option<R> {
-    let w = io.window.take()?;
     let client = io.client.as_mut()?;
-    let Some(mut cycle) = w.resume(client) else {
-        io.expired = true;
-        return None;
-    };
-    let r = op(&mut cycle);
-    io.window = Some(cycle.detach());
-    Some(r)
+    io.window.run(client, op)
 }
 
 /// Whether the device of submodule `s` exchanges data; sets `*rem` BAD when not.
@@ -471,38 +464,13 @@ pub(crate) unsafe fn set_opdone(handle: u32, out: *mut PNIO_CYCLE_INFO) -> u32 {
     }
     let mut guard = lock(&ctl.io);
     let io = &mut *guard;
-    let Some(window) = io.window.take() else {
-        if std::mem::take(&mut io.expired) {
-            // The window ended under an IO function of this cycle: late, as below.
-            let info = io.client.as_ref().and_then(|c| c.cycle_info());
-            drop(guard);
-            if !out.is_null() {
-                // SAFETY: not NULL, writable by the caller's contract.
-                unsafe { out.write_unaligned(cycle_info(&info.unwrap_or_default(), now_ns())) };
-            }
-            return PNIO_OK;
-        }
-        return fail(
-            F,
-            PNIO_ERR_SEQUENCE,
-            "no cycle is open: PNIO_CP_set_opdone was called already in this cycle, or before \
-             the first PNIO_CP_CBE_STARTOP_IND",
-        );
+    if let Err(code) = client(F, &ctl, io) {
+        return code;
+    }
+    let Some(c) = io.client.as_mut() else {
+        return PNIO_ERR_INTERNAL;
     };
-    let client = match client(F, &ctl, io) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let res = match window.resume(client) {
-        Some(cycle) => cycle
-            .set_opdone()
-            .map(|info| cycle_info(&info, info.clock_ns)),
-        // Too late: the next cycle is there. OPFAULT_IND tells the program.
-        None => Ok(cycle_info(
-            &client.cycle_info().unwrap_or_default(),
-            now_ns(),
-        )),
-    };
+    let res = io.window.set_opdone(c);
     drop(guard);
     match res {
         Ok(info) => {
@@ -512,10 +480,6 @@ pub(crate) unsafe fn set_opdone(handle: u32, out: *mut PNIO_CYCLE_INFO) -> u32 {
             }
             PNIO_OK
         }
-        Err(e) => fail(
-            F,
-            PNIO_ERR_NO_FW_COMMUNICATION,
-            format_args!("the outputs of this cycle could not be handed over: {e}"),
-        ),
+        Err(code) => code,
     }
 }

@@ -12,11 +12,12 @@ use super::device::config;
 use super::device::data::{self as io, Classes, Direction};
 use super::device::jobs::Job;
 use super::device::open::{self, OpenRequest};
-use super::device::state::{Device, Life, lookup, wrong_handle};
+use super::device::state::{Device, Life, lookup, lookup_any, wrong_handle};
 use super::device_types::*;
 use super::errors::fail;
 use super::errors::*;
 use super::types::*;
+use super::watchdog;
 use crate::ffi::guard;
 use std::sync::Arc;
 use std::sync::mpsc::sync_channel;
@@ -201,6 +202,14 @@ pub unsafe extern "C" fn PNIO_device_open_ext(
 pub unsafe extern "C" fn PNIO_device_close(DevHndl: PNIO_UINT32) -> PNIO_UINT32 {
     const F: &str = "PNIO_device_close";
     guard(PNIO_ERR_INTERNAL, || {
+        if !in_callback()
+            && let Some(dev) = lookup_any(DevHndl).filter(|d| watchdog::expired(d.handle))
+        {
+            // The watchdog stopped the program: close is the one call left, and it stops
+            // the device as well.
+            dev.close_stopped();
+            return PNIO_OK;
+        }
         let dev = match device(F, DevHndl) {
             Ok(d) => d,
             Err(code) => return code,

@@ -11,6 +11,9 @@
 //!   and its threads; `data`: the IO data functions; `callbacks`: the callback table and
 //!   the one place that calls the program back; `services`: records, alarms, device
 //!   activation and diagnosis.
+//! * `isochronous`: the STARTOP..OPDONE handshake and the registration rules both roles
+//!   share; `handles`: the one handle counter of both; [`watchdog`]: the CP application
+//!   watchdog of both.
 
 pub mod api;
 pub(crate) mod callbacks;
@@ -21,5 +24,8 @@ pub mod device_alarm_api;
 pub mod device_api;
 pub mod device_types;
 pub mod errors;
+mod handles;
+mod isochronous;
 pub(crate) mod services;
 pub mod types;
+pub mod watchdog;

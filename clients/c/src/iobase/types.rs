@@ -827,3 +827,7 @@ impl PNIO_CP_CBE_PRM {
 
 /// `PNIO_CP_CBF`: an isochronous callback.
 pub type PNIO_CP_CBF = Option<unsafe extern "C" fn(pCbfPrm: *mut PNIO_CP_CBE_PRM)>;
+
+/// `PNIO_CBF_APPL_WATCHDOG`: called once when the CP application watchdog expires, with
+/// the CPIndex it was registered for.
+pub type PNIO_CBF_APPL_WATCHDOG = Option<unsafe extern "C" fn(CPIndex: PNIO_UINT32)>;

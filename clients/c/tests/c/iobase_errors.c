@@ -215,7 +215,7 @@ int main(void) {
     expect("register_cbf: MODE_IND again", PNIO_register_cbf(h, PNIO_CBE_MODE_IND, on_mode),
            PNIO_ERR_ALLREADY_DONE);
     expect("CP_register_cbf: STARTOP before OPFAULT",
-           PNIO_CP_register_cbf(h, PNIO_CP_CBE_STARTOP_IND, on_startop), PNIO_ERR_SEQUENCE);
+           PNIO_CP_register_cbf(h, PNIO_CP_CBE_STARTOP_IND, on_startop), PNIO_ERR_OPFAULT_NOT_REG);
     expect("CP_register_cbf: NULL", PNIO_CP_register_cbf(h, PNIO_CP_CBE_OPFAULT_IND, NULL),
            PNIO_ERR_PRM_CALLBACK);
     expect("CP_register_cbf: type 9", PNIO_CP_register_cbf(h, (PNIO_CP_CBE_TYPE)9, on_startop),

@@ -311,12 +311,24 @@ pub(crate) fn initiate(
     let mut client = lock(&dev.client);
     match dir {
         Direction::Write => {
-            for v in &visits {
-                if let Err(e) = client.data_write_cache(v.address, &v.buf, ioxs(v.local)) {
-                    return io_failure(f, dev, e);
-                }
-            }
-            if let Err(e) = client.data_write_cache_flush() {
+            // Inside an isochronous device's STARTOP window the I data goes out with
+            // PNIO_CP_set_opdone.
+            let windowed = lock(&dev.iso.window).run(&mut client, |c| {
+                visits
+                    .iter()
+                    .try_for_each(|v| c.write(v.address, &v.buf, ioxs(v.local)).map(|_| ()))
+            });
+            let sent = windowed.unwrap_or_else(|| {
+                visits
+                    .iter()
+                    .try_for_each(|v| {
+                        client
+                            .data_write_cache(v.address, &v.buf, ioxs(v.local))
+                            .map(|_| ())
+                    })
+                    .and_then(|()| client.data_write_cache_flush())
+            });
+            if let Err(e) = sent {
                 return io_failure(f, dev, e);
             }
         }

@@ -20,6 +20,10 @@
 //!   of the per-AR calls;
 //! * `data`: the IO data functions (the callbacks on the caller's thread, the IOxS they
 //!   return sent), and the claims of the program's I data from start to stop;
+//! * `isochronous`: `PNIO_CP_register_cbf` and `PNIO_CP_set_opdone` with a device handle,
+//!   and the thread that delivers STARTOP_IND, OPFAULT_IND and NEWCYCLE_IND (the window
+//!   and the registration rules are `crate::iobase::isochronous`'s, shared with the
+//!   controller);
 //! * `ar`: the AR indications (`AR_CHECK_IND`, `CHECK_IND`, `AR_INFO_IND`, `PRM_END_IND`,
 //!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`) from the
 //!   station's notifications, the reason codes, and the ArNumber and SessionKey rules.
@@ -38,6 +42,10 @@
 //! the server as it is (OFFLINE after a stop). Open → (api_add, plug) → start → stop → (pull,
 //! api_remove) → close; every call out of this order answers `PNIO_ERR_SEQUENCE`, as does
 //! every call but the IO data ones from inside a callback.
+//!
+//! The CP application watchdog (`crate::iobase::watchdog`) stops a device on expiry: every
+//! call answers `PNIO_ERR_NO_FW_COMMUNICATION` but `PNIO_device_close`, which then also
+//! takes a started device OFFLINE.
 //!
 //! # Plugging
 //!
@@ -69,7 +77,10 @@
 //! # IO data
 //!
 //! The device's client of procimgd is asynchronous: the program exchanges data when it likes
-//! and procimgd's cycle never waits for it. From start to stop the client claims the I data
+//! and procimgd's cycle never waits for it. With `PNIO_CP_CBE_STARTOP_IND` registered
+//! (before start) it is synchronous instead, as an isochronous controller's: STARTOP_IND
+//! every cycle on a library thread, the data functions inside it act on that cycle, and
+//! `PNIO_CP_set_opdone` hands the I data over (see `isochronous`). From start to stop the client claims the I data
 //! of the program's submodules (and of each one plugged after start, released at each pull),
 //! so that the PLC gets them with the IOPS the program returns; before the first write they
 //! go with IOPS BAD. `PNIO_initiate_data_write(_ext)` calls `PNIO_CBF_DATA_WRITE` on the
@@ -95,6 +106,7 @@ pub(crate) mod config;
 pub(crate) mod data;
 pub(crate) mod diag;
 pub(crate) mod identify;
+pub(crate) mod isochronous;
 pub(crate) mod jobs;
 pub(crate) mod open;
 pub(crate) mod records;

@@ -300,6 +300,7 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
         })
         .collect();
     Device::register(
+        cp,
         instance,
         cbf,
         req.high,

@@ -7,13 +7,14 @@ use super::Pos;
 use super::alarms::Waiting;
 use super::ars::Ars;
 use super::diag::Entries;
+use super::isochronous::Isochronous;
 use super::jobs::{Job, Worker};
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::PNIO_CBF_FUNCTIONS;
 use crate::iobase::errors::*;
-use procimg_client::{Client, Services};
+use crate::iobase::{handles, watchdog};
+use procimg_client::{Client, Mode, Services};
 use std::collections::{BTreeMap, BTreeSet};
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -76,6 +77,8 @@ pub(crate) struct Config {
 pub(crate) struct Device {
     /// The device handle.
     pub handle: u32,
+    /// The CpIndex it was opened with.
+    pub cp_index: u32,
     /// The procimgd instance CpIndex names.
     pub instance: String,
     /// The program's callbacks.
@@ -98,15 +101,30 @@ pub(crate) struct Device {
     pub diag: Mutex<Entries>,
     /// While the station identifies itself (DCP Signal): when its LED flashing ends.
     pub flashing_until: Mutex<Option<Instant>>,
+    /// The isochronous callbacks, the STARTOP window and the thread that delivers them.
+    pub iso: Isochronous,
     worker: Mutex<Option<Worker>>,
 }
 
-static NEXT_HANDLE: AtomicU32 = AtomicU32::new(1);
 static DEVICES: Mutex<BTreeMap<u32, Arc<Device>>> = Mutex::new(BTreeMap::new());
 
-/// The open device with this handle.
+/// The open device with this handle (not one the watchdog's expiry stopped).
 pub(crate) fn lookup(handle: u32) -> Option<Arc<Device>> {
+    lookup_any(handle).filter(|d| !watchdog::expired(d.handle))
+}
+
+/// The open device with this handle, also after the watchdog's expiry (for close).
+pub(crate) fn lookup_any(handle: u32) -> Option<Arc<Device>> {
     lock(&DEVICES).get(&handle).cloned()
+}
+
+/// The open devices on procimgd instance `instance`.
+pub(crate) fn on_instance(instance: &str) -> Vec<Arc<Device>> {
+    lock(&DEVICES)
+        .values()
+        .filter(|d| d.instance == instance)
+        .cloned()
+        .collect()
 }
 
 /// Whether a device of this process has instance `instance` open.
@@ -116,6 +134,9 @@ pub(crate) fn instance_open(instance: &str) -> bool {
 
 /// The text for a handle that is not an open device.
 pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
+    if watchdog::expired(handle) && lookup_any(handle).is_some() {
+        return watchdog::refused(function, handle);
+    }
     fail(
         function,
         PNIO_ERR_WRONG_HND,
@@ -129,7 +150,9 @@ pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
 impl Device {
     /// Makes an opened device and starts its library thread with `spawn`; returns its
     /// handle.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn register(
+        cp_index: u32,
         instance: String,
         cbf: PNIO_CBF_FUNCTIONS,
         high: Option<(u16, u16)>,
@@ -138,9 +161,10 @@ impl Device {
         services: Services,
         spawn: impl FnOnce(Arc<Device>) -> std::io::Result<Worker>,
     ) -> Result<u32, u32> {
-        let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
+        let handle = handles::next();
         let dev = Arc::new(Device {
             handle,
+            cp_index,
             instance,
             cbf,
             high,
@@ -160,6 +184,7 @@ impl Device {
             alarms: Mutex::new(Waiting::default()),
             diag: Mutex::new(Entries::new()),
             flashing_until: Mutex::new(None),
+            iso: Isochronous::default(),
             worker: Mutex::new(None),
         });
         let worker = spawn(dev.clone()).map_err(|e| {
@@ -186,7 +211,11 @@ impl Device {
     /// the handle goes, the station no longer waits for this device's AR checks and
     /// ApplicationReady, then the client goes.
     pub(crate) fn close(&self) {
+        // No isochronous callback runs once close returned; one running now still finds
+        // the handle for its PNIO_CP_set_opdone.
+        self.iso.stop();
         lock(&DEVICES).remove(&self.handle);
+        watchdog::forget(self.handle);
         let worker = lock(&self.worker).take();
         if let Some(w) = worker {
             w.stop();
@@ -195,6 +224,28 @@ impl Device {
         // Dropping the handle releases both as well; these say it at once.
         let _ = services.check_ars(false);
         let _ = services.hold_application_ready(false);
+    }
+
+    /// `PNIO_device_close` after the watchdog's expiry, in any state: a started device goes
+    /// OFFLINE first (the PLC's AR ends), as `PNIO_device_stop` would.
+    pub(crate) fn close_stopped(&self) {
+        let life = lock(&self.config).life;
+        if matches!(life, Life::Started | Life::Stopping) {
+            let _ = lock(&self.client).control().set_mode(Mode::Offline);
+        }
+        self.close();
+    }
+
+    /// The watchdog expired: the I data the device holds goes out BAD from now on (its
+    /// isochronous thread answers every later cycle so).
+    pub(crate) fn outputs_bad(&self) {
+        let mut client = lock(&self.client);
+        let mut window = lock(&self.iso.window);
+        if window.is_open() {
+            window.finish_bad(&mut client);
+        } else {
+            crate::iobase::isochronous::outputs_bad(&mut client);
+        }
     }
 
     /// The station's position at `at`, if configured.
