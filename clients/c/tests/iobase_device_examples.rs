@@ -11,7 +11,7 @@ use procimg_testkit::Launch;
 use procimg_testkit::c::{
     Link, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
 };
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
@@ -29,7 +29,7 @@ fn build(tag: &str, name: &str, link: Link) -> PathBuf {
 }
 
 /// Runs `exe` with `args` against a fresh demo device; its stdout, after asserting success.
-fn run_against_demo_device(tag: &str, exe: &PathBuf, args: &[&str], what: &str) -> String {
+fn run_against_demo_device(tag: &str, exe: &Path, args: &[&str], what: &str) -> String {
     let server = Launch::demo_device(tag).start();
     let o = run(exe, args, &server.instance, TIMEOUT);
     assert_success(&o, what);
