@@ -90,14 +90,13 @@ static struct {
     int offline_before_stopped;
     int stopped;
     PNIO_UINT32 stopped_code;
-    int rec_writes, rec_reads, rec_refused;
+    int rec_writes, rec_reads;
     PNIO_UINT8 param[PARAM_LEN];
     int done[4]; /* REQ_DONE per UserHndl */
     PNIO_UINT32 done_status[4];
     /* IO data */
     PNIO_UINT8 q[IO_LEN];
     PNIO_IOXS q_iops;
-    PNIO_IOXS i_iocs;
 } s;
 
 static void note_phase(int phase, const char *what) {
@@ -112,11 +111,10 @@ static void note_phase(int phase, const char *what) {
 
 static PNIO_IOXS data_write(PNIO_UINT32 h, PNIO_DEV_ADDR *addr, PNIO_UINT32 len,
                             PNIO_UINT8 *buf, PNIO_IOXS iocs) {
-    (void)h, (void)addr;
+    (void)h, (void)addr, (void)iocs;
     pthread_mutex_lock(&mu);
     /* The inputs: the outputs last read, back to the PLC. */
     memcpy(buf, s.q, len < IO_LEN ? len : IO_LEN);
-    s.i_iocs = iocs;
     pthread_mutex_unlock(&mu);
     return PNIO_S_GOOD;
 }
@@ -141,7 +139,6 @@ static void refuse(PNIO_ERR_STAT *st, PNIO_UINT8 code, PNIO_UINT8 code1) {
     st->ErrCode = code;
     st->ErrDecode = 0x80;
     st->ErrCode1 = code1;
-    s.rec_refused++;
 }
 
 static void rec_read(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT16 sk,
