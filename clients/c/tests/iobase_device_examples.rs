@@ -105,9 +105,6 @@ fn device_examples_compile_with_strict_warnings() {
 }
 
 #[test]
-#[ignore = "needs PNIO_process_alarm_send, PNIO_diag_channel_add/_remove, \
-            PNIO_build_channel_properties and PNIO_diag_alarm_send in libprocimg, with \
-            REC_WRITE and REQ_DONE delivered"]
 fn dev_easy_in_c_and_cpp() {
     let c = build("pnio-dev-easy", "pnio_dev_easy.c", Link::Shared);
     let cpp = build("pnio-dev-easy-cpp", "pnio_dev_easy.cpp", Link::Static);
@@ -160,7 +157,6 @@ fn dev_easy_in_c_and_cpp() {
 }
 
 #[test]
-#[ignore = "needs PNIO_CP_register_cbf and PNIO_CP_set_opdone for a device handle"]
 fn dev_isochronous_runs_the_cycle() {
     let exe = build(
         "pnio-dev-isochronous",
