@@ -135,8 +135,9 @@
  * mod_pull -> api_remove -> close; calls out of it answer PNIO_ERR_SEQUENCE: a submodule
  * before its module, a second plug at a position, a pull of what the program did not plug,
  * api_add/api_remove or close while started or stopping, close with plugs or pulls not yet
- * confirmed by PNIO_CBF_PULL_PLUG_CONF, a second open of the same instance, and every call
- * but the IO data functions inside a callback. An API added twice answers
+ * confirmed by PNIO_CBF_PULL_PLUG_CONF, a second open of the same instance, and inside a
+ * callback every call but the IO data, diagnosis, alarm and PNIO_set_dev_state functions
+ * (and PNIO_CP_set_opdone). An API added twice answers
  * PNIO_ERR_ALREADY_DONE.
  *
  * Layout. As in pniobase.h: ATTR_PACKED is alignment 4, not byte packing, and enums are

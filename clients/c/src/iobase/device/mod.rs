@@ -4,7 +4,7 @@
 //! `PNIO_mod_plug`, `_pull`, `PNIO_sub_plug`, `_ext`, `_ext_IM`, `PNIO_sub_pull`) and AR
 //! control (`PNIO_set_appl_state_ready`, `PNIO_device_ar_abort`, the AR callbacks) and the
 //! IO data (`PNIO_initiate_data_write`, `_read` and their `_ext`, with `PNIO_CBF_DATA_WRITE`
-//! and `PNIO_CBF_DATA_READ`) over procimgd's device role.
+//! and `PNIO_CBF_DATA_READ`), records, diagnosis and alarms over procimgd's device role.
 //!
 //! * `open`: the checks of `PNIO_device_open`'s parameters, and attaching to the station;
 //! * `state`: an open device, its lifecycle and the program's configuration, and the table of
@@ -26,7 +26,14 @@
 //!   controller);
 //! * `ar`: the AR indications (`AR_CHECK_IND`, `CHECK_IND`, `AR_INFO_IND`, `PRM_END_IND`,
 //!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`) from the
-//!   station's notifications, the reason codes, and the ArNumber and SessionKey rules.
+//!   station's notifications, the reason codes, and the ArNumber and SessionKey rules;
+//! * `records`: the records the library takes from start to stop, and `PNIO_CBF_REC_READ`
+//!   and `PNIO_CBF_REC_WRITE` for procimgd's record jobs;
+//! * `diag`: the program's diagnosis entries by DiagTag, kept in procimgd's store without
+//!   an alarm;
+//! * `alarms`: the program's alarms and their `PNIO_CBF_REQ_DONE`;
+//! * `identify`: `PNIO_CBF_START_LED_FLASH` / `STOP_LED_FLASH` for DCP Signal and
+//!   `PNIO_CBF_CP_STOP_REQ` for a reset to factory.
 //!
 //! # Lifecycle
 //!
@@ -41,7 +48,8 @@
 //! `PNIO_CBF_DEVICE_STOPPED` on the library thread. `PNIO_device_close` leaves
 //! the server as it is (OFFLINE after a stop). Open → (api_add, plug) → start → stop → (pull,
 //! api_remove) → close; every call out of this order answers `PNIO_ERR_SEQUENCE`, as does
-//! every call but the IO data ones from inside a callback.
+//! every call from inside a callback but the IO data, diagnosis, alarm and state ones (which
+//! go to procimgd directly, not through the library thread).
 //!
 //! The CP application watchdog (`crate::iobase::watchdog`) stops a device on expiry: every
 //! call answers `PNIO_ERR_NO_FW_COMMUNICATION` but `PNIO_device_close`, which then also
