@@ -4,7 +4,7 @@
 //! `PNIO_diag_alarm_send`, `PNIO_ret_of_sub_alarm_send`, `PNIO_set_dev_state`), with the signatures of `device_types::prototypes`. Each
 //! runs inside [`crate::ffi::guard`]. They may be called inside callbacks: they go to
 //! procimgd directly, not through the library thread. What they do is in
-//! [`super::device::diag`] and [`super::device::alarms`].
+//! `device::diag` and `device::alarms`.
 #![allow(non_snake_case)]
 
 use super::controller::lock;

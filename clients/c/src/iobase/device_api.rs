@@ -2,7 +2,7 @@
 //! The exported device functions of `pniousrd.h` for management, configuration, IO data
 //! and AR control, with the signatures of `device_types::prototypes`. Each runs inside [`crate::ffi::guard`]: a panic
 //! becomes `PNIO_ERR_INTERNAL` and a text, never an unwind into C. What they do on procimgd
-//! is in [`super::device`]'s documentation.
+//! is in `device`'s documentation.
 #![allow(non_snake_case)]
 
 use super::callbacks::in_callback;
