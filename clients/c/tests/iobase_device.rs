@@ -16,10 +16,13 @@
 // The Rust half calls the C ABI and gives it callbacks.
 #![allow(unsafe_code)]
 
+mod device_callbacks;
+
+use device_callbacks::{last_error, open_demo_device, quiet_table};
 use procimg::iobase::device_api::*;
 use procimg::iobase::device_types::*;
 use procimg::iobase::errors::*;
-use procimg::iobase::types::{PNIO_CEP_MODE_CTRL, PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IOXS};
+use procimg::iobase::types::{PNIO_IO_IN, PNIO_IOXS};
 use procimg_client::{Mode, Notification, ServiceOptions, Services, StatusReport};
 use procimg_testkit::Launch;
 use procimg_testkit::c::{
@@ -72,58 +75,15 @@ static OFFLINE_BEFORE_STOPPED: AtomicU32 = AtomicU32::new(0);
 unsafe extern "C" fn data(_: u32, _: *mut PNIO_DEV_ADDR, _: u32, _: *mut u8, _: PNIO_IOXS) -> u32 {
     0
 }
-unsafe extern "C" fn rec(
-    _: u32,
-    _: u32,
-    _: u16,
-    _: u16,
-    _: u32,
-    _: *mut PNIO_DEV_ADDR,
-    _: u32,
-    _: *mut u32,
-    _: *mut u8,
-    _: *mut PNIO_ERR_STAT,
-) {
-}
-unsafe extern "C" fn req_done(_: u32, _: u32, _: u32, _: *mut PNIO_ERR_STAT) {}
-unsafe extern "C" fn check_ind(
-    _: u32,
-    _: u32,
-    _: u16,
-    _: u16,
-    _: *mut PNIO_DEV_ADDR,
-    _: *mut u32,
-    _: *mut u16,
-    _: *mut u32,
-    _: *mut u16,
-) {
-}
-unsafe extern "C" fn ar_check_ind(
-    _: u32,
-    _: u32,
-    _: u16,
-    _: PNIO_UUID_TYPE,
-    _: u32,
-    _: PNIO_UUID_TYPE,
-    _: u16,
-    _: *mut u8,
-    _: *mut PNIO_AR_TYPE,
-) {
-}
-unsafe extern "C" fn ar_info_ind(_: u32, _: u16, _: u16, _: *mut PNIO_AR_TYPE) {}
-unsafe extern "C" fn ar_indata_ind(_: u32, _: u16, _: u16) {}
-unsafe extern "C" fn ar_end_ind(_: u32, _: u16, _: u16, _: PNIO_AR_REASON) {}
 unsafe extern "C" fn ar_offline_ind(_: u32, ar: u16, sk: u16, _: PNIO_AR_REASON) {
     OFFLINE.store(u32::from(ar) << 16 | u32::from(sk), Ordering::SeqCst);
     if STOPPED.load(Ordering::SeqCst) == 0 {
         OFFLINE_BEFORE_STOPPED.store(1, Ordering::SeqCst);
     }
 }
-unsafe extern "C" fn apdu_ind(_: u32, _: u16, _: u16, _: PNIO_APDU_STATUS_IND) {}
 unsafe extern "C" fn prm_end_ind(_: u32, ar: u16, sk: u16, _: u32, _: u16, _: u16) {
     PRM_END.store(u32::from(ar) << 16 | u32::from(sk), Ordering::SeqCst);
 }
-unsafe extern "C" fn cp_stop_req(_: u32) {}
 unsafe extern "C" fn device_stopped(_: u32, code: u32) {
     STOPPED_CODE.store(code, Ordering::SeqCst);
     STOPPED.fetch_add(1, Ordering::SeqCst);
@@ -132,23 +92,12 @@ unsafe extern "C" fn device_stopped(_: u32, code: u32) {
 /// Every mandatory callback; no PULL_PLUG_CONF (plugs before start need none).
 fn table() -> PNIO_CBF_FUNCTIONS {
     PNIO_CBF_FUNCTIONS {
-        size: size_of::<PNIO_CBF_FUNCTIONS>() as u32,
         cbf_data_write: Some(data),
         cbf_data_read: Some(data),
-        cbf_rec_read: Some(rec),
-        cbf_rec_write: Some(rec),
-        cbf_alarm_done: Some(req_done),
-        cbf_check_ind: Some(check_ind),
-        cbf_ar_check_ind: Some(ar_check_ind),
-        cbf_ar_info_ind: Some(ar_info_ind),
-        cbf_ar_indata_ind: Some(ar_indata_ind),
-        cbf_ar_abort_ind: Some(ar_end_ind),
         cbf_ar_offline_ind: Some(ar_offline_ind),
-        cbf_apdu_status_ind: Some(apdu_ind),
         cbf_prm_end_ind: Some(prm_end_ind),
-        cbf_cp_stop_req: Some(cp_stop_req),
         cbf_device_stopped: Some(device_stopped),
-        ..PNIO_CBF_FUNCTIONS::default()
+        ..quiet_table()
     }
 }
 
@@ -204,32 +153,7 @@ fn the_plc_sees_the_programs_tree_between_start_and_stop() {
     }
     let mut services = Services::open(&server.instance, ServiceOptions::new("devapi-tree"))
         .expect("the station's notifications");
-    let mut ann = PNIO_ANNOTATION {
-        deviceType: [0; 26],
-        orderId: [0; 21],
-        hwRevision: 1,
-        swRevisionPrefix: b'V',
-        swRevision1: 0,
-        swRevision2: 1,
-        swRevision3: 0,
-    };
-    let mut cbf = table();
-    let mut h = 0;
-    // SAFETY: valid pointers for the call; the callbacks live for the whole program.
-    let rc = unsafe {
-        PNIO_device_open(
-            9,
-            PNIO_CEP_MODE_CTRL,
-            0x0493,
-            0x0100,
-            1,
-            1,
-            &mut ann,
-            &mut cbf,
-            &mut h,
-        )
-    };
-    assert_eq!(rc, PNIO_OK, "{}", last_error());
+    let h = open_demo_device(9, table());
     wait_for(&server, "the AR's end at open (OFFLINE)", |s| {
         s.mode == Mode::Offline && ar_state(s).is_none()
     });
@@ -322,11 +246,4 @@ fn the_plc_sees_the_programs_tree_between_start_and_stop() {
         assert_eq!(PNIO_api_remove(h, 0), PNIO_OK);
         assert_eq!(PNIO_device_close(h), PNIO_OK, "{}", last_error());
     }
-}
-
-fn last_error() -> String {
-    // SAFETY: the library's text for this thread, NUL-terminated, valid until its next call.
-    unsafe { std::ffi::CStr::from_ptr(procimg::ffi::last_error_ptr()) }
-        .to_string_lossy()
-        .into_owned()
 }

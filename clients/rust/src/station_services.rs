@@ -92,48 +92,38 @@ impl Services {
     /// answered with [`answer_record`](Self::answer_record) within
     /// [`STATION_RECORD_TIMEOUT_MS`](crate::STATION_RECORD_TIMEOUT_MS). Refused when another
     /// handle took them.
-    pub fn take_records(&self, (api, slot, subslot): (u32, u16, u16)) -> Result<(), ControlError> {
-        self.station_request(&Request::StationOwnRecords {
-            subscriber: self.id(),
-            api,
-            slot,
-            subslot,
-            own: true,
-            im: false,
-        })
+    pub fn take_records(&self, at: (u32, u16, u16)) -> Result<(), ControlError> {
+        self.own_records(at, true, false)
     }
 
     /// [`take_records`](Self::take_records), and the submodule's I&M0–I&M4 records
     /// (0xAFF0–0xAFF4) with them: reads and writes of those come as jobs too, which the
     /// handle answers with the whole record (BlockHeader included; a refused write with
     /// [`RecordRefusal::ACCESS_DENIED`] for I&M0).
-    pub fn take_records_and_im(
-        &self,
-        (api, slot, subslot): (u32, u16, u16),
-    ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationOwnRecords {
-            subscriber: self.id(),
-            api,
-            slot,
-            subslot,
-            own: true,
-            im: true,
-        })
+    pub fn take_records_and_im(&self, at: (u32, u16, u16)) -> Result<(), ControlError> {
+        self.own_records(at, true, true)
     }
 
     /// Gives the records of a submodule (and its I&M records, if it took them) back to the
     /// station, which answers them itself again.
-    pub fn give_back_records(
+    pub fn give_back_records(&self, at: (u32, u16, u16)) -> Result<(), ControlError> {
+        self.own_records(at, false, true)
+    }
+
+    /// Takes (`own`; with the I&M records if `im`) or gives back the records of a submodule.
+    fn own_records(
         &self,
         (api, slot, subslot): (u32, u16, u16),
+        own: bool,
+        im: bool,
     ) -> Result<(), ControlError> {
         self.station_request(&Request::StationOwnRecords {
             subscriber: self.id(),
             api,
             slot,
             subslot,
-            own: false,
-            im: true,
+            own,
+            im,
         })
     }
 

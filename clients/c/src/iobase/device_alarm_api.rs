@@ -55,6 +55,22 @@ unsafe fn position(f: &str, api: u32, addr: *const PNIO_DEV_ADDR) -> Result<Pos,
     }
 }
 
+/// The open device with handle `h` and the submodule `addr` names in `api`.
+///
+/// # Safety
+/// `addr` is NULL or points to a readable `PNIO_DEV_ADDR`.
+unsafe fn target(
+    f: &str,
+    h: u32,
+    api: u32,
+    addr: *const PNIO_DEV_ADDR,
+) -> Result<(Arc<Device>, Pos), u32> {
+    let dev = device(f, h)?;
+    // SAFETY: as the caller's contract.
+    let at = unsafe { position(f, api, addr) }?;
+    Ok((dev, at))
+}
+
 /// `len` bytes at `data` (none for 0); more than `max` answer `too_long`.
 ///
 /// # Safety
@@ -114,9 +130,9 @@ pub unsafe extern "C" fn PNIO_diag_channel_add(
     const F: &str = "PNIO_diag_channel_add";
     guard(PNIO_ERR_INTERNAL, || {
         // SAFETY: as the function's contract.
-        let (dev, at) = match (device(F, DevHndl), unsafe { position(F, Api, pAddr) }) {
-            (Ok(d), Ok(at)) => (d, at),
-            (Err(c), _) | (_, Err(c)) => return c,
+        let (dev, at) = match unsafe { target(F, DevHndl, Api, pAddr) } {
+            Ok(t) => t,
+            Err(c) => return c,
         };
         let Ok(error) = u16::try_from(ChannelErrType) else {
             return fail(
@@ -175,9 +191,9 @@ pub unsafe extern "C" fn PNIO_diag_ext_channel_add(
     const F: &str = "PNIO_diag_ext_channel_add";
     guard(PNIO_ERR_INTERNAL, || {
         // SAFETY: as the function's contract.
-        let (dev, at) = match (device(F, DevHndl), unsafe { position(F, Api, pAddr) }) {
-            (Ok(d), Ok(at)) => (d, at),
-            (Err(c), _) | (_, Err(c)) => return c,
+        let (dev, at) = match unsafe { target(F, DevHndl, Api, pAddr) } {
+            Ok(t) => t,
+            Err(c) => return c,
         };
         let ext = Some((ExtChannelErrType, ExtChannelAddValue));
         let entry = diag::channel_entry(ChannelNum, ChannelProp, ChannelErrType, ext);
@@ -226,9 +242,9 @@ pub unsafe extern "C" fn PNIO_diag_generic_add(
     let _ = (ChannelNum, ChannelProp);
     guard(PNIO_ERR_INTERNAL, || {
         // SAFETY: as the function's contract.
-        let (dev, at) = match (device(F, DevHndl), unsafe { position(F, Api, pAddr) }) {
-            (Ok(d), Ok(at)) => (d, at),
-            (Err(c), _) | (_, Err(c)) => return c,
+        let (dev, at) = match unsafe { target(F, DevHndl, Api, pAddr) } {
+            Ok(t) => t,
+            Err(c) => return c,
         };
         if UserStructIdent > 0x7fff {
             return fail(
@@ -281,9 +297,9 @@ unsafe fn remove(
 ) -> u32 {
     guard(PNIO_ERR_INTERNAL, || {
         // SAFETY: as the caller's contract.
-        match (device(f, h), unsafe { position(f, api, addr) }) {
-            (Ok(dev), Ok(at)) => diag::remove(f, &dev, at, tag, kind),
-            (Err(c), _) | (_, Err(c)) => c,
+        match unsafe { target(f, h, api, addr) } {
+            Ok((dev, at)) => diag::remove(f, &dev, at, tag, kind),
+            Err(c) => c,
         }
     })
 }
@@ -447,13 +463,9 @@ unsafe fn alarm(
     usi: u16,
     user: u32,
 ) -> u32 {
-    let dev = match device(f, h) {
-        Ok(d) => d,
-        Err(c) => return c,
-    };
     // SAFETY: as the caller's contract.
-    let at = match unsafe { position(f, api, addr) } {
-        Ok(at) => at,
+    let (dev, at) = match unsafe { target(f, h, api, addr) } {
+        Ok(t) => t,
         Err(c) => return c,
     };
     // SAFETY: as the caller's contract.

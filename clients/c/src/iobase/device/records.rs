@@ -84,6 +84,58 @@ pub(crate) fn follow(dev: &Device, taken: &mut Taken) {
 
 /// A record job of procimgd: the callback, then the answer.
 pub(crate) fn job(dev: &Device, job: &StationRecordJob) {
+    let (callback, mut data) = if job.write {
+        (dev.cbf.cbf_rec_write, job.data.clone())
+    } else {
+        (
+            dev.cbf.cbf_rec_read,
+            vec![0u8; job.max_len.min(MAX_READ) as usize],
+        )
+    };
+    let answer = match callback {
+        Some(f) => call(dev, f, job, &mut data).map(|len| {
+            // A length above the buffer is the program's error: not more than it has.
+            data.truncate(len.min(data.len() as u32) as usize);
+            if job.write { Vec::new() } else { data }
+        }),
+        None => Err(RecordRefusal::new(RecordRefusal::INVALID_INDEX)),
+    };
+    let answer = answer.as_deref().map_err(|r| *r);
+    if let Err(e) = lock(&dev.services).answer_record(job, answer) {
+        fail(
+            if job.write {
+                "PNIO_CBF_REC_WRITE"
+            } else {
+                "PNIO_CBF_REC_READ"
+            },
+            PNIO_ERR_NO_FW_COMMUNICATION,
+            format_args!(
+                "record job {} ({:#06x} of slot {} subslot {:#06x}) not answered: {e}",
+                job.job, job.index, job.slot, job.subslot
+            ),
+        );
+    }
+}
+
+/// Calls `f` (`PNIO_CBF_REC_READ` or `_WRITE`, which have one type) for `job` with `data`
+/// as the buffer: the length the program leaves, or the refusal its `PNIO_ERR_STAT` says.
+fn call(
+    dev: &Device,
+    f: unsafe extern "C" fn(
+        u32,
+        u32,
+        u16,
+        u16,
+        u32,
+        *mut PNIO_DEV_ADDR,
+        u32,
+        *mut u32,
+        *mut u8,
+        *mut PNIO_ERR_STAT,
+    ),
+    job: &StationRecordJob,
+    data: &mut [u8],
+) -> Result<u32, RecordRefusal> {
     let (number, key) = lock(&dev.ars)
         .current
         .as_ref()
@@ -100,75 +152,25 @@ pub(crate) fn job(dev: &Device, job: &StationRecordJob) {
         job.subslot.into(),
     );
     let mut state = PNIO_ERR_STAT::default();
+    let mut len = data.len() as u32;
+    let (pa, pl, pd, ps) = (
+        &mut addr as *mut _,
+        &mut len as *mut u32,
+        data.as_mut_ptr(),
+        &mut state as *mut _,
+    );
     let index = u32::from(job.index);
-    let answer = if job.write {
-        let mut data = job.data.clone();
-        let mut len = data.len() as u32;
-        match dev.cbf.cbf_rec_write {
-            Some(f) => {
-                let (pa, pl, pd, ps) = (
-                    &mut addr as *mut _,
-                    &mut len as *mut u32,
-                    data.as_mut_ptr(),
-                    &mut state as *mut _,
-                );
-                // SAFETY: a PNIO_CBF_REC_WRITE the program gave PNIO_device_open, callable
-                // until PNIO_device_close (which waits for this thread); the pointers are to
-                // locals that outlive the call, the buffer holds `len` bytes.
-                invoke_device(|| unsafe {
-                    f(
-                        dev.handle, job.api, number, key, sequence, pa, index, pl, pd, ps,
-                    )
-                });
-                refusal(&state, true).map_or(Ok(Vec::new()), Err)
-            }
-            None => Err(RecordRefusal::new(RecordRefusal::INVALID_INDEX)),
-        }
-    } else {
-        let max = job.max_len.min(MAX_READ);
-        let mut data = vec![0u8; max as usize];
-        let mut len = max;
-        match dev.cbf.cbf_rec_read {
-            Some(f) => {
-                let (pa, pl, pd, ps) = (
-                    &mut addr as *mut _,
-                    &mut len as *mut u32,
-                    data.as_mut_ptr(),
-                    &mut state as *mut _,
-                );
-                // SAFETY: as above; the buffer holds `max` bytes, the most `len` lets the
-                // program write.
-                invoke_device(|| unsafe {
-                    f(
-                        dev.handle, job.api, number, key, sequence, pa, index, pl, pd, ps,
-                    )
-                });
-                match refusal(&state, false) {
-                    Some(r) => Err(r),
-                    None => {
-                        // A length above the buffer is the program's error: not more than it has.
-                        data.truncate(len.min(max) as usize);
-                        Ok(data)
-                    }
-                }
-            }
-            None => Err(RecordRefusal::new(RecordRefusal::INVALID_INDEX)),
-        }
-    };
-    let answer = answer.as_deref().map_err(|r| *r);
-    if let Err(e) = lock(&dev.services).answer_record(job, answer) {
-        fail(
-            if job.write {
-                "PNIO_CBF_REC_WRITE"
-            } else {
-                "PNIO_CBF_REC_READ"
-            },
-            PNIO_ERR_NO_FW_COMMUNICATION,
-            format_args!(
-                "record job {} ({:#06x} of slot {} subslot {:#06x}) not answered: {e}",
-                job.job, job.index, job.slot, job.subslot
-            ),
-        );
+    // SAFETY: a record callback the program gave PNIO_device_open, callable until
+    // PNIO_device_close (which waits for this thread); the pointers are to locals that
+    // outlive the call, the buffer holds `len` bytes, the most the program may use.
+    invoke_device(|| unsafe {
+        f(
+            dev.handle, job.api, number, key, sequence, pa, index, pl, pd, ps,
+        )
+    });
+    match refusal(&state, job.write) {
+        Some(r) => Err(r),
+        None => Ok(len),
     }
 }
 
