@@ -14,17 +14,18 @@
 use super::callbacks::CallbackTable;
 use super::errors::*;
 use super::handles;
-use super::isochronous::{self, Window};
+use super::isochronous::{self, Window, cycle_info};
 use super::services::{ServiceContext, ServiceWorker};
+use super::stopped;
+pub(crate) use super::sync::lock;
 use super::types::*;
-use super::watchdog;
 use procimg_client::{
     AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, Event, Layout,
     Mode, Refusal, now_ns,
 };
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -35,12 +36,6 @@ const EVENT_POLL: Duration = Duration::from_millis(20);
 /// How long `PNIO_controller_open` waits for the server to reach OFFLINE (and for the
 /// first image).
 const OPEN_WAIT: Duration = Duration::from_secs(5);
-
-/// Locks a mutex; a panic elsewhere (caught at the boundary) does not make every later
-/// call fail.
-pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
-}
 
 /// The client side of a controller, behind one lock: IO-Base's data functions are not
 /// reentrant, and callbacks on library threads may call them while the program does.
@@ -100,7 +95,7 @@ static CONTROLLERS: Mutex<BTreeMap<u32, Arc<Controller>>> = Mutex::new(BTreeMap:
 /// The open controller with this handle (not one being closed, nor one the watchdog's
 /// expiry stopped).
 pub(crate) fn lookup(handle: u32) -> Option<Arc<Controller>> {
-    lookup_any(handle).filter(|c| !watchdog::expired(c.handle))
+    lookup_any(handle).filter(|c| !stopped::expired(c.handle))
 }
 
 /// The open controller with this handle, also after the watchdog's expiry (for close).
@@ -116,7 +111,7 @@ fn lookup_any(handle: u32) -> Option<Arc<Controller>> {
 pub(crate) fn lookup_io(handle: u32) -> Option<Arc<Controller>> {
     lock(&CONTROLLERS)
         .get(&handle)
-        .filter(|c| !watchdog::expired(c.handle))
+        .filter(|c| !stopped::expired(c.handle))
         .cloned()
 }
 
@@ -137,8 +132,8 @@ pub(crate) fn on_instance(instance: &str) -> Vec<Arc<Controller>> {
 /// The text for a handle that is not (or no longer) open; for one the watchdog's expiry
 /// stopped, the watchdog's answer.
 pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
-    if watchdog::expired(handle) && is_controller(handle) {
-        return watchdog::refused(function, handle);
+    if stopped::expired(handle) && is_controller(handle) {
+        return stopped::refused(function, handle);
     }
     fail(
         function,
@@ -169,17 +164,6 @@ pub(crate) fn pnio_mode(m: Mode) -> PNIO_MODE_TYPE {
         Mode::Offline => PNIO_MODE_OFFLINE,
         Mode::Clear => PNIO_MODE_CLEAR,
         Mode::Operate => PNIO_MODE_OPERATE,
-    }
-}
-
-/// IO-Base's cycle info for the cycle `info`, as of `now` (`CLOCK_MONOTONIC` ns).
-pub(crate) fn cycle_info(info: &CycleInfo, now: u64) -> PNIO_CYCLE_INFO {
-    PNIO_CYCLE_INFO {
-        CycleCount: info.cycle_count & 0xFFFF,
-        // 10 ns ticks of a free-running 32-bit counter: wrapping is its nature.
-        ClockCount: (now / 10) as u32,
-        CountSinceCycleStart: (now.saturating_sub(info.cycle_start_ns) / 10)
-            .min(u64::from(u32::MAX)) as u32,
     }
 }
 
@@ -435,7 +419,7 @@ impl Controller {
         }
         self.callbacks.clear();
         lock(&CONTROLLERS).remove(&self.handle);
-        watchdog::forget(self.handle);
+        stopped::forget(self.handle);
         let mut io = lock(&self.io);
         io.window = Window::default();
         // Unregisters from the server: the claims go with it.
@@ -631,7 +615,7 @@ fn collect(ctl: &Controller) -> Option<Collected> {
     let mut startop = None;
     if ctl.isochronous.load(Ordering::Acquire) {
         startop = io.window.take_startop(client);
-        if startop.is_some() && watchdog::expired(ctl.handle) {
+        if startop.is_some() && stopped::expired(ctl.handle) {
             // After the watchdog's expiry the program gets no cycle: the library ends it
             // with the outputs BAD.
             io.window.finish_bad(client);
@@ -719,25 +703,6 @@ fn state_thread(ctl: Arc<Controller>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn cycle_info_in_the_manuals_units() {
-        let info = CycleInfo {
-            cycle_number: 5,
-            cycle_start_ns: 1_000_000,
-            clock_ns: 0,
-            since_cycle_start_ns: 0,
-            cycle_count: 0x1_0020,
-            reserved: 0,
-        };
-        let c = cycle_info(&info, 1_000_000 + 123_450);
-        assert_eq!(c.CycleCount, 0x20, "16 bits of 31.25 µs units");
-        assert_eq!(c.CountSinceCycleStart, 12_345, "10 ns units");
-        assert_eq!(c.ClockCount, (1_123_450u64 / 10) as u32);
-        // The free-running 32-bit 10 ns counter wraps.
-        let late = cycle_info(&info, 50_000_000_000);
-        assert_eq!(late.ClockCount, (5_000_000_000u64 % (1 << 32)) as u32);
-    }
 
     #[test]
     fn modes_map_to_the_manuals_values() {

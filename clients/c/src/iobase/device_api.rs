@@ -16,8 +16,8 @@ use super::device::state::{Device, Life, lookup, lookup_any, wrong_handle};
 use super::device_types::*;
 use super::errors::fail;
 use super::errors::*;
+use super::stopped;
 use super::types::*;
-use super::watchdog;
 use crate::ffi::guard;
 use std::sync::Arc;
 use std::sync::mpsc::sync_channel;
@@ -203,7 +203,7 @@ pub unsafe extern "C" fn PNIO_device_close(DevHndl: PNIO_UINT32) -> PNIO_UINT32 
     const F: &str = "PNIO_device_close";
     guard(PNIO_ERR_INTERNAL, || {
         if !in_callback()
-            && let Some(dev) = lookup_any(DevHndl).filter(|d| watchdog::expired(d.handle))
+            && let Some(dev) = lookup_any(DevHndl).filter(|d| stopped::expired(d.handle))
         {
             // The watchdog stopped the program: close is the one call left, and it stops
             // the device as well.

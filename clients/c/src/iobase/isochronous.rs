@@ -9,7 +9,6 @@
 //! (`PNIO_ERR_ALLREADY_DONE`), STARTOP before OPFAULT (`PNIO_ERR_OPFAULT_NOT_REG`).
 
 use super::callbacks::{CallbackTable, invoke_cp};
-use super::controller::cycle_info;
 use super::errors::*;
 use super::types::*;
 use procimg_client::{Client, Cycle, CycleInfo, DetachedCycle, Ioxs, now_ns};
@@ -218,9 +217,39 @@ pub(crate) fn outputs_bad(client: &mut Client) {
     let _ = client.data_write_cache_flush();
 }
 
+/// IO-Base's cycle info for the cycle `info`, as of `now` (`CLOCK_MONOTONIC` ns).
+pub(crate) fn cycle_info(info: &CycleInfo, now: u64) -> PNIO_CYCLE_INFO {
+    PNIO_CYCLE_INFO {
+        CycleCount: info.cycle_count & 0xFFFF,
+        // 10 ns ticks of a free-running 32-bit counter: wrapping is its nature.
+        ClockCount: (now / 10) as u32,
+        CountSinceCycleStart: (now.saturating_sub(info.cycle_start_ns) / 10)
+            .min(u64::from(u32::MAX)) as u32,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cycle_info_in_the_manuals_units() {
+        let info = CycleInfo {
+            cycle_number: 5,
+            cycle_start_ns: 1_000_000,
+            clock_ns: 0,
+            since_cycle_start_ns: 0,
+            cycle_count: 0x1_0020,
+            reserved: 0,
+        };
+        let c = cycle_info(&info, 1_000_000 + 123_450);
+        assert_eq!(c.CycleCount, 0x20, "16 bits of 31.25 µs units");
+        assert_eq!(c.CountSinceCycleStart, 12_345, "10 ns units");
+        assert_eq!(c.ClockCount, (1_123_450u64 / 10) as u32);
+        // The free-running 32-bit 10 ns counter wraps.
+        let late = cycle_info(&info, 50_000_000_000);
+        assert_eq!(late.ClockCount, (5_000_000_000u64 % (1 << 32)) as u32);
+    }
 
     unsafe extern "C" fn cb(_: *mut PNIO_CP_CBE_PRM) {}
 

@@ -27,5 +27,7 @@ pub mod errors;
 mod handles;
 mod isochronous;
 pub(crate) mod services;
+pub(crate) mod stopped;
+pub(crate) mod sync;
 pub mod types;
 pub mod watchdog;

@@ -24,12 +24,14 @@
 #![allow(non_snake_case)]
 
 use super::callbacks::{in_callback, invoke_device};
-use super::controller::{self, instance_for, lock};
+use super::controller::{self, instance_for};
 use super::device::state as device;
 use super::errors::*;
+use super::stopped;
+use super::sync::lock;
 use super::types::*;
 use crate::ffi::guard;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -49,40 +51,14 @@ struct Registration {
 struct State {
     /// By CPIndex.
     regs: BTreeMap<u32, Registration>,
-    /// Handles stopped by an expiry, until closed.
-    stopped: BTreeSet<u32>,
     /// Whether the timer thread runs.
     timer: bool,
 }
 
 static STATE: Mutex<State> = Mutex::new(State {
     regs: BTreeMap::new(),
-    stopped: BTreeSet::new(),
     timer: false,
 });
-
-/// Whether the watchdog's expiry stopped `handle`.
-pub(crate) fn expired(handle: u32) -> bool {
-    lock(&STATE).stopped.contains(&handle)
-}
-
-/// Forgets `handle` (closed).
-pub(crate) fn forget(handle: u32) {
-    lock(&STATE).stopped.remove(&handle);
-}
-
-/// The answer of every call with a handle the watchdog's expiry stopped.
-pub(crate) fn refused(function: &str, handle: u32) -> u32 {
-    fail(
-        function,
-        PNIO_ERR_NO_FW_COMMUNICATION,
-        format_args!(
-            "the CP application watchdog expired (PNIO_CP_trigger_watchdog did not come in \
-             time): handle {handle} is stopped; close it (PNIO_controller_close or \
-             PNIO_device_close) and open again"
-        ),
-    )
-}
 
 fn check_cp(f: &str, cp: u32) -> Result<(), u32> {
     if cp == 0 || cp > 255 {
@@ -221,11 +197,8 @@ fn expire(cp: u32, cbf: PNIO_CBF_APPL_WATCHDOG) {
     let instance = instance_for(cp);
     let controllers = controller::on_instance(&instance);
     let devices = device::on_instance(&instance);
-    {
-        let mut st = lock(&STATE);
-        st.stopped.extend(controllers.iter().map(|c| c.handle));
-        st.stopped.extend(devices.iter().map(|d| d.handle));
-    }
+    stopped::stop(controllers.iter().map(|c| c.handle));
+    stopped::stop(devices.iter().map(|d| d.handle));
     // Outside the watchdog's lock: the handles' threads ask it while they hold their own.
     for c in &controllers {
         c.outputs_bad();

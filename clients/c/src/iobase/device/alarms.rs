@@ -172,12 +172,3 @@ pub(crate) fn done(dev: &Device, user: u32, status: u32, mut state: PNIO_ERR_STA
         invoke_device(|| unsafe { f(dev.handle, user, status, ps) });
     }
 }
-
-/// The program's alarms waiting for their acknowledgement.
-#[derive(Default)]
-pub(crate) struct Waiting {
-    /// The last tag given.
-    pub next_tag: u64,
-    /// Tag → UserHndl.
-    pub waiting: std::collections::BTreeMap<u64, u32>,
-}

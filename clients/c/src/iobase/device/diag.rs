@@ -12,6 +12,8 @@
 //! kind.
 
 use super::Pos;
+pub(crate) use super::held::DiagFn;
+use super::held::Entries;
 use super::state::{Device, Life};
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
@@ -19,21 +21,6 @@ use crate::iobase::errors::*;
 use procimg_client::{
     DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosisChange,
 };
-use std::collections::BTreeMap;
-
-/// The kinds of entries, one per add function.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum DiagFn {
-    /// `PNIO_diag_channel_add`.
-    Channel,
-    /// `PNIO_diag_ext_channel_add`.
-    ExtChannel,
-    /// `PNIO_diag_generic_add`.
-    Generic,
-}
-
-/// The program's entries: (submodule, DiagTag) → their kind and the entry.
-pub(crate) type Entries = BTreeMap<(Pos, u16), (DiagFn, DiagnosisEntry)>;
 
 /// `PNIO_build_channel_properties`: Type in bits 0–7, Specifier in bits 11–12, Direction in
 /// bits 13–15 (IEC 61158-6 ChannelProperties).

@@ -17,34 +17,20 @@
 //! While the library thread carries out a plug or pull it holds the client, and a STARTOP
 //! of that time is missed (procimgd counts an OPFAULT).
 
+use super::held::Isochronous;
 use super::state::{Device, Life, lookup, wrong_handle};
-use crate::iobase::callbacks::CallbackTable;
-use crate::iobase::controller::{cycle_info, lock};
+use crate::iobase::controller::lock;
 use crate::iobase::errors::*;
-use crate::iobase::isochronous::{self, OPDONE, REGISTER, Window};
+use crate::iobase::isochronous::{self, OPDONE, REGISTER, cycle_info};
+use crate::iobase::stopped;
 use crate::iobase::types::*;
-use crate::iobase::watchdog;
 use procimg_client::{AttachOptions, Client, Event, now_ns};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 /// The longest the thread sleeps before it looks at its stop flag.
 const POLL: Duration = Duration::from_millis(20);
-
-/// The isochronous part of an open device.
-#[derive(Default)]
-pub(crate) struct Isochronous {
-    /// The `PNIO_CP_CBE_*` callbacks (only the isochronous half of the table is used).
-    pub callbacks: CallbackTable,
-    /// The open STARTOP..OPDONE window; locked after the device's client.
-    pub window: Mutex<Window>,
-    /// STARTOP is registered: the client is synchronous.
-    pub on: AtomicBool,
-    stop: AtomicBool,
-    thread: Mutex<Option<JoinHandle<()>>>,
-}
 
 impl Isochronous {
     /// Ends the thread (a callback running now finishes first).
@@ -160,14 +146,14 @@ fn run(dev: Arc<Device>) {
         if dev.iso.stop.load(Ordering::Acquire) {
             break;
         }
-        let stopped = watchdog::expired(dev.handle);
+        let expired = stopped::expired(dev.handle);
         let (startop, events, newest) = {
             let mut client = lock(&dev.client);
             let mut window = lock(&dev.iso.window);
             let mut startop = None;
             if dev.iso.on.load(Ordering::Acquire) {
                 startop = window.take_startop(&mut client);
-                if startop.is_some() && stopped {
+                if startop.is_some() && expired {
                     // After the watchdog's expiry the program gets no cycle.
                     window.finish_bad(&mut client);
                     startop = None;
@@ -175,7 +161,7 @@ fn run(dev: Arc<Device>) {
             }
             (startop, client.events(), client.cycle_info())
         };
-        if stopped {
+        if expired {
             continue;
         }
         let info_now = || cycle_info(&newest.unwrap_or_default(), now_ns());

@@ -32,6 +32,7 @@
 //! * `diag`: the program's diagnosis entries by DiagTag, kept in procimgd's store without
 //!   an alarm;
 //! * `alarms`: the program's alarms and their `PNIO_CBF_REQ_DONE`;
+//! * `held`: what an open device keeps for them and for `isochronous`;
 //! * `identify`: `PNIO_CBF_START_LED_FLASH` / `STOP_LED_FLASH` for DCP Signal and
 //!   `PNIO_CBF_CP_STOP_REQ` for a reset to factory.
 //!
@@ -113,6 +114,7 @@ pub(crate) mod ars;
 pub(crate) mod config;
 pub(crate) mod data;
 pub(crate) mod diag;
+pub(crate) mod held;
 pub(crate) mod identify;
 pub(crate) mod isochronous;
 pub(crate) mod jobs;

@@ -4,15 +4,13 @@
 //! process-wide table of handles.
 
 use super::Pos;
-use super::alarms::Waiting;
 use super::ars::Ars;
-use super::diag::Entries;
-use super::isochronous::Isochronous;
+use super::held::{Entries, Isochronous, Waiting};
 use super::jobs::{Job, Worker};
 use crate::iobase::controller::lock;
 use crate::iobase::device_types::PNIO_CBF_FUNCTIONS;
 use crate::iobase::errors::*;
-use crate::iobase::{handles, watchdog};
+use crate::iobase::{handles, stopped};
 use procimg_client::{Client, Mode, Services};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex};
@@ -110,7 +108,7 @@ static DEVICES: Mutex<BTreeMap<u32, Arc<Device>>> = Mutex::new(BTreeMap::new());
 
 /// The open device with this handle (not one the watchdog's expiry stopped).
 pub(crate) fn lookup(handle: u32) -> Option<Arc<Device>> {
-    lookup_any(handle).filter(|d| !watchdog::expired(d.handle))
+    lookup_any(handle).filter(|d| !stopped::expired(d.handle))
 }
 
 /// The open device with this handle, also after the watchdog's expiry (for close).
@@ -134,8 +132,8 @@ pub(crate) fn instance_open(instance: &str) -> bool {
 
 /// The text for a handle that is not an open device.
 pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
-    if watchdog::expired(handle) && lookup_any(handle).is_some() {
-        return watchdog::refused(function, handle);
+    if stopped::expired(handle) && lookup_any(handle).is_some() {
+        return stopped::refused(function, handle);
     }
     fail(
         function,
@@ -215,7 +213,7 @@ impl Device {
         // the handle for its PNIO_CP_set_opdone.
         self.iso.stop();
         lock(&DEVICES).remove(&self.handle);
-        watchdog::forget(self.handle);
+        stopped::forget(self.handle);
         let worker = lock(&self.worker).take();
         if let Some(w) = worker {
             w.stop();
