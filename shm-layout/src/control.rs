@@ -372,6 +372,10 @@ pub enum Request {
     StationApplicationReady {
         /// The subscriber's id.
         subscriber: u64,
+        /// Submodules (API, slot, subslot) it is not ready for: the PLC gets them as
+        /// "application ready pending" until a Return of Submodule alarm of each.
+        #[serde(default)]
+        not_ready: Vec<(u32, u16, u16)>,
     },
     /// The cycle thread's latency histograms since start, bucket by bucket; answered with
     /// [`Response::Histograms`]. Two answers subtracted give the histograms of the time

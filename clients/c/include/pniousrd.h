@@ -39,7 +39,8 @@
  * PNIO_CBF_AR_INFO_IND (IOCRs and modules from the Connect, valid during the call; the
  * IOCRs' timing fields are 0); PNIO_CBF_PRM_END_IND (subslot 0) at the PLC's PrmEnd;
  * PNIO_set_appl_state_ready then sends the ApplicationReady (procimgd sends it itself after
- * 10 s; the list of submodules that are not ready is not forwarded);
+ * 10 s), whose ModuleDiffBlock gives the submodules of its list (NULL: none) the ARInfo
+ * "application ready pending" until PNIO_ret_of_sub_alarm_send announces each;
  * PNIO_CBF_AR_INDATA_IND; PNIO_CBF_APDU_STATUS_IND (RUN or STOP, with STATION_OK) when the
  * PLC's state changes, a change before data exchange right after AR_INDATA_IND; at the
  * AR's end PNIO_CBF_AR_OFFLINE_IND after AR_INDATA_IND, else PNIO_CBF_AR_ABORT_IND, whose

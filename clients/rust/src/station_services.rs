@@ -216,8 +216,21 @@ impl Services {
     /// Says that this handle applied the PLC's parameters: the ApplicationReady goes out once
     /// every handle that holds it said so.
     pub fn application_ready(&self) -> Result<(), ControlError> {
+        self.application_ready_except(&[])
+    }
+
+    /// [`application_ready`](Self::application_ready), but not for the submodules
+    /// `not_ready` (API, slot, subslot): the PLC gets them as "application ready pending"
+    /// (IO-Base's list of `PNIO_set_appl_state_ready`), each until its Return of Submodule
+    /// alarm ([`Client::return_submodule`](crate::Client::return_submodule) or
+    /// [`send_alarm`](Self::send_alarm)).
+    pub fn application_ready_except(
+        &self,
+        not_ready: &[(u32, u16, u16)],
+    ) -> Result<(), ControlError> {
         self.station_request(&Request::StationApplicationReady {
             subscriber: self.id(),
+            not_ready: not_ready.to_vec(),
         })
     }
 }

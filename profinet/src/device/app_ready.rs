@@ -5,6 +5,7 @@
 //! its parameters and releases it, at most [`APP_READY_HOLD_TIMEOUT_NS`] and never past the
 //! AR's CMI activity timeout, after which the ApplicationReady goes out all the same.
 
+use super::diagnosis::SubslotAddr;
 use super::{APP_READY_DELAY_NS, Application, ArState, Device};
 
 /// The longest the application may hold the ApplicationReady.
@@ -43,6 +44,22 @@ impl<A: Application> Device<A> {
         true
     }
 
+    /// Marks submodules the application is not ready for (IO-Base's list of
+    /// `PNIO_set_appl_state_ready`): the ApplicationReady that goes next, and the AR's
+    /// ModuleDiffBlock after it, give them ARInfo "application ready pending" until the
+    /// application announces each one with a Return of Submodule alarm
+    /// ([`return_submodule`](Self::return_submodule)). Each PrmEnd starts a new list.
+    pub fn application_ready_pending(&mut self, at: impl IntoIterator<Item = SubslotAddr>) {
+        let Some(ar) = self.ar.as_mut() else {
+            return;
+        };
+        for a in at {
+            if !ar.app_ready_pending.contains(&a) {
+                ar.app_ready_pending.push(a);
+            }
+        }
+    }
+
     /// Whether the AR's ApplicationReady waits for the application now.
     pub fn application_ready_held(&self) -> bool {
         self.ar.as_ref().is_some_and(|a| a.app_ready_held.is_some())
@@ -59,6 +76,7 @@ impl<A: Application> Device<A> {
         let Some(ar) = self.ar.as_mut() else {
             return;
         };
+        ar.app_ready_pending.clear();
         if hold {
             let mut until = now_ns.saturating_add(APP_READY_HOLD_TIMEOUT_NS);
             if let Some(cmi) = ar.cmi_deadline {

@@ -84,6 +84,9 @@ pub(super) struct Ar {
     pub(super) app_ready_due: Option<u64>,
     /// Until when the application holds the ApplicationReady after PrmEnd.
     pub(super) app_ready_held: Option<u64>,
+    /// Submodules the application is not ready for: its ApplicationReady's ModuleDiffBlock
+    /// gives them ARInfo "application ready pending" until their Return of Submodule.
+    pub(super) app_ready_pending: Vec<SubslotAddr>,
     /// The outstanding ApplicationReady.
     pub(super) app_ready: Option<ClientCall>,
     /// The AR must reach data exchange before this (CMInitiatorActivityTimeoutFactor).
@@ -174,6 +177,7 @@ impl Ar {
             },
             app_ready_due: None,
             app_ready_held: None,
+            app_ready_pending: Vec::new(),
             app_ready: None,
             cmi_deadline: Some(
                 now_ns.saturating_add(u64::from(plan.ar.activity_timeout_factor) * 100_000_000),

@@ -13,6 +13,9 @@ use super::{Application, Device, PluggedSubmodule};
 use crate::wire::connect::ModuleDiffBlock;
 use crate::wire::record::{IdentApi, IdentificationData, IdentificationKind, RecordVersion};
 
+/// SubmoduleState ARInfo (bits 7–10) 1: the application is not ready for the submodule.
+const ARINFO_APPLICATION_READY_PENDING: u16 = 1 << 7;
+
 /// ExpectedIdentificationData of `expected`.
 pub(super) fn expected_data<'a>(
     expected: impl IntoIterator<Item = &'a Expected>,
@@ -60,6 +63,16 @@ impl<A: Application> Device<A> {
     /// The ModuleDiffBlock of the current AR as things are now.
     pub(super) fn ar_module_diff(&self) -> Option<ModuleDiffBlock> {
         let ar = self.ar.as_ref()?;
-        module_diff(&ar.expected(), &self.submodules, &self.diagnosis)
+        let pending = &ar.app_ready_pending;
+        let state = |api, slot, subslot| {
+            let at = SubslotAddr::new(api, slot, subslot);
+            let ar_info = if pending.contains(&at) {
+                ARINFO_APPLICATION_READY_PENDING
+            } else {
+                0
+            };
+            self.diagnosis.submodule_state(at) | ar_info
+        };
+        connect::module_diff(&ar.expected(), &self.submodules, state).1
     }
 }

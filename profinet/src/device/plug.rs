@@ -166,6 +166,10 @@ impl<A: Application> Device<A> {
         if !owned {
             return Ok(None);
         }
+        // The application is ready for it now.
+        if let Some(ar) = self.ar.as_mut() {
+            ar.app_ready_pending.retain(|p| *p != at);
+        }
         Ok(self.send_plug_alarm(at, AlarmType::ReturnOfSubmodule, idents, now_ns, out))
     }
 

@@ -12,6 +12,7 @@ use super::device::config;
 use super::device::data::{self as io, Classes, Direction};
 use super::device::jobs::Job;
 use super::device::open::{self, OpenRequest};
+use super::device::ready_list;
 use super::device::state::{Device, Life, lookup, lookup_any, wrong_handle};
 use super::device_types::*;
 use super::errors::fail;
@@ -565,11 +566,13 @@ fn started(f: &str, h: u32) -> Result<Arc<Device>, u32> {
 }
 
 /// Says that the program is ready for the AR after `PNIO_CBF_PRM_END_IND`: the station's
-/// ApplicationReady goes out. The list of submodules that are not ready is not forwarded
-/// (procimgd's ApplicationReady has no per-submodule state): they should keep their IOPS BAD.
+/// ApplicationReady goes out, with the submodules of `pList` (NULL: none) as "application
+/// ready pending" for the PLC until a Return of Submodule alarm of each
+/// (`PNIO_ret_of_sub_alarm_send`). After a `PRM_END_IND` for a submodule plugged in data
+/// exchange it lets that one's PlugApplicationReady go.
 ///
 /// # Safety
-/// None beyond the C ABI: `pList` is not read.
+/// `pList` is NULL or points to a list built as the manual says (`PNIO_LIST_*`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn PNIO_set_appl_state_ready(
     DevHndl: PNIO_UINT32,
@@ -578,11 +581,18 @@ pub unsafe extern "C" fn PNIO_set_appl_state_ready(
     pList: *mut PNIO_APPL_READY_LIST_TYPE,
 ) -> PNIO_UINT32 {
     const F: &str = "PNIO_set_appl_state_ready";
-    let _ = pList;
     guard(PNIO_ERR_INTERNAL, || {
         let dev = match started(F, DevHndl) {
             Ok(d) => d,
             Err(code) => return code,
+        };
+        // SAFETY: as the function's contract.
+        let Ok(not_ready) = (unsafe { ready_list::not_ready(pList) }) else {
+            return fail(
+                F,
+                PNIO_ERR_PRM_INVALIDARG,
+                "pList does not end: build it with PNIO_LIST_INITIALIZE and PNIO_LIST_INSERT_*",
+            );
         };
         {
             let mut ars = lock(&dev.ars);
@@ -596,7 +606,7 @@ pub unsafe extern "C" fn PNIO_set_appl_state_ready(
                 // A submodule plugged in data exchange has its parameters.
                 ar.plug_prm_ends -= 1;
                 drop(ars);
-                return match lock(&dev.services).application_ready() {
+                return match lock(&dev.services).application_ready_except(&not_ready) {
                     Ok(()) => PNIO_OK,
                     Err(e) => fail(F, PNIO_ERR_NO_FW_COMMUNICATION, format_args!("{e}")),
                 };
@@ -615,7 +625,7 @@ pub unsafe extern "C" fn PNIO_set_appl_state_ready(
             }
             ar.phase = Phase::ApplReady;
         }
-        match lock(&dev.services).application_ready() {
+        match lock(&dev.services).application_ready_except(&not_ready) {
             Ok(()) => PNIO_OK,
             Err(e) => {
                 if let Some(ar) = lock(&dev.ars).current.as_mut()

@@ -820,8 +820,25 @@ int main(void) {
     event_t chk2 = event(wait_event(__LINE__, EV_AR_CHECK, ioff));
     CHECK(chk2.ar == 2, "the second AR's ArNumber is %u", (unsigned)chk2.ar);
     CHECK_RC(PNIO_set_appl_state_ready(h, ar, sk, NULL), PNIO_ERR_SESSION); /* ended */
-    CHECK_RC(PNIO_set_appl_state_ready(h, chk2.ar, chk2.sk, NULL), PNIO_OK);
+    /* Ready, but not for slot 1: the PLC gets it "application ready pending" until the
+     * program's Return of Submodule alarm. */
+    PNIO_APPL_READY_LIST_TYPE nr;
+    PNIO_APPL_READY_AP_TYPE nr_api;
+    PNIO_APPL_READY_MODULE_TYPE nr_slot;
+    PNIO_APPL_READY_SUBMODULE_TYPE nr_sub;
+    PNIO_LIST_INITIALIZE(&nr.ap_list);
+    nr_api.api = 0;
+    PNIO_LIST_INITIALIZE(&nr_api.module_list);
+    PNIO_LIST_INSERT_TAIL(&nr.ap_list, &nr_api.link);
+    nr_slot.slot_nr = 1;
+    PNIO_LIST_INITIALIZE(&nr_slot.submodule_list);
+    PNIO_LIST_INSERT_TAIL(&nr_api.module_list, &nr_slot.link);
+    nr_sub.subslot_nr = 1;
+    PNIO_LIST_INSERT_TAIL(&nr_slot.submodule_list, &nr_sub.link);
+    CHECK_RC(PNIO_set_appl_state_ready(h, chk2.ar, chk2.sk, &nr), PNIO_OK);
     int iin2 = wait_event(__LINE__, EV_INDATA, iprm2);
+    CHECK_RC(PNIO_ret_of_sub_alarm_send(h, 0, chk2.ar, chk2.sk, &a, 6), PNIO_OK);
+    expect_done(__LINE__, 6, iin2);
 
     /* ---- Stop: OFFLINE_IND, then DEVICE_STOPPED, on the library thread ---- */
     CHECK_RC(PNIO_device_stop(h), PNIO_OK);

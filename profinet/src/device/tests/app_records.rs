@@ -358,6 +358,35 @@ fn a_held_application_ready_goes_out_when_released() {
 }
 
 #[test]
+fn submodules_the_application_is_not_ready_for_are_pending_in_the_application_ready() {
+    use crate::wire::connect::{ArInfo, ModuleDiffBlock};
+    let (mut dev, t) = held_at_prm_end();
+    let input = SubslotAddr::new(0, 1, 1);
+    dev.application_ready_pending([input, input]);
+    assert!(dev.release_application_ready(t + MS));
+    let sent = run_until(&mut dev, t + MS);
+    let payload = sent
+        .iter()
+        .find_map(|(_, a)| match a {
+            DeviceAction::Datagram {
+                from_port, payload, ..
+            } if *from_port == rpc::CLIENT_PORT => Some(payload.clone()),
+            _ => None,
+        })
+        .expect("the ApplicationReady");
+    let blocks = parse_reply(&payload).blocks;
+    // The ControlBlock first (BlockLength after the BlockType), then the ModuleDiffBlock.
+    let control_len = 4 + usize::from(u16::from_be_bytes([blocks[2], blocks[3]]));
+    let diff = ModuleDiffBlock::parse(&blocks[control_len..]).expect("a ModuleDiffBlock");
+    let listed: Vec<_> = diff.submodules().collect();
+    assert_eq!(listed.len(), 1, "{listed:?}");
+    let (api, slot, subslot, state) = listed[0];
+    assert_eq!((api, slot, subslot), (0, 1, 1));
+    assert_eq!(state.ar_info(), ArInfo::ApplicationReadyPending);
+    assert!(!state.is_usable());
+}
+
+#[test]
 fn a_held_application_ready_goes_out_by_itself_before_the_cmi_timeout() {
     let (mut dev, t) = held_at_prm_end();
     // The Connect's CMI activity timeout is 200 × 100 ms = 20 s, beyond the hold's limit.

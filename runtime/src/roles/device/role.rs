@@ -119,6 +119,8 @@ pub enum DeviceCommand {
     HoldApplicationReady(bool),
     /// Let a held ApplicationReady go out.
     ReleaseApplicationReady,
+    /// The submodules a client is not ready for ("application ready pending").
+    NotReady(Vec<SubslotAddr>),
 }
 
 /// The device on the acyclic thread.
@@ -463,6 +465,7 @@ impl Role for DeviceRole {
                 let _ = reply.try_send(r);
             }
             DeviceCommand::HoldApplicationReady(hold) => self.device.hold_application_ready(hold),
+            DeviceCommand::NotReady(at) => self.device.application_ready_pending(at),
             DeviceCommand::ReleaseApplicationReady => {
                 if self.device.release_application_ready(now_ns) {
                     tracing::debug!("the clients applied the parameters: ApplicationReady goes");

@@ -371,8 +371,19 @@ impl RoleServices for DeviceServices {
                     }
                 }))
             }
-            Request::StationApplicationReady { subscriber } => {
+            Request::StationApplicationReady {
+                subscriber,
+                not_ready,
+            } => {
                 done(self.known(subscriber).map(|()| {
+                    if !not_ready.is_empty() {
+                        let at = not_ready
+                            .into_iter()
+                            .map(|(api, slot, subslot)| SubslotAddr::new(api, slot, subslot))
+                            .collect();
+                        // Before the release: the acyclic thread takes commands in order.
+                        let _ = self.commands.send(DeviceCommand::NotReady(at));
+                    }
                     if let Some(o) = self.say.ready(subscriber) {
                         self.order(o);
                     }

@@ -119,6 +119,7 @@ pub(crate) mod identify;
 pub(crate) mod isochronous;
 pub(crate) mod jobs;
 pub(crate) mod open;
+pub(crate) mod ready_list;
 pub(crate) mod records;
 pub(crate) mod state;
 pub(crate) mod station;
