@@ -19,7 +19,9 @@ use crate::wire_check;
 use procimg_nic::{MAX_FRAME, Nic, sim_link};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::{AlarmTicket, DeviceEvent, DeviceState, RecordRequest};
-use procimg_profinet::device::{ChannelDiag, DeviceAction, DiagEntry, Severity, SubslotAddr};
+use procimg_profinet::device::{
+    ChannelDiag, DeviceAction, DiagEntry, DiagnosisEdit, Severity, SubslotAddr,
+};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_profinet::wire::rpc::RPC_PORT;
@@ -163,14 +165,20 @@ pub mod device_ops {
     pub const DIAGNOSIS: u8 = 6;
     /// `on: u8`: the device takes part (odd) or stops.
     pub const ACCEPTING: u8 = 7;
-    /// `what: u8, arg: u8, len: u8`: the application's part (`what % 8`): 0 takes (arg odd)
+    /// `what: u8, arg: u8, len: u8`: the application's part (`what % 14`): 0 takes (arg odd)
     /// or gives back the records of slot `arg % 3`, subslot 1; 1 answers job `arg` of those
     /// given out (with `len` bytes, or an error when `len` > 200; a job number never given out
     /// when there are none); 2 holds the ApplicationReady (arg odd) or not; 3 releases it;
     /// 4 checks new ARs (arg odd) or not; 5 answers the last AR check (accepts when `len` is
     /// even, else refuses with ErrorCode1 `arg`, ErrorCode2 `len`); 6 pulls the submodule
     /// of slot `arg % 3`, subslot 1, if it is plugged, else plugs it (with what was there
-    /// when `len` is even, else with module `len`, submodule `arg`); 7 announces its return.
+    /// when `len` is even, else with module `len`, submodule `arg`); 7 announces its return;
+    /// 8 hands its I&M records to the application (arg odd) or not; 9 keeps a diagnosis of
+    /// it without an alarm (added when `len` is even, removed when odd, all cleared when
+    /// `len` > 200); 10 sends the application's diagnosis alarm (appearing when `arg` is
+    /// odd) with USI `0x8000 + len % 4` (manufacturer `len` when `len` > 100) and `len`
+    /// bytes; 11 a process alarm with `len` bytes; 12 marks it "application ready pending";
+    /// 13 takes the submodules whose PlugPrmEnd came.
     pub const APPLICATION: u8 = 8;
     /// Number of opcodes.
     pub const COUNT: u8 = 9;
@@ -691,6 +699,47 @@ impl DeviceBench {
                 let at = SubslotAddr::new(0, u16::from(arg % 3), 1);
                 let _ = self.device.return_submodule(at, self.now, out);
             }
+            8 => self
+                .device
+                .delegate_im_records(SubslotAddr::new(0, u16::from(arg % 3), 1), arg % 2 == 1),
+            9 => {
+                let at = SubslotAddr::new(0, u16::from(arg % 3), 1);
+                let entry = DiagEntry::Channel(ChannelDiag::new(u16::from(arg), u16::from(len)));
+                let edit = match len {
+                    201.. => DiagnosisEdit::Clear,
+                    l if l % 2 == 0 => DiagnosisEdit::Add(entry),
+                    _ => DiagnosisEdit::Remove(entry.key()),
+                };
+                // Unknown submodules and invalid entries are refused: fine.
+                let _ = self.device.keep_diagnosis(at, edit);
+            }
+            10 => {
+                let at = SubslotAddr::new(0, u16::from(arg % 3), 1);
+                let usi = if len > 100 {
+                    u16::from(len)
+                } else {
+                    0x8000 + u16::from(len % 4)
+                };
+                let data = vec![len; usize::from(len)];
+                // Without data exchange, or too long: refused, fine.
+                let _ =
+                    self.device
+                        .raise_diagnosis_alarm(at, arg % 2 == 1, usi, &data, self.now, out);
+            }
+            11 => {
+                let at = SubslotAddr::new(0, u16::from(arg % 3), 1);
+                let data = vec![arg; usize::from(len)];
+                let _ = self
+                    .device
+                    .send_process_alarm(at, u16::from(arg), &data, self.now, out);
+            }
+            12 => {
+                self.device
+                    .application_ready_pending([SubslotAddr::new(0, u16::from(arg % 3), 1)])
+            }
+            13 => {
+                let _ = self.device.take_plug_parameterized();
+            }
             _ => {
                 let answer = if len.is_multiple_of(2) {
                     Ok(())
@@ -781,7 +830,7 @@ impl DeviceBench {
                 self.device.set_accepting(on, self.now, &mut out);
             }
             device_ops::APPLICATION => {
-                let (what, arg, len) = (r.u8()? % 8, r.u8()?, r.u8()?);
+                let (what, arg, len) = (r.u8()? % 14, r.u8()?, r.u8()?);
                 self.application(what, arg, len, &mut out);
             }
             _ => unreachable!("opcode taken modulo COUNT"),
