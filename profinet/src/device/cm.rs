@@ -123,6 +123,7 @@ impl<A: Application> Device<A> {
                             ar_uuid: a.ar_uuid,
                             records: &a.records,
                             submodules: &a.submodules,
+                            app_ready_pending: &a.app_ready_pending,
                         }),
                         &records::DeviceRead {
                             real: &self.submodules,

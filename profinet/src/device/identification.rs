@@ -47,15 +47,24 @@ pub(super) fn real_data<'a>(
     }
 }
 
-/// The ModuleDiffBlock of `expected` against `real` with the diagnosis as it is now; `None`
-/// when everything is as expected and free of diagnosis.
+/// The ModuleDiffBlock of `expected` against `real` with the diagnosis as it is now and the
+/// submodules the application is not ready for (`pending`: ARInfo "application ready
+/// pending"); `None` when everything is as expected, free of diagnosis and ready.
 pub(super) fn module_diff(
     expected: &[Expected],
     real: &[PluggedSubmodule],
     diagnosis: &DiagnosisStore,
+    pending: &[SubslotAddr],
 ) -> Option<ModuleDiffBlock> {
-    let state =
-        |api, slot, subslot| diagnosis.submodule_state(SubslotAddr::new(api, slot, subslot));
+    let state = |api, slot, subslot| {
+        let at = SubslotAddr::new(api, slot, subslot);
+        let ar_info = if pending.contains(&at) {
+            ARINFO_APPLICATION_READY_PENDING
+        } else {
+            0
+        };
+        diagnosis.submodule_state(at) | ar_info
+    };
     connect::module_diff(expected, real, state).1
 }
 
@@ -63,16 +72,11 @@ impl<A: Application> Device<A> {
     /// The ModuleDiffBlock of the current AR as things are now.
     pub(super) fn ar_module_diff(&self) -> Option<ModuleDiffBlock> {
         let ar = self.ar.as_ref()?;
-        let pending = &ar.app_ready_pending;
-        let state = |api, slot, subslot| {
-            let at = SubslotAddr::new(api, slot, subslot);
-            let ar_info = if pending.contains(&at) {
-                ARINFO_APPLICATION_READY_PENDING
-            } else {
-                0
-            };
-            self.diagnosis.submodule_state(at) | ar_info
-        };
-        connect::module_diff(&ar.expected(), &self.submodules, state).1
+        module_diff(
+            &ar.expected(),
+            &self.submodules,
+            &self.diagnosis,
+            &ar.app_ready_pending,
+        )
     }
 }

@@ -268,6 +268,8 @@ pub(super) struct ArView<'a> {
     pub(super) records: &'a Records,
     /// Its expected submodules.
     pub(super) submodules: &'a [ArSubmodule],
+    /// The submodules the application is not ready for.
+    pub(super) app_ready_pending: &'a [SubslotAddr],
 }
 
 /// What of the device a read may see.
@@ -413,7 +415,7 @@ fn read_one(
         INDEX_MODULE_DIFF => {
             let a = needs_ar()?;
             let expected: Vec<_> = a.submodules.iter().map(|s| s.expected).collect();
-            match module_diff(&expected, dev.real, dev.diagnosis) {
+            match module_diff(&expected, dev.real, dev.diagnosis, a.app_ready_pending) {
                 Some(d) => emitted(d.to_vec()),
                 None => Ok(Vec::new()),
             }

@@ -384,6 +384,13 @@ fn submodules_the_application_is_not_ready_for_are_pending_in_the_application_re
     assert_eq!((api, slot, subslot), (0, 1, 1));
     assert_eq!(state.ar_info(), ArInfo::ApplicationReadyPending);
     assert!(!state.is_usable());
+    // The AR's ModuleDiff record says the same.
+    let h = IodHeader::read_request(0, AR_UUID, 0, 0, 1, 0xe002, 4096);
+    let out = send(&mut dev, opnum::READ, 9, &h.to_bytes(), t + MS);
+    let r = response(&out);
+    let (_, data, _) = IodHeader::split(&r.blocks).unwrap();
+    let record = ModuleDiffBlock::parse(data).expect("record 0xE002");
+    assert_eq!(record, diff);
 }
 
 #[test]
