@@ -32,11 +32,12 @@ use super::sync::lock;
 use super::types::*;
 use crate::ffi::guard;
 use std::collections::BTreeMap;
-use std::sync::Mutex;
+use std::sync::{Condvar, Mutex};
 use std::time::{Duration, Instant};
 
-/// How often the timer thread looks at the armed watchdogs.
-const TICK: Duration = Duration::from_millis(2);
+/// The longest the timer thread sleeps with nothing armed (a deregistration ends it no
+/// later than this; the first trigger of a registration wakes it at once).
+const IDLE: Duration = Duration::from_millis(100);
 
 /// One registration.
 struct Registration {
@@ -54,6 +55,9 @@ struct State {
     /// Whether the timer thread runs.
     timer: bool,
 }
+
+/// Wakes the timer thread when a watchdog is armed (its first trigger).
+static ARMED: Condvar = Condvar::new();
 
 static STATE: Mutex<State> = Mutex::new(State {
     regs: BTreeMap::new(),
@@ -159,36 +163,54 @@ fn trigger(cp: u32) -> u32 {
             ),
         ),
         Some(r) => {
+            let first = r.last.is_none();
             r.last = Some(Instant::now());
+            if first {
+                // Monitoring starts: the timer thread is to sleep until this deadline at most.
+                ARMED.notify_all();
+            }
             PNIO_OK
         }
     }
 }
 
-/// The timer thread: runs while a registration exists.
+/// The timer thread: runs while a registration exists, asleep until the nearest deadline
+/// of an armed watchdog (a trigger only moves a deadline later).
 fn timer() {
+    let mut st = lock(&STATE);
     loop {
-        std::thread::sleep(TICK);
-        let now = Instant::now();
-        let fired: Vec<(u32, PNIO_CBF_APPL_WATCHDOG)> = {
-            let mut st = lock(&STATE);
-            if st.regs.is_empty() {
-                st.timer = false;
-                return;
-            }
-            st.regs
-                .iter_mut()
-                .filter(|(_, r)| !r.expired)
-                .filter(|(_, r)| r.last.is_some_and(|l| now.duration_since(l) > r.timeout))
-                .map(|(&cp, r)| {
-                    r.expired = true;
-                    (cp, r.cbf)
-                })
-                .collect()
-        };
-        for (cp, cbf) in fired {
-            expire(cp, cbf);
+        if st.regs.is_empty() {
+            st.timer = false;
+            return;
         }
+        let now = Instant::now();
+        let mut fired: Vec<(u32, PNIO_CBF_APPL_WATCHDOG)> = Vec::new();
+        let mut next = now + IDLE;
+        for (&cp, r) in st.regs.iter_mut().filter(|(_, r)| !r.expired) {
+            let Some(deadline) = r.last.map(|l| l + r.timeout) else {
+                continue;
+            };
+            if deadline < now {
+                r.expired = true;
+                fired.push((cp, r.cbf));
+            } else {
+                next = next.min(deadline);
+            }
+        }
+        if !fired.is_empty() {
+            drop(st);
+            for (cp, cbf) in fired {
+                expire(cp, cbf);
+            }
+            st = lock(&STATE);
+            continue;
+        }
+        // Past the deadline by a little: expired only once the timeout is exceeded.
+        let wait = next.saturating_duration_since(now) + Duration::from_micros(100);
+        st = match ARMED.wait_timeout(st, wait) {
+            Ok((guard, _)) => guard,
+            Err(poisoned) => poisoned.into_inner().0,
+        };
     }
 }
 
