@@ -66,7 +66,8 @@ pub enum IoCommand {
         #[arg(long, conflicts_with_all = ["address", "length", "input"])]
         all: bool,
     },
-    /// Print the inputs at an address whenever they or their status change.
+    /// Print the inputs at an address whenever they, their IOPS/IOCS, a force on them or
+    /// their device's state change: a line with the time and the cycle number each.
     Watch {
         /// Logical address (decimal or 0x hex).
         #[arg(value_parser = parse_u32)]
@@ -79,6 +80,10 @@ pub enum IoCommand {
         /// Stop after this many lines.
         #[arg(long)]
         count: Option<u64>,
+        /// One JSON object per line (time, cycle, space, address, data, iops, iocs,
+        /// device, state, forced).
+        #[arg(long)]
+        json: bool,
     },
 }
 
@@ -279,30 +284,17 @@ pub fn run(instance: &str, op: IoCommand) -> anyhow::Result<()> {
             length,
             output,
             count,
-        } => {
-            let mut last = None;
-            let mut lines = 0;
-            let mut status = forces(&client);
-            let mut status_at = Instant::now();
-            loop {
-                if status_at.elapsed() > Duration::from_secs(1) {
-                    status = forces(&client);
-                    status_at = Instant::now();
-                }
-                let now = read(&mut client, status.as_ref(), address, length, output)?;
-                // A change of status alone (inputs turning BAD) is a line too.
-                if last.as_ref() != Some(&now) {
-                    let cycle = client.cycle_info().map_or(0, |c| c.cycle_number);
-                    println!("cycle {cycle:>9}  {}  ({})", hex(&now.0), now.1);
-                    last = Some(now);
-                    lines += 1;
-                    if count.is_some_and(|c| lines >= c) {
-                        return Ok(());
-                    }
-                }
-                std::thread::sleep(Duration::from_millis(10));
-            }
-        }
+            json,
+        } => crate::watch::watch(
+            &mut client,
+            &crate::watch::Watch {
+                address,
+                length,
+                output,
+                count,
+                json,
+            },
+        )?,
         IoCommand::Force { .. } | IoCommand::Unforce { .. } => {}
     }
     Ok(())

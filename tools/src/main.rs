@@ -8,6 +8,7 @@ mod interrupt;
 mod io;
 mod services;
 mod status;
+mod watch;
 
 use clap::{Parser, Subcommand};
 use procimg_client::{ControlHandle, Mode};
