@@ -1041,7 +1041,44 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         "{back:?}"
     );
     controller.wait_devices_running(BRING_UP);
+
+    // The device stalls (SIGSTOP): the controller's watchdog expires and it tells the
+    // device with an ERR-RTA "consumer data hold time expired"; resumed, the device frees
+    // the AR and is back in data exchange after the controller's short back-off.
+    while services.next(Duration::from_millis(10)).is_some() {}
+    /// Resumes the stopped process when dropped, also when the test fails meanwhile.
+    struct Resume(u32);
+    impl Drop for Resume {
+        fn drop(&mut self) {
+            procimg_testkit::signal::send(self.0, libc::SIGCONT);
+        }
+    }
+    let resume = Resume(device.pid());
+    procimg_testkit::signal::send(device.pid(), libc::SIGSTOP);
+    let failure = next_device_event(&mut services, "failure");
+    drop(resume);
+    assert!(
+        matches!(failure, Notification::DeviceFailure { .. }),
+        "{failure:?}"
+    );
+    let resumed = Instant::now();
+    let back = next_device_event(&mut services, "return");
+    assert!(
+        matches!(back, Notification::DeviceReturn { .. }),
+        "{back:?}"
+    );
+    eprintln!(
+        "the stalled device was back in data exchange {} ms after it resumed",
+        resumed.elapsed().as_millis()
+    );
+    controller.wait_devices_running(BRING_UP);
     drop(services);
+    let controller_mac = ip_show(&net.ns[0], &["-o", "link", "show"], &net.ifs[0])
+        .split_whitespace()
+        .skip_while(|w| *w != "link/ether")
+        .nth(1)
+        .expect("the controller's MAC address")
+        .to_owned();
 
     drop(watcher);
     drop(controller);
@@ -1054,6 +1091,23 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     assert!(pcap.exists(), "tshark wrote no capture");
     let bad = flagged(&pcap);
     assert!(bad.is_empty(), "tshark flags frames on the wire:\n{bad}");
+    // ERR-RTA (PDUType 4) from the controller, ErrorCode2 5: consumer DHT expired.
+    let abort = std::process::Command::new("tshark")
+        .args(["-r"])
+        .arg(&pcap)
+        .args([
+            "-Y",
+            &format!(
+                "eth.src == {controller_mac} && pn_io.pdu_type.type == 4 \
+                 && pn_io.error_code2 == 0x05"
+            ),
+        ])
+        .output()
+        .expect("tshark");
+    assert!(
+        !String::from_utf8_lossy(&abort.stdout).trim().is_empty(),
+        "no ERR-RTA \"consumer DHT expired\" from the controller ({controller_mac}) on the wire"
+    );
 }
 
 /// What `ip -n NS CMD... dev IF` prints.

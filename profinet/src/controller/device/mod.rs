@@ -32,15 +32,19 @@ mod step;
 use records::{record_result, write_failure};
 use step::{Ar, Phase, Plug, Step, priority_slot};
 
-/// How long Identify responses are awaited.
-const IDENTIFY_WINDOW_NS: u64 = 500_000_000;
+/// How long Identify responses are awaited: the name's device answers within its
+/// ResponseDelayFactor (1: at once); the rest of the window catches a second device of the
+/// same name.
+const IDENTIFY_WINDOW_NS: u64 = 200_000_000;
 /// How long a DCP Set may take.
 const SET_TIMEOUT_NS: u64 = 1_000_000_000;
 /// How long the device may take from PrmEnd to ApplicationReady.
 const APP_READY_TIMEOUT_NS: u64 = 20_000_000_000;
-/// First and largest back-off after a failure.
-const BACKOFF_MIN_NS: u64 = 250_000_000;
-const BACKOFF_MAX_NS: u64 = 4_000_000_000;
+/// First and largest back-off after a failure: doubled per failure in a row, so that a
+/// device that comes back is found again within a second (an Identify window and the
+/// largest back-off), while one that stays away costs an Identify a second.
+const BACKOFF_MIN_NS: u64 = 100_000_000;
+const BACKOFF_MAX_NS: u64 = 800_000_000;
 /// DCP ResponseDelayFactor of an Identify by name: one device answers, so no spreading.
 const IDENTIFY_DELAY_FACTOR: u16 = 1;
 
@@ -197,7 +201,7 @@ impl DeviceAr {
         out.push(Action::Stop {
             device: self.plan.device,
         });
-        self.abort_accepted_ar(out);
+        self.abort_accepted_ar(cause.abort_code(), out);
         // The AR ends here; a record job on the wire is failed with the queued ones.
         if let Step::Ar {
             phase: Phase::Record { request, .. },
@@ -230,11 +234,11 @@ impl DeviceAr {
         self.set_state(DeviceState::Failed, out);
     }
 
-    /// Tells the device that an AR it accepted is given up (an ERR-RTA "abort requested" on
-    /// the low-priority alarm channel), so that it frees the AR at once for the next
-    /// Connect instead of holding it until its CMI timeout. Nothing for an AR whose Connect
-    /// is still unanswered.
-    fn abort_accepted_ar(&mut self, out: &mut Vec<Action>) {
+    /// Tells the device that an AR it accepted is given up (an ERR-RTA with `code` on the
+    /// low-priority alarm channel), so that it frees the AR at once for the next Connect
+    /// instead of holding it until its CMI timeout. Nothing for an AR whose Connect is still
+    /// unanswered.
+    fn abort_accepted_ar(&mut self, code: rta_pdu::AbortCode, out: &mut Vec<Action>) {
         let Step::Ar { ar, phase } = &mut self.step else {
             return;
         };
@@ -242,8 +246,7 @@ impl DeviceAr {
             return;
         }
         let mut events = Vec::new();
-        ar.alarm_low
-            .abort(rta_pdu::AbortCode::AbortRequest, &mut events);
+        ar.alarm_low.abort(code, &mut events);
         for e in events {
             if let RtaEvent::Send(pdu) = e
                 && let Some(f) = alarms::rta_frame(ar.own_mac, ar.peer_mac, &pdu)
