@@ -18,6 +18,8 @@ use std::time::Duration;
 
 /// The longest the loop sleeps: retransmissions and the mode are checked this often.
 const MAX_WAIT: Duration = Duration::from_millis(5);
+/// How long a stopping procimgd waits for the answers to its Releases.
+pub const SETTLE_WAIT: Duration = Duration::from_millis(500);
 
 pub use crate::roles::DatagramCounters;
 
@@ -37,6 +39,8 @@ pub struct AcyclicSetup<R: Role> {
     pub commands: Receiver<R::Command>,
     /// Where the role's events go (its client services), if anywhere.
     pub events: Option<Sender<R::Event>>,
+    /// How long the role, stopping, may wait for its peers' answers ([`SETTLE_WAIT`]).
+    pub settle_for: Duration,
 }
 
 /// Starts the acyclic thread; it ends when `shared.stop` is set, after taking the role
@@ -56,6 +60,7 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
         counters,
         commands,
         events,
+        settle_for,
     } = setup;
     let mut out = Vec::new();
     let mut online = None;
@@ -69,6 +74,15 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
         if shared.stop.load(Ordering::Acquire) {
             role.set_online(false, now, &mut out);
             sink.carry_out(&mut out, datagrams.as_mut());
+            let until = now_ns().saturating_add(settle_for.as_nanos() as u64);
+            settle(
+                &mut role,
+                &mut sink,
+                datagrams.as_mut(),
+                &mut buf,
+                &mut out,
+                until,
+            );
             break;
         }
         let want = !shared.release_all.load(Ordering::Acquire)
@@ -124,6 +138,33 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
                 tracing::warn!("PROFINET RPC socket: {e}");
                 std::thread::sleep(wait);
             }
+        }
+    }
+}
+
+/// Gone offline at the end, the role waits (until `until` at most) for the answers to what
+/// it sent (the devices' answers to its Releases), so that they do not arrive at a closed
+/// port.
+fn settle<R: Role>(
+    role: &mut R,
+    sink: &mut Sink<'_, R::Event>,
+    datagrams: &mut dyn Datagrams,
+    buf: &mut [u8],
+    out: &mut Vec<Effect<R::Event>>,
+    until: u64,
+) {
+    while role.settling() {
+        let now = now_ns();
+        if now >= until {
+            tracing::debug!("stopping without every device's answer to its Release");
+            return;
+        }
+        role.poll(now, out);
+        sink.carry_out(out, datagrams);
+        let wait = Duration::from_nanos(until - now).min(MAX_WAIT);
+        if let Ok(Some((n, from))) = datagrams.recv_from(buf, wait) {
+            role.on_datagram(from, &buf[..n], now_ns(), out);
+            sink.carry_out(out, datagrams);
         }
     }
 }

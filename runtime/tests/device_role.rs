@@ -1108,6 +1108,19 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         !String::from_utf8_lossy(&abort.stdout).trim().is_empty(),
         "no ERR-RTA \"consumer DHT expired\" from the controller ({controller_mac}) on the wire"
     );
+    // The controller stopped (SIGTERM) after the device's answer to its Release: no "port
+    // unreachable" from its address.
+    let icmp = std::process::Command::new("tshark")
+        .args(["-r"])
+        .arg(&pcap)
+        .args(["-Y", "icmp.type == 3 && ip.src == 10.47.0.1"])
+        .output()
+        .expect("tshark");
+    let icmp = String::from_utf8_lossy(&icmp.stdout);
+    assert!(
+        icmp.trim().is_empty(),
+        "the controller answered with ICMP:\n{icmp}"
+    );
 }
 
 /// What `ip -n NS CMD... dev IF` prints.

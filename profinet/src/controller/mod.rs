@@ -479,6 +479,12 @@ impl Controller {
         }
     }
 
+    /// Whether a Release still waits for a device's answer (a stopping controller waits for
+    /// it a little before it closes its socket).
+    pub fn releasing(&self) -> bool {
+        self.devices.iter().any(DeviceAr::releasing)
+    }
+
     /// When [`poll`](Self::poll) is due next, at the latest.
     pub fn deadline(&self) -> Option<u64> {
         self.devices.iter().filter_map(DeviceAr::deadline).min()

@@ -96,6 +96,7 @@ fn the_thread_hands_a_role_its_inputs_and_carries_out_its_effects() {
         counters: counters.clone(),
         commands: command_rx,
         events: Some(events_tx),
+        settle_for: SETTLE_WAIT,
     })
     .unwrap();
 
@@ -162,4 +163,93 @@ fn the_thread_hands_a_role_its_inputs_and_carries_out_its_effects() {
     }
     thread.join().unwrap();
     assert_eq!(next(&events), Seen::Online(false));
+}
+
+/// A role that sends a "Release" to [`PEER`] when it goes offline and settles until the
+/// peer answers.
+struct Releaser {
+    releasing: bool,
+}
+
+const PEER: SocketAddrV4 = SocketAddrV4::new(Ipv4Addr::new(192, 168, 0, 2), 34964);
+
+impl Role for Releaser {
+    type Command = u32;
+    type Event = Seen;
+
+    fn set_online(&mut self, online: bool, _now: u64, out: &mut Vec<Effect<Seen>>) {
+        if !online && !self.releasing {
+            self.releasing = true;
+            out.push(Effect::Datagram {
+                to: PEER,
+                payload: vec![0x52],
+            });
+        }
+        out.push(Effect::Event(Seen::Online(online)));
+    }
+    fn command(&mut self, _: u32, _now: u64, _out: &mut Vec<Effect<Seen>>) {}
+    fn on_frame(&mut self, _: &[u8], _now: u64, _out: &mut Vec<Effect<Seen>>) {}
+    fn on_datagram(
+        &mut self,
+        _: SocketAddrV4,
+        payload: &[u8],
+        _: u64,
+        out: &mut Vec<Effect<Seen>>,
+    ) {
+        self.releasing = false;
+        out.push(Effect::Event(Seen::Datagram(payload.to_vec())));
+    }
+    fn on_cycle(&mut self, _: CycleReport, _now: u64, _out: &mut Vec<Effect<Seen>>) {}
+    fn poll(&mut self, _now: u64, _out: &mut Vec<Effect<Seen>>) {}
+    fn deadline(&self) -> Option<u64> {
+        None
+    }
+    fn dropped_datagrams(&self) -> DroppedDatagrams {
+        DroppedDatagrams::default()
+    }
+    fn settling(&self) -> bool {
+        self.releasing
+    }
+}
+
+#[test]
+fn a_stopping_role_gets_the_answer_to_its_release_before_the_socket_closes() {
+    let own = Ipv4Addr::new(192, 168, 0, 1);
+    let (udp, peer) = sim_network(own);
+    let shared = Arc::new(Shared::new(0));
+    shared
+        .target_mode
+        .store(Mode::Clear.as_u32(), Ordering::Release);
+    let (_commands, command_rx) = std::sync::mpsc::channel();
+    let (events_tx, events) = std::sync::mpsc::channel();
+    let thread = spawn(AcyclicSetup {
+        role: Releaser { releasing: false },
+        channel: Arc::new(Channel::new()),
+        datagrams: Box::new(udp),
+        shared: shared.clone(),
+        counters: Arc::new(DatagramCounters::default()),
+        commands: command_rx,
+        events: Some(events_tx),
+        // Longer than any test waits: the answer comes, however late the test sends it.
+        settle_for: Duration::from_secs(600),
+    })
+    .unwrap();
+    assert_eq!(next(&events), Seen::Online(true));
+    shared.stop.store(true, Ordering::Release);
+    let release = peer
+        .rx
+        .recv_timeout(Duration::from_secs(20))
+        .expect("the Release within 20 s");
+    assert_eq!((release.to, release.payload), (PEER, vec![0x52]));
+    assert_eq!(next(&events), Seen::Online(false));
+    // The answer reaches the role: the thread waited for it.
+    peer.tx
+        .send(SimDatagram {
+            from: PEER,
+            to: SocketAddrV4::new(own, 34964),
+            payload: vec![0x41],
+        })
+        .unwrap();
+    assert_eq!(next(&events), Seen::Datagram(vec![0x41]));
+    thread.join().unwrap();
 }

@@ -131,6 +131,11 @@ pub trait Role: Send + 'static {
     fn deadline(&self) -> Option<u64>;
     /// The datagrams dropped so far.
     fn dropped_datagrams(&self) -> DroppedDatagrams;
+    /// Whether the role, gone offline, still waits for a peer's answer (a Release): a
+    /// stopping procimgd keeps its socket open for it a little.
+    fn settling(&self) -> bool {
+        false
+    }
 }
 
 /// A role's part of the client services, on the control side.

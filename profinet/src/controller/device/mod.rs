@@ -72,6 +72,8 @@ pub struct DeviceAr {
     uuids: UuidSource,
     /// Read the device's RealIdentificationData before each Connect (`learn.rs`).
     learn_tree: bool,
+    /// The Release of the last AR while its answer is awaited, and where it went.
+    releasing: Option<(RpcCall, SocketAddrV4)>,
 }
 
 impl DeviceAr {
@@ -95,6 +97,7 @@ impl DeviceAr {
             plugs: VecDeque::new(),
             uuids,
             learn_tree: false,
+            releasing: None,
         }
     }
 
@@ -161,13 +164,16 @@ impl DeviceAr {
         out.push(Action::Stop {
             device: self.plan.device,
         });
-        // The Release is sent once and neither retried nor awaited; a record job on the wire
-        // ends with the AR, without a result (only the queued ones are failed below).
+        // The Release is awaited (and repeated) as other calls are, but nothing waits for it:
+        // its answer only ends the call, so that the socket is not closed under it when
+        // procimgd stops ([`releasing`](Self::releasing)). A record job on the wire ends with
+        // the AR, without a result (only the queued ones are failed below).
         if let Step::Ar { mut ar, .. } = core::mem::replace(&mut self.step, Step::Idle) {
             let block = ControlBlock::release(ar.uuid, ar.session_key).to_bytes();
             let object = self.plan.object_uuid();
             if let Some(call) = ar.next_call(object, opnum::RELEASE, &block, 0, now) {
                 call.send(ar.rpc_server(), out);
+                self.releasing = Some((call, ar.rpc_server()));
             }
         }
         self.fail_records("the device was released", out);
@@ -256,8 +262,22 @@ impl DeviceAr {
         }
     }
 
+    /// Whether the Release of its last AR still waits for the device's answer.
+    pub fn releasing(&self) -> bool {
+        self.releasing.is_some()
+    }
+
     /// The next timer.
     pub fn deadline(&self) -> Option<u64> {
+        let release = self.releasing.as_ref().map(|(c, _)| c.deadline_ns());
+        let step = self.step_deadline();
+        match (step, release) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    fn step_deadline(&self) -> Option<u64> {
         // Alarm channels retransmit on a 100 ms grid; the owner polls at least that often.
         match &self.step {
             Step::Identify { since, .. } => Some(since + IDENTIFY_WINDOW_NS),
@@ -275,6 +295,14 @@ impl DeviceAr {
 
     /// Timers and queued work.
     pub fn poll(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+        if let Some((call, to)) = self.releasing.as_mut() {
+            if call.retry_due(now) {
+                call.resent(now);
+                call.send(*to, out);
+            } else if call.expired(now) {
+                self.releasing = None;
+            }
+        }
         let mut rta = Vec::new();
         if let Some(ar) = self.step.ar_mut() {
             ar.alarm_high.poll(now, &mut rta);
@@ -520,6 +548,25 @@ impl DeviceAr {
         now: u64,
         out: &mut Vec<Action>,
     ) -> bool {
+        if let Some((call, to)) = self.releasing.as_mut() {
+            let mut facks = Vec::new();
+            let reply = call.take(datagram, &mut facks);
+            let to = *to;
+            out.extend(
+                facks
+                    .into_iter()
+                    .map(|payload| Action::Datagram { to, payload }),
+            );
+            match reply {
+                Reply::Foreign => {}
+                Reply::Partial => return true,
+                // Whatever it says: the AR is gone on this side already.
+                Reply::Done(_) => {
+                    self.releasing = None;
+                    return true;
+                }
+            }
+        }
         if let Step::Learn { call } = &mut self.step {
             let mut facks = Vec::new();
             let reply = call.take(datagram, &mut facks);

@@ -159,6 +159,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
             counters: datagrams.clone(),
             commands: command_rx,
             events: Some(events),
+            settle_for: acyclic::SETTLE_WAIT,
         })
         .map_err(|e| NetworkError::Thread("PROFINET controller", e))?,
     );

@@ -132,6 +132,10 @@ impl Role for ControllerRole {
         self.controller.deadline()
     }
 
+    fn settling(&self) -> bool {
+        self.controller.releasing()
+    }
+
     fn dropped_datagrams(&self) -> DroppedDatagrams {
         let d = self.controller.dropped_datagrams();
         DroppedDatagrams {

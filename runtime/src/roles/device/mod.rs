@@ -209,6 +209,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
             counters: datagrams.clone(),
             commands: command_rx,
             events: Some(events),
+            settle_for: acyclic::SETTLE_WAIT,
         })
         .map_err(|e| NetworkError::Thread("PROFINET device", e))?,
     );
