@@ -2,25 +2,13 @@
 //! The application's own alarms and the diagnosis it keeps without one: what goes out, the
 //! sequence numbers the acknowledgements are matched by, and what is refused.
 
-use super::tests::{MS, counter_device, frames, to_data};
+use super::tests::{MS, alarms, counter_device, to_data};
 use super::*;
 use crate::device::diagnosis::ChannelDiag;
-use crate::wire::alarm::{AlarmNotification, AlarmType, Priority};
-use crate::wire::rta_pdu::Packet;
+use crate::wire::alarm::{AlarmType, Priority};
 
 /// The counter device's input submodule (4 bytes in).
 const INPUT: SubslotAddr = SubslotAddr::new(0, 1, 1);
-
-/// The alarm notifications among `out`.
-fn alarms(out: &[DeviceAction]) -> Vec<AlarmNotification> {
-    frames(out)
-        .iter()
-        .filter_map(|f| {
-            let pdu = RtaPdu::parse(&Packet::new_checked(f.get(18..)?).ok()?).ok()?;
-            pdu.notification().cloned()
-        })
-        .collect()
-}
 
 #[test]
 fn kept_diagnosis_changes_the_store_without_an_alarm() {

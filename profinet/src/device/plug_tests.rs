@@ -4,29 +4,18 @@
 //! is refused.
 
 use super::tests::{
-    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, TestApp, built_connect, call, connect_request,
+    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, TestApp, alarms, built_connect, call, connect_request,
     counter_device, datagrams, frames, parse_reply, request, status, to_data, to_prm_end,
 };
 use super::*;
 use crate::wire::PnioStatus;
-use crate::wire::alarm::{AlarmNotification, AlarmType, Priority};
+use crate::wire::alarm::{AlarmType, Priority};
 use crate::wire::connect::ConnectRequest;
 use crate::wire::rpc::{RPC_PORT, opnum};
 use crate::wire::rta_pdu::Packet;
 
 /// The counter device's input submodule (4 bytes in).
 const INPUT: SubslotAddr = SubslotAddr::new(0, 1, 1);
-
-/// The alarm notifications among `out`, with their priority.
-fn alarms(out: &[DeviceAction]) -> Vec<AlarmNotification> {
-    frames(out)
-        .iter()
-        .filter_map(|f| {
-            let pdu = RtaPdu::parse(&Packet::new_checked(f.get(18..)?).ok()?).ok()?;
-            pdu.notification().cloned()
-        })
-        .collect()
-}
 
 /// The IOPS the input CR frame among `out` gives the input submodule.
 fn input_iops(out: &[DeviceAction], connect: &ConnectRequest) -> Option<u8> {

@@ -160,6 +160,17 @@ pub(super) fn frames(out: &[DeviceAction]) -> Vec<Vec<u8>> {
         .collect()
 }
 
+/// The alarm notifications among `out`.
+pub(super) fn alarms(out: &[DeviceAction]) -> Vec<crate::wire::alarm::AlarmNotification> {
+    frames(out)
+        .iter()
+        .filter_map(|f| {
+            let pdu = RtaPdu::parse(&rta_pdu::Packet::new_checked(f.get(18..)?).ok()?).ok()?;
+            pdu.notification().cloned()
+        })
+        .collect()
+}
+
 /// An RPC PDU parsed into owned parts.
 pub(super) struct Reply {
     pub(super) header: Header,
