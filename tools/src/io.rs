@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! `procimg io read|write|watch` and `procimg layout`.
 
+use crate::text::hex;
 use anyhow::bail;
 use clap::Subcommand;
 use procimg_client::access::{resolve_read, resolve_write};
@@ -113,13 +114,6 @@ pub(crate) fn range(first: u32, len: usize) -> String {
         0 | 1 => first.to_string(),
         n => format!("{first}..{}", first as usize + n - 1),
     }
-}
-
-pub(crate) fn hex(b: &[u8]) -> String {
-    b.iter()
-        .map(|x| format!("{x:02x}"))
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 fn attach(instance: &str) -> anyhow::Result<Client> {

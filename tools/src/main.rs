@@ -8,6 +8,7 @@ mod interrupt;
 mod io;
 mod services;
 mod status;
+mod text;
 mod watch;
 
 use clap::{Parser, Subcommand};

@@ -2,7 +2,8 @@
 //! `procimg record`, `procimg events`, `procimg device` and `procimg diag`: the controller
 //! services from the command line.
 
-use crate::io::{hex, parse_hex};
+use crate::io::parse_hex;
+use crate::text::hex;
 use anyhow::{Context, bail};
 use clap::Subcommand;
 use procimg_client::{Notification, RecordTarget, ServiceOptions, Services};

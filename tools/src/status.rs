@@ -71,7 +71,7 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
                 "  {} {}  {}  ({} slot {} subslot {})",
                 f.space,
                 crate::io::range(f.address, f.data.len()),
-                crate::io::hex(&f.data),
+                crate::text::hex(&f.data),
                 f.device,
                 f.slot,
                 f.subslot

@@ -8,7 +8,7 @@
 //! role, the PLC's AR in the device role), and from its status report, which is also read
 //! once a second for the forces.
 
-use crate::io::hex;
+use crate::text::hex;
 use procimg_client::access::resolve_read;
 use procimg_client::{Client, Ioxs, Notification, ServiceOptions, Services, Space, StatusReport};
 use serde_json::json;
