@@ -98,8 +98,11 @@ static PNIO_IOXS data_write(PNIO_UINT32 h, PNIO_DEV_ADDR *a, PNIO_UINT32 len, PN
     return PNIO_S_GOOD;
 }
 
-static void count(PNIO_UINT32 r) {
-    if (!atomic_load(&started_flag)) {
+/* Counts result `r` of a call made while the device was started from before the call
+ * (`started_before`) to after it: a call that began before PNIO_device_start returned, or
+ * ended after PNIO_device_stop was asked for, may answer PNIO_ERR_SEQUENCE by right. */
+static void count(PNIO_UINT32 r, int started_before) {
+    if (!started_before || !atomic_load(&started_flag)) {
         return;
     } else if (r == PNIO_WARN_NO_SUBMODULES) {
         atomic_fetch_add(&no_submodules, 1);
@@ -115,12 +118,14 @@ static void count(PNIO_UINT32 r) {
 static void on_startop(PNIO_CP_CBE_PRM *p) {
     (void)p;
     atomic_fetch_add(&startops, 1);
+    int started = atomic_load(&started_flag);
     PNIO_UINT32 rd = PNIO_initiate_data_read_ext(handle, NULL, PNIO_ACCESS_ALL_WITHOUT_LOCK);
     PNIO_UINT32 wr = PNIO_initiate_data_write_ext(handle, NULL, PNIO_ACCESS_ALL_WITHOUT_LOCK);
-    count(rd);
-    if (wr != rd) count(wr);
+    PNIO_UINT32 od = PNIO_CP_set_opdone(handle, NULL);
+    count(rd, started);
+    if (wr != rd) count(wr, started);
     if (rd == PNIO_OK && wr == PNIO_OK) atomic_fetch_add(&exchanged, 1);
-    count(PNIO_CP_set_opdone(handle, NULL));
+    count(od, started);
 }
 
 static void on_opfault(PNIO_CP_CBE_PRM *p) {
