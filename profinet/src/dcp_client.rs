@@ -78,11 +78,19 @@ impl Identify {
         let Some((mac, r)) = response_to(frame, self.xid) else {
             return false;
         };
-        if r.service_id != ServiceId::Identify || self.found.iter().any(|d| d.mac == mac) {
+        // The device is listed under the MAC address it names, else the frame's source; a
+        // second answer from either is the same device.
+        let device_mac = r.mac().unwrap_or(mac);
+        if r.service_id != ServiceId::Identify
+            || self
+                .found
+                .iter()
+                .any(|d| d.mac == mac || d.mac == device_mac)
+        {
             return false;
         }
         self.found.push(DeviceInfo {
-            mac: r.mac().unwrap_or(mac),
+            mac: device_mac,
             name: r.name_of_station().map(str::to_string),
             ip: r.ip(),
             id: r.device_id(),
@@ -241,6 +249,30 @@ mod tests {
             Set::signal(0x0300_012d, MacAddress([1; 6])).on_frame(&set_res),
             None
         );
+    }
+
+    /// An answer whose MAC address block names another address than the frame's source
+    /// (found by the `dcp` fuzz target): listed once all the same.
+    #[test]
+    fn an_answer_naming_another_mac_is_listed_once() {
+        let pdu = [
+            0xfe, 0x01, 0x05, 0x0f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x04, 0x00, 0x12, 0x01, 0x01,
+            0x00, 0x08, 0x05, 0x36, 0xd8, 0x1e, 0x00, 0x00, 0x00, 0x00, 0x00, 0x76, 0x00, 0x02,
+            0xf2, 0x00, 0xf6,
+        ];
+        let eth = ethernet::Repr {
+            dst: MacAddress([2, 0, 0, 0, 0, 1]),
+            src: MacAddress([2, 0, 0, 0, 0, 2]),
+            vlan: None,
+            ethertype: ethernet::ETHERTYPE_PROFINET,
+        };
+        let mut frame = vec![0u8; eth.buffer_len()];
+        eth.emit(&mut frame).unwrap();
+        frame.extend_from_slice(&pdu);
+        let mut id = Identify::new(0);
+        assert!(id.on_frame(&frame), "an answer to the transaction");
+        assert!(!id.on_frame(&frame), "a device is listed once");
+        assert_eq!(id.devices().len(), 1);
     }
 
     #[test]
