@@ -157,6 +157,19 @@ fn wait_until(what: &str, ok: impl Fn() -> bool) {
     }
 }
 
+/// Waits for the watchdog's callback, and a little more: it comes once.
+fn expect_one_watchdog_call() {
+    wait_until("the watchdog's callback", || {
+        WATCHDOG_CALLS.load(Ordering::SeqCst) > 0
+    });
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(
+        WATCHDOG_CALLS.load(Ordering::SeqCst),
+        1,
+        "the callback comes once"
+    );
+}
+
 /// Opens the device on CpIndex `cp`.
 fn open(cp: u32) -> u32 {
     open_demo_device(cp, table())
@@ -381,15 +394,7 @@ fn the_watchdog_stops_a_device_program_once() {
     );
     // SAFETY: a valid CPIndex.
     assert_eq!(unsafe { PNIO_CP_trigger_watchdog(CP) }, PNIO_OK);
-    wait_until("the watchdog's callback", || {
-        WATCHDOG_CALLS.load(Ordering::SeqCst) > 0
-    });
-    std::thread::sleep(Duration::from_millis(100));
-    assert_eq!(
-        WATCHDOG_CALLS.load(Ordering::SeqCst),
-        1,
-        "the callback comes once"
-    );
+    expect_one_watchdog_call();
     assert_eq!(WATCHDOG_CP.load(Ordering::SeqCst), CP);
     // SAFETY: valid handles and values.
     unsafe {
@@ -515,15 +520,7 @@ fn the_watchdog_stops_a_controller_program_once() {
         );
         assert_eq!(PNIO_CP_trigger_watchdog(CP), PNIO_OK);
     }
-    wait_until("the watchdog's callback", || {
-        WATCHDOG_CALLS.load(Ordering::SeqCst) > 0
-    });
-    std::thread::sleep(Duration::from_millis(100));
-    assert_eq!(
-        WATCHDOG_CALLS.load(Ordering::SeqCst),
-        1,
-        "the callback comes once"
-    );
+    expect_one_watchdog_call();
     // SAFETY: a valid handle.
     unsafe {
         assert_eq!(

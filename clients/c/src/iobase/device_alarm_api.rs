@@ -12,6 +12,7 @@ use super::device::Pos;
 use super::device::alarms::{self, AlarmCall, MAX_ALARM_DATA};
 use super::device::diag::{self, DiagFn};
 use super::device::state::{Device, lookup, wrong_handle};
+use super::device_api::read_addr;
 use super::device_types::*;
 use super::errors::*;
 use super::types::*;
@@ -32,11 +33,8 @@ fn device(f: &str, h: u32) -> Result<Arc<Device>, u32> {
 /// # Safety
 /// `addr` is NULL or points to a readable `PNIO_DEV_ADDR`.
 unsafe fn position(f: &str, api: u32, addr: *const PNIO_DEV_ADDR) -> Result<Pos, u32> {
-    if addr.is_null() {
-        return Err(fail(f, PNIO_ERR_PRM_ADD, "pAddr is NULL"));
-    }
-    // SAFETY: not NULL, readable by the caller's contract.
-    let a = unsafe { addr.read_unaligned() };
+    // SAFETY: as the caller's contract.
+    let a = unsafe { read_addr(f, addr) }?;
     if a.AddrType != PNIO_ADDR_GEO {
         return Err(fail(
             f,

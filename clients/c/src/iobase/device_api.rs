@@ -46,7 +46,7 @@ fn device(f: &str, h: u32) -> Result<Arc<Device>, u32> {
 ///
 /// # Safety
 /// `p` is NULL or points to a readable `PNIO_DEV_ADDR`.
-unsafe fn read_addr(f: &str, p: *const PNIO_DEV_ADDR) -> Result<PNIO_DEV_ADDR, u32> {
+pub(crate) unsafe fn read_addr(f: &str, p: *const PNIO_DEV_ADDR) -> Result<PNIO_DEV_ADDR, u32> {
     if p.is_null() {
         return Err(fail(f, PNIO_ERR_PRM_ADD, "pAddr is NULL"));
     }
