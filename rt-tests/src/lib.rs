@@ -6,4 +6,5 @@
 //! [`report::new_histogram`] histograms and writes a [`report::Report`]; `procimg-compare`
 //! reads them back, puts each figure beside its baseline and draws the plots.
 
+pub mod cyclictest_json;
 pub mod report;

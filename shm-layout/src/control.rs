@@ -463,6 +463,10 @@ pub enum Response {
         generation: u64,
         /// Hash of the server's layout.
         layout_hash: u64,
+        /// The server's process id: a client tells its server from a successor started under
+        /// the same name (0 from servers that do not say).
+        #[serde(default)]
+        server_pid: u32,
     },
     /// The request was carried out.
     Done,

@@ -134,6 +134,8 @@ pub struct Client {
     pub(crate) slot: u32,
     pub(crate) token: u64,
     pub(crate) generation: u64,
+    /// The process id of the server attached to (0: it did not say).
+    server_pid: u32,
     pub(crate) layout: Layout,
     pub(crate) claims: BTreeSet<usize>,
     /// The newest input image received (the client's read view).
@@ -162,7 +164,7 @@ impl Client {
     /// Attaches to `instance`.
     pub fn attach(instance: &str, opts: AttachOptions) -> Result<Client, AttachError> {
         let control = ControlHandle::open(instance, &opts.name)?;
-        let (slot, token, generation) = register(&control, &opts)?;
+        let (slot, token, generation, server_pid) = register(&control, &opts)?;
         let conn = Connection::open(control.node(), instance, generation, opts.timeout)?;
         let layout = conn.layout.clone();
         if let Some(expected) = opts.expected_layout_hash
@@ -181,6 +183,7 @@ impl Client {
             slot,
             token,
             generation,
+            server_pid,
             write_cache: crate::cache::WriteCache::new(&layout),
             layout,
             claims: BTreeSet::new(),
@@ -474,12 +477,16 @@ impl Client {
         }
         self.last_liveness = Instant::now();
         let wanted = format!("{}/cycle", server_node_name(self.instance()));
+        let pid = self.server_pid;
         let mut alive = false;
+        // By name and process: a server SIGKILLed and started again between two checks has
+        // a live node of the same name, but not the data services this client holds.
         let listed = Node::<Ipc>::list(iox2_config(), |state| {
             if let NodeState::Alive(v) = &state
-                && v.details()
-                    .as_ref()
-                    .is_some_and(|d| d.name().as_str() == wanted)
+                && v.details().as_ref().is_some_and(|d| {
+                    d.name().as_str() == wanted
+                        && (pid == 0 || d.process_id().value() as u32 == pid)
+                })
             {
                 alive = true;
                 return CallbackProgression::Stop;
@@ -503,7 +510,7 @@ impl Client {
             timeout: REATTACH_STEP,
             ..self.opts.clone()
         };
-        let Ok((slot, token, generation)) = register(&self.control, &quick) else {
+        let Ok((slot, token, generation, server_pid)) = register(&self.control, &quick) else {
             return Ok(());
         };
         let conn = match Connection::open(
@@ -533,6 +540,7 @@ impl Client {
         self.slot = slot;
         self.token = token;
         self.generation = generation;
+        self.server_pid = server_pid;
         self.conn = Some(conn);
         self.last_startop = 0;
         self.last_opfault = 0;
@@ -623,7 +631,11 @@ impl Drop for Client {
     }
 }
 
-fn register(control: &ControlHandle, opts: &AttachOptions) -> Result<(u32, u64, u64), AttachError> {
+/// Registers with the server: slot, token, generation and the server's process id.
+fn register(
+    control: &ControlHandle,
+    opts: &AttachOptions,
+) -> Result<(u32, u64, u64, u32), AttachError> {
     let instance = control.instance().to_string();
     let node_id = control.node().id().to_string();
     let req = Request::Register {
@@ -638,8 +650,9 @@ fn register(control: &ControlHandle, opts: &AttachOptions) -> Result<(u32, u64, 
             slot,
             token,
             generation,
+            server_pid,
             ..
-        }) => Ok((slot, token, generation)),
+        }) => Ok((slot, token, generation, server_pid)),
         Ok(Response::Refused(refusal)) => Err(AttachError::Refused { instance, refusal }),
         Ok(other) => Err(AttachError::Shm {
             instance,

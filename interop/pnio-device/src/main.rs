@@ -25,6 +25,12 @@
 //!   IOPS good); the first valid outputs of every AR are printed too. The inputs become each
 //!   output byte plus one, wrapping (zero until the first valid outputs of an AR).
 //!
+//! - `DIAG raised`, `DIAG cleared`: SIGUSR1 raised (or, the next time, cleared) a channel
+//!   diagnosis (line break, channel 0, a fault) on the input submodule; pnio reports it to the
+//!   controller with a diagnosis alarm (held back until an AR is in data exchange).
+//! - `ALARMS acked <n>`: the controller acknowledged another of the device's alarms (`n`
+//!   counts all of this process's life, over every AR).
+//!
 //! `--print-config` prints the procimgd `[[device]]` table for this device and exits;
 //! `--gsdml-out` writes the GSDML file and goes on (or exits with `--gsdml-only`). SIGTERM or
 //! SIGINT end the device cleanly (the controller gets an ERR-RTA "AR removed" if an AR is up)
@@ -33,8 +39,9 @@
 use anyhow::{Context, bail};
 use clap::Parser;
 use pnio::cm::{AbortReason, ArState};
-use pnio::config::DeviceConfig;
-use pnio::device::{Device, RtOptions};
+use pnio::device::{DiagCommand, DiagShared, Device, RtOptions};
+use pnio::config::{DeviceConfig, Direction};
+use pnio::diag::{ChannelError, Diagnosis, Severity};
 use pnio::eth::{AfPacketTransport, MacAddr, bpf::acyclic_filter};
 use pnio::rpc::{PNIO_UDP_PORT, UdpRpcTransport};
 use pnio::rt::{Freshness, IoImage};
@@ -183,6 +190,10 @@ fn serve(args: &Args, iface: &str, cfg: DeviceConfig) -> anyhow::Result<()> {
     });
     let image = device.image();
     let stats = device.rt_stats();
+    let toggle = Arc::new(AtomicBool::new(false));
+    signal_hook::flag::register(signal_hook::consts::SIGUSR1, toggle.clone())
+        .context("installing a signal handler")?;
+    let mut diagnosis = DiagnosisToggle::new(device.diag_shared());
     let acyclic = {
         let stop = stop.clone();
         std::thread::Builder::new()
@@ -206,6 +217,10 @@ fn serve(args: &Args, iface: &str, cfg: DeviceConfig) -> anyhow::Result<()> {
             app.on_state(state, reason);
         }
         app.exchange(&image);
+        if toggle.swap(false, Ordering::Relaxed) {
+            diagnosis.toggle();
+        }
+        diagnosis.count_acks();
         std::thread::sleep(Duration::from_millis(1));
     }
     stop.store(true, Ordering::Relaxed);
@@ -235,6 +250,68 @@ fn serve(args: &Args, iface: &str, cfg: DeviceConfig) -> anyhow::Result<()> {
         Ok(Ok(())) => Ok(()),
         Ok(Err(e)) => Err(e).context("the device loop failed"),
         Err(_) => bail!("the device loop panicked"),
+    }
+}
+
+/// The diagnosis SIGUSR1 raises and clears, and the alarm acknowledgements counted over the
+/// process's life (pnio's counters start again with every AR).
+struct DiagnosisToggle {
+    shared: Arc<DiagShared>,
+    raised: bool,
+    acked_total: u64,
+    acked_in_ar: u64,
+}
+
+impl DiagnosisToggle {
+    fn new(shared: Arc<DiagShared>) -> DiagnosisToggle {
+        DiagnosisToggle {
+            shared,
+            raised: false,
+            acked_total: 0,
+            acked_in_ar: 0,
+        }
+    }
+
+    /// Raises the diagnosis, or clears it when it is raised.
+    fn toggle(&mut self) {
+        let command = if self.raised {
+            DiagCommand::Clear {
+                slot: iop::INPUT_SLOT,
+                channel: 0,
+                error: ChannelError::LineBreak,
+            }
+        } else {
+            DiagCommand::Raise(Diagnosis {
+                slot: iop::INPUT_SLOT,
+                channel: 0,
+                error: ChannelError::LineBreak,
+                severity: Severity::Fault,
+                direction: Direction::Input,
+            })
+        };
+        self.shared
+            .queue
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push_back(command);
+        self.raised = !self.raised;
+        emit(if self.raised { "DIAG raised" } else { "DIAG cleared" });
+    }
+
+    /// Prints the total when the controller acknowledged another alarm.
+    fn count_acks(&mut self) {
+        let acked = self.shared.acked.load(Ordering::Relaxed);
+        // A smaller figure is a new AR's counter.
+        let new = if acked < self.acked_in_ar {
+            acked
+        } else {
+            acked - self.acked_in_ar
+        };
+        self.acked_in_ar = acked;
+        if new > 0 {
+            self.acked_total += new;
+            emit(&format!("ALARMS acked {}", self.acked_total));
+        }
     }
 }
 

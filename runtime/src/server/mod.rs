@@ -60,6 +60,9 @@ pub struct Control {
     stats: StatsCollector,
     registry: Registry,
     last_liveness: Instant,
+    /// Clients found dead outside the liveness period (a claim held by a dead client), to be
+    /// reported by the next `poll`.
+    reaped_early: Vec<String>,
     forces: ForceTable,
     // Dropped after the ports above, which live on it.
     _node: Node<Ipc>,
@@ -101,6 +104,7 @@ impl Control {
             stats,
             registry,
             last_liveness: Instant::now(),
+            reaped_early: Vec::new(),
             forces: ForceTable::default(),
         }
     }
@@ -137,11 +141,12 @@ impl Control {
         // Delivers the layout (history) to subscribers that attached since the last call.
         let _ = self.layout.update_connections();
         self.stats.collect();
+        let mut gone = std::mem::take(&mut self.reaped_early);
         if self.last_liveness.elapsed() >= LIVENESS_PERIOD {
             self.last_liveness = Instant::now();
-            return self.reap_dead_clients();
+            gone.extend(self.reap_dead_clients());
         }
-        Vec::new()
+        gone
     }
 
     /// Has the role answer `req`, one of its services.
@@ -171,6 +176,7 @@ impl Control {
                         token,
                         generation: self.info.generation,
                         layout_hash: self.tables.hash,
+                        server_pid: std::process::id(),
                     },
                     Err(r) => Response::Refused(r),
                 };
@@ -182,9 +188,31 @@ impl Control {
                 slot,
                 token,
                 submodules,
-            } => self
-                .registry
-                .claim(shared, &self.tables.submodules, slot, token, &submodules),
+            } => {
+                let first = self
+                    .registry
+                    .claim(shared, &self.tables.submodules, slot, token, &submodules);
+                if !matches!(first, Err(Refusal::ClaimHeld { .. })) {
+                    first
+                } else {
+                    // The holder may have died since the last reaping: a program restarted at
+                    // once finds its dead predecessor's claims. Look now, not a liveness
+                    // period later.
+                    let gone = self.reap_dead_clients();
+                    if gone.is_empty() {
+                        first
+                    } else {
+                        self.reaped_early.extend(gone);
+                        self.registry.claim(
+                            &self.shared,
+                            &self.tables.submodules,
+                            slot,
+                            token,
+                            &submodules,
+                        )
+                    }
+                }
+            }
             Request::Release {
                 slot,
                 token,

@@ -7,7 +7,7 @@
 //! which is the unbiased estimate; latencies beyond the `-h` range (its "overflows") are
 //! taken at `max` + 0.5 µs. Its percentiles are thus good to ±0.5 µs.
 
-use procimg_rt_tests::report::{HIGHEST_NS, Measurement, new_histogram};
+use crate::report::{HIGHEST_NS, Measurement, new_histogram};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
