@@ -311,7 +311,8 @@ impl Default for CycleThreadConfig {
 /// Access to the shared memory (table `[access]`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct AccessConfig {
-    /// Permission bits (key `mode`, an octal string, default `"0600"`); only `0o777` bits.
+    /// Permission bits (key `mode`, an octal string, default `"0600"`, or `"0660"` when a
+    /// group is named); only `0o777` bits.
     pub mode: u32,
     /// Owning group (key `group`, default none: the server's group); not resolved here.
     pub group: Option<String>,

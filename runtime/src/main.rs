@@ -13,6 +13,7 @@ use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
 use procimg_runtime::roles;
 use procimg_runtime::server::{Control, ServerInfo};
+use procimg_runtime::shm::access::GroupAccess;
 use procimg_runtime::shm::{ControlPorts, cleanup_dead_nodes};
 use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::rt::lock_memory;
@@ -132,28 +133,7 @@ fn run(args: Args) -> anyhow::Result<()> {
         print_layout(&config, &tables);
         return Ok(());
     }
-    check_supported(&config)?;
     serve(config, tables, args.demo && !args.quiet)
-}
-
-/// Refuses what this build cannot do, before anything starts.
-fn check_supported(config: &Config) -> anyhow::Result<()> {
-    if config.access.mode & 0o077 != 0 || config.access.group.is_some() {
-        bail!(
-            "{}: [access] mode = \"{:04o}\"{}: the shared-memory layer (iceoryx2 0.10) creates \
-             its files owner-only, so other users or groups cannot attach; use mode = \"0600\" \
-             and run the clients as the server's user",
-            config.origin,
-            config.access.mode,
-            config
-                .access
-                .group
-                .as_ref()
-                .map(|g| format!(", group = \"{g}\""))
-                .unwrap_or_default()
-        );
-    }
-    Ok(())
 }
 
 fn print_layout(config: &Config, tables: &Tables) {
@@ -241,6 +221,9 @@ fn generation() -> u64 {
 
 fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> {
     let instance = config.instance.clone();
+    // Before the first file: iceoryx2's directory becomes the access group's.
+    let mut group_access =
+        GroupAccess::set_up(&config.access).with_context(|| config.origin.clone())?;
     let cleaned = cleanup_dead_nodes(&instance)?;
     if !cleaned.is_empty() {
         info!(
@@ -338,7 +321,16 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     let mut view = live_view.then(|| demo_view::DemoView::new(&instance, generation, &tables));
     let mut last_mode = shared.mode();
     let mut last_view = Instant::now();
+    let mut ready = false;
     while !term.load(Ordering::Acquire) {
+        if let Some(access) = group_access.as_mut() {
+            access.share();
+        }
+        if !ready {
+            // Clients can attach from here: tell systemd (Type=notify), a no-op elsewhere.
+            ready = true;
+            let _ = sd_notify::notify(false, &[sd_notify::NotifyState::Ready]);
+        }
         for gone in control.poll() {
             info!("client {gone} is gone: its claims are released");
         }
@@ -363,6 +355,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     } else {
         Mode::Clear
     };
+    let _ = sd_notify::notify(false, &[sd_notify::NotifyState::Stopping]);
     info!("stopping: outputs to {safe} first");
     shared.target_mode.store(safe.as_u32(), Ordering::Release);
     shared.command(Command::SetMode(safe));

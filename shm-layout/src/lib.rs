@@ -34,6 +34,8 @@ pub mod os;
 /// cbindgen:ignore
 #[cfg(feature = "control")]
 pub mod services;
+#[cfg(feature = "std")]
+pub mod share;
 mod table_codec;
 mod types;
 

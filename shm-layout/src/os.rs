@@ -71,6 +71,12 @@ pub fn effective_uid() -> u32 {
     unsafe { libc::geteuid() }
 }
 
+/// The effective group id of this process.
+pub fn effective_gid() -> u32 {
+    // SAFETY: getegid(2) takes no arguments and cannot fail.
+    unsafe { libc::getegid() }
+}
+
 /// The name of user `uid` from `/etc/passwd`, or `uid N` when it has none there.
 pub fn user_name(uid: u32) -> String {
     if uid == 0 {

@@ -19,9 +19,11 @@ use iceoryx2::service::builder::event::EventOpenError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use iceoryx2::service::builder::request_response::RequestResponseOpenError;
 use procimg_shm_layout::control;
+use procimg_shm_layout::share;
 use procimg_shm_layout::{IMAGE_MAGIC, ImageHeader, LAYOUT_VERSION, LayoutHeader, OutputHeader};
 use std::os::fd::RawFd;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// The iceoryx2 service variant: inter-process, with ports that may move between threads (a C
@@ -36,6 +38,11 @@ pub fn iox2_config() -> &'static Config {
         let mut c = Config::default();
         if let Ok(prefix) = FileName::new(control::IOX2_PREFIX.as_bytes()) {
             c.global.prefix = prefix;
+        }
+        if let Some(dir) = procimg_shm_layout::share::configured_directory()
+            && let Ok(path) = iceoryx2::prelude::Path::new(dir.as_bytes())
+        {
+            c.global.set_root_path(&path);
         }
         c
     })
@@ -67,23 +74,52 @@ pub fn client_node(instance: &str, name: &str) -> Result<Node<Ipc>, AttachError>
         .config(iox2_config())
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<Ipc>()
-        .map_err(|e| match root_dir_denied() {
-            Some(problem) => AttachError::ForeignDirectory {
-                instance: instance.to_string(),
-                problem,
-            },
-            None => shm(instance, "a node", e),
-        })
+        .map_err(|e| root_dir_denied(instance).unwrap_or_else(|| shm(instance, "a node", e)))
 }
 
-/// When iceoryx2's directory exists but this process may not use it (left by a run as
-/// another user), says so; iceoryx2 itself only reports an internal error then.
-fn root_dir_denied() -> Option<String> {
+/// iceoryx2's directory (`/tmp/iceoryx2`, or where `PROCIMG_SHM_DIR` puts it).
+fn root_dir() -> std::path::PathBuf {
     let root = iox2_config().global.root_path().to_string();
-    procimg_shm_layout::os::foreign_iox2_directory(
-        std::path::Path::new(root.trim_end_matches('/')),
-        control::IOX2_PREFIX,
-    )
+    std::path::PathBuf::from(root.trim_end_matches('/'))
+}
+
+/// When iceoryx2's directory exists but this process may not use it (another user's, or an
+/// access group this user is not in), says so; iceoryx2 itself only reports an internal error
+/// then.
+fn root_dir_denied(instance: &str) -> Option<AttachError> {
+    let root = root_dir();
+    if let Some(gid) = share::access_group(&root)
+        && !procimg_shm_layout::os::may_create_in(&root)
+    {
+        return Some(AttachError::AccessDenied {
+            instance: instance.to_string(),
+            detail: share::denied_text(&root, gid),
+        });
+    }
+    procimg_shm_layout::os::foreign_iox2_directory(&root, control::IOX2_PREFIX).map(|problem| {
+        AttachError::ForeignDirectory {
+            instance: instance.to_string(),
+            problem,
+        }
+    })
+}
+
+/// With procimgd's `[access] group`, gives the group the files this process created (procimgd
+/// runs as another user and must open them); nothing otherwise. iceoryx2 creates a
+/// subscriber's connection files when the first sample comes, so the loops that wait for one
+/// call this too; it looks at most every 10 ms.
+pub(crate) fn share_own_files() {
+    static LAST_MS: AtomicU64 = AtomicU64::new(0);
+    let now_ms = procimg_shm_layout::os::monotonic_ns() / 1_000_000 + 1;
+    let last = LAST_MS.load(Ordering::Relaxed);
+    if last != 0 && now_ms.saturating_sub(last) < 10 {
+        return;
+    }
+    LAST_MS.store(now_ms, Ordering::Relaxed);
+    let root = root_dir();
+    if let Some(gid) = share::access_group(&root) {
+        share::share_own_files(&root, control::IOX2_PREFIX, gid);
+    }
 }
 
 /// A client port of the control service: JSON requests and responses in byte slices.
@@ -230,6 +266,7 @@ impl Connection {
             .notifier_builder()
             .create()
             .map_err(|e| shm(instance, "an OPDONE notifier", e))?;
+        share_own_files();
         // SAFETY: the descriptor belongs to `events`, which lives in the same Connection and
         // outlives every use of the descriptor.
         #[allow(unsafe_code)]
@@ -287,6 +324,7 @@ fn read_layout(
                 timeout,
             });
         }
+        share_own_files();
         std::thread::sleep(Duration::from_millis(1));
     }
 }

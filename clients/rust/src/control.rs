@@ -27,6 +27,7 @@ impl ControlHandle {
     pub fn open(instance: &str, name: &str) -> Result<ControlHandle, AttachError> {
         let node = client_node(instance, name)?;
         let port = open_control(&node, instance)?;
+        crate::connection::share_own_files();
         Ok(ControlHandle {
             instance: instance.to_string(),
             port,
@@ -84,6 +85,8 @@ impl ControlHandle {
                     timeout,
                 });
             }
+            // The answer's connection is made when it comes: the access group needs it too.
+            crate::connection::share_own_files();
             // Control requests are rare and not on the real-time path: a short sleep between
             // polls costs nothing that matters.
             std::thread::sleep(Duration::from_micros(200));

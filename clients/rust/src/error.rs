@@ -19,8 +19,8 @@ pub enum AttachError {
     },
     /// The shared memory exists but this process may not open it.
     #[error(
-        "access to instance \"{instance}\" denied ({detail}): the server's shared memory is \
-         owner-only; run this client as the server's user"
+        "access to instance \"{instance}\" denied ({detail}): run this client as the server's \
+         user, or as a member of the group its [access] table names"
     )]
     AccessDenied {
         /// Instance name.

@@ -128,6 +128,7 @@ impl Services {
             .listener_builder()
             .create()
             .map_err(|e| shm(instance, "a notify event listener", e))?;
+        crate::connection::share_own_files();
         // SAFETY: the descriptor belongs to `listener`, which lives as long as this handle
         // and so outlives every use of the descriptor.
         #[allow(unsafe_code)]

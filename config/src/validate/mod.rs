@@ -361,12 +361,14 @@ fn group_name(name: &str) -> Result<(), String> {
 
 fn access(raw: RawAccess, cx: &Cx<'_>) -> Result<AccessConfig, ConfigError> {
     let mut config = AccessConfig::default();
-    if let Some(mode) = raw.mode {
-        config.mode = cx.check(&mode, "access.mode", octal_mode(mode.get_ref()))?;
-    }
     if let Some(group) = raw.group {
         cx.check(&group, "access.group", group_name(group.get_ref()))?;
         config.group = Some(group.into_inner());
+        // A group is named to be given access: read and write, as the owner has.
+        config.mode = 0o660;
+    }
+    if let Some(mode) = raw.mode {
+        config.mode = cx.check(&mode, "access.mode", octal_mode(mode.get_ref()))?;
     }
     Ok(config)
 }

@@ -39,8 +39,8 @@
 use anyhow::{Context, bail};
 use clap::Parser;
 use pnio::cm::{AbortReason, ArState};
-use pnio::device::{DiagCommand, DiagShared, Device, RtOptions};
 use pnio::config::{DeviceConfig, Direction};
+use pnio::device::{Device, DiagCommand, DiagShared, RtOptions};
 use pnio::diag::{ChannelError, Diagnosis, Severity};
 use pnio::eth::{AfPacketTransport, MacAddr, bpf::acyclic_filter};
 use pnio::rpc::{PNIO_UDP_PORT, UdpRpcTransport};
@@ -295,7 +295,11 @@ impl DiagnosisToggle {
             .unwrap_or_else(|e| e.into_inner())
             .push_back(command);
         self.raised = !self.raised;
-        emit(if self.raised { "DIAG raised" } else { "DIAG cleared" });
+        emit(if self.raised {
+            "DIAG raised"
+        } else {
+            "DIAG cleared"
+        });
     }
 
     /// Prints the total when the controller acknowledged another alarm.

@@ -175,7 +175,8 @@ fn run_job(job: &Job, dir: &Path) -> Result<Report, String> {
     match job.output {
         Output::Report => Report::read_json(&file).map_err(|e| e.to_string()),
         Output::CyclictestJson => {
-            let m = procimg_rt_tests::cyclictest_json::read(&file, plan::WAKE_UP).map_err(|e| e.to_string())?;
+            let m = procimg_rt_tests::cyclictest_json::read(&file, plan::WAKE_UP)
+                .map_err(|e| e.to_string())?;
             let mut r = Report::new("cyclictest");
             r.command = format!("cyclictest {}", inv.args.join(" "));
             r.measurements.push(m);

@@ -35,9 +35,15 @@ fn program() -> Option<PathBuf> {
 
 impl Baseline {
     /// Starts cyclictest at `cycle` for at most `longest`; `None` when there is none.
-    pub fn start(cycle: Duration, longest: Duration, out: &Path) -> anyhow::Result<Option<Baseline>> {
+    pub fn start(
+        cycle: Duration,
+        longest: Duration,
+        out: &Path,
+    ) -> anyhow::Result<Option<Baseline>> {
         let Some(program) = program() else {
-            eprintln!("procimg-soak: no cyclictest (apt-get install rt-tests): its row says not run");
+            eprintln!(
+                "procimg-soak: no cyclictest (apt-get install rt-tests): its row says not run"
+            );
             return Ok(None);
         };
         let json = out.join("cyclictest.json");
@@ -51,7 +57,8 @@ impl Baseline {
             .args(["-h", &(interval_us * 2).to_string()])
             .args(["-D", &format!("{}s", longest.as_secs().max(1))])
             .arg(format!("--json={}", json.display()));
-        let run = Running::spawn(cmd, &out.join("cyclictest.log")).context("starting cyclictest")?;
+        let run =
+            Running::spawn(cmd, &out.join("cyclictest.log")).context("starting cyclictest")?;
         Ok(Some(Baseline { run, json, cycle }))
     }
 

@@ -46,8 +46,8 @@ impl Capture {
             .args(["-b", "duration:60", "-w"])
             .arg(dir.join("soak.pcapng"));
         let log = out.join("capture.log");
-        let dumpcap = Running::spawn(cmd, &log)
-            .context("starting dumpcap (apt-get install tshark)")?;
+        let dumpcap =
+            Running::spawn(cmd, &log).context("starting dumpcap (apt-get install tshark)")?;
         Ok(Capture {
             dumpcap,
             dir,
@@ -122,13 +122,25 @@ impl Capture {
         self.verdict.frames += frames;
         let bad = self.tshark(
             file,
-            &["-Y", BAD_FRAMES, "-T", "fields", "-e", "frame.number", "-e", "eth.src"],
+            &[
+                "-Y",
+                BAD_FRAMES,
+                "-T",
+                "fields",
+                "-e",
+                "frame.number",
+                "-e",
+                "eth.src",
+            ],
         )?;
         let mut numbers = Vec::new();
         for line in bad.lines().filter(|l| !l.trim().is_empty()) {
             let mut fields = line.split('\t');
             let number = fields.next().unwrap_or_default().to_string();
-            if fields.next().is_some_and(|src| src.eq_ignore_ascii_case(&self.procimgd_mac)) {
+            if fields
+                .next()
+                .is_some_and(|src| src.eq_ignore_ascii_case(&self.procimgd_mac))
+            {
                 self.verdict.bad_from_procimgd += 1;
             } else {
                 self.verdict.bad_from_device += 1;

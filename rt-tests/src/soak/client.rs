@@ -56,7 +56,11 @@ fn submodules(client: &Client, device: &str) -> anyhow::Result<(usize, usize)> {
     let find = |output: bool| {
         layout.submodules_of(d).find(|&s| {
             let e = &layout.submodules[s];
-            let len = if output { e.output_length } else { e.input_length };
+            let len = if output {
+                e.output_length
+            } else {
+                e.input_length
+            };
             len as usize == IO_LEN
         })
     };
@@ -141,7 +145,9 @@ pub fn run(instance: &str, device: &str) -> anyhow::Result<()> {
         }
         if Instant::now() >= next_count {
             next_count += Duration::from_secs(1);
-            emit(&format!("COUNT cycles={k} opfaults={opfaults} wrong={wrong}"));
+            emit(&format!(
+                "COUNT cycles={k} opfaults={opfaults} wrong={wrong}"
+            ));
         }
     }
 }

@@ -30,7 +30,10 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 #[derive(Parser)]
-#[command(version, about = "Soak procimgd against an independent PROFINET device, with faults")]
+#[command(
+    version,
+    about = "Soak procimgd against an independent PROFINET device, with faults"
+)]
 struct Args {
     #[command(subcommand)]
     role: Option<Role>,
@@ -124,7 +127,10 @@ fn soak(args: &Args) -> anyhow::Result<()> {
     println!("{}", tally.table());
     let failures = tally.failures();
     if failures.is_empty() {
-        println!("soak passed: every figure that must be 0 is 0 ({})", json.display());
+        println!(
+            "soak passed: every figure that must be 0 is 0 ({})",
+            json.display()
+        );
         Ok(())
     } else {
         anyhow::bail!("soak failed: {}", failures.join(", "))

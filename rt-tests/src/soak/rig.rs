@@ -113,8 +113,7 @@ impl Rig {
             plan.cycle.as_micros()
         );
         let config = out.join("procimgd.toml");
-        std::fs::write(&config, toml)
-            .with_context(|| format!("writing {}", config.display()))?;
+        std::fs::write(&config, toml).with_context(|| format!("writing {}", config.display()))?;
         Ok(Rig {
             client: None,
             procimgd: None,
@@ -141,7 +140,14 @@ impl Rig {
     /// The MAC address of procimgd's end of the veth pair.
     pub fn procimgd_mac(&self) -> anyhow::Result<String> {
         let out = Command::new("ip")
-            .args(["-n", &self.net.ns[0], "-o", "link", "show", &self.net.ifs[0]])
+            .args([
+                "-n",
+                &self.net.ns[0],
+                "-o",
+                "link",
+                "show",
+                &self.net.ifs[0],
+            ])
             .output()
             .context("running ip (iproute2)")?;
         let text = String::from_utf8_lossy(&out.stdout).into_owned();
@@ -182,7 +188,10 @@ impl Rig {
             .wait_line(Duration::from_secs(10), |l| l == "READY", |_| {})
             .is_none()
         {
-            bail!("pnio-interop-device printed no READY in 10 s (see {})", log.display());
+            bail!(
+                "pnio-interop-device printed no READY in 10 s (see {})",
+                log.display()
+            );
         }
         self.device = Some(device);
         Ok(())

@@ -135,7 +135,12 @@ pub fn run(settings: &Settings) -> anyhow::Result<Tally> {
     let rig = Rig::new(Programs::beside_me()?, &settings.out, &plan)?;
     let mut capture = if settings.capture {
         let (ns, iface) = rig.device_side();
-        Some(Capture::start(ns, iface, &rig.procimgd_mac()?, &settings.out)?)
+        Some(Capture::start(
+            ns,
+            iface,
+            &rig.procimgd_mac()?,
+            &settings.out,
+        )?)
     } else {
         None
     };
@@ -219,7 +224,10 @@ impl Soak {
     fn bring_up(&mut self) -> anyhow::Result<()> {
         self.rig.start_device()?;
         self.rig.start_procimgd()?;
-        if self.wait(RECOVERY_TIMEOUT * 2, Soak::device_running).is_none() {
+        if self
+            .wait(RECOVERY_TIMEOUT * 2, Soak::device_running)
+            .is_none()
+        {
             bail!(
                 "procimgd did not bring the device to data exchange in {:?}: see the logs in {}",
                 RECOVERY_TIMEOUT * 2,
@@ -262,7 +270,11 @@ impl Soak {
     }
 
     /// Polls `done` every 10 ms for up to `timeout`; how long it took.
-    fn wait(&mut self, timeout: Duration, mut done: impl FnMut(&mut Soak) -> bool) -> Option<Duration> {
+    fn wait(
+        &mut self,
+        timeout: Duration,
+        mut done: impl FnMut(&mut Soak) -> bool,
+    ) -> Option<Duration> {
         let start = Instant::now();
         loop {
             self.pump();
@@ -369,11 +381,19 @@ impl Soak {
                     self.tally.kills.procimgd_terminated += 1;
                 }
                 self.status();
-                let signal = if sigkill { libc::SIGKILL } else { libc::SIGTERM };
+                let signal = if sigkill {
+                    libc::SIGKILL
+                } else {
+                    libc::SIGTERM
+                };
                 Soak::stop(&mut self.rig.procimgd, signal);
                 self.close_procimgd();
                 self.rig.start_procimgd()?;
-                let since = self.rig.procimgd.as_ref().map_or_else(Instant::now, |p| p.started);
+                let since = self
+                    .rig
+                    .procimgd
+                    .as_ref()
+                    .map_or_else(Instant::now, |p| p.started);
                 self.client_echoed = false;
                 if self.wait(RECOVERY_TIMEOUT, Soak::device_running).is_none() {
                     return self.recovery_failed("procimgd did not bring the device back");
@@ -382,7 +402,10 @@ impl Soak {
                 if self.wait(RECOVERY_TIMEOUT, |s| s.client_echoed).is_none() {
                     return self.recovery_failed("the client did not come back to procimgd");
                 }
-                self.tally.reconnect_ms.client_after_procimgd.push(ms(since.elapsed()));
+                self.tally
+                    .reconnect_ms
+                    .client_after_procimgd
+                    .push(ms(since.elapsed()));
             }
         }
         Ok(())
@@ -428,7 +451,9 @@ impl Soak {
     /// The device raises or clears its diagnosis; its alarm must reach the services client.
     fn probe_alarm(&mut self) {
         let Some(m) = &self.monitor else { return };
-        let Some(device) = &self.rig.device else { return };
+        let Some(device) = &self.rig.device else {
+            return;
+        };
         while m.alarms.try_recv().is_ok() {}
         procimg_testkit::signal::send(device.pid(), libc::SIGUSR1);
         self.tally.alarms.raised += 1;
@@ -473,7 +498,9 @@ impl Soak {
 fn parse_counts(text: &str) -> (u64, u64, u64) {
     let mut c = (0, 0, 0);
     for field in text.split_whitespace() {
-        let Some((key, value)) = field.split_once('=') else { continue };
+        let Some((key, value)) = field.split_once('=') else {
+            continue;
+        };
         let Ok(v) = value.parse() else { continue };
         match key {
             "cycles" => c.0 = v,

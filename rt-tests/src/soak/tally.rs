@@ -158,10 +158,16 @@ impl Tally {
         check("alarms lost", self.alarms.lost);
         check("data errors at the client", self.data_errors);
         check("recoveries failed", self.recoveries_failed);
-        check("malformed frames received by procimgd", self.malformed_received);
+        check(
+            "malformed frames received by procimgd",
+            self.malformed_received,
+        );
         check("allocations in the cycle", self.rt_heap_allocations);
         if let Some(frames) = &self.frames {
-            check("frames of procimgd malformed in tshark", frames.bad_from_procimgd);
+            check(
+                "frames of procimgd malformed in tshark",
+                frames.bad_from_procimgd,
+            );
         }
         f
     }

@@ -13,6 +13,11 @@ pub fn iox2_config() -> &'static Config {
         if let Ok(prefix) = FileName::new(procimg_shm_layout::control::IOX2_PREFIX.as_bytes()) {
             c.global.prefix = prefix;
         }
+        if let Some(dir) = procimg_shm_layout::share::configured_directory()
+            && let Ok(path) = iceoryx2::prelude::Path::new(dir.as_bytes())
+        {
+            c.global.set_root_path(&path);
+        }
         c
     })
 }

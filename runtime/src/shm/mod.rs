@@ -8,6 +8,7 @@
 //! request-response service is named after the instance only, so clients reach a restarted
 //! server through the port they already hold.
 
+pub mod access;
 mod config;
 pub mod dir;
 mod notices;
