@@ -105,6 +105,43 @@ pub fn share_own_files(root: &Path, prefix: &str, gid: u32) -> usize {
     changed
 }
 
+/// Removes this user's connection files in `/dev/shm` (`prefix…_<sender>_<receiver>.connection`)
+/// of the ports `ids`, which are gone. iceoryx2 leaves a connection to the other side's port
+/// to remove, and with an access group that side is another user, whom `/dev/shm`'s sticky
+/// bit does not let remove it. Returns how many were removed.
+pub fn remove_own_connections(prefix: &str, ids: &[u128]) -> usize {
+    if ids.is_empty() {
+        return 0;
+    }
+    let me = crate::os::effective_uid();
+    let Ok(entries) = fs::read_dir(SHM_DIR) else {
+        return 0;
+    };
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let Some(stem) = name
+            .strip_prefix(prefix)
+            .and_then(|n| n.strip_suffix(".connection"))
+        else {
+            continue;
+        };
+        let mine = stem
+            .rsplit('_')
+            .take(2)
+            .filter_map(|n| n.parse::<u128>().ok())
+            .any(|id| ids.contains(&id));
+        if mine
+            && entry.metadata().is_ok_and(|m| m.uid() == me)
+            && fs::remove_file(entry.path()).is_ok()
+        {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// iceoryx2's directory is at most three levels deep (`nodes/<id>/<file>`).
 const MAX_DEPTH: u32 = 3;
 

@@ -166,6 +166,7 @@ impl Client {
         let control = ControlHandle::open(instance, &opts.name)?;
         let (slot, token, generation, server_pid) = register(&control, &opts)?;
         let conn = Connection::open(control.node(), instance, generation, opts.timeout)?;
+        control.own_ports(&conn.port_ids);
         let layout = conn.layout.clone();
         if let Some(expected) = opts.expected_layout_hash
             && expected != layout.hash()
@@ -527,6 +528,7 @@ impl Client {
                 return Ok(());
             }
         };
+        self.control.own_ports(&conn.port_ids);
         if conn.layout.hash() != self.layout.hash() {
             let _ = self
                 .control

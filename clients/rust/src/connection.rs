@@ -69,6 +69,13 @@ pub fn client_node(instance: &str, name: &str) -> Result<Node<Ipc>, AttachError>
         .collect();
     let node_name = NodeName::new(&format!("procimg-client/{clean}"))
         .map_err(|e| shm(instance, "a node name", e))?;
+    // No directory, no server; and a client must not be the one to create it: procimgd makes
+    // it its access group's.
+    if !root_dir().is_dir() {
+        return Err(AttachError::NoServer {
+            instance: instance.to_string(),
+        });
+    }
     NodeBuilder::new()
         .name(&node_name)
         .config(iox2_config())
@@ -102,6 +109,11 @@ fn root_dir_denied(instance: &str) -> Option<AttachError> {
             problem,
         }
     })
+}
+
+/// Whether procimgd's `[access] group` is in force.
+pub(crate) fn access_group_active() -> bool {
+    share::access_group(&root_dir()).is_some()
 }
 
 /// With procimgd's `[access] group`, gives the group the files this process created (procimgd
@@ -205,6 +217,9 @@ pub struct Connection {
     pub opdone: Notifier<Ipc>,
     /// The layout of this generation.
     pub layout: Layout,
+    /// The ids of the ports that have connections (inputs, outputs and the layout's
+    /// subscriber, already gone).
+    pub port_ids: [u128; 3],
 }
 
 impl Connection {
@@ -215,7 +230,7 @@ impl Connection {
         generation: u64,
         timeout: Duration,
     ) -> Result<Connection, AttachError> {
-        let layout = read_layout(node, instance, generation, timeout)?;
+        let (layout, layout_port) = read_layout(node, instance, generation, timeout)?;
         let inputs = node
             .service_builder(&service_name(
                 instance,
@@ -272,6 +287,7 @@ impl Connection {
         #[allow(unsafe_code)]
         let events_fd = unsafe { events.file_descriptor().native_handle() };
         Ok(Connection {
+            port_ids: [inputs.id().value(), outputs.id().value(), layout_port],
             inputs,
             outputs,
             events,
@@ -287,7 +303,7 @@ fn read_layout(
     instance: &str,
     generation: u64,
     timeout: Duration,
-) -> Result<Layout, AttachError> {
+) -> Result<(Layout, u128), AttachError> {
     let sub = node
         .service_builder(&service_name(
             instance,
@@ -311,11 +327,12 @@ fn read_layout(
                     client: LAYOUT_VERSION,
                 });
             }
-            return Layout::decode(&h, sample.payload()).ok_or_else(|| AttachError::Shm {
+            let layout = Layout::decode(&h, sample.payload()).ok_or_else(|| AttachError::Shm {
                 instance: instance.to_string(),
                 what: "the layout",
                 detail: "the layout sample is shorter than its header says".into(),
-            });
+            })?;
+            return Ok((layout, sub.id().value()));
         }
         if Instant::now() >= until {
             return Err(AttachError::Timeout {

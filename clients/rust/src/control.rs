@@ -19,6 +19,34 @@ pub struct ControlHandle {
     // The port must be dropped before its node.
     port: ControlPort,
     node: Node<Ipc>,
+    // Last: after every port of this handle (and of the client or services handle it is the
+    // last field of) is gone.
+    sweep: ConnectionSweep,
+}
+
+/// The ports of one handle, whose connection files an access group's client removes itself
+/// when they are gone (see [`procimg_shm_layout::share::remove_own_connections`]).
+#[derive(Default)]
+pub(crate) struct ConnectionSweep {
+    ids: std::sync::Mutex<Vec<u128>>,
+}
+
+impl ConnectionSweep {
+    fn add(&self, ids: &[u128]) {
+        self.ids
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .extend_from_slice(ids);
+    }
+}
+
+impl Drop for ConnectionSweep {
+    fn drop(&mut self) {
+        let ids = std::mem::take(&mut *self.ids.lock().unwrap_or_else(|e| e.into_inner()));
+        if crate::connection::access_group_active() {
+            procimg_shm_layout::share::remove_own_connections(control::IOX2_PREFIX, &ids);
+        }
+    }
 }
 
 impl ControlHandle {
@@ -28,11 +56,19 @@ impl ControlHandle {
         let node = client_node(instance, name)?;
         let port = open_control(&node, instance)?;
         crate::connection::share_own_files();
+        let sweep = ConnectionSweep::default();
+        sweep.add(&[port.id().value()]);
         Ok(ControlHandle {
             instance: instance.to_string(),
             port,
             node,
+            sweep,
         })
+    }
+
+    /// Ports made on this handle's node, whose connection files go with the handle.
+    pub(crate) fn own_ports(&self, ids: &[u128]) {
+        self.sweep.add(ids);
     }
 
     /// The instance name.

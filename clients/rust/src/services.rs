@@ -129,6 +129,7 @@ impl Services {
             .create()
             .map_err(|e| shm(instance, "a notify event listener", e))?;
         crate::connection::share_own_files();
+        control.own_ports(&[subscriber.id().value()]);
         // SAFETY: the descriptor belongs to `listener`, which lives as long as this handle
         // and so outlives every use of the descriptor.
         #[allow(unsafe_code)]

@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `[access] group` with three users: procimgd runs as a user of its own (not root) with the
+//! access group; a member of the group attaches a synchronous client that runs cycles, and
+//! `procimg status` works for it; a user outside the group is told "access denied" and can
+//! open none of the shared-memory files. The users are plain ids (no accounts needed), the
+//! processes are started through `setpriv` (util-linux), and iceoryx2's directory is moved
+//! into the test's own directory with `PROCIMG_SHM_DIR`, so nothing of other tests' shared
+//! memory is touched.
+
+use procimg_client::{AttachError, AttachOptions, Client};
+use procimg_testkit::build::{procimgd_bin, workspace_bin};
+use std::os::unix::fs::{MetadataExt as _, PermissionsExt as _};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output};
+use std::time::{Duration, Instant};
+
+const CHILD_ENV: &str = "PROCIMG_TEST_GROUP_CHILD";
+/// The access group, procimgd's user, a member and an outsider.
+const GROUP: u32 = 47300;
+const SERVER_UID: u32 = 47301;
+const MEMBER_UID: u32 = 47302;
+const OUTSIDER_UID: u32 = 47303;
+
+/// Run as a child process only, as another user: what `PROCIMG_TEST_GROUP_CHILD` says.
+#[test]
+fn child_as_another_user() {
+    let Ok(job) = std::env::var(CHILD_ENV) else {
+        return;
+    };
+    let (what, instance) = job.split_once(':').expect("JOB:INSTANCE");
+    match what {
+        "cycles" => match Client::attach(instance, AttachOptions::synchronous("member")) {
+            Ok(mut c) => {
+                let mut done = 0;
+                while done < 100 {
+                    match c.wait_startop(Duration::from_secs(10)) {
+                        Ok(cycle) => {
+                            let _ = cycle.set_opdone();
+                            done += 1;
+                        }
+                        Err(e) => {
+                            println!("RESULT no-cycles: {e}");
+                            return;
+                        }
+                    }
+                }
+                println!("RESULT cycles {done}");
+            }
+            Err(e) => println!("RESULT attach-failed: {e}"),
+        },
+        "intrude" => {
+            match Client::attach(instance, AttachOptions::asynchronous("outsider")) {
+                Ok(_) => println!("RESULT attached"),
+                Err(e @ AttachError::AccessDenied { .. }) => println!("RESULT access-denied: {e}"),
+                Err(e) => println!("RESULT other: {e}"),
+            }
+            // Nothing of the image either: no shared-memory file of procimg opens. iceoryx2's
+            // global management segment (a node counter, no process data) is open to every
+            // user by iceoryx2's design.
+            let opened = std::fs::read_dir("/dev/shm")
+                .map(|d| {
+                    d.flatten()
+                        .filter(|e| {
+                            let name = e.file_name().to_string_lossy().into_owned();
+                            name.starts_with("procimg_") && !name.ends_with(".global_mgmt")
+                        })
+                        .filter(|e| std::fs::File::open(e.path()).is_ok())
+                        .count()
+                })
+                .unwrap_or(0);
+            println!("RESULT opened {opened}");
+        }
+        other => println!("RESULT unknown job {other}"),
+    }
+}
+
+/// `setpriv` arguments for a user with a group list.
+fn as_user(uid: u32, gid: u32, groups: &[u32]) -> Vec<String> {
+    let mut args = vec![format!("--reuid={uid}"), format!("--regid={gid}")];
+    if groups.is_empty() {
+        args.push("--clear-groups".into());
+    } else {
+        let list: Vec<String> = groups.iter().map(u32::to_string).collect();
+        args.push(format!("--groups={}", list.join(",")));
+    }
+    args
+}
+
+/// procimgd as its own user; stopped (SIGTERM, then SIGKILL) when dropped.
+struct Server {
+    child: Child,
+    log: PathBuf,
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        procimg_testkit::signal::terminate(&self.child);
+        let until = Instant::now() + Duration::from_secs(10);
+        while Instant::now() < until {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Runs `program args` as the given user, with the test's iceoryx2 directory.
+fn run_as(uid: u32, gid: u32, groups: &[u32], shm: &Path, program: &Path, args: &[&str]) -> Output {
+    Command::new("setpriv")
+        .args(as_user(uid, gid, groups))
+        .arg(program)
+        .args(args)
+        .env("PROCIMG_SHM_DIR", shm)
+        .env(CHILD_ENV, "")
+        .output()
+        .expect("setpriv (util-linux)")
+}
+
+fn result_line(out: &Output) -> String {
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    stdout
+        .lines()
+        .find(|l| l.starts_with("RESULT"))
+        .map(str::to_string)
+        .unwrap_or_else(|| {
+            format!(
+                "no result: {stdout} {}",
+                String::from_utf8_lossy(&out.stderr)
+            )
+        })
+}
+
+#[test]
+#[ignore = "needs root (starts processes as other users): run as root with --ignored"]
+fn members_of_the_access_group_attach_and_nobody_else_does() {
+    assert!(
+        procimg_testkit::signal::is_root(),
+        "this test starts processes as other users, which needs root: run it as root"
+    );
+    let me = std::env::current_exe().expect("the test binary");
+    let procimgd = procimgd_bin();
+    let procimg = workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
+    // Like /tmp: everybody may create, only owners remove.
+    let dir = procimg_testkit::files::temp_dir("group-access");
+    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o1777)).unwrap();
+    let shm = dir.path().join("iceoryx2");
+    let instance = procimg_testkit::unique_instance("group");
+    let demo = Command::new(&procimgd)
+        .arg("--print-demo-config")
+        .output()
+        .expect("procimgd --print-demo-config");
+    let config = String::from_utf8(demo.stdout)
+        .unwrap()
+        .replacen(
+            "instance = \"procimg\"",
+            &format!("instance = \"{instance}\""),
+            1,
+        )
+        .replacen("# group = \"procimg\"", &format!("group = \"{GROUP}\""), 1)
+        .replacen("mode = \"0600\"", "mode = \"0660\"", 1);
+    assert!(config.contains(&format!("group = \"{GROUP}\"")), "{config}");
+    let config_path = dir.path().join("procimgd.toml");
+    std::fs::write(&config_path, config).unwrap();
+    std::fs::set_permissions(&config_path, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let log = dir.path().join("procimgd.log");
+    let log_file = std::fs::File::create(&log).unwrap();
+    let server = Server {
+        child: Command::new("setpriv")
+            .args(as_user(SERVER_UID, GROUP, &[]))
+            .arg(&procimgd)
+            .arg("-c")
+            .arg(&config_path)
+            .arg("--quiet")
+            .env("PROCIMG_SHM_DIR", &shm)
+            .stdout(log_file.try_clone().unwrap())
+            .stderr(log_file)
+            .spawn()
+            .expect("setpriv (util-linux)"),
+        log,
+    };
+
+    // A member of the group: `procimg status` answers (once procimgd is up) ...
+    let until = Instant::now() + Duration::from_secs(30);
+    let status = loop {
+        let out = run_as(
+            MEMBER_UID,
+            MEMBER_UID,
+            &[GROUP],
+            &shm,
+            &procimg,
+            &["status", "--instance", &instance, "--json"],
+        );
+        if out.status.success() || Instant::now() >= until {
+            break out;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let text = String::from_utf8_lossy(&status.stdout);
+    assert!(
+        status.status.success() && text.contains("\"mode\""),
+        "procimg status as a member of the group: {text} {}\nprocimgd's log:\n{}",
+        String::from_utf8_lossy(&status.stderr),
+        std::fs::read_to_string(&server.log).unwrap_or_default()
+    );
+    assert!(text.contains("\"pid\""), "{text}");
+    // ... and a synchronous client runs 100 cycles.
+    let member = Command::new("setpriv")
+        .args(as_user(MEMBER_UID, MEMBER_UID, &[GROUP]))
+        .arg(&me)
+        .args(["--exact", "child_as_another_user", "--nocapture"])
+        .env("PROCIMG_SHM_DIR", &shm)
+        .env(CHILD_ENV, format!("cycles:{instance}"))
+        .output()
+        .expect("setpriv (util-linux)");
+    assert_eq!(result_line(&member), "RESULT cycles 100");
+    // The member's processes ended cleanly and left nothing in /dev/shm, where procimgd (another
+    // user) could not remove it.
+    let left: Vec<String> = std::fs::read_dir("/dev/shm")
+        .unwrap()
+        .flatten()
+        .filter(|e| e.metadata().is_ok_and(|m| m.uid() == MEMBER_UID))
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(left.is_empty(), "files of the member left behind: {left:?}");
+
+    // Outside the group: access denied, and no file of the image opens.
+    let outsider = Command::new("setpriv")
+        .args(as_user(OUTSIDER_UID, OUTSIDER_UID, &[]))
+        .arg(&me)
+        .args(["--exact", "child_as_another_user", "--nocapture"])
+        .env("PROCIMG_SHM_DIR", &shm)
+        .env(CHILD_ENV, format!("intrude:{instance}"))
+        .output()
+        .expect("setpriv (util-linux)");
+    let stdout = String::from_utf8_lossy(&outsider.stdout);
+    assert!(
+        stdout.contains("RESULT access-denied"),
+        "the outsider is denied: {stdout}"
+    );
+    assert!(
+        stdout.contains("member of the group"),
+        "the message says what to do: {stdout}"
+    );
+    assert!(stdout.contains("RESULT opened 0"), "{stdout}");
+    drop(server);
+}
