@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! `[access] group` with three users: procimgd runs as a user of its own (not root) with the
-//! access group; a member of the group attaches a synchronous client that runs cycles, and
+//! access group, with the capabilities and limits of `deploy/procimgd.service` (as systemd
+//! would give them: `prlimit` and `setpriv`), and cycles in real time; a member of the group attaches a synchronous client that runs cycles, and
 //! `procimg status` works for it; a user outside the group is told "access denied" and can
 //! open none of the shared-memory files. The users are plain ids (no accounts needed), the
 //! processes are started through `setpriv` (util-linux), and iceoryx2's directory is moved
@@ -86,6 +87,54 @@ fn as_user(uid: u32, gid: u32, groups: &[u32]) -> Vec<String> {
     args
 }
 
+/// What `deploy/procimgd.service` gives procimgd, as `prlimit` and `setpriv` arguments.
+struct Unit {
+    limits: Vec<String>,
+    capabilities: Vec<String>,
+}
+
+impl Unit {
+    fn read() -> Unit {
+        let path = procimg_testkit::workspace_dir().join("deploy/procimgd.service");
+        let text = std::fs::read_to_string(&path).expect("deploy/procimgd.service");
+        let value = |key: &str| {
+            text.lines()
+                .find_map(|l| l.strip_prefix(&format!("{key}=")))
+                .unwrap_or_else(|| panic!("{key}= in {}", path.display()))
+                .trim()
+                .to_string()
+        };
+        let memlock = match value("LimitMEMLOCK").as_str() {
+            "infinity" => "unlimited".to_string(),
+            v => v.to_string(),
+        };
+        let rtprio = value("LimitRTPRIO");
+        let caps: Vec<String> = value("AmbientCapabilities")
+            .split_whitespace()
+            .map(|c| format!("+{}", c.trim_start_matches("CAP_").to_ascii_lowercase()))
+            .collect();
+        assert_eq!(value("User"), "procimg");
+        let mut limits = vec![
+            format!("--memlock={memlock}:{memlock}"),
+            format!("--rtprio={rtprio}:{rtprio}"),
+        ];
+        // Raising a hard limit needs CAP_SYS_RESOURCE, which root in a container may lack; the
+        // unit's capabilities cover both anyway (CAP_IPC_LOCK, CAP_SYS_NICE).
+        let raise = Command::new("prlimit").args(&limits).arg("true").status();
+        if !raise.is_ok_and(|s| s.success()) {
+            eprintln!("the unit's limits are not applied: prlimit may not raise them here");
+            limits.clear();
+        }
+        Unit {
+            limits,
+            capabilities: vec![
+                format!("--inh-caps={}", caps.join(",")),
+                format!("--ambient-caps={}", caps.join(",")),
+            ],
+        }
+    }
+}
+
 /// procimgd as its own user; stopped (SIGTERM, then SIGKILL) when dropped.
 struct Server {
     child: Child,
@@ -167,9 +216,13 @@ fn members_of_the_access_group_attach_and_nobody_else_does() {
     std::fs::set_permissions(&config_path, std::fs::Permissions::from_mode(0o644)).unwrap();
     let log = dir.path().join("procimgd.log");
     let log_file = std::fs::File::create(&log).unwrap();
+    let unit = Unit::read();
     let server = Server {
-        child: Command::new("setpriv")
+        child: Command::new("prlimit")
+            .args(&unit.limits)
+            .arg("setpriv")
             .args(as_user(SERVER_UID, GROUP, &[]))
+            .args(&unit.capabilities)
             .arg(&procimgd)
             .arg("-c")
             .arg(&config_path)
@@ -205,7 +258,15 @@ fn members_of_the_access_group_attach_and_nobody_else_does() {
         String::from_utf8_lossy(&status.stderr),
         std::fs::read_to_string(&server.log).unwrap_or_default()
     );
-    assert!(text.contains("\"pid\""), "{text}");
+    assert!(
+        text.contains("\"realtime\":true"),
+        "the unit's capabilities and limits give the cycle thread SCHED_FIFO: {text}"
+    );
+    let log_text = std::fs::read_to_string(&server.log).unwrap_or_default();
+    assert!(
+        !log_text.contains("cannot lock memory"),
+        "the unit's capabilities let procimgd lock its memory: {log_text}"
+    );
     // ... and a synchronous client runs 100 cycles.
     let member = Command::new("setpriv")
         .args(as_user(MEMBER_UID, MEMBER_UID, &[GROUP]))
