@@ -278,6 +278,11 @@ pub struct CycleThreadConfig {
     pub cpu: Option<usize>,
     /// SCHED_FIFO priority, 1 to 99 (key `priority`, default 80).
     pub priority: u8,
+    /// SCHED_FIFO priority of the threads that turn the cycle's reports into device states,
+    /// `procimg status` and client events (the PROFINET thread and the control thread); 0:
+    /// normal priority (key `status_priority`, default 40: below the cycle thread and
+    /// synchronous clients, above everything else).
+    pub status_priority: u8,
     /// Lock all memory with `mlockall` (key `lock_memory`, default true).
     pub lock_memory: bool,
     /// How the thread waits for OPDONE (key `opdone_wait`, default `"event"`).
@@ -302,6 +307,7 @@ impl Default for CycleThreadConfig {
         CycleThreadConfig {
             cpu: None,
             priority: 80,
+            status_priority: 40,
             lock_memory: true,
             opdone_wait: OpdoneWait::Event,
         }

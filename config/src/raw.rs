@@ -28,6 +28,7 @@ pub(super) struct RawConfig {
 pub(super) struct RawCycleThread {
     pub cpu: Option<Spanned<usize>>,
     pub priority: Option<Spanned<u8>>,
+    pub status_priority: Option<Spanned<u8>>,
     pub lock_memory: Option<bool>,
     pub opdone_wait: Option<Spanned<String>>,
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The acyclic side of PROFINET: a normal-priority thread that drives a sans-IO [`Role`]
-//! with the frames the cycle thread hands over, the datagrams of port 34964, the commands of
+//! The acyclic side of PROFINET: a thread that drives a sans-IO [`Role`] with the frames and
+//! reports the cycle thread hands over (it rings the channel's doorbell with each), the datagrams of port 34964, the commands of
 //! the client services, the mode the cycle runs in and the time, and carries out the
 //! [`Effect`]s it asks for. It is the same thread for every role.
 
@@ -41,6 +41,9 @@ pub struct AcyclicSetup<R: Role> {
     pub events: Option<Sender<R::Event>>,
     /// How long the role, stopping, may wait for its peers' answers ([`SETTLE_WAIT`]).
     pub settle_for: Duration,
+    /// SCHED_FIFO priority of the thread (0: normal priority): it turns the cycle's reports
+    /// into device states and client events.
+    pub priority: u8,
 }
 
 /// Starts the acyclic thread; it ends when `shared.stop` is set, after taking the role
@@ -61,7 +64,13 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
         commands,
         events,
         settle_for,
+        priority,
     } = setup;
+    if priority > 0
+        && let Err(w) = crate::sys::rt::set_fifo_named("the PROFINET thread", priority)
+    {
+        tracing::warn!("{w}");
+    }
     let mut out = Vec::new();
     let mut online = None;
     let mut buf = vec![0u8; 65536];
@@ -93,6 +102,10 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
             online = Some(want);
             role.set_online(want, now, &mut out);
         }
+        // Taken before the queue is looked at: a report left after this rings again.
+        if let Some(bell) = &channel.doorbell {
+            bell.take();
+        }
         while let Ok(c) = commands.try_recv() {
             role.command(c, now, &mut out);
         }
@@ -121,7 +134,11 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
                 Duration::from_nanos(d.saturating_sub(now_ns()))
             })
             .min(MAX_WAIT);
-        match datagrams.recv_from(&mut buf, wait) {
+        let received = match &channel.doorbell {
+            Some(bell) => datagrams.recv_from_or_wake(&mut buf, wait, bell.fd()),
+            None => datagrams.recv_from(&mut buf, wait),
+        };
+        match received {
             Ok(Some((n, from))) => {
                 role.on_datagram(from, &buf[..n], now_ns(), &mut out);
                 let dropped = role.dropped_datagrams();

@@ -321,6 +321,16 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     let mut view = live_view.then(|| demo_view::DemoView::new(&instance, generation, &tables));
     let mut last_mode = shared.mode();
     let mut last_view = Instant::now();
+    // This thread answers `procimg status` and turns the PROFINET thread's events into client
+    // events: it follows the cycle at the status priority (after the other threads are
+    // started, so that none inherits it).
+    let status_priority = config.cycle_thread.status_priority;
+    if status_priority > 0
+        && let Err(w) =
+            procimg_runtime::sys::rt::set_fifo_named("the control thread", status_priority)
+    {
+        warn!("{w}");
+    }
     let mut ready = false;
     while !term.load(Ordering::Acquire) {
         if let Some(access) = group_access.as_mut() {

@@ -458,6 +458,25 @@ fn bad_cycle_thread_and_access() {
         parse("[access]\nmode = \"0o600\"").unwrap().access.mode,
         0o600
     );
+    // A group gets the owner's access unless a mode says otherwise.
+    let grouped = parse("[access]\ngroup = \"plc\"").unwrap().access;
+    assert_eq!(
+        (grouped.mode, grouped.group.as_deref()),
+        (0o660, Some("plc"))
+    );
+    refused_at(
+        "[cycle_thread]\nstatus_priority = 100",
+        "status_priority",
+        "cycle_thread.status_priority",
+        "not a SCHED_FIFO priority",
+    );
+    assert_eq!(
+        parse("[cycle_thread]\nstatus_priority = 0")
+            .unwrap()
+            .cycle_thread
+            .status_priority,
+        0
+    );
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -308,6 +308,20 @@ fn cycle_thread(raw: RawCycleThread, cx: &Cx<'_>) -> Result<CycleThreadConfig, C
         }
         config.priority = priority.into_inner();
     }
+    if let Some(priority) = raw.status_priority {
+        if *priority.get_ref() > 99 {
+            return Err(cx.invalid(
+                priority.span(),
+                "cycle_thread.status_priority",
+                format!(
+                    "{} is not a SCHED_FIFO priority; use 1 to 99, or 0 for normal priority \
+                     (default 40)",
+                    priority.get_ref()
+                ),
+            ));
+        }
+        config.status_priority = priority.into_inner();
+    }
     if let Some(lock) = raw.lock_memory {
         config.lock_memory = lock;
     }

@@ -65,14 +65,9 @@ const EXCHANGE: Duration = Duration::from_secs(10);
 const VALUES: u8 = 10;
 /// How long one value may take from the client's write to the device and back.
 const ROUND_TRIP_TIMEOUT: Duration = Duration::from_secs(2);
-/// Niceness of procimgd. Its control thread (which answers status requests) and its PROFINET
-/// controller thread (which turns the cycle thread's watchdog verdict into the device state)
-/// run at normal priority. With a build running beside the test, a status request at nice 0
-/// was seen taking up to 230 ms, which would swamp the 3 × 20 ms measured for a lost device;
-/// at -10, as a controller host would run them, it took at most 50 ms.
-const PROCIMGD_NICE: i32 = -10;
-/// How long bringing the device up may take: the controller's DCP Identify retries back off
-/// up to 4 s, so this covers a device that is found at the second or third attempt.
+
+/// How long bringing the device up may take: generous beside the controller's DCP Identify
+/// retries (backing off to 0.8 s), for a loaded machine.
 const BRING_UP_TIMEOUT: Duration = Duration::from_secs(15);
 
 /// The outputs written `k`-th: every value differs from the one before in every byte, and the
@@ -257,7 +252,6 @@ impl Rig {
         let server = Launch::config("iop", &configuration(&net))
             .instance(&instance)
             .netns(net.controller_ns())
-            .nice(PROCIMGD_NICE)
             .debug_log()
             .without_waiting()
             .start();

@@ -97,6 +97,7 @@ fn the_thread_hands_a_role_its_inputs_and_carries_out_its_effects() {
         commands: command_rx,
         events: Some(events_tx),
         settle_for: SETTLE_WAIT,
+        priority: 0,
     })
     .unwrap();
 
@@ -232,6 +233,7 @@ fn a_stopping_role_gets_the_answer_to_its_release_before_the_socket_closes() {
         events: Some(events_tx),
         // Longer than any test waits: the answer comes, however late the test sends it.
         settle_for: Duration::from_secs(600),
+        priority: 0,
     })
     .unwrap();
     assert_eq!(next(&events), Seen::Online(true));

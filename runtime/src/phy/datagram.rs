@@ -4,6 +4,7 @@
 
 use procimg_profinet::wire::rpc::RPC_PORT;
 use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
+use std::os::fd::{AsRawFd as _, RawFd};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
 use std::time::Duration;
 
@@ -17,6 +18,18 @@ pub trait Datagrams: Send {
         buf: &mut [u8],
         timeout: Duration,
     ) -> std::io::Result<Option<(usize, SocketAddrV4)>>;
+    /// As [`recv_from`](Self::recv_from), and also returns (with nothing) as soon as `wake`
+    /// becomes readable. Where the datagrams do not come through a descriptor (the simulated
+    /// network), `wake` is not watched and the wait is only the timeout.
+    fn recv_from_or_wake(
+        &mut self,
+        buf: &mut [u8],
+        timeout: Duration,
+        wake: RawFd,
+    ) -> std::io::Result<Option<(usize, SocketAddrV4)>> {
+        let _ = wake;
+        self.recv_from(buf, timeout)
+    }
 }
 
 /// Why the RPC socket could not be opened.
@@ -79,6 +92,21 @@ impl UdpDatagrams {
 impl Datagrams for UdpDatagrams {
     fn send_to(&mut self, to: SocketAddrV4, payload: &[u8]) -> std::io::Result<()> {
         self.socket.send_to(payload, to).map(|_| ())
+    }
+
+    fn recv_from_or_wake(
+        &mut self,
+        buf: &mut [u8],
+        timeout: Duration,
+        wake: RawFd,
+    ) -> std::io::Result<Option<(usize, SocketAddrV4)>> {
+        let ns = timeout.as_nanos().min(u128::from(u64::MAX)) as u64;
+        let (datagram, _) =
+            crate::sys::poll::wait_readable_either(self.socket.as_raw_fd(), wake, ns);
+        if !datagram {
+            return Ok(None);
+        }
+        self.recv_from(buf, Duration::from_micros(100))
     }
 
     fn recv_from(

@@ -3,6 +3,7 @@
 //! the device role's interface address and UDP socket.
 //! The only place in the crate besides the shared-memory services where `unsafe` may appear.
 pub mod clock;
+pub mod doorbell;
 pub mod netlink;
 pub mod poll;
 pub mod random;

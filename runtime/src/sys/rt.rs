@@ -58,6 +58,11 @@ pub fn hold_cpu_dma_latency_zero() -> Result<std::fs::File, String> {
 
 /// Makes the calling thread SCHED_FIFO at `priority` (1..=99).
 pub fn set_fifo(priority: u8) -> Result<(), String> {
+    set_fifo_named("the cycle thread", priority)
+}
+
+/// Makes the calling thread, `what` in the message, SCHED_FIFO at `priority` (1..=99).
+pub fn set_fifo_named(what: &str, priority: u8) -> Result<(), String> {
     let prio = ThreadPriority::from_posix(ScheduleParams {
         sched_priority: priority as libc::c_int,
     });
@@ -68,8 +73,8 @@ pub fn set_fifo(priority: u8) -> Result<(), String> {
     )
     .map_err(|e| {
         format!(
-            "cannot run the cycle thread SCHED_FIFO at priority {priority} ({e}): it runs at \
-             normal priority; grant CAP_SYS_NICE (or run as root), or raise RLIMIT_RTPRIO"
+            "cannot run {what} SCHED_FIFO at priority {priority} ({e}): it runs at normal \
+             priority; grant CAP_SYS_NICE (or run as root), or raise RLIMIT_RTPRIO"
         )
     })
 }

@@ -6,6 +6,7 @@
 //! queues, so neither side allocates per frame and the cycle thread never frees memory; ARs
 //! the cycle thread no longer needs go back to the acyclic side to be dropped there.
 
+use crate::sys::doorbell::Doorbell;
 use crossbeam_queue::ArrayQueue;
 use procimg_nic::MAX_FRAME;
 use procimg_profinet::cyclic::CyclicAr;
@@ -108,6 +109,10 @@ pub struct Channel {
     /// The DataStatus of the last cyclic frame taken from a peer (in the device role, the
     /// PLC's: RUN or STOP, valid or not); set by the cycle thread.
     pub peer_data_status: AtomicU8,
+    /// Rung by the cycle thread with every report it leaves in `from_cycle`, so that the
+    /// acyclic thread takes it at once (`None`: no eventfd could be made; the acyclic thread
+    /// then looks every few ms).
+    pub doorbell: Option<Doorbell>,
 }
 
 impl Default for Channel {
@@ -129,6 +134,7 @@ impl Channel {
         Channel {
             to_cycle: ArrayQueue::new(DEPTH),
             from_cycle: ArrayQueue::new(DEPTH),
+            doorbell: Doorbell::new().ok(),
             free,
             counters: NetCounters::default(),
             station_problem: AtomicBool::new(false),

@@ -108,6 +108,9 @@ impl Exchanges {
     }
 
     fn report(&mut self, r: FromCycle) {
+        if let Some(bell) = &self.channel.doorbell {
+            bell.ring();
+        }
         if let Err(r) = self.channel.from_cycle.push(r) {
             match r {
                 FromCycle::Retired(ar) if self.retired.len() < self.retired.capacity() => {

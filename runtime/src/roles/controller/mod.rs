@@ -160,6 +160,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
             commands: command_rx,
             events: Some(events),
             settle_for: acyclic::SETTLE_WAIT,
+            priority: config.cycle_thread.status_priority,
         })
         .map_err(|e| NetworkError::Thread("PROFINET controller", e))?,
     );
