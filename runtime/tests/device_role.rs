@@ -15,6 +15,7 @@ use procimg_profinet::wire::alarm::AlarmItem;
 use procimg_profinet::wire::record::DiagnosisData;
 use procimg_testkit::Launch;
 use procimg_testkit::netns::TestNet;
+use procimg_testkit::tshark::{LiveCapture, flagged, frames_matching};
 use std::time::{Duration, Instant};
 
 /// Generous: a loaded machine may be slow to connect.
@@ -730,17 +731,6 @@ fn channel_errors(services: &mut Services) -> Vec<(u16, u16)> {
         .collect()
 }
 
-/// The frames that tshark flags: malformed, or an expert item of error level.
-fn flagged(pcap: &std::path::Path) -> String {
-    let out = std::process::Command::new("tshark")
-        .args(["-r"])
-        .arg(pcap)
-        .args(["-Y", "_ws.malformed || _ws.expert.severity >= error"])
-        .output()
-        .expect("tshark");
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
 #[test]
 #[ignore = "needs root: network namespaces, veth, AF_PACKET"]
 fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
@@ -751,23 +741,7 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     // Every frame on the wire, from before the device starts.
     let dir = procimg_testkit::files::temp_dir("device-role-veth");
     let pcap = dir.path().join("wire.pcapng");
-    let mut capture = std::process::Command::new("ip")
-        .args([
-            "netns",
-            "exec",
-            &net.ns[0],
-            "tshark",
-            "-q",
-            "-i",
-            &net.ifs[0],
-            "-w",
-        ])
-        .arg(&pcap)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .expect("tshark");
-    std::thread::sleep(Duration::from_secs(2));
+    let capture = LiveCapture::start(&net.ns[0], &net.ifs[0], &pcap);
 
     let state = dir.path().join("station.toml");
     let device_toml = DEVICE_TOML
@@ -1090,39 +1064,24 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     drop(controller);
     drop(device);
     std::thread::sleep(Duration::from_millis(500));
-    let _ = std::process::Command::new("kill")
-        .args(["-INT", &capture.id().to_string()])
-        .status();
-    let _ = capture.wait();
+    let pcap = capture.stop();
     assert!(pcap.exists(), "tshark wrote no capture");
     let bad = flagged(&pcap);
     assert!(bad.is_empty(), "tshark flags frames on the wire:\n{bad}");
     // ERR-RTA (PDUType 4) from the controller, ErrorCode2 5: consumer DHT expired.
-    let abort = std::process::Command::new("tshark")
-        .args(["-r"])
-        .arg(&pcap)
-        .args([
-            "-Y",
-            &format!(
-                "eth.src == {controller_mac} && pn_io.pdu_type.type == 4 \
-                 && pn_io.error_code2 == 0x05"
-            ),
-        ])
-        .output()
-        .expect("tshark");
+    let abort = frames_matching(
+        &pcap,
+        &format!(
+            "eth.src == {controller_mac} && pn_io.pdu_type.type == 4 && pn_io.error_code2 == 0x05"
+        ),
+    );
     assert!(
-        !String::from_utf8_lossy(&abort.stdout).trim().is_empty(),
+        !abort.trim().is_empty(),
         "no ERR-RTA \"consumer DHT expired\" from the controller ({controller_mac}) on the wire"
     );
     // The controller stopped (SIGTERM) after the device's answer to its Release: no "port
     // unreachable" from its address.
-    let icmp = std::process::Command::new("tshark")
-        .args(["-r"])
-        .arg(&pcap)
-        .args(["-Y", "icmp.type == 3 && ip.src == 10.47.0.1"])
-        .output()
-        .expect("tshark");
-    let icmp = String::from_utf8_lossy(&icmp.stdout);
+    let icmp = frames_matching(&pcap, "icmp.type == 3 && ip.src == 10.47.0.1");
     assert!(
         icmp.trim().is_empty(),
         "the controller answered with ICMP:\n{icmp}"

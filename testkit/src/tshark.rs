@@ -96,3 +96,70 @@ pub fn clean_fields(name: &str, frames: &[Vec<u8>], fields: &[&str]) -> Vec<Vec<
     );
     values
 }
+
+/// tshark recording an interface of a network namespace into a file, from before the test's
+/// traffic until [`LiveCapture::stop`] (or until dropped, also when the test fails).
+pub struct LiveCapture {
+    child: Option<std::process::Child>,
+    path: std::path::PathBuf,
+}
+
+impl LiveCapture {
+    /// Starts tshark on `interface` of namespace `ns`, writing to `path`; returns once it
+    /// captures.
+    pub fn start(ns: &str, interface: &str, path: &std::path::Path) -> LiveCapture {
+        let child = Command::new("ip")
+            .args(["netns", "exec", ns, "tshark", "-q", "-i", interface, "-w"])
+            .arg(path)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot run tshark ({e}): apt-get install tshark"));
+        // tshark writes the file's header once it captures.
+        let until = std::time::Instant::now() + Duration::from_secs(20);
+        while !path.exists() && std::time::Instant::now() < until {
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        std::thread::sleep(Duration::from_millis(500));
+        LiveCapture {
+            child: Some(child),
+            path: path.to_path_buf(),
+        }
+    }
+
+    /// Stops tshark (SIGINT: it finishes the file) and returns the file.
+    pub fn stop(mut self) -> std::path::PathBuf {
+        self.end();
+        self.path.clone()
+    }
+
+    fn end(&mut self) {
+        if let Some(mut child) = self.child.take() {
+            crate::signal::send(child.id(), libc::SIGINT);
+            let _ = child.wait();
+        }
+    }
+}
+
+impl Drop for LiveCapture {
+    fn drop(&mut self) {
+        self.end();
+    }
+}
+
+/// What tshark prints (one line per frame) for the frames of `pcap` that match display filter
+/// `filter`; empty when none does.
+pub fn frames_matching(pcap: &std::path::Path, filter: &str) -> String {
+    let out = Command::new("tshark")
+        .arg("-r")
+        .arg(pcap)
+        .args(["-Y", filter])
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run tshark ({e}): apt-get install tshark"));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// The frames of `pcap` that tshark flags: malformed, or an expert item of error level.
+pub fn flagged(pcap: &std::path::Path) -> String {
+    frames_matching(pcap, "_ws.malformed || _ws.expert.severity >= error")
+}

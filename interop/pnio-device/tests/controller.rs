@@ -22,7 +22,12 @@
 //! 5. [`Rig::restart_device`]: the device is started again and comes back to data exchange on
 //!    its own, with neither procimgd nor the client restarted; data flows again and the
 //!    service handle gets DEV_RETURN.
-//! 6. [`Rig::shut_down`]: procimgd stops, releasing the AR, and exits cleanly.
+//! 6. [`Rig::stall_device`]: the device is stopped (SIGSTOP): procimgd's watchdog expires, it
+//!    tells the device with an ERR-RTA "consumer data hold time expired" (seen on the wire),
+//!    and once the device resumes (SIGCONT) the AR is back, with DEV_FAILURE and DEV_RETURN.
+//! 7. [`Rig::shut_down`]: procimgd stops on SIGTERM, releasing the AR and waiting for the
+//!    device's answer before it closes its socket (no ICMP "port unreachable" on the wire),
+//!    and exits cleanly. tshark flags no frame of the whole run.
 //!
 //! Needs root (namespaces, raw sockets, real-time scheduling); skipped otherwise. Needs the
 //! procimgd binary (built by `cargo build -p procimg-runtime`, or by `cargo test --workspace`)
@@ -39,6 +44,7 @@ use procimg_client::{
 };
 use procimg_interop_pnio_device as iop;
 use procimg_profinet::wire::record::Im0;
+use procimg_testkit::tshark::{self, LiveCapture};
 use procimg_testkit::{Launch, Procimgd};
 use std::os::unix::process::ExitStatusExt as _;
 use std::sync::mpsc;
@@ -236,7 +242,11 @@ struct Rig {
     device: Device,
     /// Devices that were killed, kept for their output in a failure report.
     gone: Vec<Device>,
+    /// Every frame on the controller's end of the veth pair, from before the device starts.
+    capture: Option<LiveCapture>,
     net: Net,
+    /// Where the capture goes.
+    dir: procimg_testkit::files::TempDir,
     io: Io,
     /// The outputs written last.
     last_written: Option<[u8; iop::IO_LEN]>,
@@ -247,6 +257,12 @@ impl Rig {
     /// client that claims the device's outputs.
     fn bring_up() -> Rig {
         let net = Net::new("pc", 9);
+        let dir = procimg_testkit::files::temp_dir("pnio-controller");
+        let capture = LiveCapture::start(
+            net.controller_ns(),
+            net.controller_if(),
+            &dir.path().join("wire.pcapng"),
+        );
         let mut device = Device::start(&net);
         let instance = format!("iop{}", std::process::id());
         let server = Launch::config("iop", &configuration(&net))
@@ -307,7 +323,9 @@ impl Rig {
             server,
             device,
             gone: Vec::new(),
+            capture: Some(capture),
             net,
+            dir,
             io,
             last_written: None,
         }
@@ -592,8 +610,40 @@ impl Rig {
         });
     }
 
-    /// Step 5: the client leaves and procimgd stops on SIGTERM: it releases the AR (the device
-    /// sees the release) and exits with success, its shared memory removed.
+    /// Step 6: the device stalls (SIGSTOP) long past the watchdog time: procimgd gives the AR
+    /// up and aborts it on the wire (checked at shutdown); resumed, the device frees the AR and
+    /// procimgd connects again after its short back-off.
+    fn stall_device(&mut self) {
+        while self.services().next(Duration::from_millis(10)).is_some() {}
+        /// Resumes the stopped device when dropped, also when the test fails meanwhile.
+        struct Resume(u32);
+        impl Drop for Resume {
+            fn drop(&mut self) {
+                procimg_testkit::signal::send(self.0, libc::SIGCONT);
+            }
+        }
+        let resume = Resume(self.device.pid());
+        procimg_testkit::signal::send(self.device.pid(), libc::SIGSTOP);
+        self.wait_notification("DEV_FAILURE of the stalled device", |n| {
+            matches!(n, Notification::DeviceFailure { device: 0, .. })
+        });
+        let resumed = Instant::now();
+        drop(resume);
+        self.wait_notification("DEV_RETURN of the resumed device", |n| {
+            matches!(n, Notification::DeviceReturn { device: 0, .. })
+        });
+        eprintln!(
+            "the stalled device was back in data exchange {} ms after it resumed",
+            resumed.elapsed().as_millis()
+        );
+        self.device
+            .wait_for_new("STATE data", Duration::from_secs(5));
+        self.round_trip(value(1));
+    }
+
+    /// Step 7: the client leaves and procimgd stops on SIGTERM: it releases the AR (the device
+    /// sees the release) and exits with success, its shared memory removed. On the wire: no
+    /// frame tshark flags, procimgd's ERR-RTA for the stalled device, no ICMP from procimgd.
     fn shut_down(mut self) {
         drop(self.services.take());
         drop(self.client.take());
@@ -603,6 +653,29 @@ impl Rig {
             .wait_for_new("STATE aborted controller-release", Duration::from_secs(5));
         let status = self.device.terminate();
         assert!(status.success(), "the device's exit: {status}");
+
+        let pcap = self.capture.take().expect("the capture").stop();
+        let bad = tshark::flagged(&pcap);
+        assert!(bad.is_empty(), "tshark flags frames on the wire:\n{bad}");
+        let mac = self.net.controller_mac();
+        // ERR-RTA (PDUType 4) from procimgd, ErrorCode2 5: consumer data hold time expired.
+        let abort = tshark::frames_matching(
+            &pcap,
+            &format!("eth.src == {mac} && pn_io.pdu_type.type == 4 && pn_io.error_code2 == 0x05"),
+        );
+        assert!(
+            !abort.trim().is_empty(),
+            "no ERR-RTA \"consumer DHT expired\" from procimgd ({mac}) on the wire"
+        );
+        let icmp = tshark::frames_matching(
+            &pcap,
+            &format!("icmp.type == 3 && ip.src == {}", self.net.controller_ip),
+        );
+        assert!(
+            icmp.trim().is_empty(),
+            "procimgd answered with ICMP:\n{icmp}"
+        );
+        let _ = &self.dir;
     }
 }
 
@@ -618,5 +691,6 @@ fn procimgd_brings_up_the_pnio_device_and_survives_its_loss() {
     rig.exchange();
     rig.lose_device();
     rig.restart_device();
+    rig.stall_device();
     rig.shut_down();
 }

@@ -78,25 +78,28 @@ impl Net {
             .unwrap_or_else(|| panic!("no promiscuity in {text:?}"))
     }
 
+    /// The MAC address of procimgd's interface, as `aa:bb:cc:dd:ee:ff`.
+    pub fn controller_mac(&self) -> String {
+        mac_of(self.controller_ns(), self.controller_if())
+    }
+
     /// The MAC address of the device's interface, as `aa:bb:cc:dd:ee:ff`.
     pub fn device_mac(&self) -> String {
-        let out = Command::new("ip")
-            .args([
-                "-n",
-                self.device_ns(),
-                "-o",
-                "link",
-                "show",
-                self.device_if(),
-            ])
-            .output()
-            .expect("the ip command (iproute2)");
-        let text = String::from_utf8_lossy(&out.stdout).into_owned();
-        let mut words = text.split_whitespace();
-        words
-            .find(|w| *w == "link/ether")
-            .and_then(|_| words.next())
-            .unwrap_or_else(|| panic!("no MAC address in {text:?}"))
-            .to_string()
+        mac_of(self.device_ns(), self.device_if())
     }
+}
+
+/// The MAC address of `interface` in namespace `ns`.
+fn mac_of(ns: &str, interface: &str) -> String {
+    let out = Command::new("ip")
+        .args(["-n", ns, "-o", "link", "show", interface])
+        .output()
+        .expect("the ip command (iproute2)");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let mut words = text.split_whitespace();
+    words
+        .find(|w| *w == "link/ether")
+        .and_then(|_| words.next())
+        .unwrap_or_else(|| panic!("no MAC address in {text:?}"))
+        .to_string()
 }
