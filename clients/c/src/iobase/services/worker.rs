@@ -26,7 +26,11 @@ use procimg_client::{AlarmReport, DeviceDiagnosis, Notification, RecordConfirmat
 use std::os::fd::RawFd;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// How often, while jobs wait for their confirmation, the worker looks whether the server
+/// they were sent to still runs.
+const LIVENESS_PERIOD: Duration = Duration::from_millis(500);
 
 /// How long one wait lasts at most: notifications whose wake-up came before their sample
 /// was visible, and job timeouts, are looked at after this.
@@ -41,8 +45,13 @@ static NO_DATA: [u8; 4] = [0; 4];
 /// The worker's loop, until stop; then unsubscribes.
 pub(super) fn run(shared: Arc<Shared>) {
     let notify_fd = shared.with_services(|s| s.notify_fd());
+    let mut last_liveness = Instant::now();
     while !stopping(&shared) {
         let mut busy = expire(&shared);
+        if last_liveness.elapsed() >= LIVENESS_PERIOD {
+            last_liveness = Instant::now();
+            busy |= orphaned(&shared);
+        }
         busy |= diagnose(&shared);
         let batch = take_notifications(&shared);
         busy |= !batch.is_empty();
@@ -103,12 +112,15 @@ fn handle(shared: &Shared, n: Notification) {
         Notification::Activation {
             device, active, ok, ..
         } => activation_done(shared, device, active, ok),
-        // The handle announces itself to a new server by itself; device states and module
-        // differences have no IO-Base event (the device's own alarms report the latter);
-        // the station's events are of a server in the device role, which this IO
-        // controller interface does not serve.
-        Notification::ServerStarted { .. }
-        | Notification::DeviceState { .. }
+        // The handle announces itself to a new server by itself; the jobs of its
+        // predecessors will never be confirmed.
+        Notification::ServerStarted { generation } => {
+            fail_jobs(shared, |g| g != Some(generation));
+        }
+        // Device states and module differences have no IO-Base event (the device's own
+        // alarms report the latter); the station's events are of a server in the device
+        // role, which this IO controller interface does not serve.
+        Notification::DeviceState { .. }
         | Notification::ModuleDiff { .. }
         | Notification::StationAr { .. }
         | Notification::StationArEnded { .. }
@@ -153,6 +165,56 @@ fn expire(shared: &Shared) -> bool {
         deliver_activation(shared, &job, PNIO_ERR_NO_FW_COMMUNICATION);
     }
     any
+}
+
+/// Confirms as failed ("no connection") every record job and activation sent to a server
+/// generation that `gone` holds.
+fn fail_jobs(shared: &Shared, gone: impl Fn(Option<u64>) -> bool) -> bool {
+    let (records, activations) = {
+        let mut jobs = lock(&shared.jobs);
+        let lost: Vec<u64> = jobs
+            .records
+            .iter()
+            .filter(|(_, j)| gone(j.generation))
+            .map(|(&r, _)| r)
+            .collect();
+        let mut records: Vec<RecordJob> =
+            lost.iter().filter_map(|r| jobs.records.remove(r)).collect();
+        // In the order they were asked for.
+        records.sort_by_key(|j| j.deadline);
+        let (lost, waiting): (Vec<ActivationJob>, Vec<ActivationJob>) =
+            jobs.activations.drain(..).partition(|j| gone(j.generation));
+        jobs.activations.extend(waiting);
+        (records, lost)
+    };
+    let any = !records.is_empty() || !activations.is_empty();
+    for job in records {
+        deliver_record(shared, &job, build::NO_CONNECTION, &[]);
+    }
+    for job in activations {
+        deliver_activation(shared, &job, PNIO_ERR_NO_FW_COMMUNICATION);
+    }
+    any
+}
+
+/// While jobs wait, looks whether the server they were sent to still runs, and confirms them
+/// as failed when it is gone (a killed server says nothing; its successor, if one comes, may
+/// take long).
+fn orphaned(shared: &Shared) -> bool {
+    {
+        let jobs = lock(&shared.jobs);
+        if jobs.records.is_empty() && jobs.activations.is_empty() {
+            return false;
+        }
+    }
+    // Under the services lock, as jobs are stamped: the generation looked at is the one the
+    // liveness answer is about.
+    let Some((generation, Some(false))) =
+        shared.with_services(|s| (s.generation(), s.server_alive()))
+    else {
+        return false;
+    };
+    fail_jobs(shared, |g| g == generation)
 }
 
 fn record_done(shared: &Shared, c: &RecordConfirmation) {
