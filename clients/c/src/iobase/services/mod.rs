@@ -28,7 +28,8 @@
 //!   [`build`]).
 //! * `PNIO_ctrl_diag_req` answers CONFIG_SUBMODULE_LIST, DEVICE_STATE,
 //!   CONFIG_IOROUTER_PRESENT (none), CONFIG_OUTPUT_SLICE_LIST (all bits of every output
-//!   submodule) and DEVICE_DIAGNOSTIC (the mode; the server keeps no PROFINET error cause).
+//!   submodule) and DEVICE_DIAGNOSTIC (the mode and, of the device's last failure, the CM
+//!   error cause, the abort reason of an ERR-RTA and the failure's PNIO status).
 //!   Other services are refused at the call with `PNIO_ERR_PRM_INVALIDARG`, an address of no
 //!   device with `PNIO_ERR_PRM_ADD`, and the call without a registered
 //!   `PNIO_CBE_CTRL_DIAG_CONF` callback with `PNIO_ERR_SEQUENCE` (register first).
