@@ -443,3 +443,93 @@ fn device_diagnosis(shared: &Shared, device: Option<u32>) -> Result<DeviceDiagno
         .find(|d| d.device == device)
         .ok_or(PNIO_ERR_PRM_ADD)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::iobase::services::address::tests::demo_layout;
+    use crate::iobase::services::{Jobs, Wake};
+    use crate::iobase::types::PNIO_IO_IN;
+    use std::sync::Mutex;
+    use std::sync::atomic::AtomicBool;
+    use std::time::Duration;
+
+    /// (ReqRef, ErrCode) of the read confirmations, and the Results of the activation
+    /// confirmations, of this test's handle.
+    static READS: Mutex<Vec<(u32, u8)>> = Mutex::new(Vec::new());
+    static ACTIVATIONS: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+
+    unsafe extern "C" fn on_read(prm: *mut PNIO_CBE_PRM) {
+        // SAFETY: the worker's parameters of a REC_READ_CONF, valid for the call.
+        let c = unsafe { (*prm).u.RecReadConf };
+        READS.lock().unwrap().push((c.ReqRef, c.Err.ErrCode));
+    }
+    unsafe extern "C" fn on_activation(prm: *mut PNIO_CBE_PRM) {
+        // SAFETY: the worker's parameters of a DEV_ACT_CONF, valid for the call.
+        let c = unsafe { (*prm).u.DevActConf };
+        ACTIVATIONS.lock().unwrap().push(c.Result);
+    }
+
+    fn shared() -> Shared {
+        let callbacks = Arc::new(CallbackTable::new());
+        assert!(callbacks.set_once(PNIO_CBE_REC_READ_CONF, Some(on_read)));
+        assert!(callbacks.set_once(PNIO_CBE_DEV_ACT_CONF, Some(on_activation)));
+        Shared {
+            instance: "worker-test".into(),
+            handle: 77,
+            layout: demo_layout(),
+            isochronous: Arc::new(AtomicBool::new(false)),
+            callbacks,
+            acknowledges: false,
+            services: Mutex::new(None),
+            jobs: Mutex::new(Jobs::default()),
+            stop: AtomicBool::new(false),
+            wake: Wake::new().unwrap(),
+        }
+    }
+
+    fn read_job(req_ref: u32, generation: Option<u64>) -> RecordJob {
+        RecordJob {
+            req_ref,
+            addr: PNIO_ADDR::logical(PNIO_IO_IN, 0),
+            index: 0xAFF0,
+            max_len: 16,
+            write: false,
+            deadline: Instant::now() + Duration::from_secs(60),
+            generation,
+        }
+    }
+
+    #[test]
+    fn a_new_server_fails_the_jobs_of_its_predecessors_at_once() {
+        let s = shared();
+        {
+            let mut jobs = s.jobs.lock().unwrap();
+            jobs.records.insert(1, read_job(11, Some(0xA)));
+            jobs.records.insert(2, read_job(12, None));
+            jobs.records.insert(3, read_job(13, Some(0xB)));
+            let addr = PNIO_ADDR::logical(PNIO_IO_IN, 0);
+            for (id, generation) in [(4, Some(0xA)), (5, Some(0xB))] {
+                jobs.activations.push_back(ActivationJob {
+                    id,
+                    device: 0,
+                    active: true,
+                    addr,
+                    deadline: Instant::now() + Duration::from_secs(60),
+                    generation,
+                });
+            }
+        }
+        handle(&s, Notification::ServerStarted { generation: 0xB });
+        let mut reads = READS.lock().unwrap().clone();
+        reads.sort();
+        // The jobs of server A and of a server that did not say, with "no connection".
+        assert_eq!(reads, [(11, 0xC0), (12, 0xC0)]);
+        assert_eq!(*ACTIVATIONS.lock().unwrap(), [PNIO_ERR_NO_FW_COMMUNICATION]);
+        // Server B's own jobs wait for their answers.
+        let jobs = s.jobs.lock().unwrap();
+        assert_eq!(jobs.records.keys().copied().collect::<Vec<_>>(), [3]);
+        assert_eq!(jobs.activations.len(), 1);
+        assert_eq!(jobs.activations[0].id, 5);
+    }
+}
