@@ -86,6 +86,11 @@ impl PacketSocket {
             };
             socket.set_option(libc::SOL_PACKET, libc::PACKET_ADD_MEMBERSHIP, &membership)?;
         }
+        // Bound last, with the filter and the options in place: only from here on does the
+        // socket take frames, and only those of this interface. ETH_P_ALL, narrowed by the
+        // filter: a socket bound to 0x8892 would miss the tagged frames of a NIC that leaves
+        // the 802.1Q tag in the frame (their protocol is 0x8100), and, capturing, the frames
+        // this host sends (only ETH_P_ALL sockets see those).
         let address = libc::sockaddr_ll {
             sll_family: libc::AF_PACKET as libc::c_ushort,
             sll_protocol: (libc::ETH_P_ALL as u16).to_be(),

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The AF_PACKET backend on a veth pair between two network namespaces that these tests
 //! create (and remove, also when they fail): PROFINET frames cross and nothing else does, a
-//! frame too long for the receive buffer is reported and not handed over cut, and opening a
-//! missing or down interface says what is wrong. Need root; skipped otherwise.
+//! frame too long for the receive buffer is reported and not handed over cut, a socket being
+//! opened takes no frame of another interface, and opening a missing or down interface says
+//! what is wrong. Need root; skipped otherwise.
 
 use procimg_nic::af_packet::{AfPacket, OpenError};
 use procimg_nic::{MAX_FRAME, Nic, RecvError, SendError};
@@ -208,6 +209,79 @@ fn a_frame_longer_than_the_buffer_is_reported_not_cut() {
 }
 
 /// Sends `f` on `ifname` whatever its length, through pnet's channel.
+#[test]
+#[ignore = "needs root (network namespaces): run as root with --ignored"]
+fn a_socket_being_opened_takes_no_frame_of_another_interface() {
+    assert!(
+        is_root(),
+        "this test builds network namespaces, which needs root: run it as root"
+    );
+    let net = TestNet::new("o", true);
+    ip(&["-n", &net.ns[0], "link", "set", "lo", "up"]);
+    // PROFINET frames, which the kernel filter lets through, flood the loopback interface of
+    // the namespace while sockets on the veth end are opened: a socket that took frames
+    // before it was bound to its interface would queue some of them.
+    const MARK: [u8; 6] = [2, 0x10, 0x10, 0x10, 0x10, 0x10];
+    let opened = net.in_ns(0, move |ifname| {
+        let lo = pnet_datalink::interfaces()
+            .into_iter()
+            .find(|i| i.name == "lo")
+            .expect("the loopback interface");
+        let config = pnet_datalink::Config {
+            read_timeout: Some(Duration::from_millis(100)),
+            ..Default::default()
+        };
+        let pnet_datalink::Channel::Ethernet(mut tx, mut rx) =
+            pnet_datalink::channel(&lo, config).expect("a pnet channel on lo")
+        else {
+            panic!("not an Ethernet channel");
+        };
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let flood = {
+            let stop = stop.clone();
+            let f = frame([0xff; 6], MARK, ETHERTYPE_PROFINET, &[0xfe, 0xfe, 5, 0]);
+            std::thread::spawn(move || {
+                let mut sent = 0u64;
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    if let Some(Ok(())) = tx.send_to(&f, None) {
+                        sent += 1;
+                    }
+                }
+                sent
+            })
+        };
+        // The flood is on the wire of lo.
+        let until = Instant::now() + Duration::from_secs(2);
+        let mut on_lo = false;
+        while !on_lo && Instant::now() < until {
+            on_lo = rx.next().is_ok_and(|f| f.get(6..12) == Some(&MARK[..]));
+        }
+        drop(rx);
+        let mut leaked = 0;
+        for _ in 0..200 {
+            let mut nic = AfPacket::open(&ifname, Duration::from_millis(1)).unwrap();
+            let until = Instant::now() + Duration::from_millis(2);
+            while Instant::now() < until {
+                nic.receive(&mut |f| {
+                    if f.get(6..12) == Some(&MARK[..]) {
+                        leaked += 1;
+                    }
+                })
+                .unwrap();
+            }
+        }
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        let sent = flood.join().expect("the flood");
+        (on_lo, sent, leaked)
+    });
+    let (on_lo, sent, leaked) = opened.join().expect("the veth side failed");
+    assert!(on_lo && sent > 0, "no flood on lo ({sent} frames sent)");
+    assert_eq!(
+        leaked, 0,
+        "sockets on the veth end took {leaked} frames of lo ({sent} sent meanwhile)"
+    );
+}
+
 fn send_unchecked(ifname: &str, f: &[u8]) {
     let iface = pnet_datalink::interfaces()
         .into_iter()

@@ -458,6 +458,13 @@ pub struct DeviceDiagnosis {
     /// The submodules the device reported as different at its last connect.
     #[serde(default)]
     pub module_diff: Vec<SubmoduleDiff>,
+    /// The PNIO status of the last failure (ErrorCode, ErrorDecode, ErrorCode1, ErrorCode2),
+    /// when it has one: the negative Connect, Write or PrmEnd response's status of a
+    /// refusal, or the ERR-RTA's `CF 81 FD <abort code>` of an AR aborted by the device or
+    /// by the server. `None` while running, and for failures without a status (not found,
+    /// no answer).
+    #[serde(default)]
+    pub pnio_status: Option<[u8; 4]>,
 }
 
 /// How long the station waits for a subscriber's answer to a record job before it answers

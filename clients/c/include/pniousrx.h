@@ -60,7 +60,13 @@
  * no ApplicationReady), RPC_ERROR (refused or unreadable RPC), PNIO_CONFIGURATION (the
  * device refused Connect, Write or PrmEnd), MISS (cyclic data stopped), IOD_ABORTED (the
  * device aborted the AR), IOC_ABORTED (the controller aborted or released it),
- * MP_DEVICE_DISABLED (deactivated). DEVICE_DIAGNOSTIC fills Mode only.
+ * MP_DEVICE_DISABLED (deactivated). DEVICE_DIAGNOSTIC gives Mode and, of the device's last
+ * failure (0 while it runs): ErrorCause, the CM error cause (the low byte of that Reason + 1:
+ * 7 RPC_TIMEOUT, 9 IOD_NOT_FOUND, 11 MISS, 14 IOD_ABORTED, ...; big-endian in memory);
+ * ReasonCode, the abort code of an AR ended by an ERR-RTA (ErrorCode2 of CF 81 FD xx, e.g.
+ * 0x05 when the server's watchdog expired), else 0; AdditionalInfo[0..3], the failure's PNIO
+ * status (ErrorCode, ErrorDecode, ErrorCode1, ErrorCode2) when it has one (a refusal, an
+ * abort).
  *
  * Isochronous mode. Registering PNIO_CP_CBE_STARTOP_IND (after PNIO_CP_CBE_OPFAULT_IND,
  * else PNIO_ERR_OPFAULT_NOT_REG; PNIO_CP_CBE_NEWCYCLE_IND only before it, else

@@ -128,6 +128,28 @@ const REATTACH_STEP: Duration = Duration::from_millis(300);
 /// How long without a new image before an asynchronous access checks the server is alive.
 const STALE_IMAGE: Duration = Duration::from_millis(100);
 
+/// Whether the cycle node of `instance`'s server with process id `pid` (any process when 0)
+/// is alive; `None` when the node list failed part-way, which proves nothing.
+///
+/// By name and process: a server SIGKILLed and started again between two checks has a live
+/// node of the same name, but not the services its predecessor's clients hold.
+pub(crate) fn server_listed(instance: &str, pid: u32) -> Option<bool> {
+    let wanted = format!("{}/cycle", server_node_name(instance));
+    let mut alive = false;
+    let listed = Node::<Ipc>::list(iox2_config(), |state| {
+        if let NodeState::Alive(v) = &state
+            && v.details().as_ref().is_some_and(|d| {
+                d.name().as_str() == wanted && (pid == 0 || d.process_id().value() as u32 == pid)
+            })
+        {
+            alive = true;
+            return CallbackProgression::Stop;
+        }
+        CallbackProgression::Continue
+    });
+    listed.is_ok().then_some(alive)
+}
+
 /// A client attached to a procimgd instance.
 pub struct Client {
     pub(crate) opts: AttachOptions,
@@ -477,25 +499,8 @@ impl Client {
             return;
         }
         self.last_liveness = Instant::now();
-        let wanted = format!("{}/cycle", server_node_name(self.instance()));
-        let pid = self.server_pid;
-        let mut alive = false;
-        // By name and process: a server SIGKILLed and started again between two checks has
-        // a live node of the same name, but not the data services this client holds.
-        let listed = Node::<Ipc>::list(iox2_config(), |state| {
-            if let NodeState::Alive(v) = &state
-                && v.details().as_ref().is_some_and(|d| {
-                    d.name().as_str() == wanted
-                        && (pid == 0 || d.process_id().value() as u32 == pid)
-                })
-            {
-                alive = true;
-                return CallbackProgression::Stop;
-            }
-            CallbackProgression::Continue
-        });
         // A list that failed part-way proves nothing: keep the connection.
-        if listed.is_ok() && !alive {
+        if server_listed(self.instance(), self.server_pid) == Some(false) {
             self.disconnect();
         }
     }

@@ -93,6 +93,10 @@ pub struct Services {
     queue: VecDeque<Notification>,
     next_reference: u64,
     lost: u64,
+    /// The generation of the server this handle is announced to, once known.
+    generation: Option<u64>,
+    /// That server's process id (0: not known).
+    server_pid: u32,
     fd: RawFd,
     // Ports before the node (in `control`) they live on.
     listener: Listener<Ipc>,
@@ -143,6 +147,8 @@ impl Services {
             queue: VecDeque::new(),
             next_reference: 1,
             lost: 0,
+            generation: None,
+            server_pid: 0,
             fd,
             listener,
             subscriber,
@@ -167,7 +173,20 @@ impl Services {
                 detail: e.to_string(),
             },
         })?;
+        s.learn_server();
         Ok(s)
+    }
+
+    /// Asks the server announced to for its generation and process id; left unknown when it
+    /// does not answer.
+    fn learn_server(&mut self) {
+        match self.control.status() {
+            Ok(st) => {
+                self.generation = Some(st.generation);
+                self.server_pid = st.pid;
+            }
+            Err(_) => self.server_pid = 0,
+        }
     }
 
     fn announce(&mut self) -> Result<(), ControlError> {
@@ -196,6 +215,21 @@ impl Services {
         self.fd
     }
 
+    /// The generation of the server this handle is announced to: learnt at
+    /// [`Services::open`] and from every [`Notification::ServerStarted`] taken since. Jobs
+    /// sent now go to that server; `None` when it did not say.
+    pub fn generation(&self) -> Option<u64> {
+        self.generation
+    }
+
+    /// Whether the server this handle is announced to still runs: `Some(false)` once its
+    /// process is gone (a crash, a kill: it sends no notification then), `None` when that
+    /// cannot be told now. A new server's [`Notification::ServerStarted`] makes it the one
+    /// looked for.
+    pub fn server_alive(&self) -> Option<bool> {
+        crate::client::server_listed(self.control.instance(), self.server_pid)
+    }
+
     /// Notifications lost because this handle fell more than the subscriber buffer behind.
     pub fn lost(&self) -> u64 {
         self.lost
@@ -212,10 +246,19 @@ impl Services {
             if n.reply_to().is_some_and(|to| to != self.id) {
                 continue;
             }
-            if let Notification::ServerStarted { .. } = n {
+            if let Notification::ServerStarted { generation } = n {
                 // A new server knows nothing of this handle: announce again, so that its
                 // alarms wait for our acknowledgement again.
                 let _ = self.announce();
+                if self.generation != Some(generation) {
+                    self.generation = Some(generation);
+                    self.server_pid = self
+                        .control
+                        .status()
+                        .ok()
+                        .filter(|st| st.generation == generation)
+                        .map_or(0, |st| st.pid);
+                }
             }
             if self.queue.len() >= NOTIFICATION_BUFFER * 4 {
                 self.queue.pop_front();

@@ -178,6 +178,9 @@ pub enum DeviceEvent {
         reason: String,
         /// Asked for (deactivation, OFFLINE) rather than a fault.
         planned: bool,
+        /// The PNIO status of the failure, if there is one: the ERR-RTA's `CF 81 FD <code>`
+        /// of an AR aborted by either side.
+        status: Option<PnioStatus>,
     },
     /// It entered data exchange, the first time or again (IO-Base DEV_RETURN).
     Return {
@@ -192,6 +195,9 @@ pub enum DeviceEvent {
         cause: FailureCause,
         /// Why.
         reason: String,
+        /// The PNIO status of the failure, if there is one: a negative Connect, Write or
+        /// PrmEnd response's, or the ERR-RTA's of an aborted AR.
+        status: Option<PnioStatus>,
     },
     /// Its real configuration differs from the expected one.
     ModuleDiff {

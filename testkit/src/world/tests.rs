@@ -4,9 +4,11 @@
 
 use super::tap::{Message, Origin, Record, pcap};
 use super::*;
+use procimg_profinet::controller::FailureCause;
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::plan::{DeviceSpec, SubmoduleSpec};
 use procimg_profinet::device::{DeviceSetup, PluggedSubmodule};
+use procimg_profinet::wire::PnioStatus;
 
 /// Inputs that count the frames produced.
 struct Counter;
@@ -161,9 +163,86 @@ fn lost_input_frames_fail_a_device_until_the_network_heals() {
             ..
         }
     )));
+    // The controller aborted the AR: its ERR-RTA's status, "consumer DHT expired".
+    assert_eq!(
+        failure_status(&w, 1),
+        Some(Some(PnioStatus::from_bytes([0xcf, 0x81, 0xfd, 0x05])))
+    );
     w.intercept(None);
     let back = w.step_until_running(5_000);
     assert!(back.is_some(), "no return: {:?}", w.states());
+}
+
+/// The PNIO status of device `d`'s last failure (`None`: it did not fail).
+fn failure_status(w: &World<Counter>, d: usize) -> Option<Option<PnioStatus>> {
+    w.events().iter().rev().find_map(|e| match e {
+        DeviceEvent::Failure { device, status, .. }
+        | DeviceEvent::Problem { device, status, .. }
+            if *device == d =>
+        {
+            Some(*status)
+        }
+        _ => None,
+    })
+}
+
+#[test]
+fn a_device_that_aborts_its_ar_is_failed_with_its_abort_status() {
+    let mut w = world(1);
+    bring_up(&mut w);
+    // The device's clock jumps past its watchdog: it aborts the AR with an ERR-RTA.
+    w.with_device(1, |dev, now, out| dev.poll(now + 10_000_000_000, out));
+    let failed = w.step_until(100, |w| w.states()[1] != DeviceState::Running);
+    assert!(failed.is_some(), "the device's abort did not end the AR");
+    let code = w.devices()[1].last_abort().expect("the device aborted");
+    assert!(w.events().iter().any(|e| matches!(
+        e,
+        DeviceEvent::Failure {
+            device: 1,
+            cause: FailureCause::DeviceAborted,
+            ..
+        }
+    )));
+    assert_eq!(
+        failure_status(&w, 1),
+        Some(Some(PnioStatus::from_bytes([
+            0xcf,
+            0x81,
+            0xfd,
+            code.into()
+        ])))
+    );
+}
+
+#[test]
+fn a_refused_connect_is_reported_with_the_devices_status() {
+    let mut w = world(1);
+    // The first datagram of device 1 is its Connect response: its PNIOStatus (the first 4
+    // bytes after the 80-byte RPC header, a u32 in the little-endian NDR of the simulated
+    // device) becomes a refusal, DB 81 3F 04.
+    let mut first = true;
+    w.intercept(Some(Box::new(move |mut m: Intercepted| {
+        if m.device == 1 && m.kind == Kind::Datagram && first && m.bytes.len() > 84 {
+            first = false;
+            m.bytes[80..84].copy_from_slice(&0xdb81_3f04u32.to_le_bytes());
+        }
+        vec![m.bytes]
+    })));
+    w.set_online(true);
+    let refused = w.step_until(2_000, |w| failure_status(w, 1).is_some());
+    assert!(refused.is_some(), "no failure: {:?}", w.states());
+    assert!(w.events().iter().any(|e| matches!(
+        e,
+        DeviceEvent::Problem {
+            device: 1,
+            cause: FailureCause::Refused,
+            ..
+        }
+    )));
+    assert_eq!(
+        failure_status(&w, 1),
+        Some(Some(PnioStatus::from_bytes([0xdb, 0x81, 0x3f, 0x04])))
+    );
 }
 
 #[test]

@@ -46,6 +46,8 @@ impl DeviceAr {
                 }
                 RtaEvent::Confirmed => {}
                 RtaEvent::Abort { code, local } => {
+                    // The ERR-RTA's status, sent or received.
+                    let status = ErrRta::abort(code).status;
                     let (cause, why) = if local {
                         (
                             FailureCause::ControllerAborted,
@@ -57,7 +59,7 @@ impl DeviceAr {
                             format!("the device aborted the AR ({code:?})"),
                         )
                     };
-                    self.fail(cause, &why, now, out);
+                    self.fail_with(cause, &why, Some(status), now, out);
                     return;
                 }
             }

@@ -20,7 +20,7 @@ use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use crate::wire::record::{self, IodHeader};
 use crate::wire::rpc::{self, opnum};
 use crate::wire::rta_pdu;
-use crate::wire::rta_pdu::RtaPdu;
+use crate::wire::rta_pdu::{ErrRta, RtaPdu};
 use crate::wire::{EmitError, MacAddress, PnioStatus, Uuid};
 use std::collections::VecDeque;
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -193,6 +193,7 @@ impl DeviceAr {
                 cause,
                 reason: reason.into(),
                 planned: true,
+                status: None,
             }));
         }
         let s = if self.deactivated {
@@ -204,10 +205,26 @@ impl DeviceAr {
     }
 
     fn fail(&mut self, cause: FailureCause, why: &str, now: u64, out: &mut Vec<Action>) {
+        self.fail_with(cause, why, None, now, out);
+    }
+
+    /// [`fail`](Self::fail) with the PNIO status that says why (a negative response's, the
+    /// ERR-RTA's of an abort); without one, the status of the abort sent to the device, if
+    /// one was.
+    fn fail_with(
+        &mut self,
+        cause: FailureCause,
+        why: &str,
+        status: Option<PnioStatus>,
+        now: u64,
+        out: &mut Vec<Action>,
+    ) {
         out.push(Action::Stop {
             device: self.plan.device,
         });
-        self.abort_accepted_ar(cause.abort_code(), out);
+        let code = cause.abort_code();
+        let aborted = self.abort_accepted_ar(code, out);
+        let status = status.or(aborted.then(|| ErrRta::abort(code).status));
         // The AR ends here; a record job on the wire is failed with the queued ones.
         if let Step::Ar {
             phase: Phase::Record { request, .. },
@@ -224,12 +241,14 @@ impl DeviceAr {
                 cause,
                 reason: why.to_string(),
                 planned: false,
+                status,
             }));
         } else {
             out.push(Action::Event(DeviceEvent::Problem {
                 device: self.plan.device,
                 cause,
                 reason: why.to_string(),
+                status,
             }));
         }
         let backoff = (BACKOFF_MIN_NS << self.failures.min(8)).min(BACKOFF_MAX_NS);
@@ -243,23 +262,26 @@ impl DeviceAr {
     /// Tells the device that an AR it accepted is given up (an ERR-RTA with `code` on the
     /// low-priority alarm channel), so that it frees the AR at once for the next Connect
     /// instead of holding it until its CMI timeout. Nothing for an AR whose Connect is still
-    /// unanswered.
-    fn abort_accepted_ar(&mut self, code: rta_pdu::AbortCode, out: &mut Vec<Action>) {
+    /// unanswered, or whose alarm channel was aborted already. Whether the abort was sent.
+    fn abort_accepted_ar(&mut self, code: rta_pdu::AbortCode, out: &mut Vec<Action>) -> bool {
         let Step::Ar { ar, phase } = &mut self.step else {
-            return;
+            return false;
         };
         if matches!(phase, Phase::Connect(_)) {
-            return;
+            return false;
         }
         let mut events = Vec::new();
         ar.alarm_low.abort(code, &mut events);
+        let mut sent = false;
         for e in events {
             if let RtaEvent::Send(pdu) = e
                 && let Some(f) = alarms::rta_frame(ar.own_mac, ar.peer_mac, &pdu)
             {
                 out.push(Action::Frame(f));
+                sent = true;
             }
         }
+        sent
     }
 
     /// Whether the Release of its last AR still waits for the device's answer.
@@ -625,7 +647,9 @@ impl DeviceAr {
             Phase::Connect(_) => self.connected(ar, status, &blocks, id, now, out),
             Phase::Write(_) => match write_failure(status, &blocks) {
                 None => self.prm_end(ar, now, out),
-                Some(why) => self.fail(FailureCause::Refused, &why, now, out),
+                Some((why, status)) => {
+                    self.fail_with(FailureCause::Refused, &why, status, now, out)
+                }
             },
             Phase::PrmEnd(_) => {
                 let prm_end = ControlBlock::prm_end(ar.uuid, ar.session_key);
@@ -639,18 +663,19 @@ impl DeviceAr {
                     self.set_state(DeviceState::WaitingForApplicationReady, out);
                 } else {
                     let why = format!("PrmEnd failed: {}", rpc::describe(status));
-                    self.fail(FailureCause::Refused, &why, now, out);
+                    let status = (!status.is_ok()).then_some(status);
+                    self.fail_with(FailureCause::Refused, &why, status, now, out);
                 }
             }
             Phase::PlugWrite { plug, .. } => match write_failure(status, &blocks) {
                 None => self.plug_prm_end(ar, plug, now, out),
-                Some(why) => {
+                Some((why, status)) => {
                     let why = format!(
                         "the parameters of the submodule plugged at slot {} subslot {:#06x}: \
                          {why}",
                         plug.slot, plug.subslot
                     );
-                    self.fail(FailureCause::Refused, &why, now, out)
+                    self.fail_with(FailureCause::Refused, &why, status, now, out)
                 }
             },
             Phase::PlugPrmEnd { plug, .. } => {
@@ -671,7 +696,8 @@ impl DeviceAr {
                         plug.subslot,
                         rpc::describe(status)
                     );
-                    self.fail(FailureCause::Refused, &why, now, out);
+                    let status = (!status.is_ok()).then_some(status);
+                    self.fail_with(FailureCause::Refused, &why, status, now, out);
                 }
             }
             Phase::Record { request, .. } => {
@@ -705,7 +731,7 @@ impl DeviceAr {
     ) {
         if !status.is_ok() {
             let why = format!("Connect refused: {}", rpc::describe(status));
-            return self.fail(FailureCause::Refused, &why, now, out);
+            return self.fail_with(FailureCause::Refused, &why, Some(status), now, out);
         }
         let Ok(res) = ConnectResponse::parse(blocks) else {
             return self.fail(

@@ -212,36 +212,49 @@ pub(super) fn with_data(header: &IodHeader, data: &[u8]) -> Vec<u8> {
 }
 
 /// Why a Write (single or multiple) failed, or `None` when every record was taken.
-pub(super) fn write_failure(status: PnioStatus, blocks: &[u8]) -> Option<String> {
+pub(super) fn write_failure(
+    status: PnioStatus,
+    blocks: &[u8],
+) -> Option<(String, Option<PnioStatus>)> {
     if !status.is_ok() {
-        return Some(format!(
-            "writing the parameter records failed: {}",
-            rpc::describe(status)
+        return Some((
+            format!(
+                "writing the parameter records failed: {}",
+                rpc::describe(status)
+            ),
+            Some(status),
         ));
     }
     let Ok((outer, _, rest)) = IodHeader::split(blocks) else {
-        return Some("the Write response is malformed".into());
+        return Some(("the Write response is malformed".into(), None));
     };
     if outer.is_write_multiple() {
         let Ok((_, inner)) = record::split_write_multiple_response(blocks) else {
-            return Some("the WriteMultiple response is malformed".into());
+            return Some(("the WriteMultiple response is malformed".into(), None));
         };
         for h in inner {
             if !h.status.is_ok() {
-                return Some(format!(
-                    "the device refused parameter record {:#06x} of slot {} subslot {:#06x}: {}",
-                    h.index,
-                    h.slot,
-                    h.subslot,
-                    rpc::describe(h.status)
+                return Some((
+                    format!(
+                        "the device refused parameter record {:#06x} of slot {} subslot \
+                         {:#06x}: {}",
+                        h.index,
+                        h.slot,
+                        h.subslot,
+                        rpc::describe(h.status)
+                    ),
+                    Some(h.status),
                 ));
             }
         }
     } else if !outer.status.is_ok() {
-        return Some(format!(
-            "the device refused parameter record {:#06x}: {}",
-            outer.index,
-            rpc::describe(outer.status)
+        return Some((
+            format!(
+                "the device refused parameter record {:#06x}: {}",
+                outer.index,
+                rpc::describe(outer.status)
+            ),
+            Some(outer.status),
         ));
     }
     let _ = rest;

@@ -71,6 +71,8 @@ struct DeviceRecord {
     inactive: bool,
     last_error: String,
     cause: FailureCause,
+    /// The PNIO status of the last failure, if it had one.
+    pnio_status: Option<[u8; 4]>,
     failures: u64,
     module_diff: Vec<SubmoduleDiff>,
 }
@@ -335,6 +337,7 @@ impl ControllerServices {
                     if state == DeviceState::Running {
                         r.last_error.clear();
                         r.cause = FailureCause::None;
+                        r.pnio_status = None;
                     }
                 }
                 notices.publish(&Notification::DeviceState {
@@ -347,12 +350,14 @@ impl ControllerServices {
                 device,
                 cause,
                 reason,
+                status,
                 ..
             } => {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.failures += 1;
                     r.last_error = reason.clone();
                     r.cause = reported_cause(cause);
+                    r.pnio_status = status.map(|s| s.to_bytes());
                 }
                 notices.publish(&Notification::DeviceFailure {
                     device: device as u32,
@@ -368,10 +373,12 @@ impl ControllerServices {
                 device,
                 cause,
                 reason,
+                status,
             } => {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.last_error = reason;
                     r.cause = reported_cause(cause);
+                    r.pnio_status = status.map(|s| s.to_bytes());
                 }
             }
             DeviceEvent::ModuleDiff { device, diff } => {
@@ -516,6 +523,7 @@ impl ControllerServices {
                     cause: r.cause,
                     failures: r.failures,
                     module_diff: r.module_diff.clone(),
+                    pnio_status: r.pnio_status,
                 })
                 .collect(),
         }

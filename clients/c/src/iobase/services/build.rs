@@ -293,16 +293,46 @@ pub(crate) fn device_state(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE {
     }
 }
 
-/// The DEVICE_DIAGNOSTIC answer. The server's diagnosis holds no PROFINET error cause of an
-/// AR abort (only its text), so ErrorCause, ReasonCode and AdditionalInfo stay 0.
+/// The DEVICE_DIAGNOSTIC answer, of the device's last failure (all 0 but Mode while it runs):
+/// * ErrorCause: the CM error cause, the low byte of the failure's `PNIO_CTRL_REASON_*`
+///   (0x07xx) + 1, 0 without one; big-endian in memory, as PN Driver gives it;
+/// * ReasonCode: the abort reason of an AR ended by an ERR-RTA of either side (ErrorCode2 of
+///   its `CF 81 FD xx` status), else 0;
+/// * AdditionalInfo\[0..4\]: the failure's PNIO status (ErrorCode, ErrorDecode, ErrorCode1,
+///   ErrorCode2) when it has one (a refusal's, an abort's), the rest 0.
 pub(crate) fn device_diagnostic(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA {
+    let mut info = [0u8; 10];
+    if let Some(st) = d.pnio_status {
+        info[..4].copy_from_slice(&st);
+    }
     PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA {
         Mode: if d.active {
             PNIO_DA_TRUE
         } else {
             PNIO_DA_FALSE
         },
-        ..PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA::default()
+        // Big-endian in memory, as PN Driver gives it.
+        ErrorCause: error_cause(reason(d.cause)).to_be(),
+        ReasonCode: abort_reason(d.pnio_status),
+        AdditionalInfo: info,
+    }
+}
+
+/// The CM error cause of a `PNIO_CTRL_REASON_*` of the 0x07xx range: its low byte + 1
+/// (0x0700 MULTIPLE_IP_USE is 1, … 0x070D IOD_ABORTED is 14); 0 for the others (NONE).
+fn error_cause(reason: u32) -> u16 {
+    if reason & 0xFF00 == 0x0700 {
+        (reason & 0xFF) as u16 + 1
+    } else {
+        0
+    }
+}
+
+/// The abort reason of an AR ended by an ERR-RTA (ErrorCode2 of `CF 81 FD xx`), else 0.
+fn abort_reason(status: Option<[u8; 4]>) -> u8 {
+    match status {
+        Some([0xCF, 0x81, 0xFD, code]) => code,
+        _ => 0,
     }
 }
 
@@ -321,6 +351,7 @@ mod tests {
             cause,
             failures: 0,
             module_diff: Vec::new(),
+            pnio_status: None,
         }
     }
 
@@ -500,5 +531,64 @@ mod tests {
             device_diagnostic(&diagnosis("failed", false, FailureCause::None)).Mode,
             PNIO_DA_FALSE
         );
+    }
+
+    #[test]
+    fn device_diagnostic_tells_the_cause_the_abort_reason_and_the_status() {
+        let with = |cause, status| DeviceDiagnosis {
+            pnio_status: status,
+            ..diagnosis("failed", true, cause)
+        };
+        let info = |st: [u8; 4]| {
+            let mut a = [0u8; 10];
+            a[..4].copy_from_slice(&st);
+            a
+        };
+        // Running: nothing but the mode.
+        let d = device_diagnostic(&diagnosis("running", true, FailureCause::None));
+        assert_eq!(
+            d,
+            PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA {
+                Mode: PNIO_DA_TRUE,
+                ..Default::default()
+            }
+        );
+        // procimgd's watchdog expired: MISS (0x070A, cause 11), it aborted with 0x05.
+        let d = device_diagnostic(&with(
+            FailureCause::NoCyclicData,
+            Some([0xCF, 0x81, 0xFD, 0x05]),
+        ));
+        assert_eq!(u16::from_be(d.ErrorCause), 11);
+        assert_eq!(d.ErrorCause.to_ne_bytes(), [0, 11], "big-endian in memory");
+        assert_eq!(d.ReasonCode, 0x05);
+        assert_eq!(d.AdditionalInfo, info([0xCF, 0x81, 0xFD, 0x05]));
+        // The device aborted (IOD_ABORTED 0x070D, cause 14) with its own code.
+        let d = device_diagnostic(&with(
+            FailureCause::DeviceAborted,
+            Some([0xCF, 0x81, 0xFD, 0x1B]),
+        ));
+        assert_eq!((u16::from_be(d.ErrorCause), d.ReasonCode), (14, 0x1B));
+        // A refused Connect (PNIO_CONFIGURATION 0x0705, cause 6): no abort reason, its status.
+        let d = device_diagnostic(&with(FailureCause::Refused, Some([0xDB, 0x81, 0x3F, 0x04])));
+        assert_eq!((u16::from_be(d.ErrorCause), d.ReasonCode), (6, 0));
+        assert_eq!(d.AdditionalInfo, info([0xDB, 0x81, 0x3F, 0x04]));
+        // Not found (IOD_NOT_FOUND 0x0708, cause 9), no answer (RPC_TIMEOUT 0x0706, cause
+        // 7), the controller's abort (IOC_ABORTED 0x070C, cause 13): no status.
+        for (cause, want) in [
+            (FailureCause::NotFound, 9),
+            (FailureCause::RpcTimeout, 7),
+            (FailureCause::ControllerAborted, 13),
+        ] {
+            let d = device_diagnostic(&with(cause, None));
+            assert_eq!(
+                (u16::from_be(d.ErrorCause), d.ReasonCode, d.AdditionalInfo),
+                (want, 0, [0; 10]),
+                "{cause:?}"
+            );
+        }
+        // The constants the rule is stated for.
+        assert_eq!(error_cause(0x0700), 1);
+        assert_eq!(error_cause(PNIO_CTRL_REASON_NONE), 0);
+        assert_eq!(error_cause(0x0401), 0);
     }
 }

@@ -10,8 +10,9 @@
 //!
 //! * `PNIO_CBE_REC_READ_CONF` / `PNIO_CBE_REC_WRITE_CONF` for every record job, with the
 //!   caller's `ReqRef`, a copy of the address the job was sent to, and the PNIOStatus. A job
-//!   the server never confirms (it stopped) is confirmed after [`JOB_TIMEOUT`] with IO-Base's
-//!   "no connection" status (0xC0, 0x80, 0xA3, 0).
+//!   the server can no longer confirm is confirmed as failed with IO-Base's "no connection"
+//!   status (0xC0, 0x80, 0xA3, 0): at once when the worker learns that the server it was sent
+//!   to is gone or that a new server started, else after [`JOB_TIMEOUT`].
 //! * `PNIO_CBE_ALARM_IND` for the devices' alarms, strictly one at a time, each acknowledged
 //!   to the device when the callback has returned (without an alarm callback the server
 //!   acknowledges them itself); and for every station failure and return, as the synthetic
@@ -27,7 +28,8 @@
 //!   [`build`]).
 //! * `PNIO_ctrl_diag_req` answers CONFIG_SUBMODULE_LIST, DEVICE_STATE,
 //!   CONFIG_IOROUTER_PRESENT (none), CONFIG_OUTPUT_SLICE_LIST (all bits of every output
-//!   submodule) and DEVICE_DIAGNOSTIC (the mode; the server keeps no PROFINET error cause).
+//!   submodule) and DEVICE_DIAGNOSTIC (the mode and, of the device's last failure, the CM
+//!   error cause, the abort reason of an ERR-RTA and the failure's PNIO status).
 //!   Other services are refused at the call with `PNIO_ERR_PRM_INVALIDARG`, an address of no
 //!   device with `PNIO_ERR_PRM_ADD`, and the call without a registered
 //!   `PNIO_CBE_CTRL_DIAG_CONF` callback with `PNIO_ERR_SEQUENCE` (register first).
@@ -71,7 +73,8 @@ pub(crate) const MAX_RECORD_JOBS: usize = procimg_shm_layout::services::MAX_RECO
 const MAX_DIAG_JOBS: usize = 64;
 
 /// How long a record job or an activation waits for its confirmation before it is confirmed
-/// as failed: longer than the server's own retries of a job queued behind others.
+/// as failed: longer than the server's own retries of a job queued behind others. Jobs of a
+/// server that is gone or was followed by a new one fail before (see [`worker`]).
 const JOB_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// What the worker of one controller needs to know.
@@ -100,6 +103,8 @@ struct RecordJob {
     max_len: u32,
     write: bool,
     deadline: Instant,
+    /// The generation of the server the job was sent to (`None`: it did not say).
+    generation: Option<u64>,
 }
 
 /// A (de)activation waiting for its confirmation.
@@ -110,6 +115,8 @@ struct ActivationJob {
     active: bool,
     addr: PNIO_ADDR,
     deadline: Instant,
+    /// The generation of the server the activation was sent to (`None`: it did not say).
+    generation: Option<u64>,
 }
 
 /// The program's `PNIO_CTRL_DIAG`, handed back in the confirmation.
@@ -389,13 +396,20 @@ impl ServiceWorker {
                     max_len,
                     write: write.is_some(),
                     deadline: Instant::now() + JOB_TIMEOUT,
+                    generation: None,
                 },
             );
             reference
         };
-        let sent = s.with_services(|sv| match write {
-            Some(data) => sv.record_write(target, data, reference),
-            None => sv.record_read(target, max_len, reference),
+        let sent = s.with_services(|sv| {
+            // Stamped under the services lock: the worker learns of a new server under it too.
+            if let Some(j) = lock(&s.jobs).records.get_mut(&reference) {
+                j.generation = sv.generation();
+            }
+            match write {
+                Some(data) => sv.record_write(target, data, reference),
+                None => sv.record_read(target, max_len, reference),
+            }
         });
         let failed = match sent {
             Some(Ok(())) => return PNIO_OK,
@@ -493,10 +507,18 @@ impl ServiceWorker {
                 active,
                 addr: *addr,
                 deadline: Instant::now() + JOB_TIMEOUT,
+                generation: None,
             });
             id
         };
-        let failed = match s.with_services(|sv| sv.activate(r.device, active)) {
+        let sent = s.with_services(|sv| {
+            // Stamped under the services lock, as a record job's.
+            if let Some(j) = lock(&s.jobs).activations.iter_mut().find(|j| j.id == id) {
+                j.generation = sv.generation();
+            }
+            sv.activate(r.device, active)
+        });
+        let failed = match sent {
             Some(Ok(())) => return PNIO_OK,
             Some(Err(e)) => s.fail_control(WHAT, &e),
             None => s.fail(

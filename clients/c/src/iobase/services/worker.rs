@@ -26,7 +26,11 @@ use procimg_client::{AlarmReport, DeviceDiagnosis, Notification, RecordConfirmat
 use std::os::fd::RawFd;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// How often, while jobs wait for their confirmation, the worker looks whether the server
+/// they were sent to still runs.
+const LIVENESS_PERIOD: Duration = Duration::from_millis(500);
 
 /// How long one wait lasts at most: notifications whose wake-up came before their sample
 /// was visible, and job timeouts, are looked at after this.
@@ -41,8 +45,13 @@ static NO_DATA: [u8; 4] = [0; 4];
 /// The worker's loop, until stop; then unsubscribes.
 pub(super) fn run(shared: Arc<Shared>) {
     let notify_fd = shared.with_services(|s| s.notify_fd());
+    let mut last_liveness = Instant::now();
     while !stopping(&shared) {
         let mut busy = expire(&shared);
+        if last_liveness.elapsed() >= LIVENESS_PERIOD {
+            last_liveness = Instant::now();
+            busy |= orphaned(&shared);
+        }
         busy |= diagnose(&shared);
         let batch = take_notifications(&shared);
         busy |= !batch.is_empty();
@@ -103,12 +112,15 @@ fn handle(shared: &Shared, n: Notification) {
         Notification::Activation {
             device, active, ok, ..
         } => activation_done(shared, device, active, ok),
-        // The handle announces itself to a new server by itself; device states and module
-        // differences have no IO-Base event (the device's own alarms report the latter);
-        // the station's events are of a server in the device role, which this IO
-        // controller interface does not serve.
-        Notification::ServerStarted { .. }
-        | Notification::DeviceState { .. }
+        // The handle announces itself to a new server by itself; the jobs of its
+        // predecessors will never be confirmed.
+        Notification::ServerStarted { generation } => {
+            fail_jobs(shared, |g| g != Some(generation));
+        }
+        // Device states and module differences have no IO-Base event (the device's own
+        // alarms report the latter); the station's events are of a server in the device
+        // role, which this IO controller interface does not serve.
+        Notification::DeviceState { .. }
         | Notification::ModuleDiff { .. }
         | Notification::StationAr { .. }
         | Notification::StationArEnded { .. }
@@ -153,6 +165,56 @@ fn expire(shared: &Shared) -> bool {
         deliver_activation(shared, &job, PNIO_ERR_NO_FW_COMMUNICATION);
     }
     any
+}
+
+/// Confirms as failed ("no connection") every record job and activation sent to a server
+/// generation that `gone` holds.
+fn fail_jobs(shared: &Shared, gone: impl Fn(Option<u64>) -> bool) -> bool {
+    let (records, activations) = {
+        let mut jobs = lock(&shared.jobs);
+        let lost: Vec<u64> = jobs
+            .records
+            .iter()
+            .filter(|(_, j)| gone(j.generation))
+            .map(|(&r, _)| r)
+            .collect();
+        let mut records: Vec<RecordJob> =
+            lost.iter().filter_map(|r| jobs.records.remove(r)).collect();
+        // In the order they were asked for.
+        records.sort_by_key(|j| j.deadline);
+        let (lost, waiting): (Vec<ActivationJob>, Vec<ActivationJob>) =
+            jobs.activations.drain(..).partition(|j| gone(j.generation));
+        jobs.activations.extend(waiting);
+        (records, lost)
+    };
+    let any = !records.is_empty() || !activations.is_empty();
+    for job in records {
+        deliver_record(shared, &job, build::NO_CONNECTION, &[]);
+    }
+    for job in activations {
+        deliver_activation(shared, &job, PNIO_ERR_NO_FW_COMMUNICATION);
+    }
+    any
+}
+
+/// While jobs wait, looks whether the server they were sent to still runs, and confirms them
+/// as failed when it is gone (a killed server says nothing; its successor, if one comes, may
+/// take long).
+fn orphaned(shared: &Shared) -> bool {
+    {
+        let jobs = lock(&shared.jobs);
+        if jobs.records.is_empty() && jobs.activations.is_empty() {
+            return false;
+        }
+    }
+    // Under the services lock, as jobs are stamped: the generation looked at is the one the
+    // liveness answer is about.
+    let Some((generation, Some(false))) =
+        shared.with_services(|s| (s.generation(), s.server_alive()))
+    else {
+        return false;
+    };
+    fail_jobs(shared, |g| g == generation)
 }
 
 fn record_done(shared: &Shared, c: &RecordConfirmation) {
@@ -380,4 +442,94 @@ fn device_diagnosis(shared: &Shared, device: Option<u32>) -> Result<DeviceDiagno
         .into_iter()
         .find(|d| d.device == device)
         .ok_or(PNIO_ERR_PRM_ADD)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::iobase::services::address::tests::demo_layout;
+    use crate::iobase::services::{Jobs, Wake};
+    use crate::iobase::types::PNIO_IO_IN;
+    use std::sync::Mutex;
+    use std::sync::atomic::AtomicBool;
+    use std::time::Duration;
+
+    /// (ReqRef, ErrCode) of the read confirmations, and the Results of the activation
+    /// confirmations, of this test's handle.
+    static READS: Mutex<Vec<(u32, u8)>> = Mutex::new(Vec::new());
+    static ACTIVATIONS: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+
+    unsafe extern "C" fn on_read(prm: *mut PNIO_CBE_PRM) {
+        // SAFETY: the worker's parameters of a REC_READ_CONF, valid for the call.
+        let c = unsafe { (*prm).u.RecReadConf };
+        READS.lock().unwrap().push((c.ReqRef, c.Err.ErrCode));
+    }
+    unsafe extern "C" fn on_activation(prm: *mut PNIO_CBE_PRM) {
+        // SAFETY: the worker's parameters of a DEV_ACT_CONF, valid for the call.
+        let c = unsafe { (*prm).u.DevActConf };
+        ACTIVATIONS.lock().unwrap().push(c.Result);
+    }
+
+    fn shared() -> Shared {
+        let callbacks = Arc::new(CallbackTable::new());
+        assert!(callbacks.set_once(PNIO_CBE_REC_READ_CONF, Some(on_read)));
+        assert!(callbacks.set_once(PNIO_CBE_DEV_ACT_CONF, Some(on_activation)));
+        Shared {
+            instance: "worker-test".into(),
+            handle: 77,
+            layout: demo_layout(),
+            isochronous: Arc::new(AtomicBool::new(false)),
+            callbacks,
+            acknowledges: false,
+            services: Mutex::new(None),
+            jobs: Mutex::new(Jobs::default()),
+            stop: AtomicBool::new(false),
+            wake: Wake::new().unwrap(),
+        }
+    }
+
+    fn read_job(req_ref: u32, generation: Option<u64>) -> RecordJob {
+        RecordJob {
+            req_ref,
+            addr: PNIO_ADDR::logical(PNIO_IO_IN, 0),
+            index: 0xAFF0,
+            max_len: 16,
+            write: false,
+            deadline: Instant::now() + Duration::from_secs(60),
+            generation,
+        }
+    }
+
+    #[test]
+    fn a_new_server_fails_the_jobs_of_its_predecessors_at_once() {
+        let s = shared();
+        {
+            let mut jobs = s.jobs.lock().unwrap();
+            jobs.records.insert(1, read_job(11, Some(0xA)));
+            jobs.records.insert(2, read_job(12, None));
+            jobs.records.insert(3, read_job(13, Some(0xB)));
+            let addr = PNIO_ADDR::logical(PNIO_IO_IN, 0);
+            for (id, generation) in [(4, Some(0xA)), (5, Some(0xB))] {
+                jobs.activations.push_back(ActivationJob {
+                    id,
+                    device: 0,
+                    active: true,
+                    addr,
+                    deadline: Instant::now() + Duration::from_secs(60),
+                    generation,
+                });
+            }
+        }
+        handle(&s, Notification::ServerStarted { generation: 0xB });
+        let mut reads = READS.lock().unwrap().clone();
+        reads.sort();
+        // The jobs of server A and of a server that did not say, with "no connection".
+        assert_eq!(reads, [(11, 0xC0), (12, 0xC0)]);
+        assert_eq!(*ACTIVATIONS.lock().unwrap(), [PNIO_ERR_NO_FW_COMMUNICATION]);
+        // Server B's own jobs wait for their answers.
+        let jobs = s.jobs.lock().unwrap();
+        assert_eq!(jobs.records.keys().copied().collect::<Vec<_>>(), [3]);
+        assert_eq!(jobs.activations.len(), 1);
+        assert_eq!(jobs.activations[0].id, 5);
+    }
 }
