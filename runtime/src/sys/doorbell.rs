@@ -20,9 +20,8 @@ impl Doorbell {
             return Err(std::io::Error::last_os_error());
         }
         // SAFETY: `fd` was just returned by eventfd(2) and is owned by nobody else.
-        Ok(Doorbell {
-            fd: unsafe { OwnedFd::from_raw_fd(fd) },
-        })
+        let fd = unsafe { OwnedFd::from_raw_fd(fd) };
+        Ok(Doorbell { fd })
     }
 
     /// Rings it (a full counter, which takes years of rings, stays rung).
