@@ -432,7 +432,7 @@ fn a_device_call_on_a_controller_is_an_error() {
 fn a_device_program_vetoes_a_dcp_name_change_and_allows_the_next() {
     let net = TestNet::new("dk", true);
     for (i, ip) in [(0, "10.47.0.1/24"), (1, "10.47.0.50/24")] {
-        procimg_testkit::netns::ip(&["-n", &net.ns[i], "addr", "add", ip, "dev", &net.ifs[i]]);
+        net.address(i, ip);
     }
     let dir = procimg_testkit::files::temp_dir("device-role-dcp-veto");
     let device_toml = DEVICE_TOML.replace("IFACE", &net.ifs[1]).replace(
@@ -736,7 +736,7 @@ fn channel_errors(services: &mut Services) -> Vec<(u16, u16)> {
 fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     let net = TestNet::new("dv", true);
     for (i, ip) in [(0, "10.47.0.1/24"), (1, "10.47.0.50/24")] {
-        procimg_testkit::netns::ip(&["-n", &net.ns[i], "addr", "add", ip, "dev", &net.ifs[i]]);
+        net.address(i, ip);
     }
     // Every frame on the wire, from before the device starts.
     let dir = procimg_testkit::files::temp_dir("device-role-veth");

@@ -143,16 +143,7 @@ struct Server {
 
 impl Drop for Server {
     fn drop(&mut self) {
-        procimg_testkit::signal::terminate(&self.child);
-        let until = Instant::now() + Duration::from_secs(10);
-        while Instant::now() < until {
-            if let Ok(Some(_)) = self.child.try_wait() {
-                return;
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        }
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        procimg_testkit::signal::stop(&mut self.child, libc::SIGTERM, Duration::from_secs(10));
     }
 }
 

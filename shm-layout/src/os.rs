@@ -30,19 +30,33 @@ pub fn monotonic_ns() -> u64 {
 
 /// Waits until `fd` is readable or `timeout_ns` passed. Returns whether it is readable.
 pub fn wait_readable(fd: RawFd, timeout_ns: u64) -> bool {
-    let mut pfd = libc::pollfd {
+    let [readable] = wait_any_readable([fd], timeout_ns);
+    readable
+}
+
+/// Waits until one of `fds` is readable (or has an error) or `timeout_ns` passed. Returns
+/// which are.
+pub fn wait_any_readable<const N: usize>(fds: [RawFd; N], timeout_ns: u64) -> [bool; N] {
+    let mut polled = fds.map(|fd| libc::pollfd {
         fd,
         events: libc::POLLIN,
         revents: 0,
-    };
+    });
     let ts = libc::timespec {
         tv_sec: (timeout_ns / 1_000_000_000) as libc::time_t,
         tv_nsec: (timeout_ns % 1_000_000_000) as libc::c_long,
     };
-    // SAFETY: `pfd` is one valid pollfd, `ts` a valid timespec, and a null sigmask keeps the
-    // current signal mask.
-    let rc = unsafe { libc::ppoll(&mut pfd, 1, &ts, core::ptr::null()) };
-    rc > 0 && pfd.revents & libc::POLLIN != 0
+    // SAFETY: `polled` is an array of N valid pollfds, `ts` a valid timespec, and a null
+    // sigmask keeps the current signal mask.
+    let rc = unsafe {
+        libc::ppoll(
+            polled.as_mut_ptr(),
+            N as libc::nfds_t,
+            &ts,
+            core::ptr::null(),
+        )
+    };
+    polled.map(|p| rc > 0 && p.revents & (libc::POLLIN | libc::POLLERR) != 0)
 }
 
 /// Whether this process may create and remove entries in directory `dir` (write and search

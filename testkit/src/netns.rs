@@ -89,6 +89,11 @@ impl TestNet {
         }
     }
 
+    /// Puts the IPv4 address `cidr` (`A.B.C.D/N`) on end `i` of the pair.
+    pub fn address(&self, i: usize, cidr: &str) {
+        ip(&["-n", &self.ns[i], "addr", "add", cidr, "dev", &self.ifs[i]]);
+    }
+
     /// Runs `f` on a thread that has entered namespace `i`.
     pub fn in_ns<T: Send + 'static>(
         &self,

@@ -19,6 +19,28 @@ pub fn send(pid: u32, signal: libc::c_int) {
     }
 }
 
+/// Sends `signal` to `child` and waits up to `grace` for it to end; then SIGKILL. Returns its
+/// exit status (`None` if it could not be had).
+pub fn stop(
+    child: &mut Child,
+    signal: libc::c_int,
+    grace: std::time::Duration,
+) -> Option<std::process::ExitStatus> {
+    if let Ok(Some(status)) = child.try_wait() {
+        return Some(status);
+    }
+    send(child.id(), signal);
+    let until = std::time::Instant::now() + grace;
+    while std::time::Instant::now() < until {
+        if let Ok(Some(status)) = child.try_wait() {
+            return Some(status);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let _ = child.kill();
+    child.wait().ok()
+}
+
 /// Whether this process runs as root (namespaces, raw sockets and SCHED_FIFO need it).
 pub fn is_root() -> bool {
     // SAFETY: geteuid has no preconditions and cannot fail.

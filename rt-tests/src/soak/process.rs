@@ -50,11 +50,6 @@ impl Running {
         self.child.id()
     }
 
-    /// Whether it still runs.
-    pub fn alive(&mut self) -> bool {
-        matches!(self.child.try_wait(), Ok(None))
-    }
-
     /// The lines it printed since the last call.
     pub fn take_lines(&self) -> Vec<String> {
         self.lines.try_iter().collect()
@@ -81,19 +76,7 @@ impl Running {
 
     /// Sends `signal` and waits up to `grace` for the process to end; then SIGKILL.
     pub fn stop(&mut self, signal: i32, grace: Duration) {
-        if !self.alive() {
-            return;
-        }
-        procimg_testkit::signal::send(self.child.id(), signal);
-        let until = Instant::now() + grace;
-        while Instant::now() < until {
-            if !self.alive() {
-                return;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        procimg_testkit::signal::send(self.child.id(), libc::SIGKILL);
-        let _ = self.child.wait();
+        procimg_testkit::signal::stop(&mut self.child, signal, grace);
     }
 }
 

@@ -5,7 +5,7 @@
 
 use crate::process::Running;
 use anyhow::{Context as _, bail};
-use procimg_testkit::netns::{self, TestNet};
+use procimg_testkit::netns::TestNet;
 use std::net::Ipv4Addr;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -76,17 +76,8 @@ impl Rig {
         let net = TestNet::new("soak", true);
         let controller_ip = Ipv4Addr::new(10, 214, 0, 1);
         let device_ip = Ipv4Addr::new(10, 214, 0, 2);
-        for (i, ip) in [(0, controller_ip), (1, device_ip)] {
-            netns::ip(&[
-                "-n",
-                &net.ns[i],
-                "addr",
-                "add",
-                &format!("{ip}/24"),
-                "dev",
-                &net.ifs[i],
-            ]);
-        }
+        net.address(0, &format!("{controller_ip}/24"));
+        net.address(1, &format!("{device_ip}/24"));
         let printed = Command::new(&programs.device)
             .args(["--name", STATION, "--ip", &device_ip.to_string()])
             .arg("--print-config")

@@ -101,8 +101,8 @@ impl Datagrams for UdpDatagrams {
         wake: RawFd,
     ) -> std::io::Result<Option<(usize, SocketAddrV4)>> {
         let ns = timeout.as_nanos().min(u128::from(u64::MAX)) as u64;
-        let (datagram, _) =
-            crate::sys::poll::wait_readable_either(self.socket.as_raw_fd(), wake, ns);
+        let [datagram, _] =
+            crate::sys::poll::wait_any_readable([self.socket.as_raw_fd(), wake], ns);
         if !datagram {
             return Ok(None);
         }

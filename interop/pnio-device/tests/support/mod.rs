@@ -5,7 +5,7 @@
 
 pub mod device;
 
-use procimg_testkit::netns::{self, TestNet};
+use procimg_testkit::netns::TestNet;
 use std::net::Ipv4Addr;
 use std::process::Command;
 
@@ -24,17 +24,8 @@ impl Net {
         let net = TestNet::new(tag, true);
         let device_ip = Ipv4Addr::new(10, 213, subnet, 2);
         let controller_ip = Ipv4Addr::new(10, 213, subnet, 1);
-        for (i, ip) in [(0, controller_ip), (1, device_ip)] {
-            netns::ip(&[
-                "-n",
-                &net.ns[i],
-                "addr",
-                "add",
-                &format!("{ip}/24"),
-                "dev",
-                &net.ifs[i],
-            ]);
-        }
+        net.address(0, &format!("{controller_ip}/24"));
+        net.address(1, &format!("{device_ip}/24"));
         Net {
             net,
             device_ip,

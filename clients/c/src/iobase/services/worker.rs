@@ -115,7 +115,7 @@ fn handle(shared: &Shared, n: Notification) {
         // The handle announces itself to a new server by itself; the jobs of its
         // predecessors will never be confirmed.
         Notification::ServerStarted { generation } => {
-            fail_jobs(shared, |g| g != Some(generation));
+            fail_jobs(shared, |g, _| g != Some(generation));
         }
         // Device states and module differences have no IO-Base event (the device's own
         // alarms report the latter); the station's events are of a server in the device
@@ -140,50 +140,28 @@ fn handle(shared: &Shared, n: Notification) {
 /// that took them is gone or lost them.
 fn expire(shared: &Shared) -> bool {
     let now = Instant::now();
-    let (records, activations) = {
-        let mut jobs = lock(&shared.jobs);
-        let overdue: Vec<u64> = jobs
-            .records
-            .iter()
-            .filter(|(_, j)| j.deadline <= now)
-            .map(|(&r, _)| r)
-            .collect();
-        let records: Vec<RecordJob> = overdue
-            .iter()
-            .filter_map(|r| jobs.records.remove(r))
-            .collect();
-        let (late, waiting): (Vec<ActivationJob>, Vec<ActivationJob>) =
-            jobs.activations.drain(..).partition(|j| j.deadline <= now);
-        jobs.activations.extend(waiting);
-        (records, late)
-    };
-    let any = !records.is_empty() || !activations.is_empty();
-    for job in records {
-        deliver_record(shared, &job, build::NO_CONNECTION, &[]);
-    }
-    for job in activations {
-        deliver_activation(shared, &job, PNIO_ERR_NO_FW_COMMUNICATION);
-    }
-    any
+    fail_jobs(shared, |_, deadline| deadline <= now)
 }
 
-/// Confirms as failed ("no connection") every record job and activation sent to a server
-/// generation that `gone` holds.
-fn fail_jobs(shared: &Shared, gone: impl Fn(Option<u64>) -> bool) -> bool {
+/// Confirms as failed ("no connection") every record job and activation that `gone` picks
+/// by the server generation it was sent to and its deadline.
+fn fail_jobs(shared: &Shared, gone: impl Fn(Option<u64>, Instant) -> bool) -> bool {
     let (records, activations) = {
         let mut jobs = lock(&shared.jobs);
         let lost: Vec<u64> = jobs
             .records
             .iter()
-            .filter(|(_, j)| gone(j.generation))
+            .filter(|(_, j)| gone(j.generation, j.deadline))
             .map(|(&r, _)| r)
             .collect();
         let mut records: Vec<RecordJob> =
             lost.iter().filter_map(|r| jobs.records.remove(r)).collect();
         // In the order they were asked for.
         records.sort_by_key(|j| j.deadline);
-        let (lost, waiting): (Vec<ActivationJob>, Vec<ActivationJob>) =
-            jobs.activations.drain(..).partition(|j| gone(j.generation));
+        let (lost, waiting): (Vec<ActivationJob>, Vec<ActivationJob>) = jobs
+            .activations
+            .drain(..)
+            .partition(|j| gone(j.generation, j.deadline));
         jobs.activations.extend(waiting);
         (records, lost)
     };
@@ -214,7 +192,7 @@ fn orphaned(shared: &Shared) -> bool {
     else {
         return false;
     };
-    fail_jobs(shared, |g| g == generation)
+    fail_jobs(shared, |g, _| g == generation)
 }
 
 fn record_done(shared: &Shared, c: &RecordConfirmation) {
