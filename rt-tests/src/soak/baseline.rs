@@ -20,6 +20,13 @@ pub struct Baseline {
     cycle: Duration,
 }
 
+impl Drop for Baseline {
+    /// Also when the soak ends early: SIGINT lets cyclictest remove its file in /dev/shm.
+    fn drop(&mut self) {
+        self.run.stop(libc::SIGINT, Duration::from_secs(10));
+    }
+}
+
 /// cyclictest in PATH (rt-tests), else procimg's own beside this program.
 fn program() -> Option<PathBuf> {
     let path = std::env::var_os("PATH").unwrap_or_default();
