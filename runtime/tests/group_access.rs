@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! `[access] group` with three users: procimgd runs as a user of its own (not root) with the
 //! access group, with the capabilities and limits of `deploy/procimgd.service` (as systemd
-//! would give them: `prlimit` and `setpriv`), and cycles in real time; a member of the group attaches a synchronous client that runs cycles, and
+//! would give them: `prlimit` and `setpriv`), and cycles in real time, its PROFINET and control
+//! threads at the status priority; a member of the group attaches a synchronous client that runs cycles, and
 //! `procimg status` works for it; a user outside the group is told "access denied" and can
 //! open none of the shared-memory files. The users are plain ids (no accounts needed), the
 //! processes are started through `setpriv` (util-linux), and iceoryx2's directory is moved
@@ -85,6 +86,27 @@ fn as_user(uid: u32, gid: u32, groups: &[u32]) -> Vec<String> {
         args.push(format!("--groups={}", list.join(",")));
     }
     args
+}
+
+/// The scheduling policy and real-time priority of the thread called `name` in process `pid`
+/// (fields 41 and 40 of `/proc/PID/task/TID/stat`).
+fn scheduling(pid: u32, name: &str) -> (u32, u32) {
+    let tasks = std::fs::read_dir(format!("/proc/{pid}/task")).expect("procimgd's threads");
+    for task in tasks.flatten() {
+        let comm = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+        if comm.trim() != name {
+            continue;
+        }
+        let stat = std::fs::read_to_string(task.path().join("stat")).unwrap_or_default();
+        // After the command in parentheses: field 3 onwards.
+        let fields: Vec<&str> = stat
+            .rsplit_once(')')
+            .map(|(_, rest)| rest.split_whitespace().collect())
+            .unwrap_or_default();
+        let field = |n: usize| fields.get(n - 3).and_then(|f| f.parse().ok()).unwrap_or(0);
+        return (field(41), field(40));
+    }
+    panic!("procimgd has no thread {name}");
 }
 
 /// What `deploy/procimgd.service` gives procimgd, as `prlimit` and `setpriv` arguments.
@@ -253,6 +275,20 @@ fn members_of_the_access_group_attach_and_nobody_else_does() {
         text.contains("\"realtime\":true"),
         "the unit's capabilities and limits give the cycle thread SCHED_FIFO: {text}"
     );
+    // The threads that turn the cycle's reports into status and events run at the status
+    // priority (`[cycle_thread] status_priority`, default 40), as SCHED_FIFO.
+    let pid = server.child.id();
+    for (thread, what) in [
+        ("procimg-pnio", "the PROFINET thread"),
+        ("procimgd", "the control thread"),
+    ] {
+        let (policy, priority) = scheduling(pid, thread);
+        assert_eq!(
+            (policy, priority),
+            (libc::SCHED_FIFO as u32, 40),
+            "{what} ({thread}) runs SCHED_FIFO 40"
+        );
+    }
     let log_text = std::fs::read_to_string(&server.log).unwrap_or_default();
     assert!(
         !log_text.contains("cannot lock memory"),
