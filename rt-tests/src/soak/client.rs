@@ -4,14 +4,18 @@
 //! soak can kill it.
 //!
 //! Every cycle it waits for STARTOP, checks the device's inputs and writes the next value to
-//! its outputs, then signals OPDONE. The device answers every output byte plus one, so valid
-//! inputs that are not the answer to a recently written value are a data error (torn,
-//! foreign or stale data). It survives a restart of procimgd (the client library re-attaches)
-//! and takes its claim again when it was lost.
+//! its outputs, then signals OPDONE. The value of the k-th handled cycle carries k, and the
+//! device answers every output byte plus one, so valid inputs name the output they answer:
+//! an answer to no value this client wrote is a data error (torn or foreign data); an answer
+//! to a value more than [`HISTORY`] handled cycles old is stale (its outputs were held while
+//! OPDONE came late, or the device's application lagged), counted apart. It survives a
+//! restart of procimgd (the client library re-attaches) and takes its claim again when it
+//! was lost.
 //!
-//! Standard output, one line per event: `ATTACHED`, `ECHO` (the first matching answer after
+//! Standard output, one line per event: `ATTACHED`, `ECHO` (the first answer after
 //! attaching or re-attaching), `REATTACHED`, and every second
-//! `COUNT cycles=N opfaults=N wrong=N`.
+//! `COUNT cycles=N opfaults=N wrong=N stale=N oldest=N` (`oldest`: the largest age of an
+//! answer, in handled cycles).
 
 use anyhow::{Context as _, bail};
 use procimg_client::{AttachOptions, Client, Event, Ioxs, WaitError};
@@ -20,9 +24,9 @@ use std::time::{Duration, Instant};
 
 /// Bytes of the device's input and output submodules.
 const IO_LEN: usize = 8;
-/// Values remembered: an answer may lag its value by a few cycles (the device answers in its
-/// own cycle), or more when OPDONE came late.
-const HISTORY: usize = 64;
+/// Answers up to this many handled cycles old are in time: the device answers in its own
+/// cycle, a few cycles after the value went out, more when OPDONE came late.
+const HISTORY: u64 = 64;
 /// How long the client keeps trying to attach when procimgd is not there yet.
 const ATTACH_TIMEOUT: Duration = Duration::from_secs(60);
 /// SCHED_FIFO priority of the loop: below procimgd's cycle thread (80).
@@ -42,9 +46,15 @@ fn value(k: u64) -> [u8; IO_LEN] {
     v
 }
 
-/// The device's answer to `v`: every byte plus one.
-fn answer(v: &[u8; IO_LEN]) -> [u8; IO_LEN] {
-    v.map(|b| b.wrapping_add(1))
+/// The handled cycle whose value `answer` answers (every byte is the value's plus one), if it
+/// is one of this client's values at all.
+fn answered(answer: &[u8; IO_LEN]) -> Option<u64> {
+    let mut v = answer.map(|b| b.wrapping_sub(1));
+    if v[IO_LEN - 1] & 0x80 == 0 {
+        return None;
+    }
+    v[IO_LEN - 1] &= 0x7f;
+    Some(u64::from_le_bytes(v))
 }
 
 /// The device's output and input submodule in the layout.
@@ -94,8 +104,7 @@ pub fn run(instance: &str, device: &str) -> anyhow::Result<()> {
         .with_context(|| format!("claiming the outputs of {device:?}"))?;
     emit("ATTACHED");
 
-    let mut history = [[0u8; IO_LEN]; HISTORY];
-    let (mut k, mut opfaults, mut wrong) = (0u64, 0u64, 0u64);
+    let (mut k, mut opfaults, mut wrong, mut stale, mut oldest) = (0u64, 0u64, 0u64, 0u64, 0u64);
     let mut echoed = false;
     let mut next_count = Instant::now() + Duration::from_secs(1);
     loop {
@@ -110,19 +119,28 @@ pub fn run(instance: &str, device: &str) -> anyhow::Result<()> {
                     .status(input)
                     .is_some_and(|s| s.input_remote == Ioxs::Good);
                 if good && seen != [0; IO_LEN] {
-                    let known = history.iter().any(|v| answer(v) == seen);
-                    if known && !echoed {
-                        echoed = true;
-                        emit("ECHO");
-                    } else if !known && echoed {
-                        wrong += 1;
-                        eprintln!("soak client: inputs {seen:02x?} answer no recent output");
+                    // Before the first answer after (re-)attaching, the inputs may still
+                    // answer a predecessor's outputs, which procimgd held.
+                    match answered(&seen).filter(|&j| j < k) {
+                        Some(_) if !echoed => {
+                            echoed = true;
+                            emit("ECHO");
+                        }
+                        Some(j) => {
+                            oldest = oldest.max(k - j);
+                            if k - j > HISTORY {
+                                stale += 1;
+                            }
+                        }
+                        None if echoed => {
+                            wrong += 1;
+                            eprintln!("soak client: inputs {seen:02x?} answer no value it wrote");
+                        }
+                        None => {}
                     }
                 }
-                let v = value(k);
                 if let Ok(out) = cycle.output_mut(output) {
-                    out.copy_from_slice(&v);
-                    history[(k as usize) % HISTORY] = v;
+                    out.copy_from_slice(&value(k));
                     k += 1;
                 }
                 let _ = cycle.set_opdone();
@@ -146,7 +164,7 @@ pub fn run(instance: &str, device: &str) -> anyhow::Result<()> {
         if Instant::now() >= next_count {
             next_count += Duration::from_secs(1);
             emit(&format!(
-                "COUNT cycles={k} opfaults={opfaults} wrong={wrong}"
+                "COUNT cycles={k} opfaults={opfaults} wrong={wrong} stale={stale} oldest={oldest}"
             ));
         }
     }

@@ -109,8 +109,8 @@ struct Soak {
     tally: Tally,
     /// The last status of the running procimgd.
     life: Option<StatusReport>,
-    /// The last `COUNT` of the running client: cycles, OPFAULTs, data errors.
-    client_life: (u64, u64, u64),
+    /// The last `COUNT` of the running client.
+    client_life: Counts,
     /// Whether the running client has had an answer since it (re-)attached.
     client_echoed: bool,
     /// AlarmAcks the running device counted.
@@ -159,7 +159,7 @@ pub fn run(settings: &Settings) -> anyhow::Result<Tally> {
             ..Tally::default()
         },
         life: None,
-        client_life: (0, 0, 0),
+        client_life: Counts::default(),
         client_echoed: false,
         device_acked: 0,
         device_acked_before: 0,
@@ -330,9 +330,11 @@ impl Soak {
 
     /// Adds the ended client's figures.
     fn close_client(&mut self) {
-        let (cycles, _, wrong) = std::mem::take(&mut self.client_life);
-        self.tally.client_cycles += cycles;
-        self.tally.data_errors += wrong;
+        let c = std::mem::take(&mut self.client_life);
+        self.tally.client_cycles += c.cycles;
+        self.tally.data_errors += c.wrong;
+        self.tally.stale_echoes += c.stale;
+        self.tally.oldest_echo = self.tally.oldest_echo.max(c.oldest);
     }
 
     fn stop(slot: &mut Option<Running>, signal: i32) {
@@ -494,20 +496,60 @@ impl Soak {
     }
 }
 
-/// `cycles=N opfaults=N wrong=N`.
-fn parse_counts(text: &str) -> (u64, u64, u64) {
-    let mut c = (0, 0, 0);
+/// What the client counted: `cycles=N opfaults=N wrong=N stale=N oldest=N`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Counts {
+    cycles: u64,
+    wrong: u64,
+    stale: u64,
+    oldest: u64,
+}
+
+fn parse_counts(text: &str) -> Counts {
+    let mut c = Counts::default();
     for field in text.split_whitespace() {
         let Some((key, value)) = field.split_once('=') else {
             continue;
         };
         let Ok(v) = value.parse() else { continue };
         match key {
-            "cycles" => c.0 = v,
-            "opfaults" => c.1 = v,
-            "wrong" => c.2 = v,
+            "cycles" => c.cycles = v,
+            "wrong" => c.wrong = v,
+            "stale" => c.stale = v,
+            "oldest" => c.oldest = v,
             _ => {}
         }
     }
     c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_clients_counts_are_read_by_name() {
+        let c = parse_counts("cycles=10 opfaults=2 wrong=0 stale=3 oldest=70");
+        assert_eq!(
+            c,
+            Counts {
+                cycles: 10,
+                wrong: 0,
+                stale: 3,
+                oldest: 70
+            }
+        );
+    }
+
+    #[test]
+    fn the_schedule_repeats_from_its_seed() {
+        let mut a = Schedule::new(7, Duration::from_secs(20));
+        let mut b = Schedule::new(7, Duration::from_secs(20));
+        for _ in 0..100 {
+            let gap = a.gap();
+            assert_eq!(gap, b.gap());
+            assert!(gap >= Duration::from_secs(10) && gap <= Duration::from_secs(30));
+            assert_eq!(format!("{:?}", a.fault()), format!("{:?}", b.fault()));
+        }
+    }
 }

@@ -94,8 +94,13 @@ pub struct Tally {
     pub rt_heap_allocations: u64,
     /// Cycles the synchronous client handled.
     pub client_cycles: u64,
-    /// Valid inputs that answered no recent output of the client.
+    /// Valid inputs that answered no value the client wrote (torn or foreign data).
     pub data_errors: u64,
+    /// Valid inputs that answered a value more than 64 handled cycles old (outputs held while
+    /// OPDONE came late, or the device's application lagging).
+    pub stale_echoes: u64,
+    /// The oldest answer seen, in handled cycles.
+    pub oldest_echo: u64,
     /// Faults.
     pub kills: Kills,
     /// Times until it worked again.
@@ -238,6 +243,13 @@ impl Tally {
             self.malformed_received.to_string(),
         );
         row("data errors at the client", self.data_errors.to_string());
+        row(
+            "stale answers at the client (older than 64 cycles)",
+            format!(
+                "{} (the oldest {} cycles)",
+                self.stale_echoes, self.oldest_echo
+            ),
+        );
         let rec = &self.records;
         row(
             "records lost",
