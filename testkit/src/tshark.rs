@@ -97,8 +97,8 @@ pub fn clean_fields(name: &str, frames: &[Vec<u8>], fields: &[&str]) -> Vec<Vec<
     values
 }
 
-/// tshark recording an interface of a network namespace into a file, from before the test's
-/// traffic until [`LiveCapture::stop`] (or until dropped, also when the test fails).
+/// tshark recording an interface of a network namespace (not promiscuous: the frames it sends
+/// and those addressed to it) into a file, from before the test's traffic until [`LiveCapture::stop`] (or until dropped, also when the test fails).
 pub struct LiveCapture {
     child: Option<std::process::Child>,
     path: std::path::PathBuf,
@@ -109,7 +109,10 @@ impl LiveCapture {
     /// captures.
     pub fn start(ns: &str, interface: &str, path: &std::path::Path) -> LiveCapture {
         let child = Command::new("ip")
-            .args(["netns", "exec", ns, "tshark", "-q", "-i", interface, "-w"])
+            // -p: the interface's promiscuity stays what the test set up (some tests check it).
+            .args([
+                "netns", "exec", ns, "tshark", "-q", "-p", "-i", interface, "-w",
+            ])
             .arg(path)
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())

@@ -242,7 +242,7 @@ struct Rig {
     device: Device,
     /// Devices that were killed, kept for their output in a failure report.
     gone: Vec<Device>,
-    /// Every frame on the controller's end of the veth pair, from before the device starts.
+    /// Every frame on the device's end of the veth pair, from before the device starts.
     capture: Option<LiveCapture>,
     net: Net,
     /// Where the capture goes.
@@ -258,9 +258,10 @@ impl Rig {
     fn bring_up() -> Rig {
         let net = Net::new("pc", 9);
         let dir = procimg_testkit::files::temp_dir("pnio-controller");
+        // On the device's end: procimgd's interface must stay out of promiscuous mode.
         let capture = LiveCapture::start(
-            net.controller_ns(),
-            net.controller_if(),
+            net.device_ns(),
+            net.device_if(),
             &dir.path().join("wire.pcapng"),
         );
         let mut device = Device::start(&net);
@@ -636,9 +637,32 @@ impl Rig {
             "the stalled device was back in data exchange {} ms after it resumed",
             resumed.elapsed().as_millis()
         );
-        self.device
-            .wait_for_new("STATE data", Duration::from_secs(5));
-        self.round_trip(value(1));
+        // The resumed device may still act on what queued up while it stood (pnio was seen
+        // taking procimgd's ERR-RTA for the old AR as one for the new one, and aborting that
+        // too): data must flow again, whichever AR carries it.
+        let until = Instant::now() + BRING_UP_TIMEOUT;
+        let q = self.io.q;
+        loop {
+            let running = self
+                .status()
+                .devices
+                .first()
+                .is_some_and(|d| d.state == "running");
+            let accepted = running
+                && self
+                    .client()
+                    .data_write(q, &value(1), Ioxs::Good)
+                    .is_ok_and(|remote| remote == Ioxs::Good);
+            if accepted {
+                break;
+            }
+            assert!(
+                Instant::now() < until,
+                "the resumed device took no outputs within {BRING_UP_TIMEOUT:?}"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        self.round_trip(value(2));
     }
 
     /// Step 7: the client leaves and procimgd stops on SIGTERM: it releases the AR (the device
