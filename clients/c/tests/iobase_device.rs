@@ -16,9 +16,9 @@
 // The Rust half calls the C ABI and gives it callbacks.
 #![allow(unsafe_code)]
 
-mod device_callbacks;
+mod iobase_kit;
 
-use device_callbacks::{last_error, open_demo_device, quiet_table};
+use iobase_kit::{last_error, open_demo_device, quiet_table};
 use procimg::iobase::device_api::*;
 use procimg::iobase::device_types::*;
 use procimg::iobase::errors::*;

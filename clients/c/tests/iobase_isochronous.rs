@@ -19,12 +19,14 @@
 #![allow(unsafe_code)]
 
 use procimg::iobase::api::{
-    PNIO_CP_register_cbf, PNIO_CP_set_opdone, PNIO_controller_close, PNIO_controller_open,
-    PNIO_register_cbf, PNIO_set_mode,
+    PNIO_CP_register_cbf, PNIO_CP_set_opdone, PNIO_controller_close, PNIO_set_mode,
 };
-mod device_callbacks;
+mod iobase_kit;
 
-use device_callbacks::{last_error, open_demo_device, quiet_table};
+use iobase_kit::{
+    WAIT, ignore, last_error, name_cp, open_controller_in_operate, open_demo_device, quiet_table,
+    wait_until,
+};
 use procimg::iobase::device_api::*;
 use procimg::iobase::device_types::*;
 use procimg::iobase::errors::*;
@@ -35,8 +37,6 @@ use procimg_testkit::Launch;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
-
-const WAIT: Duration = Duration::from_secs(20);
 
 /// The tests share the process's watchdogs, callbacks and environment: one at a time.
 static SERIAL: Mutex<()> = Mutex::new(());
@@ -136,24 +136,6 @@ fn table() -> PNIO_CBF_FUNCTIONS {
         cbf_prm_end_ind: Some(prm_end_ind),
         cbf_device_stopped: Some(device_stopped),
         ..quiet_table()
-    }
-}
-
-/// Points CpIndex `cp` at `instance`.
-fn name_cp(cp: u32, instance: &str) {
-    // SAFETY: the tests of this binary run one at a time (SERIAL) and read the environment
-    // only inside the library's open calls, on this thread.
-    unsafe { std::env::set_var(format!("PROCIMG_CP{cp}"), instance) };
-}
-
-fn wait_until(what: &str, ok: impl Fn() -> bool) {
-    let until = Instant::now() + WAIT;
-    while !ok() {
-        assert!(
-            Instant::now() < until,
-            "{what} did not happen within {WAIT:?}"
-        );
-        std::thread::sleep(Duration::from_millis(5));
     }
 }
 
@@ -472,14 +454,6 @@ fn the_watchdog_stops_a_device_program_once() {
     stop_and_close(h2);
 }
 
-static MODE: AtomicU32 = AtomicU32::new(u32::MAX);
-
-unsafe extern "C" fn on_record(_: *mut PNIO_CBE_PRM) {}
-unsafe extern "C" fn on_mode(prm: *mut PNIO_CBE_PRM) {
-    // SAFETY: the library's parameters of a MODE_IND, valid for the call.
-    MODE.store(unsafe { (*prm).u.ModeInd.Mode }, Ordering::SeqCst);
-}
-
 #[test]
 fn the_watchdog_stops_a_controller_program_once() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
@@ -487,31 +461,7 @@ fn the_watchdog_stops_a_controller_program_once() {
     const CP: u32 = 6;
     name_cp(CP, &server.instance);
     WATCHDOG_CALLS.store(0, Ordering::SeqCst);
-    let mut h = 0;
-    // SAFETY: valid pointers and callbacks that live for the whole program.
-    unsafe {
-        assert_eq!(
-            PNIO_controller_open(
-                CP,
-                PNIO_CEP_MODE_CTRL,
-                Some(on_record),
-                Some(on_record),
-                None,
-                &mut h
-            ),
-            PNIO_OK,
-            "{}",
-            last_error()
-        );
-        assert_eq!(
-            PNIO_register_cbf(h, PNIO_CBE_MODE_IND, Some(on_mode)),
-            PNIO_OK
-        );
-        assert_eq!(PNIO_set_mode(h, PNIO_MODE_OPERATE), PNIO_OK);
-    }
-    wait_until("OPERATE", || {
-        MODE.load(Ordering::SeqCst) == PNIO_MODE_OPERATE
-    });
+    let h = open_controller_in_operate(CP, ignore, ignore);
     // SAFETY: every value is checked; the callback lives for the whole program.
     unsafe {
         assert_eq!(

@@ -11,27 +11,23 @@
 // The Rust half calls the C ABI and gives it callbacks.
 #![allow(unsafe_code)]
 
-use procimg::iobase::api::{
-    PNIO_controller_close, PNIO_controller_open, PNIO_rec_read_req, PNIO_register_cbf,
-    PNIO_set_mode,
-};
+use procimg::iobase::api::{PNIO_controller_close, PNIO_rec_read_req};
 use procimg::iobase::errors::*;
 use procimg::iobase::types::*;
+
+mod iobase_kit;
+
+use iobase_kit::{WAIT, ignore, last_error, name_cp, open_controller_in_operate, wait_until};
 use procimg_testkit::Launch;
 use procimg_testkit::signal;
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
-
-/// Far below the 60 s job timeout: a confirmation that needs the timeout misses it.
-const WAIT: Duration = Duration::from_secs(20);
 
 /// Reads per burst: the most a controller may have open.
 const BURST: u32 = 16;
 
 /// The REC_READ_CONFs seen: (ReqRef, Err).
 static CONFIRMED: Mutex<Vec<(PNIO_REF, PNIO_ERR_STAT)>> = Mutex::new(Vec::new());
-static MODE: AtomicU32 = AtomicU32::new(u32::MAX);
 
 fn confirmed() -> Vec<(PNIO_REF, PNIO_ERR_STAT)> {
     CONFIRMED.lock().unwrap_or_else(|e| e.into_inner()).clone()
@@ -45,30 +41,6 @@ unsafe extern "C" fn on_read(prm: *mut PNIO_CBE_PRM) {
         .unwrap_or_else(|e| e.into_inner())
         .push((c.ReqRef, c.Err));
 }
-unsafe extern "C" fn on_write(_: *mut PNIO_CBE_PRM) {}
-unsafe extern "C" fn on_mode(prm: *mut PNIO_CBE_PRM) {
-    // SAFETY: the library's parameters of a MODE_IND, valid for the call.
-    MODE.store(unsafe { (*prm).u.ModeInd.Mode }, Ordering::SeqCst);
-}
-
-fn last_error() -> String {
-    // SAFETY: the library's text for this thread, NUL-terminated, valid until its next call.
-    unsafe { std::ffi::CStr::from_ptr(procimg::ffi::last_error_ptr()) }
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn wait_until(what: &str, ok: impl Fn() -> bool) {
-    let until = Instant::now() + WAIT;
-    while !ok() {
-        assert!(
-            Instant::now() < until,
-            "{what} did not happen within {WAIT:?}"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
-
 /// The echo device's input submodule at logical address I 0.
 fn echo_in() -> PNIO_ADDR {
     // SAFETY: PNIO_ADDR is made of integers: all zero is a valid value.
@@ -94,34 +66,8 @@ fn no_connection(e: &PNIO_ERR_STAT) -> bool {
 fn jobs_of_a_killed_and_restarted_server_fail_at_once() {
     let mut server = Launch::demo("svcrestart").start();
     const CP: u32 = 9;
-    // SAFETY: the only test of this binary; the environment is read only inside the
-    // library's open call, on this thread.
-    unsafe { std::env::set_var(format!("PROCIMG_CP{CP}"), &server.instance) };
-    let mut h = 0;
-    // SAFETY: valid pointers and callbacks that live for the whole program.
-    unsafe {
-        assert_eq!(
-            PNIO_controller_open(
-                CP,
-                PNIO_CEP_MODE_CTRL,
-                Some(on_read),
-                Some(on_write),
-                None,
-                &mut h
-            ),
-            PNIO_OK,
-            "{}",
-            last_error()
-        );
-        assert_eq!(
-            PNIO_register_cbf(h, PNIO_CBE_MODE_IND, Some(on_mode)),
-            PNIO_OK
-        );
-        assert_eq!(PNIO_set_mode(h, PNIO_MODE_OPERATE), PNIO_OK);
-    }
-    wait_until("OPERATE", || {
-        MODE.load(Ordering::SeqCst) == PNIO_MODE_OPERATE
-    });
+    name_cp(CP, &server.instance);
+    let h = open_controller_in_operate(CP, on_read, ignore);
 
     // A burst of reads, the server stopped right after it took them, until some are held.
     let mut held = Vec::new();

@@ -1,12 +1,89 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! What the Rust tests of the IO-Base device API share: a callback table whose entries do
-//! nothing (each test sets the ones it watches), opening the demo device, and the library's
-//! last error text.
+//! What the Rust tests of the IO-Base API share: for the device API a callback table whose
+//! entries do nothing (each test sets the ones it watches) and opening the demo device; for
+//! the controller API naming a CpIndex and opening a controller in OPERATE; the library's last
+//! error text and a bounded wait.
+// Each test binary uses a part of it.
+#![allow(dead_code)]
 
+use procimg::iobase::api::{PNIO_controller_open, PNIO_register_cbf, PNIO_set_mode};
 use procimg::iobase::device_api::PNIO_device_open;
 use procimg::iobase::device_types::*;
 use procimg::iobase::errors::PNIO_OK;
-use procimg::iobase::types::{PNIO_CEP_MODE_CTRL, PNIO_ERR_STAT, PNIO_IOXS, PNIO_S_GOOD};
+use procimg::iobase::types::{
+    PNIO_CBE_MODE_IND, PNIO_CBE_PRM, PNIO_CEP_MODE_CTRL, PNIO_ERR_STAT, PNIO_IOXS,
+    PNIO_MODE_OPERATE, PNIO_S_GOOD,
+};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::{Duration, Instant};
+
+/// How long a test waits for what the library reports.
+pub const WAIT: Duration = Duration::from_secs(20);
+
+/// Waits up to [`WAIT`] until `ok`; fails the test naming `what` otherwise.
+pub fn wait_until(what: &str, ok: impl Fn() -> bool) {
+    let until = Instant::now() + WAIT;
+    while !ok() {
+        assert!(
+            Instant::now() < until,
+            "{what} did not happen within {WAIT:?}"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// Points CpIndex `cp` at `instance`.
+pub fn name_cp(cp: u32, instance: &str) {
+    // SAFETY: the tests that call this run one at a time and read the environment only inside
+    // the library's open calls, on this thread.
+    unsafe { std::env::set_var(format!("PROCIMG_CP{cp}"), instance) };
+}
+
+/// The mode the last MODE_IND reported.
+static MODE: AtomicU32 = AtomicU32::new(u32::MAX);
+
+unsafe extern "C" fn on_mode(prm: *mut PNIO_CBE_PRM) {
+    // SAFETY: the library's parameters of a MODE_IND, valid for the call.
+    MODE.store(unsafe { (*prm).u.ModeInd.Mode }, Ordering::SeqCst);
+}
+
+/// A controller callback that ignores what it is given.
+pub unsafe extern "C" fn ignore(_: *mut PNIO_CBE_PRM) {}
+
+/// Opens a controller on CpIndex `cp` (named with [`name_cp`]) with the record callbacks
+/// `on_read` and `on_write`, and brings it to OPERATE; its handle.
+pub fn open_controller_in_operate(
+    cp: u32,
+    on_read: unsafe extern "C" fn(*mut PNIO_CBE_PRM),
+    on_write: unsafe extern "C" fn(*mut PNIO_CBE_PRM),
+) -> u32 {
+    let mut h = 0;
+    // SAFETY: valid pointers and callbacks that live for the whole program.
+    unsafe {
+        assert_eq!(
+            PNIO_controller_open(
+                cp,
+                PNIO_CEP_MODE_CTRL,
+                Some(on_read),
+                Some(on_write),
+                None,
+                &mut h
+            ),
+            PNIO_OK,
+            "{}",
+            last_error()
+        );
+        assert_eq!(
+            PNIO_register_cbf(h, PNIO_CBE_MODE_IND, Some(on_mode)),
+            PNIO_OK
+        );
+        assert_eq!(PNIO_set_mode(h, PNIO_MODE_OPERATE), PNIO_OK);
+    }
+    wait_until("OPERATE", || {
+        MODE.load(Ordering::SeqCst) == PNIO_MODE_OPERATE
+    });
+    h
+}
 
 unsafe extern "C" fn data(_: u32, _: *mut PNIO_DEV_ADDR, _: u32, _: *mut u8, _: PNIO_IOXS) -> u32 {
     PNIO_S_GOOD
