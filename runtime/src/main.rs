@@ -225,6 +225,9 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     let mut group_access =
         GroupAccess::set_up(&config.access).with_context(|| config.origin.clone())?;
     let cleaned = cleanup_dead_nodes(&instance)?;
+    // No other server of the instance runs (checked above): the handshake blocks of killed
+    // predecessors are left-overs.
+    procimg_shm_layout::handshake_map::remove_stale_blocks(&instance);
     if !cleaned.is_empty() {
         info!(
             "removed what {} dead process(es) left in shared memory",

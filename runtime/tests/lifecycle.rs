@@ -168,6 +168,144 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
     cycle.set_opdone().unwrap();
 }
 
+/// Starts the child client of [`child_sync_client_that_hangs_in_its_window`] on `server`,
+/// with `trigger` as its hang file; returns it once it cycles, and its stdout.
+fn start_child(
+    server: &Procimgd,
+    trigger: &std::path::Path,
+) -> (
+    std::process::Child,
+    std::io::Lines<BufReader<std::process::ChildStdout>>,
+) {
+    let _ = std::fs::remove_file(trigger);
+    let mut child = Command::new(std::env::current_exe().unwrap())
+        .args([
+            "--exact",
+            "child_sync_client_that_hangs_in_its_window",
+            "--nocapture",
+        ])
+        .env(CHILD_ENV, &server.instance)
+        .env(TRIGGER_ENV, trigger)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    lines
+        .by_ref()
+        .map_while(Result::ok)
+        .find(|l| l.contains("cycling"))
+        .expect("the child client never printed cycling");
+    (child, lines)
+}
+
+/// The handshake block's futex words hold nothing of a client killed inside a wait: a client
+/// killed while it sleeps for STARTOP costs at most the one cycle it was armed for and no
+/// wake-up once it is reaped; a client killed in its window, while the server waits for its
+/// OPDONE, costs that cycle's OPFAULT and nothing after.
+#[test]
+fn a_client_killed_in_a_futex_wait_costs_at_most_its_cycle_and_leaves_nothing_behind() {
+    use procimg_shm_layout::handshake_map::HandshakeMap;
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let server = Procimgd::demo("futex-kill");
+    let generation = server.status().generation;
+    let block = HandshakeMap::open(&server.instance, generation).unwrap();
+    let trigger = std::env::temp_dir().join(format!("{}.hang", server.instance));
+
+    // 1. Killed while sleeping for STARTOP. Stopped first, then looked at: its bit in the
+    // sleeper mask proves it is inside the wait (between announcing itself and leaving).
+    let (mut child, _lines) = start_child(&server, &trigger);
+    let slot = doomed(&server.status()).slot;
+    let bit = 1u64 << slot;
+    let pid = child.id();
+    let mut caught = false;
+    for _ in 0..5000 {
+        procimg_testkit::signal::send(pid, libc::SIGSTOP);
+        // The signal is delivered when the child next runs kernel code: see it stopped.
+        let until = Instant::now() + Duration::from_secs(5);
+        while !stopped(pid) && Instant::now() < until {
+            std::thread::yield_now();
+        }
+        if block.block().sleepers.0.load(Ordering::SeqCst) & bit != 0 {
+            caught = true;
+            break;
+        }
+        procimg_testkit::signal::send(pid, libc::SIGCONT);
+        std::thread::sleep(Duration::from_micros(300));
+    }
+    assert!(caught, "the child was never caught inside its STARTOP wait");
+    let at_kill = server.status();
+    child.kill().unwrap();
+    let _ = child.wait();
+    let reaped = server.wait_status("the sleeping client reaped", |s| {
+        s.clients.iter().all(|c| c.name != "doomed")
+    });
+    let later = server.wait_status("150 more cycles", |s| {
+        s.cycle_count > reaped.cycle_count + 150
+    });
+    assert!(
+        later.opfaults <= at_kill.opfaults + 1,
+        "a client killed in its STARTOP wait cost {} OPFAULTs",
+        later.opfaults - at_kill.opfaults
+    );
+    let hs = block.block();
+    assert_eq!(
+        hs.sleepers.0.load(Ordering::SeqCst) & bit,
+        0,
+        "the killed client is still counted as sleeping: every STARTOP would wake for it"
+    );
+    assert_eq!(hs.fd_waiters.0.load(Ordering::SeqCst) & bit, 0);
+
+    // 2. Killed in its window: the server is waiting for its OPDONE.
+    let (mut child, mut lines) = start_child(&server, &trigger);
+    std::fs::write(&trigger, b"hang").unwrap();
+    let hung_cycle: u64 = lines
+        .by_ref()
+        .map_while(Result::ok)
+        .find_map(|l| {
+            l.strip_prefix("in-window ")
+                .map(|n| n.trim().parse().unwrap())
+        })
+        .expect("the child names the cycle it hangs in");
+    child.kill().unwrap();
+    let _ = child.wait();
+    let _ = std::fs::remove_file(&trigger);
+    // Every OPFAULT of cycles before the hung one is counted by now (each at its deadline).
+    let at_kill = server.status();
+    if let Some(c) = at_kill.clients.iter().find(|c| c.name == "doomed") {
+        assert!(
+            c.last_opfault_cycle <= hung_cycle,
+            "an OPFAULT for cycle {} after the client died in cycle {hung_cycle}",
+            c.last_opfault_cycle
+        );
+    }
+    let reaped = server.wait_status("the hung client reaped", |s| {
+        s.clients.iter().all(|c| c.name != "doomed")
+    });
+    let after = server.wait_status("150 more cycles", |s| {
+        s.cycle_count > reaped.cycle_count + 150
+    });
+    assert!(
+        after.opfaults <= at_kill.opfaults + 1,
+        "a client killed in its window cost {} OPFAULTs after its cycle",
+        after.opfaults - at_kill.opfaults
+    );
+    let hs = block.block();
+    assert_eq!(hs.sleepers.0.load(Ordering::SeqCst), 0);
+    assert_eq!(hs.server_sleeps.0.load(Ordering::SeqCst), 0);
+}
+
+/// Whether process `pid` is stopped (state `T` in /proc).
+fn stopped(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .ok()
+        .and_then(|s| {
+            s.rsplit_once(')')
+                .map(|(_, rest)| rest.trim_start().starts_with('T'))
+        })
+        .unwrap_or(false)
+}
+
 /// The hung client in a status report.
 fn doomed(s: &StatusReport) -> &ClientReport {
     s.clients

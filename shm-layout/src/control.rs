@@ -32,14 +32,11 @@ pub fn output_service(instance: &str, generation: u64) -> String {
     format!("procimg/{instance}/{generation:016x}/outputs")
 }
 
-/// The event service on which the server signals STARTOP, NEWCYCLE, MODE and OPFAULT.
+/// The event service on which the server signals NEWCYCLE, MODE, OPFAULT and shutdown, and
+/// STARTOP to clients that wait on its descriptor (the others sleep on the handshake block's
+/// futex word, see [`crate::handshake`]).
 pub fn cycle_event_service(instance: &str, generation: u64) -> String {
     format!("procimg/{instance}/{generation:016x}/cycle-events")
-}
-
-/// The event service on which synchronous clients signal OPDONE (event id = their slot).
-pub fn opdone_service(instance: &str, generation: u64) -> String {
-    format!("procimg/{instance}/{generation:016x}/opdone")
 }
 
 /// The iceoryx2 node name of the server of an instance.

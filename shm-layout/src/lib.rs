@@ -24,6 +24,13 @@ extern crate alloc;
 #[cfg(feature = "control")]
 pub mod control;
 pub mod events;
+#[cfg(feature = "std")]
+#[allow(unsafe_code)]
+pub mod futex;
+pub mod handshake;
+#[cfg(all(feature = "std", feature = "control"))]
+#[allow(unsafe_code)]
+pub mod handshake_map;
 mod hash;
 mod image_layout;
 #[cfg(feature = "std")]

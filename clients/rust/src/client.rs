@@ -8,16 +8,21 @@ use crate::error::{AttachError, ControlError, IoError, WaitError};
 use crate::layout::Layout;
 use crate::status::Ioxs;
 use iceoryx2::node::{Node, NodeState, NodeView};
-use iceoryx2::prelude::{CallbackProgression, EventId};
+use iceoryx2::prelude::CallbackProgression;
 use iceoryx2::sample::Sample;
 use iceoryx2::sample_mut::SampleMut;
 use procimg_shm_layout::control::{ClientRole, Request, Response, server_node_name};
 use procimg_shm_layout::events::{EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, opfault_event};
+use procimg_shm_layout::futex::LinuxFutex;
+use procimg_shm_layout::handshake::Woken;
+use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{
     CycleInfo, IMAGE_MAGIC, ImageHeader, MAX_CLIENTS, MODE_HISTORY, Mode, OUTPUT_SYNCHRONOUS,
     OutputHeader,
 };
 use std::collections::{BTreeSet, VecDeque};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// How a client attaches.
@@ -168,6 +173,11 @@ pub struct Client {
     last_opfault: u64,
     /// `ImageHeader::mode_changes` of the last mode change reported.
     mode_changes_seen: Option<u32>,
+    /// The handshake block's other-events word when the event service was last drained.
+    other_events_seen: u32,
+    /// A caller waits on [`Client::event_fd`]: the server then signals STARTOP on the event
+    /// service too, and every look drains it.
+    fd_waiter: AtomicBool,
     /// When the newest image arrived (to notice a server that stopped publishing).
     last_image: Instant,
     events: VecDeque<Event>,
@@ -214,6 +224,8 @@ impl Client {
             last_startop: 0,
             last_opfault: 0,
             mode_changes_seen: None,
+            other_events_seen: 0,
+            fd_waiter: AtomicBool::new(false),
             last_image: Instant::now(),
             events: VecDeque::new(),
             last_liveness: Instant::now(),
@@ -335,8 +347,29 @@ impl Client {
     /// mode, OPFAULT, NEWCYCLE, shutdown), for a caller that waits in its own `poll` and then
     /// calls [`Client::wait_startop`] or [`Client::events`] with a zero timeout. `None` while
     /// the server is gone; it changes when the client re-attaches.
+    ///
+    /// A caller that only needs to sleep until the next signal does better with
+    /// [`Client::event_wait`]: once a client's descriptor was asked for, the server signals
+    /// STARTOP through the event service as well (a system call per such client and cycle).
     pub fn event_fd(&self) -> Option<std::os::fd::RawFd> {
-        self.conn.as_ref().map(|c| c.events_fd)
+        let conn = self.conn.as_ref()?;
+        self.fd_waiter.store(true, Ordering::Relaxed);
+        conn.handshake.block().set_fd_waiter(self.slot, true);
+        Some(conn.events_fd)
+    }
+
+    /// A wait for the server's next signal to this client (STARTOP, mode, OPFAULT, NEWCYCLE,
+    /// shutdown), held apart from the client: a thread takes it, looks at the client
+    /// ([`Client::events`], [`Client::wait_startop`] with a zero timeout), lets go of it and
+    /// then sleeps in [`EventWait::wait`] on the handshake block's futex. What the server
+    /// signals after the wait was taken ends the sleep. `None` while the server is gone.
+    pub fn event_wait(&self) -> Option<EventWait> {
+        let conn = self.conn.as_ref()?;
+        Some(EventWait {
+            seen: conn.handshake.block().events_seen(),
+            block: conn.handshake.clone(),
+            slot: self.slot,
+        })
     }
 
     /// Whether this client is connected to a live server (it re-attaches by itself).
@@ -383,6 +416,14 @@ impl Client {
         let Some(conn) = &self.conn else {
             return;
         };
+        // The event service holds something only when the block's other-events word moved
+        // (or, for a descriptor waiter, STARTOP): otherwise looking costs a system call for
+        // nothing.
+        let other = conn.handshake.block().other_events_seen();
+        if other == self.other_events_seen && !self.fd_waiter.load(Ordering::Relaxed) {
+            return;
+        }
+        self.other_events_seen = other;
         let (mut mode, mut newcycle, mut shutdown, mut opfault) = (false, false, false, false);
         let mine = opfault_event(self.slot);
         let _ = conn.events.try_wait(|a| {
@@ -548,6 +589,10 @@ impl Client {
         self.token = token;
         self.generation = generation;
         self.server_pid = server_pid;
+        if self.fd_waiter.load(Ordering::Relaxed) {
+            conn.handshake.block().set_fd_waiter(slot, true);
+        }
+        self.other_events_seen = 0;
         self.conn = Some(conn);
         self.last_startop = 0;
         self.last_opfault = 0;
@@ -616,11 +661,30 @@ impl Client {
             Ok(_) => {}
         }
         if opdone_cycle.is_some() {
-            let _ = conn
-                .opdone
-                .notify_with_custom_event_id(EventId::new(self.slot as usize));
+            // The sample is there before the word moves: a server woken by it finds it.
+            conn.handshake.block().signal_opdone(&LinuxFutex);
         }
         Ok(())
+    }
+}
+
+/// A wait for the server's next signal, from [`Client::event_wait`].
+pub struct EventWait {
+    block: Arc<HandshakeMap>,
+    slot: u32,
+    seen: u32,
+}
+
+impl EventWait {
+    /// Sleeps until the server signals something after the wait was taken, or `timeout`.
+    /// Returns whether it did.
+    pub fn wait(&self, timeout: Duration) -> bool {
+        let deadline = procimg_shm_layout::os::monotonic_ns()
+            .saturating_add(timeout.as_nanos().min(u64::MAX as u128) as u64);
+        self.block
+            .block()
+            .wait_event(&LinuxFutex, self.slot, self.seen, deadline)
+            == Woken::Moved
     }
 }
 

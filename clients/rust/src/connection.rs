@@ -8,7 +8,6 @@ use iceoryx2::config::Config;
 use iceoryx2::node::{Node, NodeBuilder};
 use iceoryx2::port::client::Client as RrClient;
 use iceoryx2::port::listener::Listener;
-use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::{
@@ -19,6 +18,7 @@ use iceoryx2::service::builder::event::EventOpenError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use iceoryx2::service::builder::request_response::RequestResponseOpenError;
 use procimg_shm_layout::control;
+use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::share;
 use procimg_shm_layout::{IMAGE_MAGIC, ImageHeader, LAYOUT_VERSION, LayoutHeader, OutputHeader};
 use std::os::fd::RawFd;
@@ -209,12 +209,13 @@ pub struct Connection {
     pub inputs: Subscriber<Ipc, [u8], ImageHeader>,
     /// This client's outputs.
     pub outputs: Publisher<Ipc, [u8], OutputHeader>,
-    /// STARTOP, NEWCYCLE, MODE, OPFAULT.
+    /// NEWCYCLE, MODE, OPFAULT, shutdown; STARTOP too once the client waits on its
+    /// descriptor.
     pub events: Listener<Ipc>,
-    /// The events listener's socket, for precise waits.
+    /// The events listener's socket, for callers that wait in their own `poll`.
     pub events_fd: RawFd,
-    /// OPDONE.
-    pub opdone: Notifier<Ipc>,
+    /// The futex words of STARTOP and OPDONE (see `procimg_shm_layout::handshake`).
+    pub handshake: std::sync::Arc<HandshakeMap>,
     /// The layout of this generation.
     pub layout: Layout,
     /// The ids of the ports that have connections (inputs, outputs and the layout's
@@ -270,17 +271,17 @@ impl Connection {
             .listener_builder()
             .create()
             .map_err(|e| shm(instance, "a cycle event listener", e))?;
-        let opdone = node
-            .service_builder(&service_name(
-                instance,
-                control::opdone_service(instance, generation),
-            )?)
-            .event()
-            .open()
-            .map_err(|e| event_error(instance, "the OPDONE event service", e))?
-            .notifier_builder()
-            .create()
-            .map_err(|e| shm(instance, "an OPDONE notifier", e))?;
+        let handshake = HandshakeMap::open(instance, generation).map_err(|e| match e.kind() {
+            std::io::ErrorKind::PermissionDenied => AttachError::AccessDenied {
+                instance: instance.to_string(),
+                detail: "the handshake block".into(),
+            },
+            std::io::ErrorKind::NotFound => AttachError::NoServer {
+                instance: instance.to_string(),
+            },
+            _ => shm(instance, "the handshake block", e),
+        })?;
+        let handshake = std::sync::Arc::new(handshake);
         share_own_files();
         // SAFETY: the descriptor belongs to `events`, which lives in the same Connection and
         // outlives every use of the descriptor.
@@ -292,7 +293,7 @@ impl Connection {
             outputs,
             events,
             events_fd,
-            opdone,
+            handshake,
             layout,
         })
     }

@@ -15,6 +15,8 @@ use crate::io::{ReadResult, read_inputs, stamp};
 use crate::layout::Layout;
 use crate::status::{Ioxs, SubmoduleIoxs, read_status};
 use iceoryx2::sample_mut::SampleMut;
+use procimg_shm_layout::futex::LinuxFutex;
+use procimg_shm_layout::handshake::Woken;
 use procimg_shm_layout::{CycleInfo, Mode, OutputHeader};
 use std::time::{Duration, Instant};
 
@@ -29,6 +31,12 @@ impl Client {
             if self.conn.is_none() {
                 self.try_reattach()?;
             }
+            // Read before looking for the image: what the server signals after this ends the
+            // wait below at once.
+            let seen = self
+                .conn
+                .as_ref()
+                .map(|c| c.handshake.block().events_seen());
             self.drain_events();
             if self.conn.is_some() && self.take_new_cycle() {
                 return Ok(Cycle::new(self));
@@ -44,29 +52,23 @@ impl Client {
                 });
             }
             let slice = (until - now).min(LIVENESS_PERIOD);
-            match &self.conn {
-                Some(conn) if self.opts.busy_poll => {
-                    let spin_until = now + slice;
-                    while !conn.inputs.has_samples().unwrap_or(true) {
-                        std::hint::spin_loop();
-                        if Instant::now() >= spin_until {
-                            self.check_server();
-                            break;
-                        }
-                    }
-                    // The image is there before its STARTOP event: take it at once and leave
-                    // the event to the next call's drain, which costs a system call.
-                    if self.conn.is_some() && self.take_new_cycle() {
-                        return Ok(Cycle::new(self));
+            let deadline = now_ns().saturating_add(slice.as_nanos() as u64);
+            let woken = match (&self.conn, seen) {
+                (Some(conn), Some(seen)) => {
+                    let block = conn.handshake.block();
+                    if self.opts.busy_poll {
+                        block.spin_event(&LinuxFutex, seen, deadline)
+                    } else {
+                        block.wait_event(&LinuxFutex, self.slot, seen, deadline)
                     }
                 }
-                Some(conn) => {
-                    let ns = slice.as_nanos().min(u64::MAX as u128) as u64;
-                    if !procimg_shm_layout::os::wait_readable(conn.events_fd, ns) {
-                        self.check_server();
-                    }
+                _ => {
+                    std::thread::sleep(slice.min(REATTACH_PERIOD));
+                    continue;
                 }
-                None => std::thread::sleep(slice.min(REATTACH_PERIOD)),
+            };
+            if woken == Woken::TimedOut {
+                self.check_server();
             }
         }
     }

@@ -49,7 +49,7 @@ mod station_services;
 mod status;
 
 pub use access::{AccessError, Space};
-pub use client::{AttachOptions, Client, Event};
+pub use client::{AttachOptions, Client, Event, EventWait};
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
 pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};

@@ -173,7 +173,7 @@ impl<L: ClientLink> Engine<L> {
         let st = &mut self.st;
         st.cycle = k;
         st.stats.wakeup(woke.saturating_sub(t0_ns));
-        st.apply_commands();
+        st.apply_commands(&mut self.ports);
         let t = CycleTime {
             cycle: k,
             now_ns: woke,
@@ -226,6 +226,7 @@ impl<L: ClientLink> Engine<L> {
         // Without a published image there is nothing to answer: nobody is waited for.
         let deadline = t0_ns + st.settings.opdone_deadline_ns;
         loop {
+            let mark = self.ports.opdone_mark();
             drain_outputs(&mut self.ports, st);
             if !published || st.all_done() {
                 break;
@@ -234,9 +235,8 @@ impl<L: ClientLink> Engine<L> {
                 break;
             }
             let busy = st.settings.opdone_wait == OpdoneWait::BusyPoll;
-            self.ports.wait_outputs(deadline, busy);
+            self.ports.wait_outputs(mark, deadline, busy);
         }
-        self.ports.clear_wakeups();
         if published {
             st.opfault_late_clients(&mut self.ports);
         }
@@ -325,7 +325,7 @@ fn drain_outputs(ports: &mut impl ClientLink, st: &mut State) {
 }
 
 impl State {
-    fn apply_commands(&mut self) {
+    fn apply_commands(&mut self, ports: &mut impl ClientLink) {
         while let Some(c) = self.shared.commands.pop() {
             match c {
                 Command::Join {
@@ -334,6 +334,7 @@ impl State {
                     synchronous,
                     newcycle,
                 } => {
+                    ports.forget_client(slot);
                     if let Some(cl) = self.clients.get_mut(slot as usize) {
                         *cl = ClientRt {
                             token,
@@ -356,6 +357,7 @@ impl State {
                     }
                 }
                 Command::Leave { slot } => {
+                    ports.forget_client(slot);
                     if let Some(cl) = self.clients.get_mut(slot as usize) {
                         *cl = ClientRt::default();
                     }

@@ -6,9 +6,10 @@
 
 use crate::shm::CyclePorts;
 use crate::sys::clock::now_ns;
-use crate::sys::poll::wait_readable;
 use iceoryx2::port::update_connections::UpdateConnections;
-use iceoryx2::prelude::{EventId, FileDescriptorBased};
+use iceoryx2::prelude::EventId;
+use procimg_shm_layout::events::EVENT_STARTOP;
+use procimg_shm_layout::futex::LinuxFutex;
 use procimg_shm_layout::{ImageHeader, OutputHeader};
 use std::collections::VecDeque;
 
@@ -25,11 +26,16 @@ pub trait ClientLink {
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken;
     /// Signals event `id` (STARTOP, OPFAULT of a slot, ...) to the clients.
     fn notify(&mut self, id: usize);
-    /// Waits until an output sample may have arrived or `deadline_ns` passed; `busy` polls
-    /// instead of sleeping.
-    fn wait_outputs(&mut self, deadline_ns: u64, busy: bool);
-    /// Drops the OPDONE wake-ups that arrived (their samples are what counts).
-    fn clear_wakeups(&mut self);
+    /// A mark of the OPDONE signals so far: taken before looking for output samples, then
+    /// handed to [`ClientLink::wait_outputs`], so that an OPDONE in between is not slept
+    /// through.
+    fn opdone_mark(&self) -> u32;
+    /// Waits until a client signalled OPDONE after `mark` was taken, or `deadline_ns` passed;
+    /// `busy` polls instead of sleeping.
+    fn wait_outputs(&mut self, mark: u32, deadline_ns: u64, busy: bool);
+    /// Forgets what the client of `slot` left in the link's wake-up state (it joined anew,
+    /// left or died).
+    fn forget_client(&mut self, slot: u32);
     /// Brings the connections to clients that came or went up to date.
     fn maintain(&mut self);
 }
@@ -81,27 +87,34 @@ impl ClientLink for CyclePorts {
     }
 
     fn notify(&mut self, id: usize) {
-        let _ = iceoryx2_call(|| self.events.notify_with_custom_event_id(EventId::new(id)));
-    }
-
-    fn wait_outputs(&mut self, deadline_ns: u64, busy: bool) {
-        if busy {
-            // The sample is there before its OPDONE event: looking for samples is enough.
-            while !self.outputs.has_samples().unwrap_or(true) && now_ns() < deadline_ns {
-                std::hint::spin_loop();
+        let block = self.handshake.block();
+        if id == EVENT_STARTOP {
+            // Clients sleep on the block's futex word: one wake-up for all of them. The
+            // event service carries STARTOP only for clients that wait on its descriptor.
+            block.announce(&LinuxFutex, false);
+            if !block.has_fd_waiters() {
+                return;
             }
-            return;
         }
-        // SAFETY: the descriptor belongs to the listener in `self`, which outlives this call.
-        #[allow(unsafe_code)]
-        let fd = unsafe { self.opdone.file_descriptor().native_handle() };
-        if wait_readable(fd, deadline_ns.saturating_sub(now_ns())) {
-            self.clear_wakeups();
+        let _ = iceoryx2_call(|| self.events.notify_with_custom_event_id(EventId::new(id)));
+        if id != EVENT_STARTOP {
+            // After the event is on the service: a client woken by the word finds it there.
+            block.announce(&LinuxFutex, true);
         }
     }
 
-    fn clear_wakeups(&mut self) {
-        let _ = self.opdone.try_wait(|_| {});
+    fn opdone_mark(&self) -> u32 {
+        self.handshake.block().opdone_seen()
+    }
+
+    fn wait_outputs(&mut self, mark: u32, deadline_ns: u64, busy: bool) {
+        self.handshake
+            .block()
+            .wait_opdone(&LinuxFutex, mark, deadline_ns, busy);
+    }
+
+    fn forget_client(&mut self, slot: u32) {
+        self.handshake.block().forget_slot(slot);
     }
 
     fn maintain(&mut self) {
@@ -156,14 +169,18 @@ impl ClientLink for MemoryLink {
         self.events.push(id);
     }
 
-    fn wait_outputs(&mut self, deadline_ns: u64, _busy: bool) {
+    fn opdone_mark(&self) -> u32 {
+        0
+    }
+
+    fn wait_outputs(&mut self, _mark: u32, deadline_ns: u64, _busy: bool) {
         match self.answers.pop_front() {
             Some(answer) => self.outputs.push_back(answer),
             None => self.now = self.now.max(deadline_ns),
         }
     }
 
-    fn clear_wakeups(&mut self) {}
+    fn forget_client(&mut self, _slot: u32) {}
 
     fn maintain(&mut self) {}
 }

@@ -4,7 +4,6 @@
 use super::Ipc;
 use crate::image::Tables;
 use iceoryx2::node::{Node, NodeBuilder, NodeState, NodeView};
-use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
@@ -13,6 +12,7 @@ use iceoryx2::prelude::{
     Alignment, AllocationStrategy, CallbackProgression, NodeName, ServiceName,
 };
 use procimg_shm_layout::events::EVENT_ID_MAX;
+use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
 use procimg_shm_layout::{control, services};
 
@@ -134,10 +134,11 @@ pub struct CyclePorts {
     pub inputs: Publisher<Ipc, [u8], ImageHeader>,
     /// Receives the clients' output samples.
     pub outputs: Subscriber<Ipc, [u8], OutputHeader>,
-    /// Signals STARTOP, NEWCYCLE, MODE and OPFAULT.
+    /// Signals NEWCYCLE, MODE, OPFAULT and shutdown, and STARTOP to clients that wait on its
+    /// descriptor.
     pub events: Notifier<Ipc>,
-    /// Wakes the cycle thread on OPDONE.
-    pub opdone: Listener<Ipc>,
+    /// The futex words of STARTOP and OPDONE (see `procimg_shm_layout::handshake`).
+    pub handshake: HandshakeMap,
 }
 
 impl CyclePorts {
@@ -149,6 +150,9 @@ impl CyclePorts {
     ) -> Result<CyclePorts, ShmError> {
         let node = server_node(instance, "cycle")?;
         let l = &tables.layout;
+        // Before the image services: a client that finds them finds the block too.
+        let handshake = HandshakeMap::create(instance, generation)
+            .map_err(|e| err(instance, "handshake block", e))?;
 
         let inputs = node
             .service_builder(&name(
@@ -211,28 +215,12 @@ impl CyclePorts {
             .create()
             .map_err(|e| err(instance, "cycle event notifier", e))?;
 
-        let opdone = node
-            .service_builder(&name(
-                instance,
-                control::opdone_service(instance, generation),
-            )?)
-            .event()
-            .max_nodes(MAX_NODES)
-            .max_notifiers(MAX_CLIENTS)
-            .max_listeners(1)
-            .event_id_max_value(MAX_CLIENTS)
-            .create()
-            .map_err(|e| err(instance, "OPDONE event service", e))?
-            .listener_builder()
-            .create()
-            .map_err(|e| err(instance, "OPDONE listener", e))?;
-
         Ok(CyclePorts {
             node,
             inputs,
             outputs,
             events,
-            opdone,
+            handshake,
         })
     }
 }

@@ -20,8 +20,8 @@ use super::stopped;
 pub(crate) use super::sync::lock;
 use super::types::*;
 use procimg_client::{
-    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, Event, Layout,
-    Mode, Refusal, now_ns,
+    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, Event, EventWait,
+    Layout, Mode, Refusal, now_ns,
 };
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -637,19 +637,20 @@ fn collect(ctl: &Controller) -> Option<Collected> {
 /// The event thread: delivers MODE_IND, OPFAULT_IND, NEWCYCLE_IND and STARTOP_IND.
 fn event_thread(ctl: Arc<Controller>) {
     let mut resync = false;
+    // Taken before each look at the client: what the server signals after it ends the
+    // next sleep at once. A re-attach meanwhile costs one short sleep.
+    let mut wait: Option<EventWait> = None;
     while !ctl.stop.load(Ordering::Acquire) {
-        let fd = lock(&ctl.io).client.as_ref().and_then(|c| c.event_fd());
-        match fd {
-            // The descriptor may be replaced by a re-attach meanwhile: the wait is short,
-            // and a wrong wake-up costs one look.
-            Some(fd) => {
-                let _ = procimg_shm_layout::os::wait_readable(fd, EVENT_POLL.as_nanos() as u64);
+        match wait.take() {
+            Some(w) => {
+                let _ = w.wait(EVENT_POLL);
             }
             None => std::thread::sleep(EVENT_POLL),
         }
         if ctl.stop.load(Ordering::Acquire) {
             break;
         }
+        wait = lock(&ctl.io).client.as_ref().and_then(|c| c.event_wait());
         let Some(c) = collect(&ctl) else {
             continue;
         };

@@ -24,7 +24,7 @@ use crate::iobase::errors::*;
 use crate::iobase::isochronous::{self, OPDONE, REGISTER, cycle_info};
 use crate::iobase::stopped;
 use crate::iobase::types::*;
-use procimg_client::{AttachOptions, Client, Event, now_ns};
+use procimg_client::{AttachOptions, Client, Event, EventWait, now_ns};
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
@@ -134,18 +134,20 @@ fn start_thread(dev: &Arc<Device>) -> Result<(), u32> {
 /// The isochronous thread: STARTOP_IND, OPFAULT_IND and NEWCYCLE_IND, in the order they
 /// happened.
 fn run(dev: Arc<Device>) {
+    // Taken before each look at the client: what the server signals after it ends the
+    // next sleep at once. A re-attach meanwhile costs one short sleep.
+    let mut wait: Option<EventWait> = None;
     while !dev.iso.stop.load(Ordering::Acquire) {
-        let fd = lock(&dev.client).event_fd();
-        match fd {
-            // The descriptor may be replaced by a re-attach meanwhile: the wait is short.
-            Some(fd) => {
-                let _ = procimg_shm_layout::os::wait_readable(fd, POLL.as_nanos() as u64);
+        match wait.take() {
+            Some(w) => {
+                let _ = w.wait(POLL);
             }
             None => std::thread::sleep(POLL),
         }
         if dev.iso.stop.load(Ordering::Acquire) {
             break;
         }
+        wait = lock(&dev.client).event_wait();
         let expired = stopped::expired(dev.handle);
         let (startop, events, newest) = {
             let mut client = lock(&dev.client);

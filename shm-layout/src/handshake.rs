@@ -1,0 +1,337 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The handshake block: the futex words of STARTOP and OPDONE, in one page of shared memory
+//! that procimgd creates per server generation and every client maps read-write.
+//!
+//! The image and the outputs still travel as iceoryx2 samples; the block only says *when*.
+//! It replaces iceoryx2's event sockets on the hot path: one `FUTEX_WAKE` wakes every client
+//! sleeping for STARTOP at once, a client's OPDONE costs an atomic add and, only when the
+//! server sleeps, one `FUTEX_WAKE`, and the server sleeps for OPDONE with `FUTEX_WAIT_BITSET`
+//! until its absolute deadline on `CLOCK_MONOTONIC`.
+//!
+//! Every word is a hint, never the truth: the truth is the samples. A word that moves wakes a
+//! waiter, who then looks at the samples; a word a broken client overwrote costs at most a
+//! wake-up or a sleep until the deadline, never a wrong image. A process that dies while
+//! waiting holds nothing: its bits in the sleeper masks are cleared by the server when it
+//! reaps the slot ([`HandshakeBlock::forget_slot`]).
+//!
+//! Ordering: a waiter publishes that it sleeps (`fetch_or` of its bit, or `server_sleeps`)
+//! and then reads the word again; a waker moves the word and then reads whether anybody
+//! sleeps. Both sides use `SeqCst`, so one of them sees the other: either the waiter sees
+//! the new value and does not sleep, or the waker sees the sleeper and wakes it. The futex
+//! call itself compares the word once more in the kernel.
+
+use core::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+
+use crate::MAX_CLIENTS;
+
+/// "PIMGHSK1": marks an initialised block.
+pub const HANDSHAKE_MAGIC: u64 = 0x3148_5348_474d_4950;
+
+/// Size of the block's mapping: one page.
+pub const HANDSHAKE_BLOCK_SIZE: usize = 4096;
+
+/// One cache line, so that words written by different sides never share a line.
+#[repr(C, align(64))]
+#[derive(Debug, Default)]
+pub struct Line<T>(pub T);
+
+/// The block's contents (`#[repr(C)]`, at the start of the page).
+///
+/// cbindgen:ignore
+#[repr(C)]
+#[derive(Debug, Default)]
+pub struct HandshakeBlock {
+    /// [`HANDSHAKE_MAGIC`] once the server has initialised the block.
+    pub magic: Line<AtomicU64>,
+    /// The server generation the block belongs to.
+    pub generation: Line<AtomicU64>,
+    /// Moved by the server with every STARTOP and every other cycle event: clients sleep on
+    /// it (futex word).
+    pub events: Line<AtomicU32>,
+    /// Moved by the server with every event other than STARTOP (MODE, OPFAULT, NEWCYCLE,
+    /// shutdown), after it signalled the event on iceoryx2's cycle event service: a client
+    /// drains that service only when this moved.
+    pub other_events: Line<AtomicU32>,
+    /// Bit `slot`: that client sleeps on `events` (a STARTOP then needs a `FUTEX_WAKE`).
+    pub sleepers: Line<AtomicU64>,
+    /// Bit `slot`: that client waits on the descriptor of iceoryx2's cycle event listener
+    /// ([`crate::events`]): STARTOP is then signalled there too.
+    pub fd_waiters: Line<AtomicU64>,
+    /// Moved by a client after it sent its OPDONE sample: the server sleeps on it (futex
+    /// word).
+    pub opdone: Line<AtomicU32>,
+    /// Non-zero while the server sleeps on `opdone` (an OPDONE then needs a `FUTEX_WAKE`);
+    /// zero while it busy-polls, so a client's OPDONE makes no system call.
+    pub server_sleeps: Line<AtomicU32>,
+}
+
+const _: () = assert!(core::mem::size_of::<HandshakeBlock>() <= HANDSHAKE_BLOCK_SIZE);
+const _: () = assert!(MAX_CLIENTS <= 64, "the sleeper masks hold one bit per slot");
+
+/// How a wait ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Woken {
+    /// The word moved (or a wake-up came).
+    Moved,
+    /// The time was up first.
+    TimedOut,
+}
+
+/// The futex calls the block needs: provided by [`crate::futex`] on Linux, by a model in
+/// tests.
+pub trait Futex {
+    /// Sleeps while `word` holds `expected`, at most until `deadline_ns` on `CLOCK_MONOTONIC`
+    /// (absolute). May return early (a wake-up, a signal).
+    fn wait_until(&self, word: &AtomicU32, expected: u32, deadline_ns: u64);
+    /// Wakes up to `count` sleepers on `word`.
+    fn wake(&self, word: &AtomicU32, count: u32);
+    /// Now on `CLOCK_MONOTONIC`, in ns.
+    fn now_ns(&self) -> u64;
+}
+
+fn bit(slot: u32) -> u64 {
+    1u64 << (slot as usize % MAX_CLIENTS)
+}
+
+impl HandshakeBlock {
+    /// Marks the block as the one of `generation` (the server, once, after creating it).
+    pub fn initialise(&self, generation: u64) {
+        self.generation.0.store(generation, Ordering::Relaxed);
+        self.magic.0.store(HANDSHAKE_MAGIC, Ordering::Release);
+    }
+
+    /// Whether the block is initialised for `generation`.
+    pub fn belongs_to(&self, generation: u64) -> bool {
+        self.magic.0.load(Ordering::Acquire) == HANDSHAKE_MAGIC
+            && self.generation.0.load(Ordering::Relaxed) == generation
+    }
+
+    // ----- the server's side -----
+
+    /// Signals STARTOP (`other == false`) or another cycle event: moves the event word and
+    /// wakes every sleeping client with one system call (none when nobody sleeps).
+    pub fn announce(&self, futex: &impl Futex, other: bool) {
+        if other {
+            self.other_events.0.fetch_add(1, Ordering::SeqCst);
+        }
+        self.events.0.fetch_add(1, Ordering::SeqCst);
+        if self.sleepers.0.load(Ordering::SeqCst) != 0 {
+            futex.wake(&self.events.0, u32::MAX >> 1);
+        }
+    }
+
+    /// Whether some client waits on iceoryx2's event descriptor (STARTOP must go there too).
+    pub fn has_fd_waiters(&self) -> bool {
+        self.fd_waiters.0.load(Ordering::Relaxed) != 0
+    }
+
+    /// The OPDONE word now: read before looking at the samples, then hand it to
+    /// [`HandshakeBlock::wait_opdone`], so that an OPDONE in between is not slept through.
+    pub fn opdone_seen(&self) -> u32 {
+        self.opdone.0.load(Ordering::Acquire)
+    }
+
+    /// Waits until a client signals OPDONE after `seen` was read, or `deadline_ns`: sleeping
+    /// in the kernel, or with `busy` spinning on the word without a system call.
+    pub fn wait_opdone(
+        &self,
+        futex: &impl Futex,
+        seen: u32,
+        deadline_ns: u64,
+        busy: bool,
+    ) -> Woken {
+        if busy {
+            while self.opdone.0.load(Ordering::Acquire) == seen {
+                if futex.now_ns() >= deadline_ns {
+                    return Woken::TimedOut;
+                }
+                core::hint::spin_loop();
+            }
+            return Woken::Moved;
+        }
+        self.server_sleeps.0.store(1, Ordering::SeqCst);
+        if self.opdone.0.load(Ordering::SeqCst) == seen {
+            futex.wait_until(&self.opdone.0, seen, deadline_ns);
+        }
+        self.server_sleeps.0.store(0, Ordering::Relaxed);
+        if self.opdone.0.load(Ordering::Acquire) != seen {
+            Woken::Moved
+        } else {
+            Woken::TimedOut
+        }
+    }
+
+    /// Forgets what client `slot` left in the block (it left or died): it no longer sleeps
+    /// nor waits on a descriptor, so STARTOP stops waking for it.
+    pub fn forget_slot(&self, slot: u32) {
+        self.sleepers.0.fetch_and(!bit(slot), Ordering::SeqCst);
+        self.fd_waiters.0.fetch_and(!bit(slot), Ordering::SeqCst);
+    }
+
+    // ----- a client's side -----
+
+    /// The event word now: read before looking for a new image, then hand it to
+    /// [`HandshakeBlock::wait_event`].
+    pub fn events_seen(&self) -> u32 {
+        self.events.0.load(Ordering::Acquire)
+    }
+
+    /// The other-events word now: when it moved since the client last looked, there is
+    /// something on iceoryx2's cycle event service.
+    pub fn other_events_seen(&self) -> u32 {
+        self.other_events.0.load(Ordering::Acquire)
+    }
+
+    /// Client `slot` sleeps until the server signals an event after `seen` was read, or
+    /// `deadline_ns`.
+    pub fn wait_event(&self, futex: &impl Futex, slot: u32, seen: u32, deadline_ns: u64) -> Woken {
+        self.sleepers.0.fetch_or(bit(slot), Ordering::SeqCst);
+        if self.events.0.load(Ordering::SeqCst) == seen {
+            futex.wait_until(&self.events.0, seen, deadline_ns);
+        }
+        self.sleepers.0.fetch_and(!bit(slot), Ordering::SeqCst);
+        if self.events.0.load(Ordering::Acquire) != seen {
+            Woken::Moved
+        } else {
+            Woken::TimedOut
+        }
+    }
+
+    /// Spins until the server signals an event after `seen` was read, or `deadline_ns`,
+    /// without a system call.
+    pub fn spin_event(&self, futex: &impl Futex, seen: u32, deadline_ns: u64) -> Woken {
+        while self.events.0.load(Ordering::Acquire) == seen {
+            if futex.now_ns() >= deadline_ns {
+                return Woken::TimedOut;
+            }
+            core::hint::spin_loop();
+        }
+        Woken::Moved
+    }
+
+    /// Signals OPDONE, after the output sample was sent: moves the word, and wakes the server
+    /// only if it sleeps.
+    pub fn signal_opdone(&self, futex: &impl Futex) {
+        self.opdone.0.fetch_add(1, Ordering::SeqCst);
+        if self.server_sleeps.0.load(Ordering::SeqCst) != 0 {
+            futex.wake(&self.opdone.0, 1);
+        }
+    }
+
+    /// Client `slot` waits (also) on iceoryx2's event descriptor from now on, or no longer.
+    pub fn set_fd_waiter(&self, slot: u32, on: bool) {
+        if on {
+            self.fd_waiters.0.fetch_or(bit(slot), Ordering::SeqCst);
+        } else {
+            self.fd_waiters.0.fetch_and(!bit(slot), Ordering::SeqCst);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::cell::Cell;
+
+    /// Counts the system calls the protocol would make; a wait only moves the clock.
+    #[derive(Default)]
+    struct Model {
+        waits: Cell<u32>,
+        wakes: Cell<u32>,
+        now: Cell<u64>,
+    }
+
+    impl Futex for Model {
+        fn wait_until(&self, word: &AtomicU32, expected: u32, deadline_ns: u64) {
+            self.waits.set(self.waits.get() + 1);
+            if word.load(Ordering::SeqCst) == expected {
+                self.now.set(deadline_ns);
+            }
+        }
+        fn wake(&self, _: &AtomicU32, _: u32) {
+            self.wakes.set(self.wakes.get() + 1);
+        }
+        fn now_ns(&self) -> u64 {
+            let t = self.now.get();
+            self.now.set(t + 1);
+            t
+        }
+    }
+
+    #[test]
+    fn startop_wakes_only_when_a_client_sleeps() {
+        let (b, f) = (HandshakeBlock::default(), Model::default());
+        b.announce(&f, false);
+        assert_eq!(f.wakes.get(), 0);
+        b.sleepers.0.fetch_or(bit(3), Ordering::SeqCst);
+        b.announce(&f, false);
+        assert_eq!(f.wakes.get(), 1);
+        assert_eq!(b.events_seen(), 2);
+        assert_eq!(b.other_events_seen(), 0);
+        b.announce(&f, true);
+        assert_eq!(b.other_events_seen(), 1);
+    }
+
+    #[test]
+    fn opdone_wakes_only_a_sleeping_server() {
+        let (b, f) = (HandshakeBlock::default(), Model::default());
+        b.signal_opdone(&f);
+        assert_eq!(f.wakes.get(), 0, "a polling server needs no wake-up");
+        b.server_sleeps.0.store(1, Ordering::SeqCst);
+        b.signal_opdone(&f);
+        assert_eq!(f.wakes.get(), 1);
+    }
+
+    #[test]
+    fn a_word_that_moved_is_not_slept_on() {
+        let (b, f) = (HandshakeBlock::default(), Model::default());
+        let seen = b.opdone_seen();
+        b.signal_opdone(&f);
+        assert_eq!(b.wait_opdone(&f, seen, 1000, false), Woken::Moved);
+        assert_eq!(f.waits.get(), 0);
+        assert_eq!(b.server_sleeps.0.load(Ordering::SeqCst), 0);
+        let seen = b.events_seen();
+        b.announce(&f, false);
+        assert_eq!(b.wait_event(&f, 5, seen, 1000), Woken::Moved);
+        assert_eq!(f.waits.get(), 0);
+        assert_eq!(b.sleepers.0.load(Ordering::SeqCst), 0);
+    }
+
+    #[test]
+    fn waits_end_at_the_deadline() {
+        let (b, f) = (HandshakeBlock::default(), Model::default());
+        assert_eq!(
+            b.wait_opdone(&f, b.opdone_seen(), 500, false),
+            Woken::TimedOut
+        );
+        assert_eq!(
+            b.wait_opdone(&f, b.opdone_seen(), 900, true),
+            Woken::TimedOut
+        );
+        assert_eq!(b.wait_event(&f, 1, b.events_seen(), 2000), Woken::TimedOut);
+        assert_eq!(b.spin_event(&f, b.events_seen(), 2500), Woken::TimedOut);
+        assert_eq!(b.sleepers.0.load(Ordering::SeqCst), 0);
+    }
+
+    #[test]
+    fn a_forgotten_slot_stops_costing_wake_ups() {
+        let (b, f) = (HandshakeBlock::default(), Model::default());
+        // A client killed inside its wait leaves its bits set.
+        b.sleepers.0.fetch_or(bit(7), Ordering::SeqCst);
+        b.set_fd_waiter(7, true);
+        assert!(b.has_fd_waiters());
+        b.forget_slot(7);
+        b.announce(&f, false);
+        assert_eq!(f.wakes.get(), 0);
+        assert!(!b.has_fd_waiters());
+    }
+
+    #[test]
+    fn the_block_belongs_to_one_generation() {
+        let b = HandshakeBlock::default();
+        assert!(!b.belongs_to(0));
+        b.initialise(0x42);
+        assert!(b.belongs_to(0x42));
+        assert!(!b.belongs_to(0x43));
+    }
+}
