@@ -27,6 +27,9 @@ pub mod events;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod futex;
+/// The futex words of the handshake: used through the client library, not in the C header.
+///
+/// cbindgen:ignore
 pub mod handshake;
 #[cfg(all(feature = "std", feature = "control"))]
 #[allow(unsafe_code)]
