@@ -405,6 +405,69 @@ fn newcycle_on_request_and_the_whole_output_view_respects_claims() {
     assert!(server.status().rejected_writes == 0);
 }
 
+/// A submodule's outputs start as last sent when the program first touches them in a cycle,
+/// and keep what it wrote since; a whole overwrite and a partial write both reach the device.
+#[test]
+fn outputs_start_as_last_sent_only_where_the_program_touches_them() {
+    let server = Procimgd::demo("last-sent");
+    let mut c = Client::attach(&server.instance, AttachOptions::synchronous("writer")).unwrap();
+    let echo = c.layout().find("echo", 1, 1).unwrap();
+    c.claim(&[echo]).unwrap();
+    let mut pattern = [0u8; 16];
+    pattern
+        .iter_mut()
+        .enumerate()
+        .for_each(|(i, b)| *b = i as u8 + 1);
+    // Overwritten whole, until the image's mirror shows it went out.
+    let until = Instant::now() + Duration::from_secs(20);
+    loop {
+        let mut cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
+        let sent = cycle.outputs_sent(echo).unwrap() == pattern;
+        cycle
+            .output_overwrite(echo)
+            .unwrap()
+            .copy_from_slice(&pattern);
+        cycle.set_opdone().unwrap();
+        if sent {
+            break;
+        }
+        assert!(Instant::now() < until, "the overwrite never went out");
+    }
+    // Touched again: starts as last sent; a change of one byte keeps the others, and so does
+    // the whole view taken after it.
+    let mut cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
+    let out = cycle.output_mut(echo).unwrap();
+    assert_eq!(out, &pattern[..], "the outputs did not start as last sent");
+    out[3] = 0xee;
+    let q = cycle.outputs_mut().unwrap();
+    assert_eq!(q[3], 0xee, "the whole view lost what was written before it");
+    assert_eq!(q[..3], pattern[..3]);
+    cycle.set_opdone().unwrap();
+    // A partial write inside the window keeps the rest as last sent.
+    let mut expected = pattern;
+    expected[3] = 0xee;
+    expected[8..10].copy_from_slice(&[0xab, 0xcd]);
+    let until = Instant::now() + Duration::from_secs(20);
+    loop {
+        let mut cycle = c.wait_startop(STARTOP_TIMEOUT).unwrap();
+        let sent = cycle.outputs_sent(echo).unwrap() == expected;
+        let base = output_address(&cycle, echo);
+        cycle.write(base + 8, &[0xab, 0xcd], Ioxs::Good).unwrap();
+        cycle.set_opdone().unwrap();
+        if sent {
+            break;
+        }
+        assert!(
+            Instant::now() < until,
+            "the partial write never went out as expected"
+        );
+    }
+}
+
+fn output_address(cycle: &procimg_client::Cycle<'_>, s: usize) -> u32 {
+    cycle.layout().submodules[s].output_address
+}
+
 /// A cycle whose image another call already fetched (an event, a data_read) is still handed
 /// out by wait_startop: nothing is skipped, so the client does not miss its window.
 #[test]

@@ -608,27 +608,31 @@ impl Client {
         Ok(())
     }
 
-    /// Loans an output sample whose data starts as the outputs last sent and whose status
-    /// flags are clear.
+    /// Loans an output sample whose status flags are clear. Its output bytes are left as the
+    /// shared memory holds them (no pass over the output image): the server takes a
+    /// submodule's bytes only where its flags say written, and [`crate::Cycle`] fills a
+    /// submodule from the outputs last sent before it hands it out for changing.
     pub(crate) fn loan_output(&self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
         let conn = self.conn.as_ref().ok_or_else(|| IoError::ServerGone {
             instance: self.instance().to_string(),
         })?;
         let image = self.layout.image();
-        let out_size = image.output_size as usize;
-        let mirror = self.latest.as_ref().and_then(|s| {
-            let at = image.output_mirror_offset as usize;
-            s.payload().get(at..at + out_size)
-        });
         let len = image.output_payload_size as usize;
         let sample = conn
             .outputs
             .loan_slice_uninit(len)
             .map_err(|_| IoError::NotDelivered(crate::OUTPUT_BUFFER))?;
-        let mut sample = sample.write_from_fn(|i| match mirror {
-            Some(m) if i < out_size => m[i],
-            _ => 0,
-        });
+        // SAFETY: the payload lies in iceoryx2's data segment, a shared-memory mapping: the
+        // kernel zero-fills it when it is created and it is only ever written as bytes since,
+        // so every byte holds an initialised u8 (iceoryx2 types a loan as uninitialised for
+        // payload types where that would not hold).
+        #[allow(unsafe_code)]
+        let mut sample = unsafe { sample.assume_init() };
+        let at = image.client_status_offset as usize;
+        let statuses = 4 * self.layout.submodules.len();
+        if let Some(flags) = sample.payload_mut().get_mut(at..at + statuses) {
+            flags.fill(0);
+        }
         *sample.user_header_mut() = OutputHeader {
             magic: IMAGE_MAGIC,
             layout_hash: self.layout.hash(),
@@ -639,6 +643,17 @@ impl Client {
             sent_ns: 0,
         };
         Ok(sample)
+    }
+
+    /// Submodule `s`'s outputs as they went out last (the newest image's mirror), if there is
+    /// an image.
+    pub(crate) fn outputs_last_sent(&self, s: usize) -> Option<&[u8]> {
+        let e = self.layout.submodules.get(s)?;
+        let at = e.output_mirror_offset as usize;
+        self.latest
+            .as_ref()?
+            .payload()
+            .get(at..at + e.output_length as usize)
     }
 
     /// Sends an output sample; as OPDONE when `synchronous`.

@@ -3,8 +3,9 @@
 //!
 //! The input views are slices of the shared-memory sample the server published (no copy);
 //! the output views are slices of the shared-memory sample this client will send with its
-//! OPDONE. The output sample starts as a copy of the outputs last sent, so a program may
-//! change single bytes or bits.
+//! OPDONE. A submodule's outputs start as last sent when the program first touches them in a
+//! cycle ([`Cycle::output_mut`]), so a program may change single bytes or bits; a program that
+//! writes all of them takes [`Cycle::output_overwrite`] and no copy is made.
 
 use crate::access::resolve_write;
 use crate::client::{Client, LIVENESS_PERIOD, REATTACH_PERIOD};
@@ -17,7 +18,7 @@ use crate::status::{Ioxs, SubmoduleIoxs, read_status};
 use iceoryx2::sample_mut::SampleMut;
 use procimg_shm_layout::futex::LinuxFutex;
 use procimg_shm_layout::handshake::Woken;
-use procimg_shm_layout::{CycleInfo, Mode, OutputHeader};
+use procimg_shm_layout::{CLIENT_WROTE_OUTPUTS, CycleInfo, Mode, OutputHeader};
 use std::time::{Duration, Instant};
 
 impl Client {
@@ -204,6 +205,18 @@ impl<'c> Cycle<'c> {
     /// The outputs of submodule `s` for this cycle, writable in place, starting as last
     /// sent. Marks them written with local status GOOD.
     pub fn output_mut(&mut self, s: usize) -> Result<&mut [u8], IoError> {
+        self.claimed_output(s, true)
+    }
+
+    /// The outputs of submodule `s` for this cycle, writable in place, for a program that
+    /// writes every byte of them: unlike [`Cycle::output_mut`] they do not start as last sent
+    /// (what they hold is unspecified until written), which saves copying them. Marks them
+    /// written with local status GOOD.
+    pub fn output_overwrite(&mut self, s: usize) -> Result<&mut [u8], IoError> {
+        self.claimed_output(s, false)
+    }
+
+    fn claimed_output(&mut self, s: usize, keep_last: bool) -> Result<&mut [u8], IoError> {
         let e = *self
             .client
             .layout
@@ -221,12 +234,26 @@ impl<'c> Cycle<'c> {
         }
         // Written here, not through the write cache: the cache's copy is no longer current.
         self.client.write_cache.valid[s] = false;
-        let payload = self.output_sample()?;
-        stamp(payload, &e, None, Some(Ioxs::Good), None);
+        self.output_sample()?;
+        let (client, output) = (&*self.client, &mut self.output);
+        let payload = output.as_mut().map_or(&mut [][..], |o| o.payload_mut());
         let cs = e.client_status_offset as usize;
-        payload[cs + 2] |= procimg_shm_layout::CLIENT_WROTE_OUTPUTS;
         let at = e.output_offset as usize;
-        Ok(&mut payload[at..at + e.output_length as usize])
+        let len = e.output_length as usize;
+        let written = payload
+            .get(cs + 2)
+            .is_some_and(|f| f & CLIENT_WROTE_OUTPUTS != 0);
+        // The first touch in this cycle: the sample's bytes are not this submodule's yet.
+        if keep_last && !written {
+            let dst = &mut payload[at..at + len];
+            match client.outputs_last_sent(s) {
+                Some(last) => dst.copy_from_slice(last),
+                None => dst.fill(0),
+            }
+        }
+        stamp(payload, &e, None, Some(Ioxs::Good), None);
+        payload[cs + 2] |= CLIENT_WROTE_OUTPUTS;
+        Ok(&mut payload[at..at + len])
     }
 
     /// All output data of this cycle, writable in place, starting as last sent (the Q area of
@@ -234,24 +261,38 @@ impl<'c> Cycle<'c> {
     /// with local status GOOD; bytes of submodules it has not claimed are ignored by the
     /// server.
     pub fn outputs_mut(&mut self) -> Result<&mut [u8], IoError> {
-        let claimed: Vec<_> = self
-            .client
-            .claims
-            .iter()
-            .filter_map(|&s| self.client.layout.submodules.get(s).copied())
-            .collect();
-        let size = self.client.layout.header.output_size as usize;
+        let claimed: Vec<_> = self.client.claims.iter().copied().collect();
         self.client
             .write_cache
             .valid
             .iter_mut()
             .for_each(|v| *v = false);
-        let payload = self.output_sample()?;
-        for e in claimed {
-            stamp(payload, &e, None, Some(Ioxs::Good), None);
+        self.output_sample()?;
+        let (client, output) = (&*self.client, &mut self.output);
+        let payload = output.as_mut().map_or(&mut [][..], |o| o.payload_mut());
+        // What this cycle has not written yet starts as last sent.
+        for (s, e) in client.layout.submodules.iter().enumerate() {
             let cs = e.client_status_offset as usize;
-            payload[cs + 2] |= procimg_shm_layout::CLIENT_WROTE_OUTPUTS;
+            if payload
+                .get(cs + 2)
+                .is_some_and(|f| f & CLIENT_WROTE_OUTPUTS != 0)
+            {
+                continue;
+            }
+            let at = e.output_offset as usize;
+            let dst = &mut payload[at..at + e.output_length as usize];
+            match client.outputs_last_sent(s) {
+                Some(last) => dst.copy_from_slice(last),
+                None => dst.fill(0),
+            }
         }
+        for s in claimed {
+            if let Some(e) = client.layout.submodules.get(s) {
+                stamp(payload, e, None, Some(Ioxs::Good), None);
+                payload[e.client_status_offset as usize + 2] |= CLIENT_WROTE_OUTPUTS;
+            }
+        }
+        let size = client.layout.header.output_size as usize;
         Ok(&mut payload[..size])
     }
 
@@ -275,10 +316,15 @@ impl<'c> Cycle<'c> {
         let remote = self
             .status(r.submodule)
             .map_or(Ioxs::Bad, |st| st.output_remote);
-        let out = self.output_mut(r.submodule).map_err(|e| match e {
-            IoError::NotClaimed { submodule, .. } => IoError::NotClaimed { submodule, address },
-            e => e,
-        })?;
+        // A write of the whole submodule needs nothing of its last outputs.
+        let whole = r.offset == 0
+            && r.len == self.client.layout.submodules[r.submodule].output_length as usize;
+        let out = self
+            .claimed_output(r.submodule, !whole)
+            .map_err(|e| match e {
+                IoError::NotClaimed { submodule, .. } => IoError::NotClaimed { submodule, address },
+                e => e,
+            })?;
         out[r.offset..r.offset + r.len].copy_from_slice(data);
         let e = self.client.layout.submodules[r.submodule];
         stamp(self.output_sample()?, &e, None, Some(local), None);

@@ -81,11 +81,10 @@ pub fn run(a: &ClientArgs<'_>) -> Result<()> {
         let woke = now_ns();
         let info = cycle.info();
         n += 1;
+        // Every output byte written, as a PLC program writes its Q area each cycle.
         for &s in &owned {
-            if let Ok(out) = cycle.output_mut(s)
-                && let Some(first) = out.first_mut()
-            {
-                *first = info.cycle_number as u8;
+            if let Ok(out) = cycle.output_overwrite(s) {
+                out.fill(info.cycle_number as u8);
             }
         }
         cycle
