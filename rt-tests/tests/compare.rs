@@ -28,9 +28,31 @@ fn a_quick_comparison_prints_the_table_and_writes_its_files() {
         "sleeping STARTOP one way",
         "sleeping OPDONE one way",
         "sweep: sleeping round trip, 1 cl., 4 KiB [p99]",
-        "sweep: sleeping round trip, 2 cl., 64 B [p99]",
+        "sweep: sleeping round trip, 4 cl., 64 B [p99]",
+        "sweep: sleeping round trip, 1 cl., 64 KiB [p99]",
     ] {
         assert!(stdout.contains(row), "{row} missing:\n{stdout}");
+    }
+    // The goal table comes last, every goal measured or with its reason.
+    let goals = stdout
+        .split("## Goals")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no goal table:\n{stdout}"));
+    for goal in [
+        "sleeping round trip / futex round trip, p99 (1 cl., 64 B)",
+        "sleeping round trip / futex round trip, p50 (1 cl., 64 B)",
+        "sleeping round trip / futex round trip, p99 (4 cl., 64 B)",
+        "busy-poll round trip / spin round trip, p99",
+        "(futex + copy 64 KiB)",
+        "server copies per image byte per direction",
+        "steady-state allocations in the cycle, server",
+        "steady-state allocations in the cycle, clients",
+        "locked memory of procimgd",
+        "procimgd start to first cycle",
+        "client attach (release, synchronous), 359.5 KiB image",
+        "client attach (release, synchronous), 64 B image",
+    ] {
+        assert!(goals.contains(goal), "{goal} missing:\n{goals}");
     }
     // The baselines need nothing but this crate: they are always measured.
     for baseline in [
@@ -75,4 +97,15 @@ fn a_bad_option_is_refused_with_a_reason() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("not a size"));
+}
+
+#[test]
+fn a_cycle_time_procimgd_cannot_run_is_refused_with_the_ones_it_can() {
+    let out = Command::new(env!("CARGO_BIN_EXE_procimg-compare"))
+        .args(["--shortest-cycle", "250,200"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("31.25") && err.contains("187.5"), "{err}");
 }

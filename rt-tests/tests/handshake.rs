@@ -61,6 +61,14 @@ fn sleeping_clients_are_measured_in_both_directions() {
     assert_eq!(r.settings["clients"], "2");
     assert_eq!(r.settings["devices"], "3");
     assert_eq!(r.get("startop one way").unwrap().count, 600);
+    // The allocations of the measured cycles are counted on both sides (values not judged).
+    for key in ["server_cycle_allocations", "client_cycle_allocations"] {
+        assert!(
+            r.settings[key].parse::<u64>().is_ok(),
+            "{key}: {:?}",
+            r.settings
+        );
+    }
     // Server side: every OPDONE between the two snapshots, at least the measured ones.
     for name in ["opdone one way", "round trip"] {
         let m = r.get(name).unwrap();
@@ -96,4 +104,70 @@ fn too_many_busy_clients_are_refused_with_the_reason() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("need 65 CPUs"), "{err}");
+}
+
+#[test]
+fn the_demo_runs_at_the_cycle_asked_for() {
+    if !procimgd_built() {
+        eprintln!("skipped: procimgd is not built (run cargo test --workspace)");
+        return;
+    }
+    let path = temp("demo.json");
+    let r = run(&["--demo", "-i", "500", "-l", "300", "-q"], &path);
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(r.settings["plant"], "demo");
+    assert_eq!(r.settings["interval_us"], "500");
+    assert_eq!(r.get("startop one way").unwrap().count, 300);
+    for key in ["cycles", "overruns", "opfaults"] {
+        assert!(
+            r.settings[key].parse::<u64>().is_ok(),
+            "{key}: {:?}",
+            r.settings
+        );
+    }
+    assert!(r.get("server wake-up").unwrap().count > 0);
+}
+
+#[test]
+fn a_cycle_time_procimgd_cannot_run_is_refused_with_the_ones_it_can() {
+    let out = Command::new(tool())
+        .args(["--demo", "-i", "200", "-l", "10"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("31.25") && err.contains("187.5"), "{err}");
+}
+
+#[test]
+fn startup_times_the_start_and_the_attaches_and_reads_the_memory() {
+    if !procimgd_built() {
+        eprintln!("skipped: procimgd is not built (run cargo test --workspace)");
+        return;
+    }
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let path = temp("startup.json");
+    let out = Command::new(tool())
+        .args(["startup", "-b", "4KiB", "-n", "3", "--report"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r = Report::read_json(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    assert_eq!(r.get("client attach").unwrap().count, 3);
+    assert_eq!(r.get("start to first cycle").unwrap().count, 1);
+    assert_eq!(r.settings["max_clients"], "64");
+    for key in ["procimgd_vmlck_kib", "procimgd_vmrss_kib"] {
+        assert!(
+            r.settings[key].parse::<u64>().is_ok(),
+            "{key}: {:?}",
+            r.settings
+        );
+    }
 }

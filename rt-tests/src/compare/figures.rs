@@ -121,6 +121,28 @@ impl Results {
         })
     }
 
+    /// Every report of every job and round that has the setting `name`.
+    pub fn reports_with(&self, name: &str) -> Vec<&Report> {
+        self.runs
+            .values()
+            .flatten()
+            .flatten()
+            .filter(|r| r.settings.contains_key(name))
+            .collect()
+    }
+
+    /// The setting `name` of job `key`'s reports, round by round (rounds that failed or lack
+    /// it left out).
+    pub fn settings_of(&self, key: &str, name: &str) -> Vec<String> {
+        self.runs
+            .get(key)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter_map(|r| r.settings.get(name).cloned())
+            .collect()
+    }
+
     /// A setting of job `key`'s first report, e.g. procimg-handshake's overruns.
     pub fn setting(&self, key: &str, name: &str) -> Option<String> {
         self.runs

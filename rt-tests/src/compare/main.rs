@@ -11,15 +11,21 @@
 //! - `procimg-baseline eventfd` and `socket` (what iceoryx2's events cost);
 //! - `procimg-baseline memcpy` for the image sizes of the sweep, then the sweep of sleeping
 //!   handshakes over image sizes and client counts;
+//! - `procimg-handshake startup` for the largest and the smallest image (procimgd's start,
+//!   its locked memory, a client's attach);
 //!
-//! reads their JSON back, prints one table (also `DIR/table.md`) and draws `DIR/latency.svg`.
+//! reads their JSON back, prints one table and the goal table (also `DIR/table.md`) and
+//! draws `DIR/latency.svg`. With `--shortest-cycle` it runs instead, for each cycle time
+//! given, procimgd's demo beside the real cyclictest and reports the cycles each lost.
 //! A tool that is missing or fails leaves its rows "not measured" with the reason; the run
 //! goes on.
 
 mod figures;
+mod goals;
 mod plan;
 mod plot;
 mod run;
+mod shortest;
 mod table;
 
 use anyhow::{Context, Result};
@@ -51,11 +57,11 @@ struct Args {
     interval_us: u64,
     /// Image sizes of the handshake sweep (the first is the main rows' size); procimgd's
     /// image holds at most 368128 bytes each way [default: 64,4KiB,64KiB,368128; --quick:
-    /// 64,4KiB].
+    /// 64,4KiB,64KiB].
     #[arg(long, value_delimiter = ',', value_parser = parse_size)]
     sizes: Option<Vec<usize>>,
     /// Client counts of the handshake sweep (the first is the main rows' count)
-    /// [default: 1,4; --quick: 1,2].
+    /// [default: 1,4; --quick: 1,4].
     #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(usize))]
     clients: Option<Vec<usize>>,
     /// Run directory for every tool's report and log, the table and the plot
@@ -65,6 +71,15 @@ struct Args {
     /// Do not draw latency.svg.
     #[arg(long)]
     no_plots: bool,
+    /// Instead of the comparison: for each cycle time (µs, multiples of 31.25, e.g.
+    /// 250,187.5,125,93.75), procimgd's demo with a synchronous client beside the real
+    /// cyclictest at that interval, each for --duration; reports procimgd's overruns and
+    /// OPFAULTs beside cyclictest's late wake-ups.
+    #[arg(long, value_name = "µs,…", value_delimiter = ',', value_parser = shortest::parse_interval)]
+    shortest_cycle: Option<Vec<u64>>,
+    /// How long each side of a --shortest-cycle pair runs [default: 60s, --quick: 5s].
+    #[arg(long, value_parser = humantime::parse_duration)]
+    duration: Option<std::time::Duration>,
 }
 
 /// Parses `64`, `4K`, `4KiB`, `1M`, `1MiB` (the sizes the tools take).
@@ -94,34 +109,114 @@ fn main() {
 
 fn settings(args: &Args) -> Settings {
     let (loops, sizes, clients) = if args.quick {
-        (300, vec![64, 4096], vec![1, 2])
+        // Every size and client count a goal is about, with few loops.
+        (300, vec![64, 4096, 65536], vec![1, 4])
     } else {
         (10_000, vec![64, 4096, 65536, 368_128], vec![1, 4])
+    };
+    // The largest image's start-up locks GiBs today: not in a quick run.
+    let startup_sizes = if args.quick {
+        plan::STARTUP_SIZES[1..].to_vec()
+    } else {
+        plan::STARTUP_SIZES.to_vec()
     };
     Settings {
         loops: args.loops.unwrap_or(loops),
         interval_us: args.interval_us,
         sizes: args.sizes.clone().unwrap_or(sizes),
         clients: args.clients.clone().unwrap_or(clients),
+        startup_sizes,
     }
 }
 
 fn compare(args: &Args) -> Result<()> {
     let s = settings(args);
-    let rounds = args.rounds.unwrap_or(if args.quick { 1 } else { 3 });
     let dir = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("target/procimg-compare").join(utc_stamp()));
     std::fs::create_dir_all(&dir)
         .with_context(|| format!("cannot create the run directory {}", dir.display()))?;
+    if let Some(intervals) = &args.shortest_cycle {
+        return shortest_cycle(args, intervals, &dir);
+    }
+    let rounds = args.rounds.unwrap_or(if args.quick { 1 } else { 3 });
     let groups = plan::groups(&s);
+    let results = run_groups(&groups, rounds, &dir)?;
+
+    let rows = table::rows(&results, &s);
+    let mut text = header(&s, rounds, &dir, args.quick);
+    text += &table::render(&rows, !args.quick);
+    text += &footer(&results, &s);
+    text += "\n## Goals\n\n";
+    text += &goals::render(&goals::goals(&results, &s), !args.quick);
+    print!("{text}");
+    let table_path = dir.join("table.md");
+    std::fs::write(&table_path, &text)
+        .with_context(|| format!("cannot write {}", table_path.display()))?;
+    if !args.no_plots {
+        let svg = dir.join("latency.svg");
+        let title = format!(
+            "procimg latency beside its limits: {}",
+            Machine::this().cpu.trim()
+        );
+        plot::latency_svg(&svg, &title, &panels(&results, &s))?;
+        println!("plot: {}", svg.display());
+    }
+    println!("table: {}", table_path.display());
+    Ok(())
+}
+
+/// The shortest-cycle runs: a pair per cycle time, their table printed and in table.md.
+fn shortest_cycle(args: &Args, intervals: &[u64], dir: &Path) -> Result<()> {
+    let rounds = args.rounds.unwrap_or(1);
+    let duration = args
+        .duration
+        .unwrap_or(std::time::Duration::from_secs(if args.quick {
+            5
+        } else {
+            60
+        }));
+    let groups: Vec<Vec<Job>> = intervals
+        .iter()
+        .map(|&ns| shortest::pair(ns, duration))
+        .collect();
+    let results = run_groups(&groups, rounds, dir)?;
+    let m = Machine::this();
+    let list: Vec<String> = intervals.iter().map(|&ns| shortest::us_text(ns)).collect();
+    let mut text = format!(
+        "# procimg-compare --shortest-cycle {}\n\n\
+         machine: {}, {} CPUs, kernel {}, PREEMPT_RT {}\n\
+         settings: {rounds} round(s) (counts summed), pairs alternated; each side {} per \
+         round: procimgd --demo (SCHED_FIFO 80, OPDONE deadline half the cycle) with one \
+         sleeping synchronous client (FIFO 70), and cyclictest -m -p 80 -h 2000\n\
+         run directory: {}\n\n",
+        list.join(","),
+        m.cpu,
+        m.cpus,
+        m.kernel,
+        if m.preempt_rt { "yes" } else { "no" },
+        humantime::format_duration(duration),
+        dir.display(),
+    );
+    text += &shortest::render(&shortest::rows(&results, intervals));
+    print!("{text}");
+    let table_path = dir.join("table.md");
+    std::fs::write(&table_path, &text)
+        .with_context(|| format!("cannot write {}", table_path.display()))?;
+    println!("table: {}", table_path.display());
+    Ok(())
+}
+
+/// Runs every group `rounds` times into `dir/round-N`, the pairs' order swapped every other
+/// round.
+fn run_groups(groups: &[Vec<Job>], rounds: u32, dir: &Path) -> Result<Results> {
     let mut results = Results::default();
     for round in 1..=rounds {
         let round_dir = dir.join(format!("round-{round}"));
         std::fs::create_dir_all(&round_dir)
             .with_context(|| format!("cannot create {}", round_dir.display()))?;
-        for group in &groups {
+        for group in groups {
             // Swap each pair every other round, so that neither side always runs first
             // (right after the other has warmed or disturbed the caches and the CPU clock).
             let order: Vec<&Job> = if round % 2 == 0 {
@@ -140,26 +235,7 @@ fn compare(args: &Args) -> Result<()> {
             }
         }
     }
-
-    let rows = table::rows(&results, &s);
-    let mut text = header(&s, rounds, &dir, args.quick);
-    text += &table::render(&rows, !args.quick);
-    text += &footer(&results, &s);
-    print!("{text}");
-    let table_path = dir.join("table.md");
-    std::fs::write(&table_path, &text)
-        .with_context(|| format!("cannot write {}", table_path.display()))?;
-    if !args.no_plots {
-        let svg = dir.join("latency.svg");
-        let title = format!(
-            "procimg latency beside its limits: {}",
-            Machine::this().cpu.trim()
-        );
-        plot::latency_svg(&svg, &title, &panels(&results, &s))?;
-        println!("plot: {}", svg.display());
-    }
-    println!("table: {}", table_path.display());
-    Ok(())
+    Ok(results)
 }
 
 /// Runs `job` once into `dir` and reads what it wrote.

@@ -38,6 +38,8 @@ pub struct Settings {
     pub sizes: Vec<usize>,
     /// Client counts of the sweep; the first is the count of the main handshake rows.
     pub clients: Vec<usize>,
+    /// Image sizes of the start-up jobs (some of [`STARTUP_SIZES`]).
+    pub startup_sizes: Vec<usize>,
 }
 
 impl Settings {
@@ -132,6 +134,33 @@ pub fn copy_name(bytes: usize) -> String {
 /// Key of the memcpy job.
 pub const MEMCPY: &str = "memcpy";
 
+/// Image sizes the start-up job runs with: the largest image (what the memory and start
+/// goals are about) and the smallest.
+pub const STARTUP_SIZES: [usize; 2] = [368_128, 64];
+/// Why a quick run leaves the largest image's start-up out.
+pub const QUICK_LEAVES_OUT_LARGE: &str = "--quick leaves the largest image's start-up out: \
+     procimgd locks and populates every sample slot of it (GiBs, tens of seconds); run \
+     without --quick";
+/// Attaches timed per start-up job.
+pub const STARTUP_ATTACHES: u32 = 20;
+/// procimg-handshake startup's measurements and settings.
+pub const FIRST_CYCLE: &str = "start to first cycle";
+/// See [`FIRST_CYCLE`].
+pub const ATTACH: &str = "client attach";
+/// See [`FIRST_CYCLE`]; KiB.
+pub const VMLCK_KIB: &str = "procimgd_vmlck_kib";
+/// See [`FIRST_CYCLE`]; KiB.
+pub const VMRSS_KIB: &str = "procimgd_vmrss_kib";
+/// procimg-handshake's settings: allocations in the measured cycles.
+pub const SERVER_ALLOCATIONS: &str = "server_cycle_allocations";
+/// See [`SERVER_ALLOCATIONS`].
+pub const CLIENT_ALLOCATIONS: &str = "client_cycle_allocations";
+
+/// Key of the start-up job for an image of `bytes`.
+pub fn startup_key(bytes: usize) -> String {
+    format!("startup-{bytes}B")
+}
+
 /// The groups, in order; each group runs back to back.
 pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
     let cycles = Duration::from_micros(s.loops * s.interval_us);
@@ -197,6 +226,24 @@ pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
     for h in sweep(s) {
         groups.push(vec![handshake(h)]);
     }
+    groups.push(
+        s.startup_sizes
+            .iter()
+            .map(|&bytes| Job {
+                key: startup_key(bytes),
+                program: HANDSHAKE,
+                args: strings(&[
+                    "startup",
+                    "-b",
+                    &bytes.to_string(),
+                    "-n",
+                    &STARTUP_ATTACHES.to_string(),
+                ]),
+                output: Output::Report,
+                expected: Duration::from_secs(5),
+            })
+            .collect(),
+    );
     groups
 }
 
@@ -232,6 +279,7 @@ mod tests {
             interval_us: 1000,
             sizes: vec![64, 4096],
             clients: vec![1, 4],
+            startup_sizes: STARTUP_SIZES.to_vec(),
         }
     }
 

@@ -215,14 +215,8 @@ fn triple(s: &Stats) -> String {
 /// The table with its footnotes (the reasons rows were not measured). `judged`: false for
 /// quick runs, whose few loops say nothing about the goals.
 pub fn render(rows: &[Row], judged: bool) -> String {
-    let mut notes: Vec<String> = Vec::new();
-    let mut note = |reason: &str| {
-        let i = notes.iter().position(|n| n == reason).unwrap_or_else(|| {
-            notes.push(reason.to_string());
-            notes.len() - 1
-        });
-        format!("not measured [{}]", i + 1)
-    };
+    let mut notes = Notes::default();
+    let mut note = |reason: &str| notes.not_measured(reason);
     let header = [
         "figure",
         "value (µs, p50 / p99 / max)",
@@ -253,7 +247,15 @@ pub fn render(rows: &[Row], judged: bool) -> String {
             met,
         ]);
     }
-    let widths: Vec<usize> = (0..7)
+    let mut out = grid(&cells);
+    out += &footnotes(&notes.0);
+    out
+}
+
+/// Rows of cells (the first the header) as a fixed-width markdown table: every line equally
+/// wide.
+pub fn grid<const N: usize>(cells: &[[String; N]]) -> String {
+    let widths: Vec<usize> = (0..N)
         .map(|c| {
             cells
                 .iter()
@@ -262,7 +264,7 @@ pub fn render(rows: &[Row], judged: bool) -> String {
                 .unwrap_or(0)
         })
         .collect();
-    let line = |row: &[String; 7]| {
+    let line = |row: &[String; N]| {
         let padded: Vec<String> = row
             .iter()
             .zip(&widths)
@@ -270,12 +272,21 @@ pub fn render(rows: &[Row], judged: bool) -> String {
             .collect();
         format!("| {} |\n", padded.join(" | "))
     };
-    let mut out = line(&cells[0]);
+    let Some((header, body)) = cells.split_first() else {
+        return String::new();
+    };
+    let mut out = line(header);
     let rule: Vec<String> = widths.iter().map(|&w| "-".repeat(w)).collect();
     out += &format!("| {} |\n", rule.join(" | "));
-    for row in &cells[1..] {
+    for row in body {
         out += &line(row);
     }
+    out
+}
+
+/// The numbered reasons under a table, "[1] …", after an empty line; nothing without any.
+pub fn footnotes(notes: &[String]) -> String {
+    let mut out = String::new();
     if !notes.is_empty() {
         out.push('\n');
         for (i, n) in notes.iter().enumerate() {
@@ -283,6 +294,21 @@ pub fn render(rows: &[Row], judged: bool) -> String {
         }
     }
     out
+}
+
+/// Numbers the reasons rows were not measured: the same reason, the same number.
+#[derive(Default)]
+pub struct Notes(pub Vec<String>);
+
+impl Notes {
+    /// "not measured [n]" for `reason`.
+    pub fn not_measured(&mut self, reason: &str) -> String {
+        let i = self.0.iter().position(|n| n == reason).unwrap_or_else(|| {
+            self.0.push(reason.to_string());
+            self.0.len() - 1
+        });
+        format!("not measured [{}]", i + 1)
+    }
 }
 
 #[cfg(test)]
@@ -304,6 +330,7 @@ mod tests {
             interval_us: 1000,
             sizes: vec![64],
             clients: vec![1],
+            startup_sizes: plan::STARTUP_SIZES.to_vec(),
         }
     }
 

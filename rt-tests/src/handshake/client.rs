@@ -2,10 +2,13 @@
 //! One measuring client, a process of its own (`procimg-handshake client …`): a synchronous
 //! procimg client that owns every `clients`-th device's outputs and, each cycle, takes the
 //! STARTOP, notes how long after the image was complete it woke, writes its outputs and
-//! sends OPDONE. It talks to the coordinating process in lines: `ready` after its warm-up,
-//! then it waits for `go`, measures, writes its report and says `done`, then waits for its
-//! stdin to close before it detaches (so that leaving does not disturb the others).
+//! sends OPDONE, counting the allocations of its measured cycles ([`crate::alloc_count`]).
+//! It talks to the coordinating process in lines: `ready` after its warm-up, then it waits
+//! for `go`, measures, writes its report and says `done`, then waits for its stdin to close
+//! before it detaches (so that leaving does not disturb the others). With no devices (the
+//! demo) it claims nothing and only does the handshake.
 
+use crate::alloc_count;
 use crate::plant::device_name;
 use anyhow::{Context, Result, bail};
 use procimg_client::{AttachOptions, Client, now_ns};
@@ -13,6 +16,9 @@ use procimg_rt_tests::report::{Measurement, Report, new_histogram};
 use std::io::Write;
 use std::path::Path;
 use std::time::Duration;
+
+/// The client report's setting: allocations in its measured cycles (goal 0).
+pub const CYCLE_ALLOCATIONS: &str = "cycle_allocations";
 
 /// What one client does.
 pub struct ClientArgs<'a> {
@@ -75,25 +81,31 @@ pub fn run(a: &ClientArgs<'_>) -> Result<()> {
     let (mut said_ready, mut measuring, mut said_done) = (false, false, false);
     let (mut n, mut measured) = (0u64, 0u64);
     loop {
-        let mut cycle = client
-            .wait_startop(Duration::from_secs(2))
-            .with_context(|| format!("client {}: no STARTOP", a.index))?;
-        let woke = now_ns();
-        let info = cycle.info();
-        n += 1;
-        // Every output byte written, as a PLC program writes its Q area each cycle.
-        for &s in &owned {
-            if let Ok(out) = cycle.output_overwrite(s) {
-                out.fill(info.cycle_number as u8);
+        // Only the measured cycles (after the warm-up and `go`) count their allocations:
+        // from the wait for STARTOP to OPDONE sent, and the recording of the figure.
+        let counted = measuring && measured < a.cycles;
+        alloc_count::counting(counted, || -> Result<()> {
+            let mut cycle = client
+                .wait_startop(Duration::from_secs(2))
+                .with_context(|| format!("client {}: no STARTOP", a.index))?;
+            let woke = now_ns();
+            let info = cycle.info();
+            // Every output byte written, as a PLC program writes its Q area each cycle.
+            for &s in &owned {
+                if let Ok(out) = cycle.output_overwrite(s) {
+                    out.fill(info.cycle_number as u8);
+                }
             }
-        }
-        cycle
-            .set_opdone()
-            .with_context(|| format!("client {}: OPDONE not sent", a.index))?;
-        if measuring && measured < a.cycles {
-            startop.saturating_record(woke.saturating_sub(info.clock_ns).max(1));
-            measured += 1;
-        }
+            cycle
+                .set_opdone()
+                .with_context(|| format!("client {}: OPDONE not sent", a.index))?;
+            if counted {
+                startop.saturating_record(woke.saturating_sub(info.clock_ns).max(1));
+                measured += 1;
+            }
+            Ok(())
+        })?;
+        n += 1;
         if !said_ready && n >= a.warmup {
             println!("ready");
             std::io::stdout().flush()?;
@@ -101,7 +113,9 @@ pub fn run(a: &ClientArgs<'_>) -> Result<()> {
         }
         if measured == a.cycles && !said_done {
             let mut report = Report::new("procimg-handshake client");
-            report.setting("client", a.index);
+            report
+                .setting("client", a.index)
+                .setting(CYCLE_ALLOCATIONS, alloc_count::allocations());
             report
                 .measurements
                 .push(Measurement::from_histogram("startop one way", &startop));

@@ -14,11 +14,25 @@
 //! - **round trip**: STARTOP → OPDONE received, per client (server side), which is what
 //!   bounds the OPDONE deadline.
 //!
-//! and prints p50 / p99 / p99.9 / max, with `--report` (JSON) and `--hdr-log` files.
+//! and prints p50 / p99 / p99.9 / max, with `--report` (JSON) and `--hdr-log` files, and
+//! beside them procimgd's overruns, OPFAULTs and cycle allocations and the clients' cycle
+//! allocations over the measured cycles.
+//!
+//! `--demo` runs procimgd's built-in demo (simulated devices that answer) at the cycle
+//! given instead of the generated image: how short a cycle procimgd holds with real work.
+//! `procimg-handshake startup` times procimgd's start and a client's attach, and reads how
+//! much memory procimgd locks.
 
+mod alloc_count;
 mod client;
 mod plant;
 mod server;
+mod startup;
+
+/// Every allocation of this program is the system allocator's, counted in the clients'
+/// measured cycles.
+#[global_allocator]
+static ALLOCATOR: alloc_count::Counting = alloc_count::Counting;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -47,9 +61,14 @@ struct Args {
     /// KiB and MiB are accepted).
     #[arg(short = 'b', long, default_value = "64", value_parser = parse_bytes)]
     image_bytes: usize,
-    /// Cycle time in µs.
-    #[arg(short = 'i', long = "interval", default_value_t = 1000)]
-    interval_us: u64,
+    /// Cycle time in µs, a multiple of 31.25 (procimgd's cycle unit): 1000, 250, 187.5, 125.
+    #[arg(short = 'i', long = "interval", default_value = "1000", value_parser = parse_interval)]
+    interval_ns: u64,
+    /// Run procimgd's built-in demo (simulated devices that answer) at this cycle instead of
+    /// the generated image; the clients claim nothing and only do the handshake
+    /// (--image-bytes does not apply).
+    #[arg(long)]
+    demo: bool,
     /// Measured cycles per client.
     #[arg(short = 'l', long = "loops", default_value_t = 10_000)]
     loops: u64,
@@ -107,6 +126,37 @@ enum Role {
         #[arg(long)]
         report: PathBuf,
     },
+    /// Times procimgd's start (spawn to its first cycle) and a synchronous client's attach,
+    /// and reads procimgd's locked and resident memory (VmLck, VmRSS) while it runs.
+    Startup {
+        /// Bytes of input data in the image, and as many of output data.
+        #[arg(short = 'b', long, default_value = "368128", value_parser = parse_bytes)]
+        image_bytes: usize,
+        /// Attaches to time, one after the other.
+        #[arg(short = 'n', long, default_value_t = 20,
+              value_parser = clap::value_parser!(u32).range(1..=1000))]
+        attaches: u32,
+        /// Write the figures as a procimg latency report (JSON).
+        #[arg(long, value_name = "FILE")]
+        report: Option<PathBuf>,
+    },
+}
+
+/// Parses a cycle time in µs, whole or decimal ("250", "187.5"), into ns; procimgd takes
+/// multiples of 31.25 µs only.
+fn parse_interval(s: &str) -> Result<u64, String> {
+    let us: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a cycle time in µs such as 1000, 250 or 187.5"))?;
+    let ns = (us * 1000.0).round();
+    if !(31_250.0..=512_000_000.0).contains(&ns) || ns % 31_250.0 != 0.0 {
+        return Err(format!(
+            "{s} µs: procimgd's cycle is a multiple of 31.25 µs up to 512 ms, e.g. 1000, 250, \
+             218.75, 187.5, 156.25, 125 or 93.75"
+        ));
+    }
+    Ok(ns as u64)
 }
 
 fn parse_bytes(s: &str) -> Result<usize, String> {
@@ -158,6 +208,11 @@ fn main() {
             cpu: *cpu,
             report,
         }),
+        Some(Role::Startup {
+            image_bytes,
+            attaches,
+            report,
+        }) => startup::run(*image_bytes, *attaches, report.as_deref()),
         None => coordinate(&args),
     };
     if let Err(e) = result {
@@ -249,7 +304,7 @@ fn coordinate(args: &Args) -> Result<()> {
     let plant = Plant {
         instance: instance.clone(),
         image_bytes: args.image_bytes,
-        interval_us: args.interval_us,
+        interval_ns: args.interval_ns,
         priority: args.priority,
         cpu: server_cpu,
         busy_poll: busy,
@@ -258,20 +313,28 @@ fn coordinate(args: &Args) -> Result<()> {
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let _cleanup = RemoveOnDrop(dir.clone());
     let config = dir.join("procimgd.toml");
-    std::fs::write(&config, plant.toml())
-        .with_context(|| format!("cannot write {}", config.display()))?;
-    let devices = plant.device_sizes().len();
+    let (toml, devices) = if args.demo {
+        let text = plant::demo_toml(&instance, args.interval_ns).map_err(anyhow::Error::msg)?;
+        (text, 0)
+    } else {
+        (plant.toml(), plant.device_sizes().len())
+    };
+    std::fs::write(&config, toml).with_context(|| format!("cannot write {}", config.display()))?;
     if !args.quiet {
+        let image = if args.demo {
+            "the demo's devices".to_string()
+        } else {
+            format!("{} bytes each way over {devices} devices", args.image_bytes)
+        };
         eprintln!(
-            "procimgd: {} bytes each way over {devices} devices, cycle {} µs; {} {} client(s)",
-            args.image_bytes,
-            args.interval_us,
+            "procimgd: {image}, cycle {} µs; {} {} client(s)",
+            us_text(args.interval_ns),
             args.clients,
             if busy { "busy-polling" } else { "sleeping" }
         );
     }
     let server = Server::start(&config, &instance, &dir.join("procimgd.log"))?;
-    let warmup = 500.max(2_000_000 / args.interval_us.max(1)).min(3000);
+    let warmup = 500.max(2_000_000_000 / args.interval_ns.max(1)).min(3000);
     let mut clients = Vec::new();
     for (i, cpu) in client_cpus.iter().enumerate() {
         clients.push(spawn_client(
@@ -282,7 +345,7 @@ fn coordinate(args: &Args) -> Result<()> {
         c.expect("ready", i)?;
     }
     let before = server.histograms()?;
-    let faults_before = server.faults()?;
+    let counters_before = server.counters()?;
     for c in &mut clients {
         c.say("go")?;
     }
@@ -290,13 +353,19 @@ fn coordinate(args: &Args) -> Result<()> {
         c.expect("done", i)?;
     }
     let after = server.histograms_after_handover()?;
-    let faults_after = server.faults()?;
+    let counters = server.counters()?.since(counters_before);
     let mut startop = new_histogram();
+    let mut client_allocations = 0u64;
     for c in &clients {
         let r = Report::read_json(&c.report)?;
         if let Some(m) = r.get("startop one way") {
             let _ = startop.add(m.histogram());
         }
+        client_allocations += r
+            .settings
+            .get(client::CYCLE_ALLOCATIONS)
+            .and_then(|v| v.parse::<u64>().ok())
+            .unwrap_or(0);
     }
     drop(clients);
     let server_pid = server.pid();
@@ -306,12 +375,16 @@ fn coordinate(args: &Args) -> Result<()> {
     report
         .setting("clients", args.clients)
         .setting("wait", if busy { "busy" } else { "sleep" })
+        .setting("plant", if args.demo { "demo" } else { "generated" })
         .setting("image_bytes", args.image_bytes)
         .setting("devices", devices)
-        .setting("interval_us", args.interval_us)
+        .setting("interval_us", us_text(args.interval_ns))
         .setting("priority", args.priority)
-        .setting("overruns", faults_after.0 - faults_before.0)
-        .setting("opfaults", faults_after.1 - faults_before.1)
+        .setting("cycles", counters.cycles)
+        .setting("overruns", counters.overruns)
+        .setting("opfaults", counters.opfaults)
+        .setting(SERVER_ALLOCATIONS, counters.heap_allocations)
+        .setting(CLIENT_ALLOCATIONS, client_allocations)
         .setting("procimgd_pid", server_pid);
     let between = |a: &[_], b: &[_]| histogram_from_buckets(&buckets_between(a, b));
     report.measurements = vec![
@@ -323,6 +396,22 @@ fn coordinate(args: &Args) -> Result<()> {
     print_table(&report);
     report.save(args.report.as_deref(), args.hdr_log.as_deref())?;
     Ok(())
+}
+
+/// The report's setting: the cycle thread's system-allocator calls over the measured
+/// cycles (procimgd's `rt_heap_allocations`; goal 0).
+pub const SERVER_ALLOCATIONS: &str = "server_cycle_allocations";
+/// The report's setting: every client's allocations in its measured cycles, summed (goal 0).
+pub const CLIENT_ALLOCATIONS: &str = "client_cycle_allocations";
+
+/// "250", "187.5": a cycle time in µs as people write it.
+fn us_text(ns: u64) -> String {
+    let us = ns as f64 / 1000.0;
+    if us.fract() == 0.0 {
+        format!("{us:.0}")
+    } else {
+        format!("{us}")
+    }
 }
 
 fn spawn_client(
@@ -369,18 +458,26 @@ fn spawn_client(
 
 fn print_table(r: &Report) {
     let s = |k: &str| r.settings.get(k).cloned().unwrap_or_default();
+    let image = if s("plant") == "demo" {
+        "the demo's devices".to_string()
+    } else {
+        format!("{} B each way", s("image_bytes"))
+    };
     println!(
-        "# {} client(s) {}, {} B each way, cycle {} µs; {} overruns, {} OPFAULTs",
+        "# {} client(s) {}, {image}, cycle {} µs; {} cycles, {} overruns, {} OPFAULTs; \
+         allocations in the cycles: server {}, clients {}",
         s("clients"),
         if s("wait") == "busy" {
             "busy-polling"
         } else {
             "sleeping"
         },
-        s("image_bytes"),
         s("interval_us"),
+        s("cycles"),
         s("overruns"),
-        s("opfaults")
+        s("opfaults"),
+        s(SERVER_ALLOCATIONS),
+        s(CLIENT_ALLOCATIONS)
     );
     println!(
         "{:<18} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}",

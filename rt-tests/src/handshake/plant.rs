@@ -21,8 +21,8 @@ pub struct Plant {
     pub instance: String,
     /// Bytes of input data, and as many of output data.
     pub image_bytes: usize,
-    /// Cycle time in µs.
-    pub interval_us: u64,
+    /// Cycle time in ns (a multiple of 31.25 µs, as procimgd takes it).
+    pub interval_ns: u64,
     /// The cycle thread's SCHED_FIFO priority.
     pub priority: u8,
     /// CPU of the cycle thread.
@@ -53,7 +53,7 @@ impl Plant {
             self.image_bytes
         );
         let _ = writeln!(t, "instance = \"{}\"", self.instance);
-        let _ = writeln!(t, "cycle_time = \"{}us\"", self.interval_us);
+        let _ = writeln!(t, "cycle_time = \"{}ns\"", self.interval_ns);
         let _ = writeln!(t, "network = \"sim\"");
         let _ = writeln!(t, "[cycle_thread]");
         let _ = writeln!(t, "priority = {}", self.priority);
@@ -83,6 +83,41 @@ impl Plant {
     }
 }
 
+/// procimgd's built-in demo (`procimgd --demo`: simulated devices that answer, so the cycle
+/// carries their PROFINET work) with instance `instance` and a cycle of `interval_ns`, the
+/// OPDONE deadline at half the cycle (the demo's own proportion). `Err` when the demo
+/// configuration no longer has the lines this replaces.
+pub fn demo_toml(instance: &str, interval_ns: u64) -> Result<String, String> {
+    let demo = procimg_runtime::config::DEMO_TOML;
+    let mut replaced = [false; 3];
+    let mut out = String::with_capacity(demo.len());
+    for line in demo.lines() {
+        let key = line.split('=').next().unwrap_or("").trim();
+        let new = match key {
+            "instance" => Some((0, format!("instance = \"{instance}\""))),
+            "cycle_time" => Some((1, format!("cycle_time = \"{interval_ns}ns\""))),
+            "opdone_deadline" => Some((2, format!("opdone_deadline = \"{}ns\"", interval_ns / 2))),
+            _ => None,
+        };
+        match new {
+            Some((i, text)) if !line.starts_with('#') && !replaced[i] => {
+                replaced[i] = true;
+                out += &text;
+            }
+            _ => out += line,
+        }
+        out.push('\n');
+    }
+    if replaced.contains(&false) {
+        return Err(
+            "procimgd's demo configuration has no top-level instance, cycle_time or \
+             opdone_deadline line any more: update procimg-handshake's plant.rs"
+                .into(),
+        );
+    }
+    Ok(out)
+}
+
 /// The name of device `d`.
 pub fn device_name(d: usize) -> String {
     format!("dev{d}")
@@ -96,7 +131,7 @@ mod tests {
         Plant {
             instance: "x".into(),
             image_bytes: bytes,
-            interval_us: 1000,
+            interval_ns: 1_000_000,
             priority: 80,
             cpu: None,
             busy_poll: false,
@@ -108,6 +143,20 @@ mod tests {
         assert_eq!(plant(64).device_sizes(), vec![64]);
         assert_eq!(plant(4096).device_sizes(), vec![1438, 1438, 1220]);
         assert_eq!(plant(MAX_IMAGE_BYTES).device_sizes().len(), MAX_DEVICES);
+    }
+
+    #[test]
+    fn the_demo_runs_at_the_cycle_asked_for() {
+        let text = demo_toml("short", 187_500).unwrap();
+        let config = procimg_runtime::config::parse(&text, "demo.toml")
+            .unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(config.instance, "short");
+        assert_eq!(config.cycle_ns, 187_500);
+        assert_eq!(config.opdone_deadline_ns, 93_750);
+        assert_eq!(
+            config.devices.len(),
+            procimg_runtime::config::Config::demo().devices.len()
+        );
     }
 
     #[test]

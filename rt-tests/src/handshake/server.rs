@@ -15,7 +15,38 @@ use std::time::{Duration, Instant};
 pub struct Server {
     child: Child,
     control: ControlHandle,
+    first_cycle: Duration,
 }
+
+/// procimgd's counters that the tools take differences of.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Cycles run.
+    pub cycles: u64,
+    /// Cycles that overran.
+    pub overruns: u64,
+    /// OPFAULTs given.
+    pub opfaults: u64,
+    /// System-allocator calls of the cycle thread in its cycles (outside connection set-up).
+    pub heap_allocations: u64,
+}
+
+impl Counters {
+    /// `self − earlier`, counter by counter.
+    pub fn since(self, earlier: Counters) -> Counters {
+        Counters {
+            cycles: self.cycles.saturating_sub(earlier.cycles),
+            overruns: self.overruns.saturating_sub(earlier.overruns),
+            opfaults: self.opfaults.saturating_sub(earlier.opfaults),
+            heap_allocations: self
+                .heap_allocations
+                .saturating_sub(earlier.heap_allocations),
+        }
+    }
+}
+
+/// How often the start is polled.
+pub const START_POLL: Duration = Duration::from_millis(1);
 
 /// The procimgd binary: beside this tool (both are built into the same target directory).
 pub fn procimgd_path() -> Result<PathBuf> {
@@ -46,9 +77,12 @@ impl Server {
             .stderr(log_file)
             .spawn()
             .context("cannot start procimgd")?;
+        let spawned = Instant::now();
         // Generous: with a large image, mlockall makes procimgd populate every sample slot of
         // the image service (one per subscriber it may have) before it cycles.
-        let until = Instant::now() + Duration::from_secs(60);
+        let until = spawned + Duration::from_secs(60);
+        let mut control = None;
+        let mut first_cycle = None;
         loop {
             if let Some(status) = child.try_wait()? {
                 bail!(
@@ -58,10 +92,22 @@ impl Server {
                 );
             }
             // The control service exists once procimgd is up; it answers once it cycles.
-            if let Ok(control) = ControlHandle::open(instance, "procimg-handshake")
-                && control.status().is_ok_and(|s| s.cycle_count > 10)
-            {
-                return Ok(Server { child, control });
+            if control.is_none() {
+                control = ControlHandle::open(instance, "procimg-handshake").ok();
+            }
+            if let Some(s) = control.as_ref().and_then(|c| c.status().ok()) {
+                if s.cycle_count > 0 && first_cycle.is_none() {
+                    first_cycle = Some(spawned.elapsed());
+                }
+                if s.cycle_count > 10
+                    && let Some(control) = control.take()
+                {
+                    return Ok(Server {
+                        child,
+                        control,
+                        first_cycle: first_cycle.unwrap_or_else(|| spawned.elapsed()),
+                    });
+                }
             }
             if Instant::now() > until {
                 let _ = child.kill();
@@ -71,8 +117,15 @@ impl Server {
                     log.display()
                 );
             }
-            std::thread::sleep(Duration::from_millis(50));
+            // Often enough to time the start to the first cycle to about a millisecond.
+            std::thread::sleep(START_POLL);
         }
+    }
+
+    /// From spawning procimgd until `procimg status` first showed a cycle run (polled every
+    /// [`START_POLL`]).
+    pub fn first_cycle(&self) -> Duration {
+        self.first_cycle
     }
 
     /// The server's histograms since it started.
@@ -104,10 +157,15 @@ impl Server {
         }
     }
 
-    /// Cycles that overran, and OPFAULTs given, so far.
-    pub fn faults(&self) -> Result<(u64, u64)> {
+    /// The counters so far.
+    pub fn counters(&self) -> Result<Counters> {
         let s = self.control.status().context("procimgd did not answer")?;
-        Ok((s.overruns, s.opfaults))
+        Ok(Counters {
+            cycles: s.cycle_count,
+            overruns: s.overruns,
+            opfaults: s.opfaults,
+            heap_allocations: s.rt_heap_allocations,
+        })
     }
 
     /// The server's process id.

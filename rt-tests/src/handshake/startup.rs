@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg-handshake startup`: what procimgd costs before the first cycle and what a client
+//! waits to attach, for an image of the size asked for (the generated plant, nobody
+//! answering):
+//!
+//! - **start to first cycle**: from spawning procimgd until its status first shows a cycle
+//!   run (polled every [`START_POLL`], so good to about that);
+//! - **VmLck, VmRSS** of procimgd, read from `/proc/<pid>/status` after the attaches (the
+//!   larger of that and the reading at the start);
+//! - **client attach**: `Client::attach` of a synchronous client, timed call by call, each
+//!   client dropped (detached) before the next.
+
+use crate::plant::Plant;
+use crate::server::{START_POLL, Server};
+use anyhow::{Context, Result};
+use procimg_client::{AttachOptions, Client};
+use procimg_rt_tests::report::{Measurement, Report, new_histogram};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// The measurement names (as procimg-compare looks them up).
+pub const FIRST_CYCLE: &str = "start to first cycle";
+/// See [`FIRST_CYCLE`].
+pub const ATTACH: &str = "client attach";
+
+/// Runs the measurement and prints and writes its report.
+pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Result<()> {
+    let instance = format!("startup-{}", std::process::id());
+    let plant = Plant {
+        instance: instance.clone(),
+        image_bytes,
+        interval_ns: 1_000_000,
+        priority: 80,
+        cpu: None,
+        busy_poll: false,
+    };
+    let dir = std::env::temp_dir().join(format!("procimg-startup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let _cleanup = crate::RemoveOnDrop(dir.clone());
+    let config = dir.join("procimgd.toml");
+    std::fs::write(&config, plant.toml())
+        .with_context(|| format!("cannot write {}", config.display()))?;
+    let server = Server::start(&config, &instance, &dir.join("procimgd.log"))?;
+    let first_cycle = server.first_cycle();
+    let at_start = memory(server.pid())?;
+
+    let mut attach = new_histogram();
+    for i in 0..attaches {
+        let name = format!("startup-{i}");
+        let t = Instant::now();
+        let client = Client::attach(&instance, AttachOptions::synchronous(&name))
+            .with_context(|| format!("attach {i} to {instance} failed"))?;
+        attach.saturating_record(duration_ns(t.elapsed()));
+        drop(client);
+        // Let the server take the connection down before the next one comes.
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let after = memory(server.pid())?;
+    let (vmlck, vmrss) = (at_start.0.max(after.0), at_start.1.max(after.1));
+    drop(server);
+
+    let mut first = new_histogram();
+    first.saturating_record(duration_ns(first_cycle));
+    let mut report = Report::new("procimg-handshake startup");
+    report
+        .setting("image_bytes", image_bytes)
+        .setting("devices", plant.device_sizes().len())
+        .setting("max_clients", procimg_shm_layout::MAX_CLIENTS)
+        .setting("attaches", attaches)
+        .setting("attach_role", "synchronous")
+        .setting("start_poll_ms", START_POLL.as_millis())
+        .setting(VMLCK_KIB, vmlck)
+        .setting(VMRSS_KIB, vmrss);
+    report.measurements = vec![
+        Measurement::from_histogram(FIRST_CYCLE, &first),
+        Measurement::from_histogram(ATTACH, &attach),
+    ];
+    println!(
+        "# procimgd, {image_bytes} B each way, {} clients allowed: VmLck {vmlck} KiB, VmRSS \
+         {vmrss} KiB; start to first cycle {:.1} ms; attach (synchronous) p50 {:.2} ms, max \
+         {:.2} ms over {attaches}",
+        procimg_shm_layout::MAX_CLIENTS,
+        first_cycle.as_secs_f64() * 1000.0,
+        attach.value_at_quantile(0.5) as f64 / 1e6,
+        attach.max() as f64 / 1e6,
+    );
+    report.save(report_path, None)?;
+    Ok(())
+}
+
+/// The report's settings: procimgd's locked and resident memory, KiB.
+pub const VMLCK_KIB: &str = "procimgd_vmlck_kib";
+/// See [`VMLCK_KIB`].
+pub const VMRSS_KIB: &str = "procimgd_vmrss_kib";
+
+fn duration_ns(d: Duration) -> u64 {
+    u64::try_from(d.as_nanos()).unwrap_or(u64::MAX).max(1)
+}
+
+/// (VmLck, VmRSS) of process `pid` in KiB.
+fn memory(pid: u32) -> Result<(u64, u64)> {
+    let path = format!("/proc/{pid}/status");
+    let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {path}"))?;
+    let field = |name: &str| {
+        status_kib(&text, name)
+            .with_context(|| format!("{path} has no {name} line (is procfs mounted?)"))
+    };
+    Ok((field("VmLck")?, field("VmRSS")?))
+}
+
+/// The value in KiB of the line `name:` of a `/proc/<pid>/status` text.
+pub fn status_kib(text: &str, name: &str) -> Option<u64> {
+    text.lines()
+        .find_map(|l| l.strip_prefix(name)?.strip_prefix(':'))
+        .and_then(|v| v.trim().strip_suffix("kB"))
+        .and_then(|v| v.trim().parse().ok())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn proc_status_lines_are_read_in_kib() {
+        let text = "Name:\tprocimgd\nVmLck:\t   23456 kB\nVmRSS:\t    7890 kB\nVmLckX:\t1 kB\n";
+        assert_eq!(status_kib(text, "VmLck"), Some(23_456));
+        assert_eq!(status_kib(text, "VmRSS"), Some(7_890));
+        assert_eq!(status_kib(text, "VmSwap"), None);
+    }
+}
