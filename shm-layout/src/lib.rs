@@ -39,6 +39,9 @@ mod image_layout;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod os;
+#[cfg(feature = "std")]
+#[allow(unsafe_code)]
+pub mod rt_alloc;
 /// The controller services' messages (JSON, like the control protocol): not in the C header.
 ///
 /// cbindgen:ignore

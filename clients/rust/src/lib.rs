@@ -60,6 +60,7 @@ pub use procimg_shm_layout::control::{
     DiagnosisSeverity, ForceReport, PlugRefusal, Refusal, StationAlarmKind, StationDiagnosisChange,
     StationReport, StatusReport,
 };
+pub use procimg_shm_layout::rt_alloc;
 pub use procimg_shm_layout::services::{
     APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DCP_SET_CHECK_TIMEOUT_MS,
     DeviceDiagnosis, DiagnosisReport, ExpectedSubmodule, FailureCause, Notification,

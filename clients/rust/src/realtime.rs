@@ -5,7 +5,12 @@
 /// Makes the calling thread SCHED_FIFO at `priority` (1..=99) and locks the process's memory.
 /// Fails with the OS error when the process lacks CAP_SYS_NICE / CAP_IPC_LOCK (or the
 /// rlimits); the thread then keeps its normal priority.
+///
+/// The thread is also marked real-time for [`crate::rt_alloc::RtAllocator`]: in a program
+/// that installs it as its global allocator, the thread's cycle loop does not call `malloc`
+/// (iceoryx2's per-sample reference count comes from a fixed pool).
 pub fn make_current_thread_realtime(priority: u8) -> std::io::Result<()> {
+    crate::rt_alloc::mark_current_thread_realtime();
     let param = libc::sched_param {
         sched_priority: priority as libc::c_int,
     };

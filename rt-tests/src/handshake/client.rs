@@ -74,6 +74,7 @@ pub fn run(a: &ClientArgs<'_>) -> Result<()> {
         }
     });
     let setup = procimg_runtime::sys::rt::setup_current_thread(a.cpu, a.priority);
+    procimg_client::rt_alloc::mark_current_thread_realtime();
     for w in &setup.warnings {
         eprintln!("client {}: warning: {w}", a.index);
     }

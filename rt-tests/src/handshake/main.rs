@@ -29,10 +29,10 @@ mod plant;
 mod server;
 mod startup;
 
-/// Every allocation of this program is the system allocator's, counted in the clients'
-/// measured cycles.
+/// procimg's real-time allocator: the clients' marked cycle threads take iceoryx2's small
+/// per-sample allocations from its pool, and their heap allocations are counted.
 #[global_allocator]
-static ALLOCATOR: alloc_count::Counting = alloc_count::Counting;
+static ALLOCATOR: procimg_client::rt_alloc::RtAllocator = procimg_client::rt_alloc::RtAllocator;
 
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand, ValueEnum};

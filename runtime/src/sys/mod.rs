@@ -8,5 +8,6 @@ pub mod netlink;
 pub mod poll;
 pub mod random;
 pub mod rt;
-pub mod rt_alloc;
+/// The allocator of real-time threads, shared with the clients.
+pub use procimg_shm_layout::rt_alloc;
 pub mod udp;

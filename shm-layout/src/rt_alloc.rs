@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! A global allocator that keeps the cycle thread off the heap.
+//! A global allocator that keeps real-time threads off the heap: procimgd's cycle thread and a
+//! client's cycle loop.
 //!
 //! iceoryx2 0.10 boxes one 48-byte reference count for every sample it loans; a cycle
-//! publishes one input sample, so the cycle thread would call `malloc` once per cycle. On
+//! publishes one input sample (the server) or sends one output sample (a client), so either
+//! would call `malloc` once per cycle. On
 //! threads marked real-time ([`mark_current_thread_realtime`]) this allocator serves small
 //! allocations from a fixed pool in static memory, with a lock-free bitmap, so the cycle
 //! never enters the system allocator (its locks, its page faults). Anything the pool cannot
@@ -10,10 +12,15 @@
 //! allocation test and `procimg status` report, and it stays 0 in steady state.
 //!
 //! Install it in a binary with `#[global_allocator] static A: RtAllocator = RtAllocator;`.
+//! A client program that does gets a cycle loop without `malloc` once its thread is marked,
+//! which `procimg_client::realtime::make_current_thread_realtime` does.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicU64, Ordering};
+extern crate std;
+
+use core::alloc::{GlobalAlloc, Layout};
+use core::cell::Cell;
+use core::sync::atomic::{AtomicU64, Ordering};
+use std::alloc::System;
 
 /// Bytes of one pool block (and its alignment).
 const BLOCK: usize = 64;
@@ -24,19 +31,19 @@ const BLOCKS: usize = WORDS * 64;
 #[repr(C, align(64))]
 struct Pool([u8; BLOCK * BLOCKS]);
 
-struct PoolCell(std::cell::UnsafeCell<Pool>);
+struct PoolCell(core::cell::UnsafeCell<Pool>);
 // SAFETY: blocks are handed out to one owner at a time through the atomic bitmap below; the
 // pool's bytes are never accessed through the cell except via those exclusive blocks.
 unsafe impl Sync for PoolCell {}
 
-static POOL: PoolCell = PoolCell(std::cell::UnsafeCell::new(Pool([0; BLOCK * BLOCKS])));
+static POOL: PoolCell = PoolCell(core::cell::UnsafeCell::new(Pool([0; BLOCK * BLOCKS])));
 /// Bit set = block in use.
 static USED: [AtomicU64; WORDS] = [const { AtomicU64::new(0) }; WORDS];
 static RT_HEAP_ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
 static RT_SETUP_ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
 static POOL_ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
 
-thread_local! {
+std::thread_local! {
     static REALTIME: Cell<bool> = const { Cell::new(false) };
     static SETTING_UP: Cell<bool> = const { Cell::new(false) };
 }
@@ -159,7 +166,7 @@ unsafe impl GlobalAlloc for RtAllocator {
             let new_layout = Layout::from_size_align_unchecked(new_size, layout.align());
             let new = self.alloc(new_layout);
             if !new.is_null() {
-                std::ptr::copy_nonoverlapping(ptr, new, layout.size().min(new_size));
+                core::ptr::copy_nonoverlapping(ptr, new, layout.size().min(new_size));
                 self.dealloc(ptr, layout);
             }
             new
