@@ -78,6 +78,8 @@ pub struct Counters {
     /// Failed receives of client output samples (iceoryx2 could not update a connection,
     /// e.g. while a dead client's resources are being removed).
     pub receive_errors: AtomicU64,
+    /// Cycles whose input image could not be published (no free image slot).
+    pub unpublished_images: AtomicU64,
     /// The mode the cycle runs in (shm-layout MODE_* value).
     pub mode: AtomicU32,
     /// The cycle thread runs SCHED_FIFO.
@@ -96,6 +98,7 @@ impl Default for Counters {
             opfaults: AtomicU64::new(0),
             rejected_writes: AtomicU64::new(0),
             receive_errors: AtomicU64::new(0),
+            unpublished_images: AtomicU64::new(0),
             mode: AtomicU32::new(0),
             realtime: AtomicBool::new(false),
             client_opfaults: std::array::from_fn(|_| AtomicU64::new(0)),

@@ -995,6 +995,10 @@ pub struct StatusReport {
     /// Receives of client outputs that failed (a dead client's connection being removed).
     #[serde(default)]
     pub receive_errors: u64,
+    /// Cycles without an input image: every image slot was held (readers keep old images),
+    /// so nobody got STARTOP. Must stay 0.
+    #[serde(default)]
+    pub unpublished_images: u64,
     /// Output writes dropped because the sender did not hold the claim.
     #[serde(default)]
     pub rejected_writes: u64,

@@ -393,7 +393,13 @@ impl Client {
             return false;
         };
         let mut newer = false;
-        while let Ok(Some(sample)) = conn.inputs.receive() {
+        // The service lets a reader hold one image (procimgd keeps only a few): the one held
+        // goes before the next is taken. Nothing can be borrowing it here (`&mut self`).
+        while conn.inputs.has_samples().unwrap_or(false) {
+            self.latest = None;
+            let Ok(Some(sample)) = conn.inputs.receive() else {
+                break;
+            };
             let h = sample.user_header();
             if h.magic != IMAGE_MAGIC || h.layout_hash != self.layout.hash() {
                 continue;

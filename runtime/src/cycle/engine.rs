@@ -217,6 +217,11 @@ impl<L: ClientLink> Engine<L> {
         st.startop_ns = self.ports.now_ns();
         if published {
             self.ports.notify(EVENT_STARTOP);
+        } else {
+            st.shared
+                .counters
+                .unpublished_images
+                .fetch_add(1, Ordering::Relaxed);
         }
         if mode_changed {
             self.ports.notify(EVENT_MODE);

@@ -384,6 +384,7 @@ impl Control {
             rt_heap_allocations: crate::sys::rt_alloc::rt_heap_allocations(),
             rt_setup_allocations: crate::sys::rt_alloc::rt_setup_allocations(),
             receive_errors: load(&c.receive_errors),
+            unpublished_images: load(&c.unpublished_images),
             rejected_writes: load(&c.rejected_writes),
             wakeup_latency: self.stats.wakeup(),
             handshake_round_trip: self.stats.handshake(),

@@ -8,9 +8,7 @@ use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
 use iceoryx2::port::subscriber::Subscriber;
-use iceoryx2::prelude::{
-    Alignment, AllocationStrategy, CallbackProgression, NodeName, ServiceName,
-};
+use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, NodeName, ServiceName};
 use procimg_shm_layout::events::EVENT_ID_MAX;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
@@ -23,6 +21,21 @@ const EXTRA_READERS: usize = 16;
 const MAX_NODES: usize = MAX_CLIENTS + EXTRA_READERS + 2;
 /// Output samples the server buffers per client between two cycles.
 pub const OUTPUT_BUFFER: usize = 8;
+/// Notifications the control thread loans at once (it sends each at once).
+const NOTIFICATION_LOANS: usize = 1;
+/// Input images that may exist at once: the one being written, the newest (in the history and
+/// the subscribers' buffers), the one before it (synchronous clients hold it until their next
+/// STARTOP), and five older ones that readers may still hold (an asynchronous client or a
+/// tool holds the image it read last until it reads again; a client holds at most one).
+/// iceoryx2 would reserve `subscribers × (buffer + borrowed) + history + loans` (162 for 80
+/// subscribers), each an image: for the largest image, over 100 MiB to create, lock and
+/// map into every client. When more distinct old images are held than this, the cycle
+/// cannot publish (it counts `unpublished_images`) until a reader lets go of one.
+pub const INPUT_IMAGES: usize = 8;
+
+// No `payload_alignment`: iceoryx2 0.10 pads every element of a slice payload to it
+// (`align(size_of::<u8>(), alignment) × len`), so 64 made each `[u8]` sample 64 times its
+// length. The regions inside a payload are 64-byte aligned relative to its start.
 
 /// Why a shared-memory service or port could not be set up.
 #[derive(Debug, thiserror::Error)]
@@ -162,11 +175,11 @@ impl CyclePorts {
             .publish_subscribe::<[u8]>()
             .max_nodes(MAX_NODES)
             .user_header::<ImageHeader>()
-            .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
             .max_publishers(1)
             .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
             .subscriber_max_buffer_size(1)
-            .subscriber_max_borrowed_samples(2)
+            // A client lets go of its image before it takes the next (`Client::refresh`).
+            .subscriber_max_borrowed_samples(1)
             .history_size(1)
             .enable_safe_overflow(true)
             .create()
@@ -174,6 +187,7 @@ impl CyclePorts {
             .publisher_builder()
             .initial_max_slice_len(l.input_payload_size as usize)
             .max_loaned_samples(1)
+            .override_sample_preallocation(|_| INPUT_IMAGES)
             .create()
             .map_err(|e| err(instance, "input image publisher", e))?;
 
@@ -185,11 +199,11 @@ impl CyclePorts {
             .publish_subscribe::<[u8]>()
             .max_nodes(MAX_NODES)
             .user_header::<OutputHeader>()
-            .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
             .max_publishers(MAX_CLIENTS)
             .max_subscribers(1)
             .subscriber_max_buffer_size(OUTPUT_BUFFER)
-            .subscriber_max_borrowed_samples(2)
+            // The cycle thread takes one sample at a time and lets go of it at once.
+            .subscriber_max_borrowed_samples(1)
             .history_size(0)
             .enable_safe_overflow(false)
             .create()
@@ -263,6 +277,10 @@ impl ControlPorts {
             .server_builder()
             .initial_max_slice_len(4096)
             .allocation_strategy(AllocationStrategy::PowerOfTwo)
+            // One answer per request, and a client has at most two requests active: iceoryx2's
+            // general bound (every request with a stream of buffered, borrowed and loaned
+            // answers, 1920 here) made each growth of the answers' size cost seconds.
+            .override_response_preallocation(|_| 2 * (MAX_CLIENTS + EXTRA_READERS) + 1)
             .create()
             .map_err(|e| err(instance, "control server", e))?;
 
@@ -276,7 +294,6 @@ impl ControlPorts {
             .publish_subscribe::<[u8]>()
             .max_nodes(MAX_NODES)
             .user_header::<LayoutHeader>()
-            .payload_alignment(Alignment::new(64).expect("64 is a power of two"))
             .max_publishers(1)
             .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
             .subscriber_max_buffer_size(1)
@@ -287,6 +304,8 @@ impl ControlPorts {
             .map_err(|e| err(instance, "layout service", e))?
             .publisher_builder()
             .initial_max_slice_len(payload_len)
+            // Published once and kept in the history: every reader gets the same sample.
+            .override_sample_preallocation(|_| 1)
             .create()
             .map_err(|e| err(instance, "layout publisher", e))?;
 
@@ -325,6 +344,13 @@ impl ControlPorts {
             .publisher_builder()
             .initial_max_slice_len(1024)
             .allocation_strategy(AllocationStrategy::PowerOfTwo)
+            .max_loaned_samples(NOTIFICATION_LOANS)
+            // Every subscriber's buffer holds some of the last NOTIFICATION_BUFFER sent (the
+            // same samples for all), and each borrows at most one: iceoryx2's general bound
+            // counts a buffer per subscriber (20 562 samples here).
+            .override_sample_preallocation(|_| {
+                services::NOTIFICATION_BUFFER + MAX_CLIENTS + EXTRA_READERS + NOTIFICATION_LOANS
+            })
             .create()
             .map_err(|e| err(instance, "notification publisher", e))?;
         let notify = node

@@ -22,7 +22,16 @@ pub struct RtSetup {
 
 /// Locks all current and future pages of the process (`mlockall`), so the cycle never waits
 /// for a page fault. Returns a warning on failure.
+///
+/// Call it before threads are started: it first keeps every thread on glibc's main heap. Each
+/// further malloc arena reserves 64 MiB of address space, which `MCL_FUTURE` counts as
+/// locked (`VmLck`, and against `RLIMIT_MEMLOCK`) though it never becomes memory; the cycle
+/// thread does not use the heap in its cycles (see `rt_alloc`), so it loses nothing by
+/// sharing one.
 pub fn lock_memory() -> Result<(), String> {
+    // SAFETY: mallopt takes two integers and only changes the allocator's tuning; no arena
+    // exists yet besides the main one when this runs before the first thread.
+    unsafe { libc::mallopt(libc::M_ARENA_MAX, 1) };
     // SAFETY: mlockall takes only flags and has no memory-safety preconditions.
     let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
     if rc == 0 {
