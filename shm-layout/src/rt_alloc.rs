@@ -2,7 +2,8 @@
 //! A global allocator that keeps real-time threads off the heap: procimgd's cycle thread and a
 //! client's cycle loop.
 //!
-//! iceoryx2 0.10 boxes one 48-byte reference count for every sample it loans; a cycle
+//! iceoryx2 0.10 boxes a reference count for every sample it loans (48 bytes in the server's
+//! single-threaded service variant, 104 with the mutex of the clients' thread-safe one); a cycle
 //! publishes one input sample (the server) or sends one output sample (a client), so either
 //! would call `malloc` once per cycle. On
 //! threads marked real-time ([`mark_current_thread_realtime`]) this allocator serves small
@@ -22,13 +23,13 @@ use core::cell::Cell;
 use core::sync::atomic::{AtomicU64, Ordering};
 use std::alloc::System;
 
-/// Bytes of one pool block (and its alignment).
-const BLOCK: usize = 64;
+/// Bytes of one pool block (and its alignment): the largest of iceoryx2's per-loan boxes fits.
+const BLOCK: usize = 128;
 /// Words of the free bitmap; the pool holds 64 blocks per word.
 const WORDS: usize = 4;
 const BLOCKS: usize = WORDS * 64;
 
-#[repr(C, align(64))]
+#[repr(C, align(128))]
 struct Pool([u8; BLOCK * BLOCKS]);
 
 struct PoolCell(core::cell::UnsafeCell<Pool>);
@@ -124,7 +125,7 @@ fn is_realtime() -> bool {
 pub struct RtAllocator;
 
 // SAFETY: every pointer returned is either from `System` (with the caller's layout) or a
-// distinct 64-byte, 64-aligned pool block owned exclusively until `dealloc` clears its bit;
+// distinct BLOCK-byte, BLOCK-aligned pool block owned exclusively until `dealloc` clears its bit;
 // `dealloc` routes each pointer back to where it came from by its address.
 unsafe impl GlobalAlloc for RtAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {

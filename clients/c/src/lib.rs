@@ -17,3 +17,10 @@
 pub mod ffi;
 pub mod iobase;
 pub mod native;
+
+/// The library's Rust code allocates through procimg's real-time allocator: a thread that
+/// waits for STARTOP (`procimg_wait_startop`, IO-Base's callback threads) takes iceoryx2's
+/// per-sample allocations from a fixed pool instead of `malloc`; other threads are served by
+/// the system allocator as before. The C program's own `malloc` is not affected.
+#[global_allocator]
+static ALLOCATOR: procimg_client::rt_alloc::RtAllocator = procimg_client::rt_alloc::RtAllocator;

@@ -155,6 +155,10 @@ pub(crate) fn server_listed(instance: &str, pid: u32) -> Option<bool> {
     listed.is_ok().then_some(alive)
 }
 
+/// Events a client keeps for [`Client::events`]; older ones are dropped when a program does
+/// not collect them.
+pub const EVENT_QUEUE: usize = 256;
+
 /// A client attached to a procimgd instance.
 pub struct Client {
     pub(crate) opts: AttachOptions,
@@ -227,7 +231,7 @@ impl Client {
             other_events_seen: 0,
             fd_waiter: AtomicBool::new(false),
             last_image: Instant::now(),
-            events: VecDeque::new(),
+            events: VecDeque::with_capacity(EVENT_QUEUE),
             last_liveness: Instant::now(),
             last_reattach: Instant::now(),
             local_input_iocs: vec![Ioxs::Good; n],
@@ -459,14 +463,14 @@ impl Client {
             };
             if cycle > self.last_opfault {
                 self.last_opfault = cycle;
-                self.events.push_back(Event::OpFault { cycle });
+                self.push_event(Event::OpFault { cycle });
             }
         }
         if newcycle && self.opts.newcycle {
-            self.events.push_back(Event::NewCycle);
+            self.push_event(Event::NewCycle);
         }
         if shutdown {
-            self.events.push_back(Event::ServerShutdown);
+            self.push_event(Event::ServerShutdown);
             self.disconnect();
         }
     }
@@ -491,10 +495,19 @@ impl Client {
                     // IO-Base: in OFFLINE the outputs written are lost.
                     self.write_cache.valid.iter_mut().for_each(|v| *v = false);
                 }
-                self.events.push_back(Event::Mode(m));
+                self.push_event(Event::Mode(m));
             }
         }
         self.mode_changes_seen = Some(changes);
+    }
+
+    /// Queues an event for [`Client::events`]. The queue is allocated once: a program that
+    /// never asks for its events loses the oldest, and its cycle loop stays off the heap.
+    fn push_event(&mut self, e: Event) {
+        if self.events.len() == EVENT_QUEUE {
+            self.events.pop_front();
+        }
+        self.events.push_back(e);
     }
 
     /// Returns the events that arrived since the last call, without waiting.
@@ -604,11 +617,11 @@ impl Client {
         self.last_opfault = 0;
         self.mode_changes_seen = None;
         self.write_cache.valid.iter_mut().for_each(|v| *v = false);
-        self.events.push_back(Event::Reattached { generation });
+        self.push_event(Event::Reattached { generation });
         let claims: Vec<usize> = std::mem::take(&mut self.claims).into_iter().collect();
         for s in claims {
             if self.claim(&[s]).is_err() {
-                self.events.push_back(Event::ClaimLost { submodule: s });
+                self.push_event(Event::ClaimLost { submodule: s });
             }
         }
         Ok(())

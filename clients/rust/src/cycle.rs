@@ -28,6 +28,9 @@ impl Client {
     /// re-attach until the timeout.
     pub fn wait_startop(&mut self, timeout: Duration) -> Result<Cycle<'_>, WaitError> {
         let until = Instant::now() + timeout;
+        // A thread that waits for STARTOP runs a cycle loop: with procimg's real-time
+        // allocator installed (the C library has it) its loans come from the pool.
+        crate::rt_alloc::mark_current_thread_realtime();
         loop {
             if self.conn.is_none() {
                 self.try_reattach()?;
