@@ -287,13 +287,23 @@ pub struct CycleThreadConfig {
     pub lock_memory: bool,
     /// How the thread waits for OPDONE (key `opdone_wait`, default `"event"`).
     pub opdone_wait: OpdoneWait,
+    /// With `opdone_wait = "event"`: how long after STARTOP the thread polls for OPDONE
+    /// before it sleeps, in ns (key `opdone_spin`, a duration, default `"20us"`; `"0"`
+    /// sleeps at once). A client that answers within it is seen at once, without the
+    /// wake-up of a sleeping CPU; the thread's CPU is busy for at most that long a cycle.
+    pub opdone_spin_ns: u64,
 }
+
+/// How long the cycle thread polls for OPDONE before it sleeps, by default: on this project's
+/// measurements (docs/PERFORMANCE.md) a sleeping CPU takes some 10 µs longer to see a
+/// client's OPDONE than a polling one, and a client's window is mostly shorter than this.
+pub const DEFAULT_OPDONE_SPIN_NS: u64 = 20_000;
 
 /// How the cycle thread waits for the synchronous clients' OPDONE.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum OpdoneWait {
-    /// Sleeps until an OPDONE event or the deadline (`"event"`, default): the CPU is free
-    /// for others meanwhile.
+    /// Polls for `opdone_spin`, then sleeps until an OPDONE or the deadline (`"event"`,
+    /// default): the CPU is free for others meanwhile.
     #[default]
     Event,
     /// Polls for output samples without sleeping until every client is done or the deadline
@@ -310,6 +320,7 @@ impl Default for CycleThreadConfig {
             status_priority: 40,
             lock_memory: true,
             opdone_wait: OpdoneWait::Event,
+            opdone_spin_ns: DEFAULT_OPDONE_SPIN_NS,
         }
     }
 }

@@ -31,6 +31,7 @@ pub(super) struct RawCycleThread {
     pub status_priority: Option<Spanned<u8>>,
     pub lock_memory: Option<bool>,
     pub opdone_wait: Option<Spanned<String>>,
+    pub opdone_spin: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]

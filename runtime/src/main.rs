@@ -266,6 +266,7 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         late_policy: config.late_policy,
         output_timing: config.output_timing,
         opdone_wait: config.cycle_thread.opdone_wait,
+        opdone_spin_ns: config.cycle_thread.opdone_spin_ns,
         generation,
     };
     let mut role = match config.role {

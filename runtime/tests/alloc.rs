@@ -129,6 +129,7 @@ fn steady_state(
         late_policy: config.late_policy,
         output_timing: config.output_timing,
         opdone_wait: config.cycle_thread.opdone_wait,
+        opdone_spin_ns: config.cycle_thread.opdone_spin_ns,
         generation,
     };
     let mut pnio = start(&config, shared.clone());

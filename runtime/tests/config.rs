@@ -165,9 +165,10 @@ fn empty_file_gives_the_defaults() {
             c.cycle_thread.cpu,
             c.cycle_thread.priority,
             c.cycle_thread.lock_memory,
-            c.cycle_thread.opdone_wait
+            c.cycle_thread.opdone_wait,
+            c.cycle_thread.opdone_spin_ns
         ),
-        (None, 80, true, OpdoneWait::Event)
+        (None, 80, true, OpdoneWait::Event, 20_000)
     );
     assert_eq!((c.access.mode, c.access.group), (0o600, None));
     assert!(c.devices.is_empty());
@@ -189,6 +190,7 @@ cpu = 0
 priority = 99
 lock_memory = false
 opdone_wait = "busy-poll"
+opdone_spin = "5us"
 
 [access]
 mode = "0640"
@@ -229,9 +231,10 @@ records = [ { index = 0x100, data = [1, 2, 0xFF] }, { index = 2, data = [] } ]
             c.cycle_thread.cpu,
             c.cycle_thread.priority,
             c.cycle_thread.lock_memory,
-            c.cycle_thread.opdone_wait
+            c.cycle_thread.opdone_wait,
+            c.cycle_thread.opdone_spin_ns
         ),
-        (Some(0), 99, false, OpdoneWait::BusyPoll)
+        (Some(0), 99, false, OpdoneWait::BusyPoll, 5_000)
     );
     assert_eq!(
         (c.access.mode, c.access.group.as_deref()),
@@ -420,6 +423,12 @@ fn bad_cycle_thread_and_access() {
         "opdone_wait",
         "cycle_thread.opdone_wait",
         "use \"event\" or \"busy-poll\"",
+    );
+    refused_at(
+        "[cycle_thread]\nopdone_spin = \"a while\"",
+        "opdone_spin",
+        "cycle_thread.opdone_spin",
+        "e.g. \"20us\"",
     );
     refused_at(
         "[cycle_thread]\nlock_memory = \"yes\"",

@@ -131,34 +131,41 @@ impl HandshakeBlock {
         self.opdone.0.load(Ordering::Acquire)
     }
 
-    /// Waits until a client signals OPDONE after `seen` was read, or `deadline_ns`: sleeping
-    /// in the kernel, or with `busy` spinning on the word without a system call.
+    /// Waits until a client signals OPDONE after `seen` was read, or `deadline_ns`: spinning
+    /// on the word without a system call until `spin_until_ns`, then sleeping in the kernel
+    /// (a `spin_until_ns` at or past the deadline never sleeps: busy-polling).
     pub fn wait_opdone(
         &self,
         futex: &impl Futex,
         seen: u32,
         deadline_ns: u64,
-        busy: bool,
+        spin_until_ns: u64,
     ) -> Woken {
-        if busy {
-            while self.opdone.0.load(Ordering::Acquire) == seen {
-                if futex.now_ns() >= deadline_ns {
-                    return Woken::TimedOut;
-                }
-                core::hint::spin_loop();
+        let spin_end = spin_until_ns.min(deadline_ns);
+        while self.opdone.0.load(Ordering::Acquire) == seen {
+            let now = futex.now_ns();
+            if now >= deadline_ns {
+                return Woken::TimedOut;
             }
-            return Woken::Moved;
+            if now >= spin_end {
+                self.sleep_for_opdone(futex, seen, deadline_ns);
+                break;
+            }
+            core::hint::spin_loop();
         }
-        self.server_sleeps.0.store(1, Ordering::SeqCst);
-        if self.opdone.0.load(Ordering::SeqCst) == seen {
-            futex.wait_until(&self.opdone.0, seen, deadline_ns);
-        }
-        self.server_sleeps.0.store(0, Ordering::Relaxed);
         if self.opdone.0.load(Ordering::Acquire) != seen {
             Woken::Moved
         } else {
             Woken::TimedOut
         }
+    }
+
+    fn sleep_for_opdone(&self, futex: &impl Futex, seen: u32, deadline_ns: u64) {
+        self.server_sleeps.0.store(1, Ordering::SeqCst);
+        if self.opdone.0.load(Ordering::SeqCst) == seen {
+            futex.wait_until(&self.opdone.0, seen, deadline_ns);
+        }
+        self.server_sleeps.0.store(0, Ordering::Relaxed);
     }
 
     /// Forgets what client `slot` left in the block (it left or died): it no longer sleeps
@@ -287,7 +294,7 @@ mod tests {
         let (b, f) = (HandshakeBlock::default(), Model::default());
         let seen = b.opdone_seen();
         b.signal_opdone(&f);
-        assert_eq!(b.wait_opdone(&f, seen, 1000, false), Woken::Moved);
+        assert_eq!(b.wait_opdone(&f, seen, 1000, 0), Woken::Moved);
         assert_eq!(f.waits.get(), 0);
         assert_eq!(b.server_sleeps.0.load(Ordering::SeqCst), 0);
         let seen = b.events_seen();
@@ -300,16 +307,23 @@ mod tests {
     #[test]
     fn waits_end_at_the_deadline() {
         let (b, f) = (HandshakeBlock::default(), Model::default());
+        assert_eq!(b.wait_opdone(&f, b.opdone_seen(), 500, 0), Woken::TimedOut);
+        assert_eq!(f.waits.get(), 1, "no spin: one sleep");
+        // Spinning until the deadline: busy-polling, never a system call.
         assert_eq!(
-            b.wait_opdone(&f, b.opdone_seen(), 500, false),
+            b.wait_opdone(&f, b.opdone_seen(), 900, 900),
             Woken::TimedOut
         );
+        assert_eq!(f.waits.get(), 1);
+        // A spin first, then a sleep for the rest.
         assert_eq!(
-            b.wait_opdone(&f, b.opdone_seen(), 900, true),
+            b.wait_opdone(&f, b.opdone_seen(), 2000, 1000),
             Woken::TimedOut
         );
-        assert_eq!(b.wait_event(&f, 1, b.events_seen(), 2000), Woken::TimedOut);
-        assert_eq!(b.spin_event(&f, b.events_seen(), 2500), Woken::TimedOut);
+        assert_eq!(f.waits.get(), 2);
+        assert_eq!(b.server_sleeps.0.load(Ordering::SeqCst), 0);
+        assert_eq!(b.wait_event(&f, 1, b.events_seen(), 3000), Woken::TimedOut);
+        assert_eq!(b.spin_event(&f, b.events_seen(), 3500), Woken::TimedOut);
         assert_eq!(b.sleepers.0.load(Ordering::SeqCst), 0);
     }
 

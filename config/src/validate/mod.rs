@@ -339,6 +339,19 @@ fn cycle_thread(raw: RawCycleThread, cx: &Cx<'_>) -> Result<CycleThreadConfig, C
             ),
         )?;
     }
+    if let Some(v) = &raw.opdone_spin {
+        config.opdone_spin_ns = cx.check(
+            v,
+            "cycle_thread.opdone_spin",
+            parse_duration(v.get_ref()).map_err(|e| {
+                format!(
+                    "{:?} {e}; give how long to poll before sleeping, e.g. \"20us\", or \"0\" \
+                     to sleep at once",
+                    v.get_ref()
+                )
+            }),
+        )?;
+    }
     Ok(config)
 }
 

@@ -319,6 +319,7 @@ impl Rig {
             late_policy: config.late_policy,
             output_timing: config.output_timing,
             opdone_wait: config.cycle_thread.opdone_wait,
+            opdone_spin_ns: config.cycle_thread.opdone_spin_ns,
             generation,
         };
         let (recorder, _) = stats_channel();

@@ -40,6 +40,8 @@ pub struct EngineSettings {
     pub output_timing: OutputTiming,
     /// How the thread waits for OPDONE.
     pub opdone_wait: OpdoneWait,
+    /// With [`OpdoneWait::Event`]: how long after STARTOP it polls before it sleeps, in ns.
+    pub opdone_spin_ns: u64,
     /// Server generation.
     pub generation: u64,
 }
@@ -239,8 +241,11 @@ impl<L: ClientLink> Engine<L> {
             if self.ports.now_ns() >= deadline {
                 break;
             }
-            let busy = st.settings.opdone_wait == OpdoneWait::BusyPoll;
-            self.ports.wait_outputs(mark, deadline, busy);
+            let spin_until = match st.settings.opdone_wait {
+                OpdoneWait::BusyPoll => deadline,
+                OpdoneWait::Event => st.startop_ns + st.settings.opdone_spin_ns,
+            };
+            self.ports.wait_outputs(mark, deadline, spin_until);
         }
         if published {
             st.opfault_late_clients(&mut self.ports);

@@ -52,6 +52,7 @@ impl Rig {
             late_policy,
             output_timing: OutputTiming::Immediately,
             opdone_wait: OpdoneWait::Event,
+            opdone_spin_ns: 0,
             generation: 1,
         };
         let engine = Engine::new(

@@ -30,9 +30,9 @@ pub trait ClientLink {
     /// handed to [`ClientLink::wait_outputs`], so that an OPDONE in between is not slept
     /// through.
     fn opdone_mark(&self) -> u32;
-    /// Waits until a client signalled OPDONE after `mark` was taken, or `deadline_ns` passed;
-    /// `busy` polls instead of sleeping.
-    fn wait_outputs(&mut self, mark: u32, deadline_ns: u64, busy: bool);
+    /// Waits until a client signalled OPDONE after `mark` was taken, or `deadline_ns` passed:
+    /// polling until `spin_until_ns`, sleeping after it.
+    fn wait_outputs(&mut self, mark: u32, deadline_ns: u64, spin_until_ns: u64);
     /// Forgets what the client of `slot` left in the link's wake-up state (it joined anew,
     /// left or died).
     fn forget_client(&mut self, slot: u32);
@@ -107,10 +107,10 @@ impl ClientLink for CyclePorts {
         self.handshake.block().opdone_seen()
     }
 
-    fn wait_outputs(&mut self, mark: u32, deadline_ns: u64, busy: bool) {
+    fn wait_outputs(&mut self, mark: u32, deadline_ns: u64, spin_until_ns: u64) {
         self.handshake
             .block()
-            .wait_opdone(&LinuxFutex, mark, deadline_ns, busy);
+            .wait_opdone(&LinuxFutex, mark, deadline_ns, spin_until_ns);
     }
 
     fn forget_client(&mut self, slot: u32) {
@@ -173,7 +173,7 @@ impl ClientLink for MemoryLink {
         0
     }
 
-    fn wait_outputs(&mut self, _mark: u32, deadline_ns: u64, _busy: bool) {
+    fn wait_outputs(&mut self, _mark: u32, deadline_ns: u64, _spin_until_ns: u64) {
         match self.answers.pop_front() {
             Some(answer) => self.outputs.push_back(answer),
             None => self.now = self.now.max(deadline_ns),
