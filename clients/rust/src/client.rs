@@ -191,6 +191,9 @@ pub struct Client {
     pub(crate) local_input_iocs: Vec<Ioxs>,
     pub(crate) read_cache: Option<crate::cache::ReadCache>,
     pub(crate) write_cache: crate::cache::WriteCache,
+    /// An output sample loaned ahead, right after an OPDONE, so that the next cycle's window
+    /// does not pay for the loan (dropped before the ports it came from).
+    spare_output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
     // Data ports, then the control handle (and its node) last: ports drop before the node.
     pub(crate) conn: Option<Connection>,
     pub(crate) control: ControlHandle,
@@ -236,6 +239,7 @@ impl Client {
             last_reattach: Instant::now(),
             local_input_iocs: vec![Ioxs::Good; n],
             read_cache: None,
+            spare_output: None,
             conn: Some(conn),
             control,
         };
@@ -550,6 +554,7 @@ impl Client {
     /// Drops the data ports: the server is gone.
     fn disconnect(&mut self) {
         self.latest = None;
+        self.spare_output = None;
         self.conn = None;
     }
 
@@ -612,6 +617,7 @@ impl Client {
             conn.handshake.block().set_fd_waiter(slot, true);
         }
         self.other_events_seen = 0;
+        self.spare_output = None;
         self.conn = Some(conn);
         self.last_startop = 0;
         self.last_opfault = 0;
@@ -631,7 +637,29 @@ impl Client {
     /// shared memory holds them (no pass over the output image): the server takes a
     /// submodule's bytes only where its flags say written, and [`crate::Cycle`] fills a
     /// submodule from the outputs last sent before it hands it out for changing.
-    pub(crate) fn loan_output(&self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
+    pub(crate) fn loan_output(&mut self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
+        match self.spare_output.take() {
+            Some(mut sample) => {
+                *sample.user_header_mut() = self.output_header();
+                Ok(sample)
+            }
+            None => self.fresh_output(),
+        }
+    }
+
+    fn output_header(&self) -> OutputHeader {
+        OutputHeader {
+            magic: IMAGE_MAGIC,
+            layout_hash: self.layout.hash(),
+            cycle_number: self.header().map_or(0, |h| h.cycle.cycle_number),
+            client_token: self.token,
+            client_slot: self.slot,
+            flags: 0,
+            sent_ns: 0,
+        }
+    }
+
+    fn fresh_output(&self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
         let conn = self.conn.as_ref().ok_or_else(|| IoError::ServerGone {
             instance: self.instance().to_string(),
         })?;
@@ -652,15 +680,7 @@ impl Client {
         if let Some(flags) = sample.payload_mut().get_mut(at..at + statuses) {
             flags.fill(0);
         }
-        *sample.user_header_mut() = OutputHeader {
-            magic: IMAGE_MAGIC,
-            layout_hash: self.layout.hash(),
-            cycle_number: self.header().map_or(0, |h| h.cycle.cycle_number),
-            client_token: self.token,
-            client_slot: self.slot,
-            flags: 0,
-            sent_ns: 0,
-        };
+        *sample.user_header_mut() = self.output_header();
         Ok(sample)
     }
 
@@ -677,7 +697,7 @@ impl Client {
 
     /// Sends an output sample; as OPDONE when `synchronous`.
     pub(crate) fn send_output(
-        &self,
+        &mut self,
         mut sample: SampleMut<Ipc, [u8], OutputHeader>,
         opdone_cycle: Option<u64>,
     ) -> Result<(), IoError> {
@@ -697,6 +717,10 @@ impl Client {
         if opdone_cycle.is_some() {
             // The sample is there before the word moves: a server woken by it finds it.
             conn.handshake.block().signal_opdone(&LinuxFutex);
+            // The next window's sample, loaned now that this one is answered.
+            if self.spare_output.is_none() {
+                self.spare_output = self.fresh_output().ok();
+            }
         }
         Ok(())
     }
