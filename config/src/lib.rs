@@ -291,6 +291,8 @@ pub struct CycleThreadConfig {
     /// before it sleeps, in ns (key `opdone_spin`, a duration, default `"20us"`; `"0"`
     /// sleeps at once). A client that answers within it is seen at once, without the
     /// wake-up of a sleeping CPU; the thread's CPU is busy for at most that long a cycle.
+    /// Only while fewer synchronous clients are waited for than the process has CPUs: with
+    /// more, some share the cycle thread's CPU and could not answer while it polls.
     pub opdone_spin_ns: u64,
 }
 

@@ -134,12 +134,7 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
 
     // The server keeps cycling, reaps the client and frees its claim; the kill and the
     // reaping cost no OPFAULT.
-    let after = server.wait_status("the killed client reaped", |s| {
-        s.clients.iter().all(|c| c.name != "doomed")
-    });
-    let later = server.wait_status("150 more cycles", |s| {
-        s.cycle_count > after.cycle_count + 150
-    });
+    let later = reaped_and_150_cycles_later(&server);
     assert_eq!(
         later.opfaults, hung.opfaults,
         "OPFAULTs after the hang: the kill and the reaping must cost none"
@@ -237,12 +232,7 @@ fn a_client_killed_in_a_futex_wait_costs_at_most_its_cycle_and_leaves_nothing_be
     let at_kill = server.status();
     child.kill().unwrap();
     let _ = child.wait();
-    let reaped = server.wait_status("the sleeping client reaped", |s| {
-        s.clients.iter().all(|c| c.name != "doomed")
-    });
-    let later = server.wait_status("150 more cycles", |s| {
-        s.cycle_count > reaped.cycle_count + 150
-    });
+    let later = reaped_and_150_cycles_later(&server);
     assert!(
         later.opfaults <= at_kill.opfaults + 1,
         "a client killed in its STARTOP wait cost {} OPFAULTs",
@@ -279,12 +269,7 @@ fn a_client_killed_in_a_futex_wait_costs_at_most_its_cycle_and_leaves_nothing_be
             c.last_opfault_cycle
         );
     }
-    let reaped = server.wait_status("the hung client reaped", |s| {
-        s.clients.iter().all(|c| c.name != "doomed")
-    });
-    let after = server.wait_status("150 more cycles", |s| {
-        s.cycle_count > reaped.cycle_count + 150
-    });
+    let after = reaped_and_150_cycles_later(&server);
     assert!(
         after.opfaults <= at_kill.opfaults + 1,
         "a client killed in its window cost {} OPFAULTs after its cycle",
@@ -293,6 +278,17 @@ fn a_client_killed_in_a_futex_wait_costs_at_most_its_cycle_and_leaves_nothing_be
     let hs = block.block();
     assert_eq!(hs.sleepers.0.load(Ordering::SeqCst), 0);
     assert_eq!(hs.server_sleeps.0.load(Ordering::SeqCst), 0);
+}
+
+/// Waits until the server has reaped the client "doomed" and run 150 cycles since; returns
+/// the status then.
+fn reaped_and_150_cycles_later(server: &Procimgd) -> StatusReport {
+    let reaped = server.wait_status("the killed client reaped", |s| {
+        s.clients.iter().all(|c| c.name != "doomed")
+    });
+    server.wait_status("150 more cycles", |s| {
+        s.cycle_count > reaped.cycle_count + 150
+    })
 }
 
 /// Whether process `pid` is stopped (state `T` in /proc).

@@ -302,11 +302,6 @@ mod tests {
         assert!(text.contains("| no "), "{text}");
         assert!(text.contains("2 (0.20 %)"), "{text}");
         assert!(text.contains("[1] cyclictest is not installed"), "{text}");
-        let widths: Vec<usize> = text
-            .lines()
-            .take_while(|l| l.starts_with('|'))
-            .map(|l| l.chars().count())
-            .collect();
-        assert!(widths.windows(2).all(|w| w[0] == w[1]), "{text}");
+        crate::table::assert_rows_equally_wide(&text);
     }
 }

@@ -367,13 +367,7 @@ mod tests {
         assert!(text.contains("| NO "), "{text}");
         assert!(text.contains("apt-get install rt-tests"), "{text}");
         assert!(text.contains("not measured [1]"), "{text}");
-        // Every line of the table is equally wide.
-        let widths: Vec<usize> = text
-            .lines()
-            .take_while(|l| l.starts_with('|'))
-            .map(|l| l.chars().count())
-            .collect();
-        assert!(widths.windows(2).all(|w| w[0] == w[1]), "{text}");
+        assert_rows_equally_wide(&text);
     }
 
     #[test]
@@ -383,4 +377,16 @@ mod tests {
         assert_eq!(human_bytes(368_128), "359.5 KiB");
         assert_eq!(human_bytes(1 << 20), "1 MiB");
     }
+}
+
+/// Asserts that every line of the table at the start of `text` is equally wide (the
+/// columns line up).
+#[cfg(test)]
+pub(crate) fn assert_rows_equally_wide(text: &str) {
+    let widths: Vec<usize> = text
+        .lines()
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| l.chars().count())
+        .collect();
+    assert!(widths.windows(2).all(|w| w[0] == w[1]), "{text}");
 }

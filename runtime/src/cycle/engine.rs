@@ -94,6 +94,9 @@ struct State {
     outputs_pending: bool,
     /// What is forced (from the force table of the acyclic side).
     force: Box<ForcePlan>,
+    /// CPUs this process may run on: polling for OPDONE helps only while the clients waited
+    /// for have CPUs beside the cycle thread's.
+    cpus: usize,
 }
 
 /// The cycle engine: the link to the clients (the iceoryx2 ports in procimgd), the IO system
@@ -156,6 +159,7 @@ impl<L: ClientLink> Engine<L> {
                 startop_ns: 0,
                 outputs_pending: false,
                 force: Box::new(ForcePlan::empty(n)),
+                cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
             },
         }
     }
@@ -232,6 +236,15 @@ impl<L: ClientLink> Engine<L> {
         // 4./5. Wait for OPDONE of the armed synchronous clients, merging outputs as they come.
         // Without a published image there is nothing to answer: nobody is waited for.
         let deadline = t0_ns + st.settings.opdone_deadline_ns;
+        let spin_until = match st.settings.opdone_wait {
+            OpdoneWait::BusyPoll => deadline,
+            // More clients than the other CPUs: some share the cycle thread's CPU and could
+            // not answer while it polls.
+            OpdoneWait::Event if st.waited_for() < st.cpus => {
+                st.startop_ns + st.settings.opdone_spin_ns
+            }
+            OpdoneWait::Event => 0,
+        };
         loop {
             let mark = self.ports.opdone_mark();
             drain_outputs(&mut self.ports, st);
@@ -241,10 +254,6 @@ impl<L: ClientLink> Engine<L> {
             if self.ports.now_ns() >= deadline {
                 break;
             }
-            let spin_until = match st.settings.opdone_wait {
-                OpdoneWait::BusyPoll => deadline,
-                OpdoneWait::Event => st.startop_ns + st.settings.opdone_spin_ns,
-            };
             self.ports.wait_outputs(mark, deadline, spin_until);
         }
         if published {
@@ -437,6 +446,14 @@ impl State {
             };
             self.image.set_status(s, st);
         }
+    }
+
+    /// The synchronous clients whose OPDONE this cycle waits for.
+    fn waited_for(&self) -> usize {
+        self.clients
+            .iter()
+            .filter(|c| c.active && c.synchronous && c.armed)
+            .count()
     }
 
     fn all_done(&self) -> bool {
