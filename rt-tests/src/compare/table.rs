@@ -311,6 +311,18 @@ impl Notes {
     }
 }
 
+/// Asserts that every line of the table at the start of `text` is equally wide (the
+/// columns line up).
+#[cfg(test)]
+pub(crate) fn assert_rows_equally_wide(text: &str) {
+    let widths: Vec<usize> = text
+        .lines()
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| l.chars().count())
+        .collect();
+    assert!(widths.windows(2).all(|w| w[0] == w[1]), "{text}");
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -377,16 +389,4 @@ mod tests {
         assert_eq!(human_bytes(368_128), "359.5 KiB");
         assert_eq!(human_bytes(1 << 20), "1 MiB");
     }
-}
-
-/// Asserts that every line of the table at the start of `text` is equally wide (the
-/// columns line up).
-#[cfg(test)]
-pub(crate) fn assert_rows_equally_wide(text: &str) {
-    let widths: Vec<usize> = text
-        .lines()
-        .take_while(|l| l.starts_with('|'))
-        .map(|l| l.chars().count())
-        .collect();
-    assert!(widths.windows(2).all(|w| w[0] == w[1]), "{text}");
 }
