@@ -246,7 +246,7 @@ fn allocation_goals(res: &Results) -> Vec<Goal> {
             "clients",
             plan::CLIENT_ALLOCATIONS,
             Cycles::Measurement(plan::STARTOP),
-            "a counting allocator in the clients' loops",
+            "the clients' cycle loops on procimg's real-time allocator",
         ),
     ] {
         let reports = res.reports_with(setting);

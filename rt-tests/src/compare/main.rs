@@ -114,7 +114,7 @@ fn settings(args: &Args) -> Settings {
     } else {
         (10_000, vec![64, 4096, 65536, 368_128], vec![1, 4])
     };
-    // The largest image's start-up locks GiBs today: not in a quick run.
+    // The largest image's start-up locks some 40 MiB: not in a quick run, which stays small.
     let startup_sizes = if args.quick {
         plan::STARTUP_SIZES[1..].to_vec()
     } else {

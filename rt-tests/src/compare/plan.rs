@@ -138,9 +138,8 @@ pub const MEMCPY: &str = "memcpy";
 /// goals are about) and the smallest.
 pub const STARTUP_SIZES: [usize; 2] = [368_128, 64];
 /// Why a quick run leaves the largest image's start-up out.
-pub const QUICK_LEAVES_OUT_LARGE: &str = "--quick leaves the largest image's start-up out: \
-     procimgd locks and populates every sample slot of it (GiBs, tens of seconds); run \
-     without --quick";
+pub const QUICK_LEAVES_OUT_LARGE: &str = "--quick leaves the largest image's start-up out \
+     (procimgd locks some 40 MiB for it, and a quick run stays small); run without --quick";
 /// Attaches timed per start-up job.
 pub const STARTUP_ATTACHES: u32 = 20;
 /// procimg-handshake startup's measurements and settings.
