@@ -78,20 +78,7 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
         })
     };
     let trigger = std::env::temp_dir().join(format!("{}.hang", server.instance));
-    let _ = std::fs::remove_file(&trigger);
-    let mut child = Command::new(std::env::current_exe().unwrap())
-        .args([
-            "--exact",
-            "child_sync_client_that_hangs_in_its_window",
-            "--nocapture",
-        ])
-        .env(CHILD_ENV, &server.instance)
-        .env(TRIGGER_ENV, &trigger)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let (mut child, mut lines) = start_child(&server, &trigger);
     let mut wait_for = |what: &str| -> String {
         lines
             .by_ref()
@@ -99,7 +86,6 @@ fn sigkill_of_a_sync_client_mid_window_costs_one_opfault_and_frees_its_claims() 
             .find(|l| l.contains(what))
             .unwrap_or_else(|| panic!("the child client never printed {what}"))
     };
-    wait_for("cycling");
     let before = server.status();
     let doomed_before = doomed(&before).opfaults;
     assert_eq!(before.clients.len(), 2);

@@ -487,7 +487,7 @@ mod tests {
     #[test]
     fn the_table_has_every_goal_with_a_reason_when_unmeasured() {
         let res = Results::default();
-        let s = one_client_64_bytes();
+        let s = crate::table::tests::settings();
         let goals = goals(&res, &s);
         assert_eq!(goals.len(), 12);
         let text = render(&goals, true);
@@ -555,7 +555,7 @@ mod tests {
             .measurements
             .extend(report(plan::FIRST_CYCLE, 300_000_000, &[]).measurements);
         res.add(&plan::startup_key(368_128), Ok(startup));
-        let s = one_client_64_bytes();
+        let s = crate::table::tests::settings();
         let goals = goals(&res, &s);
         let find = |start: &str| goals.iter().find(|g| g.name.starts_with(start)).unwrap();
         let p99 = find("sleeping round trip / futex round trip, p99 (1");
@@ -578,16 +578,5 @@ mod tests {
         assert_eq!(met_text(find("procimgd start to first cycle"), true), "yes");
         let attach = find("client attach (release, synchronous), 359.5 KiB");
         assert_eq!(met_text(attach, true), "yes");
-    }
-
-    /// The settings of a run with the main rows only: one client, 64 bytes.
-    fn one_client_64_bytes() -> Settings {
-        Settings {
-            loops: 10,
-            interval_us: 1000,
-            sizes: vec![64],
-            clients: vec![1],
-            startup_sizes: plan::STARTUP_SIZES.to_vec(),
-        }
     }
 }

@@ -324,7 +324,7 @@ pub(crate) fn assert_rows_equally_wide(text: &str) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use procimg_rt_tests::report::{Measurement, Report, new_histogram};
 
@@ -336,7 +336,8 @@ mod tests {
         r
     }
 
-    fn settings() -> Settings {
+    /// The settings of a run with the main rows only: one client, 64 bytes.
+    pub(crate) fn settings() -> Settings {
         Settings {
             loops: 10,
             interval_us: 1000,

@@ -24,14 +24,13 @@ pub const OUTPUT_BUFFER: usize = 8;
 /// Notifications the control thread loans at once (it sends each at once).
 const NOTIFICATION_LOANS: usize = 1;
 /// Input images that may exist at once: the one being written, the newest (in the history and
-/// the subscribers' buffers), the one before it (synchronous clients hold it until their next
-/// STARTOP), and five older ones that readers may still hold (an asynchronous client or a
-/// tool holds the image it read last until it reads again; a client holds at most one).
-/// iceoryx2 would reserve `subscribers × (buffer + borrowed) + history + loans` (162 for 80
-/// subscribers), each an image: for the largest image, over 100 MiB to create, lock and
-/// map into every client. When more distinct old images are held than this, the cycle
-/// cannot publish (it counts `unpublished_images`) until a reader lets go of one.
-pub const INPUT_IMAGES: usize = 8;
+/// every subscriber's buffer: a publication replaces what a buffer holds), and one for each
+/// reader, which holds at most one (the image it read last, until it takes the next). Fewer
+/// would let a few readers holding distinct old images (asynchronous clients, tools, a client
+/// stopped in a debugger) stop the publication for everyone. iceoryx2 would reserve
+/// `subscribers × (buffer + borrowed) + history + loans` (162 for 80 subscribers). A cycle
+/// that cannot loan an image anyway counts `unpublished_images`.
+pub const INPUT_IMAGES: usize = MAX_CLIENTS + EXTRA_READERS + 2;
 
 // No `payload_alignment`: iceoryx2 0.10 pads every element of a slice payload to it
 // (`align(size_of::<u8>(), alignment) × len`), so 64 made each `[u8]` sample 64 times its
