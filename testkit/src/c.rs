@@ -87,6 +87,12 @@ pub fn compile(sources: &[PathBuf], out: &Path, link: Link, sanitize: bool) {
         sources,
         String::from_utf8_lossy(&o.stderr)
     );
+    // The linker takes the process's umask, which iceoryx2 narrows to owner-only for a
+    // moment whenever another test thread creates an event listener (its socket): the
+    // program would come out without execute permission.
+    use std::os::unix::fs::PermissionsExt as _;
+    std::fs::set_permissions(out, std::fs::Permissions::from_mode(0o755))
+        .expect("make the compiled program executable");
 }
 
 /// Runs a built program with `args` and the instance in `PROCIMG_INSTANCE`; kills it after
