@@ -560,7 +560,11 @@ impl Client {
 
     /// Looks (at most every [`LIVENESS_PERIOD`]) whether the server's cycle node is alive.
     pub(crate) fn check_server(&mut self) {
-        if self.last_liveness.elapsed() < LIVENESS_PERIOD {
+        // A server that published an image lately is alive: a wait that ends without an
+        // event during a short stall does not list nodes (which allocates, inside what may
+        // be a real-time cycle loop).
+        if self.last_liveness.elapsed() < LIVENESS_PERIOD || self.last_image.elapsed() < STALE_IMAGE
+        {
             return;
         }
         self.last_liveness = Instant::now();
