@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The server's own copy of the input-image payload: input data, status bytes and the mirror
-//! of the outputs as last sent. The IO system writes inputs into it and reads outputs from
-//! it; each cycle it is copied once into the published shared-memory sample.
+//! The input-image payload as the server builds it: input data, status bytes and the mirror
+//! of the outputs as last sent. The IO system writes inputs into it (straight into the
+//! shared-memory sample about to be published) and reads outputs from it.
 
 use procimg_shm_layout::{
     DeviceEntry, ImageLayout, LayoutError, ROLE_CONTROLLER, ROLE_DEVICE, STATION_NAME_LEN,
@@ -9,6 +9,7 @@ use procimg_shm_layout::{
 };
 
 use crate::config::{Config, StationConfig, SubmoduleConfig};
+use core::ptr::NonNull;
 
 /// The tables of an IO system as shared memory describes them.
 ///
@@ -138,10 +139,33 @@ fn entry(d: usize, s: &SubmoduleConfig) -> SubmoduleEntry {
     }
 }
 
-/// The server's master copy of the input-image payload.
+/// The server's input-image payload. Its input data are written straight into the sample
+/// that will be published ([`Image::bind_inputs`]), so that a received byte is copied once on
+/// its way to the clients; the rest (status bytes, the mirror of the outputs) is the server's
+/// own, changed after a publication too, and copied into the sample when it is published.
 pub struct Image {
+    /// The whole payload: status and mirror always, input data when no sample is bound.
     payload: Vec<u8>,
     submodules: Vec<SubmoduleEntry>,
+    /// Bytes of input data: the first region of the payload.
+    input_size: usize,
+    /// Where the input data are read and written now.
+    inputs: InputData,
+    /// Where the input data of the last image were, until [`Image::carry_over_inputs`].
+    previous: InputData,
+    /// Per submodule: its inputs were written since the inputs were bound.
+    fresh: Vec<bool>,
+}
+
+/// Where an image's input data are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum InputData {
+    /// In the image's own payload.
+    Own,
+    /// At the start of a loaned shared-memory sample, being written.
+    Sample(NonNull<u8>),
+    /// At the start of a published sample: read-only, clients read it.
+    Published(NonNull<u8>),
 }
 
 impl Image {
@@ -151,6 +175,10 @@ impl Image {
         let mut image = Image {
             payload: vec![0; tables.layout.input_payload_size as usize],
             submodules: tables.submodules.clone(),
+            input_size: tables.layout.input_size as usize,
+            inputs: InputData::Own,
+            previous: InputData::Own,
+            fresh: vec![false; tables.submodules.len()],
         };
         use procimg_shm_layout::{IOXS_BAD_BY_CONTROLLER as BAD, IOXS_GOOD as GOOD};
         for s in 0..image.submodules.len() {
@@ -172,9 +200,141 @@ impl Image {
         image
     }
 
-    /// The whole payload, as published.
-    pub fn payload(&self) -> &[u8] {
-        &self.payload
+    /// Bytes of the whole payload, as published.
+    pub fn payload_len(&self) -> usize {
+        self.payload.len()
+    }
+
+    /// Writes the whole payload into `dst` (of [`Image::payload_len`] bytes; shorter copies
+    /// what fits).
+    pub fn copy_payload(&self, dst: &mut [u8]) {
+        let n = dst.len().min(self.payload.len());
+        dst[..n].copy_from_slice(&self.payload[..n]);
+        let inputs = self.input_size.min(n);
+        dst[..inputs].copy_from_slice(&self.input_data()[..inputs]);
+    }
+
+    /// From now on the input data are read and written in `sample`, the payload of a sample
+    /// loaned to be published, or in the image's own payload for `None`. Inputs written
+    /// until then are fresh; the others are taken over from the last image by
+    /// [`Image::carry_over_inputs`].
+    ///
+    /// # Safety
+    ///
+    /// `sample` must be valid for reads and writes of [`Image::payload_len`] bytes, and
+    /// written by nobody else, from now until [`Image::publish_into`] has filled it; then
+    /// readable and unchanged until the image is bound to another sample and its inputs have
+    /// been carried over (as the newest sample of a publisher with a history of one is).
+    #[allow(unsafe_code)]
+    pub unsafe fn bind_inputs(&mut self, sample: Option<NonNull<u8>>) {
+        self.previous = self.inputs;
+        self.inputs = sample.map_or(InputData::Own, InputData::Sample);
+        self.fresh.iter_mut().for_each(|f| *f = false);
+    }
+
+    /// Copies the inputs of every submodule not written since [`Image::bind_inputs`] from the
+    /// last image (devices that sent nothing in this cycle keep their last inputs). Runs of
+    /// neighbouring submodules are one copy each.
+    #[allow(unsafe_code)]
+    pub fn carry_over_inputs(&mut self) {
+        let (from, to) = (self.previous, self.inputs);
+        self.previous = self.inputs;
+        if from == to {
+            return;
+        }
+        let from = self.region_ptr(from);
+        let to = self.region_ptr_mut(to);
+        let n = self.submodules.len();
+        let mut s = 0;
+        while s < n {
+            if self.fresh[s] {
+                s += 1;
+                continue;
+            }
+            let start = self.submodules[s].input_offset as usize;
+            let mut end = start + self.submodules[s].input_length as usize;
+            s += 1;
+            while s < n && !self.fresh[s] && self.submodules[s].input_offset as usize == end {
+                end += self.submodules[s].input_length as usize;
+                s += 1;
+            }
+            let end = end.min(self.input_size);
+            if start < end {
+                // SAFETY: both regions hold `input_size` bytes (the own payload, or a sample
+                // as `bind_inputs` requires) and `start..end` lies inside them; `copy` allows
+                // the two to overlap.
+                unsafe { core::ptr::copy(from.add(start), to.add(start), end - start) };
+            }
+        }
+    }
+
+    /// Writes the rest of the payload (status bytes, output mirror, padding) into the bound
+    /// sample, ready to be sent. With no sample bound there is nothing to do.
+    #[allow(unsafe_code)]
+    pub fn publish_into(&mut self) {
+        if let InputData::Sample(p) = self.inputs {
+            self.inputs = InputData::Published(p);
+            let rest = &self.payload[self.input_size..];
+            // SAFETY: the sample holds `payload_len` bytes and is written by nobody else until
+            // it is sent (`bind_inputs`); the rest lies after its input data.
+            unsafe {
+                core::ptr::copy_nonoverlapping(
+                    rest.as_ptr(),
+                    p.as_ptr().add(self.input_size),
+                    rest.len(),
+                )
+            };
+        }
+    }
+
+    /// The sample bound could not be published: its input data are taken into the image's
+    /// own payload, where the next cycle carries them over from.
+    #[allow(unsafe_code)]
+    pub fn keep_inputs(&mut self) {
+        if let InputData::Sample(p) | InputData::Published(p) = self.inputs {
+            let n = self.input_size;
+            // SAFETY: as `bind_inputs` requires, the sample stays readable and unchanged
+            // until another is bound; it is not the own payload.
+            unsafe { core::ptr::copy_nonoverlapping(p.as_ptr(), self.payload.as_mut_ptr(), n) };
+            self.inputs = InputData::Own;
+            self.previous = InputData::Own;
+        }
+    }
+
+    fn region_ptr(&self, at: InputData) -> *const u8 {
+        match at {
+            InputData::Own => self.payload.as_ptr(),
+            InputData::Sample(p) | InputData::Published(p) => p.as_ptr(),
+        }
+    }
+
+    /// Where inputs are written: a published sample is not; its inputs are taken into the
+    /// own payload first (nothing in a cycle writes inputs after publishing; this keeps a
+    /// published image immutable whatever calls come).
+    fn region_ptr_mut(&mut self, at: InputData) -> *mut u8 {
+        match at {
+            InputData::Own => self.payload.as_mut_ptr(),
+            InputData::Sample(p) => p.as_ptr(),
+            InputData::Published(_) => {
+                self.keep_inputs();
+                self.payload.as_mut_ptr()
+            }
+        }
+    }
+
+    #[allow(unsafe_code)]
+    fn input_data(&self) -> &[u8] {
+        let p = self.region_ptr(self.inputs);
+        // SAFETY: the own payload or a bound sample, both at least `input_size` bytes long and
+        // not written through another path while the image is borrowed (`bind_inputs`).
+        unsafe { core::slice::from_raw_parts(p, self.input_size) }
+    }
+
+    #[allow(unsafe_code)]
+    fn input_data_mut(&mut self) -> &mut [u8] {
+        let p = self.region_ptr_mut(self.inputs);
+        // SAFETY: as in `input_data`, and the image is borrowed mutably.
+        unsafe { core::slice::from_raw_parts_mut(p, self.input_size) }
     }
 
     /// The submodule table.
@@ -186,14 +346,27 @@ impl Image {
     pub fn inputs(&self, s: usize) -> &[u8] {
         let e = &self.submodules[s];
         let at = e.input_offset as usize;
-        &self.payload[at..at + e.input_length as usize]
+        &self.input_data()[at..at + e.input_length as usize]
     }
 
-    /// Inputs of submodule `s`, writable.
+    /// Inputs of submodule `s`, writable. Writing through it does not make them fresh: a
+    /// device's new inputs go through [`Image::set_inputs`].
     pub fn inputs_mut(&mut self, s: usize) -> &mut [u8] {
-        let e = &self.submodules[s];
+        let e = self.submodules[s];
         let at = e.input_offset as usize;
-        &mut self.payload[at..at + e.input_length as usize]
+        &mut self.input_data_mut()[at..at + e.input_length as usize]
+    }
+
+    /// Sets all inputs of submodule `s` to `data`, which makes them fresh in this cycle.
+    /// `false` (and nothing written) if `data` has another length.
+    pub fn set_inputs(&mut self, s: usize, data: &[u8]) -> bool {
+        let dst = self.inputs_mut(s);
+        if dst.len() != data.len() {
+            return false;
+        }
+        dst.copy_from_slice(data);
+        self.fresh[s] = true;
+        true
     }
 
     /// Outputs of submodule `s` as they will be (or were last) sent.
@@ -233,3 +406,7 @@ impl Image {
         ]);
     }
 }
+
+#[cfg(test)]
+#[path = "image_tests.rs"]
+mod tests;

@@ -27,6 +27,7 @@ pub mod roles;
 pub mod server;
 pub mod shm;
 pub mod stats;
-// System calls: the only module of the runtime that may use unsafe.
+// System calls. Besides them, unsafe code in the runtime is the input image built in place in
+// shared memory (`image`, the cycle's publication), allowed item by item.
 #[allow(unsafe_code)]
 pub mod sys;

@@ -80,11 +80,12 @@ pub fn label(s: Shape) -> String {
 /// The bytes the server copies per cycle, by part.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Copied {
-    /// Image → input sample: the whole input-image payload (inputs, status, output mirror).
+    /// Into the input sample from the server's own state: status and output mirror, and the
+    /// inputs that did not arrive in the cycle (carried over from the last image).
     pub publish: usize,
     /// Output samples → image: the output data the clients wrote.
     pub merge: usize,
-    /// Input frames → image: the input data.
+    /// Input frames → input sample: the input data.
     pub receive: usize,
     /// Image → output frames: output data, IOPS and IOCS, and the 4-byte APDU status.
     pub send: usize,
@@ -105,6 +106,8 @@ impl Copied {
             ..Copied::default()
         };
         if io != Io::Null {
+            // Every device sends every cycle: no input is carried over.
+            c.publish -= tables.layout.input_size as usize;
             c.receive = tables.layout.input_size as usize;
             c.send = Copied::frames(shape);
         }

@@ -28,7 +28,7 @@ use iceoryx2::prelude::ServiceName;
 use procimg_client::{AttachOptions, Client};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_runtime::config::Config;
-use procimg_runtime::cycle::{Engine, EngineSettings, Shared};
+use procimg_runtime::cycle::{ClientLink, Engine, EngineSettings, Shared};
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, ToCycle};
@@ -509,11 +509,12 @@ impl PnioRig {
     }
 }
 
-/// The input publication of `Engine::run_cycle` step 2 (engine.rs), on the server's real
-/// input port, with one subscriber connected: loan a sample of the payload size, copy the
-/// image into it, write the header, send.
+/// The input publication of `Engine::run_cycle` steps 1 and 2 (engine.rs) with nothing
+/// received, on the server's real input port, with one subscriber connected: loan a sample
+/// of the payload size, carry every input over from the last image, write status and mirror,
+/// the header, send.
 pub struct PublishRig {
-    payload: Vec<u8>,
+    image: Image,
     header: ImageHeader,
     // Dropped before the publisher's ports.
     _reader: Subscriber<Ipc, [u8], ImageHeader>,
@@ -539,10 +540,9 @@ impl PublishRig {
             .subscriber_builder()
             .create()
             .expect("reader");
-        let payload = vec![0x5a; tables.layout.input_payload_size as usize];
         let header = ImageHeader::new(tables.hash, generation);
         PublishRig {
-            payload,
+            image: Image::new(&tables),
             header,
             _reader: reader,
             _reader_node: reader_node,
@@ -552,19 +552,26 @@ impl PublishRig {
 
     /// Bytes copied into the sample.
     pub fn bytes(&self) -> usize {
-        self.payload.len()
+        self.image.payload_len()
     }
 
     /// One publication; whether it was sent.
     pub fn publish(&mut self) -> bool {
-        match self.ports.inputs.loan_slice_uninit(self.payload.len()) {
-            Ok(sample) => {
-                let mut sample = sample.write_from_slice(&self.payload);
-                self.header.cycle.cycle_number += 1;
-                *sample.user_header_mut() = self.header;
-                sample.send().is_ok()
-            }
-            Err(_) => false,
+        let sample = self.ports.loan_image(self.image.payload_len());
+        #[allow(unsafe_code)]
+        // SAFETY: the sample is loaned from the rig's own publisher (history of one), as in
+        // the engine.
+        unsafe {
+            self.image.bind_inputs(sample)
+        };
+        self.image.carry_over_inputs();
+        self.image.publish_into();
+        self.header.cycle.cycle_number += 1;
+        let header = self.header;
+        let sent = sample.is_some() && self.ports.publish(&mut |_| header);
+        if !sent {
+            self.image.keep_inputs();
         }
+        sent
     }
 }

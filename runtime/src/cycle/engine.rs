@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! One cycle of the server (DESIGN.md §3), run on the cycle thread.
 //!
-//! Per cycle k: apply queued commands and one mode step; receive inputs from the IO system;
-//! publish the input image as one immutable sample; STARTOP; wait until every armed
+//! Per cycle k: apply queued commands and one mode step; receive inputs from the IO system
+//! into the sample about to be published; publish it as one immutable image; STARTOP; wait until every armed
 //! synchronous client has sent its OPDONE, or the deadline; OPFAULT to the late ones; merge
 //! outputs; send them; NEWCYCLE; statistics. Nothing here allocates, blocks on a lock or
 //! logs once the engine is built.
@@ -191,9 +191,19 @@ impl<L: ClientLink> Engine<L> {
         }
         let mode_changed = st.step_mode();
 
-        // 1. Inputs from the IO system, forced inputs over them; local input status from the
-        // clients.
+        // 1. Inputs from the IO system, straight into the sample to be published; the last
+        // inputs of devices that sent nothing, forced inputs over them; local input status
+        // from the clients.
+        let sample = self.ports.loan_image(st.image.payload_len());
+        // SAFETY: `loan_image` promises what `bind_inputs` requires: the sample is the
+        // engine's until it is published, then unchanged until the next one is (the
+        // publisher's history of one holds it), and its inputs are carried over before that.
+        #[allow(unsafe_code)]
+        unsafe {
+            st.image.bind_inputs(sample)
+        };
         self.io.receive(t, st.mode, &mut st.image);
+        st.image.carry_over_inputs();
         st.force.apply(Space::Input, &mut st.image);
         st.apply_input_iocs();
 
@@ -208,16 +218,21 @@ impl<L: ClientLink> Engine<L> {
             reserved: 0,
         };
         st.header.mode = st.mode.as_u32();
+        st.image.publish_into();
         let published = {
-            let (image, header) = (&st.image, &mut st.header);
-            self.ports.publish(image.payload(), &mut |now| {
-                // Stamped after the copy: the clock in the header is when the image was
-                // complete, which clients measure their STARTOP latency from.
-                header.cycle.clock_ns = now;
-                header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
-                *header
-            })
+            let header = &mut st.header;
+            sample.is_some()
+                && self.ports.publish(&mut |now| {
+                    // Stamped last: the clock in the header is when the image was complete,
+                    // which clients measure their STARTOP latency from.
+                    header.cycle.clock_ns = now;
+                    header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
+                    *header
+                })
         };
+        if !published {
+            st.image.keep_inputs();
+        }
 
         // 3. STARTOP (and the mode indication, now that the image carries the new mode).
         st.startop_ns = self.ports.now_ns();

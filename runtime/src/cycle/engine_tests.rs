@@ -17,11 +17,18 @@ const DEADLINE: u64 = 500_000;
 /// What one `send` put on the wire: the mode and, per submodule, outputs and IOPS.
 type Sent = (Mode, Vec<(Vec<u8>, u8)>);
 
-/// An IO system that delivers nothing and records every send.
-struct RecordingIo(Arc<Mutex<Vec<Sent>>>);
+/// Inputs the next `receive` delivers: per submodule, its new inputs.
+type Arriving = Arc<Mutex<Vec<(usize, Vec<u8>)>>>;
+
+/// An IO system that delivers the inputs the test puts in `1` and records every send.
+struct RecordingIo(Arc<Mutex<Vec<Sent>>>, Arriving);
 
 impl IoSystem for RecordingIo {
-    fn receive(&mut self, _: CycleTime, _: Mode, _: &mut Image) {}
+    fn receive(&mut self, _: CycleTime, _: Mode, image: &mut Image) {
+        for (s, data) in self.1.lock().unwrap().drain(..) {
+            assert!(image.set_inputs(s, &data));
+        }
+    }
 
     fn send(&mut self, _: CycleTime, mode: Mode, image: &Image) {
         let per_submodule = (0..image.submodules().len())
@@ -36,6 +43,7 @@ struct Rig {
     shared: Arc<Shared>,
     tables: Tables,
     sent: Arc<Mutex<Vec<Sent>>>,
+    arriving: Arriving,
     k: u64,
 }
 
@@ -45,6 +53,7 @@ impl Rig {
         let shared = Arc::new(Shared::new(tables.submodules.len()));
         shared.target_mode.store(start.as_u32(), Ordering::Release);
         let sent = Arc::new(Mutex::new(Vec::new()));
+        let arriving = Arriving::default();
         let (stats, _collector) = crate::stats::stats_channel();
         let settings = EngineSettings {
             cycle_ns: T,
@@ -59,7 +68,7 @@ impl Rig {
             settings,
             &tables,
             MemoryLink::default(),
-            Box::new(RecordingIo(sent.clone())),
+            Box::new(RecordingIo(sent.clone(), arriving.clone())),
             shared.clone(),
             stats,
         );
@@ -68,6 +77,7 @@ impl Rig {
             shared,
             tables,
             sent,
+            arriving,
             k: 0,
         }
     }
@@ -373,4 +383,65 @@ fn going_offline_passes_through_clear_and_forgets_the_outputs() {
     rig.cycle();
     let (mode, outputs, _) = rig.last_sent(echo);
     assert_eq!((mode, outputs), (Mode::Operate, vec![0; 16]));
+}
+
+/// Inputs arrive straight in the sample being published; a device that sent nothing keeps
+/// its last inputs in every image, also across a cycle that could not loan a sample, and
+/// every byte of every image is written (none keeps what the loaned sample held).
+#[test]
+fn inputs_that_did_not_arrive_are_carried_into_every_image() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    rig.reach(Mode::Operate);
+    let with_inputs: Vec<usize> = (0..rig.tables.submodules.len())
+        .filter(|&s| rig.tables.submodules[s].input_length > 0)
+        .collect();
+    let (a, b) = (with_inputs[0], *with_inputs.last().unwrap());
+    assert_ne!(a, b, "the demo has several submodules with inputs");
+    let tables = rig.tables.clone();
+    let data = |s: usize, v: u8| vec![v; tables.submodules[s].input_length as usize];
+    let inputs = |rig: &Rig, s: usize| {
+        let (_, payload) = rig.engine.ports.published.last().unwrap();
+        let e = rig.tables.submodules[s];
+        payload[e.input_offset as usize..][..e.input_length as usize].to_vec()
+    };
+    // (what arrives for a, for b, whether a sample can be loaned) per cycle
+    let script: [(Option<u8>, Option<u8>, bool); 6] = [
+        (Some(1), Some(2), true),
+        (Some(3), None, true),
+        (None, None, true),
+        (None, Some(4), false),
+        (None, None, true),
+        (Some(5), None, true),
+    ];
+    let (mut last_a, mut last_b) = (0, 0);
+    for (a_new, b_new, loans) in script {
+        let published = rig.engine.ports.published.len();
+        {
+            let mut arriving = rig.arriving.lock().unwrap();
+            arriving.extend(a_new.map(|v| (a, data(a, v))));
+            arriving.extend(b_new.map(|v| (b, data(b, v))));
+        }
+        rig.engine.ports.refuse_loans = !loans;
+        rig.cycle();
+        last_a = a_new.unwrap_or(last_a);
+        last_b = b_new.unwrap_or(last_b);
+        if !loans {
+            assert_eq!(rig.engine.ports.published.len(), published);
+            continue;
+        }
+        assert_eq!(inputs(&rig, a), data(a, last_a));
+        assert_eq!(inputs(&rig, b), data(b, last_b));
+        let (_, payload) = rig.engine.ports.published.last().unwrap();
+        assert!(
+            !payload.contains(&crate::cycle::link::UNWRITTEN),
+            "a byte of the published image was left as the loan held it"
+        );
+    }
+    assert_eq!(
+        rig.shared
+            .counters
+            .unpublished_images
+            .load(Ordering::Relaxed),
+        1
+    );
 }

@@ -6,6 +6,7 @@
 
 use crate::shm::CyclePorts;
 use crate::sys::clock::now_ns;
+use core::ptr::NonNull;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::EventId;
 use procimg_shm_layout::events::EVENT_STARTOP;
@@ -17,10 +18,16 @@ use std::collections::VecDeque;
 pub trait ClientLink {
     /// Now, in ns on the cycle's clock (`CLOCK_MONOTONIC` in procimgd).
     fn now_ns(&self) -> u64;
-    /// Publishes `payload` as this cycle's input image; `header` is called after the copy
-    /// with the time then, to stamp when the image was complete. `false` if it could not be
-    /// published.
-    fn publish(&mut self, payload: &[u8], header: &mut dyn FnMut(u64) -> ImageHeader) -> bool;
+    /// Loans the sample this cycle's input image is built in, of `len` bytes, and returns
+    /// where its payload starts; `None` when no sample can be had (the cycle then publishes
+    /// nothing). The payload is uninitialised, valid for reads and writes by the caller alone
+    /// until [`ClientLink::publish`], and after a publication readable and unchanged until
+    /// the next sample has been published.
+    fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>>;
+    /// Publishes the loaned sample, every byte of which the caller wrote; `header` is called
+    /// with the time then, to stamp when the image was complete. `false` if nothing was
+    /// loaned or it could not be published.
+    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader) -> bool;
     /// Hands the oldest client output sample waiting to `take`, with the time it was taken
     /// (read only when there is one).
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken;
@@ -64,15 +71,25 @@ impl ClientLink for CyclePorts {
         now_ns()
     }
 
-    fn publish(&mut self, payload: &[u8], header: &mut dyn FnMut(u64) -> ImageHeader) -> bool {
-        match iceoryx2_call(|| self.inputs.loan_slice_uninit(payload.len())) {
-            Ok(sample) => {
-                let mut sample = sample.write_from_slice(payload);
-                *sample.user_header_mut() = header(now_ns());
-                iceoryx2_call(|| sample.send().is_ok())
-            }
-            Err(_) => false,
-        }
+    fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>> {
+        // A sample still loaned (a cycle that did not get to publish it) goes back first.
+        self.loaned = None;
+        let mut sample = iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?;
+        let start = NonNull::new(sample.payload_mut().as_mut_ptr().cast::<u8>());
+        self.loaned = Some(sample);
+        start
+    }
+
+    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader) -> bool {
+        let Some(sample) = self.loaned.take() else {
+            return false;
+        };
+        // SAFETY: the engine wrote every byte of the payload before publishing
+        // (`Image::carry_over_inputs` and `Image::publish_into`).
+        #[allow(unsafe_code)]
+        let mut sample = unsafe { sample.assume_init() };
+        *sample.user_header_mut() = header(now_ns());
+        iceoryx2_call(|| sample.send().is_ok())
     }
 
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
@@ -142,15 +159,42 @@ pub struct MemoryLink {
     pub published: Vec<(ImageHeader, Vec<u8>)>,
     /// Every event signalled, in order.
     pub events: Vec<usize>,
+    /// No sample can be loaned (all are held by readers).
+    pub refuse_loans: bool,
+    /// The two samples images are built in, in turn.
+    samples: [Vec<u8>; 2],
+    /// Which of them is loaned (or was published last).
+    loaned: usize,
 }
+
+/// What a loaned sample holds before the engine writes it: a value no test image has
+/// everywhere, so that a byte left unwritten shows.
+pub const UNWRITTEN: u8 = 0xEE;
 
 impl ClientLink for MemoryLink {
     fn now_ns(&self) -> u64 {
         self.now
     }
 
-    fn publish(&mut self, payload: &[u8], header: &mut dyn FnMut(u64) -> ImageHeader) -> bool {
-        let copy = payload.to_vec();
+    fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>> {
+        if self.refuse_loans {
+            return None;
+        }
+        // Two samples in turn, as a publisher with a history of one has: the last one
+        // published stays untouched while the next is written. What was in the loaned one
+        // is garbage, as in an uninitialised sample.
+        self.loaned ^= 1;
+        let sample = &mut self.samples[self.loaned];
+        sample.clear();
+        sample.resize(len, UNWRITTEN);
+        NonNull::new(sample.as_mut_ptr())
+    }
+
+    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader) -> bool {
+        if self.refuse_loans {
+            return false;
+        }
+        let copy = self.samples[self.loaned].clone();
         self.published.push((header(self.now), copy));
         true
     }

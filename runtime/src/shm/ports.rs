@@ -3,12 +3,14 @@
 
 use super::Ipc;
 use crate::image::Tables;
+use core::mem::MaybeUninit;
 use iceoryx2::node::{Node, NodeBuilder, NodeState, NodeView};
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, NodeName, ServiceName};
+use iceoryx2::sample_mut_uninit::SampleMutUninit;
 use procimg_shm_layout::events::EVENT_ID_MAX;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
@@ -140,6 +142,9 @@ pub fn cleanup_dead_nodes(instance: &str) -> Result<Vec<String>, ShmError> {
 
 /// The ports the cycle thread owns.
 pub struct CyclePorts {
+    /// The sample this cycle's input image is being built in (first: it goes back to the
+    /// publisher before the publisher goes).
+    pub loaned: Option<SampleMutUninit<Ipc, [MaybeUninit<u8>], ImageHeader>>,
     /// The cycle thread's node.
     pub node: Node<Ipc>,
     /// Publishes one input image per cycle.
@@ -229,6 +234,7 @@ impl CyclePorts {
             .map_err(|e| err(instance, "cycle event notifier", e))?;
 
         Ok(CyclePorts {
+            loaned: None,
             node,
             inputs,
             outputs,

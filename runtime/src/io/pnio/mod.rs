@@ -263,10 +263,7 @@ impl Exchanges {
                 continue;
             };
             if o.len > 0 && usable {
-                let dst = image.inputs_mut(o.submodule);
-                if dst.len() == src.len() {
-                    dst.copy_from_slice(src);
-                }
+                image.set_inputs(o.submodule, src);
             }
             let mut st = image.status(o.submodule);
             st.input_iops = if usable { iops } else { IOXS_BAD };
