@@ -166,8 +166,14 @@ fn steady_state(
                 while !stop.load(Ordering::Acquire) {
                     match c.wait_startop(Duration::from_millis(50)) {
                         Ok(mut cycle) if synchronous => {
+                            // Both ways of writing outputs in place, in turn.
                             let k = cycle.number();
-                            cycle.output_mut(sub).unwrap().fill(k as u8);
+                            if k % 2 == 0 {
+                                cycle.output_mut(sub).unwrap().fill(k as u8);
+                            } else {
+                                let at = cycle.layout().submodules[sub].output_offset as usize;
+                                cycle.outputs_mut().unwrap()[at] = k as u8;
+                            }
                             cycle.set_opdone().unwrap();
                         }
                         Ok(cycle) => {

@@ -688,9 +688,18 @@ impl Client {
         Ok(sample)
     }
 
+    /// Fills `dst` with submodule `s`'s outputs as they went out last (the newest image's
+    /// mirror); zeros before the first image.
+    pub(crate) fn copy_last_sent(&self, s: usize, dst: &mut [u8]) {
+        match self.outputs_last_sent(s) {
+            Some(last) if last.len() == dst.len() => dst.copy_from_slice(last),
+            _ => dst.fill(0),
+        }
+    }
+
     /// Submodule `s`'s outputs as they went out last (the newest image's mirror), if there is
     /// an image.
-    pub(crate) fn outputs_last_sent(&self, s: usize) -> Option<&[u8]> {
+    fn outputs_last_sent(&self, s: usize) -> Option<&[u8]> {
         let e = self.layout.submodules.get(s)?;
         let at = e.output_mirror_offset as usize;
         self.latest

@@ -248,11 +248,7 @@ impl<'c> Cycle<'c> {
             .is_some_and(|f| f & CLIENT_WROTE_OUTPUTS != 0);
         // The first touch in this cycle: the sample's bytes are not this submodule's yet.
         if keep_last && !written {
-            let dst = &mut payload[at..at + len];
-            match client.outputs_last_sent(s) {
-                Some(last) => dst.copy_from_slice(last),
-                None => dst.fill(0),
-            }
+            client.copy_last_sent(s, &mut payload[at..at + len]);
         }
         stamp(payload, &e, None, Some(Ioxs::Good), None);
         payload[cs + 2] |= CLIENT_WROTE_OUTPUTS;
@@ -264,7 +260,6 @@ impl<'c> Cycle<'c> {
     /// with local status GOOD; bytes of submodules it has not claimed are ignored by the
     /// server.
     pub fn outputs_mut(&mut self) -> Result<&mut [u8], IoError> {
-        let claimed: Vec<_> = self.client.claims.iter().copied().collect();
         self.client
             .write_cache
             .valid
@@ -283,13 +278,9 @@ impl<'c> Cycle<'c> {
                 continue;
             }
             let at = e.output_offset as usize;
-            let dst = &mut payload[at..at + e.output_length as usize];
-            match client.outputs_last_sent(s) {
-                Some(last) => dst.copy_from_slice(last),
-                None => dst.fill(0),
-            }
+            client.copy_last_sent(s, &mut payload[at..at + e.output_length as usize]);
         }
-        for s in claimed {
+        for &s in &client.claims {
             if let Some(e) = client.layout.submodules.get(s) {
                 stamp(payload, e, None, Some(Ioxs::Good), None);
                 payload[e.client_status_offset as usize + 2] |= CLIENT_WROTE_OUTPUTS;
