@@ -10,6 +10,10 @@ use procimg_shm_layout::{
 
 use crate::config::{Config, StationConfig, SubmoduleConfig};
 use core::ptr::NonNull;
+use region::{Place, Region};
+
+#[allow(unsafe_code)]
+mod region;
 
 /// The tables of an IO system as shared memory describes them.
 ///
@@ -139,46 +143,49 @@ fn entry(d: usize, s: &SubmoduleConfig) -> SubmoduleEntry {
     }
 }
 
-/// The server's input-image payload. Its input data are written straight into the sample
-/// that will be published ([`Image::bind_inputs`]), so that a received byte is copied once on
-/// its way to the clients; the rest (status bytes, the mirror of the outputs) is the server's
-/// own, changed after a publication too, and copied into the sample when it is published.
+/// The server's input-image payload, built in place in the shared-memory sample that will be
+/// published: input data straight from the frames ([`Image::bind_inputs`]), client outputs
+/// straight into the mirror of the next image ([`Image::bind_outputs`]); whatever was not
+/// written anew is carried over from the last image. The status bytes are the server's own
+/// (they change after a publication too) and are copied in when the sample is published.
 pub struct Image {
-    /// The whole payload: status and mirror always, input data when no sample is bound.
+    /// The whole payload: the status bytes always, input data and mirror while they are not
+    /// bound to a sample.
     payload: Vec<u8>,
     submodules: Vec<SubmoduleEntry>,
-    /// Bytes of input data: the first region of the payload.
-    input_size: usize,
-    /// Where the input data are read and written now.
-    inputs: InputData,
-    /// Where the input data of the last image were, until [`Image::carry_over_inputs`].
-    previous: InputData,
-    /// Per submodule: its inputs were written since the inputs were bound.
-    fresh: Vec<bool>,
-}
-
-/// Where an image's input data are.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum InputData {
-    /// In the image's own payload.
-    Own,
-    /// At the start of a loaned shared-memory sample, being written.
-    Sample(NonNull<u8>),
-    /// At the start of a published sample: read-only, clients read it.
-    Published(NonNull<u8>),
+    /// The input data: the first region of the payload.
+    inputs: Region,
+    /// The mirror of the outputs as last sent: the last region (but for padding).
+    outputs: Region,
 }
 
 impl Image {
     /// A zeroed image for `tables`, with every status BAD (nothing has been exchanged yet)
     /// except for submodules without data, which are GOOD as IO-Base specifies.
     pub fn new(tables: &Tables) -> Image {
+        let l = &tables.layout;
+        let spans = |at: fn(&SubmoduleEntry) -> (u32, u16)| {
+            tables
+                .submodules
+                .iter()
+                .map(|e| {
+                    let (offset, len) = at(e);
+                    (offset as usize, offset as usize + len as usize)
+                })
+                .collect()
+        };
+        let mirror = l.output_mirror_offset as usize;
         let mut image = Image {
-            payload: vec![0; tables.layout.input_payload_size as usize],
+            payload: vec![0; l.input_payload_size as usize],
             submodules: tables.submodules.clone(),
-            input_size: tables.layout.input_size as usize,
-            inputs: InputData::Own,
-            previous: InputData::Own,
-            fresh: vec![false; tables.submodules.len()],
+            inputs: Region::new(
+                spans(|e| (e.input_offset, e.input_length)),
+                (0, l.input_size as usize),
+            ),
+            outputs: Region::new(
+                spans(|e| (e.output_mirror_offset, e.output_length)),
+                (mirror, mirror + l.output_size as usize),
+            ),
         };
         use procimg_shm_layout::{IOXS_BAD_BY_CONTROLLER as BAD, IOXS_GOOD as GOOD};
         for s in 0..image.submodules.len() {
@@ -205,136 +212,92 @@ impl Image {
         self.payload.len()
     }
 
-    /// Writes the whole payload into `dst` (of [`Image::payload_len`] bytes; shorter copies
-    /// what fits).
-    pub fn copy_payload(&self, dst: &mut [u8]) {
-        let n = dst.len().min(self.payload.len());
-        dst[..n].copy_from_slice(&self.payload[..n]);
-        let inputs = self.input_size.min(n);
-        dst[..inputs].copy_from_slice(&self.input_data()[..inputs]);
-    }
-
-    /// From now on the input data are read and written in `sample`, the payload of a sample
-    /// loaned to be published, or in the image's own payload for `None`. Inputs written
-    /// until then are fresh; the others are taken over from the last image by
-    /// [`Image::carry_over_inputs`].
+    /// From now on the input data are written in `sample`, the start of the payload of a
+    /// sample loaned to be published, or in the image's own payload for `None`. Inputs
+    /// written until [`Image::carry_over_inputs`] are fresh; the others are carried over
+    /// from where they were.
     ///
     /// # Safety
     ///
     /// `sample` must be valid for reads and writes of [`Image::payload_len`] bytes, and
     /// written by nobody else, from now until [`Image::publish_into`] has filled it; then
-    /// readable and unchanged until the image is bound to another sample and its inputs have
-    /// been carried over (as the newest sample of a publisher with a history of one is).
+    /// readable and unchanged until the image is bound to another sample and carried over
+    /// (as the newest sample of a publisher with a history of one is). It must be the sample
+    /// the outputs are bound to, if they are bound to one.
     #[allow(unsafe_code)]
     pub unsafe fn bind_inputs(&mut self, sample: Option<NonNull<u8>>) {
-        self.previous = self.inputs;
-        self.inputs = sample.map_or(InputData::Own, InputData::Sample);
-        self.fresh.iter_mut().for_each(|f| *f = false);
+        // SAFETY: passed on to the caller.
+        unsafe { self.inputs.bind(sample, &mut self.payload) };
+    }
+
+    /// From now on the mirror of the outputs is written in `sample` (the next sample to be
+    /// published), or in the own payload for `None`. Outputs set until
+    /// [`Image::carry_over_outputs`] are fresh; the others are carried over from the last
+    /// image.
+    ///
+    /// # Safety
+    ///
+    /// As for [`Image::bind_inputs`]; the inputs are bound to the same sample before it is
+    /// published.
+    #[allow(unsafe_code)]
+    pub unsafe fn bind_outputs(&mut self, sample: Option<NonNull<u8>>) {
+        // SAFETY: passed on to the caller.
+        unsafe { self.outputs.bind(sample, &mut self.payload) };
     }
 
     /// Copies the inputs of every submodule not written since [`Image::bind_inputs`] from the
-    /// last image (devices that sent nothing in this cycle keep their last inputs). Runs of
-    /// neighbouring submodules are one copy each.
-    #[allow(unsafe_code)]
+    /// last image (devices that sent nothing in this cycle keep their last inputs).
     pub fn carry_over_inputs(&mut self) {
-        let (from, to) = (self.previous, self.inputs);
-        self.previous = self.inputs;
-        if from == to {
-            return;
-        }
-        let from = self.region_ptr(from);
-        let to = self.region_ptr_mut(to);
-        let n = self.submodules.len();
-        let mut s = 0;
-        while s < n {
-            if self.fresh[s] {
-                s += 1;
-                continue;
-            }
-            let start = self.submodules[s].input_offset as usize;
-            let mut end = start + self.submodules[s].input_length as usize;
-            s += 1;
-            while s < n && !self.fresh[s] && self.submodules[s].input_offset as usize == end {
-                end += self.submodules[s].input_length as usize;
-                s += 1;
-            }
-            let end = end.min(self.input_size);
-            if start < end {
-                // SAFETY: both regions hold `input_size` bytes (the own payload, or a sample
-                // as `bind_inputs` requires) and `start..end` lies inside them; `copy` allows
-                // the two to overlap.
-                unsafe { core::ptr::copy(from.add(start), to.add(start), end - start) };
-            }
-        }
+        self.inputs.carry_over(&mut self.payload);
     }
 
-    /// Writes the rest of the payload (status bytes, output mirror, padding) into the bound
-    /// sample, ready to be sent. With no sample bound there is nothing to do.
-    #[allow(unsafe_code)]
+    /// Copies the outputs of every submodule not set since [`Image::bind_outputs`] from the
+    /// last image (outputs nobody wrote in this cycle stay as last sent).
+    pub fn carry_over_outputs(&mut self) {
+        self.outputs.carry_over(&mut self.payload);
+    }
+
+    /// Completes the bound sample for publication: carries over what was not written and
+    /// writes the status bytes, the padding, and the mirror if it is not in the sample. From
+    /// then on the sample is read-only. With no sample bound there is nothing to do.
     pub fn publish_into(&mut self) {
-        if let InputData::Sample(p) = self.inputs {
-            self.inputs = InputData::Published(p);
-            let rest = &self.payload[self.input_size..];
-            // SAFETY: the sample holds `payload_len` bytes and is written by nobody else until
-            // it is sent (`bind_inputs`); the rest lies after its input data.
-            unsafe {
-                core::ptr::copy_nonoverlapping(
-                    rest.as_ptr(),
-                    p.as_ptr().add(self.input_size),
-                    rest.len(),
-                )
-            };
-        }
-    }
-
-    /// The sample bound could not be published: its input data are taken into the image's
-    /// own payload, where the next cycle carries them over from.
-    #[allow(unsafe_code)]
-    pub fn keep_inputs(&mut self) {
-        if let InputData::Sample(p) | InputData::Published(p) = self.inputs {
-            let n = self.input_size;
-            // SAFETY: as `bind_inputs` requires, the sample stays readable and unchanged
-            // until another is bound; it is not the own payload.
-            unsafe { core::ptr::copy_nonoverlapping(p.as_ptr(), self.payload.as_mut_ptr(), n) };
-            self.inputs = InputData::Own;
-            self.previous = InputData::Own;
-        }
-    }
-
-    fn region_ptr(&self, at: InputData) -> *const u8 {
-        match at {
-            InputData::Own => self.payload.as_ptr(),
-            InputData::Sample(p) | InputData::Published(p) => p.as_ptr(),
-        }
-    }
-
-    /// Where inputs are written: a published sample is not; its inputs are taken into the
-    /// own payload first (nothing in a cycle writes inputs after publishing; this keeps a
-    /// published image immutable whatever calls come).
-    fn region_ptr_mut(&mut self, at: InputData) -> *mut u8 {
-        match at {
-            InputData::Own => self.payload.as_mut_ptr(),
-            InputData::Sample(p) => p.as_ptr(),
-            InputData::Published(_) => {
-                self.keep_inputs();
-                self.payload.as_mut_ptr()
+        self.carry_over_inputs();
+        self.carry_over_outputs();
+        let Place::Sample(p) = self.inputs.place() else {
+            return;
+        };
+        let (mirror_start, mirror_end) = self.outputs.extent();
+        let input_end = self.inputs.extent().1;
+        let mirror_apart = self.outputs.place() != Place::Sample(p);
+        let len = self.payload.len();
+        let outputs_base = self.outputs.base(&self.payload);
+        let own = self.payload.as_ptr();
+        let put = |from: *const u8, start: usize, end: usize| {
+            if start < end && end <= len {
+                #[allow(unsafe_code)]
+                // SAFETY: the sample holds the whole payload and is written by nobody else
+                // until it is sent (`bind_inputs`); `from` is the own payload or the sample
+                // the outputs are in, which hold it too; a region of one is never copied
+                // onto the same region of itself.
+                unsafe {
+                    core::ptr::copy(from.add(start), p.as_ptr().add(start), end - start)
+                };
             }
+        };
+        put(own, input_end, mirror_start);
+        if mirror_apart {
+            put(outputs_base, mirror_start, mirror_end);
         }
+        put(own, mirror_end, len);
+        self.inputs.published();
+        self.outputs.published();
     }
 
-    #[allow(unsafe_code)]
-    fn input_data(&self) -> &[u8] {
-        let p = self.region_ptr(self.inputs);
-        // SAFETY: the own payload or a bound sample, both at least `input_size` bytes long and
-        // not written through another path while the image is borrowed (`bind_inputs`).
-        unsafe { core::slice::from_raw_parts(p, self.input_size) }
-    }
-
-    #[allow(unsafe_code)]
-    fn input_data_mut(&mut self) -> &mut [u8] {
-        let p = self.region_ptr_mut(self.inputs);
-        // SAFETY: as in `input_data`, and the image is borrowed mutably.
-        unsafe { core::slice::from_raw_parts_mut(p, self.input_size) }
+    /// The sample bound could not be published: inputs and outputs are taken into the
+    /// image's own payload, where the next cycle carries them over from.
+    pub fn keep_unpublished(&mut self) {
+        self.inputs.keep(&mut self.payload);
+        self.outputs.keep(&mut self.payload);
     }
 
     /// The submodule table.
@@ -344,43 +307,36 @@ impl Image {
 
     /// Inputs of submodule `s`.
     pub fn inputs(&self, s: usize) -> &[u8] {
-        let e = &self.submodules[s];
-        let at = e.input_offset as usize;
-        &self.input_data()[at..at + e.input_length as usize]
+        self.inputs.get(s, &self.payload)
     }
 
-    /// Inputs of submodule `s`, writable. Writing through it does not make them fresh: a
-    /// device's new inputs go through [`Image::set_inputs`].
+    /// Inputs of submodule `s`, writable in place (as they were, so a partial write keeps
+    /// the rest).
     pub fn inputs_mut(&mut self, s: usize) -> &mut [u8] {
-        let e = self.submodules[s];
-        let at = e.input_offset as usize;
-        &mut self.input_data_mut()[at..at + e.input_length as usize]
+        self.inputs.get_mut(s, &mut self.payload)
     }
 
     /// Sets all inputs of submodule `s` to `data`, which makes them fresh in this cycle.
     /// `false` (and nothing written) if `data` has another length.
     pub fn set_inputs(&mut self, s: usize, data: &[u8]) -> bool {
-        let dst = self.inputs_mut(s);
-        if dst.len() != data.len() {
-            return false;
-        }
-        dst.copy_from_slice(data);
-        self.fresh[s] = true;
-        true
+        self.inputs.set(s, data, &mut self.payload)
     }
 
     /// Outputs of submodule `s` as they will be (or were last) sent.
     pub fn outputs(&self, s: usize) -> &[u8] {
-        let e = &self.submodules[s];
-        let at = e.output_mirror_offset as usize;
-        &self.payload[at..at + e.output_length as usize]
+        self.outputs.get(s, &self.payload)
     }
 
-    /// Outputs of submodule `s`, writable.
+    /// Outputs of submodule `s`, writable in place (as they were, so a partial write keeps
+    /// the rest).
     pub fn outputs_mut(&mut self, s: usize) -> &mut [u8] {
-        let e = &self.submodules[s];
-        let at = e.output_mirror_offset as usize;
-        &mut self.payload[at..at + e.output_length as usize]
+        self.outputs.get_mut(s, &mut self.payload)
+    }
+
+    /// Sets all outputs of submodule `s` to `data` (a client's whole submodule). `false` (and
+    /// nothing written) if `data` has another length.
+    pub fn set_outputs(&mut self, s: usize, data: &[u8]) -> bool {
+        self.outputs.set(s, data, &mut self.payload)
     }
 
     /// Status bytes of submodule `s`.

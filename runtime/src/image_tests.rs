@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Inputs built in place: whatever set of submodules gets new inputs in a cycle, the image
-//! that results holds those and the last inputs of all others, in every combination of own
-//! payload and samples.
+//! The image built in place: whatever set of submodules gets new inputs (or outputs) in a
+//! cycle, the image that results holds those and the last ones of all others, in every
+//! combination of own payload and samples.
 
 use super::*;
 
@@ -118,4 +118,47 @@ fn writing_inputs_after_publishing_leaves_the_published_sample_alone() {
 
 fn len(tables: &Tables, s: usize) -> usize {
     tables.submodules[s].input_length as usize
+}
+
+/// A partial write into outputs just moved to a new sample keeps the rest as last sent, and
+/// a whole write does not need them; reads before the carry-over see the last outputs.
+#[test]
+fn outputs_moved_to_a_new_sample_keep_what_was_not_written() {
+    let tables = tables();
+    let partial = (0..tables.submodules.len())
+        .find(|&s| tables.submodules[s].output_length > 1)
+        .unwrap();
+    let untouched = (0..tables.submodules.len())
+        .find(|&s| s != partial && tables.submodules[s].output_length > 0)
+        .unwrap();
+    let olen = |s: usize| tables.submodules[s].output_length as usize;
+    let first = |s: usize| vec![s as u8 + 1; olen(s)];
+    let mut image = Image::new(&tables);
+    assert!(image.set_outputs(partial, &first(partial)));
+    assert!(image.set_outputs(untouched, &first(untouched)));
+    let (mut a, mut b) = (sample(&image), sample(&image));
+    let bind = |image: &mut Image, to: &mut Vec<u8>| {
+        #[allow(unsafe_code)]
+        // SAFETY: the sample outlives the image's use of it and is not resized.
+        unsafe {
+            image.bind_outputs(Some(NonNull::new(to.as_mut_ptr()).unwrap()))
+        };
+    };
+    bind(&mut image, &mut a);
+    assert_eq!(image.outputs(untouched), &first(untouched)[..]);
+    image.outputs_mut(partial)[0] = 0x55;
+    image.carry_over_outputs();
+    let mut want = first(partial);
+    want[0] = 0x55;
+    assert_eq!(image.outputs(partial), &want[..]);
+    assert_eq!(image.outputs(untouched), &first(untouched)[..]);
+    let at = tables.submodules[untouched].output_mirror_offset as usize;
+    assert_eq!(a[at], untouched as u8 + 1, "carried into the sample");
+
+    bind(&mut image, &mut b);
+    assert!(image.set_outputs(partial, &vec![0x66; olen(partial)]));
+    image.carry_over_outputs();
+    assert_eq!(image.outputs(partial), &vec![0x66; olen(partial)][..]);
+    assert_eq!(image.outputs(untouched), &first(untouched)[..]);
+    assert_eq!(b[at], untouched as u8 + 1, "carried into the next sample");
 }

@@ -18,8 +18,8 @@ use super::table::{self, Notes};
 pub const SERVER_COPIES_PER_INPUT_BYTE: u32 = 1;
 
 /// Copies the server makes of each output byte on its way from a client to the wire: the
-/// client's sample into the server's image (its mirror of the outputs, which the next input
-/// image carries back to the clients), the image into the output frame.
+/// client's sample straight into the next input sample (its mirror of the outputs, which
+/// shows the clients the outputs as last sent), that sample into the output frame.
 pub const SERVER_COPIES_PER_OUTPUT_BYTE: u32 = 2;
 
 /// The unit a goal's value is written in.

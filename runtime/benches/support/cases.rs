@@ -80,10 +80,10 @@ pub fn label(s: Shape) -> String {
 /// The bytes the server copies per cycle, by part.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Copied {
-    /// Into the input sample from the server's own state: status and output mirror, and the
-    /// inputs that did not arrive in the cycle (carried over from the last image).
+    /// Into the input sample besides what arrives: the status bytes, and the inputs and
+    /// outputs nobody sent in the cycle (carried over from the last image).
     pub publish: usize,
-    /// Output samples → image: the output data the clients wrote.
+    /// Output samples → the next input sample: the output data the clients wrote.
     pub merge: usize,
     /// Input frames → input sample: the input data.
     pub receive: usize,
@@ -96,19 +96,20 @@ impl Copied {
     /// output is written by some client).
     pub fn cycle(shape: Shape, io: Io, clients: usize) -> Copied {
         let tables = tables(shape);
+        let l = &tables.layout;
         let mut c = Copied {
-            publish: tables.layout.input_payload_size as usize,
-            merge: if clients > 0 {
-                tables.layout.output_size as usize
-            } else {
-                0
-            },
+            publish: l.input_payload_size as usize,
             ..Copied::default()
         };
+        if clients > 0 {
+            // The clients write every output: none is carried over.
+            c.merge = l.output_size as usize;
+            c.publish -= l.output_size as usize;
+        }
         if io != Io::Null {
             // Every device sends every cycle: no input is carried over.
-            c.publish -= tables.layout.input_size as usize;
-            c.receive = tables.layout.input_size as usize;
+            c.publish -= l.input_size as usize;
+            c.receive = l.input_size as usize;
             c.send = Copied::frames(shape);
         }
         c

@@ -509,12 +509,14 @@ impl PnioRig {
     }
 }
 
-/// The input publication of `Engine::run_cycle` steps 1 and 2 (engine.rs) with nothing
-/// received, on the server's real input port, with one subscriber connected: loan a sample
-/// of the payload size, carry every input over from the last image, write status and mirror,
-/// the header, send.
+/// The input publication of `Engine::run_cycle` (engine.rs) with nothing received and no
+/// client writing, on the server's real input port, with one subscriber connected: carry
+/// every input and output over from the last image into the sample loaned for this one,
+/// write the status bytes and the header, send, loan the next.
 pub struct PublishRig {
     image: Image,
+    /// The sample the next image is built in.
+    next: Option<core::ptr::NonNull<u8>>,
     header: ImageHeader,
     // Dropped before the publisher's ports.
     _reader: Subscriber<Ipc, [u8], ImageHeader>,
@@ -543,6 +545,7 @@ impl PublishRig {
         let header = ImageHeader::new(tables.hash, generation);
         PublishRig {
             image: Image::new(&tables),
+            next: None,
             header,
             _reader: reader,
             _reader_node: reader_node,
@@ -557,21 +560,32 @@ impl PublishRig {
 
     /// One publication; whether it was sent.
     pub fn publish(&mut self) -> bool {
-        let sample = self.ports.loan_image(self.image.payload_len());
+        let len = self.image.payload_len();
         #[allow(unsafe_code)]
-        // SAFETY: the sample is loaned from the rig's own publisher (history of one), as in
-        // the engine.
+        // SAFETY: samples are loaned from the rig's own publisher (history of one) and bound
+        // as the engine binds them: outputs after a publication, inputs at the next one.
         unsafe {
-            self.image.bind_inputs(sample)
-        };
-        self.image.carry_over_inputs();
-        self.image.publish_into();
-        self.header.cycle.cycle_number += 1;
-        let header = self.header;
-        let sent = sample.is_some() && self.ports.publish(&mut |_| header);
-        if !sent {
-            self.image.keep_inputs();
+            let sample = match self.next.take() {
+                Some(sample) => Some(sample),
+                None => {
+                    let sample = self.ports.loan_image(len);
+                    self.image.bind_outputs(sample);
+                    sample
+                }
+            };
+            self.image.bind_inputs(sample);
+            self.image.carry_over_inputs();
+            self.image.publish_into();
+            self.header.cycle.cycle_number += 1;
+            let header = self.header;
+            let sent = sample.is_some() && self.ports.publish(&mut |_| header);
+            if !sent {
+                self.image.keep_unpublished();
+            }
+            self.next = self.ports.loan_image(len);
+            self.image.bind_outputs(self.next);
+            self.image.carry_over_outputs();
+            sent
         }
-        sent
     }
 }

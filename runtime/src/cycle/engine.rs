@@ -2,7 +2,8 @@
 //! One cycle of the server (DESIGN.md §3), run on the cycle thread.
 //!
 //! Per cycle k: apply queued commands and one mode step; receive inputs from the IO system
-//! into the sample about to be published; publish it as one immutable image; STARTOP; wait until every armed
+//! into the sample about to be published; publish it as one immutable image and loan the
+//! next, which the clients' outputs are merged into; STARTOP; wait until every armed
 //! synchronous client has sent its OPDONE, or the deadline; OPFAULT to the late ones; merge
 //! outputs; send them; NEWCYCLE; statistics. Nothing here allocates, blocks on a lock or
 //! logs once the engine is built.
@@ -15,6 +16,7 @@ use crate::image::{Image, Tables};
 use crate::io::{CycleTime, IoSystem};
 use crate::shm::CyclePorts;
 use crate::stats::StatsRecorder;
+use core::ptr::NonNull;
 use procimg_shm_layout::control::Space;
 use procimg_shm_layout::events::{
     EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, EVENT_STARTOP, opfault_event,
@@ -97,6 +99,9 @@ struct State {
     /// CPUs this process may run on: polling for OPDONE helps only while the clients waited
     /// for have CPUs beside the cycle thread's.
     cpus: usize,
+    /// The sample the next image is built in, loaned right after this cycle's publication
+    /// (the outputs are bound to it; the inputs are, at the next cycle's start).
+    next_sample: Option<NonNull<u8>>,
 }
 
 /// The cycle engine: the link to the clients (the iceoryx2 ports in procimgd), the IO system
@@ -160,6 +165,7 @@ impl<L: ClientLink> Engine<L> {
                 outputs_pending: false,
                 force: Box::new(ForcePlan::empty(n)),
                 cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
+                next_sample: None,
             },
         }
     }
@@ -194,10 +200,24 @@ impl<L: ClientLink> Engine<L> {
         // 1. Inputs from the IO system, straight into the sample to be published; the last
         // inputs of devices that sent nothing, forced inputs over them; local input status
         // from the clients.
-        let sample = self.ports.loan_image(st.image.payload_len());
+        // The sample loaned at the end of the last cycle, which has its outputs already; a
+        // new one (the outputs carried over into it) if that loan failed.
+        let sample = match st.next_sample.take() {
+            Some(sample) => Some(sample),
+            None => {
+                let sample = self.ports.loan_image(st.image.payload_len());
+                #[allow(unsafe_code)]
+                // SAFETY: as below.
+                unsafe {
+                    st.image.bind_outputs(sample)
+                };
+                sample
+            }
+        };
         // SAFETY: `loan_image` promises what `bind_inputs` requires: the sample is the
         // engine's until it is published, then unchanged until the next one is (the
-        // publisher's history of one holds it), and its inputs are carried over before that.
+        // publisher's history of one holds it), and its inputs are carried over before that;
+        // the outputs are bound to the same sample.
         #[allow(unsafe_code)]
         unsafe {
             st.image.bind_inputs(sample)
@@ -231,8 +251,16 @@ impl<L: ClientLink> Engine<L> {
                 })
         };
         if !published {
-            st.image.keep_inputs();
+            st.image.keep_unpublished();
         }
+        // The next image is loaned now: the outputs of this cycle go straight into it.
+        let next = self.ports.loan_image(st.image.payload_len());
+        // SAFETY: as for `bind_inputs` above; the inputs are bound to it in the next cycle.
+        #[allow(unsafe_code)]
+        unsafe {
+            st.image.bind_outputs(next)
+        };
+        st.next_sample = next;
 
         // 3. STARTOP (and the mode indication, now that the image carries the new mode).
         st.startop_ns = self.ports.now_ns();
@@ -274,6 +302,8 @@ impl<L: ClientLink> Engine<L> {
         if published {
             st.opfault_late_clients(&mut self.ports);
         }
+        // Outputs nobody wrote in this cycle stay as last sent.
+        st.image.carry_over_outputs();
         st.mark_late_outputs();
         // Forced outputs over what the clients wrote.
         st.force.apply(Space::Output, &mut st.image);
@@ -539,7 +569,7 @@ impl State {
                 let from = e.output_offset as usize;
                 let len = e.output_length as usize;
                 if let Some(src) = payload.get(from..from + len) {
-                    self.image.outputs_mut(s).copy_from_slice(src);
+                    self.image.set_outputs(s, src);
                 }
             }
             if flags & CLIENT_SET_OUTPUT_IOPS != 0 {

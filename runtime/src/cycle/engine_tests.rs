@@ -445,3 +445,81 @@ fn inputs_that_did_not_arrive_are_carried_into_every_image() {
         1
     );
 }
+
+/// Outputs are merged straight into the next image: what a client wrote once goes out and
+/// shows as last sent in every image after, while the client sends nothing, across a cycle
+/// that could not loan a sample, with a force over part of it and after the force is gone;
+/// another client's new outputs land beside it; no published byte is left as the loan held it.
+#[test]
+fn outputs_written_once_are_sent_and_shown_as_last_sent_in_every_image() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    let echo = rig.echo();
+    let other = (0..rig.tables.submodules.len())
+        .find(|&s| s != echo && rig.tables.submodules[s].output_length > 0)
+        .expect("the demo has other outputs");
+    let other_len = rig.tables.submodules[other].output_length as usize;
+    rig.join(0, 11, false);
+    rig.join(1, 22, false);
+    rig.claim(echo, 11);
+    rig.claim(other, 22);
+    rig.reach(Mode::Operate);
+    let mirror = |rig: &Rig, s: usize| {
+        let (_, payload) = rig.engine.ports.published.last().unwrap();
+        let e = rig.tables.submodules[s];
+        payload[e.output_mirror_offset as usize..][..e.output_length as usize].to_vec()
+    };
+    let pattern: Vec<u8> = (1..=16).collect();
+    let sample = rig.sample(0, 11, 0, echo, &pattern);
+    rig.engine.ports.outputs.push_back(sample);
+    rig.cycle();
+    assert_eq!(
+        rig.last_sent(echo).1,
+        pattern,
+        "sent in the cycle it was merged"
+    );
+    // (loans, force byte 2 of echo to 0x77, another client writes `other`)
+    let script: [(bool, bool, Option<u8>); 6] = [
+        (true, false, None),
+        (false, false, Some(5)),
+        (true, false, None),
+        (true, true, None),
+        (true, false, Some(6)),
+        (true, false, None),
+    ];
+    let mut expected_echo = pattern.clone();
+    let mut expected_other = vec![0u8; other_len];
+    for (loans, forced, write_other) in script {
+        let published = rig.engine.ports.published.len();
+        let mut plan = ForcePlan::empty(rig.tables.submodules.len());
+        if forced {
+            plan.push(Space::Output, echo as u32, 2, &[0x77]);
+        }
+        assert!(rig.shared.send_force_plan(Box::new(plan)).is_ok());
+        if let Some(v) = write_other {
+            let sample = rig.sample(1, 22, 0, other, &vec![v; other_len]);
+            rig.engine.ports.outputs.push_back(sample);
+        }
+        rig.engine.ports.refuse_loans = !loans;
+        // The image of this cycle shows what went out in the last one.
+        let shown = (expected_echo.clone(), expected_other.clone());
+        rig.cycle();
+        if forced {
+            expected_echo[2] = 0x77;
+        }
+        if let Some(v) = write_other {
+            expected_other = vec![v; other_len];
+        }
+        assert_eq!(rig.last_sent(echo).1, expected_echo);
+        assert_eq!(rig.last_sent(other).1, expected_other);
+        if !loans {
+            assert_eq!(rig.engine.ports.published.len(), published);
+            continue;
+        }
+        assert_eq!((mirror(&rig, echo), mirror(&rig, other)), shown);
+        let (_, payload) = rig.engine.ports.published.last().unwrap();
+        assert!(
+            !payload.contains(&crate::cycle::link::UNWRITTEN),
+            "a byte of the published image was left as the loan held it"
+        );
+    }
+}
