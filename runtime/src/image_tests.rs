@@ -87,11 +87,7 @@ fn every_subset_of_fresh_submodules_carries_the_others_over() {
 #[test]
 fn inputs_of_another_length_are_refused_and_not_fresh() {
     let tables = tables();
-    let s = (0..tables.submodules.len())
-        .find(|&s| tables.submodules[s].input_length > 1)
-        .unwrap();
-    let mut image = Image::new(&tables);
-    let mut a = sample(&image);
+    let (s, mut image, mut a) = bound_to_a_sample(&tables, 1);
     bind(&mut image, Some(&mut a));
     assert!(!image.set_inputs(s, &[1]));
     image.carry_over_inputs();
@@ -101,11 +97,7 @@ fn inputs_of_another_length_are_refused_and_not_fresh() {
 #[test]
 fn writing_inputs_after_publishing_leaves_the_published_sample_alone() {
     let tables = tables();
-    let s = (0..tables.submodules.len())
-        .find(|&s| tables.submodules[s].input_length > 0)
-        .unwrap();
-    let mut image = Image::new(&tables);
-    let mut a = sample(&image);
+    let (s, mut image, mut a) = bound_to_a_sample(&tables, 0);
     bind(&mut image, Some(&mut a));
     assert!(image.set_inputs(s, &vec![7; len(&tables, s)]));
     image.carry_over_inputs();
@@ -114,6 +106,16 @@ fn writing_inputs_after_publishing_leaves_the_published_sample_alone() {
     assert_eq!(image.inputs(s), &vec![9; len(&tables, s)][..]);
     let at = tables.submodules[s].input_offset as usize;
     assert_eq!(a[at], 7);
+}
+
+/// The first submodule with more than `longer_than` bytes of inputs, a new image and a sample.
+fn bound_to_a_sample(tables: &Tables, longer_than: u16) -> (usize, Image, Vec<u8>) {
+    let s = (0..tables.submodules.len())
+        .find(|&s| tables.submodules[s].input_length > longer_than)
+        .unwrap();
+    let image = Image::new(tables);
+    let a = sample(&image);
+    (s, image, a)
 }
 
 fn len(tables: &Tables, s: usize) -> usize {
