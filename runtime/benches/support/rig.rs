@@ -28,7 +28,7 @@ use iceoryx2::prelude::ServiceName;
 use procimg_client::{AttachOptions, Client};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_runtime::config::Config;
-use procimg_runtime::cycle::{ClientLink, Engine, EngineSettings, Shared};
+use procimg_runtime::cycle::{Engine, EngineSettings, Publication, Shared};
 use procimg_runtime::image::{Image, Tables};
 use procimg_runtime::io::pnio::PnioIo;
 use procimg_runtime::io::pnio::channel::{Channel, ToCycle};
@@ -515,8 +515,8 @@ impl PnioRig {
 /// write the status bytes and the header, send, loan the next.
 pub struct PublishRig {
     image: Image,
-    /// The sample the next image is built in.
-    next: Option<core::ptr::NonNull<u8>>,
+    /// The samples the image is built in and published from.
+    publication: Publication,
     header: ImageHeader,
     // Dropped before the publisher's ports.
     _reader: Subscriber<Ipc, [u8], ImageHeader>,
@@ -545,7 +545,7 @@ impl PublishRig {
         let header = ImageHeader::new(tables.hash, generation);
         PublishRig {
             image: Image::new(&tables),
-            next: None,
+            publication: Publication::new(),
             header,
             _reader: reader,
             _reader_node: reader_node,
@@ -560,32 +560,14 @@ impl PublishRig {
 
     /// One publication; whether it was sent.
     pub fn publish(&mut self) -> bool {
-        let len = self.image.payload_len();
-        #[allow(unsafe_code)]
-        // SAFETY: samples are loaned from the rig's own publisher (history of one) and bound
-        // as the engine binds them: outputs after a publication, inputs at the next one.
-        unsafe {
-            let sample = match self.next.take() {
-                Some(sample) => Some(sample),
-                None => {
-                    let sample = self.ports.loan_image(len);
-                    self.image.bind_outputs(sample);
-                    sample
-                }
-            };
-            self.image.bind_inputs(sample);
-            self.image.carry_over_inputs();
-            self.image.publish_into();
-            self.header.cycle.cycle_number += 1;
-            let header = self.header;
-            let sent = sample.is_some() && self.ports.publish(&mut |_| header);
-            if !sent {
-                self.image.keep_unpublished();
-            }
-            self.next = self.ports.loan_image(len);
-            self.image.bind_outputs(self.next);
-            self.image.carry_over_outputs();
-            sent
-        }
+        self.publication.begin(&mut self.ports, &mut self.image);
+        self.image.carry_over_inputs();
+        self.header.cycle.cycle_number += 1;
+        let header = self.header;
+        let sent = self
+            .publication
+            .finish(&mut self.ports, &mut self.image, &mut |_| header);
+        self.image.carry_over_outputs();
+        sent
     }
 }

@@ -10,13 +10,13 @@
 
 use super::force::ForcePlan;
 use super::link::{ClientLink, Taken};
+use super::publication::Publication;
 use super::shared::{Command, Shared};
 use crate::config::{LatePolicy, OpdoneWait, OutputTiming};
 use crate::image::{Image, Tables};
 use crate::io::{CycleTime, IoSystem};
 use crate::shm::CyclePorts;
 use crate::stats::StatsRecorder;
-use core::ptr::NonNull;
 use procimg_shm_layout::control::Space;
 use procimg_shm_layout::events::{
     EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, EVENT_STARTOP, opfault_event,
@@ -99,9 +99,8 @@ struct State {
     /// CPUs this process may run on: polling for OPDONE helps only while the clients waited
     /// for have CPUs beside the cycle thread's.
     cpus: usize,
-    /// The sample the next image is built in, loaned right after this cycle's publication
-    /// (the outputs are bound to it; the inputs are, at the next cycle's start).
-    next_sample: Option<NonNull<u8>>,
+    /// The samples the image is built in and published from.
+    publication: Publication,
 }
 
 /// The cycle engine: the link to the clients (the iceoryx2 ports in procimgd), the IO system
@@ -165,7 +164,7 @@ impl<L: ClientLink> Engine<L> {
                 outputs_pending: false,
                 force: Box::new(ForcePlan::empty(n)),
                 cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
-                next_sample: None,
+                publication: Publication::new(),
             },
         }
     }
@@ -200,34 +199,13 @@ impl<L: ClientLink> Engine<L> {
         // 1. Inputs from the IO system, straight into the sample to be published; the last
         // inputs of devices that sent nothing, forced inputs over them; local input status
         // from the clients.
-        // The sample loaned at the end of the last cycle, which has its outputs already; a
-        // new one (the outputs carried over into it) if that loan failed.
-        let sample = match st.next_sample.take() {
-            Some(sample) => Some(sample),
-            None => {
-                let sample = self.ports.loan_image(st.image.payload_len());
-                #[allow(unsafe_code)]
-                // SAFETY: as below.
-                unsafe {
-                    st.image.bind_outputs(sample)
-                };
-                sample
-            }
-        };
-        // SAFETY: `loan_image` promises what `bind_inputs` requires: the sample is the
-        // engine's until it is published, then unchanged until the next one is (the
-        // publisher's history of one holds it), and its inputs are carried over before that;
-        // the outputs are bound to the same sample.
-        #[allow(unsafe_code)]
-        unsafe {
-            st.image.bind_inputs(sample)
-        };
+        st.publication.begin(&mut self.ports, &mut st.image);
         self.io.receive(t, st.mode, &mut st.image);
         st.image.carry_over_inputs();
         st.force.apply(Space::Input, &mut st.image);
         st.apply_input_iocs();
 
-        // 2. Publish the input image.
+        // 2. Publish the input image; loan the next, which this cycle's outputs go into.
         let now = self.ports.now_ns();
         st.header.cycle = CycleInfo {
             cycle_number: k,
@@ -238,29 +216,16 @@ impl<L: ClientLink> Engine<L> {
             reserved: 0,
         };
         st.header.mode = st.mode.as_u32();
-        st.image.publish_into();
-        let published = {
-            let header = &mut st.header;
-            sample.is_some()
-                && self.ports.publish(&mut |now| {
-                    // Stamped last: the clock in the header is when the image was complete,
-                    // which clients measure their STARTOP latency from.
-                    header.cycle.clock_ns = now;
-                    header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
-                    *header
-                })
-        };
-        if !published {
-            st.image.keep_unpublished();
-        }
-        // The next image is loaned now: the outputs of this cycle go straight into it.
-        let next = self.ports.loan_image(st.image.payload_len());
-        // SAFETY: as for `bind_inputs` above; the inputs are bound to it in the next cycle.
-        #[allow(unsafe_code)]
-        unsafe {
-            st.image.bind_outputs(next)
-        };
-        st.next_sample = next;
+        let header = &mut st.header;
+        let published = st
+            .publication
+            .finish(&mut self.ports, &mut st.image, &mut |now| {
+                // Stamped last: the clock in the header is when the image was complete,
+                // which clients measure their STARTOP latency from.
+                header.cycle.clock_ns = now;
+                header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
+                *header
+            });
 
         // 3. STARTOP (and the mode indication, now that the image carries the new mode).
         st.startop_ns = self.ports.now_ns();
