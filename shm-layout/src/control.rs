@@ -1296,5 +1296,5 @@ pub fn decode<'a, T: Deserialize<'a>>(bytes: &'a [u8]) -> Result<T, String> {
 }
 
 /// The iceoryx2 file prefix of every procimg service, so its files in `/dev/shm` and
-/// `/tmp/iceoryx2` are recognisable (`procimg_…`) and apart from other iceoryx2 users.
+/// iceoryx2's directory are recognisable (`procimg_…`) and apart from other iceoryx2 users.
 pub const IOX2_PREFIX: &str = "procimg_";

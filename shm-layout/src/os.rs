@@ -110,7 +110,7 @@ pub fn user_name(uid: u32) -> String {
 }
 
 /// Why this process cannot create an iceoryx2 node, when the reason is that iceoryx2's
-/// directory `root` (`/tmp/iceoryx2`), or its `nodes/` or `services/`, exists, belongs to
+/// directory `root` (`/dev/shm/procimg-iceoryx2` by default), or its `nodes/` or `services/`, exists, belongs to
 /// another user and is not writable for this one; `None` when that is not the reason.
 ///
 /// iceoryx2 creates the directory with the first process's user and mode 0750, and reports

@@ -16,18 +16,30 @@ use std::fs;
 use std::io;
 use std::os::unix::fs::{MetadataExt as _, PermissionsExt as _};
 use std::path::Path;
-use std::string::String;
+use std::string::{String, ToString as _};
 
-/// The environment variable that moves iceoryx2's directory (default `/tmp/iceoryx2`) for
-/// procimgd and its clients alike: all of them must agree.
+/// The environment variable that moves iceoryx2's directory (default [`DEFAULT_DIRECTORY`])
+/// for procimgd and its clients alike: all of them must agree.
 pub const DIRECTORY_VARIABLE: &str = "PROCIMG_SHM_DIR";
 
-/// iceoryx2's directory when [`DIRECTORY_VARIABLE`] moves it: an absolute path, with a
-/// trailing `/` as iceoryx2 wants it.
-pub fn configured_directory() -> Option<String> {
-    let dir = std::env::var(DIRECTORY_VARIABLE).ok()?;
-    let dir = dir.trim_end_matches('/');
-    (dir.starts_with('/') && dir.len() > 1).then(|| std::format!("{dir}/"))
+/// Where iceoryx2 keeps its node and service files for procimg unless
+/// [`DIRECTORY_VARIABLE`] says otherwise: in memory (tmpfs), not iceoryx2's own default
+/// `/tmp/iceoryx2`. iceoryx2 writes and `fsync`s a dozen small files for every process that
+/// attaches; where `/tmp` is a disk, each `fsync` waits for the disk (0.5–1.5 ms measured on
+/// a virtual disk, more on a PLC's flash, which it also wears).
+pub const DEFAULT_DIRECTORY: &str = "/dev/shm/procimg-iceoryx2/";
+
+/// iceoryx2's directory: [`DIRECTORY_VARIABLE`]'s when set to an absolute path, else
+/// [`DEFAULT_DIRECTORY`]; with a trailing `/` as iceoryx2 wants it.
+pub fn iceoryx2_directory() -> String {
+    std::env::var(DIRECTORY_VARIABLE)
+        .ok()
+        .map(|dir| dir.trim_end_matches('/').to_string())
+        .filter(|dir| dir.starts_with('/') && dir.len() > 1)
+        .map_or_else(
+            || DEFAULT_DIRECTORY.to_string(),
+            |dir| std::format!("{dir}/"),
+        )
 }
 
 /// Where POSIX shared memory lives on Linux.

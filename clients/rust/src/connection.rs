@@ -39,8 +39,8 @@ pub fn iox2_config() -> &'static Config {
         if let Ok(prefix) = FileName::new(control::IOX2_PREFIX.as_bytes()) {
             c.global.prefix = prefix;
         }
-        if let Some(dir) = procimg_shm_layout::share::configured_directory()
-            && let Ok(path) = iceoryx2::prelude::Path::new(dir.as_bytes())
+        if let Ok(path) =
+            iceoryx2::prelude::Path::new(procimg_shm_layout::share::iceoryx2_directory().as_bytes())
         {
             c.global.set_root_path(&path);
         }
@@ -84,7 +84,7 @@ pub fn client_node(instance: &str, name: &str) -> Result<Node<Ipc>, AttachError>
         .map_err(|e| root_dir_denied(instance).unwrap_or_else(|| shm(instance, "a node", e)))
 }
 
-/// iceoryx2's directory (`/tmp/iceoryx2`, or where `PROCIMG_SHM_DIR` puts it).
+/// iceoryx2's directory (`/dev/shm/procimg-iceoryx2`, or where `PROCIMG_SHM_DIR` puts it).
 fn root_dir() -> std::path::PathBuf {
     let root = iox2_config().global.root_path().to_string();
     std::path::PathBuf::from(root.trim_end_matches('/'))

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Unique instance names, and the check that a benchmark left no iceoryx2 node or service of
-//! its instances behind (their files are in /dev/shm and /tmp/iceoryx2, named by hash, so
+//! its instances behind (their files are in /dev/shm and iceoryx2's directory, named by hash, so
 //! iceoryx2's own listings are asked by name instead).
 
 use iceoryx2::node::{Node, NodeState, NodeView};

@@ -13,8 +13,8 @@ pub fn iox2_config() -> &'static Config {
         if let Ok(prefix) = FileName::new(procimg_shm_layout::control::IOX2_PREFIX.as_bytes()) {
             c.global.prefix = prefix;
         }
-        if let Some(dir) = procimg_shm_layout::share::configured_directory()
-            && let Ok(path) = iceoryx2::prelude::Path::new(dir.as_bytes())
+        if let Ok(path) =
+            iceoryx2::prelude::Path::new(procimg_shm_layout::share::iceoryx2_directory().as_bytes())
         {
             c.global.set_root_path(&path);
         }

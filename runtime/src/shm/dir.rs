@@ -5,7 +5,8 @@
 use super::iox2_config;
 use std::path::PathBuf;
 
-/// The directory iceoryx2 keeps its node and service files in (`/tmp/iceoryx2`).
+/// The directory iceoryx2 keeps its node and service files in
+/// ([`procimg_shm_layout::share::DEFAULT_DIRECTORY`] unless moved).
 pub fn directory() -> PathBuf {
     let root = iox2_config().global.root_path().to_string();
     PathBuf::from(root.trim_end_matches('/'))
