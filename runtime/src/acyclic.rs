@@ -77,6 +77,7 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
     let mut sink = Sink {
         channel: &channel,
         events: events.as_ref(),
+        shared: &shared,
     };
     loop {
         let now = now_ns();
@@ -190,10 +191,13 @@ fn settle<R: Role>(
 struct Sink<'a, E> {
     channel: &'a Channel,
     events: Option<&'a Sender<E>>,
+    /// Whose control thread learns of the events.
+    shared: &'a Shared,
 }
 
 impl<E> Sink<'_, E> {
     fn carry_out(&mut self, out: &mut Vec<Effect<E>>, datagrams: &mut dyn Datagrams) {
+        let mut events = 0;
         for effect in out.drain(..) {
             match effect {
                 Effect::Frame(f) => {
@@ -217,11 +221,17 @@ impl<E> Sink<'_, E> {
                     let _ = self.channel.to_cycle.push(ToCycle::Stop { device });
                 }
                 Effect::Event(e) => {
-                    if let Some(tx) = self.events {
-                        let _ = tx.send(e);
+                    if let Some(tx) = self.events
+                        && tx.send(e).is_ok()
+                    {
+                        events += 1;
                     }
                 }
             }
+        }
+        if events > 0 {
+            // The control thread turns them into notifications now, not at its next round.
+            self.shared.ring_control();
         }
     }
 }

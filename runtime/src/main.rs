@@ -19,6 +19,7 @@ use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::rt::lock_memory;
 use procimg_runtime::sys::rt_alloc::RtAllocator;
 use procimg_shm_layout::Mode;
+use procimg_shm_layout::doorbell::{Doorbell, doorbell_path};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -26,7 +27,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use tracing::{info, warn};
 
-/// How often the control side looks for requests: control is not on the real-time path.
+/// The control thread's round when nothing rings its doorbell: it reaps dead clients, gathers
+/// the cycle's statistics and checks alarm deadlines; a request or a role event wakes it at
+/// once.
 const CONTROL_POLL: Duration = Duration::from_millis(2);
 
 #[global_allocator]
@@ -248,7 +251,21 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         }
     };
     let generation = generation();
-    let shared = Arc::new(Shared::new(tables.submodules.len()));
+    // The control thread's doorbell (after the left-overs are gone: a killed predecessor's
+    // is taken over, so its clients' mappings stay right).
+    let shared = Shared::new(tables.submodules.len());
+    let shared = Arc::new(match Doorbell::create(&instance) {
+        Ok(doorbell) => shared.with_doorbell(doorbell),
+        Err(e) => {
+            warn!(
+                "cannot create {} ({e}): client requests are answered every {} ms instead of \
+                 at once",
+                doorbell_path(&instance).display(),
+                CONTROL_POLL.as_millis()
+            );
+            shared
+        }
+    });
     shared
         .target_mode
         .store(config.start_mode.as_u32(), Ordering::Release);

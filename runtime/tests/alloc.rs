@@ -200,6 +200,13 @@ fn steady_state(
             engine.run_cycle(k, t0);
         }
     };
+    // The loop runs as procimgd's cycle thread does, SCHED_FIFO (where permitted): beside
+    // other tests' servers and their real-time threads, a normal thread can stall for over
+    // 100 ms, and a client that sees no image for that long checks whether the server is
+    // alive, which allocates (not a steady-state cycle any more).
+    if let Err(w) = procimg_runtime::sys::rt::set_fifo_named("the test's cycle loop", 80) {
+        eprintln!("{w}");
+    }
     // Warm-up: clients attach, connect and claim; the mode steps to OPERATE.
     run(&mut engine, 1, 1000);
     assert_eq!(engine.mode(), Mode::Operate);

@@ -538,3 +538,34 @@ fn as_many_clients_as_the_limit_attach_and_one_more_is_told_why_not() {
     }
     drop(clients);
 }
+
+#[test]
+fn requests_and_attaches_ring_the_servers_doorbell_which_goes_with_the_server() {
+    use procimg_shm_layout::doorbell::{Doorbell, doorbell_path};
+    let server = Procimgd::demo("doorbell");
+    let instance = server.instance.clone();
+    let bell = Doorbell::open(&instance).expect("procimgd made its doorbell");
+    let control = server.control(Duration::from_secs(20));
+
+    // A request wakes the control thread: it rings before it waits for the answer.
+    let before = bell.rung();
+    control.status().unwrap();
+    assert_ne!(bell.rung(), before, "a request did not ring");
+
+    // An attach rings for the registration and again for the layout its subscriber waits for.
+    let before = bell.rung();
+    let client = Client::attach(&instance, AttachOptions::asynchronous("bell")).unwrap();
+    assert!(
+        bell.rung().wrapping_sub(before) >= 2,
+        "an attach rang {} times",
+        bell.rung().wrapping_sub(before)
+    );
+    drop(client);
+    drop(control);
+
+    drop(server);
+    assert!(
+        !doorbell_path(&instance).exists(),
+        "the doorbell outlived procimgd"
+    );
+}

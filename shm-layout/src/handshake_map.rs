@@ -13,7 +13,8 @@ use std::string::String;
 
 const SUFFIX: &str = ".handshake";
 
-fn instance_part(instance: &str) -> String {
+/// `instance` as it appears in a file name of `/dev/shm`.
+pub(crate) fn instance_part(instance: &str) -> String {
     instance
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })

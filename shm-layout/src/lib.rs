@@ -23,6 +23,9 @@ extern crate alloc;
 
 #[cfg(feature = "control")]
 pub mod control;
+#[cfg(all(feature = "std", feature = "control"))]
+#[allow(unsafe_code)]
+pub mod doorbell;
 pub mod events;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]

@@ -180,6 +180,7 @@ impl Launch {
             child: Mutex::new(Some(child)),
             dir,
             launch: self,
+            owns_instance_files: true,
         };
         match server.launch.ready {
             Ready::DevicesRunning => {
@@ -203,6 +204,9 @@ pub struct Procimgd {
     /// The configuration file and the logs.
     dir: PathBuf,
     launch: Launch,
+    /// Whether dropping it removes the instance's files in `/dev/shm` (not when a restarted
+    /// server of the same instance took over).
+    owns_instance_files: bool,
 }
 
 impl Procimgd {
@@ -226,6 +230,7 @@ impl Procimgd {
     pub fn restart(&mut self) {
         self.stop_child();
         let again = self.launch.clone().start();
+        self.owns_instance_files = false;
         drop(std::mem::replace(self, again));
     }
 
@@ -422,5 +427,12 @@ impl Drop for Procimgd {
             eprintln!("{}", self.log());
         }
         let _ = std::fs::remove_dir_all(&self.dir);
+        if self.owns_instance_files {
+            // What a killed server could not remove (a stopped one removed it already); the
+            // next server of the instance would, but a test starts none.
+            procimg_shm_layout::handshake_map::remove_stale_blocks(&self.instance);
+            let _ =
+                std::fs::remove_file(procimg_shm_layout::doorbell::doorbell_path(&self.instance));
+        }
     }
 }

@@ -2,6 +2,7 @@
 //! The iceoryx2 side of a client: its node, the control port, and the data ports of one
 //! server generation.
 
+use crate::control::ControlHandle;
 use crate::error::AttachError;
 use crate::layout::Layout;
 use iceoryx2::config::Config;
@@ -226,12 +227,12 @@ pub struct Connection {
 impl Connection {
     /// Opens the data services of `generation` and reads its layout.
     pub fn open(
-        node: &Node<Ipc>,
-        instance: &str,
+        control: &ControlHandle,
         generation: u64,
         timeout: Duration,
     ) -> Result<Connection, AttachError> {
-        let (layout, layout_port) = read_layout(node, instance, generation, timeout)?;
+        let (node, instance) = (control.node(), control.instance());
+        let (layout, layout_port) = read_layout(control, generation, timeout)?;
         let inputs = node
             .service_builder(&service_name(
                 instance,
@@ -300,11 +301,11 @@ impl Connection {
 }
 
 fn read_layout(
-    node: &Node<Ipc>,
-    instance: &str,
+    control: &ControlHandle,
     generation: u64,
     timeout: Duration,
 ) -> Result<(Layout, u128), AttachError> {
+    let (node, instance) = (control.node(), control.instance());
     let sub = node
         .service_builder(&service_name(
             instance,
@@ -317,6 +318,8 @@ fn read_layout(
         .subscriber_builder()
         .create()
         .map_err(|e| shm(instance, "a layout subscriber", e))?;
+    // The server hands its layout to a new subscriber in its control thread's round.
+    control.ring_server();
     let until = Instant::now() + timeout;
     loop {
         if let Ok(Some(sample)) = sub.receive() {
@@ -343,6 +346,9 @@ fn read_layout(
             });
         }
         share_own_files();
-        std::thread::sleep(Duration::from_millis(1));
+        std::thread::sleep(LAYOUT_POLL);
     }
 }
+
+/// How often a client looks for the layout while it attaches.
+const LAYOUT_POLL: Duration = Duration::from_micros(100);

@@ -7,11 +7,16 @@ use crate::error::{AttachError, ControlError};
 use iceoryx2::node::Node;
 use procimg_shm_layout::Mode;
 use procimg_shm_layout::control::{self, HistogramsReport, Request, Response, Space, StatusReport};
+use procimg_shm_layout::doorbell::Doorbell;
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// How long a control request waits for its answer by default: the server answers at
 /// normal priority, and late on a loaded machine.
 pub const DEFAULT_CONTROL_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// How often a request looks for its answer.
+const ANSWER_POLL: Duration = Duration::from_micros(50);
 
 /// A connection to an instance's control service.
 pub struct ControlHandle {
@@ -19,6 +24,9 @@ pub struct ControlHandle {
     // The port must be dropped before its node.
     port: ControlPort,
     node: Node<Ipc>,
+    /// The server's doorbell, rung after each request (`None`: not found yet, or this server
+    /// has none; the request is then answered at the server's next round).
+    doorbell: Mutex<Option<Doorbell>>,
     // Last: after every port of this handle (and of the client or services handle it is the
     // last field of) is gone.
     sweep: ConnectionSweep,
@@ -62,6 +70,7 @@ impl ControlHandle {
             instance: instance.to_string(),
             port,
             node,
+            doorbell: Mutex::new(Doorbell::open(instance).ok()),
             sweep,
         })
     }
@@ -74,6 +83,21 @@ impl ControlHandle {
     /// The instance name.
     pub fn instance(&self) -> &str {
         &self.instance
+    }
+
+    /// Wakes the server's control thread: a request or a new port waits for it. After a
+    /// server restart the new server's doorbell is opened first.
+    pub(crate) fn ring_server(&self) {
+        let mut doorbell = self.doorbell.lock().unwrap_or_else(|e| e.into_inner());
+        if !doorbell
+            .as_ref()
+            .is_some_and(|d| d.is_current(&self.instance))
+        {
+            *doorbell = Doorbell::open(&self.instance).ok();
+        }
+        if let Some(d) = doorbell.as_ref() {
+            d.ring();
+        }
     }
 
     /// The node of this handle (clients build their data ports on it).
@@ -101,6 +125,7 @@ impl ControlHandle {
                 instance: self.instance.clone(),
             });
         }
+        self.ring_server();
         let until = Instant::now() + timeout;
         loop {
             match pending.receive() {
@@ -124,8 +149,9 @@ impl ControlHandle {
             // The answer's connection is made when it comes: the access group needs it too.
             crate::connection::share_own_files();
             // Control requests are rare and not on the real-time path: a short sleep between
-            // polls costs nothing that matters.
-            std::thread::sleep(Duration::from_micros(200));
+            // polls costs nothing that matters. The server, woken by the doorbell, answers
+            // within tens of microseconds.
+            std::thread::sleep(ANSWER_POLL);
         }
     }
 

@@ -5,7 +5,9 @@ use super::force::ForcePlan;
 use crate::stats::Counters;
 use crossbeam_queue::ArrayQueue;
 use procimg_shm_layout::Mode;
+use procimg_shm_layout::doorbell::Doorbell;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::Duration;
 
 /// Commands queued for the cycle thread, applied at the start of the next cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,6 +55,9 @@ pub struct Shared {
     pub force_plans: ArrayQueue<Box<ForcePlan>>,
     /// Plans the cycle thread replaced, for the acyclic side to free: the cycle never frees.
     pub spent_force_plans: ArrayQueue<Box<ForcePlan>>,
+    /// The control thread sleeps on it between rounds; the role's thread rings it after it
+    /// queues an event, clients after a request (none in tests that run no control thread).
+    doorbell: Option<Doorbell>,
 }
 
 /// Force plans waiting for the cycle thread, which takes them every cycle: more waiting
@@ -72,6 +77,38 @@ impl Shared {
             force_plans: ArrayQueue::new(FORCE_PLANS),
             // Room for every plan that can be on its way, and the one in use.
             spent_force_plans: ArrayQueue::new(FORCE_PLANS + 1),
+            doorbell: None,
+        }
+    }
+
+    /// The same, with the control thread's doorbell.
+    pub fn with_doorbell(mut self, doorbell: Doorbell) -> Shared {
+        self.doorbell = Some(doorbell);
+        self
+    }
+
+    /// Wakes the control thread: there is work for it.
+    pub fn ring_control(&self) {
+        if let Some(d) = &self.doorbell {
+            d.ring();
+        }
+    }
+
+    /// How often the control thread's doorbell has rung (0 without one): read before a
+    /// round of work, handed to [`Shared::wait_for_control_work`] after it.
+    pub fn control_rung(&self) -> u32 {
+        self.doorbell.as_ref().map_or(0, Doorbell::rung)
+    }
+
+    /// Sleeps until the control thread's doorbell rings after `seen`, at most for `timeout`.
+    /// Returns `false` at once without a doorbell: the caller waits its own way.
+    pub fn wait_for_control_work(&self, seen: u32, timeout: Duration) -> bool {
+        match &self.doorbell {
+            Some(d) => {
+                d.wait(seen, timeout);
+                true
+            }
+            None => false,
         }
     }
 

@@ -64,6 +64,8 @@ pub struct Control {
     /// reported by the next `poll`.
     reaped_early: Vec<String>,
     forces: ForceTable,
+    /// The doorbell's count when the last round of work began.
+    rung_before_round: u32,
     // Dropped after the ports above, which live on it.
     _node: Node<Ipc>,
 }
@@ -106,12 +108,15 @@ impl Control {
             last_liveness: Instant::now(),
             reaped_early: Vec::new(),
             forces: ForceTable::default(),
+            rung_before_round: 0,
         }
     }
 
     /// Answers every pending request; every `LIVENESS_PERIOD` reaps dead clients. Returns
     /// the names of clients reaped in this call.
     pub fn poll(&mut self) -> Vec<String> {
+        // Before the work: a ring during it is not slept through by `idle`.
+        self.rung_before_round = self.shared.control_rung();
         while let Ok(Some(active)) = self.server.receive() {
             let response = match control::decode::<Request>(active.payload()) {
                 Ok(req) => self.handle(req),
@@ -299,9 +304,18 @@ impl Control {
         Ok(())
     }
 
-    /// Waits up to `wait` for what the role reports and hands it to the subscribers.
+    /// Waits up to `wait` for work: a client's request or what the role reports (the
+    /// doorbell rings for both), and hands the role's reports to the subscribers. Without a
+    /// doorbell, waits for the role's reports only.
     pub fn idle(&mut self, wait: Duration) {
-        self.role.poll(wait, &mut self.notices);
+        if self
+            .shared
+            .wait_for_control_work(self.rung_before_round, wait)
+        {
+            self.role.poll(Duration::ZERO, &mut self.notices);
+        } else {
+            self.role.poll(wait, &mut self.notices);
+        }
     }
 
     /// Publishes what the role reported on its way out; for after its threads have ended
