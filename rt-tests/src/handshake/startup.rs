@@ -8,12 +8,15 @@
 //! - **VmLck, VmRSS** of procimgd, read from `/proc/<pid>/status` after the attaches (the
 //!   larger of that and the reading at the start);
 //! - **client attach**: `Client::attach` of a synchronous client, timed call by call, each
-//!   client dropped (detached) before the next.
+//!   client dropped (detached) before the next;
+//! - **control request**: a status request over the control service and its answer, timed
+//!   one after the other ([`REQUESTS`] of them, [`REQUEST_PAUSE`] apart, so that each finds
+//!   the control thread asleep, as a program's occasional request does).
 
 use crate::plant::Plant;
 use crate::server::{START_POLL, Server};
 use anyhow::{Context, Result};
-use procimg_client::{AttachOptions, Client};
+use procimg_client::{AttachOptions, Client, ControlHandle};
 use procimg_rt_tests::report::{Measurement, Report, new_histogram};
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -22,6 +25,13 @@ use std::time::{Duration, Instant};
 pub const FIRST_CYCLE: &str = "start to first cycle";
 /// See [`FIRST_CYCLE`].
 pub const ATTACH: &str = "client attach";
+/// See [`FIRST_CYCLE`].
+pub const REQUEST: &str = "control request";
+
+/// Control requests timed.
+const REQUESTS: u32 = 200;
+/// Between two timed requests.
+const REQUEST_PAUSE: Duration = Duration::from_millis(5);
 
 /// Runs the measurement and prints and writes its report.
 pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Result<()> {
@@ -55,6 +65,18 @@ pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Res
         // Let the server take the connection down before the next one comes.
         std::thread::sleep(Duration::from_millis(20));
     }
+    let mut request = new_histogram();
+    let control = ControlHandle::open(&instance, "startup-requests")
+        .with_context(|| format!("cannot open the control service of {instance}"))?;
+    for i in 0..REQUESTS {
+        std::thread::sleep(REQUEST_PAUSE);
+        let t = Instant::now();
+        control
+            .status()
+            .with_context(|| format!("status request {i} to {instance} failed"))?;
+        request.saturating_record(duration_ns(t.elapsed()));
+    }
+    drop(control);
     let after = memory(server.pid())?;
     let (vmlck, vmrss) = (at_start.0.max(after.0), at_start.1.max(after.1));
     drop(server);
@@ -74,15 +96,18 @@ pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Res
     report.measurements = vec![
         Measurement::from_histogram(FIRST_CYCLE, &first),
         Measurement::from_histogram(ATTACH, &attach),
+        Measurement::from_histogram(REQUEST, &request),
     ];
     println!(
         "# procimgd, {image_bytes} B each way, {} clients allowed: VmLck {vmlck} KiB, VmRSS \
          {vmrss} KiB; start to first cycle {:.1} ms; attach (synchronous) p50 {:.2} ms, max \
-         {:.2} ms over {attaches}",
+         {:.2} ms over {attaches}; control request p50 {:.3} ms, max {:.3} ms over {REQUESTS}",
         procimg_shm_layout::MAX_CLIENTS,
         first_cycle.as_secs_f64() * 1000.0,
         attach.value_at_quantile(0.5) as f64 / 1e6,
         attach.max() as f64 / 1e6,
+        request.value_at_quantile(0.5) as f64 / 1e6,
+        request.max() as f64 / 1e6,
     );
     report.save(report_path, None)?;
     Ok(())
