@@ -204,7 +204,9 @@ impl Client {
     pub fn attach(instance: &str, opts: AttachOptions) -> Result<Client, AttachError> {
         let control = ControlHandle::open(instance, &opts.name)?;
         let (slot, token, generation, server_pid) = register(&control, &opts)?;
-        let conn = Connection::open(&control, generation, opts.timeout)?;
+        let conn = Connection::open(control.node(), instance, generation, opts.timeout, &|| {
+            control.ring_server()
+        })?;
         control.own_ports(&conn.port_ids);
         let layout = conn.layout.clone();
         if let Some(expected) = opts.expected_layout_hash
@@ -588,7 +590,13 @@ impl Client {
         let Ok((slot, token, generation, server_pid)) = register(&self.control, &quick) else {
             return Ok(());
         };
-        let conn = match Connection::open(&self.control, generation, REATTACH_STEP) {
+        let conn = match Connection::open(
+            self.control.node(),
+            self.instance(),
+            generation,
+            REATTACH_STEP,
+            &|| self.control.ring_server(),
+        ) {
             Ok(c) => c,
             Err(_) => {
                 let _ = self

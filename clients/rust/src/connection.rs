@@ -2,7 +2,6 @@
 //! The iceoryx2 side of a client: its node, the control port, and the data ports of one
 //! server generation.
 
-use crate::control::ControlHandle;
 use crate::error::AttachError;
 use crate::layout::Layout;
 use iceoryx2::config::Config;
@@ -225,14 +224,16 @@ pub struct Connection {
 }
 
 impl Connection {
-    /// Opens the data services of `generation` and reads its layout.
+    /// Opens the data services of `generation` and reads its layout; `ring_server` wakes the
+    /// server's control thread (`ControlHandle::ring_server`), which hands the layout over.
     pub fn open(
-        control: &ControlHandle,
+        node: &Node<Ipc>,
+        instance: &str,
         generation: u64,
         timeout: Duration,
+        ring_server: &dyn Fn(),
     ) -> Result<Connection, AttachError> {
-        let (node, instance) = (control.node(), control.instance());
-        let (layout, layout_port) = read_layout(control, generation, timeout)?;
+        let (layout, layout_port) = read_layout(node, instance, generation, timeout, ring_server)?;
         let inputs = node
             .service_builder(&service_name(
                 instance,
@@ -301,11 +302,12 @@ impl Connection {
 }
 
 fn read_layout(
-    control: &ControlHandle,
+    node: &Node<Ipc>,
+    instance: &str,
     generation: u64,
     timeout: Duration,
+    ring_server: &dyn Fn(),
 ) -> Result<(Layout, u128), AttachError> {
-    let (node, instance) = (control.node(), control.instance());
     let sub = node
         .service_builder(&service_name(
             instance,
@@ -319,7 +321,7 @@ fn read_layout(
         .create()
         .map_err(|e| shm(instance, "a layout subscriber", e))?;
     // The server hands its layout to a new subscriber in its control thread's round.
-    control.ring_server();
+    ring_server();
     let until = Instant::now() + timeout;
     loop {
         if let Ok(Some(sample)) = sub.receive() {
