@@ -61,8 +61,8 @@ const CYCLE: Duration = Duration::from_millis(1);
 /// 2-vCPU VM while other tests run: procimgd's cycle thread was seen waking up to 11 ms late,
 /// and the device saw gaps of up to 14 ms between procimgd's frames. With 20 ms, procimgd
 /// still saw a gap of more than 20 ms in the device's frames once, in the whole suite run
-/// beside `stress-ng --cpu 2` (both sides' threads at SCHED_FIFO: the frames waited in the
-/// loaded kernel). 100 ms leaves a margin over such gaps, is a value real plants use, and
+/// beside `stress-ng --cpu 2`, both sides' threads at SCHED_FIFO (where the frames were held
+/// up was not traced). 100 ms leaves a margin over such gaps, is a value real plants use, and
 /// 3 × 100 ms still bounds the detection of a dead device well.
 const WATCHDOG_FACTOR: u32 = 100;
 /// The watchdog time: DataHoldFactor × send clock × reduction ratio.
