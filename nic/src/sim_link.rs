@@ -11,8 +11,9 @@ use std::sync::Arc;
 /// configuration.
 const NAME: &str = "sim";
 
-/// Frames in flight per direction; more are dropped, as a real link drops under overload.
-const DEPTH: usize = 256;
+/// Frames in flight per direction by default; more are dropped, as a real link drops under
+/// overload.
+pub const DEPTH: usize = 256;
 
 struct Slot {
     len: usize,
@@ -31,13 +32,21 @@ pub struct LinkEnd {
     pub dropped: u64,
 }
 
-/// A link between two ends with the given MAC addresses.
+/// A link between two ends with the given MAC addresses, [`DEPTH`] frames deep.
 pub fn link(a: MacAddress, b: MacAddress) -> (LinkEnd, LinkEnd) {
-    let ab = Arc::new(ArrayQueue::new(DEPTH));
-    let ba = Arc::new(ArrayQueue::new(DEPTH));
-    let free = Arc::new(ArrayQueue::new(2 * DEPTH));
+    link_with_depth(a, b, DEPTH)
+}
+
+/// A link `depth` frames deep per direction (at least 1): a network whose cycle carries
+/// more frames than [`DEPTH`] needs room for a cycle's frames and the next, or it drops
+/// whenever one end is late.
+pub fn link_with_depth(a: MacAddress, b: MacAddress, depth: usize) -> (LinkEnd, LinkEnd) {
+    let depth = depth.max(1);
+    let ab = Arc::new(ArrayQueue::new(depth));
+    let ba = Arc::new(ArrayQueue::new(depth));
+    let free = Arc::new(ArrayQueue::new(2 * depth));
     let name: Arc<str> = NAME.into();
-    for _ in 0..2 * DEPTH {
+    for _ in 0..2 * depth {
         let _ = free.push(Box::new(Slot {
             len: 0,
             data: [0; MAX_FRAME],
@@ -124,5 +133,23 @@ mod tests {
             x.send(&[0; 64]).unwrap();
         }
         assert_eq!(x.dropped, 10);
+    }
+
+    #[test]
+    fn a_deeper_link_holds_more_frames_and_each_direction_its_own() {
+        let (mut x, mut y) = link_with_depth(MacAddress::default(), MacAddress::default(), 1000);
+        for _ in 0..1000 {
+            x.send(&[1; 64]).unwrap();
+            y.send(&[2; 64]).unwrap();
+        }
+        assert_eq!((x.dropped, y.dropped), (0, 0));
+        x.send(&[1; 64]).unwrap();
+        assert_eq!(x.dropped, 1);
+        let mut got = 0;
+        while y
+            .receive(&mut |f| got += usize::from(f == [1; 64]))
+            .unwrap()
+        {}
+        assert_eq!(got, 1000);
     }
 }

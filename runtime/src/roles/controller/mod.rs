@@ -91,9 +91,13 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     let (io, udp, mac, ip): (IoFactory, Box<dyn Datagrams>, MacAddress, Ipv4Addr) =
         match &config.network {
             Network::Sim => {
-                let (ours, plant) = sim_link::link(SIM_CONTROLLER_MAC, MacAddress::default());
-                let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
                 let devices = sim_plant::devices(config);
+                let (ours, plant) = sim_link::link_with_depth(
+                    SIM_CONTROLLER_MAC,
+                    MacAddress::default(),
+                    sim_plant::link_depth(devices.len()),
+                );
+                let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
                 threads.push(
                     sim_plant::spawn(
                         devices,

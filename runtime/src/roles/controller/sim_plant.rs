@@ -1,19 +1,17 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The simulated plant of `network = "sim"`: every configured device as a simulated
-//! PROFINET device on an in-process Ethernet link and UDP network, in a thread of its own at
-//! normal priority. The controller reaches them exactly as it reaches real devices: DCP,
-//! RPC, alarms and cyclic frames, byte for byte.
+//! The simulated plant of `network = "sim"`: every configured device (but those marked
+//! `sim = "absent"`) as a simulated PROFINET device on an in-process Ethernet link and UDP
+//! network, in a thread of its own (SCHED_FIFO below the cycle thread where allowed). The
+//! controller reaches them exactly as it reaches real devices: DCP, RPC, alarms and cyclic
+//! frames, byte for byte.
 
 use super::sim_behaviour::DemoApplication;
-use crate::config::Config;
+use crate::config::{Config, SimBehaviour};
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
-use procimg_nic::Nic;
-use procimg_nic::sim_link::LinkEnd;
-use procimg_profinet::device::{Device, DeviceAction, DeviceSetup};
-
-/// A simulated device running one of the demo's behaviours.
-pub type DemoDevice = Device<DemoApplication>;
 use crate::sys::clock::{now_ns, sleep_until_ns};
+use procimg_nic::Nic;
+use procimg_nic::sim_link::{self, LinkEnd};
+use procimg_profinet::device::{Device, DeviceAction, DeviceSetup};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use std::net::SocketAddrV4;
@@ -21,13 +19,89 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 
+/// A simulated device running one of the demo's behaviours.
+pub type DemoDevice = Device<DemoApplication>;
+
 /// The longest the plant sleeps between looks at the link.
 const MAX_SLEEP_NS: u64 = 500_000;
+
+/// The first four bytes of every simulated device's MAC address.
+const MAC_PREFIX: [u8; 4] = [0x02, 0x50, 0x49, 0x00];
 
 /// The MAC address of simulated device `d`: locally administered, `02:50:49:00:<d>`.
 pub fn device_mac(d: usize) -> MacAddress {
     let d = d as u16;
-    MacAddress([0x02, 0x50, 0x49, 0x00, (d >> 8) as u8, d as u8])
+    let [p0, p1, p2, p3] = MAC_PREFIX;
+    MacAddress([p0, p1, p2, p3, (d >> 8) as u8, d as u8])
+}
+
+/// How many frames deep the plant's link is for `devices` devices: room for two cycles'
+/// frames in each direction (a cyclic frame per device and cycle), so that a plant or cycle
+/// thread one cycle late loses nothing; never less than the link's default.
+pub fn link_depth(devices: usize) -> usize {
+    sim_link::DEPTH.max(2 * devices)
+}
+
+/// Whom a frame on the link is addressed to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Addressee {
+    /// Every device: a multicast or broadcast destination (DCP Identify).
+    All,
+    /// The device of this configuration index, by its [`device_mac`].
+    Device(usize),
+    /// No simulated device (another address, a runt).
+    Nobody,
+}
+
+fn addressee(frame: &[u8]) -> Addressee {
+    let Some(dst) = frame.get(..6) else {
+        return Addressee::Nobody;
+    };
+    if dst[0] & 1 == 1 {
+        Addressee::All
+    } else if dst[..4] == MAC_PREFIX {
+        Addressee::Device(usize::from(u16::from_be_bytes([dst[4], dst[5]])))
+    } else {
+        Addressee::Nobody
+    }
+}
+
+/// The plant's devices, found by the destination of a frame. Offering each frame to every
+/// device made the plant's work per cycle grow with the square of its devices (a cyclic
+/// frame per device, each looked at by all): 256 devices kept a CPU busy and still fell
+/// behind.
+struct Devices {
+    devices: Vec<DemoDevice>,
+    /// Position in `devices` of the device with each configuration index (absent devices
+    /// have none).
+    position: Vec<Option<usize>>,
+}
+
+impl Devices {
+    fn new(devices: Vec<DemoDevice>) -> Devices {
+        let mut position = Vec::new();
+        for (p, d) in devices.iter().enumerate() {
+            if let Addressee::Device(i) = addressee(&d.mac().0) {
+                if position.len() <= i {
+                    position.resize(i + 1, None);
+                }
+                position[i] = Some(p);
+            }
+        }
+        Devices { devices, position }
+    }
+
+    /// The devices `frame` is for.
+    fn recipients(&mut self, frame: &[u8]) -> &mut [DemoDevice] {
+        match addressee(frame) {
+            Addressee::All => &mut self.devices,
+            Addressee::Device(i) => match self.position.get(i).copied().flatten() {
+                Some(p) => &mut self.devices[p..=p],
+                None => &mut [],
+            },
+            Addressee::Nobody => &mut [],
+        }
+    }
 }
 
 /// The address a simulated device has of its own when the configuration gives it none:
@@ -36,14 +110,15 @@ pub fn own_ip(d: usize) -> [u8; 4] {
     [192, 168, 1 + (d / 200) as u8, 10 + (d % 200) as u8]
 }
 
-/// The simulated devices of `config`, named: those with a configured `ip` come without an
-/// address (the controller gives it to them by DCP, as to a new device), the others with one
-/// of their own ([`own_ip`]).
+/// The simulated devices of `config`, named, all but those with `sim = "absent"`: those
+/// with a configured `ip` come without an address (the controller gives it to them by DCP,
+/// as to a new device), the others with one of their own ([`own_ip`]).
 pub fn devices(config: &Config) -> Vec<DemoDevice> {
     config
         .devices
         .iter()
         .enumerate()
+        .filter(|(_, dev)| dev.sim != SimBehaviour::Absent)
         .map(|(d, dev)| {
             Device::new(DeviceSetup {
                 name: dev.name.clone(),
@@ -81,7 +156,7 @@ pub fn devices(config: &Config) -> Vec<DemoDevice> {
 /// the scheduler may delay it by milliseconds: simulated devices want a larger
 /// `watchdog_factor` than real ones (the demo's is 100).
 pub fn spawn(
-    mut devices: Vec<DemoDevice>,
+    devices: Vec<DemoDevice>,
     mut link: LinkEnd,
     udp: SimDatagramPeer,
     stop: Arc<AtomicBool>,
@@ -93,13 +168,14 @@ pub fn spawn(
             // Without the right to (not root), the devices run at normal priority, as the
             // cycle thread then does too.
             let _ = crate::sys::rt::set_fifo(priority);
+            let mut plant = Devices::new(devices);
             let mut out = Vec::new();
             // The devices' frames, sent once the link is not being read.
             let mut frames = Vec::new();
             while !stop.load(Ordering::Acquire) {
                 let now = now_ns();
                 while let Ok(true) = link.receive(&mut |frame| {
-                    for d in &mut devices {
+                    for d in plant.recipients(frame) {
                         d.on_frame(frame, now, &mut out);
                         deliver(&mut out, d, &mut frames, &udp);
                     }
@@ -107,14 +183,15 @@ pub fn spawn(
                     send_all(&mut frames, &mut link);
                 }
                 while let Ok(g) = udp.rx.try_recv() {
-                    if let Some(d) = devices.iter_mut().find(|d| d.ip() == g.to.ip().octets()) {
+                    let to = g.to.ip().octets();
+                    if let Some(d) = plant.devices.iter_mut().find(|d| d.ip() == to) {
                         d.on_datagram(g.from, g.to.port(), &g.payload, now, &mut out);
                         deliver(&mut out, d, &mut frames, &udp);
                     }
                 }
                 send_all(&mut frames, &mut link);
                 let mut next = now + MAX_SLEEP_NS;
-                for d in &mut devices {
+                for d in &mut plant.devices {
                     d.poll(now, &mut out);
                     deliver(&mut out, d, &mut frames, &udp);
                     if let Some(t) = d.next_deadline_ns() {
@@ -162,5 +239,84 @@ fn send_all(frames: &mut Vec<Vec<u8>>, link: &mut LinkEnd) {
     for f in frames.drain(..) {
         // A full link drops, as a real one does.
         let _ = link.send(&f);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::{DeviceConfig, Network};
+
+    fn frame_to(dst: MacAddress) -> Vec<u8> {
+        let mut f = dst.0.to_vec();
+        f.extend_from_slice(&[0x02, 0, 0, 0, 0, 1, 0x88, 0x92, 0xc0, 0x00]);
+        f
+    }
+
+    /// A sim network of `n` devices; those in `absent` are left out.
+    fn plant(n: usize, absent: &[usize]) -> Devices {
+        let mut config = Config::demo();
+        config.network = Network::Sim;
+        let template = config.devices[0].clone();
+        config.devices = (0..n)
+            .map(|d| DeviceConfig {
+                name: format!("dev{d}"),
+                sim: if absent.contains(&d) {
+                    SimBehaviour::Absent
+                } else {
+                    SimBehaviour::None
+                },
+                ..template.clone()
+            })
+            .collect();
+        Devices::new(devices(&config))
+    }
+
+    fn names(devices: &[DemoDevice]) -> Vec<String> {
+        devices.iter().map(|d| d.name().to_string()).collect()
+    }
+
+    #[test]
+    fn a_unicast_frame_goes_to_its_device_only() {
+        let mut p = plant(300, &[]);
+        for d in [0, 1, 255, 256, 299] {
+            assert_eq!(
+                names(p.recipients(&frame_to(device_mac(d)))),
+                [format!("dev{d}")]
+            );
+        }
+    }
+
+    #[test]
+    fn multicast_and_broadcast_frames_go_to_every_device() {
+        let mut p = plant(5, &[]);
+        let dcp_identify = MacAddress([0x01, 0x0e, 0xcf, 0x00, 0x00, 0x00]);
+        assert_eq!(p.recipients(&frame_to(dcp_identify)).len(), 5);
+        assert_eq!(p.recipients(&frame_to(MacAddress([0xff; 6]))).len(), 5);
+    }
+
+    #[test]
+    fn frames_for_no_simulated_device_go_nowhere() {
+        let mut p = plant(7, &[]);
+        // Beyond the plant, another prefix, the controller's own address, a runt.
+        assert!(p.recipients(&frame_to(device_mac(7))).is_empty());
+        let other = MacAddress([0x02, 0x50, 0x49, 0x01, 0, 1]);
+        assert!(p.recipients(&frame_to(other)).is_empty());
+        assert!(
+            p.recipients(&frame_to(super::super::SIM_CONTROLLER_MAC))
+                .is_empty()
+        );
+        assert!(p.recipients(&[0x02, 0x50]).is_empty());
+    }
+
+    #[test]
+    fn absent_devices_are_not_on_the_network_and_the_others_keep_their_addresses() {
+        let mut p = plant(4, &[0, 2]);
+        assert_eq!(names(&p.devices), ["dev1", "dev3"]);
+        assert!(p.recipients(&frame_to(device_mac(0))).is_empty());
+        assert!(p.recipients(&frame_to(device_mac(2))).is_empty());
+        assert_eq!(names(p.recipients(&frame_to(device_mac(3)))), ["dev3"]);
+        let broadcast = frame_to(MacAddress([0xff; 6]));
+        assert_eq!(names(p.recipients(&broadcast)), ["dev1", "dev3"]);
     }
 }
