@@ -393,6 +393,9 @@ pub enum SimBehaviour {
     Counter,
     /// `"digital-io"`: inputs follow outputs bit by bit.
     DigitalIo,
+    /// `"absent"`: the device is not on the simulated network; nothing answers for it, as
+    /// when a configured device is missing or switched off.
+    Absent,
 }
 
 impl SimBehaviour {
@@ -403,6 +406,7 @@ impl SimBehaviour {
             SimBehaviour::Echo => "echo",
             SimBehaviour::Counter => "counter",
             SimBehaviour::DigitalIo => "digital-io",
+            SimBehaviour::Absent => "absent",
         }
     }
 }

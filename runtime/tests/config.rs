@@ -1257,3 +1257,21 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn every_simulated_behaviour_is_read_by_its_documented_name() {
+    for behaviour in [
+        SimBehaviour::None,
+        SimBehaviour::Echo,
+        SimBehaviour::Counter,
+        SimBehaviour::DigitalIo,
+        SimBehaviour::Absent,
+    ] {
+        let text = format!(
+            "network = \"sim\"\n[[device]]\nname = \"ok\"\nvendor_id = 1\ndevice_id = 1\n\
+             sim = \"{}\"\n",
+            behaviour.as_str()
+        );
+        assert_eq!(parse(&text).unwrap().devices[0].sim, behaviour, "{text}");
+    }
+}

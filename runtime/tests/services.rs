@@ -8,7 +8,7 @@ use procimg_client::{
 };
 use procimg_profinet::device::{SIM_ALARM_INDEX, SIM_ALARM_USI};
 use procimg_profinet::wire::record::Im0;
-use procimg_testkit::Procimgd;
+use procimg_testkit::{Launch, Procimgd};
 use std::time::{Duration, Instant};
 
 const WAIT: Duration = Duration::from_secs(5);
@@ -248,5 +248,66 @@ fn requests_the_server_cannot_take_are_refused_with_reasons() {
             );
         }
         other => panic!("a read without connection gave {other:?}"),
+    }
+}
+
+/// Two simulated devices, the second not on the network (`sim = "absent"`).
+const ONE_ABSENT: &str = r#"
+network = "sim"
+
+[[device]]
+name = "here"
+ip = "10.0.0.2"
+vendor_id = 0x0493
+device_id = 0x0001
+sim = "echo"
+watchdog_factor = 100
+[[device.submodule]]
+slot = 1
+subslot = 1
+module_ident = 0x20
+submodule_ident = 0x01
+input_length = 4
+output_length = 4
+
+[[device]]
+name = "gone"
+ip = "10.0.0.3"
+vendor_id = 0x0493
+device_id = 0x0001
+sim = "absent"
+[[device.submodule]]
+slot = 1
+subslot = 1
+module_ident = 0x20
+submodule_ident = 0x01
+input_length = 4
+output_length = 4
+"#;
+
+#[test]
+fn a_device_absent_from_the_simulated_network_is_not_found_while_the_other_runs() {
+    let server = Launch::config("services-absent", ONE_ABSENT)
+        .until_cycling()
+        .start();
+    let s = Services::open(&server.instance, ServiceOptions::new("absent")).expect("open");
+    let until = Instant::now() + 2 * WAIT;
+    loop {
+        let diag = s.diagnosis().expect("diagnosis");
+        let (here, gone) = (&diag.devices[0], &diag.devices[1]);
+        if here.state == "running" && gone.cause == FailureCause::NotFound {
+            assert_eq!(
+                (gone.name.as_str(), gone.state.as_str()),
+                ("gone", "failed")
+            );
+            assert!(
+                gone.last_error
+                    .contains("no device named \"gone\" answered DCP Identify"),
+                "{gone:?}"
+            );
+            break;
+        }
+        assert!(Instant::now() < until, "{diag:?}");
+        std::thread::sleep(Duration::from_millis(20));
     }
 }

@@ -343,6 +343,7 @@ fn device_config(
                     ("counter", SimBehaviour::Counter),
                     ("digital-io", SimBehaviour::DigitalIo),
                     ("none", SimBehaviour::None),
+                    ("absent", SimBehaviour::Absent),
                 ],
             ),
         )?,

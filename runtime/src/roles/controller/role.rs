@@ -32,6 +32,36 @@ pub struct ControllerRole {
     names: Vec<String>,
     /// The controller's actions before they become effects (kept for its capacity).
     actions: Vec<Action>,
+    /// The last problem logged of each device, so that a retry failing the same way (a
+    /// missing device, twice a second) is not a new warning.
+    problems: ProblemLog,
+}
+
+/// The last problem of each device that was logged as a warning, until it comes up.
+#[derive(Default)]
+struct ProblemLog(Vec<Option<String>>);
+
+impl ProblemLog {
+    /// Whether `reason` is new for `device` (then remembered), rather than the same problem
+    /// again.
+    fn is_new(&mut self, device: usize, reason: &str) -> bool {
+        if self.0.len() <= device {
+            self.0.resize(device + 1, None);
+        }
+        let last = &mut self.0[device];
+        if last.as_deref() == Some(reason) {
+            return false;
+        }
+        *last = Some(reason.to_owned());
+        true
+    }
+
+    /// `device` came up: its next problem is news.
+    fn clear(&mut self, device: usize) {
+        if let Some(last) = self.0.get_mut(device) {
+            *last = None;
+        }
+    }
 }
 
 impl ControllerRole {
@@ -47,6 +77,7 @@ impl ControllerRole {
             states,
             names,
             actions: Vec::new(),
+            problems: ProblemLog::default(),
         }
     }
 
@@ -60,7 +91,7 @@ impl ControllerRole {
                 Action::Start(ar) => Effect::Start(ar),
                 Action::Stop { device } => Effect::Stop { device },
                 Action::Event(e) => {
-                    log_event(&e, &self.names, &self.states);
+                    log_event(&e, &self.names, &self.states, &mut self.problems);
                     Effect::Event(e)
                 }
             });
@@ -145,7 +176,7 @@ impl Role for ControllerRole {
     }
 }
 
-fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
+fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates, problems: &mut ProblemLog) {
     let name = |d: usize| names.get(d).map_or("?", String::as_str);
     match e {
         DeviceEvent::State { device, state } => {
@@ -165,10 +196,15 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
             ..
         } => tracing::info!("device {:?} left data exchange: {reason}", name(*device)),
         DeviceEvent::Return { device } => {
+            problems.clear(*device);
             tracing::info!("device {:?} is in data exchange", name(*device))
         }
         DeviceEvent::Problem { device, reason, .. } => {
-            tracing::warn!("device {:?}: {reason}", name(*device))
+            if problems.is_new(*device, reason) {
+                tracing::warn!("device {:?}: {reason}", name(*device))
+            } else {
+                tracing::debug!("device {:?}: still: {reason}", name(*device))
+            }
         }
         DeviceEvent::ModuleDiff { device, diff } => {
             for (api, slot, subslot, st) in diff.submodules() {
@@ -201,5 +237,36 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates) {
             name(*device),
             if *active { "activated" } else { "deactivated" }
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ProblemLog;
+
+    #[test]
+    fn the_same_problem_again_is_no_news_until_the_device_comes_up() {
+        let mut log = ProblemLog::default();
+        let missing = "no device named \"gone\" answered DCP Identify";
+        assert!(log.is_new(3, missing));
+        assert!(!log.is_new(3, missing));
+        assert!(
+            log.is_new(1, missing),
+            "another device's problem is its own"
+        );
+        assert!(
+            log.is_new(3, "Connect refused"),
+            "a different problem is news"
+        );
+        assert!(
+            log.is_new(3, missing),
+            "and so is the first one again after it"
+        );
+        log.clear(3);
+        assert!(
+            log.is_new(3, missing),
+            "after coming up, the problem is news again"
+        );
+        log.clear(99);
     }
 }

@@ -33,7 +33,8 @@ pub fn fill_inputs(
     sensor: bool,
 ) {
     match behaviour {
-        SimBehaviour::None => {}
+        // An absent device is never simulated.
+        SimBehaviour::None | SimBehaviour::Absent => {}
         SimBehaviour::Echo => {
             let n = inputs.len().min(own_outputs.len());
             inputs[..n].copy_from_slice(&own_outputs[..n]);
