@@ -81,6 +81,13 @@ fn socket_round_trips_are_measured() {
 }
 
 #[test]
+fn a_periodic_ping_pong_measures_every_round_trip_and_says_its_period() {
+    let r = run(&["futex", "-l", "200", "--period-us", "500"], "round trip");
+    assert_eq!(r.settings["period_us"], "500");
+    assert_eq!(r.get("round trip").unwrap().count, 200);
+}
+
+#[test]
 fn every_copy_size_is_a_measurement() {
     let r = run(
         &["memcpy", "--bytes", "64,4KiB,64KiB,1MiB", "-l", "300"],

@@ -9,6 +9,11 @@
 //!   what iceoryx2's events cost (its default is unix datagram sockets);
 //! - `memcpy`: one copy of N bytes between hot, pre-faulted buffers: the copy limit.
 //!
+//! With `--period-us P` a ping-pong starts one round trip every P µs instead of back to
+//! back: both processes sleep between round trips, as procimgd's cycle thread and a
+//! synchronous client do, and each round trip wakes CPUs that were idle for most of a
+//! period.
+//!
 //! Output: one line per measurement (µs), `--report` (procimg latency report, JSON) and
 //! `--hdr-log` (HdrHistogram log).
 
@@ -46,6 +51,15 @@ struct Args {
     #[arg(short = 'p', long = "priority", default_value_t = 80, global = true,
           value_parser = clap::value_parser!(u8).range(0..=99))]
     priority: u8,
+    /// Ping-pongs: start a round trip every this many µs (0: back to back), to measure the
+    /// round trip of sides that sleep through most of a cycle.
+    #[arg(
+        long = "period-us",
+        value_name = "µs",
+        default_value_t = 0,
+        global = true
+    )]
+    period_us: u64,
     /// Write the figures as a procimg latency report (JSON).
     #[arg(long, value_name = "FILE", global = true)]
     report: Option<PathBuf>,
@@ -148,6 +162,7 @@ fn ping_pong<C: Channel>(args: &Args, channel: &C, report: &mut Report) -> Resul
         loops: args.loops.max(1),
         cpus,
         priority: args.priority,
+        period_ns: args.period_us.saturating_mul(1000),
     };
     let outcome = pingpong::run(channel, &plan).context("the ping-pong failed")?;
     for w in &outcome.warnings {
@@ -159,6 +174,7 @@ fn ping_pong<C: Channel>(args: &Args, channel: &C, report: &mut Report) -> Resul
         .setting("warmup", pingpong::WARMUP)
         .setting("cpus", cpus)
         .setting("priority", args.priority)
+        .setting("period_us", args.period_us)
         .setting("realtime", outcome.realtime);
     report.measurements.push(Measurement::from_histogram(
         "round trip",

@@ -8,7 +8,7 @@ use super::mechanism::{Channel, Dir, MechanismError};
 use super::sched::{self, SchedError};
 use hdrhistogram::Histogram;
 use procimg_rt_tests::report::{HIGHEST_NS, new_histogram};
-use procimg_runtime::sys::clock::now_ns;
+use procimg_runtime::sys::clock::{now_ns, sleep_until_ns};
 use std::os::unix::process::ExitStatusExt;
 use std::process::ExitStatus;
 use std::sync::Arc;
@@ -27,6 +27,10 @@ pub struct Plan {
     pub cpus: Option<(usize, usize)>,
     /// SCHED_FIFO priority of both; 0: normal scheduling.
     pub priority: u8,
+    /// A starts each round trip at the next multiple of this period after the last (an
+    /// absolute sleep, as a cycle thread's), so that both sides sleep between round trips as
+    /// a cyclic handshake's do; 0: back to back.
+    pub period_ns: u64,
 }
 
 /// What a ping-pong measured.
@@ -104,7 +108,12 @@ pub fn run<C: Channel>(channel: &C, plan: &Plan) -> Result<Outcome, PingPongErro
 
     let mut round_trips = new_histogram();
     let measured = (|| -> Result<(), MechanismError> {
+        let mut next = now_ns();
         for n in 1..=total {
+            if plan.period_ns > 0 {
+                next += plan.period_ns;
+                sleep_until_ns(next);
+            }
             let start = now_ns();
             channel.send(Dir::ToB, n)?;
             channel.wait(Dir::ToA, n)?;

@@ -7,7 +7,9 @@
 //!
 //! - the real `cyclictest` and `procimg-cyclictest` with the same options (wake-up);
 //! - `procimg-baseline spin` and a busy-polling `procimg-handshake`;
-//! - `procimg-baseline futex` and a sleeping `procimg-handshake`;
+//! - `procimg-baseline futex`, the same ping-pong with one round trip per cycle
+//!   (`--period-us`: both sides wake from a cycle's sleep, as the handshake's do), and a
+//!   sleeping `procimg-handshake`;
 //! - `procimg-baseline eventfd` and `socket` (what iceoryx2's events cost);
 //! - `procimg-baseline memcpy` for the image sizes of the sweep, then the sweep of sleeping
 //!   handshakes over image sizes and client counts;
@@ -367,6 +369,12 @@ fn panels(res: &Results, s: &Settings) -> Vec<plot::Panel> {
             series: [
                 series(&main(false).key(), rt, "procimg sleeping round trip", false),
                 series("futex", rt, "futex baseline", true),
+                series(
+                    plan::FUTEX_EVERY_CYCLE,
+                    rt,
+                    "futex baseline, one per cycle",
+                    true,
+                ),
                 series("eventfd", rt, "eventfd baseline", true),
                 series("socket", rt, "unix socket baseline", true),
             ]

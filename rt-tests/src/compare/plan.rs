@@ -160,6 +160,11 @@ pub fn startup_key(bytes: usize) -> String {
     format!("startup-{bytes}B")
 }
 
+/// The job key of the futex ping-pong that starts one round trip per cycle
+/// (`procimg-baseline futex --period-us INTERVAL`): the limit of a handshake whose two sides
+/// sleep through most of a cycle, as procimgd's cycle thread and a sleeping client do.
+pub const FUTEX_EVERY_CYCLE: &str = "futex-every-cycle";
+
 /// The groups, in order; each group runs back to back.
 pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
     let cycles = Duration::from_micros(s.loops * s.interval_us);
@@ -206,6 +211,14 @@ pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
         // Plus procimg-handshake's warm-up of up to 3000 cycles.
         expected: cycles + Duration::from_micros(3000 * s.interval_us),
     };
+    let futex_every_cycle = Job {
+        key: FUTEX_EVERY_CYCLE.to_string(),
+        program: BASELINE,
+        args: strings(&["futex", "-l", &l, "--period-us", &i]),
+        output: Output::Report,
+        // Plus procimg-baseline's warm-up of 1000 round trips, one per cycle too.
+        expected: cycles + Duration::from_micros(1000 * s.interval_us),
+    };
     let main = |busy| Handshake {
         busy,
         clients: s.main_clients(),
@@ -218,7 +231,11 @@ pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
             wake("procimg-cyclictest", PROCIMG_CYCLICTEST, Output::Report),
         ],
         vec![baseline("spin", &[]), handshake(main(true))],
-        vec![baseline("futex", &[]), handshake(main(false))],
+        vec![
+            baseline("futex", &[]),
+            futex_every_cycle,
+            handshake(main(false)),
+        ],
         vec![baseline("eventfd", &[]), baseline("socket", &[])],
         vec![baseline(MEMCPY, &["--bytes", &sizes.join(",")])],
     ];
@@ -301,5 +318,14 @@ mod tests {
         assert_eq!(args.last().unwrap(), "--json=/x/c.json");
         let ours = groups[0][1].args_with_output(std::path::Path::new("/x/p.json"));
         assert_eq!(&ours[ours.len() - 2..], ["--report", "/x/p.json"]);
+        let every_cycle = groups
+            .iter()
+            .flatten()
+            .find(|j| j.key == FUTEX_EVERY_CYCLE)
+            .unwrap();
+        assert_eq!(
+            every_cycle.args,
+            ["futex", "-l", "100", "--period-us", "1000"]
+        );
     }
 }

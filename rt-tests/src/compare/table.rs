@@ -161,6 +161,19 @@ pub fn rows(res: &Results, s: &Settings) -> Vec<Row> {
             ));
         }
         if !busy {
+            // The same ping-pong, one round trip per cycle: both sides wake from a cycle's
+            // sleep, as the handshake's do (the goals' limit never lets its CPUs rest).
+            let cyclic = stats(res.figure(plan::FUTEX_EVERY_CYCLE, plan::ROUND_TRIP));
+            for stat in [Stat::P50, Stat::P99] {
+                rows.push(row(
+                    name("round trip"),
+                    &rt,
+                    "futex round trip, one per cycle",
+                    &cyclic,
+                    stat,
+                    None,
+                ));
+            }
             for other in ["eventfd", "socket"] {
                 let l = stats(res.figure(other, plan::ROUND_TRIP));
                 rows.push(row(
@@ -370,6 +383,17 @@ pub(crate) mod tests {
             })
             .unwrap();
         assert!((rt.ratio().unwrap() - 2.0).abs() < 0.01);
+        res.add(
+            plan::FUTEX_EVERY_CYCLE,
+            Ok(report(plan::ROUND_TRIP, 50_000)),
+        );
+        let rows = super::rows(&res, &settings());
+        let cyclic = rows
+            .iter()
+            .find(|r| r.baseline == "futex round trip, one per cycle" && r.stat == Stat::P50)
+            .unwrap();
+        assert!((cyclic.ratio().unwrap() - 0.8).abs() < 0.01);
+        assert!(cyclic.goal.is_none());
         let startop = rows
             .iter()
             .find(|r| r.figure.starts_with("sleeping STARTOP"))
