@@ -27,9 +27,9 @@ pub struct Plan {
     pub cpus: Option<(usize, usize)>,
     /// SCHED_FIFO priority of both; 0: normal scheduling.
     pub priority: u8,
-    /// A starts each round trip at the next multiple of this period after the last (an
-    /// absolute sleep, as a cycle thread's), so that both sides sleep between round trips as
-    /// a cyclic handshake's do; 0: back to back.
+    /// A starts each round trip at the next tick of this period (an absolute sleep, as a
+    /// cycle thread's), so that both sides sleep between round trips as a cyclic
+    /// handshake's do; 0: back to back.
     pub period_ns: u64,
 }
 
@@ -108,11 +108,11 @@ pub fn run<C: Channel>(channel: &C, plan: &Plan) -> Result<Outcome, PingPongErro
 
     let mut round_trips = new_histogram();
     let measured = (|| -> Result<(), MechanismError> {
-        let mut next = now_ns();
+        let mut tick = now_ns();
         for n in 1..=total {
             if plan.period_ns > 0 {
-                next += plan.period_ns;
-                sleep_until_ns(next);
+                tick = next_tick(tick, now_ns(), plan.period_ns);
+                sleep_until_ns(tick);
             }
             let start = now_ns();
             channel.send(Dir::ToB, n)?;
@@ -144,6 +144,18 @@ pub fn run<C: Channel>(channel: &C, plan: &Plan) -> Result<Outcome, PingPongErro
         realtime,
         warnings,
     })
+}
+
+/// The first tick after `last` (a multiple of `period` later) that is not yet past at
+/// `now`: ticks a stall overran are skipped, as a cycle thread skips its overrun cycles,
+/// rather than run back to back with both sides awake.
+fn next_tick(last: u64, now: u64, period: u64) -> u64 {
+    let next = last + period;
+    if next > now {
+        next
+    } else {
+        next + (now - next) / period * period + period
+    }
 }
 
 /// Process B: answers every number, then ends without running A's destructors or atexit
@@ -195,5 +207,19 @@ fn wait_for(pid: libc::pid_t) -> ExitStatus {
             // Already reaped or not ours: nothing to wait for, call it a failure.
             return ExitStatus::from_raw(libc::SIGKILL);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::next_tick;
+
+    #[test]
+    fn ticks_follow_the_period_and_skip_what_a_stall_overran() {
+        assert_eq!(next_tick(1000, 1500, 1000), 2000);
+        assert_eq!(next_tick(1000, 1999, 1000), 2000);
+        // At or past the next tick: the one after the present.
+        assert_eq!(next_tick(1000, 2000, 1000), 3000);
+        assert_eq!(next_tick(1000, 5400, 1000), 6000);
     }
 }
