@@ -95,7 +95,9 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                 let (ours, plant) = sim_link::link_with_depth(
                     SIM_CONTROLLER_MAC,
                     MacAddress::default(),
-                    sim_plant::link_depth(devices.len()),
+                    // Sized for every configured device: the controller's frames to the
+                    // absent ones wait in the link too, until the plant empties it.
+                    sim_plant::link_depth(config.devices.len()),
                 );
                 let (udp, peer) = datagram::sim_network(SIM_CONTROLLER_IP);
                 threads.push(
