@@ -527,7 +527,9 @@ input_length = 4
 "#;
 
 /// The same station as the controller's configuration describes it. The watchdog allows
-/// ten frames: two cycle threads and four clients share two virtual CPUs here.
+/// 100 frames (100 ms): two cycle threads, their clients and the other tests' servers share
+/// two virtual CPUs here, and an AR given up in the middle of an alarm's way would take the
+/// alarm with it (the next AR's ModuleDiffBlock says it instead).
 const CONTROLLER_TOML: &str = r#"
 network = "IFACE"
 [[device]]
@@ -535,7 +537,7 @@ name = "pc-device"
 ip = "10.47.0.50"
 vendor_id = 0x0493
 device_id = 0x0100
-watchdog_factor = 10
+watchdog_factor = 100
 [[device.submodule]]
 slot = 0
 subslot = 1
@@ -697,11 +699,37 @@ fn next_device_event(services: &mut Services, what: &str) -> Notification {
 fn next_alarm(services: &mut Services) -> AlarmReport {
     let until = Instant::now() + Duration::from_secs(5);
     while Instant::now() < until {
-        if let Some(Notification::Alarm(a)) = services.next(Duration::from_millis(100)) {
-            return a;
+        match services.next(Duration::from_millis(100)) {
+            Some(Notification::Alarm(a)) => return a,
+            Some(failure @ Notification::DeviceFailure { .. }) => {
+                panic!("the AR ended while an alarm was awaited: {failure:?}")
+            }
+            _ => {}
         }
     }
     panic!("no alarm within 5 s");
+}
+
+/// Ends the device's AR (the controller deactivates it) and sets it up again; what the new
+/// AR's ModuleDiffBlock listed, as the controller's client is told it.
+fn reconnect(services: &mut Services) -> Vec<procimg_client::SubmoduleDiff> {
+    services.activate(0, false).expect("deactivate the device");
+    let failure = next_device_event(services, "failure");
+    assert!(
+        matches!(failure, Notification::DeviceFailure { .. }),
+        "{failure:?}"
+    );
+    services.activate(0, true).expect("activate the device");
+    let mut listed = Vec::new();
+    let until = Instant::now() + BRING_UP;
+    loop {
+        assert!(Instant::now() < until, "no return within {BRING_UP:?}");
+        match services.next(Duration::from_millis(100)) {
+            Some(Notification::ModuleDiff { submodules, .. }) => listed = submodules,
+            Some(Notification::DeviceReturn { .. }) => return listed,
+            _ => {}
+        }
+    }
 }
 
 /// The (channel, error type) pairs of record 0x800A of slot 1 subslot 1, read by the
@@ -977,6 +1005,24 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         }
     };
     assert_eq!(done, (77, Some([0, 0, 0, 0])));
+    assert_eq!(channel_errors(&mut services), [(0x8000, 5)]);
+    // A diagnosis present when an AR is set up is not an alarm: the Connect response's
+    // ModuleDiffBlock lists the submodule, right but with diagnosis, and the record has it.
+    let listed = reconnect(&mut services);
+    let diag: Vec<_> = listed
+        .iter()
+        .map(|d| (d.api, d.slot, d.subslot, d.state, d.text.as_str()))
+        .collect();
+    assert_eq!(
+        diag,
+        [(
+            0,
+            1,
+            1,
+            0x8040,
+            "the expected submodule, owned by this AR, diagnosis available"
+        )]
+    );
     assert_eq!(channel_errors(&mut services), [(0x8000, 5)]);
     dev_client
         .clear_diagnosis((0, 1, 1))

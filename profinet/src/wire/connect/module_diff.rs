@@ -119,6 +119,44 @@ impl SubmoduleState {
     }
 }
 
+/// Says what the state means: "the expected submodule, owned by this AR, diagnosis
+/// available", "wrong submodule, locked by IO controller" and so on.
+impl core::fmt::Display for SubmoduleState {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        if !self.format_indicator() {
+            return write!(f, "SubmoduleState {:#06x} in the old format", self.0);
+        }
+        match self.ident_info() {
+            IdentInfo::Ok => f.write_str("the expected submodule")?,
+            IdentInfo::Substitute => f.write_str("a substitute")?,
+            IdentInfo::Wrong => f.write_str("a wrong submodule")?,
+            IdentInfo::NoSubmodule => f.write_str("no submodule")?,
+            IdentInfo::Unknown(raw) => write!(f, "reserved IdentInfo {raw}")?,
+        }
+        match self.ar_info() {
+            ArInfo::Own => f.write_str(", owned by this AR")?,
+            ArInfo::Unknown(raw) => write!(f, ", reserved ARInfo {raw}")?,
+            other => write!(f, ", {}", other.name().unwrap_or("?"))?,
+        }
+        if self.fault() {
+            f.write_str(", diagnosis available")?;
+        }
+        if self.maintenance_demanded() {
+            f.write_str(", maintenance demanded")?;
+        }
+        if self.maintenance_required() {
+            f.write_str(", maintenance required")?;
+        }
+        if self.qualified_info() {
+            f.write_str(", qualified diagnosis")?;
+        }
+        if self.add_info() == 1 {
+            f.write_str(", takeover not allowed")?;
+        }
+        Ok(())
+    }
+}
+
 /// A submodule entry of a ModuleDiffBlock.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ModuleDiffSubmodule {

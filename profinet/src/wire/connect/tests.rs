@@ -413,6 +413,28 @@ fn module_diff_worked_example() {
 }
 
 #[test]
+fn a_submodule_state_reads_as_what_it_means() {
+    let said = |raw: u16| SubmoduleState(raw).to_string();
+    // TV7's wrong submodule, and a submodule with nothing wrong but its diagnosis.
+    assert_eq!(said(0x9000), "a wrong submodule, owned by this AR");
+    assert_eq!(
+        said(0x8040),
+        "the expected submodule, owned by this AR, diagnosis available"
+    );
+    assert_eq!(
+        said(0x8000 | 1 << 11 | 1 << 7 | 1 << 6 | 1 << 4 | 1),
+        "a substitute, application ready pending, diagnosis available, maintenance \
+         required, takeover not allowed"
+    );
+    assert_eq!(
+        said(0x8000 | 3 << 7),
+        "the expected submodule, locked by IO controller"
+    );
+    assert_eq!(said(0xf800), "reserved IdentInfo 15, owned by this AR");
+    assert_eq!(said(0x0040), "SubmoduleState 0x0040 in the old format");
+}
+
+#[test]
 fn response_with_module_diff_and_other_blocks() {
     let mut res = ConnectResponse::parse(blocks_of(&CONNECT_RES)).unwrap();
     res.module_diff = Some(ModuleDiffBlock::parse(&MODULE_DIFF_TV7).unwrap());

@@ -5,6 +5,7 @@
 use super::states::DeviceStates;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
 use procimg_profinet::controller::{Action, AlarmTicket, Controller, DeviceEvent, RecordRequest};
+use procimg_profinet::wire::connect::IdentInfo;
 use std::net::SocketAddrV4;
 use std::sync::Arc;
 
@@ -208,11 +209,21 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates, problems:
         }
         DeviceEvent::ModuleDiff { device, diff } => {
             for (api, slot, subslot, st) in diff.submodules() {
-                tracing::warn!(
-                    "device {:?}: API {api} slot {slot} subslot {subslot:#06x} differs from \
-                     the configuration: {st:?}",
-                    name(*device)
-                );
+                // A ModuleDiffBlock also lists the right submodules that have diagnosis or
+                // want maintenance: news, not a configuration fault.
+                if st.is_usable() && st.ident_info() == IdentInfo::Ok {
+                    tracing::info!(
+                        "device {:?}: API {api} slot {slot} subslot {subslot:#06x} reports: \
+                         {st} (record 0x800A of the subslot says which)",
+                        name(*device)
+                    );
+                } else {
+                    tracing::warn!(
+                        "device {:?}: API {api} slot {slot} subslot {subslot:#06x} differs \
+                         from the configuration: {st}",
+                        name(*device)
+                    );
+                }
             }
         }
         DeviceEvent::Alarm {

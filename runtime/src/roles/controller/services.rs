@@ -389,7 +389,7 @@ impl ControllerServices {
                         slot,
                         subslot,
                         state: st.0,
-                        text: format!("{st:?}"),
+                        text: st.to_string(),
                     })
                     .collect();
                 if let Some(r) = self.devices.get_mut(device) {
