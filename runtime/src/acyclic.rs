@@ -51,6 +51,7 @@ pub struct AcyclicSetup<R: Role> {
 pub fn spawn<R: Role>(setup: AcyclicSetup<R>) -> std::io::Result<JoinHandle<()>> {
     std::thread::Builder::new()
         .name("procimg-pnio".into())
+        .stack_size(crate::sys::rt::HELPER_THREAD_STACK)
         .spawn(move || run(setup))
 }
 

@@ -41,6 +41,7 @@ pub fn spawn(
     let (ready_tx, ready_rx) = std::sync::mpsc::sync_channel(1);
     let handle = std::thread::Builder::new()
         .name("procimg-cycle".into())
+        .stack_size(crate::sys::rt::CYCLE_THREAD_STACK)
         .spawn(move || {
             let rt = setup_current_thread(thread.cpu, thread.priority);
             shared

@@ -168,6 +168,7 @@ pub fn spawn(
 ) -> std::io::Result<JoinHandle<()>> {
     std::thread::Builder::new()
         .name("procimg-simnet".into())
+        .stack_size(crate::sys::rt::HELPER_THREAD_STACK)
         .spawn(move || {
             // Without the right to (not root), the devices run at normal priority, as the
             // cycle thread then does too.

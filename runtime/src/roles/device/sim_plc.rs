@@ -112,6 +112,7 @@ pub fn spawn(
 ) -> std::io::Result<JoinHandle<()>> {
     std::thread::Builder::new()
         .name("procimg-sim-plc".into())
+        .stack_size(crate::sys::rt::HELPER_THREAD_STACK)
         .spawn(move || {
             let _ = crate::sys::rt::set_fifo(priority);
             let id = ControllerIdentity {
