@@ -223,7 +223,9 @@ impl Image {
     /// written by nobody else, from now until [`Image::publish_into`] has filled it; then
     /// readable and unchanged until the image is bound to another sample and carried over
     /// (as the newest sample of a publisher with a history of one is). It must be the sample
-    /// the outputs are bound to, if they are bound to one.
+    /// the outputs are bound to, if they are bound to one. A sample the image was bound to
+    /// before must hold what it held when it was published: the carry-over copies only what
+    /// changed since (see `image::region`).
     #[allow(unsafe_code)]
     pub unsafe fn bind_inputs(&mut self, sample: Option<NonNull<u8>>) {
         // SAFETY: passed on to the caller.
@@ -255,6 +257,12 @@ impl Image {
     /// last image (outputs nobody wrote in this cycle stay as last sent).
     pub fn carry_over_outputs(&mut self) {
         self.outputs.carry_over(&mut self.payload);
+    }
+
+    /// Bytes of inputs and outputs carried over from the last image since the image was made
+    /// (what was neither written anew nor held already by the sample it went into).
+    pub fn carried_bytes(&self) -> u64 {
+        self.inputs.carried() + self.outputs.carried()
     }
 
     /// Completes the bound sample for publication: carries over what was not written and

@@ -34,30 +34,29 @@ fn every_subset_of_fresh_submodules_carries_the_others_over() {
     let value = |s: usize, round: u8| vec![round.wrapping_mul(31) ^ s as u8; len(&tables, s)];
     for subset in 0u32..1 << with_inputs.len() {
         let mut image = Image::new(&tables);
-        let (mut a, mut b) = (sample(&image), sample(&image));
+        let (mut a, mut b, mut c) = (sample(&image), sample(&image), sample(&image));
         let mut expected: Vec<Vec<u8>> = (0..tables.submodules.len())
             .map(|s| vec![0; len(&tables, s)])
             .collect();
         // Round 1 into sample a (all of them arrive), round 2 into b (the subset), round 3
-        // into the own payload (nothing arrives), round 4 into a again (the complement).
-        for round in 1..=4u8 {
+        // into the own payload (nothing arrives), round 4 into a again, as it was published
+        // in round 1 (the complement arrives), round 5 into a new sample c (nothing).
+        for round in 1..=5u8 {
             let arriving: Vec<usize> = with_inputs
                 .iter()
                 .enumerate()
                 .filter(|&(i, _)| match round {
                     1 => true,
                     2 => subset & (1 << i) != 0,
-                    3 => false,
+                    3 | 5 => false,
                     _ => subset & (1 << i) == 0,
                 })
                 .map(|(_, &s)| s)
                 .collect();
             match round {
-                1 | 4 => {
-                    a.fill(0xEE);
-                    bind(&mut image, Some(&mut a))
-                }
+                1 | 4 => bind(&mut image, Some(&mut a)),
                 2 => bind(&mut image, Some(&mut b)),
+                5 => bind(&mut image, Some(&mut c)),
                 _ => bind(&mut image, None),
             }
             for &s in &arriving {
@@ -74,7 +73,11 @@ fn every_subset_of_fresh_submodules_carries_the_others_over() {
                 );
             }
             if round != 3 {
-                let published = if round == 2 { &b } else { &a };
+                let published = match round {
+                    2 => &b,
+                    5 => &c,
+                    _ => &a,
+                };
                 assert!(
                     !published.contains(&0xEE),
                     "subset {subset:b}, round {round}"
@@ -163,4 +166,164 @@ fn outputs_moved_to_a_new_sample_keep_what_was_not_written() {
     assert_eq!(image.outputs(partial), &vec![0x66; olen(partial)][..]);
     assert_eq!(image.outputs(untouched), &first(untouched)[..]);
     assert_eq!(b[at], untouched as u8 + 1, "carried into the next sample");
+}
+
+/// One step of the cycle as the engine takes it, for [`images_follow_their_model_through_any_cycles`].
+#[derive(Clone, Debug)]
+enum Step {
+    /// New inputs of a submodule (a frame arrived): all of them, or the first byte.
+    Inputs { s: usize, value: u8, whole: bool },
+    /// A client's outputs of a submodule: all of them, or the first byte.
+    Outputs { s: usize, value: u8, whole: bool },
+    /// The cycle starts: the inputs join the sample the outputs are in, or, if there is
+    /// none, a new loan (`Some(k)`: sample k, `None`: the loan fails).
+    Begin { loan: Option<usize> },
+    /// The image is completed and published (or not: `sent` false), then the next sample is
+    /// loaned for the outputs (`None`: the loan fails); `late` writes inputs in between.
+    Finish {
+        sent: bool,
+        next: Option<usize>,
+        late: Option<(usize, u8)>,
+    },
+}
+
+/// Samples of the publisher in the model test: fewer than the steps, so each comes back.
+const POOL: usize = 4;
+
+fn step() -> impl proptest::strategy::Strategy<Value = Step> {
+    use proptest::prelude::*;
+    let sample = proptest::option::weighted(0.9, 0..POOL);
+    prop_oneof![
+        3 => (0..16usize, any::<u8>(), any::<bool>())
+            .prop_map(|(s, value, whole)| Step::Inputs { s, value, whole }),
+        3 => (0..16usize, any::<u8>(), any::<bool>())
+            .prop_map(|(s, value, whole)| Step::Outputs { s, value, whole }),
+        2 => sample.clone().prop_map(|loan| Step::Begin { loan }),
+        2 => (
+            proptest::bool::weighted(0.9),
+            sample,
+            proptest::option::weighted(0.1, (0..16usize, any::<u8>())),
+        )
+            .prop_map(|(sent, next, late)| Step::Finish { sent, next, late }),
+    ]
+}
+
+proptest::proptest! {
+    /// Whatever the cycles do (submodules written or not, in any order, samples loaned
+    /// in any order and coming back as they were published, loans and publications that
+    /// fail), the image reads as its model and every sample is published holding exactly
+    /// the model: carried over where needed, with no byte of an older image or of garbage.
+    #[test]
+    fn images_follow_their_model_through_any_cycles(
+        steps in proptest::collection::vec(step(), 1..120),
+    ) {
+        let tables = tables();
+        let n = tables.submodules.len();
+        let ilen = |s: usize| tables.submodules[s].input_length as usize;
+        let olen = |s: usize| tables.submodules[s].output_length as usize;
+        let mut image = Image::new(&tables);
+        let mut pool: Vec<Vec<u8>> = (0..POOL).map(|_| sample(&image)).collect();
+        let ptr = |pool: &mut Vec<Vec<u8>>, k: usize| NonNull::new(pool[k].as_mut_ptr());
+        let mut inputs: Vec<Vec<u8>> = (0..n).map(|s| vec![0; ilen(s)]).collect();
+        let mut outputs: Vec<Vec<u8>> = (0..n).map(|s| vec![0; olen(s)]).collect();
+        // The sample the outputs are bound to (loaned for the next image), the one the
+        // image is built in, and the newest published (the history holds it: no loan).
+        let (mut next, mut current, mut newest): (Option<usize>, Option<usize>, Option<usize>) =
+            (None, None, None);
+        let free = |k: Option<usize>, newest: Option<usize>| k.filter(|&k| Some(k) != newest);
+        for step in steps {
+            match step {
+                Step::Inputs { s, value, whole } => {
+                    let s = s % n;
+                    if ilen(s) == 0 {
+                        continue;
+                    }
+                    if whole {
+                        proptest::prop_assert!(image.set_inputs(s, &vec![value; ilen(s)]));
+                        inputs[s].fill(value);
+                    } else {
+                        image.inputs_mut(s)[0] = value;
+                        inputs[s][0] = value;
+                    }
+                }
+                Step::Outputs { s, value, whole } => {
+                    let s = s % n;
+                    if olen(s) == 0 {
+                        continue;
+                    }
+                    if whole {
+                        proptest::prop_assert!(image.set_outputs(s, &vec![value; olen(s)]));
+                        outputs[s].fill(value);
+                    } else {
+                        image.outputs_mut(s)[0] = value;
+                        outputs[s][0] = value;
+                    }
+                }
+                Step::Begin { loan } => {
+                    if current.is_some() {
+                        continue;
+                    }
+                    let sample = match next.take() {
+                        Some(k) => Some(k),
+                        None => {
+                            let k = free(loan, newest);
+                            let p = k.and_then(|k| ptr(&mut pool, k));
+                            #[allow(unsafe_code)]
+                            // SAFETY: the pool outlives the image's use of it and is never
+                            // resized; only the image writes it.
+                            unsafe { image.bind_outputs(p) };
+                            k
+                        }
+                    };
+                    let p = sample.and_then(|k| ptr(&mut pool, k));
+                    #[allow(unsafe_code)]
+                    // SAFETY: as above.
+                    unsafe { image.bind_inputs(p) };
+                    current = sample;
+                    // A cycle without a sample builds the image in its own payload.
+                    if sample.is_none() {
+                        current = Some(usize::MAX);
+                    }
+                }
+                Step::Finish { sent, next: loan, late } => {
+                    let Some(built) = current.take() else {
+                        continue;
+                    };
+                    image.publish_into();
+                    if built != usize::MAX {
+                        let payload = &pool[built];
+                        for s in 0..n {
+                            let e = &tables.submodules[s];
+                            let at = e.input_offset as usize;
+                            proptest::prop_assert_eq!(&payload[at..at + ilen(s)], &inputs[s][..]);
+                            let at = e.output_mirror_offset as usize;
+                            proptest::prop_assert_eq!(&payload[at..at + olen(s)], &outputs[s][..]);
+                        }
+                    }
+                    if built != usize::MAX && sent {
+                        newest = Some(built);
+                    } else {
+                        image.keep_unpublished();
+                    }
+                    if let Some((s, value)) = late {
+                        let s = s % n;
+                        if ilen(s) > 0 {
+                            proptest::prop_assert!(image.set_inputs(s, &vec![value; ilen(s)]));
+                            inputs[s].fill(value);
+                        }
+                    }
+                    let k = free(loan, newest);
+                    let p = k.and_then(|k| ptr(&mut pool, k));
+                    #[allow(unsafe_code)]
+                    // SAFETY: as above.
+                    unsafe { image.bind_outputs(p) };
+                    next = k;
+                }
+            }
+            for s in 0..n {
+                proptest::prop_assert_eq!(image.inputs(s), &inputs[s][..]);
+                proptest::prop_assert_eq!(image.outputs(s), &outputs[s][..]);
+            }
+        }
+    }
 }

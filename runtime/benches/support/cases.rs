@@ -80,8 +80,9 @@ pub fn label(s: Shape) -> String {
 /// The bytes the server copies per cycle, by part.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Copied {
-    /// Into the input sample besides what arrives: the status bytes, and the inputs and
-    /// outputs nobody sent in the cycle (carried over from the last image).
+    /// Into the input sample besides what arrives: the status bytes and the padding. The
+    /// inputs and outputs nobody sent are not copied: each sample comes back holding them
+    /// (`image::region`), and in these cases they do not change.
     pub publish: usize,
     /// Output samples → the next input sample: the output data the clients wrote.
     pub merge: usize,
@@ -98,17 +99,15 @@ impl Copied {
         let tables = tables(shape);
         let l = &tables.layout;
         let mut c = Copied {
-            publish: l.input_payload_size as usize,
+            publish: (l.input_payload_size - l.input_size - l.output_size) as usize,
             ..Copied::default()
         };
         if clients > 0 {
-            // The clients write every output: none is carried over.
+            // The clients write every output.
             c.merge = l.output_size as usize;
-            c.publish -= l.output_size as usize;
         }
         if io != Io::Null {
-            // Every device sends every cycle: no input is carried over.
-            c.publish -= l.input_size as usize;
+            // Every device sends every cycle.
             c.receive = l.input_size as usize;
             c.send = Copied::frames(shape);
         }

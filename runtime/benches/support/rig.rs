@@ -518,6 +518,9 @@ pub struct PublishRig {
     /// The samples the image is built in and published from.
     publication: Publication,
     header: ImageHeader,
+    layout: procimg_shm_layout::ImageLayout,
+    /// Bytes the last publication carried over.
+    last_carried: usize,
     // Dropped before the publisher's ports.
     _reader: Subscriber<Ipc, [u8], ImageHeader>,
     _reader_node: Node<Ipc>,
@@ -547,19 +550,25 @@ impl PublishRig {
             image: Image::new(&tables),
             publication: Publication::new(),
             header,
+            layout: tables.layout,
+            last_carried: 0,
             _reader: reader,
             _reader_node: reader_node,
             ports,
         }
     }
 
-    /// Bytes copied into the sample.
+    /// Bytes copied into the sample by the last publication: the status bytes and padding,
+    /// and what was carried over (nothing once every sample holds the image, since nothing
+    /// arrives here).
     pub fn bytes(&self) -> usize {
-        self.image.payload_len()
+        let l = &self.layout;
+        (l.input_payload_size - l.input_size - l.output_size) as usize + self.last_carried
     }
 
     /// One publication; whether it was sent.
     pub fn publish(&mut self) -> bool {
+        let carried = self.image.carried_bytes();
         self.publication.begin(&mut self.ports, &mut self.image);
         self.image.carry_over_inputs();
         self.header.cycle.cycle_number += 1;
@@ -568,6 +577,7 @@ impl PublishRig {
             .publication
             .finish(&mut self.ports, &mut self.image, &mut |_| header);
         self.image.carry_over_outputs();
+        self.last_carried = (self.image.carried_bytes() - carried) as usize;
         sent
     }
 }

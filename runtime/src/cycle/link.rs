@@ -20,9 +20,11 @@ pub trait ClientLink {
     fn now_ns(&self) -> u64;
     /// Loans the sample this cycle's input image is built in, of `len` bytes, and returns
     /// where its payload starts; `None` when no sample can be had (the cycle then publishes
-    /// nothing). The payload is uninitialised, valid for reads and writes by the caller alone
-    /// until [`ClientLink::publish`], and after a publication readable and unchanged until
-    /// the next sample has been published.
+    /// nothing). The payload is valid for reads and writes by the caller alone until
+    /// [`ClientLink::publish`], and after a publication readable and unchanged until the next
+    /// sample has been published. Loaned for the first time it holds garbage; loaned again, it
+    /// holds what the caller left in it (nobody else writes the publisher's samples:
+    /// `tests/input_samples.rs` checks iceoryx2 for it).
     fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>>;
     /// Publishes the loaned sample, every byte of which the caller wrote; `header` is called
     /// with the time then, to stamp when the image was complete. `false` if nothing was
@@ -161,14 +163,15 @@ pub struct MemoryLink {
     pub events: Vec<usize>,
     /// No sample can be loaned (all are held by readers).
     pub refuse_loans: bool,
-    /// The two samples images are built in, in turn.
-    samples: [Vec<u8>; 2],
+    /// The samples images are built in, in turn: the last one published stays untouched
+    /// while the next is written, and each comes back as it was published.
+    samples: [Vec<u8>; 3],
     /// Which of them is loaned (or was published last).
     loaned: usize,
 }
 
-/// What a loaned sample holds before the engine writes it: a value no test image has
-/// everywhere, so that a byte left unwritten shows.
+/// What a sample holds when it is loaned for the first time, before the engine writes it: a
+/// value no test image has everywhere, so that a byte left unwritten shows.
 pub const UNWRITTEN: u8 = 0xEE;
 
 impl ClientLink for MemoryLink {
@@ -180,13 +183,17 @@ impl ClientLink for MemoryLink {
         if self.refuse_loans {
             return None;
         }
-        // Two samples in turn, as a publisher with a history of one has: the last one
-        // published stays untouched while the next is written. What was in the loaned one
-        // is garbage, as in an uninitialised sample.
-        self.loaned ^= 1;
+        // Three samples in turn, as a publisher with a history of one and a reader that
+        // holds one image has: the last one published stays untouched while the next is
+        // written. A sample loaned for the first time holds garbage, as an uninitialised
+        // one does; after that, what it held when it was published (nobody else writes an
+        // iceoryx2 publisher's samples).
+        self.loaned = (self.loaned + 1) % self.samples.len();
         let sample = &mut self.samples[self.loaned];
-        sample.clear();
-        sample.resize(len, UNWRITTEN);
+        if sample.len() != len {
+            sample.clear();
+            sample.resize(len, UNWRITTEN);
+        }
         NonNull::new(sample.as_mut_ptr())
     }
 

@@ -8,6 +8,14 @@
 //! iceoryx2 sample, or after its publication the published one, which the publisher's
 //! history of one keeps in place until the next is sent) or the image's own payload, which
 //! every method takes as a parameter. [`Region::bind`] carries the contract.
+//!
+//! A sample comes back from its readers as it was published: nobody but the publisher
+//! writes it (readers map it read-only). So the carry-over skips what a sample holds
+//! already: the region remembers, for each sample it was published in, the edition it holds
+//! (editions end at each publication), and for each submodule the edition its bytes last
+//! changed in. A submodule unchanged since the sample's edition is there already. With no
+//! device and no client writing, a cycle then copies nothing; otherwise it copies what
+//! changed since the sample last held the image.
 
 use core::ptr::NonNull;
 
@@ -23,6 +31,10 @@ pub(super) enum Place {
     Published(NonNull<u8>),
 }
 
+/// Samples a region remembers the edition of: more than the input image publisher has
+/// (`shm::ports::INPUT_IMAGES`). A sample beyond them is carried over whole.
+pub(super) const REMEMBERED_SAMPLES: usize = 128;
+
 /// A region of the payload and where its bytes are.
 pub(super) struct Region {
     at: Place,
@@ -34,6 +46,18 @@ pub(super) struct Region {
     spans: Vec<(usize, usize)>,
     /// The whole region, as a range of payload offsets.
     extent: (usize, usize),
+    /// The edition being written. It ends when the region's sample is published; editions
+    /// count from 1.
+    edition: u64,
+    /// Per submodule: the edition its bytes last changed in (0: not since the start).
+    changed_in: Vec<u64>,
+    /// Each sample the region was bound to, with the edition it holds whole (0: none yet,
+    /// or it is being written). Its capacity, [`REMEMBERED_SAMPLES`], is never exceeded.
+    samples: Vec<(NonNull<u8>, u64)>,
+    /// The edition the sample the region is bound to held when it was bound (0: none).
+    at_holds: u64,
+    /// Bytes carried over since the region was made.
+    carried: u64,
 }
 
 impl Region {
@@ -43,9 +67,36 @@ impl Region {
             at: Place::Own,
             previous: Place::Own,
             fresh: vec![false; spans.len()],
+            changed_in: vec![0; spans.len()],
             spans,
             extent,
+            edition: 1,
+            samples: Vec::with_capacity(REMEMBERED_SAMPLES),
+            at_holds: 0,
+            carried: 0,
         }
+    }
+
+    /// Bytes carried over (copied from the last image) since the region was made.
+    pub(super) fn carried(&self) -> u64 {
+        self.carried
+    }
+
+    /// Whether the sample the region is bound to holds submodule `s` as it is already.
+    fn holds(&self, s: usize) -> bool {
+        self.at_holds != 0 && self.changed_in[s] <= self.at_holds
+    }
+
+    /// Takes the edition `sample` holds and marks it as being written (it will hold none
+    /// until it is published). 0 if the region never completed it.
+    fn take_edition(&mut self, sample: NonNull<u8>) -> u64 {
+        if let Some(entry) = self.samples.iter_mut().find(|(p, _)| *p == sample) {
+            return core::mem::take(&mut entry.1);
+        }
+        if self.samples.len() < self.samples.capacity() {
+            self.samples.push((sample, 0));
+        }
+        0
     }
 
     /// Where the region's bytes are now.
@@ -78,10 +129,16 @@ impl Region {
     /// `to` must be valid for reads and writes of the whole payload and written by nobody
     /// else until [`Region::published`]; then readable and unchanged until the region is
     /// bound elsewhere and carried over. A loaned sample of a publisher with a history of
-    /// one, which is sent before the next is loaned, is.
+    /// one, which is sent before the next is loaned, is. A sample the region was bound to
+    /// before must hold what it held when it was last [published](Region::published):
+    /// nobody else writes it meanwhile, as nobody writes an iceoryx2 publisher's samples.
     pub(super) unsafe fn bind(&mut self, to: Option<NonNull<u8>>, own: &mut [u8]) {
         self.carry_over(own);
         self.at = to.map_or(Place::Own, Place::Sample);
+        self.at_holds = match to {
+            Some(sample) => self.take_edition(sample),
+            None => 0,
+        };
         self.fresh.iter_mut().for_each(|f| *f = false);
     }
 
@@ -93,27 +150,28 @@ impl Region {
             return;
         }
         let n = self.spans.len();
+        let wanted = |r: &Region, s: usize| !r.fresh[s] && !r.holds(s);
         let mut s = 0;
         while s < n {
-            if self.fresh[s] {
+            if !wanted(self, s) {
                 s += 1;
                 continue;
             }
             let (start, mut end) = self.spans[s];
             s += 1;
-            while s < n && !self.fresh[s] && self.spans[s].0 == end {
+            while s < n && wanted(self, s) && self.spans[s].0 == end {
                 end = self.spans[s].1;
                 s += 1;
             }
-            self.copy(from, to, start, end, own);
+            self.carried += self.copy(from, to, start, end, own) as u64;
         }
     }
 
-    /// Copies payload bytes `start..end` of the region from `from` to `to`.
-    fn copy(&self, from: Place, to: Place, start: usize, end: usize, own: &mut [u8]) {
+    /// Copies payload bytes `start..end` of the region from `from` to `to`; how many.
+    fn copy(&self, from: Place, to: Place, start: usize, end: usize, own: &mut [u8]) -> usize {
         let end = end.min(self.extent.1);
         if start >= end || start < self.extent.0 || matches!(to, Place::Published(_)) {
-            return;
+            return 0;
         }
         let src = Region::base_of(from, own);
         let dst = match to {
@@ -124,6 +182,7 @@ impl Region {
         // as `bind` requires) and `start..end` lies inside the region; the destination is
         // not published; `copy` allows the two to overlap (they may be one sample).
         unsafe { core::ptr::copy(src.add(start), dst.add(start), end - start) };
+        end - start
     }
 
     /// The bytes of submodule `s` as they are: from where the region was if `s` has not been
@@ -149,12 +208,14 @@ impl Region {
             self.keep(own);
         }
         if !self.fresh[s] {
-            if self.previous != self.at {
+            if self.previous != self.at && !self.holds(s) {
                 let (start, end) = self.spans[s];
-                self.copy(self.previous, self.at, start, end, own);
+                self.carried += self.copy(self.previous, self.at, start, end, own) as u64;
             }
             self.fresh[s] = true;
         }
+        // Handed out writable: counted as changed, whatever the caller does with it.
+        self.changed_in[s] = self.edition;
         let (start, end) = self.spans[s];
         let base = match self.at {
             Place::Own => own.as_mut_ptr(),
@@ -177,13 +238,20 @@ impl Region {
         true
     }
 
-    /// The sample the region is in was published: from now on it is read-only.
+    /// The sample the region is in was published: from now on it is read-only, and it holds
+    /// this edition whole. Whatever changes from now on belongs to the next one.
     pub(super) fn published(&mut self) {
         if let Place::Sample(p) = self.at {
             self.at = Place::Published(p);
             if self.previous == Place::Sample(p) {
                 self.previous = self.at;
             }
+            let edition = self.edition;
+            if let Some(entry) = self.samples.iter_mut().find(|(q, _)| *q == p) {
+                entry.1 = edition;
+            }
+            self.at_holds = 0;
+            self.edition += 1;
         }
     }
 
@@ -196,6 +264,7 @@ impl Region {
             self.copy(self.at, Place::Own, start, end, own);
             self.at = Place::Own;
             self.previous = Place::Own;
+            self.at_holds = 0;
         }
     }
 }
