@@ -64,10 +64,20 @@ impl Rig {
             opdone_spin_ns: 0,
             generation: 1,
         };
+        // What is not input data or output mirror is rewritten by every publication.
+        let l = &tables.layout;
+        let mut link = MemoryLink::default();
+        link.scribble = vec![
+            (l.input_size as usize, l.output_mirror_offset as usize),
+            (
+                (l.output_mirror_offset + l.output_size) as usize,
+                l.input_payload_size as usize,
+            ),
+        ];
         let engine = Engine::new(
             settings,
             &tables,
-            MemoryLink::default(),
+            link,
             Box::new(RecordingIo(sent.clone(), arriving.clone())),
             shared.clone(),
             stats,

@@ -23,7 +23,7 @@ pub trait ClientLink {
     /// nothing). The payload is valid for reads and writes by the caller alone until
     /// [`ClientLink::publish`], and after a publication readable and unchanged until the next
     /// sample has been published. Loaned for the first time it holds garbage; loaned again, it
-    /// holds what the caller left in it (nobody else writes the publisher's samples:
+    /// holds what the caller left in it (iceoryx2's readers map its samples read-only:
     /// `tests/input_samples.rs` checks iceoryx2 for it).
     fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>>;
     /// Publishes the loaned sample, every byte of which the caller wrote; `header` is called
@@ -163,6 +163,10 @@ pub struct MemoryLink {
     pub events: Vec<usize>,
     /// No sample can be loaned (all are held by readers).
     pub refuse_loans: bool,
+    /// Payload ranges every publication writes whole (the status bytes, the padding): filled
+    /// with [`UNWRITTEN`] at every loan, so that a byte of them left unwritten shows in every
+    /// image, not only in a sample's first.
+    pub scribble: Vec<(usize, usize)>,
     /// The samples images are built in, in turn: the last one published stays untouched
     /// while the next is written, and each comes back as it was published.
     samples: [Vec<u8>; 3],
@@ -186,13 +190,18 @@ impl ClientLink for MemoryLink {
         // Three samples in turn, as a publisher with a history of one and a reader that
         // holds one image has: the last one published stays untouched while the next is
         // written. A sample loaned for the first time holds garbage, as an uninitialised
-        // one does; after that, what it held when it was published (nobody else writes an
-        // iceoryx2 publisher's samples).
+        // one does; after that, what it held when it was published (iceoryx2's readers map
+        // the samples read-only).
         self.loaned = (self.loaned + 1) % self.samples.len();
         let sample = &mut self.samples[self.loaned];
         if sample.len() != len {
             sample.clear();
             sample.resize(len, UNWRITTEN);
+        }
+        for &(start, end) in &self.scribble {
+            if let Some(bytes) = sample.get_mut(start..end) {
+                bytes.fill(UNWRITTEN);
+            }
         }
         NonNull::new(sample.as_mut_ptr())
     }

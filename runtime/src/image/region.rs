@@ -9,8 +9,11 @@
 //! history of one keeps in place until the next is sent) or the image's own payload, which
 //! every method takes as a parameter. [`Region::bind`] carries the contract.
 //!
-//! A sample comes back from its readers as it was published: nobody but the publisher
-//! writes it (readers map it read-only). So the carry-over skips what a sample holds
+//! A sample comes back from its readers as it was published: iceoryx2's readers map it
+//! read-only and iceoryx2 does not clear it. (A process that writes the segment's file
+//! outside iceoryx2, with the owner's or the access group's rights, could change a sample,
+//! which would then be published again until the submodule changes; such a process can as
+//! well change the image that is published now.) So the carry-over skips what a sample holds
 //! already: the region remembers, for each sample it was published in, the edition it holds
 //! (editions end at each publication), and for each submodule the edition its bytes last
 //! changed in. A submodule unchanged since the sample's edition is there already. With no
@@ -131,7 +134,7 @@ impl Region {
     /// bound elsewhere and carried over. A loaned sample of a publisher with a history of
     /// one, which is sent before the next is loaned, is. A sample the region was bound to
     /// before must hold what it held when it was last [published](Region::published):
-    /// nobody else writes it meanwhile, as nobody writes an iceoryx2 publisher's samples.
+    /// nobody else writes it meanwhile, as iceoryx2's readers cannot (they map it read-only).
     pub(super) unsafe fn bind(&mut self, to: Option<NonNull<u8>>, own: &mut [u8]) {
         self.carry_over(own);
         self.at = to.map_or(Place::Own, Place::Sample);
