@@ -16,6 +16,8 @@
 //!     ControllerIdentity, DevicePlan, DeviceSpec, SubmoduleSpec,
 //! };
 //! use procimg_profinet::controller::{Action, Controller};
+//! use procimg_profinet::cyclic::{Consumer, ProducedData, Verdict};
+//! use procimg_profinet::wire::rt::{cycle_counter_at, data_status};
 //! use procimg_profinet::device::{
 //!     Application, DeviceAction, Device, DeviceSetup, PluggedSubmodule,
 //! };
@@ -29,6 +31,14 @@
 //!         let n = inputs.len().min(own.len());
 //!         inputs[..n].copy_from_slice(&own[..n]);
 //!     }
+//! }
+//!
+//! /// The controller's program: the same value to every output, every status GOOD.
+//! struct Constant([u8; 4]);
+//! impl ProducedData for Constant {
+//!     fn data(&self, _submodule: usize) -> &[u8] { &self.0 }
+//!     fn iops(&self, _submodule: usize) -> u8 { 0x80 }
+//!     fn iocs(&self, _submodule: usize) -> u8 { 0x80 }
 //! }
 //!
 //! // A device with its access point (slot 0) and a module of 4 input and 4 output bytes.
@@ -77,7 +87,7 @@
 //!                     let port = to.port();
 //!                     device.on_datagram(controller_rpc, port, &payload, now, &mut to_controller)
 //!                 }
-//!                 Action::Start(ar) => cyclic = Some(ar),
+//!                 Action::Start(ar) => cyclic = Some((Consumer::of(&ar, now), ar)),
 //!                 Action::Stop { .. } => cyclic = None,
 //!                 Action::Event(_) => {}
 //!             }
@@ -85,16 +95,22 @@
 //!         for action in std::mem::take(&mut to_controller) {
 //!             match action {
 //!                 DeviceAction::Frame(f) => {
-//!                     let eth = ethernet::Frame::new_checked(&f[..]);
-//!                     let pdu = eth.map(|e| e.payload()).unwrap_or(&[]);
-//!                     match &cyclic {
+//!                     let eth = ethernet::Frame::new_checked(&f[..]).unwrap();
+//!                     let verdict = match cyclic.as_mut() {
+//!                         Some((consumer, _)) => consumer.consume(eth.src(), eth.payload(), now),
+//!                         None => Verdict::Foreign,
+//!                     };
+//!                     match (verdict, &cyclic) {
 //!                         // An input frame of the exchange: read the module's inputs.
-//!                         Some(ar) if pdu.get(..2) == Some(&ar.input.frame_id.to_be_bytes()) => {
-//!                             controller.on_data_started(ar.device, ar.epoch);
+//!                         (Verdict::Accepted { c_sdu, first, .. }, Some((_, ar))) => {
+//!                             if first {
+//!                                 controller.on_data_started(ar.device, ar.epoch);
+//!                             }
 //!                             let o = ar.input.objects.iter().find(|o| o.len == 4).unwrap();
-//!                             echoed = Some(pdu[2 + o.data..2 + o.data + 4].to_vec());
+//!                             echoed = Some(c_sdu[o.data..o.data + 4].to_vec());
 //!                         }
-//!                         _ => controller.on_frame(&f, now, &mut to_device),
+//!                         (Verdict::Foreign, _) => controller.on_frame(&f, now, &mut to_device),
+//!                         _ => {}
 //!                     }
 //!                 }
 //!                 DeviceAction::Datagram { to: _, from_port, payload } => {
@@ -113,20 +129,10 @@
 //!     device.poll(now, &mut to_controller);
 //!     controller.poll(now, &mut to_device);
 //!     // The cycle's part: the output frame with 0xC0FFEE01 for the module, everything GOOD.
-//!     if let Some(ar) = cyclic.as_mut() {
-//!         let at = ar.payload_offset() + 2;
-//!         for o in &ar.output.objects {
-//!             ar.frame[at + o.data..at + o.data + o.len].copy_from_slice(&VALUE[..o.len]);
-//!             ar.frame[at + o.iops] = 0x80;
-//!         }
-//!         for c in &ar.output.iocs {
-//!             ar.frame[at + c.offset] = 0x80;
-//!         }
-//!         let trailer = at + ar.output.data_length;
-//!         let counter = (k * 32) as u16;
-//!         let [hi, lo] = counter.to_be_bytes();
-//!         ar.frame[trailer..trailer + 4].copy_from_slice(&[hi, lo, 0x35, 0]);
-//!         device.on_frame(&ar.frame, now, &mut to_controller);
+//!     if let Some((_, ar)) = cyclic.as_mut() {
+//!         ar.fill(&Constant(VALUE));
+//!         let frame = ar.seal(cycle_counter_at(now), data_status::OPERATE);
+//!         device.on_frame(frame, now, &mut to_controller);
 //!     }
 //!     if echoed.as_deref() == Some(&VALUE[..]) {
 //!         break;

@@ -4,7 +4,6 @@
 //! the timing of the CRs and the parameter records. Each connect attempt then only fills in
 //! the AR's identity (ARUUID, session key).
 
-use crate::cyclic::CLOCK_UNIT_NS;
 pub use crate::cyclic::CrTiming;
 use crate::iocr_layout::{IocrLayout, SubmoduleIo, TooLarge};
 use crate::wire::connect::{
@@ -12,6 +11,7 @@ use crate::wire::connect::{
     ExpectedSubmodule, ExpectedSubmoduleBlockReq, IocrBlockReq, LT_PROFINET, TAG_HEADER_PRIO_5,
     TAG_HEADER_PRIO_6, UDP_RT_PORT_NONE, ar_properties, iocr_type,
 };
+use crate::wire::rt::TIME_UNIT_NS;
 use crate::wire::{MacAddress, Uuid};
 use std::net::Ipv4Addr;
 
@@ -61,10 +61,10 @@ pub enum PlanError {
 /// The send clock and base reduction for a cycle time: the cycle is SCF × 2^k send clock
 /// units with SCF ≤ 128, as RT class 1/2 requires.
 fn send_clock(cycle_ns: u64) -> Option<(u64, u64)> {
-    if cycle_ns == 0 || !cycle_ns.is_multiple_of(CLOCK_UNIT_NS) {
+    if cycle_ns == 0 || !cycle_ns.is_multiple_of(TIME_UNIT_NS) {
         return None;
     }
-    let (mut scf, mut rr) = (cycle_ns / CLOCK_UNIT_NS, 1u64);
+    let (mut scf, mut rr) = (cycle_ns / TIME_UNIT_NS, 1u64);
     while scf > MAX_SEND_CLOCK_FACTOR {
         if !scf.is_multiple_of(2) {
             return None;

@@ -4,10 +4,11 @@
 //! ApplicationReady call.
 
 use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, MAX_ALARM_DATA_LENGTH, Plan};
-use super::cyclic::{Consumer, Provider};
+use super::cyclic::{Provider, consumer};
 use super::diagnosis::SubslotAddr;
 use super::rpc::ClientCall;
 use super::{Application, ArState, DeviceAction, ethernet_frame};
+use crate::cyclic::Consumer;
 use crate::cyclic::{CrMap, CrTiming, DataMap, IocsMap};
 use crate::rta::{RtaChannel, RtaEvent};
 use crate::wire::alarm::{AlarmAck, AlarmBlock, Priority};
@@ -150,7 +151,7 @@ impl Ar {
             state: ArState::Connected,
             submodules,
             provider: Provider::new(&plan.input, input_frame_id, controller_mac),
-            consumer: Consumer::new(&plan.output, output_frame_id, controller_mac),
+            consumer: consumer(&plan.output, output_frame_id, controller_mac),
             alarms: Alarms {
                 high: RtaChannel::new(
                     Priority::High,
@@ -224,7 +225,7 @@ impl Ar {
     /// Takes the C_SDU of an accepted output frame: each submodule's outputs and IOPS, and
     /// the controller's IOCS for our inputs.
     pub(super) fn consume(&mut self, c_sdu: &[u8]) {
-        let run = self.consumer.data_status & data_status::PROVIDER_RUN != 0;
+        let run = self.consumer.data_status() & data_status::PROVIDER_RUN != 0;
         for s in &mut self.submodules {
             if let Some(at) = s.out_data {
                 let n = s.outputs.len();
@@ -314,8 +315,8 @@ impl Ar {
     /// expected ones, or not in the table, are left out, so their status bytes stay 0 (BAD).
     pub(super) fn cr_maps(&self, table: impl Fn(&Expected) -> Option<usize>) -> (CrMap, CrMap) {
         let mut consumed = CrMap {
-            frame_id: self.consumer.frame_id,
-            data_length: self.consumer.data_length,
+            frame_id: self.consumer.frame_id(),
+            data_length: self.consumer.data_length(),
             objects: Vec::new(),
             iocs: Vec::new(),
         };
@@ -355,7 +356,7 @@ impl Ar {
     pub(super) fn deadline(&self) -> Option<u64> {
         [
             self.provider.next_due(),
-            self.consumer.deadline(),
+            self.consumer.deadline_ns(),
             self.cmi_deadline,
             self.app_ready_due,
             self.app_ready_held,

@@ -342,7 +342,7 @@ impl<A: Application> Device<A> {
                 ar.state = ArState::Data;
                 ar.cmi_deadline = None;
                 if own_cyclic {
-                    ar.consumer.arm(now_ns);
+                    ar.consumer.start(now_ns);
                 }
             }
             rpc::CallOutcome::Failed => self.abort_ar(AbortCode::RpcClientCallNegative, out),

@@ -350,7 +350,8 @@ fn check_iocr(c: &IocrBlockReq, advanced: bool, expected: &[Expected]) -> Result
         };
     let period = c.period_ns();
     let fso_ok = c.frame_send_offset == u32::MAX
-        || u64::from(c.frame_send_offset) < u64::from(c.send_clock_factor) * 31_250;
+        || u64::from(c.frame_send_offset)
+            < u64::from(c.send_clock_factor) * crate::wire::rt::TIME_UNIT_NS;
     let dhf_ok = (1..=0x1e00).contains(&c.data_hold_factor)
         && u64::from(c.data_hold_factor) * period <= MAX_DATA_HOLD_NS;
     let checks = [

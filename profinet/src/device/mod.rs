@@ -79,7 +79,7 @@ mod rpc;
 #[cfg(test)]
 mod tests;
 
-use crate::cyclic::CyclicAr;
+use crate::cyclic::{CyclicAr, Verdict, VerdictCounts};
 use crate::wire::alarm::AlarmAck;
 use crate::wire::control::ControlBlock;
 use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
@@ -465,6 +465,12 @@ impl<A: Application> Device<A> {
         self.last_abort
     }
 
+    /// How the AR's consumer has judged the controller's output frames so far; `None`
+    /// without an AR. Zero while the cycle thread runs the exchange (handed over).
+    pub fn consumer_verdicts(&self) -> Option<VerdictCounts> {
+        self.ar.as_ref().map(|ar| ar.consumer.counts())
+    }
+
     /// Input CR frames produced since the device was made.
     pub fn frames_produced(&self) -> u64 {
         self.frames_produced
@@ -625,7 +631,7 @@ impl<A: Application> Device<A> {
         let Some(ar) = self.ar.as_mut() else {
             return;
         };
-        if let Some(c_sdu) = ar.consumer.accept(src, pdu, now_ns) {
+        if let Verdict::Accepted { c_sdu, .. } = ar.consumer.consume(src, pdu, now_ns) {
             ar.consume(c_sdu);
         }
     }
@@ -747,7 +753,7 @@ impl<A: Application> Device<A> {
             self.abort_ar(AbortCode::CmiTimeout, out);
             return;
         }
-        if ar.consumer.deadline().is_some_and(|d| now_ns >= d) {
+        if ar.consumer.expired(now_ns) {
             self.abort_ar(AbortCode::ConsumerDhtExpired, out);
             return;
         }

@@ -15,6 +15,17 @@ pub const MIN_DATA_LENGTH: usize = 40;
 /// Largest C_SDU.
 pub const MAX_DATA_LENGTH: usize = 1440;
 
+/// The RT time unit, 31.25 µs: the send clock is SendClockFactor of them, and the
+/// CycleCounter counts them. The one definition of the unit in the workspace.
+pub const TIME_UNIT_NS: u64 = 31_250;
+
+/// The CycleCounter of a frame scheduled at `time_ns`: the time in [`TIME_UNIT_NS`] modulo
+/// 2^16, so consecutive frames of a CR step by SendClockFactor × ReductionRatio.
+pub const fn cycle_counter_at(time_ns: u64) -> u16 {
+    // Truncation intended: the counter runs modulo 2^16.
+    (time_ns / TIME_UNIT_NS) as u16
+}
+
 mod field {
     use super::Field;
     pub const FRAME_ID: Field = 0..2;

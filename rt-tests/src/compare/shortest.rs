@@ -16,7 +16,7 @@ use procimg_shm_layout::control::Bucket;
 use std::time::Duration;
 
 /// procimgd's cycle unit, ns: every cycle time is a multiple.
-pub const CYCLE_UNIT_NS: u64 = 31_250;
+pub const CYCLE_UNIT_NS: u64 = procimg_shm_layout::CYCLE_COUNT_UNIT_NS;
 /// procimg-handshake's measurement of the cycle thread's wake-ups.
 pub const SERVER_WAKE_UP: &str = "server wake-up";
 

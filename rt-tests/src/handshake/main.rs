@@ -150,7 +150,8 @@ fn parse_interval(s: &str) -> Result<u64, String> {
         .parse()
         .map_err(|_| format!("{s:?} is not a cycle time in µs such as 1000, 250 or 187.5"))?;
     let ns = (us * 1000.0).round();
-    if !(31_250.0..=512_000_000.0).contains(&ns) || ns % 31_250.0 != 0.0 {
+    let unit = procimg_shm_layout::CYCLE_COUNT_UNIT_NS as f64;
+    if !(unit..=512_000_000.0).contains(&ns) || ns % unit != 0.0 {
         return Err(format!(
             "{s} µs: procimgd's cycle is a multiple of 31.25 µs up to 512 ms, e.g. 1000, 250, \
              218.75, 187.5, 156.25, 125 or 93.75"

@@ -6,8 +6,9 @@
 //! up and keeps them in data exchange, for worlds without procimgd's cycle.
 
 use procimg_profinet::controller::cyclic::CyclicAr;
+use procimg_profinet::cyclic::{Consumer, ProducedData, Verdict, VerdictCounts};
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use procimg_profinet::wire::rt::{FrameIdClass, data_status};
+use procimg_profinet::wire::rt::{FrameIdClass, cycle_counter_at, data_status};
 
 /// The cycle a port runs: its number and the time (ns) of the world's clock.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,8 +67,6 @@ pub trait Port {
     fn send(&mut self, tick: Tick);
 }
 
-/// The CycleCounter counts 31.25 µs units.
-const COUNTER_UNIT_NS: u64 = 31_250;
 /// IOPS and IOCS GOOD (IOxS: DataState good, no problem).
 const IOXS_GOOD: u8 = 0x80;
 
@@ -76,11 +75,26 @@ const IOXS_GOOD: u8 = 0x80;
 struct Exchange {
     /// As the controller handed it over.
     ar: Box<CyclicAr>,
-    /// The output frame this port sends; the AR's own stays as it came.
-    frame: Vec<u8>,
-    /// When its last input frame arrived; `None` before the first (the watchdog is armed by
-    /// the first frame, as the consumer side of the standard has it).
-    last_rx_ns: Option<u64>,
+    /// The copy this port produces its frames in; the AR's own stays as it came.
+    producing: Box<CyclicAr>,
+    /// The consumer of the device's frames, armed by the first (the port is not told when
+    /// the exchange starts).
+    consumer: Consumer,
+}
+
+/// What [`Direct`] produces: zero data, every status GOOD.
+struct ZerosGood;
+
+impl ProducedData for ZerosGood {
+    fn data(&self, _: usize) -> &[u8] {
+        &[]
+    }
+    fn iops(&self, _: usize) -> u8 {
+        IOXS_GOOD
+    }
+    fn iocs(&self, _: usize) -> u8 {
+        IOXS_GOOD
+    }
 }
 
 /// A port without an image: acyclic frames go out as the controller hands them over, every
@@ -107,19 +121,29 @@ impl Direct {
         self.running.iter().map(|e| &*e.ar)
     }
 
-    /// Whether `frame` is an input frame of a running exchange; marks it received.
+    /// How the consumer of `device`'s exchange judged its frames, while it runs.
+    pub fn verdicts(&self, device: usize) -> Option<VerdictCounts> {
+        self.running
+            .iter()
+            .find(|e| e.ar.device == device)
+            .map(|e| e.consumer.counts())
+    }
+
+    /// Hands an input frame to the consumer of its exchange: a report if it is the first
+    /// accepted one.
     fn take_cyclic(&mut self, frame: &[u8], id: u16, now_ns: u64) -> Option<Report> {
-        let src = ethernet::Frame::new_checked(frame).ok()?.src();
+        let eth = ethernet::Frame::new_checked(frame).ok()?;
         let e = self
             .running
             .iter_mut()
-            .find(|e| e.ar.input.frame_id == id && e.ar.peer == src)?;
-        let first = e.last_rx_ns.is_none();
-        e.last_rx_ns = Some(now_ns);
-        first.then_some(Report::DataStarted {
-            device: e.ar.device,
-            epoch: e.ar.epoch,
-        })
+            .find(|e| e.ar.input.frame_id == id)?;
+        match e.consumer.consume(eth.src(), eth.payload(), now_ns) {
+            Verdict::Accepted { first: true, .. } => Some(Report::DataStarted {
+                device: e.ar.device,
+                epoch: e.ar.epoch,
+            }),
+            _ => None,
+        }
     }
 }
 
@@ -144,9 +168,14 @@ impl Port for Direct {
         self.running.insert(
             at,
             Exchange {
-                frame: ar.frame.clone(),
+                producing: ar.clone(),
+                consumer: Consumer::new(
+                    ar.input.frame_id,
+                    ar.input.data_length,
+                    ar.peer,
+                    ar.timing.watchdog_ns(),
+                ),
                 ar,
-                last_rx_ns: None,
             },
         );
     }
@@ -175,9 +204,7 @@ impl Port for Direct {
             }
         }
         self.running.retain(|e| {
-            let expired = e
-                .last_rx_ns
-                .is_some_and(|t| tick.now_ns.saturating_sub(t) > e.ar.timing.watchdog_ns());
+            let expired = e.consumer.expired(tick.now_ns);
             if expired {
                 reports.push(Report::Watchdog {
                     device: e.ar.device,
@@ -189,26 +216,96 @@ impl Port for Direct {
     }
 
     fn send(&mut self, tick: Tick) {
-        let counter = (tick.now_ns / COUNTER_UNIT_NS) as u16;
+        let counter = cycle_counter_at(tick.now_ns);
         for e in &mut self.running {
-            let (ar, frame) = (&e.ar, &mut e.frame);
-            if !tick
-                .cycle
-                .is_multiple_of(u64::from(ar.timing.every_cycles.max(1)))
-            {
+            let ar = &mut e.producing;
+            if !ar.due(tick.cycle) {
                 continue;
             }
-            let c_sdu = ar.payload_offset() + 2;
-            for o in &ar.output.objects {
-                frame[c_sdu + o.iops] = IOXS_GOOD;
-            }
-            for c in &ar.output.iocs {
-                frame[c_sdu + c.offset] = IOXS_GOOD;
-            }
-            let trailer = c_sdu + ar.output.data_length;
-            let [hi, lo] = counter.to_be_bytes();
-            frame[trailer..trailer + 4].copy_from_slice(&[hi, lo, data_status::OPERATE, 0]);
-            self.outgoing.push(frame.clone());
+            ar.fill(&ZerosGood);
+            let frame = ar.seal(counter, data_status::OPERATE).to_vec();
+            self.outgoing.push(frame);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use procimg_profinet::controller::plan::{DevicePlan, DeviceSpec, SubmoduleSpec};
+    use procimg_profinet::cyclic::trial::TrialSetup;
+    use procimg_profinet::wire::MacAddress;
+
+    const MS: u64 = 1_000_000;
+
+    /// The test world's port judges the device's frames as the protocol crate's consumer
+    /// does: data started once, and the watchdog when the rule says.
+    #[test]
+    fn the_direct_port_judges_the_consumer_trial_as_the_consumer_does() {
+        let spec = DeviceSpec {
+            name: "io".into(),
+            ip: None,
+            vendor_id: 1,
+            device_id: 1,
+            instance: 1,
+            reduction_ratio: 1,
+            watchdog_factor: 3,
+            submodules: vec![SubmoduleSpec {
+                api: 0,
+                slot: 1,
+                subslot: 1,
+                module_ident: 1,
+                submodule_ident: 1,
+                input_length: 4,
+                output_length: 0,
+                records: vec![],
+            }],
+        };
+        let plan = &DevicePlan::all(&[spec], MS).unwrap()[0];
+        let (own, device) = (
+            MacAddress([2, 0, 0, 0, 0, 1]),
+            MacAddress([2, 0, 0, 0, 0, 2]),
+        );
+        let ar = CyclicAr::new(plan, 1, own, device, plan.frame_ids);
+        let trial = TrialSetup {
+            peer: device,
+            own,
+            frame_id: ar.input.frame_id,
+            data_length: ar.input.data_length,
+            timing: ar.timing,
+            first_at_ns: MS,
+            first_counter: 7,
+        }
+        .trial();
+        let mut port = Direct::new();
+        port.start(Box::new(ar));
+        let mut reports = Vec::new();
+        for f in &trial.frames {
+            port.arrive(&f.frame);
+            let tick = Tick {
+                cycle: f.at_ns / MS,
+                now_ns: f.at_ns,
+            };
+            port.receive(tick, &mut reports);
+        }
+        assert_eq!(port.verdicts(0), Some(trial.counts));
+        assert_eq!(
+            reports,
+            vec![Report::DataStarted {
+                device: 0,
+                epoch: 1
+            }]
+        );
+        let at = |now_ns| Tick { cycle: 0, now_ns };
+        port.receive(at(trial.expires_at_ns - 1), &mut reports);
+        assert_eq!(reports.len(), 1, "nothing before the watchdog's time");
+        port.receive(at(trial.expires_at_ns), &mut reports);
+        assert_eq!(
+            reports.last(),
+            Some(&Report::Watchdog {
+                device: 0,
+                epoch: 1
+            })
+        );
     }
 }

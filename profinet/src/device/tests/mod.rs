@@ -6,6 +6,8 @@
 use super::cm::pnio;
 use super::connect::refuse;
 use super::*;
+use crate::cyclic::CrTiming;
+use crate::cyclic::trial::TrialSetup;
 use crate::dcp_client;
 use crate::iocr_layout::{IocrLayout, SubmoduleIo};
 use crate::test_fixtures::capture;
@@ -989,6 +991,45 @@ fn cyclic_frames_keep_period_offsets_and_counters_and_the_watchdog_aborts() {
     assert_eq!(&err[..6], &S7_MAC.0, "to the controller");
     assert_eq!(&err[14..16], &[0xa0, 0x00], "low priority tag");
     assert_eq!(dev.next_deadline_ns(), None);
+}
+
+#[test]
+fn the_engine_judges_the_consumer_trial_as_the_consumer_does() {
+    let (mut dev, connect) = counter_device();
+    let t0 = 1_000 * MS;
+    let t = to_data(&mut dev, &connect, t0);
+    let cr = &connect.iocrs[1];
+    let setup = TrialSetup {
+        peer: S7_MAC,
+        own: PNET_MAC,
+        frame_id: cr.frame_id,
+        data_length: usize::from(cr.data_length),
+        timing: CrTiming {
+            send_clock_factor: cr.send_clock_factor,
+            reduction_ratio: cr.reduction_ratio,
+            every_cycles: 1,
+            data_hold_factor: cr.data_hold_factor,
+        },
+        first_at_ns: t + MS,
+        first_counter: 0x1000,
+    };
+    let trial = setup.trial();
+    let mut out = Vec::new();
+    for f in &trial.frames {
+        dev.poll(f.at_ns, &mut out);
+        dev.on_frame(&f.frame, f.at_ns, &mut out);
+    }
+    assert_eq!(dev.consumer_verdicts(), Some(trial.counts));
+    // The outputs are those of the last accepted frame: its data bytes, valid.
+    let o = usize::from(cr.apis[0].data_objects[0].frame_offset);
+    assert_eq!(
+        dev.outputs(0, 2, 1),
+        Some((&trial.last_c_sdu[o..o + 2], true))
+    );
+    run_until(&mut dev, trial.expires_at_ns - 1);
+    assert_eq!(dev.state(), ArState::Data, "not before the watchdog's time");
+    run_until(&mut dev, trial.expires_at_ns);
+    assert_eq!(dev.last_abort(), Some(AbortCode::ConsumerDhtExpired));
 }
 
 #[test]

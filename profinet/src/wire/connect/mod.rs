@@ -414,7 +414,7 @@ impl IocrBlockReq {
 
     /// The period of the CR in ns: SendClockFactor × ReductionRatio × 31 250 ns.
     pub const fn period_ns(&self) -> u64 {
-        self.send_clock_factor as u64 * self.reduction_ratio as u64 * 31_250
+        self.send_clock_factor as u64 * self.reduction_ratio as u64 * super::rt::TIME_UNIT_NS
     }
 }
 

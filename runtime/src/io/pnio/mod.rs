@@ -16,31 +16,26 @@ use super::{CycleTime, IoSystem};
 use crate::image::Image;
 use channel::{Channel, FromCycle, NetCounters, ToCycle};
 use procimg_nic::{Nic, RecvError};
-use procimg_profinet::cyclic::CyclicAr;
+use procimg_profinet::cyclic::{Consumer, CyclicAr, ProducedData, Verdict};
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
-use procimg_profinet::wire::rt::{self, FrameIdClass, cycle_counter_is_newer, data_status};
+use procimg_profinet::wire::rt::{FrameIdClass, TIME_UNIT_NS, data_status};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 
-/// How long a started exchange may wait for the device's first frame: devices begin
-/// sending only once their ApplicationReady is answered, after the record writes and PrmEnd
-/// (the controller gives up on its own if that never happens).
-const FIRST_FRAME_GRACE_NS: u64 = 5_000_000_000;
+// The image's cycle_count (IO-Base's unit, in the shared-memory layout) counts the same unit
+// as the wire's CycleCounter; the layout crate stands apart from the protocol crate.
+const _: () = assert!(procimg_shm_layout::CYCLE_COUNT_UNIT_NS == TIME_UNIT_NS);
 
 /// Frames taken from the interface per cycle at most, so that a flood cannot hold the
 /// cycle; what is left is read in the next cycle (or dropped by the kernel).
 const MAX_FRAMES_PER_CYCLE: usize = 512;
 
-/// The run-time state of one AR's exchange.
+/// The run-time state of one AR's exchange: what the acyclic side handed over and the
+/// consumer of its peer's frames.
 struct Running {
     ar: Box<CyclicAr>,
-    /// When the last accepted input frame arrived (or the exchange started).
-    last_rx_ns: u64,
-    /// CycleCounter of the last accepted input frame.
-    last_counter: Option<u16>,
-    /// The controller was told data started.
-    reported: bool,
+    consumer: Consumer,
 }
 
 /// The PROFINET IO system of the cycle thread, over interface `N`. Generic over the
@@ -103,7 +98,7 @@ impl Exchanges {
             device_submodules,
             retired: Vec::with_capacity(4 * n + 8),
             pending: Vec::with_capacity(4 * n + 8),
-            cycle_units: (cycle_ns / crate::config::CYCLE_UNIT_NS).max(1),
+            cycle_units: (cycle_ns / TIME_UNIT_NS).max(1),
         }
     }
 
@@ -179,10 +174,8 @@ impl Exchanges {
                     // Devices are at most MAX_DEVICES (256): the index fits.
                     self.device_by_frame_id[usize::from(ar.input.frame_id)] = d as u16 + 1;
                     self.running[d] = Some(Running {
+                        consumer: Consumer::of(&ar, t.now_ns),
                         ar,
-                        last_rx_ns: t.now_ns,
-                        last_counter: None,
-                        reported: false,
                     });
                 }
                 ToCycle::Stop { device } => self.stop(device, Some(image)),
@@ -231,53 +224,43 @@ impl Exchanges {
         let Some(run) = self.running.get_mut(d).and_then(Option::as_mut) else {
             return;
         };
-        if run.ar.peer != src {
-            NetCounters::count(&counters.unknown);
-            return;
-        }
-        let Ok(packet) = rt::Packet::new_checked(payload, run.ar.input.data_length) else {
-            NetCounters::count(&counters.malformed);
-            return;
+        let (c_sdu, data_status, first) = match run.consumer.consume(src, payload, now_ns) {
+            Verdict::Accepted {
+                c_sdu,
+                data_status,
+                first,
+            } => (Some(c_sdu), data_status, first),
+            // The provider says its data are not valid: the image says so too.
+            Verdict::Invalid { data_status } => (None, data_status, false),
+            Verdict::Stale => return NetCounters::count(&counters.stale),
+            Verdict::Foreign => return NetCounters::count(&counters.unknown),
+            Verdict::TooShort => return NetCounters::count(&counters.malformed),
         };
-        let Ok(repr) = rt::Repr::parse(&packet) else {
-            NetCounters::count(&counters.malformed);
-            return;
-        };
-        if let Some(last) = run.last_counter
-            && !cycle_counter_is_newer(repr.cycle_counter, last)
-        {
-            NetCounters::count(&counters.stale);
-            return;
-        }
-        run.last_counter = Some(repr.cycle_counter);
-        run.last_rx_ns = now_ns;
         NetCounters::count(&counters.cyclic_frames);
-        let data = packet.data();
-        let usable = repr.data_usable();
         self.channel
             .peer_data_status
-            .store(repr.data_status, Ordering::Relaxed);
+            .store(data_status, Ordering::Relaxed);
+        let data = c_sdu.unwrap_or_default();
         for o in &run.ar.input.objects {
-            let (Some(src), Some(&iops)) = (data.get(o.data..o.data + o.len), data.get(o.iops))
-            else {
-                continue;
+            let iops = match (data.get(o.data..o.data + o.len), data.get(o.iops)) {
+                (Some(src), Some(&iops)) => {
+                    if o.len > 0 {
+                        image.set_inputs(o.submodule, src);
+                    }
+                    iops
+                }
+                _ => IOXS_BAD,
             };
-            if o.len > 0 && usable {
-                image.set_inputs(o.submodule, src);
-            }
             let mut st = image.status(o.submodule);
-            st.input_iops = if usable { iops } else { IOXS_BAD };
+            st.input_iops = iops;
             image.set_status(o.submodule, st);
         }
         for c in &run.ar.input.iocs {
-            if let Some(&iocs) = data.get(c.offset) {
-                let mut st = image.status(c.submodule);
-                st.output_iocs = if usable { iocs } else { IOXS_BAD };
-                image.set_status(c.submodule, st);
-            }
+            let mut st = image.status(c.submodule);
+            st.output_iocs = data.get(c.offset).copied().unwrap_or(IOXS_BAD);
+            image.set_status(c.submodule, st);
         }
-        if !run.reported && usable {
-            run.reported = true;
+        if first {
             let (device, epoch) = (run.ar.device, run.ar.epoch);
             self.report(FromCycle::DataStarted { device, epoch });
         }
@@ -285,14 +268,9 @@ impl Exchanges {
 
     fn check_watchdogs(&mut self, now_ns: u64, image: &mut Image) {
         for d in 0..self.running.len() {
-            // The watchdog is armed by the first frame, as the consumer side of the standard has it.
-            let expired = self.running[d].as_ref().is_some_and(|r| {
-                let limit = match r.last_counter {
-                    Some(_) => r.ar.timing.watchdog_ns(),
-                    None => r.ar.timing.watchdog_ns().max(FIRST_FRAME_GRACE_NS),
-                };
-                now_ns.saturating_sub(r.last_rx_ns) > limit
-            });
+            let expired = self.running[d]
+                .as_ref()
+                .is_some_and(|r| r.consumer.expired(now_ns));
             if expired {
                 let epoch = self.running[d].as_ref().map_or(0, |r| r.ar.epoch);
                 NetCounters::count(&self.channel.counters.watchdog_expiries);
@@ -368,6 +346,8 @@ impl<N: Nic + 'static> IoSystem for PnioIo<N> {
 
     fn send(&mut self, t: CycleTime, mode: Mode, image: &Image) {
         let ex = &mut self.ex;
+        // The cycle's scheduled start in RT time units, modulo 2^16 (cycle_counter_at's
+        // rule, without the multiplication that would overflow after years of cycles).
         let counter = t.cycle.wrapping_mul(ex.cycle_units) as u16;
         // In CLEAR the provider is stopped: the device applies its substitute values.
         let mut status = match mode {
@@ -378,41 +358,30 @@ impl<N: Nic + 'static> IoSystem for PnioIo<N> {
             status &= !data_status::STATION_OK;
         }
         for r in ex.running.iter_mut().flatten() {
-            if !t
-                .cycle
-                .is_multiple_of(u64::from(r.ar.timing.every_cycles.max(1)))
-            {
+            if !r.ar.due(t.cycle) {
                 continue;
             }
-            let sdu = r.ar.payload_offset() + 2;
-            let CyclicAr { output, frame, .. } = &mut *r.ar;
-            let Some(c_sdu) = frame.get_mut(sdu..sdu + output.data_length) else {
-                continue;
-            };
-            for o in &output.objects {
-                let out = image.outputs(o.submodule);
-                if let Some(dst) = c_sdu.get_mut(o.data..o.data + o.len)
-                    && dst.len() == out.len()
-                {
-                    dst.copy_from_slice(out);
-                }
-                if let Some(b) = c_sdu.get_mut(o.iops) {
-                    *b = image.status(o.submodule).output_iops;
-                }
-            }
-            for c in &output.iocs {
-                if let Some(b) = c_sdu.get_mut(c.offset) {
-                    *b = image.status(c.submodule).input_iocs;
-                }
-            }
-            let trailer = sdu + output.data_length;
-            if let Some(t) = frame.get_mut(trailer..trailer + 4) {
-                t.copy_from_slice(&[(counter >> 8) as u8, counter as u8, status, 0]);
-            }
-            if self.nic.send(frame).is_err() {
+            r.ar.fill(&FromImage(image));
+            if self.nic.send(r.ar.seal(counter, status)).is_err() {
                 NetCounters::count(&ex.channel.counters.send_errors);
             }
         }
+    }
+}
+
+/// The image as what the cycle thread produces: the outputs and their IOPS, and the IOCS
+/// for the inputs.
+struct FromImage<'a>(&'a Image);
+
+impl ProducedData for FromImage<'_> {
+    fn data(&self, submodule: usize) -> &[u8] {
+        self.0.outputs(submodule)
+    }
+    fn iops(&self, submodule: usize) -> u8 {
+        self.0.status(submodule).output_iops
+    }
+    fn iocs(&self, submodule: usize) -> u8 {
+        self.0.status(submodule).input_iocs
     }
 }
 
@@ -420,3 +389,5 @@ impl<N: Nic + 'static> IoSystem for PnioIo<N> {
 mod capture_tests;
 #[cfg(test)]
 mod hostile_tests;
+#[cfg(test)]
+mod trial_tests;

@@ -20,11 +20,11 @@ use procimg_profinet::controller::plan::{
     ControllerIdentity, DevicePlan, PlanError, PlannedRecord,
 };
 use procimg_profinet::controller::{Action, Controller, DeviceEvent, RecordRequest};
-use procimg_profinet::cyclic::CyclicAr;
+use procimg_profinet::cyclic::{Consumer, CyclicAr, Verdict};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use procimg_profinet::wire::rpc::RPC_PORT;
-use procimg_profinet::wire::rt::{self, cycle_counter_is_newer, data_status};
+use procimg_profinet::wire::rt::{TIME_UNIT_NS, data_status};
 use std::net::{Ipv4Addr, SocketAddrV4};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -40,8 +40,6 @@ pub const SIM_STATION_IP: Ipv4Addr = Ipv4Addr::new(192, 168, 0, 50);
 /// Frame periods the station waits for the PLC's data before it gives up: generous, since
 /// the PLC is a thread that a loaded machine may delay (real PLCs: 3).
 const SIM_WATCHDOG_FACTOR: u16 = 100;
-/// How long the PLC waits for the station's first input frame after the exchange started.
-const FIRST_FRAME_GRACE_NS: u64 = 5_000_000_000;
 /// How often the PLC logs what it reads and writes.
 const REPORT_EVERY_NS: u64 = 5_000_000_000;
 /// IOxS GOOD.
@@ -148,9 +146,7 @@ pub fn spawn(
 /// The PLC's end of the cyclic exchange.
 struct Exchange {
     ar: Box<CyclicAr>,
-    started_ns: u64,
-    last_rx_ns: Option<u64>,
-    last_counter: Option<u16>,
+    consumer: Consumer,
     /// The station's input data of the last valid frame, per submodule with inputs.
     inputs: Vec<(usize, Vec<u8>)>,
     last_report_ns: u64,
@@ -225,27 +221,22 @@ impl Plc {
         let Some(x) = self.exchange.as_mut() else {
             return;
         };
-        let every = u64::from(x.ar.timing.every_cycles.max(1));
-        if k.is_multiple_of(every) {
-            x.fill_outputs(
+        if x.ar.due(k) {
+            let every = u64::from(x.ar.timing.every_cycles.max(1));
+            let frame = x.fill_outputs(
                 (k / every) as u32,
-                k.wrapping_mul(self.cycle_ns / 31_250) as u16,
+                k.wrapping_mul(self.cycle_ns / TIME_UNIT_NS) as u16,
             );
-            let _ = self.link.send(&x.ar.frame);
+            let _ = self.link.send(frame);
         }
-        let limit = match x.last_rx_ns {
-            Some(_) => x.ar.timing.watchdog_ns(),
-            None => x.ar.timing.watchdog_ns().max(FIRST_FRAME_GRACE_NS),
-        };
-        let since = x.last_rx_ns.unwrap_or(x.started_ns);
-        if now.saturating_sub(since) > limit {
+        if x.consumer.expired(now) {
             let (device, epoch) = (x.ar.device, x.ar.epoch);
             self.exchange = None;
             tracing::warn!("demo PLC: no input data from the station within the watchdog");
             self.controller
                 .on_watchdog(device, epoch, now, &mut self.actions);
         } else if let Some(r) = self.recipe.as_ref().filter(|_| {
-            x.last_rx_ns.is_some() && now.saturating_sub(x.last_recipe_ns) >= RECIPE_EVERY_NS
+            x.consumer.receiving() && now.saturating_sub(x.last_recipe_ns) >= RECIPE_EVERY_NS
         }) {
             x.last_recipe_ns = now;
             self.recipe_writes += 1;
@@ -274,7 +265,7 @@ impl Plc {
                 },
                 &mut self.actions,
             );
-        } else if now.saturating_sub(x.last_report_ns) >= REPORT_EVERY_NS && x.last_rx_ns.is_some()
+        } else if now.saturating_sub(x.last_report_ns) >= REPORT_EVERY_NS && x.consumer.receiving()
         {
             x.last_report_ns = now;
             for (sub, data) in &x.inputs {
@@ -301,10 +292,8 @@ impl Plc {
                 }
                 Action::Start(ar) => {
                     self.exchange = Some(Exchange {
+                        consumer: Consumer::of(&ar, now),
                         ar,
-                        started_ns: now,
-                        last_rx_ns: None,
-                        last_counter: None,
                         inputs: Vec::new(),
                         last_report_ns: now,
                         last_recipe_ns: now,
@@ -332,34 +321,21 @@ impl Exchange {
         let Ok(eth) = ethernet::Frame::new_checked(frame) else {
             return false;
         };
-        let pdu = eth.payload();
-        if eth.ethertype() != ETHERTYPE_PROFINET
-            || eth.src() != self.ar.peer
-            || pdu.get(..2) != Some(&self.ar.input.frame_id.to_be_bytes()[..])
-        {
+        if eth.ethertype() != ETHERTYPE_PROFINET {
             return false;
         }
-        let Ok(packet) = rt::Packet::new_checked(pdu, self.ar.input.data_length) else {
-            return true;
+        let c_sdu = match self.consumer.consume(eth.src(), eth.payload(), now) {
+            Verdict::Accepted { c_sdu, first, .. } => {
+                if first {
+                    controller.on_data_started(self.ar.device, self.ar.epoch);
+                }
+                c_sdu
+            }
+            Verdict::Foreign => return false,
+            Verdict::Invalid { .. } | Verdict::Stale | Verdict::TooShort => return true,
         };
-        let Ok(repr) = rt::Repr::parse(&packet) else {
-            return true;
-        };
-        if self
-            .last_counter
-            .is_some_and(|last| !cycle_counter_is_newer(repr.cycle_counter, last))
-            || !repr.data_usable()
-        {
-            return true;
-        }
-        self.last_counter = Some(repr.cycle_counter);
-        if self.last_rx_ns.is_none() {
-            controller.on_data_started(self.ar.device, self.ar.epoch);
-        }
-        self.last_rx_ns = Some(now);
-        let data = packet.data();
         for o in self.ar.input.objects.iter().filter(|o| o.len > 0) {
-            let (Some(d), Some(&iops)) = (data.get(o.data..o.data + o.len), data.get(o.iops))
+            let (Some(d), Some(&iops)) = (c_sdu.get(o.data..o.data + o.len), c_sdu.get(o.iops))
             else {
                 continue;
             };
@@ -386,12 +362,9 @@ impl Exchange {
 
     /// The PLC program: a submodule's output bytes are its input bytes plus one; output
     /// bytes without an input byte are `count`, big-endian, repeated; every status GOOD.
-    fn fill_outputs(&mut self, count: u32, cycle_counter: u16) {
-        let at = self.ar.payload_offset() + 2;
-        let CyclicAr { output, frame, .. } = &mut *self.ar;
-        let Some(c_sdu) = frame.get_mut(at..at + output.data_length) else {
-            return;
-        };
+    /// Returns the frame to send.
+    fn fill_outputs(&mut self, count: u32, cycle_counter: u16) -> &[u8] {
+        let (output, c_sdu) = self.ar.c_sdu_mut();
         let word = count.to_be_bytes();
         for o in &output.objects {
             let inputs = self
@@ -413,11 +386,7 @@ impl Exchange {
                 *b = IOXS_GOOD;
             }
         }
-        let trailer = at + output.data_length;
-        if let Some(t) = frame.get_mut(trailer..trailer + 4) {
-            let [hi, lo] = cycle_counter.to_be_bytes();
-            t.copy_from_slice(&[hi, lo, data_status::OPERATE, 0]);
-        }
+        self.ar.seal(cycle_counter, data_status::OPERATE)
     }
 }
 
@@ -471,5 +440,66 @@ fn log(e: &DeviceEvent, names: &[String]) {
             }
         }
         DeviceEvent::Activation { .. } => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use procimg_profinet::cyclic::VerdictKind;
+    use procimg_profinet::cyclic::trial::TrialSetup;
+
+    const MS: u64 = 1_000_000;
+
+    /// The demo PLC judges the station's frames as the protocol crate's consumer does: it
+    /// hands the controller only what is not the exchange's, keeps the data of accepted
+    /// frames and gives up when the rule says.
+    #[test]
+    fn the_demo_plc_judges_the_consumer_trial_as_the_consumer_does() {
+        let station = crate::config::Config::demo_device().station.unwrap();
+        let plans = plan(&station, MS).unwrap();
+        let ar = CyclicAr::new(
+            &plans[0],
+            1,
+            SIM_PLC_MAC,
+            SIM_STATION_MAC,
+            plans[0].frame_ids,
+        );
+        let id = ControllerIdentity {
+            mac: SIM_PLC_MAC,
+            ip: plc_ip(&station),
+            station_name: "demo-plc".into(),
+            vendor_id: 0x0493,
+            device_id: 0x0fff,
+            instance: 1,
+        };
+        let mut controller = Controller::new(id, plans, 0, 0);
+        let trial = TrialSetup {
+            peer: SIM_STATION_MAC,
+            own: SIM_PLC_MAC,
+            frame_id: ar.input.frame_id,
+            data_length: ar.input.data_length,
+            timing: ar.timing,
+            first_at_ns: MS,
+            first_counter: 0x0100,
+        }
+        .trial();
+        let mut x = Exchange {
+            consumer: Consumer::of(&ar, 0),
+            ar: Box::new(ar),
+            inputs: Vec::new(),
+            last_report_ns: 0,
+            last_recipe_ns: 0,
+        };
+        for f in &trial.frames {
+            let ours = x.take(&f.frame, f.at_ns, &mut controller);
+            assert_eq!(ours, f.verdict != VerdictKind::Foreign, "{:?}", f.verdict);
+        }
+        assert_eq!(x.consumer.counts(), trial.counts);
+        let o = x.ar.input.objects.iter().find(|o| o.len > 0).unwrap();
+        let (_, held) = x.inputs.iter().find(|(s, _)| *s == o.submodule).unwrap();
+        assert_eq!(&held[..], &trial.last_c_sdu[o.data..o.data + o.len]);
+        assert!(!x.consumer.expired(trial.expires_at_ns - 1));
+        assert!(x.consumer.expired(trial.expires_at_ns));
     }
 }

@@ -8,12 +8,22 @@
 //!
 //! The submodule indexes are those of the caller's submodule table (procimgd's image): the
 //! controller's devices one after another, or the device's own submodules.
+//!
+//! Both ends of every exchange run the same two halves: the [`Consumer`] judges each
+//! received frame and keeps the watchdog, and the producer half
+//! ([`CyclicAr::due`], [`CyclicAr::fill`], [`CyclicAr::seal`]) writes the frame of each
+//! cycle it is due in.
+
+mod consumer;
+mod producer;
+pub mod trial;
+
+pub use consumer::{Consumer, FIRST_FRAME_GRACE_NS, Verdict, VerdictCounts, VerdictKind};
+pub use producer::ProducedData;
 
 use crate::wire::MacAddress;
 use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
-
-/// One send clock unit, 31.25 µs.
-pub const CLOCK_UNIT_NS: u64 = 31_250;
+use crate::wire::rt::TIME_UNIT_NS;
 
 /// The send clock and reduction ratio of an AR's CRs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -31,7 +41,7 @@ pub struct CrTiming {
 impl CrTiming {
     /// The time between two frames of the CR, in ns.
     pub const fn period_ns(&self) -> u64 {
-        self.send_clock_factor as u64 * self.reduction_ratio as u64 * CLOCK_UNIT_NS
+        self.send_clock_factor as u64 * self.reduction_ratio as u64 * TIME_UNIT_NS
     }
 
     /// How long the consumer waits for a frame before it gives up: DataHoldFactor periods.
