@@ -2,20 +2,13 @@
 //! Malformed and hostile frames at the cycle thread: each is counted and dropped, the AR's
 //! data and watchdog are not disturbed.
 
-use super::PnioIo;
-use super::channel::{Channel, ToCycle};
-use crate::config;
-use crate::image::{Image, Tables};
-use crate::io::{CycleTime, IoSystem};
-use procimg_nic::{Nic, sim_link};
-use procimg_profinet::controller::cyclic::CyclicAr;
+use super::test_rig::{CONTROLLER, DEVICE, Rig, at};
+use crate::io::IoSystem;
+use procimg_nic::Nic;
 use procimg_profinet::wire::MacAddress;
 use procimg_shm_layout::{IOXS_GOOD, Mode};
-use std::sync::Arc;
 use std::sync::atomic::Ordering;
 
-const CONTROLLER: MacAddress = MacAddress([2, 0, 0, 0, 0, 1]);
-const DEVICE: MacAddress = MacAddress([2, 0, 0, 0, 0, 2]);
 const STRANGER: MacAddress = MacAddress([2, 0, 0, 0, 0, 66]);
 
 fn cyclic(src: MacAddress, frame_id: u16, sdu: &[u8], counter: u16) -> Vec<u8> {
@@ -32,40 +25,15 @@ fn cyclic(src: MacAddress, frame_id: u16, sdu: &[u8], counter: u16) -> Vec<u8> {
 
 #[test]
 fn hostile_frames_are_counted_and_dropped_without_breaking_the_ar() {
-    let config = config::parse(
-        r#"
-        [[device]]
-        name = "io"
-        vendor_id = 1
-        device_id = 1
-        [[device.submodule]]
-        slot = 1
-        subslot = 1
-        module_ident = 1
-        submodule_ident = 1
-        input_length = 4
-        "#,
-        "hostile.toml",
-    )
-    .unwrap();
-    let tables = Tables::from_config(&config).unwrap();
-    let mut image = Image::new(&tables);
-    let plan = &crate::roles::controller::plan_devices(&config).unwrap()[0];
-    let ar = CyclicAr::new(plan, 1, CONTROLLER, DEVICE, plan.frame_ids);
+    let Rig {
+        mut io,
+        channel,
+        mut wire,
+        mut image,
+        ar,
+    } = Rig::one_device(3);
     let input_id = ar.input.frame_id;
-    let (ours, mut wire) = sim_link::link(CONTROLLER, DEVICE);
-    let channel = Arc::new(Channel::new());
-    let mut io = PnioIo::new(
-        Box::new(ours),
-        channel.clone(),
-        std::iter::once(0..1).collect(),
-        config.cycle_ns,
-    );
-    assert!(channel.to_cycle.push(ToCycle::Start(Box::new(ar))).is_ok());
-    let t = |k: u64| CycleTime {
-        cycle: k,
-        now_ns: k * 1_000_000,
-    };
+    let t = at;
     // A good frame: data 1 2 3 4, IOPS GOOD.
     let mut sdu = [0u8; 40];
     sdu[..5].copy_from_slice(&[1, 2, 3, 4, 0x80]);

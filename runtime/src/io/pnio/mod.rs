@@ -390,4 +390,6 @@ mod capture_tests;
 #[cfg(test)]
 mod hostile_tests;
 #[cfg(test)]
+mod test_rig;
+#[cfg(test)]
 mod trial_tests;

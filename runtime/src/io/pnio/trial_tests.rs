@@ -4,47 +4,25 @@
 //! crate's consumer does, takes only accepted data into the image, says BAD where the
 //! provider said its data were invalid, and reports the watchdog when the rule says.
 
-use super::PnioIo;
-use super::channel::{Channel, FromCycle, ToCycle};
-use crate::config;
-use crate::image::{Image, Tables};
-use crate::io::{CycleTime, IoSystem};
-use procimg_nic::{Nic, sim_link};
-use procimg_profinet::controller::cyclic::CyclicAr;
+use super::channel::FromCycle;
+use super::test_rig::{CONTROLLER, DEVICE, MS, Rig, at};
+use crate::io::IoSystem;
+use procimg_nic::Nic;
 use procimg_profinet::cyclic::VerdictKind;
 use procimg_profinet::cyclic::trial::TrialSetup;
-use procimg_profinet::wire::MacAddress;
 use procimg_shm_layout::{IOXS_BAD, Mode};
-use std::sync::Arc;
 use std::sync::atomic::Ordering;
-
-const CONTROLLER: MacAddress = MacAddress([2, 0, 0, 0, 0, 1]);
-const DEVICE: MacAddress = MacAddress([2, 0, 0, 0, 0, 2]);
-const MS: u64 = 1_000_000;
 
 #[test]
 fn the_cycle_thread_judges_the_consumer_trial_as_the_consumer_does() {
-    let config = config::parse(
-        r#"
-        [[device]]
-        name = "io"
-        vendor_id = 1
-        device_id = 1
-        watchdog_factor = 10
-        [[device.submodule]]
-        slot = 1
-        subslot = 1
-        module_ident = 1
-        submodule_ident = 1
-        input_length = 4
-        "#,
-        "trial.toml",
-    )
-    .unwrap();
-    let tables = Tables::from_config(&config).unwrap();
-    let mut image = Image::new(&tables);
-    let plan = &crate::roles::controller::plan_devices(&config).unwrap()[0];
-    let ar = CyclicAr::new(plan, 1, CONTROLLER, DEVICE, plan.frame_ids);
+    // A watchdog of 10 cycles outlasts the trial's frames, one per cycle below.
+    let Rig {
+        mut io,
+        channel,
+        mut wire,
+        mut image,
+        ar,
+    } = Rig::one_device(10);
     let input = ar.input.clone();
     let trial = TrialSetup {
         peer: DEVICE,
@@ -56,23 +34,10 @@ fn the_cycle_thread_judges_the_consumer_trial_as_the_consumer_does() {
         first_counter: 0x4000,
     }
     .trial();
-    let (ours, mut wire) = sim_link::link(CONTROLLER, DEVICE);
-    let channel = Arc::new(Channel::new());
-    let mut io = PnioIo::new(
-        Box::new(ours),
-        channel.clone(),
-        std::iter::once(0..1).collect(),
-        config.cycle_ns,
-    );
-    assert!(channel.to_cycle.push(ToCycle::Start(Box::new(ar))).is_ok());
-    let t = |k: u64| CycleTime {
-        cycle: k,
-        now_ns: k * MS,
-    };
+    let t = at;
     io.receive(t(0), Mode::Operate, &mut image);
-    // Each frame in a cycle of its own, so that the image shows what each did (the
-    // watchdog of 10 cycles outlasts them); the cycle's time is when the cycle thread took
-    // it.
+    // Each frame in a cycle of its own, so that the image shows what each did; the cycle's
+    // time is when the cycle thread took it.
     let mut last_accepted = 0;
     let data = &input.objects[0];
     for (k, f) in (1..).zip(&trial.frames) {
@@ -123,7 +88,7 @@ fn the_cycle_thread_judges_the_consumer_trial_as_the_consumer_does() {
         "data started once"
     );
     // Silence: the watchdog runs out its time after the last accepted frame, not before.
-    let expires = last_accepted + ar_watchdog(&config);
+    let expires = last_accepted + ar.timing.watchdog_ns();
     let mut k = trial.frames.len() as u64 + 1;
     while k * MS < expires {
         io.receive(t(k), Mode::Operate, &mut image);
@@ -141,11 +106,4 @@ fn the_cycle_thread_judges_the_consumer_trial_as_the_consumer_does() {
         "the watchdog ran out at {k} ms"
     );
     assert_eq!(n(&c.watchdog_expiries), 1);
-}
-
-fn ar_watchdog(config: &config::Config) -> u64 {
-    let plan = &crate::roles::controller::plan_devices(config).unwrap()[0];
-    CyclicAr::new(plan, 1, CONTROLLER, DEVICE, plan.frame_ids)
-        .timing
-        .watchdog_ns()
 }
