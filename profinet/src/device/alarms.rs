@@ -8,10 +8,10 @@
 //! and of the ApplicationReady, and from the records. The AR's MaxAlarmDataLength bounds every
 //! AlarmNotification: a longer one is not sent.
 
-use super::app_alarms::AlarmError;
 use super::diagnosis::{
     DiagEntry, DiagKey, DiagnosisAlarm, DiagnosisError, DiagnosisStore, SubslotAddr,
 };
+use super::iobase_alarms::AlarmError;
 use super::{Application, Device, DeviceAction};
 use crate::wire::alarm::{
     AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType, Priority,

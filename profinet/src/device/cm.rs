@@ -7,7 +7,7 @@ use super::ar::Ar;
 use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
 use super::diagnosis::SubslotAddr;
 use super::{
-    Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, records, rpc,
+    Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, rpc, served_records,
 };
 use crate::wire::control::{self, ControlBlock};
 use crate::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
@@ -103,12 +103,12 @@ impl<A: Application> Device<A> {
             opnum::RELEASE => self.release(blocks),
             opnum::READ | opnum::READ_IMPLICIT | opnum::WRITE => {
                 let outcome = if h.opnum == opnum::WRITE {
-                    records::write(
-                        self.ar.as_mut().map(|a| records::ArRecords {
+                    served_records::write(
+                        self.ar.as_mut().map(|a| served_records::ArRecords {
                             ar_uuid: a.ar_uuid,
                             records: &mut a.records,
                         }),
-                        records::DeviceWrite {
+                        served_records::DeviceWrite {
                             real: &self.submodules,
                             im: &mut self.im,
                             im_writes: &mut self.im_writes,
@@ -117,15 +117,15 @@ impl<A: Application> Device<A> {
                         blocks,
                     )
                 } else {
-                    records::read(
+                    served_records::read(
                         h.opnum == opnum::READ_IMPLICIT,
-                        self.ar.as_ref().map(|a| records::ArView {
+                        self.ar.as_ref().map(|a| served_records::ArView {
                             ar_uuid: a.ar_uuid,
                             records: &a.records,
                             submodules: &a.submodules,
                             app_ready_pending: &a.app_ready_pending,
                         }),
-                        &records::DeviceRead {
+                        &served_records::DeviceRead {
                             real: &self.submodules,
                             im0: &self.im0,
                             im: &self.im,
@@ -136,8 +136,8 @@ impl<A: Application> Device<A> {
                     )
                 };
                 match outcome {
-                    records::Outcome::Done(s, b) => (s, b),
-                    records::Outcome::Pending(p) => {
+                    served_records::Outcome::Done(s, b) => (s, b),
+                    served_records::Outcome::Pending(p) => {
                         self.wait_for_application(p, (*h, from, ndr.args_maximum), now_ns, out);
                         return;
                     }
@@ -156,7 +156,7 @@ impl<A: Application> Device<A> {
     /// Hands a call's records to the application; answers it at once if it cannot wait.
     fn wait_for_application(
         &mut self,
-        pending: records::Pending,
+        pending: served_records::Pending,
         call: (Header, SocketAddrV4, u32),
         now_ns: u64,
         out: &mut Vec<DeviceAction>,

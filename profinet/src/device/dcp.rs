@@ -4,7 +4,7 @@
 //! and NameOfStation, Signal, start/stop transaction and reset to factory; and the Hello
 //! request a device may send at start-up.
 
-use super::dcp_check::{DcpChecks, Hold};
+use super::dcp_veto::{DcpChecks, Hold};
 use super::{DeviceAction, ethernet_frame};
 use crate::wire::MacAddress;
 use crate::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType, block_error, code};

@@ -49,11 +49,7 @@
 //! begins.
 
 mod alarms;
-mod app_alarms;
-#[cfg(test)]
-mod app_alarms_tests;
 mod app_ready;
-mod app_records;
 mod application;
 mod ar;
 mod ar_check;
@@ -61,21 +57,24 @@ mod cm;
 mod connect;
 mod cyclic;
 mod dcp;
-mod dcp_check;
-mod dcp_verify;
+mod dcp_veto;
+mod delegated_records;
 pub mod diagnosis;
 mod handover;
 #[cfg(test)]
 mod handover_tests;
 mod identification;
 mod im;
+mod iobase_alarms;
+#[cfg(test)]
+mod iobase_alarms_tests;
 pub mod lldp;
 mod params;
 mod plug;
 #[cfg(test)]
 mod plug_tests;
-mod records;
 mod rpc;
+mod served_records;
 #[cfg(test)]
 mod tests;
 
@@ -89,20 +88,20 @@ use crate::wire::rt::FrameIdClass;
 use crate::wire::rta_pdu::{self, AbortCode, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
 pub use alarms::DiagnosisChange;
-pub use app_alarms::{AlarmError, DiagnosisEdit};
 pub use app_ready::APP_READY_HOLD_TIMEOUT_NS;
-pub use app_records::{
-    MAX_WAITING_CALLS, RECORD_ANSWER_TIMEOUT_NS, RecordRequest, UnknownRecordJob,
-};
 pub use application::Application;
 use ar::Ar;
 pub use ar_check::{AR_CHECK_TIMEOUT_NS, ArCheck, ExpectedAt, UnknownArCheck};
-pub use dcp_check::{DCP_SET_CHECK_TIMEOUT_NS, DcpSetCheck, UnknownDcpSetCheck};
+pub use dcp_veto::{DCP_SET_CHECK_TIMEOUT_NS, DcpSetCheck, UnknownDcpSetCheck};
+pub use delegated_records::{
+    MAX_WAITING_CALLS, RECORD_ANSWER_TIMEOUT_NS, RecordJob, UnknownRecordJob,
+};
 pub use diagnosis::{
     ChannelDiag, DiagEntry, DiagKey, DiagnosisError, DiagnosisStore, GenericDiag, Severity,
     SubslotAddr,
 };
 pub use im::ImRecords;
+pub use iobase_alarms::{AlarmError, DiagnosisEdit};
 pub use params::ParameterRecord;
 pub use plug::PlugError;
 use std::net::SocketAddrV4;
@@ -173,7 +172,7 @@ pub enum DeviceAction {
     },
     /// A record for the application to read or write (only for submodules given to it with
     /// [`Device::delegate_records`]); answer with [`Device::answer_record`].
-    Record(RecordRequest),
+    Record(RecordJob),
     /// A new AR for the application to accept or refuse (only with
     /// [`Device::check_connects`]); answer with [`Device::answer_connect`].
     ArCheck(ArCheck),
@@ -274,7 +273,7 @@ pub struct Device<A> {
     /// Which user records are accepted, and which the application answers.
     params: params::ParameterRecords,
     /// Calls waiting for the application's record answers.
-    waiting: app_records::Waiting,
+    waiting: delegated_records::Waiting,
     /// Whether the ApplicationReady waits for [`Device::release_application_ready`].
     /// Plugged submodules whose parameters the controller ended (PlugPrmEnd) since
     /// [`take_plug_parameterized`](Self::take_plug_parameterized) was last called.
@@ -336,7 +335,7 @@ impl<A: Application> Device<A> {
             im: ImRecords::default(),
             im_writes: 0,
             params: params::ParameterRecords::default(),
-            waiting: app_records::Waiting::default(),
+            waiting: delegated_records::Waiting::default(),
             hold_app_ready: false,
             plug_parameterized: Vec::new(),
             app_ready_hold_timeouts: 0,

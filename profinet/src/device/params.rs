@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Which user records (indices 0x0000–0x7FFF) the device takes: its configured parameter
 //! records, with their lengths and initial data, or any; and which it hands to its
-//! application instead (see [`super::app_records`]).
+//! application instead (see [`super::delegated_records`]).
 
 use super::diagnosis::SubslotAddr;
 use super::{Application, Device};

@@ -9,7 +9,7 @@
 //! retransmits when a response is lost and a Write or PrmEnd executed twice would be wrong.
 //! Most calls complete at once; one whose records the application answers is still being
 //! carried out for a while: the device drops retransmissions of it and answers pings with
-//! "working" (see [`super::app_records`]).
+//! "working" (see [`super::delegated_records`]).
 
 use super::DeviceAction;
 use crate::wire::control::ControlBlock;

@@ -27,7 +27,7 @@ use crate::wire::rt::{self, data_status};
 use crate::wire::rta_pdu::{ErrRta, RtaBody};
 use std::net::Ipv4Addr;
 
-mod app_records;
+mod delegated_records;
 mod diagnosis;
 mod kept_identity;
 

@@ -5,8 +5,8 @@
 use super::identity::Identity;
 use crate::config::StationConfig;
 use procimg_profinet::device::{
-    Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, ParameterRecord,
-    RecordRequest, SubslotAddr,
+    Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, ParameterRecord, RecordJob,
+    SubslotAddr,
 };
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
@@ -73,7 +73,7 @@ pub enum StationEvent {
         alarm: Option<AlarmType>,
     },
     /// The PLC reads or writes a record whose submodule's records a client took.
-    Record(RecordRequest),
+    Record(RecordJob),
     /// The PLC ended the parameters of the submodule plugged at `0` (its PlugPrmEnd).
     PlugParameterized(SubslotAddr),
     /// A client's alarm ended: the PLC acknowledged it (`status`: the AlarmAck's

@@ -66,7 +66,7 @@ pub(super) struct DeviceWrite<'a> {
 }
 
 /// What became of a Write or Read request: answered at once, or waiting for the application
-/// (some of its records are the application's, see [`super::app_records`]).
+/// (some of its records are the application's, see [`super::delegated_records`]).
 pub(super) enum Outcome {
     /// The RPC-level status and the response blocks.
     Done(PnioStatus, Vec<u8>),

@@ -42,7 +42,7 @@ fn send(
 }
 
 /// The record jobs among `out`.
-fn jobs(out: &[DeviceAction]) -> Vec<RecordRequest> {
+fn jobs(out: &[DeviceAction]) -> Vec<RecordJob> {
     out.iter()
         .filter_map(|a| match a {
             DeviceAction::Record(r) => Some(r.clone()),

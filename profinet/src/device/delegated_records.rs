@@ -4,7 +4,7 @@
 //! [`super::params`]).
 //!
 //! A Write or Read of an application's record does not complete at once: the device gives
-//! each record to the application as a [`RecordRequest`] with a job number and answers the
+//! each record to the application as a [`RecordJob`] with a job number and answers the
 //! controller's call when the application answered every job of it
 //! ([`Device::answer_record`]), or when [`RECORD_ANSWER_TIMEOUT_NS`] passed: the jobs left
 //! unanswered end with PNIORW "resource busy" (0xC2), which tells the PLC's program to try
@@ -12,7 +12,7 @@
 //! Meanwhile the RPC server drops the controller's retransmissions of the call and answers
 //! its pings with "working".
 
-use super::records::{Pending, read_response, write_response};
+use super::served_records::{Pending, read_response, write_response};
 use super::{Application, Device, DeviceAction};
 use crate::wire::record::{IodHeader, RecordError, RecordErrorCode};
 use crate::wire::rpc::Header;
@@ -29,7 +29,7 @@ pub const MAX_WAITING_CALLS: usize = 4;
 
 /// A record the device hands to its application.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct RecordRequest {
+pub struct RecordJob {
     /// The job, named again in the answer.
     pub job: u64,
     /// A write (`true`) or a read.
@@ -198,7 +198,7 @@ impl Waiting {
                         ),
                         Err(data) => {
                             let j = job();
-                            out.push(DeviceAction::Record(RecordRequest {
+                            out.push(DeviceAction::Record(RecordJob {
                                 job: j,
                                 write: true,
                                 ar_uuid: h.ar_uuid,
@@ -228,7 +228,7 @@ impl Waiting {
             }
             Pending::Read { header, ar_uuid } => {
                 let j = job();
-                out.push(DeviceAction::Record(RecordRequest {
+                out.push(DeviceAction::Record(RecordJob {
                     job: j,
                     write: false,
                     ar_uuid,
