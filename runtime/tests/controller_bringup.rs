@@ -280,7 +280,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
 
     // Hostile datagrams on port 34964: truncated, garbage NDR, a control block with a bad
     // BlockLength, an answer nobody waits for. Counted and dropped; nothing breaks.
-    let from = SocketAddrV4::new(w.devices()[echo_device].ip().into(), RPC_PORT);
+    let from = SocketAddrV4::new(w.devices()[echo_device].station().ip().into(), RPC_PORT);
     let control = |activity: u8, blocks: &[u8], ndr_ok: bool| {
         let h = rpc::Header::request(
             rpc::object_uuid(1, 1, 0x0493),

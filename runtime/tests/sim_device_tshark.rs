@@ -180,7 +180,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         &mut out,
     );
     assert_eq!(wire.take(&mut out).len(), 5);
-    assert_eq!(dev.ip(), DEVICE_IP);
+    assert_eq!(dev.station().ip(), DEVICE_IP);
     // The new address is announced by LLDP at once.
     assert_eq!(dev.next_deadline_ns(), Some(0));
     dev.poll(0, &mut out);

@@ -205,7 +205,7 @@ fn a_devices_start_up_decodes_in_tshark() {
             application: Idle,
             im0: Default::default(),
         });
-        dev.set_hello(true);
+        dev.station_mut().set_hello(true);
         let mut out = Vec::new();
         dev.poll(0, &mut out);
         assert_eq!(out.len(), 2, "the Hello and the announcement");

@@ -14,7 +14,7 @@
 //! ([`CyclicAr::due`], [`CyclicAr::fill`], [`CyclicAr::seal`]) writes the frame of each
 //! cycle it is due in.
 
-mod consumer;
+pub mod consumer;
 mod producer;
 pub mod trial;
 

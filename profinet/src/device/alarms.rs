@@ -90,7 +90,7 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) {
-        let mac = self.id.mac;
+        let mac = self.station.id.mac;
         let Some(ar) = self.ar.as_mut() else {
             return;
         };
@@ -187,7 +187,7 @@ impl<A: Application> Device<A> {
             changed: !alarms.is_empty(),
             ..DiagnosisChange::default()
         };
-        let mac = self.id.mac;
+        let mac = self.station.id.mac;
         let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
             return change;
         };

@@ -110,8 +110,8 @@ impl<A: Application> Device<A> {
                         }),
                         served_records::DeviceWrite {
                             real: &self.submodules,
-                            im: &mut self.im,
-                            im_writes: &mut self.im_writes,
+                            im: &mut self.station.im,
+                            im_writes: &mut self.station.im_writes,
                             params: &self.params,
                         },
                         blocks,
@@ -127,8 +127,8 @@ impl<A: Application> Device<A> {
                         }),
                         &served_records::DeviceRead {
                             real: &self.submodules,
-                            im0: &self.im0,
-                            im: &self.im,
+                            im0: &self.station.im0,
+                            im: &self.station.im,
                             diagnosis: &self.diagnosis,
                             params: &self.params,
                         },
@@ -222,8 +222,8 @@ impl<A: Application> Device<A> {
         let ids = connect::frame_ids(&plan);
         let Ok(res) = connect::response_blocks(
             &plan,
-            self.id.mac,
-            &self.id.name,
+            self.station.id.mac,
+            &self.station.id.name,
             ids.0,
             ids.1,
             diff.as_ref(),

@@ -173,7 +173,8 @@ impl<A: Application> Device<A> {
     }
 
     fn carry_out_set(&mut self, held: &HeldSet, allow: bool, out: &mut Vec<DeviceAction>) {
-        let changes: Changes = dcp::answer_set(&mut self.id, held.src, &held.req, allow, out);
+        let changes: Changes =
+            dcp::answer_set(&mut self.station.id, held.src, &held.req, allow, out);
         self.after_dcp(changes, out);
     }
 }

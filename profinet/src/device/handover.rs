@@ -119,7 +119,7 @@ impl<A: Application> Device<A> {
         CyclicAr::from_maps(
             0,
             epoch,
-            (self.id.mac, ar.controller_mac()),
+            (self.station.id.mac, ar.controller_mac()),
             consumed,
             produced,
             timing,

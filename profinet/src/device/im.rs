@@ -7,10 +7,10 @@
 //! first plugged one, in API, slot and subslot order: the access point) as the one with I&M
 //! data of its own, standing for its module and for the device. I&M1–I&M4 live in the
 //! engine, not in an AR: they outlast ARs, and a runtime keeps them across restarts through
-//! [`Device::im_records`] and [`Device::set_im_records`] (the engine itself has no storage).
+//! [`Station::im_records`](super::Station::im_records) and [`Station::set_im_records`](super::Station::set_im_records) (the engine itself has no storage).
 
+use super::PluggedSubmodule;
 use super::diagnosis::SubslotAddr;
-use super::{Application, Device, PluggedSubmodule};
 use crate::wire::record::{
     IdentApi, Im0, Im0FilterData, Im1, Im2, Im3, Im4, RecordError, RecordErrorCode,
 };
@@ -89,23 +89,5 @@ impl PluggedSubmodule {
     /// Where it is.
     pub const fn addr(&self) -> SubslotAddr {
         SubslotAddr::new(self.api, self.slot, self.subslot)
-    }
-}
-
-impl<A: Application> Device<A> {
-    /// I&M1–I&M4 as they are now (blanks until written).
-    pub fn im_records(&self) -> &ImRecords {
-        &self.im
-    }
-
-    /// Sets I&M1–I&M4, e.g. to what a runtime stored before a restart.
-    pub fn set_im_records(&mut self, records: ImRecords) {
-        self.im = records;
-    }
-
-    /// How many writes of I&M1–I&M4 the device took since it was made: a runtime that keeps
-    /// them stores [`im_records`](Self::im_records) again when this changes.
-    pub fn im_write_count(&self) -> u64 {
-        self.im_writes
     }
 }

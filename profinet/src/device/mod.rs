@@ -13,8 +13,8 @@
 //! the input CR and consumes the output CR at the offsets the controller chose, supervises
 //! the output CR with the data hold watchdog, and acknowledges alarms on both RTA channels.
 //! Its port announces the station by LLDP ([`lldp`]: at start, every 5 s and at once after
-//! DCP changed its name or address; [`Device::set_lldp`] turns that off), and it sends a DCP
-//! Hello request at start-up when asked to ([`Device::set_hello`]).
+//! DCP changed its name or address; [`Station::set_lldp`] turns that off), and it sends a DCP
+//! Hello request at start-up when asked to ([`Station::set_hello`]).
 //! Its inputs come from its [`Application`], which the user of the crate provides.
 //!
 //! The application reports to the controller through it: process alarms
@@ -75,6 +75,7 @@ mod plug;
 mod plug_tests;
 mod rpc;
 mod served_records;
+mod station;
 #[cfg(test)]
 mod tests;
 
@@ -104,6 +105,7 @@ pub use im::ImRecords;
 pub use iobase_alarms::{AlarmError, DiagnosisEdit};
 pub use params::ParameterRecord;
 pub use plug::PlugError;
+pub use station::Station;
 use std::net::SocketAddrV4;
 
 /// What the device is and what is plugged into it.
@@ -233,7 +235,8 @@ fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]
 
 /// A PROFINET IO device.
 pub struct Device<A> {
-    id: dcp::Identity,
+    /// Identity, I&M, LLDP: the station as the network knows it.
+    station: Station,
     /// The submodules plugged now: [`table`](Self::table) less the pulled ones, with the
     /// ident numbers they were plugged with.
     submodules: Vec<PluggedSubmodule>,
@@ -245,7 +248,6 @@ pub struct Device<A> {
     /// when pulled.
     plugged: Vec<Option<(u32, u32)>>,
     app: A,
-    im0: Im0,
     dcp: dcp::Responder,
     rpc: rpc::Server,
     ar: Option<Ar>,
@@ -254,22 +256,14 @@ pub struct Device<A> {
     last_abort: Option<AbortCode>,
     /// ARs that ended other than by Release.
     aborted_ars: u64,
-    signals: u32,
     acks: Vec<AlarmAck>,
     /// AlarmAcks received in all.
     ack_count: u64,
-    /// What DCP set to be kept across a restart.
-    kept: KeptIdentity,
     /// Set when the caller's cycle runs the cyclic exchange.
     handover: Option<handover::Handover>,
     /// Whether a Connect may make an AR (see [`Device::set_accepting`]).
     accepting: bool,
-    lldp: Option<lldp::Announcer>,
-    /// A DCP Hello request is to go out at the next poll.
-    hello_due: bool,
     diagnosis: DiagnosisStore,
-    im: ImRecords,
-    im_writes: u64,
     /// Which user records are accepted, and which the application answers.
     params: params::ParameterRecords,
     /// Calls waiting for the application's record answers.
@@ -294,19 +288,22 @@ impl<A: Application> Device<A> {
         } else {
             [255, 255, 255, 0]
         };
-        let mut device = Device {
-            id: dcp::Identity {
-                mac: spec.mac,
-                name: spec.name,
-                ip,
-                mask,
-                gateway: [0; 4],
-                vendor_id: spec.vendor_id,
-                device_id: spec.device_id,
-                instance: spec.instance,
-                type_of_station: "procimg simulated device".into(),
-                hello: false,
-            },
+        Device {
+            station: Station::new(
+                dcp::Identity {
+                    mac: spec.mac,
+                    name: spec.name,
+                    ip,
+                    mask,
+                    gateway: [0; 4],
+                    vendor_id: spec.vendor_id,
+                    device_id: spec.device_id,
+                    instance: spec.instance,
+                    type_of_station: "procimg simulated device".into(),
+                    hello: false,
+                },
+                spec.im0,
+            ),
             plugged: spec
                 .submodules
                 .iter()
@@ -315,7 +312,6 @@ impl<A: Application> Device<A> {
             table: spec.submodules.clone(),
             submodules: spec.submodules,
             app: spec.application,
-            im0: spec.im0,
             dcp: dcp::Responder::default(),
             rpc: rpc::Server::default(),
             ar: None,
@@ -323,120 +319,29 @@ impl<A: Application> Device<A> {
             activities: 0,
             last_abort: None,
             aborted_ars: 0,
-            signals: 0,
             acks: Vec::new(),
             ack_count: 0,
-            kept: KeptIdentity::default(),
             handover: None,
             accepting: true,
-            lldp: None,
-            hello_due: false,
             diagnosis: DiagnosisStore::new(),
-            im: ImRecords::default(),
-            im_writes: 0,
             params: params::ParameterRecords::default(),
             waiting: delegated_records::Waiting::default(),
             hold_app_ready: false,
             plug_parameterized: Vec::new(),
             app_ready_hold_timeouts: 0,
             ar_checks: ar_check::ArChecks::default(),
-        };
-        device.set_lldp(true);
-        device
-    }
-
-    /// Turns the LLDP announcements of the device's port on (the default) or off. On, the
-    /// port (port-001, from the device's MAC address) announces the station at the next
-    /// [`poll`](Self::poll), then every 5 s and at once after DCP changed its name or
-    /// address; see [`lldp`].
-    pub fn set_lldp(&mut self, on: bool) {
-        if on == self.lldp.is_some() {
-            return;
-        }
-        self.lldp = on.then(|| {
-            let id = &self.id;
-            let ip = (id.ip != [0; 4]).then_some(id.ip);
-            let mut station = lldp::LldpStation::new(&id.name, id.mac, id.mac, ip, 1);
-            station.system_identification =
-                lldp::system_identification(&id.type_of_station, &self.im0);
-            lldp::Announcer::new(station)
-        });
-    }
-
-    /// Makes the device send a DCP Hello request (to 01:0E:CF:00:00:01, with its name, IP
-    /// parameters, DeviceID, DeviceVendor, DeviceRole and DeviceInitiative) at its next
-    /// [`poll`](Self::poll): at start-up when set before the first poll, as a device with
-    /// fast start-up does. Its DeviceInitiative (DCP 06/01) reads 1 while this is on. Off by
-    /// default.
-    pub fn set_hello(&mut self, on: bool) {
-        self.id.hello = on;
-        self.hello_due = on;
-    }
-
-    /// The LLDP announcer, when LLDP is on: what it announces.
-    pub fn lldp(&self) -> Option<&lldp::Announcer> {
-        self.lldp.as_ref()
-    }
-
-    /// The LLDP announcer, when LLDP is on, to tell it about the port (its link, its
-    /// ifIndex, its own MAC address). The name and the address follow DCP; setting them
-    /// here is overwritten by the next DCP change.
-    pub fn lldp_mut(&mut self) -> Option<&mut lldp::Announcer> {
-        self.lldp.as_mut()
-    }
-
-    /// Sets the DeviceVendor (type of station) text DCP reports; "procimg simulated device"
-    /// by default.
-    pub fn set_type_of_station(&mut self, text: &str) {
-        self.id.type_of_station = text.to_string();
-        let sysid = lldp::system_identification(text, &self.im0);
-        if let Some(l) = self.lldp.as_mut() {
-            l.update(|s| s.system_identification = sysid);
         }
     }
 
-    /// The IP address (0.0.0.0 when none is set).
-    pub fn ip(&self) -> [u8; 4] {
-        self.id.ip
+    /// The station: identity, I&M, LLDP.
+    pub fn station(&self) -> &Station {
+        &self.station
     }
 
-    /// Subnet mask and default gateway (0.0.0.0 when none is set).
-    pub fn mask_and_gateway(&self) -> ([u8; 4], [u8; 4]) {
-        (self.id.mask, self.id.gateway)
-    }
-
-    /// Sets the address, subnet mask and gateway, before the device goes on the network
-    /// (the configuration's, or what a restart keeps); no AR is touched.
-    pub fn set_ip_suite(&mut self, ip: [u8; 4], mask: [u8; 4], gateway: [u8; 4]) {
-        (self.id.ip, self.id.mask, self.id.gateway) = (ip, mask, gateway);
-        if let Some(l) = self.lldp.as_mut() {
-            l.set_ip((ip != [0; 4]).then_some(ip));
-        }
-    }
-
-    /// Sets the NameOfStation before the device goes on the network (what a restart
-    /// keeps); no AR is touched.
-    pub fn set_name(&mut self, name: &str) {
-        self.id.name = name.to_owned();
-        if let Some(l) = self.lldp.as_mut() {
-            l.set_name(name);
-        }
-    }
-
-    /// What DCP set to be kept across a restart (a Set with the permanent qualifier, a reset
-    /// to factory): the caller stores it and gives it back at the next start.
-    pub fn kept_identity(&self) -> &KeptIdentity {
-        &self.kept
-    }
-
-    /// The NameOfStation (empty when none is set).
-    pub fn name(&self) -> &str {
-        &self.id.name
-    }
-
-    /// The MAC address.
-    pub fn mac(&self) -> MacAddress {
-        self.id.mac
+    /// The station, to set up before the device goes on the network (name, address, LLDP,
+    /// Hello, I&M).
+    pub fn station_mut(&mut self) -> &mut Station {
+        &mut self.station
     }
 
     /// Where the AR stands.
@@ -473,11 +378,6 @@ impl<A: Application> Device<A> {
     /// Input CR frames produced since the device was made.
     pub fn frames_produced(&self) -> u64 {
         self.frames_produced
-    }
-
-    /// DCP Signal requests received (each one would flash the LED).
-    pub fn signal_count(&self) -> u32 {
-        self.signals
     }
 
     /// The AlarmAcks the controller sent for our alarms, oldest first (the last
@@ -530,7 +430,7 @@ impl<A: Application> Device<A> {
         if eth.ethertype() != ETHERTYPE_PROFINET {
             return;
         }
-        let (dst, src, mac) = (eth.dst(), eth.src(), self.id.mac);
+        let (dst, src, mac) = (eth.dst(), eth.src(), self.station.id.mac);
         if dst != mac && dst != MacAddress::DCP_IDENTIFY {
             return;
         }
@@ -541,7 +441,9 @@ impl<A: Application> Device<A> {
         let frame_id = u16::from_be_bytes([hi, lo]);
         match FrameIdClass::of(frame_id) {
             FrameIdClass::Dcp if dcp::is_request_frame_id(frame_id) => {
-                let changes = self.dcp.on_pdu(&mut self.id, dst, src, pdu, now_ns, out);
+                let changes = self
+                    .dcp
+                    .on_pdu(&mut self.station.id, dst, src, pdu, now_ns, out);
                 self.after_dcp(changes, out);
             }
             FrameIdClass::AlarmHigh | FrameIdClass::AlarmLow if dst == mac => {
@@ -553,32 +455,12 @@ impl<A: Application> Device<A> {
     }
 
     fn after_dcp(&mut self, changes: dcp::Changes, out: &mut Vec<DeviceAction>) {
-        if changes.signal {
-            self.signals = self.signals.saturating_add(1);
-        }
-        if changes.store_name {
-            self.kept.name = Some(self.id.name.clone());
-        }
-        if changes.store_ip {
-            self.kept.ip_suite = Some([self.id.ip, self.id.mask, self.id.gateway]);
-        }
-        if changes.store_name || changes.store_ip {
-            self.kept.changes += 1;
-        }
+        self.station.after_dcp(&changes);
         // The AR is bound to the station's name and address: a change ends it (CMINA).
         if changes.reset {
             self.abort_ar(AbortCode::ResetToFactory, out);
         } else if changes.name || changes.ip {
             self.abort_ar(AbortCode::StationNameChanged, out);
-        }
-        // The neighbour learns the new name or address at once.
-        if let Some(l) = self.lldp.as_mut() {
-            let ip = (self.id.ip != [0; 4]).then_some(self.id.ip);
-            l.set_name(&self.id.name);
-            l.set_ip(ip);
-            if changes.reset {
-                l.set_mode(lldp::NameOfDeviceMode::default());
-            }
         }
     }
 
@@ -596,13 +478,13 @@ impl<A: Application> Device<A> {
                     .then(|| lldp::name_of_device_mode(data))
                     .flatten()
             });
-        if let (Some(mode), Some(l)) = (mode, self.lldp.as_mut()) {
-            l.set_mode(mode);
+        if let Some(mode) = mode {
+            self.station.set_lldp_mode(mode);
         }
     }
 
     fn on_rta(&mut self, src: MacAddress, pdu: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
-        let mac = self.id.mac;
+        let mac = self.station.id.mac;
         let Some(ar) = self.ar.as_mut().filter(|a| a.controller_mac() == src) else {
             return;
         };
@@ -657,7 +539,7 @@ impl<A: Application> Device<A> {
         out: &mut Vec<DeviceAction>,
     ) {
         // Without an address the device has no UDP endpoint.
-        if self.id.ip == [0; 4] {
+        if self.station.id.ip == [0; 4] {
             return;
         }
         let packet = wire_rpc::Packet::new_unchecked(payload);
@@ -700,7 +582,7 @@ impl<A: Application> Device<A> {
     /// counter as the time, so it is unique per device and call without a random source.
     fn new_activity(&mut self) -> Uuid {
         self.activities = self.activities.wrapping_add(1);
-        let m = self.id.mac.0;
+        let m = self.station.id.mac.0;
         Uuid::from_fields(
             self.activities,
             0,
@@ -722,13 +604,8 @@ impl<A: Application> Device<A> {
         self.expire_ar_check(now_ns, out);
         self.expire_dcp_check(now_ns, out);
         self.expire_app_ready_hold(now_ns);
-        if std::mem::take(&mut self.hello_due) {
-            out.extend(dcp::hello_frame(&self.id).map(DeviceAction::Frame));
-        }
-        if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now_ns)) {
-            out.push(DeviceAction::Frame(frame));
-        }
-        let mac = self.id.mac;
+        self.station.poll(now_ns, out);
+        let mac = self.station.id.mac;
         let station_ok = !self.diagnosis.has_fault();
         let activity = if self
             .ar
@@ -801,9 +678,8 @@ impl<A: Application> Device<A> {
     /// When [`poll`](Self::poll) needs calling next, if anything is pending.
     pub fn next_deadline_ns(&self) -> Option<u64> {
         [
-            self.hello_due.then_some(0),
+            self.station.next_deadline_ns(),
             self.dcp.next_deadline_ns(),
-            self.lldp.as_ref().map(lldp::Announcer::next_deadline_ns),
             self.ar.as_ref().and_then(Ar::deadline),
             self.waiting.deadline(),
             self.ar_checks.deadline(),
@@ -816,7 +692,7 @@ impl<A: Application> Device<A> {
 
     /// Ends the AR from our side: ERR-RTA to the controller, back to Idle.
     fn abort_ar(&mut self, code: AbortCode, out: &mut Vec<DeviceAction>) {
-        let mac = self.id.mac;
+        let mac = self.station.id.mac;
         if let Some(mut ar) = self.ar.take() {
             ar.alarms.abort(code, mac, out);
             self.last_abort = Some(code);

@@ -458,7 +458,10 @@ impl<A: Application, P: Port> World<A, P> {
                         let payload = self.show_datagram(Origin::Controller, from, to, payload);
                         self.counters.controller_datagrams += 1;
                         // A datagram to an address nobody has is lost.
-                        let Some(d) = self.devices.iter().position(|d| d.ip() == to.ip().octets())
+                        let Some(d) = self
+                            .devices
+                            .iter()
+                            .position(|d| d.station().ip() == to.ip().octets())
                         else {
                             continue;
                         };
@@ -493,7 +496,10 @@ impl<A: Application, P: Port> World<A, P> {
                     from_port,
                     payload,
                 } => {
-                    let from = SocketAddrV4::new(Ipv4Addr::from(self.devices[d].ip()), from_port);
+                    let from = SocketAddrV4::new(
+                        Ipv4Addr::from(self.devices[d].station().ip()),
+                        from_port,
+                    );
                     let payload = self.show_datagram(Origin::Device(d), from, to, payload);
                     // Only the controller has an address on this network.
                     if *to.ip() != self.controller_ip {

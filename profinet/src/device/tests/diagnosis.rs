@@ -465,10 +465,10 @@ fn im_records_are_kept_by_the_device() {
         PnioStatus::OK
     );
     assert_eq!(client.data(&mut dev, (0, 1), 0xaff1), im1.to_bytes());
-    assert_eq!(dev.im_records().im1, im1);
-    assert_eq!(dev.im_write_count(), 1);
+    assert_eq!(dev.station().im_records().im1, im1);
+    assert_eq!(dev.station().im_write_count(), 1);
     // I&M2–4 too; another length, another block, I&M0: refused.
-    let mut im4 = dev.im_records().im4;
+    let mut im4 = dev.station().im_records().im4;
     im4.signature[0] = 0x42;
     assert_eq!(
         client.write(&mut dev, (0, 1), 0xaff4, &im4.to_bytes()),
@@ -482,13 +482,13 @@ fn im_records_are_kept_by_the_device() {
         client.write(&mut dev, (0, 1), 0xaff3, &im1.to_bytes()),
         PnioStatus::from_bytes([0xdf, 0x80, 0xb8, 0])
     );
-    assert_eq!(dev.im_write_count(), 2);
+    assert_eq!(dev.station().im_write_count(), 2);
     // They outlast the AR, and a runtime can put back what it stored.
-    let kept = *dev.im_records();
+    let kept = *dev.station().im_records();
     assert_eq!(kept.im4, im4);
     let mut other = pnet_device(TestApp::None);
-    other.set_im_records(kept);
-    assert_eq!(other.im_records(), &kept);
+    other.station_mut().set_im_records(kept);
+    assert_eq!(other.station().im_records(), &kept);
     // I&M0FilterData: the access point carries the device's I&M, read even at subslot 0.
     let (s, d) = client.read(&mut dev, true, (0, 0), 0xf840);
     assert_eq!(s, PnioStatus::OK);

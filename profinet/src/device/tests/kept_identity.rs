@@ -21,19 +21,19 @@ fn set(dev: &mut Device<TestApp>, repr: &wire_dcp::Repr) -> Vec<u8> {
 #[test]
 fn a_permanent_set_is_kept_and_a_temporary_one_is_not() {
     let mut dev = pnet_device(TestApp::None);
-    assert_eq!(dev.kept_identity(), &KeptIdentity::default());
+    assert_eq!(dev.station().kept_identity(), &KeptIdentity::default());
     assert_eq!(
         set(&mut dev, &wire_dcp::Repr::set_name(1, "temporary", false)),
         [0]
     );
-    assert_eq!(dev.name(), "temporary");
-    assert_eq!(dev.kept_identity().changes, 0);
+    assert_eq!(dev.station().name(), "temporary");
+    assert_eq!(dev.station().kept_identity().changes, 0);
 
     assert_eq!(
         set(&mut dev, &wire_dcp::Repr::set_name(2, "station-7", true)),
         [0]
     );
-    let kept = dev.kept_identity();
+    let kept = dev.station().kept_identity();
     assert_eq!(
         (kept.name.as_deref(), kept.ip_suite, kept.changes),
         (Some("station-7"), None, 1)
@@ -44,20 +44,23 @@ fn a_permanent_set_is_kept_and_a_temporary_one_is_not() {
         set(&mut dev, &wire_dcp::Repr::set_name(3, "station-7", true)),
         [0]
     );
-    assert_eq!(dev.kept_identity().changes, 2);
+    assert_eq!(dev.station().kept_identity().changes, 2);
 
     let ip = wire_dcp::Repr::set_ip(4, [10, 0, 0, 7], [255, 255, 0, 0], [10, 0, 0, 1], true);
     assert_eq!(set(&mut dev, &ip), [0]);
     assert_eq!(
-        dev.kept_identity().ip_suite,
+        dev.station().kept_identity().ip_suite,
         Some([[10, 0, 0, 7], [255, 255, 0, 0], [10, 0, 0, 1]])
     );
-    assert_eq!(dev.mask_and_gateway(), ([255, 255, 0, 0], [10, 0, 0, 1]));
+    assert_eq!(
+        dev.station().mask_and_gateway(),
+        ([255, 255, 0, 0], [10, 0, 0, 1])
+    );
     let temporary = wire_dcp::Repr::set_ip(5, [10, 0, 0, 8], [255, 255, 0, 0], [0; 4], false);
     assert_eq!(set(&mut dev, &temporary), [0]);
-    assert_eq!(dev.ip(), [10, 0, 0, 8]);
+    assert_eq!(dev.station().ip(), [10, 0, 0, 8]);
     assert_eq!(
-        dev.kept_identity().ip_suite.map(|s| s[0]),
+        dev.station().kept_identity().ip_suite.map(|s| s[0]),
         Some([10, 0, 0, 7])
     );
 }
@@ -71,22 +74,26 @@ fn a_reset_to_factory_keeps_the_factory_state() {
     );
     let reset = wire_dcp::Repr::reset_to_factory(2, 2);
     set(&mut dev, &reset);
-    let kept = dev.kept_identity();
+    let kept = dev.station().kept_identity();
     assert_eq!(kept.name.as_deref(), Some(""));
     assert_eq!(kept.ip_suite, Some([[0; 4]; 3]));
-    assert_eq!((dev.name(), dev.ip()), ("", [0; 4]));
+    assert_eq!((dev.station().name(), dev.station().ip()), ("", [0; 4]));
 }
 
 #[test]
 fn the_caller_sets_the_kept_identity_back_at_start() {
     let mut dev = pnet_device(TestApp::None);
-    dev.set_name("from-last-time");
-    dev.set_ip_suite([10, 1, 2, 3], [255, 0, 0, 0], [10, 0, 0, 1]);
-    assert_eq!(dev.name(), "from-last-time");
-    assert_eq!(dev.ip(), [10, 1, 2, 3]);
-    assert_eq!(dev.mask_and_gateway(), ([255, 0, 0, 0], [10, 0, 0, 1]));
+    dev.station_mut().set_name("from-last-time");
+    dev.station_mut()
+        .set_ip_suite([10, 1, 2, 3], [255, 0, 0, 0], [10, 0, 0, 1]);
+    assert_eq!(dev.station().name(), "from-last-time");
+    assert_eq!(dev.station().ip(), [10, 1, 2, 3]);
     assert_eq!(
-        dev.kept_identity().changes,
+        dev.station().mask_and_gateway(),
+        ([255, 0, 0, 0], [10, 0, 0, 1])
+    );
+    assert_eq!(
+        dev.station().kept_identity().changes,
         0,
         "setting it back is no change"
     );
@@ -124,7 +131,7 @@ fn set_errors(out: &[DeviceAction]) -> Vec<u8> {
 fn the_application_vetoes_or_allows_dcps_changes() {
     let mut dev = quiet_device(pnet_spec(TestApp::None));
     dev.verify_dcp_sets(true);
-    let before = dev.name().to_owned();
+    let before = dev.station().name().to_owned();
     // A new name waits; the repeated request too; a vetoed one leaves the name alone.
     let out = dcp_set(&mut dev, &wire_dcp::Repr::set_name(5, "new-name", true), 0);
     assert!(frames(&out).is_empty(), "{out:?}");
@@ -141,7 +148,7 @@ fn the_application_vetoes_or_allows_dcps_changes() {
     dev.answer_dcp_set(c[0].job, false, 2 * MS, &mut out)
         .unwrap();
     assert_eq!(set_errors(&out), [wire_dcp::block_error::SET_NOT_POSSIBLE]);
-    assert_eq!(dev.name(), before);
+    assert_eq!(dev.station().name(), before);
     assert_eq!(
         dev.answer_dcp_set(c[0].job, true, 2 * MS, &mut out),
         Err(UnknownDcpSetCheck(c[0].job))
@@ -161,7 +168,7 @@ fn the_application_vetoes_or_allows_dcps_changes() {
     dev.answer_dcp_set(c[0].job, true, 4 * MS, &mut out)
         .unwrap();
     assert_eq!(set_errors(&out), [wire_dcp::block_error::OK]);
-    assert_eq!(dev.ip(), [10, 0, 0, 9]);
+    assert_eq!(dev.station().ip(), [10, 0, 0, 9]);
     // Signal does not wait.
     let out = dcp_set(&mut dev, &wire_dcp::Repr::signal(8), 5 * MS);
     assert!(set_checks(&out).is_empty());
@@ -179,6 +186,6 @@ fn the_application_vetoes_or_allows_dcps_changes() {
         .filter(|a| matches!(a, DeviceAction::Frame(f) if f.get(12..14) == Some(&[0x88, 0x92][..]) && f.get(14..16) == Some(&[0xfe, 0xfd][..])))
         .collect();
     assert_eq!(set_errors(&sent), [wire_dcp::block_error::OK]);
-    assert_eq!(dev.name(), "late-name");
+    assert_eq!(dev.station().name(), "late-name");
     assert_eq!(dev.dcp_set_check_timeouts(), 1);
 }

@@ -124,7 +124,7 @@ fn pnet_spec(behaviour: TestApp) -> DeviceSetup<TestApp> {
 /// cyclic exchange, frame by frame; its LLDP announcements have tests of their own.
 fn quiet_device(spec: DeviceSetup<TestApp>) -> Device<TestApp> {
     let mut d = Device::new(spec);
-    d.set_lldp(false);
+    d.station_mut().set_lldp(false);
     d
 }
 
@@ -134,7 +134,8 @@ fn pnet_device(behaviour: TestApp) -> Device<TestApp> {
         ip: Some(DEVICE_IP),
         ..pnet_spec(behaviour)
     });
-    d.set_type_of_station("P-Net Sample Application");
+    d.station_mut()
+        .set_type_of_station("P-Net Sample Application");
     d
 }
 
@@ -276,7 +277,8 @@ fn patch_block(payload: &mut [u8], at: usize, bytes: &[u8]) {
 #[test]
 fn dcp_identify_and_set_ip_answer_like_pnet() {
     let mut dev = quiet_device(pnet_spec(TestApp::None));
-    dev.set_type_of_station("P-Net Sample Application");
+    dev.station_mut()
+        .set_type_of_station("P-Net Sample Application");
     let req = wire_dcp::Repr::identify_by_name(0x0300_012c, 1, "rt-labs-dev");
     let frame = dcp_client::frame(MacAddress::DCP_IDENTIFY, S7_MAC, &req).unwrap();
     let mut out = Vec::new();
@@ -321,7 +323,7 @@ fn dcp_identify_and_set_ip_answer_like_pnet() {
     let pnet = capture("cm/dcp_set_res");
     assert_eq!(&f[0][..pnet.len()], &pnet[..]);
     assert!(f[0][pnet.len()..].iter().all(|&b| b == 0) && f[0].len() == 60);
-    assert_eq!(dev.ip(), DEVICE_IP);
+    assert_eq!(dev.station().ip(), DEVICE_IP);
 }
 
 fn parse_dcp(frame: &[u8]) -> wire_dcp::Repr {
@@ -398,14 +400,15 @@ fn dcp_filters_delay_get_set_name_and_signal() {
         assert_eq!(r.service_type, wire_dcp::ServiceType::Success);
         assert_eq!(r.set_result().next().map(|(_, _, e)| e), Some(error));
     }
-    assert_eq!(dev.name(), "new-name");
-    assert_eq!(dev.signal_count(), 1);
+    assert_eq!(dev.station().name(), "new-name");
+    assert_eq!(dev.station().signal_count(), 1);
 }
 
 #[test]
 fn captured_s7_bring_up_gets_pnets_answers() {
     let mut dev = quiet_device(pnet_spec(TestApp::Echo));
-    dev.set_type_of_station("P-Net Sample Application");
+    dev.station_mut()
+        .set_type_of_station("P-Net Sample Application");
     let mut out = Vec::new();
     // No IP yet: no RPC endpoint.
     dev.on_datagram(
@@ -1594,7 +1597,7 @@ fn lldp_announces_at_start_every_five_seconds_and_after_dcp_changes() {
     dev.poll(6_500 * MS, &mut out);
     let r = lldp_announcement(&out).unwrap();
     assert_eq!(r.chassis_id, Id::Local("renamed".into()));
-    assert_eq!(dev.lldp().unwrap().station().name, "renamed");
+    assert_eq!(dev.station().lldp().unwrap().station().name, "renamed");
     assert_eq!(dev.next_deadline_ns(), Some(11_500 * MS));
 
     // Reset to factory: no name, no address; the chassis ID becomes the MAC address.
@@ -1622,13 +1625,13 @@ fn lldp_announces_at_start_every_five_seconds_and_after_dcp_changes() {
     assert_eq!(r.management_ipv4(), None);
 
     // Off: nothing more, and no deadline of its own.
-    dev.set_lldp(false);
+    dev.station_mut().set_lldp(false);
     assert_eq!(dev.next_deadline_ns(), None);
     out.clear();
     dev.poll(60_000 * MS, &mut out);
     assert!(out.is_empty());
     // On again: at once.
-    dev.set_lldp(true);
+    dev.station_mut().set_lldp(true);
     dev.poll(60_001 * MS, &mut out);
     assert!(lldp_announcement(&out).is_some());
 }
@@ -1654,7 +1657,7 @@ fn the_s7s_pd_interface_adjust_puts_the_name_into_the_lldp_port_id() {
         PnioStatus::OK
     );
     assert_eq!(
-        dev.lldp().unwrap().station().mode,
+        dev.station().lldp().unwrap().station().mode,
         lldp::NameOfDeviceMode::PortAndStationName
     );
     assert_eq!(dev.next_deadline_ns(), Some(0), "announced at once");
@@ -1680,7 +1683,7 @@ fn dcp_hello_at_start_up() {
     let mut out = Vec::new();
     dev.poll(0, &mut out);
     assert!(out.is_empty(), "no Hello unless asked for");
-    dev.set_hello(true);
+    dev.station_mut().set_hello(true);
     assert_eq!(dev.next_deadline_ns(), Some(0));
     dev.poll(MS, &mut out);
     let f = frames(&out);

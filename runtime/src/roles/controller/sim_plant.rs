@@ -85,7 +85,7 @@ impl Devices {
     fn new(devices: Vec<DemoDevice>) -> Devices {
         let mut position = Vec::new();
         for (p, d) in devices.iter().enumerate() {
-            if let Addressee::Device(i) = addressee(&d.mac().0) {
+            if let Addressee::Device(i) = addressee(&d.station().mac().0) {
                 if position.len() <= i {
                     position.resize(i + 1, None);
                 }
@@ -189,7 +189,7 @@ pub fn spawn(
                 }
                 while let Ok(g) = udp.rx.try_recv() {
                     let to = g.to.ip().octets();
-                    if let Some(d) = plant.devices.iter_mut().find(|d| d.ip() == to) {
+                    if let Some(d) = plant.devices.iter_mut().find(|d| d.station().ip() == to) {
                         d.on_datagram(g.from, g.to.port(), &g.payload, now, &mut out);
                         deliver(&mut out, d, &mut frames, &udp);
                     }
@@ -230,7 +230,7 @@ fn deliver(
                 payload,
             } => {
                 let _ = udp.tx.send(SimDatagram {
-                    from: SocketAddrV4::new(d.ip().into(), from_port),
+                    from: SocketAddrV4::new(d.station().ip().into(), from_port),
                     to,
                     payload,
                 });
@@ -283,7 +283,10 @@ mod tests {
     }
 
     fn names(devices: &[DemoDevice]) -> Vec<String> {
-        devices.iter().map(|d| d.name().to_string()).collect()
+        devices
+            .iter()
+            .map(|d| d.station().name().to_string())
+            .collect()
     }
 
     #[test]

@@ -22,10 +22,10 @@ pub struct Identity {
 impl Identity {
     /// What `device` holds now.
     pub fn of<A: Application>(device: &Device<A>) -> Identity {
-        let (mask, gateway) = device.mask_and_gateway();
+        let (mask, gateway) = device.station().mask_and_gateway();
         Identity {
-            name: device.name().to_owned(),
-            ip: Ipv4Addr::from(device.ip()),
+            name: device.station().name().to_owned(),
+            ip: Ipv4Addr::from(device.station().ip()),
             netmask: Ipv4Addr::from(mask),
             gateway: Ipv4Addr::from(gateway),
         }
@@ -63,13 +63,13 @@ impl IdentityWatch {
     pub fn new<A: Application>(device: &Device<A>) -> IdentityWatch {
         IdentityWatch {
             seen: Identity::of(device),
-            kept_changes: device.kept_identity().changes,
+            kept_changes: device.station().kept_identity().changes,
         }
     }
 
     /// What DCP changed since the last look, if anything.
     pub fn check<A: Application>(&mut self, device: &Device<A>) -> Option<IdentityChange> {
-        self.compare(Identity::of(device), device.kept_identity())
+        self.compare(Identity::of(device), device.station().kept_identity())
     }
 
     /// `now` against what was seen, with the engine's kept identity `kept`. A Set to keep

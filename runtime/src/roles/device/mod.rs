@@ -167,11 +167,11 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     };
     let shown = Arc::new(Station::new(&station, mac));
     let mut device = engine(&station, mac, cycle_ns);
-    device.set_hello(station.dcp_hello);
+    device.station_mut().set_hello(station.dcp_hello);
     // LLDP's management address names the port by its interface index (the MIB's ifIndex).
     if let Network::Interface(name) = &config.network
         && let Ok(index) = crate::sys::netlink::interface_index(name)
-        && let Some(lldp) = device.lldp_mut()
+        && let Some(lldp) = device.station_mut().lldp_mut()
     {
         lldp.update(|s| s.if_index = index);
     }
@@ -180,11 +180,11 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
         Some(_) => (station.netmask.octets(), station.gateway.octets()),
         None => ([0; 4], [0; 4]),
     };
-    device.set_ip_suite(ip, mask, gateway);
+    device.station_mut().set_ip_suite(ip, mask, gateway);
     if let Some(im) = kept.as_ref().and_then(|k| k.state.im.as_ref()) {
         // Checked when the file was loaded.
         if let Ok(records) = state_file::im_records(im) {
-            device.set_im_records(records);
+            device.station_mut().set_im_records(records);
         }
     }
     let datagrams = Arc::new(DatagramCounters::default());

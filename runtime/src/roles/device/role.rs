@@ -221,16 +221,16 @@ impl DeviceRole {
             return;
         };
         let now = (
-            self.device.kept_identity().changes,
-            self.device.im_write_count(),
+            self.device.station().kept_identity().changes,
+            self.device.station().im_write_count(),
         );
         if now == k.seen {
             return;
         }
         k.seen = now;
-        state_file::keep_identity(&mut k.state, self.device.kept_identity());
-        if self.device.im_write_count() > 0 {
-            k.state.im = Some(state_file::kept_im(self.device.im_records()));
+        state_file::keep_identity(&mut k.state, self.device.station().kept_identity());
+        if self.device.station().im_write_count() > 0 {
+            k.state.im = Some(state_file::kept_im(self.device.station().im_records()));
         }
         match state_file::save(&k.path, &k.state) {
             Ok(()) => tracing::debug!("state file {} written", k.path.display()),
@@ -331,8 +331,8 @@ impl DeviceRole {
                 self.tell(StationEvent::PlcRunning(r), out);
             }
         }
-        if self.device.signal_count() != self.signals {
-            self.signals = self.device.signal_count();
+        if self.device.station().signal_count() != self.signals {
+            self.signals = self.device.station().signal_count();
             self.tell(StationEvent::Blink, out);
         }
     }

@@ -302,7 +302,9 @@ pub fn engine(station: &StationConfig, mac: MacAddress, cycle_ns: u64) -> Device
         // Configured and plugged, with no AR yet: a pull cannot be refused.
         let _ = device.pull_submodule(at, 0, &mut Vec::new());
     }
-    device.set_type_of_station(&station.device_type);
+    device
+        .station_mut()
+        .set_type_of_station(&station.device_type);
     device.set_parameter_records(&parameter_records(station));
     device.hand_over_cyclic(cycle_ns);
     device
