@@ -181,12 +181,14 @@ impl Consumer {
 
     /// Judges a cyclic frame from `src`, `pdu` being its Ethernet payload from the FrameID
     /// on, received at `now_ns`.
+    #[inline]
     pub fn consume<'a>(&mut self, src: MacAddress, pdu: &'a [u8], now_ns: u64) -> Verdict<'a> {
         let v = self.judge(src, pdu, now_ns);
         self.counts.count(v.kind());
         v
     }
 
+    #[inline]
     fn judge<'a>(&mut self, src: MacAddress, pdu: &'a [u8], now_ns: u64) -> Verdict<'a> {
         if src != self.peer || pdu.get(..2) != Some(&self.frame_id.to_be_bytes()[..]) {
             return Verdict::Foreign;
@@ -227,6 +229,7 @@ impl Consumer {
     /// When the watchdog runs out if no frame is accepted before it: the watchdog time after
     /// the last accepted frame; before the first, the grace after the start; `None` before
     /// either.
+    #[inline]
     pub fn deadline_ns(&self) -> Option<u64> {
         match (self.last_accepted_ns, self.started_ns) {
             (Some(t), _) => Some(t.saturating_add(self.watchdog_ns)),
@@ -237,6 +240,7 @@ impl Consumer {
 
     /// Whether the watchdog ran out by `now_ns`: its whole time passed without an accepted
     /// frame.
+    #[inline]
     pub fn expired(&self, now_ns: u64) -> bool {
         self.deadline_ns().is_some_and(|d| now_ns >= d)
     }

@@ -149,6 +149,7 @@ impl CyclicAr {
     }
 
     /// Offset of the FrameID in [`frame`](Self::frame).
+    #[inline]
     pub fn payload_offset(&self) -> usize {
         self.frame.len() - 2 - self.output.data_length - 4
     }

@@ -6,6 +6,9 @@
 
 use super::{CrMap, CyclicAr};
 
+// The cycle thread calls these once per AR and cycle from another crate: `#[inline]` lets
+// them inline there, as the code they replaced did.
+
 /// What a producer puts in its frame, per submodule of the caller's table.
 pub trait ProducedData {
     /// The data of `submodule`; left as it is in the frame unless exactly as long as the
@@ -20,12 +23,14 @@ pub trait ProducedData {
 impl CyclicAr {
     /// Whether the produced CR has a frame due in cycle `cycle` of the cycle thread: one
     /// every `every_cycles` (the reduction ratio in cycles), from cycle 0 on.
+    #[inline]
     pub const fn due(&self, cycle: u64) -> bool {
         let every = self.timing.every_cycles as u64;
         every <= 1 || cycle.is_multiple_of(every)
     }
 
     /// The produced frame's C_SDU, to be written in place, and its map.
+    #[inline]
     pub fn c_sdu_mut(&mut self) -> (&CrMap, &mut [u8]) {
         let at = self.payload_offset() + 2;
         let CyclicAr { output, frame, .. } = self;
@@ -34,6 +39,7 @@ impl CyclicAr {
     }
 
     /// Writes every data object, IOPS and IOCS of the produced CR from `from`.
+    #[inline]
     pub fn fill(&mut self, from: &impl ProducedData) {
         let (output, c_sdu) = self.c_sdu_mut();
         for o in &output.objects {
@@ -56,6 +62,7 @@ impl CyclicAr {
 
     /// Writes the APDU status (CycleCounter, DataStatus, TransferStatus 0) behind the
     /// C_SDU and returns the frame, ready to send.
+    #[inline]
     pub fn seal(&mut self, cycle_counter: u16, data_status: u8) -> &[u8] {
         let trailer = self.payload_offset() + 2 + self.output.data_length;
         if let Some(t) = self.frame.get_mut(trailer..trailer + 4) {
