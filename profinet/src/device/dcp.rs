@@ -4,8 +4,8 @@
 //! and NameOfStation, Signal, start/stop transaction and reset to factory; and the Hello
 //! request a device may send at start-up.
 
-use super::dcp_veto::{DcpChecks, Hold};
-use super::{DeviceAction, ethernet_frame};
+use super::dcp_veto::{DcpChecks, HeldSet, Hold, UnknownDcpSetCheck};
+use super::{Application, Device, DeviceAction, ethernet_frame};
 use crate::wire::MacAddress;
 use crate::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType, block_error, code};
 
@@ -466,6 +466,55 @@ fn valid_ip(ip: [u8; 4], mask: [u8; 4], gateway: [u8; 4]) -> bool {
 /// Whether a FrameID is one of the DCP requests a device answers (Identify, Get/Set).
 pub(super) fn is_request_frame_id(frame_id: u16) -> bool {
     frame_id == dcp::FRAME_ID_IDENTIFY_REQUEST || frame_id == dcp::FRAME_ID_GET_SET
+}
+
+/// The application's veto on DCP's changes ([`super::dcp_veto`]): turning the checks on,
+/// the verdict, and the Set carried out when nobody answers.
+impl<A: Application> Device<A> {
+    /// Has every DCP Set of the station's name or address (and reset to factory) wait for
+    /// the application's [`answer_dcp_set`](Self::answer_dcp_set) (a
+    /// [`DeviceAction::DcpSetCheck`]), or not. Off from the start.
+    pub fn verify_dcp_sets(&mut self, on: bool) {
+        self.dcp.checks.on = on;
+    }
+
+    /// The application's verdict on DCP Set check `job`: carry it out (`true`) or refuse
+    /// its name, address and reset blocks.
+    pub fn answer_dcp_set(
+        &mut self,
+        job: u64,
+        allow: bool,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> Result<(), UnknownDcpSetCheck> {
+        let held = self
+            .dcp
+            .checks
+            .held
+            .take_if(|h| h.job == job)
+            .ok_or(UnknownDcpSetCheck(job))?;
+        self.carry_out_set(&held, allow, out);
+        self.sync_handover(now_ns, out);
+        Ok(())
+    }
+
+    /// DCP Set checks the application did not answer in time (the Sets were carried out).
+    pub fn dcp_set_check_timeouts(&self) -> u64 {
+        self.dcp.checks.timeouts
+    }
+
+    /// Carries out a held Set whose time is up.
+    pub(super) fn expire_dcp_check(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
+        if let Some(h) = self.dcp.checks.held.take_if(|h| now_ns >= h.deadline) {
+            self.dcp.checks.timeouts += 1;
+            self.carry_out_set(&h, true, out);
+        }
+    }
+
+    fn carry_out_set(&mut self, held: &HeldSet, allow: bool, out: &mut Vec<DeviceAction>) {
+        let changes: Changes = answer_set(&mut self.station.id, held.src, &held.req, allow, out);
+        self.after_dcp(changes, out);
+    }
 }
 
 #[cfg(test)]
