@@ -6,8 +6,9 @@
 //! Feed it Ethernet frames ([`Controller::on_frame`]), UDP datagrams of port 34964
 //! ([`Controller::on_datagram`]), the cycle thread's reports ([`Controller::on_watchdog`],
 //! [`Controller::on_data_started`]) and the time ([`Controller::poll`]); it answers with
-//! [`Action`]s: frames and datagrams to send, cyclic exchanges to start or stop, and events
-//! for clients and the log. No socket, no clock, no thread inside.
+//! [`Action`]s: frames and datagrams to send, devices' MAC addresses for the driver's
+//! neighbour table, cyclic exchanges to start or stop, and events for clients and the log.
+//! No socket, no clock, no thread inside.
 
 pub mod cyclic;
 pub mod device;
