@@ -19,8 +19,8 @@ pub(super) struct Cx<'a> {
     /// Where relative GSDML paths start.
     pub dir: &'a Path,
     /// Check what depends on the machine the configuration is for, too: that its `network`
-    /// interface exists.
-    pub on_this_machine: bool,
+    /// interface exists, by asking this.
+    pub interface: Option<super::InterfaceCheck<'a>>,
 }
 
 impl Cx<'_> {

@@ -88,13 +88,19 @@ pub const MAX_DEVICES: usize = 256;
 /// Most submodules in one configuration, over all devices.
 pub const MAX_SUBMODULES: usize = 4096;
 
+/// Whether this machine has the network interface `name`: `Ok`, or what to say about its
+/// absence (that it does not exist, and which interfaces there are), to which [`load`] adds
+/// the file, line and key and what to write instead. The caller asks the operating system
+/// (procimgd and the tools pass `procimg_nic::interfaces::check`): this crate reads no
+/// interface, so that it needs no network crate.
+pub type InterfaceCheck<'a> = &'a dyn Fn(&str) -> Result<(), String>;
+
 /// Reads, parses and validates the configuration file at `path`, for this machine: besides
-/// what [`parse`] checks, a `network` interface must exist here (the message lists the ones
-/// there are).
+/// what [`parse`] checks, a `network` interface must pass `interface` (exist here).
 ///
 /// Messages name the file as `path` is written; relative `gsdml` paths start at the file's
 /// directory.
-pub fn load(path: &Path) -> Result<Config, ConfigError> {
+pub fn load(path: &Path, interface: InterfaceCheck<'_>) -> Result<Config, ConfigError> {
     let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
         path: path.to_path_buf(),
         source,
@@ -103,7 +109,7 @@ pub fn load(path: &Path) -> Result<Config, ConfigError> {
         text: &text,
         origin: &path.display().to_string(),
         dir: path.parent().unwrap_or(Path::new("")),
-        on_this_machine: true,
+        interface: Some(interface),
     };
     build(&cx)
 }
@@ -123,7 +129,7 @@ pub fn parse_in_dir(text: &str, origin: &str, dir: &Path) -> Result<Config, Conf
         text,
         origin,
         dir,
-        on_this_machine: false,
+        interface: None,
     })
 }
 

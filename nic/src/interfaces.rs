@@ -21,6 +21,16 @@ pub fn exists(name: &str) -> bool {
     pnet_datalink::interfaces().iter().any(|i| i.name == name)
 }
 
+/// `Ok` if interface `name` exists, else [`missing`]'s words: the interface check
+/// `procimg_config::load` takes.
+pub fn check(name: &str) -> Result<(), String> {
+    if exists(name) {
+        Ok(())
+    } else {
+        Err(missing(name))
+    }
+}
+
 /// The first IPv4 address of interface `name`, if it has one.
 pub fn ipv4(name: &str) -> Option<std::net::Ipv4Addr> {
     pnet_datalink::interfaces()

@@ -89,7 +89,7 @@
 //!                 }
 //!                 Action::Start(ar) => cyclic = Some((Consumer::of(&ar, now), ar)),
 //!                 Action::Stop { .. } => cyclic = None,
-//!                 Action::Event(_) => {}
+//!                 Action::Neighbour { .. } | Action::Event(_) => {}
 //!             }
 //!         }
 //!         for action in std::mem::take(&mut to_controller) {

@@ -79,6 +79,7 @@ fn run<R: Role>(setup: AcyclicSetup<R>) {
         channel: &channel,
         events: events.as_ref(),
         shared: &shared,
+        neighbour_warned: false,
     };
     loop {
         let now = now_ns();
@@ -194,9 +195,27 @@ struct Sink<'a, E> {
     events: Option<&'a Sender<E>>,
     /// Whose control thread learns of the events.
     shared: &'a Shared,
+    /// A peer's MAC address could not be given to the network stack before (warned once).
+    neighbour_warned: bool,
 }
 
 impl<E> Sink<'_, E> {
+    /// The stack would not take a peer's MAC address: its calls then wait for ARP, and one
+    /// repeated meanwhile reaches the peer twice. Said once, with what to do; then quietly.
+    fn neighbour_failed(&mut self, ip: std::net::Ipv4Addr, e: &std::io::Error) {
+        if self.neighbour_warned {
+            tracing::debug!("cannot set the neighbour entry of {ip}: {e}");
+            return;
+        }
+        self.neighbour_warned = true;
+        tracing::warn!(
+            "cannot tell the network stack the MAC address DCP found for {ip} ({e}); RPC \
+             calls to devices wait for ARP instead, and a call repeated while a device's \
+             address does not resolve reaches it twice: run procimgd as root or grant it \
+             cap_net_admin"
+        );
+    }
+
     fn carry_out(&mut self, out: &mut Vec<Effect<E>>, datagrams: &mut dyn Datagrams) {
         let mut events = 0;
         for effect in out.drain(..) {
@@ -207,6 +226,11 @@ impl<E> Sink<'_, E> {
                 Effect::Datagram { to, payload } => {
                     if let Err(e) = datagrams.send_to(to, &payload) {
                         tracing::warn!("cannot send to {to}: {e}");
+                    }
+                }
+                Effect::Neighbour { ip, mac } => {
+                    if let Err(e) = datagrams.set_neighbour(ip, mac) {
+                        self.neighbour_failed(ip, &e);
                     }
                 }
                 Effect::Start(ar) => {

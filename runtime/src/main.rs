@@ -119,7 +119,7 @@ fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let mut config = match &args.config {
-        Some(path) => config::load(path)?,
+        Some(path) => config::load(path, &procimg_nic::interfaces::check)?,
         None if args.demo_device => Config::demo_device(),
         None => Config::demo(),
     };

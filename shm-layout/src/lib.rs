@@ -18,7 +18,8 @@
 #![no_std]
 #![deny(unsafe_code)]
 
-#[cfg(feature = "control")]
+// Always: texts for people (`SubmoduleDesc::address_text`) are built without the control
+// protocol too, as the configuration crate uses the layout's plain types alone.
 extern crate alloc;
 
 #[cfg(feature = "control")]

@@ -12,12 +12,12 @@ pub mod build;
 pub mod c;
 pub mod files;
 pub mod fixtures;
-pub mod netns;
+/// Network namespaces with a veth pair (the `procimg-netns` crate, which the soak shares).
+pub use procimg_netns::netns;
 pub mod pattern;
 mod procimgd;
-// Test support signals its own child processes: kill(2) is a system call.
-#[allow(unsafe_code)]
-pub mod signal;
+/// Signals to child processes (the `procimg-netns` crate).
+pub use procimg_netns::signal;
 pub mod tshark;
 pub mod udp;
 pub mod world;

@@ -162,6 +162,29 @@ pub fn frames_matching(pcap: &std::path::Path, filter: &str) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// The values of `fields` (display filter field names such as `dcerpc.dg_act_id`) in each
+/// frame of `pcap` that matches display filter `filter`, in capture order: one string per
+/// field, empty where the frame has none, several occurrences joined by commas.
+pub fn fields_matching(pcap: &std::path::Path, filter: &str, fields: &[&str]) -> Vec<Vec<String>> {
+    let mut cmd = Command::new("tshark");
+    cmd.arg("-r").arg(pcap).args(["-Y", filter, "-T", "fields"]);
+    for f in fields {
+        cmd.args(["-e", f]);
+    }
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run tshark ({e}): apt-get install tshark"));
+    assert!(
+        out.status.success(),
+        "tshark failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| l.split('\t').map(str::to_owned).collect())
+        .collect()
+}
+
 /// The frames of `pcap` that tshark flags: malformed, or an expert item of error level.
 pub fn flagged(pcap: &std::path::Path) -> String {
     frames_matching(pcap, "_ws.malformed || _ws.expert.severity >= error")

@@ -40,7 +40,8 @@ fn no_instance(_: &str) -> Result<String, String> {
 }
 
 pub fn run(args: GsdmlArgs) -> anyhow::Result<()> {
-    let config = procimg_config::load(&args.config).map_err(|e| anyhow!("{e}"))?;
+    let config = procimg_config::load(&args.config, &procimg_nic::interfaces::check)
+        .map_err(|e| anyhow!("{e}"))?;
     let Some(station) = config
         .station
         .as_ref()

@@ -47,3 +47,30 @@ impl WriteCache {
         self.dirty.iter().any(|&d| d) || self.input_iocs.iter().any(Option::is_some)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use procimg_shm_layout::{LayoutHeader, SubmoduleEntry};
+
+    #[test]
+    fn a_new_cache_fits_the_layout_and_waits_for_nothing_until_written() {
+        let layout = Layout {
+            header: LayoutHeader {
+                output_size: 6,
+                ..LayoutHeader::default()
+            },
+            devices: Vec::new(),
+            submodules: vec![SubmoduleEntry::EMPTY; 2],
+        };
+        let mut c = WriteCache::new(&layout);
+        assert_eq!(c.data.len(), 6);
+        assert_eq!(c.output_iops, vec![Ioxs::Good; 2]);
+        assert!(!c.pending());
+        c.dirty[1] = true;
+        assert!(c.pending(), "a written submodule waits");
+        c.dirty[1] = false;
+        c.input_iocs[0] = Some(Ioxs::Bad);
+        assert!(c.pending(), "a local input status waits too");
+    }
+}

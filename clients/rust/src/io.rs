@@ -329,3 +329,42 @@ impl Client {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use procimg_shm_layout::{IOXS_BAD_BY_CONTROLLER, IOXS_GOOD};
+
+    fn entry() -> SubmoduleEntry {
+        SubmoduleEntry {
+            output_offset: 2,
+            output_length: 3,
+            client_status_offset: 8,
+            ..SubmoduleEntry::EMPTY
+        }
+    }
+
+    #[test]
+    fn a_stamp_writes_what_it_is_given_and_says_so_in_the_flags() {
+        let e = entry();
+        let mut p = [0u8; 12];
+        stamp(&mut p, &e, Some(&[1, 2, 3]), None, None);
+        assert_eq!(&p[2..5], &[1, 2, 3]);
+        assert_eq!(p[8 + 2], CLIENT_WROTE_OUTPUTS);
+        // Statuses later: the data flag stays, the statuses' bytes and flags are added.
+        stamp(&mut p, &e, None, Some(Ioxs::Bad), Some(Ioxs::Good));
+        assert_eq!(&p[8..10], &[IOXS_BAD_BY_CONTROLLER, IOXS_GOOD]);
+        assert_eq!(
+            p[8 + 2],
+            CLIENT_WROTE_OUTPUTS | CLIENT_SET_OUTPUT_IOPS | CLIENT_SET_INPUT_IOCS
+        );
+    }
+
+    #[test]
+    fn a_stamp_outside_the_payload_writes_nothing() {
+        let e = entry();
+        let mut p = [0u8; 4];
+        stamp(&mut p, &e, Some(&[1, 2, 3]), Some(Ioxs::Good), None);
+        assert_eq!(p, [0; 4]);
+    }
+}

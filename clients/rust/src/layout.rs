@@ -96,7 +96,90 @@ impl Layout {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use procimg_shm_layout::{NO_ADDRESS, STATION_NAME_LEN, encode_tables};
     use proptest::prelude::*;
+
+    fn device(name: &str, first: u32, count: u32) -> DeviceEntry {
+        let mut station_name = [0u8; STATION_NAME_LEN];
+        station_name[..name.len()].copy_from_slice(name.as_bytes());
+        DeviceEntry {
+            station_name,
+            vendor_id: 0x0493,
+            device_id: 1,
+            instance: 1,
+            reduction_ratio: 1,
+            ip_address: [192, 168, 0, 10],
+            first_submodule: first,
+            submodule_count: count,
+            watchdog_factor: 3,
+            reserved: 0,
+        }
+    }
+
+    fn submodule(device: u16, slot: u16, input: u16, output: u16) -> SubmoduleEntry {
+        SubmoduleEntry {
+            device,
+            slot,
+            subslot: 1,
+            input_length: input,
+            output_length: output,
+            output_address: if output > 0 {
+                u32::from(slot)
+            } else {
+                NO_ADDRESS
+            },
+            ..SubmoduleEntry::EMPTY
+        }
+    }
+
+    /// Two devices as the server publishes them: "io" with slots 0 to 2, "di" with slot 1.
+    fn published() -> (LayoutHeader, Vec<u8>) {
+        let devices = [device("io", 0, 3), device("di", 3, 1)];
+        let submodules = [
+            submodule(0, 0, 0, 0),
+            submodule(0, 1, 2, 2),
+            submodule(0, 2, 4, 0),
+            submodule(1, 1, 2, 0),
+        ];
+        let header = LayoutHeader {
+            device_count: 2,
+            submodule_count: 4,
+            ..LayoutHeader::default()
+        };
+        let mut payload = vec![0u8; 4096];
+        assert!(encode_tables(&mut payload, &devices, &submodules));
+        (header, payload)
+    }
+
+    #[test]
+    fn a_published_layout_decodes_and_finds_its_submodules() {
+        let (header, payload) = published();
+        let l = Layout::decode(&header, &payload).expect("the tables decode");
+        assert_eq!((l.devices.len(), l.submodules.len()), (2, 4));
+        assert_eq!(l.device("di"), Some(1));
+        assert_eq!(l.device("nobody"), None);
+        assert_eq!(l.device_name(0), "io");
+        assert_eq!(l.device_name(7), "?", "a device out of range has no name");
+        assert_eq!(l.submodules_of(0), 0..3);
+        assert_eq!(l.submodules_of(1), 3..4);
+        assert_eq!(l.submodules_of(9), 0..0);
+        assert_eq!(l.find("io", 2, 1), Some(2));
+        assert_eq!(l.find("di", 1, 1), Some(3));
+        // Slot 2 is "io"'s, not "di"'s.
+        assert_eq!(l.find("di", 2, 1), None);
+        assert_eq!(l.find("io", 1, 2), None);
+        assert_eq!(l.output_submodules().collect::<Vec<_>>(), vec![1]);
+        assert!(!l.is_device());
+    }
+
+    #[test]
+    fn a_payload_shorter_than_its_tables_decodes_to_nothing() {
+        let (header, payload) = published();
+        let sub_at = procimg_shm_layout::ImageLayout::submodule_table_offset(2) as usize;
+        let whole = sub_at + 4 * core::mem::size_of::<SubmoduleEntry>();
+        assert!(Layout::decode(&header, &payload[..whole]).is_some());
+        assert_eq!(Layout::decode(&header, &payload[..whole - 1]), None);
+    }
 
     proptest! {
         /// Whatever a layout sample holds, decoding it returns a layout or None: no panic,

@@ -55,3 +55,42 @@ pub fn read_status(payload: &[u8], e: &SubmoduleEntry) -> SubmoduleIoxs {
         output_remote: Ioxs::from_byte(b[3]),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_status_byte_reads_by_its_data_state_and_is_sent_as_iobase_does() {
+        assert_eq!(Ioxs::from_byte(IOXS_GOOD), Ioxs::Good);
+        assert_eq!(Ioxs::from_byte(IOXS_BAD_BY_CONTROLLER), Ioxs::Bad);
+        assert_eq!(Ioxs::from_byte(0), Ioxs::Bad);
+        for s in [Ioxs::Good, Ioxs::Bad] {
+            assert_eq!(Ioxs::from_byte(s.byte()), s);
+        }
+    }
+
+    #[test]
+    fn the_four_statuses_come_from_the_submodules_bytes_and_are_bad_out_of_range() {
+        let e = SubmoduleEntry {
+            status_offset: 4,
+            ..SubmoduleEntry::EMPTY
+        };
+        let mut payload = [0u8; 8];
+        payload[4..8].copy_from_slice(&[IOXS_GOOD, 0, IOXS_GOOD, IOXS_BAD_BY_CONTROLLER]);
+        let s = read_status(&payload, &e);
+        assert_eq!(
+            (
+                s.input_remote,
+                s.input_local,
+                s.output_local,
+                s.output_remote
+            ),
+            (Ioxs::Good, Ioxs::Bad, Ioxs::Good, Ioxs::Bad)
+        );
+        // A payload that ends inside the bytes: all BAD, no panic.
+        let s = read_status(&payload[..6], &e);
+        assert_eq!(s.input_remote, Ioxs::Bad);
+        assert_eq!(s.output_local, Ioxs::Bad);
+    }
+}

@@ -104,8 +104,8 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
         Some(v) if v.get_ref() == "sim" => Network::Sim,
         Some(v) => {
             cx.check(&v, "network", interface_name(v.get_ref()))?;
-            if cx.on_this_machine {
-                cx.check(&v, "network", interface_exists(v.get_ref()))?;
+            if let Some(check) = cx.interface {
+                cx.check(&v, "network", interface_exists(check, v.get_ref()))?;
             }
             Network::Interface(v.into_inner())
         }
@@ -265,14 +265,13 @@ fn interface_name(name: &str) -> Result<(), String> {
     Ok(())
 }
 
-fn interface_exists(name: &str) -> Result<(), String> {
-    if procimg_nic::interfaces::exists(name) {
-        return Ok(());
-    }
-    Err(format!(
-        "{}; give one of them (as `ip link` lists it), or \"sim\" for the simulated devices",
-        procimg_nic::interfaces::missing(name)
-    ))
+fn interface_exists(check: crate::InterfaceCheck<'_>, name: &str) -> Result<(), String> {
+    check(name).map_err(|missing| {
+        format!(
+            "{missing}; give one of them (as `ip link` lists it), or \"sim\" for the simulated \
+             devices"
+        )
+    })
 }
 
 fn cycle_thread(raw: RawCycleThread, cx: &Cx<'_>) -> Result<CycleThreadConfig, ConfigError> {

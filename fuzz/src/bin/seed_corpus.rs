@@ -380,7 +380,7 @@ fn text(fuzz_dir: &Path, seeds: &mut Seeds) -> std::io::Result<()> {
         world::CONFIG.as_bytes(),
     );
     let root = fuzz_dir.join("..");
-    for dir in ["runtime/gsdml", "runtime/tests/fixtures/gsdml"] {
+    for dir in ["config/gsdml", "config/tests/fixtures/gsdml"] {
         let mut files: Vec<PathBuf> = std::fs::read_dir(root.join(dir))?
             .map(|e| e.map(|e| e.path()))
             .collect::<Result<_, _>>()?;

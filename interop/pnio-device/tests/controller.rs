@@ -693,6 +693,12 @@ impl Rig {
             !abort.trim().is_empty(),
             "no ERR-RTA \"consumer DHT expired\" from procimgd ({mac}) on the wire"
         );
+        // The first bring-up, the restarted device's and the resumed device's at least.
+        let attempts = connects_once_per_attempt(&pcap, self.net.controller_ip);
+        assert!(
+            attempts >= 3,
+            "{attempts} Connect attempts on the wire, 3 expected"
+        );
         let icmp = tshark::frames_matching(
             &pcap,
             &format!("icmp.type == 3 && ip.src == {}", self.net.controller_ip),
@@ -703,6 +709,66 @@ impl Rig {
         );
         let _ = &self.dir;
     }
+}
+
+/// Every Connect request procimgd sent in the capture went out once per attempt: a bring-up
+/// is one RPC activity, and a Connect PDU (activity, sequence number, fragment) goes out
+/// again only as a retry, after the call's retry time without an answer. A Connect sent
+/// twice at once makes the device take the second as a new Connect for an AR it holds and
+/// abort it. Returns the number of attempts seen.
+fn connects_once_per_attempt(pcap: &std::path::Path, controller: std::net::Ipv4Addr) -> usize {
+    use procimg_profinet::controller::rpc_call::RETRY_NS;
+    use procimg_profinet::wire::rpc::opnum;
+    let filter = format!(
+        "ip.src == {controller} && dcerpc.pkt_type == 0 && dcerpc.opnum == {}",
+        opnum::CONNECT
+    );
+    let fields = [
+        "dcerpc.dg_act_id",
+        "dcerpc.dg_seqnum",
+        "dcerpc.dg_frag_num",
+        "frame.time_relative",
+    ];
+    let rows = tshark::fields_matching(pcap, &filter, &fields);
+    assert!(
+        !rows.is_empty(),
+        "no Connect request from procimgd on the wire"
+    );
+    // (activity, sequence number, fragment) → the capture times of its sends.
+    let mut sends: std::collections::BTreeMap<(String, String, String), Vec<f64>> =
+        Default::default();
+    for r in &rows {
+        let [act, seq, frag, t] = &r[..] else {
+            panic!("tshark gave {r:?} for the fields {fields:?}");
+        };
+        let t: f64 = t.parse().expect("frame.time_relative is a number");
+        sends
+            .entry((act.clone(), seq.clone(), frag.clone()))
+            .or_default()
+            .push(t);
+    }
+    // The capture's clock is not procimgd's and the frames wait for their turn on either
+    // side, so a repeat is taken as one when it came after half the retry time; copies held
+    // back and released together come microseconds apart.
+    let retry = RETRY_NS as f64 / 1e9;
+    for (key, times) in &sends {
+        for pair in times.windows(2) {
+            assert!(
+                pair[1] - pair[0] >= retry / 2.0,
+                "procimgd sent the Connect PDU (activity, sequence number, fragment) {key:?} \
+                 again {:.6} s after the first, before its retry time ({retry} s); every \
+                 Connect request on the wire:\n{rows:#?}",
+                pair[1] - pair[0]
+            );
+        }
+    }
+    let attempts: std::collections::BTreeSet<_> = sends.keys().map(|(a, _, _)| a).collect();
+    eprintln!(
+        "{} Connect attempts, {} Connect PDUs on the wire",
+        attempts.len(),
+        rows.len()
+    );
+    attempts.len()
 }
 
 #[test]
@@ -719,4 +785,66 @@ fn procimgd_brings_up_the_pnio_device_and_survives_its_loss() {
     rig.restart_device();
     rig.stall_device();
     rig.shut_down();
+}
+
+/// The device takes its address a while after it answers DCP (as p-net does after a DCP
+/// Set IP): for that while nothing answers ARP for it. A Connect that waited in procimgd's
+/// kernel for the address would wait there with its repeats and reach the device together
+/// with them; procimgd gives its kernel the MAC address DCP found, so each goes out when it
+/// is sent. The capture holds one Connect PDU per attempt, repeats only after the retry
+/// time, and the device comes up.
+#[test]
+#[ignore = "needs root (network namespaces): run as root with --ignored"]
+fn a_connect_waiting_for_the_devices_address_reaches_it_once() {
+    assert!(
+        procimg_testkit::netns::is_root(),
+        "this test builds network namespaces, which needs root: run it as root"
+    );
+    let net = Net::new("pa", 10);
+    let dir = procimg_testkit::files::temp_dir("pnio-arp");
+    let capture = LiveCapture::start(
+        net.device_ns(),
+        net.device_if(),
+        &dir.path().join("wire.pcapng"),
+    );
+    let address = |verb: &str| {
+        procimg_testkit::netns::ip(&[
+            "-n",
+            net.device_ns(),
+            "addr",
+            verb,
+            &format!("{}/24", net.device_ip),
+            "dev",
+            net.device_if(),
+        ])
+    };
+    address("del");
+    let mut device = Device::start(&net);
+    let instance = format!("iopa{}", std::process::id());
+    let mut server = Launch::config("iopa", &configuration(&net))
+        .instance(&instance)
+        .netns(net.controller_ns())
+        .debug_log()
+        .without_waiting()
+        .start();
+    // Waits until procimgd answers on its control service.
+    let control = server.control(Duration::from_secs(10));
+    server.wait_status_within("the Connect sent", BRING_UP_TIMEOUT, |s| {
+        s.devices.first().is_some_and(|d| d.state == "connecting")
+    });
+    // Past the Connect's first retry time, within the kernel's three ARP requests (one a
+    // second): an address resolved only now would release the Connect and its repeat at once.
+    std::thread::sleep(Duration::from_millis(1_500));
+    address("add");
+    server.wait_status_within("the device in data exchange", BRING_UP_TIMEOUT, |s| {
+        s.devices.first().is_some_and(|d| d.state == "running")
+    });
+    device.wait_for("STATE data", Duration::from_secs(5));
+    drop(control);
+    let status = server.terminate();
+    assert!(status.success(), "procimgd's exit: {status}");
+    let status = device.terminate();
+    assert!(status.success(), "the device's exit: {status}");
+    let pcap = capture.stop();
+    connects_once_per_attempt(&pcap, net.controller_ip);
 }

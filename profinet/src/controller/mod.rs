@@ -6,8 +6,9 @@
 //! Feed it Ethernet frames ([`Controller::on_frame`]), UDP datagrams of port 34964
 //! ([`Controller::on_datagram`]), the cycle thread's reports ([`Controller::on_watchdog`],
 //! [`Controller::on_data_started`]) and the time ([`Controller::poll`]); it answers with
-//! [`Action`]s: frames and datagrams to send, cyclic exchanges to start or stop, and events
-//! for clients and the log. No socket, no clock, no thread inside.
+//! [`Action`]s: frames and datagrams to send, devices' MAC addresses for the driver's
+//! neighbour table, cyclic exchanges to start or stop, and events for clients and the log.
+//! No socket, no clock, no thread inside.
 
 pub mod cyclic;
 pub mod device;
@@ -16,6 +17,7 @@ pub mod plan;
 pub mod rpc_call;
 pub mod uuids;
 
+use crate::wire::MacAddress;
 use crate::wire::PnioStatus;
 use crate::wire::alarm::{AlarmNotification, Priority};
 use crate::wire::connect::ModuleDiffBlock;
@@ -25,7 +27,7 @@ use cyclic::CyclicAr;
 use device::DeviceAr;
 pub use failure::FailureCause;
 use plan::{ControllerIdentity, DevicePlan};
-use std::net::SocketAddrV4;
+use std::net::{Ipv4Addr, SocketAddrV4};
 
 /// Where a device is in its life.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -237,6 +239,18 @@ pub enum Action {
         to: SocketAddrV4,
         /// The RPC PDU.
         payload: Vec<u8>,
+    },
+    /// The device at `ip` has the MAC address `mac` (DCP found it there): the driver tells
+    /// its network stack, before the RPC calls to the device that follow. Otherwise the stack
+    /// resolves the address itself (ARP) and holds the calls until it does; a call repeated
+    /// meanwhile (after its retry time) is held beside the first, and both reach the device
+    /// at once when the address resolves, which some devices take for a second Connect to an
+    /// AR they hold and abort.
+    Neighbour {
+        /// The device's IP address.
+        ip: Ipv4Addr,
+        /// Its MAC address.
+        mac: MacAddress,
     },
     /// Start (or replace) a device's cyclic exchange.
     Start(Box<CyclicAr>),

@@ -176,6 +176,6 @@ impl Server {
 
 impl Drop for Server {
     fn drop(&mut self) {
-        procimg_testkit::signal::stop(&mut self.child, libc::SIGINT, Duration::from_secs(5));
+        procimg_netns::signal::stop(&mut self.child, libc::SIGINT, Duration::from_secs(5));
     }
 }

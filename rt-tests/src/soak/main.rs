@@ -90,7 +90,7 @@ fn main() -> std::process::ExitCode {
 }
 
 fn soak(args: &Args) -> anyhow::Result<()> {
-    if !procimg_testkit::signal::is_root() {
+    if !procimg_netns::signal::is_root() {
         anyhow::bail!(
             "procimg-soak needs root: it makes network namespaces and runs procimgd on a raw socket"
         );

@@ -76,7 +76,7 @@ impl Running {
 
     /// Sends `signal` and waits up to `grace` for the process to end; then SIGKILL.
     pub fn stop(&mut self, signal: i32, grace: Duration) {
-        procimg_testkit::signal::stop(&mut self.child, signal, grace);
+        procimg_netns::signal::stop(&mut self.child, signal, grace);
     }
 }
 

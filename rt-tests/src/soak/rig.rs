@@ -5,7 +5,7 @@
 
 use crate::process::Running;
 use anyhow::{Context as _, bail};
-use procimg_testkit::netns::TestNet;
+use procimg_netns::netns::TestNet;
 use std::net::Ipv4Addr;
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -457,7 +457,7 @@ impl Soak {
             return;
         };
         while m.alarms.try_recv().is_ok() {}
-        procimg_testkit::signal::send(device.pid(), libc::SIGUSR1);
+        procimg_netns::signal::send(device.pid(), libc::SIGUSR1);
         self.tally.alarms.raised += 1;
         let until = Instant::now() + ALARM_TIMEOUT;
         let mut delivered = false;

@@ -2,6 +2,8 @@
 //! UDP for the PROFINET connection services (port 34964): a real socket, or an in-process
 //! network for the simulated devices. The acyclic side uses it; the cycle thread never does.
 
+use crate::sys::netlink::Netlink;
+use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
 use std::os::fd::{AsRawFd as _, RawFd};
@@ -12,6 +14,13 @@ use std::time::Duration;
 pub trait Datagrams: Send {
     /// Sends `payload` to `to` from our port 34964.
     fn send_to(&mut self, to: SocketAddrV4, payload: &[u8]) -> std::io::Result<()>;
+    /// Tells the network stack that `ip` has the MAC address `mac`, so that datagrams to it
+    /// leave at once rather than wait for ARP. Where there is no stack to tell (the
+    /// simulated network), nothing.
+    fn set_neighbour(&mut self, ip: Ipv4Addr, mac: MacAddress) -> std::io::Result<()> {
+        let _ = (ip, mac);
+        Ok(())
+    }
     /// Waits up to `timeout` for a datagram; its length and sender.
     fn recv_from(
         &mut self,
@@ -64,6 +73,9 @@ pub struct InterfaceBindError {
 /// A real UDP socket on port 34964.
 pub struct UdpDatagrams {
     socket: UdpSocket,
+    /// The interface whose neighbour table learns the peers' MAC addresses (its index), and
+    /// the route socket that tells it, opened at the first peer.
+    neighbours: Option<(u32, Option<Netlink>)>,
 }
 
 impl UdpDatagrams {
@@ -71,7 +83,17 @@ impl UdpDatagrams {
     pub fn bind(addr: Ipv4Addr) -> Result<UdpDatagrams, BindError> {
         let socket = UdpSocket::bind(SocketAddrV4::new(addr, RPC_PORT))
             .map_err(|error| BindError { addr, error })?;
-        Ok(UdpDatagrams { socket })
+        Ok(UdpDatagrams {
+            socket,
+            neighbours: None,
+        })
+    }
+
+    /// Peers' MAC addresses ([`Datagrams::set_neighbour`]) go to the neighbour table of
+    /// interface `index`, the one the peers are on.
+    pub fn with_neighbours_on(mut self, index: u32) -> UdpDatagrams {
+        self.neighbours = Some((index, None));
+        self
     }
 
     /// Opens port 34964 on every address of `interface`, present and future: the device
@@ -85,13 +107,27 @@ impl UdpDatagrams {
                 error,
             }
         })?;
-        Ok(UdpDatagrams { socket })
+        Ok(UdpDatagrams {
+            socket,
+            neighbours: None,
+        })
     }
 }
 
 impl Datagrams for UdpDatagrams {
     fn send_to(&mut self, to: SocketAddrV4, payload: &[u8]) -> std::io::Result<()> {
         self.socket.send_to(payload, to).map(|_| ())
+    }
+
+    fn set_neighbour(&mut self, ip: Ipv4Addr, mac: MacAddress) -> std::io::Result<()> {
+        let Some((index, socket)) = &mut self.neighbours else {
+            return Ok(());
+        };
+        let socket = match socket {
+            Some(s) => s,
+            None => socket.insert(Netlink::open()?),
+        };
+        socket.set_neighbour(*index, ip, mac.0)
     }
 
     fn recv_from_or_wake(

@@ -51,6 +51,16 @@ pub enum Effect<E> {
         /// The RPC PDU.
         payload: Vec<u8>,
     },
+    /// Tell the network stack that the peer at `ip` has the MAC address `mac` (DCP found it
+    /// there), before datagrams go to it: they then leave at once instead of waiting in the
+    /// stack's ARP queue, where a repeated call would wait beside the first one and reach the
+    /// peer together with it.
+    Neighbour {
+        /// The peer's IP address.
+        ip: std::net::Ipv4Addr,
+        /// Its MAC address.
+        mac: procimg_profinet::wire::MacAddress,
+    },
     /// Start (or replace) the cyclic exchange of an AR on the cycle thread.
     Start(Box<CyclicAr>),
     /// Stop the cyclic exchange of the AR of peer `device`.

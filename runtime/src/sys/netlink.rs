@@ -28,6 +28,17 @@ const RTM_DELADDR: u16 = 21;
 const RTM_GETADDR: u16 = 22;
 const RTM_NEWROUTE: u16 = 24;
 const RTM_DELROUTE: u16 = 25;
+const RTM_NEWNEIGH: u16 = 28;
+const NLM_F_REPLACE: u16 = 0x100;
+// linux/neighbour.h
+const NDA_DST: u16 = 1;
+const NDA_LLADDR: u16 = 2;
+/// NUD_STALE: an address known but not confirmed. The kernel sends to it at once and
+/// confirms it itself (unicast probes) once it is used.
+const NUD_STALE: u16 = 0x04;
+/// `struct ndmsg`: family (u8), 3 pad bytes, interface index (i32), state (u16), flags (u8),
+/// type (u8).
+const NDMSG_LEN: usize = 12;
 const RTA_OIF: u16 = 4;
 const RTA_GATEWAY: u16 = 5;
 const RTA_PRIORITY: u16 = 6;
@@ -138,6 +149,18 @@ impl Netlink {
             Err(e) if e.raw_os_error() == Some(libc::EADDRNOTAVAIL) => Ok(()),
             other => other,
         }
+    }
+
+    /// Tells interface `index`'s neighbour table that `ip` is at `mac` (what `ip neigh
+    /// replace IP lladdr MAC nud stale` does), replacing what it held for `ip`. Needs
+    /// CAP_NET_ADMIN.
+    pub fn set_neighbour(&mut self, index: u32, ip: Ipv4Addr, mac: [u8; 6]) -> io::Result<()> {
+        let flags = NLM_F_REQUEST | NLM_F_ACK | NLM_F_CREATE | NLM_F_REPLACE;
+        let mut m = Message::new(RTM_NEWNEIGH, flags, self.next_seq());
+        m.bytes(&ndmsg(index, NUD_STALE));
+        m.attr(NDA_DST, &ip.octets());
+        m.attr(NDA_LLADDR, &mac);
+        self.exchange(&m.finish(), |_, _| {})
     }
 
     /// Adds a default route through `gateway` on interface `index` with `metric`, marked as
@@ -288,6 +311,14 @@ fn ifaddrmsg(prefix: u8, scope: u8, index: u32) -> [u8; IFADDRMSG_LEN] {
     ]
 }
 
+fn ndmsg(index: u32, state: u16) -> [u8; NDMSG_LEN] {
+    let mut b = [0u8; NDMSG_LEN];
+    b[0] = libc::AF_INET as u8;
+    b[4..8].copy_from_slice(&index.to_ne_bytes());
+    b[8..10].copy_from_slice(&state.to_ne_bytes());
+    b
+}
+
 /// A default route (dst_len 0) of the main table, marked as ours.
 fn rtmsg(scope: u8, kind: u8) -> [u8; RTMSG_LEN] {
     [
@@ -388,6 +419,23 @@ mod tests {
         .concat();
         assert_eq!(&b[24..32], &local[..]);
         assert_eq!(&b[36..], &[PROCIMG_PROTOCOL, 0, 0, 0]);
+    }
+
+    #[test]
+    fn a_neighbour_request_is_laid_out_as_the_kernel_reads_it() {
+        let mut m = Message::new(RTM_NEWNEIGH, NLM_F_REQUEST, 1);
+        m.bytes(&ndmsg(3, NUD_STALE));
+        m.attr(NDA_DST, &[10, 0, 0, 2]);
+        m.attr(NDA_LLADDR, &[2, 0, 0, 0, 0, 11]);
+        let b = m.finish();
+        // Header 16, ndmsg 12, NDA_DST 8, NDA_LLADDR 10 padded to 12.
+        assert_eq!(b.len(), 48);
+        assert_eq!(b[16], libc::AF_INET as u8);
+        assert_eq!(&b[20..24], &3u32.to_ne_bytes());
+        assert_eq!(&b[24..26], &NUD_STALE.to_ne_bytes());
+        assert_eq!(&b[32..36], &[10, 0, 0, 2]);
+        assert_eq!(&b[36..38], &10u16.to_ne_bytes());
+        assert_eq!(&b[40..46], &[2, 0, 0, 0, 0, 11]);
     }
 
     #[test]

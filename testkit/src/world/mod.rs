@@ -469,6 +469,8 @@ impl<A: Application, P: Port> World<A, P> {
                         self.devices[d].on_datagram(from, to.port(), &payload, now, &mut out);
                         next.extend(self.device_actions(d, out));
                     }
+                    // The world's network reaches a device by its address alone.
+                    Action::Neighbour { .. } => {}
                     Action::Start(ar) => self.port.start(ar),
                     Action::Stop { device } => self.port.stop(device),
                     Action::Event(e) => self.events.push(e),

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The GSDML document of a planned station: the structure of the GSDML V2.4 schema, in its
-//! element order, as the hand-written files in `runtime/gsdml/` have it.
+//! element order, as the hand-written files in `config/gsdml/` have it.
 
 use super::plan::{Plan, PlannedModule};
 use super::xml::El;

@@ -26,13 +26,17 @@ impl DeviceAr {
         self.learn_tree = on;
     }
 
-    /// The device has its address: Connect, after reading its tree if asked to.
+    /// The device has its address: Connect, after reading its tree if asked to. Its MAC
+    /// address goes to the driver first, so that the calls to it need not wait for ARP.
     pub(super) fn connect_or_learn(
         &mut self,
         id: &ControllerIdentity,
         now: u64,
         out: &mut Vec<Action>,
     ) {
+        if let (Some(ip), Some(mac)) = (self.ip, self.mac) {
+            out.push(Action::Neighbour { ip, mac });
+        }
         let Some(ip) = self.ip.filter(|_| self.learn_tree) else {
             return self.connect(id, now, out);
         };

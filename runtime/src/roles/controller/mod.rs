@@ -126,7 +126,15 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                 })?;
                 let ip = procimg_nic::interfaces::ipv4(name)
                     .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
-                let udp = UdpDatagrams::bind(ip)?;
+                let mut udp = UdpDatagrams::bind(ip)?;
+                // The devices' MAC addresses from DCP go to the interface's neighbour table,
+                // so that no RPC call waits for ARP (see `Action::Neighbour`).
+                match crate::sys::netlink::interface_index(name) {
+                    Ok(index) => udp = udp.with_neighbours_on(index),
+                    Err(e) => tracing::warn!(
+                        "no index of interface {name:?} ({e}); RPC calls wait for ARP"
+                    ),
+                }
                 let mac = nic.mac();
                 (
                     cycle_io(nic, ch, device_submodules, cycle_ns),
@@ -218,7 +226,8 @@ fn open_advice(error: &OpenError) -> String {
                 .unwrap_or_else(|_| "procimgd".to_owned());
             format!(
                 "{error}; run procimgd as root, or grant it the capabilities it uses \
-                 (sudo setcap cap_net_raw,cap_sys_nice,cap_ipc_lock+ep {exe})"
+                 (sudo setcap cap_net_raw,cap_net_admin,cap_sys_nice,cap_ipc_lock+ep {exe}; \
+                 cap_net_admin gives the devices' MAC addresses to the neighbour table)"
             )
         }
         OpenError::Down { .. } | OpenError::Io { .. } => error.to_string(),

@@ -89,6 +89,7 @@ impl ControllerRole {
             out.push(match a {
                 Action::Frame(f) => Effect::Frame(f),
                 Action::Datagram { to, payload } => Effect::Datagram { to, payload },
+                Action::Neighbour { ip, mac } => Effect::Neighbour { ip, mac },
                 Action::Start(ar) => Effect::Start(ar),
                 Action::Stop { device } => Effect::Stop { device },
                 Action::Event(e) => {

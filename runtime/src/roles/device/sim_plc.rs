@@ -283,6 +283,8 @@ impl Plc {
                 Action::Frame(f) => {
                     let _ = self.link.send(&f);
                 }
+                // The simulated network resolves no addresses.
+                Action::Neighbour { .. } => {}
                 Action::Datagram { to, payload } => {
                     let _ = self.udp.tx.send(SimDatagram {
                         from: SocketAddrV4::new(self.ip, RPC_PORT),

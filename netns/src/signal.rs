@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The system calls of test support: signals to the test's own child processes, who it
-//! runs as, and entering a network namespace.
+//! The system calls around procimg's child processes (in tests and the soak run): signals to
+//! the caller's own children, who it runs as, and entering a network namespace.
 
 use std::process::Child;
 

@@ -3,12 +3,13 @@
 //! lengths, the DAP submodules, parameter records), the refusals with both files' lines, the
 //! demo's GSDML files against demo.toml, and no panics on any XML.
 
-use procimg_testkit::files::TempDir;
 use std::path::{Path, PathBuf};
+use tempfile::TempDir;
 
-use procimg_runtime::config::gsdml::{Gsdml, GsdmlError, SubmoduleKind};
-use procimg_runtime::config::{
-    self, Config, ConfigError, DeviceConfig, GsdmlSource, ParameterRecord, SubmoduleConfig,
+use procimg_config::gsdml::{Gsdml, GsdmlError, SubmoduleKind};
+use procimg_config::{
+    self as config, Config, ConfigError, DeviceConfig, GsdmlSource, ParameterRecord,
+    SubmoduleConfig,
 };
 use procimg_shm_layout::NO_ADDRESS;
 use proptest::prelude::*;
@@ -18,7 +19,7 @@ const DEMO_ECHO: &str = "gsdml/GSDML-V2.4-procimg-SimEcho-20261121.xml";
 const DEMO_COUNTER: &str = "gsdml/GSDML-V2.4-procimg-SimCounter-20261121.xml";
 const DEMO_DIO: &str = "gsdml/GSDML-V2.4-procimg-SimDIO-20261121.xml";
 
-/// A file of the runtime package, by its path relative to the package.
+/// A file of this package, by its path relative to the package.
 fn package_file(relative: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
 }
@@ -29,7 +30,21 @@ fn sample_text() -> String {
 
 /// A fresh directory for one test, removed when the guard drops.
 fn scratch(name: &str) -> TempDir {
-    procimg_testkit::files::temp_dir(&format!("gsdml-{name}"))
+    tempfile::Builder::new()
+        .prefix(&format!("procimg-gsdml-{name}-"))
+        .tempdir()
+        .unwrap_or_else(|e| panic!("cannot create a directory for test {name}: {e}"))
+}
+
+/// `e` and its sources, joined as procimgd prints an error (`{:#}` of anyhow).
+fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut shown = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        shown.push_str(&format!(": {s}"));
+        source = s.source();
+    }
+    shown
 }
 
 /// The 1-based line of the only line of `text` containing `needle`.
@@ -322,7 +337,7 @@ fn relative_paths_start_at_the_configuration_file() {
                 [[device.submodule]]\nslot = 1\nmodule = \"in1\"\n";
     let file = dir.join("plant.toml");
     std::fs::write(&file, text).unwrap();
-    let c = config::load(&file).unwrap();
+    let c = config::load(&file, &|_: &str| Ok(())).unwrap();
     assert_eq!(
         c.devices[0].gsdml.as_ref().unwrap().path,
         dir.join("gsdml/device.xml")
@@ -666,7 +681,7 @@ fn unreadable_and_broken_files_name_both_lines() {
         panic!("{e:?}")
     };
     assert!(matches!(**error, GsdmlError::Read { .. }), "{error:?}");
-    let chain = format!("{:#}", anyhow::Error::from(e));
+    let chain = error_chain(&e);
     assert_eq!(chain.matches("os error").count(), 1, "{chain}");
 
     // Not XML: the GSDML line of the damage.
@@ -707,7 +722,7 @@ fn unreadable_and_broken_files_name_both_lines() {
     // The GSDML file's message is in the configuration's, once: no `source` repeats it when
     // procimgd prints the whole chain.
     let message = error.to_string();
-    let chain = format!("{:#}", anyhow::Error::from(e));
+    let chain = error_chain(&e);
     assert_eq!(chain.matches(message.as_str()).count(), 1, "{chain}");
     // ... unless the configuration gives both lengths itself.
     let (text, _, _dir) = with_file("datatype-own", &xml, "input_length = 4\noutput_length = 0");

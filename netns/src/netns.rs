@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Two network namespaces joined by a veth pair, made for a test and removed when it ends
-//! (also when it fails).
+//! Two network namespaces joined by a veth pair, made for a test or a soak run and removed
+//! when it ends (also when it fails).
 
 use std::process::Command;
 
