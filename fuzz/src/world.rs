@@ -577,7 +577,7 @@ impl World {
         self.cycles_run += 1;
         self.net.advance(ms * MS);
         // The controller never asks to be polled later than it needs to.
-        if let Some(d) = self.net.controller().deadline() {
+        if let Some(d) = self.net.controller().next_deadline_ns() {
             assert!(d > 0, "a deadline at time 0");
         }
     }

@@ -8,14 +8,14 @@
 //!
 //! An IO controller brings a device up and exchanges data with it, both in memory: the
 //! caller moves the frames and datagrams between them, gives them the time, and runs the
-//! cyclic exchange that [`controller::Action::Start`] hands over (in procimgd the cycle
+//! cyclic exchange that [`controller::ControllerAction::Start`] hands over (in procimgd the cycle
 //! thread does that part). The device echoes its outputs; the controller reads them back.
 //!
 //! ```
 //! use procimg_profinet::controller::plan::{
 //!     ControllerIdentity, DevicePlan, DeviceSpec, SubmoduleSpec,
 //! };
-//! use procimg_profinet::controller::{Action, Controller};
+//! use procimg_profinet::controller::{ControllerAction, Controller};
 //! use procimg_profinet::cyclic::{Consumer, ProducedData, Verdict};
 //! use procimg_profinet::wire::rt::{cycle_counter_at, data_status};
 //! use procimg_profinet::device::{
@@ -82,14 +82,14 @@
 //!     while !to_device.is_empty() || !to_controller.is_empty() {
 //!         for action in std::mem::take(&mut to_device) {
 //!             match action {
-//!                 Action::Frame(f) => device.on_frame(&f, now, &mut to_controller),
-//!                 Action::Datagram { to, payload } => {
+//!                 ControllerAction::Frame(f) => device.on_frame(&f, now, &mut to_controller),
+//!                 ControllerAction::Datagram { to, payload } => {
 //!                     let port = to.port();
 //!                     device.on_datagram(controller_rpc, port, &payload, now, &mut to_controller)
 //!                 }
-//!                 Action::Start(ar) => cyclic = Some((Consumer::of(&ar, now), ar)),
-//!                 Action::Stop { .. } => cyclic = None,
-//!                 Action::Neighbour { .. } | Action::Event(_) => {}
+//!                 ControllerAction::Start(ar) => cyclic = Some((Consumer::of(&ar, now), ar)),
+//!                 ControllerAction::Stop { .. } => cyclic = None,
+//!                 ControllerAction::Neighbour { .. } | ControllerAction::Event(_) => {}
 //!             }
 //!         }
 //!         for action in std::mem::take(&mut to_controller) {

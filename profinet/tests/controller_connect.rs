@@ -16,7 +16,7 @@ use procimg_profinet::controller::plan::{
     ControllerIdentity, DevicePlan, DeviceSpec, SubmoduleSpec,
 };
 use procimg_profinet::controller::rpc_call::{ATTEMPTS, RETRY_NS};
-use procimg_profinet::controller::{Action, Controller, DeviceState};
+use procimg_profinet::controller::{Controller, ControllerAction, DeviceState};
 use procimg_profinet::device::{Application, Device, DeviceAction, DeviceSetup, PluggedSubmodule};
 use procimg_profinet::wire::rpc::{self, Header, PacketType, RPC_PORT, opnum};
 use procimg_profinet::wire::{MacAddress, Uuid};
@@ -50,8 +50,8 @@ struct Rig {
     controller: Controller,
     device: Device<Zeros>,
     /// What the controller just asked for, before it is counted and queued.
-    actions: Vec<Action>,
-    to_device: Vec<Action>,
+    actions: Vec<ControllerAction>,
+    to_device: Vec<ControllerAction>,
     to_controller: Vec<DeviceAction>,
     connects: Vec<ConnectSent>,
     /// The addresses the controller gave its driver, each with the number of Connect PDUs
@@ -142,10 +142,10 @@ impl Rig {
     /// Queues what the controller just asked for at `at`, counting its Connect PDUs.
     fn take(&mut self, at: u64) {
         for a in self.actions.drain(..) {
-            if let Action::Neighbour { ip, mac } = a {
+            if let ControllerAction::Neighbour { ip, mac } = a {
                 self.neighbours.push((ip, mac, self.connects.len()));
             }
-            if let Action::Datagram { payload, .. } = &a
+            if let ControllerAction::Datagram { payload, .. } = &a
                 && let Ok(packet) = rpc::Packet::new_checked(&payload[..])
                 && let Ok(h) = Header::parse(&packet)
                 && h.packet_type == PacketType::Request
@@ -177,8 +177,10 @@ impl Rig {
         while !self.to_device.is_empty() || !self.to_controller.is_empty() {
             for a in std::mem::take(&mut self.to_device) {
                 match a {
-                    Action::Frame(f) => self.device.on_frame(&f, now, &mut self.to_controller),
-                    Action::Datagram { to, payload } if self.answering => {
+                    ControllerAction::Frame(f) => {
+                        self.device.on_frame(&f, now, &mut self.to_controller)
+                    }
+                    ControllerAction::Datagram { to, payload } if self.answering => {
                         let from = SocketAddrV4::new(CONTROLLER_IP, RPC_PORT);
                         self.device.on_datagram(
                             from,

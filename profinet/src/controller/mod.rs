@@ -6,7 +6,7 @@
 //! Feed it Ethernet frames ([`Controller::on_frame`]), UDP datagrams of port 34964
 //! ([`Controller::on_datagram`]), the cycle thread's reports ([`Controller::on_watchdog`],
 //! [`Controller::on_data_started`]) and the time ([`Controller::poll`]); it answers with
-//! [`Action`]s: frames and datagrams to send, devices' MAC addresses for the driver's
+//! [`ControllerAction`]s: frames and datagrams to send, devices' MAC addresses for the driver's
 //! neighbour table, cyclic exchanges to start or stop, and events for clients and the log.
 //! No socket, no clock, no thread inside.
 
@@ -230,7 +230,7 @@ pub enum DeviceEvent {
 
 /// What the controller asks its driver to do.
 #[derive(Debug)]
-pub enum Action {
+pub enum ControllerAction {
     /// Send this Ethernet frame.
     Frame(Vec<u8>),
     /// Send this UDP datagram from port 34964.
@@ -327,7 +327,7 @@ impl Controller {
 
     /// Online (CLEAR or OPERATE: every active device is brought up) or OFFLINE (every AR
     /// released).
-    pub fn set_online(&mut self, online: bool, now: u64, out: &mut Vec<Action>) {
+    pub fn set_online(&mut self, online: bool, now: u64, out: &mut Vec<ControllerAction>) {
         self.wanted = online;
         for d in &mut self.devices {
             d.set_wanted(online, &self.id, now, out);
@@ -341,7 +341,7 @@ impl Controller {
         device: usize,
         active: bool,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) -> bool {
         let Some(d) = self.devices.get_mut(device) else {
             return false;
@@ -353,7 +353,10 @@ impl Controller {
             d.deactivated = true;
             d.set_wanted(false, &self.id, now, out);
         }
-        out.push(Action::Event(DeviceEvent::Activation { device, active }));
+        out.push(ControllerAction::Event(DeviceEvent::Activation {
+            device,
+            active,
+        }));
         true
     }
 
@@ -373,7 +376,7 @@ impl Controller {
         &mut self,
         ticket: AlarmTicket,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) -> bool {
         match self.devices.get_mut(ticket.device) {
             Some(d) => d.acknowledge_alarm(ticket, &self.id, now, out),
@@ -382,12 +385,12 @@ impl Controller {
     }
 
     /// Queues a record read or write.
-    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<Action>) {
+    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<ControllerAction>) {
         match self.devices.get_mut(r.device) {
             Some(d) => d.record(r, out),
             None => {
                 let why = format!("there is no device {} in the configuration", r.device);
-                out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                out.push(ControllerAction::Event(DeviceEvent::Record(RecordResult {
                     request: r,
                     result: Err(RecordFailure::no_connection(why)),
                 })));
@@ -396,7 +399,7 @@ impl Controller {
     }
 
     /// An acyclic PROFINET frame (DCP response, alarm).
-    pub fn on_frame(&mut self, frame: &[u8], now: u64, out: &mut Vec<Action>) {
+    pub fn on_frame(&mut self, frame: &[u8], now: u64, out: &mut Vec<ControllerAction>) {
         for d in &mut self.devices {
             d.on_frame(frame, &self.id, now, out);
         }
@@ -408,7 +411,7 @@ impl Controller {
         from: SocketAddrV4,
         datagram: &[u8],
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         let Ok(packet) = rpc::Packet::new_checked(datagram) else {
             self.dropped.malformed += 1;
@@ -437,7 +440,7 @@ impl Controller {
         h: &Header,
         body: &[u8],
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         if h.interface != rpc::CONTROLLER_INTERFACE || h.opnum != opnum::CONTROL {
             self.dropped.unexpected += 1;
@@ -473,7 +476,7 @@ impl Controller {
             ..h.reply(self.boot_time)
         };
         if let Ok(pdu) = rpc::emit_response(&reply, status, ndr.args_maximum, &blocks) {
-            out.push(Action::Datagram {
+            out.push(ControllerAction::Datagram {
                 to: from,
                 payload: pdu,
             });
@@ -481,7 +484,13 @@ impl Controller {
     }
 
     /// The cycle thread gave up device `device`'s AR of `epoch`.
-    pub fn on_watchdog(&mut self, device: usize, epoch: u32, now: u64, out: &mut Vec<Action>) {
+    pub fn on_watchdog(
+        &mut self,
+        device: usize,
+        epoch: u32,
+        now: u64,
+        out: &mut Vec<ControllerAction>,
+    ) {
         if let Some(d) = self.devices.get_mut(device) {
             d.on_watchdog(epoch, now, out);
         }
@@ -493,7 +502,7 @@ impl Controller {
     }
 
     /// Timers.
-    pub fn poll(&mut self, now: u64, out: &mut Vec<Action>) {
+    pub fn poll(&mut self, now: u64, out: &mut Vec<ControllerAction>) {
         for d in &mut self.devices {
             d.poll(&self.id, now, out);
         }
@@ -506,7 +515,7 @@ impl Controller {
     }
 
     /// When [`poll`](Self::poll) is due next, at the latest.
-    pub fn deadline(&self) -> Option<u64> {
+    pub fn next_deadline_ns(&self) -> Option<u64> {
         self.devices.iter().filter_map(DeviceAr::deadline).min()
     }
 }

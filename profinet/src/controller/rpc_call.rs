@@ -11,7 +11,7 @@
 //! window), the server's FACKs are taken as they come, and the answer's fragments are
 //! collected by number, each acknowledged with a FACK unless it says NoFack.
 
-use super::Action;
+use super::ControllerAction;
 use crate::wire::common::PnioStatus;
 use crate::wire::rpc::{self, Header, MAX_PDU_LEN, Ndr, PacketType, flags1};
 use crate::wire::{EmitError, EmitResult, Uuid};
@@ -204,8 +204,8 @@ impl RpcCall {
     }
 
     /// Sends the request (all its fragments) to `to`.
-    pub fn send(&self, to: SocketAddrV4, out: &mut Vec<Action>) {
-        out.extend(self.pdus.iter().map(|p| Action::Datagram {
+    pub fn send(&self, to: SocketAddrV4, out: &mut Vec<ControllerAction>) {
+        out.extend(self.pdus.iter().map(|p| ControllerAction::Datagram {
             to,
             payload: p.clone(),
         }));

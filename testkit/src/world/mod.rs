@@ -60,7 +60,7 @@ mod tests;
 pub use intercept::{Intercepted, Interceptor, Kind};
 pub use port::{Direct, Port, Report, Tick};
 use procimg_profinet::controller::plan::{ControllerIdentity, DevicePlan};
-use procimg_profinet::controller::{Action, Controller, DeviceEvent, DeviceState};
+use procimg_profinet::controller::{Controller, ControllerAction, DeviceEvent, DeviceState};
 use procimg_profinet::device::{Application, Device, DeviceAction};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::rpc::RPC_PORT;
@@ -237,7 +237,7 @@ impl<A: Application, P: Port> World<A, P> {
     /// the actions out.
     pub fn with_controller<R>(
         &mut self,
-        f: impl FnOnce(&mut Controller, u64, &mut Vec<Action>) -> R,
+        f: impl FnOnce(&mut Controller, u64, &mut Vec<ControllerAction>) -> R,
     ) -> R {
         let mut out = Vec::new();
         let r = f(&mut self.controller, self.now_ns, &mut out);
@@ -445,15 +445,15 @@ impl<A: Application, P: Port> World<A, P> {
     }
 
     /// Carries out the controller's actions, and what they lead to, until none are left.
-    pub fn carry_out(&mut self, actions: Vec<Action>) {
+    pub fn carry_out(&mut self, actions: Vec<ControllerAction>) {
         let now = self.now_ns;
         let mut pending = actions;
         while !pending.is_empty() {
             let mut next = Vec::new();
             for a in pending {
                 match a {
-                    Action::Frame(f) => self.port.transmit(f),
-                    Action::Datagram { to, payload } => {
+                    ControllerAction::Frame(f) => self.port.transmit(f),
+                    ControllerAction::Datagram { to, payload } => {
                         let from = SocketAddrV4::new(self.controller_ip, RPC_PORT);
                         let payload = self.show_datagram(Origin::Controller, from, to, payload);
                         self.counters.controller_datagrams += 1;
@@ -470,10 +470,10 @@ impl<A: Application, P: Port> World<A, P> {
                         next.extend(self.device_actions(d, out));
                     }
                     // The world's network reaches a device by its address alone.
-                    Action::Neighbour { .. } => {}
-                    Action::Start(ar) => self.port.start(ar),
-                    Action::Stop { device } => self.port.stop(device),
-                    Action::Event(e) => self.events.push(e),
+                    ControllerAction::Neighbour { .. } => {}
+                    ControllerAction::Start(ar) => self.port.start(ar),
+                    ControllerAction::Stop { device } => self.port.stop(device),
+                    ControllerAction::Event(e) => self.events.push(e),
                 }
             }
             pending = next;
@@ -481,7 +481,7 @@ impl<A: Application, P: Port> World<A, P> {
     }
 
     /// Carries out device `d`'s actions; returns what the controller answered to datagrams.
-    fn device_actions(&mut self, d: usize, out: Vec<DeviceAction>) -> Vec<Action> {
+    fn device_actions(&mut self, d: usize, out: Vec<DeviceAction>) -> Vec<ControllerAction> {
         let now = self.now_ns;
         let mut answers = Vec::new();
         for a in out {

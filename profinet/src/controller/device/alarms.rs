@@ -11,14 +11,14 @@ impl DeviceAr {
         events: Vec<RtaEvent>,
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         for e in events {
             match e {
                 RtaEvent::Send(pdu) => {
                     let Some(ar) = self.step.ar() else { continue };
                     if let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu) {
-                        out.push(Action::Frame(f));
+                        out.push(ControllerAction::Frame(f));
                     }
                 }
                 RtaEvent::Deliver(blocks) => {
@@ -32,7 +32,7 @@ impl DeviceAr {
                             // The device sends the next alarm of a priority only after the
                             // AlarmAck of this one, so one slot per priority is enough.
                             ar.unacked[priority_slot(priority)] = Some(n.clone());
-                            out.push(Action::Event(DeviceEvent::Alarm {
+                            out.push(ControllerAction::Event(DeviceEvent::Alarm {
                                 device: self.plan.device,
                                 notification: n,
                                 ticket: AlarmTicket {
@@ -72,7 +72,7 @@ impl DeviceAr {
         ticket: AlarmTicket,
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) -> bool {
         if ticket.epoch != self.epoch {
             return false;
@@ -101,7 +101,7 @@ impl DeviceAr {
             if let RtaEvent::Send(pdu) = e
                 && let Some(f) = rta_frame(id.mac, ar.peer_mac, &pdu)
             {
-                out.push(Action::Frame(f));
+                out.push(ControllerAction::Frame(f));
             }
         }
         self.next_record(now, out);

@@ -32,10 +32,10 @@ impl DeviceAr {
         &mut self,
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         if let (Some(ip), Some(mac)) = (self.ip, self.mac) {
-            out.push(Action::Neighbour { ip, mac });
+            out.push(ControllerAction::Neighbour { ip, mac });
         }
         let Some(ip) = self.ip.filter(|_| self.learn_tree) else {
             return self.connect(id, now, out);
@@ -73,7 +73,7 @@ impl DeviceAr {
         answer: Answer,
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         if let Answer::Response { status, blocks } = answer
             && status.is_ok()

@@ -8,8 +8,8 @@ use super::plan::{ControllerIdentity, DevicePlan};
 use super::rpc_call::{Answer, Reply, RpcCall};
 use super::uuids::UuidSource;
 use super::{
-    Action, AlarmTicket, DeviceEvent, DeviceState, FailureCause, RecordData, RecordFailure,
-    RecordRequest, RecordResult,
+    AlarmTicket, ControllerAction, DeviceEvent, DeviceState, FailureCause, RecordData,
+    RecordFailure, RecordRequest, RecordResult,
 };
 use crate::dcp_client::{self, Identify, Set, SetOutcome};
 use crate::rta::{RtaChannel, RtaEvent};
@@ -106,10 +106,10 @@ impl DeviceAr {
         self.state
     }
 
-    fn set_state(&mut self, s: DeviceState, out: &mut Vec<Action>) {
+    fn set_state(&mut self, s: DeviceState, out: &mut Vec<ControllerAction>) {
         if self.state != s {
             self.state = s;
-            out.push(Action::Event(DeviceEvent::State {
+            out.push(ControllerAction::Event(DeviceEvent::State {
                 device: self.plan.device,
                 state: s,
             }));
@@ -122,7 +122,7 @@ impl DeviceAr {
         wanted: bool,
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         let wanted = wanted && !self.deactivated;
         if wanted == self.wanted {
@@ -137,11 +137,11 @@ impl DeviceAr {
         }
     }
 
-    fn start(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+    fn start(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<ControllerAction>) {
         self.xid = self.xid.wrapping_add(1);
         let req = Identify::new(self.xid);
         match req.request(id.mac, Some(&self.plan.name), IDENTIFY_DELAY_FACTOR) {
-            Ok(frame) => out.push(Action::Frame(frame)),
+            Ok(frame) => out.push(ControllerAction::Frame(frame)),
             Err(_) => {
                 return self.fail(
                     FailureCause::Internal,
@@ -159,9 +159,9 @@ impl DeviceAr {
     }
 
     /// Ends the AR: Release to the device if it has one, stop the cyclic exchange.
-    fn release(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+    fn release(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<ControllerAction>) {
         let _ = id;
-        out.push(Action::Stop {
+        out.push(ControllerAction::Stop {
             device: self.plan.device,
         });
         // The Release is awaited (and repeated) as other calls are, but nothing waits for it:
@@ -188,7 +188,7 @@ impl DeviceAr {
                     "released: the controller went OFFLINE",
                 )
             };
-            out.push(Action::Event(DeviceEvent::Failure {
+            out.push(ControllerAction::Event(DeviceEvent::Failure {
                 device: self.plan.device,
                 cause,
                 reason: reason.into(),
@@ -204,7 +204,7 @@ impl DeviceAr {
         self.set_state(s, out);
     }
 
-    fn fail(&mut self, cause: FailureCause, why: &str, now: u64, out: &mut Vec<Action>) {
+    fn fail(&mut self, cause: FailureCause, why: &str, now: u64, out: &mut Vec<ControllerAction>) {
         self.fail_with(cause, why, None, now, out);
     }
 
@@ -217,9 +217,9 @@ impl DeviceAr {
         why: &str,
         status: Option<PnioStatus>,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
-        out.push(Action::Stop {
+        out.push(ControllerAction::Stop {
             device: self.plan.device,
         });
         let code = cause.abort_code();
@@ -236,7 +236,7 @@ impl DeviceAr {
         self.fail_records(why, out);
         let was_running = self.state == DeviceState::Running;
         if was_running {
-            out.push(Action::Event(DeviceEvent::Failure {
+            out.push(ControllerAction::Event(DeviceEvent::Failure {
                 device: self.plan.device,
                 cause,
                 reason: why.to_string(),
@@ -244,7 +244,7 @@ impl DeviceAr {
                 status,
             }));
         } else {
-            out.push(Action::Event(DeviceEvent::Problem {
+            out.push(ControllerAction::Event(DeviceEvent::Problem {
                 device: self.plan.device,
                 cause,
                 reason: why.to_string(),
@@ -263,7 +263,11 @@ impl DeviceAr {
     /// low-priority alarm channel), so that it frees the AR at once for the next Connect
     /// instead of holding it until its CMI timeout. Nothing for an AR whose Connect is still
     /// unanswered, or whose alarm channel was aborted already. Whether the abort was sent.
-    fn abort_accepted_ar(&mut self, code: rta_pdu::AbortCode, out: &mut Vec<Action>) -> bool {
+    fn abort_accepted_ar(
+        &mut self,
+        code: rta_pdu::AbortCode,
+        out: &mut Vec<ControllerAction>,
+    ) -> bool {
         let Step::Ar { ar, phase } = &mut self.step else {
             return false;
         };
@@ -277,7 +281,7 @@ impl DeviceAr {
             if let RtaEvent::Send(pdu) = e
                 && let Some(f) = alarms::rta_frame(ar.own_mac, ar.peer_mac, &pdu)
             {
-                out.push(Action::Frame(f));
+                out.push(ControllerAction::Frame(f));
                 sent = true;
             }
         }
@@ -316,7 +320,7 @@ impl DeviceAr {
     }
 
     /// Timers and queued work.
-    pub fn poll(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+    pub fn poll(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<ControllerAction>) {
         if let Some((call, to)) = self.releasing.as_mut() {
             if call.retry_due(now) {
                 call.resent(now);
@@ -407,7 +411,7 @@ impl DeviceAr {
         d: dcp_client::DeviceInfo,
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         self.mac = Some(d.mac);
         let current = d.ip.map(|(ip, _, _)| Ipv4Addr::from(ip));
@@ -418,7 +422,7 @@ impl DeviceAr {
                 // Without a router the gateway is the device's own address, as an S7 sets it.
                 let set = Set::ip(self.xid, d.mac, want.octets(), mask, want.octets(), false);
                 match set.request(id.mac) {
-                    Ok(frame) => out.push(Action::Frame(frame)),
+                    Ok(frame) => out.push(ControllerAction::Frame(frame)),
                     Err(_) => {
                         return self.fail(
                             FailureCause::Internal,
@@ -446,7 +450,7 @@ impl DeviceAr {
         }
     }
 
-    fn connect(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<Action>) {
+    fn connect(&mut self, id: &ControllerIdentity, now: u64, out: &mut Vec<ControllerAction>) {
         let (Some(ip), Some(mac)) = (self.ip, self.mac) else {
             return self.fail(
                 FailureCause::IpSetFailed,
@@ -515,7 +519,7 @@ impl DeviceAr {
         frame: &[u8],
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         match &mut self.step {
             Step::Identify { id: ident, .. } => {
@@ -568,7 +572,7 @@ impl DeviceAr {
         datagram: &[u8],
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) -> bool {
         if let Some((call, to)) = self.releasing.as_mut() {
             let mut facks = Vec::new();
@@ -577,7 +581,7 @@ impl DeviceAr {
             out.extend(
                 facks
                     .into_iter()
-                    .map(|payload| Action::Datagram { to, payload }),
+                    .map(|payload| ControllerAction::Datagram { to, payload }),
             );
             match reply {
                 Reply::Foreign => {}
@@ -594,7 +598,7 @@ impl DeviceAr {
             let reply = call.take(datagram, &mut facks);
             if let Some(ip) = self.ip {
                 for f in facks {
-                    out.push(Action::Datagram {
+                    out.push(ControllerAction::Datagram {
                         to: SocketAddrV4::new(ip, rpc::RPC_PORT),
                         payload: f,
                     });
@@ -619,7 +623,7 @@ impl DeviceAr {
         let reply = call.take(datagram, &mut facks);
         let op = call.opnum;
         for f in facks {
-            out.push(Action::Datagram {
+            out.push(ControllerAction::Datagram {
                 to: ar.rpc_server(),
                 payload: f,
             });
@@ -702,7 +706,7 @@ impl DeviceAr {
             }
             Phase::Record { request, .. } => {
                 let result = record_result(&request, status, &blocks);
-                out.push(Action::Event(DeviceEvent::Record(RecordResult {
+                out.push(ControllerAction::Event(DeviceEvent::Record(RecordResult {
                     request,
                     result,
                 })));
@@ -727,7 +731,7 @@ impl DeviceAr {
         blocks: &[u8],
         id: &ControllerIdentity,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         if !status.is_ok() {
             let why = format!("Connect refused: {}", rpc::describe(status));
@@ -762,7 +766,7 @@ impl DeviceAr {
             ar.absent = absent_submodules(diff, &self.plan);
         }
         if let Some(diff) = res.module_diff.clone() {
-            out.push(Action::Event(DeviceEvent::ModuleDiff {
+            out.push(ControllerAction::Event(DeviceEvent::ModuleDiff {
                 device: self.plan.device,
                 diff,
             }));
@@ -772,19 +776,19 @@ impl DeviceAr {
             res.frame_id(2).unwrap_or(self.plan.frame_ids.1),
         );
         let cyclic = CyclicAr::new(&self.plan, self.epoch, id.mac, ar.peer_mac, frame_ids);
-        out.push(Action::Start(Box::new(cyclic)));
+        out.push(ControllerAction::Start(Box::new(cyclic)));
         self.set_state(DeviceState::Parameterizing, out);
         self.write_records(ar, now, out);
     }
 
-    fn plug_prm_end(&mut self, ar: Box<Ar>, plug: Plug, now: u64, out: &mut Vec<Action>) {
+    fn plug_prm_end(&mut self, ar: Box<Ar>, plug: Plug, now: u64, out: &mut Vec<ControllerAction>) {
         let block = ControlBlock::plug_prm_end(ar.uuid, ar.session_key, plug.seq).to_bytes();
         self.call(ar, opnum::CONTROL, &block, now, out, |call| {
             Phase::PlugPrmEnd { call, plug }
         });
     }
 
-    fn prm_end(&mut self, ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
+    fn prm_end(&mut self, ar: Box<Ar>, now: u64, out: &mut Vec<ControllerAction>) {
         let block = ControlBlock::prm_end(ar.uuid, ar.session_key).to_bytes();
         self.call(ar, opnum::CONTROL, &block, now, out, Phase::PrmEnd);
     }
@@ -797,7 +801,7 @@ impl DeviceAr {
         op: u16,
         blocks: &[u8],
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
         phase: impl FnOnce(RpcCall) -> Phase,
     ) {
         match ar.next_call(self.plan.object_uuid(), op, blocks, 0, now) {
@@ -823,7 +827,7 @@ impl DeviceAr {
         &mut self,
         block: &ControlBlock,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) -> Option<ControlBlock> {
         let Step::Ar { ar, phase } = &mut self.step else {
             return None;
@@ -842,7 +846,7 @@ impl DeviceAr {
             self.set_state(DeviceState::Running, out);
             // Every start of data exchange is a station return, the first one included, as
             // IO-Base reports it.
-            out.push(Action::Event(DeviceEvent::Return {
+            out.push(ControllerAction::Event(DeviceEvent::Return {
                 device: self.plan.device,
             }));
             self.next_record(now, out);
@@ -851,7 +855,7 @@ impl DeviceAr {
     }
 
     /// The cycle thread saw no input frames for the watchdog time.
-    pub fn on_watchdog(&mut self, epoch: u32, now: u64, out: &mut Vec<Action>) {
+    pub fn on_watchdog(&mut self, epoch: u32, now: u64, out: &mut Vec<ControllerAction>) {
         if epoch == self.epoch && self.step.ar().is_some() {
             let why = format!(
                 "no cyclic data from the device for {} ms (DataHoldFactor {}); the AR was \

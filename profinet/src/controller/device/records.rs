@@ -7,11 +7,11 @@ use crate::controller::plan::PlannedRecord;
 
 impl DeviceAr {
     /// Fails every queued record job with `why`.
-    pub(super) fn fail_records(&mut self, why: &str, out: &mut Vec<Action>) {
+    pub(super) fn fail_records(&mut self, why: &str, out: &mut Vec<ControllerAction>) {
         // Plug sub-cycles end with the AR: the next Connect sees the tree as it is.
         self.plugs.clear();
         while let Some(r) = self.records.pop_front() {
-            out.push(Action::Event(DeviceEvent::Record(RecordResult {
+            out.push(ControllerAction::Event(DeviceEvent::Record(RecordResult {
                 request: r,
                 result: Err(RecordFailure::no_connection(why)),
             })));
@@ -19,9 +19,9 @@ impl DeviceAr {
     }
 
     /// Queues a record read or write; it runs while the AR is in data exchange.
-    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<Action>) {
+    pub fn record(&mut self, r: RecordRequest, out: &mut Vec<ControllerAction>) {
         if self.state != DeviceState::Running {
-            out.push(Action::Event(DeviceEvent::Record(RecordResult {
+            out.push(ControllerAction::Event(DeviceEvent::Record(RecordResult {
                 request: r,
                 result: Err(RecordFailure::no_connection(format!(
                     "device {:?} is {}, not in data exchange; retry when it is",
@@ -35,7 +35,7 @@ impl DeviceAr {
 
     /// Writes the parameter records on the just connected `ar` (PrmEnd at once when there
     /// are none); not those of submodules the device lacks.
-    pub(super) fn write_records(&mut self, ar: Box<Ar>, now: u64, out: &mut Vec<Action>) {
+    pub(super) fn write_records(&mut self, ar: Box<Ar>, now: u64, out: &mut Vec<ControllerAction>) {
         let records: Vec<PlannedRecord> = self
             .plan
             .records
@@ -55,7 +55,7 @@ impl DeviceAr {
         mut ar: Box<Ar>,
         plug: Plug,
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
     ) {
         let at = (plug.api, plug.slot, plug.subslot);
         ar.absent.retain(|a| *a != at);
@@ -79,7 +79,7 @@ impl DeviceAr {
         mut ar: Box<Ar>,
         records: &[PlannedRecord],
         now: u64,
-        out: &mut Vec<Action>,
+        out: &mut Vec<ControllerAction>,
         phase: impl FnOnce(RpcCall) -> Phase,
     ) -> Result<(), Box<Ar>> {
         if records.is_empty() {
@@ -98,7 +98,7 @@ impl DeviceAr {
     }
 
     /// Starts the next queued record job when the AR is in data exchange with none running.
-    pub(super) fn next_record(&mut self, now: u64, out: &mut Vec<Action>) {
+    pub(super) fn next_record(&mut self, now: u64, out: &mut Vec<ControllerAction>) {
         let Step::Ar {
             ar,
             phase: phase @ Phase::Running,
@@ -149,7 +149,7 @@ impl DeviceAr {
                 call.send(ar.rpc_server(), out);
                 *phase = Phase::Record { call, request };
             }
-            None => out.push(Action::Event(DeviceEvent::Record(RecordResult {
+            None => out.push(ControllerAction::Event(DeviceEvent::Record(RecordResult {
                 request,
                 result: Err(RecordFailure {
                     status: PnioStatus {

@@ -18,7 +18,7 @@ use crate::io::pnio::channel::{Channel, ToCycle};
 use crate::io::{CycleTime, IoSystem};
 use procimg_nic::{Nic, sim_link};
 use procimg_profinet::controller::plan::ControllerIdentity;
-use procimg_profinet::controller::{Action, Controller, DeviceState};
+use procimg_profinet::controller::{Controller, ControllerAction, DeviceState};
 use procimg_profinet::wire::rpc::{self, Pdu};
 use procimg_profinet::wire::{MacAddress, Uuid};
 use procimg_shm_layout::{IOXS_GOOD, Mode, SubmoduleStatus};
@@ -150,24 +150,24 @@ impl Masks {
     }
 }
 
-fn datagram(out: &mut Vec<Action>) -> (SocketAddrV4, Vec<u8>) {
+fn datagram(out: &mut Vec<ControllerAction>) -> (SocketAddrV4, Vec<u8>) {
     let i = out
         .iter()
-        .position(|a| matches!(a, Action::Datagram { .. }))
+        .position(|a| matches!(a, ControllerAction::Datagram { .. }))
         .unwrap_or_else(|| panic!("no datagram among {out:?}"));
     match out.remove(i) {
-        Action::Datagram { to, payload } => (to, payload),
+        ControllerAction::Datagram { to, payload } => (to, payload),
         _ => unreachable!(),
     }
 }
 
-fn frame(out: &mut Vec<Action>) -> Vec<u8> {
+fn frame(out: &mut Vec<ControllerAction>) -> Vec<u8> {
     let i = out
         .iter()
-        .position(|a| matches!(a, Action::Frame(_)))
+        .position(|a| matches!(a, ControllerAction::Frame(_)))
         .unwrap_or_else(|| panic!("no frame among {out:?}"));
     match out.remove(i) {
-        Action::Frame(f) => f,
+        ControllerAction::Frame(f) => f,
         _ => unreachable!(),
     }
 }
@@ -236,9 +236,9 @@ fn the_controller_brings_up_the_pnet_sample_as_the_s7_did() {
     c.on_datagram(to, &response, 620 * ms, &mut out);
     let start = out
         .iter()
-        .position(|a| matches!(a, Action::Start(_)))
+        .position(|a| matches!(a, ControllerAction::Start(_)))
         .expect("the cyclic exchange starts with the Connect response");
-    let Action::Start(ar) = out.remove(start) else {
+    let ControllerAction::Start(ar) = out.remove(start) else {
         unreachable!()
     };
     assert_eq!((ar.input.frame_id, ar.output.frame_id), (0x8000, 0x8001));
@@ -291,7 +291,7 @@ fn the_controller_brings_up_the_pnet_sample_as_the_s7_did() {
 
 /// p-net's process alarm, the first of the AR: the transport ACK goes out at once, the
 /// AlarmAck when the alarm is acknowledged; both equal the S7's frames byte for byte.
-fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
+fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<ControllerAction>) {
     let ms = 1_000_000u64;
     // Our MAC in the S7's alarm frames (see the module comment).
     let s7_alarm = |name: &str| {
@@ -309,7 +309,7 @@ fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
     let ticket = out
         .iter()
         .find_map(|a| match a {
-            Action::Event(procimg_profinet::controller::DeviceEvent::Alarm {
+            ControllerAction::Event(procimg_profinet::controller::DeviceEvent::Alarm {
                 notification,
                 ticket,
                 ..
@@ -323,7 +323,7 @@ fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
     out.clear();
     c.poll(800 * ms, out);
     assert!(
-        !out.iter().any(|a| matches!(a, Action::Frame(_))),
+        !out.iter().any(|a| matches!(a, ControllerAction::Frame(_))),
         "the AlarmAck went out before the acknowledgement: {out:?}"
     );
     assert!(c.acknowledge_alarm(ticket, 900 * ms, out));
@@ -334,7 +334,7 @@ fn alarm_ack_equals_the_capture(c: &mut Controller, out: &mut Vec<Action>) {
     );
     c.on_frame(&capture("alarm/alarm_ack_rta_high_dev"), 910 * ms, out);
     assert!(
-        !out.iter().any(|a| matches!(a, Action::Frame(_))),
+        !out.iter().any(|a| matches!(a, ControllerAction::Frame(_))),
         "the device's ACK needs no answer: {out:?}"
     );
     assert_eq!(c.states().next(), Some(DeviceState::Running));

@@ -128,7 +128,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                     .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
                 let mut udp = UdpDatagrams::bind(ip)?;
                 // The devices' MAC addresses from DCP go to the interface's neighbour table,
-                // so that no RPC call waits for ARP (see `Action::Neighbour`).
+                // so that no RPC call waits for ARP (see `ControllerAction::Neighbour`).
                 match crate::sys::netlink::interface_index(name) {
                     Ok(index) => udp = udp.with_neighbours_on(index),
                     Err(e) => tracing::warn!(

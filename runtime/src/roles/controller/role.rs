@@ -4,7 +4,9 @@
 
 use super::states::DeviceStates;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
-use procimg_profinet::controller::{Action, AlarmTicket, Controller, DeviceEvent, RecordRequest};
+use procimg_profinet::controller::{
+    AlarmTicket, Controller, ControllerAction, DeviceEvent, RecordRequest,
+};
 use procimg_profinet::wire::connect::IdentInfo;
 use std::net::SocketAddrV4;
 use std::sync::Arc;
@@ -32,7 +34,7 @@ pub struct ControllerRole {
     /// Station names, for the log.
     names: Vec<String>,
     /// The controller's actions before they become effects (kept for its capacity).
-    actions: Vec<Action>,
+    actions: Vec<ControllerAction>,
     /// The last problem logged of each device, so that a retry failing the same way (a
     /// missing device, twice a second) is not a new warning.
     problems: ProblemLog,
@@ -87,12 +89,12 @@ impl ControllerRole {
     fn hand_over(&mut self, out: &mut Vec<Effect<DeviceEvent>>) {
         for a in self.actions.drain(..) {
             out.push(match a {
-                Action::Frame(f) => Effect::Frame(f),
-                Action::Datagram { to, payload } => Effect::Datagram { to, payload },
-                Action::Neighbour { ip, mac } => Effect::Neighbour { ip, mac },
-                Action::Start(ar) => Effect::Start(ar),
-                Action::Stop { device } => Effect::Stop { device },
-                Action::Event(e) => {
+                ControllerAction::Frame(f) => Effect::Frame(f),
+                ControllerAction::Datagram { to, payload } => Effect::Datagram { to, payload },
+                ControllerAction::Neighbour { ip, mac } => Effect::Neighbour { ip, mac },
+                ControllerAction::Start(ar) => Effect::Start(ar),
+                ControllerAction::Stop { device } => Effect::Stop { device },
+                ControllerAction::Event(e) => {
                     log_event(&e, &self.names, &self.states, &mut self.problems);
                     Effect::Event(e)
                 }
@@ -162,7 +164,7 @@ impl Role for ControllerRole {
     }
 
     fn deadline(&self) -> Option<u64> {
-        self.controller.deadline()
+        self.controller.next_deadline_ns()
     }
 
     fn settling(&self) -> bool {

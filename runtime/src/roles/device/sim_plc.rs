@@ -19,7 +19,7 @@ use procimg_nic::sim_link::LinkEnd;
 use procimg_profinet::controller::plan::{
     ControllerIdentity, DevicePlan, PlanError, PlannedRecord,
 };
-use procimg_profinet::controller::{Action, Controller, DeviceEvent, RecordRequest};
+use procimg_profinet::controller::{Controller, ControllerAction, DeviceEvent, RecordRequest};
 use procimg_profinet::cyclic::{Consumer, CyclicAr, Verdict};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
@@ -166,7 +166,7 @@ struct Plc {
     ip: Ipv4Addr,
     cycle_ns: u64,
     exchange: Option<Exchange>,
-    actions: Vec<Action>,
+    actions: Vec<ControllerAction>,
 }
 
 impl Plc {
@@ -206,7 +206,7 @@ impl Plc {
             self.carry_out(now);
             let wake = self
                 .controller
-                .deadline()
+                .next_deadline_ns()
                 .map_or(next_cycle, |d| d.min(next_cycle));
             sleep_until_ns(wake.max(now + 20_000));
         }
@@ -280,19 +280,19 @@ impl Plc {
     fn carry_out(&mut self, now: u64) {
         for a in std::mem::take(&mut self.actions) {
             match a {
-                Action::Frame(f) => {
+                ControllerAction::Frame(f) => {
                     let _ = self.link.send(&f);
                 }
                 // The simulated network resolves no addresses.
-                Action::Neighbour { .. } => {}
-                Action::Datagram { to, payload } => {
+                ControllerAction::Neighbour { .. } => {}
+                ControllerAction::Datagram { to, payload } => {
                     let _ = self.udp.tx.send(SimDatagram {
                         from: SocketAddrV4::new(self.ip, RPC_PORT),
                         to,
                         payload,
                     });
                 }
-                Action::Start(ar) => {
+                ControllerAction::Start(ar) => {
                     self.exchange = Some(Exchange {
                         consumer: Consumer::of(&ar, now),
                         ar,
@@ -301,8 +301,8 @@ impl Plc {
                         last_recipe_ns: now,
                     })
                 }
-                Action::Stop { .. } => self.exchange = None,
-                Action::Event(e) => {
+                ControllerAction::Stop { .. } => self.exchange = None,
+                ControllerAction::Event(e) => {
                     log(&e, &self.names);
                     // The PLC program takes every alarm at once (an OB that returns).
                     if let DeviceEvent::Alarm { ticket, .. } = e {
