@@ -462,7 +462,7 @@ impl World {
                 let d = usize::from(r.u8()?);
                 let port = r.u16()?;
                 let devices = self.net.devices();
-                let ip = devices.get(d % devices.len()).map(DemoDevice::ip);
+                let ip = devices.get(d % devices.len()).map(|d| d.station().ip());
                 let from = SocketAddrV4::new(ip.unwrap_or([0; 4]).into(), port);
                 let bytes = r.bytes()?;
                 self.net
