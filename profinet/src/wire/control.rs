@@ -67,25 +67,12 @@ pub const BLOCK_LEN: usize = field::PROPERTIES.end;
 // 28: the fixed layout above, far below u16::MAX, so the cast keeps every bit.
 pub const BLOCK_LENGTH: u16 = (BLOCK_LEN - 4) as u16;
 
-/// A view of a control block, from its BlockType on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Packet<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of a control block, from its BlockType on.
+    pub struct Packet;
 }
 
 impl<T: AsRef<[u8]>> Packet<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Packet<T> {
-        Packet { buffer }
-    }
-
-    /// Wraps a buffer after [`check_len`](Self::check_len).
-    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
-        let p = Packet::new_unchecked(buffer);
-        p.check_len()?;
-        Ok(p)
-    }
-
     /// Checks the buffer holds the [`BLOCK_LEN`] bytes of a control block (bytes after them
     /// are allowed and ignored).
     pub fn check_len(&self) -> Result<()> {
@@ -94,11 +81,6 @@ impl<T: AsRef<[u8]>> Packet<T> {
         } else {
             Ok(())
         }
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
     }
 
     /// The block header.

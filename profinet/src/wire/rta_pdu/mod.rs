@@ -28,7 +28,7 @@
 use super::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
 use super::common::blocks;
 use super::cursor::{Reader, Writer};
-use super::{EmitError, EmitResult, Error, Field, Rest, Result, be16};
+use super::{EmitError, EmitResult, Error, Field, Rest, Result, be16, check_announced_len};
 
 mod err;
 mod sequence;
@@ -89,42 +89,16 @@ impl PduType {
     }
 }
 
-/// A view of an RTA PDU, from the FrameID on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Packet<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of an RTA PDU, from the FrameID on.
+    pub struct Packet;
 }
 
 impl<T: AsRef<[u8]>> Packet<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Packet<T> {
-        Packet { buffer }
-    }
-
-    /// Wraps a buffer after [`check_len`](Self::check_len).
-    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
-        let p = Packet::new_unchecked(buffer);
-        p.check_len()?;
-        Ok(p)
-    }
-
     /// Checks the buffer holds the header and the VarPartLen bytes it announces. Bytes after
     /// them (Ethernet padding) are allowed and ignored.
     pub fn check_len(&self) -> Result<()> {
-        let b = self.buffer.as_ref();
-        let Some(len) = b.get(field::VAR_PART_LEN) else {
-            return Err(Error);
-        };
-        if b.len() < HEADER_LEN + usize::from(be16(len)) {
-            Err(Error)
-        } else {
-            Ok(())
-        }
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
+        check_announced_len(self.buffer.as_ref(), field::VAR_PART_LEN, HEADER_LEN)
     }
 
     /// FrameID (0xFC01 or 0xFE01 for RTA).
