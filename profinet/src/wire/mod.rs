@@ -142,6 +142,8 @@ pub mod record;
 pub mod rpc;
 pub mod rt;
 pub mod rta_pdu;
+#[cfg(test)]
+pub(crate) mod test_captures;
 
 pub use common::{BlockHeader, BlockType, PnioStatus, Uuid};
 

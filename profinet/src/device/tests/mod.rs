@@ -25,6 +25,7 @@ use crate::wire::rpc::{
 use crate::wire::rpc::{Ndr, opnum};
 use crate::wire::rt::{self, data_status};
 use crate::wire::rta_pdu::{ErrRta, RtaBody};
+use crate::wire::test_captures::rpc_pdu;
 use std::net::Ipv4Addr;
 
 mod app_records;
@@ -68,14 +69,9 @@ const DEVICE_IP: [u8; 4] = [172, 16, 2, 10];
 const S7_CLIENT: SocketAddrV4 = SocketAddrV4::new(S7_IP, 54766);
 pub(super) const MS: u64 = 1_000_000;
 
-/// The UDP payload (RPC PDU) of a captured Ethernet/IPv4/UDP frame.
-fn rpc_capture(name: &str) -> Vec<u8> {
-    capture(name)[42..].to_vec()
-}
-
 /// The PNIO blocks of a captured RPC frame.
 fn captured_blocks(name: &str) -> Vec<u8> {
-    let payload = rpc_capture(name);
+    let payload = rpc_pdu(name);
     Pdu::parse(&payload).unwrap().blocks.to_vec()
 }
 
@@ -221,15 +217,15 @@ pub(super) fn run_until(dev: &mut Device<TestApp>, until: u64) -> Vec<(u64, Devi
 /// The captured S7 requests up to PrmEnd, answered; the ApplicationReady the device sends.
 fn bring_up_to_app_ready(dev: &mut Device<TestApp>) -> (Reply, u64) {
     assert_eq!(
-        status(&call(dev, &rpc_capture("cm/connect_req"), 0)),
+        status(&call(dev, &rpc_pdu("cm/connect_req"), 0)),
         PnioStatus::OK
     );
     assert_eq!(
-        status(&call(dev, &rpc_capture("cm/write_req"), MS)),
+        status(&call(dev, &rpc_pdu("cm/write_req"), MS)),
         PnioStatus::OK
     );
     assert_eq!(
-        status(&call(dev, &rpc_capture("cm/prmend_req"), 2 * MS)),
+        status(&call(dev, &rpc_pdu("cm/prmend_req"), 2 * MS)),
         PnioStatus::OK
     );
     let mut out = Vec::new();
@@ -244,7 +240,7 @@ fn bring_up_to_app_ready(dev: &mut Device<TestApp>) -> (Reply, u64) {
 
 /// The captured ApplicationReady response of the S7, re-addressed to our activity.
 fn s7_app_ready_response(activity: Uuid) -> Vec<u8> {
-    let mut res = rpc_capture("cm/appready_res");
+    let mut res = rpc_pdu("cm/appready_res");
     // The S7 answers little-endian: the activity UUID's first fields are swapped.
     res[40..56].copy_from_slice(&activity.to_drep(true));
     res
@@ -408,13 +404,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     dev.set_type_of_station("P-Net Sample Application");
     let mut out = Vec::new();
     // No IP yet: no RPC endpoint.
-    dev.on_datagram(
-        S7_CLIENT,
-        RPC_PORT,
-        &rpc_capture("cm/connect_req"),
-        0,
-        &mut out,
-    );
+    dev.on_datagram(S7_CLIENT, RPC_PORT, &rpc_pdu("cm/connect_req"), 0, &mut out);
     assert!(out.is_empty());
     dev.on_frame(&capture("cm/dcp_set_req"), 0, &mut out);
 
@@ -422,9 +412,9 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     // sequence and opnum like p-net's; it differs in DREP (we answer in the request's byte
     // order, LE here; p-net answers BE) and Flags1 (0x0A LastFragment|NoFack, as the S7
     // answers, p-net 0x28 Idempotent|NoFack).
-    let req = rpc_capture("cm/connect_req");
+    let req = rpc_pdu("cm/connect_req");
     let ours = call(&mut dev, &req, 0);
-    let pnet = parse_reply(&rpc_capture("cm/connect_res"));
+    let pnet = parse_reply(&rpc_pdu("cm/connect_res"));
     assert_eq!(status(&ours), PnioStatus::OK);
     assert_eq!(ours.blocks, pnet.blocks, "Connect response blocks");
     assert_eq!(
@@ -440,8 +430,8 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     assert_eq!(dev.state(), ArState::Connected);
 
     // WriteMultiple: PDInterfaceAdjust and the three user records, each answered OK.
-    let ours = call(&mut dev, &rpc_capture("cm/write_req"), MS);
-    let pnet = parse_reply(&rpc_capture("cm/write_res"));
+    let ours = call(&mut dev, &rpc_pdu("cm/write_req"), MS);
+    let pnet = parse_reply(&rpc_pdu("cm/write_res"));
     assert_eq!(ours.blocks, pnet.blocks, "Write response blocks");
     same_rpc_reply(&ours, &pnet);
     let (outer, each) = split_write_multiple_response(&ours.blocks).unwrap();
@@ -449,8 +439,8 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     assert!(each.iter().all(|h| h.status.is_ok()));
 
     // PrmEnd.
-    let ours = call(&mut dev, &rpc_capture("cm/prmend_req"), 2 * MS);
-    let pnet = parse_reply(&rpc_capture("cm/prmend_res"));
+    let ours = call(&mut dev, &rpc_pdu("cm/prmend_req"), 2 * MS);
+    let pnet = parse_reply(&rpc_pdu("cm/prmend_res"));
     assert_eq!(ours.blocks, pnet.blocks, "PrmEnd response blocks");
     same_rpc_reply(&ours, &pnet);
     assert_eq!(dev.state(), ArState::Parameterized);
@@ -537,7 +527,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
 
     // Release (built with our codecs, as the S7 sends it: LE, next sequence number).
     let release = ControlBlock::release(dev.ar_uuid().unwrap(), 2).to_bytes();
-    let req = parse_reply(&rpc_capture("cm/prmend_req")).header;
+    let req = parse_reply(&rpc_pdu("cm/prmend_req")).header;
     let h = Header {
         sequence_number: 3,
         opnum: opnum::RELEASE,
@@ -591,7 +581,7 @@ fn input_statuses(frame: &[u8]) -> Vec<u8> {
 
 #[test]
 fn big_endian_connect_gets_the_same_blocks_in_big_endian() {
-    let le = rpc_capture("cm/connect_req");
+    let le = rpc_pdu("cm/connect_req");
     let p = Pdu::parse(&le).unwrap();
     let be = Pdu {
         header: Header {
@@ -619,7 +609,7 @@ fn big_endian_connect_gets_the_same_blocks_in_big_endian() {
         ra.header
     );
     // And byte for byte, the BE answer is p-net's apart from Flags1.
-    let mut pnet = rpc_capture("cm/connect_res");
+    let mut pnet = rpc_pdu("cm/connect_res");
     let d = {
         let mut out = Vec::new();
         let mut c = pnet_device(TestApp::None);
@@ -640,7 +630,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
         s.submodule_ident = 0x141;
     }
     let mut dev = quiet_device(spec);
-    let r = call(&mut dev, &rpc_capture("cm/connect_req"), 0);
+    let r = call(&mut dev, &rpc_pdu("cm/connect_req"), 0);
     assert_eq!(status(&r), PnioStatus::OK, "a difference is not an error");
     let res = ConnectResponse::parse(&r.blocks).unwrap();
     let diff = res.module_diff.expect("a ModuleDiffBlock");
@@ -664,7 +654,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
     assert!(res.ar_server.is_some(), "ARServerBlock after the diff");
 
     // The ApplicationReady carries the same ModuleDiffBlock after the control block.
-    call(&mut dev, &rpc_capture("cm/prmend_req"), MS);
+    call(&mut dev, &rpc_pdu("cm/prmend_req"), MS);
     let mut out = Vec::new();
     dev.poll(MS + APP_READY_DELAY_NS, &mut out);
     let app = parse_reply(&datagrams(&out)[0].2);
@@ -1034,7 +1024,7 @@ fn the_engine_judges_the_consumer_trial_as_the_consumer_does() {
 
 #[test]
 fn negative_responses_name_the_fault() {
-    let connect = rpc_capture("cm/connect_req");
+    let connect = rpc_pdu("cm/connect_req");
     let faulty = |patch: &dyn Fn(&mut Vec<u8>)| {
         let mut dev = pnet_device(TestApp::None);
         let mut p = connect.clone();
@@ -1100,7 +1090,7 @@ fn negative_responses_name_the_fault() {
     // (Each call a new sequence number: a CL server answers an old one from its cache or
     // not at all.)
     let prm_seq = |seq: u8| {
-        let mut p = rpc_capture("cm/prmend_req");
+        let mut p = rpc_pdu("cm/prmend_req");
         p[64] = seq;
         p
     };
@@ -1136,10 +1126,10 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
     let ar_uuid = dev.ar_uuid().unwrap();
     // The captured I&M0 read (another AR's UUID in the capture: patched to ours). Its
     // response is p-net's byte for byte in the blocks.
-    let mut req = rpc_capture("alarm/im0_read_req");
+    let mut req = rpc_pdu("alarm/im0_read_req");
     patch_block(&mut req, 8, &ar_uuid.0);
     let ours = call(&mut dev, &req, 10 * MS);
-    let pnet = parse_reply(&rpc_capture("alarm/im0_read_res"));
+    let pnet = parse_reply(&rpc_pdu("alarm/im0_read_res"));
     let mut expected = pnet.blocks.clone();
     expected[8..24].copy_from_slice(&ar_uuid.0);
     assert_eq!(ours.blocks, expected);
@@ -1224,7 +1214,7 @@ fn split_write_multiple_written(index: u16) -> Vec<u8> {
 #[test]
 fn duplicates_pings_and_fragments() {
     let mut dev = pnet_device(TestApp::None);
-    let connect = rpc_capture("cm/connect_req");
+    let connect = rpc_pdu("cm/connect_req");
     let mut out = Vec::new();
     dev.on_datagram(S7_CLIENT, RPC_PORT, &connect, 0, &mut out);
     let first = datagrams(&out);
@@ -1646,11 +1636,11 @@ fn the_s7s_pd_interface_adjust_puts_the_name_into_the_lldp_port_id() {
     assert_eq!(r.port_id, Id::Local("port-001".into()));
     // The captured WriteMultiple carries PDInterfaceAdjust with MultipleInterfaceMode 1.
     assert_eq!(
-        status(&call(&mut dev, &rpc_capture("cm/connect_req"), MS)),
+        status(&call(&mut dev, &rpc_pdu("cm/connect_req"), MS)),
         PnioStatus::OK
     );
     assert_eq!(
-        status(&call(&mut dev, &rpc_capture("cm/write_req"), 2 * MS)),
+        status(&call(&mut dev, &rpc_pdu("cm/write_req"), 2 * MS)),
         PnioStatus::OK
     );
     assert_eq!(
