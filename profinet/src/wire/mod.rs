@@ -252,6 +252,16 @@ impl core::error::Error for EmitError {}
 /// The result of emitting.
 pub type EmitResult<T> = core::result::Result<T, EmitError>;
 
+/// A new vector of `buffer_len` bytes that `emit` fills: the body of every `to_vec`.
+pub(crate) fn emit_to_vec(
+    buffer_len: usize,
+    emit: impl FnOnce(&mut [u8]) -> EmitResult<()>,
+) -> EmitResult<Vec<u8>> {
+    let mut v = vec![0u8; buffer_len];
+    emit(&mut v)?;
+    Ok(v)
+}
+
 /// A byte range of a fixed field.
 pub(crate) type Field = core::ops::Range<usize>;
 /// The rest of a buffer from an offset.

@@ -178,9 +178,7 @@ macro_rules! block_api {
 
             /// The block as a new vector.
             pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-                let mut v = vec![0u8; self.buffer_len()];
-                self.emit(&mut v)?;
-                Ok(v)
+                crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
             }
         }
     };
@@ -747,9 +745,7 @@ impl ConnectRequest {
 
     /// The blocks as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 }
 
@@ -844,9 +840,7 @@ impl ConnectResponse {
 
     /// The blocks as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 
     /// The FrameID the device assigned to the IO CR with this IOCRReference.
