@@ -198,6 +198,21 @@ impl ControlBlock {
         }
     }
 
+    /// A block of a plug variant, which carries the AlarmSequenceNumber of the plug alarm it
+    /// answers.
+    const fn for_plug_alarm(
+        block_type: BlockType,
+        ar_uuid: Uuid,
+        session_key: u16,
+        alarm_sequence_number: u16,
+        command: u16,
+    ) -> ControlBlock {
+        ControlBlock {
+            alarm_sequence_number,
+            ..ControlBlock::new(block_type, ar_uuid, session_key, command)
+        }
+    }
+
     /// The PrmEnd request the controller sends after the Connect (and its record writes).
     pub const fn prm_end(ar_uuid: Uuid, session_key: u16) -> ControlBlock {
         ControlBlock::new(BlockType::PrmEndReq, ar_uuid, session_key, command::PRM_END)
@@ -231,15 +246,13 @@ impl ControlBlock {
         session_key: u16,
         alarm_sequence_number: u16,
     ) -> ControlBlock {
-        ControlBlock {
+        ControlBlock::for_plug_alarm(
+            BlockType::PlugPrmEndReq,
+            ar_uuid,
+            session_key,
             alarm_sequence_number,
-            ..ControlBlock::new(
-                BlockType::PlugPrmEndReq,
-                ar_uuid,
-                session_key,
-                command::PRM_END,
-            )
-        }
+            command::PRM_END,
+        )
     }
 
     /// The PlugApplicationReady request (0x0113) a device sends when the submodule of the
@@ -249,15 +262,13 @@ impl ControlBlock {
         session_key: u16,
         alarm_sequence_number: u16,
     ) -> ControlBlock {
-        ControlBlock {
+        ControlBlock::for_plug_alarm(
+            BlockType::PlugApplicationReadyReq,
+            ar_uuid,
+            session_key,
             alarm_sequence_number,
-            ..ControlBlock::new(
-                BlockType::PlugApplicationReadyReq,
-                ar_uuid,
-                session_key,
-                command::APPLICATION_READY,
-            )
-        }
+            command::APPLICATION_READY,
+        )
     }
 
     /// The Release request that ends an AR (RPC opnum 1).
