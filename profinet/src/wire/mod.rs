@@ -144,6 +144,8 @@ pub mod rt;
 pub mod rta_pdu;
 #[cfg(test)]
 pub(crate) mod test_captures;
+#[cfg(test)]
+pub(crate) mod test_strategies;
 
 pub use common::{BlockHeader, BlockType, PnioStatus, Uuid};
 

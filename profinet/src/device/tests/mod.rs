@@ -813,15 +813,15 @@ pub(super) fn counter_device() -> (Device<TestApp>, ConnectRequest) {
     (dev, built_connect(&subs, AR_UUID, (32, 2, 3)))
 }
 
-/// The RPC request carrying `connect` (activity [`ACTIVITY`], sequence 0).
+/// The RPC request carrying `connect` (activity [`ACTIVITY`], sequence 0), big-endian.
 pub(super) fn connect_request(connect: &ConnectRequest) -> Vec<u8> {
-    request(
-        opnum::CONNECT,
-        ACTIVITY,
-        0,
-        &connect.to_vec().unwrap(),
-        false,
-    )
+    connect_request_in_drep(connect, false)
+}
+
+/// [`connect_request`] in the DREP byte order `little_endian` says.
+pub(super) fn connect_request_in_drep(connect: &ConnectRequest, little_endian: bool) -> Vec<u8> {
+    let blocks = connect.to_vec().unwrap();
+    request(opnum::CONNECT, ACTIVITY, 0, &blocks, little_endian)
 }
 
 /// Connect and PrmEnd with our codecs, both answered OK, at `t0`.
@@ -1423,17 +1423,7 @@ fn legacy_startup_with_frame_ids_left_to_the_device() {
         c.iocr_properties = crate::wire::connect::iocr_properties::RT_CLASS_1;
         c.frame_id = 0xffff;
     }
-    let r = call(
-        &mut dev,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            true,
-        ),
-        0,
-    );
+    let r = call(&mut dev, &connect_request_in_drep(&connect, true), 0);
     assert_eq!(status(&r), PnioStatus::OK);
     let res = ConnectResponse::parse(&r.blocks).unwrap();
     assert_eq!(
@@ -1453,17 +1443,7 @@ fn legacy_startup_with_frame_ids_left_to_the_device() {
     // Advanced startup with RT class 1 FrameIDs is refused.
     connect.ar.ar_properties = 0x4000_0011;
     let mut fresh = counter_device().0;
-    let r = call(
-        &mut fresh,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            true,
-        ),
-        0,
-    );
+    let r = call(&mut fresh, &connect_request_in_drep(&connect, true), 0);
     assert_eq!(status(&r), refuse(0x02, 7));
 }
 

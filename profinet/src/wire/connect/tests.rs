@@ -93,18 +93,17 @@ fn connect_request_capture() {
         assert_eq!(cr.apis[0].api, 0);
     }
     // Input CR: IOPS of the DAP submodules, DI8 data, DIO8 in, echo in; IOCS of the
-    // output submodules.
-    assert_eq!(
-        input.apis[0].data_objects,
-        entries(&[
-            (0, 1, 0),
-            (0, 0x8000, 1),
-            (0, 0x8001, 2),
-            (1, 1, 3),
-            (3, 1, 6),
-            (4, 1, 9)
-        ])
-    );
+    // output submodules. The output CR carries the IOCS of those same input data objects, at
+    // the same offsets.
+    let input_objects = entries(&[
+        (0, 1, 0),
+        (0, 0x8000, 1),
+        (0, 0x8001, 2),
+        (1, 1, 3),
+        (3, 1, 6),
+        (4, 1, 9),
+    ]);
+    assert_eq!(input.apis[0].data_objects, input_objects);
     assert_eq!(
         input.apis[0].iocs,
         entries(&[(2, 1, 5), (3, 1, 8), (4, 1, 18)])
@@ -113,17 +112,7 @@ fn connect_request_capture() {
         output.apis[0].data_objects,
         entries(&[(2, 1, 4), (3, 1, 7), (4, 1, 10)])
     );
-    assert_eq!(
-        output.apis[0].iocs,
-        entries(&[
-            (0, 1, 0),
-            (0, 0x8000, 1),
-            (0, 0x8001, 2),
-            (1, 1, 3),
-            (3, 1, 6),
-            (4, 1, 9)
-        ])
-    );
+    assert_eq!(output.apis[0].iocs, input_objects);
 
     assert_eq!(
         req.alarm_cr,

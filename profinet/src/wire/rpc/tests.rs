@@ -59,19 +59,62 @@ const ACT_APPREADY: &str = "14af198a-1234-1056-8079-8cf319cd19f8";
 /// What a capture must parse to.
 struct Expect {
     capture: &'static str,
-    packet_type: PacketType,
-    flags1: u8,
-    little_endian: bool,
-    object: &'static str,
-    interface: &'static str,
+    side: Side,
     activity: &'static str,
-    server_boot_time: u32,
     sequence_number: u32,
     opnum: u16,
     body_len: u16,
     ndr: Ndr,
     first_block: u16,
 }
+
+/// Who sends a PDU of the captures and how: the header fields every PDU of that side has.
+#[derive(Clone, Copy)]
+struct Side {
+    packet_type: PacketType,
+    flags1: u8,
+    little_endian: bool,
+    object: &'static str,
+    interface: &'static str,
+    server_boot_time: u32,
+}
+
+/// The S7 calls the p-net device (Connect, Write, Control, Read): DREP little-endian.
+const S7_CALL: Side = Side {
+    packet_type: PacketType::Request,
+    flags1: flags1::IDEMPOTENT,
+    little_endian: true,
+    object: OBJECT_DEVICE,
+    interface: IFACE_DEVICE,
+    server_boot_time: 0,
+};
+
+/// p-net answers the S7's call: DREP big-endian, no FACK wanted.
+const PNET_ANSWER: Side = Side {
+    packet_type: PacketType::Response,
+    flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
+    little_endian: false,
+    ..S7_CALL
+};
+
+/// p-net calls the S7's controller interface (ApplicationReady): DREP big-endian.
+const PNET_CALL: Side = Side {
+    packet_type: PacketType::Request,
+    flags1: flags1::IDEMPOTENT,
+    little_endian: false,
+    object: OBJECT_CPU,
+    interface: IFACE_CONTROLLER,
+    server_boot_time: 0,
+};
+
+/// The S7 answers p-net's call, with its server boot time.
+const S7_ANSWER: Side = Side {
+    packet_type: PacketType::Response,
+    flags1: flags1::LAST_FRAGMENT | flags1::NO_FACK,
+    little_endian: true,
+    server_boot_time: 0x5156,
+    ..PNET_CALL
+};
 
 fn request(args_maximum: u32, len: u32) -> Ndr {
     Ndr::Request(NdrRequest {
@@ -96,24 +139,25 @@ fn response(maximum_count: u32, len: u32) -> Ndr {
 /// Parses a capture, checks every field, and re-emits it byte for byte, both from the
 /// parsed `Pdu` and from its parts through `emit_request` / `emit_response`.
 fn check(e: Expect) -> Vec<u8> {
+    let side = e.side;
     let bytes = rpc_pdu(e.capture);
     let p = Packet::new_checked(&bytes[..]).unwrap();
     assert_eq!(p.version(), RPC_VERSION);
-    let drep0 = if e.little_endian { 0x10 } else { 0x00 };
+    let drep0 = if side.little_endian { 0x10 } else { 0x00 };
     assert_eq!(p.drep(), [drep0, 0, 0]);
     assert_eq!(p.body().len(), usize::from(e.body_len));
     assert_eq!(bytes.len(), HEADER_LEN + usize::from(e.body_len));
 
     let h = Header::parse(&p).unwrap();
-    assert_eq!(h.packet_type, e.packet_type);
-    assert_eq!(h.flags1, e.flags1);
+    assert_eq!(h.packet_type, side.packet_type);
+    assert_eq!(h.flags1, side.flags1);
     assert_eq!(h.flags2, 0);
-    assert_eq!(h.little_endian, e.little_endian);
+    assert_eq!(h.little_endian, side.little_endian);
     assert_eq!(h.serial, 0);
-    assert_eq!(h.object.to_string(), e.object);
-    assert_eq!(h.interface.to_string(), e.interface);
+    assert_eq!(h.object.to_string(), side.object);
+    assert_eq!(h.interface.to_string(), side.interface);
     assert_eq!(h.activity.to_string(), e.activity);
-    assert_eq!(h.server_boot_time, e.server_boot_time);
+    assert_eq!(h.server_boot_time, side.server_boot_time);
     assert_eq!(h.interface_version, PNIO_INTERFACE_VERSION);
     assert_eq!(h.sequence_number, e.sequence_number);
     assert_eq!(h.opnum, e.opnum);
@@ -129,7 +173,7 @@ fn check(e: Expect) -> Vec<u8> {
     let pdu = Pdu::parse(&bytes).unwrap();
     assert_eq!(pdu.header, h);
     assert_eq!(pdu.ndr, e.ndr);
-    assert_eq!(pdu.ndr.packet_type(), e.packet_type);
+    assert_eq!(pdu.ndr.packet_type(), side.packet_type);
     assert!(pdu.ndr.is_consistent(pdu.blocks.len()));
     assert_eq!(usize::from(e.body_len), NDR_LEN + pdu.blocks.len());
     if let Some(status) = pdu.ndr.status() {
@@ -158,13 +202,8 @@ fn check(e: Expect) -> Vec<u8> {
 fn connect_request_capture() {
     check(Expect {
         capture: CONNECT_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: true,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        side: S7_CALL,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 0,
         opnum: opnum::CONNECT,
         body_len: 577,
@@ -177,13 +216,8 @@ fn connect_request_capture() {
 fn connect_response_capture() {
     check(Expect {
         capture: CONNECT_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        side: PNET_ANSWER,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 0,
         opnum: opnum::CONNECT,
         body_len: 110,
@@ -196,13 +230,8 @@ fn connect_response_capture() {
 fn write_request_capture() {
     check(Expect {
         capture: WRITE_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: true,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        side: S7_CALL,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 1,
         opnum: opnum::WRITE,
         body_len: 364,
@@ -215,13 +244,8 @@ fn write_request_capture() {
 fn write_response_capture() {
     check(Expect {
         capture: WRITE_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        side: PNET_ANSWER,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 1,
         opnum: opnum::WRITE,
         body_len: 340,
@@ -234,13 +258,8 @@ fn write_response_capture() {
 fn prmend_request_capture() {
     check(Expect {
         capture: PRMEND_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: true,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        side: S7_CALL,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 2,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -253,13 +272,8 @@ fn prmend_request_capture() {
 fn prmend_response_capture() {
     check(Expect {
         capture: PRMEND_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        side: PNET_ANSWER,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 2,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -272,13 +286,8 @@ fn prmend_response_capture() {
 fn application_ready_request_capture() {
     check(Expect {
         capture: APPREADY_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_CPU,
-        interface: IFACE_CONTROLLER,
+        side: PNET_CALL,
         activity: ACT_APPREADY,
-        server_boot_time: 0,
         sequence_number: 0,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -291,13 +300,8 @@ fn application_ready_request_capture() {
 fn application_ready_response_capture() {
     check(Expect {
         capture: APPREADY_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::LAST_FRAGMENT | flags1::NO_FACK,
-        little_endian: true,
-        object: OBJECT_CPU,
-        interface: IFACE_CONTROLLER,
+        side: S7_ANSWER,
         activity: ACT_APPREADY,
-        server_boot_time: 0x5156,
         sequence_number: 0,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -311,13 +315,8 @@ fn im0_read_request_captures() {
     for (capture, seq) in [(IM0_READ_REQ, 4), (IM0_READ_REQ_IF, 3)] {
         check(Expect {
             capture,
-            packet_type: PacketType::Request,
-            flags1: flags1::IDEMPOTENT,
-            little_endian: true,
-            object: OBJECT_DEVICE,
-            interface: IFACE_DEVICE,
+            side: S7_CALL,
             activity: ACT_READ,
-            server_boot_time: 0,
             sequence_number: seq,
             opnum: opnum::READ,
             body_len: 84,
@@ -332,13 +331,8 @@ fn im0_read_response_captures() {
     for (capture, seq) in [(IM0_READ_RES, 4), (IM0_READ_RES_IF, 3)] {
         check(Expect {
             capture,
-            packet_type: PacketType::Response,
-            flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-            little_endian: false,
-            object: OBJECT_DEVICE,
-            interface: IFACE_DEVICE,
+            side: PNET_ANSWER,
             activity: ACT_READ,
-            server_boot_time: 0,
             sequence_number: seq,
             opnum: opnum::READ,
             body_len: 144,
