@@ -21,6 +21,7 @@
 
 #include "pniousrd.h"
 #include "procimg.h"
+#include "check.h"
 
 #include <pthread.h>
 #include <stdarg.h>
@@ -30,29 +31,6 @@
 #include <time.h>
 
 #define WAIT_S 10
-
-static void fail(int line, const char *fmt, ...) {
-    va_list ap;
-    fprintf(stderr, "line %d: ", line);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fprintf(stderr, " (last error: %s)\n", procimg_last_error());
-    exit(1);
-}
-
-#define CHECK(cond, ...)                               \
-    do {                                               \
-        if (!(cond)) fail(__LINE__, __VA_ARGS__);      \
-    } while (0)
-
-#define CHECK_RC(call, expected)                                                         \
-    do {                                                                                 \
-        PNIO_UINT32 rc_ = (call);                                                        \
-        if (rc_ != (PNIO_UINT32)(expected))                                              \
-            fail(__LINE__, "%s returned 0x%x, expected 0x%x", #call, (unsigned)rc_,      \
-                 (unsigned)(expected));                                                  \
-    } while (0)
 
 /* ---- What the library thread's callbacks saw ------------------------------------------ */
 
