@@ -210,21 +210,8 @@ fn alarm_frames_reemitted_and_built_dissect_clean() {
     // and an abort.
     let (n, h) = notification.expect("a notification among the captures");
     let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
-    let data = RtaPdu::data(
-        Priority::High,
-        h.src_endpoint,
-        h.dst_endpoint,
-        0xffff,
-        h.send_seq,
-        vec![AlarmBlock::Ack(ack)],
-    );
-    let tack = RtaPdu::ack(
-        Priority::High,
-        h.src_endpoint,
-        h.dst_endpoint,
-        0xfffe,
-        h.send_seq,
-    );
+    let data = RtaPdu::first_reply_to(Priority::High, &h, vec![AlarmBlock::Ack(ack)]);
+    let tack = RtaPdu::first_ack_of(Priority::High, &h);
     let tagged = |pdu: &RtaPdu| {
         let mut f = vec![
             2, 0, 0, 0, 0, 2, 2, 0, 0, 0, 0, 1, 0x81, 0x00, 0xc0, 0x00, 0x88, 0x92,

@@ -50,7 +50,7 @@ fn ack_rta(
     priority: Priority,
     now: u64,
 ) -> Vec<DeviceAction> {
-    let pdu = RtaPdu::ack(priority, h.src_endpoint, h.dst_endpoint, 0xfffe, h.send_seq);
+    let pdu = RtaPdu::first_ack_of(priority, h);
     let tci = match priority {
         Priority::High => 0xc000,
         Priority::Low => 0xa000,

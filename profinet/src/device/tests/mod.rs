@@ -1310,25 +1310,16 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
     out.clear();
     let h = notif.header;
     dev.on_frame(
-        &to_dev(RtaPdu::ack(
-            Priority::High,
-            h.src_endpoint,
-            h.dst_endpoint,
-            0xfffe,
-            h.send_seq,
-        )),
+        &to_dev(RtaPdu::first_ack_of(Priority::High, &h)),
         t + MS,
         &mut out,
     );
     assert!(out.is_empty());
     let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
     dev.on_frame(
-        &to_dev(RtaPdu::data(
+        &to_dev(RtaPdu::first_reply_to(
             Priority::High,
-            h.src_endpoint,
-            h.dst_endpoint,
-            0xffff,
-            h.send_seq,
+            &h,
             vec![AlarmBlock::Ack(ack)],
         )),
         t + 2 * MS,

@@ -499,6 +499,37 @@ impl RtaPdu {
         )
     }
 
+    /// The transport ACK-RTA for the DATA-RTA `received` from a side that has sent no
+    /// DATA-RTA yet: endpoints swapped, SendSeqNum [`SEQ_INITIAL_LAST`], AckSeqNum the received
+    /// SendSeqNum.
+    pub fn first_ack_of(priority: Priority, received: &RtaHeader) -> RtaPdu {
+        RtaPdu::ack(
+            priority,
+            received.src_endpoint,
+            received.dst_endpoint,
+            SEQ_INITIAL_LAST,
+            received.send_seq,
+        )
+    }
+
+    /// The first DATA-RTA of a side, answering the DATA-RTA `received` with `blocks` (an
+    /// AlarmAck in practice): endpoints swapped, SendSeqNum [`SEQ_INITIAL`], acknowledging
+    /// `received`.
+    pub fn first_reply_to(
+        priority: Priority,
+        received: &RtaHeader,
+        blocks: Vec<AlarmBlock>,
+    ) -> RtaPdu {
+        RtaPdu::data(
+            priority,
+            received.src_endpoint,
+            received.dst_endpoint,
+            SEQ_INITIAL,
+            received.send_seq,
+            blocks,
+        )
+    }
+
     /// Bytes of the PDU from the FrameID on, without Ethernet padding.
     pub fn buffer_len(&self) -> usize {
         HEADER_LEN.saturating_add(self.body.var_part_len())
