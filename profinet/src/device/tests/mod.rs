@@ -727,29 +727,15 @@ pub(super) fn built_connect(
         )
         .collect();
     ConnectRequest {
-        ar: ArBlockReq {
-            ar_type: 1,
+        ar: ArBlockReq::io_controller(
             ar_uuid,
-            session_key: 1,
-            initiator_mac: S7_MAC,
-            initiator_object_uuid: object_uuid(1, 0x010e, 0x002a),
-            ar_properties: 0x4000_0011,
-            activity_timeout_factor: 200,
-            udp_rt_port: 0x8892,
-            station_name: "procimgd".into(),
-        },
+            1,
+            S7_MAC,
+            object_uuid(1, 0x010e, 0x002a),
+            "procimgd".into(),
+        ),
         iocrs: vec![input, output],
-        alarm_cr: AlarmCrBlockReq {
-            alarm_cr_type: 1,
-            lt: 0x8892,
-            properties: 0,
-            rta_timeout_factor: 1,
-            rta_retries: 3,
-            local_alarm_reference: 1,
-            max_alarm_data_length: 256,
-            tag_header_high: 0xc000,
-            tag_header_low: 0xa000,
-        },
+        alarm_cr: AlarmCrBlockReq::io_controller(1),
         expected,
     }
 }

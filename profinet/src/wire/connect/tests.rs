@@ -68,6 +68,15 @@ fn connect_request_capture() {
     assert_eq!(ar.activity_timeout_factor, 200);
     assert_eq!(ar.udp_rt_port, UDP_RT_PORT_NONE);
     assert_eq!(ar.station_name, "plcxbbench.profinetxainterfacexb25fbd");
+    // What io_controller describes is what the S7 sends.
+    let own = ArBlockReq::io_controller(
+        ar.ar_uuid,
+        2,
+        ar.initiator_mac,
+        ar.initiator_object_uuid,
+        ar.station_name.clone(),
+    );
+    assert_eq!(*ar, own);
 
     assert_eq!(req.iocrs.len(), 2);
     let (input, output) = (&req.iocrs[0], &req.iocrs[1]);
@@ -114,20 +123,7 @@ fn connect_request_capture() {
     );
     assert_eq!(output.apis[0].iocs, input_objects);
 
-    assert_eq!(
-        req.alarm_cr,
-        AlarmCrBlockReq {
-            alarm_cr_type: ALARM_CR_TYPE,
-            lt: LT_PROFINET,
-            properties: 0,
-            rta_timeout_factor: 1,
-            rta_retries: 3,
-            local_alarm_reference: 0,
-            max_alarm_data_length: 256,
-            tag_header_high: TAG_HEADER_PRIO_6,
-            tag_header_low: TAG_HEADER_PRIO_5,
-        }
-    );
+    assert_eq!(req.alarm_cr, AlarmCrBlockReq::io_controller(0));
 
     // One block per slot: the DAP (interface, port) and the four IO modules.
     let module = |api, slot, module_ident, submodules| ExpectedModule {
