@@ -49,7 +49,7 @@ static void on_startop(PNIO_CP_CBE_PRM *p) {
 static void on_mode(PNIO_CBE_PRM *p) {
     if (atomic_fetch_add(&mode_calls, 1) == 0) {
         /* Inside a callback: the IO data functions are allowed, the others are not. */
-        PNIO_ADDR i0 = logical_addr(PNIO_IO_IN, 0), q0 = logical_addr(PNIO_IO_OUT, 0);
+        PNIO_ADDR i0 = logical(PNIO_IO_IN, 0), q0 = logical(PNIO_IO_OUT, 0);
         PNIO_UINT8 buf[16] = {0};
         PNIO_UINT32 n;
         PNIO_IOXS rem;
@@ -66,8 +66,8 @@ static void on_mode(PNIO_CBE_PRM *p) {
 }
 
 static void data_errors(PNIO_UINT32 h) {
-    PNIO_ADDR i0 = logical_addr(PNIO_IO_IN, 0), q0 = logical_addr(PNIO_IO_OUT, 0);
-    PNIO_ADDR geo = logical_addr(PNIO_IO_IN, 0), gap = logical_addr(PNIO_IO_IN, 200), qgap = logical_addr(PNIO_IO_OUT, 200);
+    PNIO_ADDR i0 = logical(PNIO_IO_IN, 0), q0 = logical(PNIO_IO_OUT, 0);
+    PNIO_ADDR geo = logical(PNIO_IO_IN, 0), gap = logical(PNIO_IO_IN, 200), qgap = logical(PNIO_IO_OUT, 200);
     PNIO_UINT8 buf[32] = {0};
     PNIO_UINT32 n;
     PNIO_IOXS rem, loc;
@@ -143,7 +143,7 @@ static void data_errors(PNIO_UINT32 h) {
 
 int main(void) {
     PNIO_UINT32 h = 0, h2 = 0;
-    PNIO_ADDR q0 = logical_addr(PNIO_IO_OUT, 0), i0 = logical_addr(PNIO_IO_IN, 0);
+    PNIO_ADDR q0 = logical(PNIO_IO_OUT, 0), i0 = logical(PNIO_IO_IN, 0);
     PNIO_CTRL_DIAG diag;
     PNIO_UINT8 rec[4] = {0};
     int i;

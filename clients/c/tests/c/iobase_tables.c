@@ -42,7 +42,7 @@ static const char *code_name(PNIO_UINT32 c) {
 /* (I address, BufLen, expected return, expected *pDataLen) */
 static void read_row(PNIO_UINT32 h, PNIO_UINT32 a, PNIO_UINT32 len, PNIO_UINT32 want,
                      PNIO_UINT32 want_len) {
-    PNIO_ADDR x = logical_addr(PNIO_IO_IN, a);
+    PNIO_ADDR x = logical(PNIO_IO_IN, a);
     PNIO_UINT8 buf[16];
     PNIO_UINT32 data_len = 0xdead;
     PNIO_IOXS rem = PNIO_S_BAD;
@@ -58,7 +58,7 @@ static void read_row(PNIO_UINT32 h, PNIO_UINT32 a, PNIO_UINT32 len, PNIO_UINT32 
 
 /* (Q address, BufLen, expected return) */
 static void write_row(PNIO_UINT32 h, PNIO_UINT32 a, PNIO_UINT32 len, PNIO_UINT32 want) {
-    PNIO_ADDR x = logical_addr(PNIO_IO_OUT, a);
+    PNIO_ADDR x = logical(PNIO_IO_OUT, a);
     PNIO_UINT8 buf[16];
     PNIO_IOXS rem = PNIO_S_BAD;
     PNIO_UINT32 r;
@@ -91,7 +91,7 @@ int main(int argc, char **argv) {
     }
     /* The device connects after OPERATE: wait until its inputs are exchanged. */
     for (i = 0; i < 1000; i++) {
-        PNIO_ADDR x = logical_addr(PNIO_IO_IN, 0);
+        PNIO_ADDR x = logical(PNIO_IO_IN, 0);
         PNIO_UINT8 b[2];
         PNIO_UINT32 n;
         PNIO_IOXS rem;
@@ -126,7 +126,7 @@ int main(int argc, char **argv) {
         write_row(h, 9, 1, PNIO_ERR_UNKNOWN_ADDR);
         /* The ExtPar example: 2 bytes from Q 3 land in bytes 3..4 of the module at Q 2. */
         {
-            PNIO_ADDR q2 = logical_addr(PNIO_IO_OUT, 2), q3 = logical_addr(PNIO_IO_OUT, 3);
+            PNIO_ADDR q2 = logical(PNIO_IO_OUT, 2), q3 = logical(PNIO_IO_OUT, 3);
             PNIO_UINT8 whole[4] = {1, 2, 3, 4}, part[2] = {0xaa, 0xbb}, back[4];
             PNIO_UINT32 n = 0;
             PNIO_IOXS loc, rem;
