@@ -18,6 +18,10 @@ use std::fmt::Write as _;
 use std::mem::{align_of, offset_of, size_of};
 use std::path::PathBuf;
 
+#[macro_use]
+mod layout_check;
+use layout_check::{Offsets, Sizes};
+
 fn include_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("include")
 }
@@ -25,10 +29,6 @@ fn include_dir() -> PathBuf {
 fn header() -> String {
     std::fs::read_to_string(include_dir().join("pniousrd.h")).expect("read include/pniousrd.h")
 }
-
-#[macro_use]
-mod layout_check;
-use layout_check::{Offsets, Sizes};
 
 fn layout_facts() -> (Sizes, Offsets) {
     let mut sizes: Sizes = Vec::new();
@@ -482,20 +482,15 @@ fn program(cpp: bool) -> (String, usize) {
     (s, checks)
 }
 
-fn build_and_run(cpp: bool) {
+#[test]
+fn c11_and_cpp17_agree_with_rust() {
     let mirrors = "src/iobase/device_types.rs";
-    let out = layout_check::build_and_run("iobase-device-header", &program(cpp).0, cpp, mirrors);
-    println!("{}: {}", if cpp { "C++17" } else { "C11" }, out.trim());
-}
-
-#[test]
-fn c11_agrees_with_rust() {
-    build_and_run(false);
-}
-
-#[test]
-fn cpp17_agrees_with_rust() {
-    build_and_run(true);
+    let [c11, cpp17] = layout_check::build_and_run_c11_and_cpp17(
+        "iobase-device-header",
+        |cpp| program(cpp).0,
+        mirrors,
+    );
+    println!("C11: {}\nC++17: {}", c11.trim(), cpp17.trim());
 }
 
 /// The header stands alone, may be included twice, and goes with the controller's header.

@@ -460,19 +460,10 @@ fn program(cpp: bool) -> String {
     s
 }
 
-fn build_and_run(cpp: bool) {
-    // Linked with the library: every function the header declares must be exported.
-    layout_check::build_and_run("iobase-header", &program(cpp), cpp, "src/iobase");
-}
-
+/// Linked with the library: every function the header declares must be exported.
 #[test]
-fn c11_agrees_with_rust() {
-    build_and_run(false);
-}
-
-#[test]
-fn cpp17_agrees_with_rust() {
-    build_and_run(true);
+fn c11_and_cpp17_agree_with_rust() {
+    layout_check::build_and_run_c11_and_cpp17("iobase-header", program, "src/iobase");
 }
 
 /// Each header stands alone: a program may include just one of them.

@@ -78,6 +78,16 @@ pub fn build_and_run(tag: &str, program: &str, cpp: bool, mirrors: &str) -> Stri
     run(&exe, cpp, mirrors)
 }
 
+/// [`build_and_run`] for the program `program` generates for C11 (`false`) and for C++17
+/// (`true`), in that order. Returns what each printed.
+pub fn build_and_run_c11_and_cpp17(
+    tag: &str,
+    program: impl Fn(bool) -> String,
+    mirrors: &str,
+) -> [String; 2] {
+    [false, true].map(|cpp| build_and_run(tag, &program(cpp), cpp, mirrors))
+}
+
 fn run(exe: &Path, cpp: bool, mirrors: &str) -> String {
     let run = Command::new(exe).output().expect("run the check program");
     let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
