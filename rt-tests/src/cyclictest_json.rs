@@ -12,6 +12,21 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// The top-level keys of cyclictest's `--json` file, which procimg-cyclictest writes as well
+/// (colons and all) so that scripts written for cyclictest read its file.
+pub const TOP_LEVEL_KEYS: [&str; 10] = [
+    "file_version",
+    "cmdline:",
+    "rt_test_version:",
+    "start_time",
+    "end_time",
+    "return_code",
+    "sysinfo",
+    "num_threads",
+    "resolution_in_ns",
+    "thread",
+];
+
 #[derive(Deserialize)]
 struct File {
     thread: BTreeMap<String, Thread>,

@@ -88,6 +88,31 @@ impl Measurement {
     pub fn histogram(&self) -> Histogram<u64> {
         histogram_from_buckets(&self.buckets)
     }
+
+    /// The row of this measurement in a tool's µs table (see [`table_header`]): the name in
+    /// `name_width` columns, then count, min, p50, p99, p99.9 and max.
+    pub fn table_row(&self, name_width: usize) -> String {
+        let us = |ns: u64| ns as f64 / 1000.0;
+        format!(
+            "{:<name_width$} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
+            self.name,
+            self.count,
+            us(self.min_ns),
+            us(self.p50_ns),
+            us(self.p99_ns),
+            us(self.p999_ns),
+            us(self.max_ns)
+        )
+    }
+}
+
+/// The header of the µs table the tools print after a run, one
+/// [`Measurement::table_row`] a measurement.
+pub fn table_header(name_width: usize) -> String {
+    format!(
+        "{:<name_width$} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}",
+        "µs", "count", "min", "p50", "p99", "p99.9", "max"
+    )
 }
 
 /// The machine a report was measured on.

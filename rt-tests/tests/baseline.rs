@@ -3,35 +3,26 @@
 //! reads back with the measurements procimg-compare looks up. Timing is not judged here.
 
 use procimg_rt_tests::report::Report;
-use std::path::PathBuf;
 use std::process::Command;
 
-fn temp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!(
-        "procimg-baseline-test-{}-{name}",
-        std::process::id()
-    ))
-}
+mod support;
+use support::{refusal, stdout_of_success, temp};
+
+const TOOL: &str = env!("CARGO_BIN_EXE_procimg-baseline");
 
 /// Runs the tool with `args` and `--report`, checks it succeeded and printed `expect`, and
 /// returns the report.
 fn run(args: &[&str], expect: &str) -> Report {
-    let path = temp(&format!("{}.json", args[0]));
+    let path = temp("procimg-baseline", &format!("{}.json", args[0]));
     let hlog = path.with_extension("hlog");
-    let out = Command::new(env!("CARGO_BIN_EXE_procimg-baseline"))
-        .args(args)
-        .arg("--report")
-        .arg(&path)
-        .arg("--hdr-log")
-        .arg(&hlog)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}\n{stdout}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = stdout_of_success(
+        Command::new(TOOL)
+            .args(args)
+            .arg("--report")
+            .arg(&path)
+            .arg("--hdr-log")
+            .arg(&hlog),
+        &args,
     );
     assert!(stdout.contains(expect), "{stdout}");
     let report = Report::read_json(&path).unwrap();
@@ -105,22 +96,12 @@ fn every_copy_size_is_a_measurement() {
 
 #[test]
 fn spin_on_one_cpu_is_refused_with_a_reason() {
-    let out = Command::new(env!("CARGO_BIN_EXE_procimg-baseline"))
-        .args(["spin", "-a", "0,0", "-l", "10"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = refusal(TOOL, &["spin", "-a", "0,0", "-l", "10"]);
     assert!(stderr.contains("different CPUs"), "{stderr}");
 }
 
 #[test]
 fn a_bad_size_is_refused_with_a_reason() {
-    let out = Command::new(env!("CARGO_BIN_EXE_procimg-baseline"))
-        .args(["memcpy", "--bytes", "lots"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = refusal(TOOL, &["memcpy", "--bytes", "lots"]);
     assert!(stderr.contains("not a size"), "{stderr}");
 }

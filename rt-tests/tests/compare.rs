@@ -6,6 +6,9 @@
 
 use std::process::Command;
 
+mod support;
+use support::refusal;
+
 #[test]
 fn a_quick_comparison_prints_the_table_and_writes_its_files() {
     let dir = std::env::temp_dir().join(format!("procimg-compare-test-{}", std::process::id()));
@@ -92,21 +95,15 @@ fn a_quick_comparison_prints_the_table_and_writes_its_files() {
 
 #[test]
 fn a_bad_option_is_refused_with_a_reason() {
-    let out = Command::new(env!("CARGO_BIN_EXE_procimg-compare"))
-        .args(["--sizes", "lots"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("not a size"));
+    let err = refusal(env!("CARGO_BIN_EXE_procimg-compare"), &["--sizes", "lots"]);
+    assert!(err.contains("not a size"), "{err}");
 }
 
 #[test]
 fn a_cycle_time_procimgd_cannot_run_is_refused_with_the_ones_it_can() {
-    let out = Command::new(env!("CARGO_BIN_EXE_procimg-compare"))
-        .args(["--shortest-cycle", "250,200"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = refusal(
+        env!("CARGO_BIN_EXE_procimg-compare"),
+        &["--shortest-cycle", "250,200"],
+    );
     assert!(err.contains("31.25") && err.contains("187.5"), "{err}");
 }

@@ -6,10 +6,14 @@
 //! Runs without root: SCHED_FIFO, mlockall and /dev/cpu_dma_latency then fail with warnings
 //! and the threads measure at normal priority.
 
+use procimg_rt_tests::cyclictest_json::TOP_LEVEL_KEYS;
 use procimg_rt_tests::report::Report;
 use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
+
+mod support;
+use support::refusal;
 
 const TOOL: &str = env!("CARGO_BIN_EXE_procimg-cyclictest");
 
@@ -258,18 +262,7 @@ fn json_has_the_keys_cyclictest_writes() {
     );
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).expect("valid JSON");
-    for key in [
-        "file_version",
-        "cmdline:",
-        "rt_test_version:",
-        "start_time",
-        "end_time",
-        "return_code",
-        "sysinfo",
-        "num_threads",
-        "resolution_in_ns",
-        "thread",
-    ] {
+    for key in TOP_LEVEL_KEYS {
         assert!(v.get(key).is_some(), "{key} missing: {v}");
     }
     for key in [
@@ -341,12 +334,7 @@ fn the_report_reads_back() {
 
 #[test]
 fn bad_options_are_refused_with_a_hint() {
-    let out = Command::new(TOOL)
-        .args(["-D", "10w"])
-        .output()
-        .expect("run");
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = refusal(TOOL, &["-D", "10w"]);
     assert!(err.contains("s, m, h or d"), "{err}");
 }
 

@@ -8,6 +8,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Mutex;
 
+mod support;
+use support::{refusal, stdout_of_success};
+
 fn tool() -> &'static str {
     env!("CARGO_BIN_EXE_procimg-handshake")
 }
@@ -25,28 +28,16 @@ static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 
 fn run(args: &[&str], report: &Path) -> Report {
     let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let out = Command::new(tool())
-        .args(args)
-        .arg("--report")
-        .arg(report)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}\n{stdout}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = stdout_of_success(
+        Command::new(tool()).args(args).arg("--report").arg(report),
+        &args,
     );
     assert!(stdout.contains("round trip"), "{stdout}");
     Report::read_json(report).unwrap()
 }
 
 fn temp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!(
-        "procimg-handshake-test-{}-{name}",
-        std::process::id()
-    ))
+    support::temp("procimg-handshake", name)
 }
 
 #[test]
@@ -97,12 +88,7 @@ fn a_busy_polling_client_is_measured() {
 
 #[test]
 fn too_many_busy_clients_are_refused_with_the_reason() {
-    let out = Command::new(tool())
-        .args(["-w", "busy", "-c", "64", "-l", "10"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = refusal(tool(), &["-w", "busy", "-c", "64", "-l", "10"]);
     assert!(err.contains("need 65 CPUs"), "{err}");
 }
 
@@ -130,12 +116,7 @@ fn the_demo_runs_at_the_cycle_asked_for() {
 
 #[test]
 fn a_cycle_time_procimgd_cannot_run_is_refused_with_the_ones_it_can() {
-    let out = Command::new(tool())
-        .args(["--demo", "-i", "200", "-l", "10"])
-        .output()
-        .unwrap();
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = refusal(tool(), &["--demo", "-i", "200", "-l", "10"]);
     assert!(err.contains("31.25") && err.contains("187.5"), "{err}");
 }
 
@@ -147,17 +128,8 @@ fn startup_times_the_start_and_the_attaches_and_reads_the_memory() {
     }
     let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let path = temp("startup.json");
-    let out = Command::new(tool())
-        .args(["startup", "-b", "4KiB", "-n", "3", "--report"])
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let args = ["startup", "-b", "4KiB", "-n", "3", "--report"];
+    stdout_of_success(Command::new(tool()).args(args).arg(&path), &args);
     let r = Report::read_json(&path).unwrap();
     let _ = std::fs::remove_file(&path);
     assert_eq!(r.get("client attach").unwrap().count, 3);

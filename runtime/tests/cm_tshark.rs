@@ -112,29 +112,15 @@ fn echo_connect(ar_uuid: Uuid) -> ConnectRequest {
         }],
     };
     ConnectRequest {
-        ar: ArBlockReq {
-            ar_type: 1,
+        ar: ArBlockReq::io_controller(
             ar_uuid,
-            session_key: 1,
-            initiator_mac: MacAddress([2, 0, 0, 0, 0, 1]),
-            initiator_object_uuid: rpc::object_uuid(1, 0x0001, 0x0493),
-            ar_properties: 0x4000_0011,
-            activity_timeout_factor: 200,
-            udp_rt_port: 0x8892,
-            station_name: "procimgd".into(),
-        },
+            1,
+            MacAddress([2, 0, 0, 0, 0, 1]),
+            rpc::object_uuid(1, 0x0001, 0x0493),
+            "procimgd".into(),
+        ),
         iocrs: vec![input, output],
-        alarm_cr: AlarmCrBlockReq {
-            alarm_cr_type: 1,
-            lt: 0x8892,
-            properties: 0,
-            rta_timeout_factor: 1,
-            rta_retries: 3,
-            local_alarm_reference: 1,
-            max_alarm_data_length: 256,
-            tag_header_high: 0xc000,
-            tag_header_low: 0xa000,
-        },
+        alarm_cr: AlarmCrBlockReq::io_controller(1),
         expected: vec![
             module(
                 0,
@@ -210,21 +196,8 @@ fn alarm_frames_reemitted_and_built_dissect_clean() {
     // and an abort.
     let (n, h) = notification.expect("a notification among the captures");
     let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
-    let data = RtaPdu::data(
-        Priority::High,
-        h.src_endpoint,
-        h.dst_endpoint,
-        0xffff,
-        h.send_seq,
-        vec![AlarmBlock::Ack(ack)],
-    );
-    let tack = RtaPdu::ack(
-        Priority::High,
-        h.src_endpoint,
-        h.dst_endpoint,
-        0xfffe,
-        h.send_seq,
-    );
+    let data = RtaPdu::first_reply_to(Priority::High, &h, vec![AlarmBlock::Ack(ack)]);
+    let tack = RtaPdu::first_ack_of(Priority::High, &h);
     let tagged = |pdu: &RtaPdu| {
         let mut f = vec![
             2, 0, 0, 0, 0, 2, 2, 0, 0, 0, 0, 1, 0x81, 0x00, 0xc0, 0x00, 0x88, 0x92,

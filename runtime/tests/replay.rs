@@ -139,26 +139,9 @@ const PNET_DEVICE: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8])
 const T0: u64 = 1_787_840_000 * 1_000_000_000;
 const MS: u64 = 1_000_000;
 
-/// The p-net sample device with the submodules the S7 configured (records aside: they do not
-/// change the frames).
-const PNET_SAMPLE: &str = r#"
-cycle_time = "1ms"
-[[device]]
-name = "rt-labs-dev"
-ip = "172.16.2.10"
-vendor_id = 0x0493
-device_id = 0x0002
-reduction_ratio = 32
-submodule = [
-  { slot = 0, subslot = 1, module_ident = 0x1, submodule_ident = 0x1 },
-  { slot = 0, subslot = 0x8000, module_ident = 0x1, submodule_ident = 0x8000 },
-  { slot = 0, subslot = 0x8001, module_ident = 0x1, submodule_ident = 0x8001 },
-  { slot = 1, subslot = 1, module_ident = 0x30, submodule_ident = 0x130, input_length = 1 },
-  { slot = 2, subslot = 1, module_ident = 0x31, submodule_ident = 0x131, output_length = 1 },
-  { slot = 3, subslot = 1, module_ident = 0x32, submodule_ident = 0x132, input_length = 1, output_length = 1 },
-  { slot = 4, subslot = 1, module_ident = 0x40, submodule_ident = 0x140, input_length = 8, output_length = 8 },
-]
-"#;
+/// The p-net sample device as the S7 configured it (its records do not change the frames
+/// replayed here).
+const PNET_SAMPLE: &str = include_str!("fixtures/pnet_sample.toml");
 
 /// The cycle thread's PROFINET IO on a replay of the S7 capture, with the AR the S7's Connect
 /// set up: the device's cyclic frame lands in the image when it is due, its alarm goes to the

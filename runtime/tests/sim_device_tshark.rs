@@ -316,27 +316,14 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         RtaPdu::parse(&procimg_profinet::wire::rta_pdu::Packet::new_checked(&notif[18..]).unwrap())
             .unwrap();
     let h = notif.header;
-    let ack = RtaPdu::ack(
-        Priority::High,
-        h.src_endpoint,
-        h.dst_endpoint,
-        0xfffe,
-        h.send_seq,
-    );
+    let ack = RtaPdu::first_ack_of(Priority::High, &h);
     dev.on_frame(
         &frame_of(DEVICE_MAC, 0xc000, &ack.to_vec().unwrap()),
         now,
         &mut out,
     );
     let alarm_ack = AlarmAck::for_notification(notif.notification().unwrap(), PnioStatus::OK);
-    let data = RtaPdu::data(
-        Priority::High,
-        h.src_endpoint,
-        h.dst_endpoint,
-        0xffff,
-        h.send_seq,
-        vec![AlarmBlock::Ack(alarm_ack)],
-    );
+    let data = RtaPdu::first_reply_to(Priority::High, &h, vec![AlarmBlock::Ack(alarm_ack)]);
     dev.on_frame(
         &frame_of(DEVICE_MAC, 0xc000, &data.to_vec().unwrap()),
         now,

@@ -37,6 +37,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrd.h"
 #include "procimg.h"
+#include "device_example.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -45,8 +46,6 @@
 #include <time.h>
 
 #define CP_INDEX 1
-#define DEMO_VENDOR_ID 0x0493
-#define DEMO_DEVICE_ID 0x0100
 
 /* The program's ident numbers. The DAP keeps the station's own (the demo's 1 and 1), as a
  * device's GSDML fixes its DAP; the IO module's are this program's. */
@@ -335,21 +334,6 @@ static int missing(const char *what) {
     return 0;
 }
 
-static PNIO_DEV_ADDR geo(PNIO_UINT32 slot, PNIO_UINT32 subslot) {
-    PNIO_DEV_ADDR a;
-    memset(&a, 0, sizeof a);
-    a.AddrType = PNIO_ADDR_GEO;
-    a.IODataType = PNIO_IO_IN;
-    a.u.Geo.Slot = slot;
-    a.u.Geo.Subslot = subslot;
-    return a;
-}
-
-static void sleep_ms(long ms) {
-    struct timespec t = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&t, NULL);
-}
-
 static double now_s(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
@@ -510,11 +494,6 @@ static int stop(PNIO_UINT32 h) {
     return 1;
 }
 
-static unsigned long parse_id(const char *arg, const char *env, unsigned long demo) {
-    const char *v = arg ? arg : getenv(env);
-    return v && *v ? strtoul(v, NULL, 0) : demo;
-}
-
 int main(int argc, char **argv) {
     double seconds = argc > 1 ? strtod(argv[1], NULL) : 5.0;
     unsigned long vendor = parse_id(argc > 2 ? argv[2] : NULL, "PNIO_VENDOR_ID", DEMO_VENDOR_ID);
@@ -526,13 +505,7 @@ int main(int argc, char **argv) {
     /* Each line as it happens, also into a pipe. */
     setvbuf(stdout, NULL, _IOLBF, 0);
 
-    PNIO_ANNOTATION ann;
-    memset(&ann, 0, sizeof ann);
-    strcpy((char *)ann.deviceType, "procimg device");
-    strcpy((char *)ann.orderId, "PROCIMG-DEV");
-    ann.hwRevision = 1;
-    ann.swRevisionPrefix = 'V';
-    ann.swRevision2 = 1;
+    PNIO_ANNOTATION ann = example_annotation();
 
     PNIO_CBF_FUNCTIONS cbf;
     memset(&cbf, 0, sizeof cbf);

@@ -17,6 +17,7 @@
 // them happened, in this order.
 #include "pniousrd.h"
 #include "procimg.h"
+#include "pnio_error.hpp"
 
 #include <array>
 #include <chrono>
@@ -70,24 +71,6 @@ struct Seen {
     std::array<PNIO_UINT8, kIoLen> q{};
     PNIO_IOXS q_iops = PNIO_S_BAD;
 } seen;
-
-// A failed call: its code and the library's text for this thread.
-struct PnioError : std::runtime_error {
-    PnioError(const std::string &what, PNIO_UINT32 code)
-        : std::runtime_error(what + " failed with " + hex(code) + "\n  " + procimg_last_error()) {}
-
-    static std::string hex(PNIO_UINT32 code) {
-        char text[16];
-        std::snprintf(text, sizeof text, "0x%03x", static_cast<unsigned>(code));
-        return text;
-    }
-};
-
-void check(const char *what, PNIO_UINT32 code) {
-    if (code != PNIO_OK) {
-        throw PnioError(what, code);
-    }
-}
 
 // Waits until `done` holds (under seen.mu).
 void wait_for(const char *what, const std::function<bool()> &done) {

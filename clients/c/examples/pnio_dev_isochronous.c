@@ -31,6 +31,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrd.h"
 #include "procimg.h"
+#include "device_example.h"
 
 #include <pthread.h>
 #include <stdatomic.h>
@@ -40,8 +41,6 @@
 #include <time.h>
 
 #define CP_INDEX 1
-#define DEMO_VENDOR_ID 0x0493
-#define DEMO_DEVICE_ID 0x0100
 /* The DAP keeps the station's ident numbers; the IO module's are this program's. Slot 1 is
  * where the demo station has 8 bytes in and out. */
 #define DAP_MOD_IDENT 0x00000001u
@@ -281,16 +280,6 @@ static int call(const char *what, PNIO_UINT32 r) {
     return 0;
 }
 
-static PNIO_DEV_ADDR geo(PNIO_UINT32 slot, PNIO_UINT32 subslot) {
-    PNIO_DEV_ADDR a;
-    memset(&a, 0, sizeof a);
-    a.AddrType = PNIO_ADDR_GEO;
-    a.IODataType = PNIO_IO_IN;
-    a.u.Geo.Slot = slot;
-    a.u.Geo.Subslot = subslot;
-    return a;
-}
-
 static int plug(PNIO_DEV_ADDR *a, PNIO_UINT32 mod, PNIO_UINT32 sub, PNIO_PLUG_IM0_BITS im0) {
     int n = confs;
     return call("PNIO_mod_plug", PNIO_mod_plug(handle, 0, a, mod)) &&
@@ -298,16 +287,6 @@ static int plug(PNIO_DEV_ADDR *a, PNIO_UINT32 mod, PNIO_UINT32 sub, PNIO_PLUG_IM
            call("PNIO_sub_plug_ext_IM",
                 PNIO_sub_plug_ext_IM(handle, 0, a, sub, PNIO_ALARM_TYPE_PLUG, im0)) &&
            wait_for(&confs, n + 2, "PULL_PLUG_CONF") && call("plugging", conf_error);
-}
-
-static void sleep_ms(long ms) {
-    struct timespec t = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&t, NULL);
-}
-
-static unsigned long parse_id(const char *arg, const char *env, unsigned long demo) {
-    const char *v = arg ? arg : getenv(env);
-    return v && *v ? strtoul(v, NULL, 0) : demo;
 }
 
 int main(int argc, char **argv) {
@@ -320,13 +299,7 @@ int main(int argc, char **argv) {
     }
     setvbuf(stdout, NULL, _IOLBF, 0);
 
-    PNIO_ANNOTATION ann;
-    memset(&ann, 0, sizeof ann);
-    strcpy((char *)ann.deviceType, "procimg device");
-    strcpy((char *)ann.orderId, "PROCIMG-DEV");
-    ann.hwRevision = 1;
-    ann.swRevisionPrefix = 'V';
-    ann.swRevision2 = 1;
+    PNIO_ANNOTATION ann = example_annotation();
     PNIO_CBF_FUNCTIONS cbf;
     memset(&cbf, 0, sizeof cbf);
     cbf.size = sizeof cbf;

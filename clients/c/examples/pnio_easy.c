@@ -30,6 +30,7 @@
 #include "pniousrx.h"
 #include "procimg.h"
 #include "server_mode.h"
+#include "pnio_example.h"
 
 #include <stdatomic.h>
 #include <stdio.h>
@@ -42,11 +43,6 @@
 
 static atomic_int mode_reports; /* MODE_IND calls so far */
 static atomic_int current_mode = PNIO_MODE_OFFLINE;
-
-static void sleep_ms(long ms) {
-    struct timespec t = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&t, NULL);
-}
 
 /* Callbacks run on threads of the library: only flags and the IO data functions here. */
 static void on_mode(PNIO_CBE_PRM *p) {

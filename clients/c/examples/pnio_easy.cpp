@@ -13,6 +13,7 @@
 // data), through procimg.h after the controller is closed (see server_mode.h).
 #include "pniousrx.h"
 #include "procimg.h"
+#include "pnio_error.hpp"
 #include "server_mode.h"
 
 #include <array>
@@ -38,25 +39,6 @@ extern "C" void on_mode(PNIO_CBE_PRM *p) {
 
 extern "C" void on_record(PNIO_CBE_PRM *p) {
     std::printf("record job confirmed: event %d\n", static_cast<int>(p->CbeType));
-}
-
-// A failed call: its code, and the library's text for this thread, which names the code
-// (PNIO_ERR_...) and says what to do (procimg_last_error() serves both APIs).
-struct PnioError : std::runtime_error {
-    PnioError(const std::string &what, PNIO_UINT32 code)
-        : std::runtime_error(what + " failed with " + hex(code) + "\n  " + procimg_last_error()) {}
-
-    static std::string hex(PNIO_UINT32 code) {
-        char text[16];
-        std::snprintf(text, sizeof text, "0x%03x", static_cast<unsigned>(code));
-        return text;
-    }
-};
-
-void check(const char *what, PNIO_UINT32 code) {
-    if (code != PNIO_OK) {
-        throw PnioError(what, code);
-    }
 }
 
 PNIO_ADDR logical(PNIO_IO_TYPE io, PNIO_UINT32 address) {

@@ -30,6 +30,7 @@
 #include "pniousrx.h"
 #include "procimg.h"
 #include "server_mode.h"
+#include "pnio_example.h"
 
 #include <pthread.h>
 #include <sched.h>
@@ -77,20 +78,6 @@ static void count_result(PNIO_UINT32 r, int operate) {
         atomic_compare_exchange_strong(&first_error, &none, r);
         atomic_fetch_add(&io_errors, 1);
     }
-}
-
-static void sleep_ms(long ms) {
-    struct timespec t = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&t, NULL);
-}
-
-static PNIO_ADDR logical(PNIO_IO_TYPE io, PNIO_UINT32 a) {
-    PNIO_ADDR x;
-    memset(&x, 0, sizeof x);
-    x.AddrType = PNIO_ADDR_LOG;
-    x.IODataType = io;
-    x.u.Addr = a;
-    return x;
 }
 
 static void on_mode(PNIO_CBE_PRM *p) {

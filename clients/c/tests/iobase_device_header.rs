@@ -17,7 +17,10 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::mem::{align_of, offset_of, size_of};
 use std::path::PathBuf;
-use std::process::Command;
+
+#[macro_use]
+mod layout_check;
+use layout_check::{Offsets, Sizes};
 
 fn include_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("include")
@@ -27,17 +30,11 @@ fn header() -> String {
     std::fs::read_to_string(include_dir().join("pniousrd.h")).expect("read include/pniousrd.h")
 }
 
-mod layout_check;
-use layout_check::{Offsets, Sizes};
-
 fn layout_facts() -> (Sizes, Offsets) {
     let mut sizes: Sizes = Vec::new();
     let mut offs: Offsets = Vec::new();
     macro_rules! ty {
-        ($t:ident, [$($f:ident),* $(,)?]) => {
-            sizes.push((stringify!($t), size_of::<$t>(), align_of::<$t>()));
-            $( offs.push((stringify!($t), stringify!($f), offset_of!($t, $f))); )*
-        };
+        ($($layout:tt)*) => { record_layout!(sizes, offs, $($layout)*) };
     }
     ty!(PNIO_DEV_ADDR, [AddrType, IODataType, u]);
     // The union's members, and the fields of the unnamed struct Geo.
@@ -485,57 +482,28 @@ fn program(cpp: bool) -> (String, usize) {
     (s, checks)
 }
 
-fn build_and_run(cpp: bool) {
+#[test]
+fn c11_and_cpp17_agree_with_rust() {
     let mirrors = "src/iobase/device_types.rs";
-    let out = layout_check::build_and_run("iobase-device-header", &program(cpp).0, cpp, mirrors);
-    println!("{}: {}", if cpp { "C++17" } else { "C11" }, out.trim());
-}
-
-#[test]
-fn c11_agrees_with_rust() {
-    build_and_run(false);
-}
-
-#[test]
-fn cpp17_agrees_with_rust() {
-    build_and_run(true);
+    let [c11, cpp17] = layout_check::build_and_run_c11_and_cpp17(
+        "iobase-device-header",
+        |cpp| program(cpp).0,
+        mirrors,
+    );
+    println!("C11: {}\nC++17: {}", c11.trim(), cpp17.trim());
 }
 
 /// The header stands alone, may be included twice, and goes with the controller's header.
 #[test]
 fn header_compiles_alone_and_with_the_controller_header() {
-    let dir = procimg_testkit::c::scratch("iobase-device-alone");
-    let mut failures = Vec::new();
-    for includes in [
-        &["pniousrd.h", "pniousrd.h"][..],
-        &["pniousrd.h", "pniousrx.h"],
-        &["pniousrx.h", "pniousrd.h"],
-    ] {
-        for (cc, std, ext) in [("gcc", "-std=c11", "c"), ("g++", "-std=c++17", "cpp")] {
-            let src = dir.join(format!("alone.{ext}"));
-            let mut text = String::new();
-            for h in includes {
-                writeln!(text, "#include \"{h}\"").unwrap();
-            }
-            text.push_str("int main(void) { return 0; }\n");
-            std::fs::write(&src, text).unwrap();
-            let out = Command::new(cc)
-                .arg(std)
-                .args(["-Wall", "-Wextra", "-Werror", "-pedantic", "-fsyntax-only"])
-                .arg("-I")
-                .arg(include_dir())
-                .arg(&src)
-                .output()
-                .expect("run the C compiler");
-            if !out.status.success() {
-                failures.push(format!(
-                    "{includes:?} ({cc}): {}",
-                    String::from_utf8_lossy(&out.stderr)
-                ));
-            }
-        }
-    }
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    layout_check::headers_compile_alone(
+        "iobase-device-alone",
+        &[
+            &["pniousrd.h", "pniousrd.h"],
+            &["pniousrd.h", "pniousrx.h"],
+            &["pniousrx.h", "pniousrd.h"],
+        ],
+    );
 }
 
 /// The names that follow `what` in the header's text, up to the next parenthesis, e.g. the

@@ -10,13 +10,7 @@ use procimg::iobase::types::*;
 use procimg::iobase::watchdog::*;
 use std::fmt::Write as _;
 use std::mem::{align_of, offset_of, size_of};
-use std::path::PathBuf;
-use std::process::Command;
-
-fn crate_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
+#[macro_use]
 mod layout_check;
 use layout_check::{Offsets, Sizes};
 
@@ -24,10 +18,7 @@ fn layout_facts() -> (Sizes, Offsets) {
     let mut sizes: Sizes = Vec::new();
     let mut offs: Offsets = Vec::new();
     macro_rules! ty {
-        ($t:ident, [$($f:ident),* $(,)?]) => {
-            sizes.push((stringify!($t), size_of::<$t>(), align_of::<$t>()));
-            $( offs.push((stringify!($t), stringify!($f), offset_of!($t, $f))); )*
-        };
+        ($($layout:tt)*) => { record_layout!(sizes, offs, $($layout)*) };
     }
     ty!(PNIO_ADDR, [AddrType, IODataType, u]);
     ty!(
@@ -469,53 +460,24 @@ fn program(cpp: bool) -> String {
     s
 }
 
-fn build_and_run(cpp: bool) {
-    // Linked with the library: every function the header declares must be exported.
-    layout_check::build_and_run("iobase-header", &program(cpp), cpp, "src/iobase");
-}
-
+/// Linked with the library: every function the header declares must be exported.
 #[test]
-fn c11_agrees_with_rust() {
-    build_and_run(false);
-}
-
-#[test]
-fn cpp17_agrees_with_rust() {
-    build_and_run(true);
+fn c11_and_cpp17_agree_with_rust() {
+    layout_check::build_and_run_c11_and_cpp17("iobase-header", program, "src/iobase");
 }
 
 /// Each header stands alone: a program may include just one of them.
 #[test]
 fn each_header_compiles_alone() {
-    let dir = std::env::temp_dir().join(format!("procimg-iobase-alone-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let mut failures = Vec::new();
-    for h in ["pnioerrx.h", "pniobase.h", "pniousrx.h"] {
-        for (cc, std, ext) in [("gcc", "-std=c11", "c"), ("g++", "-std=c++17", "cpp")] {
-            let src = dir.join(format!("alone.{ext}"));
-            std::fs::write(
-                &src,
-                format!("#include \"{h}\"\n#include \"{h}\"\nint main(void) {{ return 0; }}\n"),
-            )
-            .unwrap();
-            let out = Command::new(cc)
-                .arg(std)
-                .args(["-Wall", "-Wextra", "-Werror", "-pedantic", "-fsyntax-only"])
-                .arg("-I")
-                .arg(crate_dir().join("include"))
-                .arg(&src)
-                .output()
-                .expect("run the C compiler");
-            if !out.status.success() {
-                failures.push(format!(
-                    "{h} ({cc}): {}",
-                    String::from_utf8_lossy(&out.stderr)
-                ));
-            }
-        }
-    }
-    let _ = std::fs::remove_dir_all(&dir);
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // Each twice: the include guards hold.
+    layout_check::headers_compile_alone(
+        "iobase-alone",
+        &[
+            &["pnioerrx.h", "pnioerrx.h"],
+            &["pniobase.h", "pniobase.h"],
+            &["pniousrx.h", "pniousrx.h"],
+        ],
+    );
 }
 
 /// The named reason constants of the Rust side are the table's.

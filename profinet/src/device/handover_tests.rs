@@ -3,8 +3,8 @@
 //! then produces no cyclic frame itself, and how the exchange ends.
 
 use super::tests::{
-    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, built_connect, call, counter_device, datagrams,
-    frames, request, run_until, status, to_data,
+    ACTIVITY, AR_UUID, MS, PNET_MAC, S7_MAC, built_connect, call, connect_request, counter_device,
+    datagrams, frames, request, run_until, status, to_data,
 };
 use super::*;
 use crate::wire::PnioStatus;
@@ -169,17 +169,7 @@ fn a_period_the_cycle_cannot_keep_is_refused() {
             (2, 1, 0x31, 0x1, 0, 2),
         ];
         let connect = built_connect(&subs, AR_UUID, (32, 2, 3));
-        let r = call(
-            &mut dev,
-            &request(
-                opnum::CONNECT,
-                ACTIVITY,
-                0,
-                &connect.to_vec().unwrap(),
-                false,
-            ),
-            0,
-        );
+        let r = call(&mut dev, &connect_request(&connect), 0);
         let s = status(&r);
         assert_eq!((s.error_code1, s.error_code2), (0x02, 11), "{s:?}");
         assert_eq!(dev.state(), ArState::Idle);

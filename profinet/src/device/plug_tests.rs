@@ -66,13 +66,7 @@ fn ack_transport(dev: &mut Device<TestApp>, out: &[DeviceAction], t: u64) -> Vec
         .find(|p| p.notification().is_some())
         .expect("an alarm went out");
     let h = pdu.header;
-    let ack = RtaPdu::ack(
-        Priority::Low,
-        h.src_endpoint,
-        h.dst_endpoint,
-        0xfffe,
-        h.send_seq,
-    );
+    let ack = RtaPdu::first_ack_of(Priority::Low, &h);
     let mut next = Vec::new();
     dev.on_frame(
         &ethernet_frame(PNET_MAC, S7_MAC, Some(0xa000), &ack.to_vec().unwrap()),

@@ -28,25 +28,12 @@ pub const HEADER_LEN: usize = field::PAYLOAD_UNTAGGED.start;
 /// Bytes of a tagged header.
 pub const TAGGED_HEADER_LEN: usize = field::PAYLOAD_TAGGED.start;
 
-/// A view of an Ethernet II frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Frame<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of an Ethernet II frame.
+    pub struct Frame;
 }
 
 impl<T: AsRef<[u8]>> Frame<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Frame<T> {
-        Frame { buffer }
-    }
-
-    /// Wraps a buffer after checking it holds a whole header.
-    pub fn new_checked(buffer: T) -> Result<Frame<T>> {
-        let f = Frame::new_unchecked(buffer);
-        f.check_len()?;
-        Ok(f)
-    }
-
     /// Checks the buffer holds the header (including a tag if there is one).
     pub fn check_len(&self) -> Result<()> {
         let len = self.buffer.as_ref().len();
@@ -55,11 +42,6 @@ impl<T: AsRef<[u8]>> Frame<T> {
         } else {
             Ok(())
         }
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
     }
 
     /// Destination MAC.

@@ -105,25 +105,12 @@ enum_with_unknown! {
     }
 }
 
-/// A view of one TLV at the start of a buffer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Tlv<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of one TLV at the start of a buffer.
+    pub struct Tlv;
 }
 
 impl<T: AsRef<[u8]>> Tlv<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Tlv<T> {
-        Tlv { buffer }
-    }
-
-    /// Wraps a buffer after [`check_len`](Self::check_len).
-    pub fn new_checked(buffer: T) -> Result<Tlv<T>> {
-        let t = Tlv::new_unchecked(buffer);
-        t.check_len()?;
-        Ok(t)
-    }
-
     /// Checks the buffer holds the header and the value bytes it announces. Bytes after
     /// them (the next TLVs) are allowed.
     pub fn check_len(&self) -> Result<()> {
@@ -137,11 +124,6 @@ impl<T: AsRef<[u8]>> Tlv<T> {
         } else {
             Ok(())
         }
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
     }
 
     fn header(&self) -> u16 {
@@ -224,25 +206,12 @@ fn tlv_header(tlv_type: u8, length: usize) -> EmitResult<u16> {
     Ok(u16::from(tlv_type) << 9 | len)
 }
 
-/// A view of an LLDPDU (the Ethernet payload).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Packet<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of an LLDPDU (the Ethernet payload).
+    pub struct Packet;
 }
 
 impl<T: AsRef<[u8]>> Packet<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Packet<T> {
-        Packet { buffer }
-    }
-
-    /// Wraps a buffer after [`check_len`](Self::check_len).
-    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
-        let p = Packet::new_unchecked(buffer);
-        p.check_len()?;
-        Ok(p)
-    }
-
     /// Checks every TLV up to the End TLV (or the end of the buffer) lies within the buffer.
     pub fn check_len(&self) -> Result<()> {
         let mut b = self.buffer.as_ref();
@@ -254,11 +223,6 @@ impl<T: AsRef<[u8]>> Packet<T> {
             b = b.get(t.total_len()..).unwrap_or(&[]);
         }
         Ok(())
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
     }
 }
 
@@ -905,9 +869,7 @@ impl Repr {
 
     /// The LLDPDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 
     /// The whole Ethernet frame from `src` to [`MULTICAST_NEAREST_BRIDGE`], untagged, padded

@@ -94,6 +94,41 @@ macro_rules! enum_with_unknown {
     };
 }
 
+/// Declares a buffer view `$name<T: AsRef<[u8]>>` over a wire format with the constructors
+/// every view shares: `new_unchecked`, `new_checked` (which runs the view's own `check_len`,
+/// written next to its getters) and `into_inner`.
+///
+/// A macro because a function cannot declare a type and its inherent constructors; a trait
+/// would make every caller import it to call `Packet::new_checked`.
+macro_rules! buffer_view {
+    ($(#[$m:meta])* pub struct $name:ident;) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub struct $name<T: AsRef<[u8]>> {
+            buffer: T,
+        }
+
+        impl<T: AsRef<[u8]>> $name<T> {
+            /// Wraps a buffer without checking it.
+            pub const fn new_unchecked(buffer: T) -> $name<T> {
+                $name { buffer }
+            }
+
+            /// Wraps a buffer after [`check_len`](Self::check_len).
+            pub fn new_checked(buffer: T) -> $crate::wire::Result<$name<T>> {
+                let view = $name::new_unchecked(buffer);
+                view.check_len()?;
+                Ok(view)
+            }
+
+            /// The buffer.
+            pub fn into_inner(self) -> T {
+                self.buffer
+            }
+        }
+    };
+}
+
 pub mod alarm;
 pub mod common;
 pub mod connect;
@@ -107,6 +142,10 @@ pub mod record;
 pub mod rpc;
 pub mod rt;
 pub mod rta_pdu;
+#[cfg(test)]
+pub(crate) mod test_captures;
+#[cfg(test)]
+pub(crate) mod test_strategies;
 
 pub use common::{BlockHeader, BlockType, PnioStatus, Uuid};
 
@@ -215,6 +254,16 @@ impl core::error::Error for EmitError {}
 /// The result of emitting.
 pub type EmitResult<T> = core::result::Result<T, EmitError>;
 
+/// A new vector of `buffer_len` bytes that `emit` fills: the body of every `to_vec`.
+pub(crate) fn emit_to_vec(
+    buffer_len: usize,
+    emit: impl FnOnce(&mut [u8]) -> EmitResult<()>,
+) -> EmitResult<Vec<u8>> {
+    let mut v = vec![0u8; buffer_len];
+    emit(&mut v)?;
+    Ok(v)
+}
+
 /// A byte range of a fixed field.
 pub(crate) type Field = core::ops::Range<usize>;
 /// The rest of a buffer from an offset.
@@ -228,6 +277,20 @@ pub(crate) fn be16(b: &[u8]) -> u16 {
 /// Reads a big-endian u32 from a 4-byte slice.
 pub(crate) fn be32(b: &[u8]) -> u32 {
     u32::from_be_bytes([b[0], b[1], b[2], b[3]])
+}
+
+/// `Ok` when `b` holds a header of `header_len` bytes and the payload whose length the
+/// header's big-endian u16 at `len_field` announces. Bytes after the payload (Ethernet
+/// padding) are allowed, so a view never reads them as data.
+pub(crate) fn check_announced_len(b: &[u8], len_field: Field, header_len: usize) -> Result<()> {
+    let Some(len) = b.get(len_field) else {
+        return Err(Error);
+    };
+    if b.len() < header_len + usize::from(be16(len)) {
+        Err(Error)
+    } else {
+        Ok(())
+    }
 }
 
 /// A MAC address.

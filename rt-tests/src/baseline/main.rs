@@ -30,7 +30,7 @@ mod shared;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use mechanism::{Channel, EventFd, Futex, Socket, Spin};
-use procimg_rt_tests::report::{Measurement, Report};
+use procimg_rt_tests::report::{Measurement, Report, table_header};
 use std::path::PathBuf;
 
 /// Measures the machine's limits that procimg's figures are judged by: a two-process
@@ -223,26 +223,13 @@ fn copy_name(bytes: usize) -> String {
 
 fn print_table(r: &Report) {
     let memcpy = r.settings.get("mechanism").is_some_and(|m| m == "memcpy");
-    let us = |ns: u64| ns as f64 / 1000.0;
-    print!(
-        "{:<16} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}",
-        "µs", "count", "min", "p50", "p99", "p99.9", "max"
-    );
+    print!("{}", table_header(16));
     if memcpy {
         print!(" {:>9} {:>10}", "p50 ns", "ns/KiB p50");
     }
     println!();
     for m in &r.measurements {
-        print!(
-            "{:<16} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
-            m.name,
-            m.count,
-            us(m.min_ns),
-            us(m.p50_ns),
-            us(m.p99_ns),
-            us(m.p999_ns),
-            us(m.max_ns)
-        );
+        print!("{}", m.table_row(16));
         if memcpy {
             let bytes: f64 = m
                 .name

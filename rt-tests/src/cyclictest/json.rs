@@ -180,6 +180,7 @@ pub fn write(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use procimg_rt_tests::cyclictest_json::TOP_LEVEL_KEYS;
     use std::time::Duration;
 
     #[test]
@@ -210,18 +211,7 @@ mod tests {
             0,
         );
         let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-        for key in [
-            "file_version",
-            "cmdline:",
-            "rt_test_version:",
-            "start_time",
-            "end_time",
-            "return_code",
-            "sysinfo",
-            "num_threads",
-            "resolution_in_ns",
-            "thread",
-        ] {
+        for key in TOP_LEVEL_KEYS {
             assert!(v.get(key).is_some(), "{key} missing in {text}");
         }
         assert_eq!(v["thread"]["0"]["histogram"]["13"], 1);

@@ -38,7 +38,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand, ValueEnum};
 use plant::{MAX_IMAGE_BYTES, Plant};
 use procimg_rt_tests::report::{
-    Measurement, Report, buckets_between, histogram_from_buckets, new_histogram,
+    Measurement, Report, buckets_between, histogram_from_buckets, new_histogram, table_header,
 };
 use server::Server;
 use std::io::{BufRead, BufReader, Write};
@@ -480,22 +480,9 @@ fn print_table(r: &Report) {
         s(SERVER_ALLOCATIONS),
         s(CLIENT_ALLOCATIONS)
     );
-    println!(
-        "{:<18} {:>8} {:>9} {:>9} {:>9} {:>9} {:>9}",
-        "µs", "count", "min", "p50", "p99", "p99.9", "max"
-    );
-    let us = |ns: u64| ns as f64 / 1000.0;
+    println!("{}", table_header(18));
     for m in &r.measurements {
-        println!(
-            "{:<18} {:>8} {:>9.1} {:>9.1} {:>9.1} {:>9.1} {:>9.1}",
-            m.name,
-            m.count,
-            us(m.min_ns),
-            us(m.p50_ns),
-            us(m.p99_ns),
-            us(m.p999_ns),
-            us(m.max_ns)
-        );
+        println!("{}", m.table_row(18));
     }
 }
 

@@ -9,8 +9,11 @@ use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
 use iceoryx2::port::subscriber::Subscriber;
-use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, NodeName, ServiceName};
+use iceoryx2::prelude::{
+    AllocationStrategy, CallbackProgression, NodeName, ServiceName, ZeroCopySend,
+};
 use iceoryx2::sample_mut_uninit::SampleMutUninit;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use procimg_shm_layout::events::EVENT_ID_MAX;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
@@ -80,6 +83,29 @@ fn err(instance: &str, what: impl Into<String>, e: impl core::fmt::Debug) -> Shm
 
 fn name(instance: &str, s: String) -> Result<ServiceName, ShmError> {
     ServiceName::new(&s).map_err(|e| err(instance, format!("service name {s}"), e))
+}
+
+/// A byte-slice service whose subscribers see only the newest sample: one publisher, every
+/// client and reader a subscriber that holds one sample (a client lets go of its image before
+/// it takes the next, `Client::refresh`), and the newest sample kept for late subscribers.
+fn newest_sample_service<H: core::fmt::Debug + ZeroCopySend>(
+    node: &Node<Ipc>,
+    instance: &str,
+    service: String,
+    what: &str,
+) -> Result<PortFactory<Ipc, [u8], H>, ShmError> {
+    node.service_builder(&name(instance, service)?)
+        .publish_subscribe::<[u8]>()
+        .max_nodes(MAX_NODES)
+        .user_header::<H>()
+        .max_publishers(1)
+        .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
+        .subscriber_max_buffer_size(1)
+        .subscriber_max_borrowed_samples(1)
+        .history_size(1)
+        .enable_safe_overflow(true)
+        .create()
+        .map_err(|e| err(instance, what, e))
 }
 
 /// Creates a node for the server of `instance` (one per thread that owns ports).
@@ -171,29 +197,18 @@ impl CyclePorts {
         let handshake = HandshakeMap::create(instance, generation)
             .map_err(|e| err(instance, "handshake block", e))?;
 
-        let inputs = node
-            .service_builder(&name(
-                instance,
-                control::input_service(instance, generation),
-            )?)
-            .publish_subscribe::<[u8]>()
-            .max_nodes(MAX_NODES)
-            .user_header::<ImageHeader>()
-            .max_publishers(1)
-            .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
-            .subscriber_max_buffer_size(1)
-            // A client lets go of its image before it takes the next (`Client::refresh`).
-            .subscriber_max_borrowed_samples(1)
-            .history_size(1)
-            .enable_safe_overflow(true)
-            .create()
-            .map_err(|e| err(instance, "input image service", e))?
-            .publisher_builder()
-            .initial_max_slice_len(l.input_payload_size as usize)
-            .max_loaned_samples(1)
-            .override_sample_preallocation(|_| INPUT_IMAGES)
-            .create()
-            .map_err(|e| err(instance, "input image publisher", e))?;
+        let inputs = newest_sample_service::<ImageHeader>(
+            &node,
+            instance,
+            control::input_service(instance, generation),
+            "input image service",
+        )?
+        .publisher_builder()
+        .initial_max_slice_len(l.input_payload_size as usize)
+        .max_loaned_samples(1)
+        .override_sample_preallocation(|_| INPUT_IMAGES)
+        .create()
+        .map_err(|e| err(instance, "input image publisher", e))?;
 
         let outputs = node
             .service_builder(&name(
@@ -291,28 +306,18 @@ impl ControlPorts {
 
         let devices = tables.devices.len() as u32;
         let payload_len = tables.layout.layout_payload_size(devices) as usize;
-        let layout = node
-            .service_builder(&name(
-                instance,
-                control::layout_service(instance, generation),
-            )?)
-            .publish_subscribe::<[u8]>()
-            .max_nodes(MAX_NODES)
-            .user_header::<LayoutHeader>()
-            .max_publishers(1)
-            .max_subscribers(MAX_CLIENTS + EXTRA_READERS)
-            .subscriber_max_buffer_size(1)
-            .subscriber_max_borrowed_samples(1)
-            .history_size(1)
-            .enable_safe_overflow(true)
-            .create()
-            .map_err(|e| err(instance, "layout service", e))?
-            .publisher_builder()
-            .initial_max_slice_len(payload_len)
-            // Published once and kept in the history: every reader gets the same sample.
-            .override_sample_preallocation(|_| 1)
-            .create()
-            .map_err(|e| err(instance, "layout publisher", e))?;
+        let layout = newest_sample_service::<LayoutHeader>(
+            &node,
+            instance,
+            control::layout_service(instance, generation),
+            "layout service",
+        )?
+        .publisher_builder()
+        .initial_max_slice_len(payload_len)
+        // Published once and kept in the history: every reader gets the same sample.
+        .override_sample_preallocation(|_| 1)
+        .create()
+        .map_err(|e| err(instance, "layout publisher", e))?;
 
         let mut sample = layout
             .loan_slice_uninit(payload_len)

@@ -202,22 +202,64 @@ unsafe fn connected(f: &str, ctl: &Controller, s: usize, rem: *mut PNIO_IOXS) ->
     ))
 }
 
+/// The controller of `handle` for a data access, after checking the buffer is given: what
+/// every data function checks first, in the IO-Base order.
+fn controller_and_buffer(
+    f: &str,
+    handle: u32,
+    buf_is_null: bool,
+    buf_len: u32,
+) -> Result<Arc<Controller>, u32> {
+    let Some(ctl) = lookup_io(handle) else {
+        return Err(wrong_handle(f, handle));
+    };
+    if buf_is_null || buf_len == 0 {
+        return Err(fail(
+            f,
+            PNIO_ERR_PRM_BUF,
+            format_args!("pBuffer is NULL or BufLen is 0 (BufLen {buf_len})"),
+        ));
+    }
+    Ok(ctl)
+}
+
+/// The local status an `IOlocState` argument gives; anything but GOOD and BAD is refused.
+fn local_state(f: &str, loc: PNIO_IOXS) -> Result<Ioxs, u32> {
+    ioxs(loc).ok_or_else(|| {
+        fail(
+            f,
+            PNIO_ERR_PRM_LOC_STATE,
+            format_args!("IOlocState {loc} is neither PNIO_S_GOOD nor PNIO_S_BAD"),
+        )
+    })
+}
+
+/// `Ok` when the access resolved to a submodule whose device exchanges data ([`connected`]
+/// writes `*rem`).
+///
+/// # Safety
+/// `rem` is not NULL and writable.
+unsafe fn reachable(
+    f: &str,
+    ctl: &Controller,
+    resolved: Result<Resolved, AccessError>,
+    rem: *mut PNIO_IOXS,
+) -> Result<(), u32> {
+    let r = resolved.map_err(|e| access_failure(f, e))?;
+    // SAFETY: as the caller's contract says.
+    unsafe { connected(f, ctl, r.submodule, rem) }
+}
+
 /// `PNIO_data_read`, `PNIO_data_read_cache`, `PNIO_output_data_read`.
 ///
 /// # Safety
 /// The pointers in `a` are NULL or valid for what the IO-Base prototypes say (`buf` for
 /// `buf_len` bytes).
 pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
-    let Some(ctl) = lookup_io(a.handle) else {
-        return wrong_handle(f, a.handle);
+    let ctl = match controller_and_buffer(f, a.handle, a.buf.is_null(), a.buf_len) {
+        Ok(ctl) => ctl,
+        Err(code) => return code,
     };
-    if a.buf.is_null() || a.buf_len == 0 {
-        return fail(
-            f,
-            PNIO_ERR_PRM_BUF,
-            format_args!("pBuffer is NULL or BufLen is 0 (BufLen {})", a.buf_len),
-        );
-    }
     let want = if kind == ReadKind::Outputs {
         PNIO_IO_OUT
     } else {
@@ -234,15 +276,9 @@ pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
         }
         Ioxs::Good
     } else {
-        match ioxs(a.loc) {
-            Some(l) => l,
-            None => {
-                return fail(
-                    f,
-                    PNIO_ERR_PRM_LOC_STATE,
-                    format_args!("IOlocState {} is neither PNIO_S_GOOD nor PNIO_S_BAD", a.loc),
-                );
-            }
+        match local_state(f, a.loc) {
+            Ok(l) => l,
+            Err(code) => return code,
         }
     };
     if a.data_len.is_null() {
@@ -257,18 +293,15 @@ pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
         Space::Input
     };
     let address = addr.addr();
-    let r = match resolve_read(
+    let resolved = resolve_read(
         &ctl.layout.submodules,
         space,
         address,
         a.buf_len as usize,
         ctl.slice,
-    ) {
-        Ok(r) => r,
-        Err(e) => return access_failure(f, e),
-    };
+    );
     // SAFETY: `rem` checked for NULL above.
-    if let Err(code) = unsafe { connected(f, &ctl, r.submodule, a.rem) } {
+    if let Err(code) = unsafe { reachable(f, &ctl, resolved, a.rem) } {
         return code;
     }
     // SAFETY: not NULL, and the caller's buffer holds BufLen bytes.
@@ -346,43 +379,31 @@ fn irt_inconsistent(f: &str) -> u32 {
 /// The pointers in `a` are NULL or valid for what the IO-Base prototypes say (`buf` for
 /// `buf_len` bytes).
 pub(crate) unsafe fn write(f: &str, cached: bool, a: &WriteArgs) -> u32 {
-    let Some(ctl) = lookup_io(a.handle) else {
-        return wrong_handle(f, a.handle);
+    let ctl = match controller_and_buffer(f, a.handle, a.buf.is_null(), a.buf_len) {
+        Ok(ctl) => ctl,
+        Err(code) => return code,
     };
-    if a.buf.is_null() || a.buf_len == 0 {
-        return fail(
-            f,
-            PNIO_ERR_PRM_BUF,
-            format_args!("pBuffer is NULL or BufLen is 0 (BufLen {})", a.buf_len),
-        );
-    }
     // SAFETY: forwarded from the caller's contract.
     let addr = match unsafe { checked_addr(f, a.addr, PNIO_IO_OUT) } {
         Ok(x) => x,
         Err(code) => return code,
     };
-    let Some(local) = ioxs(a.loc) else {
-        return fail(
-            f,
-            PNIO_ERR_PRM_LOC_STATE,
-            format_args!("IOlocState {} is neither PNIO_S_GOOD nor PNIO_S_BAD", a.loc),
-        );
+    let local = match local_state(f, a.loc) {
+        Ok(l) => l,
+        Err(code) => return code,
     };
     if a.rem.is_null() {
         return fail(f, PNIO_ERR_PRM_RSTATE, "pIOremState is NULL");
     }
     let address = addr.addr();
-    let r: Resolved = match resolve_write(
+    let resolved = resolve_write(
         &ctl.layout.submodules,
         address,
         a.buf_len as usize,
         ctl.slice,
-    ) {
-        Ok(r) => r,
-        Err(e) => return access_failure(f, e),
-    };
+    );
     // SAFETY: `rem` checked for NULL above.
-    if let Err(code) = unsafe { connected(f, &ctl, r.submodule, a.rem) } {
+    if let Err(code) = unsafe { reachable(f, &ctl, resolved, a.rem) } {
         return code;
     }
     // SAFETY: not NULL, and the caller's buffer holds BufLen bytes.

@@ -83,6 +83,33 @@ fn on_window<R>(
     }
 }
 
+/// The body of a function that hands out a slice in place: `data` and `len`, checked not NULL
+/// before anything else, get the pointer and length `view` finds through the handle.
+///
+/// # Safety
+/// `client` is NULL or a live handle; `data` and `len` are NULL or writable.
+unsafe fn slice_out<P>(
+    client: *mut Handle,
+    function: &str,
+    data: *mut P,
+    len: *mut usize,
+    view: impl FnOnce(&Handle) -> Result<(P, usize), Fail>,
+) -> procimg_error_t {
+    call(|| -> Outcome {
+        required(data, function, "data")?;
+        required(len, function, "len")?;
+        // SAFETY: NULL or a live handle by the caller's contract.
+        let h = unsafe { handle(client, function) }?;
+        let (p, n) = view(h)?;
+        // SAFETY: both checked not NULL; writable by the caller's contract.
+        unsafe {
+            store(data, p);
+            store(len, n);
+        }
+        Ok(())
+    })
+}
+
 /// Waits up to `timeout_ms` (0: only looks) for the next STARTOP and opens this cycle's
 /// window: the inputs of the cycle are published, the outputs may be written until
 /// `procimg_set_opdone`. A window still open from before is dropped, its outputs unsent (the
@@ -134,29 +161,23 @@ pub unsafe extern "C" fn procimg_inputs(
     len: *mut usize,
 ) -> procimg_error_t {
     const F: &str = "procimg_inputs";
-    call(|| -> Outcome {
-        required(data, F, "data")?;
-        required(len, F, "len")?;
-        // SAFETY: NULL or a live handle by the caller's contract.
-        let h = unsafe { handle(client, F) }?;
-        let mut state = h.enter(F)?;
-        let (p, n) = match state.in_window(|c| {
-            let i = c.inputs();
-            (i.as_ptr(), i.len())
-        }) {
-            Window::Open(v) => v,
-            _ => {
-                let i = state.client.newest_inputs()?;
+    // SAFETY: `client`, `data` and `len` as the caller's contract says.
+    unsafe {
+        slice_out(client, F, data, len, |h| {
+            let mut state = h.enter(F)?;
+            let (p, n) = match state.in_window(|c| {
+                let i = c.inputs();
                 (i.as_ptr(), i.len())
-            }
-        };
-        // SAFETY: both checked not NULL; writable by the caller's contract.
-        unsafe {
-            store(data, p);
-            store(len, n);
-        }
-        Ok(())
-    })
+            }) {
+                Window::Open(v) => v,
+                _ => {
+                    let i = state.client.newest_inputs()?;
+                    (i.as_ptr(), i.len())
+                }
+            };
+            Ok((p, n))
+        })
+    }
 }
 
 /// The inputs of submodule `submodule` in place, as `procimg_inputs` (same validity).
@@ -172,26 +193,20 @@ pub unsafe extern "C" fn procimg_input(
     len: *mut usize,
 ) -> procimg_error_t {
     const F: &str = "procimg_input";
-    call(|| -> Outcome {
-        required(data, F, "data")?;
-        required(len, F, "len")?;
-        // SAFETY: NULL or a live handle by the caller's contract.
-        let h = unsafe { handle(client, F) }?;
-        let s = h.submodule(submodule, F)?;
-        let mut state = h.enter(F)?;
-        let view = match state.in_window(|c| c.input(s).map(|i| (i.as_ptr(), i.len()))) {
-            Window::Open(v) => v,
-            _ => state.client.newest_input(s)?.map(|i| (i.as_ptr(), i.len())),
-        };
-        // The index was checked against the same layout: a view is always there.
-        let (p, n) = view.ok_or_else(|| Fail::invalid(F, "submodule not in the image"))?;
-        // SAFETY: both checked not NULL; writable by the caller's contract.
-        unsafe {
-            store(data, p);
-            store(len, n);
-        }
-        Ok(())
-    })
+    // SAFETY: `client`, `data` and `len` as the caller's contract says.
+    unsafe {
+        slice_out(client, F, data, len, |h| {
+            let s = h.submodule(submodule, F)?;
+            let mut state = h.enter(F)?;
+            let view = match state.in_window(|c| c.input(s).map(|i| (i.as_ptr(), i.len()))) {
+                Window::Open(v) => v,
+                _ => state.client.newest_input(s)?.map(|i| (i.as_ptr(), i.len())),
+            };
+            // The index was checked against the same layout: a view is always there.
+            let (p, n) = view.ok_or_else(|| Fail::invalid(F, "submodule not in the image"))?;
+            Ok((p, n))
+        })
+    }
 }
 
 /// The whole output data of this cycle (the Q area of the output sample this client sends
@@ -212,24 +227,18 @@ pub unsafe extern "C" fn procimg_outputs(
     len: *mut usize,
 ) -> procimg_error_t {
     const F: &str = "procimg_outputs";
-    call(|| -> Outcome {
-        required(data, F, "data")?;
-        required(len, F, "len")?;
-        // SAFETY: NULL or a live handle by the caller's contract.
-        let h = unsafe { handle(client, F) }?;
-        synchronous_only(h, F)?;
-        let mut state = h.enter(F)?;
-        let (p, n) = on_window(h, &mut state, F, |c| {
-            let o = c.outputs_mut()?;
-            Ok((o.as_mut_ptr(), o.len()))
-        })?;
-        // SAFETY: both checked not NULL; writable by the caller's contract.
-        unsafe {
-            store(data, p);
-            store(len, n);
-        }
-        Ok(())
-    })
+    // SAFETY: `client`, `data` and `len` as the caller's contract says.
+    unsafe {
+        slice_out(client, F, data, len, |h| {
+            synchronous_only(h, F)?;
+            let mut state = h.enter(F)?;
+            let (p, n) = on_window(h, &mut state, F, |c| {
+                let o = c.outputs_mut()?;
+                Ok((o.as_mut_ptr(), o.len()))
+            })?;
+            Ok((p, n))
+        })
+    }
 }
 
 /// The outputs of submodule `submodule` for this cycle, writable in place (as
@@ -246,25 +255,19 @@ pub unsafe extern "C" fn procimg_output(
     len: *mut usize,
 ) -> procimg_error_t {
     const F: &str = "procimg_output";
-    call(|| -> Outcome {
-        required(data, F, "data")?;
-        required(len, F, "len")?;
-        // SAFETY: NULL or a live handle by the caller's contract.
-        let h = unsafe { handle(client, F) }?;
-        let s = h.submodule(submodule, F)?;
-        synchronous_only(h, F)?;
-        let mut state = h.enter(F)?;
-        let (p, n) = on_window(h, &mut state, F, |c| {
-            let o = c.output_mut(s)?;
-            Ok((o.as_mut_ptr(), o.len()))
-        })?;
-        // SAFETY: both checked not NULL; writable by the caller's contract.
-        unsafe {
-            store(data, p);
-            store(len, n);
-        }
-        Ok(())
-    })
+    // SAFETY: `client`, `data` and `len` as the caller's contract says.
+    unsafe {
+        slice_out(client, F, data, len, |h| {
+            let s = h.submodule(submodule, F)?;
+            synchronous_only(h, F)?;
+            let mut state = h.enter(F)?;
+            let (p, n) = on_window(h, &mut state, F, |c| {
+                let o = c.output_mut(s)?;
+                Ok((o.as_mut_ptr(), o.len()))
+            })?;
+            Ok((p, n))
+        })
+    }
 }
 
 /// The status bytes of submodule `submodule`: this cycle's inside a window, the newest

@@ -21,6 +21,8 @@
 
 #include "pniousrd.h"
 #include "procimg.h"
+#include "check.h"
+#include "../../examples/device_example.h"
 
 #include <pthread.h>
 #include <stdarg.h>
@@ -30,29 +32,6 @@
 #include <time.h>
 
 #define WAIT_S 10
-
-static void fail(int line, const char *fmt, ...) {
-    va_list ap;
-    fprintf(stderr, "line %d: ", line);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fprintf(stderr, " (last error: %s)\n", procimg_last_error());
-    exit(1);
-}
-
-#define CHECK(cond, ...)                               \
-    do {                                               \
-        if (!(cond)) fail(__LINE__, __VA_ARGS__);      \
-    } while (0)
-
-#define CHECK_RC(call, expected)                                                         \
-    do {                                                                                 \
-        PNIO_UINT32 rc_ = (call);                                                        \
-        if (rc_ != (PNIO_UINT32)(expected))                                              \
-            fail(__LINE__, "%s returned 0x%x, expected 0x%x", #call, (unsigned)rc_,      \
-                 (unsigned)(expected));                                                  \
-    } while (0)
 
 /* ---- What the library thread's callbacks saw ------------------------------------------ */
 
@@ -415,29 +394,13 @@ static PNIO_CBF_FUNCTIONS table(void) {
     return c;
 }
 
-static PNIO_DEV_ADDR at(PNIO_UINT32 slot, PNIO_UINT32 subslot) {
-    PNIO_DEV_ADDR a;
-    memset(&a, 0, sizeof a);
-    a.AddrType = PNIO_ADDR_GEO;
-    a.IODataType = PNIO_IO_IN;
-    a.u.Geo.Slot = slot;
-    a.u.Geo.Subslot = subslot;
-    return a;
-}
-
 #define VENDOR 0x0493
 #define DEVICE 0x0100
 #define EXT PNIO_CEP_MODE_CTRL
 
 int main(void) {
     main_thread = pthread_self();
-    PNIO_ANNOTATION ann;
-    memset(&ann, 0, sizeof ann);
-    strcpy((char *)ann.deviceType, "procimg device");
-    strcpy((char *)ann.orderId, "PROCIMG-DEV");
-    ann.hwRevision = 1;
-    ann.swRevisionPrefix = 'V';
-    ann.swRevision2 = 1;
+    PNIO_ANNOTATION ann = example_annotation();
     PNIO_CBF_FUNCTIONS cbf = table();
     PNIO_UINT32 h = 0;
 
@@ -474,7 +437,7 @@ int main(void) {
 
     /* ---- Wrong handles ---- */
     PNIO_UINT32 wrong = h + 1000;
-    PNIO_DEV_ADDR a = at(1, 1);
+    PNIO_DEV_ADDR a = geo(1, 1);
     CHECK_RC(PNIO_device_start(wrong), PNIO_ERR_WRONG_HND);
     CHECK_RC(PNIO_device_stop(wrong), PNIO_ERR_WRONG_HND);
     CHECK_RC(PNIO_device_close(wrong), PNIO_ERR_WRONG_HND);
@@ -495,7 +458,7 @@ int main(void) {
 
     /* ---- Plug the DAP and slot 1; each confirmed on the library thread ---- */
     int n = 0;
-    PNIO_DEV_ADDR dap = at(0, 1);
+    PNIO_DEV_ADDR dap = geo(0, 1);
     CHECK_RC(PNIO_mod_plug(h, 0, &dap, 0x1), PNIO_OK);
     expect_conf(__LINE__, ++n, h, PNIO_MOD_PLUG, 0, 1);
     CHECK_RC(PNIO_sub_plug_ext_IM(h, 0, &dap, 0x1, PNIO_ALARM_TYPE_PLUG,
@@ -515,14 +478,14 @@ int main(void) {
     CHECK_RC(PNIO_sub_plug_ext_IM(h, 7, &a, 1, PNIO_ALARM_TYPE_PLUG, PNIO_PLUG_IM0_BITS_NOTHING),
              PNIO_ERR_PRM_ADD); /* API 7 not added */
     CHECK_RC(PNIO_api_add(h, 7, 2, 1), PNIO_ERR_PRM_ADD); /* nor configured */
-    PNIO_DEV_ADDR far = at(1, 0x9000);
+    PNIO_DEV_ADDR far = geo(1, 0x9000);
     CHECK_RC(PNIO_sub_plug_ext_IM(h, 0, &far, 1, PNIO_ALARM_TYPE_PLUG, PNIO_PLUG_IM0_BITS_NOTHING),
              PNIO_ERR_PRM_ADD); /* above MaxSubslots */
-    PNIO_DEV_ADDR zero = at(1, 0);
+    PNIO_DEV_ADDR zero = geo(1, 0);
     CHECK_RC(PNIO_sub_plug_ext(h, 0, &zero, 1, PNIO_ALARM_TYPE_PLUG), PNIO_ERR_PRM_ADD);
-    PNIO_DEV_ADDR slot3 = at(3, 1);
+    PNIO_DEV_ADDR slot3 = geo(3, 1);
     CHECK_RC(PNIO_mod_plug(h, 0, &slot3, 0x30), PNIO_ERR_PRM_ADD); /* above MaxSlots */
-    PNIO_DEV_ADDR unconfigured = at(1, 2);
+    PNIO_DEV_ADDR unconfigured = geo(1, 2);
     CHECK_RC(PNIO_sub_plug_ext(h, 0, &unconfigured, 1, PNIO_ALARM_TYPE_PLUG), PNIO_ERR_PRM_ADD);
     CHECK_RC(PNIO_sub_plug_ext(h, 0, NULL, 1, PNIO_ALARM_TYPE_PLUG), PNIO_ERR_PRM_ADD);
     CHECK_RC(PNIO_sub_plug_ext(h, 0, &a, 1, 0x77), PNIO_ERR_PRM_INVALIDARG);
@@ -598,7 +561,7 @@ int main(void) {
     CHECK_RC(PNIO_initiate_data_read_ext(h, NULL, PNIO_ACCESS_IRT_WITH_LOCK),
              PNIO_ERR_PRM_ACCESS_TYPE);
     CHECK_RC(PNIO_initiate_data_read_ext(h, NULL, (PNIO_ACCESS_ENUM)9), PNIO_ERR_PRM_ACCESS_TYPE);
-    PNIO_DEV_ADDR pulled = at(2, 1);
+    PNIO_DEV_ADDR pulled = geo(2, 1);
     CHECK_RC(PNIO_initiate_data_write_ext(h, &pulled, PNIO_ACCESS_RT_WITH_LOCK), PNIO_ERR_PRM_ADD);
     /* No IRT data on this station: nothing to visit. */
     CHECK_RC(PNIO_initiate_data_read_ext(h, NULL, PNIO_ACCESS_IRT_WITHOUT_LOCK),
@@ -608,7 +571,7 @@ int main(void) {
     io.iops = PNIO_S_GOOD;
     io.from_main = 1;
     pthread_mutex_unlock(&mu);
-    PNIO_DEV_ADDR slot1 = at(1, 0);
+    PNIO_DEV_ADDR slot1 = geo(1, 0);
     int rounds = 0, echoed = 0, writes = 0, reads = 0;
     unsigned char written[256] = {0};
     /* A few hundred rounds, and on until the echo came (at most 4000 rounds). */
@@ -714,7 +677,7 @@ int main(void) {
         CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, NULL, 2, 1, 1), PNIO_ERR_PRM_BUF);
         CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, alarm_data, 2, 0x8000, 1),
                  PNIO_ERR_PRM_INVALIDARG);
-        PNIO_DEV_ADDR none = at(1, 2);
+        PNIO_DEV_ADDR none = geo(1, 2);
         CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &none, alarm_data, 2, 1, 1),
                  PNIO_ERR_UNKNOWN_ADDR);
         CHECK_RC(PNIO_process_alarm_send(h, 0, ar, sk, &a, alarm_data, 172, 1, 1), PNIO_OK);
@@ -760,7 +723,7 @@ int main(void) {
         CHECK_RC(PNIO_diag_generic_add(h, 0, &a, 0, appears, 5, 0x0042, info, sizeof info),
                  PNIO_OK);
         CHECK_RC(PNIO_diag_generic_remove(h, 0, &a, 0), PNIO_OK);
-        PNIO_DEV_ADDR none = at(1, 2);
+        PNIO_DEV_ADDR none = geo(1, 2);
         CHECK_RC(PNIO_ret_of_sub_alarm_send(h, 0, ar, sk, &none, 4), PNIO_OK);
         int i4 = wait_event(__LINE__, EV_REQ_DONE, i3 + 1);
         CHECK(event(i4).a == 4 && event(i4).b == PNIO_ERR_UNKNOWN_ADDR,

@@ -7,6 +7,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrx.h"
+#include "iobase_controller.h"
 
 #include <stdatomic.h>
 #include <stdio.h>
@@ -29,26 +30,12 @@ static atomic_uint in_cb_register = 0xffffffffu;
 static atomic_uint in_cb_read = 0xffffffffu;
 static atomic_uint in_cb_write = 0xffffffffu;
 
-static void sleep_ms(long ms) {
-    struct timespec t = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&t, NULL);
-}
-
 static void expect(const char *what, PNIO_UINT32 got, PNIO_UINT32 want) {
     printf("%-58s 0x%03x %s\n", what, got, got == want ? "ok" : "WRONG");
     if (got != want) {
         printf("    expected 0x%03x\n", want);
         failures++;
     }
-}
-
-static PNIO_ADDR addr(PNIO_IO_TYPE io, PNIO_UINT32 a) {
-    PNIO_ADDR x;
-    memset(&x, 0, sizeof x);
-    x.AddrType = PNIO_ADDR_LOG;
-    x.IODataType = io;
-    x.u.Addr = a;
-    return x;
 }
 
 static void on_record(PNIO_CBE_PRM *p) {
@@ -62,7 +49,7 @@ static void on_startop(PNIO_CP_CBE_PRM *p) {
 static void on_mode(PNIO_CBE_PRM *p) {
     if (atomic_fetch_add(&mode_calls, 1) == 0) {
         /* Inside a callback: the IO data functions are allowed, the others are not. */
-        PNIO_ADDR i0 = addr(PNIO_IO_IN, 0), q0 = addr(PNIO_IO_OUT, 0);
+        PNIO_ADDR i0 = logical(PNIO_IO_IN, 0), q0 = logical(PNIO_IO_OUT, 0);
         PNIO_UINT8 buf[16] = {0};
         PNIO_UINT32 n;
         PNIO_IOXS rem;
@@ -78,17 +65,9 @@ static void on_mode(PNIO_CBE_PRM *p) {
     atomic_store(&mode_seen, (int)p->ModeInd.Mode);
 }
 
-static int wait_mode(int m) {
-    int i;
-    for (i = 0; i < 1000 && atomic_load(&mode_seen) != m; i++) {
-        sleep_ms(10);
-    }
-    return atomic_load(&mode_seen) == m;
-}
-
 static void data_errors(PNIO_UINT32 h) {
-    PNIO_ADDR i0 = addr(PNIO_IO_IN, 0), q0 = addr(PNIO_IO_OUT, 0);
-    PNIO_ADDR geo = addr(PNIO_IO_IN, 0), gap = addr(PNIO_IO_IN, 200), qgap = addr(PNIO_IO_OUT, 200);
+    PNIO_ADDR i0 = logical(PNIO_IO_IN, 0), q0 = logical(PNIO_IO_OUT, 0);
+    PNIO_ADDR geo = logical(PNIO_IO_IN, 0), gap = logical(PNIO_IO_IN, 200), qgap = logical(PNIO_IO_OUT, 200);
     PNIO_UINT8 buf[32] = {0};
     PNIO_UINT32 n;
     PNIO_IOXS rem, loc;
@@ -164,7 +143,7 @@ static void data_errors(PNIO_UINT32 h) {
 
 int main(void) {
     PNIO_UINT32 h = 0, h2 = 0;
-    PNIO_ADDR q0 = addr(PNIO_IO_OUT, 0), i0 = addr(PNIO_IO_IN, 0);
+    PNIO_ADDR q0 = logical(PNIO_IO_OUT, 0), i0 = logical(PNIO_IO_IN, 0);
     PNIO_CTRL_DIAG diag;
     PNIO_UINT8 rec[4] = {0};
     int i;
@@ -232,7 +211,7 @@ int main(void) {
     expect("set_mode: OFFLINE before OPERATE was reported", PNIO_set_mode(h, PNIO_MODE_OFFLINE),
            PNIO_ERR_SEQUENCE);
     atomic_store(&second_request_made, 1);
-    expect("OPERATE reported", (PNIO_UINT32)wait_mode(PNIO_MODE_OPERATE), 1);
+    expect("OPERATE reported", (PNIO_UINT32)wait_for_mode(&mode_seen, PNIO_MODE_OPERATE), 1);
     expect("MODE_IND twice for OFFLINE -> OPERATE (CLEAR, OPERATE)",
            (PNIO_UINT32)atomic_load(&mode_calls), 2);
     expect("inside a callback: set_mode", atomic_load(&in_cb_set_mode), PNIO_ERR_SEQUENCE);
@@ -281,7 +260,7 @@ int main(void) {
 
     /* Back to OFFLINE, close. */
     expect("set_mode: OFFLINE", PNIO_set_mode(h, PNIO_MODE_OFFLINE), PNIO_OK);
-    expect("OFFLINE reported", (PNIO_UINT32)wait_mode(PNIO_MODE_OFFLINE), 1);
+    expect("OFFLINE reported", (PNIO_UINT32)wait_for_mode(&mode_seen, PNIO_MODE_OFFLINE), 1);
     expect("set_mode: OFFLINE again (reported at once)", PNIO_set_mode(h, PNIO_MODE_OFFLINE), PNIO_OK);
     for (i = 0; i < 200 && atomic_load(&mode_calls) < 5; i++) {
         sleep_ms(10);

@@ -16,7 +16,9 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "pniousrx.h"
+#include "iobase_controller.h"
 #include "procimg.h"
+#include "check.h"
 
 #include <pthread.h>
 #include <stdarg.h>
@@ -26,31 +28,6 @@
 #include <time.h>
 
 #define WAIT_S 10
-
-static const char *part = "?";
-
-static void fail(int line, const char *fmt, ...) {
-    va_list ap;
-    fprintf(stderr, "%s: line %d: ", part, line);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fprintf(stderr, " (last error: %s)\n", procimg_last_error());
-    exit(1);
-}
-
-#define CHECK(cond, ...)                     \
-    do {                                     \
-        if (!(cond)) fail(__LINE__, __VA_ARGS__); \
-    } while (0)
-
-#define CHECK_RC(call, expected)                                                         \
-    do {                                                                                 \
-        PNIO_UINT32 rc_ = (call);                                                        \
-        if (rc_ != (PNIO_UINT32)(expected))                                              \
-            fail(__LINE__, "%s returned 0x%x, expected 0x%x", #call, (unsigned)rc_,      \
-                 (unsigned)(expected));                                                  \
-    } while (0)
 
 /* ---- What the callbacks saw ------------------------------------------------------------ */
 
@@ -201,15 +178,6 @@ static event_t wait_activation(PNIO_UINT32 mode) {
 
 /* ---- Helpers ----------------------------------------------------------------------------- */
 
-static PNIO_ADDR addr(PNIO_IO_TYPE io, PNIO_UINT32 a) {
-    PNIO_ADDR x;
-    memset(&x, 0, sizeof x);
-    x.AddrType = PNIO_ADDR_LOG;
-    x.IODataType = io;
-    x.u.Addr = a;
-    return x;
-}
-
 static int ok_stat(PNIO_ERR_STAT s) {
     return s.ErrCode == 0 && s.ErrDecode == 0 && s.ErrCode1 == 0 && s.ErrCode2 == 0;
 }
@@ -269,9 +237,9 @@ static PNIO_UINT32 open_operate(int with_alarms) {
     CHECK_RC(PNIO_set_mode(h, PNIO_MODE_OPERATE), PNIO_OK);
     wait_mode(PNIO_MODE_CLEAR);
     wait_mode(PNIO_MODE_OPERATE);
-    wait_in_data(h, addr(PNIO_IO_IN, 0));
-    wait_in_data(h, addr(PNIO_IO_IN, 16));
-    wait_in_data(h, addr(PNIO_IO_OUT, 16));
+    wait_in_data(h, logical(PNIO_IO_IN, 0));
+    wait_in_data(h, logical(PNIO_IO_IN, 16));
+    wait_in_data(h, logical(PNIO_IO_OUT, 16));
     return h;
 }
 
@@ -285,8 +253,8 @@ static void offline_close(PNIO_UINT32 h) {
 
 static void records(void) {
     PNIO_UINT32 h = open_operate(0);
-    PNIO_ADDR echo_in = addr(PNIO_IO_IN, 0);
-    PNIO_ADDR echo_out = addr(PNIO_IO_OUT, 3);
+    PNIO_ADDR echo_in = logical(PNIO_IO_IN, 0);
+    PNIO_ADDR echo_out = logical(PNIO_IO_OUT, 3);
 
     /* I&M0 of the echo module: the simulated device's identity. */
     CHECK_RC(PNIO_rec_read_req(h, &echo_in, 0xAFF0, 4711, 4096), PNIO_OK);
@@ -305,7 +273,7 @@ static void records(void) {
     /* I&M0 of the echo device's DAP (slot 0), a submodule without IO data: through its
      * diagnostic address, an input address of length 0. It has no IO data to read, and in
      * the Q space it is no address. */
-    PNIO_ADDR echo_dap = addr(PNIO_IO_IN, 22);
+    PNIO_ADDR echo_dap = logical(PNIO_IO_IN, 22);
     CHECK_RC(PNIO_rec_read_req(h, &echo_dap, 0xAFF0, 4712, 4096), PNIO_OK);
     e = wait_read(4712);
     CHECK(ok_stat(e.err) && e.len == 60 && e.addr.IODataType == PNIO_IO_IN && e.addr.u.Addr == 22,
@@ -315,7 +283,7 @@ static void records(void) {
         PNIO_UINT8 b[4];
         PNIO_UINT32 n = 0;
         PNIO_IOXS rem;
-        PNIO_ADDR dap_out = addr(PNIO_IO_OUT, 22);
+        PNIO_ADDR dap_out = logical(PNIO_IO_OUT, 22);
         CHECK_RC(PNIO_data_read(h, &echo_dap, sizeof b, &n, b, PNIO_S_GOOD, &rem),
                  PNIO_ERR_UNKNOWN_ADDR);
         CHECK(strstr(procimg_last_error(), "diagnostic address") != NULL,
@@ -345,7 +313,7 @@ static void records(void) {
           (unsigned)e.len);
 
     /* Refused at the call. */
-    PNIO_ADDR nowhere = addr(PNIO_IO_IN, 100);
+    PNIO_ADDR nowhere = logical(PNIO_IO_IN, 100);
     PNIO_ADDR geo = echo_in;
     geo.AddrType = PNIO_ADDR_GEO;
     static PNIO_UINT8 big[4097];
@@ -404,7 +372,7 @@ static void records(void) {
           slices[0].BitLength, (unsigned)slices[1].Address.u.Addr, slices[1].BitLength);
 
     /* The device diagnostic of a device in data exchange. */
-    e = diag(h, PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, addr(PNIO_IO_IN, 18));
+    e = diag(h, PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, logical(PNIO_IO_IN, 18));
     PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA dd;
     CHECK(e.result == PNIO_OK && e.len == sizeof dd, "DEVICE_DIAGNOSTIC: 0x%x, %u bytes",
           (unsigned)e.result, (unsigned)e.len);
@@ -430,7 +398,7 @@ static void records(void) {
 
 static void alarms(void) {
     PNIO_UINT32 h = open_operate(1);
-    PNIO_ADDR echo_in = addr(PNIO_IO_IN, 0);
+    PNIO_ADDR echo_in = logical(PNIO_IO_IN, 0);
 
     /* Every device that reached data exchange after OPERATE reported a station return, at
      * its base address: the diagnostic address of its DAP. */
@@ -470,8 +438,8 @@ static void alarms(void) {
 
     /* Deactivating dio (by its output address): DEV_ACT_CONF and a station failure alarm,
      * in either order. */
-    PNIO_ADDR dio_out = addr(PNIO_IO_OUT, 16);
-    PNIO_ADDR dio_in = addr(PNIO_IO_IN, 21);
+    PNIO_ADDR dio_out = logical(PNIO_IO_OUT, 16);
+    PNIO_ADDR dio_in = logical(PNIO_IO_IN, 21);
     CHECK_RC(PNIO_device_activate(h, &dio_out, PNIO_DA_FALSE), PNIO_OK);
     e = wait_activation(PNIO_DA_FALSE);
     CHECK(e.result == PNIO_OK && e.addr.IODataType == PNIO_IO_OUT && e.addr.u.Addr == 16,
@@ -495,7 +463,7 @@ static void alarms(void) {
           e.alarm.DeviceNum);
     wait_in_data(h, dio_in);
 
-    PNIO_ADDR nowhere = addr(PNIO_IO_OUT, 99);
+    PNIO_ADDR nowhere = logical(PNIO_IO_OUT, 99);
     CHECK_RC(PNIO_device_activate(h, &nowhere, PNIO_DA_TRUE), PNIO_ERR_PRM_ADD);
 
     /* Going OFFLINE ends every connection: a station failure for each device. */
@@ -511,15 +479,15 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: %s records|alarms\n", argv[0]);
         return 2;
     }
-    part = argv[1];
-    if (strcmp(part, "records") == 0) {
+    check_part = argv[1];
+    if (strcmp(check_part, "records") == 0) {
         records();
-    } else if (strcmp(part, "alarms") == 0) {
+    } else if (strcmp(check_part, "alarms") == 0) {
         alarms();
     } else {
-        fprintf(stderr, "unknown part %s\n", part);
+        fprintf(stderr, "unknown part %s\n", check_part);
         return 2;
     }
-    printf("%s: all checks held\n", part);
+    printf("%s: all checks held\n", check_part);
     return 0;
 }

@@ -11,6 +11,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrx.h"
+#include "iobase_controller.h"
 
 #include <stdatomic.h>
 #include <stdio.h>
@@ -28,20 +29,6 @@ static void on_record(PNIO_CBE_PRM *p) {
     (void)p;
 }
 
-static void sleep_ms(long ms) {
-    struct timespec t = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&t, NULL);
-}
-
-static PNIO_ADDR addr(PNIO_IO_TYPE io, PNIO_UINT32 a) {
-    PNIO_ADDR x;
-    memset(&x, 0, sizeof x);
-    x.AddrType = PNIO_ADDR_LOG;
-    x.IODataType = io;
-    x.u.Addr = a;
-    return x;
-}
-
 static const char *code_name(PNIO_UINT32 c) {
     switch (c) {
     case PNIO_OK: return "PNIO_OK";
@@ -55,7 +42,7 @@ static const char *code_name(PNIO_UINT32 c) {
 /* (I address, BufLen, expected return, expected *pDataLen) */
 static void read_row(PNIO_UINT32 h, PNIO_UINT32 a, PNIO_UINT32 len, PNIO_UINT32 want,
                      PNIO_UINT32 want_len) {
-    PNIO_ADDR x = addr(PNIO_IO_IN, a);
+    PNIO_ADDR x = logical(PNIO_IO_IN, a);
     PNIO_UINT8 buf[16];
     PNIO_UINT32 data_len = 0xdead;
     PNIO_IOXS rem = PNIO_S_BAD;
@@ -71,7 +58,7 @@ static void read_row(PNIO_UINT32 h, PNIO_UINT32 a, PNIO_UINT32 len, PNIO_UINT32 
 
 /* (Q address, BufLen, expected return) */
 static void write_row(PNIO_UINT32 h, PNIO_UINT32 a, PNIO_UINT32 len, PNIO_UINT32 want) {
-    PNIO_ADDR x = addr(PNIO_IO_OUT, a);
+    PNIO_ADDR x = logical(PNIO_IO_OUT, a);
     PNIO_UINT8 buf[16];
     PNIO_IOXS rem = PNIO_S_BAD;
     PNIO_UINT32 r;
@@ -83,14 +70,6 @@ static void write_row(PNIO_UINT32 h, PNIO_UINT32 a, PNIO_UINT32 len, PNIO_UINT32
         printf("      expected %s\n", code_name(want));
         failures++;
     }
-}
-
-static int wait_mode(int m) {
-    int i;
-    for (i = 0; i < 1000 && atomic_load(&mode_seen) != m; i++) {
-        sleep_ms(10);
-    }
-    return atomic_load(&mode_seen) == m;
 }
 
 int main(int argc, char **argv) {
@@ -106,13 +85,13 @@ int main(int argc, char **argv) {
     }
     printf("controller %u open, %s slice access\n", h, slice ? "with" : "without");
     if (PNIO_register_cbf(h, PNIO_CBE_MODE_IND, on_mode) != PNIO_OK ||
-        PNIO_set_mode(h, PNIO_MODE_OPERATE) != PNIO_OK || !wait_mode(PNIO_MODE_OPERATE)) {
+        PNIO_set_mode(h, PNIO_MODE_OPERATE) != PNIO_OK || !wait_for_mode(&mode_seen, PNIO_MODE_OPERATE)) {
         printf("OPERATE not reached\n");
         return 2;
     }
     /* The device connects after OPERATE: wait until its inputs are exchanged. */
     for (i = 0; i < 1000; i++) {
-        PNIO_ADDR x = addr(PNIO_IO_IN, 0);
+        PNIO_ADDR x = logical(PNIO_IO_IN, 0);
         PNIO_UINT8 b[2];
         PNIO_UINT32 n;
         PNIO_IOXS rem;
@@ -147,7 +126,7 @@ int main(int argc, char **argv) {
         write_row(h, 9, 1, PNIO_ERR_UNKNOWN_ADDR);
         /* The ExtPar example: 2 bytes from Q 3 land in bytes 3..4 of the module at Q 2. */
         {
-            PNIO_ADDR q2 = addr(PNIO_IO_OUT, 2), q3 = addr(PNIO_IO_OUT, 3);
+            PNIO_ADDR q2 = logical(PNIO_IO_OUT, 2), q3 = logical(PNIO_IO_OUT, 3);
             PNIO_UINT8 whole[4] = {1, 2, 3, 4}, part[2] = {0xaa, 0xbb}, back[4];
             PNIO_UINT32 n = 0;
             PNIO_IOXS loc, rem;
@@ -185,7 +164,7 @@ int main(int argc, char **argv) {
         write_row(h, 9, 1, PNIO_ERR_UNKNOWN_ADDR);
     }
 
-    if (PNIO_set_mode(h, PNIO_MODE_OFFLINE) != PNIO_OK || !wait_mode(PNIO_MODE_OFFLINE)) {
+    if (PNIO_set_mode(h, PNIO_MODE_OFFLINE) != PNIO_OK || !wait_for_mode(&mode_seen, PNIO_MODE_OFFLINE)) {
         printf("OFFLINE not reached\n");
         failures++;
     }

@@ -50,7 +50,7 @@ fn ack_rta(
     priority: Priority,
     now: u64,
 ) -> Vec<DeviceAction> {
-    let pdu = RtaPdu::ack(priority, h.src_endpoint, h.dst_endpoint, 0xfffe, h.send_seq);
+    let pdu = RtaPdu::first_ack_of(priority, h);
     let tci = match priority {
         Priority::High => 0xc000,
         Priority::Low => 0xa000,
@@ -366,7 +366,7 @@ fn diagnosis_before_the_ar_is_in_the_module_diff_and_the_records() {
         .unwrap();
     assert!(out.is_empty());
     // The Connect response's ModuleDiffBlock lists both, as the proper submodules they are.
-    let r = call(&mut dev, &rpc_capture("cm/connect_req"), 0);
+    let r = call(&mut dev, &rpc_pdu("cm/connect_req"), 0);
     assert_eq!(status(&r), PnioStatus::OK);
     let res = ConnectResponse::parse(&r.blocks).unwrap();
     let diff = res.module_diff.expect("a ModuleDiffBlock");
@@ -390,11 +390,11 @@ fn diagnosis_before_the_ar_is_in_the_module_diff_and_the_records() {
             .all(|m| m.state == ModuleState::ProperModule)
     );
     // The ApplicationReady carries it as it is then: slot 2's fault went meanwhile.
-    call(&mut dev, &rpc_capture("cm/write_req"), MS);
+    call(&mut dev, &rpc_pdu("cm/write_req"), MS);
     let k = DiagEntry::from(ChannelDiag::new(0x8000, 0x0011)).key();
     dev.remove_diagnosis(0, 2, 1, &k, MS, &mut out).unwrap();
     assert!(out.is_empty(), "no alarm before data exchange");
-    call(&mut dev, &rpc_capture("cm/prmend_req"), 2 * MS);
+    call(&mut dev, &rpc_pdu("cm/prmend_req"), 2 * MS);
     dev.poll(2 * MS + APP_READY_DELAY_NS, &mut out);
     let app = parse_reply(&datagrams(&out)[0].2);
     let control_len = crate::wire::control::BLOCK_LEN;

@@ -25,6 +25,7 @@ use crate::wire::rpc::{
 use crate::wire::rpc::{Ndr, opnum};
 use crate::wire::rt::{self, data_status};
 use crate::wire::rta_pdu::{ErrRta, RtaBody};
+use crate::wire::test_captures::rpc_pdu;
 use std::net::Ipv4Addr;
 
 mod delegated_records;
@@ -68,14 +69,9 @@ const DEVICE_IP: [u8; 4] = [172, 16, 2, 10];
 const S7_CLIENT: SocketAddrV4 = SocketAddrV4::new(S7_IP, 54766);
 pub(super) const MS: u64 = 1_000_000;
 
-/// The UDP payload (RPC PDU) of a captured Ethernet/IPv4/UDP frame.
-fn rpc_capture(name: &str) -> Vec<u8> {
-    capture(name)[42..].to_vec()
-}
-
 /// The PNIO blocks of a captured RPC frame.
 fn captured_blocks(name: &str) -> Vec<u8> {
-    let payload = rpc_capture(name);
+    let payload = rpc_pdu(name);
     Pdu::parse(&payload).unwrap().blocks.to_vec()
 }
 
@@ -222,15 +218,15 @@ pub(super) fn run_until(dev: &mut Device<TestApp>, until: u64) -> Vec<(u64, Devi
 /// The captured S7 requests up to PrmEnd, answered; the ApplicationReady the device sends.
 fn bring_up_to_app_ready(dev: &mut Device<TestApp>) -> (Reply, u64) {
     assert_eq!(
-        status(&call(dev, &rpc_capture("cm/connect_req"), 0)),
+        status(&call(dev, &rpc_pdu("cm/connect_req"), 0)),
         PnioStatus::OK
     );
     assert_eq!(
-        status(&call(dev, &rpc_capture("cm/write_req"), MS)),
+        status(&call(dev, &rpc_pdu("cm/write_req"), MS)),
         PnioStatus::OK
     );
     assert_eq!(
-        status(&call(dev, &rpc_capture("cm/prmend_req"), 2 * MS)),
+        status(&call(dev, &rpc_pdu("cm/prmend_req"), 2 * MS)),
         PnioStatus::OK
     );
     let mut out = Vec::new();
@@ -245,7 +241,7 @@ fn bring_up_to_app_ready(dev: &mut Device<TestApp>) -> (Reply, u64) {
 
 /// The captured ApplicationReady response of the S7, re-addressed to our activity.
 fn s7_app_ready_response(activity: Uuid) -> Vec<u8> {
-    let mut res = rpc_capture("cm/appready_res");
+    let mut res = rpc_pdu("cm/appready_res");
     // The S7 answers little-endian: the activity UUID's first fields are swapped.
     res[40..56].copy_from_slice(&activity.to_drep(true));
     res
@@ -411,13 +407,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
         .set_type_of_station("P-Net Sample Application");
     let mut out = Vec::new();
     // No IP yet: no RPC endpoint.
-    dev.on_datagram(
-        S7_CLIENT,
-        RPC_PORT,
-        &rpc_capture("cm/connect_req"),
-        0,
-        &mut out,
-    );
+    dev.on_datagram(S7_CLIENT, RPC_PORT, &rpc_pdu("cm/connect_req"), 0, &mut out);
     assert!(out.is_empty());
     dev.on_frame(&capture("cm/dcp_set_req"), 0, &mut out);
 
@@ -425,9 +415,9 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     // sequence and opnum like p-net's; it differs in DREP (we answer in the request's byte
     // order, LE here; p-net answers BE) and Flags1 (0x0A LastFragment|NoFack, as the S7
     // answers, p-net 0x28 Idempotent|NoFack).
-    let req = rpc_capture("cm/connect_req");
+    let req = rpc_pdu("cm/connect_req");
     let ours = call(&mut dev, &req, 0);
-    let pnet = parse_reply(&rpc_capture("cm/connect_res"));
+    let pnet = parse_reply(&rpc_pdu("cm/connect_res"));
     assert_eq!(status(&ours), PnioStatus::OK);
     assert_eq!(ours.blocks, pnet.blocks, "Connect response blocks");
     assert_eq!(
@@ -443,8 +433,8 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     assert_eq!(dev.state(), ArState::Connected);
 
     // WriteMultiple: PDInterfaceAdjust and the three user records, each answered OK.
-    let ours = call(&mut dev, &rpc_capture("cm/write_req"), MS);
-    let pnet = parse_reply(&rpc_capture("cm/write_res"));
+    let ours = call(&mut dev, &rpc_pdu("cm/write_req"), MS);
+    let pnet = parse_reply(&rpc_pdu("cm/write_res"));
     assert_eq!(ours.blocks, pnet.blocks, "Write response blocks");
     same_rpc_reply(&ours, &pnet);
     let (outer, each) = split_write_multiple_response(&ours.blocks).unwrap();
@@ -452,8 +442,8 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     assert!(each.iter().all(|h| h.status.is_ok()));
 
     // PrmEnd.
-    let ours = call(&mut dev, &rpc_capture("cm/prmend_req"), 2 * MS);
-    let pnet = parse_reply(&rpc_capture("cm/prmend_res"));
+    let ours = call(&mut dev, &rpc_pdu("cm/prmend_req"), 2 * MS);
+    let pnet = parse_reply(&rpc_pdu("cm/prmend_res"));
     assert_eq!(ours.blocks, pnet.blocks, "PrmEnd response blocks");
     same_rpc_reply(&ours, &pnet);
     assert_eq!(dev.state(), ArState::Parameterized);
@@ -540,7 +530,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
 
     // Release (built with our codecs, as the S7 sends it: LE, next sequence number).
     let release = ControlBlock::release(dev.ar_uuid().unwrap(), 2).to_bytes();
-    let req = parse_reply(&rpc_capture("cm/prmend_req")).header;
+    let req = parse_reply(&rpc_pdu("cm/prmend_req")).header;
     let h = Header {
         sequence_number: 3,
         opnum: opnum::RELEASE,
@@ -594,7 +584,7 @@ fn input_statuses(frame: &[u8]) -> Vec<u8> {
 
 #[test]
 fn big_endian_connect_gets_the_same_blocks_in_big_endian() {
-    let le = rpc_capture("cm/connect_req");
+    let le = rpc_pdu("cm/connect_req");
     let p = Pdu::parse(&le).unwrap();
     let be = Pdu {
         header: Header {
@@ -622,7 +612,7 @@ fn big_endian_connect_gets_the_same_blocks_in_big_endian() {
         ra.header
     );
     // And byte for byte, the BE answer is p-net's apart from Flags1.
-    let mut pnet = rpc_capture("cm/connect_res");
+    let mut pnet = rpc_pdu("cm/connect_res");
     let d = {
         let mut out = Vec::new();
         let mut c = pnet_device(TestApp::None);
@@ -643,7 +633,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
         s.submodule_ident = 0x141;
     }
     let mut dev = quiet_device(spec);
-    let r = call(&mut dev, &rpc_capture("cm/connect_req"), 0);
+    let r = call(&mut dev, &rpc_pdu("cm/connect_req"), 0);
     assert_eq!(status(&r), PnioStatus::OK, "a difference is not an error");
     let res = ConnectResponse::parse(&r.blocks).unwrap();
     let diff = res.module_diff.expect("a ModuleDiffBlock");
@@ -667,7 +657,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
     assert!(res.ar_server.is_some(), "ARServerBlock after the diff");
 
     // The ApplicationReady carries the same ModuleDiffBlock after the control block.
-    call(&mut dev, &rpc_capture("cm/prmend_req"), MS);
+    call(&mut dev, &rpc_pdu("cm/prmend_req"), MS);
     let mut out = Vec::new();
     dev.poll(MS + APP_READY_DELAY_NS, &mut out);
     let app = parse_reply(&datagrams(&out)[0].2);
@@ -740,29 +730,15 @@ pub(super) fn built_connect(
         )
         .collect();
     ConnectRequest {
-        ar: ArBlockReq {
-            ar_type: 1,
+        ar: ArBlockReq::io_controller(
             ar_uuid,
-            session_key: 1,
-            initiator_mac: S7_MAC,
-            initiator_object_uuid: object_uuid(1, 0x010e, 0x002a),
-            ar_properties: 0x4000_0011,
-            activity_timeout_factor: 200,
-            udp_rt_port: 0x8892,
-            station_name: "procimgd".into(),
-        },
+            1,
+            S7_MAC,
+            object_uuid(1, 0x010e, 0x002a),
+            "procimgd".into(),
+        ),
         iocrs: vec![input, output],
-        alarm_cr: AlarmCrBlockReq {
-            alarm_cr_type: 1,
-            lt: 0x8892,
-            properties: 0,
-            rta_timeout_factor: 1,
-            rta_retries: 3,
-            local_alarm_reference: 1,
-            max_alarm_data_length: 256,
-            tag_header_high: 0xc000,
-            tag_header_low: 0xa000,
-        },
+        alarm_cr: AlarmCrBlockReq::io_controller(1),
         expected,
     }
 }
@@ -826,15 +802,15 @@ pub(super) fn counter_device() -> (Device<TestApp>, ConnectRequest) {
     (dev, built_connect(&subs, AR_UUID, (32, 2, 3)))
 }
 
-/// The RPC request carrying `connect` (activity [`ACTIVITY`], sequence 0).
+/// The RPC request carrying `connect` (activity [`ACTIVITY`], sequence 0), big-endian.
 pub(super) fn connect_request(connect: &ConnectRequest) -> Vec<u8> {
-    request(
-        opnum::CONNECT,
-        ACTIVITY,
-        0,
-        &connect.to_vec().unwrap(),
-        false,
-    )
+    connect_request_in_drep(connect, false)
+}
+
+/// [`connect_request`] in the DREP byte order `little_endian` says.
+pub(super) fn connect_request_in_drep(connect: &ConnectRequest, little_endian: bool) -> Vec<u8> {
+    let blocks = connect.to_vec().unwrap();
+    request(opnum::CONNECT, ACTIVITY, 0, &blocks, little_endian)
 }
 
 /// Connect and PrmEnd with our codecs, both answered OK, at `t0`.
@@ -1037,7 +1013,7 @@ fn the_engine_judges_the_consumer_trial_as_the_consumer_does() {
 
 #[test]
 fn negative_responses_name_the_fault() {
-    let connect = rpc_capture("cm/connect_req");
+    let connect = rpc_pdu("cm/connect_req");
     let faulty = |patch: &dyn Fn(&mut Vec<u8>)| {
         let mut dev = pnet_device(TestApp::None);
         let mut p = connect.clone();
@@ -1103,7 +1079,7 @@ fn negative_responses_name_the_fault() {
     // (Each call a new sequence number: a CL server answers an old one from its cache or
     // not at all.)
     let prm_seq = |seq: u8| {
-        let mut p = rpc_capture("cm/prmend_req");
+        let mut p = rpc_pdu("cm/prmend_req");
         p[64] = seq;
         p
     };
@@ -1139,10 +1115,10 @@ fn records_read_im0_and_written_data_and_refuse_the_rest() {
     let ar_uuid = dev.ar_uuid().unwrap();
     // The captured I&M0 read (another AR's UUID in the capture: patched to ours). Its
     // response is p-net's byte for byte in the blocks.
-    let mut req = rpc_capture("alarm/im0_read_req");
+    let mut req = rpc_pdu("alarm/im0_read_req");
     patch_block(&mut req, 8, &ar_uuid.0);
     let ours = call(&mut dev, &req, 10 * MS);
-    let pnet = parse_reply(&rpc_capture("alarm/im0_read_res"));
+    let pnet = parse_reply(&rpc_pdu("alarm/im0_read_res"));
     let mut expected = pnet.blocks.clone();
     expected[8..24].copy_from_slice(&ar_uuid.0);
     assert_eq!(ours.blocks, expected);
@@ -1227,7 +1203,7 @@ fn split_write_multiple_written(index: u16) -> Vec<u8> {
 #[test]
 fn duplicates_pings_and_fragments() {
     let mut dev = pnet_device(TestApp::None);
-    let connect = rpc_capture("cm/connect_req");
+    let connect = rpc_pdu("cm/connect_req");
     let mut out = Vec::new();
     dev.on_datagram(S7_CLIENT, RPC_PORT, &connect, 0, &mut out);
     let first = datagrams(&out);
@@ -1323,25 +1299,16 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
     out.clear();
     let h = notif.header;
     dev.on_frame(
-        &to_dev(RtaPdu::ack(
-            Priority::High,
-            h.src_endpoint,
-            h.dst_endpoint,
-            0xfffe,
-            h.send_seq,
-        )),
+        &to_dev(RtaPdu::first_ack_of(Priority::High, &h)),
         t + MS,
         &mut out,
     );
     assert!(out.is_empty());
     let ack = AlarmAck::for_notification(&n, PnioStatus::OK);
     dev.on_frame(
-        &to_dev(RtaPdu::data(
+        &to_dev(RtaPdu::first_reply_to(
             Priority::High,
-            h.src_endpoint,
-            h.dst_endpoint,
-            0xffff,
-            h.send_seq,
+            &h,
             vec![AlarmBlock::Ack(ack)],
         )),
         t + 2 * MS,
@@ -1436,17 +1403,7 @@ fn legacy_startup_with_frame_ids_left_to_the_device() {
         c.iocr_properties = crate::wire::connect::iocr_properties::RT_CLASS_1;
         c.frame_id = 0xffff;
     }
-    let r = call(
-        &mut dev,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            true,
-        ),
-        0,
-    );
+    let r = call(&mut dev, &connect_request_in_drep(&connect, true), 0);
     assert_eq!(status(&r), PnioStatus::OK);
     let res = ConnectResponse::parse(&r.blocks).unwrap();
     assert_eq!(
@@ -1466,17 +1423,7 @@ fn legacy_startup_with_frame_ids_left_to_the_device() {
     // Advanced startup with RT class 1 FrameIDs is refused.
     connect.ar.ar_properties = 0x4000_0011;
     let mut fresh = counter_device().0;
-    let r = call(
-        &mut fresh,
-        &request(
-            opnum::CONNECT,
-            ACTIVITY,
-            0,
-            &connect.to_vec().unwrap(),
-            true,
-        ),
-        0,
-    );
+    let r = call(&mut fresh, &connect_request_in_drep(&connect, true), 0);
     assert_eq!(status(&r), refuse(0x02, 7));
 }
 
@@ -1649,11 +1596,11 @@ fn the_s7s_pd_interface_adjust_puts_the_name_into_the_lldp_port_id() {
     assert_eq!(r.port_id, Id::Local("port-001".into()));
     // The captured WriteMultiple carries PDInterfaceAdjust with MultipleInterfaceMode 1.
     assert_eq!(
-        status(&call(&mut dev, &rpc_capture("cm/connect_req"), MS)),
+        status(&call(&mut dev, &rpc_pdu("cm/connect_req"), MS)),
         PnioStatus::OK
     );
     assert_eq!(
-        status(&call(&mut dev, &rpc_capture("cm/write_req"), 2 * MS)),
+        status(&call(&mut dev, &rpc_pdu("cm/write_req"), 2 * MS)),
         PnioStatus::OK
     );
     assert_eq!(

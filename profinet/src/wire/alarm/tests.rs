@@ -5,6 +5,7 @@ use super::super::ethernet::{ETHERTYPE_PROFINET, Frame};
 use super::super::rta_pdu::*;
 use super::*;
 use crate::test_fixtures::hex;
+use crate::wire::test_strategies::alarm_item;
 use proptest::prelude::*;
 
 // The captures below come from the test data of the `pnio` crate 0.1.0
@@ -629,36 +630,6 @@ fn alarm_ack() -> impl Strategy<Value = AlarmAck> {
         )
 }
 
-fn entry(format: DiagnosisFormat) -> impl Strategy<Value = ChannelDiagnosis> {
-    any::<(u16, u16, u16, u16, u32, u32)>().prop_map(move |(ch, props, err, ext, add, q)| {
-        let mut e = ChannelDiagnosis::new(ch, ChannelProperties(props), err);
-        if format != DiagnosisFormat::Channel {
-            e.ext_channel_error_type = ext;
-            e.ext_channel_add_value = add;
-        }
-        if format == DiagnosisFormat::Qualified {
-            e.qualifier = q;
-        }
-        e
-    })
-}
-
-fn item() -> impl Strategy<Value = AlarmItem> {
-    let format = prop_oneof![
-        Just(DiagnosisFormat::Channel),
-        Just(DiagnosisFormat::Extended),
-        Just(DiagnosisFormat::Qualified),
-    ];
-    prop_oneof![
-        format.prop_flat_map(|format| {
-            proptest::collection::vec(entry(format), 0..5)
-                .prop_map(move |entries| AlarmItem::Diagnosis(Diagnosis { format, entries }))
-        }),
-        (0u16..0x8000, proptest::collection::vec(any::<u8>(), 0..40))
-            .prop_map(|(usi, data)| AlarmItem::Other { usi, data }),
-    ]
-}
-
 fn notification() -> impl Strategy<Value = AlarmNotification> {
     (
         priority(),
@@ -666,7 +637,7 @@ fn notification() -> impl Strategy<Value = AlarmNotification> {
         0u16..0x800,
         any::<u16>(),
         proptest::option::of(any::<u32>()),
-        proptest::option::of(item()),
+        proptest::option::of(alarm_item(0..5)),
     )
         .prop_map(
             |(priority, (ty, api, slot, subslot, module, submodule), seq, flags, m, item)| {

@@ -178,9 +178,7 @@ macro_rules! block_api {
 
             /// The block as a new vector.
             pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-                let mut v = vec![0u8; self.buffer_len()];
-                self.emit(&mut v)?;
-                Ok(v)
+                crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
             }
         }
     };
@@ -216,6 +214,31 @@ pub struct ArBlockReq {
     pub udp_rt_port: u16,
     /// CMInitiatorStationName: the controller's name of station.
     pub station_name: String,
+}
+
+impl ArBlockReq {
+    /// The ARBlockReq of an IO controller's single AR, as the S7-1515 sends it: advanced
+    /// startup ([`ar_properties::ADVANCED`]), activity timeout 20 s (factor 200), no UDP RT
+    /// port.
+    pub fn io_controller(
+        ar_uuid: Uuid,
+        session_key: u16,
+        initiator_mac: MacAddress,
+        initiator_object_uuid: Uuid,
+        station_name: String,
+    ) -> ArBlockReq {
+        ArBlockReq {
+            ar_type: AR_TYPE_IOC_SINGLE,
+            ar_uuid,
+            session_key,
+            initiator_mac,
+            initiator_object_uuid,
+            ar_properties: ar_properties::ADVANCED,
+            activity_timeout_factor: 200,
+            udp_rt_port: UDP_RT_PORT_NONE,
+            station_name,
+        }
+    }
 }
 
 impl Body for ArBlockReq {
@@ -440,6 +463,26 @@ pub struct AlarmCrBlockReq {
     pub tag_header_high: u16,
     /// AlarmCRTagHeaderLow ([`TAG_HEADER_PRIO_5`]).
     pub tag_header_low: u16,
+}
+
+impl AlarmCrBlockReq {
+    /// The AlarmCRBlockReq an IO controller sends, as the S7-1515 does: RTA over layer 2 with
+    /// user priority, RTATimeoutFactor 1 (100 ms), 3 retries, at most 256 bytes of alarm
+    /// data, VLAN priority 6 for high and 5 for low alarms; `local_alarm_reference` is the
+    /// controller's.
+    pub const fn io_controller(local_alarm_reference: u16) -> AlarmCrBlockReq {
+        AlarmCrBlockReq {
+            alarm_cr_type: ALARM_CR_TYPE,
+            lt: LT_PROFINET,
+            properties: 0,
+            rta_timeout_factor: 1,
+            rta_retries: 3,
+            local_alarm_reference,
+            max_alarm_data_length: 256,
+            tag_header_high: TAG_HEADER_PRIO_6,
+            tag_header_low: TAG_HEADER_PRIO_5,
+        }
+    }
 }
 
 impl Body for AlarmCrBlockReq {
@@ -747,9 +790,7 @@ impl ConnectRequest {
 
     /// The blocks as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 }
 
@@ -844,9 +885,7 @@ impl ConnectResponse {
 
     /// The blocks as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 
     /// The FrameID the device assigned to the IO CR with this IOCRReference.

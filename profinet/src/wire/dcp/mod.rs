@@ -22,7 +22,9 @@
 //! Everything is big-endian. DCP is not on the real-time path, so [`Repr`] owns its blocks.
 
 use super::cursor::Writer;
-use super::{EmitError, EmitResult, Error, Field, MacAddress, Rest, Result, be16, be32};
+use super::{
+    EmitError, EmitResult, Error, Field, MacAddress, Rest, Result, be16, be32, check_announced_len,
+};
 
 mod block;
 #[cfg(test)]
@@ -150,42 +152,16 @@ enum_with_unknown! {
     }
 }
 
-/// A view of a DCP PDU, from the FrameID on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Packet<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of a DCP PDU, from the FrameID on.
+    pub struct Packet;
 }
 
 impl<T: AsRef<[u8]>> Packet<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Packet<T> {
-        Packet { buffer }
-    }
-
-    /// Wraps a buffer after [`check_len`](Self::check_len).
-    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
-        let p = Packet::new_unchecked(buffer);
-        p.check_len()?;
-        Ok(p)
-    }
-
     /// Checks the buffer holds the header and the DCPDataLength bytes of blocks it announces.
     /// Bytes after them (Ethernet padding) are allowed and ignored.
     pub fn check_len(&self) -> Result<()> {
-        let b = self.buffer.as_ref();
-        let Some(len) = b.get(field::DATA_LENGTH) else {
-            return Err(Error);
-        };
-        if b.len() < HEADER_LEN + usize::from(be16(len)) {
-            Err(Error)
-        } else {
-            Ok(())
-        }
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
+        check_announced_len(self.buffer.as_ref(), field::DATA_LENGTH, HEADER_LEN)
     }
 
     /// FrameID (one of the `FRAME_ID_*` constants for DCP).
@@ -390,9 +366,7 @@ impl Repr {
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 
     fn request(

@@ -124,9 +124,7 @@ impl DiagnosisData {
 
     /// The block as a new vector.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 
     /// A whole record: the blocks one after the other (empty for no block).

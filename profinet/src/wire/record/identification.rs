@@ -295,9 +295,7 @@ impl IdentificationData {
 
     /// The block as a new vector.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 }
 
@@ -413,8 +411,6 @@ impl Im0FilterData {
 
     /// The record as a new vector.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 }

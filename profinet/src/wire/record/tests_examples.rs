@@ -10,6 +10,7 @@ use crate::wire::diagnosis::{
     AlarmItem, CHANNEL_NUMBER_SUBMODULE, ChannelDiagnosis, ChannelDirection, ChannelProperties,
     ChannelSpecifier, Diagnosis, DiagnosisFormat,
 };
+use crate::wire::test_strategies::alarm_item;
 use proptest::prelude::*;
 
 /// TV1: record 0x800A, ET 200S slot 2 subslot 1, wire break on output channel 1.
@@ -290,52 +291,27 @@ fn version() -> impl Strategy<Value = RecordVersion> {
     prop_oneof![Just(RecordVersion::V1_0), Just(RecordVersion::V1_1)]
 }
 
-fn item() -> impl Strategy<Value = AlarmItem> {
-    let format = prop_oneof![
-        Just(DiagnosisFormat::Channel),
-        Just(DiagnosisFormat::Extended),
-        Just(DiagnosisFormat::Qualified),
-    ];
-    let entry = any::<(u16, u16, u16, u16, u32, u32)>();
-    prop_oneof![
-        (format, proptest::collection::vec(entry, 0..4)).prop_map(|(format, raw)| {
-            let entries = raw
-                .into_iter()
-                .map(|(ch, props, err, ext, add, q)| {
-                    let mut e = ChannelDiagnosis::new(ch, ChannelProperties(props), err);
-                    if format != DiagnosisFormat::Channel {
-                        e.ext_channel_error_type = ext;
-                        e.ext_channel_add_value = add;
-                    }
-                    if format == DiagnosisFormat::Qualified {
-                        e.qualifier = q;
-                    }
-                    e
-                })
-                .collect();
-            AlarmItem::Diagnosis(Diagnosis { format, entries })
-        }),
-        (0u16..0x8000, proptest::collection::vec(any::<u8>(), 0..40))
-            .prop_map(|(usi, data)| AlarmItem::Other { usi, data }),
-    ]
-}
-
 fn diagnosis_data() -> impl Strategy<Value = DiagnosisData> {
-    (version(), any::<(u32, u16, u16, u16, u16)>(), item()).prop_map(
-        |(version, (api, slot, subslot, ch, props), item)| DiagnosisData {
-            version,
-            api: if version == RecordVersion::V1_0 {
-                0
-            } else {
-                api
-            },
-            slot,
-            subslot,
-            channel_number: ch,
-            channel_properties: ChannelProperties(props),
-            item,
-        },
+    (
+        version(),
+        any::<(u32, u16, u16, u16, u16)>(),
+        alarm_item(0..4),
     )
+        .prop_map(
+            |(version, (api, slot, subslot, ch, props), item)| DiagnosisData {
+                version,
+                api: if version == RecordVersion::V1_0 {
+                    0
+                } else {
+                    api
+                },
+                slot,
+                subslot,
+                channel_number: ch,
+                channel_properties: ChannelProperties(props),
+                item,
+            },
+        )
 }
 
 fn apis() -> impl Strategy<Value = Vec<IdentApi>> {

@@ -273,25 +273,12 @@ fn rd_uuid(b: &[u8], little_endian: bool) -> Uuid {
     Uuid::from_drep(&a, little_endian)
 }
 
-/// A view of a connectionless DCE/RPC PDU: the 80-byte header and the body.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Packet<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of a connectionless DCE/RPC PDU: the 80-byte header and the body.
+    pub struct Packet;
 }
 
 impl<T: AsRef<[u8]>> Packet<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Packet<T> {
-        Packet { buffer }
-    }
-
-    /// Wraps a buffer after [`check_len`](Self::check_len).
-    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
-        let p = Packet::new_unchecked(buffer);
-        p.check_len()?;
-        Ok(p)
-    }
-
     /// Checks the buffer holds the header, RPCVersion is 4, the DREP integer representation
     /// is big- (0) or little-endian (1), and the buffer holds the LengthOfBody bytes the header
     /// announces. Bytes after the body are allowed and ignored.
@@ -306,11 +293,6 @@ impl<T: AsRef<[u8]>> Packet<T> {
         } else {
             Ok(())
         }
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
     }
 
     /// RPCVersion (4).

@@ -85,9 +85,7 @@ impl<'a> Pdu<'a> {
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 }
 

@@ -7,241 +7,46 @@ use proptest::prelude::*;
 
 // The captures below come from the test data of the `pnio` crate 0.1.0
 // (core-engineering/pnio-rs, MIT OR Apache-2.0): an S7-1515 talking to the p-net sample
-// device. Each is the UDP payload (the RPC PDU), i.e. bytes 42.. of the Ethernet frame in
-// /work/shared/captures (14 Ethernet + 20 IPv4 + 8 UDP), as hex text.
+// device. Each names a file in tests/fixtures/captures; the tests read its UDP payload (the
+// RPC PDU) with [`rpc_pdu`], so the bytes are kept once, in the capture file.
 
 /// captures/cm/connect_req.hex, bytes 42.. (657 bytes): frame 50: CPU Connect request, DREP LE, 699 bytes (RPC PDU at offset 42)
-const CONNECT_REQ: &str = "\
-    04 00 20 00 10 00 00 00 00 00 a0 de 97 6c d1 11 \
-    82 71 00 01 00 02 04 93 01 00 a0 de 97 6c d1 11 \
-    82 71 00 a0 24 42 df 7d ae a1 ac d2 32 00 10 10 \
-    b0 58 ec 1c 5d 61 e7 3f 00 00 00 00 01 00 00 00 \
-    00 00 00 00 00 00 ff ff ff ff 41 02 00 00 00 00 \
-    2d 02 00 00 2d 02 00 00 2d 02 00 00 00 00 00 00 \
-    2d 02 00 00 01 01 00 5b 01 00 00 01 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 02 ec 1c \
-    5d 61 e7 3f de a0 00 00 6c 97 11 d1 82 71 10 64 \
-    01 0e 00 2a 40 00 00 11 00 c8 88 92 00 25 70 6c \
-    63 78 62 62 65 6e 63 68 2e 70 72 6f 66 69 6e 65 \
-    74 78 61 69 6e 74 65 72 66 61 63 65 78 62 32 35 \
-    66 62 64 01 02 00 68 01 00 00 01 00 01 88 92 00 \
-    00 00 02 00 28 80 00 00 20 00 20 00 01 00 00 ff \
-    ff ff ff 00 03 00 03 c0 00 00 00 00 00 00 00 00 \
-    01 00 00 00 00 00 06 00 00 00 01 00 00 00 00 80 \
-    00 00 01 00 00 80 01 00 02 00 01 00 01 00 03 00 \
-    03 00 01 00 06 00 04 00 01 00 09 00 03 00 02 00 \
-    01 00 05 00 03 00 01 00 08 00 04 00 01 00 12 01 \
-    02 00 68 01 00 00 02 00 02 88 92 00 00 00 02 00 \
-    28 80 01 00 20 00 20 00 01 00 00 ff ff ff ff 00 \
-    03 00 03 c0 00 00 00 00 00 00 00 00 01 00 00 00 \
-    00 00 03 00 02 00 01 00 04 00 03 00 01 00 07 00 \
-    04 00 01 00 0a 00 06 00 00 00 01 00 00 00 00 80 \
-    00 00 01 00 00 80 01 00 02 00 01 00 01 00 03 00 \
-    03 00 01 00 06 00 04 00 01 00 09 01 04 00 3c 01 \
-    00 00 01 00 00 00 00 00 00 00 00 00 01 00 00 00 \
-    03 00 01 00 00 00 01 00 00 00 01 00 00 01 01 80 \
-    00 00 00 80 00 00 00 00 01 00 00 01 01 80 01 00 \
-    00 80 01 00 00 00 01 00 00 01 01 01 04 00 20 01 \
-    00 00 01 00 00 00 00 00 01 00 00 00 30 00 00 00 \
-    01 00 01 00 00 01 30 00 01 00 01 00 01 01 01 01 \
-    04 00 20 01 00 00 01 00 00 00 00 00 02 00 00 00 \
-    31 00 00 00 01 00 01 00 00 01 31 00 02 00 02 00 \
-    01 01 01 01 04 00 26 01 00 00 01 00 00 00 00 00 \
-    03 00 00 00 32 00 00 00 01 00 01 00 00 01 32 00 \
-    03 00 01 00 01 01 01 00 02 00 01 01 01 01 04 00 \
-    26 01 00 00 01 00 00 00 00 00 04 00 00 00 40 00 \
-    00 00 01 00 01 00 00 01 40 00 03 00 01 00 08 01 \
-    01 00 02 00 08 01 01 01 03 00 16 01 00 00 01 88 \
-    92 00 00 00 00 00 01 00 03 00 00 01 00 c0 00 a0 \
-    00";
+const CONNECT_REQ: &str = "cm/connect_req";
 
 /// captures/cm/connect_res.hex, bytes 42.. (190 bytes): frame 53: p-net Connect response, DREP BE, 232 bytes (RPC PDU at offset 42)
-const CONNECT_RES: &str = "\
-    04 02 28 00 00 00 00 00 de a0 00 00 6c 97 11 d1 \
-    82 71 00 01 00 02 04 93 de a0 00 01 6c 97 11 d1 \
-    82 71 00 a0 24 42 df 7d d2 ac a1 ae 00 32 10 10 \
-    b0 58 ec 1c 5d 61 e7 3f 00 00 00 00 00 00 00 01 \
-    00 00 00 00 00 00 ff ff ff ff 00 6e 00 00 00 00 \
-    00 00 00 00 00 00 00 5a 00 00 02 2d 00 00 00 00 \
-    00 00 00 5a 81 01 00 1e 01 00 00 01 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 02 8c f3 \
-    19 cd 19 f8 88 92 81 02 00 08 01 00 00 01 00 01 \
-    80 00 81 02 00 08 01 00 00 02 00 02 80 01 81 03 \
-    00 08 01 00 00 01 00 00 00 c8 81 06 00 10 01 00 \
-    00 0b 72 74 2d 6c 61 62 73 2d 64 65 76 00";
+const CONNECT_RES: &str = "cm/connect_res";
 
 /// captures/cm/write_req.hex, bytes 42.. (444 bytes): frame 54: CPU Write MultipleWrite, DREP LE, 486 bytes
-const WRITE_REQ: &str = "\
-    04 00 20 00 10 00 00 00 00 00 a0 de 97 6c d1 11 \
-    82 71 00 01 00 02 04 93 01 00 a0 de 97 6c d1 11 \
-    82 71 00 a0 24 42 df 7d ae a1 ac d2 32 00 10 10 \
-    b0 58 ec 1c 5d 61 e7 3f 00 00 00 00 01 00 00 00 \
-    01 00 00 00 03 00 ff ff ff ff 6c 01 00 00 00 00 \
-    58 01 00 00 58 01 00 00 58 01 00 00 00 00 00 00 \
-    58 01 00 00 00 08 00 3c 01 00 00 00 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 ff ff ff ff \
-    ff ff ff ff 00 00 e0 40 00 00 01 18 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 08 00 3c 01 00 00 01 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 00 00 00 \
-    00 00 80 00 00 00 80 71 00 00 00 0c 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 02 50 00 08 01 00 00 00 00 00 00 01 \
-    00 08 00 3c 01 00 00 02 e5 e1 ae cc b1 33 4b 4d \
-    b1 87 cc 68 b0 21 1e d2 00 00 00 00 00 03 00 01 \
-    00 00 00 7b 00 00 00 04 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 01 00 08 00 3c 01 00 00 03 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 00 00 00 \
-    00 03 00 01 00 00 00 7c 00 00 00 04 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 02 00 08 00 3c 01 00 00 04 \
-    e5 e1 ae cc b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 \
-    00 00 00 00 00 04 00 01 00 00 00 7d 00 00 00 04 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 02";
+const WRITE_REQ: &str = "cm/write_req";
 
 /// captures/cm/write_res.hex, bytes 42.. (420 bytes): frame 56: p-net Write response, DREP BE, 462 bytes
-const WRITE_RES: &str = "\
-    04 02 28 00 00 00 00 00 de a0 00 00 6c 97 11 d1 \
-    82 71 00 01 00 02 04 93 de a0 00 01 6c 97 11 d1 \
-    82 71 00 a0 24 42 df 7d d2 ac a1 ae 00 32 10 10 \
-    b0 58 ec 1c 5d 61 e7 3f 00 00 00 00 00 00 00 01 \
-    00 00 00 01 00 03 ff ff ff ff 01 54 00 00 00 00 \
-    00 00 00 00 00 00 01 40 00 00 01 58 00 00 00 00 \
-    00 00 01 40 80 08 00 3c 01 00 00 00 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 ff ff ff ff \
-    ff ff ff ff 00 00 e0 40 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 80 08 00 3c 01 00 00 01 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 00 00 00 \
-    00 00 80 00 00 00 80 71 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 80 08 00 3c 01 00 00 02 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 00 00 00 \
-    00 03 00 01 00 00 00 7b 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 80 08 00 3c 01 00 00 03 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 00 00 00 \
-    00 03 00 01 00 00 00 7c 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 80 08 00 3c 01 00 00 04 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 00 00 00 \
-    00 04 00 01 00 00 00 7d 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00";
+const WRITE_RES: &str = "cm/write_res";
 
 /// captures/cm/prmend_req.hex, bytes 42.. (132 bytes): frame 57: CPU Control PrmEnd, DREP LE, 174 bytes
-const PRMEND_REQ: &str = "\
-    04 00 20 00 10 00 00 00 00 00 a0 de 97 6c d1 11 \
-    82 71 00 01 00 02 04 93 01 00 a0 de 97 6c d1 11 \
-    82 71 00 a0 24 42 df 7d ae a1 ac d2 32 00 10 10 \
-    b0 58 ec 1c 5d 61 e7 3f 00 00 00 00 01 00 00 00 \
-    02 00 00 00 04 00 ff ff ff ff 34 00 00 00 00 00 \
-    20 00 00 00 20 00 00 00 20 00 00 00 00 00 00 00 \
-    20 00 00 00 01 10 00 1c 01 00 00 00 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 02 00 00 \
-    00 01 00 00";
+const PRMEND_REQ: &str = "cm/prmend_req";
 
 /// captures/cm/prmend_res.hex, bytes 42.. (132 bytes): frame 58: p-net Control PrmEnd Done, DREP BE, 174 bytes
-const PRMEND_RES: &str = "\
-    04 02 28 00 00 00 00 00 de a0 00 00 6c 97 11 d1 \
-    82 71 00 01 00 02 04 93 de a0 00 01 6c 97 11 d1 \
-    82 71 00 a0 24 42 df 7d d2 ac a1 ae 00 32 10 10 \
-    b0 58 ec 1c 5d 61 e7 3f 00 00 00 00 00 00 00 01 \
-    00 00 00 02 00 04 ff ff ff ff 00 34 00 00 00 00 \
-    00 00 00 00 00 00 00 20 00 00 00 20 00 00 00 00 \
-    00 00 00 20 81 10 00 1c 01 00 00 00 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 02 00 00 \
-    00 08 00 00";
+const PRMEND_RES: &str = "cm/prmend_res";
 
 /// captures/cm/appready_req.hex, bytes 42.. (132 bytes): frame 59: p-net -> CPU Control ApplicationReady, DREP BE, 174 bytes (src port 49153)
-const APPREADY_REQ: &str = "\
-    04 00 20 00 00 00 00 00 de a0 00 00 6c 97 11 d1 \
-    82 71 10 64 01 0e 00 2a de a0 00 02 6c 97 11 d1 \
-    82 71 00 a0 24 42 df 7d 14 af 19 8a 12 34 10 56 \
-    80 79 8c f3 19 cd 19 f8 00 00 00 00 00 00 00 01 \
-    00 00 00 00 00 04 ff ff ff ff 00 34 00 00 00 00 \
-    00 00 05 3c 00 00 00 20 00 00 05 3c 00 00 00 00 \
-    00 00 00 20 01 12 00 1c 01 00 00 00 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 02 00 00 \
-    00 02 00 00";
+const APPREADY_REQ: &str = "cm/appready_req";
 
 /// captures/cm/appready_res.hex, bytes 42.. (132 bytes): frame 60: CPU -> p-net ApplicationReady Done, DREP LE, flags1 0x0a, 174 bytes
-const APPREADY_RES: &str = "\
-    04 02 0a 00 10 00 00 00 00 00 a0 de 97 6c d1 11 \
-    82 71 10 64 01 0e 00 2a 02 00 a0 de 97 6c d1 11 \
-    82 71 00 a0 24 42 df 7d 8a 19 af 14 34 12 56 10 \
-    80 79 8c f3 19 cd 19 f8 56 51 00 00 01 00 00 00 \
-    00 00 00 00 04 00 ff ff ff ff 34 00 00 00 00 00 \
-    00 00 00 00 20 00 00 00 3c 05 00 00 00 00 00 00 \
-    20 00 00 00 81 12 00 1c 01 00 00 00 e5 e1 ae cc \
-    b1 33 4b 4d b1 87 cc 68 b0 21 1e d2 00 02 00 00 \
-    00 08 00 00";
+const APPREADY_RES: &str = "cm/appready_res";
 
 /// captures/alarm/im0_read_req.hex, bytes 42.. (164 bytes): frame 24414 of plan5-alarm.pcapng (2026-08-30): CPU -> p-net, DCE-RPC Read request (opnum 2), IODReadReqHeader slot 0 subslot 1, index 0xAFF0 I&M0, RecordDataLength 0x8000, 206 bytes
-const IM0_READ_REQ: &str = "\
-    04 00 20 00 10 00 00 00 00 00 a0 de 97 6c d1 11 \
-    82 71 00 01 00 02 04 93 01 00 a0 de 97 6c d1 11 \
-    82 71 00 a0 24 42 df 7d 6b d7 6d 8d 13 00 10 10 \
-    94 79 ec 1c 5d 61 e7 3c 00 00 00 00 01 00 00 00 \
-    04 00 00 00 02 00 ff ff ff ff 54 00 00 00 00 00 \
-    40 80 00 00 40 00 00 00 40 80 00 00 00 00 00 00 \
-    40 00 00 00 00 09 00 3c 01 00 00 06 ef 79 6d 60 \
-    ef 2b 99 46 b3 9e 85 31 f5 b7 f9 66 00 00 00 00 \
-    00 00 00 01 00 00 af f0 00 00 80 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00";
+const IM0_READ_REQ: &str = "alarm/im0_read_req";
 
 /// captures/alarm/im0_read_req_if.hex, bytes 42.. (164 bytes): frame 24410 of plan5-alarm.pcapng (2026-08-30): CPU -> p-net, Read request I&M0 on the interface submodule slot 0 subslot 0x8000, 206 bytes
-const IM0_READ_REQ_IF: &str = "\
-    04 00 20 00 10 00 00 00 00 00 a0 de 97 6c d1 11 \
-    82 71 00 01 00 02 04 93 01 00 a0 de 97 6c d1 11 \
-    82 71 00 a0 24 42 df 7d 6b d7 6d 8d 13 00 10 10 \
-    94 79 ec 1c 5d 61 e7 3c 00 00 00 00 01 00 00 00 \
-    03 00 00 00 02 00 ff ff ff ff 54 00 00 00 00 00 \
-    40 80 00 00 40 00 00 00 40 80 00 00 00 00 00 00 \
-    40 00 00 00 00 09 00 3c 01 00 00 05 ef 79 6d 60 \
-    ef 2b 99 46 b3 9e 85 31 f5 b7 f9 66 00 00 00 00 \
-    00 00 80 00 00 00 af f0 00 00 80 00 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00";
+const IM0_READ_REQ_IF: &str = "alarm/im0_read_req_if";
 
 /// captures/alarm/im0_read_res.hex, bytes 42.. (224 bytes): frame 24415 of plan5-alarm.pcapng (2026-08-30): p-net -> CPU, DCE-RPC Read response, IODReadResHeader + I&M0 block (60 bytes), p-net identity VendorID 0x0493 OrderID '12345 Abcdefghijk', 266 bytes
-const IM0_READ_RES: &str = "\
-    04 02 28 00 00 00 00 00 de a0 00 00 6c 97 11 d1 \
-    82 71 00 01 00 02 04 93 de a0 00 01 6c 97 11 d1 \
-    82 71 00 a0 24 42 df 7d 8d 6d d7 6b 00 13 10 10 \
-    94 79 ec 1c 5d 61 e7 3c 00 00 00 00 00 00 00 01 \
-    00 00 00 04 00 02 ff ff ff ff 00 90 00 00 00 00 \
-    00 00 00 00 00 00 00 7c 00 00 80 40 00 00 00 00 \
-    00 00 00 7c 80 09 00 3c 01 00 00 06 ef 79 6d 60 \
-    ef 2b 99 46 b3 9e 85 31 f5 b7 f9 66 00 00 00 00 \
-    00 00 00 01 00 00 af f0 00 00 00 3c 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 20 00 38 01 00 04 93 31 32 33 34 \
-    35 20 41 62 63 64 65 66 67 68 69 6a 6b 20 20 20 \
-    30 30 37 20 20 20 20 20 20 20 20 20 20 20 20 20 \
-    00 03 56 00 02 00 00 00 12 34 56 78 01 01 00 0e";
+const IM0_READ_RES: &str = "alarm/im0_read_res";
 
 /// captures/alarm/im0_read_res_if.hex, bytes 42.. (224 bytes): frame 24411 of plan5-alarm.pcapng (2026-08-30): p-net -> CPU, Read response I&M0 on the interface submodule, 266 bytes
-const IM0_READ_RES_IF: &str = "\
-    04 02 28 00 00 00 00 00 de a0 00 00 6c 97 11 d1 \
-    82 71 00 01 00 02 04 93 de a0 00 01 6c 97 11 d1 \
-    82 71 00 a0 24 42 df 7d 8d 6d d7 6b 00 13 10 10 \
-    94 79 ec 1c 5d 61 e7 3c 00 00 00 00 00 00 00 01 \
-    00 00 00 03 00 02 ff ff ff ff 00 90 00 00 00 00 \
-    00 00 00 00 00 00 00 7c 00 00 80 40 00 00 00 00 \
-    00 00 00 7c 80 09 00 3c 01 00 00 05 ef 79 6d 60 \
-    ef 2b 99 46 b3 9e 85 31 f5 b7 f9 66 00 00 00 00 \
-    00 00 80 00 00 00 af f0 00 00 00 3c 00 00 00 00 \
-    00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 00 \
-    00 00 00 00 00 20 00 38 01 00 04 93 31 32 33 34 \
-    35 20 41 62 63 64 65 66 67 68 69 6a 6b 20 20 20 \
-    30 30 37 20 20 20 20 20 20 20 20 20 20 20 20 20 \
-    00 03 56 00 02 00 00 00 12 34 56 78 01 01 00 0e";
+const IM0_READ_RES_IF: &str = "alarm/im0_read_res_if";
 
-use crate::test_fixtures::hex as unhex;
+use crate::wire::test_captures::rpc_pdu;
 
 const OBJECT_DEVICE: &str = "dea00000-6c97-11d1-8271-000100020493";
 const OBJECT_CPU: &str = "dea00000-6c97-11d1-8271-1064010e002a";
@@ -253,20 +58,63 @@ const ACT_APPREADY: &str = "14af198a-1234-1056-8079-8cf319cd19f8";
 
 /// What a capture must parse to.
 struct Expect {
-    hex: &'static str,
-    packet_type: PacketType,
-    flags1: u8,
-    little_endian: bool,
-    object: &'static str,
-    interface: &'static str,
+    capture: &'static str,
+    side: Side,
     activity: &'static str,
-    server_boot_time: u32,
     sequence_number: u32,
     opnum: u16,
     body_len: u16,
     ndr: Ndr,
     first_block: u16,
 }
+
+/// Who sends a PDU of the captures and how: the header fields every PDU of that side has.
+#[derive(Clone, Copy)]
+struct Side {
+    packet_type: PacketType,
+    flags1: u8,
+    little_endian: bool,
+    object: &'static str,
+    interface: &'static str,
+    server_boot_time: u32,
+}
+
+/// The S7 calls the p-net device (Connect, Write, Control, Read): DREP little-endian.
+const S7_CALL: Side = Side {
+    packet_type: PacketType::Request,
+    flags1: flags1::IDEMPOTENT,
+    little_endian: true,
+    object: OBJECT_DEVICE,
+    interface: IFACE_DEVICE,
+    server_boot_time: 0,
+};
+
+/// p-net answers the S7's call: DREP big-endian, no FACK wanted.
+const PNET_ANSWER: Side = Side {
+    packet_type: PacketType::Response,
+    flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
+    little_endian: false,
+    ..S7_CALL
+};
+
+/// p-net calls the S7's controller interface (ApplicationReady): DREP big-endian.
+const PNET_CALL: Side = Side {
+    packet_type: PacketType::Request,
+    flags1: flags1::IDEMPOTENT,
+    little_endian: false,
+    object: OBJECT_CPU,
+    interface: IFACE_CONTROLLER,
+    server_boot_time: 0,
+};
+
+/// The S7 answers p-net's call, with its server boot time.
+const S7_ANSWER: Side = Side {
+    packet_type: PacketType::Response,
+    flags1: flags1::LAST_FRAGMENT | flags1::NO_FACK,
+    little_endian: true,
+    server_boot_time: 0x5156,
+    ..PNET_CALL
+};
 
 fn request(args_maximum: u32, len: u32) -> Ndr {
     Ndr::Request(NdrRequest {
@@ -291,24 +139,25 @@ fn response(maximum_count: u32, len: u32) -> Ndr {
 /// Parses a capture, checks every field, and re-emits it byte for byte, both from the
 /// parsed `Pdu` and from its parts through `emit_request` / `emit_response`.
 fn check(e: Expect) -> Vec<u8> {
-    let bytes = unhex(e.hex);
+    let side = e.side;
+    let bytes = rpc_pdu(e.capture);
     let p = Packet::new_checked(&bytes[..]).unwrap();
     assert_eq!(p.version(), RPC_VERSION);
-    let drep0 = if e.little_endian { 0x10 } else { 0x00 };
+    let drep0 = if side.little_endian { 0x10 } else { 0x00 };
     assert_eq!(p.drep(), [drep0, 0, 0]);
     assert_eq!(p.body().len(), usize::from(e.body_len));
     assert_eq!(bytes.len(), HEADER_LEN + usize::from(e.body_len));
 
     let h = Header::parse(&p).unwrap();
-    assert_eq!(h.packet_type, e.packet_type);
-    assert_eq!(h.flags1, e.flags1);
+    assert_eq!(h.packet_type, side.packet_type);
+    assert_eq!(h.flags1, side.flags1);
     assert_eq!(h.flags2, 0);
-    assert_eq!(h.little_endian, e.little_endian);
+    assert_eq!(h.little_endian, side.little_endian);
     assert_eq!(h.serial, 0);
-    assert_eq!(h.object.to_string(), e.object);
-    assert_eq!(h.interface.to_string(), e.interface);
+    assert_eq!(h.object.to_string(), side.object);
+    assert_eq!(h.interface.to_string(), side.interface);
     assert_eq!(h.activity.to_string(), e.activity);
-    assert_eq!(h.server_boot_time, e.server_boot_time);
+    assert_eq!(h.server_boot_time, side.server_boot_time);
     assert_eq!(h.interface_version, PNIO_INTERFACE_VERSION);
     assert_eq!(h.sequence_number, e.sequence_number);
     assert_eq!(h.opnum, e.opnum);
@@ -324,7 +173,7 @@ fn check(e: Expect) -> Vec<u8> {
     let pdu = Pdu::parse(&bytes).unwrap();
     assert_eq!(pdu.header, h);
     assert_eq!(pdu.ndr, e.ndr);
-    assert_eq!(pdu.ndr.packet_type(), e.packet_type);
+    assert_eq!(pdu.ndr.packet_type(), side.packet_type);
     assert!(pdu.ndr.is_consistent(pdu.blocks.len()));
     assert_eq!(usize::from(e.body_len), NDR_LEN + pdu.blocks.len());
     if let Some(status) = pdu.ndr.status() {
@@ -352,14 +201,9 @@ fn check(e: Expect) -> Vec<u8> {
 #[test]
 fn connect_request_capture() {
     check(Expect {
-        hex: CONNECT_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: true,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        capture: CONNECT_REQ,
+        side: S7_CALL,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 0,
         opnum: opnum::CONNECT,
         body_len: 577,
@@ -371,14 +215,9 @@ fn connect_request_capture() {
 #[test]
 fn connect_response_capture() {
     check(Expect {
-        hex: CONNECT_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        capture: CONNECT_RES,
+        side: PNET_ANSWER,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 0,
         opnum: opnum::CONNECT,
         body_len: 110,
@@ -390,14 +229,9 @@ fn connect_response_capture() {
 #[test]
 fn write_request_capture() {
     check(Expect {
-        hex: WRITE_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: true,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        capture: WRITE_REQ,
+        side: S7_CALL,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 1,
         opnum: opnum::WRITE,
         body_len: 364,
@@ -409,14 +243,9 @@ fn write_request_capture() {
 #[test]
 fn write_response_capture() {
     check(Expect {
-        hex: WRITE_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        capture: WRITE_RES,
+        side: PNET_ANSWER,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 1,
         opnum: opnum::WRITE,
         body_len: 340,
@@ -428,14 +257,9 @@ fn write_response_capture() {
 #[test]
 fn prmend_request_capture() {
     check(Expect {
-        hex: PRMEND_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: true,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        capture: PRMEND_REQ,
+        side: S7_CALL,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 2,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -447,14 +271,9 @@ fn prmend_request_capture() {
 #[test]
 fn prmend_response_capture() {
     check(Expect {
-        hex: PRMEND_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_DEVICE,
-        interface: IFACE_DEVICE,
+        capture: PRMEND_RES,
+        side: PNET_ANSWER,
         activity: ACT_CONNECT,
-        server_boot_time: 0,
         sequence_number: 2,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -466,14 +285,9 @@ fn prmend_response_capture() {
 #[test]
 fn application_ready_request_capture() {
     check(Expect {
-        hex: APPREADY_REQ,
-        packet_type: PacketType::Request,
-        flags1: flags1::IDEMPOTENT,
-        little_endian: false,
-        object: OBJECT_CPU,
-        interface: IFACE_CONTROLLER,
+        capture: APPREADY_REQ,
+        side: PNET_CALL,
         activity: ACT_APPREADY,
-        server_boot_time: 0,
         sequence_number: 0,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -485,14 +299,9 @@ fn application_ready_request_capture() {
 #[test]
 fn application_ready_response_capture() {
     check(Expect {
-        hex: APPREADY_RES,
-        packet_type: PacketType::Response,
-        flags1: flags1::LAST_FRAGMENT | flags1::NO_FACK,
-        little_endian: true,
-        object: OBJECT_CPU,
-        interface: IFACE_CONTROLLER,
+        capture: APPREADY_RES,
+        side: S7_ANSWER,
         activity: ACT_APPREADY,
-        server_boot_time: 0x5156,
         sequence_number: 0,
         opnum: opnum::CONTROL,
         body_len: 52,
@@ -503,16 +312,11 @@ fn application_ready_response_capture() {
 
 #[test]
 fn im0_read_request_captures() {
-    for (hex, seq) in [(IM0_READ_REQ, 4), (IM0_READ_REQ_IF, 3)] {
+    for (capture, seq) in [(IM0_READ_REQ, 4), (IM0_READ_REQ_IF, 3)] {
         check(Expect {
-            hex,
-            packet_type: PacketType::Request,
-            flags1: flags1::IDEMPOTENT,
-            little_endian: true,
-            object: OBJECT_DEVICE,
-            interface: IFACE_DEVICE,
+            capture,
+            side: S7_CALL,
             activity: ACT_READ,
-            server_boot_time: 0,
             sequence_number: seq,
             opnum: opnum::READ,
             body_len: 84,
@@ -524,16 +328,11 @@ fn im0_read_request_captures() {
 
 #[test]
 fn im0_read_response_captures() {
-    for (hex, seq) in [(IM0_READ_RES, 4), (IM0_READ_RES_IF, 3)] {
+    for (capture, seq) in [(IM0_READ_RES, 4), (IM0_READ_RES_IF, 3)] {
         check(Expect {
-            hex,
-            packet_type: PacketType::Response,
-            flags1: flags1::NO_FACK | flags1::IDEMPOTENT,
-            little_endian: false,
-            object: OBJECT_DEVICE,
-            interface: IFACE_DEVICE,
+            capture,
+            side: PNET_ANSWER,
             activity: ACT_READ,
-            server_boot_time: 0,
             sequence_number: seq,
             opnum: opnum::READ,
             body_len: 144,
@@ -545,7 +344,7 @@ fn im0_read_response_captures() {
 
 #[test]
 fn little_endian_pdu_re_emitted_big_endian() {
-    let le = unhex(CONNECT_REQ);
+    let le = rpc_pdu(CONNECT_REQ);
     let pdu = Pdu::parse(&le).unwrap();
     let be_pdu = Pdu {
         header: Header {
@@ -600,8 +399,8 @@ fn response_status_is_stored_in_drep_order() {
 
 #[test]
 fn reply_echoes_the_call() {
-    let req = Pdu::parse(&unhex(PRMEND_REQ)).unwrap().header;
-    let res = Pdu::parse(&unhex(PRMEND_RES)).unwrap().header;
+    let req = Pdu::parse(&rpc_pdu(PRMEND_REQ)).unwrap().header;
+    let res = Pdu::parse(&rpc_pdu(PRMEND_RES)).unwrap().header;
     let reply = req.reply(0);
     assert_eq!(reply.flags1, REPLY_FLAGS1);
     // p-net answers big-endian with NoFack | Idempotent; otherwise the same header.
@@ -615,8 +414,8 @@ fn reply_echoes_the_call() {
         res
     );
     // The S7 answers with LastFragment | NoFack, little-endian, its boot time.
-    let req = Pdu::parse(&unhex(APPREADY_REQ)).unwrap().header;
-    let res = Pdu::parse(&unhex(APPREADY_RES)).unwrap().header;
+    let req = Pdu::parse(&rpc_pdu(APPREADY_REQ)).unwrap().header;
+    let res = Pdu::parse(&rpc_pdu(APPREADY_RES)).unwrap().header;
     assert_eq!(
         Header {
             little_endian: true,
@@ -656,7 +455,7 @@ fn uuids() {
         EPM_INTERFACE.to_string(),
         "e1af8308-5d1f-11c9-91a4-08002b14a0fa"
     );
-    let cpu = Pdu::parse(&unhex(APPREADY_REQ)).unwrap().header.object;
+    let cpu = Pdu::parse(&rpc_pdu(APPREADY_REQ)).unwrap().header.object;
     assert_eq!(object_uuid_parts(&cpu), Some((0x1064, 0x010e, 0x002a)));
     assert_eq!(object_uuid_parts(&DEVICE_INTERFACE), None);
     assert_eq!(opnum::name(5), Some("ReadImplicit"));
@@ -668,7 +467,7 @@ fn uuids() {
 
 #[test]
 fn malformed_pdus_are_refused() {
-    let good = unhex(PRMEND_REQ);
+    let good = rpc_pdu(PRMEND_REQ);
     for n in 0..good.len() {
         assert!(Packet::new_checked(&good[..n]).is_err(), "{n} bytes");
         assert!(Pdu::parse(&good[..n]).is_err());
@@ -700,7 +499,7 @@ fn malformed_pdus_are_refused() {
 
 #[test]
 fn emission_errors() {
-    let bytes = unhex(PRMEND_RES);
+    let bytes = rpc_pdu(PRMEND_RES);
     let pdu = Pdu::parse(&bytes).unwrap();
     let mut buf = vec![0u8; pdu.buffer_len() - 1];
     assert!(pdu.emit(&mut buf).is_err());

@@ -28,7 +28,7 @@
 use super::alarm::{AlarmAck, AlarmBlock, AlarmNotification, Priority};
 use super::common::blocks;
 use super::cursor::{Reader, Writer};
-use super::{EmitError, EmitResult, Error, Field, Rest, Result, be16};
+use super::{EmitError, EmitResult, Error, Field, Rest, Result, be16, check_announced_len};
 
 mod err;
 mod sequence;
@@ -89,42 +89,16 @@ impl PduType {
     }
 }
 
-/// A view of an RTA PDU, from the FrameID on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Packet<T: AsRef<[u8]>> {
-    buffer: T,
+buffer_view! {
+    /// A view of an RTA PDU, from the FrameID on.
+    pub struct Packet;
 }
 
 impl<T: AsRef<[u8]>> Packet<T> {
-    /// Wraps a buffer without checking it.
-    pub const fn new_unchecked(buffer: T) -> Packet<T> {
-        Packet { buffer }
-    }
-
-    /// Wraps a buffer after [`check_len`](Self::check_len).
-    pub fn new_checked(buffer: T) -> Result<Packet<T>> {
-        let p = Packet::new_unchecked(buffer);
-        p.check_len()?;
-        Ok(p)
-    }
-
     /// Checks the buffer holds the header and the VarPartLen bytes it announces. Bytes after
     /// them (Ethernet padding) are allowed and ignored.
     pub fn check_len(&self) -> Result<()> {
-        let b = self.buffer.as_ref();
-        let Some(len) = b.get(field::VAR_PART_LEN) else {
-            return Err(Error);
-        };
-        if b.len() < HEADER_LEN + usize::from(be16(len)) {
-            Err(Error)
-        } else {
-            Ok(())
-        }
-    }
-
-    /// The buffer.
-    pub fn into_inner(self) -> T {
-        self.buffer
+        check_announced_len(self.buffer.as_ref(), field::VAR_PART_LEN, HEADER_LEN)
     }
 
     /// FrameID (0xFC01 or 0xFE01 for RTA).
@@ -525,6 +499,37 @@ impl RtaPdu {
         )
     }
 
+    /// The transport ACK-RTA for the DATA-RTA `received` from a side that has sent no
+    /// DATA-RTA yet: endpoints swapped, SendSeqNum [`SEQ_INITIAL_LAST`], AckSeqNum the received
+    /// SendSeqNum.
+    pub fn first_ack_of(priority: Priority, received: &RtaHeader) -> RtaPdu {
+        RtaPdu::ack(
+            priority,
+            received.src_endpoint,
+            received.dst_endpoint,
+            SEQ_INITIAL_LAST,
+            received.send_seq,
+        )
+    }
+
+    /// The first DATA-RTA of a side, answering the DATA-RTA `received` with `blocks` (an
+    /// AlarmAck in practice): endpoints swapped, SendSeqNum [`SEQ_INITIAL`], acknowledging
+    /// `received`.
+    pub fn first_reply_to(
+        priority: Priority,
+        received: &RtaHeader,
+        blocks: Vec<AlarmBlock>,
+    ) -> RtaPdu {
+        RtaPdu::data(
+            priority,
+            received.src_endpoint,
+            received.dst_endpoint,
+            SEQ_INITIAL,
+            received.send_seq,
+            blocks,
+        )
+    }
+
     /// Bytes of the PDU from the FrameID on, without Ethernet padding.
     pub fn buffer_len(&self) -> usize {
         HEADER_LEN.saturating_add(self.body.var_part_len())
@@ -563,9 +568,7 @@ impl RtaPdu {
 
     /// The PDU as a new vector of [`buffer_len`](Self::buffer_len) bytes.
     pub fn to_vec(&self) -> EmitResult<Vec<u8>> {
-        let mut v = vec![0u8; self.buffer_len()];
-        self.emit(&mut v)?;
-        Ok(v)
+        crate::wire::emit_to_vec(self.buffer_len(), |b| self.emit(b))
     }
 
     /// The first AlarmNotification of a DATA-RTA.

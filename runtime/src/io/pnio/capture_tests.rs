@@ -27,59 +27,7 @@ use std::net::{Ipv4Addr, SocketAddrV4};
 use std::sync::Arc;
 
 /// The S7's configuration of the p-net sample device, as its Connect and Write show it.
-const PNET_SAMPLE: &str = r#"
-cycle_time = "1ms"
-[[device]]
-name = "rt-labs-dev"
-ip = "172.16.2.10"
-vendor_id = 0x0493
-device_id = 0x0002
-reduction_ratio = 32
-[[device.submodule]]
-slot = 0
-subslot = 1
-module_ident = 0x1
-submodule_ident = 0x1
-[[device.submodule]]
-slot = 0
-subslot = 0x8000
-module_ident = 0x1
-submodule_ident = 0x8000
-records = [{ index = 0x8071, data = [0x02, 0x50, 0x00, 0x08, 0x01, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01] }]
-[[device.submodule]]
-slot = 0
-subslot = 0x8001
-module_ident = 0x1
-submodule_ident = 0x8001
-[[device.submodule]]
-slot = 1
-subslot = 1
-module_ident = 0x30
-submodule_ident = 0x130
-input_length = 1
-[[device.submodule]]
-slot = 2
-subslot = 1
-module_ident = 0x31
-submodule_ident = 0x131
-output_length = 1
-[[device.submodule]]
-slot = 3
-subslot = 1
-module_ident = 0x32
-submodule_ident = 0x132
-input_length = 1
-output_length = 1
-records = [{ index = 123, data = [0, 0, 0, 1] }, { index = 124, data = [0, 0, 0, 2] }]
-[[device.submodule]]
-slot = 4
-subslot = 1
-module_ident = 0x40
-submodule_ident = 0x140
-input_length = 8
-output_length = 8
-records = [{ index = 125, data = [0, 0, 0, 2] }]
-"#;
+const PNET_SAMPLE: &str = include_str!("../../../tests/fixtures/pnet_sample.toml");
 
 const S7_MAC: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 0x3f]);
 const S7_IP: Ipv4Addr = Ipv4Addr::new(172, 16, 2, 100);

@@ -206,14 +206,24 @@ fn queue(f: &str, dev: &Device, mut c: MutexGuard<'_, Config>, job: Job) -> u32 
     }
 }
 
+/// The configuration, locked, and the position `addr` names in it: what every plug and pull
+/// checks first ([`may_plug`], then [`address`]; `sub` as there).
+fn config_at<'a>(
+    f: &str,
+    dev: &'a Device,
+    api: u32,
+    addr: &PNIO_DEV_ADDR,
+    sub: bool,
+) -> Result<(MutexGuard<'a, Config>, Pos), u32> {
+    let c = may_plug(f, dev)?;
+    let at = address(f, dev, &c, api, addr, sub)?;
+    Ok((c, at))
+}
+
 /// `PNIO_mod_plug`.
 pub(crate) fn mod_plug(f: &str, dev: &Device, api: u32, addr: PNIO_DEV_ADDR, ident: u32) -> u32 {
-    let mut c = match may_plug(f, dev) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let (_, slot, _) = match address(f, dev, &c, api, &addr, false) {
-        Ok(p) => p,
+    let (mut c, (_, slot, _)) = match config_at(f, dev, api, &addr, false) {
+        Ok(found) => found,
         Err(code) => return code,
     };
     if c.modules.contains_key(&(api, slot)) {
@@ -238,12 +248,8 @@ pub(crate) fn mod_plug(f: &str, dev: &Device, api: u32, addr: PNIO_DEV_ADDR, ide
 
 /// `PNIO_mod_pull`: the module's submodules come out of procimgd's station.
 pub(crate) fn mod_pull(f: &str, dev: &Device, api: u32, addr: PNIO_DEV_ADDR) -> u32 {
-    let mut c = match may_plug(f, dev) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let (_, slot, _) = match address(f, dev, &c, api, &addr, false) {
-        Ok(p) => p,
+    let (mut c, (_, slot, _)) = match config_at(f, dev, api, &addr, false) {
+        Ok(found) => found,
         Err(code) => return code,
     };
     let Some(ident) = c.modules.remove(&(api, slot)) else {
@@ -310,12 +316,8 @@ pub(crate) fn sub_plug(
             format_args!("IM0_bits {im0_bits:#x} is none of the PNIO_PLUG_IM0_BITS_* values"),
         );
     }
-    let mut c = match may_plug(f, dev) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let at = match address(f, dev, &c, api, &addr, true) {
-        Ok(p) => p,
+    let (mut c, at) = match config_at(f, dev, api, &addr, true) {
+        Ok(found) => found,
         Err(code) => return code,
     };
     let Some(&module) = c.modules.get(&(api, at.1)) else {
@@ -360,12 +362,8 @@ pub(crate) fn sub_plug(
 
 /// `PNIO_sub_pull`.
 pub(crate) fn sub_pull(f: &str, dev: &Device, api: u32, addr: PNIO_DEV_ADDR) -> u32 {
-    let mut c = match may_plug(f, dev) {
-        Ok(c) => c,
-        Err(code) => return code,
-    };
-    let at = match address(f, dev, &c, api, &addr, true) {
-        Ok(p) => p,
+    let (mut c, at) = match config_at(f, dev, api, &addr, true) {
+        Ok(found) => found,
         Err(code) => return code,
     };
     let Some(ident) = c.subs.remove(&at) else {
