@@ -4,6 +4,7 @@
 //! byte-slice payloads, so both sides can add optional fields without breaking the other.
 
 use crate::Mode;
+pub use crate::states::{ArState, DeviceState};
 use alloc::format;
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -921,9 +922,8 @@ pub struct ClientReport {
 pub struct DeviceReport {
     /// NameOfStation.
     pub name: String,
-    /// Where it is in its life: offline, deactivated, searching, setting-ip, connecting,
-    /// parameterizing, waiting-for-application-ready, running or failed.
-    pub state: String,
+    /// Where it is in its life.
+    pub state: DeviceState,
 }
 
 /// What arrived at the network interface, as the cycle thread counted it.
@@ -1191,9 +1191,8 @@ pub struct StationReport {
 /// An AR of the device role, for the status report.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ArReport {
-    /// Where it stands: connected, parameterized, waiting-for-application-ready-confirm or
-    /// data.
-    pub state: String,
+    /// Where it stands.
+    pub state: ArState,
     /// The ARUUID.
     pub ar_uuid: String,
     /// The PLC's MAC address.

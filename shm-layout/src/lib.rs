@@ -52,6 +52,11 @@ pub mod rt_alloc;
 pub mod services;
 #[cfg(feature = "std")]
 pub mod share;
+/// The device and AR states of the control protocol: not in the C header.
+///
+/// cbindgen:ignore
+#[cfg(feature = "control")]
+pub mod states;
 mod table_codec;
 mod types;
 

@@ -12,6 +12,7 @@
 //! only its own. Both services outlive a server restart, like the control service: a
 //! subscriber keeps its ports and learns of the new server from [`Notification::ServerStarted`](crate::services::Notification::ServerStarted).
 
+use crate::states::{ArState, DeviceState};
 use alloc::format;
 use alloc::string::String;
 use alloc::vec::Vec;
@@ -185,7 +186,7 @@ pub enum Notification {
         /// Station name.
         name: String,
         /// The new state.
-        state: String,
+        state: DeviceState,
     },
     /// A device in data exchange failed; its inputs are BAD (IO-Base `PNIO_ALARM_DEV_FAILURE`).
     DeviceFailure {
@@ -235,12 +236,9 @@ pub enum Notification {
     },
     /// Device role: the station's AR reached a state (GOAL's and IO-Base's AR indications).
     StationAr {
-        /// "connected" (a PLC's Connect was accepted: a new AR), "parameterized" (the PLC's
-        /// PrmEnd came: END_OF_PARAM), "waiting-for-application-ready-confirm" (the
-        /// station's ApplicationReady went out) or "data" (the PLC confirmed it: IN_DATA,
-        /// data exchange). A state passed within one step of the station may not be
-        /// reported on its own; "data" always is.
-        state: String,
+        /// The state it reached. A state passed within one step of the station may not be
+        /// reported on its own; [`ArState::Data`] always is.
+        state: ArState,
         /// The ARUUID.
         ar_uuid: String,
         /// The PLC's MAC address.
@@ -442,8 +440,8 @@ pub struct DeviceDiagnosis {
     pub device: u32,
     /// Station name.
     pub name: String,
-    /// Its state (offline, deactivated, searching, …, running, failed).
-    pub state: String,
+    /// Its state.
+    pub state: DeviceState,
     /// Activated (by configuration or by a client's activation).
     pub active: bool,
     /// The last failure or problem, if it is not running.
@@ -581,7 +579,7 @@ mod tests {
         let all = vec![
             (
                 Notification::StationAr {
-                    state: "data".into(),
+                    state: ArState::Data,
                     ar_uuid: "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2".into(),
                     controller_mac: "02:50:49:fe:00:01".into(),
                 },

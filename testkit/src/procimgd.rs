@@ -7,7 +7,7 @@
 
 use crate::build::procimgd_bin;
 use crate::signal;
-use procimg_client::{ControlHandle, Mode, StatusReport};
+use procimg_client::{ArState, ControlHandle, DeviceState, Mode, StatusReport};
 use std::path::PathBuf;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -313,8 +313,11 @@ impl Procimgd {
             timeout,
             "did not bring its devices (or its station's AR) into data exchange",
             |s| match &s.station {
-                Some(station) => station.ar.as_ref().is_some_and(|a| a.state == "data"),
-                None => s.devices.iter().all(|d| d.state == "running"),
+                Some(station) => station
+                    .ar
+                    .as_ref()
+                    .is_some_and(|a| a.state == ArState::Data),
+                None => s.devices.iter().all(|d| d.state == DeviceState::Running),
             },
         );
     }

@@ -56,9 +56,9 @@ pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_shm_layout::control::{
-    AlarmRefusal, ArReport, ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind,
-    DiagnosisSeverity, ForceReport, PlugRefusal, Refusal, StationAlarmKind, StationDiagnosisChange,
-    StationReport, StatusReport,
+    AlarmRefusal, ArReport, ArState, ClientRole, DeviceState, DiagnosisDirection, DiagnosisEntry,
+    DiagnosisKind, DiagnosisSeverity, ForceReport, PlugRefusal, Refusal, StationAlarmKind,
+    StationDiagnosisChange, StationReport, StatusReport,
 };
 pub use procimg_shm_layout::rt_alloc;
 pub use procimg_shm_layout::services::{

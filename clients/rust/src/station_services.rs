@@ -204,7 +204,7 @@ impl Services {
 
     /// Holds the station's ApplicationReady after every PrmEnd (a
     /// [`Notification::StationAr`](crate::Notification::StationAr) with state
-    /// "parameterized") until this handle calls
+    /// [`ArState::Parameterized`](crate::ArState::Parameterized)) until this handle calls
     /// [`application_ready`](Self::application_ready) — or not (`false`).
     pub fn hold_application_ready(&self, hold: bool) -> Result<(), ControlError> {
         self.station_request(&Request::StationHoldApplicationReady {

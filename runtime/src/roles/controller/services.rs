@@ -11,7 +11,7 @@
 //! hung client cannot hold back a device's alarms for good.
 
 use super::ControllerCommand;
-use super::states::DeviceStates;
+use super::states::{DeviceStates, reported};
 use crate::acyclic::DatagramCounters;
 use crate::image::Tables;
 use crate::io::pnio::channel::Channel;
@@ -24,7 +24,7 @@ use procimg_profinet::controller::{
 use procimg_profinet::wire::PnioStatus;
 use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
 use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Refusal, Request, Response, SubscriberReport,
+    self as control, DeviceReport, NetworkReport, Refusal, Request, Response, SubscriberReport,
 };
 use procimg_shm_layout::services::{
     ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
@@ -67,7 +67,8 @@ struct Job {
 /// What the diagnosis reports of a device beyond its state.
 #[derive(Default)]
 struct DeviceRecord {
-    state: String,
+    /// Offline until the controller reports otherwise.
+    state: control::DeviceState,
     inactive: bool,
     last_error: String,
     cause: FailureCause,
@@ -109,13 +110,7 @@ impl ControllerServices {
     /// (without one, every request to the controller is refused as busy and every device
     /// reported offline).
     pub fn new(names: Vec<String>, link: Option<ControllerLink>) -> ControllerServices {
-        let devices = names
-            .iter()
-            .map(|_| DeviceRecord {
-                state: DeviceState::Offline.as_str().into(),
-                ..DeviceRecord::default()
-            })
-            .collect();
+        let devices = names.iter().map(|_| DeviceRecord::default()).collect();
         ControllerServices {
             link,
             activations: names.iter().map(|_| VecDeque::new()).collect(),
@@ -333,7 +328,7 @@ impl ControllerServices {
         match e {
             DeviceEvent::State { device, state } => {
                 if let Some(r) = self.devices.get_mut(device) {
-                    r.state = state.as_str().into();
+                    r.state = reported(state);
                     if state == DeviceState::Running {
                         r.last_error.clear();
                         r.cause = FailureCause::None;
@@ -343,7 +338,7 @@ impl ControllerServices {
                 notices.publish(&Notification::DeviceState {
                     device: device as u32,
                     name: name(device),
-                    state: state.as_str().into(),
+                    state: reported(state),
                 });
             }
             DeviceEvent::Failure {
@@ -517,7 +512,7 @@ impl ControllerServices {
                 .map(|(d, r)| DeviceDiagnosis {
                     device: d as u32,
                     name: self.names[d].clone(),
-                    state: r.state.clone(),
+                    state: r.state,
                     active: !r.inactive,
                     last_error: r.last_error.clone(),
                     cause: r.cause,
@@ -629,9 +624,7 @@ impl RoleServices for ControllerServices {
                 state: self
                     .link
                     .as_ref()
-                    .and_then(|l| l.states.get(d))
-                    .map_or("offline", |s| s.as_str())
-                    .to_string(),
+                    .map_or(control::DeviceState::Offline, |l| l.states.reported(d)),
             })
             .collect()
     }

@@ -2,7 +2,7 @@
 //! The station's events as its clients get them: one [`Notification`] each, to every
 //! subscriber (what GOAL's and IO-Base's device interfaces give as AR indications).
 
-use super::station::{StationEvent, state_name};
+use super::station::StationEvent;
 use procimg_profinet::wire::rta_pdu::AbortCode;
 use procimg_shm_layout::services::{
     ExpectedSubmodule, Notification, StationArCheckJob, StationDcpSetJob, StationRecordJob,
@@ -19,7 +19,7 @@ pub fn notification(event: StationEvent) -> Notification {
             ar_uuid,
             controller_mac,
         } => Notification::StationAr {
-            state: state_name(state).to_owned(),
+            state,
             ar_uuid,
             controller_mac,
         },
@@ -148,7 +148,9 @@ fn reason(code: AbortCode, planned: bool) -> String {
 mod tests {
     use super::*;
     use crate::roles::device::identity::Identity;
+    use crate::roles::device::station::reported;
     use procimg_profinet::device::ArState;
+    use procimg_shm_layout::control;
     use std::net::Ipv4Addr;
 
     const UUID: &str = "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2";
@@ -162,25 +164,27 @@ mod tests {
     }
 
     #[test]
-    fn every_ar_state_has_the_status_reports_word() {
-        for (state, word) in [
-            (ArState::Connected, "connected"),
-            (ArState::Parameterized, "parameterized"),
+    fn every_ar_state_of_the_engine_is_told_as_the_protocols() {
+        assert_eq!(reported(ArState::Idle), None);
+        for (engine, told) in [
+            (ArState::Connected, control::ArState::Connected),
+            (ArState::Parameterized, control::ArState::Parameterized),
             (
                 ArState::WaitAppReadyConfirm,
-                "waiting-for-application-ready-confirm",
+                control::ArState::WaitingForApplicationReadyConfirm,
             ),
-            (ArState::Data, "data"),
+            (ArState::Data, control::ArState::Data),
         ] {
+            assert_eq!(reported(engine), Some(told));
             let n = notification(StationEvent::Ar {
-                state,
+                state: told,
                 ar_uuid: UUID.into(),
                 controller_mac: "02:50:49:fe:00:01".into(),
             });
             assert_eq!(
                 n,
                 Notification::StationAr {
-                    state: word.into(),
+                    state: told,
                     ar_uuid: UUID.into(),
                     controller_mac: "02:50:49:fe:00:01".into(),
                 }

@@ -15,10 +15,11 @@ use crate::io::pnio::channel::Channel;
 use crate::roles::RoleServices;
 use crate::roles::subscribers::{Subscriber, Subscribers};
 use crate::shm::Notices;
-use procimg_profinet::device::{ArState, SubslotAddr};
+use procimg_profinet::device::SubslotAddr;
 use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Refusal, Request, Response, StationReport, SubscriberReport,
+    ArState, DeviceReport, NetworkReport, Refusal, Request, Response, StationReport,
+    SubscriberReport,
 };
 use procimg_shm_layout::services::Notification;
 use std::collections::HashSet;
