@@ -18,23 +18,15 @@
 #![no_std]
 #![deny(unsafe_code)]
 
-#[cfg(feature = "control")]
+// For the address texts of the submodule entries.
 extern crate alloc;
 
-#[cfg(feature = "control")]
-pub mod control;
-#[cfg(all(feature = "std", feature = "control"))]
-#[allow(unsafe_code)]
-pub mod doorbell;
 pub mod events;
-#[cfg(feature = "std")]
-#[allow(unsafe_code)]
-pub mod futex;
 /// The futex words of the handshake: used through the client library, not in the C header.
 ///
 /// cbindgen:ignore
 pub mod handshake;
-#[cfg(all(feature = "std", feature = "control"))]
+#[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod handshake_map;
 mod hash;
@@ -43,20 +35,7 @@ mod image_layout;
 #[allow(unsafe_code)]
 pub mod os;
 #[cfg(feature = "std")]
-#[allow(unsafe_code)]
-pub mod rt_alloc;
-/// The controller services' messages (JSON, like the control protocol): not in the C header.
-///
-/// cbindgen:ignore
-#[cfg(feature = "control")]
-pub mod services;
-#[cfg(feature = "std")]
 pub mod share;
-/// The device and AR states of the control protocol: not in the C header.
-///
-/// cbindgen:ignore
-#[cfg(feature = "control")]
-pub mod states;
 mod table_codec;
 mod types;
 

@@ -434,8 +434,7 @@ impl Drop for Procimgd {
             // What a killed server could not remove (a stopped one removed it already); the
             // next server of the instance would, but a test starts none.
             procimg_shm_layout::handshake_map::remove_stale_blocks(&self.instance);
-            let _ =
-                std::fs::remove_file(procimg_shm_layout::doorbell::doorbell_path(&self.instance));
+            let _ = std::fs::remove_file(procimg_control::doorbell::doorbell_path(&self.instance));
         }
     }
 }

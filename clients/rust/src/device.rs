@@ -60,7 +60,7 @@ use crate::client::Client;
 use crate::cycle::Cycle;
 use crate::error::{ControlError, IoError};
 use crate::status::Ioxs;
-use procimg_shm_layout::control::{DiagnosisEntry, Request, StationDiagnosisChange};
+use procimg_control::{DeviceRequest, DiagnosisEntry, StationDiagnosisChange};
 
 impl Client {
     /// Whether the server is an IO device (`role = "device"`).
@@ -132,7 +132,7 @@ impl Client {
         usi: u16,
         data: &[u8],
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationProcessAlarm {
+        self.station_request(DeviceRequest::StationProcessAlarm {
             api,
             slot,
             subslot,
@@ -145,18 +145,18 @@ impl Client {
     /// it in the StationProblemIndicator of the input data's DataStatus, as it sees a pending
     /// fault diagnosis (which it shows whatever this says).
     pub fn set_station_problem(&self, problem: bool) -> Result<(), ControlError> {
-        self.station_request(&Request::StationProblem { problem })
+        self.station_request(DeviceRequest::StationProblem { problem })
     }
 
     fn station_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
-        self.station_request(&Request::StationDiagnosis {
+        self.station_request(DeviceRequest::StationDiagnosis {
             change,
             silent: false,
         })
     }
 
     /// Sends a request of the device role's services; a controller's server is an error.
-    pub(crate) fn station_request(&self, request: &Request) -> Result<(), ControlError> {
+    pub(crate) fn station_request(&self, request: DeviceRequest) -> Result<(), ControlError> {
         if !self.is_device() {
             return Err(ControlError::NotDevice {
                 instance: self.instance().to_owned(),

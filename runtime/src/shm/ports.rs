@@ -11,10 +11,10 @@ use iceoryx2::port::server::Server;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, NodeName, ServiceName};
 use iceoryx2::sample_mut_uninit::SampleMutUninit;
+use procimg_control::{self as control, services};
 use procimg_shm_layout::events::EVENT_ID_MAX;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
-use procimg_shm_layout::{control, services};
 
 /// Readers beyond clients that may look at the image (tools such as `procimg io watch`).
 const EXTRA_READERS: usize = 16;

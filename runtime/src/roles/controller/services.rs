@@ -15,22 +15,23 @@ use super::states::{DeviceStates, reported};
 use crate::acyclic::DatagramCounters;
 use crate::image::Tables;
 use crate::io::pnio::channel::Channel;
-use crate::roles::RoleServices;
 use crate::roles::subscribers::{Subscriber, Subscribers};
+use crate::roles::{Answers, RoleServices};
 use crate::shm::Notices;
+use procimg_control::services::{
+    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
+    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
+    SubmoduleDiff,
+};
+use procimg_control::{
+    self as control, ControllerRequest, DeviceReport, NetworkReport, Refusal, Response,
+    SubscriberReport,
+};
 use procimg_profinet::controller::{
     self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
 };
 use procimg_profinet::wire::PnioStatus;
 use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
-use procimg_shm_layout::control::{
-    self as control, DeviceReport, NetworkReport, Refusal, Request, Response, SubscriberReport,
-};
-use procimg_shm_layout::services::{
-    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
-    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
-    SubmoduleDiff,
-};
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender};
@@ -535,29 +536,15 @@ impl ControllerServices {
     }
 }
 
-impl RoleServices for ControllerServices {
-    fn handle(&mut self, request: Request, online: bool, _notices: &mut Notices) -> Response {
+impl Answers<ControllerRequest> for ControllerServices {
+    fn handle(
+        &mut self,
+        request: ControllerRequest,
+        online: bool,
+        _notices: &mut Notices,
+    ) -> Response {
         let result = match request {
-            Request::Subscribe {
-                subscriber,
-                name,
-                pid,
-                node_id,
-                acknowledge_alarms,
-            } => {
-                self.subscribe(
-                    subscriber,
-                    Subscriber {
-                        name,
-                        pid,
-                        node_id,
-                        acknowledges: acknowledge_alarms,
-                    },
-                );
-                Ok(())
-            }
-            Request::Unsubscribe { subscriber } => self.unsubscribe(subscriber),
-            Request::RecordRead {
+            ControllerRequest::RecordRead {
                 reply_to,
                 reference,
                 target,
@@ -571,7 +558,7 @@ impl RoleServices for ControllerServices {
                     write: None,
                 }));
             }
-            Request::RecordWrite {
+            ControllerRequest::RecordWrite {
                 reply_to,
                 reference,
                 target,
@@ -585,28 +572,38 @@ impl RoleServices for ControllerServices {
                     write: Some(data),
                 }));
             }
-            Request::ActivateDevice {
+            ControllerRequest::ActivateDevice {
                 reply_to,
                 device,
                 active,
             } => self.activate(reply_to, device, active, online),
-            Request::AcknowledgeAlarm { subscriber, alarm } => self.acknowledge(subscriber, alarm),
-            Request::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
-            r if r.is_station_service() => Err(Refusal::WrongRole {
-                role: "controller".to_owned(),
-                service: "the IO device's station services (its records, ApplicationReady, \
-                          diagnosis and alarms)"
-                    .to_owned(),
-            }),
-            // The control side answers the other requests itself and never hands them here.
-            _ => Err(Refusal::BadRequest {
-                message: "the IO controller's services do not answer this request".into(),
-            }),
+            ControllerRequest::AcknowledgeAlarm { subscriber, alarm } => {
+                self.acknowledge(subscriber, alarm)
+            }
+            ControllerRequest::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
         };
         match result {
             Ok(()) => Response::Done,
             Err(r) => Response::Refused(r),
         }
+    }
+}
+
+impl RoleServices for ControllerServices {
+    fn name(&self) -> &'static str {
+        "controller"
+    }
+
+    fn controller_services(&mut self) -> Option<&mut dyn Answers<ControllerRequest>> {
+        Some(self)
+    }
+
+    fn subscribe(&mut self, id: u64, subscriber: Subscriber) {
+        ControllerServices::subscribe(self, id, subscriber);
+    }
+
+    fn unsubscribe(&mut self, id: u64) -> Result<(), Refusal> {
+        ControllerServices::unsubscribe(self, id)
     }
 
     fn poll(&mut self, wait: Duration, notices: &mut Notices) {

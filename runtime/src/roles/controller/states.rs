@@ -3,8 +3,8 @@
 //! device, so that a status request never waits for the controller; and how the control
 //! protocol names each of them.
 
+use procimg_control as control;
 use procimg_profinet::controller::DeviceState;
-use procimg_shm_layout::control;
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// Every state, in the order of their stored index.

@@ -3,10 +3,10 @@
 //! subscriber (what GOAL's and IO-Base's device interfaces give as AR indications).
 
 use super::station::StationEvent;
-use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::services::{
+use procimg_control::services::{
     ExpectedSubmodule, Notification, StationArCheckJob, StationDcpSetJob, StationRecordJob,
 };
+use procimg_profinet::wire::rta_pdu::AbortCode;
 
 /// Why an AR ended, when the PLC released it.
 pub const RELEASED: &str = "released by the PLC";
@@ -149,8 +149,8 @@ mod tests {
     use super::*;
     use crate::roles::device::identity::Identity;
     use crate::roles::device::station::reported;
+    use procimg_control as control;
     use procimg_profinet::device::ArState;
-    use procimg_shm_layout::control;
     use std::net::Ipv4Addr;
 
     const UUID: &str = "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2";

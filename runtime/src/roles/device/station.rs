@@ -4,6 +4,7 @@
 
 use super::identity::Identity;
 use crate::config::StationConfig;
+use procimg_control::{self as control, ArReport, StationReport};
 use procimg_profinet::device::{
     Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, ParameterRecord,
     RecordRequest, SubslotAddr,
@@ -12,7 +13,6 @@ use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::control::{self, ArReport, StationReport};
 use std::sync::Mutex;
 
 /// The device's program as the engine sees it: nothing, since the cycle thread moves the IO

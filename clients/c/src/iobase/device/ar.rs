@@ -64,7 +64,7 @@ use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::types::PNIO_IO_IN;
 use procimg_client::{ArState, Notification};
-use procimg_shm_layout::services::{ExpectedSubmodule, StationArCheckJob};
+use procimg_control::services::{ExpectedSubmodule, StationArCheckJob};
 use std::time::{Duration, Instant};
 
 /// The `PNIO_AR_REASON` of an ended AR. procimgd gives the RTA abort code in its text

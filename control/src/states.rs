@@ -102,10 +102,8 @@ impl fmt::Display for ArState {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::control::DeviceReport;
-    use crate::control::{decode, encode};
-    use alloc::format;
-    use alloc::string::{String, ToString};
+    use crate::DeviceReport;
+    use crate::{decode, encode};
 
     const DEVICE_STATES: [(DeviceState, &str); 9] = [
         (DeviceState::Offline, "offline"),
