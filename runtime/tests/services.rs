@@ -4,8 +4,8 @@
 //! its confirmation and the DEV_FAILURE / DEV_RETURN it causes, and the diagnosis.
 
 use procimg_client::{
-    AlarmReport, DeviceState, FailureCause, Notification, RecordError, RecordTarget,
-    ServiceOptions, Services,
+    AlarmReport, ControlError, DeviceState, FailureCause, Notification, RecordError, RecordTarget,
+    Refusal, ServiceOptions, Services,
 };
 use procimg_profinet::device::{SIM_ALARM_INDEX, SIM_ALARM_USI};
 use procimg_profinet::wire::record::Im0;
@@ -228,6 +228,15 @@ fn requests_the_server_cannot_take_are_refused_with_reasons() {
     assert!(e.to_string().contains("5000 bytes"), "{e}");
     let e = s.activate(99, false).unwrap_err();
     assert!(e.to_string().contains("no device #99"), "{e}");
+    // The IO device's station services, asked of an IO controller, say so.
+    let e = s.hold_application_ready(true).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            ControlError::Refused(Refusal::WrongRole { role, .. }) if role == "controller"
+        ),
+        "{e}"
+    );
 
     // In OFFLINE, activation is not allowed and record jobs find no connection.
     s.control()
