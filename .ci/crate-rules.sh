@@ -27,7 +27,11 @@ forbid() {
 system='libc|pnet.*|iceoryx2.*|thread-priority|core_affinity|memmap2|tracing-subscriber|procimg-shm-layout'
 forbid procimg-profinet "$system|procimg-.*" \
     "the protocol crate is sans-IO: no system, shared-memory or RT crate, no other procimg crate"
-forbid procimg-shm-layout 'procimg-.*' "the shared-memory layout depends on no procimg crate (the runtime least)"
+forbid procimg-shm-layout 'procimg-.*|serde_json' \
+    "the shared-memory layout depends on no procimg crate (the control protocol sits above it)"
+forbid procimg-control 'procimg-runtime|procimg-client|procimg-profinet|procimg-nic|iceoryx2' \
+    "the control protocol depends on neither the daemon, the client, the protocol crate nor iceoryx2 itself (its traits for shared-memory types only)"
+forbid procimg-rt-alloc 'procimg-.*|iceoryx2.*' "the real-time allocator depends on no procimg crate and not on iceoryx2"
 forbid procimg-nic 'procimg-runtime' "procimg-nic does not depend on the runtime"
 forbid procimg-config 'procimg-runtime|procimg-profinet|procimg-nic|iceoryx2.*|libc|pnet.*|memmap2' \
     "the configuration depends on no runtime, protocol, network, iceoryx2 or system crate"

@@ -4,9 +4,9 @@
 
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::ServiceName;
+use procimg_control::{StatusReport, input_service};
 use procimg_runtime::image::Tables;
 use procimg_runtime::shm::{Ipc, server_node};
-use procimg_shm_layout::control::{StatusReport, input_service};
 use procimg_shm_layout::{ImageHeader, ioxs_is_good};
 use std::fmt::Write as _;
 

@@ -8,6 +8,7 @@
 use anyhow::{Context, bail};
 use clap::error::ErrorKind;
 use clap::{CommandFactory, Parser};
+use procimg_control::doorbell::{Doorbell, doorbell_path};
 use procimg_runtime::config::{self, Config};
 use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
@@ -19,7 +20,6 @@ use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::rt::lock_memory;
 use procimg_runtime::sys::rt_alloc::RtAllocator;
 use procimg_shm_layout::Mode;
-use procimg_shm_layout::doorbell::{Doorbell, doorbell_path};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Arc;

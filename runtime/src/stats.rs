@@ -9,8 +9,8 @@
 
 use crossbeam_queue::ArrayQueue;
 use hdrhistogram::Histogram;
+use procimg_control::{Bucket, HistogramsReport, Percentiles};
 use procimg_shm_layout::MAX_CLIENTS;
-use procimg_shm_layout::control::{Bucket, HistogramsReport, Percentiles};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 

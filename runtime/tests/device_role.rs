@@ -7,9 +7,9 @@
 //! kept, and every frame on the wire dissected by tshark.
 
 use procimg_client::{
-    AR_REFUSED_NO_RESOURCES, AlarmReport, AttachOptions, Client, ControlError, DiagnosisDirection,
-    DiagnosisEntry, Ioxs, Mode, Notification, RecordRefusal, RecordTarget, Refusal, ServiceOptions,
-    Services, StationRecordJob,
+    AR_REFUSED_NO_RESOURCES, AlarmReport, ArState, AttachOptions, Client, ControlError,
+    DiagnosisDirection, DiagnosisEntry, Ioxs, Mode, Notification, RecordRefusal, RecordTarget,
+    Refusal, ServiceOptions, Services, StationRecordJob,
 };
 use procimg_profinet::wire::alarm::AlarmItem;
 use procimg_profinet::wire::record::DiagnosisData;
@@ -39,7 +39,7 @@ fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
     let station = status.station.expect("a station in the device role");
     assert_eq!((station.vendor_id, station.device_id), (0x0493, 0x0100));
     assert_eq!(station.name, "procimg-device");
-    assert_eq!(station.ar.map(|a| a.state).as_deref(), Some("data"));
+    assert_eq!(station.ar.map(|a| a.state), Some(ArState::Data));
 
     let mut client = Client::attach(&server.instance, AttachOptions::synchronous("devapp"))
         .expect("attach to the device");
@@ -103,17 +103,17 @@ fn next_station(services: &mut Services, within: Duration) -> Option<Notificatio
 
 /// The AR states reported until one reaches data exchange: those of the AR that did (a
 /// loaded machine may see an attempt fail first), and its ARUUID.
-fn states_until_data(services: &mut Services) -> (Vec<String>, String) {
+fn states_until_data(services: &mut Services) -> (Vec<ArState>, String) {
     let mut states = Vec::new();
     loop {
         let n = next_station(services, BRING_UP).expect("the AR's states within 30 s");
         match n {
             Notification::StationAr { state, ar_uuid, .. } => {
-                if state == "connected" {
+                if state == ArState::Connected {
                     states.clear();
                 }
-                states.push(state.clone());
-                if state == "data" {
+                states.push(state);
+                if state == ArState::Data {
                     return (states, ar_uuid);
                 }
             }
@@ -174,15 +174,15 @@ fn a_device_program_follows_the_ar_through_the_station_notifications() {
     assert_eq!(
         states,
         [
-            "connected",
-            "parameterized",
-            "waiting-for-application-ready-confirm",
-            "data"
+            ArState::Connected,
+            ArState::Parameterized,
+            ArState::WaitingForApplicationReadyConfirm,
+            ArState::Data
         ]
     );
     assert_ne!(uuid, first.ar_uuid);
     let ar = server.status().station.and_then(|s| s.ar).expect("an AR");
-    assert_eq!((ar.state.as_str(), &ar.ar_uuid), ("data", &uuid));
+    assert_eq!((ar.state, &ar.ar_uuid), (ArState::Data, &uuid));
     // The demo's PLC is in RUN once its data flows.
     let next = next_station(&mut services, BRING_UP);
     assert_eq!(
@@ -221,7 +221,7 @@ fn in_data(s: &procimg_client::StatusReport) -> bool {
     s.station
         .as_ref()
         .and_then(|st| st.ar.as_ref())
-        .is_some_and(|ar| ar.state == "data")
+        .is_some_and(|ar| ar.state == ArState::Data)
 }
 
 /// OFFLINE until the station's AR has ended, then OPERATE: the demo PLC connects again.
@@ -339,7 +339,10 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
                 parameter_writes += u32::from(job.write);
                 services.answer_record(&job, Ok(&[])).expect("the answer");
             }
-            Some(Notification::StationAr { state, .. }) if state == "parameterized" => break,
+            Some(Notification::StationAr {
+                state: ArState::Parameterized,
+                ..
+            }) => break,
             _ => {}
         }
     }
@@ -349,10 +352,10 @@ fn a_device_program_answers_the_plcs_records_and_holds_its_application_ready() {
     );
     // It stays held (up to 10 s): the status shows it parameterized, not in data exchange.
     let ar = server.status().station.and_then(|s| s.ar).expect("the AR");
-    assert_eq!(ar.state, "parameterized");
+    assert_eq!(ar.state, ArState::Parameterized);
     services.application_ready().expect("ready");
     let (states, _) = states_until_data(&mut services);
-    assert_eq!(states.last().map(String::as_str), Some("data"));
+    assert_eq!(states.last(), Some(&ArState::Data));
     assert_eq!(server.status().network.watchdog_expiries, 0);
     drop(other);
     drop(services);
@@ -404,7 +407,7 @@ fn a_device_program_refuses_a_new_ar_and_accepts_the_next() {
     let second = next_check(&mut services);
     services.answer_ar_check(&second, Ok(())).expect("accepted");
     let (states, uuid) = states_until_data(&mut services);
-    assert_eq!(states.last().map(String::as_str), Some("data"));
+    assert_eq!(states.last(), Some(&ArState::Data));
     assert_eq!(uuid, second.ar_uuid);
     assert!(
         server
@@ -1385,12 +1388,8 @@ fn a_managing_client_pulls_and_plugs_a_submodule_and_the_plc_follows() {
     );
     let status = server.status();
     assert_eq!(
-        status
-            .station
-            .and_then(|s| s.ar)
-            .map(|a| a.state)
-            .as_deref(),
-        Some("data"),
+        status.station.and_then(|s| s.ar).map(|a| a.state),
+        Some(ArState::Data),
         "the AR stayed up through pull and plug"
     );
     assert_eq!(status.network.watchdog_expiries, 0);

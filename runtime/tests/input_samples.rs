@@ -5,12 +5,13 @@
 //! version that clears or reuses samples otherwise fails here first.
 
 use iceoryx2::prelude::*;
+use procimg_control as control;
 use procimg_runtime::config::Config;
 use procimg_runtime::cycle::ClientLink;
 use procimg_runtime::image::Tables;
 use procimg_runtime::shm::{CyclePorts, server_node};
 use procimg_runtime::sys::clock::now_ns;
-use procimg_shm_layout::{ImageHeader, control};
+use procimg_shm_layout::ImageHeader;
 use std::collections::HashMap;
 
 #[test]

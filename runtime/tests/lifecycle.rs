@@ -6,7 +6,7 @@
 //! test needs no extra program.
 
 use procimg_client::{AttachOptions, Client, Event, StatusReport};
-use procimg_shm_layout::control::ClientReport;
+use procimg_control::ClientReport;
 use procimg_testkit::Procimgd;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};

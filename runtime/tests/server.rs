@@ -541,7 +541,7 @@ fn as_many_clients_as_the_limit_attach_and_one_more_is_told_why_not() {
 
 #[test]
 fn requests_and_attaches_ring_the_servers_doorbell_which_goes_with_the_server() {
-    use procimg_shm_layout::doorbell::{Doorbell, doorbell_path};
+    use procimg_control::doorbell::{Doorbell, doorbell_path};
     let server = Procimgd::demo("doorbell");
     let instance = server.instance.clone();
     let bell = Doorbell::open(&instance).expect("procimgd made its doorbell");

@@ -4,7 +4,8 @@
 //! its confirmation and the DEV_FAILURE / DEV_RETURN it causes, and the diagnosis.
 
 use procimg_client::{
-    AlarmReport, FailureCause, Notification, RecordError, RecordTarget, ServiceOptions, Services,
+    AlarmReport, ControlError, DeviceState, FailureCause, Notification, RecordError, RecordTarget,
+    Refusal, ServiceOptions, Services,
 };
 use procimg_profinet::device::{SIM_ALARM_INDEX, SIM_ALARM_USI};
 use procimg_profinet::wire::record::Im0;
@@ -183,8 +184,8 @@ fn records_alarms_activation_and_diagnosis_reach_clients() {
     let diag = plc.diagnosis().expect("diagnosis");
     let d = &diag.devices[dio as usize];
     assert_eq!(
-        (d.name.as_str(), d.state.as_str(), d.active),
-        ("dio", "deactivated", false)
+        (d.name.as_str(), d.state, d.active),
+        ("dio", DeviceState::Deactivated, false)
     );
     assert_eq!(
         (d.cause, d.last_error.as_str()),
@@ -199,7 +200,7 @@ fn records_alarms_activation_and_diagnosis_reach_clients() {
     assert!(
         diag.devices
             .iter()
-            .all(|d| d.state == "running" && d.active && d.cause == FailureCause::None),
+            .all(|d| d.state == DeviceState::Running && d.active && d.cause == FailureCause::None),
         "{diag:?}"
     );
     assert_eq!(observer.lost(), 0);
@@ -227,6 +228,15 @@ fn requests_the_server_cannot_take_are_refused_with_reasons() {
     assert!(e.to_string().contains("5000 bytes"), "{e}");
     let e = s.activate(99, false).unwrap_err();
     assert!(e.to_string().contains("no device #99"), "{e}");
+    // The IO device's station services, asked of an IO controller, say so.
+    let e = s.hold_application_ready(true).unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            ControlError::Refused(Refusal::WrongRole { role, .. }) if role == "controller"
+        ),
+        "{e}"
+    );
 
     // In OFFLINE, activation is not allowed and record jobs find no connection.
     s.control()
@@ -275,11 +285,11 @@ fn a_device_absent_from_the_simulated_network_is_not_found_while_the_other_runs(
     loop {
         let diag = s.diagnosis().expect("diagnosis");
         let (here, gone) = (&diag.devices[0], &diag.devices[1]);
-        if here.state == "running" && gone.cause == FailureCause::NotFound {
+        if here.state == DeviceState::Running && gone.cause == FailureCause::NotFound {
             // It failed and is looked for again, as a missing real device is.
             assert_eq!(gone.name, "gone");
             assert!(
-                ["failed", "searching"].contains(&gone.state.as_str()),
+                matches!(gone.state, DeviceState::Failed | DeviceState::Searching),
                 "{gone:?}"
             );
             assert!(

@@ -10,11 +10,6 @@
 #include <stddef.h>
 
 /**
- * Largest encoded request or response.
- */
-#define PROCIMG_MAX_MESSAGE_LEN (256 * 1024)
-
-/**
  * The inputs of a new cycle are published: process them (IO-Base STARTOP).
  */
 #define PROCIMG_EVENT_STARTOP 1

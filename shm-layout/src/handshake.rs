@@ -77,8 +77,8 @@ pub enum Woken {
     TimedOut,
 }
 
-/// The futex calls the block needs: provided by [`crate::futex`] on Linux, by a model in
-/// tests.
+/// The futex calls the block needs: provided by `procimg_control::futex` on Linux (beside the
+/// doorbell, its other user), by a model in tests.
 pub trait Futex {
     /// Sleeps while `word` holds `expected`, at most until `deadline_ns` on `CLOCK_MONOTONIC`
     /// (absolute). May return early (a wake-up, a signal).

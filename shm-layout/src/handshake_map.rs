@@ -14,7 +14,7 @@ use std::string::String;
 const SUFFIX: &str = ".handshake";
 
 /// `instance` as it appears in a file name of `/dev/shm`.
-pub(crate) fn instance_part(instance: &str) -> String {
+pub fn instance_part(instance: &str) -> String {
     instance
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
@@ -26,7 +26,7 @@ pub fn handshake_path(instance: &str, generation: u64) -> PathBuf {
     PathBuf::from(std::format!(
         "{}/{}{}_{generation:016x}{SUFFIX}",
         crate::share::SHM_DIR,
-        crate::control::IOX2_PREFIX,
+        crate::share::IOX2_PREFIX,
         instance_part(instance)
     ))
 }
@@ -34,11 +34,7 @@ pub fn handshake_path(instance: &str, generation: u64) -> PathBuf {
 /// Removes the blocks earlier servers of `instance` left (killed before they could): the
 /// server calls it once it knows no other server of the instance runs. Returns how many.
 pub fn remove_stale_blocks(instance: &str) -> usize {
-    let prefix = std::format!(
-        "{}{}_",
-        crate::control::IOX2_PREFIX,
-        instance_part(instance)
-    );
+    let prefix = std::format!("{}{}_", crate::share::IOX2_PREFIX, instance_part(instance));
     let Ok(entries) = fs::read_dir(crate::share::SHM_DIR) else {
         return 0;
     };
@@ -134,7 +130,19 @@ impl Drop for HandshakeMap {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::futex::LinuxFutex;
+    use crate::handshake::Futex;
+    use core::sync::atomic::AtomicU32;
+
+    /// No sleeping and no waking: the test looks at the words, which the mapping shares.
+    struct NoFutex;
+
+    impl Futex for NoFutex {
+        fn wait_until(&self, _: &AtomicU32, _: u32, _: u64) {}
+        fn wake(&self, _: &AtomicU32, _: u32) {}
+        fn now_ns(&self) -> u64 {
+            0
+        }
+    }
 
     #[test]
     fn a_client_maps_the_servers_block_and_the_file_goes_with_the_server() {
@@ -143,7 +151,7 @@ mod tests {
         let server = HandshakeMap::create(instance, generation).unwrap();
         let client = HandshakeMap::open(instance, generation).unwrap();
         let seen = client.block().events_seen();
-        server.block().announce(&LinuxFutex, false);
+        server.block().announce(&NoFutex, false);
         assert_ne!(client.block().events_seen(), seen);
         assert_eq!(
             HandshakeMap::open(instance, generation + 1)

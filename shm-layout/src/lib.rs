@@ -22,20 +22,12 @@
 // protocol too, as the configuration crate uses the layout's plain types alone.
 extern crate alloc;
 
-#[cfg(feature = "control")]
-pub mod control;
-#[cfg(all(feature = "std", feature = "control"))]
-#[allow(unsafe_code)]
-pub mod doorbell;
 pub mod events;
-#[cfg(feature = "std")]
-#[allow(unsafe_code)]
-pub mod futex;
 /// The futex words of the handshake: used through the client library, not in the C header.
 ///
 /// cbindgen:ignore
 pub mod handshake;
-#[cfg(all(feature = "std", feature = "control"))]
+#[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod handshake_map;
 mod hash;
@@ -43,14 +35,6 @@ mod image_layout;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod os;
-#[cfg(feature = "std")]
-#[allow(unsafe_code)]
-pub mod rt_alloc;
-/// The controller services' messages (JSON, like the control protocol): not in the C header.
-///
-/// cbindgen:ignore
-#[cfg(feature = "control")]
-pub mod services;
 #[cfg(feature = "std")]
 pub mod share;
 mod table_codec;

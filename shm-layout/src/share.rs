@@ -45,6 +45,10 @@ pub fn iceoryx2_directory() -> String {
 /// Where POSIX shared memory lives on Linux.
 pub const SHM_DIR: &str = "/dev/shm";
 
+/// The iceoryx2 file prefix of every procimg service, so its files in `/dev/shm` and
+/// iceoryx2's directory are recognisable (`procimg_…`) and apart from other iceoryx2 users.
+pub const IOX2_PREFIX: &str = "procimg_";
+
 /// Group read, write and search, and setgid: a directory of the access group.
 const GROUP_DIR_BITS: u32 = 0o2070;
 

@@ -337,8 +337,8 @@ const _: () = {
 
 /// The modes of the IO controller, as IO-Base's `PNIO_MODE_TYPE`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "control", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "control", serde(rename_all = "UPPERCASE"))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "UPPERCASE"))]
 pub enum Mode {
     /// No IO data exchange; connections released.
     Offline,

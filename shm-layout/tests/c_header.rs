@@ -42,7 +42,6 @@ const CONSTANTS: &[&str] = &[
     "RT_CLASS_1",
     "RT_CLASS_3",
     "MAX_SUBMODULE_DATA_LEN",
-    "MAX_MESSAGE_LEN",
     "EVENT_STARTOP",
     "EVENT_NEWCYCLE",
     "EVENT_MODE",

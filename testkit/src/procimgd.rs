@@ -7,7 +7,7 @@
 
 use crate::build::procimgd_bin;
 use crate::signal;
-use procimg_client::{ControlHandle, Mode, StatusReport};
+use procimg_client::{ArState, ControlHandle, DeviceState, Mode, StatusReport};
 use std::path::PathBuf;
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -313,8 +313,11 @@ impl Procimgd {
             timeout,
             "did not bring its devices (or its station's AR) into data exchange",
             |s| match &s.station {
-                Some(station) => station.ar.as_ref().is_some_and(|a| a.state == "data"),
-                None => s.devices.iter().all(|d| d.state == "running"),
+                Some(station) => station
+                    .ar
+                    .as_ref()
+                    .is_some_and(|a| a.state == ArState::Data),
+                None => s.devices.iter().all(|d| d.state == DeviceState::Running),
             },
         );
     }
@@ -431,8 +434,7 @@ impl Drop for Procimgd {
             // What a killed server could not remove (a stopped one removed it already); the
             // next server of the instance would, but a test starts none.
             procimg_shm_layout::handshake_map::remove_stale_blocks(&self.instance);
-            let _ =
-                std::fs::remove_file(procimg_shm_layout::doorbell::doorbell_path(&self.instance));
+            let _ = std::fs::remove_file(procimg_control::doorbell::doorbell_path(&self.instance));
         }
     }
 }

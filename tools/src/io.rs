@@ -6,8 +6,8 @@ use anyhow::bail;
 use clap::Subcommand;
 use procimg_client::access::{resolve_read, resolve_write};
 use procimg_client::{AttachOptions, Client, ControlHandle, Ioxs, Space};
+use procimg_control::StatusReport;
 use procimg_shm_layout::SubmoduleEntry;
-use procimg_shm_layout::control::StatusReport;
 use std::time::{Duration, Instant};
 
 #[derive(Subcommand)]

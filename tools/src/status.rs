@@ -2,7 +2,7 @@
 //! `procimg status`.
 
 use procimg_client::ControlHandle;
-use procimg_shm_layout::control::Percentiles;
+use procimg_control::Percentiles;
 
 pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
     let control = ControlHandle::open(instance, "procimg-status")?;

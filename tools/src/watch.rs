@@ -10,8 +10,11 @@
 
 use crate::text::hex;
 use procimg_client::access::resolve_read;
-use procimg_client::{Client, Ioxs, Notification, ServiceOptions, Services, Space, StatusReport};
+use procimg_client::{
+    ArState, Client, DeviceState, Ioxs, Notification, ServiceOptions, Services, Space, StatusReport,
+};
 use serde_json::json;
+use std::fmt;
 use std::time::{Duration, Instant, SystemTime};
 
 /// What `procimg io watch` was asked.
@@ -40,7 +43,41 @@ struct Seen {
     iops: Ioxs,
     iocs: Ioxs,
     forced: bool,
-    state: String,
+    state: Watched,
+}
+
+/// The state a line shows: of the device (controller role) or of the PLC's AR (device role).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Watched {
+    /// Neither the status report nor a notification told it yet.
+    NotKnown,
+    /// The device's state (controller role).
+    Device(DeviceState),
+    /// The PLC's AR's state (device role).
+    Ar(ArState),
+    /// The device role without an AR.
+    NoAr,
+}
+
+impl Watched {
+    /// Its word in a JSON line: none while it is not known.
+    fn json_word(self) -> String {
+        match self {
+            Watched::NotKnown => String::new(),
+            known => known.to_string(),
+        }
+    }
+}
+
+impl fmt::Display for Watched {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Watched::NotKnown => f.write_str("?"),
+            Watched::Device(s) => s.fmt(f),
+            Watched::Ar(s) => s.fmt(f),
+            Watched::NoAr => f.write_str("no AR"),
+        }
+    }
 }
 
 /// Watches until `count` lines (or forever).
@@ -67,7 +104,7 @@ pub fn watch(client: &mut Client, w: &Watch) -> anyhow::Result<()> {
     let mut status = client.control().status().ok();
     let mut state = status
         .as_ref()
-        .map_or_else(String::new, |s| state_of(s, device));
+        .map_or(Watched::NotKnown, |s| state_of(s, device));
     let mut status_at = Instant::now();
     let mut last: Option<Seen> = None;
     let mut lines = 0;
@@ -106,7 +143,7 @@ pub fn watch(client: &mut Client, w: &Watch) -> anyhow::Result<()> {
                     .next()
                     .is_some()
             }),
-            state: state.clone(),
+            state,
         };
         if last.as_ref() != Some(&now) {
             let cycle = client.cycle_info().map_or(0, |c| c.cycle_number);
@@ -127,28 +164,28 @@ pub fn watch(client: &mut Client, w: &Watch) -> anyhow::Result<()> {
 }
 
 /// The state of device `device` in `status`: the device's (controller role) or the PLC's
-/// AR (device role; "no AR" without one).
-fn state_of(status: &StatusReport, device: u16) -> String {
+/// AR (device role).
+fn state_of(status: &StatusReport, device: u16) -> Watched {
     if let Some(station) = &status.station {
         return station
             .ar
             .as_ref()
-            .map_or_else(|| "no AR".to_owned(), |a| a.state.clone());
+            .map_or(Watched::NoAr, |a| Watched::Ar(a.state));
     }
     status
         .devices
         .get(usize::from(device))
-        .map_or_else(String::new, |d| d.state.clone())
+        .map_or(Watched::NotKnown, |d| Watched::Device(d.state))
 }
 
 /// The new state of device `device` that notification `n` tells, if it tells one.
-fn state_change(n: &Notification, device: u16) -> Option<String> {
+fn state_change(n: &Notification, device: u16) -> Option<Watched> {
     match n {
         Notification::DeviceState {
             device: d, state, ..
-        } if *d == u32::from(device) => Some(state.clone()),
-        Notification::StationAr { state, .. } => Some(state.clone()),
-        Notification::StationArEnded { .. } => Some("no AR".to_owned()),
+        } if *d == u32::from(device) => Some(Watched::Device(*state)),
+        Notification::StationAr { state, .. } => Some(Watched::Ar(*state)),
+        Notification::StationArEnded { .. } => Some(Watched::NoAr),
         _ => None,
     }
 }
@@ -166,7 +203,7 @@ fn line_text(time: &str, cycle: u64, device: &str, s: &Seen) -> String {
         hex(&s.data),
         ioxs_name(s.iops),
         ioxs_name(s.iocs),
-        if s.state.is_empty() { "?" } else { &s.state },
+        s.state,
         if s.forced { "  FORCED" } else { "" }
     )
 }
@@ -181,7 +218,7 @@ fn line_json(time: &str, cycle: u64, w: &Watch, device: &str, s: &Seen) -> serde
         "iops": ioxs_name(s.iops),
         "iocs": ioxs_name(s.iocs),
         "device": device,
-        "state": s.state,
+        "state": s.state.json_word(),
         "forced": s.forced,
     })
 }
@@ -197,13 +234,13 @@ mod tests {
             iops: Ioxs::Good,
             iocs: Ioxs::Bad,
             forced: true,
-            state: "data-exchange".into(),
+            state: Watched::Ar(ArState::Data),
         };
         let t = line_text("2026-11-27T00:00:00.000Z", 42, "dev1", &s);
         for part in [
             "cycle        42",
             "IOPS GOOD IOCS BAD",
-            "dev1: data-exchange",
+            "dev1: data",
             "FORCED",
         ] {
             assert!(t.contains(part), "{part:?} in {t:?}");
@@ -221,5 +258,26 @@ mod tests {
         assert_eq!(j["space"], "input");
         assert_eq!(j["forced"], true);
         assert!(j["data"].as_str().unwrap().eq_ignore_ascii_case("01ab"));
+        assert_eq!(j["state"], "data");
+    }
+
+    #[test]
+    fn a_state_not_known_yet_is_a_question_mark_in_text_and_empty_in_json() {
+        let s = Seen {
+            data: vec![0],
+            iops: Ioxs::Good,
+            iocs: Ioxs::Good,
+            forced: false,
+            state: Watched::NotKnown,
+        };
+        assert!(line_text("t", 1, "dev1", &s).ends_with("dev1: ?"));
+        let w = Watch {
+            address: 0,
+            length: None,
+            output: false,
+            count: None,
+            json: true,
+        };
+        assert_eq!(line_json("t", 1, &w, "dev1", &s)["state"], "");
     }
 }

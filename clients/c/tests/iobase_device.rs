@@ -23,7 +23,7 @@ use procimg::iobase::device_api::*;
 use procimg::iobase::device_types::*;
 use procimg::iobase::errors::*;
 use procimg::iobase::types::{PNIO_IO_IN, PNIO_IOXS};
-use procimg_client::{Mode, Notification, ServiceOptions, Services, StatusReport};
+use procimg_client::{ArState, Mode, Notification, ServiceOptions, Services, StatusReport};
 use procimg_testkit::Launch;
 use procimg_testkit::c::{
     Link, assert_success, compile, crate_dir, run, sanitize_from_env, scratch,
@@ -101,11 +101,11 @@ fn table() -> PNIO_CBF_FUNCTIONS {
     }
 }
 
-fn ar_state(s: &StatusReport) -> Option<String> {
+fn ar_state(s: &StatusReport) -> Option<ArState> {
     s.station
         .as_ref()
         .and_then(|s| s.ar.as_ref())
-        .map(|a| a.state.clone())
+        .map(|a| a.state)
 }
 
 fn wait_for(server: &procimg_testkit::Procimgd, what: &str, ok: impl Fn(&StatusReport) -> bool) {
@@ -144,7 +144,7 @@ fn plugs(services: &mut Services, into: &mut Vec<(u16, u16, bool, u32)>) {
 #[test]
 fn the_plc_sees_the_programs_tree_between_start_and_stop() {
     let server = Launch::demo_device("devapi-tree").start();
-    assert_eq!(ar_state(&server.status()).as_deref(), Some("data"));
+    assert_eq!(ar_state(&server.status()), Some(ArState::Data));
     {
         let _env = ENV.lock().unwrap_or_else(|e| e.into_inner());
         // SAFETY: this binary's other test spawns its programs and reads nothing of the
@@ -205,7 +205,7 @@ fn the_plc_sees_the_programs_tree_between_start_and_stop() {
         );
     }
     wait_for(&server, "the PLC's AR in data exchange after start", |s| {
-        s.mode == Mode::Operate && ar_state(s).as_deref() == Some("data")
+        s.mode == Mode::Operate && ar_state(s) == Some(ArState::Data)
     });
     let mut seen: Vec<(u16, u16, bool, u32)> = Vec::new();
     let until = Instant::now() + WAIT;

@@ -16,7 +16,7 @@
 use anyhow::{Context, bail};
 use clap::Parser;
 use procimg_client::{
-    AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Event, Ioxs, Notification,
+    ArState, AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Event, Ioxs, Notification,
     RecordRefusal, ServiceOptions, Services, StationRecordJob,
 };
 use std::time::Duration;
@@ -210,9 +210,11 @@ impl Parameter {
 /// A station notification in words (`None` for the controller's, which a device does not get).
 fn describe(n: &Notification) -> Option<String> {
     Some(match n {
-        Notification::StationAr { state, ar_uuid, .. } if state == "data" => {
-            format!("AR {ar_uuid} is in data exchange")
-        }
+        Notification::StationAr {
+            state: ArState::Data,
+            ar_uuid,
+            ..
+        } => format!("AR {ar_uuid} is in data exchange"),
         Notification::StationAr { state, ar_uuid, .. } => format!("AR {ar_uuid} is {state}"),
         Notification::StationArEnded {
             ar_uuid, reason, ..

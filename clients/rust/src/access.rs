@@ -11,7 +11,7 @@
 
 use procimg_shm_layout::SubmoduleEntry;
 
-pub use procimg_shm_layout::control::Space;
+pub use procimg_control::Space;
 
 /// Why an access by logical address is refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -11,9 +11,9 @@ use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::prelude::CallbackProgression;
 use iceoryx2::sample::Sample;
 use iceoryx2::sample_mut::SampleMut;
-use procimg_shm_layout::control::{ClientRole, Request, Response, server_node_name};
+use procimg_control::futex::LinuxFutex;
+use procimg_control::{ClientRole, CoreRequest, Response, server_node_name};
 use procimg_shm_layout::events::{EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, opfault_event};
-use procimg_shm_layout::futex::LinuxFutex;
 use procimg_shm_layout::handshake::Woken;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{
@@ -212,7 +212,7 @@ impl Client {
         if let Some(expected) = opts.expected_layout_hash
             && expected != layout.hash()
         {
-            let _ = control.request_done(&Request::Unregister { slot, token });
+            let _ = control.request_done(CoreRequest::Unregister { slot, token });
             return Err(AttachError::LayoutHash {
                 instance: instance.to_string(),
                 expected,
@@ -283,7 +283,7 @@ impl Client {
     /// Claims the outputs of these submodules (all or none). A claim held by another client is
     /// refused with an error naming the holder.
     pub fn claim(&mut self, submodules: &[usize]) -> Result<(), ControlError> {
-        self.control.request_done(&Request::Claim {
+        self.control.request_done(CoreRequest::Claim {
             slot: self.slot,
             token: self.token,
             submodules: submodules.iter().map(|&s| s as u32).collect(),
@@ -307,7 +307,7 @@ impl Client {
                 .collect(),
             None => {
                 return Err(ControlError::Refused(
-                    procimg_shm_layout::control::Refusal::BadRequest {
+                    procimg_control::Refusal::BadRequest {
                         message: format!("no device named \"{device}\" in the layout"),
                     },
                 ));
@@ -319,7 +319,7 @@ impl Client {
 
     /// Releases claims.
     pub fn release(&mut self, submodules: &[usize]) -> Result<(), ControlError> {
-        self.control.request_done(&Request::Release {
+        self.control.request_done(CoreRequest::Release {
             slot: self.slot,
             token: self.token,
             submodules: submodules.iter().map(|&s| s as u32).collect(),
@@ -601,7 +601,7 @@ impl Client {
             Err(_) => {
                 let _ = self
                     .control
-                    .request_done(&Request::Unregister { slot, token });
+                    .request_done(CoreRequest::Unregister { slot, token });
                 return Ok(());
             }
         };
@@ -609,7 +609,7 @@ impl Client {
         if conn.layout.hash() != self.layout.hash() {
             let _ = self
                 .control
-                .request_done(&Request::Unregister { slot, token });
+                .request_done(CoreRequest::Unregister { slot, token });
             return Err(WaitError::LayoutChanged {
                 instance: self.instance().to_string(),
                 was: self.layout.hash(),
@@ -766,7 +766,7 @@ impl Drop for Client {
     fn drop(&mut self) {
         if self.conn.is_some() {
             let _ = self.control.request(
-                &Request::Unregister {
+                CoreRequest::Unregister {
                     slot: self.slot,
                     token: self.token,
                 },
@@ -783,14 +783,14 @@ fn register(
 ) -> Result<(u32, u64, u64, u32), AttachError> {
     let instance = control.instance().to_string();
     let node_id = control.node().id().to_string();
-    let req = Request::Register {
+    let req = CoreRequest::Register {
         name: opts.name.clone(),
         pid: std::process::id(),
         role: opts.role,
         newcycle: opts.newcycle,
         node_id,
     };
-    match control.request(&req, opts.timeout) {
+    match control.request(req, opts.timeout) {
         Ok(Response::Registered {
             slot,
             token,

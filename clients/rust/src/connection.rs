@@ -17,7 +17,7 @@ use iceoryx2::prelude::{
 use iceoryx2::service::builder::event::EventOpenError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use iceoryx2::service::builder::request_response::RequestResponseOpenError;
-use procimg_shm_layout::control;
+use procimg_control as control;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::share;
 use procimg_shm_layout::{IMAGE_MAGIC, ImageHeader, LAYOUT_VERSION, LayoutHeader, OutputHeader};

@@ -5,9 +5,11 @@
 use crate::connection::{ControlPort, Ipc, client_node, open_control};
 use crate::error::{AttachError, ControlError};
 use iceoryx2::node::Node;
+use procimg_control::doorbell::Doorbell;
+use procimg_control::{
+    self as control, CoreRequest, HistogramsReport, Request, Response, Space, StatusReport,
+};
 use procimg_shm_layout::Mode;
-use procimg_shm_layout::control::{self, HistogramsReport, Request, Response, Space, StatusReport};
-use procimg_shm_layout::doorbell::Doorbell;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -106,12 +108,16 @@ impl ControlHandle {
     }
 
     /// Sends `req` and waits up to `timeout` for the answer.
-    pub fn request(&self, req: &Request, timeout: Duration) -> Result<Response, ControlError> {
+    pub fn request(
+        &self,
+        req: impl Into<Request>,
+        timeout: Duration,
+    ) -> Result<Response, ControlError> {
         let transport = |detail: String| ControlError::Transport {
             instance: self.instance.clone(),
             detail,
         };
-        let bytes = control::encode(req);
+        let bytes = control::encode(&req.into());
         let sample = self
             .port
             .loan_slice_uninit(bytes.len())
@@ -156,7 +162,7 @@ impl ControlHandle {
     }
 
     /// Sends a request that is answered with `Done` or a refusal.
-    pub fn request_done(&self, req: &Request) -> Result<(), ControlError> {
+    pub fn request_done(&self, req: impl Into<Request>) -> Result<(), ControlError> {
         match self.request(req, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Done => Ok(()),
             Response::Refused(r) => Err(ControlError::Refused(r)),
@@ -169,7 +175,7 @@ impl ControlHandle {
 
     /// The server's state.
     pub fn status(&self) -> Result<StatusReport, ControlError> {
-        match self.request(&Request::Status, DEFAULT_CONTROL_TIMEOUT)? {
+        match self.request(CoreRequest::Status, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Status(s) => Ok(*s),
             Response::Refused(r) => Err(ControlError::Refused(r)),
             other => Err(ControlError::Protocol {
@@ -182,7 +188,7 @@ impl ControlHandle {
     /// The cycle thread's latency histograms since the server started (wake-up, STARTOP →
     /// OPDONE round trip, OPDONE one way, cycle work).
     pub fn histograms(&self) -> Result<HistogramsReport, ControlError> {
-        match self.request(&Request::Histograms, DEFAULT_CONTROL_TIMEOUT)? {
+        match self.request(CoreRequest::Histograms, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Histograms(h) => Ok(*h),
             Response::Refused(r) => Err(ControlError::Refused(r)),
             other => Err(ControlError::Protocol {
@@ -195,7 +201,7 @@ impl ControlHandle {
     /// Asks for a mode change. Like IO-Base's `PNIO_set_mode` it returns at once; the change
     /// is confirmed by a MODE event (one per step: OFFLINE ↔ OPERATE passes through CLEAR).
     pub fn set_mode(&self, mode: Mode) -> Result<(), ControlError> {
-        self.request_done(&Request::SetMode { mode })
+        self.request_done(CoreRequest::SetMode { mode })
     }
 
     /// Forces `data` at `address` in `space`, as a PLC's force table does: from the next
@@ -204,7 +210,7 @@ impl ControlHandle {
     /// and its process are gone, until [`ControlHandle::unforce`] or the server's end. The
     /// bytes must lie in one submodule.
     pub fn force(&self, space: Space, address: u32, data: &[u8]) -> Result<(), ControlError> {
-        self.request_done(&Request::Force {
+        self.request_done(CoreRequest::Force {
             space,
             address,
             data: data.to_vec(),
@@ -219,7 +225,7 @@ impl ControlHandle {
         address: u32,
         length: Option<u32>,
     ) -> Result<(), ControlError> {
-        self.request_done(&Request::Unforce {
+        self.request_done(CoreRequest::Unforce {
             space,
             address: Some(address),
             length,
@@ -228,7 +234,7 @@ impl ControlHandle {
 
     /// Ends every force, in both spaces.
     pub fn unforce_all(&self) -> Result<(), ControlError> {
-        self.request_done(&Request::Unforce {
+        self.request_done(CoreRequest::Unforce {
             space: Space::Output,
             address: None,
             length: None,

@@ -16,7 +16,7 @@ use crate::io::{ReadResult, read_inputs, stamp};
 use crate::layout::Layout;
 use crate::status::{Ioxs, SubmoduleIoxs, read_status};
 use iceoryx2::sample_mut::SampleMut;
-use procimg_shm_layout::futex::LinuxFutex;
+use procimg_control::futex::LinuxFutex;
 use procimg_shm_layout::handshake::Woken;
 use procimg_shm_layout::{CLIENT_WROTE_OUTPUTS, CycleInfo, Mode, OutputHeader};
 use std::time::{Duration, Instant};

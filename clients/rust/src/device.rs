@@ -13,9 +13,10 @@
 //! [`Services`](crate::Services) handle: [`Services::next`](crate::Services::next) (or
 //! [`try_next`](crate::Services::try_next) between cycles) gives a
 //! [`Notification::StationAr`](crate::Notification::StationAr) as the PLC's AR reaches
-//! "connected" (Connect accepted), "parameterized" (the PLC's PrmEnd),
-//! "waiting-for-application-ready-confirm" and "data" (IN_DATA: the PLC confirmed the
-//! ApplicationReady), then [`StationArEnded`](crate::Notification::StationArEnded) with
+//! [`ArState::Connected`](crate::ArState::Connected) (Connect accepted),
+//! [`Parameterized`](crate::ArState::Parameterized) (the PLC's PrmEnd),
+//! [`WaitingForApplicationReadyConfirm`](crate::ArState::WaitingForApplicationReadyConfirm)
+//! and [`Data`](crate::ArState::Data) (IN_DATA: the PLC confirmed the ApplicationReady), then [`StationArEnded`](crate::Notification::StationArEnded) with
 //! why it ended (released by the PLC, an IO data timeout, procimgd stopping). Also
 //! [`StationPlcRunning`](crate::Notification::StationPlcRunning) for the PLC's RUN/STOP,
 //! [`StationBlink`](crate::Notification::StationBlink) for DCP Signal and
@@ -25,7 +26,7 @@
 //! `station.ar`).
 //!
 //! ```no_run
-//! use procimg_client::{AttachOptions, Client, Notification, ServiceOptions, Services};
+//! use procimg_client::{ArState, AttachOptions, Client, Notification, ServiceOptions, Services};
 //! use std::time::Duration;
 //!
 //! let mut events = Services::open("procimg", ServiceOptions::new("echo-events"))?;
@@ -43,7 +44,10 @@
 //!     cycle.set_opdone()?;
 //!     while let Some(n) = events.try_next() {
 //!         match n {
-//!             Notification::StationAr { state, .. } if state == "data" => println!("IN_DATA"),
+//!             Notification::StationAr {
+//!                 state: ArState::Data,
+//!                 ..
+//!             } => println!("IN_DATA"),
 //!             Notification::StationArEnded { reason, .. } => println!("AR ended: {reason}"),
 //!             _ => {}
 //!         }
@@ -56,7 +60,7 @@ use crate::client::Client;
 use crate::cycle::Cycle;
 use crate::error::{ControlError, IoError};
 use crate::status::Ioxs;
-use procimg_shm_layout::control::{DiagnosisEntry, Request, StationDiagnosisChange};
+use procimg_control::{DeviceRequest, DiagnosisEntry, StationDiagnosisChange};
 
 impl Client {
     /// Whether the server is an IO device (`role = "device"`).
@@ -128,7 +132,7 @@ impl Client {
         usi: u16,
         data: &[u8],
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationProcessAlarm {
+        self.station_request(DeviceRequest::StationProcessAlarm {
             api,
             slot,
             subslot,
@@ -141,18 +145,18 @@ impl Client {
     /// it in the StationProblemIndicator of the input data's DataStatus, as it sees a pending
     /// fault diagnosis (which it shows whatever this says).
     pub fn set_station_problem(&self, problem: bool) -> Result<(), ControlError> {
-        self.station_request(&Request::StationProblem { problem })
+        self.station_request(DeviceRequest::StationProblem { problem })
     }
 
     fn station_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
-        self.station_request(&Request::StationDiagnosis {
+        self.station_request(DeviceRequest::StationDiagnosis {
             change,
             silent: false,
         })
     }
 
     /// Sends a request of the device role's services; a controller's server is an error.
-    pub(crate) fn station_request(&self, request: &Request) -> Result<(), ControlError> {
+    pub(crate) fn station_request(&self, request: DeviceRequest) -> Result<(), ControlError> {
         if !self.is_device() {
             return Err(ControlError::NotDevice {
                 instance: self.instance().to_owned(),

@@ -2,7 +2,7 @@
 //! One error type per operation, each saying what to do.
 
 use crate::access::AccessError;
-use procimg_shm_layout::control::Refusal;
+use procimg_control::Refusal;
 use std::time::Duration;
 
 /// Why [`crate::Client::attach`] failed.

@@ -55,18 +55,18 @@ pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
-pub use procimg_shm_layout::control::{
-    AlarmRefusal, ArReport, ClientRole, DiagnosisDirection, DiagnosisEntry, DiagnosisKind,
-    DiagnosisSeverity, ForceReport, PlugRefusal, Refusal, StationAlarmKind, StationDiagnosisChange,
-    StationReport, StatusReport,
-};
-pub use procimg_shm_layout::rt_alloc;
-pub use procimg_shm_layout::services::{
+pub use procimg_control::services::{
     APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DCP_SET_CHECK_TIMEOUT_MS,
     DeviceDiagnosis, DiagnosisReport, ExpectedSubmodule, FailureCause, Notification,
     RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS, StationArCheckJob,
     StationDcpSetJob, StationRecordJob, SubmoduleDiff,
 };
+pub use procimg_control::{
+    AlarmRefusal, ArReport, ArState, ClientRole, DeviceState, DiagnosisDirection, DiagnosisEntry,
+    DiagnosisKind, DiagnosisSeverity, ForceReport, PlugRefusal, Refusal, StationAlarmKind,
+    StationDiagnosisChange, StationReport, StatusReport,
+};
+pub use procimg_rt_alloc as rt_alloc;
 pub use procimg_shm_layout::{CycleInfo, Mode};
 pub use services::{RecordError, ServiceOptions, Services};
 pub use station_services::{AR_REFUSED_NO_RESOURCES, RecordRefusal};

@@ -24,7 +24,7 @@
 
 use crate::client::Client;
 use crate::error::ControlError;
-use procimg_shm_layout::control::Request;
+use procimg_control::DeviceRequest;
 
 impl Client {
     /// Plugs a submodule with these ident numbers at the configured position
@@ -35,7 +35,7 @@ impl Client {
         module_ident: u32,
         submodule_ident: u32,
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationPlug {
+        self.station_request(DeviceRequest::StationPlug {
             api,
             slot,
             subslot,
@@ -49,7 +49,7 @@ impl Client {
         &self,
         (api, slot, subslot): (u32, u16, u16),
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationPull { api, slot, subslot })
+        self.station_request(DeviceRequest::StationPull { api, slot, subslot })
     }
 
     /// Tells the PLC that the submodule's data is valid again after it was BAD for a while
@@ -59,6 +59,6 @@ impl Client {
         &self,
         (api, slot, subslot): (u32, u16, u16),
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationReturnSubmodule { api, slot, subslot })
+        self.station_request(DeviceRequest::StationReturnSubmodule { api, slot, subslot })
     }
 }

@@ -22,11 +22,11 @@ use crate::error::{AttachError, ControlError};
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::FileDescriptorBased;
-use procimg_shm_layout::control::{Request, Response};
-use procimg_shm_layout::services::{
+use procimg_control::services::{
     self, AlarmReport, DiagnosisReport, NOTIFICATION_BUFFER, Notification, RecordConfirmation,
     RecordStatus, RecordTarget,
 };
+use procimg_control::{ControllerRequest, CoreRequest, Response};
 use std::collections::VecDeque;
 use std::hash::{Hash, Hasher};
 use std::os::fd::RawFd;
@@ -190,7 +190,7 @@ impl Services {
     }
 
     fn announce(&mut self) -> Result<(), ControlError> {
-        self.control.request_done(&Request::Subscribe {
+        self.control.request_done(CoreRequest::Subscribe {
             subscriber: self.id,
             name: self.options.name.clone(),
             pid: std::process::id(),
@@ -239,8 +239,7 @@ impl Services {
     fn drain(&mut self) {
         let _ = self.listener.try_wait(|_| {});
         while let Ok(Some(sample)) = self.subscriber.receive() {
-            let Ok(n) = procimg_shm_layout::control::decode::<Notification>(sample.payload())
-            else {
+            let Ok(n) = procimg_control::decode::<Notification>(sample.payload()) else {
                 continue;
             };
             if n.reply_to().is_some_and(|to| to != self.id) {
@@ -299,13 +298,14 @@ impl Services {
     /// (acknowledged by a timeout, or older than the subscription) is refused with
     /// `UnknownAlarm`, which callers may ignore.
     pub fn acknowledge(&self, alarm: &AlarmReport) -> Result<(), ControlError> {
-        self.control.request_done(&Request::AcknowledgeAlarm {
-            subscriber: self.id,
-            alarm: alarm.id,
-        })
+        self.control
+            .request_done(ControllerRequest::AcknowledgeAlarm {
+                subscriber: self.id,
+                alarm: alarm.id,
+            })
     }
 
-    fn accepted(&self, req: &Request) -> Result<(), ControlError> {
+    fn accepted(&self, req: ControllerRequest) -> Result<(), ControlError> {
         match self.control.request(req, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Accepted | Response::Done => Ok(()),
             Response::Refused(r) => Err(ControlError::Refused(r)),
@@ -324,7 +324,7 @@ impl Services {
         max_len: u32,
         reference: u64,
     ) -> Result<(), ControlError> {
-        self.accepted(&Request::RecordRead {
+        self.accepted(ControllerRequest::RecordRead {
             reply_to: self.id,
             reference,
             target,
@@ -340,7 +340,7 @@ impl Services {
         data: &[u8],
         reference: u64,
     ) -> Result<(), ControlError> {
-        self.accepted(&Request::RecordWrite {
+        self.accepted(ControllerRequest::RecordWrite {
             reply_to: self.id,
             reference,
             target,
@@ -417,18 +417,19 @@ impl Services {
     /// Confirmed by a [`Notification::Activation`]; the state change itself follows as
     /// device notifications (DEV_RETURN, DEV_FAILURE), in either order.
     pub fn activate(&self, device: u32, active: bool) -> Result<(), ControlError> {
-        self.control.request_done(&Request::ActivateDevice {
-            reply_to: self.id,
-            device,
-            active,
-        })
+        self.control
+            .request_done(ControllerRequest::ActivateDevice {
+                reply_to: self.id,
+                device,
+                active,
+            })
     }
 
     /// The state of every device.
     pub fn diagnosis(&self) -> Result<DiagnosisReport, ControlError> {
         match self
             .control
-            .request(&Request::Diagnosis, DEFAULT_CONTROL_TIMEOUT)?
+            .request(ControllerRequest::Diagnosis, DEFAULT_CONTROL_TIMEOUT)?
         {
             Response::Diagnosis(d) => Ok(*d),
             Response::Refused(r) => Err(ControlError::Refused(r)),
@@ -443,7 +444,7 @@ impl Services {
 impl Drop for Services {
     fn drop(&mut self) {
         let _ = self.control.request(
-            &Request::Unsubscribe {
+            CoreRequest::Unsubscribe {
                 subscriber: self.id,
             },
             Duration::from_millis(500),

@@ -23,7 +23,7 @@
 
 use crate::ControlError;
 use crate::services::Services;
-use procimg_shm_layout::control::{Request, StationAlarmKind, StationDiagnosisChange};
+use procimg_control::{DeviceRequest, StationAlarmKind, StationDiagnosisChange};
 
 impl Services {
     /// Sends an alarm of the station's submodule (`api`, `slot`, `subslot`) to the PLC's AR
@@ -41,7 +41,7 @@ impl Services {
         data: &[u8],
         tag: u64,
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationAlarm {
+        self.station_request(DeviceRequest::StationAlarm {
             subscriber: self.id(),
             tag,
             api,
@@ -56,7 +56,7 @@ impl Services {
     /// Changes the station's diagnosis without an alarm: the records, the SubmoduleState and
     /// the station problem show it, the alarm is [`send_alarm`](Self::send_alarm)'s.
     pub fn keep_diagnosis(&self, change: StationDiagnosisChange) -> Result<(), ControlError> {
-        self.station_request(&Request::StationDiagnosis {
+        self.station_request(DeviceRequest::StationDiagnosis {
             change,
             silent: true,
         })

@@ -28,8 +28,8 @@
 
 use crate::services::Services;
 use crate::{ControlError, DEFAULT_CONTROL_TIMEOUT};
-use procimg_shm_layout::control::{Request, Response};
-use procimg_shm_layout::services::{StationArCheckJob, StationDcpSetJob, StationRecordJob};
+use procimg_control::services::{StationArCheckJob, StationDcpSetJob, StationRecordJob};
+use procimg_control::{DeviceRequest, Response};
 
 /// The Connect error (ErrorCode1 CMRPC, ErrorCode2 "out of AR resources") a device gives
 /// when it cannot take an AR now.
@@ -75,7 +75,7 @@ impl RecordRefusal {
 
 impl Services {
     /// Sends `req`, which is answered with Done.
-    pub(crate) fn station_request(&self, req: &Request) -> Result<(), ControlError> {
+    pub(crate) fn station_request(&self, req: DeviceRequest) -> Result<(), ControlError> {
         match self.control().request(req, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Done | Response::Accepted => Ok(()),
             Response::Refused(r) => Err(ControlError::Refused(r)),
@@ -117,7 +117,7 @@ impl Services {
         own: bool,
         im: bool,
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationOwnRecords {
+        self.station_request(DeviceRequest::StationOwnRecords {
             subscriber: self.id(),
             api,
             slot,
@@ -140,7 +140,7 @@ impl Services {
             Ok(_) => (Vec::new(), None),
             Err(e) => (Vec::new(), Some((e.code1, e.code2))),
         };
-        self.station_request(&Request::StationRecordAnswer {
+        self.station_request(DeviceRequest::StationRecordAnswer {
             subscriber: self.id(),
             job: job.job,
             data,
@@ -154,7 +154,7 @@ impl Services {
     /// [`AR_CHECK_TIMEOUT_MS`](crate::AR_CHECK_TIMEOUT_MS) (then the AR is accepted). One
     /// handle at a time checks.
     pub fn check_ars(&self, check: bool) -> Result<(), ControlError> {
-        self.station_request(&Request::StationCheckArs {
+        self.station_request(DeviceRequest::StationCheckArs {
             subscriber: self.id(),
             check,
         })
@@ -168,7 +168,7 @@ impl Services {
         check: &StationArCheckJob,
         answer: Result<(), (u8, u8)>,
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationArCheckAnswer {
+        self.station_request(DeviceRequest::StationArCheckAnswer {
             subscriber: self.id(),
             job: check.job,
             refuse: answer.err(),
@@ -182,7 +182,7 @@ impl Services {
     /// [`DCP_SET_CHECK_TIMEOUT_MS`](crate::DCP_SET_CHECK_TIMEOUT_MS) (then it is carried
     /// out). One handle at a time checks.
     pub fn verify_dcp_sets(&self, verify: bool) -> Result<(), ControlError> {
-        self.station_request(&Request::StationVerifyDcp {
+        self.station_request(DeviceRequest::StationVerifyDcp {
             subscriber: self.id(),
             verify,
         })
@@ -195,7 +195,7 @@ impl Services {
         check: &StationDcpSetJob,
         allow: bool,
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationDcpSetAnswer {
+        self.station_request(DeviceRequest::StationDcpSetAnswer {
             subscriber: self.id(),
             job: check.job,
             allow,
@@ -204,10 +204,10 @@ impl Services {
 
     /// Holds the station's ApplicationReady after every PrmEnd (a
     /// [`Notification::StationAr`](crate::Notification::StationAr) with state
-    /// "parameterized") until this handle calls
+    /// [`ArState::Parameterized`](crate::ArState::Parameterized)) until this handle calls
     /// [`application_ready`](Self::application_ready) — or not (`false`).
     pub fn hold_application_ready(&self, hold: bool) -> Result<(), ControlError> {
-        self.station_request(&Request::StationHoldApplicationReady {
+        self.station_request(DeviceRequest::StationHoldApplicationReady {
             subscriber: self.id(),
             hold,
         })
@@ -228,7 +228,7 @@ impl Services {
         &self,
         not_ready: &[(u32, u16, u16)],
     ) -> Result<(), ControlError> {
-        self.station_request(&Request::StationApplicationReady {
+        self.station_request(DeviceRequest::StationApplicationReady {
             subscriber: self.id(),
             not_ready: not_ready.to_vec(),
         })

@@ -39,8 +39,8 @@
 mod support;
 
 use procimg_client::{
-    AttachOptions, Client, ControlHandle, Ioxs, Notification, RecordTarget, ServiceOptions,
-    Services, StatusReport,
+    AttachOptions, Client, ControlHandle, DeviceState, Ioxs, Notification, RecordTarget,
+    ServiceOptions, Services, StatusReport,
 };
 use procimg_interop_pnio_device as iop;
 use procimg_profinet::wire::record::Im0;
@@ -172,7 +172,7 @@ fn set_scheduler(policy: i32, priority: i32) -> std::io::Result<()> {
 /// What the status poller saw: the first state other than running, when its answer came,
 /// and every answer.
 struct StateSeen {
-    state: String,
+    state: DeviceState,
     after: Duration,
     trace: Vec<String>,
 }
@@ -199,11 +199,11 @@ impl StatePoller {
                 let asked = killed.elapsed();
                 let s = control.status().expect("procimgd's status");
                 let after = killed.elapsed();
-                let state = s.devices[0].state.clone();
+                let state = s.devices[0].state;
                 trace.push(format!(
                     "status asked {asked:?} after the kill, answered after {after:?}: {state}"
                 ));
-                if state != "running" {
+                if state != DeviceState::Running {
                     return StateSeen {
                         state,
                         after,
@@ -277,7 +277,9 @@ impl Rig {
         let control = server.control(Duration::from_secs(10));
         let since = Instant::now();
         server.wait_status_within("the device in data exchange", BRING_UP_TIMEOUT, |s| {
-            s.devices.first().is_some_and(|d| d.state == "running")
+            s.devices
+                .first()
+                .is_some_and(|d| d.state == DeviceState::Running)
         });
         eprintln!(
             "the device is running {:?} after procimgd answered",
@@ -484,7 +486,7 @@ impl Rig {
             state_changes.is_empty(),
             "the device's AR changed state during the exchange: {state_changes:?}"
         );
-        assert_eq!(after.devices[0].state, "running");
+        assert_eq!(after.devices[0].state, DeviceState::Running);
     }
 
     /// Reads the device's inputs until their status is BAD: how long after `killed` (at
@@ -533,7 +535,7 @@ impl Rig {
         let trace = seen.trace.join("\n");
         eprintln!(
             "device killed: procimgd's image has its inputs BAD from the cycle that started \
-             {bad_after:?} after the kill (cycle {bad_cycle}); procimgd reports it {:?} \
+             {bad_after:?} after the kill (cycle {bad_cycle}); procimgd reports it {} \
              {:?} after the kill (watchdog {WATCHDOG:?}):\n{trace}",
             seen.state, seen.after
         );
@@ -584,7 +586,11 @@ impl Rig {
         let s = self.server.wait_status_within(
             "the restarted device in data exchange",
             BRING_UP_TIMEOUT,
-            |s| s.devices.first().is_some_and(|d| d.state == "running"),
+            |s| {
+                s.devices
+                    .first()
+                    .is_some_and(|d| d.state == DeviceState::Running)
+            },
         );
         eprintln!(
             "the restarted device is running after {:?}",
@@ -607,7 +613,7 @@ impl Rig {
         self.round_trip(value(VALUES));
         let s = self.status();
         assert_eq!(s.network.watchdog_expiries, 1, "{:?}", s.network);
-        assert_eq!(s.devices[0].state, "running");
+        assert_eq!(s.devices[0].state, DeviceState::Running);
         self.wait_notification("DEV_RETURN", |n| {
             matches!(n, Notification::DeviceReturn { device: 0, .. })
         });
@@ -649,7 +655,7 @@ impl Rig {
                 .status()
                 .devices
                 .first()
-                .is_some_and(|d| d.state == "running");
+                .is_some_and(|d| d.state == DeviceState::Running);
             let accepted = running
                 && self
                     .client()
@@ -830,14 +836,18 @@ fn a_connect_waiting_for_the_devices_address_reaches_it_once() {
     // Waits until procimgd answers on its control service.
     let control = server.control(Duration::from_secs(10));
     server.wait_status_within("the Connect sent", BRING_UP_TIMEOUT, |s| {
-        s.devices.first().is_some_and(|d| d.state == "connecting")
+        s.devices
+            .first()
+            .is_some_and(|d| d.state == DeviceState::Connecting)
     });
     // Past the Connect's first retry time, within the kernel's three ARP requests (one a
     // second): an address resolved only now would release the Connect and its repeat at once.
     std::thread::sleep(Duration::from_millis(1_500));
     address("add");
     server.wait_status_within("the device in data exchange", BRING_UP_TIMEOUT, |s| {
-        s.devices.first().is_some_and(|d| d.state == "running")
+        s.devices
+            .first()
+            .is_some_and(|d| d.state == DeviceState::Running)
     });
     device.wait_for("STATE data", Duration::from_secs(5));
     drop(control);

@@ -3,8 +3,8 @@
 //! statistic is the median of the rounds' values (so one disturbed round does not move the
 //! table), while the histogram pools all rounds (for the plot).
 
+use procimg_control::Bucket;
 use procimg_rt_tests::report::{Measurement, Report, buckets, histogram_from_buckets};
-use procimg_shm_layout::control::Bucket;
 use std::collections::BTreeMap;
 
 /// The statistics a table row is made of, in ns.

@@ -7,7 +7,7 @@
 //! built-in estimate, so it needs no font files or system libraries on a fresh machine.
 
 use plotters::prelude::*;
-use procimg_shm_layout::control::Bucket;
+use procimg_control::Bucket;
 use std::path::Path;
 
 /// One line of a panel.

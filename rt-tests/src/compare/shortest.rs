@@ -12,7 +12,7 @@
 use super::figures::Results;
 use super::plan::{CYCLICTEST, HANDSHAKE, Job, Output, WAKE_UP};
 use super::table::{self, Notes};
-use procimg_shm_layout::control::Bucket;
+use procimg_control::Bucket;
 use std::time::Duration;
 
 /// procimgd's cycle unit, ns: every cycle time is a multiple.

@@ -9,8 +9,8 @@ use crate::measure::stat_field;
 use crate::stats::ThreadStats;
 use crate::text::Line;
 use procimg_client::ControlHandle;
+use procimg_control::Bucket;
 use procimg_rt_tests::report::{buckets_between, histogram_from_buckets};
-use procimg_shm_layout::control::Bucket;
 use std::time::{Duration, Instant};
 
 /// How often the server's histograms are read while waiting.

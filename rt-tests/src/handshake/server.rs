@@ -4,8 +4,8 @@
 
 use anyhow::{Context, Result, bail};
 use procimg_client::ControlHandle;
+use procimg_control::HistogramsReport;
 use procimg_runtime::stats::HANDOFF_CYCLES;
-use procimg_shm_layout::control::HistogramsReport;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};

@@ -12,7 +12,7 @@ use crate::process::Running;
 use crate::rig::{Plan, Programs, Rig};
 use crate::tally::Tally;
 use anyhow::{Context as _, bail};
-use procimg_client::{ControlHandle, RecordTarget, StatusReport};
+use procimg_client::{ControlHandle, DeviceState, RecordTarget, StatusReport};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -265,8 +265,11 @@ impl Soak {
     }
 
     fn device_running(&mut self) -> bool {
-        self.status()
-            .is_some_and(|s| s.devices.first().is_some_and(|d| d.state == "running"))
+        self.status().is_some_and(|s| {
+            s.devices
+                .first()
+                .is_some_and(|d| d.state == DeviceState::Running)
+        })
     }
 
     /// Polls `done` every 10 ms for up to `timeout`; how long it took.

@@ -327,7 +327,7 @@ impl Rig {
         let n = tables.submodules.len();
         let writer_node = (clients > 0)
             .then(|| procimg_runtime::shm::server_node(instance, "writers").expect("writer node"));
-        let output_service = procimg_shm_layout::control::output_service(instance, generation);
+        let output_service = procimg_control::output_service(instance, generation);
         let clients = (0..clients)
             .map(|i| {
                 let opts = AttachOptions::asynchronous(&format!("{instance}-{i}"));
@@ -535,7 +535,7 @@ impl PublishRig {
         let ports = CyclePorts::create(instance, generation, &tables).expect("cycle ports");
         let reader_node =
             procimg_runtime::shm::server_node(instance, "reader").expect("reader node");
-        let name = procimg_shm_layout::control::input_service(instance, generation);
+        let name = procimg_control::input_service(instance, generation);
         let reader = reader_node
             .service_builder(&ServiceName::new(&name).expect("service name"))
             .publish_subscribe::<[u8]>()

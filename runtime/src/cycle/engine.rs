@@ -17,7 +17,7 @@ use crate::image::{Image, Tables};
 use crate::io::{CycleTime, IoSystem};
 use crate::shm::CyclePorts;
 use crate::stats::StatsRecorder;
-use procimg_shm_layout::control::Space;
+use procimg_control::Space;
 use procimg_shm_layout::events::{
     EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, EVENT_STARTOP, opfault_event,
 };

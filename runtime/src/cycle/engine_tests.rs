@@ -308,7 +308,7 @@ fn forced_outputs_go_out_valid_over_the_owner_and_without_one() {
     rig.reach(Mode::Operate);
     let mut plan = Box::new(crate::cycle::ForcePlan::empty(rig.tables.submodules.len()));
     plan.push(
-        procimg_shm_layout::control::Space::Output,
+        procimg_control::Space::Output,
         echo as u32,
         2,
         &[0x5a, 0x5b],

@@ -5,7 +5,7 @@
 //! plan: the one it replaces goes back to the acyclic side, which drops it.
 
 use crate::image::Image;
-use procimg_shm_layout::control::Space;
+use procimg_control::Space;
 
 /// Consecutive forced bytes inside one submodule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -9,8 +9,8 @@ use crate::sys::clock::now_ns;
 use core::ptr::NonNull;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::EventId;
+use procimg_control::futex::LinuxFutex;
 use procimg_shm_layout::events::EVENT_STARTOP;
-use procimg_shm_layout::futex::LinuxFutex;
 use procimg_shm_layout::{ImageHeader, OutputHeader};
 use std::collections::VecDeque;
 

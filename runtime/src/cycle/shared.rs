@@ -4,8 +4,8 @@
 use super::force::ForcePlan;
 use crate::stats::Counters;
 use crossbeam_queue::ArrayQueue;
+use procimg_control::doorbell::Doorbell;
 use procimg_shm_layout::Mode;
-use procimg_shm_layout::doorbell::Doorbell;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 

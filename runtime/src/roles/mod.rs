@@ -28,16 +28,18 @@ use crate::io::pnio::PnioIo;
 use crate::io::pnio::channel::Channel;
 use crate::shm::Notices;
 use crate::stats::load;
+use procimg_control::{
+    ControllerRequest, DeviceReport, DeviceRequest, NetworkReport, Refusal, Response,
+    StationReport, SubscriberReport,
+};
 use procimg_nic::Nic;
 use procimg_profinet::cyclic::CyclicAr;
-use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Request, Response, StationReport, SubscriberReport,
-};
 use std::collections::HashSet;
 use std::net::SocketAddrV4;
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
+use subscribers::Subscriber;
 
 /// What a role asks the acyclic thread to do.
 #[derive(Debug)]
@@ -148,11 +150,32 @@ pub trait Role: Send + 'static {
     }
 }
 
+/// Answers the requests of one group of the control protocol (the IO controller's or the IO
+/// device's): a role's services implement it for their own group only.
+pub trait Answers<R> {
+    /// Answers `request`. `online` says whether the cycle is, or is becoming, CLEAR or
+    /// OPERATE.
+    fn handle(&mut self, request: R, online: bool, notices: &mut Notices) -> Response;
+}
+
 /// A role's part of the client services, on the control side.
 pub trait RoleServices: Send {
-    /// Answers one of the role's requests (records, activation, alarms, diagnosis,
-    /// subscriptions). `online` says whether the cycle is, or is becoming, CLEAR or OPERATE.
-    fn handle(&mut self, request: Request, online: bool, notices: &mut Notices) -> Response;
+    /// The role's name in refusals: "controller" or "device".
+    fn name(&self) -> &'static str;
+    /// The IO controller's services, if this role is the IO controller; the control side
+    /// refuses the IO controller's requests otherwise.
+    fn controller_services(&mut self) -> Option<&mut dyn Answers<ControllerRequest>> {
+        None
+    }
+    /// The IO device's station services, if this role is the IO device; the control side
+    /// refuses the station's requests otherwise.
+    fn device_services(&mut self) -> Option<&mut dyn Answers<DeviceRequest>> {
+        None
+    }
+    /// Announces a notification subscriber.
+    fn subscribe(&mut self, id: u64, subscriber: Subscriber);
+    /// Withdraws a subscriber.
+    fn unsubscribe(&mut self, id: u64) -> Result<(), Refusal>;
     /// Waits up to `wait` for what the role reports and publishes it to the subscribers;
     /// handles the role's timeouts.
     fn poll(&mut self, wait: Duration, notices: &mut Notices);
@@ -160,7 +183,7 @@ pub trait RoleServices: Send {
     /// device role: its AR's end). By default nothing: the IO controller's subscribers learn
     /// of the shutdown from the next server's [`Notification::ServerStarted`].
     ///
-    /// [`Notification::ServerStarted`]: procimg_shm_layout::services::Notification::ServerStarted
+    /// [`Notification::ServerStarted`]: procimg_control::services::Notification::ServerStarted
     fn finish(&mut self, _notices: &mut Notices) {}
     /// Forgets subscribers whose process is gone (`alive`: the live iceoryx2 node ids);
     /// returns who they were.

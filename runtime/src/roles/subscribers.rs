@@ -5,7 +5,7 @@
 //! way; the table is what the server knows of who listens (for the status report and, in the
 //! IO controller, for whom an alarm waits).
 
-use procimg_shm_layout::control::{Refusal, SubscriberReport};
+use procimg_control::{Refusal, SubscriberReport};
 use std::collections::{HashMap, HashSet};
 
 /// An announced subscriber.

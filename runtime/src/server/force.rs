@@ -6,7 +6,7 @@
 
 use crate::cycle::ForcePlan;
 use crate::image::Tables;
-use procimg_shm_layout::control::{ForceReport, Refusal, Space};
+use procimg_control::{ForceReport, Refusal, Space};
 use procimg_shm_layout::{NO_ADDRESS, SubmoduleEntry};
 use std::collections::BTreeMap;
 

@@ -13,6 +13,7 @@ pub use registry::{ClientEntry, Registry};
 use crate::cycle::{Command, Shared};
 use crate::image::Tables;
 use crate::roles::RoleServices;
+use crate::roles::subscribers::Subscriber;
 use crate::shm::{ControlPorts, Ipc, Notices, iox2_config};
 use crate::stats::{StatsCollector, load};
 use iceoryx2::node::{Node, NodeState, NodeView};
@@ -20,11 +21,12 @@ use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::CallbackProgression;
-use procimg_shm_layout::LayoutHeader;
-use procimg_shm_layout::control::{
-    self, ClaimReport, ClientReport, Refusal, Request, Response, StatusReport,
+use procimg_control::services::Notification;
+use procimg_control::{
+    self as control, ClaimReport, ClientReport, CoreRequest, Refusal, Request, Response,
+    StatusReport,
 };
-use procimg_shm_layout::services::Notification;
+use procimg_shm_layout::LayoutHeader;
 use procimg_shm_layout::{MAX_CLIENTS, Mode};
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -154,18 +156,34 @@ impl Control {
         gone
     }
 
-    /// Has the role answer `req`, one of its services.
-    fn role_handles(&mut self, req: Request) -> Response {
-        let online = self.shared.mode() != Mode::Offline
-            || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32();
-        self.role.handle(req, online, &mut self.notices)
+    /// Whether the cycle is, or is becoming, CLEAR or OPERATE.
+    fn online(&self) -> bool {
+        self.shared.mode() != Mode::Offline
+            || self.shared.target_mode.load(Ordering::Acquire) != Mode::Offline.as_u32()
     }
 
-    /// Handles one request.
+    /// Handles one request: the core ones here, the rest by the role's services, if the role
+    /// procimgd plays has them.
     pub fn handle(&mut self, req: Request) -> Response {
+        let online = self.online();
+        match req {
+            Request::Core(r) => self.handle_core(r),
+            Request::Controller(r) => match self.role.controller_services() {
+                Some(services) => services.handle(r, online, &mut self.notices),
+                None => wrong_role(self.role.name(), r.service()),
+            },
+            Request::Device(r) => match self.role.device_services() {
+                Some(services) => services.handle(r, online, &mut self.notices),
+                None => wrong_role(self.role.name(), r.service()),
+            },
+        }
+    }
+
+    /// Handles one of the requests either role answers.
+    fn handle_core(&mut self, req: CoreRequest) -> Response {
         let shared = &*self.shared;
         let result = match req {
-            Request::Register {
+            CoreRequest::Register {
                 name,
                 pid,
                 role,
@@ -186,17 +204,17 @@ impl Control {
                     Err(r) => Response::Refused(r),
                 };
             }
-            Request::Unregister { slot, token } => {
+            CoreRequest::Unregister { slot, token } => {
                 self.registry.unregister_checked(shared, slot, token)
             }
-            Request::Claim {
+            CoreRequest::Claim {
                 slot,
                 token,
                 submodules,
             } => {
-                let first = self
-                    .registry
-                    .claim(shared, &self.tables.submodules, slot, token, &submodules);
+                let first =
+                    self.registry
+                        .claim(shared, &self.tables.submodules, slot, token, &submodules);
                 if !matches!(first, Err(Refusal::ClaimHeld { .. })) {
                     first
                 } else {
@@ -218,42 +236,38 @@ impl Control {
                     }
                 }
             }
-            Request::Release {
+            CoreRequest::Release {
                 slot,
                 token,
                 submodules,
             } => self.registry.release(shared, slot, token, &submodules),
-            Request::SetMode { mode } => self.set_mode(mode),
-            Request::Status => return Response::Status(Box::new(self.status())),
-            Request::Subscribe { .. }
-            | Request::Unsubscribe { .. }
-            | Request::RecordRead { .. }
-            | Request::RecordWrite { .. }
-            | Request::ActivateDevice { .. }
-            | Request::AcknowledgeAlarm { .. }
-            | Request::Diagnosis
-            // The device role's services: listed, so that a new request is routed on purpose.
-            | Request::StationDiagnosis { .. }
-            | Request::StationProcessAlarm { .. }
-            | Request::StationAlarm { .. }
-            | Request::StationProblem { .. }
-            | Request::StationPlug { .. }
-            | Request::StationPull { .. }
-            | Request::StationReturnSubmodule { .. }
-            | Request::StationOwnRecords { .. }
-            | Request::StationCheckArs { .. }
-            | Request::StationVerifyDcp { .. }
-            | Request::StationDcpSetAnswer { .. }
-            | Request::StationArCheckAnswer { .. }
-            | Request::StationRecordAnswer { .. }
-            | Request::StationHoldApplicationReady { .. }
-            | Request::StationApplicationReady { .. } => return self.role_handles(req),
-            Request::Histograms => {
+            CoreRequest::SetMode { mode } => self.set_mode(mode),
+            CoreRequest::Status => return Response::Status(Box::new(self.status())),
+            CoreRequest::Subscribe {
+                subscriber,
+                name,
+                pid,
+                node_id,
+                acknowledge_alarms,
+            } => {
+                self.role.subscribe(
+                    subscriber,
+                    Subscriber {
+                        name,
+                        pid,
+                        node_id,
+                        acknowledges: acknowledge_alarms,
+                    },
+                );
+                Ok(())
+            }
+            CoreRequest::Unsubscribe { subscriber } => self.role.unsubscribe(subscriber),
+            CoreRequest::Histograms => {
                 self.stats.collect();
                 let cycles = crate::stats::load(&self.shared.counters.cycles);
                 return Response::Histograms(Box::new(self.stats.histograms(cycles)));
             }
-            Request::Force {
+            CoreRequest::Force {
                 space,
                 address,
                 data,
@@ -266,7 +280,7 @@ impl Control {
                         hex(&data)
                     )
                 }),
-            Request::Unforce {
+            CoreRequest::Unforce {
                 space,
                 address,
                 length,
@@ -461,4 +475,12 @@ fn hex(bytes: &[u8]) -> String {
         .map(|b| format!("{b:02x}"))
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// The refusal of a request of the role procimgd does not play.
+fn wrong_role(role: &str, service: &str) -> Response {
+    Response::Refused(Refusal::WrongRole {
+        role: role.to_owned(),
+        service: service.to_owned(),
+    })
 }

@@ -2,7 +2,7 @@
 //! Who is attached, and who holds which outputs.
 
 use crate::cycle::{Command, Shared};
-use procimg_shm_layout::control::{ClientRole, Refusal};
+use procimg_control::{ClientRole, Refusal};
 use procimg_shm_layout::{MAX_CLIENTS, NO_ADDRESS, SubmoduleEntry};
 use std::collections::BTreeSet;
 use std::sync::atomic::Ordering;

@@ -4,8 +4,8 @@
 
 use super::dir::directory;
 use procimg_config::AccessConfig;
-use procimg_shm_layout::control::IOX2_PREFIX;
 use procimg_shm_layout::share;
+use procimg_shm_layout::share::IOX2_PREFIX;
 use std::time::{Duration, Instant};
 
 /// How soon a file procimgd created is given to the group: a client that finds it owner-only

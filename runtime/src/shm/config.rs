@@ -10,7 +10,7 @@ pub fn iox2_config() -> &'static Config {
     static CONFIG: OnceLock<Config> = OnceLock::new();
     CONFIG.get_or_init(|| {
         let mut c = Config::default();
-        if let Ok(prefix) = FileName::new(procimg_shm_layout::control::IOX2_PREFIX.as_bytes()) {
+        if let Ok(prefix) = FileName::new(procimg_shm_layout::share::IOX2_PREFIX.as_bytes()) {
             c.global.prefix = prefix;
         }
         if let Ok(path) =

@@ -17,6 +17,6 @@ pub fn directory() -> PathBuf {
 pub fn foreign_directory() -> Option<String> {
     procimg_shm_layout::os::foreign_iox2_directory(
         &directory(),
-        procimg_shm_layout::control::IOX2_PREFIX,
+        procimg_shm_layout::share::IOX2_PREFIX,
     )
 }

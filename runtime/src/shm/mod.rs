@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The server's iceoryx2 services and ports.
 //!
-//! Per instance and server generation (see `procimg_shm_layout::control` for the names):
+//! Per instance and server generation (see `procimg_control::names` for the names):
 //! `layout` (publish-subscribe with history: the tables), `inputs` (publish-subscribe: one
 //! input image per cycle), `outputs` (publish-subscribe, clients publish), `cycle-events`
 //! (STARTOP, NEWCYCLE, MODE, OPFAULT) and `opdone` (clients notify). The `control`

@@ -7,8 +7,8 @@ use crate::shm::Ipc;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::prelude::EventId;
-use procimg_shm_layout::control;
-use procimg_shm_layout::services::{EVENT_NOTIFICATIONS, Notification};
+use procimg_control as control;
+use procimg_control::services::{EVENT_NOTIFICATIONS, Notification};
 
 /// Publishes notifications to the subscribers.
 pub struct Notices {

@@ -9,5 +9,5 @@ pub mod poll;
 pub mod random;
 pub mod rt;
 /// The allocator of real-time threads, shared with the clients.
-pub use procimg_shm_layout::rt_alloc;
+pub use procimg_rt_alloc as rt_alloc;
 pub mod udp;

@@ -20,8 +20,8 @@ use super::stopped;
 pub(crate) use super::sync::lock;
 use super::types::*;
 use procimg_client::{
-    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, Event, EventWait,
-    Layout, Mode, Refusal, now_ns,
+    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, DeviceState, Event,
+    EventWait, Layout, Mode, Refusal, now_ns,
 };
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -268,7 +268,7 @@ fn devices_running(control: &ControlHandle, layout: &Layout) -> Option<Vec<bool>
                     .devices
                     .iter()
                     .find(|r| r.name == name)
-                    .is_none_or(|r| r.state == "running")
+                    .is_none_or(|r| r.state == DeviceState::Running)
             })
             .collect(),
     )

@@ -11,26 +11,27 @@
 //! hung client cannot hold back a device's alarms for good.
 
 use super::ControllerCommand;
-use super::states::DeviceStates;
+use super::states::{DeviceStates, reported};
 use crate::acyclic::DatagramCounters;
 use crate::image::Tables;
 use crate::io::pnio::channel::Channel;
-use crate::roles::RoleServices;
 use crate::roles::subscribers::{Subscriber, Subscribers};
+use crate::roles::{Answers, RoleServices};
 use crate::shm::Notices;
+use procimg_control::services::{
+    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
+    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
+    SubmoduleDiff,
+};
+use procimg_control::{
+    self as control, ControllerRequest, DeviceReport, NetworkReport, Refusal, Response,
+    SubscriberReport,
+};
 use procimg_profinet::controller::{
     self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
 };
 use procimg_profinet::wire::PnioStatus;
 use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
-use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Refusal, Request, Response, SubscriberReport,
-};
-use procimg_shm_layout::services::{
-    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
-    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
-    SubmoduleDiff,
-};
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender};
@@ -67,7 +68,8 @@ struct Job {
 /// What the diagnosis reports of a device beyond its state.
 #[derive(Default)]
 struct DeviceRecord {
-    state: String,
+    /// Offline until the controller reports otherwise.
+    state: control::DeviceState,
     inactive: bool,
     last_error: String,
     cause: FailureCause,
@@ -109,13 +111,7 @@ impl ControllerServices {
     /// (without one, every request to the controller is refused as busy and every device
     /// reported offline).
     pub fn new(names: Vec<String>, link: Option<ControllerLink>) -> ControllerServices {
-        let devices = names
-            .iter()
-            .map(|_| DeviceRecord {
-                state: DeviceState::Offline.as_str().into(),
-                ..DeviceRecord::default()
-            })
-            .collect();
+        let devices = names.iter().map(|_| DeviceRecord::default()).collect();
         ControllerServices {
             link,
             activations: names.iter().map(|_| VecDeque::new()).collect(),
@@ -333,7 +329,7 @@ impl ControllerServices {
         match e {
             DeviceEvent::State { device, state } => {
                 if let Some(r) = self.devices.get_mut(device) {
-                    r.state = state.as_str().into();
+                    r.state = reported(state);
                     if state == DeviceState::Running {
                         r.last_error.clear();
                         r.cause = FailureCause::None;
@@ -343,7 +339,7 @@ impl ControllerServices {
                 notices.publish(&Notification::DeviceState {
                     device: device as u32,
                     name: name(device),
-                    state: state.as_str().into(),
+                    state: reported(state),
                 });
             }
             DeviceEvent::Failure {
@@ -517,7 +513,7 @@ impl ControllerServices {
                 .map(|(d, r)| DeviceDiagnosis {
                     device: d as u32,
                     name: self.names[d].clone(),
-                    state: r.state.clone(),
+                    state: r.state,
                     active: !r.inactive,
                     last_error: r.last_error.clone(),
                     cause: r.cause,
@@ -540,29 +536,15 @@ impl ControllerServices {
     }
 }
 
-impl RoleServices for ControllerServices {
-    fn handle(&mut self, request: Request, online: bool, _notices: &mut Notices) -> Response {
+impl Answers<ControllerRequest> for ControllerServices {
+    fn handle(
+        &mut self,
+        request: ControllerRequest,
+        online: bool,
+        _notices: &mut Notices,
+    ) -> Response {
         let result = match request {
-            Request::Subscribe {
-                subscriber,
-                name,
-                pid,
-                node_id,
-                acknowledge_alarms,
-            } => {
-                self.subscribe(
-                    subscriber,
-                    Subscriber {
-                        name,
-                        pid,
-                        node_id,
-                        acknowledges: acknowledge_alarms,
-                    },
-                );
-                Ok(())
-            }
-            Request::Unsubscribe { subscriber } => self.unsubscribe(subscriber),
-            Request::RecordRead {
+            ControllerRequest::RecordRead {
                 reply_to,
                 reference,
                 target,
@@ -576,7 +558,7 @@ impl RoleServices for ControllerServices {
                     write: None,
                 }));
             }
-            Request::RecordWrite {
+            ControllerRequest::RecordWrite {
                 reply_to,
                 reference,
                 target,
@@ -590,28 +572,38 @@ impl RoleServices for ControllerServices {
                     write: Some(data),
                 }));
             }
-            Request::ActivateDevice {
+            ControllerRequest::ActivateDevice {
                 reply_to,
                 device,
                 active,
             } => self.activate(reply_to, device, active, online),
-            Request::AcknowledgeAlarm { subscriber, alarm } => self.acknowledge(subscriber, alarm),
-            Request::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
-            r if r.is_station_service() => Err(Refusal::WrongRole {
-                role: "controller".to_owned(),
-                service: "the IO device's station services (its records, ApplicationReady, \
-                          diagnosis and alarms)"
-                    .to_owned(),
-            }),
-            // The control side answers the other requests itself and never hands them here.
-            _ => Err(Refusal::BadRequest {
-                message: "the IO controller's services do not answer this request".into(),
-            }),
+            ControllerRequest::AcknowledgeAlarm { subscriber, alarm } => {
+                self.acknowledge(subscriber, alarm)
+            }
+            ControllerRequest::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
         };
         match result {
             Ok(()) => Response::Done,
             Err(r) => Response::Refused(r),
         }
+    }
+}
+
+impl RoleServices for ControllerServices {
+    fn name(&self) -> &'static str {
+        "controller"
+    }
+
+    fn controller_services(&mut self) -> Option<&mut dyn Answers<ControllerRequest>> {
+        Some(self)
+    }
+
+    fn subscribe(&mut self, id: u64, subscriber: Subscriber) {
+        ControllerServices::subscribe(self, id, subscriber);
+    }
+
+    fn unsubscribe(&mut self, id: u64) -> Result<(), Refusal> {
+        ControllerServices::unsubscribe(self, id)
     }
 
     fn poll(&mut self, wait: Duration, notices: &mut Notices) {
@@ -629,9 +621,7 @@ impl RoleServices for ControllerServices {
                 state: self
                     .link
                     .as_ref()
-                    .and_then(|l| l.states.get(d))
-                    .map_or("offline", |s| s.as_str())
-                    .to_string(),
+                    .map_or(control::DeviceState::Offline, |l| l.states.reported(d)),
             })
             .collect()
     }

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Alarms of the clients' making (`Request::StationAlarm`: IO-Base's
+//! Alarms of the clients' making (`DeviceRequest::StationAlarm`: IO-Base's
 //! `PNIO_process_alarm_send`, `PNIO_diag_alarm_send`, `PNIO_ret_of_sub_alarm_send`) sent on
 //! the engine, and each one's end: the PLC's AlarmAck, matched by AlarmSequenceNumber, or
 //! the AR's end before it, told to the subscriber that sent it.
 
 use super::station::{ImageApplication, StationEvent, state_name};
+use procimg_control::{AlarmRefusal, Refusal, StationAlarmKind};
 use procimg_profinet::device::{AlarmError, ArState, Device, DeviceAction, SubslotAddr};
-use procimg_shm_layout::control::{AlarmRefusal, Refusal, StationAlarmKind};
 
 /// An alarm a client asked for, as the engine is to send it.
 #[derive(Debug)]

@@ -15,12 +15,12 @@
 //! held ApplicationReady goes out after [`APP_READY_HOLD_TIMEOUT_MS`] (both in the engine).
 //! What a subscriber took or held ends with it (unsubscribed, or its process gone).
 
-use procimg_profinet::device::SubslotAddr;
-use procimg_shm_layout::control::Refusal;
-use procimg_shm_layout::services::{
+use procimg_control::Refusal;
+use procimg_control::services::{
     APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, DCP_SET_CHECK_TIMEOUT_MS,
     STATION_RECORD_TIMEOUT_MS,
 };
+use procimg_profinet::device::SubslotAddr;
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::{Duration, Instant};
 

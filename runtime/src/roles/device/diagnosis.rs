@@ -3,13 +3,13 @@
 //! engine's terms, and carried out on it (the store changes, the PLC gets the alarm).
 
 use super::station::ImageApplication;
+use procimg_control::{
+    DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosisChange,
+};
 use procimg_profinet::device::{
     ChannelDiag, Device, DeviceAction, DiagEntry, DiagnosisEdit, GenericDiag, Severity, SubslotAddr,
 };
 use procimg_profinet::wire::alarm::{ChannelDirection, DiagnosisFormat};
-use procimg_shm_layout::control::{
-    DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosisChange,
-};
 
 /// `entry` as the engine takes it.
 pub fn entry(e: &DiagnosisEntry) -> Result<DiagEntry, String> {

@@ -2,11 +2,11 @@
 //! The station's events as its clients get them: one [`Notification`] each, to every
 //! subscriber (what GOAL's and IO-Base's device interfaces give as AR indications).
 
-use super::station::{StationEvent, state_name};
-use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::services::{
+use super::station::StationEvent;
+use procimg_control::services::{
     ExpectedSubmodule, Notification, StationArCheckJob, StationDcpSetJob, StationRecordJob,
 };
+use procimg_profinet::wire::rta_pdu::AbortCode;
 
 /// Why an AR ended, when the PLC released it.
 pub const RELEASED: &str = "released by the PLC";
@@ -19,7 +19,7 @@ pub fn notification(event: StationEvent) -> Notification {
             ar_uuid,
             controller_mac,
         } => Notification::StationAr {
-            state: state_name(state).to_owned(),
+            state,
             ar_uuid,
             controller_mac,
         },
@@ -148,6 +148,8 @@ fn reason(code: AbortCode, planned: bool) -> String {
 mod tests {
     use super::*;
     use crate::roles::device::identity::Identity;
+    use crate::roles::device::station::reported;
+    use procimg_control as control;
     use procimg_profinet::device::ArState;
     use std::net::Ipv4Addr;
 
@@ -162,25 +164,27 @@ mod tests {
     }
 
     #[test]
-    fn every_ar_state_has_the_status_reports_word() {
-        for (state, word) in [
-            (ArState::Connected, "connected"),
-            (ArState::Parameterized, "parameterized"),
+    fn every_ar_state_of_the_engine_is_told_as_the_protocols() {
+        assert_eq!(reported(ArState::Idle), None);
+        for (engine, told) in [
+            (ArState::Connected, control::ArState::Connected),
+            (ArState::Parameterized, control::ArState::Parameterized),
             (
                 ArState::WaitAppReadyConfirm,
-                "waiting-for-application-ready-confirm",
+                control::ArState::WaitingForApplicationReadyConfirm,
             ),
-            (ArState::Data, "data"),
+            (ArState::Data, control::ArState::Data),
         ] {
+            assert_eq!(reported(engine), Some(told));
             let n = notification(StationEvent::Ar {
-                state,
+                state: told,
                 ar_uuid: UUID.into(),
                 controller_mac: "02:50:49:fe:00:01".into(),
             });
             assert_eq!(
                 n,
                 Notification::StationAr {
-                    state: word.into(),
+                    state: told,
                     ar_uuid: UUID.into(),
                     controller_mac: "02:50:49:fe:00:01".into(),
                 }

@@ -11,12 +11,12 @@ use super::state_file::{self, KeptState};
 use super::station::{ImageApplication, Station, StationEvent};
 use crate::io::pnio::channel::Channel;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
+use procimg_control::{PlugRefusal, Refusal, StationDiagnosisChange};
 use procimg_profinet::device::{ArState, Device, DeviceAction, PlugError, SubslotAddr};
 use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rt::data_status::PROVIDER_RUN;
 use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::control::{PlugRefusal, Refusal, StationDiagnosisChange};
 use std::net::SocketAddrV4;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -293,7 +293,22 @@ impl DeviceRole {
             self.tell(event, out);
         }
         if state != self.last_state {
-            let event = if state == ArState::Idle {
+            let event = if let Some(reported) = super::station::reported(state) {
+                self.ar_uuid = self
+                    .device
+                    .ar_uuid()
+                    .map(|u| u.to_string())
+                    .unwrap_or_default();
+                StationEvent::Ar {
+                    state: reported,
+                    ar_uuid: self.ar_uuid.clone(),
+                    controller_mac: self
+                        .device
+                        .controller_mac()
+                        .map(|m| m.to_string())
+                        .unwrap_or_default(),
+                }
+            } else {
                 let aborted = self.device.aborted_ars() != self.aborted;
                 self.aborted = self.device.aborted_ars();
                 let code = self.device.last_abort().filter(|_| aborted);
@@ -302,21 +317,6 @@ impl DeviceRole {
                     abort: code,
                     // Ended by this device taking part no more (procimgd stopping, OFFLINE).
                     planned: code == Some(AbortCode::AbortRequest),
-                }
-            } else {
-                self.ar_uuid = self
-                    .device
-                    .ar_uuid()
-                    .map(|u| u.to_string())
-                    .unwrap_or_default();
-                StationEvent::Ar {
-                    state,
-                    ar_uuid: self.ar_uuid.clone(),
-                    controller_mac: self
-                        .device
-                        .controller_mac()
-                        .map(|m| m.to_string())
-                        .unwrap_or_default(),
                 }
             };
             self.tell(event, out);

@@ -12,15 +12,16 @@ use super::role::DeviceCommand;
 use super::station::{Station, StationEvent};
 use crate::acyclic::DatagramCounters;
 use crate::io::pnio::channel::Channel;
-use crate::roles::RoleServices;
 use crate::roles::subscribers::{Subscriber, Subscribers};
+use crate::roles::{Answers, RoleServices};
 use crate::shm::Notices;
-use procimg_profinet::device::{ArState, SubslotAddr};
-use procimg_profinet::wire::record::RecordErrorCode;
-use procimg_shm_layout::control::{
-    DeviceReport, NetworkReport, Refusal, Request, Response, StationReport, SubscriberReport,
+use procimg_control::services::Notification;
+use procimg_control::{
+    ArState, DeviceReport, DeviceRequest, NetworkReport, Refusal, Response, StationReport,
+    SubscriberReport,
 };
-use procimg_shm_layout::services::Notification;
+use procimg_profinet::device::SubslotAddr;
+use procimg_profinet::wire::record::RecordErrorCode;
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, SyncSender};
@@ -237,18 +238,6 @@ impl DeviceServices {
     }
 }
 
-/// The name of a request of the controller's services, for the refusal.
-fn service_name(request: &Request) -> &'static str {
-    match request {
-        Request::RecordRead { .. } => "reading a record of an IO device",
-        Request::RecordWrite { .. } => "writing a record of an IO device",
-        Request::ActivateDevice { .. } => "activating an IO device",
-        Request::AcknowledgeAlarm { .. } => "acknowledging an IO device's alarm",
-        Request::Diagnosis => "the IO system diagnosis",
-        _ => "this request",
-    }
-}
-
 /// What the acyclic thread answers a refused command with.
 trait IntoRefusal {
     fn into_refusal(self) -> Refusal;
@@ -290,41 +279,15 @@ impl DeviceServices {
     }
 }
 
-impl RoleServices for DeviceServices {
-    fn handle(&mut self, request: Request, _online: bool, _notices: &mut Notices) -> Response {
+impl Answers<DeviceRequest> for DeviceServices {
+    fn handle(
+        &mut self,
+        request: DeviceRequest,
+        _online: bool,
+        _notices: &mut Notices,
+    ) -> Response {
         match request {
-            // Notifications go to every client of the notification service; announcing
-            // makes the subscriber known (status report, reaping). `acknowledge_alarms` is
-            // ignored: the station's alarms are the PLC's to acknowledge, none waits for a
-            // client, and the status says so.
-            Request::Subscribe {
-                subscriber,
-                name,
-                pid,
-                node_id,
-                acknowledge_alarms: _,
-            } => {
-                self.subscribers.subscribe(
-                    subscriber,
-                    Subscriber {
-                        name,
-                        pid,
-                        node_id,
-                        acknowledges: false,
-                    },
-                );
-                Response::Done
-            }
-            Request::Unsubscribe { subscriber } => match self.subscribers.unsubscribe(subscriber) {
-                Ok(_) => {
-                    for o in self.say.forget(subscriber) {
-                        self.order(o);
-                    }
-                    Response::Done
-                }
-                Err(r) => Response::Refused(r),
-            },
-            Request::StationOwnRecords {
+            DeviceRequest::StationOwnRecords {
                 subscriber,
                 api,
                 slot,
@@ -340,38 +303,38 @@ impl RoleServices for DeviceServices {
                     name,
                 )
             })),
-            Request::StationVerifyDcp { subscriber, verify } => {
+            DeviceRequest::StationVerifyDcp { subscriber, verify } => {
                 done(self.change_say(subscriber, |say, name| {
                     say.verify_dcp(subscriber, verify, name)
                 }))
             }
-            Request::StationDcpSetAnswer {
+            DeviceRequest::StationDcpSetAnswer {
                 subscriber,
                 job,
                 allow,
             } => self.answer_dcp_set(subscriber, job, allow),
-            Request::StationCheckArs { subscriber, check } => {
+            DeviceRequest::StationCheckArs { subscriber, check } => {
                 done(self.change_say(subscriber, |say, name| say.check(subscriber, check, name)))
             }
-            Request::StationArCheckAnswer {
+            DeviceRequest::StationArCheckAnswer {
                 subscriber,
                 job,
                 refuse,
             } => self.answer_ar_check(subscriber, job, refuse),
-            Request::StationRecordAnswer {
+            DeviceRequest::StationRecordAnswer {
                 subscriber,
                 job,
                 data,
                 error,
             } => self.answer_record(subscriber, job, data, error),
-            Request::StationHoldApplicationReady { subscriber, hold } => {
+            DeviceRequest::StationHoldApplicationReady { subscriber, hold } => {
                 done(self.known(subscriber).map(|()| {
                     for o in self.say.hold(subscriber, hold) {
                         self.order(o);
                     }
                 }))
             }
-            Request::StationApplicationReady {
+            DeviceRequest::StationApplicationReady {
                 subscriber,
                 not_ready,
             } => {
@@ -389,17 +352,17 @@ impl RoleServices for DeviceServices {
                     }
                 }))
             }
-            Request::StationDiagnosis { change, silent } => {
+            DeviceRequest::StationDiagnosis { change, silent } => {
                 self.carry_out(|reply| DeviceCommand::Diagnosis {
                     change,
                     silent,
                     reply,
                 })
             }
-            Request::StationProblem { problem } => {
+            DeviceRequest::StationProblem { problem } => {
                 self.carry_out(|reply| DeviceCommand::Problem { problem, reply })
             }
-            Request::StationAlarm {
+            DeviceRequest::StationAlarm {
                 subscriber,
                 tag,
                 api,
@@ -422,7 +385,7 @@ impl RoleServices for DeviceServices {
                 }),
                 Err(r) => Response::Refused(r),
             },
-            Request::StationProcessAlarm {
+            DeviceRequest::StationProcessAlarm {
                 api,
                 slot,
                 subslot,
@@ -434,7 +397,7 @@ impl RoleServices for DeviceServices {
                 data,
                 reply,
             }),
-            Request::StationPlug {
+            DeviceRequest::StationPlug {
                 api,
                 slot,
                 subslot,
@@ -445,24 +408,52 @@ impl RoleServices for DeviceServices {
                 idents: Some((module_ident, submodule_ident)),
                 reply,
             }),
-            Request::StationPull { api, slot, subslot } => {
+            DeviceRequest::StationPull { api, slot, subslot } => {
                 self.carry_out(|reply| DeviceCommand::Plug {
                     at: SubslotAddr::new(api, slot, subslot),
                     idents: None,
                     reply,
                 })
             }
-            Request::StationReturnSubmodule { api, slot, subslot } => {
+            DeviceRequest::StationReturnSubmodule { api, slot, subslot } => {
                 self.carry_out(|reply| DeviceCommand::ReturnSubmodule {
                     at: SubslotAddr::new(api, slot, subslot),
                     reply,
                 })
             }
-            other => Response::Refused(Refusal::WrongRole {
-                role: "device".to_owned(),
-                service: service_name(&other).to_owned(),
-            }),
         }
+    }
+}
+
+impl RoleServices for DeviceServices {
+    fn name(&self) -> &'static str {
+        "device"
+    }
+
+    fn device_services(&mut self) -> Option<&mut dyn Answers<DeviceRequest>> {
+        Some(self)
+    }
+
+    /// Notifications go to every client of the notification service; announcing makes the
+    /// subscriber known (status report, reaping). Its wish to acknowledge alarms is ignored:
+    /// the station's alarms are the PLC's to acknowledge, none waits for a client, and the
+    /// status says so.
+    fn subscribe(&mut self, id: u64, subscriber: Subscriber) {
+        self.subscribers.subscribe(
+            id,
+            Subscriber {
+                acknowledges: false,
+                ..subscriber
+            },
+        );
+    }
+
+    fn unsubscribe(&mut self, id: u64) -> Result<(), Refusal> {
+        self.subscribers.unsubscribe(id)?;
+        for o in self.say.forget(id) {
+            self.order(o);
+        }
+        Ok(())
     }
 
     fn poll(&mut self, wait: Duration, notices: &mut Notices) {

@@ -4,6 +4,7 @@
 
 use super::identity::Identity;
 use crate::config::StationConfig;
+use procimg_control::{self as control, ArReport, StationReport};
 use procimg_profinet::device::{
     Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, ParameterRecord, RecordJob,
     SubslotAddr,
@@ -12,7 +13,6 @@ use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use procimg_profinet::wire::rta_pdu::AbortCode;
-use procimg_shm_layout::control::{ArReport, StationReport};
 use std::sync::Mutex;
 
 /// The device's program as the engine sees it: nothing, since the cycle thread moves the IO
@@ -28,8 +28,8 @@ impl Application for ImageApplication {
 pub enum StationEvent {
     /// The AR reached this state.
     Ar {
-        /// The state.
-        state: ArState,
+        /// The state, as clients are told it.
+        state: control::ArState,
         /// The ARUUID.
         ar_uuid: String,
         /// The PLC's MAC address.
@@ -146,12 +146,12 @@ impl Station {
                 controller_mac,
             } => {
                 let report = ArReport {
-                    state: state_name(*state).to_owned(),
+                    state: *state,
                     ar_uuid: ar_uuid.clone(),
                     controller_mac: controller_mac.clone(),
                     plc_running: r.ar.as_ref().and_then(|a| a.plc_running),
                 };
-                if *state == ArState::Data {
+                if *state == control::ArState::Data {
                     tracing::info!(
                         "AR {} with PLC {} is in data exchange",
                         report.ar_uuid,
@@ -267,15 +267,22 @@ impl Station {
     }
 }
 
-/// How the status report names an AR state.
-pub fn state_name(state: ArState) -> &'static str {
+/// The engine's AR state as clients are told it, none without an AR: the one place the two
+/// enums meet, so a state added on either side fails to compile here until it is given a name.
+pub fn reported(state: ArState) -> Option<control::ArState> {
     match state {
-        ArState::Idle => "none",
-        ArState::Connected => "connected",
-        ArState::Parameterized => "parameterized",
-        ArState::WaitAppReadyConfirm => "waiting-for-application-ready-confirm",
-        ArState::Data => "data",
+        ArState::Idle => None,
+        ArState::Connected => Some(control::ArState::Connected),
+        ArState::Parameterized => Some(control::ArState::Parameterized),
+        ArState::WaitAppReadyConfirm => Some(control::ArState::WaitingForApplicationReadyConfirm),
+        ArState::Data => Some(control::ArState::Data),
     }
+}
+
+/// How messages name the engine's AR state: its word in the status report, "none" without
+/// an AR.
+pub fn state_name(state: ArState) -> &'static str {
+    reported(state).map_or("none", control::ArState::as_str)
 }
 
 /// The device engine of `station` on an interface with MAC `mac`, with its cyclic exchange

@@ -29,9 +29,9 @@
 //!    byte of IOPS and IOCS per direction it has; a submodule without data has the input
 //!    side's). The memory is the library's and valid only during the callback.
 //! 5. `PNIO_CBF_PRM_END_IND` (API, slot and subslot 0) when the station reports the AR
-//!    "parameterized" (the PLC's PrmEnd); the ApplicationReady waits for
+//!    [`ArState::Parameterized`] (the PLC's PrmEnd); the ApplicationReady waits for
 //!    `PNIO_set_appl_state_ready` (procimgd sends it by itself after 10 s).
-//! 6. `PNIO_CBF_AR_INDATA_IND` when the station reports "data".
+//! 6. `PNIO_CBF_AR_INDATA_IND` when the station reports [`ArState::Data`].
 //! 7. `PNIO_CBF_APDU_STATUS_IND` when the PLC's frames change between RUN and STOP:
 //!    `PNIO_EVENT_APDU_STATUS_RUN` or `_STOP`, each with `_STATION_OK` (procimgd reports no
 //!    station problem); a change before data exchange is given right after
@@ -63,8 +63,8 @@ use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::types::PNIO_IO_IN;
-use procimg_client::Notification;
-use procimg_shm_layout::services::{ExpectedSubmodule, StationArCheckJob};
+use procimg_client::{ArState, Notification};
+use procimg_control::services::{ExpectedSubmodule, StationArCheckJob};
 use std::time::{Duration, Instant};
 
 /// The `PNIO_AR_REASON` of an ended AR. procimgd gives the RTA abort code in its text
@@ -231,7 +231,7 @@ pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]
 pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
     match n {
         Notification::StationArCheck { check, .. } => new_ar(dev, occupants, &check),
-        Notification::StationAr { state, ar_uuid, .. } => progress(dev, &state, &ar_uuid),
+        Notification::StationAr { state, ar_uuid, .. } => progress(dev, state, &ar_uuid),
         Notification::StationArEnded {
             ar_uuid,
             reason,
@@ -454,11 +454,15 @@ fn substitute(plugged: (u32, u32), answer: (u32, u32), sub_state: u16) -> Option
 }
 
 /// The station reports the AR at `state`.
-fn progress(dev: &Device, state: &str, ar_uuid: &str) {
+fn progress(dev: &Device, state: ArState, ar_uuid: &str) {
     let target = match state {
-        "parameterized" => Phase::PrmEnd,
-        "data" => Phase::InData,
-        _ => return,
+        ArState::Parameterized => Phase::PrmEnd,
+        ArState::Data => Phase::InData,
+        // No callback of their own: the Connect's indications came with the AR check, and
+        // the ApplicationReady going out is this library's own doing.
+        ArState::Connected | ArState::WaitingForApplicationReadyConfirm | ArState::Unknown => {
+            return;
+        }
     };
     let (number, key, apdu_pending) = {
         let mut ars = lock(&dev.ars);

@@ -20,7 +20,9 @@ use crate::iobase::types::{
     PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_DATA_IRT, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN,
     PNIO_IO_OUT, PNIO_MAX_ALARM_DATA_LEN,
 };
-use procimg_client::{AlarmReport, DeviceDiagnosis, FailureCause, Layout, RecordStatus};
+use procimg_client::{
+    AlarmReport, DeviceDiagnosis, DeviceState, FailureCause, Layout, RecordStatus,
+};
 
 use procimg_shm_layout::{CYCLE_COUNT_UNIT_NS, NO_ADDRESS, RT_CLASS_3};
 
@@ -256,30 +258,35 @@ fn reason(cause: FailureCause) -> u32 {
 
 /// The DEVICE_STATE answer for a device as the server's diagnosis reports it.
 pub(crate) fn device_state(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE {
-    let (state, why) = match d.state.as_str() {
-        "running" => (
+    let (state, why) = match d.state {
+        DeviceState::Running => (
             PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK | PNIO_CTRL_DEV_DIAG_AR_IN_DATA,
             PNIO_CTRL_REASON_NONE,
         ),
-        "connecting" | "parameterizing" | "waiting-for-application-ready" => (
+        DeviceState::Connecting
+        | DeviceState::Parameterizing
+        | DeviceState::WaitingForApplicationReady => (
             PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK | PNIO_CTRL_DEV_DIAG_AR_CONNECTING,
             PNIO_CTRL_REASON_NONE,
         ),
         // Found by name, its address being set.
-        "setting-ip" => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
+        DeviceState::SettingIp => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
         // Looked for again after a failure: not reachable, for the reason of the failure.
-        "searching" if d.cause != FailureCause::None => (
+        DeviceState::Searching if d.cause != FailureCause::None => (
             PNIO_CTRL_DEV_DIAG_OFFLINE | PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
             reason(d.cause),
         ),
-        "searching" => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
-        "failed" => (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, reason(d.cause)),
-        "deactivated" => (
+        DeviceState::Searching => (PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_REASON_NONE),
+        DeviceState::Failed => (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, reason(d.cause)),
+        DeviceState::Deactivated => (
             PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
             PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
         ),
-        // "offline" (the controller is OFFLINE) and anything newer servers may report.
-        _ => (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_REASON_NONE),
+        // The controller is OFFLINE, or a newer server reports a state this library does
+        // not know: not reachable, for no reason it could name.
+        DeviceState::Offline | DeviceState::Unknown => {
+            (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_REASON_NONE)
+        }
     };
     PNIO_CTRL_DIAG_DEVICE {
         Mode: if d.active {
@@ -341,11 +348,11 @@ mod tests {
     use super::*;
     use crate::iobase::services::address::tests::demo_layout;
 
-    fn diagnosis(state: &str, active: bool, cause: FailureCause) -> DeviceDiagnosis {
+    fn diagnosis(state: DeviceState, active: bool, cause: FailureCause) -> DeviceDiagnosis {
         DeviceDiagnosis {
             device: 2,
             name: "dio".into(),
-            state: state.into(),
+            state,
             active,
             last_error: String::new(),
             cause,
@@ -491,11 +498,15 @@ mod tests {
 
     #[test]
     fn device_states_map_to_the_diag_bits() {
-        let s = device_state(&diagnosis("running", true, FailureCause::None));
+        let s = device_state(&diagnosis(DeviceState::Running, true, FailureCause::None));
         assert_eq!(s.Mode, PNIO_DA_TRUE);
         assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_AR_IN_DATA, 0);
         assert_eq!(s.Reason, PNIO_CTRL_REASON_NONE);
-        let s = device_state(&diagnosis("deactivated", false, FailureCause::Deactivated));
+        let s = device_state(&diagnosis(
+            DeviceState::Deactivated,
+            false,
+            FailureCause::Deactivated,
+        ));
         assert_eq!(
             (s.Mode, s.DiagState, s.Reason),
             (
@@ -504,12 +515,24 @@ mod tests {
                 PNIO_CTRL_REASON_MP_DEVICE_DISABLED
             )
         );
-        let s = device_state(&diagnosis("parameterizing", true, FailureCause::None));
+        let s = device_state(&diagnosis(
+            DeviceState::Parameterizing,
+            true,
+            FailureCause::None,
+        ));
         assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_AR_CONNECTING, 0);
-        let s = device_state(&diagnosis("searching", true, FailureCause::NotFound));
+        let s = device_state(&diagnosis(
+            DeviceState::Searching,
+            true,
+            FailureCause::NotFound,
+        ));
         assert_ne!(s.DiagState & PNIO_CTRL_DEV_DIAG_OFFLINE, 0);
         assert_eq!(s.Reason, PNIO_CTRL_REASON_IOD_NOT_FOUND);
-        let s = device_state(&diagnosis("failed", true, FailureCause::NoCyclicData));
+        let s = device_state(&diagnosis(
+            DeviceState::Failed,
+            true,
+            FailureCause::NoCyclicData,
+        ));
         assert_eq!(
             (s.DiagState, s.Reason),
             (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, REASON_MISS)
@@ -525,11 +548,27 @@ mod tests {
             (FailureCause::RpcError, REASON_RPC_ERROR),
             (FailureCause::IpSetFailed, REASON_IP_SET_ABORTED),
         ] {
-            assert_eq!(device_state(&diagnosis("failed", true, cause)).Reason, want);
+            assert_eq!(
+                device_state(&diagnosis(DeviceState::Failed, true, cause)).Reason,
+                want
+            );
         }
         assert_eq!(
-            device_diagnostic(&diagnosis("failed", false, FailureCause::None)).Mode,
+            device_diagnostic(&diagnosis(DeviceState::Failed, false, FailureCause::None)).Mode,
             PNIO_DA_FALSE
+        );
+    }
+
+    #[test]
+    fn a_state_only_a_newer_server_knows_reads_as_offline_without_a_reason() {
+        let s = device_state(&diagnosis(DeviceState::Unknown, true, FailureCause::None));
+        assert_eq!(
+            (s.Mode, s.DiagState, s.Reason),
+            (
+                PNIO_DA_TRUE,
+                PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
+                PNIO_CTRL_REASON_NONE
+            )
         );
     }
 
@@ -537,7 +576,7 @@ mod tests {
     fn device_diagnostic_tells_the_cause_the_abort_reason_and_the_status() {
         let with = |cause, status| DeviceDiagnosis {
             pnio_status: status,
-            ..diagnosis("failed", true, cause)
+            ..diagnosis(DeviceState::Failed, true, cause)
         };
         let info = |st: [u8; 4]| {
             let mut a = [0u8; 10];
@@ -545,7 +584,7 @@ mod tests {
             a
         };
         // Running: nothing but the mode.
-        let d = device_diagnostic(&diagnosis("running", true, FailureCause::None));
+        let d = device_diagnostic(&diagnosis(DeviceState::Running, true, FailureCause::None));
         assert_eq!(
             d,
             PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA {

@@ -67,7 +67,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// Record jobs one controller may have open at a time.
-pub(crate) const MAX_RECORD_JOBS: usize = procimg_shm_layout::services::MAX_RECORD_JOBS;
+pub(crate) const MAX_RECORD_JOBS: usize = procimg_control::services::MAX_RECORD_JOBS;
 
 /// Diagnosis requests one controller may have waiting for the worker.
 const MAX_DIAG_JOBS: usize = 64;

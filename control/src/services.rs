@@ -4,17 +4,15 @@
 //! diagnosis; of an IO device (`role = "device"`), the station's events (its AR, the PLC's
 //! RUN/STOP, DCP).
 //!
-//! Requests go over the control service (see [`crate::control::Request`]); what happens later
+//! Requests go over the control service (see [`crate::Request`]); what happens later
 //! arrives on the notification service `procimg/<instance>/notifications`, one JSON
-//! [`Notification`](crate::services::Notification) per sample, with a wake-up on the event service
+//! [`Notification`] per sample, with a wake-up on the event service
 //! `procimg/<instance>/notify-events`. Alarms, device and station events go to every subscriber;
 //! confirmations carry the `reply_to` of the subscriber that asked, so every subscriber sees
 //! only its own. Both services outlive a server restart, like the control service: a
-//! subscriber keeps its ports and learns of the new server from [`Notification::ServerStarted`](crate::services::Notification::ServerStarted).
+//! subscriber keeps its ports and learns of the new server from [`Notification::ServerStarted`].
 
-use alloc::format;
-use alloc::string::String;
-use alloc::vec::Vec;
+use crate::states::{ArState, DeviceState};
 use serde::{Deserialize, Serialize};
 
 /// The notification publish-subscribe service of an instance.
@@ -128,7 +126,7 @@ pub struct RecordConfirmation {
 /// themselves with `acknowledge_alarms` when the alarm arrived.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct AlarmReport {
-    /// Identifies the alarm in [`crate::control::Request::AcknowledgeAlarm`].
+    /// Identifies the alarm in [`crate::ControllerRequest::AcknowledgeAlarm`].
     pub id: u64,
     /// Device index.
     pub device: u32,
@@ -175,17 +173,17 @@ pub enum Notification {
     /// alarms are gone).
     ServerStarted {
         /// Its generation (in JSON a hex string).
-        #[serde(with = "crate::control::hex_id")]
+        #[serde(with = "crate::hex_id")]
         generation: u64,
     },
-    /// A device's state changed (see [`crate::control::DeviceReport::state`]).
+    /// A device's state changed (see [`crate::DeviceReport::state`]).
     DeviceState {
         /// Device index.
         device: u32,
         /// Station name.
         name: String,
         /// The new state.
-        state: String,
+        state: DeviceState,
     },
     /// A device in data exchange failed; its inputs are BAD (IO-Base `PNIO_ALARM_DEV_FAILURE`).
     DeviceFailure {
@@ -235,12 +233,9 @@ pub enum Notification {
     },
     /// Device role: the station's AR reached a state (GOAL's and IO-Base's AR indications).
     StationAr {
-        /// "connected" (a PLC's Connect was accepted: a new AR), "parameterized" (the PLC's
-        /// PrmEnd came: END_OF_PARAM), "waiting-for-application-ready-confirm" (the
-        /// station's ApplicationReady went out) or "data" (the PLC confirmed it: IN_DATA,
-        /// data exchange). A state passed within one step of the station may not be
-        /// reported on its own; "data" always is.
-        state: String,
+        /// The state it reached. A state passed within one step of the station may not be
+        /// reported on its own; [`ArState::Data`] always is.
+        state: ArState,
         /// The ARUUID.
         ar_uuid: String,
         /// The PLC's MAC address.
@@ -286,8 +281,8 @@ pub enum Notification {
         factory_reset: bool,
     },
     /// Device role: a submodule of the station was plugged or pulled (by a client's
-    /// [`crate::control::Request::StationPlug`] or
-    /// [`crate::control::Request::StationPull`]).
+    /// [`crate::DeviceRequest::StationPlug`] or
+    /// [`crate::DeviceRequest::StationPull`]).
     StationPlug {
         /// API.
         api: u32,
@@ -308,7 +303,7 @@ pub enum Notification {
     /// Device role: the PLC ended the parameters of a submodule plugged in data exchange
     /// (its PlugPrmEnd; IO-Base's `PNIO_CBF_PRM_END_IND` with a subslot). A subscriber that
     /// holds the ApplicationReady releases the submodule's PlugApplicationReady with
-    /// [`crate::control::Request::StationApplicationReady`].
+    /// [`crate::DeviceRequest::StationApplicationReady`].
     StationPlugParameterized {
         /// API.
         api: u32,
@@ -318,7 +313,7 @@ pub enum Notification {
         subslot: u16,
     },
     /// Device role: the PLC acknowledged the alarm `reply_to` sent with
-    /// [`crate::control::Request::StationAlarm`], or its AR ended first.
+    /// [`crate::DeviceRequest::StationAlarm`], or its AR ended first.
     StationAlarmDone {
         /// The subscriber that sent the alarm.
         reply_to: u64,
@@ -329,8 +324,8 @@ pub enum Notification {
         status: Option<[u8; 4]>,
     },
     /// Device role: the PLC reads or writes a record of a submodule whose records `reply_to`
-    /// took ([`crate::control::Request::StationOwnRecords`]); answer with
-    /// [`crate::control::Request::StationRecordAnswer`] within
+    /// took ([`crate::DeviceRequest::StationOwnRecords`]); answer with
+    /// [`crate::DeviceRequest::StationRecordAnswer`] within
     /// [`STATION_RECORD_TIMEOUT_MS`].
     StationRecord {
         /// The subscriber that took the records.
@@ -339,8 +334,8 @@ pub enum Notification {
         job: StationRecordJob,
     },
     /// Device role: a PLC connects (GOAL's NEW_AR, IO-Base's `PNIO_CBF_AR_CHECK_IND`): the
-    /// subscriber that checks ARs ([`crate::control::Request::StationCheckArs`]) accepts or
-    /// refuses it with [`crate::control::Request::StationArCheckAnswer`] within
+    /// subscriber that checks ARs ([`crate::DeviceRequest::StationCheckArs`]) accepts or
+    /// refuses it with [`crate::DeviceRequest::StationArCheckAnswer`] within
     /// [`AR_CHECK_TIMEOUT_MS`].
     StationArCheck {
         /// The subscriber that checks.
@@ -350,8 +345,8 @@ pub enum Notification {
     },
     /// Device role: a DCP Set gives the station a name or address, or resets it (GOAL's
     /// STATION_NAME_VERIFY, NET_IP_SET_VERIFY): the subscriber that checks DCP's changes
-    /// ([`crate::control::Request::StationVerifyDcp`]) allows or vetoes it with
-    /// [`crate::control::Request::StationDcpSetAnswer`] within [`DCP_SET_CHECK_TIMEOUT_MS`].
+    /// ([`crate::DeviceRequest::StationVerifyDcp`]) allows or vetoes it with
+    /// [`crate::DeviceRequest::StationDcpSetAnswer`] within [`DCP_SET_CHECK_TIMEOUT_MS`].
     StationDcpSetCheck {
         /// The subscriber that checks.
         reply_to: u64,
@@ -390,7 +385,7 @@ pub struct SubmoduleDiff {
     pub text: String,
 }
 
-/// What [`crate::control::Request::Diagnosis`] answers: the dynamic state of the IO system;
+/// What [`crate::ControllerRequest::Diagnosis`] answers: the dynamic state of the IO system;
 /// the configured submodules are in the layout every client has.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct DiagnosisReport {
@@ -442,8 +437,8 @@ pub struct DeviceDiagnosis {
     pub device: u32,
     /// Station name.
     pub name: String,
-    /// Its state (offline, deactivated, searching, …, running, failed).
-    pub state: String,
+    /// Its state.
+    pub state: DeviceState,
     /// Activated (by configuration or by a client's activation).
     pub active: bool,
     /// The last failure or problem, if it is not running.
@@ -572,16 +567,14 @@ pub struct StationRecordJob {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::control::{decode, encode};
-    use alloc::string::ToString;
-    use alloc::vec;
+    use crate::{decode, encode};
 
     #[test]
     fn station_notifications_go_to_everyone_under_their_snake_case_names() {
         let all = vec![
             (
                 Notification::StationAr {
-                    state: "data".into(),
+                    state: ArState::Data,
                     ar_uuid: "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2".into(),
                     controller_mac: "02:50:49:fe:00:01".into(),
                 },

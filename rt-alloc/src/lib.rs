@@ -15,8 +15,11 @@
 //! Install it in a binary with `#[global_allocator] static A: RtAllocator = RtAllocator;`.
 //! A client program that does gets a cycle loop without `malloc` once its thread is marked,
 //! which `procimg_client::realtime::make_current_thread_realtime` does.
-
-extern crate std;
+//!
+//! A crate of its own because both sides of the shared memory install it: procimgd and the
+//! client library (and through it the C library).
+// A global allocator hands out raw memory: unsafe by nature, each block says why it holds.
+#![allow(unsafe_code)]
 
 use core::alloc::{GlobalAlloc, Layout};
 use core::cell::Cell;

@@ -13,12 +13,10 @@
 //! unheard (no server, an old server's file, no permission): the request is then answered at
 //! the control thread's next round, as it would be without a doorbell.
 
-extern crate std;
-
 use crate::futex::LinuxFutex;
-use crate::handshake::Futex as _;
 use core::sync::atomic::{AtomicU32, Ordering};
 use core::time::Duration;
+use procimg_shm_layout::handshake::Futex as _;
 use std::fs::{self, File, OpenOptions};
 use std::io;
 use std::os::unix::fs::{MetadataExt as _, OpenOptionsExt as _};
@@ -32,9 +30,9 @@ const DOORBELL_FILE_SIZE: usize = 4096;
 pub fn doorbell_path(instance: &str) -> PathBuf {
     PathBuf::from(std::format!(
         "{}/{}{}{SUFFIX}",
-        crate::share::SHM_DIR,
-        crate::control::IOX2_PREFIX,
-        crate::handshake_map::instance_part(instance)
+        procimg_shm_layout::share::SHM_DIR,
+        procimg_shm_layout::share::IOX2_PREFIX,
+        procimg_shm_layout::handshake_map::instance_part(instance)
     ))
 }
 

@@ -5,8 +5,8 @@
 //! `FUTEX_PRIVATE_FLAG`) variants: the kernel keys them by the page, which every process that
 //! maps the file sees alike.
 
-use crate::handshake::Futex;
 use core::sync::atomic::AtomicU32;
+use procimg_shm_layout::handshake::Futex;
 
 /// The kernel's futexes, on `CLOCK_MONOTONIC`.
 #[derive(Debug, Clone, Copy, Default)]
@@ -52,7 +52,7 @@ impl Futex for LinuxFutex {
     }
 
     fn now_ns(&self) -> u64 {
-        crate::os::monotonic_ns()
+        procimg_shm_layout::os::monotonic_ns()
     }
 }
 
@@ -60,7 +60,7 @@ impl Futex for LinuxFutex {
 mod tests {
     extern crate std;
     use super::*;
-    use crate::handshake::{HandshakeBlock, Woken};
+    use procimg_shm_layout::handshake::{HandshakeBlock, Woken};
     use std::sync::Arc;
 
     #[test]

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The requests only a server in the IO controller role answers: record jobs, device
+//! activation, alarm acknowledgement and the IO system's diagnosis.
+
+use crate::services::RecordTarget;
+use serde::{Deserialize, Serialize};
+
+/// A request of the IO controller's services.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "request", rename_all = "snake_case")]
+pub enum ControllerRequest {
+    /// Read a record; answered with [`Response::Accepted`](crate::Response::Accepted), the data follows as a
+    /// [`Notification::Record`](crate::services::Notification::Record) to `reply_to`.
+    RecordRead {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Echoed in the confirmation.
+        reference: u64,
+        /// The record.
+        target: RecordTarget,
+        /// The most bytes wanted.
+        max_len: u32,
+    },
+    /// Write a record; answered with [`Response::Accepted`](crate::Response::Accepted), the result follows as a
+    /// [`Notification::Record`](crate::services::Notification::Record) to `reply_to`.
+    RecordWrite {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Echoed in the confirmation.
+        reference: u64,
+        /// The record.
+        target: RecordTarget,
+        /// The record.
+        data: Vec<u8>,
+    },
+    /// Activate or deactivate a device (IO-Base `PNIO_device_activate`); not in OFFLINE.
+    /// Confirmed by a [`Notification::Activation`](crate::services::Notification::Activation)
+    /// to `reply_to`.
+    ActivateDevice {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Device index.
+        device: u32,
+        /// Activate (`true`) or deactivate.
+        active: bool,
+    },
+    /// Acknowledge an alarm this subscriber was given with `ack_expected`.
+    AcknowledgeAlarm {
+        /// The subscriber's id.
+        subscriber: u64,
+        /// The alarm's id.
+        alarm: u64,
+    },
+    /// The state of every device; answered with [`Response::Diagnosis`](crate::Response::Diagnosis).
+    Diagnosis,
+}
+
+impl ControllerRequest {
+    /// What it asks for, in words, for a refusal by a server in another role.
+    pub const fn service(&self) -> &'static str {
+        match self {
+            ControllerRequest::RecordRead { .. } => "reading a record of an IO device",
+            ControllerRequest::RecordWrite { .. } => "writing a record of an IO device",
+            ControllerRequest::ActivateDevice { .. } => "activating an IO device",
+            ControllerRequest::AcknowledgeAlarm { .. } => "acknowledging an IO device's alarm",
+            ControllerRequest::Diagnosis => "the IO system diagnosis",
+        }
+    }
+}
