@@ -41,6 +41,21 @@ pub enum StationDiagnosisChange {
     },
 }
 
+impl StationDiagnosisChange {
+    /// The submodule changed: (API, slot, subslot).
+    pub const fn submodule(&self) -> (u32, u16, u16) {
+        match *self {
+            StationDiagnosisChange::Add {
+                api, slot, subslot, ..
+            }
+            | StationDiagnosisChange::Remove {
+                api, slot, subslot, ..
+            }
+            | StationDiagnosisChange::Clear { api, slot, subslot } => (api, slot, subslot),
+        }
+    }
+}
+
 /// The format of a diagnosis entry.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]

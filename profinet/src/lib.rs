@@ -19,7 +19,7 @@
 //! use procimg_profinet::cyclic::{Consumer, ProducedData, Verdict};
 //! use procimg_profinet::wire::rt::{cycle_counter_at, data_status};
 //! use procimg_profinet::device::{
-//!     Application, DeviceAction, Device, DeviceSetup, PluggedSubmodule,
+//!     Application, DeviceAction, Device, DeviceSetup,
 //! };
 //! use procimg_profinet::wire::{MacAddress, ethernet, rpc::RPC_PORT};
 //! use std::net::{Ipv4Addr, SocketAddrV4};
@@ -55,11 +55,7 @@
 //! let mut device = Device::new(DeviceSetup {
 //!     name: spec.name.clone(), mac: MacAddress([2, 0, 0, 0, 0, 11]), ip: Some(device_ip.octets()),
 //!     vendor_id: spec.vendor_id, device_id: spec.device_id, instance: 1,
-//!     submodules: spec.submodules.iter().map(|s| PluggedSubmodule {
-//!         api: s.api, slot: s.slot, subslot: s.subslot, module_ident: s.module_ident,
-//!         submodule_ident: s.submodule_ident, input_length: s.input_length,
-//!         output_length: s.output_length,
-//!     }).collect(),
+//!     submodules: spec.submodules.iter().map(SubmoduleSpec::plugged).collect(),
 //!     application: Echo,
 //!     im0: Default::default(),
 //! });

@@ -17,7 +17,7 @@ use procimg_profinet::controller::plan::{
 };
 use procimg_profinet::controller::rpc_call::{ATTEMPTS, RETRY_NS};
 use procimg_profinet::controller::{Controller, ControllerAction, DeviceState};
-use procimg_profinet::device::{Application, Device, DeviceAction, DeviceSetup, PluggedSubmodule};
+use procimg_profinet::device::{Application, Device, DeviceAction, DeviceSetup};
 use procimg_profinet::wire::rpc::{self, Header, PacketType, RPC_PORT, opnum};
 use procimg_profinet::wire::{MacAddress, Uuid};
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -98,19 +98,7 @@ impl Rig {
             vendor_id: spec.vendor_id,
             device_id: spec.device_id,
             instance: 1,
-            submodules: spec
-                .submodules
-                .iter()
-                .map(|s| PluggedSubmodule {
-                    api: s.api,
-                    slot: s.slot,
-                    subslot: s.subslot,
-                    module_ident: s.module_ident,
-                    submodule_ident: s.submodule_ident,
-                    input_length: s.input_length,
-                    output_length: s.output_length,
-                })
-                .collect(),
+            submodules: spec.submodules.iter().map(SubmoduleSpec::plugged).collect(),
             application: Zeros,
             im0: Default::default(),
         });

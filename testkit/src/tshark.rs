@@ -44,20 +44,7 @@ pub fn clean_fields(name: &str, frames: &[Vec<u8>], fields: &[&str]) -> Vec<Vec<
             .expect("write a frame to the pcap file");
     }
     drop(w);
-    let tshark = |args: &[&str]| {
-        let out = Command::new("tshark")
-            .arg("-r")
-            .arg(&path)
-            .args(args)
-            .output()
-            .unwrap_or_else(|e| panic!("cannot run tshark ({e}): apt-get install tshark"));
-        assert!(
-            out.status.success(),
-            "tshark failed: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    };
+    let tshark = |args: &[&str]| read(&path, args);
     // Error-level expert items have severity PI_ERROR = 0x00800000.
     let bad = tshark(&[
         "-Y",
@@ -166,12 +153,22 @@ pub fn frames_matching(pcap: &std::path::Path, filter: &str) -> String {
 /// frame of `pcap` that matches display filter `filter`, in capture order: one string per
 /// field, empty where the frame has none, several occurrences joined by commas.
 pub fn fields_matching(pcap: &std::path::Path, filter: &str, fields: &[&str]) -> Vec<Vec<String>> {
-    let mut cmd = Command::new("tshark");
-    cmd.arg("-r").arg(pcap).args(["-Y", filter, "-T", "fields"]);
+    let mut args = vec!["-Y", filter, "-T", "fields"];
     for f in fields {
-        cmd.args(["-e", f]);
+        args.extend(["-e", f]);
     }
-    let out = cmd
+    read(pcap, &args)
+        .lines()
+        .map(|l| l.split('\t').map(str::to_owned).collect())
+        .collect()
+}
+
+/// What tshark prints reading `pcap` with `args`; panics with its complaint if it fails.
+fn read(pcap: &std::path::Path, args: &[&str]) -> String {
+    let out = Command::new("tshark")
+        .arg("-r")
+        .arg(pcap)
+        .args(args)
         .output()
         .unwrap_or_else(|e| panic!("cannot run tshark ({e}): apt-get install tshark"));
     assert!(
@@ -179,10 +176,7 @@ pub fn fields_matching(pcap: &std::path::Path, filter: &str, fields: &[&str]) ->
         "tshark failed: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    String::from_utf8_lossy(&out.stdout)
-        .lines()
-        .map(|l| l.split('\t').map(str::to_owned).collect())
-        .collect()
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 /// The frames of `pcap` that tshark flags: malformed, or an expert item of error level.

@@ -118,6 +118,22 @@ pub struct SubmoduleSpec {
     pub records: Vec<(u16, Vec<u8>)>,
 }
 
+impl SubmoduleSpec {
+    /// The submodule a device plugs where the controller expects this one: the same place,
+    /// ident numbers and lengths.
+    pub const fn plugged(&self) -> crate::device::PluggedSubmodule {
+        crate::device::PluggedSubmodule {
+            api: self.api,
+            slot: self.slot,
+            subslot: self.subslot,
+            module_ident: self.module_ident,
+            submodule_ident: self.submodule_ident,
+            input_length: self.input_length,
+            output_length: self.output_length,
+        }
+    }
+}
+
 /// A parameter record to write before PrmEnd.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PlannedRecord {

@@ -263,13 +263,5 @@ pub(crate) fn network_report(channel: &Channel, datagrams: &DatagramCounters) ->
 pub(crate) fn plugged(
     s: &crate::config::SubmoduleConfig,
 ) -> procimg_profinet::device::PluggedSubmodule {
-    procimg_profinet::device::PluggedSubmodule {
-        api: s.api,
-        slot: s.slot,
-        subslot: s.subslot,
-        module_ident: s.module_ident,
-        submodule_ident: s.submodule_ident,
-        input_length: s.input_length,
-        output_length: s.output_length,
-    }
+    controller::submodule_spec(s).plugged()
 }

@@ -35,11 +35,7 @@
 //! let device = Device::new(DeviceSetup {
 //!     name: spec.name.clone(), mac: MacAddress([2, 0, 0, 0, 0, 11]), ip: None,
 //!     vendor_id: spec.vendor_id, device_id: spec.device_id, instance: 1,
-//!     submodules: spec.submodules.iter().map(|s| PluggedSubmodule {
-//!         api: s.api, slot: s.slot, subslot: s.subslot, module_ident: s.module_ident,
-//!         submodule_ident: s.submodule_ident, input_length: s.input_length,
-//!         output_length: s.output_length,
-//!     }).collect(),
+//!     submodules: spec.submodules.iter().map(SubmoduleSpec::plugged).collect(),
 //!     application: Zeros,
 //!     im0: Default::default(),
 //! });

@@ -60,19 +60,7 @@ fn world(seed: u64) -> World<Counter> {
                 vendor_id: s.vendor_id,
                 device_id: s.device_id,
                 instance: s.instance,
-                submodules: s
-                    .submodules
-                    .iter()
-                    .map(|m| PluggedSubmodule {
-                        api: m.api,
-                        slot: m.slot,
-                        subslot: m.subslot,
-                        module_ident: m.module_ident,
-                        submodule_ident: m.submodule_ident,
-                        input_length: m.input_length,
-                        output_length: m.output_length,
-                    })
-                    .collect(),
+                submodules: s.submodules.iter().map(SubmoduleSpec::plugged).collect(),
                 application: Counter,
                 im0: Default::default(),
             })

@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::controller::plan::PlannedRecord;
+use crate::wire::record::IodKind;
 
 impl DeviceAr {
     /// Fails every queued record job with `why`.
@@ -116,33 +117,29 @@ impl DeviceAr {
             return;
         };
         ar.record_seq = ar.record_seq.wrapping_add(1);
-        let (op, body, more) = match &request.write {
-            Some(data) => {
-                // Longer than RecordDataLength holds: the call below refuses it as too long.
-                let len = record_data_length(data).unwrap_or(u32::MAX);
-                let h = IodHeader::write_request(
-                    ar.record_seq,
-                    ar.uuid,
-                    request.api,
-                    request.slot,
-                    request.subslot,
-                    request.index,
-                    len,
-                );
-                (opnum::WRITE, with_data(&h, data), 0)
-            }
-            None => {
-                let h = IodHeader::read_request(
-                    ar.record_seq,
-                    ar.uuid,
-                    request.api,
-                    request.slot,
-                    request.subslot,
-                    request.index,
-                    request.max_len,
-                );
-                (opnum::READ, h.to_bytes().to_vec(), request.max_len)
-            }
+        // A write's length is its data's (longer than RecordDataLength holds: the call below
+        // refuses it as too long); a read's the most it takes.
+        let (kind, op, len) = match &request.write {
+            Some(data) => (
+                IodKind::WriteReq,
+                opnum::WRITE,
+                record_data_length(data).unwrap_or(u32::MAX),
+            ),
+            None => (IodKind::ReadReq, opnum::READ, request.max_len),
+        };
+        let h = IodHeader::request(
+            kind,
+            ar.record_seq,
+            ar.uuid,
+            request.api,
+            request.slot,
+            request.subslot,
+            request.index,
+            len,
+        );
+        let (body, more) = match &request.write {
+            Some(data) => (with_data(&h, data), 0),
+            None => (h.to_bytes().to_vec(), request.max_len),
         };
         match ar.next_call(self.plan.object_uuid(), op, &body, more, now) {
             Some(call) => {

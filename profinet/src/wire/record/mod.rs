@@ -198,8 +198,10 @@ pub struct IodHeader {
 }
 
 impl IodHeader {
+    /// A Read or Write request header (`kind`) for record `index` of a submodule: `len` is
+    /// the data written, or the most a read takes.
     #[allow(clippy::too_many_arguments)]
-    const fn request(
+    pub const fn request(
         kind: IodKind,
         seq_number: u16,
         ar_uuid: Uuid,

@@ -11,7 +11,7 @@ pub mod sim_behaviour;
 pub mod sim_plant;
 mod states;
 
-pub use plan::{device_spec, plan_devices};
+pub use plan::{device_spec, plan_devices, submodule_spec};
 pub use role::{ControllerCommand, ControllerRole};
 pub use services::{ControllerLink, ControllerServices};
 pub use states::DeviceStates;

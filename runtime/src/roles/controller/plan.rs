@@ -2,7 +2,7 @@
 //! The configuration in the protocol crate's terms: what the controller plans for each
 //! device.
 
-use crate::config::{Config, DeviceConfig};
+use crate::config::{Config, DeviceConfig, SubmoduleConfig};
 use procimg_profinet::controller::plan::{DevicePlan, DeviceSpec, PlanError, SubmoduleSpec};
 
 /// The controller's plan of every configured device: the configuration translated into the
@@ -22,23 +22,24 @@ pub fn device_spec(dev: &DeviceConfig) -> DeviceSpec {
         instance: dev.instance,
         reduction_ratio: dev.reduction_ratio,
         watchdog_factor: dev.watchdog_factor,
-        submodules: dev
-            .submodules
+        submodules: dev.submodules.iter().map(submodule_spec).collect(),
+    }
+}
+
+/// What the controller needs to know of a configured submodule.
+pub fn submodule_spec(s: &SubmoduleConfig) -> SubmoduleSpec {
+    SubmoduleSpec {
+        api: s.api,
+        slot: s.slot,
+        subslot: s.subslot,
+        module_ident: s.module_ident,
+        submodule_ident: s.submodule_ident,
+        input_length: s.input_length,
+        output_length: s.output_length,
+        records: s
+            .records
             .iter()
-            .map(|s| SubmoduleSpec {
-                api: s.api,
-                slot: s.slot,
-                subslot: s.subslot,
-                module_ident: s.module_ident,
-                submodule_ident: s.submodule_ident,
-                input_length: s.input_length,
-                output_length: s.output_length,
-                records: s
-                    .records
-                    .iter()
-                    .map(|r| (r.index, r.data.clone()))
-                    .collect(),
-            })
+            .map(|r| (r.index, r.data.clone()))
             .collect(),
     }
 }

@@ -98,30 +98,13 @@ pub fn keep(
     device: &mut Device<ImageApplication>,
     change: &StationDiagnosisChange,
 ) -> Result<(), String> {
-    let (at, edit) = match change {
-        StationDiagnosisChange::Add {
-            api,
-            slot,
-            subslot,
-            entry: e,
-        } => (
-            SubslotAddr::new(*api, *slot, *subslot),
-            DiagnosisEdit::Add(entry(e)?),
-        ),
-        StationDiagnosisChange::Remove {
-            api,
-            slot,
-            subslot,
-            entry: e,
-        } => (
-            SubslotAddr::new(*api, *slot, *subslot),
-            DiagnosisEdit::Remove(entry(e)?.key()),
-        ),
-        StationDiagnosisChange::Clear { api, slot, subslot } => (
-            SubslotAddr::new(*api, *slot, *subslot),
-            DiagnosisEdit::Clear,
-        ),
+    let (api, slot, subslot) = change.submodule();
+    let edit = match change {
+        StationDiagnosisChange::Add { entry: e, .. } => DiagnosisEdit::Add(entry(e)?),
+        StationDiagnosisChange::Remove { entry: e, .. } => DiagnosisEdit::Remove(entry(e)?.key()),
+        StationDiagnosisChange::Clear { .. } => DiagnosisEdit::Clear,
     };
+    let at = SubslotAddr::new(api, slot, subslot);
     device
         .keep_diagnosis(at, edit)
         .map(|_| ())
