@@ -17,7 +17,7 @@ use super::handles;
 use super::isochronous::{self, Window, cycle_info};
 use super::services::{ServiceContext, ServiceWorker};
 use super::stopped;
-pub(crate) use super::sync::lock;
+use super::sync::lock;
 use super::types::*;
 use procimg_client::{
     AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, DeviceState, Event,

@@ -3,9 +3,10 @@
 //! parameter checks in its order, then procimg-client's access by logical address, inside
 //! the STARTOP..OPDONE window when the controller is isochronous and a window is open.
 
-use super::controller::{Controller, Io, lock, lookup_io, wrong_handle};
+use super::controller::{Controller, Io, lookup_io, wrong_handle};
 use super::errors::fail;
 use super::errors::*;
+use super::sync::lock;
 use super::types::*;
 use procimg_client::access::{AccessError, Resolved, Space, resolve_read, resolve_write};
 use procimg_client::{Client, Cycle, IoError, Ioxs};
@@ -51,21 +52,6 @@ pub(crate) enum ReadKind {
     Cache,
     /// `PNIO_output_data_read`.
     Outputs,
-}
-
-fn ioxs(v: PNIO_IOXS) -> Option<Ioxs> {
-    match v {
-        PNIO_S_GOOD => Some(Ioxs::Good),
-        PNIO_S_BAD => Some(Ioxs::Bad),
-        _ => None,
-    }
-}
-
-fn pnio_ioxs(v: Ioxs) -> PNIO_IOXS {
-    match v {
-        Ioxs::Good => PNIO_S_GOOD,
-        Ioxs::Bad => PNIO_S_BAD,
-    }
 }
 
 /// Reads and checks `pAddr`: not NULL, the space `want`, a logical address.

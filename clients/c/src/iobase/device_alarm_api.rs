@@ -7,7 +7,6 @@
 //! `device::diag` and `device::alarms`.
 #![allow(non_snake_case)]
 
-use super::controller::lock;
 use super::device::Pos;
 use super::device::alarms::{self, AlarmCall, MAX_ALARM_DATA};
 use super::device::diag::{self, DiagFn};
@@ -15,6 +14,7 @@ use super::device::state::{Device, lookup, wrong_handle};
 use super::device_api::read_addr;
 use super::device_types::*;
 use super::errors::*;
+use super::sync::lock;
 use super::types::*;
 use crate::ffi::guard;
 use procimg_client::StationAlarmKind;

@@ -6,7 +6,6 @@
 #![allow(non_snake_case)]
 
 use super::callbacks::in_callback;
-use super::controller::lock;
 use super::device::ars::Phase;
 use super::device::config;
 use super::device::data::{self as io, Classes, Direction};
@@ -18,6 +17,7 @@ use super::device_types::*;
 use super::errors::fail;
 use super::errors::*;
 use super::stopped;
+use super::sync::lock;
 use super::types::*;
 use crate::ffi::guard;
 use std::sync::Arc;

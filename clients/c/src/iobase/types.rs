@@ -60,6 +60,23 @@ pub const PNIO_S_GOOD: PNIO_IOXS = 0;
 /// Invalid.
 pub const PNIO_S_BAD: PNIO_IOXS = 1;
 
+/// The status IO-Base value `v` names; `None` for a value that is neither GOOD nor BAD.
+pub(crate) fn ioxs(v: PNIO_IOXS) -> Option<procimg_client::Ioxs> {
+    match v {
+        PNIO_S_GOOD => Some(procimg_client::Ioxs::Good),
+        PNIO_S_BAD => Some(procimg_client::Ioxs::Bad),
+        _ => None,
+    }
+}
+
+/// Status `v` as IO-Base writes it.
+pub(crate) fn pnio_ioxs(v: procimg_client::Ioxs) -> PNIO_IOXS {
+    match v {
+        procimg_client::Ioxs::Good => PNIO_S_GOOD,
+        procimg_client::Ioxs::Bad => PNIO_S_BAD,
+    }
+}
+
 /// `PNIO_MODE_TYPE`: the controller's mode.
 pub type PNIO_MODE_TYPE = u32;
 /// OFFLINE (stop): no IO data, records or alarms.

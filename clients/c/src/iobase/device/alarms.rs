@@ -18,8 +18,8 @@ use super::ars::Phase;
 use super::jobs::Job;
 use super::state::{Device, Life};
 use crate::iobase::callbacks::invoke_device;
-use crate::iobase::controller::lock;
 use crate::iobase::errors::*;
+use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_ERR_STAT;
 use procimg_client::{AlarmRefusal, ControlError, Refusal, StationAlarmKind};
 

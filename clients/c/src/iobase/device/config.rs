@@ -15,9 +15,9 @@
 use super::Pos;
 use super::jobs::Job;
 use super::state::{Config, Device, Life};
-use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_ADDR_GEO;
 use std::sync::MutexGuard;
 

@@ -31,11 +31,11 @@ use super::Pos;
 use super::ars::Phase;
 use super::state::{Device, Life};
 use crate::iobase::callbacks::invoke_device;
-use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use crate::iobase::sync::lock;
 use crate::iobase::types::{
-    PNIO_ADDR_GEO, PNIO_IO_IN, PNIO_IO_OUT, PNIO_IOXS, PNIO_S_BAD, PNIO_S_GOOD,
+    PNIO_ADDR_GEO, PNIO_IO_IN, PNIO_IO_OUT, PNIO_IOXS, PNIO_S_BAD, ioxs, pnio_ioxs,
 };
 use procimg_client::{Client, IoError, Ioxs};
 use procimg_shm_layout::{NO_ADDRESS, RT_CLASS_3};
@@ -90,19 +90,10 @@ pub(crate) enum Direction {
     Read,
 }
 
-fn pnio(v: Ioxs) -> PNIO_IOXS {
-    match v {
-        Ioxs::Good => PNIO_S_GOOD,
-        Ioxs::Bad => PNIO_S_BAD,
-    }
-}
-
-fn ioxs(v: PNIO_IOXS) -> Ioxs {
-    if v == PNIO_S_GOOD {
-        Ioxs::Good
-    } else {
-        Ioxs::Bad
-    }
+/// The local status a program's callback returned: a callback's answer cannot be refused,
+/// so anything but GOOD goes out as BAD.
+fn returned_ioxs(v: PNIO_IOXS) -> Ioxs {
+    ioxs(v).unwrap_or(Ioxs::Bad)
 }
 
 /// The layout indexes of the submodules at `mine` with I data the client can claim.
@@ -288,7 +279,7 @@ pub(crate) fn initiate(
         let pa: *mut PNIO_DEV_ADDR = &mut a;
         let len = v.buf.len() as u32;
         let pb = v.buf.as_mut_ptr();
-        let rem = pnio(v.remote);
+        let rem = pnio_ioxs(v.remote);
         let mut local = PNIO_S_BAD;
         match dir {
             Direction::Write => {
@@ -314,16 +305,17 @@ pub(crate) fn initiate(
             // Inside an isochronous device's STARTOP window the I data goes out with
             // PNIO_CP_set_opdone.
             let windowed = lock(&dev.iso.window).run(&mut client, |c| {
-                visits
-                    .iter()
-                    .try_for_each(|v| c.write(v.address, &v.buf, ioxs(v.local)).map(|_| ()))
+                visits.iter().try_for_each(|v| {
+                    c.write(v.address, &v.buf, returned_ioxs(v.local))
+                        .map(|_| ())
+                })
             });
             let sent = windowed.unwrap_or_else(|| {
                 visits
                     .iter()
                     .try_for_each(|v| {
                         client
-                            .data_write_cache(v.address, &v.buf, ioxs(v.local))
+                            .data_write_cache(v.address, &v.buf, returned_ioxs(v.local))
                             .map(|_| ())
                     })
                     .and_then(|()| client.data_write_cache_flush())
@@ -336,7 +328,7 @@ pub(crate) fn initiate(
             for v in &visits {
                 // Reads again only to hand the IOCS over; sent when it changed.
                 let mut scratch = vec![0u8; v.buf.len()];
-                if let Err(e) = client.data_read(v.address, &mut scratch, ioxs(v.local)) {
+                if let Err(e) = client.data_read(v.address, &mut scratch, returned_ioxs(v.local)) {
                     return io_failure(f, dev, e);
                 }
             }

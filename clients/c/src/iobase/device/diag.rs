@@ -15,9 +15,9 @@ use super::Pos;
 pub(crate) use super::held::DiagFn;
 use super::held::Entries;
 use super::state::{Device, Life};
-use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use crate::iobase::sync::lock;
 use procimg_client::{
     DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosisChange,
 };

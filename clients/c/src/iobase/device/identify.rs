@@ -11,7 +11,7 @@
 
 use super::state::Device;
 use crate::iobase::callbacks::invoke_device;
-use crate::iobase::controller::lock;
+use crate::iobase::sync::lock;
 use std::time::{Duration, Instant};
 
 /// How long the station identifies itself after a DCP Signal.

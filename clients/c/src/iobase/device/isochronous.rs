@@ -19,10 +19,10 @@
 
 use super::held::Isochronous;
 use super::state::{Device, Life, lookup, wrong_handle};
-use crate::iobase::controller::lock;
 use crate::iobase::errors::*;
 use crate::iobase::isochronous::{self, OPDONE, REGISTER, cycle_info};
 use crate::iobase::stopped;
+use crate::iobase::sync::lock;
 use crate::iobase::types::*;
 use procimg_client::{AttachOptions, Client, Event, EventWait, now_ns};
 use std::sync::Arc;

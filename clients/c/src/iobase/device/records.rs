@@ -19,9 +19,9 @@
 use super::Pos;
 use super::state::{Device, Life};
 use crate::iobase::callbacks::invoke_device;
-use crate::iobase::controller::lock;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use crate::iobase::sync::lock;
 use crate::iobase::types::{PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IO_OUT};
 use procimg_client::{RecordRefusal, StationRecordJob};
 use std::collections::BTreeMap;

@@ -48,6 +48,7 @@ use super::errors::{
     PNIO_ERR_PRM_INVALIDARG, PNIO_ERR_PRM_REC_INDEX, PNIO_ERR_SEQUENCE,
     PNIO_ERR_START_THREAD_FAILED, PNIO_ERR_VALUE_LEN, PNIO_OK, name,
 };
+use super::sync::lock;
 use super::types::{
     PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CTRL_DIAG,
     PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT, PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST,
@@ -62,7 +63,7 @@ use procimg_client::{
 use std::collections::{HashMap, VecDeque};
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd, RawFd};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -212,12 +213,6 @@ struct Shared {
 
 /// The function whose failures `ServiceWorker::start` reports.
 const OPEN: &str = "PNIO_controller_open";
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    // A panic elsewhere never leaves these tables half-changed in a way that matters more
-    // than refusing every later call would.
-    m.lock().unwrap_or_else(|e| e.into_inner())
-}
 
 impl Shared {
     /// Records the failure text for the calling thread, naming the code, and returns `code`.

@@ -7,12 +7,13 @@
 //! lock held, so the API (including the IO-data functions a callback may call) never waits
 //! for a callback.
 
-use super::{ActivationJob, DiagJob, RecordJob, Shared, build, lock};
+use super::{ActivationJob, DiagJob, RecordJob, Shared, build};
 use crate::iobase::callbacks::CallbackTable;
 use crate::iobase::errors::{
     PNIO_ERR_DEV_ACT_NOT_ALLOWED, PNIO_ERR_NO_FW_COMMUNICATION, PNIO_ERR_PRM_ADD,
     PNIO_ERR_PRM_INVALIDARG, PNIO_OK,
 };
+use crate::iobase::sync::lock;
 use crate::iobase::types::{
     PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CBE_DEV_ACT_CONF, PNIO_CBE_PRM,
     PNIO_CBE_PRM_ALARM_IND, PNIO_CBE_PRM_CTRL_DIAG_CONF, PNIO_CBE_PRM_DEV_ACT_CONF,
