@@ -252,6 +252,11 @@ pub enum Notification {
         aborted: bool,
         /// This station ended it on purpose: procimgd stopping or going OFFLINE.
         planned: bool,
+        /// The RTA abort code (ErrorCode2 of the ERR-RTA, 0x05 "consumer data hold time
+        /// expired" and so on) when it was aborted; `None` when released, and from a server
+        /// that does not send it.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        abort_code: Option<u8>,
     },
     /// Device role: the PLC's output frames say RUN (`true`) or STOP (their DataStatus).
     StationPlcRunning {
@@ -586,6 +591,7 @@ mod tests {
                     reason: "released by the PLC".into(),
                     aborted: false,
                     planned: false,
+                    abort_code: None,
                 },
                 "station_ar_ended",
             ),

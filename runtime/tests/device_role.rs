@@ -149,14 +149,15 @@ fn a_device_program_follows_the_ar_through_the_station_notifications() {
 
     // OFFLINE: the station ends the AR on purpose.
     server.set_mode(Mode::Offline);
-    let (ar_uuid, reason, aborted, planned) = loop {
+    let (ar_uuid, reason, aborted, planned, abort_code) = loop {
         match next_station(&mut services, BRING_UP) {
             Some(Notification::StationArEnded {
                 ar_uuid,
                 reason,
                 aborted,
                 planned,
-            }) => break (ar_uuid, reason, aborted, planned),
+                abort_code,
+            }) => break (ar_uuid, reason, aborted, planned, abort_code),
             Some(Notification::StationPlcRunning { .. }) => {}
             Some(other) => panic!("before the AR's end: {other:?}"),
             None => panic!("the AR did not end within 30 s of OFFLINE"),
@@ -167,6 +168,9 @@ fn a_device_program_follows_the_ar_through_the_station_notifications() {
         (first.ar_uuid.clone(), true, true)
     );
     assert!(reason.contains("stopped taking part"), "{reason}");
+    // The station's own abort: the RTA abort code "AR abort.req" (0x0d), IO-Base's
+    // PNIO_AR_REASON_ABORT.
+    assert_eq!(abort_code, Some(0x0d));
 
     // OPERATE: the PLC connects again, and every step of the new AR is reported.
     server.set_mode(Mode::Operate);

@@ -11,7 +11,7 @@
 //!
 //! ```
 //! use procimg_profinet::controller::plan::{DevicePlan, DeviceSpec, SubmoduleSpec};
-//! use procimg_profinet::device::{Application, Device, DeviceSetup, PluggedSubmodule};
+//! use procimg_profinet::device::{Application, Device, DeviceSetup};
 //! use procimg_profinet::wire::MacAddress;
 //! use procimg_testkit::world::{Setup, World, controller_identity};
 //! use std::net::Ipv4Addr;

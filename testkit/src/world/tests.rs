@@ -7,7 +7,7 @@ use super::*;
 use procimg_profinet::controller::FailureCause;
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_profinet::controller::plan::{DeviceSpec, SubmoduleSpec};
-use procimg_profinet::device::{DeviceSetup, PluggedSubmodule};
+use procimg_profinet::device::DeviceSetup;
 use procimg_profinet::wire::PnioStatus;
 
 /// Inputs that count the frames produced.

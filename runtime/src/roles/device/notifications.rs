@@ -32,6 +32,7 @@ pub fn notification(event: StationEvent) -> Notification {
             reason: abort.map_or_else(|| RELEASED.to_owned(), |code| reason(code, planned)),
             aborted: abort.is_some(),
             planned,
+            abort_code: abort.map(AbortCode::raw),
         },
         StationEvent::PlcRunning(running) => Notification::StationPlcRunning { running },
         StationEvent::PlugParameterized(at) => Notification::StationPlugParameterized {
@@ -201,12 +202,14 @@ mod tests {
                 reason: RELEASED.into(),
                 aborted: false,
                 planned: false,
+                abort_code: None,
             }
         );
         let Notification::StationArEnded {
             reason,
             aborted: true,
             planned: false,
+            abort_code: Some(0x05),
             ..
         } = ended(Some(AbortCode::ConsumerDhtExpired), false)
         else {

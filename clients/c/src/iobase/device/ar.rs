@@ -67,27 +67,20 @@ use procimg_client::{ArState, Notification};
 use procimg_control::services::{ExpectedSubmodule, StationArCheckJob};
 use std::time::{Duration, Instant};
 
-/// The `PNIO_AR_REASON` of an ended AR. procimgd gives the RTA abort code in its text
-/// ("AR consumer data hold time expired (0x05): …", "abort code 0x2a"); the manual's
-/// reasons 1 to 34 are those codes, so:
+/// The `PNIO_AR_REASON` of an ended AR. The manual's reasons 1 to 34 are the RTA abort
+/// codes, which procimgd sends with the notification, so:
 ///
 /// * released by the PLC (no abort) → `PNIO_AR_REASON_REL`;
 /// * an abort with code 0x01..=0x22 → that value (0x05 `MISS`, the PLC's frames stopped;
 ///   0x10 `PAS`, the station went OFFLINE; 0x1f `DCP_NAME`; 0x20 `DCP_RESET`; …);
-/// * any other code, or none to read → `PNIO_AR_REASON_ABORT` when this station ended it
-///   on purpose (stop, OFFLINE, `PNIO_device_ar_abort`), else `PNIO_AR_REASON_NONE`.
-pub(crate) fn reason_code(reason: &str, aborted: bool, planned: bool) -> PNIO_AR_REASON {
+/// * any other code, or none (an older server) → `PNIO_AR_REASON_ABORT` when this station
+///   ended it on purpose (stop, OFFLINE, `PNIO_device_ar_abort`), else
+///   `PNIO_AR_REASON_NONE`.
+pub(crate) fn reason_code(abort_code: Option<u8>, aborted: bool, planned: bool) -> PNIO_AR_REASON {
     if !aborted {
         return PNIO_AR_REASON_REL;
     }
-    let code = reason.find("0x").and_then(|i| {
-        let hex: String = reason[i + 2..]
-            .chars()
-            .take_while(char::is_ascii_hexdigit)
-            .collect();
-        u32::from_str_radix(&hex, 16).ok()
-    });
-    match code {
+    match abort_code.map(u32::from) {
         Some(c) if (PNIO_AR_REASON_RESERVED1..=PNIO_AR_REASON_IRDATA).contains(&c) => c,
         _ if planned => PNIO_AR_REASON_ABORT,
         _ => PNIO_AR_REASON_NONE,
@@ -234,9 +227,10 @@ pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
         Notification::StationAr { state, ar_uuid, .. } => progress(dev, state, &ar_uuid),
         Notification::StationArEnded {
             ar_uuid,
-            reason,
             aborted,
             planned,
+            abort_code,
+            ..
         } => {
             let ended = {
                 let mut ars = lock(&dev.ars);
@@ -246,7 +240,7 @@ pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
                 }
             };
             if let Some(ar) = ended {
-                end(dev, &ar, reason_code(&reason, aborted, planned));
+                end(dev, &ar, reason_code(abort_code, aborted, planned));
             }
         }
         Notification::StationPlcRunning { running } => {
@@ -535,30 +529,13 @@ mod tests {
 
     #[test]
     fn reasons_are_the_abort_codes() {
-        assert_eq!(
-            reason_code("released by the PLC", false, false),
-            PNIO_AR_REASON_REL
-        );
-        assert_eq!(
-            reason_code(
-                "AR consumer data hold time expired (0x05): IO data timeout",
-                true,
-                false
-            ),
-            PNIO_AR_REASON_MISS
-        );
-        assert_eq!(
-            reason_code("AR device deactivated (0x10): this station", true, true),
-            PNIO_AR_REASON_PAS
-        );
-        assert_eq!(
-            reason_code("abort code 0x7f", true, true),
-            PNIO_AR_REASON_ABORT
-        );
-        assert_eq!(
-            reason_code("unspecified (0x00)", true, false),
-            PNIO_AR_REASON_NONE
-        );
+        assert_eq!(reason_code(None, false, false), PNIO_AR_REASON_REL);
+        assert_eq!(reason_code(Some(0x05), true, false), PNIO_AR_REASON_MISS);
+        assert_eq!(reason_code(Some(0x10), true, true), PNIO_AR_REASON_PAS);
+        assert_eq!(reason_code(Some(0x7f), true, true), PNIO_AR_REASON_ABORT);
+        assert_eq!(reason_code(Some(0x00), true, false), PNIO_AR_REASON_NONE);
+        // An older server sends no code.
+        assert_eq!(reason_code(None, true, true), PNIO_AR_REASON_ABORT);
     }
 
     #[test]
