@@ -6,12 +6,14 @@
 //! * the **event thread** waits on the client's event descriptor (without holding the
 //!   client), takes STARTOP windows, mode changes, OPFAULT and NEWCYCLE from the client and
 //!   calls MODE_IND and the isochronous callbacks, one at a time, in the order they happened;
-//! * the **state thread** asks the server every [`STATE_PERIOD`] which devices are in data
-//!   exchange (for `PNIO_ERR_NO_CONNECTION`);
 //! * the services worker (`super::services`) delivers record, alarm, activation and
-//!   diagnosis callbacks.
+//!   diagnosis callbacks, and keeps which devices are in data exchange (for
+//!   `PNIO_ERR_NO_CONNECTION`) as the server's notifications say, before the callbacks of
+//!   the same change: the data functions and DEV_FAILURE / DEV_RETURN agree. At open the
+//!   server's status report gives the first value.
 
 use super::callbacks::CallbackTable;
+use super::devices_up::DevicesUp;
 use super::errors::*;
 use super::handles;
 use super::isochronous::{self, Window, cycle_info};
@@ -29,8 +31,6 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// How often the state thread asks which devices are in data exchange.
-const STATE_PERIOD: Duration = Duration::from_millis(200);
 /// The longest the event thread sleeps before it looks at its stop flag and the server.
 const EVENT_POLL: Duration = Duration::from_millis(20);
 /// How long `PNIO_controller_open` waits for the server to reach OFFLINE (and for the
@@ -77,10 +77,9 @@ pub(crate) struct Controller {
     /// The client and the open window.
     pub io: Mutex<Io>,
     mode: Mutex<ModeState>,
-    /// Per device of the layout: in data exchange (as last reported by the server).
-    devices_up: Vec<AtomicBool>,
-    /// Asks the state thread to look at the devices now (the mode changed).
-    state_now: AtomicBool,
+    /// Per device of the layout: in data exchange, as the server's notifications said
+    /// (kept by the services worker).
+    devices_up: Arc<DevicesUp>,
     control: Mutex<ControlHandle>,
     /// Set by close: the threads end.
     stop: AtomicBool,
@@ -268,7 +267,7 @@ fn devices_running(control: &ControlHandle, layout: &Layout) -> Option<Vec<bool>
                     .devices
                     .iter()
                     .find(|r| r.name == name)
-                    .is_none_or(|r| r.state == DeviceState::Running)
+                    .is_some_and(|r| r.state == DeviceState::Running)
             })
             .collect(),
     )
@@ -316,15 +315,7 @@ impl Controller {
         let _ = client.events();
         let mode = client.mode().map_or(PNIO_MODE_OFFLINE, pnio_mode);
         let layout = client.layout().clone();
-        // In OFFLINE no device exchanges data, whatever the server's report (which may lag
-        // behind the mode) says.
-        let up = match mode {
-            PNIO_MODE_OFFLINE => vec![false; layout.devices.len()],
-            _ => devices_running(&control, &layout).unwrap_or_default(),
-        };
-        let devices_up = (0..layout.devices.len())
-            .map(|d| AtomicBool::new(up.get(d).copied().unwrap_or(true)))
-            .collect();
+        let devices_up = Arc::new(DevicesUp::new(layout.devices.len()));
         let callbacks = Arc::new(CallbackTable::new());
         callbacks.set_once(PNIO_CBE_REC_READ_CONF, req.rec_read);
         callbacks.set_once(PNIO_CBE_REC_WRITE_CONF, req.rec_write);
@@ -339,7 +330,14 @@ impl Controller {
             layout: layout.clone(),
             isochronous: isochronous.clone(),
             callbacks: callbacks.clone(),
+            devices_up: devices_up.clone(),
         })?;
+        // Read after the worker subscribed, so that no change between falls through. In
+        // OFFLINE no device exchanges data, whatever the report (which may lag behind the
+        // mode) says.
+        if mode != PNIO_MODE_OFFLINE {
+            devices_up.take_status(|| devices_running(&control, &layout));
+        }
         let ctl = Arc::new(Controller {
             handle,
             cp_index: cp,
@@ -359,26 +357,22 @@ impl Controller {
                 echo: VecDeque::new(),
             }),
             devices_up,
-            state_now: AtomicBool::new(false),
             control: Mutex::new(control),
             stop: AtomicBool::new(false),
             closed: AtomicBool::new(false),
             threads: Mutex::new(Vec::new()),
             services: Mutex::new(Some(services)),
         });
-        let started = [
-            ("ev", event_thread as fn(Arc<Controller>)),
-            ("st", state_thread),
-        ]
-        .into_iter()
-        .try_for_each(|(tag, f)| {
-            let c = ctl.clone();
-            let t = std::thread::Builder::new()
-                .name(format!("pnio-{tag}-{handle}"))
-                .spawn(move || f(c))?;
-            lock(&ctl.threads).push(t);
-            Ok::<(), std::io::Error>(())
-        });
+        let started = [("ev", event_thread as fn(Arc<Controller>))]
+            .into_iter()
+            .try_for_each(|(tag, f)| {
+                let c = ctl.clone();
+                let t = std::thread::Builder::new()
+                    .name(format!("pnio-{tag}-{handle}"))
+                    .spawn(move || f(c))?;
+                lock(&ctl.threads).push(t);
+                Ok::<(), std::io::Error>(())
+            });
         if let Err(e) = started {
             ctl.shut_down();
             return Err(fail(
@@ -465,9 +459,7 @@ impl Controller {
 
     /// Whether device `d` is in data exchange.
     pub(crate) fn device_up(&self, d: usize) -> bool {
-        self.devices_up
-            .get(d)
-            .is_none_or(|u| u.load(Ordering::Relaxed))
+        self.devices_up.get(d)
     }
 
     /// `PNIO_set_mode` after the checks of the handle and the caller.
@@ -578,11 +570,8 @@ impl Controller {
     fn report_mode(&self, mode: PNIO_MODE_TYPE) {
         if mode == PNIO_MODE_OFFLINE {
             // OFFLINE takes the connections down.
-            self.devices_up
-                .iter()
-                .for_each(|u| u.store(false, Ordering::Relaxed));
+            self.devices_up.set_all(false);
         }
-        self.state_now.store(true, Ordering::Release);
         {
             let mut m = lock(&self.mode);
             m.mode = mode;
@@ -678,25 +667,6 @@ fn event_thread(ctl: Arc<Controller>) {
         }
         if let Some(info) = c.startop {
             ctl.report_cp(PNIO_CP_CBE_STARTOP_IND, cycle_info(&info, now_ns()));
-        }
-    }
-}
-
-/// The state thread: keeps `devices_up` current.
-fn state_thread(ctl: Arc<Controller>) {
-    let mut next = Instant::now() + STATE_PERIOD;
-    while !ctl.stop.load(Ordering::Acquire) {
-        // Short sleeps so that close does not wait a whole period.
-        std::thread::sleep(Duration::from_millis(10));
-        if Instant::now() < next && !ctl.state_now.swap(false, Ordering::AcqRel) {
-            continue;
-        }
-        next = Instant::now() + STATE_PERIOD;
-        let up = devices_running(&lock(&ctl.control), &ctl.layout);
-        if let Some(up) = up {
-            for (flag, u) in ctl.devices_up.iter().zip(up) {
-                flag.store(u, Ordering::Relaxed);
-            }
         }
     }
 }

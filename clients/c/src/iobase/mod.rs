@@ -23,6 +23,7 @@ pub(crate) mod device;
 pub mod device_alarm_api;
 pub mod device_api;
 pub mod device_types;
+mod devices_up;
 pub mod errors;
 mod handles;
 mod isochronous;

@@ -41,6 +41,7 @@ mod build;
 mod worker;
 
 use super::callbacks::CallbackTable;
+use super::devices_up::DevicesUp;
 use super::errors::fail;
 use super::errors::{
     PNIO_ERR_INTERNAL, PNIO_ERR_MAX_REACHED, PNIO_ERR_MODE_VALUE, PNIO_ERR_NO_FW_COMMUNICATION,
@@ -92,6 +93,10 @@ pub(crate) struct ServiceContext {
     pub isochronous: Arc<AtomicBool>,
     /// The program's callbacks, read at delivery time.
     pub callbacks: Arc<CallbackTable>,
+    /// Per device of the layout: in data exchange. The worker keeps it as the server's
+    /// notifications say, before it calls the program back, so that the data functions and
+    /// the callbacks agree.
+    pub devices_up: Arc<DevicesUp>,
 }
 
 /// An open record job.
@@ -202,6 +207,7 @@ struct Shared {
     layout: Layout,
     isochronous: Arc<AtomicBool>,
     callbacks: Arc<CallbackTable>,
+    devices_up: Arc<DevicesUp>,
     /// Whether the server waits for our acknowledgement of alarms.
     acknowledges: bool,
     /// `None` once the worker has ended (and unsubscribed).
@@ -306,6 +312,7 @@ impl ServiceWorker {
             layout: ctx.layout,
             isochronous: ctx.isochronous,
             callbacks: ctx.callbacks,
+            devices_up: ctx.devices_up,
             acknowledges,
             services: Mutex::new(Some(services)),
             jobs: Mutex::new(Jobs::default()),

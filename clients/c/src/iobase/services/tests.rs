@@ -159,6 +159,7 @@ fn worker(server: &Procimgd, types: &[PNIO_CBE_TYPE]) -> (u32, ServiceWorker) {
         layout: client.layout().clone(),
         isochronous: Arc::new(AtomicBool::new(false)),
         callbacks,
+        devices_up: Arc::new(DevicesUp::new(client.layout().devices.len())),
     })
     .expect("the services worker starts");
     (handle, w)

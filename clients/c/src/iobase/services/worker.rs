@@ -23,7 +23,7 @@ use crate::iobase::types::{
     PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_DA_FALSE, PNIO_DA_TRUE,
     PNIO_ERR_STAT, PNIO_REF,
 };
-use procimg_client::{AlarmReport, DeviceDiagnosis, Notification, RecordConfirmation};
+use procimg_client::{AlarmReport, DeviceDiagnosis, DeviceState, Notification, RecordConfirmation};
 use std::os::fd::RawFd;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -108,8 +108,17 @@ fn handle(shared: &Shared, n: Notification) {
     match n {
         Notification::Record { confirmation, .. } => record_done(shared, &confirmation),
         Notification::Alarm(a) => alarm(shared, &a),
-        Notification::DeviceFailure { device, .. } => station_alarm(shared, device, true),
-        Notification::DeviceReturn { device, .. } => station_alarm(shared, device, false),
+        Notification::DeviceFailure { device, .. } => {
+            set_up(shared, device, false);
+            station_alarm(shared, device, true)
+        }
+        Notification::DeviceReturn { device, .. } => {
+            set_up(shared, device, true);
+            station_alarm(shared, device, false)
+        }
+        Notification::DeviceState { device, state, .. } => {
+            set_up(shared, device, state == DeviceState::Running)
+        }
         Notification::Activation {
             device, active, ok, ..
         } => activation_done(shared, device, active, ok),
@@ -117,12 +126,13 @@ fn handle(shared: &Shared, n: Notification) {
         // predecessors will never be confirmed.
         Notification::ServerStarted { generation } => {
             fail_jobs(shared, |g, _| g != Some(generation));
+            // A new server brings its devices up anew: each is reported when it comes.
+            shared.devices_up.set_all(false);
         }
-        // Device states and module differences have no IO-Base event (the device's own
-        // alarms report the latter); the station's events are of a server in the device
-        // role, which this IO controller interface does not serve.
-        Notification::DeviceState { .. }
-        | Notification::ModuleDiff { .. }
+        // Module differences have no IO-Base event (the device's own alarms report them);
+        // the station's events are of a server in the device role, which this IO
+        // controller interface does not serve.
+        Notification::ModuleDiff { .. }
         | Notification::StationAr { .. }
         | Notification::StationArEnded { .. }
         | Notification::StationPlcRunning { .. }
@@ -261,6 +271,11 @@ fn alarm(shared: &Shared, a: &AlarmReport) {
 }
 
 /// IO-Base's station failure / return alarm for a device leaving / entering data exchange.
+/// Device `device` is (`true`) or is not in data exchange, as the server said.
+fn set_up(shared: &Shared, device: u32, up: bool) {
+    shared.devices_up.set(device as usize, up);
+}
+
 fn station_alarm(shared: &Shared, device: u32, failure: bool) {
     let cbf = shared.callbacks.get(PNIO_CBE_ALARM_IND);
     if cbf.is_some() {
@@ -426,6 +441,7 @@ fn device_diagnosis(shared: &Shared, device: Option<u32>) -> Result<DeviceDiagno
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::iobase::devices_up::DevicesUp;
     use crate::iobase::services::address::tests::demo_layout;
     use crate::iobase::services::{Jobs, Wake};
     use crate::iobase::types::PNIO_IO_IN;
@@ -459,12 +475,66 @@ mod tests {
             layout: demo_layout(),
             isochronous: Arc::new(AtomicBool::new(false)),
             callbacks,
+            devices_up: Arc::new(DevicesUp::new(3)),
             acknowledges: false,
             services: Mutex::new(None),
             jobs: Mutex::new(Jobs::default()),
             stop: AtomicBool::new(false),
             wake: Wake::new().unwrap(),
         }
+    }
+
+    #[test]
+    fn a_devices_data_exchange_follows_the_servers_notifications() {
+        let s = shared();
+        let up = |d| s.devices_up.get(d);
+        handle(
+            &s,
+            Notification::DeviceReturn {
+                device: 1,
+                name: "counter".into(),
+            },
+        );
+        assert!(up(1) && !up(0));
+        handle(
+            &s,
+            Notification::DeviceState {
+                device: 0,
+                name: "echo".into(),
+                state: DeviceState::Running,
+            },
+        );
+        assert!(up(0));
+        handle(
+            &s,
+            Notification::DeviceFailure {
+                device: 1,
+                name: "counter".into(),
+                reason: "no input frames within the watchdog time".into(),
+            },
+        );
+        assert!(!up(1) && up(0));
+        handle(
+            &s,
+            Notification::DeviceState {
+                device: 0,
+                name: "echo".into(),
+                state: DeviceState::Unknown,
+            },
+        );
+        assert!(
+            !up(0),
+            "a state this library does not know is not data exchange"
+        );
+        handle(
+            &s,
+            Notification::DeviceReturn {
+                device: 0,
+                name: "echo".into(),
+            },
+        );
+        handle(&s, Notification::ServerStarted { generation: 9 });
+        assert!(!up(0), "a new server brings its devices up anew");
     }
 
     fn read_job(req_ref: u32, generation: Option<u64>) -> RecordJob {
