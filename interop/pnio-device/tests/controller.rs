@@ -95,6 +95,17 @@ fn value(k: u8) -> [u8; iop::IO_LEN] {
 
 /// The procimgd configuration: the device's own `--print-config` block on the controller's
 /// end of the veth pair, with the test's watchdog factor.
+/// procimgd as the controller of `net`'s device, in the controller's namespace with debug
+/// logging, started without waiting for it, as instance `tag` and this process's id.
+fn launch(net: &Net, tag: &str) -> Procimgd {
+    Launch::config(tag, &configuration(net))
+        .instance(&format!("{tag}{}", std::process::id()))
+        .netns(net.controller_ns())
+        .debug_log()
+        .without_waiting()
+        .start()
+}
+
 fn configuration(net: &Net) -> String {
     let out = std::process::Command::new(DEVICE)
         .args([
@@ -267,13 +278,8 @@ impl Rig {
             &dir.path().join("wire.pcapng"),
         );
         let mut device = Device::start(&net);
-        let instance = format!("iop{}", std::process::id());
-        let server = Launch::config("iop", &configuration(&net))
-            .instance(&instance)
-            .netns(net.controller_ns())
-            .debug_log()
-            .without_waiting()
-            .start();
+        let server = launch(&net, "iop");
+        let instance = server.instance.clone();
         let control = server.control(Duration::from_secs(10));
         let since = Instant::now();
         server.wait_status_within("the device in data exchange", BRING_UP_TIMEOUT, |s| {
@@ -826,13 +832,7 @@ fn a_connect_waiting_for_the_devices_address_reaches_it_once() {
     };
     address("del");
     let mut device = Device::start(&net);
-    let instance = format!("iopa{}", std::process::id());
-    let mut server = Launch::config("iopa", &configuration(&net))
-        .instance(&instance)
-        .netns(net.controller_ns())
-        .debug_log()
-        .without_waiting()
-        .start();
+    let mut server = launch(&net, "iopa");
     // Waits until procimgd answers on its control service.
     let control = server.control(Duration::from_secs(10));
     server.wait_status_within("the Connect sent", BRING_UP_TIMEOUT, |s| {
