@@ -4,7 +4,7 @@
 //! ApplicationReady call.
 
 use super::connect::{DEVICE_ALARM_REFERENCE, Expected, Fit, MAX_ALARM_DATA_LENGTH, Plan};
-use super::cyclic::{Provider, consumer};
+use super::cyclic::Provider;
 use super::diagnosis::SubslotAddr;
 use super::rpc::ClientCall;
 use super::{Application, ArState, DeviceAction, ethernet_frame};
@@ -143,6 +143,12 @@ impl Ar {
             .collect();
         let controller_mac = plan.ar.initiator_mac;
         let a = &plan.alarm_cr;
+        let timing = CrTiming {
+            send_clock_factor: plan.output.send_clock_factor,
+            reduction_ratio: plan.output.reduction_ratio,
+            every_cycles: 1,
+            data_hold_factor: plan.output.data_hold_factor,
+        };
         Ar {
             ar_uuid: plan.ar.ar_uuid,
             session_key: plan.ar.session_key,
@@ -151,7 +157,13 @@ impl Ar {
             state: ArState::Connected,
             submodules,
             provider: Provider::new(&plan.input, input_frame_id, controller_mac),
-            consumer: consumer(&plan.output, output_frame_id, controller_mac),
+            // The watchdog: DataHoldFactor frame periods of the output CR.
+            consumer: Consumer::new(
+                output_frame_id,
+                usize::from(plan.output.data_length),
+                controller_mac,
+                timing.watchdog_ns(),
+            ),
             alarms: Alarms {
                 high: RtaChannel::new(
                     Priority::High,
@@ -187,12 +199,7 @@ impl Ar {
             exchange_generation: 0,
             plug_ready: std::collections::VecDeque::new(),
             plug_call: None,
-            timing: CrTiming {
-                send_clock_factor: plan.output.send_clock_factor,
-                reduction_ratio: plan.output.reduction_ratio,
-                every_cycles: 1,
-                data_hold_factor: plan.output.data_hold_factor,
-            },
+            timing,
             device_outputs: Vec::new(),
             c_sdu: Vec::new(),
         }

@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The cyclic side of an AR the engine runs itself (when it has not handed it over): the
-//! provider of the input CR (device → controller) and the consumer of the output CR
-//! (controller → device), the workspace's one [`Consumer`].
+//! The provider of the input CR (device → controller) of an AR the engine runs itself (when
+//! it has not handed it over). The output CR's consumer is the workspace's one
+//! [`crate::cyclic::Consumer`], which the AR holds.
 //!
 //! Timing follows the IOCRBlockReq: a frame every SendClockFactor × ReductionRatio × 31.25 µs,
 //! CycleCounter taken from the frame's scheduled time ([`cycle_counter_at`]), so it steps by
 //! SendClockFactor × ReductionRatio per frame.
 
 use super::ethernet_frame;
-use crate::cyclic::Consumer;
 use crate::wire::MacAddress;
 use crate::wire::connect::IocrBlockReq;
 use crate::wire::rt::{self, TIME_UNIT_NS, cycle_counter_at};
@@ -85,17 +84,4 @@ impl Provider {
         repr.emit(&mut packet).ok()?;
         Some(ethernet_frame(self.dst, src, Some(self.tci), &pdu))
     }
-}
-
-/// The consumer of the output CR: the workspace's one consumer, with the watchdog of the
-/// IOCRBlockReq (DataHoldFactor frame periods).
-pub(super) fn consumer(iocr: &IocrBlockReq, frame_id: u16, src: MacAddress) -> Consumer {
-    let period_ns = iocr.period_ns().max(TIME_UNIT_NS);
-    let hold = u64::from(iocr.data_hold_factor.max(1));
-    Consumer::new(
-        frame_id,
-        usize::from(iocr.data_length),
-        src,
-        period_ns.saturating_mul(hold),
-    )
 }

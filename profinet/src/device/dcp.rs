@@ -468,7 +468,7 @@ pub(super) fn is_request_frame_id(frame_id: u16) -> bool {
     frame_id == dcp::FRAME_ID_IDENTIFY_REQUEST || frame_id == dcp::FRAME_ID_GET_SET
 }
 
-/// The application's veto on DCP's changes ([`super::dcp_veto`]): turning the checks on,
+/// The application's veto on DCP's changes (`dcp_veto.rs`): turning the checks on,
 /// the verdict, and the Set carried out when nobody answers.
 impl<A: Application> Device<A> {
     /// Has every DCP Set of the station's name or address (and reset to factory) wait for
