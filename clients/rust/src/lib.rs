@@ -38,6 +38,7 @@ mod cycle;
 mod device;
 mod error;
 mod io;
+pub mod iobase;
 mod layout;
 mod plug;
 // SCHED_FIFO and mlockall are system calls.

@@ -6,12 +6,12 @@
 #![allow(non_snake_case)]
 
 use super::callbacks::in_callback;
-use super::device::ars::Phase;
 use super::device::config;
 use super::device::data::{self as io, Classes, Direction};
 use super::device::jobs::Job;
 use super::device::open::{self, OpenRequest};
 use super::device::ready_list;
+use super::device::session_failure;
 use super::device::state::{Device, Life, lookup, lookup_any, wrong_handle};
 use super::device_types::*;
 use super::errors::fail;
@@ -20,6 +20,7 @@ use super::stopped;
 use super::sync::lock;
 use super::types::*;
 use crate::ffi::guard;
+use procimg_client::iobase::{ApplicationReadyError, ArId, ReadyError};
 use std::sync::Arc;
 use std::sync::mpsc::sync_channel;
 
@@ -594,54 +595,16 @@ pub unsafe extern "C" fn PNIO_set_appl_state_ready(
                 "pList does not end: build it with PNIO_LIST_INITIALIZE and PNIO_LIST_INSERT_*",
             );
         };
-        {
-            let mut ars = lock(&dev.ars);
-            if let Err(code) = ars.check(F, ArNumber, SessionKey) {
-                return code;
-            }
-            let Some(ar) = ars.current.as_mut() else {
-                return fail(F, PNIO_ERR_INTERNAL, "the AR went while checked");
-            };
-            if ar.phase == Phase::InData && ar.plug_prm_ends > 0 {
-                // A submodule plugged in data exchange has its parameters.
-                ar.plug_prm_ends -= 1;
-                drop(ars);
-                return match lock(&dev.services).application_ready_except(&not_ready) {
-                    Ok(()) => PNIO_OK,
-                    Err(e) => fail(F, PNIO_ERR_NO_FW_COMMUNICATION, format_args!("{e}")),
-                };
-            }
-            if ar.phase != Phase::PrmEnd {
-                let why = if ar.phase == Phase::Checked {
-                    "PNIO_CBF_PRM_END_IND has not come yet"
-                } else {
-                    "it was called for this AR already"
-                };
-                return fail(
-                    F,
-                    PNIO_ERR_SEQUENCE,
-                    format_args!("not now for AR {ArNumber}: {why}"),
-                );
-            }
-            ar.phase = Phase::ApplReady;
-        }
-        match lock(&dev.services).application_ready_except(&not_ready) {
+        let ar = ArId {
+            number: ArNumber,
+            session_key: SessionKey,
+        };
+        match dev.iobase.application_ready(ar, &not_ready) {
             Ok(()) => PNIO_OK,
-            Err(e) => {
-                if let Some(ar) = lock(&dev.ars).current.as_mut()
-                    && ar.number == ArNumber
-                    && ar.phase == Phase::ApplReady
-                {
-                    ar.phase = Phase::PrmEnd;
-                }
-                fail(
-                    F,
-                    PNIO_ERR_NO_FW_COMMUNICATION,
-                    format_args!(
-                        "instance \"{}\" did not take the ApplicationReady: {e}",
-                        dev.instance
-                    ),
-                )
+            Err(ApplicationReadyError::Refused(ReadyError::Session(e))) => session_failure(F, e),
+            Err(e @ ApplicationReadyError::Refused(_)) => fail(F, PNIO_ERR_SEQUENCE, e),
+            Err(e @ ApplicationReadyError::NotTaken { .. }) => {
+                fail(F, PNIO_ERR_NO_FW_COMMUNICATION, e)
             }
         }
     })
@@ -666,10 +629,14 @@ pub unsafe extern "C" fn PNIO_device_ar_abort(
             Ok(d) => d,
             Err(code) => return code,
         };
-        if let Err(code) = lock(&dev.ars).check(F, ArNumber, SessionKey) {
-            return code;
+        let ar = ArId {
+            number: ArNumber,
+            session_key: SessionKey,
+        };
+        if let Err(e) = dev.iobase.check(ar) {
+            return session_failure(F, e);
         }
-        match dev.send(Job::Abort(ArNumber)) {
+        match dev.send(Job::Abort(ar)) {
             Ok(()) => PNIO_OK,
             Err(_) => fail(F, PNIO_ERR_INTERNAL, "the device's thread has ended"),
         }

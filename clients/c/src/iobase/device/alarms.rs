@@ -14,13 +14,14 @@
 //! `PNIO_ERR_UNKNOWN_ADDR`.
 
 use super::Pos;
-use super::ars::Phase;
 use super::jobs::Job;
+use super::session_failure;
 use super::state::{Device, Life};
 use crate::iobase::callbacks::invoke_device;
 use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_ERR_STAT;
+use procimg_client::iobase::ArId;
 use procimg_client::{AlarmRefusal, ControlError, Refusal, StationAlarmKind};
 
 /// The most alarm data: the AlarmNotification PDU's 200 bytes less its 28-byte header, which
@@ -56,13 +57,13 @@ pub(crate) fn send(dev: &Device, call: AlarmCall<'_>) -> u32 {
             format_args!("the device is {}: alarms need an AR", life.name()),
         );
     }
-    {
-        let ars = lock(&dev.ars);
-        let ar = match ars.check(f, call.ar.0, call.ar.1) {
-            Ok(ar) => ar,
-            Err(code) => return code,
-        };
-        if ar.phase < Phase::ApplReady {
+    let ar = ArId {
+        number: call.ar.0,
+        session_key: call.ar.1,
+    };
+    match dev.iobase.check(ar) {
+        Err(e) => return session_failure(f, e),
+        Ok(current) if !current.is_ready() => {
             return fail(
                 f,
                 PNIO_ERR_SEQUENCE,
@@ -72,6 +73,7 @@ pub(crate) fn send(dev: &Device, call: AlarmCall<'_>) -> u32 {
                 ),
             );
         }
+        Ok(_) => {}
     }
     if call.data.len() > MAX_ALARM_DATA as usize {
         return fail(
@@ -104,7 +106,10 @@ pub(crate) fn send(dev: &Device, call: AlarmCall<'_>) -> u32 {
         a.waiting.insert(tag, call.user);
         tag
     };
-    let sent = lock(&dev.services).send_alarm(call.at, call.kind, call.usi, call.data, tag);
+    let sent = dev
+        .iobase
+        .services()
+        .send_alarm(call.at, call.kind, call.usi, call.data, tag);
     match sent {
         Ok(()) => PNIO_OK,
         Err(e) => {

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The AR indications: the station's notifications turned into the manual's callbacks on
-//! the device's library thread, and the ArNumber and SessionKey rules of the per-AR calls.
+//! The AR indications as the program's `PNIO_CBF_*` callbacks, on the device's library
+//! thread. Which indication comes when, and the ArNumber and SessionKey rules of the per-AR
+//! calls, are [`IoBaseDevice`]'s, the library's Rust core; this file converts its
+//! [`DeviceCallbacks`] to the C types.
+//!
+//! [`IoBaseDevice`]: procimg_client::iobase::IoBaseDevice
 //!
 //! # Callbacks and when they come
 //!
@@ -29,15 +33,15 @@
 //!    byte of IOPS and IOCS per direction it has; a submodule without data has the input
 //!    side's). The memory is the library's and valid only during the callback.
 //! 5. `PNIO_CBF_PRM_END_IND` (API, slot and subslot 0) when the station reports the AR
-//!    [`ArState::Parameterized`] (the PLC's PrmEnd); the ApplicationReady waits for
+//!    [`ArState::Parameterized`](procimg_client::ArState::Parameterized) (the PLC's PrmEnd); the ApplicationReady waits for
 //!    `PNIO_set_appl_state_ready` (procimgd sends it by itself after 10 s).
-//! 6. `PNIO_CBF_AR_INDATA_IND` when the station reports [`ArState::Data`].
+//! 6. `PNIO_CBF_AR_INDATA_IND` when the station reports [`ArState::Data`](procimg_client::ArState::Data).
 //! 7. `PNIO_CBF_APDU_STATUS_IND` when the PLC's frames change between RUN and STOP:
 //!    `PNIO_EVENT_APDU_STATUS_RUN` or `_STOP`, each with `_STATION_OK` (procimgd reports no
 //!    station problem); a change before data exchange is given right after
 //!    `AR_INDATA_IND`.
 //! 8. `PNIO_CBF_AR_OFFLINE_IND` when the AR ends after `AR_INDATA_IND`, else
-//!    `PNIO_CBF_AR_ABORT_IND`, with the reason of [`reason_code`]. An AR that a new
+//!    `PNIO_CBF_AR_ABORT_IND`, with the reason of [`ArEndReason::iobase_code`]. An AR that a new
 //!    Connect replaced before its end was reported ends with `PNIO_AR_REASON_RERUN`; one
 //!    whose end a stop or `PNIO_device_ar_abort` waited for in vain (5 s) with
 //!    `PNIO_AR_REASON_ABORT`.
@@ -53,8 +57,6 @@
 
 use super::Pos;
 use super::alarms;
-use super::ars::{Ar, Phase};
-use super::identify;
 use super::records;
 use super::state::Device;
 use super::station::{Occupants, plug};
@@ -63,29 +65,10 @@ use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_IO_IN;
-use procimg_client::{ArState, Notification};
+use procimg_client::StationRecordJob;
+use procimg_client::iobase::{ArEndReason, ArId, DeviceCallbacks};
 use procimg_control::services::{ExpectedSubmodule, StationArCheckJob};
-use std::time::{Duration, Instant};
-
-/// The `PNIO_AR_REASON` of an ended AR. The manual's reasons 1 to 34 are the RTA abort
-/// codes, which procimgd sends with the notification, so:
-///
-/// * released by the PLC (no abort) → `PNIO_AR_REASON_REL`;
-/// * an abort with code 0x01..=0x22 → that value (0x05 `MISS`, the PLC's frames stopped;
-///   0x10 `PAS`, the station went OFFLINE; 0x1f `DCP_NAME`; 0x20 `DCP_RESET`; …);
-/// * any other code, or none (an older server) → `PNIO_AR_REASON_ABORT` when this station
-///   ended it on purpose (stop, OFFLINE, `PNIO_device_ar_abort`), else
-///   `PNIO_AR_REASON_NONE`.
-pub(crate) fn reason_code(abort_code: Option<u8>, aborted: bool, planned: bool) -> PNIO_AR_REASON {
-    if !aborted {
-        return PNIO_AR_REASON_REL;
-    }
-    match abort_code.map(u32::from) {
-        Some(c) if (PNIO_AR_REASON_RESERVED1..=PNIO_AR_REASON_IRDATA).contains(&c) => c,
-        _ if planned => PNIO_AR_REASON_ABORT,
-        _ => PNIO_AR_REASON_NONE,
-    }
-}
+use std::time::Duration;
 
 /// The UUID procimgd writes ("0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2"); zero if it is none.
 pub(crate) fn uuid(text: &str) -> PNIO_UUID_TYPE {
@@ -220,148 +203,47 @@ pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]
     }
 }
 
-/// Turns one notification of the station into the callbacks it means.
-pub(crate) fn handle(dev: &Device, occupants: &mut Occupants, n: Notification) {
-    match n {
-        Notification::StationArCheck { check, .. } => new_ar(dev, occupants, &check),
-        Notification::StationAr { state, ar_uuid, .. } => progress(dev, state, &ar_uuid),
-        Notification::StationArEnded {
-            ar_uuid,
-            aborted,
-            planned,
-            abort_code,
-            ..
-        } => {
-            let ended = {
-                let mut ars = lock(&dev.ars);
-                match &ars.current {
-                    Some(ar) if ar.uuid == ar_uuid => ars.current.take(),
-                    _ => None,
-                }
-            };
-            if let Some(ar) = ended {
-                end(dev, &ar, reason_code(abort_code, aborted, planned));
-            }
+/// The program's callbacks for the notifications [`IoBaseDevice`] turns into them: each
+/// converts the types and calls the `PNIO_CBF_*` function the program gave
+/// `PNIO_device_open`, if any. `occupants` is the library thread's view of the station,
+/// where a `CHECK_IND` answer plugs.
+///
+/// [`IoBaseDevice`]: procimg_client::iobase::IoBaseDevice
+pub(crate) struct Callbacks<'a> {
+    pub dev: &'a Device,
+    pub occupants: &'a mut Occupants,
+}
+
+impl Callbacks<'_> {
+    /// Calls `f` with the device's handle, as a callback of the program.
+    fn call<F: Copy>(&self, f: Option<F>, with: impl FnOnce(F, u32)) {
+        if let Some(f) = f {
+            invoke_device(|| with(f, self.dev.handle));
         }
-        Notification::StationPlcRunning { running } => {
-            let deliver = {
-                let mut ars = lock(&dev.ars);
-                match ars.current.as_mut() {
-                    Some(ar) if ar.phase == Phase::InData => Some((ar.number, ar.session_key)),
-                    Some(ar) => {
-                        ar.apdu_pending = Some(running);
-                        None
-                    }
-                    None => None,
-                }
-            };
-            if let Some((number, key)) = deliver {
-                apdu(dev, number, key, running);
-            }
-        }
-        Notification::StationPlugParameterized { api, slot, subslot } => {
-            plug_prm_end(dev, api, slot, subslot)
-        }
-        Notification::StationRecord { job, .. } => records::job(dev, &job),
-        Notification::StationAlarmDone { tag, status, .. } => {
-            alarms::acknowledged(dev, tag, status)
-        }
-        Notification::StationBlink => identify::blink(dev),
-        Notification::StationIdentity {
-            factory_reset: true,
-            ..
-        } => identify::stop_request(dev),
-        _ => {}
     }
 }
 
-/// The PLC ended the parameters of a submodule plugged in data exchange: `PRM_END_IND` with
-/// its address; `PNIO_set_appl_state_ready` releases its PlugApplicationReady.
-fn plug_prm_end(dev: &Device, api: u32, slot: u16, subslot: u16) {
-    let ar = {
-        let mut ars = lock(&dev.ars);
-        match ars.current.as_mut() {
-            Some(ar) if ar.phase == Phase::InData => {
-                ar.plug_prm_ends += 1;
-                Some((ar.number, ar.session_key))
-            }
-            _ => None,
-        }
-    };
-    if let (Some((number, key)), Some(f)) = (ar, dev.cbf.cbf_prm_end_ind) {
-        // SAFETY: a callback the program gave PNIO_device_open, callable until
-        // PNIO_device_close (which waits for this thread).
-        invoke_device(|| unsafe { f(dev.handle, number, key, api, slot, subslot) });
-    }
-}
-
-/// Gives `AR_OFFLINE_IND` (after data exchange began) or `AR_ABORT_IND` for `ar`.
-pub(crate) fn end(dev: &Device, ar: &Ar, reason: PNIO_AR_REASON) {
-    let (n, k) = (ar.number, ar.session_key);
-    if ar.phase == Phase::InData {
-        if let Some(f) = dev.cbf.cbf_ar_offline_ind {
-            // SAFETY: a callback the program gave PNIO_device_open, callable until
-            // PNIO_device_close (which waits for this thread).
-            invoke_device(|| unsafe { f(dev.handle, n, k, reason) });
-        }
-    } else if let Some(f) = dev.cbf.cbf_ar_abort_ind {
-        // SAFETY: as above.
-        invoke_device(|| unsafe { f(dev.handle, n, k, reason) });
-    }
-}
-
-fn apdu(dev: &Device, number: u16, key: u16, running: bool) {
-    let status = PNIO_EVENT_APDU_STATUS_STATION_OK
-        | if running {
-            PNIO_EVENT_APDU_STATUS_RUN
-        } else {
-            PNIO_EVENT_APDU_STATUS_STOP
+// Every `unsafe` call below is of a callback the program gave PNIO_device_open, callable
+// until PNIO_device_close, which waits for the library thread that delivers these.
+impl DeviceCallbacks for Callbacks<'_> {
+    fn ar_check(&mut self, ar: ArId, check: &StationArCheckJob) {
+        let mut tree = PNIO_AR_TYPE {
+            pNextAr: std::ptr::null_mut(),
+            ArNumber: ar.number,
+            SessionKey: ar.session_key,
+            NumOfIocr: 0,
+            pIoCrList: std::ptr::null_mut(),
+            NumOfMod: 0,
+            pModList: std::ptr::null_mut(),
         };
-    if let Some(f) = dev.cbf.cbf_apdu_status_ind {
-        // SAFETY: a callback the program gave PNIO_device_open, callable until
-        // PNIO_device_close (which waits for this thread).
-        invoke_device(|| unsafe { f(dev.handle, number, key, status) });
-    }
-}
-
-/// A PLC's Connect: `AR_CHECK_IND`, `CHECK_IND` per mismatch, the answer, `AR_INFO_IND`.
-fn new_ar(dev: &Device, occupants: &mut Occupants, check: &StationArCheckJob) {
-    let (number, key) = (lock(&dev.ars).next_number, check.session_key);
-    let replaced = {
-        let mut ars = lock(&dev.ars);
-        ars.next_number = number.checked_add(1).unwrap_or(1);
-        ars.current.replace(Ar {
-            number,
-            session_key: key,
-            uuid: check.ar_uuid.clone(),
-            phase: Phase::Checked,
-            apdu_pending: None,
-            plug_prm_ends: 0,
-        })
-    };
-    if let Some(old) = replaced {
-        end(dev, &old, PNIO_AR_REASON_RERUN);
-    }
-    let mut ar = PNIO_AR_TYPE {
-        pNextAr: std::ptr::null_mut(),
-        ArNumber: number,
-        SessionKey: key,
-        NumOfIocr: 0,
-        pIoCrList: std::ptr::null_mut(),
-        NumOfMod: 0,
-        pModList: std::ptr::null_mut(),
-    };
-    let mut name = check.controller_name.as_bytes().to_vec();
-    let name_len = name.len().min(u16::MAX as usize) as u16;
-    if let Some(f) = dev.cbf.cbf_ar_check_ind {
-        let (ar_ptr, name_ptr): (*mut PNIO_AR_TYPE, *mut u8) = (&mut ar, name.as_mut_ptr());
+        let mut name = check.controller_name.as_bytes().to_vec();
+        let name_len = name.len().min(u16::MAX as usize) as u16;
+        let (ar_ptr, name_ptr): (*mut PNIO_AR_TYPE, *mut u8) = (&mut tree, name.as_mut_ptr());
         let ar_uuid = uuid(&check.ar_uuid);
-        // SAFETY: a callback the program gave PNIO_device_open, callable until
-        // PNIO_device_close (which waits for this thread); the pointers are valid for the
-        // call.
-        invoke_device(|| unsafe {
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_ar_check_ind, |f, h| unsafe {
             f(
-                dev.handle,
+                h,
                 0,
                 check.ar_type,
                 ar_uuid,
@@ -373,23 +255,93 @@ fn new_ar(dev: &Device, occupants: &mut Occupants, check: &StationArCheckJob) {
             )
         });
     }
-    for e in &check.expected {
-        let Some(plugged) = e.plugged else { continue };
-        if plugged == (e.module_ident, e.submodule_ident) {
-            continue;
-        }
-        check_ind(dev, occupants, number, key, e, plugged);
+
+    fn check_submodule(&mut self, ar: ArId, e: &ExpectedSubmodule, plugged: (u32, u32)) {
+        check_ind(self.dev, self.occupants, ar, e, plugged);
     }
-    // Accepting: the manual's refusal is PNIO_device_ar_abort, after the callbacks. A
-    // failed answer is taken as accepted by the station after its timeout.
-    let _ = lock(&dev.services).answer_ar_check(check, Ok(()));
-    let mut t = tree(number, key, &check.expected);
-    if let Some(f) = dev.cbf.cbf_ar_info_ind {
+
+    fn ar_info(&mut self, ar: ArId, expected: &[ExpectedSubmodule]) {
+        let mut t = tree(ar.number, ar.session_key, expected);
         let p: *mut PNIO_AR_TYPE = &mut t.ar;
-        // SAFETY: a callback the program gave PNIO_device_open, callable until
-        // PNIO_device_close; `p` and what it points to live until the call returned.
-        invoke_device(|| unsafe { f(dev.handle, number, key, p) });
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_ar_info_ind, |f, h| unsafe {
+            f(h, ar.number, ar.session_key, p)
+        });
     }
+
+    fn prm_end(&mut self, ar: ArId, submodule: Option<Pos>) {
+        let (api, slot, subslot) = submodule.unwrap_or((0, 0, 0));
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_prm_end_ind, |f, h| unsafe {
+            f(h, ar.number, ar.session_key, api, slot, subslot)
+        });
+    }
+
+    fn in_data(&mut self, ar: ArId) {
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_ar_indata_ind, |f, h| unsafe {
+            f(h, ar.number, ar.session_key)
+        });
+    }
+
+    fn apdu_status(&mut self, ar: ArId, running: bool) {
+        let status = PNIO_EVENT_APDU_STATUS_STATION_OK
+            | if running {
+                PNIO_EVENT_APDU_STATUS_RUN
+            } else {
+                PNIO_EVENT_APDU_STATUS_STOP
+            };
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_apdu_status_ind, |f, h| unsafe {
+            f(h, ar.number, ar.session_key, status)
+        });
+    }
+
+    fn ar_abort(&mut self, ar: ArId, reason: ArEndReason) {
+        let code = reason.iobase_code();
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_ar_abort_ind, |f, h| unsafe {
+            f(h, ar.number, ar.session_key, code)
+        });
+    }
+
+    fn ar_offline(&mut self, ar: ArId, reason: ArEndReason) {
+        let code = reason.iobase_code();
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_ar_offline_ind, |f, h| unsafe {
+            f(h, ar.number, ar.session_key, code)
+        });
+    }
+
+    fn led_flash_start(&mut self, hz: u32) {
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_start_led_flash, |f, h| unsafe { f(h, hz) });
+    }
+
+    fn led_flash_stop(&mut self) {
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_stop_led_flash, |f, h| unsafe { f(h) });
+    }
+
+    fn factory_reset(&mut self) {
+        // SAFETY: the program's callback (see the impl); the pointers live until it returned.
+        self.call(self.dev.cbf.cbf_cp_stop_req, |f, h| unsafe { f(h) });
+    }
+
+    fn record(&mut self, ar: Option<ArId>, job: &StationRecordJob) {
+        records::job(self.dev, ar, job);
+    }
+
+    fn alarm_done(&mut self, tag: u64, status: Option<[u8; 4]>) {
+        alarms::acknowledged(self.dev, tag, status);
+    }
+}
+
+/// Delivers the station's notifications until the AR `uuid` has ended (its callback given)
+/// or `timeout` passed; then, if it is still current, ends it with `PNIO_AR_REASON_ABORT`.
+pub(crate) fn until_ended(dev: &Device, occupants: &mut Occupants, uuid: &str, timeout: Duration) {
+    dev.iobase
+        .until_ended(uuid, timeout, &mut Callbacks { dev, occupants });
 }
 
 /// `CHECK_IND` for a submodule the PLC expects other than plugged; plugs what the program
@@ -397,8 +349,7 @@ fn new_ar(dev: &Device, occupants: &mut Occupants, check: &StationArCheckJob) {
 fn check_ind(
     dev: &Device,
     occupants: &mut Occupants,
-    number: u16,
-    key: u16,
+    ar: ArId,
     e: &ExpectedSubmodule,
     plugged: (u32, u32),
 ) {
@@ -422,6 +373,7 @@ fn check_ind(
             &mut sub_ident,
             &mut sub_state,
         );
+        let (number, key) = (ar.number, ar.session_key);
         // SAFETY: a callback the program gave PNIO_device_open, callable until
         // PNIO_device_close; every pointer is valid for the call.
         invoke_device(|| unsafe { f(dev.handle, e.api, number, key, pa, pmi, pms, psi, pss) });
@@ -447,95 +399,28 @@ fn substitute(plugged: (u32, u32), answer: (u32, u32), sub_state: u16) -> Option
     (takes && answer != plugged).then_some(answer)
 }
 
-/// The station reports the AR at `state`.
-fn progress(dev: &Device, state: ArState, ar_uuid: &str) {
-    let target = match state {
-        ArState::Parameterized => Phase::PrmEnd,
-        ArState::Data => Phase::InData,
-        // No callback of their own: the Connect's indications came with the AR check, and
-        // the ApplicationReady going out is this library's own doing.
-        ArState::Connected | ArState::WaitingForApplicationReadyConfirm | ArState::Unknown => {
-            return;
-        }
-    };
-    let (number, key, apdu_pending) = {
-        let mut ars = lock(&dev.ars);
-        let Some(ar) = ars.current.as_mut().filter(|a| a.uuid == ar_uuid) else {
-            return;
-        };
-        if ar.phase >= target {
-            return;
-        }
-        ar.phase = target;
-        let pending = if target == Phase::InData {
-            ar.apdu_pending.take()
-        } else {
-            None
-        };
-        (ar.number, ar.session_key, pending)
-    };
-    match target {
-        Phase::PrmEnd => {
-            if let Some(f) = dev.cbf.cbf_prm_end_ind {
-                // SAFETY: a callback the program gave PNIO_device_open, callable until
-                // PNIO_device_close (which waits for this thread).
-                invoke_device(|| unsafe { f(dev.handle, number, key, 0, 0, 0) });
-            }
-        }
-        _ => {
-            if let Some(f) = dev.cbf.cbf_ar_indata_ind {
-                // SAFETY: as above.
-                invoke_device(|| unsafe { f(dev.handle, number, key) });
-            }
-            if let Some(running) = apdu_pending {
-                apdu(dev, number, key, running);
-            }
-        }
-    }
-}
-
-/// Delivers the station's notifications until the AR `uuid` has ended (its callback given)
-/// or `timeout` passed; then, if it is still current, ends it with `PNIO_AR_REASON_ABORT`.
-pub(crate) fn until_ended(dev: &Device, occupants: &mut Occupants, uuid: &str, timeout: Duration) {
-    let until = Instant::now() + timeout;
-    let current = |dev: &Device| {
-        lock(&dev.ars)
-            .current
-            .as_ref()
-            .is_some_and(|a| a.uuid == uuid)
-    };
-    while current(dev) && Instant::now() < until {
-        let n = lock(&dev.services).try_next();
-        match n {
-            Some(n) => handle(dev, occupants, n),
-            None => std::thread::sleep(Duration::from_millis(10)),
-        }
-    }
-    let left = {
-        let mut ars = lock(&dev.ars);
-        match &ars.current {
-            Some(a) if a.uuid == uuid => ars.current.take(),
-            _ => None,
-        }
-    };
-    if let Some(ar) = left {
-        end(dev, &ar, PNIO_AR_REASON_ABORT);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn reasons_are_the_abort_codes() {
-        assert_eq!(reason_code(None, false, false), PNIO_AR_REASON_REL);
-        assert_eq!(reason_code(Some(0x05), true, false), PNIO_AR_REASON_MISS);
-        assert_eq!(reason_code(Some(0x10), true, true), PNIO_AR_REASON_PAS);
-        assert_eq!(reason_code(Some(0x7f), true, true), PNIO_AR_REASON_ABORT);
-        assert_eq!(reason_code(Some(0x00), true, false), PNIO_AR_REASON_NONE);
-        // An older server sends no code.
-        assert_eq!(reason_code(None, true, true), PNIO_AR_REASON_ABORT);
+    fn the_rust_reasons_are_the_headers() {
+        use procimg_client::iobase::*;
+        assert_eq!(REASON_NONE, PNIO_AR_REASON_NONE);
+        assert_eq!(REASON_ABORT, PNIO_AR_REASON_ABORT);
+        assert_eq!(REASON_RERUN, PNIO_AR_REASON_RERUN);
+        assert_eq!(REASON_REL, PNIO_AR_REASON_REL);
+        assert_eq!(REASON_HIGHEST_ABORT_CODE, PNIO_AR_REASON_IRDATA);
+        assert_eq!(PNIO_AR_REASON_RESERVED1, 1);
+        assert_eq!(
+            u32::from(CHAN_PROP_MAINT_REQUIRED),
+            PNIO_CHAN_PROP_MAINT_REQUIRED_BIT
+        );
+        assert_eq!(
+            u32::from(CHAN_PROP_MAINT_DEMANDED),
+            PNIO_CHAN_PROP_MAINT_DEMANDED_BIT
+        );
+        assert_eq!(FLASH_HZ, 2);
     }
 
     #[test]

@@ -28,7 +28,6 @@
 //! cycle. What a callback returns other than `PNIO_S_GOOD` counts as `PNIO_S_BAD`.
 
 use super::Pos;
-use super::ars::Phase;
 use super::state::{Device, Life};
 use crate::iobase::callbacks::invoke_device;
 use crate::iobase::device_types::*;
@@ -216,10 +215,7 @@ pub(crate) fn initiate(
             format_args!("the program has plugged no submodule at slot {slot} subslot {subslot}"),
         );
     }
-    let in_ar = lock(&dev.ars)
-        .current
-        .as_ref()
-        .is_some_and(|a| a.phase >= Phase::ApplReady);
+    let in_ar = dev.iobase.current_ar().is_some_and(|a| a.is_ready());
     if !in_ar {
         return PNIO_WARN_NO_SUBMODULES;
     }

@@ -5,6 +5,7 @@
 use super::Pos;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use procimg_client::iobase::ArId;
 use std::sync::mpsc::{Sender, SyncSender};
 use std::thread::JoinHandle;
 
@@ -50,9 +51,9 @@ pub(crate) enum Job {
     /// `PNIO_device_stop`: OFFLINE, the current AR's `AR_OFFLINE_IND` or `AR_ABORT_IND`, then
     /// `PNIO_CBF_DEVICE_STOPPED`.
     Stop,
-    /// `PNIO_device_ar_abort` of the AR with this ArNumber: OFFLINE until the AR's end
+    /// `PNIO_device_ar_abort` of this AR: OFFLINE until the AR's end
     /// callback was given, then OPERATE again.
-    Abort(u16),
+    Abort(ArId),
     /// `PNIO_CBF_REQ_DONE` of an alarm that did not go out, with `status`.
     AlarmDone {
         /// The program's UserHndl.

@@ -16,8 +16,6 @@
 //!   between them hands the station's notifications to `ar`;
 //! * `station`: a plug or pull on procimgd's station, and the IO-Base codes of its
 //!   refusals;
-//! * `ars`: the ARs as the program knows them (ArNumber, SessionKey, phase) and the checks
-//!   of the per-AR calls;
 //! * `data`: the IO data functions (the callbacks on the caller's thread, the IOxS they
 //!   return sent), and the claims of the program's I data from start to stop;
 //! * `isochronous`: `PNIO_CP_register_cbf` and `PNIO_CP_set_opdone` with a device handle,
@@ -25,16 +23,21 @@
 //!   and the registration rules are `crate::iobase::isochronous`'s, shared with the
 //!   controller);
 //! * `ar`: the AR indications (`AR_CHECK_IND`, `CHECK_IND`, `AR_INFO_IND`, `PRM_END_IND`,
-//!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`) from the
-//!   station's notifications, the reason codes, and the ArNumber and SessionKey rules;
+//!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`), the LED's
+//!   (`START_LED_FLASH`, `STOP_LED_FLASH`) and `CP_STOP_REQ`, as C callbacks of the
+//!   [`DeviceCallbacks`](procimg_client::iobase::DeviceCallbacks) that the device's
+//!   [`IoBaseDevice`](procimg_client::iobase::IoBaseDevice) calls;
 //! * `records`: the records the library takes from start to stop, and `PNIO_CBF_REC_READ`
 //!   and `PNIO_CBF_REC_WRITE` for procimgd's record jobs;
-//! * `diag`: the program's diagnosis entries by DiagTag, kept in procimgd's store without
-//!   an alarm;
+//! * `diag`: the checks of the diagnosis functions (the DiagTags are the
+//!   `IoBaseDevice`'s);
 //! * `alarms`: the program's alarms and their `PNIO_CBF_REQ_DONE`;
-//! * `held`: what an open device keeps for them and for `isochronous`;
-//! * `identify`: `PNIO_CBF_START_LED_FLASH` / `STOP_LED_FLASH` for DCP Signal and
-//!   `PNIO_CBF_CP_STOP_REQ` for a reset to factory.
+//! * `held`: what an open device keeps for `alarms` and `isochronous`.
+//!
+//! The IO-Base semantics that are not about C (ArNumber and SessionKey, the order of the
+//! indications, the ApplicationReady, DiagTags, the LED's three seconds) are the Rust
+//! client's [`procimg_client::iobase`], which a Rust device program uses without this
+//! library.
 //!
 //! # Lifecycle
 //!
@@ -108,14 +111,26 @@
 /// API, slot, subslot.
 pub(crate) type Pos = (u32, u16, u16);
 
+use crate::iobase::errors::{PNIO_ERR_SEQUENCE, PNIO_ERR_SESSION, fail};
+use procimg_client::iobase::SessionError;
+
+/// The code of a call naming an AR that is not the current one: an ArNumber this device
+/// never gave is out of sequence; an ended AR's, or the current one's with another
+/// SessionKey, a session error.
+pub(crate) fn session_failure(f: &str, e: SessionError) -> u32 {
+    let code = match e {
+        SessionError::NeverGiven { .. } => PNIO_ERR_SEQUENCE,
+        SessionError::WrongSessionKey { .. } | SessionError::Ended { .. } => PNIO_ERR_SESSION,
+    };
+    fail(f, code, e)
+}
+
 pub(crate) mod alarms;
 pub(crate) mod ar;
-pub(crate) mod ars;
 pub(crate) mod config;
 pub(crate) mod data;
 pub(crate) mod diag;
 pub(crate) mod held;
-pub(crate) mod identify;
 pub(crate) mod isochronous;
 pub(crate) mod jobs;
 pub(crate) mod open;

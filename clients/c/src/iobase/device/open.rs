@@ -13,6 +13,7 @@ use crate::iobase::controller::instance_for;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::types::*;
+use procimg_client::iobase::IoBaseDevice;
 use procimg_client::{AttachError, AttachOptions, Client, Mode, Refusal, ServiceOptions, Services};
 
 const F: &str = "PNIO_device_open";
@@ -268,19 +269,8 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
     // ApplicationReady until PNIO_set_appl_state_ready.
     let services = Services::open(&instance, ServiceOptions::new(&name))
         .map_err(|e| attach_failure(cp, &instance, &e))?;
-    services
-        .check_ars(true)
-        .and_then(|()| services.hold_application_ready(true))
-        .map_err(|e| {
-            fail(
-                F,
-                PNIO_ERR_CREATE_INSTANCE,
-                format_args!(
-                    "instance \"{instance}\" did not let this device check its ARs and hold \
-                     its ApplicationReady (does another program check them?): {e}"
-                ),
-            )
-        })?;
+    let iobase = IoBaseDevice::with_services(services)
+        .map_err(|e| fail(F, PNIO_ERR_CREATE_INSTANCE, format_args!("{e}")))?;
     // The manual's device is not reachable for PLCs before PNIO_device_start.
     client.control().set_mode(Mode::Offline).map_err(|e| {
         fail(
@@ -306,7 +296,7 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
         req.high,
         positions,
         client,
-        services,
+        iobase,
         super::worker::spawn,
     )
 }

@@ -23,6 +23,7 @@ use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::{PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IO_OUT};
+use procimg_client::iobase::ArId;
 use procimg_client::{RecordRefusal, StationRecordJob};
 use std::collections::BTreeMap;
 
@@ -47,7 +48,7 @@ pub(crate) fn follow(dev: &Device, taken: &mut Taken) {
     if wanted == *taken {
         return;
     }
-    let services = lock(&dev.services);
+    let services = dev.iobase.services();
     taken.retain(|p, _| {
         // A pulled submodule's records went back with it: a refusal says no more than that.
         wanted.contains_key(p) || {
@@ -83,7 +84,7 @@ pub(crate) fn follow(dev: &Device, taken: &mut Taken) {
 }
 
 /// A record job of procimgd: the callback, then the answer.
-pub(crate) fn job(dev: &Device, job: &StationRecordJob) {
+pub(crate) fn job(dev: &Device, ar: Option<ArId>, job: &StationRecordJob) {
     let (callback, mut data) = if job.write {
         (dev.cbf.cbf_rec_write, job.data.clone())
     } else {
@@ -93,7 +94,7 @@ pub(crate) fn job(dev: &Device, job: &StationRecordJob) {
         )
     };
     let answer = match callback {
-        Some(f) => call(dev, f, job, &mut data).map(|len| {
+        Some(f) => call(dev, f, ar, job, &mut data).map(|len| {
             // A length above the buffer is the program's error: not more than it has.
             data.truncate(len.min(data.len() as u32) as usize);
             if job.write { Vec::new() } else { data }
@@ -101,7 +102,7 @@ pub(crate) fn job(dev: &Device, job: &StationRecordJob) {
         None => Err(RecordRefusal::new(RecordRefusal::INVALID_INDEX)),
     };
     let answer = answer.as_deref().map_err(|r| *r);
-    if let Err(e) = lock(&dev.services).answer_record(job, answer) {
+    if let Err(e) = dev.iobase.services().answer_record(job, answer) {
         fail(
             if job.write {
                 "PNIO_CBF_REC_WRITE"
@@ -133,14 +134,11 @@ fn call(
         *mut u8,
         *mut PNIO_ERR_STAT,
     ),
+    ar: Option<ArId>,
     job: &StationRecordJob,
     data: &mut [u8],
 ) -> Result<u32, RecordRefusal> {
-    let (number, key) = lock(&dev.ars)
-        .current
-        .as_ref()
-        .filter(|a| a.uuid == job.ar_uuid)
-        .map_or((0, 0), |a| (a.number, a.session_key));
+    let (number, key) = ar.map_or((0, 0), |a| (a.number, a.session_key));
     let sequence = {
         let mut c = lock(&dev.config);
         c.record_sequence = c.record_sequence.wrapping_add(1);

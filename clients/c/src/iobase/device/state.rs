@@ -4,17 +4,16 @@
 //! process-wide table of handles.
 
 use super::Pos;
-use super::ars::Ars;
-use super::held::{Entries, Isochronous, Waiting};
+use super::held::{Isochronous, Waiting};
 use super::jobs::{Job, Worker};
 use crate::iobase::device_types::PNIO_CBF_FUNCTIONS;
 use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::{handles, stopped};
-use procimg_client::{Client, Mode, Services};
+use procimg_client::iobase::IoBaseDevice;
+use procimg_client::{Client, Mode};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
 
 /// Where a device stands in the manual's program sequence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,16 +88,11 @@ pub(crate) struct Device {
     pub config: Mutex<Config>,
     /// The client of the instance (plug, pull, mode).
     pub client: Mutex<Client>,
-    /// The station's notifications; it checks ARs and holds the ApplicationReady.
-    pub services: Mutex<Services>,
-    /// The current AR and the next ArNumber.
-    pub ars: Mutex<Ars>,
+    /// The IO-Base semantics: the station's notifications and services (it checks ARs and
+    /// holds the ApplicationReady), the ARs, the diagnosis by DiagTag, the LED.
+    pub iobase: IoBaseDevice,
     /// The program's alarms waiting for the PLC's acknowledgement.
     pub alarms: Mutex<Waiting>,
-    /// The program's diagnosis entries.
-    pub diag: Mutex<Entries>,
-    /// While the station identifies itself (DCP Signal): when its LED flashing ends.
-    pub flashing_until: Mutex<Option<Instant>>,
     /// The isochronous callbacks, the STARTOP window and the thread that delivers them.
     pub iso: Isochronous,
     worker: Mutex<Option<Worker>>,
@@ -156,7 +150,7 @@ impl Device {
         high: Option<(u16, u16)>,
         positions: Vec<Position>,
         client: Client,
-        services: Services,
+        iobase: IoBaseDevice,
         spawn: impl FnOnce(Arc<Device>) -> std::io::Result<Worker>,
     ) -> Result<u32, u32> {
         let handle = handles::next();
@@ -177,11 +171,8 @@ impl Device {
                 record_sequence: 0,
             }),
             client: Mutex::new(client),
-            services: Mutex::new(services),
-            ars: Mutex::new(Ars::new()),
+            iobase,
             alarms: Mutex::new(Waiting::default()),
-            diag: Mutex::new(Entries::new()),
-            flashing_until: Mutex::new(None),
             iso: Isochronous::default(),
             worker: Mutex::new(None),
         });
@@ -218,10 +209,7 @@ impl Device {
         if let Some(w) = worker {
             w.stop();
         }
-        let services = lock(&self.services);
-        // Dropping the handle releases both as well; these say it at once.
-        let _ = services.check_ars(false);
-        let _ = services.hold_application_ready(false);
+        self.iobase.close();
     }
 
     /// `PNIO_device_close` after the watchdog's expiry, in any state: a started device goes

@@ -2,15 +2,14 @@
 //! The device's library thread: carries the program's plugs and pulls, `PNIO_device_start`,
 //! `PNIO_device_stop` and `PNIO_device_ar_abort` out on procimgd, one at a time in the order
 //! they were called, and calls `PNIO_CBF_PULL_PLUG_CONF` and `PNIO_CBF_DEVICE_STOPPED`;
-//! between jobs it gives the station's notifications to [`super::ar`] for the AR
-//! callbacks. All callbacks of a device come from this thread, so in the order of their
+//! between jobs it has the station's notifications delivered (by the device's
+//! [`IoBaseDevice`](procimg_client::iobase::IoBaseDevice) to [`super::ar`]'s callbacks). All callbacks of a device come from this thread, so in the order of their
 //! causes (inside them only the IO data functions are allowed).
 
 use super::Pos;
 use super::alarms;
 use super::ar;
 use super::data;
-use super::identify;
 use super::jobs::{Job, Worker};
 use super::records;
 use super::state::{Device, Life};
@@ -21,6 +20,7 @@ use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_ERR_STAT;
 use procimg_client::Mode;
+use procimg_client::iobase::AbortError;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
 use std::time::Duration;
@@ -57,20 +57,17 @@ fn run(dev: Arc<Device>, rx: Receiver<Job>) {
             run_job(&dev, &mut occupants, job);
         }
         records::follow(&dev, &mut taken);
-        identify::tick(&dev);
-        loop {
-            let n = lock(&dev.services).try_next();
-            match n {
-                Some(n) => ar::handle(&dev, &mut occupants, n),
-                None => break,
-            }
-        }
+        let dev = &*dev;
+        dev.iobase.poll(&mut ar::Callbacks {
+            dev,
+            occupants: &mut occupants,
+        });
     }
 }
 
 /// The uuid of the current AR, if there is one.
 fn current_uuid(dev: &Device) -> Option<String> {
-    lock(&dev.ars).current.as_ref().map(|a| a.uuid.clone())
+    dev.iobase.current_ar().map(|a| a.uuid)
 }
 
 fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
@@ -167,23 +164,16 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
         Job::AlarmDone { user, status } => {
             alarms::done(dev, user, status, PNIO_ERR_STAT::default())
         }
-        Job::Abort(number) => {
-            let Some(uuid) = lock(&dev.ars)
-                .current
-                .as_ref()
-                .filter(|a| a.number == number)
-                .map(|a| a.uuid.clone())
-            else {
+        Job::Abort(ar) => {
+            let mut callbacks = ar::Callbacks { dev, occupants };
+            // Unless PNIO_device_stop came meanwhile, PLCs may connect again. An AR that
+            // ended meanwhile had its end callback; one procimgd did not end stays up.
+            let resume = || lock(&dev.config).life == Life::Started;
+            match dev.iobase.abort(ar, &mut callbacks, resume) {
                 // Ended meanwhile: its end callback was given.
-                return;
-            };
-            let client = lock(&dev.client);
-            if client.control().set_mode(Mode::Offline).is_ok() {
-                drop(client);
-                ar::until_ended(dev, occupants, &uuid, END_WAIT);
-                // Unless PNIO_device_stop came meanwhile, PLCs may connect again.
-                if lock(&dev.config).life == Life::Started {
-                    let _ = lock(&dev.client).control().set_mode(Mode::Operate);
+                Ok(()) | Err(AbortError::Session(_)) => {}
+                Err(e) => {
+                    fail("PNIO_device_ar_abort", PNIO_ERR_NO_FW_COMMUNICATION, e);
                 }
             }
         }

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! IO-Base's device semantics in safe Rust: what Siemens' IO-Base device interface
+//! (`pniousrd.h`) gives a device program beyond the process image, for Rust programs and
+//! as the core under the C library's `PNIO_device_*` functions, which only convert types.
+//!
+//! * [`IoBaseDevice`]: the AR indications in the manual's order, ArNumber and SessionKey,
+//!   the program's ApplicationReady, an abort of one AR, the diagnosis by DiagTag and the
+//!   LED flashing of a DCP Signal, over a [`Services`](crate::Services) handle;
+//! * [`DeviceCallbacks`]: the callbacks, one method each;
+//! * [`ArSessions`], [`DiagTags`], [`LedFlash`], [`ArEndReason`]: the rules on their own,
+//!   for a program that drives them itself.
+//!
+//! The IO data stay the client's: a device program attaches a [`Client`](crate::Client)
+//! as any other, claims its I data and exchanges them in the cycle; [`ProgramAr::is_ready`]
+//! tells when the PLC's AR takes them.
+//!
+//! ```no_run
+//! use procimg_client::iobase::{ArId, DeviceCallbacks, IoBaseDevice};
+//! use std::time::Duration;
+//!
+//! #[derive(Default)]
+//! struct Program {
+//!     prm_end: Option<ArId>,
+//! }
+//!
+//! impl DeviceCallbacks for Program {
+//!     fn prm_end(&mut self, ar: ArId, submodule: Option<(u32, u16, u16)>) {
+//!         self.prm_end = Some(ar);
+//!         let _ = submodule;
+//!     }
+//!     fn in_data(&mut self, ar: ArId) {
+//!         println!("AR {} in data exchange", ar.number);
+//!     }
+//! }
+//!
+//! let device = IoBaseDevice::open("procimg", "my-device")?;
+//! let mut program = Program::default();
+//! loop {
+//!     device.wait(Duration::from_millis(100), &mut program);
+//!     if let Some(ar) = program.prm_end.take() {
+//!         // Parameters taken: the PLC may have the inputs.
+//!         device.application_ready(ar, &[])?;
+//!     }
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod callbacks;
+mod device;
+mod diag_tags;
+mod end_reason;
+mod led;
+mod sessions;
+
+pub use callbacks::DeviceCallbacks;
+pub use device::{
+    AbortError, ApplicationReadyError, DeviceOpenError, END_WAIT, IoBaseDevice, MODE_WAIT,
+};
+pub use diag_tags::{
+    CHAN_PROP_MAINT_DEMANDED, CHAN_PROP_MAINT_REQUIRED, DiagTagError, DiagTagKind, DiagTags,
+    Position, channel_entry, channel_properties, generic_entry,
+};
+pub use end_reason::{
+    ArEndReason, REASON_ABORT, REASON_HIGHEST_ABORT_CODE, REASON_NONE, REASON_REL, REASON_RERUN,
+};
+pub use led::{FLASH_FOR, FLASH_HZ, LedFlash};
+pub use sessions::{ArId, ArPhase, ArSessions, ProgramAr, Ready, ReadyError, SessionError};
