@@ -5,7 +5,9 @@
 //! Threads of a controller:
 //! * the **event thread** waits on the client's event descriptor (without holding the
 //!   client), takes STARTOP windows, mode changes, OPFAULT and NEWCYCLE from the client and
-//!   calls MODE_IND and the isochronous callbacks, one at a time, in the order they happened;
+//!   calls MODE_IND and the isochronous callbacks, one at a time, in the order they happened
+//!   (its loop is `super::cycle_thread`'s, shared with the device's isochronous thread; the
+//!   modes are the controller's part);
 //! * the services worker (`super::services`) delivers record, alarm, activation and
 //!   diagnosis callbacks, and keeps which devices are in data exchange (for
 //!   `PNIO_ERR_NO_CONNECTION`) as the server's notifications say, before the callbacks of
@@ -13,17 +15,18 @@
 //!   server's status report gives the first value.
 
 use super::callbacks::CallbackTable;
+use super::cycle_thread::{self, CycleSide};
 use super::devices_up::DevicesUp;
 use super::errors::*;
 use super::handles;
-use super::isochronous::{self, Window, cycle_info};
+use super::isochronous::{self, Window};
 use super::services::{ServiceContext, ServiceWorker};
 use super::stopped;
 use super::sync::lock;
 use super::types::*;
 use procimg_client::{
-    AttachError, AttachOptions, Client, ControlError, ControlHandle, CycleInfo, DeviceState, Event,
-    EventWait, Layout, Mode, Refusal, now_ns,
+    AttachError, AttachOptions, Client, ControlError, ControlHandle, DeviceState, Event, Layout,
+    Mode, Refusal,
 };
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,8 +34,6 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// The longest the event thread sleeps before it looks at its stop flag and the server.
-const EVENT_POLL: Duration = Duration::from_millis(20);
 /// How long `PNIO_controller_open` waits for the server to reach OFFLINE (and for the
 /// first image).
 const OPEN_WAIT: Duration = Duration::from_secs(5);
@@ -583,80 +584,69 @@ impl Controller {
         prm.u.ModeInd = PNIO_CBE_PRM_MODE_IND { Mode: mode };
         CallbackTable::invoke(self.callbacks.get(PNIO_CBE_MODE_IND), &mut prm);
     }
+}
 
-    fn report_cp(&self, t: PNIO_CP_CBE_TYPE, info: PNIO_CYCLE_INFO) {
-        isochronous::report(&self.callbacks, t, self.cp_index, self.handle, info);
+/// The event thread's view of a controller: MODE_IND besides the isochronous callbacks.
+struct EventThread {
+    ctl: Arc<Controller>,
+    /// The client re-attached to a restarted server: its mode is to be compared with the
+    /// one reported.
+    resync: bool,
+}
+
+impl CycleSide for EventThread {
+    // MODE_IND and the events go on: only the cycles end (the watchdog's rule).
+    const EVENTS_WHEN_STOPPED: bool = true;
+
+    fn stopping(&self) -> bool {
+        self.ctl.stop.load(Ordering::Acquire)
     }
-}
 
-/// What the event thread took from the client in one look.
-struct Collected {
-    events: Vec<Event>,
-    startop: Option<CycleInfo>,
-    newest: Option<CycleInfo>,
-    mode: Option<Mode>,
-}
-
-fn collect(ctl: &Controller) -> Option<Collected> {
-    let mut guard = lock(&ctl.io);
-    let io = &mut *guard;
-    let client = io.client.as_mut()?;
-    let mut startop = None;
-    if ctl.isochronous.load(Ordering::Acquire) {
-        startop = io.window.take_startop(client);
-        if startop.is_some() && stopped::expired(ctl.handle) {
-            // After the watchdog's expiry the program gets no cycle: the library ends it
-            // with the outputs BAD.
-            io.window.finish_bad(client);
-            startop = None;
-        }
-    } else if !client.connected() {
-        // Waiting is also how the client finds a restarted server.
-        let _ = client.wait_startop(Duration::ZERO);
+    fn handle(&self) -> u32 {
+        self.ctl.handle
     }
-    let client = io.client.as_mut()?;
-    Some(Collected {
-        events: client.events(),
-        startop,
-        newest: client.cycle_info(),
-        mode: client.mode(),
-    })
-}
 
-/// The event thread: delivers MODE_IND, OPFAULT_IND, NEWCYCLE_IND and STARTOP_IND.
-fn event_thread(ctl: Arc<Controller>) {
-    let mut resync = false;
-    // Taken before each look at the client: what the server signals after it ends the
-    // next sleep at once. A re-attach meanwhile costs one short sleep.
-    let mut wait: Option<EventWait> = None;
-    while !ctl.stop.load(Ordering::Acquire) {
-        match wait.take() {
-            Some(w) => {
-                let _ = w.wait(EVENT_POLL);
-            }
-            None => std::thread::sleep(EVENT_POLL),
+    fn cp_index(&self) -> u32 {
+        self.ctl.cp_index
+    }
+
+    fn callbacks(&self) -> &CallbackTable {
+        &self.ctl.callbacks
+    }
+
+    fn synchronous(&self) -> bool {
+        self.ctl.isochronous.load(Ordering::Acquire)
+    }
+
+    fn with_io<R>(&self, f: impl FnOnce(&mut Client, &mut Window) -> R) -> Option<R> {
+        let mut guard = lock(&self.ctl.io);
+        let io = &mut *guard;
+        io.client.as_mut().map(|client| f(client, &mut io.window))
+    }
+
+    fn look_asynchronous(&self, client: &mut Client) {
+        if !client.connected() {
+            // Waiting is also how the client finds a restarted server.
+            let _ = client.wait_startop(Duration::ZERO);
         }
-        if ctl.stop.load(Ordering::Acquire) {
-            break;
+    }
+
+    fn event(&mut self, e: Event) {
+        match e {
+            Event::Mode(m) => self.ctl.report_mode(pnio_mode(m)),
+            Event::ServerShutdown => lock(&self.ctl.mode).pending = None,
+            Event::Reattached { .. } => self.resync = true,
+            Event::OpFault { .. } | Event::NewCycle | Event::ClaimLost { .. } => {}
         }
-        wait = lock(&ctl.io).client.as_ref().and_then(|c| c.event_wait());
-        let Some(c) = collect(&ctl) else {
-            continue;
-        };
-        let info_now = |i: Option<CycleInfo>| cycle_info(&i.unwrap_or_default(), now_ns());
-        for e in c.events {
-            match e {
-                Event::Mode(m) => ctl.report_mode(pnio_mode(m)),
-                Event::OpFault { .. } => ctl.report_cp(PNIO_CP_CBE_OPFAULT_IND, info_now(c.newest)),
-                Event::NewCycle => ctl.report_cp(PNIO_CP_CBE_NEWCYCLE_IND, info_now(c.newest)),
-                Event::ServerShutdown => lock(&ctl.mode).pending = None,
-                Event::Reattached { .. } => resync = true,
-                Event::ClaimLost { .. } => {}
-            }
-        }
-        if resync && let Some(m) = c.mode {
+    }
+
+    fn after_events(&mut self, mode: Option<Mode>) {
+        let ctl = &self.ctl;
+        if self.resync
+            && let Some(m) = mode
+        {
             // A restarted server starts in its own mode: report it if it differs.
-            resync = false;
+            self.resync = false;
             if pnio_mode(m) != ctl.mode() {
                 ctl.report_mode(pnio_mode(m));
             }
@@ -665,10 +655,12 @@ fn event_thread(ctl: Arc<Controller>) {
         for m in echoed {
             ctl.report_mode(m);
         }
-        if let Some(info) = c.startop {
-            ctl.report_cp(PNIO_CP_CBE_STARTOP_IND, cycle_info(&info, now_ns()));
-        }
     }
+}
+
+/// The event thread: delivers MODE_IND, OPFAULT_IND, NEWCYCLE_IND and STARTOP_IND.
+fn event_thread(ctl: Arc<Controller>) {
+    cycle_thread::run(EventThread { ctl, resync: false });
 }
 
 #[cfg(test)]

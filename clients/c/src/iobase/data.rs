@@ -6,6 +6,7 @@
 use super::controller::{Controller, Io, lookup_io, wrong_handle};
 use super::errors::fail;
 use super::errors::*;
+use super::io_failure::{self, IoContext, access_failure};
 use super::sync::lock;
 use super::types::*;
 use procimg_client::access::{AccessError, Resolved, Space, resolve_read, resolve_write};
@@ -93,36 +94,16 @@ unsafe fn checked_addr(f: &str, p: *const PNIO_ADDR, want: PNIO_IO_TYPE) -> Resu
     Ok(a)
 }
 
-fn access_failure(f: &str, e: AccessError) -> u32 {
-    match e {
-        AccessError::UnknownAddress { .. } => fail(f, PNIO_ERR_UNKNOWN_ADDR, e),
-        AccessError::ValueLength { .. } => fail(f, PNIO_ERR_VALUE_LEN, e),
-    }
-}
-
 fn io_failure(f: &str, ctl: &Controller, e: IoError) -> u32 {
-    match e {
-        IoError::Access(a) => access_failure(f, a),
-        IoError::NotDelivered(_) => fail(
-            f,
-            PNIO_ERR_NO_RESOURCE,
-            format_args!(
-                "{e} (waited {DELIVERY_WAIT:?}); write fewer times per cycle, or use \
-                 PNIO_data_write_cache and one PNIO_data_write_cache_flush"
-            ),
-        ),
-        IoError::NotClaimed { .. } => fail(
-            f,
-            PNIO_ERR_NO_CONNECTION,
-            format_args!(
-                "{e}; the claim was lost when instance \"{}\" restarted",
-                ctl.instance
-            ),
-        ),
-        IoError::NoImage { .. } | IoError::ServerGone { .. } => fail(f, PNIO_ERR_NO_CONNECTION, e),
-        // The controller API makes no device-role calls.
-        IoError::NotDevice { .. } => fail(f, PNIO_ERR_INVALID_CONFIG, e),
-    }
+    let ctx = IoContext {
+        instance: &ctl.instance,
+        owner: "the controller",
+        reclaim: "close that client, then close the controller and open it again",
+        fewer_writes: "write fewer times per cycle, or use PNIO_data_write_cache and one \
+                       PNIO_data_write_cache_flush",
+        delivery_wait: Some(DELIVERY_WAIT),
+    };
+    io_failure::io_failure(f, &ctx, e)
 }
 
 /// The client, or the code for a controller that lost it.

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The isochronous handshake that controllers and devices share: the rules of
 //! `PNIO_CP_register_cbf`, the open STARTOP..`PNIO_CP_set_opdone` window of a synchronous
-//! client, and the delivery of the `PNIO_CP_CBE_*` callbacks.
+//! client, and the delivery of the `PNIO_CP_CBE_*` callbacks (from the thread of
+//! `super::cycle_thread`, one loop for both).
 //!
 //! The registration rules are those of IO-Base's library, checked in its order: `Cbf` NULL
 //! (`PNIO_ERR_PRM_CALLBACK`), an unknown type (`PNIO_ERR_PRM_TYPE`), NEWCYCLE after STARTOP

@@ -12,12 +12,14 @@
 //!   the one place that calls the program back; `services`: records, alarms, device
 //!   activation and diagnosis.
 //! * `isochronous`: the STARTOP..OPDONE handshake and the registration rules both roles
-//!   share; `handles`: the one handle counter of both; [`watchdog`]: the CP application
-//!   watchdog of both.
+//!   share; `cycle_thread`: the thread that calls the isochronous callbacks, for both;
+//!   `io_failure`: the codes of a failed IO data access, for both; `handles`: the one
+//!   handle counter of both; [`watchdog`]: the CP application watchdog of both.
 
 pub mod api;
 pub(crate) mod callbacks;
 mod controller;
+mod cycle_thread;
 mod data;
 pub(crate) mod device;
 pub mod device_alarm_api;
@@ -26,6 +28,7 @@ pub mod device_types;
 mod devices_up;
 pub mod errors;
 mod handles;
+mod io_failure;
 mod isochronous;
 pub(crate) mod services;
 pub(crate) mod stopped;

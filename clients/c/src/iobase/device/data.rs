@@ -32,6 +32,7 @@ use super::state::{Device, Life};
 use crate::iobase::callbacks::invoke_device;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use crate::iobase::io_failure::{self, IoContext};
 use crate::iobase::sync::lock;
 use crate::iobase::types::{
     PNIO_ADDR_GEO, PNIO_IO_IN, PNIO_IO_OUT, PNIO_IOXS, PNIO_S_BAD, ioxs, pnio_ioxs,
@@ -145,19 +146,17 @@ struct Visit {
 }
 
 fn io_failure(f: &str, dev: &Device, e: IoError) -> u32 {
-    match e {
-        IoError::NotClaimed { .. } => fail(
-            f,
-            PNIO_ERR_NO_CONNECTION,
-            format_args!(
-                "{e}: the device does not own this I data on instance \"{}\" (another \
-                 client of it does, or it restarted)",
-                dev.instance
-            ),
-        ),
-        IoError::NotDelivered(_) => fail(f, PNIO_ERR_NO_RESOURCE, e),
-        _ => fail(f, PNIO_ERR_NO_CONNECTION, e),
-    }
+    let ctx = IoContext {
+        instance: &dev.instance,
+        owner: "the device",
+        reclaim: "close that client, then stop the device and start it again \
+                  (PNIO_device_stop, PNIO_device_start: start claims the I data)",
+        fewer_writes: "call PNIO_initiate_data_write and PNIO_initiate_data_read less often: \
+                       the server takes this device's samples once per cycle",
+        // The device's writes do not wait for room.
+        delivery_wait: None,
+    };
+    io_failure::io_failure(f, &ctx, e)
 }
 
 /// `PNIO_initiate_data_write(_ext)` and `PNIO_initiate_data_read(_ext)` after the handle

@@ -12,25 +12,25 @@
 //! deadline is answered `PNIO_OK` and reported with OPFAULT_IND; the I data of that window
 //! is not used. STARTOP comes from registration on, also before start and without an AR,
 //! as the manual says. Registering NEWCYCLE (before STARTOP) asks procimgd for NEWCYCLE
-//! events. The window and the rules are the controller's (`crate::iobase::isochronous`).
+//! events. The window and the rules are the controller's (`crate::iobase::isochronous`),
+//! and so is the thread's loop (`crate::iobase::cycle_thread`): the device's thread calls
+//! only the isochronous callbacks, and none once the CP watchdog's expiry stopped the
+//! device.
 //!
 //! While the library thread carries out a plug or pull it holds the client, and a STARTOP
 //! of that time is missed (procimgd counts an OPFAULT).
 
 use super::held::Isochronous;
 use super::state::{Device, Life, lookup, wrong_handle};
+use crate::iobase::callbacks::CallbackTable;
+use crate::iobase::cycle_thread::{self, CycleSide};
 use crate::iobase::errors::*;
-use crate::iobase::isochronous::{self, OPDONE, REGISTER, cycle_info};
-use crate::iobase::stopped;
+use crate::iobase::isochronous::{self, OPDONE, REGISTER, Window};
 use crate::iobase::sync::lock;
 use crate::iobase::types::*;
-use procimg_client::{AttachOptions, Client, Event, EventWait, now_ns};
+use procimg_client::{AttachOptions, Client};
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
-use std::time::Duration;
-
-/// The longest the thread sleeps before it looks at its stop flag.
-const POLL: Duration = Duration::from_millis(20);
 
 impl Isochronous {
     /// Ends the thread (a callback running now finishes first).
@@ -119,7 +119,7 @@ fn start_thread(dev: &Arc<Device>) -> Result<(), u32> {
     let d = dev.clone();
     let t = std::thread::Builder::new()
         .name(format!("pnio-iso-{}", dev.handle))
-        .spawn(move || run(d))
+        .spawn(move || cycle_thread::run(IsoThread(d)))
         .map_err(|e| {
             fail(
                 REGISTER,
@@ -131,60 +131,38 @@ fn start_thread(dev: &Arc<Device>) -> Result<(), u32> {
     Ok(())
 }
 
-/// The isochronous thread: STARTOP_IND, OPFAULT_IND and NEWCYCLE_IND, in the order they
-/// happened.
-fn run(dev: Arc<Device>) {
-    // Taken before each look at the client: what the server signals after it ends the
-    // next sleep at once. A re-attach meanwhile costs one short sleep.
-    let mut wait: Option<EventWait> = None;
-    while !dev.iso.stop.load(Ordering::Acquire) {
-        match wait.take() {
-            Some(w) => {
-                let _ = w.wait(POLL);
-            }
-            None => std::thread::sleep(POLL),
-        }
-        if dev.iso.stop.load(Ordering::Acquire) {
-            break;
-        }
-        wait = lock(&dev.client).event_wait();
-        let expired = stopped::expired(dev.handle);
-        let (startop, events, newest) = {
-            let mut client = lock(&dev.client);
-            let mut window = lock(&dev.iso.window);
-            let mut startop = None;
-            if dev.iso.on.load(Ordering::Acquire) {
-                startop = window.take_startop(&mut client);
-                if startop.is_some() && expired {
-                    // After the watchdog's expiry the program gets no cycle.
-                    window.finish_bad(&mut client);
-                    startop = None;
-                }
-            }
-            (startop, client.events(), client.cycle_info())
-        };
-        if expired {
-            continue;
-        }
-        let info_now = || cycle_info(&newest.unwrap_or_default(), now_ns());
-        for e in events {
-            let t = match e {
-                Event::OpFault { .. } => PNIO_CP_CBE_OPFAULT_IND,
-                Event::NewCycle => PNIO_CP_CBE_NEWCYCLE_IND,
-                _ => continue,
-            };
-            isochronous::report(&dev.iso.callbacks, t, dev.cp_index, dev.handle, info_now());
-        }
-        if let Some(info) = startop {
-            let info = cycle_info(&info, now_ns());
-            isochronous::report(
-                &dev.iso.callbacks,
-                PNIO_CP_CBE_STARTOP_IND,
-                dev.cp_index,
-                dev.handle,
-                info,
-            );
-        }
+/// The isochronous thread's view of a device: only the `PNIO_CP_CBE_*` callbacks.
+struct IsoThread(Arc<Device>);
+
+impl CycleSide for IsoThread {
+    // A stopped device hears of nothing more: it is only to be closed.
+    const EVENTS_WHEN_STOPPED: bool = false;
+
+    fn stopping(&self) -> bool {
+        self.0.iso.stop.load(Ordering::Acquire)
+    }
+
+    fn handle(&self) -> u32 {
+        self.0.handle
+    }
+
+    fn cp_index(&self) -> u32 {
+        self.0.cp_index
+    }
+
+    fn callbacks(&self) -> &CallbackTable {
+        &self.0.iso.callbacks
+    }
+
+    fn synchronous(&self) -> bool {
+        self.0.iso.on.load(Ordering::Acquire)
+    }
+
+    fn with_io<R>(&self, f: impl FnOnce(&mut Client, &mut Window) -> R) -> Option<R> {
+        // The window is locked after the client, as everywhere.
+        let mut client = lock(&self.0.client);
+        let mut window = lock(&self.0.iso.window);
+        Some(f(&mut client, &mut window))
     }
 }
 

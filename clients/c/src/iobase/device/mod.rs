@@ -20,8 +20,8 @@
 //!   return sent), and the claims of the program's I data from start to stop;
 //! * `isochronous`: `PNIO_CP_register_cbf` and `PNIO_CP_set_opdone` with a device handle,
 //!   and the thread that delivers STARTOP_IND, OPFAULT_IND and NEWCYCLE_IND (the window
-//!   and the registration rules are `crate::iobase::isochronous`'s, shared with the
-//!   controller);
+//!   and the registration rules are `crate::iobase::isochronous`'s, the thread's loop
+//!   `crate::iobase::cycle_thread`'s, both shared with the controller);
 //! * `ar`: the AR indications (`AR_CHECK_IND`, `CHECK_IND`, `AR_INFO_IND`, `PRM_END_IND`,
 //!   `AR_INDATA_IND`, `APDU_STATUS_IND`, `AR_ABORT_IND`, `AR_OFFLINE_IND`), the LED's
 //!   (`START_LED_FLASH`, `STOP_LED_FLASH`) and `CP_STOP_REQ`, as C callbacks of the
