@@ -2,7 +2,10 @@
 //! The CP application watchdog: `PNIO_CP_set_appl_watchdog`, `PNIO_CP_trigger_watchdog`
 //! and `PNIO_CBF_APPL_WATCHDOG`, for controller and device programs alike.
 //!
-//! The watchdog is the library's, one per CPIndex in this process: procimgd has no
+//! The rule (armed by the first trigger, expired once, refused until deregistered) is
+//! [`AppWatchdogs`]'s, which a Rust program uses on its own; this file keeps its timer
+//! thread and what an expiry does to the library's handles. The watchdog is the library's,
+//! one per CPIndex in this process: procimgd has no
 //! watchdog of its clients' programs, and a process that stops triggering is one whose
 //! threads still run (a hung one keeps its timer thread too, but a crashed one loses its
 //! claims with its registrations, which procimgd notices). A timer thread of the library
@@ -31,7 +34,7 @@ use super::stopped;
 use super::sync::lock;
 use super::types::*;
 use crate::ffi::guard;
-use std::collections::BTreeMap;
+use procimg_client::iobase::{AppWatchdogs, WatchdogError};
 use std::sync::{Condvar, Mutex};
 use std::time::{Duration, Instant};
 
@@ -39,19 +42,9 @@ use std::time::{Duration, Instant};
 /// later than this; the first trigger of a registration wakes it at once).
 const IDLE: Duration = Duration::from_millis(100);
 
-/// One registration.
-struct Registration {
-    timeout: Duration,
-    cbf: PNIO_CBF_APPL_WATCHDOG,
-    /// The last trigger; `None` until the first (monitoring starts there).
-    last: Option<Instant>,
-    /// Expired: triggers answer an error until the program deregisters.
-    expired: bool,
-}
-
 struct State {
-    /// By CPIndex.
-    regs: BTreeMap<u32, Registration>,
+    /// By CPIndex, with the program's callback.
+    dogs: AppWatchdogs<PNIO_CBF_APPL_WATCHDOG>,
     /// Whether the timer thread runs.
     timer: bool,
 }
@@ -60,7 +53,7 @@ struct State {
 static ARMED: Condvar = Condvar::new();
 
 static STATE: Mutex<State> = Mutex::new(State {
-    regs: BTreeMap::new(),
+    dogs: AppWatchdogs::new(),
     timer: false,
 });
 
@@ -84,7 +77,7 @@ fn set(cp: u32, ms: u32, cbf: PNIO_CBF_APPL_WATCHDOG) -> u32 {
     let mut st = lock(&STATE);
     match (ms, cbf) {
         (0, None) => {
-            st.regs.remove(&cp);
+            st.dogs.deregister(cp);
             return PNIO_OK;
         }
         (0, Some(_)) => {
@@ -105,7 +98,9 @@ fn set(cp: u32, ms: u32, cbf: PNIO_CBF_APPL_WATCHDOG) -> u32 {
         }
         _ => {}
     }
-    if st.regs.contains_key(&cp) {
+    let timeout = Duration::from_millis(u64::from(ms));
+    if st.dogs.register(cp, timeout, cbf).is_err() {
+        // Registered already: the arguments were checked above.
         return fail(
             F,
             PNIO_ERR_ALLREADY_DONE,
@@ -115,21 +110,12 @@ fn set(cp: u32, ms: u32, cbf: PNIO_CBF_APPL_WATCHDOG) -> u32 {
             ),
         );
     }
-    st.regs.insert(
-        cp,
-        Registration {
-            timeout: Duration::from_millis(u64::from(ms)),
-            cbf,
-            last: None,
-            expired: false,
-        },
-    );
     if !st.timer {
         let spawned = std::thread::Builder::new()
             .name("pnio-watchdog".into())
             .spawn(timer);
         if let Err(e) = spawned {
-            st.regs.remove(&cp);
+            st.dogs.deregister(cp);
             return fail(
                 F,
                 PNIO_ERR_CREATE_INSTANCE,
@@ -147,14 +133,21 @@ fn trigger(cp: u32) -> u32 {
     if let Err(code) = check_cp(F, cp) {
         return code;
     }
-    let mut st = lock(&STATE);
-    match st.regs.get_mut(&cp) {
-        None => fail(
+    let triggered = lock(&STATE).dogs.trigger(cp, Instant::now());
+    match triggered {
+        Ok(armed) => {
+            if armed {
+                // Monitoring starts: the timer thread is to sleep until this deadline at most.
+                ARMED.notify_all();
+            }
+            PNIO_OK
+        }
+        Err(WatchdogError::NotRegistered { .. }) => fail(
             F,
             PNIO_ERR_SEQUENCE,
             format_args!("no watchdog is registered for CPIndex {cp} (PNIO_CP_set_appl_watchdog)"),
         ),
-        Some(r) if r.expired => fail(
+        Err(_) => fail(
             F,
             PNIO_ERR_NO_FW_COMMUNICATION,
             format_args!(
@@ -162,15 +155,6 @@ fn trigger(cp: u32) -> u32 {
                  deregister it (0, NULL) and register again"
             ),
         ),
-        Some(r) => {
-            let first = r.last.is_none();
-            r.last = Some(Instant::now());
-            if first {
-                // Monitoring starts: the timer thread is to sleep until this deadline at most.
-                ARMED.notify_all();
-            }
-            PNIO_OK
-        }
     }
 }
 
@@ -179,24 +163,12 @@ fn trigger(cp: u32) -> u32 {
 fn timer() {
     let mut st = lock(&STATE);
     loop {
-        if st.regs.is_empty() {
+        if st.dogs.is_empty() {
             st.timer = false;
             return;
         }
         let now = Instant::now();
-        let mut fired: Vec<(u32, PNIO_CBF_APPL_WATCHDOG)> = Vec::new();
-        let mut next = now + IDLE;
-        for (&cp, r) in st.regs.iter_mut().filter(|(_, r)| !r.expired) {
-            let Some(deadline) = r.last.map(|l| l + r.timeout) else {
-                continue;
-            };
-            if deadline < now {
-                r.expired = true;
-                fired.push((cp, r.cbf));
-            } else {
-                next = next.min(deadline);
-            }
-        }
+        let fired = st.dogs.expire(now);
         if !fired.is_empty() {
             drop(st);
             for (cp, cbf) in fired {
@@ -205,6 +177,10 @@ fn timer() {
             st = lock(&STATE);
             continue;
         }
+        let next = st
+            .dogs
+            .next_deadline()
+            .map_or(now + IDLE, |d| d.min(now + IDLE));
         // Past the deadline by a little: expired only once the timeout is exceeded.
         let wait = next.saturating_duration_since(now) + Duration::from_micros(100);
         st = match ARMED.wait_timeout(st, wait) {

@@ -7,6 +7,7 @@
 //!   the program's ApplicationReady, an abort of one AR, the diagnosis by DiagTag and the
 //!   LED flashing of a DCP Signal, over a [`Services`](crate::Services) handle;
 //! * [`DeviceCallbacks`]: the callbacks, one method each;
+//! * [`AppWatchdogs`]: the CP application watchdog's rule (the caller owns the timer);
 //! * [`ArSessions`], [`DiagTags`], [`LedFlash`], [`ArEndReason`]: the rules on their own,
 //!   for a program that drives them itself.
 //!
@@ -51,6 +52,7 @@ mod diag_tags;
 mod end_reason;
 mod led;
 mod sessions;
+mod watchdog;
 
 pub use callbacks::DeviceCallbacks;
 pub use device::{
@@ -65,3 +67,4 @@ pub use end_reason::{
 };
 pub use led::{FLASH_FOR, FLASH_HZ, LedFlash};
 pub use sessions::{ArId, ArPhase, ArSessions, ProgramAr, Ready, ReadyError, SessionError};
+pub use watchdog::{AppWatchdogs, WatchdogError};
