@@ -34,4 +34,5 @@ pub(crate) mod services;
 pub(crate) mod stopped;
 pub(crate) mod sync;
 pub mod types;
+mod wake;
 pub mod watchdog;

@@ -41,6 +41,7 @@ use crate::services::{ServiceOptions, Services};
 use procimg_control::services::{Notification, StationArCheckJob};
 use procimg_control::{ArState, DiagnosisEntry, Refusal};
 use procimg_shm_layout::Mode;
+use std::os::fd::RawFd;
 use std::sync::{Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
@@ -196,6 +197,18 @@ impl IoBaseDevice {
             until.as_nanos().min(u128::from(u64::MAX)) as u64,
         );
         self.poll(program)
+    }
+
+    /// The descriptor that becomes readable when a notification arrives, for a caller that
+    /// waits on more than this handle (then calls [`poll`](Self::poll)).
+    pub fn notify_fd(&self) -> RawFd {
+        lock(&self.services).notify_fd()
+    }
+
+    /// When [`poll`](Self::poll) has something to do without a notification: the end of a
+    /// DCP Signal's flashing.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.led_until()
     }
 
     fn try_next(&self) -> Option<Notification> {

@@ -5,7 +5,9 @@
 use super::Pos;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
+use crate::iobase::wake::Wake;
 use procimg_client::iobase::ArId;
+use std::sync::Arc;
 use std::sync::mpsc::{Sender, SyncSender};
 use std::thread::JoinHandle;
 
@@ -66,23 +68,28 @@ pub(crate) enum Job {
 /// The library thread of a device.
 pub(crate) struct Worker {
     jobs: Sender<Job>,
+    /// Wakes the thread for a job or the stop.
+    wake: Arc<Wake>,
     thread: JoinHandle<()>,
 }
 
 impl Worker {
-    /// The library thread `thread`, taking jobs from `jobs`.
-    pub(crate) fn new(jobs: Sender<Job>, thread: JoinHandle<()>) -> Worker {
-        Worker { jobs, thread }
+    /// The library thread `thread`, taking jobs from `jobs` when `wake` is raised.
+    pub(crate) fn new(jobs: Sender<Job>, wake: Arc<Wake>, thread: JoinHandle<()>) -> Worker {
+        Worker { jobs, wake, thread }
     }
 
     /// Queues a job.
     pub(crate) fn send(&self, job: Job) -> Result<(), u32> {
-        self.jobs.send(job).map_err(|_| PNIO_ERR_INTERNAL)
+        self.jobs.send(job).map_err(|_| PNIO_ERR_INTERNAL)?;
+        self.wake.raise();
+        Ok(())
     }
 
     /// Lets the thread finish its jobs and waits for it.
     pub(crate) fn stop(self) {
         drop(self.jobs);
+        self.wake.raise();
         // A panic on that thread already ended it.
         let _ = self.thread.join();
     }

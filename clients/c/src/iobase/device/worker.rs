@@ -19,14 +19,16 @@ use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_ERR_STAT;
+use crate::iobase::wake::Wake;
 use procimg_client::Mode;
 use procimg_client::iobase::AbortError;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, RecvTimeoutError, channel};
-use std::time::Duration;
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::{Duration, Instant};
 
-/// How often the thread looks for the station's notifications while it has no job.
-const POLL: Duration = Duration::from_millis(10);
+/// The longest the thread sleeps with neither a job nor a notification (a safety net: both
+/// wake it).
+const IDLE: Duration = Duration::from_millis(500);
 /// How long a stop or an AR abort waits for the station to report the AR's end; then the
 /// library ends it itself (`PNIO_AR_REASON_ABORT`).
 const END_WAIT: Duration = Duration::from_secs(5);
@@ -34,34 +36,44 @@ const END_WAIT: Duration = Duration::from_secs(5);
 /// Starts the library thread of `dev`.
 pub(crate) fn spawn(dev: Arc<Device>) -> std::io::Result<Worker> {
     let (jobs, rx) = channel();
+    let wake = Arc::new(Wake::new()?);
+    let woken = wake.clone();
     let thread = std::thread::Builder::new()
         .name(format!("pnio-dev-{}", dev.handle))
-        .spawn(move || run(dev, rx))?;
-    Ok(Worker::new(jobs, thread))
+        .spawn(move || run(dev, rx, &woken))?;
+    Ok(Worker::new(jobs, wake, thread))
 }
 
-fn run(dev: Arc<Device>, rx: Receiver<Job>) {
+/// Carries out the jobs in order and delivers the notifications, asleep on the services
+/// handle's descriptor and the wake-up of a job until either comes (or the LED's flashing
+/// is over).
+fn run(dev: Arc<Device>, rx: Receiver<Job>, wake: &Wake) {
+    let dev = &*dev;
     let mut occupants: Occupants = dev
         .positions
         .iter()
         .map(|p| (p.at, Some((p.module_ident, p.submodule_ident))))
         .collect();
     let mut taken = records::Taken::new();
+    let notify_fd = dev.iobase.notify_fd();
     loop {
-        let job = match rx.recv_timeout(POLL) {
-            Ok(job) => Some(job),
-            Err(RecvTimeoutError::Timeout) => None,
-            Err(RecvTimeoutError::Disconnected) => break,
-        };
-        if let Some(job) = job {
-            run_job(&dev, &mut occupants, job);
+        wake.clear();
+        loop {
+            match rx.try_recv() {
+                Ok(job) => run_job(dev, &mut occupants, job),
+                Err(TryRecvError::Empty) => break,
+                Err(TryRecvError::Disconnected) => return,
+            }
         }
-        records::follow(&dev, &mut taken);
-        let dev = &*dev;
+        records::follow(dev, &mut taken);
         dev.iobase.poll(&mut ar::Callbacks {
             dev,
             occupants: &mut occupants,
         });
+        let sleep = dev.iobase.next_deadline().map_or(IDLE, |t| {
+            t.saturating_duration_since(Instant::now()).min(IDLE)
+        });
+        procimg_shm_layout::os::wait_any_readable([wake.fd(), notify_fd], sleep.as_nanos() as u64);
     }
 }
 

@@ -57,12 +57,12 @@ use super::types::{
     PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_ENUM, PNIO_DA_FALSE, PNIO_DA_TRUE,
     PNIO_DEV_ACT_TYPE, PNIO_MAX_REC_LEN, PNIO_REF,
 };
+use super::wake::Wake;
 use crate::ffi::set_last_error;
 use procimg_client::{
     AttachError, ControlError, Layout, RecordTarget, Refusal, ServiceOptions, Services,
 };
 use std::collections::{HashMap, VecDeque};
-use std::os::fd::{AsRawFd, FromRawFd, OwnedFd, RawFd};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -153,50 +153,6 @@ impl Jobs {
     fn reference(&mut self) -> u64 {
         self.next_reference += 1;
         self.next_reference
-    }
-}
-
-/// An eventfd that wakes the worker (a diagnosis request, stop).
-struct Wake(OwnedFd);
-
-impl Wake {
-    fn new() -> std::io::Result<Wake> {
-        // SAFETY: eventfd(2) with valid flags; it returns a new descriptor or -1.
-        let fd = unsafe { libc::eventfd(0, libc::EFD_NONBLOCK | libc::EFD_CLOEXEC) };
-        if fd < 0 {
-            return Err(std::io::Error::last_os_error());
-        }
-        // SAFETY: `fd` is a new descriptor that nothing else owns.
-        Ok(Wake(unsafe { OwnedFd::from_raw_fd(fd) }))
-    }
-
-    fn raise(&self) {
-        let one: u64 = 1;
-        // SAFETY: writes 8 bytes from a live u64 to our own eventfd. A full counter (EAGAIN)
-        // still wakes the worker, so the result does not matter.
-        let _ = unsafe {
-            libc::write(
-                self.0.as_raw_fd(),
-                (&one as *const u64).cast::<libc::c_void>(),
-                8,
-            )
-        };
-    }
-
-    fn clear(&self) {
-        let mut n: u64 = 0;
-        // SAFETY: reads 8 bytes into a live u64 from our own non-blocking eventfd.
-        let _ = unsafe {
-            libc::read(
-                self.0.as_raw_fd(),
-                (&mut n as *mut u64).cast::<libc::c_void>(),
-                8,
-            )
-        };
-    }
-
-    fn fd(&self) -> RawFd {
-        self.0.as_raw_fd()
     }
 }
 

@@ -35,7 +35,7 @@ const LIVENESS_PERIOD: Duration = Duration::from_millis(500);
 
 /// How long one wait lasts at most: notifications whose wake-up came before their sample
 /// was visible, and job timeouts, are looked at after this.
-const POLL_MS: i32 = 100;
+const POLL: Duration = Duration::from_millis(100);
 
 /// Notifications taken in one go, so that a flood does not delay stop or diagnosis.
 const BATCH: usize = 64;
@@ -77,25 +77,11 @@ fn stopping(shared: &Shared) -> bool {
     shared.stop.load(Ordering::Acquire)
 }
 
-/// Waits until a descriptor is readable or [`POLL_MS`] passed.
+/// Waits until a descriptor is readable or [`POLL`] passed (a negative descriptor, no
+/// services handle, is ignored).
 fn wait(notify_fd: Option<RawFd>, wake_fd: RawFd) {
-    let mut fds = [
-        libc::pollfd {
-            fd: wake_fd,
-            events: libc::POLLIN,
-            revents: 0,
-        },
-        libc::pollfd {
-            // A negative descriptor is ignored by poll(2).
-            fd: notify_fd.unwrap_or(-1),
-            events: libc::POLLIN,
-            revents: 0,
-        },
-    ];
-    // SAFETY: `fds` is an array of two initialised pollfd structs that outlives the call; the
-    // descriptors are ours (the eventfd) or the services handle's, which lives until this
-    // thread drops it after its loop.
-    let _ = unsafe { libc::poll(fds.as_mut_ptr(), fds.len() as libc::nfds_t, POLL_MS) };
+    let poll_ns = POLL.as_nanos() as u64;
+    procimg_shm_layout::os::wait_any_readable([wake_fd, notify_fd.unwrap_or(-1)], poll_ns);
 }
 
 fn take_notifications(shared: &Shared) -> Vec<Notification> {
