@@ -104,6 +104,31 @@ pub fn generic_entry(usi: u16, data: &[u8]) -> DiagnosisEntry {
     }
 }
 
+/// Adds `entry` to procimgd's store of the submodule at `at`, or removes it.
+fn keep(
+    services: &Services,
+    add: bool,
+    at: Position,
+    entry: &DiagnosisEntry,
+) -> Result<(), ControlError> {
+    let (api, slot, subslot, entry) = (at.0, at.1, at.2, entry.clone());
+    services.keep_diagnosis(if add {
+        StationDiagnosisChange::Add {
+            api,
+            slot,
+            subslot,
+            entry,
+        }
+    } else {
+        StationDiagnosisChange::Remove {
+            api,
+            slot,
+            subslot,
+            entry,
+        }
+    })
+}
+
 /// The program's entries: (submodule, DiagTag) → their kind and the entry.
 #[derive(Debug, Default)]
 pub struct DiagTags {
@@ -126,15 +151,7 @@ impl DiagTags {
         if let Some((_, old)) = self.entries.get(&(at, tag)).cloned() {
             self.forget(services, at, tag, &old)?;
         }
-        let change = StationDiagnosisChange::Add {
-            api: at.0,
-            slot: at.1,
-            subslot: at.2,
-            entry: entry.clone(),
-        };
-        services
-            .keep_diagnosis(change)
-            .map_err(DiagTagError::Refused)?;
+        keep(services, true, at, &entry).map_err(DiagTagError::Refused)?;
         self.entries.insert((at, tag), (kind, entry));
         Ok(())
     }
@@ -179,15 +196,7 @@ impl DiagTags {
         if self.held(at, entry) {
             return Ok(());
         }
-        let change = StationDiagnosisChange::Remove {
-            api: at.0,
-            slot: at.1,
-            subslot: at.2,
-            entry: entry.clone(),
-        };
-        services
-            .keep_diagnosis(change)
-            .map_err(DiagTagError::NotRemoved)
+        keep(services, false, at, entry).map_err(DiagTagError::NotRemoved)
     }
 
     /// Whether another tag holds `entry` at `at`.
