@@ -57,17 +57,19 @@ pub enum DeviceOpenError {
     /// No services handle on the instance.
     #[error(transparent)]
     Attach(#[from] AttachError),
+    /// The instance is an IO controller's.
+    #[error(transparent)]
+    NotDevice(ControlError),
     /// The station did not let this program check its ARs and hold its ApplicationReady.
     #[error(
         "instance \"{instance}\" did not let this device check its ARs and hold its \
-         ApplicationReady (does another program check them?): {source}"
+         ApplicationReady (does another program check them?): {cause}"
     )]
     NotChecking {
         /// The instance.
         instance: String,
         /// What the server said.
-        #[source]
-        source: ControlError,
+        cause: ControlError,
     },
 }
 
@@ -78,13 +80,12 @@ pub enum ApplicationReadyError {
     #[error(transparent)]
     Refused(#[from] ReadyError),
     /// procimgd did not take it.
-    #[error("instance \"{instance}\" did not take the ApplicationReady: {source}")]
+    #[error("instance \"{instance}\" did not take the ApplicationReady: {cause}")]
     NotTaken {
         /// The instance.
         instance: String,
         /// What the server said.
-        #[source]
-        source: ControlError,
+        cause: ControlError,
     },
 }
 
@@ -95,13 +96,12 @@ pub enum AbortError {
     #[error(transparent)]
     Session(#[from] SessionError),
     /// procimgd did not take the mode change (OFFLINE to end the AR, OPERATE after it).
-    #[error("instance \"{instance}\" did not take the mode change around the abort: {source}")]
+    #[error("instance \"{instance}\" did not take the mode change around the abort: {cause}")]
     NotTaken {
         /// The instance.
         instance: String,
         /// What the server said.
-        #[source]
-        source: ControlError,
+        cause: ControlError,
     },
 }
 
@@ -135,9 +135,15 @@ impl IoBaseDevice {
         services
             .check_ars(true)
             .and_then(|()| services.hold_application_ready(true))
-            .map_err(|source| DeviceOpenError::NotChecking {
-                instance: instance.clone(),
-                source,
+            .map_err(|source| match source {
+                ControlError::NotDevice { .. }
+                | ControlError::Refused(Refusal::WrongRole { .. }) => {
+                    DeviceOpenError::NotDevice(source)
+                }
+                cause => DeviceOpenError::NotChecking {
+                    instance: instance.clone(),
+                    cause,
+                },
             })?;
         Ok(IoBaseDevice {
             instance,
@@ -329,13 +335,13 @@ impl IoBaseDevice {
     ) -> Result<(), ApplicationReadyError> {
         let ready = lock(&self.sessions).ready(ar)?;
         let sent = lock(&self.services).application_ready_except(not_ready);
-        sent.map_err(|source| {
+        sent.map_err(|cause| {
             if ready == Ready::Ar {
                 lock(&self.sessions).not_ready(ar);
             }
             ApplicationReadyError::NotTaken {
                 instance: self.instance.clone(),
-                source,
+                cause,
             }
         })
     }
@@ -350,9 +356,9 @@ impl IoBaseDevice {
         resume: impl FnOnce() -> bool,
     ) -> Result<(), AbortError> {
         let uuid = self.check(ar)?.uuid;
-        let not_taken = |source| AbortError::NotTaken {
+        let not_taken = |cause| AbortError::NotTaken {
             instance: self.instance.clone(),
-            source,
+            cause,
         };
         self.set_mode(Mode::Offline).map_err(not_taken)?;
         self.until_ended(&uuid, END_WAIT, program);

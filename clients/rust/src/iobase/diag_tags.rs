@@ -44,10 +44,10 @@ pub enum DiagTagError {
     TagZero,
     /// procimgd did not take the entry.
     #[error("procimgd did not take the diagnosis entry: {0}")]
-    Refused(#[source] ControlError),
+    Refused(ControlError),
     /// procimgd did not remove the entry.
     #[error("procimgd did not remove the diagnosis entry: {0}")]
-    NotRemoved(#[source] ControlError),
+    NotRemoved(ControlError),
 }
 
 /// ChannelProperties (IEC 61158-6): Type in bits 0–7, Specifier in bits 11–12, Direction in
