@@ -330,6 +330,14 @@ pub const PNIO_CTRL_REASON_IOD_NOT_FOUND: u32 = 0x0708;
 pub const PNIO_CTRL_REASON_RPC_TIMEOUT: u32 = 0x0706;
 /// The device was deactivated.
 pub const PNIO_CTRL_REASON_MP_DEVICE_DISABLED: u32 = 0x0716;
+/// The device's RPC layer refused a call.
+pub const PNIO_CTRL_REASON_RPC_ERROR: u32 = 0x0704;
+/// The device refused the configuration.
+pub const PNIO_CTRL_REASON_PNIO_CONFIGURATION: u32 = 0x0705;
+/// Giving the device its IP address failed.
+pub const PNIO_CTRL_REASON_IP_SET_ABORTED: u32 = 0x0707;
+/// The device's cyclic data stopped coming.
+pub const PNIO_CTRL_REASON_MISS: u32 = 0x070A;
 
 // ---------------------------------------------------------------------------------------
 // Structs
@@ -848,3 +856,42 @@ pub type PNIO_CP_CBF = Option<unsafe extern "C" fn(pCbfPrm: *mut PNIO_CP_CBE_PRM
 /// `PNIO_CBF_APPL_WATCHDOG`: called once when the CP application watchdog expires, with
 /// the CPIndex it was registered for.
 pub type PNIO_CBF_APPL_WATCHDOG = Option<unsafe extern "C" fn(CPIndex: PNIO_UINT32)>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_reasons_used_by_name_are_the_headers() {
+        let used = [
+            ("PNIO_CTRL_REASON_NONE", PNIO_CTRL_REASON_NONE),
+            ("PNIO_CTRL_REASON_IOD_ABORTED", PNIO_CTRL_REASON_IOD_ABORTED),
+            ("PNIO_CTRL_REASON_IOC_ABORTED", PNIO_CTRL_REASON_IOC_ABORTED),
+            (
+                "PNIO_CTRL_REASON_IOD_NOT_FOUND",
+                PNIO_CTRL_REASON_IOD_NOT_FOUND,
+            ),
+            ("PNIO_CTRL_REASON_RPC_TIMEOUT", PNIO_CTRL_REASON_RPC_TIMEOUT),
+            (
+                "PNIO_CTRL_REASON_MP_DEVICE_DISABLED",
+                PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
+            ),
+            ("PNIO_CTRL_REASON_RPC_ERROR", PNIO_CTRL_REASON_RPC_ERROR),
+            (
+                "PNIO_CTRL_REASON_PNIO_CONFIGURATION",
+                PNIO_CTRL_REASON_PNIO_CONFIGURATION,
+            ),
+            (
+                "PNIO_CTRL_REASON_IP_SET_ABORTED",
+                PNIO_CTRL_REASON_IP_SET_ABORTED,
+            ),
+            ("PNIO_CTRL_REASON_MISS", PNIO_CTRL_REASON_MISS),
+        ];
+        for (name, value) in used {
+            assert!(
+                PNIO_CTRL_REASONS.contains(&(name, value)),
+                "{name} = {value:#06x} is not the header's"
+            );
+        }
+    }
+}

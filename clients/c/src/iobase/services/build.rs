@@ -15,8 +15,9 @@ use crate::iobase::types::{
     PNIO_CTRL_DEV_DIAG_AR_IN_DATA, PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_DEV_DIAG_OFFLINE,
     PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE, PNIO_CTRL_DIAG_CONFIG_SUBMODULE, PNIO_CTRL_DIAG_DEVICE,
     PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA, PNIO_CTRL_REASON_IOC_ABORTED,
-    PNIO_CTRL_REASON_IOD_ABORTED, PNIO_CTRL_REASON_IOD_NOT_FOUND,
-    PNIO_CTRL_REASON_MP_DEVICE_DISABLED, PNIO_CTRL_REASON_NONE, PNIO_CTRL_REASON_RPC_TIMEOUT,
+    PNIO_CTRL_REASON_IOD_ABORTED, PNIO_CTRL_REASON_IOD_NOT_FOUND, PNIO_CTRL_REASON_IP_SET_ABORTED,
+    PNIO_CTRL_REASON_MISS, PNIO_CTRL_REASON_MP_DEVICE_DISABLED, PNIO_CTRL_REASON_NONE,
+    PNIO_CTRL_REASON_PNIO_CONFIGURATION, PNIO_CTRL_REASON_RPC_ERROR, PNIO_CTRL_REASON_RPC_TIMEOUT,
     PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_DATA_IRT, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN,
     PNIO_IO_OUT, PNIO_MAX_ALARM_DATA_LEN,
 };
@@ -25,15 +26,6 @@ use procimg_client::{
 };
 
 use procimg_shm_layout::{CYCLE_COUNT_UNIT_NS, NO_ADDRESS, RT_CLASS_3};
-
-/// `PNIO_CTRL_REASON_IP_SET_ABORTED`: giving the device its IP address failed.
-const REASON_IP_SET_ABORTED: u32 = 0x0707;
-/// `PNIO_CTRL_REASON_MISS`: the device's cyclic data stopped coming.
-const REASON_MISS: u32 = 0x070A;
-/// `PNIO_CTRL_REASON_PNIO_CONFIGURATION`: the device refused the configuration.
-const REASON_PNIO_CONFIGURATION: u32 = 0x0705;
-/// `PNIO_CTRL_REASON_RPC_ERROR`: the device's RPC layer refused a call.
-const REASON_RPC_ERROR: u32 = 0x0704;
 
 /// BlockType of an AlarmNotification: high priority.
 const BLOCK_ALARM_HIGH: u16 = 0x0001;
@@ -245,11 +237,11 @@ fn reason(cause: FailureCause) -> u32 {
     match cause {
         FailureCause::None | FailureCause::Unknown => PNIO_CTRL_REASON_NONE,
         FailureCause::NotFound => PNIO_CTRL_REASON_IOD_NOT_FOUND,
-        FailureCause::IpSetFailed => REASON_IP_SET_ABORTED,
+        FailureCause::IpSetFailed => PNIO_CTRL_REASON_IP_SET_ABORTED,
         FailureCause::RpcTimeout | FailureCause::NoApplicationReady => PNIO_CTRL_REASON_RPC_TIMEOUT,
-        FailureCause::RpcError => REASON_RPC_ERROR,
-        FailureCause::Refused | FailureCause::Internal => REASON_PNIO_CONFIGURATION,
-        FailureCause::NoCyclicData => REASON_MISS,
+        FailureCause::RpcError => PNIO_CTRL_REASON_RPC_ERROR,
+        FailureCause::Refused | FailureCause::Internal => PNIO_CTRL_REASON_PNIO_CONFIGURATION,
+        FailureCause::NoCyclicData => PNIO_CTRL_REASON_MISS,
         FailureCause::DeviceAborted => PNIO_CTRL_REASON_IOD_ABORTED,
         FailureCause::ControllerAborted | FailureCause::Released => PNIO_CTRL_REASON_IOC_ABORTED,
         FailureCause::Deactivated => PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
@@ -535,7 +527,7 @@ mod tests {
         ));
         assert_eq!(
             (s.DiagState, s.Reason),
-            (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, REASON_MISS)
+            (PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_REASON_MISS)
         );
         for (cause, want) in [
             (FailureCause::DeviceAborted, PNIO_CTRL_REASON_IOD_ABORTED),
@@ -543,10 +535,10 @@ mod tests {
                 FailureCause::ControllerAborted,
                 PNIO_CTRL_REASON_IOC_ABORTED,
             ),
-            (FailureCause::Refused, REASON_PNIO_CONFIGURATION),
+            (FailureCause::Refused, PNIO_CTRL_REASON_PNIO_CONFIGURATION),
             (FailureCause::RpcTimeout, PNIO_CTRL_REASON_RPC_TIMEOUT),
-            (FailureCause::RpcError, REASON_RPC_ERROR),
-            (FailureCause::IpSetFailed, REASON_IP_SET_ABORTED),
+            (FailureCause::RpcError, PNIO_CTRL_REASON_RPC_ERROR),
+            (FailureCause::IpSetFailed, PNIO_CTRL_REASON_IP_SET_ABORTED),
         ] {
             assert_eq!(
                 device_state(&diagnosis(DeviceState::Failed, true, cause)).Reason,
