@@ -263,5 +263,5 @@ pub(crate) fn network_report(channel: &Channel, datagrams: &DatagramCounters) ->
 pub(crate) fn plugged(
     s: &crate::config::SubmoduleConfig,
 ) -> procimg_profinet::device::PluggedSubmodule {
-    controller::submodule_spec(s).plugged()
+    controller::plan::submodule_spec(s).plugged()
 }

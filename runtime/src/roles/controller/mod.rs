@@ -4,7 +4,7 @@
 //! acyclic thread ([`ControllerRole`]), the factory of the cycle thread's IO system, and the
 //! controller's client services ([`ControllerServices`]).
 
-mod plan;
+pub(crate) mod plan;
 mod role;
 mod services;
 pub mod sim_behaviour;
