@@ -40,8 +40,10 @@ fn no_instance(_: &str) -> Result<String, String> {
 }
 
 pub fn run(args: GsdmlArgs) -> anyhow::Result<()> {
-    let config = procimg_config::load(&args.config, &procimg_nic::interfaces::check)
-        .map_err(|e| anyhow!("{e}"))?;
+    // The file describes the station, not this machine: the engineering PC that makes the
+    // GSDML for the PLC's project usually has no such interface, so any name is taken.
+    let config =
+        procimg_config::load(&args.config, &|_: &str| Ok(())).map_err(|e| anyhow!("{e}"))?;
     let Some(station) = config
         .station
         .as_ref()

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! `procimg gsdml`: the device demo's GSDML file to standard output, to a file and into a
-//! directory under its standard name, the same as the writer's; a controller configuration
-//! and a broken one refused with what to do.
+//! directory under its standard name, the same as the writer's, also where the configured
+//! interface does not exist; a controller configuration and a broken one refused with what
+//! to do.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -96,6 +97,22 @@ fn the_device_demo_goes_to_stdout_a_file_and_a_directory() {
         shown.starts_with("gsd/GSDML-V2.4-procimg-procimg_device-2") && shown.ends_with(".xml\n"),
         "{shown}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_interface_this_machine_lacks_makes_the_same_file() {
+    // The engineering PC that makes the GSDML is not the one the station runs on.
+    let dir = scratch("elsewhere");
+    let toml = DEMO_DEVICE_TOML.replace(
+        "network = \"sim\"",
+        "network = \"enp99s0\" # the station's PC, not this one",
+    );
+    assert_ne!(toml, DEMO_DEVICE_TOML, "the demo names its network");
+    std::fs::write(dir.join("device.toml"), toml).unwrap();
+    let out = procimg(&dir, &["-c", "device.toml", "--date", "20250131"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), expected().1);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
