@@ -2,7 +2,7 @@
 //! `procimg status`.
 
 use procimg_client::ControlHandle;
-use procimg_control::Percentiles;
+use procimg_control::{ArState, Percentiles, StationReport};
 
 pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
     let control = ControlHandle::open(instance, "procimg-status")?;
@@ -40,12 +40,18 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
     line("STARTOP→OPDONE", &s.handshake_round_trip);
     line("OPDONE one way", &s.opdone_one_way);
     line("cycle work", &s.cycle_work);
-    let devices: Vec<String> = s
-        .devices
-        .iter()
-        .map(|d| format!("{} {}", d.name, d.state))
-        .collect();
-    println!("devices: {}", devices.join(", "));
+    match &s.station {
+        // The device role: procimgd is the station, its PLC's AR is what there is.
+        Some(st) => station(st),
+        None => {
+            let devices: Vec<String> = s
+                .devices
+                .iter()
+                .map(|d| format!("{} {}", d.name, d.state))
+                .collect();
+            println!("devices: {}", devices.join(", "));
+        }
+    }
     let n = &s.network;
     println!(
         "network: {} cyclic frames; dropped: {} malformed, {} unknown, {} stale, {} no buffer; \
@@ -116,6 +122,44 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The station of the device role and its AR, as the PLC sees them.
+fn station(st: &StationReport) {
+    println!(
+        "station \"{}\"  IP {}  MAC {}  VendorID {:#06x}  DeviceID {:#06x}",
+        st.name, st.ip, st.mac, st.vendor_id, st.device_id
+    );
+    match &st.ar {
+        Some(ar) => {
+            let plc = match ar.plc_running {
+                Some(true) => "RUN",
+                Some(false) => "STOP",
+                None => "no frame yet",
+            };
+            let state = match ar.state {
+                ArState::Connected => "connected, the PLC writes its parameters",
+                ArState::Parameterized => "parameterized, the ApplicationReady waits",
+                ArState::WaitingForApplicationReadyConfirm => "ApplicationReady sent",
+                ArState::Data => "in data exchange",
+                ArState::Unknown => "in a state this tool does not know",
+            };
+            println!(
+                "AR {state}  with PLC {} ({plc})  ARUUID {}",
+                ar.controller_mac, ar.ar_uuid
+            );
+        }
+        None => println!("AR none (no PLC connected)"),
+    }
+    println!(
+        "ARs aborted {}{}  alarms acknowledged by the PLC {}",
+        st.aborted_ars,
+        st.last_abort
+            .as_deref()
+            .map(|w| format!(" (last: {w})"))
+            .unwrap_or_default(),
+        st.alarms_acknowledged
+    );
 }
 
 fn line(what: &str, p: &Percentiles) {
