@@ -313,19 +313,45 @@ pub fn layout(instance: &str) -> anyhow::Result<()> {
     let client = attach(instance)?;
     let status = forces(&client);
     let l = client.layout();
-    println!(
-        "{} devices, {} submodules, {} input and {} output bytes, layout hash {:016x}",
-        l.devices.len(),
-        l.submodules.len(),
-        l.header.input_size,
-        l.header.output_size,
-        l.hash()
-    );
+    // In the device role the image keeps its two directions: what the PLC writes (its Q
+    // data) is in the server-written space, the I data the PLC reads in the client-written
+    // one. The columns name them as the PLC does.
+    let device = l.is_device();
+    if device {
+        println!(
+            "station, {} submodules, {} bytes of I data (the PLC reads them; `io write`, `io \
+             read --output`) and {} of Q data (the PLC writes them; `io read`), layout hash \
+             {:016x}",
+            l.submodules.len(),
+            l.header.output_size,
+            l.header.input_size,
+            l.hash()
+        );
+    } else {
+        println!(
+            "{} devices, {} submodules, {} input and {} output bytes, layout hash {:016x}",
+            l.devices.len(),
+            l.submodules.len(),
+            l.header.input_size,
+            l.header.output_size,
+            l.hash()
+        );
+    }
     println!(
         "{:<4} {:<20} {:>5} {:>7} {:>10} {:>10} {:>12} {:>12}",
         "#", "device", "slot", "subslot", "module", "submodule", "I", "Q"
     );
     for (i, s) in l.submodules.iter().enumerate() {
+        let column = |space: Space| {
+            let text = s.address_text(space == Space::Output);
+            marked(text, forced(status.as_ref(), s, space))
+        };
+        // A submodule without data keeps its diagnostic address in the I column.
+        let (i_space, q_space) = if device && s.diagnostic_address().is_none() {
+            (Space::Output, Space::Input)
+        } else {
+            (Space::Input, Space::Output)
+        };
         println!(
             "{:<4} {:<20} {:>5} {:>7} {:>#10x} {:>#10x} {:>12} {:>12}",
             i,
@@ -334,14 +360,8 @@ pub fn layout(instance: &str) -> anyhow::Result<()> {
             s.subslot,
             s.module_ident,
             s.submodule_ident,
-            marked(
-                s.address_text(false),
-                forced(status.as_ref(), s, Space::Input)
-            ),
-            marked(
-                s.address_text(true),
-                forced(status.as_ref(), s, Space::Output)
-            )
+            column(i_space),
+            column(q_space)
         );
     }
     if status.as_ref().is_some_and(|s| !s.forces.is_empty()) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The command line in the device role, against `procimgd --demo-device` (whose PLC is
 //! procimg's own controller): `procimg status` shows the station and its AR as the PLC sees
-//! them, not an empty list of devices.
+//! them, not an empty list of devices; `procimg layout` puts a submodule's I data (what the
+//! PLC reads) in the I column.
 
 use procimg_testkit::Launch;
 use std::process::Command;
@@ -23,7 +24,7 @@ fn procimg(instance: &str, args: &[&str]) -> String {
 }
 
 #[test]
-fn status_shows_the_station_and_its_ar() {
+fn status_and_layout_speak_as_the_plc_sees_the_station() {
     // By default the launch waits until the AR is in data exchange.
     let server = Launch::demo_device("cli-device").start();
     let text = procimg(&server.instance, &["status"]);
