@@ -147,7 +147,8 @@
  *
  * Where the manual and IO-Base's header name a thing differently, both names work:
  * PNIO_CFB_FUNCTIONS and PNIO_CBF_FUNCTIONS, the members pnio_cbf_cp_stop_req and
- * cbf_cp_stop_req, pnio_cbf_device_stopped and cbf_device_stopped, PNIO_AR_TYPE's pReserved
+ * cbf_cp_stop_req, pnio_cbf_device_stopped and cbf_device_stopped (the manual's are the
+ * members, IO-Base's header's are macros naming them), PNIO_AR_TYPE's pReserved
  * and pNextAr, PNIO_MODULE_TYPE's API and Api, PNIO_SUB_PROP_TYPE_* and
  * CM_SUB_PROP_USER_TYPE_*. Where they differ in a type, the header's type is used, since a
  * program compiled against it expects that one: PNIO_CBF_PULL_PLUG_CONF returns void and
@@ -815,22 +816,20 @@ typedef struct {
     PNIO_CBF_AR_OFFLINE_IND cbf_ar_offline_ind;
     PNIO_CBF_APDU_STATUS_IND cbf_apdu_status_ind;
     PNIO_CBF_PRM_END_IND cbf_prm_end_ind;
-    union {
-        PNIO_CBF_CP_STOP_REQ cbf_cp_stop_req;
-        PNIO_CBF_CP_STOP_REQ pnio_cbf_cp_stop_req; /* the manual's name */
-    };
-    union {
-        PNIO_CBF_DEVICE_STOPPED cbf_device_stopped;
-        PNIO_CBF_DEVICE_STOPPED pnio_cbf_device_stopped; /* the manual's name */
-    };
+    PNIO_CBF_CP_STOP_REQ pnio_cbf_cp_stop_req;       /* IO-Base's header: cbf_cp_stop_req */
+    PNIO_CBF_DEVICE_STOPPED pnio_cbf_device_stopped; /* IO-Base's header: cbf_device_stopped */
     PNIO_CBF_START_LED_FLASH cbf_start_led_flash; /* optional */
     PNIO_CBF_STOP_LED_FLASH cbf_stop_led_flash;   /* optional */
     PNIO_CBF_PULL_PLUG_CONF cbf_pull_plug_conf;   /* optional; needed to plug and pull
                                                      after PNIO_device_start */
 } ATTR_PACKED PNIO_CBF_FUNCTIONS;
 
-/* The manual's name. */
+/* The manual's name of the struct, and IO-Base's header's names of two members: a plain
+ * struct of the manual's members in its order, so that positional and designated
+ * initializers alike compile with every warning on. */
 #define PNIO_CFB_FUNCTIONS PNIO_CBF_FUNCTIONS
+#define cbf_cp_stop_req pnio_cbf_cp_stop_req
+#define cbf_device_stopped pnio_cbf_device_stopped
 
 /* ---- Functions: the device ----------------------------------------------------------- */
 

@@ -178,7 +178,8 @@ fn layout_facts() -> (Sizes, Offsets) {
             cbf_pull_plug_conf
         ]
     );
-    // The manual's names of two members (anonymous unions in C) and of the struct.
+    // The manual's names of two members (the members; IO-Base's header's are macros) and of
+    // the struct.
     offs.push((
         "PNIO_CBF_FUNCTIONS",
         "pnio_cbf_cp_stop_req",
@@ -506,6 +507,56 @@ fn header_compiles_alone_and_with_the_controller_header() {
     );
 }
 
+/// The manual's callback table initialised as C allows for a plain struct: positionally
+/// (C and C++) and by designators (C, with both names of the two members IO-Base's header
+/// spells otherwise), compiled with every warning an error.
+#[test]
+fn the_callback_table_takes_positional_and_designated_initializers() {
+    let dir = procimg_testkit::c::scratch("iobase-device-cbf-init");
+    let positional = r#"#include "pniousrd.h"
+#include <stddef.h>
+static void any(void) {}
+#define CB(t) ((t)(void (*)(void))any)
+static PNIO_CFB_FUNCTIONS positional = {
+    sizeof(PNIO_CFB_FUNCTIONS),
+    CB(PNIO_CBF_DATA_WRITE), CB(PNIO_CBF_DATA_READ), CB(PNIO_CBF_REC_READ),
+    CB(PNIO_CBF_REC_WRITE), CB(PNIO_CBF_REQ_DONE), CB(PNIO_CBF_CHECK_IND),
+    CB(PNIO_CBF_AR_CHECK_IND), CB(PNIO_CBF_AR_INFO_IND), CB(PNIO_CBF_AR_INDATA_IND),
+    CB(PNIO_CBF_AR_ABORT_IND), CB(PNIO_CBF_AR_OFFLINE_IND), CB(PNIO_CBF_APDU_STATUS_IND),
+    CB(PNIO_CBF_PRM_END_IND), CB(PNIO_CBF_CP_STOP_REQ), CB(PNIO_CBF_DEVICE_STOPPED),
+    NULL, NULL, NULL
+};
+"#;
+    let designated = r#"static PNIO_CBF_FUNCTIONS designated = {
+    .size = sizeof(PNIO_CBF_FUNCTIONS),
+    .cbf_prm_end_ind = CB(PNIO_CBF_PRM_END_IND),
+    .cbf_cp_stop_req = CB(PNIO_CBF_CP_STOP_REQ),
+    .pnio_cbf_device_stopped = CB(PNIO_CBF_DEVICE_STOPPED),
+};
+int main(void) {
+    return positional.cbf_device_stopped == designated.cbf_device_stopped
+        && positional.pnio_cbf_cp_stop_req == designated.cbf_cp_stop_req
+        && positional.cbf_prm_end_ind == designated.cbf_prm_end_ind ? 0 : 1;
+}
+"#;
+    let positional_only = "int main() {\n    return positional.cbf_cp_stop_req != nullptr \
+                           && positional.cbf_stop_led_flash == nullptr ? 0 : 1;\n}\n";
+    for (name, text) in [
+        ("init.c", format!("{positional}{designated}")),
+        ("init.cpp", format!("{positional}{positional_only}")),
+    ] {
+        let src = dir.join(name);
+        std::fs::write(&src, text).unwrap();
+        let exe = dir.join(name.replace('.', "_"));
+        procimg_testkit::c::compile(&[src], &exe, procimg_testkit::c::Link::Static, false);
+        let out = std::process::Command::new(&exe).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: the members are not where they should be"
+        );
+    }
+}
+
 /// The names that follow `what` in the header's text, up to the next parenthesis, e.g. the
 /// functions after `PNIO_CODE_ATTR ` or the callback typedefs after `(*`.
 fn names_after(text: &str, what: &str) -> BTreeSet<String> {
@@ -544,8 +595,8 @@ fn header_declares_what_the_rust_lists_hold() {
     );
     assert_eq!(DEVICE_CALLBACKS.len(), 18);
 
-    // Object-like macros with a value (not the guard, not the struct's other name), and
-    // enumerators (`NAME = value`).
+    // Object-like macros with a value (not the guard, not the other names of the struct and
+    // of two of its members), and enumerators (`NAME = value`).
     let mut declared = BTreeSet::new();
     for line in text.lines() {
         let line = line.trim();
@@ -555,7 +606,13 @@ fn header_declares_what_the_rust_lists_hold() {
                 .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
                 .collect();
             let function_like = rest[name.len()..].starts_with('(');
-            if !function_like && !["PNIOUSRD_H", "PNIO_CFB_FUNCTIONS"].contains(&name.as_str()) {
+            let aliases = [
+                "PNIOUSRD_H",
+                "PNIO_CFB_FUNCTIONS",
+                "cbf_cp_stop_req",
+                "cbf_device_stopped",
+            ];
+            if !function_like && !aliases.contains(&name.as_str()) {
                 declared.insert(name);
             }
         } else if let Some((name, _)) = line.split_once(" = ")

@@ -247,8 +247,10 @@ callbacks! {
 }
 
 /// `PNIO_CBF_FUNCTIONS` (the manual's `PNIO_CFB_FUNCTIONS`): the callbacks given to
-/// `PNIO_device_open`. C also names `cbf_cp_stop_req` and `cbf_device_stopped` as the manual
-/// does, `pnio_cbf_cp_stop_req` and `pnio_cbf_device_stopped`.
+/// `PNIO_device_open`. In C the members `cbf_cp_stop_req` and `cbf_device_stopped` have the
+/// manual's names, `pnio_cbf_cp_stop_req` and `pnio_cbf_device_stopped`, and IO-Base's
+/// header's names are macros for them: a plain struct, initialised positionally or by
+/// designators.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PNIO_CBF_FUNCTIONS {
