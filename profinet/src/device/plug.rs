@@ -27,6 +27,10 @@
 //!
 //! Alarms and IOxS follow the AR's expectations; a submodule the AR does not expect changes
 //! only the device's identification records.
+//!
+//! [`Plugging`] keeps what is plugged where and answers what is plugged
+//! ([`Device::plugging`]); the device's plug, pull and return add what the AR and the
+//! diagnosis make of a change, since they need those parts too.
 
 use super::ar::IOXS_BAD;
 use super::diagnosis::SubslotAddr;
