@@ -676,8 +676,8 @@ impl DeviceBench {
             6 => {
                 let at = SubslotAddr::new(0, u16::from(arg % 3), 1);
                 // Refusals (unconfigured, starting up) are part of what is tried: fine.
-                if self.device.is_plugged(at) {
-                    let was = self.device.real_submodule(at);
+                if self.device.plugging().is_plugged(at) {
+                    let was = self.device.plugging().real_submodule(at);
                     if self.device.pull_submodule(at, self.now, out).is_ok()
                         && let Some((m, sub)) = was
                     {
@@ -968,7 +968,7 @@ mod tests {
             })
             .collect();
         assert!(
-            b.device.ar_uuid().is_some(),
+            b.device.ar().ar_uuid().is_some(),
             "no AR after the replay of {kinds:#?}"
         );
     }

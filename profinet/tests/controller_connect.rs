@@ -268,7 +268,7 @@ fn a_bring_up_sends_one_connect() {
         assert_eq!(rig.connects[0].fragment, 0);
         // The device took it once, and holds the AR.
         assert_eq!(
-            rig.device.aborted_ars(),
+            rig.device.ar().aborted_ars(),
             0,
             "device {path}: it aborted an AR"
         );

@@ -215,11 +215,13 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     assert_eq!(n.alarm_type, AlarmType::Process);
     w.run(300);
     assert!(
-        w.devices()[echo_device].alarm_acks().is_empty(),
+        w.devices()[echo_device].alarm_acks().list().is_empty(),
         "AlarmAck sent before the acknowledgement"
     );
     assert!(w.with_controller(|c, now, out| c.acknowledge_alarm(ticket, now, out)));
-    let acked = w.step_until(100, |w| !w.devices()[echo_device].alarm_acks().is_empty());
+    let acked = w.step_until(100, |w| {
+        !w.devices()[echo_device].alarm_acks().list().is_empty()
+    });
     assert!(acked.is_some(), "no AlarmAck reached the device");
     assert!(
         !w.with_controller(|c, now, out| c.acknowledge_alarm(ticket, now, out)),
@@ -380,7 +382,7 @@ fn the_demo_devices_come_up_exchange_data_fail_and_return() {
     w.set_online(false);
     w.run(20);
     assert!(w.states().iter().all(|s| *s == DeviceState::Offline));
-    assert!(w.devices().iter().all(|d| d.ar_uuid().is_none()));
+    assert!(w.devices().iter().all(|d| d.ar().ar_uuid().is_none()));
     // Leaving data exchange on OFFLINE is a station failure for every device.
     for d in 0..w.states().len() {
         assert!(

@@ -205,7 +205,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         MS,
         &mut out,
     );
-    let ar_uuid = dev.ar_uuid().unwrap();
+    let ar_uuid = dev.ar().ar_uuid().unwrap();
     let mut im0 = rpc_capture("alarm/im0_read_req");
     im0[108..124].copy_from_slice(&ar_uuid.0);
     let im0_client = SocketAddrV4::new(S7_IP, 56789);
@@ -291,7 +291,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     )
     .unwrap();
     dev.on_datagram(SocketAddrV4::new(S7_IP, 56424), 0xc001, &res, t, &mut out);
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
 
     // Data exchange: the S7's output frames, our input frames; a process alarm, the S7's
     // transport ACK and AlarmAck, our ACK.
@@ -329,7 +329,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         now,
         &mut out,
     );
-    assert_eq!(dev.alarm_acks().len(), 1);
+    assert_eq!(dev.alarm_acks().list().len(), 1);
 
     // Release.
     let release = ControlBlock::release(ar_uuid, 2).to_bytes();
@@ -345,7 +345,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         now,
         &mut out,
     );
-    assert_eq!(dev.state(), ArState::Idle);
+    assert_eq!(dev.ar().state(), ArState::Idle);
     wire.take(&mut out);
 
     // Another device with slot 3 missing: a Connect response with a ModuleDiffBlock, its
@@ -369,7 +369,7 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
     );
     short.on_frame(&capture("rt/rtc_cpu_8001"), 0, &mut out);
     let mut t = 0;
-    while short.state() != ArState::Idle {
+    while short.ar().state() != ArState::Idle {
         t = short.next_deadline_ns().unwrap();
         short.poll(t, &mut out);
     }

@@ -6,15 +6,16 @@
 //! Alarms go out only to an AR in data exchange, and only for the submodules it owns; before
 //! that the controller learns the diagnosis from the ModuleDiffBlock of the Connect response
 //! and of the ApplicationReady, and from the records. The AR's MaxAlarmDataLength bounds every
-//! AlarmNotification: a longer one is not sent.
+//! AlarmNotification: a longer one is not sent. The controller's acknowledgements are kept
+//! in [`AlarmAcks`].
 
 use super::diagnosis::{
     DiagEntry, DiagKey, DiagnosisAlarm, DiagnosisError, DiagnosisStore, SubslotAddr,
 };
 use super::iobase_alarms::AlarmError;
-use super::{Application, Device, DeviceAction};
+use super::{Application, Device, DeviceAction, MAX_KEPT_ACKS};
 use crate::wire::alarm::{
-    AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType, Priority,
+    AlarmAck, AlarmBlock, AlarmItem, AlarmNotification, AlarmSpecifier, AlarmType, Priority,
 };
 
 /// What a diagnosis change did.
@@ -29,6 +30,40 @@ pub struct DiagnosisChange {
     /// Alarms not sent because they are longer than the AR's MaxAlarmDataLength: the change
     /// is in the store and its records all the same.
     pub alarms_too_long: usize,
+}
+
+/// The AlarmAcks the controller sent for the device's alarms.
+#[derive(Clone, Debug, Default)]
+pub struct AlarmAcks {
+    /// The most recent, oldest first.
+    list: Vec<AlarmAck>,
+    /// AlarmAcks received in all.
+    count: u64,
+}
+
+impl AlarmAcks {
+    /// The AlarmAcks the controller sent, oldest first (the last [`MAX_KEPT_ACKS`]).
+    pub fn list(&self) -> &[AlarmAck] {
+        &self.list
+    }
+
+    /// AlarmAcks the controller sent since the device was made (of which
+    /// [`list`](Self::list) keeps the last [`MAX_KEPT_ACKS`]).
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// Takes the AlarmAcks an alarm channel received, emptying `acks`.
+    pub(super) fn take(&mut self, acks: &mut Vec<AlarmAck>) {
+        self.count += acks.len() as u64;
+        self.list.append(acks);
+        // The most recent ones are what a caller looks at; a long-running device must not
+        // grow without bound.
+        if self.list.len() > MAX_KEPT_ACKS {
+            let excess = self.list.len() - MAX_KEPT_ACKS;
+            self.list.drain(..excess);
+        }
+    }
 }
 
 impl<A: Application> Device<A> {
@@ -91,7 +126,7 @@ impl<A: Application> Device<A> {
         out: &mut Vec<DeviceAction>,
     ) {
         let mac = self.station.id.mac;
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         n.specifier.sequence_number = ar.alarms.sequence;
@@ -169,7 +204,7 @@ impl<A: Application> Device<A> {
     /// Where a plugged submodule is; [`DiagnosisError::UnknownSubmodule`] if none is there.
     fn plugged_at(&self, api: u32, slot: u16, subslot: u16) -> Result<SubslotAddr, DiagnosisError> {
         let at = SubslotAddr::new(api, slot, subslot);
-        if self.submodules.iter().any(|r| r.addr() == at) {
+        if self.plugging.is_plugged(at) {
             Ok(at)
         } else {
             Err(DiagnosisError::UnknownSubmodule(at))
@@ -188,7 +223,7 @@ impl<A: Application> Device<A> {
             ..DiagnosisChange::default()
         };
         let mac = self.station.id.mac;
-        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+        let Some(ar) = self.ar.current.as_mut().filter(|a| a.in_data()) else {
             return change;
         };
         // ARDiagnosisState: a fault on a submodule the AR owns, after the change.

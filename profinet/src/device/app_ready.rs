@@ -19,14 +19,14 @@ impl<A: Application> Device<A> {
     /// [`release_application_ready`](Self::release_application_ready) (or the hold's
     /// timeout). Off from the start.
     pub fn hold_application_ready(&mut self, hold: bool) {
-        self.hold_app_ready = hold;
+        self.ar.hold_app_ready = hold;
     }
 
     /// Lets a held ApplicationReady go out, and the held PlugApplicationReady of plugged
     /// submodules; `false` when none is held (no AR, the PLC's
     /// PrmEnd has not come, or it went out already).
     pub fn release_application_ready(&mut self, now_ns: u64) -> bool {
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return false;
         };
         // A plugged submodule's PlugApplicationReady that waits (with the hold timeout as
@@ -50,7 +50,7 @@ impl<A: Application> Device<A> {
     /// application announces each one with a Return of Submodule alarm
     /// ([`return_submodule`](Self::return_submodule)). Each PrmEnd starts a new list.
     pub fn application_ready_pending(&mut self, at: impl IntoIterator<Item = SubslotAddr>) {
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         for a in at {
@@ -60,20 +60,10 @@ impl<A: Application> Device<A> {
         }
     }
 
-    /// Whether the AR's ApplicationReady waits for the application now.
-    pub fn application_ready_held(&self) -> bool {
-        self.ar.as_ref().is_some_and(|a| a.app_ready_held.is_some())
-    }
-
-    /// ApplicationReadys that went out because the application did not release them in time.
-    pub fn app_ready_hold_timeouts(&self) -> u64 {
-        self.app_ready_hold_timeouts
-    }
-
     /// At PrmEnd: when the ApplicationReady of the AR goes out, or that it is held.
     pub(super) fn schedule_app_ready(&mut self, now_ns: u64) {
-        let hold = self.hold_app_ready;
-        let Some(ar) = self.ar.as_mut() else {
+        let hold = self.ar.hold_app_ready;
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         ar.app_ready_pending.clear();
@@ -90,13 +80,13 @@ impl<A: Application> Device<A> {
 
     /// Sends a held ApplicationReady whose time is up.
     pub(super) fn expire_app_ready_hold(&mut self, now_ns: u64) {
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         if ar.state == ArState::Parameterized && ar.app_ready_held.is_some_and(|d| now_ns >= d) {
             ar.app_ready_held = None;
             ar.app_ready_due = Some(now_ns);
-            self.app_ready_hold_timeouts += 1;
+            self.ar.app_ready_hold_timeouts += 1;
         }
     }
 }

@@ -22,7 +22,7 @@ use std::net::SocketAddrV4;
 pub(super) type RecordKey = (u32, u16, u16, u16);
 
 /// The records written during an AR.
-pub(super) type Records = std::collections::HashMap<RecordKey, Vec<u8>>;
+pub(super) type WrittenRecords = std::collections::HashMap<RecordKey, Vec<u8>>;
 
 /// IOxS GOOD.
 pub(super) const IOXS_GOOD: u8 = 0x80;
@@ -93,7 +93,7 @@ pub(super) struct Ar {
     /// The AR must reach data exchange before this (CMInitiatorActivityTimeoutFactor).
     pub(super) cmi_deadline: Option<u64>,
     /// Records written in this AR.
-    pub(super) records: Records,
+    pub(super) records: WrittenRecords,
     /// Grows whenever a submodule starts or stops exchanging data in the AR (pull, the end
     /// of a plug sub-cycle), so that a handed-over exchange is handed out again.
     pub(super) exchange_generation: u32,
@@ -195,7 +195,7 @@ impl Ar {
             cmi_deadline: Some(
                 now_ns.saturating_add(u64::from(plan.ar.activity_timeout_factor) * 100_000_000),
             ),
-            records: Records::new(),
+            records: WrittenRecords::new(),
             exchange_generation: 0,
             plug_ready: std::collections::VecDeque::new(),
             plug_call: None,

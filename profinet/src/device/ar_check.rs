@@ -74,9 +74,10 @@ pub(super) struct WaitingConnect {
     deadline: u64,
 }
 
-/// The device's side of the checks.
+/// The device's side of the checks: whether they are on, the Connect that waits, and how
+/// many timed out ([`Device::ar_checks`]).
 #[derive(Default)]
-pub(super) struct ArChecks {
+pub struct ArChecks {
     pub(super) on: bool,
     waiting: Option<WaitingConnect>,
     next_job: u64,
@@ -85,6 +86,11 @@ pub(super) struct ArChecks {
 }
 
 impl ArChecks {
+    /// AR checks the application did not answer in time (the ARs were accepted).
+    pub fn timeouts(&self) -> u64 {
+        self.timeouts
+    }
+
     /// Whether the call waits for the application.
     pub(super) fn has_call(&self, request: &Header) -> bool {
         self.waiting.as_ref().is_some_and(|w| {
@@ -126,9 +132,9 @@ impl<A: Application> Device<A> {
         Ok(())
     }
 
-    /// AR checks the application did not answer in time (the ARs were accepted).
-    pub fn ar_check_timeouts(&self) -> u64 {
-        self.ar_checks.timeouts
+    /// The application's checks of new ARs: how many timed out.
+    pub fn ar_checks(&self) -> &ArChecks {
+        &self.ar_checks
     }
 
     /// A Connect that passed the device's checks: hands it to the application, or answers
@@ -156,7 +162,8 @@ impl<A: Application> Device<A> {
                 input_length: e.input_length,
                 output_length: e.output_length,
                 plugged: self
-                    .submodules
+                    .plugging
+                    .plugged()
                     .iter()
                     .copied()
                     .find(|p| p.addr() == e.addr()),

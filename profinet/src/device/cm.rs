@@ -42,7 +42,7 @@ impl<A: Application> Device<A> {
     /// ends with an ERR-RTA and Connects are refused (CMDEV state conflict) until it takes
     /// part again. It does from the start.
     pub fn set_accepting(&mut self, accepting: bool, now_ns: u64, out: &mut Vec<DeviceAction>) {
-        self.accepting = accepting;
+        self.ar.accepting = accepting;
         if !accepting {
             self.abort_ar(AbortCode::AbortRequest, out);
             self.sync_handover(now_ns, out);
@@ -104,33 +104,33 @@ impl<A: Application> Device<A> {
             opnum::READ | opnum::READ_IMPLICIT | opnum::WRITE => {
                 let outcome = if h.opnum == opnum::WRITE {
                     served_records::write(
-                        self.ar.as_mut().map(|a| served_records::ArRecords {
+                        self.ar.current.as_mut().map(|a| served_records::ArRecords {
                             ar_uuid: a.ar_uuid,
                             records: &mut a.records,
                         }),
                         served_records::DeviceWrite {
-                            real: &self.submodules,
+                            real: self.plugging.plugged(),
                             im: &mut self.station.im,
                             im_writes: &mut self.station.im_writes,
-                            params: &self.params,
+                            params: &self.records.params,
                         },
                         blocks,
                     )
                 } else {
                     served_records::read(
                         h.opnum == opnum::READ_IMPLICIT,
-                        self.ar.as_ref().map(|a| served_records::ArView {
+                        self.ar.current.as_ref().map(|a| served_records::ArView {
                             ar_uuid: a.ar_uuid,
                             records: &a.records,
                             submodules: &a.submodules,
                             app_ready_pending: &a.app_ready_pending,
                         }),
                         &served_records::DeviceRead {
-                            real: &self.submodules,
+                            real: self.plugging.plugged(),
                             im0: &self.station.im0,
                             im: &self.station.im,
                             diagnosis: &self.diagnosis,
-                            params: &self.params,
+                            params: &self.records.params,
                         },
                         blocks,
                     )
@@ -161,7 +161,7 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) {
-        if let Some(f) = self.waiting.start(pending, call, now_ns, out) {
+        if let Some(f) = self.records.waiting.start(pending, call, now_ns, out) {
             self.respond_finished(f, out);
         }
     }
@@ -185,13 +185,13 @@ impl<A: Application> Device<A> {
         out: &mut Vec<DeviceAction>,
     ) -> Result<connect::Plan, PnioStatus> {
         let plan = connect::validate(blocks)?;
-        if !self.accepting {
+        if !self.ar.accepting {
             return Err(refuse(CMDEV, CMDEV_STATE_CONFLICT));
         }
         if let Some(h) = &self.handover {
             connect::check_period(&plan, |period| h.fits(period))?;
         }
-        if let Some(existing) = &self.ar {
+        if let Some(existing) = &self.ar.current {
             if existing.ar_uuid == plan.ar.ar_uuid {
                 // A re-run of the AR the device still holds: it ends, and this Connect is
                 // refused; the controller's next attempt finds the device free (p-net).
@@ -218,7 +218,7 @@ impl<A: Application> Device<A> {
         let diagnosis = &self.diagnosis;
         let state =
             |api, slot, subslot| diagnosis.submodule_state(SubslotAddr::new(api, slot, subslot));
-        let (fits, diff) = connect::module_diff(&plan.expected, &self.submodules, state);
+        let (fits, diff) = connect::module_diff(&plan.expected, self.plugging.plugged(), state);
         let ids = connect::frame_ids(&plan);
         let Ok(res) = connect::response_blocks(
             &plan,
@@ -231,7 +231,7 @@ impl<A: Application> Device<A> {
             return (refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES), Vec::new());
         };
         let controller = SocketAddrV4::new(*from.ip(), plan.rpc_port.unwrap_or(wire_rpc::RPC_PORT));
-        self.ar = Some(Ar::new(&plan, &fits, ids, controller, now_ns));
+        self.ar.current = Some(Ar::new(&plan, &fits, ids, controller, now_ns));
         (PnioStatus::OK, res)
     }
 
@@ -253,7 +253,7 @@ impl<A: Application> Device<A> {
         };
         // With the exchange handed over, the caller's cycle produces and supervises.
         let own_cyclic = self.handover.is_none();
-        let Some(ar) = self.ar.as_mut().filter(|a| a.ar_uuid == c.ar_uuid) else {
+        let Some(ar) = self.ar.current.as_mut().filter(|a| a.ar_uuid == c.ar_uuid) else {
             return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
         };
         if c.session_key != ar.session_key {
@@ -302,7 +302,7 @@ impl<A: Application> Device<A> {
         if blocks.len() != control::BLOCK_LEN {
             return fail(CMRPC, connect::CMRPC_ARGS_LENGTH);
         }
-        let Some(ar) = self.ar.as_ref().filter(|a| a.ar_uuid == c.ar_uuid) else {
+        let Some(ar) = self.ar.current.as_ref().filter(|a| a.ar_uuid == c.ar_uuid) else {
             return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
         };
         if c.session_key != ar.session_key {
@@ -311,7 +311,7 @@ impl<A: Application> Device<A> {
         if c.command != control::command::RELEASE {
             return fail(FAULTY_RELEASE, 8);
         }
-        self.ar = None;
+        self.ar.current = None;
         match ControlBlock::done_response_for(&c) {
             Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
             None => fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
@@ -330,7 +330,7 @@ impl<A: Application> Device<A> {
             return;
         }
         let own_cyclic = self.handover.is_none();
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         let Some(call) = ar.app_ready.as_mut() else {

@@ -4,7 +4,7 @@
 //! and NameOfStation, Signal, start/stop transaction and reset to factory; and the Hello
 //! request a device may send at start-up.
 
-use super::dcp_veto::{DcpChecks, HeldSet, Hold, UnknownDcpSetCheck};
+use super::dcp_veto::{DcpSetChecks, HeldSet, Hold, UnknownDcpSetCheck};
 use super::{Application, Device, DeviceAction, ethernet_frame};
 use crate::wire::MacAddress;
 use crate::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType, block_error, code};
@@ -78,7 +78,7 @@ pub(super) struct Changes {
 pub(super) struct Responder {
     pending: Vec<(u64, Vec<u8>)>,
     /// The application's checks of Sets that change the station.
-    pub(super) checks: DcpChecks,
+    pub(super) checks: DcpSetChecks,
 }
 
 impl Responder {
@@ -498,9 +498,9 @@ impl<A: Application> Device<A> {
         Ok(())
     }
 
-    /// DCP Set checks the application did not answer in time (the Sets were carried out).
-    pub fn dcp_set_check_timeouts(&self) -> u64 {
-        self.dcp.checks.timeouts
+    /// The application's checks of DCP Sets: how many timed out.
+    pub fn dcp_set_checks(&self) -> &DcpSetChecks {
+        &self.dcp.checks
     }
 
     /// Carries out a held Set whose time is up.

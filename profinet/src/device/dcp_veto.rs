@@ -50,9 +50,10 @@ pub(super) struct HeldSet {
     pub(super) deadline: u64,
 }
 
-/// The device's side of the checks.
+/// The device's side of the checks: whether they are on, the Set that waits, and how many
+/// timed out ([`Device::dcp_set_checks`](super::Device::dcp_set_checks)).
 #[derive(Default)]
-pub(super) struct DcpChecks {
+pub struct DcpSetChecks {
     pub(super) on: bool,
     pub(super) held: Option<HeldSet>,
     next_job: u64,
@@ -72,7 +73,12 @@ pub(super) enum Hold {
     Busy,
 }
 
-impl DcpChecks {
+impl DcpSetChecks {
+    /// DCP Set checks the application did not answer in time (the Sets were carried out).
+    pub fn timeouts(&self) -> u64 {
+        self.timeouts
+    }
+
     /// What becomes of Set `req` from `src`: it waits when it changes the station and checks
     /// are on.
     pub(super) fn hold(&mut self, src: MacAddress, req: &Repr, now_ns: u64) -> Hold {

@@ -336,20 +336,15 @@ impl<A: Application> Device<A> {
         answer: Result<Vec<u8>, (RecordErrorCode, u8)>,
         out: &mut Vec<DeviceAction>,
     ) -> Result<(), UnknownRecordJob> {
-        if let Some(f) = self.waiting.answer(job, answer)? {
+        if let Some(f) = self.records.waiting.answer(job, answer)? {
             self.respond_finished(f, out);
         }
         Ok(())
     }
 
-    /// Record jobs the application did not answer in time, so far.
-    pub fn record_timeouts(&self) -> u64 {
-        self.waiting.timeouts
-    }
-
     /// Answers the calls whose application jobs timed out.
     pub(super) fn expire_record_jobs(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
-        for f in self.waiting.expire(now_ns) {
+        for f in self.records.waiting.expire(now_ns) {
             self.respond_finished(f, out);
         }
     }

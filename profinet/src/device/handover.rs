@@ -86,7 +86,7 @@ impl<A: Application> Device<A> {
         let Some(mut h) = self.handover else {
             return;
         };
-        let current = self.ar.as_ref().map(|a| (a.ar_uuid, a.session_key));
+        let current = self.ar.current.as_ref().map(|a| (a.ar_uuid, a.session_key));
         if let Some((uuid, key, epoch, _)) = h.running
             && current != Some((uuid, key))
         {
@@ -94,7 +94,11 @@ impl<A: Application> Device<A> {
             h.running = None;
         }
         let generation = h.running.map(|(_, _, _, g)| g);
-        if let Some(ar) = self.ar.as_ref().filter(|a| a.state != ArState::Connected)
+        if let Some(ar) = self
+            .ar
+            .current
+            .as_ref()
+            .filter(|a| a.state != ArState::Connected)
             && generation != Some(ar.exchange_generation)
         {
             h.epochs = h.epochs.wrapping_add(1);
@@ -107,11 +111,8 @@ impl<A: Application> Device<A> {
 
     /// `ar`'s exchange over the plugged submodules' order.
     fn exchange(&self, ar: &Ar, epoch: u32, cycle_ns: u64) -> CyclicAr {
-        let (consumed, produced) = ar.cr_maps(|e| {
-            self.table
-                .iter()
-                .position(|s| (s.api, s.slot, s.subslot) == (e.api, e.slot, e.subslot))
-        });
+        let (consumed, produced) =
+            ar.cr_maps(|e| self.plugging.table_index(e.api, e.slot, e.subslot));
         let mut timing = ar.timing;
         timing.every_cycles = u32::try_from(timing.period_ns() / cycle_ns.max(1))
             .unwrap_or(u32::MAX)
@@ -123,7 +124,7 @@ impl<A: Application> Device<A> {
             consumed,
             produced,
             timing,
-            0..self.table.len(),
+            0..self.plugging.configured().len(),
         )
     }
 }

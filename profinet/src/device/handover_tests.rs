@@ -112,7 +112,7 @@ fn the_exchange_stops_with_the_ar_and_the_cycles_watchdog_ends_it() {
     let (mut dev, connect) = counter_device();
     dev.hand_over_cyclic(MS);
     let t = to_data(&mut dev, &connect, 0);
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
     // Without cyclic frames the engine's own watchdog does not run: only the cycle's.
     let quiet = run_until(&mut dev, t + 100 * MS);
     assert!(
@@ -120,18 +120,18 @@ fn the_exchange_stops_with_the_ar_and_the_cycles_watchdog_ends_it() {
             .1
             .is_empty()
     );
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
     assert!(dev.cyclic_started(1, t));
     let mut out = Vec::new();
     dev.cyclic_expired(7, t + 200 * MS, &mut out);
     assert_eq!(
-        dev.state(),
+        dev.ar().state(),
         ArState::Data,
         "another epoch's report is stale"
     );
     dev.cyclic_expired(1, t + 200 * MS, &mut out);
-    assert_eq!(dev.state(), ArState::Idle);
-    assert_eq!(dev.last_abort(), Some(AbortCode::ConsumerDhtExpired));
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(dev.ar().last_abort(), Some(AbortCode::ConsumerDhtExpired));
     assert_eq!(handovers(&out).1, [1]);
     assert_eq!(frames(&out).len(), 1, "the ERR-RTA: {out:?}");
 
@@ -153,7 +153,7 @@ fn the_exchange_stops_with_the_ar_and_the_cycles_watchdog_ends_it() {
         status(&super::tests::parse_reply(&datagrams(&out)[0].2)),
         PnioStatus::OK
     );
-    assert_eq!(dev.state(), ArState::Idle);
+    assert_eq!(dev.ar().state(), ArState::Idle);
     assert_eq!(handovers(&out).1, [2], "{out:?}");
 }
 
@@ -172,7 +172,7 @@ fn a_period_the_cycle_cannot_keep_is_refused() {
         let r = call(&mut dev, &connect_request(&connect), 0);
         let s = status(&r);
         assert_eq!((s.error_code1, s.error_code2), (0x02, 11), "{s:?}");
-        assert_eq!(dev.state(), ArState::Idle);
+        assert_eq!(dev.ar().state(), ArState::Idle);
         assert!(datagrams(&[]).is_empty());
     }
 }

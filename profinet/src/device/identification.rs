@@ -71,10 +71,10 @@ pub(super) fn module_diff(
 impl<A: Application> Device<A> {
     /// The ModuleDiffBlock of the current AR as things are now.
     pub(super) fn ar_module_diff(&self) -> Option<ModuleDiffBlock> {
-        let ar = self.ar.as_ref()?;
+        let ar = self.ar.current.as_ref()?;
         module_diff(
             &ar.expected(),
-            &self.submodules,
+            self.plugging.plugged(),
             &self.diagnosis,
             &ar.app_ready_pending,
         )

@@ -4,9 +4,9 @@
 //! with an alarm of its own making (`PNIO_diag_alarm_send`), and waits for each alarm's
 //! acknowledgement (`PNIO_CBF_REQ_DONE`). [`Device::keep_diagnosis`] changes the store
 //! without an alarm, [`Device::raise_diagnosis_alarm`] sends the application's diagnosis
-//! alarm, and [`Device::next_alarm_sequence`] tells which AlarmSequenceNumber the next
-//! alarm gets, so that the caller can match the controller's AlarmAck
-//! ([`Device::alarm_acks`]) to it.
+//! alarm, and [`ArSlot::next_alarm_sequence`](super::ArSlot::next_alarm_sequence) tells
+//! which AlarmSequenceNumber the next alarm gets, so that the caller can match the
+//! controller's AlarmAck ([`Device::alarm_acks`]) to it.
 
 use super::diagnosis::{DiagEntry, DiagKey, DiagnosisError, SubslotAddr};
 use super::{Application, Device, DeviceAction};
@@ -56,7 +56,7 @@ impl<A: Application> Device<A> {
         at: SubslotAddr,
         edit: DiagnosisEdit,
     ) -> Result<bool, DiagnosisError> {
-        if !self.submodules.iter().any(|r| r.addr() == at) {
+        if !self.plugging.is_plugged(at) {
             return Err(DiagnosisError::UnknownSubmodule(at));
         }
         let alarms = match edit {
@@ -97,11 +97,6 @@ impl<A: Application> Device<A> {
         self.raise_alarm(at, Priority::Low, alarm_type, specifier, item, now_ns, out)
     }
 
-    /// The AlarmSequenceNumber the next alarm to the AR gets; `None` without an AR.
-    pub fn next_alarm_sequence(&self) -> Option<u16> {
-        self.ar.as_ref().map(|a| a.alarms.sequence)
-    }
-
     /// Sends an alarm of a proper submodule of the AR in data exchange, numbered with the
     /// AR's next AlarmSequenceNumber, which it returns.
     #[allow(clippy::too_many_arguments)]
@@ -117,6 +112,7 @@ impl<A: Application> Device<A> {
     ) -> Result<u16, AlarmError> {
         let ar = self
             .ar
+            .current
             .as_ref()
             .filter(|a| a.in_data())
             .ok_or(AlarmError::NotInDataExchange)?;

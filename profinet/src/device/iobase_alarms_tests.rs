@@ -45,7 +45,7 @@ fn the_applications_diagnosis_alarm_carries_its_item_and_follows_the_store() {
         .unwrap();
     // ChannelNumber 0x8000, ChannelProperties appearing, ChannelErrorType 6 (wire break).
     let data = [0x80, 0x00, 0x08, 0x00, 0x00, 0x06];
-    let seq = dev.next_alarm_sequence().expect("an AR");
+    let seq = dev.ar().next_alarm_sequence().expect("an AR");
     let mut out = Vec::new();
     assert_eq!(
         dev.raise_diagnosis_alarm(INPUT, true, 0x8000, &data, t, &mut out),
@@ -66,7 +66,7 @@ fn the_applications_diagnosis_alarm_carries_its_item_and_follows_the_store() {
     let item = a[0].item.as_ref().expect("an item");
     assert_eq!(item.usi(), 0x8000);
     assert!(item.diagnosis().is_some(), "the channel item decodes");
-    assert_eq!(dev.next_alarm_sequence(), Some(seq + 1));
+    assert_eq!(dev.ar().next_alarm_sequence(), Some(seq + 1));
     // The last entry gone: DiagnosisDisappears, the flags clear.
     dev.keep_diagnosis(INPUT, DiagnosisEdit::Remove(entry.key()))
         .unwrap();
@@ -85,7 +85,7 @@ fn alarms_are_refused_without_data_exchange_or_when_they_do_not_fit() {
         dev.send_process_alarm(INPUT, 1, &[1, 2], 0, &mut out),
         Err(AlarmError::NotInDataExchange)
     );
-    assert_eq!(dev.next_alarm_sequence(), None);
+    assert_eq!(dev.ar().next_alarm_sequence(), None);
     let t = to_data(&mut dev, &connect, 1_000 * MS);
     assert_eq!(
         dev.send_process_alarm(INPUT, 0x8000, &[], t, &mut out),
@@ -105,7 +105,7 @@ fn alarms_are_refused_without_data_exchange_or_when_they_do_not_fit() {
         Err(AlarmError::TooLong { .. })
     ));
     assert!(alarms(&out).is_empty());
-    let seq = dev.next_alarm_sequence().unwrap();
+    let seq = dev.ar().next_alarm_sequence().unwrap();
     assert_eq!(
         dev.send_process_alarm(INPUT, 1, &[1, 2], t, &mut out),
         Ok(seq)

@@ -31,6 +31,20 @@
 //! call [`Device::poll`] at [`Device::next_deadline_ns`]; put the [`DeviceAction`]s it
 //! returns on the link. Times are `CLOCK_MONOTONIC` nanoseconds.
 //!
+//! The [`Device`] is made of parts that own their data, each with its own impl: the
+//! [`Station`] (identity, I&M, LLDP; `station.rs`), what is plugged where ([`Plugging`],
+//! `plug.rs`), the AR and what the device keeps across ARs ([`ArSlot`], `ar_slot.rs`), the
+//! controller's AlarmAcks ([`AlarmAcks`], `alarms.rs`), the diagnosis ([`DiagnosisStore`],
+//! `diagnosis/`), the user records and the calls waiting for the application's answers
+//! ([`Records`], `records.rs`, with `params.rs` and `delegated_records.rs`), and the
+//! application's checks of new ARs ([`ArChecks`], `ar_check.rs`) and of DCP Sets
+//! ([`DcpSetChecks`], `dcp_veto.rs`, kept by the DCP responder of `dcp.rs`). One accessor
+//! each gives their read-only view ([`Device::station`], [`Device::plugging`],
+//! [`Device::ar`], [`Device::alarm_acks`], [`Device::diagnosis`], [`Device::records`],
+//! [`Device::ar_checks`], [`Device::dcp_set_checks`]); the device's own methods are the ones
+//! that take the network's input, run the timers, or coordinate parts (a pull changes what
+//! is plugged, clears the submodule's diagnosis and sends the AR its alarm).
+//!
 //! ```text
 //!            Connect ok                 PrmEnd              AppReady sent
 //!   Idle ───────────────▶ Connected ─────────────▶ Parameterized ──────────▶ WaitAppReadyConfirm
@@ -53,6 +67,7 @@ mod app_ready;
 mod application;
 mod ar;
 mod ar_check;
+mod ar_slot;
 mod cm;
 mod connect;
 mod cyclic;
@@ -73,14 +88,14 @@ mod params;
 mod plug;
 #[cfg(test)]
 mod plug_tests;
+mod records;
 mod rpc;
 mod served_records;
 mod station;
 #[cfg(test)]
 mod tests;
 
-use crate::cyclic::{CyclicAr, Verdict, VerdictCounts};
-use crate::wire::alarm::AlarmAck;
+use crate::cyclic::{CyclicAr, Verdict};
 use crate::wire::control::ControlBlock;
 use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use crate::wire::record::Im0;
@@ -88,12 +103,13 @@ use crate::wire::rpc::{self as wire_rpc, Header, PacketType};
 use crate::wire::rt::FrameIdClass;
 use crate::wire::rta_pdu::{self, AbortCode, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
-pub use alarms::DiagnosisChange;
+pub use alarms::{AlarmAcks, DiagnosisChange};
 pub use app_ready::APP_READY_HOLD_TIMEOUT_NS;
 pub use application::Application;
 use ar::Ar;
-pub use ar_check::{AR_CHECK_TIMEOUT_NS, ArCheck, ExpectedAt, UnknownArCheck};
-pub use dcp_veto::{DCP_SET_CHECK_TIMEOUT_NS, DcpSetCheck, UnknownDcpSetCheck};
+pub use ar_check::{AR_CHECK_TIMEOUT_NS, ArCheck, ArChecks, ExpectedAt, UnknownArCheck};
+pub use ar_slot::ArSlot;
+pub use dcp_veto::{DCP_SET_CHECK_TIMEOUT_NS, DcpSetCheck, DcpSetChecks, UnknownDcpSetCheck};
 pub use delegated_records::{
     MAX_WAITING_CALLS, RECORD_ANSWER_TIMEOUT_NS, RecordJob, UnknownRecordJob,
 };
@@ -104,7 +120,8 @@ pub use diagnosis::{
 pub use im::ImRecords;
 pub use iobase_alarms::{AlarmError, DiagnosisEdit};
 pub use params::ParameterRecord;
-pub use plug::PlugError;
+pub use plug::{PlugError, Plugging};
+pub use records::Records;
 pub use station::Station;
 use std::net::SocketAddrV4;
 
@@ -217,7 +234,7 @@ const APP_READY_DELAY_NS: u64 = 1_000_000;
 pub const SIM_ALARM_INDEX: u16 = 0x7FF0;
 /// The UserStructureIdentifier of such an alarm (manufacturer-specific).
 pub const SIM_ALARM_USI: u16 = 0x0001;
-/// AlarmAcks [`Device::alarm_acks`] keeps, the most recent.
+/// AlarmAcks [`AlarmAcks::list`] keeps, the most recent.
 pub const MAX_KEPT_ACKS: usize = 64;
 /// The smallest Ethernet frame without FCS; shorter frames are padded.
 const MIN_FRAME_LEN: usize = 60;
@@ -237,46 +254,23 @@ fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]
 pub struct Device<A> {
     /// Identity, I&M, LLDP: the station as the network knows it.
     station: Station,
-    /// The submodules plugged now: [`table`](Self::table) less the pulled ones, with the
-    /// ident numbers they were plugged with.
-    submodules: Vec<PluggedSubmodule>,
-    /// Every position the device was set up with, in that order: what
-    /// [`plug_submodule`](Self::plug_submodule) may plug, and the order of the exchange's
-    /// submodule table.
-    table: Vec<PluggedSubmodule>,
-    /// Per entry of `table`: the (module, submodule) ident numbers plugged there, or `None`
-    /// when pulled.
-    plugged: Vec<Option<(u32, u32)>>,
+    /// What is plugged where.
+    plugging: Plugging,
     app: A,
     dcp: dcp::Responder,
     rpc: rpc::Server,
-    ar: Option<Ar>,
-    frames_produced: u64,
-    activities: u32,
-    last_abort: Option<AbortCode>,
-    /// ARs that ended other than by Release.
-    aborted_ars: u64,
-    acks: Vec<AlarmAck>,
-    /// AlarmAcks received in all.
-    ack_count: u64,
+    /// The AR and what the device keeps across ARs.
+    ar: ArSlot,
+    /// The controller's acknowledgements of our alarms.
+    acks: AlarmAcks,
     /// Set when the caller's cycle runs the cyclic exchange.
     handover: Option<handover::Handover>,
-    /// Whether a Connect may make an AR (see [`Device::set_accepting`]).
-    accepting: bool,
     diagnosis: DiagnosisStore,
-    /// Which user records are accepted, and which the application answers.
-    params: params::ParameterRecords,
-    /// Calls waiting for the application's record answers.
-    waiting: delegated_records::Waiting,
-    /// Whether the ApplicationReady waits for [`Device::release_application_ready`].
-    /// Plugged submodules whose parameters the controller ended (PlugPrmEnd) since
-    /// [`take_plug_parameterized`](Self::take_plug_parameterized) was last called.
-    plug_parameterized: Vec<SubslotAddr>,
-    hold_app_ready: bool,
-    /// ApplicationReadys that went out because the application did not release them.
-    app_ready_hold_timeouts: u64,
+    /// Which user records are accepted, which the application answers, and the calls
+    /// waiting for its answers.
+    records: Records,
     /// The application's checks of new ARs.
-    ar_checks: ar_check::ArChecks,
+    ar_checks: ArChecks,
 }
 
 impl<A: Application> Device<A> {
@@ -304,32 +298,16 @@ impl<A: Application> Device<A> {
                 },
                 spec.im0,
             ),
-            plugged: spec
-                .submodules
-                .iter()
-                .map(|s| Some((s.module_ident, s.submodule_ident)))
-                .collect(),
-            table: spec.submodules.clone(),
-            submodules: spec.submodules,
+            plugging: Plugging::new(spec.submodules),
             app: spec.application,
             dcp: dcp::Responder::default(),
             rpc: rpc::Server::default(),
-            ar: None,
-            frames_produced: 0,
-            activities: 0,
-            last_abort: None,
-            aborted_ars: 0,
-            acks: Vec::new(),
-            ack_count: 0,
+            ar: ArSlot::default(),
+            acks: AlarmAcks::default(),
             handover: None,
-            accepting: true,
             diagnosis: DiagnosisStore::new(),
-            params: params::ParameterRecords::default(),
-            waiting: delegated_records::Waiting::default(),
-            hold_app_ready: false,
-            plug_parameterized: Vec::new(),
-            app_ready_hold_timeouts: 0,
-            ar_checks: ar_check::ArChecks::default(),
+            records: Records::default(),
+            ar_checks: ArChecks::default(),
         }
     }
 
@@ -344,77 +322,19 @@ impl<A: Application> Device<A> {
         &mut self.station
     }
 
-    /// Where the AR stands.
-    pub fn state(&self) -> ArState {
-        self.ar.as_ref().map_or(ArState::Idle, |a| a.state)
+    /// The AR, if the device holds one, and what it keeps across ARs.
+    pub fn ar(&self) -> &ArSlot {
+        &self.ar
     }
 
-    /// The ARUUID of the current AR.
-    pub fn ar_uuid(&self) -> Option<Uuid> {
-        self.ar.as_ref().map(|a| a.ar_uuid)
+    /// Which user records the device takes, and the calls waiting for its application.
+    pub fn records(&self) -> &Records {
+        &self.records
     }
 
-    /// The MAC address of the controller of the current AR.
-    pub fn controller_mac(&self) -> Option<MacAddress> {
-        self.ar.as_ref().map(Ar::controller_mac)
-    }
-
-    /// How many ARs ended other than by Release (aborted by either side).
-    pub fn aborted_ars(&self) -> u64 {
-        self.aborted_ars
-    }
-
-    /// Why the last AR ended other than by Release, if one did.
-    pub fn last_abort(&self) -> Option<AbortCode> {
-        self.last_abort
-    }
-
-    /// How the AR's consumer has judged the controller's output frames so far; `None`
-    /// without an AR. Zero while the cycle thread runs the exchange (handed over).
-    pub fn consumer_verdicts(&self) -> Option<VerdictCounts> {
-        self.ar.as_ref().map(|ar| ar.consumer.counts())
-    }
-
-    /// Input CR frames produced since the device was made.
-    pub fn frames_produced(&self) -> u64 {
-        self.frames_produced
-    }
-
-    /// The AlarmAcks the controller sent for our alarms, oldest first (the last
-    /// [`MAX_KEPT_ACKS`]).
-    pub fn alarm_acks(&self) -> &[AlarmAck] {
+    /// The AlarmAcks the controller sent for our alarms.
+    pub fn alarm_acks(&self) -> &AlarmAcks {
         &self.acks
-    }
-
-    /// AlarmAcks the controller sent for our alarms since the device was made (of which
-    /// [`alarm_acks`](Self::alarm_acks) keeps the last [`MAX_KEPT_ACKS`]).
-    pub fn alarm_ack_count(&self) -> u64 {
-        self.ack_count
-    }
-
-    fn ar_submodule(&self, api: u32, slot: u16, subslot: u16) -> Option<&ar::ArSubmodule> {
-        self.ar.as_ref()?.submodules.iter().find(|s| {
-            let e = &s.expected;
-            (e.api, e.slot, e.subslot) == (api, slot, subslot)
-        })
-    }
-
-    /// The outputs a submodule of the AR last received and whether they are valid (the
-    /// controller in RUN, their IOPS GOOD, the submodule the expected one).
-    pub fn outputs(&self, api: u32, slot: u16, subslot: u16) -> Option<(&[u8], bool)> {
-        self.ar_submodule(api, slot, subslot)
-            .map(|s| (&s.outputs[..], s.outputs_valid))
-    }
-
-    /// The inputs a submodule of the AR last produced.
-    pub fn inputs(&self, api: u32, slot: u16, subslot: u16) -> Option<&[u8]> {
-        self.ar_submodule(api, slot, subslot).map(|s| &s.inputs[..])
-    }
-
-    /// The controller's IOCS for a submodule's inputs, from its last output frame.
-    pub fn controller_iocs(&self, api: u32, slot: u16, subslot: u16) -> Option<u8> {
-        self.ar_submodule(api, slot, subslot)
-            .map(|s| s.controller_iocs)
     }
 
     /// Takes an Ethernet frame seen on the link; what is not for us is ignored.
@@ -467,7 +387,7 @@ impl<A: Application> Device<A> {
     /// Applies a PDInterfaceAdjust the controller wrote to an interface submodule: where
     /// the LLDP frames carry the name (kept after the AR, as a PDev parameter is).
     fn adjust_lldp(&mut self) {
-        let Some(ar) = self.ar.as_ref() else {
+        let Some(ar) = self.ar.current.as_ref() else {
             return;
         };
         let mode = ar
@@ -485,7 +405,12 @@ impl<A: Application> Device<A> {
 
     fn on_rta(&mut self, src: MacAddress, pdu: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
         let mac = self.station.id.mac;
-        let Some(ar) = self.ar.as_mut().filter(|a| a.controller_mac() == src) else {
+        let Some(ar) = self
+            .ar
+            .current
+            .as_mut()
+            .filter(|a| a.controller_mac() == src)
+        else {
             return;
         };
         let Ok(packet) = rta_pdu::Packet::new_checked(pdu) else {
@@ -495,21 +420,14 @@ impl<A: Application> Device<A> {
             return;
         };
         let abort = ar.alarms.on_pdu(&pdu, mac, now_ns, out);
-        self.ack_count += ar.alarms.acks.len() as u64;
-        self.acks.append(&mut ar.alarms.acks);
-        // The most recent ones are what a caller looks at; a long-running device must not
-        // grow without bound.
-        if self.acks.len() > MAX_KEPT_ACKS {
-            let excess = self.acks.len() - MAX_KEPT_ACKS;
-            self.acks.drain(..excess);
-        }
+        self.acks.take(&mut ar.alarms.acks);
         if let Some(a) = abort {
             self.end_ar(a.code);
         }
     }
 
     fn on_cyclic(&mut self, src: MacAddress, pdu: &[u8], now_ns: u64) {
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         if let Verdict::Accepted { c_sdu, .. } = ar.consumer.consume(src, pdu, now_ns) {
@@ -553,7 +471,7 @@ impl<A: Application> Device<A> {
             return;
         };
         let server = to_port == wire_rpc::RPC_PORT;
-        if server && (self.waiting.has_call(&header) || self.ar_checks.has_call(&header)) {
+        if server && (self.records.waiting.has_call(&header) || self.ar_checks.has_call(&header)) {
             // The call waits for the application: a retransmission is dropped, a ping learns
             // that we are at it.
             if header.packet_type == PacketType::Ping {
@@ -578,17 +496,9 @@ impl<A: Application> Device<A> {
         }
     }
 
-    /// A new activity UUID for a client call: version 1 layout with our MAC as the node and a
-    /// counter as the time, so it is unique per device and call without a random source.
+    /// A new activity UUID for a client call.
     fn new_activity(&mut self) -> Uuid {
-        self.activities = self.activities.wrapping_add(1);
-        let m = self.station.id.mac.0;
-        Uuid::from_fields(
-            self.activities,
-            0,
-            0x1000,
-            [0x80, 0x00, m[0], m[1], m[2], m[3], m[4], m[5]],
-        )
+        self.ar.new_activity(self.station.id.mac)
     }
 
     /// Runs the timers: delayed DCP responses, LLDP announcements, the ApplicationReady and
@@ -609,6 +519,7 @@ impl<A: Application> Device<A> {
         let station_ok = !self.diagnosis.has_fault();
         let activity = if self
             .ar
+            .current
             .as_ref()
             .is_some_and(|a| a.app_ready_due.is_some_and(|d| now_ns >= d))
         {
@@ -622,7 +533,7 @@ impl<A: Application> Device<A> {
         } else {
             None
         };
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         if ar.cmi_deadline.is_some_and(|d| now_ns >= d) {
@@ -663,14 +574,14 @@ impl<A: Application> Device<A> {
             return;
         }
         self.run_plug_ready(now_ns, out);
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         if let Some(cc) = ar.provider.take_due(now_ns)
             && let Some(frame) =
-                ar.produce(&mut self.app, self.frames_produced, mac, cc, station_ok)
+                ar.produce(&mut self.app, self.ar.frames_produced, mac, cc, station_ok)
         {
-            self.frames_produced += 1;
+            self.ar.frames_produced += 1;
             out.push(DeviceAction::Frame(frame));
         }
     }
@@ -680,8 +591,8 @@ impl<A: Application> Device<A> {
         [
             self.station.next_deadline_ns(),
             self.dcp.next_deadline_ns(),
-            self.ar.as_ref().and_then(Ar::deadline),
-            self.waiting.deadline(),
+            self.ar.current.as_ref().and_then(Ar::deadline),
+            self.records.waiting.deadline(),
             self.ar_checks.deadline(),
             self.dcp.checks.held.as_ref().map(|h| h.deadline),
         ]
@@ -692,20 +603,12 @@ impl<A: Application> Device<A> {
 
     /// Ends the AR from our side: ERR-RTA to the controller, back to Idle.
     fn abort_ar(&mut self, code: AbortCode, out: &mut Vec<DeviceAction>) {
-        let mac = self.station.id.mac;
-        if let Some(mut ar) = self.ar.take() {
-            ar.alarms.abort(code, mac, out);
-            self.last_abort = Some(code);
-            self.aborted_ars += 1;
-        }
+        self.ar.abort(code, self.station.id.mac, out);
     }
 
     /// The AR ended without a further ERR-RTA from us (the controller aborted it, or the
     /// alarm channel already sent one).
     fn end_ar(&mut self, code: AbortCode) {
-        if self.ar.take().is_some() {
-            self.last_abort = Some(code);
-            self.aborted_ars += 1;
-        }
+        self.ar.end(code);
     }
 }

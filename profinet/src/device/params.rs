@@ -85,7 +85,7 @@ impl<A: Application> Device<A> {
     /// they name, with their lengths; a read of one not yet written gives its initial data.
     /// Without this call every user record of a plugged submodule is accepted and kept.
     pub fn set_parameter_records(&mut self, records: &[ParameterRecord]) {
-        self.params.accepted = Some(
+        self.records.params.accepted = Some(
             records
                 .iter()
                 .map(|r| ((r.at, r.index), (r.length, r.initial.clone())))
@@ -97,9 +97,9 @@ impl<A: Application> Device<A> {
     /// (`true`) as [`DeviceAction::Record`](super::DeviceAction::Record) jobs, or has the device answer them again.
     pub fn delegate_records(&mut self, at: SubslotAddr, to_application: bool) {
         if to_application {
-            self.params.delegated.insert(at);
+            self.records.params.delegated.insert(at);
         } else {
-            self.params.delegated.remove(&at);
+            self.records.params.delegated.remove(&at);
         }
     }
 
@@ -109,9 +109,9 @@ impl<A: Application> Device<A> {
     /// stays the device's.
     pub fn delegate_im_records(&mut self, at: SubslotAddr, to_application: bool) {
         if to_application {
-            self.params.delegated_im.insert(at);
+            self.records.params.delegated_im.insert(at);
         } else {
-            self.params.delegated_im.remove(&at);
+            self.records.params.delegated_im.remove(&at);
         }
     }
 }

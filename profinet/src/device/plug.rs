@@ -27,6 +27,10 @@
 //!
 //! Alarms and IOxS follow the AR's expectations; a submodule the AR does not expect changes
 //! only the device's identification records.
+//!
+//! [`Plugging`] keeps what is plugged where and answers what is plugged
+//! ([`Device::plugging`]); the device's plug, pull and return add what the AR and the
+//! diagnosis make of a change, since they need those parts too.
 
 use super::ar::IOXS_BAD;
 use super::diagnosis::SubslotAddr;
@@ -61,7 +65,39 @@ pub enum PlugError {
     ArStartingUp,
 }
 
-impl<A: Application> Device<A> {
+/// What is plugged where: the positions the device was set up with and, per position, what
+/// is plugged there now. The pure side of plugging and pulling; the [`Device`] adds what
+/// the AR and the diagnosis make of it.
+#[derive(Clone, Debug)]
+pub struct Plugging {
+    /// Every position the device was set up with, in that order: what
+    /// [`Device::plug_submodule`] may plug, and the order of the exchange's submodule table.
+    table: Vec<PluggedSubmodule>,
+    /// Per entry of `table`: the (module, submodule) ident numbers plugged there, or `None`
+    /// when pulled.
+    idents: Vec<Option<(u32, u32)>>,
+    /// The submodules plugged now: `table` less the pulled ones, with the ident numbers
+    /// they were plugged with.
+    plugged: Vec<PluggedSubmodule>,
+    /// Plugged submodules whose parameters the controller ended (PlugPrmEnd) since
+    /// [`Device::take_plug_parameterized`] was last called.
+    parameterized: Vec<SubslotAddr>,
+}
+
+impl Plugging {
+    /// Every one of `submodules` plugged, at the positions they name.
+    pub(super) fn new(submodules: Vec<PluggedSubmodule>) -> Plugging {
+        Plugging {
+            idents: submodules
+                .iter()
+                .map(|s| Some((s.module_ident, s.submodule_ident)))
+                .collect(),
+            table: submodules.clone(),
+            plugged: submodules,
+            parameterized: Vec::new(),
+        }
+    }
+
     /// Whether a submodule is plugged at `at` (a configured position not pulled).
     pub fn is_plugged(&self, at: SubslotAddr) -> bool {
         self.real_submodule(at).is_some()
@@ -69,10 +105,108 @@ impl<A: Application> Device<A> {
 
     /// The (module, submodule) ident numbers of what is plugged at `at`, if anything.
     pub fn real_submodule(&self, at: SubslotAddr) -> Option<(u32, u32)> {
-        self.submodules
+        self.plugged
             .iter()
             .find(|s| s.addr() == at)
             .map(|s| (s.module_ident, s.submodule_ident))
+    }
+
+    /// The submodules plugged now, in the order the device was set up with, with the ident
+    /// numbers they were plugged with: the real tree.
+    pub fn plugged(&self) -> &[PluggedSubmodule] {
+        &self.plugged
+    }
+
+    /// Every position the device was set up with, plugged or not, in that order (with the
+    /// ident numbers it was set up with).
+    pub fn configured(&self) -> &[PluggedSubmodule] {
+        &self.table
+    }
+
+    /// The index of (`api`, `slot`, `subslot`) in the exchange's submodule table (the
+    /// configured positions' order), if it is configured.
+    pub(super) fn table_index(&self, api: u32, slot: u16, subslot: u16) -> Option<usize> {
+        self.table
+            .iter()
+            .position(|s| (s.api, s.slot, s.subslot) == (api, slot, subslot))
+    }
+
+    /// The index of position `at` in the device's table.
+    fn position(&self, at: SubslotAddr) -> Result<usize, PlugError> {
+        self.table
+            .iter()
+            .position(|s| s.addr() == at)
+            .ok_or(PlugError::NotConfigured(at))
+    }
+
+    /// The (module, submodule) ident numbers plugged at the configured position `at`.
+    pub(super) fn idents_at(&self, at: SubslotAddr) -> Result<(u32, u32), PlugError> {
+        self.idents[self.position(at)?].ok_or(PlugError::NotPlugged(at))
+    }
+
+    /// Puts `idents` (or nothing) at position `at`, which must hold nothing (or something);
+    /// refused when `ar_starting_up` (an AR between its Connect and data exchange). Returns
+    /// the configured submodule at that position.
+    pub(super) fn replug(
+        &mut self,
+        at: SubslotAddr,
+        idents: Option<(u32, u32)>,
+        ar_starting_up: bool,
+    ) -> Result<PluggedSubmodule, PlugError> {
+        let i = self.position(at)?;
+        match (self.idents[i], idents) {
+            (None, None) => return Err(PlugError::NotPlugged(at)),
+            (Some(_), Some(_)) => return Err(PlugError::AlreadyPlugged(at)),
+            _ => {}
+        }
+        if ar_starting_up {
+            return Err(PlugError::ArStartingUp);
+        }
+        self.idents[i] = idents;
+        self.refresh_plugged();
+        Ok(self.table[i])
+    }
+
+    /// Rebuilds the list of plugged submodules from the table.
+    fn refresh_plugged(&mut self) {
+        self.plugged = self
+            .table
+            .iter()
+            .zip(&self.idents)
+            .filter_map(|(s, p)| {
+                p.map(|(module_ident, submodule_ident)| PluggedSubmodule {
+                    module_ident,
+                    submodule_ident,
+                    ..*s
+                })
+            })
+            .collect();
+    }
+
+    /// The ModuleIdentNumber of what is plugged in (`api`, `slot`): the module, if a
+    /// submodule of it remains plugged; 0 otherwise.
+    pub(super) fn module_in_slot(&self, api: u32, slot: u16) -> u32 {
+        self.plugged
+            .iter()
+            .find(|r| (r.api, r.slot) == (api, slot))
+            .map_or(0, |r| r.module_ident)
+    }
+
+    /// Notes that the controller ended the parameters of the plugged submodule at `at`.
+    pub(super) fn parameterized(&mut self, at: SubslotAddr) {
+        self.parameterized.push(at);
+    }
+
+    /// The submodules noted by [`parameterized`](Self::parameterized) since the last call.
+    pub(super) fn take_parameterized(&mut self) -> Vec<SubslotAddr> {
+        std::mem::take(&mut self.parameterized)
+    }
+}
+
+impl<A: Application> Device<A> {
+    /// What is plugged where.
+    pub fn plugging(&self) -> &Plugging {
+        &self.plugging
     }
 
     /// Pulls the submodule at `at`; its pending diagnosis goes with it. Returns the alarm
@@ -83,10 +217,10 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> Result<Option<AlarmType>, PlugError> {
-        self.replug(at, None)?;
+        self.plugging.replug(at, None, self.ar_starting_up())?;
         // Its diagnosis ends with it; the Pull alarm says so.
         let _ = self.diagnosis.clear(at);
-        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+        let Some(ar) = self.ar.current.as_mut().filter(|a| a.in_data()) else {
             return Ok(None);
         };
         let Some(s) = ar.submodules.iter_mut().find(|s| s.expected.addr() == at) else {
@@ -104,11 +238,7 @@ impl<A: Application> Device<A> {
             ar.plug_call = None;
         }
         // What is plugged there now: the module, if other submodules of its slot remain.
-        let module = self
-            .submodules
-            .iter()
-            .find(|r| (r.api, r.slot) == (at.api, at.slot))
-            .map_or(0, |r| r.module_ident);
+        let module = self.plugging.module_in_slot(at.api, at.slot);
         Ok(self.send_plug_alarm(at, AlarmType::Pull, (module, 0), now_ns, out))
     }
 
@@ -124,9 +254,9 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> Result<Option<AlarmType>, PlugError> {
-        let i = self.replug(at, Some((module_ident, submodule_ident)))?;
-        let real = self.table[i];
-        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+        let idents = Some((module_ident, submodule_ident));
+        let real = self.plugging.replug(at, idents, self.ar_starting_up())?;
+        let Some(ar) = self.ar.current.as_mut().filter(|a| a.in_data()) else {
             return Ok(None);
         };
         let sequence = ar.alarms.sequence;
@@ -154,12 +284,10 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> Result<Option<AlarmType>, PlugError> {
-        let i = self.position(at)?;
-        let Some(idents) = self.plugged[i] else {
-            return Err(PlugError::NotPlugged(at));
-        };
+        let idents = self.plugging.idents_at(at)?;
         let owned = self
             .ar
+            .current
             .as_ref()
             .filter(|a| a.in_data())
             .is_some_and(|a| a.owned().any(|o| o == at));
@@ -167,7 +295,7 @@ impl<A: Application> Device<A> {
             return Ok(None);
         }
         // The application is ready for it now.
-        if let Some(ar) = self.ar.as_mut() {
+        if let Some(ar) = self.ar.current.as_mut() {
             ar.app_ready_pending.retain(|p| *p != at);
         }
         Ok(self.send_plug_alarm(at, AlarmType::ReturnOfSubmodule, idents, now_ns, out))
@@ -177,7 +305,7 @@ impl<A: Application> Device<A> {
     /// submodule's parameters. `Err` with the PNIO ErrorCode1/ErrorCode2 pair when no
     /// submodule waits for it.
     pub(super) fn plug_prm_end(&mut self, c: &ControlBlock, now_ns: u64) -> Result<(), u8> {
-        let Some(ar) = self.ar.as_mut().filter(|a| a.in_data()) else {
+        let Some(ar) = self.ar.current.as_mut().filter(|a| a.in_data()) else {
             return Err(super::connect::CMDEV_STATE_CONFLICT);
         };
         let Some(s) = ar
@@ -191,14 +319,14 @@ impl<A: Application> Device<A> {
         let at = s.expected.addr();
         // Held like the AR's ApplicationReady: the application releases it once it took the
         // submodule's parameters, at the latest after the hold timeout.
-        let delay = if self.hold_app_ready {
+        let delay = if self.ar.hold_app_ready {
             APP_READY_HOLD_TIMEOUT_NS
         } else {
             APP_READY_DELAY_NS
         };
         ar.plug_ready
             .push_back((at, c.alarm_sequence_number, now_ns.saturating_add(delay)));
-        self.plug_parameterized.push(at);
+        self.plugging.parameterized(at);
         Ok(())
     }
 
@@ -207,17 +335,17 @@ impl<A: Application> Device<A> {
     /// [`release_application_ready`](Self::release_application_ready) while the application
     /// holds the ApplicationReady ([`hold_application_ready`](Self::hold_application_ready)).
     pub fn take_plug_parameterized(&mut self) -> Vec<SubslotAddr> {
-        std::mem::take(&mut self.plug_parameterized)
+        self.plugging.take_parameterized()
     }
 
     /// Sends the next due PlugApplicationReady and retransmits the outstanding one.
     pub(super) fn run_plug_ready(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
-        let Some(ar) = self.ar.as_ref() else {
+        let Some(ar) = self.ar.current.as_ref() else {
             return;
         };
         if ar.plug_call.is_none() && ar.plug_ready.front().is_some_and(|r| now_ns >= r.2) {
             let activity = self.new_activity();
-            let Some(ar) = self.ar.as_mut() else {
+            let Some(ar) = self.ar.current.as_mut() else {
                 return;
             };
             let Some((at, sequence, _)) = ar.plug_ready.pop_front() else {
@@ -235,7 +363,7 @@ impl<A: Application> Device<A> {
                 ar.plug_call = Some((call, at));
             }
         }
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return;
         };
         if let Some((call, _)) = ar.plug_call.as_mut()
@@ -255,7 +383,7 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> bool {
-        let Some(ar) = self.ar.as_mut() else {
+        let Some(ar) = self.ar.current.as_mut() else {
             return false;
         };
         let Some((call, at)) = ar.plug_call.as_mut() else {
@@ -280,48 +408,13 @@ impl<A: Application> Device<A> {
         }
     }
 
-    /// The index of position `at` in the device's table.
-    fn position(&self, at: SubslotAddr) -> Result<usize, PlugError> {
-        self.table
-            .iter()
-            .position(|s| s.addr() == at)
-            .ok_or(PlugError::NotConfigured(at))
-    }
-
-    /// Puts `idents` (or nothing) at position `at`, which must hold nothing (or something);
-    /// refused while an AR is between its Connect and data exchange. Returns the position's
-    /// index in the table.
-    fn replug(&mut self, at: SubslotAddr, idents: Option<(u32, u32)>) -> Result<usize, PlugError> {
-        let i = self.position(at)?;
-        match (self.plugged[i], idents) {
-            (None, None) => return Err(PlugError::NotPlugged(at)),
-            (Some(_), Some(_)) => return Err(PlugError::AlreadyPlugged(at)),
-            _ => {}
-        }
-        if let Some(ar) = self.ar.as_ref()
-            && !matches!(ar.state, ArState::Idle | ArState::Data)
-        {
-            return Err(PlugError::ArStartingUp);
-        }
-        self.plugged[i] = idents;
-        self.refresh_plugged();
-        Ok(i)
-    }
-
-    /// Rebuilds the list of plugged submodules from the table.
-    fn refresh_plugged(&mut self) {
-        self.submodules = self
-            .table
-            .iter()
-            .zip(&self.plugged)
-            .filter_map(|(s, p)| {
-                p.map(|(module_ident, submodule_ident)| PluggedSubmodule {
-                    module_ident,
-                    submodule_ident,
-                    ..*s
-                })
-            })
-            .collect();
+    /// Whether an AR is between its Connect and data exchange, when plug and pull are
+    /// refused.
+    fn ar_starting_up(&self) -> bool {
+        self.ar
+            .current
+            .as_ref()
+            .is_some_and(|ar| !matches!(ar.state, ArState::Idle | ArState::Data))
     }
 
     /// Sends a plug, pull or return alarm for `at` to the AR in data exchange, with the
@@ -335,7 +428,7 @@ impl<A: Application> Device<A> {
         out: &mut Vec<DeviceAction>,
     ) -> Option<AlarmType> {
         let diagnosis = &self.diagnosis;
-        let ar = self.ar.as_ref().filter(|a| a.in_data())?;
+        let ar = self.ar.current.as_ref().filter(|a| a.in_data())?;
         let ar_fault = ar.owned().any(|o| diagnosis.has_fault_at(o));
         let n = AlarmNotification {
             priority: Priority::Low,

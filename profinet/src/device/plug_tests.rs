@@ -108,7 +108,7 @@ fn a_pulled_submodule_is_announced_and_bad_in_the_next_frame() {
         dev.pull_submodule(INPUT, t, &mut out),
         Ok(Some(AlarmType::Pull))
     );
-    assert!(!dev.is_plugged(INPUT));
+    assert!(!dev.plugging().is_plugged(INPUT));
     let a = alarms(&out);
     assert_eq!(a.len(), 1);
     assert_eq!(
@@ -202,7 +202,7 @@ fn a_plug_runs_the_sub_cycle_and_hands_the_exchange_out_again() {
     assert!(!stopped);
     assert_eq!(started.len(), 1);
     assert!(produces(&started[0], 1));
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
 }
 
 #[test]

@@ -19,7 +19,7 @@
 //! invalid slot/subslot, access denied, state conflict (the AR's records without an AR).
 
 use super::PluggedSubmodule;
-use super::ar::{ArSubmodule, Records};
+use super::ar::{ArSubmodule, WrittenRecords};
 use super::connect::{CMRPC, CMRPC_AR_UUID_UNKNOWN, CMRPC_ARGS_LENGTH, CMRPC_UNKNOWN_BLOCKS};
 use super::diagnosis::records::{DiagnosisScope, diagnosis_index};
 use super::diagnosis::{DiagnosisStore, SubslotAddr};
@@ -50,7 +50,7 @@ pub(super) struct ArRecords<'a> {
     /// ARUUID.
     pub(super) ar_uuid: Uuid,
     /// What was written.
-    pub(super) records: &'a mut Records,
+    pub(super) records: &'a mut WrittenRecords,
 }
 
 /// What of the device a write may change besides the AR's records.
@@ -212,7 +212,7 @@ fn served(index: u16) -> bool {
 }
 
 fn write_one(
-    records: &mut Records,
+    records: &mut WrittenRecords,
     dev: &mut DeviceWrite<'_>,
     h: &IodHeader,
     data: &[u8],
@@ -265,7 +265,7 @@ pub(super) struct ArView<'a> {
     /// ARUUID.
     pub(super) ar_uuid: Uuid,
     /// What was written in it.
-    pub(super) records: &'a Records,
+    pub(super) records: &'a WrittenRecords,
     /// Its expected submodules.
     pub(super) submodules: &'a [ArSubmodule],
     /// The submodules the application is not ready for.

@@ -100,7 +100,7 @@ fn the_devices_come_up_and_exchange_data() {
         let own = w.controller().identity().mac;
         assert_eq!(*ar, CyclicAr::new(plan, ar.epoch, own, ar.peer, ids));
     }
-    assert!(w.devices().iter().all(|d| d.ar_uuid().is_some()));
+    assert!(w.devices().iter().all(|d| d.ar().ar_uuid().is_some()));
     assert!(
         w.events()
             .iter()
@@ -182,7 +182,10 @@ fn a_device_that_aborts_its_ar_is_failed_with_its_abort_status() {
     w.with_device(1, |dev, now, out| dev.poll(now + 10_000_000_000, out));
     let failed = w.step_until(100, |w| w.states()[1] != DeviceState::Running);
     assert!(failed.is_some(), "the device's abort did not end the AR");
-    let code = w.devices()[1].last_abort().expect("the device aborted");
+    let code = w.devices()[1]
+        .ar()
+        .last_abort()
+        .expect("the device aborted");
     assert!(w.events().iter().any(|e| matches!(
         e,
         DeviceEvent::Failure {

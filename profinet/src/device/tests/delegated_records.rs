@@ -160,7 +160,7 @@ fn an_unanswered_job_times_out_as_resource_busy_and_retransmissions_wait() {
         status(&response(&out)),
         PnioStatus::from_bytes([0xdf, 0x80, 0xc2, 0])
     );
-    assert_eq!(dev.record_timeouts(), 1);
+    assert_eq!(dev.records().timeouts(), 1);
     assert_eq!(
         dev.answer_record(job, Ok(Vec::new()), &mut Vec::new()),
         Err(UnknownRecordJob(job))
@@ -344,8 +344,8 @@ fn a_held_application_ready_goes_out_when_released() {
     let (mut dev, t) = held_at_prm_end();
     let sent = run_until(&mut dev, t + 100 * MS);
     assert!(app_readies(&sent).is_empty());
-    assert!(dev.application_ready_held());
-    assert_eq!(dev.state(), ArState::Parameterized);
+    assert!(dev.ar().application_ready_held());
+    assert_eq!(dev.ar().state(), ArState::Parameterized);
     assert!(dev.release_application_ready(t + 100 * MS));
     assert!(
         !dev.release_application_ready(t + 100 * MS),
@@ -353,8 +353,8 @@ fn a_held_application_ready_goes_out_when_released() {
     );
     let sent = run_until(&mut dev, t + 100 * MS);
     assert_eq!(app_readies(&sent), [t + 100 * MS]);
-    assert_eq!(dev.state(), ArState::WaitAppReadyConfirm);
-    assert_eq!(dev.app_ready_hold_timeouts(), 0);
+    assert_eq!(dev.ar().state(), ArState::WaitAppReadyConfirm);
+    assert_eq!(dev.ar().app_ready_hold_timeouts(), 0);
 }
 
 #[test]
@@ -399,8 +399,8 @@ fn a_held_application_ready_goes_out_by_itself_before_the_cmi_timeout() {
     // The Connect's CMI activity timeout is 200 × 100 ms = 20 s, beyond the hold's limit.
     let sent = run_until(&mut dev, t + APP_READY_HOLD_TIMEOUT_NS);
     assert_eq!(app_readies(&sent), [t + APP_READY_HOLD_TIMEOUT_NS]);
-    assert_eq!(dev.app_ready_hold_timeouts(), 1);
-    assert!(!dev.application_ready_held());
+    assert_eq!(dev.ar().app_ready_hold_timeouts(), 1);
+    assert!(!dev.ar().application_ready_held());
 }
 
 /// The AR checks among `out`.
@@ -424,7 +424,7 @@ fn connect_waiting() -> (Device<TestApp>, ConnectRequest, ArCheck) {
     );
     let c = checks(&out);
     assert_eq!(c.len(), 1);
-    assert_eq!(dev.state(), ArState::Idle);
+    assert_eq!(dev.ar().state(), ArState::Idle);
     (dev, connect, c[0].clone())
 }
 
@@ -447,7 +447,7 @@ fn a_new_ar_waits_for_the_applications_check_and_is_accepted() {
     dev.answer_connect(check.job, Ok(()), 2 * MS, &mut out)
         .unwrap();
     assert_eq!(status(&response(&out)), PnioStatus::OK);
-    assert_eq!(dev.state(), ArState::Connected);
+    assert_eq!(dev.ar().state(), ArState::Connected);
     assert_eq!(
         dev.answer_connect(check.job, Ok(()), 2 * MS, &mut out),
         Err(UnknownArCheck(check.job))
@@ -464,7 +464,7 @@ fn a_refused_ar_gets_the_applications_error_and_an_unanswered_one_is_accepted() 
         status(&response(&out)),
         PnioStatus::from_bytes([0xdb, 0x81, 0x40, 0x04])
     );
-    assert_eq!(dev.state(), ArState::Idle);
+    assert_eq!(dev.ar().state(), ArState::Idle);
     // The controller tries again (a new call): nobody answers, the AR is accepted.
     let out = send(
         &mut dev,
@@ -481,6 +481,6 @@ fn a_refused_ar_gets_the_applications_error_and_an_unanswered_one_is_accepted() 
         .filter(|a| matches!(a, DeviceAction::Datagram { to, .. } if *to == S7_CLIENT))
         .collect();
     assert_eq!(status(&response(&answers)), PnioStatus::OK);
-    assert_eq!(dev.state(), ArState::Connected);
-    assert_eq!(dev.ar_check_timeouts(), 1);
+    assert_eq!(dev.ar().state(), ArState::Connected);
+    assert_eq!(dev.ar_checks().timeouts(), 1);
 }

@@ -92,7 +92,7 @@ impl Client {
         let ar = if implicit {
             Uuid::NIL
         } else {
-            dev.ar_uuid().unwrap()
+            dev.ar().ar_uuid().unwrap()
         };
         let h = IodHeader::read_request(0, ar, 0, slot, subslot, index, 4096);
         let op = if implicit {
@@ -125,7 +125,7 @@ impl Client {
         data: &[u8],
     ) -> PnioStatus {
         self.seq += 1;
-        let ar = dev.ar_uuid().unwrap();
+        let ar = dev.ar().ar_uuid().unwrap();
         let h = IodHeader::write_request(0, ar, 0, slot, subslot, index, data.len() as u32);
         let mut b = h.to_bytes().to_vec();
         b.extend_from_slice(data);

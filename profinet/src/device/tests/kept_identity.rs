@@ -187,5 +187,5 @@ fn the_application_vetoes_or_allows_dcps_changes() {
         .collect();
     assert_eq!(set_errors(&sent), [wire_dcp::block_error::OK]);
     assert_eq!(dev.station().name(), "late-name");
-    assert_eq!(dev.dcp_set_check_timeouts(), 1);
+    assert_eq!(dev.dcp_set_checks().timeouts(), 1);
 }

@@ -261,7 +261,7 @@ fn pnet_in_data(behaviour: TestApp) -> (Device<TestApp>, u64) {
         &mut out,
     );
     assert!(out.is_empty(), "{out:?}");
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
     (dev, t + MS)
 }
 
@@ -430,7 +430,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
         (ours.header.flags1, pnet.header.flags1),
         (flags1::LAST_FRAGMENT | flags1::NO_FACK, 0x28)
     );
-    assert_eq!(dev.state(), ArState::Connected);
+    assert_eq!(dev.ar().state(), ArState::Connected);
 
     // WriteMultiple: PDInterfaceAdjust and the three user records, each answered OK.
     let ours = call(&mut dev, &rpc_pdu("cm/write_req"), MS);
@@ -446,7 +446,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     let pnet = parse_reply(&rpc_pdu("cm/prmend_res"));
     assert_eq!(ours.blocks, pnet.blocks, "PrmEnd response blocks");
     same_rpc_reply(&ours, &pnet);
-    assert_eq!(dev.state(), ArState::Parameterized);
+    assert_eq!(dev.ar().state(), ArState::Parameterized);
 
     // ApplicationReady to the S7's RPC server port 34964 from 0xC001, like p-net's: the
     // same blocks and header except the activity UUID (each device makes its own).
@@ -477,7 +477,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
         pnet.header
     );
     assert_eq!(ours.header.interface, CONTROLLER_INTERFACE);
-    assert_eq!(dev.state(), ArState::WaitAppReadyConfirm);
+    assert_eq!(dev.ar().state(), ArState::WaitAppReadyConfirm);
     // The input CR started at PrmEnd: one frame so far, status BAD until the confirmation.
     let first = frames(&out);
     assert_eq!(first.len(), 1);
@@ -496,17 +496,17 @@ fn captured_s7_bring_up_gets_pnets_answers() {
         t + MS,
         &mut out,
     );
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
 
     // The S7's output frame with the echo values; the next input frame has p-net's layout:
     // the same addresses, tag, FrameID, DataStatus and status bytes, the echoed data at the
     // Echo submodule's offset.
     dev.on_frame(&capture("rt/echo_cpu_8001"), t + 2 * MS, &mut out);
     assert_eq!(
-        dev.outputs(0, 4, 1),
+        dev.ar().outputs(0, 4, 1),
         Some((&[0x12, 0x34, 0x56, 0x78, 0x3f, 0xc0, 0, 0][..], true))
     );
-    assert_eq!(dev.outputs(0, 2, 1), Some((&[0x01][..], true)));
+    assert_eq!(dev.ar().outputs(0, 2, 1), Some((&[0x01][..], true)));
     out.clear();
     let next = dev.next_deadline_ns().unwrap();
     assert_eq!(next, 2 * MS + 32 * MS, "32 ms after the first frame");
@@ -529,7 +529,7 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     assert_eq!(ours[62], pnet[62]);
 
     // Release (built with our codecs, as the S7 sends it: LE, next sequence number).
-    let release = ControlBlock::release(dev.ar_uuid().unwrap(), 2).to_bytes();
+    let release = ControlBlock::release(dev.ar().ar_uuid().unwrap(), 2).to_bytes();
     let req = parse_reply(&rpc_pdu("cm/prmend_req")).header;
     let h = Header {
         sequence_number: 3,
@@ -541,8 +541,8 @@ fn captured_s7_bring_up_gets_pnets_answers() {
     assert_eq!(status(&r), PnioStatus::OK);
     let done = ControlBlock::parse(&r.blocks).unwrap();
     assert!(done.answers(&ControlBlock::parse(&release).unwrap()));
-    assert_eq!(dev.state(), ArState::Idle);
-    assert_eq!(dev.last_abort(), None);
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(dev.ar().last_abort(), None);
     assert_eq!(dev.next_deadline_ns(), None);
 }
 
@@ -675,7 +675,7 @@ fn wrong_and_missing_submodules_give_a_module_diff_block() {
         2 * MS,
         &mut out,
     );
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
     out.clear();
     let t = dev.next_deadline_ns().unwrap();
     dev.poll(t, &mut out);
@@ -838,7 +838,7 @@ pub(super) fn to_data(dev: &mut Device<TestApp>, connect: &ConnectRequest, t0: u
     )
     .unwrap();
     dev.on_datagram(d[0].0, rpc::CLIENT_PORT, &res, t, &mut out);
-    assert_eq!(dev.state(), ArState::Data);
+    assert_eq!(dev.ar().state(), ArState::Data);
     t
 }
 
@@ -928,9 +928,9 @@ fn cyclic_frames_keep_period_offsets_and_counters_and_the_watchdog_aborts() {
         assert_eq!(f[data_at + 4], ar::IOXS_GOOD, "IOPS after the data");
         assert_eq!(f[iocs_at], ar::IOXS_GOOD, "IOCS of the output submodule");
     }
-    assert_eq!(dev.inputs(0, 1, 1), Some(&10u32.to_be_bytes()[..]));
+    assert_eq!(dev.ar().inputs(0, 1, 1), Some(&10u32.to_be_bytes()[..]));
 
-    assert_eq!(dev.outputs(0, 2, 1), Some((&[7, 8][..], true)));
+    assert_eq!(dev.ar().outputs(0, 2, 1), Some((&[7, 8][..], true)));
     // A STOP frame makes the outputs invalid.
     let mut out = Vec::new();
     let now = next_output;
@@ -939,20 +939,20 @@ fn cyclic_frames_keep_period_offsets_and_counters_and_the_watchdog_aborts() {
         now,
         &mut out,
     );
-    assert_eq!(dev.outputs(0, 2, 1), Some((&[3, 4][..], false)));
+    assert_eq!(dev.ar().outputs(0, 2, 1), Some((&[3, 4][..], false)));
     // A repeated CycleCounter is not fresh: ignored.
     dev.on_frame(
         &output_frame(&connect, cc, data_status::OPERATE, [5, 6]),
         now,
         &mut out,
     );
-    assert_eq!(dev.outputs(0, 2, 1), Some((&[3, 4][..], false)));
+    assert_eq!(dev.ar().outputs(0, 2, 1), Some((&[3, 4][..], false)));
     assert!(out.is_empty());
     // Then silence: DataHoldFactor 3 × 2 ms after the last frame, the AR is aborted with an
     // ERR-RTA (consumer DHT expired) on the low-priority alarm channel.
     let sent = run_until(&mut dev, now + 10 * MS);
-    assert_eq!(dev.state(), ArState::Idle);
-    assert_eq!(dev.last_abort(), Some(AbortCode::ConsumerDhtExpired));
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(dev.ar().last_abort(), Some(AbortCode::ConsumerDhtExpired));
     let (at, err) = sent
         .iter()
         .find_map(|(t, a)| match a {
@@ -998,17 +998,21 @@ fn the_engine_judges_the_consumer_trial_as_the_consumer_does() {
         dev.poll(f.at_ns, &mut out);
         dev.on_frame(&f.frame, f.at_ns, &mut out);
     }
-    assert_eq!(dev.consumer_verdicts(), Some(trial.counts));
+    assert_eq!(dev.ar().consumer_verdicts(), Some(trial.counts));
     // The outputs are those of the last accepted frame: its data bytes, valid.
     let o = usize::from(cr.apis[0].data_objects[0].frame_offset);
     assert_eq!(
-        dev.outputs(0, 2, 1),
+        dev.ar().outputs(0, 2, 1),
         Some((&trial.last_c_sdu[o..o + 2], true))
     );
     run_until(&mut dev, trial.expires_at_ns - 1);
-    assert_eq!(dev.state(), ArState::Data, "not before the watchdog's time");
+    assert_eq!(
+        dev.ar().state(),
+        ArState::Data,
+        "not before the watchdog's time"
+    );
     run_until(&mut dev, trial.expires_at_ns);
-    assert_eq!(dev.last_abort(), Some(AbortCode::ConsumerDhtExpired));
+    assert_eq!(dev.ar().last_abort(), Some(AbortCode::ConsumerDhtExpired));
 }
 
 #[test]
@@ -1020,7 +1024,7 @@ fn negative_responses_name_the_fault() {
         patch(&mut p);
         let r = call(&mut dev, &p, 0);
         assert!(r.blocks.is_empty());
-        assert_eq!(dev.state(), ArState::Idle);
+        assert_eq!(dev.ar().state(), ArState::Idle);
         status(&r)
     };
     // The input IOCR's FrameID (ARBlockReq is 95 bytes; FrameID at 6 + 12 in the IOCR).
@@ -1063,15 +1067,15 @@ fn negative_responses_name_the_fault() {
     patch_block(&mut other, 8, &[0xff]);
     other[64] = 9; // a new sequence number, not a duplicate
     assert_eq!(status(&call(&mut dev, &other, MS)), refuse(0x40, 4));
-    assert_eq!(dev.state(), ArState::Connected);
+    assert_eq!(dev.ar().state(), ArState::Connected);
     let mut rerun = connect.clone();
     rerun[64] = 10;
     let mut out = Vec::new();
     dev.on_datagram(S7_CLIENT, RPC_PORT, &rerun, 2 * MS, &mut out);
     assert_eq!(status(&parse_reply(&datagrams(&out)[0].2)), refuse(0x3d, 0));
     assert_eq!(frames(&out).len(), 1, "an ERR-RTA");
-    assert_eq!(dev.state(), ArState::Idle);
-    assert_eq!(dev.last_abort(), Some(AbortCode::RerunAbortsExisting));
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(dev.ar().last_abort(), Some(AbortCode::RerunAbortsExisting));
 
     // PrmEnd with a wrong session key, and for an unknown AR.
     let mut dev = pnet_device(TestApp::None);
@@ -1112,7 +1116,7 @@ fn negative_responses_name_the_fault() {
 #[test]
 fn records_read_im0_and_written_data_and_refuse_the_rest() {
     let (mut dev, _) = pnet_in_data(TestApp::None);
-    let ar_uuid = dev.ar_uuid().unwrap();
+    let ar_uuid = dev.ar().ar_uuid().unwrap();
     // The captured I&M0 read (another AR's UUID in the capture: patched to ours). Its
     // response is p-net's byte for byte in the blocks.
     let mut req = rpc_pdu("alarm/im0_read_req");
@@ -1211,7 +1215,7 @@ fn duplicates_pings_and_fragments() {
     out.clear();
     dev.on_datagram(S7_CLIENT, RPC_PORT, &connect, MS, &mut out);
     assert_eq!(datagrams(&out), first);
-    assert_eq!(dev.state(), ArState::Connected);
+    assert_eq!(dev.ar().state(), ArState::Connected);
     // A ping for it: the response again; for an unknown call: no-call.
     let ping = |seq: u32| {
         let h = Header {
@@ -1319,7 +1323,7 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
     let tack = RtaPdu::parse(&rta_pdu::Packet::new_checked(&f[0][18..]).unwrap()).unwrap();
     assert_eq!(tack.body, RtaBody::Ack);
     assert_eq!(tack.header.ack_seq, 0xffff);
-    assert_eq!(dev.alarm_acks(), &[ack]);
+    assert_eq!(dev.alarm_acks().list(), &[ack]);
     // The S7's ERR-RTA (captured) ends the AR without an answer.
     out.clear();
     let mut err = capture("alarm/alarm_err_rta_cpu");
@@ -1327,8 +1331,8 @@ fn alarms_are_acknowledged_and_err_rta_ends_the_ar() {
     err[6..12].copy_from_slice(&S7_MAC.0);
     dev.on_frame(&err, t + 3 * MS, &mut out);
     assert!(out.is_empty());
-    assert_eq!(dev.state(), ArState::Idle);
-    assert_eq!(dev.last_abort(), Some(AbortCode::AlarmIndicationError));
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(dev.ar().last_abort(), Some(AbortCode::AlarmIndicationError));
 }
 
 /// Found by the `controller` fuzz target: a process alarm with 5 000 bytes of data went out
@@ -1365,8 +1369,11 @@ fn an_unanswered_application_ready_is_repeated_then_the_ar_aborted() {
         })
         .collect();
     assert_eq!(repeats, vec![t + 2_000 * MS, t + 4_000 * MS]);
-    assert_eq!(dev.state(), ArState::Idle);
-    assert_eq!(dev.last_abort(), Some(AbortCode::RpcClientCallNegative));
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(
+        dev.ar().last_abort(),
+        Some(AbortCode::RpcClientCallNegative)
+    );
 }
 
 #[test]
@@ -1390,8 +1397,8 @@ fn a_station_name_change_by_dcp_ends_the_ar() {
         t,
         &mut out,
     );
-    assert_eq!(dev.state(), ArState::Idle);
-    assert_eq!(dev.last_abort(), Some(AbortCode::StationNameChanged));
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(dev.ar().last_abort(), Some(AbortCode::StationNameChanged));
     assert_eq!(frames(&out).len(), 2, "the Set response and the ERR-RTA");
 }
 
@@ -1439,7 +1446,7 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
     );
     assert_eq!(status(&r), PnioStatus::OK);
     assert!(ControlBlock::parse(&r.blocks).unwrap().answers(&begin));
-    assert_eq!(dev.state(), ArState::Connected);
+    assert_eq!(dev.ar().state(), ArState::Connected);
     let prm = ControlBlock::prm_end(AR_UUID, 1).to_bytes();
     let r = call(
         &mut dev,
@@ -1451,7 +1458,7 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
     dev.poll(t + APP_READY_DELAY_NS, &mut out);
     let app = parse_reply(&datagrams(&out)[0].2);
     assert_eq!(app.header.interface, CONTROLLER_INTERFACE);
-    assert_eq!(dev.state(), ArState::WaitAppReadyConfirm);
+    assert_eq!(dev.ar().state(), ArState::WaitAppReadyConfirm);
     // A Release with the wrong SessionKey is refused, an unknown opnum rejected.
     let release = ControlBlock::release(AR_UUID, 9).to_bytes();
     let r = call(
@@ -1483,7 +1490,7 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
         t,
     );
     assert_eq!(status(&r), PnioStatus::OK);
-    assert_eq!(dev.state(), ArState::Idle);
+    assert_eq!(dev.ar().state(), ArState::Idle);
 }
 
 /// The LLDPDU of an LLDP frame among `out`, if there is one.

@@ -58,7 +58,7 @@ impl ClientAlarms {
             data,
         } = order;
         // The acknowledgements that came before this alarm are not its.
-        self.acks_seen = device.alarm_ack_count();
+        self.acks_seen = device.alarm_acks().count();
         let sent = match alarm {
             StationAlarmKind::Process => device.send_process_alarm(at, usi, &data, now_ns, out),
             StationAlarmKind::DiagnosisAppears | StationAlarmKind::DiagnosisDisappears => {
@@ -84,10 +84,10 @@ impl ClientAlarms {
         ar_ended: bool,
     ) -> Vec<StationEvent> {
         let mut events = Vec::new();
-        let count = device.alarm_ack_count();
+        let count = device.alarm_acks().count();
         let new = usize::try_from(count - self.acks_seen).unwrap_or(usize::MAX);
         self.acks_seen = count;
-        let acks = device.alarm_acks();
+        let acks = device.alarm_acks().list();
         for ack in &acks[acks.len().saturating_sub(new)..] {
             let seq = ack.specifier.sequence_number;
             if let Some(i) = self.waiting.iter().position(|w| w.sequence == seq) {
@@ -119,11 +119,12 @@ fn return_of_submodule(
     out: &mut Vec<DeviceAction>,
 ) -> Result<u16, AlarmError> {
     let sequence = device
+        .ar()
         .next_alarm_sequence()
         .ok_or(AlarmError::NotInDataExchange)?;
     match device.return_submodule(at, now_ns, out) {
         Ok(Some(_)) => Ok(sequence),
-        Ok(None) if device.state() == ArState::Data => Err(AlarmError::NotInAr(at)),
+        Ok(None) if device.ar().state() == ArState::Data => Err(AlarmError::NotInAr(at)),
         Ok(None) => Err(AlarmError::NotInDataExchange),
         Err(_) => Err(AlarmError::NotInAr(at)),
     }
@@ -141,7 +142,7 @@ fn refusal(device: &Device<ImageApplication>, at: SubslotAddr, e: AlarmError) ->
         refused,
         message: format!(
             "no alarm went out for {at}: {e} (the PLC's AR is {})",
-            state_name(device.state())
+            state_name(device.ar().state())
         ),
     }
 }

@@ -281,7 +281,7 @@ impl DeviceRole {
                 out,
             );
         }
-        let state = self.device.state();
+        let state = self.device.ar().state();
         if state == ArState::Idle {
             self.data_flows = false;
         }
@@ -296,6 +296,7 @@ impl DeviceRole {
             let event = if let Some(reported) = super::station::reported(state) {
                 self.ar_uuid = self
                     .device
+                    .ar()
                     .ar_uuid()
                     .map(|u| u.to_string())
                     .unwrap_or_default();
@@ -304,14 +305,15 @@ impl DeviceRole {
                     ar_uuid: self.ar_uuid.clone(),
                     controller_mac: self
                         .device
+                        .ar()
                         .controller_mac()
                         .map(|m| m.to_string())
                         .unwrap_or_default(),
                 }
             } else {
-                let aborted = self.device.aborted_ars() != self.aborted;
-                self.aborted = self.device.aborted_ars();
-                let code = self.device.last_abort().filter(|_| aborted);
+                let aborted = self.device.ar().aborted_ars() != self.aborted;
+                self.aborted = self.device.ar().aborted_ars();
+                let code = self.device.ar().last_abort().filter(|_| aborted);
                 StationEvent::ArEnded {
                     ar_uuid: std::mem::take(&mut self.ar_uuid),
                     abort: code,
@@ -323,7 +325,7 @@ impl DeviceRole {
             self.last_state = state;
         }
         // The PLC's RUN/STOP, from its output frames' DataStatus, once its data flows.
-        let running = (self.device.state() == ArState::Data && self.data_flows)
+        let running = (self.device.ar().state() == ArState::Data && self.data_flows)
             .then(|| self.channel.peer_data_status.load(Ordering::Relaxed) & PROVIDER_RUN != 0);
         if running != self.plc_running {
             self.plc_running = running;
@@ -391,7 +393,7 @@ impl Role for DeviceRole {
                          {subslot:#06x}: it needs an AR in data exchange with that submodule \
                          (the PLC's AR is {}), a USI of 0x0000 to 0x7FFF, and data the AR's \
                          alarm length allows",
-                        super::station::state_name(self.device.state())
+                        super::station::state_name(self.device.ar().state())
                     ))
                 };
                 let _ = reply.try_send(r);
@@ -421,7 +423,7 @@ impl Role for DeviceRole {
                             message: format!(
                                 "no Return of Submodule alarm went out for {at}: it needs the \
                                  PLC's AR in data exchange with that submodule (the AR is {})",
-                                super::station::state_name(self.device.state())
+                                super::station::state_name(self.device.ar().state())
                             ),
                         }),
                     });

@@ -133,7 +133,7 @@ impl Station {
     where
         A: procimg_profinet::device::Application,
     {
-        self.lock().alarms_acknowledged = device.alarm_ack_count();
+        self.lock().alarms_acknowledged = device.alarm_acks().count();
     }
 
     /// Takes in `event`, and logs it.
