@@ -372,12 +372,12 @@ static int connect_ar(PNIO_UINT32 h) {
     PNIO_UINT32 r;
     if (!wait_for(&s.ar_phase, AR_PRM_END)) return missing("AR_CHECK_IND .. PRM_END_IND");
     /* Before application-ready the inputs are set GOOD and the outputs taken (the
-     * manual's steps 14 and 15); procimgd has no submodules in the AR for the program yet
-     * and says so with PNIO_WARN_NO_SUBMODULES. */
+     * manual's steps 14 and 15): the I data written now is what the PLC gets with the
+     * ApplicationReady. */
     r = PNIO_initiate_data_write(h);
-    if (r != PNIO_OK && r != PNIO_WARN_NO_SUBMODULES) return failed("PNIO_initiate_data_write", r);
+    if (r != PNIO_OK) return failed("PNIO_initiate_data_write", r);
     r = PNIO_initiate_data_read(h);
-    if (r != PNIO_OK && r != PNIO_WARN_NO_SUBMODULES) return failed("PNIO_initiate_data_read", r);
+    if (r != PNIO_OK) return failed("PNIO_initiate_data_read", r);
     pthread_mutex_lock(&mu);
     ar_now = s.ar;
     sk_now = s.sk;

@@ -404,12 +404,10 @@ void dev_easy(double seconds, PNIO_UINT16 vendor, PNIO_UINT16 device_id) {
 
     // The AR: parameters, first IO data, application ready, data exchange.
     wait_for("AR_CHECK_IND .. PRM_END_IND", [] { return seen.phase >= kPrmEnd; });
-    for (PNIO_UINT32 r : {PNIO_initiate_data_write(h), PNIO_initiate_data_read(h)}) {
-        // No submodules in the AR for the program before application-ready: a warning.
-        if (r != PNIO_OK && r != PNIO_WARN_NO_SUBMODULES) {
-            check("PNIO_initiate_data_write/_read", r);
-        }
-    }
+    // The manual's steps 14 and 15: the I data written now is what the PLC gets with the
+    // ApplicationReady.
+    check("PNIO_initiate_data_write", PNIO_initiate_data_write(h));
+    check("PNIO_initiate_data_read", PNIO_initiate_data_read(h));
     PNIO_UINT16 ar, sk;
     {
         std::lock_guard<std::mutex> lock(seen.mu);

@@ -15,7 +15,7 @@
  *
  * The AR comes as in DevEasy (AR_CHECK_IND, AR_INFO_IND, PRM_END_IND, then
  * PNIO_set_appl_state_ready, AR_INDATA_IND); STARTOP comes in every cycle from registration
- * on, with or without an AR, and before data exchange the IO data calls answer
+ * on, with or without an AR, and before the AR's PRM_END_IND the IO data calls answer
  * PNIO_WARN_NO_SUBMODULES, which the program counts and goes on. After `cycles` cycles with
  * data exchanged (default 1000) it stops, pulls and closes, and prints what the cycles saw;
  * exits 0 when they ran, the outputs came back and no call failed.
@@ -66,7 +66,7 @@ static PNIO_IOXS q_iops;
 static atomic_long startops;     /* STARTOP_IND */
 static atomic_long exchanged;    /* cycles in which read and write returned PNIO_OK */
 static atomic_long trips;        /* outputs that came back as the inputs sent + 1 */
-static atomic_long no_submodules; /* PNIO_WARN_NO_SUBMODULES: no AR in data exchange yet */
+static atomic_long no_submodules; /* PNIO_WARN_NO_SUBMODULES: no AR past PRM_END_IND yet */
 static atomic_long inconsistent; /* PNIO_WARN_IRT_INCONSISTENT: the window was over */
 static atomic_long io_errors;    /* any other result of the IO data calls or set_opdone */
 static atomic_uint first_error;
@@ -376,7 +376,7 @@ int main(int argc, char **argv) {
     /* After close no callback runs: the counts are final. */
     printf("STARTOP cycles: %ld in all, %ld with data exchanged, %ld round trips through the PLC\n",
            atomic_load(&startops), cycles, atomic_load(&trips));
-    printf("before data exchange (PNIO_WARN_NO_SUBMODULES): %ld, late (PNIO_WARN_IRT_INCONSISTENT): "
+    printf("before PRM_END_IND (PNIO_WARN_NO_SUBMODULES): %ld, late (PNIO_WARN_IRT_INCONSISTENT): "
            "%ld, OPFAULT_IND: %ld\n",
            atomic_load(&no_submodules), atomic_load(&inconsistent), atomic_load(&opfaults));
     printf("failed IO data calls and PNIO_CP_set_opdone: %ld (first 0x%03x)\n",

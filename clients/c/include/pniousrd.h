@@ -26,8 +26,10 @@
  * selects by pAddr (NULL, a slot with subslot 0, or one submodule, in every API; one the
  * program has not plugged: PNIO_ERR_PRM_ADD) and AccessType (PNIO_ACCESS_ALL_WITH_LOCK and
  * PNIO_ACCESS_IRT_WITH_LOCK: PNIO_ERR_PRM_ACCESS_TYPE). Before start: PNIO_ERR_SEQUENCE;
- * without an AR for which PNIO_set_appl_state_ready was called, or with nothing selected:
- * PNIO_WARN_NO_SUBMODULES.
+ * without an AR whose PNIO_CBF_PRM_END_IND was given, or with nothing selected:
+ * PNIO_WARN_NO_SUBMODULES. As the manual's order has it, the program writes after
+ * PRM_END_IND the I data the PLC gets with the ApplicationReady (its IOPS too), then calls
+ * PNIO_set_appl_state_ready.
  *
  * ARs. From open to close the device checks the station's ARs and holds its
  * ApplicationReady. All callbacks come from one library thread, in the manual's order: for

@@ -531,9 +531,20 @@ int main(void) {
         if (e.type == EV_PRM_END)
             CHECK(e.a == 0 && e.b == 0, "PRM_END_IND for one submodule");
     }
-    /* Before the application is ready nothing is exchanged. */
-    CHECK_RC(PNIO_initiate_data_write(h), PNIO_WARN_NO_SUBMODULES);
-    CHECK_RC(PNIO_initiate_data_read(h), PNIO_WARN_NO_SUBMODULES);
+    /* The manual's steps 14 and 15: after PRM_END_IND the program writes the I data the PLC
+     * gets with the ApplicationReady, and reads the Q data, before it says it is ready. */
+    pthread_mutex_lock(&mu);
+    io.pattern = 0xa0;
+    io.iops = PNIO_S_GOOD;
+    int writes_before = io.writes, reads_before = io.reads;
+    pthread_mutex_unlock(&mu);
+    CHECK_RC(PNIO_initiate_data_write(h), PNIO_OK);
+    CHECK_RC(PNIO_initiate_data_read(h), PNIO_OK);
+    pthread_mutex_lock(&mu);
+    CHECK(io.writes == writes_before + 1 && io.reads == reads_before + 1,
+          "DATA_WRITE %d and DATA_READ %d times after PRM_END_IND, not once each",
+          io.writes - writes_before, io.reads - reads_before);
+    pthread_mutex_unlock(&mu);
     CHECK_RC(PNIO_set_appl_state_ready(h, ar, (PNIO_UINT16)(sk + 1), NULL), PNIO_ERR_SESSION);
     CHECK_RC(PNIO_set_appl_state_ready(h, (PNIO_UINT16)(ar + 1), sk, NULL), PNIO_ERR_SEQUENCE);
     CHECK_RC(PNIO_set_appl_state_ready(wrong, ar, sk, NULL), PNIO_ERR_WRONG_HND);

@@ -49,9 +49,16 @@ pub struct ProgramAr {
 }
 
 impl ProgramAr {
-    /// Whether the program said it is ready for this AR (IO data and alarms may go).
+    /// Whether the program said it is ready for this AR (alarms may go).
     pub fn is_ready(&self) -> bool {
         self.phase >= ArPhase::ApplReady
+    }
+
+    /// Whether the AR takes the program's IO data: from `PRM_END_IND` on, as the manual's
+    /// order has it (the I data written then is what the PLC gets with the
+    /// ApplicationReady, which follows).
+    pub fn takes_data(&self) -> bool {
+        self.phase >= ArPhase::PrmEnd
     }
 }
 

@@ -14,10 +14,11 @@
 //! write: what the PLC reads; Q data for a read: what the PLC wrote), selected by `pAddr`
 //! (NULL: all; subslot 0: the slot's; else that one, in any API) and by RT class
 //! (`PNIO_ACCESS_*`), and calls the program's callback for each on the caller's thread. There
-//! is something to visit only while an AR is up and the program has called
-//! `PNIO_set_appl_state_ready` for it (else `PNIO_WARN_NO_SUBMODULES`, as inside
-//! `PRM_END_IND`); the program's submodules are the station's tree from start on, so they are
-//! taken as the AR's.
+//! is something to visit only while an AR is up and its `PRM_END_IND` was given (else
+//! `PNIO_WARN_NO_SUBMODULES`): the manual's steps 14 and 15 write the I data the PLC gets
+//! with the ApplicationReady and read the Q data before `PNIO_set_appl_state_ready`. The
+//! program's submodules are the station's tree from start on, so they are taken as the
+//! AR's.
 //!
 //! Not zero-copy: the callbacks get a buffer of the library's, copied from or into the
 //! image. The Q data of the newest image is mapped read-only while `PNIO_CBF_DATA_READ`'s
@@ -214,7 +215,8 @@ pub(crate) fn initiate(
             format_args!("the program has plugged no submodule at slot {slot} subslot {subslot}"),
         );
     }
-    let in_ar = dev.iobase.current_ar().is_some_and(|a| a.is_ready());
+    // From PRM_END_IND on (the manual's steps 14 and 15, before the ApplicationReady).
+    let in_ar = dev.iobase.current_ar().is_some_and(|a| a.takes_data());
     if !in_ar {
         return PNIO_WARN_NO_SUBMODULES;
     }

@@ -104,8 +104,9 @@
 //! `pAddr` (NULL, a slot with subslot 0, or one submodule; one the program has not plugged:
 //! `PNIO_ERR_PRM_ADD`) and `AccessType` (`ALL_WITH_LOCK` and `IRT_WITH_LOCK`, unsupported as
 //! in IO-Base, and unknown values: `PNIO_ERR_PRM_ACCESS_TYPE`). Before start they answer
-//! `PNIO_ERR_SEQUENCE`; with no AR that the program has called `PNIO_set_appl_state_ready`
-//! for, or nothing selected, `PNIO_WARN_NO_SUBMODULES`. They may be called inside callbacks.
+//! `PNIO_ERR_SEQUENCE`; with no AR whose `PRM_END_IND` was given (the manual writes the
+//! first I data after it, before `PNIO_set_appl_state_ready`), or nothing selected,
+//! `PNIO_WARN_NO_SUBMODULES`. They may be called inside callbacks.
 //! The buffers are copies, not the shared memory itself (see `data` for why).
 
 /// API, slot, subslot.
