@@ -186,6 +186,11 @@ pub enum Refusal {
         /// The check.
         job: u64,
     },
+    /// The AR named is not the station's current one.
+    ArGone {
+        /// The ARUUID named.
+        ar_uuid: String,
+    },
     /// No AR check of this number waits for this subscriber's answer.
     StaleArCheck {
         /// The check.
@@ -321,6 +326,11 @@ impl core::fmt::Display for Refusal {
                 f,
                 "DCP Set check {job} waits for no answer from this subscriber: it was answered, \
                  it timed out (the Set was then carried out) or it is another's"
+            ),
+            Refusal::ArGone { ar_uuid } => write!(
+                f,
+                "AR {ar_uuid} is not the station's current AR (it ended, or another PLC's \
+                 replaced it): there is nothing of it to abort"
             ),
             Refusal::StaleArCheck { job } => write!(
                 f,

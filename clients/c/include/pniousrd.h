@@ -52,7 +52,9 @@
  * names it (API, slot, subslot), and PNIO_set_appl_state_ready (once per such PRM_END_IND)
  * lets its PlugApplicationReady go, after which its data and alarms are the AR's again.
  * PNIO_device_stop gives the end callback before PNIO_CBF_DEVICE_STOPPED;
- * PNIO_device_ar_abort ends the AR by OFFLINE, then OPERATE again. In the per-AR calls an
+ * PNIO_device_ar_abort ends that AR only (an ERR-RTA with AbortRequest; the station stays on
+ * the wire and takes the PLC's next Connect; the end callback has PNIO_AR_REASON_ABORT). In
+ * the per-AR calls an
  * ArNumber never given answers PNIO_ERR_SEQUENCE, an ended AR's or a wrong SessionKey
  * PNIO_ERR_SESSION.
  *

@@ -211,9 +211,7 @@ fn run(args: Args) -> anyhow::Result<()> {
                 break;
             }
             println!("aborting ar {}", ar.number);
-            device
-                .abort(ar, &mut program, || true)
-                .context("aborting the AR")?;
+            device.abort(ar, &mut program).context("aborting the AR")?;
             if let Err(e) = device.check(ar) {
                 println!("ar {} named again is refused: {e}", ar.number);
             }

@@ -148,6 +148,16 @@ impl Services {
         })
     }
 
+    /// Ends the station's AR `ar_uuid` (as the notifications write it) from the station's
+    /// side: an ERR-RTA with AbortRequest goes to the PLC, the station stays on the wire and
+    /// takes the PLC's next Connect. A [`Notification::StationArEnded`](crate::Notification::StationArEnded)
+    /// follows. Refused with `ArGone` when it is not the current AR.
+    pub fn abort_ar(&self, ar_uuid: &str) -> Result<(), ControlError> {
+        self.station_request(DeviceRequest::StationAbortAr {
+            ar_uuid: ar_uuid.to_owned(),
+        })
+    }
+
     /// Checks every new AR from now on (`true`) or not: a PLC's Connect waits for this
     /// handle's [`answer_ar_check`](Self::answer_ar_check) to a
     /// [`Notification::StationArCheck`](crate::Notification::StationArCheck), at most

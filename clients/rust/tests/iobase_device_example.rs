@@ -46,7 +46,8 @@ fn a_rust_program_follows_two_ars_with_io_base_semantics() {
         at("wire break on slot 1 under DiagTag 7"),
         at("DiagTag 7 removed"),
         at("aborting ar 1"),
-        at("AR_OFFLINE_IND ar 1 "),
+        // The program's abort: AbortRequest, IO-Base's PNIO_AR_REASON_ABORT.
+        at("AR_OFFLINE_IND ar 1 reason 13"),
         at("AR_CHECK_IND ar 2 "),
         at("PRM_END_IND ar 2 None"),
         at("AR_INDATA_IND ar 2"),

@@ -159,6 +159,14 @@ pub enum DeviceRequest {
         /// Check (`true`) or stop.
         check: bool,
     },
+    /// In the device role: end the AR `ar_uuid` from the station's side (an ERR-RTA with
+    /// AbortRequest, IO-Base's `PNIO_device_ar_abort`); the station stays on the wire and
+    /// takes the PLC's next Connect. Refused with [`Refusal::ArGone`](crate::Refusal::ArGone)
+    /// when `ar_uuid` is not the current AR.
+    StationAbortAr {
+        /// The ARUUID, as the notifications write it.
+        ar_uuid: String,
+    },
     /// In the device role: accept a new AR, or refuse it with a Connect error.
     StationArCheckAnswer {
         /// The subscriber's id (the one the check went to).

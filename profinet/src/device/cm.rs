@@ -13,7 +13,7 @@ use crate::wire::control::{self, ControlBlock};
 use crate::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
 use crate::wire::rpc::{self as wire_rpc, Header, Ndr, PacketType, opnum};
 use crate::wire::rta_pdu::AbortCode;
-use crate::wire::{BlockType, PnioStatus};
+use crate::wire::{BlockType, PnioStatus, Uuid};
 use std::net::SocketAddrV4;
 
 /// ErrorCodes of the RPC services.
@@ -47,6 +47,24 @@ impl<A: Application> Device<A> {
             self.abort_ar(AbortCode::AbortRequest, out);
             self.sync_handover(now_ns, out);
         }
+    }
+
+    /// Ends the AR `ar_uuid` as the application asks (IO-Base's `PNIO_device_ar_abort`): an
+    /// ERR-RTA with AbortRequest to the controller, the cyclic exchange stopped; the station
+    /// stays on the wire and takes the controller's next Connect. Whether `ar_uuid` was the
+    /// current AR.
+    pub fn abort_ar_on_request(
+        &mut self,
+        ar_uuid: Uuid,
+        now_ns: u64,
+        out: &mut Vec<DeviceAction>,
+    ) -> bool {
+        if self.ar.ar_uuid() != Some(ar_uuid) {
+            return false;
+        }
+        self.abort_ar(AbortCode::AbortRequest, out);
+        self.sync_handover(now_ns, out);
+        true
     }
 
     /// Executes a whole request and answers it.

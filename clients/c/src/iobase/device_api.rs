@@ -610,10 +610,10 @@ pub unsafe extern "C" fn PNIO_set_appl_state_ready(
     })
 }
 
-/// Aborts the AR: `PNIO_CBF_AR_OFFLINE_IND` (after `AR_INDATA_IND`) or
-/// `PNIO_CBF_AR_ABORT_IND` follows on the library thread. procimgd has no abort of one AR:
-/// the station goes OFFLINE until the AR's end was reported, then OPERATE again (the PLC
-/// may connect again at once, with a new AR).
+/// Aborts the AR: an ERR-RTA with AbortRequest goes to the PLC, and
+/// `PNIO_CBF_AR_OFFLINE_IND` (after `AR_INDATA_IND`) or `PNIO_CBF_AR_ABORT_IND` follows on
+/// the library thread with `PNIO_AR_REASON_ABORT`. The station stays on the wire: the PLC
+/// may connect again at once, with a new AR.
 ///
 /// # Safety
 /// None beyond the C ABI; every value is checked.

@@ -26,7 +26,8 @@
 //! 8. [`ar_offline`](DeviceCallbacks::ar_offline) when the AR ends after `in_data`, else
 //!    [`ar_abort`](DeviceCallbacks::ar_abort). An AR that a new Connect replaced before its
 //!    end was reported ends [`ArEndReason::Replaced`]; one whose end this station waited
-//!    for in vain [`ArEndReason::Abandoned`].
+//!    for in vain [`ArEndReason::Abandoned`]; one the program aborted with the RTA abort
+//!    code AbortRequest (IO-Base's `PNIO_AR_REASON_ABORT`).
 //!
 //! Notifications about an AR whose check this device did not get (one that connected
 //! before it was opened) give no callbacks.
@@ -95,8 +96,8 @@ pub enum AbortError {
     /// Not this AR.
     #[error(transparent)]
     Session(#[from] SessionError),
-    /// procimgd did not take the mode change (OFFLINE to end the AR, OPERATE after it).
-    #[error("instance \"{instance}\" did not take the mode change around the abort: {cause}")]
+    /// procimgd did not end the AR.
+    #[error("instance \"{instance}\" did not end the AR: {cause}")]
     NotTaken {
         /// The instance.
         instance: String,
@@ -346,25 +347,25 @@ impl IoBaseDevice {
         })
     }
 
-    /// Ends AR `ar` (the station has no abort of one AR: it goes OFFLINE until the AR's end
-    /// was reported), delivering notifications meanwhile; then OPERATE again if `resume`
-    /// says so then, so that PLCs may connect again.
-    pub fn abort(
-        &self,
-        ar: ArId,
-        program: &mut impl DeviceCallbacks,
-        resume: impl FnOnce() -> bool,
-    ) -> Result<(), AbortError> {
+    /// Ends AR `ar` from the station's side (IO-Base's `PNIO_device_ar_abort`): an ERR-RTA
+    /// with AbortRequest goes to the PLC, and the notifications are delivered until the end
+    /// was reported (`AR_ABORT_IND` or `AR_OFFLINE_IND`, reason `PNIO_AR_REASON_ABORT`), at
+    /// most [`END_WAIT`]. The station stays on the wire: the PLC may connect again at once,
+    /// with a new AR.
+    pub fn abort(&self, ar: ArId, program: &mut impl DeviceCallbacks) -> Result<(), AbortError> {
         let uuid = self.check(ar)?.uuid;
-        let not_taken = |cause| AbortError::NotTaken {
-            instance: self.instance.clone(),
-            cause,
-        };
-        self.set_mode(Mode::Offline).map_err(not_taken)?;
-        self.until_ended(&uuid, END_WAIT, program);
-        if resume() {
-            self.set_mode(Mode::Operate).map_err(not_taken)?;
+        let asked = lock(&self.services).abort_ar(&uuid);
+        match asked {
+            // Ended meanwhile: its end is reported all the same.
+            Ok(()) | Err(ControlError::Refused(Refusal::ArGone { .. })) => {}
+            Err(cause) => {
+                return Err(AbortError::NotTaken {
+                    instance: self.instance.clone(),
+                    cause,
+                });
+            }
         }
+        self.until_ended(&uuid, END_WAIT, program);
         Ok(())
     }
 

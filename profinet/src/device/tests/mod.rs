@@ -28,6 +28,7 @@ use crate::wire::rta_pdu::{ErrRta, RtaBody};
 use crate::wire::test_captures::rpc_pdu;
 use std::net::Ipv4Addr;
 
+mod abort;
 mod delegated_records;
 mod diagnosis;
 mod kept_identity;

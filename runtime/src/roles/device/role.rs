@@ -57,6 +57,14 @@ pub enum DeviceCommand {
         /// Where the outcome goes: `Err` says why it was refused.
         reply: SyncSender<Result<(), Refusal>>,
     },
+    /// End the AR of this ARUUID (as the notifications write it) on the application's
+    /// request; the station stays on the wire.
+    AbortAr {
+        /// The ARUUID.
+        ar_uuid: String,
+        /// Where the outcome goes.
+        reply: SyncSender<Result<(), Refusal>>,
+    },
     /// Announce the return of the submodule at a position (a Return of Submodule alarm).
     ReturnSubmodule {
         /// Where.
@@ -409,6 +417,22 @@ impl Role for DeviceRole {
                 let r = r.map_err(plug_refusal).map(|alarm| {
                     self.tell(StationEvent::Plug { at, idents, alarm }, out);
                 });
+                let _ = reply.try_send(r);
+            }
+            DeviceCommand::AbortAr { ar_uuid, reply } => {
+                let current = self.device.ar().ar_uuid();
+                let aborted = match current {
+                    Some(uuid) if uuid.to_string() == ar_uuid => {
+                        self.device
+                            .abort_ar_on_request(uuid, now_ns, &mut self.actions)
+                    }
+                    _ => false,
+                };
+                let r = if aborted {
+                    Ok(())
+                } else {
+                    Err(Refusal::ArGone { ar_uuid })
+                };
                 let _ = reply.try_send(r);
             }
             DeviceCommand::ReturnSubmodule { at, reply } => {

@@ -321,6 +321,9 @@ impl Answers<DeviceRequest> for DeviceServices {
                 job,
                 refuse,
             } => self.answer_ar_check(subscriber, job, refuse),
+            DeviceRequest::StationAbortAr { ar_uuid } => {
+                self.carry_out(|reply| DeviceCommand::AbortAr { ar_uuid, reply })
+            }
             DeviceRequest::StationRecordAnswer {
                 subscriber,
                 job,

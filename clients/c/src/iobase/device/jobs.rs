@@ -53,8 +53,8 @@ pub(crate) enum Job {
     /// `PNIO_device_stop`: OFFLINE, the current AR's `AR_OFFLINE_IND` or `AR_ABORT_IND`, then
     /// `PNIO_CBF_DEVICE_STOPPED`.
     Stop,
-    /// `PNIO_device_ar_abort` of this AR: OFFLINE until the AR's end
-    /// callback was given, then OPERATE again.
+    /// `PNIO_device_ar_abort` of this AR: the station ends it, and the library delivers the
+    /// notifications until its end callback was given.
     Abort(ArId),
     /// `PNIO_CBF_REQ_DONE` of an alarm that did not go out, with `status`.
     AlarmDone {

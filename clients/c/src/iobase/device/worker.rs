@@ -178,10 +178,7 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
         }
         Job::Abort(ar) => {
             let mut callbacks = ar::Callbacks { dev, occupants };
-            // Unless PNIO_device_stop came meanwhile, PLCs may connect again. An AR that
-            // ended meanwhile had its end callback; one procimgd did not end stays up.
-            let resume = || lock(&dev.config).life == Life::Started;
-            match dev.iobase.abort(ar, &mut callbacks, resume) {
+            match dev.iobase.abort(ar, &mut callbacks) {
                 // Ended meanwhile: its end callback was given.
                 Ok(()) | Err(AbortError::Session(_)) => {}
                 Err(e) => {
