@@ -514,8 +514,22 @@ pub struct StationArCheckJob {
     pub controller_mac: String,
     /// The PLC's station name.
     pub controller_name: String,
+    /// The PLC's IP address, where its Connect came from ("0.0.0.0" from an older server).
+    #[serde(default = "no_ip")]
+    pub controller_ip: String,
+    /// ARProperties of the Connect (0 from an older server).
+    #[serde(default)]
+    pub ar_properties: u32,
+    /// CMInitiatorObjectUUID of the Connect (empty from an older server).
+    #[serde(default)]
+    pub cmi_object_uuid: String,
     /// Every submodule the PLC expects, with what is plugged there (GOAL's EXP_SUBMOD).
     pub expected: Vec<ExpectedSubmodule>,
+}
+
+/// No IP address, as an older server leaves it.
+fn no_ip() -> String {
+    "0.0.0.0".to_owned()
 }
 
 /// A submodule the PLC expects in a new AR.

@@ -34,8 +34,9 @@
  * ARs. From open to close the device checks the station's ARs and holds its
  * ApplicationReady. All callbacks come from one library thread, in the manual's order: for
  * a PLC's Connect PNIO_CBF_AR_CHECK_IND (ArNumber 1, 2, ... per open, the station's
- * SessionKey, ArType, ArUUID, the PLC's station name; HostIp, ArProperties and CmiObjUUID
- * are 0), PNIO_CBF_CHECK_IND per expected submodule where other ident numbers are plugged
+ * SessionKey, and the Connect's: the PLC's IP address as HostIp, in network byte order as
+ * struct in_addr's s_addr, ArType, ArUUID, ArProperties, CMInitiatorObjectUUID as
+ * CmiObjUUID, the PLC's station name), PNIO_CBF_CHECK_IND per expected submodule where other ident numbers are plugged
  * (a PROPER or SUBSTITUTED answer with other ident numbers plugs those before the Connect
  * is answered), then the Connect is accepted (PNIO_device_ar_abort refuses it afterwards);
  * PNIO_CBF_AR_INFO_IND (IOCRs and modules from the Connect, valid during the call; the

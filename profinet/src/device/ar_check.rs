@@ -13,7 +13,7 @@ use super::diagnosis::SubslotAddr;
 use super::{Application, Device, DeviceAction, PluggedSubmodule};
 use crate::wire::rpc::Header;
 use crate::wire::{MacAddress, PnioStatus, Uuid};
-use std::net::SocketAddrV4;
+use std::net::{Ipv4Addr, SocketAddrV4};
 
 /// How long a Connect waits for the application's check. A controller repeats its Connect
 /// after about a second and gives up after a few.
@@ -34,6 +34,12 @@ pub struct ArCheck {
     pub controller_mac: MacAddress,
     /// The controller's station name.
     pub controller_name: String,
+    /// The controller's IP address (where its Connect came from).
+    pub controller_ip: Ipv4Addr,
+    /// ARProperties of the Connect's ARBlockReq.
+    pub ar_properties: u32,
+    /// CMInitiatorObjectUUID of the Connect's ARBlockReq.
+    pub cmi_object_uuid: Uuid,
     /// Every submodule the controller expects, with what is plugged there.
     pub expected: Vec<ExpectedAt>,
 }
@@ -176,6 +182,9 @@ impl<A: Application> Device<A> {
             session_key: plan.ar.session_key,
             controller_mac: plan.ar.initiator_mac,
             controller_name: plan.ar.station_name.clone(),
+            controller_ip: *from.ip(),
+            ar_properties: plan.ar.ar_properties,
+            cmi_object_uuid: plan.ar.initiator_object_uuid,
             expected,
         }));
         self.ar_checks.waiting = Some(WaitingConnect {

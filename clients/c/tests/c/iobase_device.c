@@ -329,10 +329,18 @@ static void check_ind(PNIO_UINT32 h, PNIO_UINT32 api, PNIO_UINT16 ar, PNIO_UINT1
     *si = 0x1;
     *ss = PNIO_SUB_CHECK_PROPER_SUBMODULE;
 }
+/* What the last AR_CHECK_IND said of the Connect besides ArNumber and SessionKey. */
+static PNIO_UINT32 check_ip, check_properties;
+static int check_cmi_set;
 static void ar_check_ind(PNIO_UINT32 h, PNIO_UINT32 ip, PNIO_UINT16 t, PNIO_UUID_TYPE u,
                          PNIO_UINT32 p, PNIO_UUID_TYPE c, PNIO_UINT16 l, PNIO_UINT8 *n,
                          PNIO_AR_TYPE *ar) {
-    (void)ip, (void)u, (void)p, (void)c, (void)n;
+    (void)u, (void)n;
+    pthread_mutex_lock(&mu);
+    check_ip = ip;
+    check_properties = p;
+    check_cmi_set = c.TimeLow != 0 || c.TimeMid != 0 || c.TimeHiAndVersion != 0;
+    pthread_mutex_unlock(&mu);
     /* Only the IO data functions are allowed here. */
     PNIO_UINT32 inside = PNIO_device_ar_abort(h, ar->ArNumber, ar->SessionKey);
     PNIO_UINT32 empty = ar->NumOfMod == 0 && ar->pModList == NULL;
@@ -519,6 +527,13 @@ int main(void) {
     CHECK(chk.b == PNIO_ERR_SEQUENCE, "PNIO_device_ar_abort inside AR_CHECK_IND: 0x%x",
           (unsigned)chk.b);
     CHECK((chk.c & 1) && (chk.c >> 1) > 0, "AR_CHECK_IND: pAr has modules or no PLC name");
+    pthread_mutex_lock(&mu);
+    PNIO_UINT8 ip[4];
+    memcpy(ip, &check_ip, sizeof ip); /* network byte order, as struct in_addr's s_addr */
+    CHECK(ip[0] != 0 && check_properties != 0 && check_cmi_set,
+          "AR_CHECK_IND: HostIp %u.%u.%u.%u, ArProperties 0x%x, CmiObjUUID %s", ip[0], ip[1],
+          ip[2], ip[3], (unsigned)check_properties, check_cmi_set ? "set" : "nil");
+    pthread_mutex_unlock(&mu);
     for (int i = 0; i <= iprm; i++) {
         event_t e = event(i);
         CHECK(e.ar == ar && e.sk == sk, "%s for AR %u/%u, not %u/%u", ev_names[e.type],

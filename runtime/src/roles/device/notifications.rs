@@ -97,6 +97,9 @@ pub fn notification(event: StationEvent) -> Notification {
                 session_key: c.session_key,
                 controller_mac: c.controller_mac.to_string(),
                 controller_name: c.controller_name,
+                controller_ip: c.controller_ip.to_string(),
+                ar_properties: c.ar_properties,
+                cmi_object_uuid: c.cmi_object_uuid.to_string(),
                 expected: c
                     .expected
                     .iter()

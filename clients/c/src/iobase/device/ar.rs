@@ -12,9 +12,10 @@
 //! `PNIO_device_open` to `PNIO_device_close`. For a PLC's Connect (the station's AR check):
 //!
 //! 1. `PNIO_CBF_AR_CHECK_IND` with the new ArNumber (1, 2, … per open), the station's
-//!    SessionKey, the ARType and ARUUID of the Connect and the PLC's station name. HostIp,
-//!    ArProperties and CmiObjUUID are 0: procimgd does not report them (the PLC's MAC
-//!    address, which it does report, has no place in the callback).
+//!    SessionKey, and of the Connect: the PLC's IP address as HostIp (as `struct in_addr`'s
+//!    `s_addr`, network byte order), the ARType, ARUUID, ARProperties, the
+//!    CMInitiatorObjectUUID as CmiObjUUID and the PLC's station name (its MAC address has
+//!    no place in the callback).
 //! 2. `PNIO_CBF_CHECK_IND` once per expected submodule where something other than the
 //!    expected ident numbers is plugged (not where nothing is: the station reports that
 //!    itself). The out parameters come filled with what is plugged, the states WRONG (or
@@ -88,6 +89,13 @@ pub(crate) fn uuid(text: &str) -> PNIO_UUID_TYPE {
         ClockSeqLow: b[9],
         Node: [b[10], b[11], b[12], b[13], b[14], b[15]],
     }
+}
+
+/// `AR_CHECK_IND`'s HostIp: the PLC's address as `struct in_addr`'s `s_addr` holds it
+/// (network byte order in memory); 0 when procimgd did not say.
+pub(crate) fn host_ip(text: &str) -> u32 {
+    text.parse::<std::net::Ipv4Addr>()
+        .map_or(0, |ip| u32::from_ne_bytes(ip.octets()))
 }
 
 /// The structures of `PNIO_CBF_AR_INFO_IND`: `ar` points into the vectors, whose buffers
@@ -240,15 +248,17 @@ impl DeviceCallbacks for Callbacks<'_> {
         let name_len = name.len().min(u16::MAX as usize) as u16;
         let (ar_ptr, name_ptr): (*mut PNIO_AR_TYPE, *mut u8) = (&mut tree, name.as_mut_ptr());
         let ar_uuid = uuid(&check.ar_uuid);
+        let cmi_uuid = uuid(&check.cmi_object_uuid);
+        let host_ip = host_ip(&check.controller_ip);
         // SAFETY: the program's callback (see the impl); the pointers live until it returned.
         self.call(self.dev.cbf.cbf_ar_check_ind, |f, h| unsafe {
             f(
                 h,
-                0,
+                host_ip,
                 check.ar_type,
                 ar_uuid,
-                0,
-                PNIO_UUID_TYPE::default(),
+                check.ar_properties,
+                cmi_uuid,
                 name_len,
                 name_ptr,
                 ar_ptr,
@@ -437,6 +447,13 @@ mod tests {
             "wrong: left as it is"
         );
         assert_eq!(substitute(plugged, plugged, proper), None, "already there");
+    }
+
+    #[test]
+    fn the_host_ip_is_in_network_byte_order() {
+        assert_eq!(host_ip("192.168.0.1").to_ne_bytes(), [192, 168, 0, 1]);
+        assert_eq!(host_ip("0.0.0.0"), 0);
+        assert_eq!(host_ip(""), 0, "an older server does not say");
     }
 
     #[test]
