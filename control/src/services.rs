@@ -258,10 +258,17 @@ pub enum Notification {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         abort_code: Option<u8>,
     },
-    /// Device role: the PLC's output frames say RUN (`true`) or STOP (their DataStatus).
+    /// Device role: the DataStatus of the PLC's output frames changed: RUN (`true`) or
+    /// STOP, a station problem, primary or backup.
     StationPlcRunning {
         /// RUN.
         running: bool,
+        /// The PLC reports a station problem (its StationProblemIndicator).
+        #[serde(default)]
+        station_problem: bool,
+        /// The PLC's provider is the backup of a redundant pair, not the primary.
+        #[serde(default)]
+        backup: bool,
     },
     /// Device role: DCP Signal, an engineering tool asks the station to make itself seen
     /// (flash its LED).
@@ -610,7 +617,11 @@ mod tests {
                 "station_ar_ended",
             ),
             (
-                Notification::StationPlcRunning { running: false },
+                Notification::StationPlcRunning {
+                    running: false,
+                    station_problem: false,
+                    backup: false,
+                },
                 "station_plc_running",
             ),
             (Notification::StationBlink, "station_blink"),

@@ -187,11 +187,15 @@ fn a_device_program_follows_the_ar_through_the_station_notifications() {
     assert_ne!(uuid, first.ar_uuid);
     let ar = server.status().station.and_then(|s| s.ar).expect("an AR");
     assert_eq!((ar.state, &ar.ar_uuid), (ArState::Data, &uuid));
-    // The demo's PLC is in RUN once its data flows.
+    // The demo's PLC is in RUN once its data flows, the primary, without a station problem.
     let next = next_station(&mut services, BRING_UP);
     assert_eq!(
         next,
-        Some(Notification::StationPlcRunning { running: true }),
+        Some(Notification::StationPlcRunning {
+            running: true,
+            station_problem: false,
+            backup: false
+        }),
         "after data exchange"
     );
 

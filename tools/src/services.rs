@@ -207,10 +207,20 @@ fn describe(n: &Notification) -> String {
         Notification::StationArEnded {
             ar_uuid, reason, ..
         } => format!("station: AR {ar_uuid} ended: {reason}"),
-        Notification::StationPlcRunning { running } => {
+        Notification::StationPlcRunning {
+            running,
+            station_problem,
+            backup,
+        } => {
             format!(
-                "station: the PLC is in {}",
-                if *running { "RUN" } else { "STOP" }
+                "station: the PLC is in {}{}{}",
+                if *running { "RUN" } else { "STOP" },
+                if *station_problem {
+                    ", with a station problem"
+                } else {
+                    ""
+                },
+                if *backup { ", as the backup" } else { "" }
             )
         }
         Notification::StationBlink => "station: DCP Signal (blink)".to_owned(),

@@ -44,8 +44,9 @@
  * PNIO_set_appl_state_ready then sends the ApplicationReady (procimgd sends it itself after
  * 10 s), whose ModuleDiffBlock gives the submodules of its list (NULL: none) the ARInfo
  * "application ready pending" until PNIO_ret_of_sub_alarm_send announces each;
- * PNIO_CBF_AR_INDATA_IND; PNIO_CBF_APDU_STATUS_IND (RUN or STOP, with STATION_OK) when the
- * PLC's state changes, a change before data exchange right after AR_INDATA_IND; at the
+ * PNIO_CBF_AR_INDATA_IND; PNIO_CBF_APDU_STATUS_IND (RUN or STOP, STATION_OK or
+ * STATION_PROBLEM, PRIMARY or BACKUP, as the DataStatus of the PLC's frames says) when it
+ * changes, a change before data exchange right after AR_INDATA_IND; at the
  * AR's end PNIO_CBF_AR_OFFLINE_IND after AR_INDATA_IND, else PNIO_CBF_AR_ABORT_IND, whose
  * ReasonCode is the RTA abort code (1..34 are the same numbers), PNIO_AR_REASON_REL for the
  * PLC's release, PNIO_AR_REASON_ABORT for the station's own end with another code.

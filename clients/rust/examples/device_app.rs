@@ -219,7 +219,7 @@ fn describe(n: &Notification) -> Option<String> {
         Notification::StationArEnded {
             ar_uuid, reason, ..
         } => format!("AR {ar_uuid} ended: {reason}"),
-        Notification::StationPlcRunning { running } => {
+        Notification::StationPlcRunning { running, .. } => {
             format!("the PLC is in {}", if *running { "RUN" } else { "STOP" })
         }
         Notification::StationBlink => "DCP Signal: this station is asked to blink".to_owned(),

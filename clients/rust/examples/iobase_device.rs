@@ -21,7 +21,7 @@
 use anyhow::{Context, bail};
 use clap::Parser;
 use procimg_client::iobase::{
-    ArEndReason, ArId, DeviceCallbacks, DiagTagKind, IoBaseDevice, channel_entry,
+    ApduStatus, ArEndReason, ArId, DeviceCallbacks, DiagTagKind, IoBaseDevice, channel_entry,
     channel_properties,
 };
 use procimg_client::{AttachOptions, Client, ExpectedSubmodule, Ioxs, Mode, StationArCheckJob};
@@ -91,9 +91,15 @@ impl DeviceCallbacks for Program {
         self.ars_in_data += 1;
     }
 
-    fn apdu_status(&mut self, ar: ArId, running: bool) {
-        let state = if running { "RUN" } else { "STOP" };
-        println!("APDU_STATUS_IND ar {} {state}", ar.number);
+    fn apdu_status(&mut self, ar: ArId, status: ApduStatus) {
+        let state = if status.running { "RUN" } else { "STOP" };
+        let problem = if status.station_problem {
+            ", station problem"
+        } else {
+            ""
+        };
+        let backup = if status.backup { ", backup" } else { "" };
+        println!("APDU_STATUS_IND ar {} {state}{problem}{backup}", ar.number);
     }
 
     fn ar_abort(&mut self, ar: ArId, reason: ArEndReason) {

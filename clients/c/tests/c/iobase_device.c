@@ -856,8 +856,12 @@ int main(void) {
         event_t e = event(i);
         PNIO_UINT32 run = e.a & PNIO_EVENT_APDU_STATUS_RUN;
         PNIO_UINT32 stp = e.a & PNIO_EVENT_APDU_STATUS_STOP;
+        /* The demo PLC is the primary, without a station problem. */
         if (e.type == EV_APDU)
-            CHECK((e.a & PNIO_EVENT_APDU_STATUS_STATION_OK) && (!run != !stp),
+            CHECK((e.a & PNIO_EVENT_APDU_STATUS_STATION_OK) &&
+                      (e.a & PNIO_EVENT_APDU_STATUS_PRIMARY) && (!run != !stp) &&
+                      !(e.a & (PNIO_EVENT_APDU_STATUS_STATION_PROBLEM |
+                               PNIO_EVENT_APDU_STATUS_BACKUP)),
                   "APDU_STATUS_IND 0x%x", (unsigned)e.a);
     }
 

@@ -8,7 +8,7 @@
 
 use super::diag_tags::Position;
 use super::end_reason::ArEndReason;
-use super::sessions::ArId;
+use super::sessions::{ApduStatus, ArId};
 use procimg_control::services::{ExpectedSubmodule, StationArCheckJob, StationRecordJob};
 
 /// The device callbacks of IO-Base (`PNIO_CBF_*`), in Rust.
@@ -35,9 +35,10 @@ pub trait DeviceCallbacks {
     /// `AR_INDATA_IND`: data exchange.
     fn in_data(&mut self, ar: ArId) {}
 
-    /// `APDU_STATUS_IND`: the PLC's frames changed between RUN and STOP (a change before
-    /// data exchange comes right after [`in_data`](Self::in_data)).
-    fn apdu_status(&mut self, ar: ArId, running: bool) {}
+    /// `APDU_STATUS_IND`: the DataStatus of the PLC's frames changed (RUN or STOP, a
+    /// station problem, primary or backup); a change before data exchange comes right after
+    /// [`in_data`](Self::in_data).
+    fn apdu_status(&mut self, ar: ArId, status: ApduStatus) {}
 
     /// `AR_ABORT_IND`: the AR ended before data exchange.
     fn ar_abort(&mut self, ar: ArId, reason: ArEndReason) {}

@@ -21,8 +21,9 @@
 //!    [`IoBaseDevice::application_ready`] (procimgd sends it by itself after
 //!    [`APP_READY_HOLD_TIMEOUT_MS`](procimg_control::services::APP_READY_HOLD_TIMEOUT_MS));
 //! 6. [`in_data`](DeviceCallbacks::in_data) when the station reports [`ArState::Data`];
-//! 7. [`apdu_status`](DeviceCallbacks::apdu_status) when the PLC goes between RUN and STOP
-//!    (a change before data exchange right after `in_data`);
+//! 7. [`apdu_status`](DeviceCallbacks::apdu_status) when the DataStatus of the PLC's
+//!    frames changes: RUN or STOP, a station problem, primary or backup (a change before
+//!    data exchange right after `in_data`);
 //! 8. [`ar_offline`](DeviceCallbacks::ar_offline) when the AR ends after `in_data`, else
 //!    [`ar_abort`](DeviceCallbacks::ar_abort). An AR that a new Connect replaced before its
 //!    end was reported ends [`ArEndReason::Replaced`]; one whose end this station waited
@@ -36,7 +37,9 @@ use super::callbacks::DeviceCallbacks;
 use super::diag_tags::{DiagTagError, DiagTagKind, DiagTags, Position};
 use super::end_reason::ArEndReason;
 use super::led::{FLASH_HZ, LedFlash};
-use super::sessions::{ArId, ArSessions, ProgramAr, Ready, ReadyError, SessionError, Step};
+use super::sessions::{
+    ApduStatus, ArId, ArSessions, ProgramAr, Ready, ReadyError, SessionError, Step,
+};
 use crate::error::{AttachError, ControlError};
 use crate::services::{ServiceOptions, Services};
 use procimg_control::services::{Notification, StationArCheckJob};
@@ -257,10 +260,19 @@ impl IoBaseDevice {
                     );
                 }
             }
-            Notification::StationPlcRunning { running } => {
-                let now = lock(&self.sessions).plc_running(running);
+            Notification::StationPlcRunning {
+                running,
+                station_problem,
+                backup,
+            } => {
+                let status = ApduStatus {
+                    running,
+                    station_problem,
+                    backup,
+                };
+                let now = lock(&self.sessions).plc_status(status);
                 if let Some(ar) = now {
-                    program.apdu_status(ar, running);
+                    program.apdu_status(ar, status);
                 }
             }
             Notification::StationPlugParameterized { api, slot, subslot } => {
@@ -314,10 +326,10 @@ impl IoBaseDevice {
         let step = lock(&self.sessions).advance(uuid, state);
         match step {
             Some(Step::PrmEnd(ar)) => program.prm_end(ar, None),
-            Some(Step::InData(ar, running)) => {
+            Some(Step::InData(ar, status)) => {
                 program.in_data(ar);
-                if let Some(running) = running {
-                    program.apdu_status(ar, running);
+                if let Some(status) = status {
+                    program.apdu_status(ar, status);
                 }
             }
             None => {}

@@ -66,5 +66,7 @@ pub use end_reason::{
     ArEndReason, REASON_ABORT, REASON_HIGHEST_ABORT_CODE, REASON_NONE, REASON_REL, REASON_RERUN,
 };
 pub use led::{FLASH_FOR, FLASH_HZ, LedFlash};
-pub use sessions::{ArId, ArPhase, ArSessions, ProgramAr, Ready, ReadyError, SessionError};
+pub use sessions::{
+    ApduStatus, ArId, ArPhase, ArSessions, ProgramAr, Ready, ReadyError, SessionError,
+};
 pub use watchdog::{AppWatchdogs, WatchdogError};

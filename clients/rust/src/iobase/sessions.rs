@@ -32,6 +32,17 @@ pub enum ArPhase {
     InData,
 }
 
+/// The DataStatus of the PLC's output frames, as `APDU_STATUS_IND` reports it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ApduStatus {
+    /// RUN (else STOP).
+    pub running: bool,
+    /// The PLC reports a station problem.
+    pub station_problem: bool,
+    /// The PLC's provider is the backup, not the primary.
+    pub backup: bool,
+}
+
 /// The current AR of a device.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ProgramAr {
@@ -41,8 +52,8 @@ pub struct ProgramAr {
     pub uuid: String,
     /// How far it got.
     pub phase: ArPhase,
-    /// A RUN/STOP change of the PLC before data exchange, given after `AR_INDATA_IND`.
-    apdu_pending: Option<bool>,
+    /// A change of the PLC's status before data exchange, given after `AR_INDATA_IND`.
+    apdu_pending: Option<ApduStatus>,
     /// Submodules plugged in data exchange whose `PRM_END_IND` was given and whose
     /// ApplicationReady has not come yet.
     plug_prm_ends: u32,
@@ -127,8 +138,8 @@ pub enum Ready {
 pub(crate) enum Step {
     /// `PRM_END_IND`.
     PrmEnd(ArId),
-    /// `AR_INDATA_IND`, then the PLC's RUN/STOP if it changed before.
-    InData(ArId, Option<bool>),
+    /// `AR_INDATA_IND`, then the PLC's status if it changed before.
+    InData(ArId, Option<ApduStatus>),
 }
 
 /// The ARs of a device: the current one and the next ArNumber.
@@ -219,14 +230,14 @@ impl ArSessions {
         })
     }
 
-    /// The PLC went to RUN or STOP: the AR to tell now (in data exchange); before, the
-    /// change is kept for after `AR_INDATA_IND`.
-    pub(crate) fn plc_running(&mut self, running: bool) -> Option<ArId> {
+    /// The PLC's status changed: the AR to tell now (in data exchange); before, the change
+    /// is kept for after `AR_INDATA_IND`.
+    pub(crate) fn plc_status(&mut self, status: ApduStatus) -> Option<ArId> {
         let ar = self.current.as_mut()?;
         if ar.phase == ArPhase::InData {
             return Some(ar.id);
         }
-        ar.apdu_pending = Some(running);
+        ar.apdu_pending = Some(status);
         None
     }
 
@@ -329,7 +340,12 @@ mod tests {
         let (ar, _) = s.begin(1, "u");
         assert_eq!(s.advance("u", ArState::Connected), None);
         assert_eq!(s.ready(ar), Err(ReadyError::NoPrmEnd { number: 1 }));
-        assert_eq!(s.plc_running(true), None, "kept for after IN_DATA");
+        let run = ApduStatus {
+            running: true,
+            station_problem: false,
+            backup: false,
+        };
+        assert_eq!(s.plc_status(run), None, "kept for after IN_DATA");
         assert_eq!(
             s.advance("u", ArState::Parameterized),
             Some(Step::PrmEnd(ar))
@@ -347,9 +363,9 @@ mod tests {
         assert!(s.current().is_some_and(ProgramAr::is_ready));
         assert_eq!(
             s.advance("u", ArState::Data),
-            Some(Step::InData(ar, Some(true)))
+            Some(Step::InData(ar, Some(run)))
         );
-        assert_eq!(s.plc_running(false), Some(ar));
+        assert_eq!(s.plc_status(run), Some(ar));
         assert_eq!(s.plug_parameterized(), Some(ar));
         assert_eq!(s.ready(ar), Ok(Ready::Plug));
         assert_eq!(s.ready(ar), Err(ReadyError::Already { number: 1 }));

@@ -34,7 +34,15 @@ pub fn notification(event: StationEvent) -> Notification {
             planned,
             abort_code: abort.map(AbortCode::raw),
         },
-        StationEvent::PlcRunning(running) => Notification::StationPlcRunning { running },
+        StationEvent::PlcRunning {
+            running,
+            station_problem,
+            backup,
+        } => Notification::StationPlcRunning {
+            running,
+            station_problem,
+            backup,
+        },
         StationEvent::PlugParameterized(at) => Notification::StationPlugParameterized {
             api: at.api,
             slot: at.slot,
@@ -241,8 +249,16 @@ mod tests {
     #[test]
     fn the_plc_dcp_and_identity_events_map_one_to_one() {
         assert_eq!(
-            notification(StationEvent::PlcRunning(false)),
-            Notification::StationPlcRunning { running: false }
+            notification(StationEvent::PlcRunning {
+                running: false,
+                station_problem: true,
+                backup: false
+            }),
+            Notification::StationPlcRunning {
+                running: false,
+                station_problem: true,
+                backup: false
+            }
         );
         assert_eq!(
             notification(StationEvent::Blink),

@@ -15,7 +15,7 @@ use procimg_control::{PlugRefusal, Refusal, StationDiagnosisChange};
 use procimg_profinet::device::{ArState, Device, DeviceAction, PlugError, SubslotAddr};
 use procimg_profinet::wire::record::RecordErrorCode;
 use procimg_profinet::wire::rpc::RPC_PORT;
-use procimg_profinet::wire::rt::data_status::PROVIDER_RUN;
+use procimg_profinet::wire::rt::data_status::{PROVIDER_RUN, STATE_PRIMARY, STATION_OK};
 use procimg_profinet::wire::rta_pdu::AbortCode;
 use std::net::SocketAddrV4;
 use std::path::PathBuf;
@@ -153,8 +153,9 @@ pub struct DeviceRole {
     kept: Option<Kept>,
     /// The station's address on a real interface, which follows DCP's changes.
     address: Option<InterfaceAddress>,
-    /// RUN or STOP, as the PLC's last output frame said, while its data flows.
-    plc_running: Option<bool>,
+    /// The DataStatus bits of the PLC's last output frame that the application is told of
+    /// (RUN, StationProblemIndicator, primary), while its data flows.
+    plc_status: Option<u8>,
     /// The cycle took the PLC's first valid frame of the current exchange.
     data_flows: bool,
     /// The clients' alarms waiting for the PLC's acknowledgement.
@@ -204,7 +205,7 @@ impl DeviceRole {
             aborted: 0,
             kept: None,
             address: None,
-            plc_running: None,
+            plc_status: None,
             data_flows: false,
             alarms: ClientAlarms::default(),
             problem: false,
@@ -332,13 +333,20 @@ impl DeviceRole {
             self.tell(event, out);
             self.last_state = state;
         }
-        // The PLC's RUN/STOP, from its output frames' DataStatus, once its data flows.
-        let running = (self.device.ar().state() == ArState::Data && self.data_flows)
-            .then(|| self.channel.peer_data_status.load(Ordering::Relaxed) & PROVIDER_RUN != 0);
-        if running != self.plc_running {
-            self.plc_running = running;
-            if let Some(r) = running {
-                self.tell(StationEvent::PlcRunning(r), out);
+        // The PLC's RUN/STOP, station problem and primary/backup, from its output frames'
+        // DataStatus, once its data flows.
+        let told = PROVIDER_RUN | STATION_OK | STATE_PRIMARY;
+        let status = (self.device.ar().state() == ArState::Data && self.data_flows)
+            .then(|| self.channel.peer_data_status.load(Ordering::Relaxed) & told);
+        if status != self.plc_status {
+            self.plc_status = status;
+            if let Some(s) = status {
+                let event = StationEvent::PlcRunning {
+                    running: s & PROVIDER_RUN != 0,
+                    station_problem: s & STATION_OK == 0,
+                    backup: s & STATE_PRIMARY == 0,
+                };
+                self.tell(event, out);
             }
         }
         if self.device.station().signal_count() != self.signals {

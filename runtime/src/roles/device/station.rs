@@ -46,8 +46,16 @@ pub enum StationEvent {
     },
     /// DCP Signal: the engineering tool asks the station to make itself seen.
     Blink,
-    /// The PLC's output frames say RUN (`true`) or STOP.
-    PlcRunning(bool),
+    /// The DataStatus of the PLC's output frames: RUN (`true`) or STOP, a station problem,
+    /// backup rather than primary.
+    PlcRunning {
+        /// RUN.
+        running: bool,
+        /// The PLC's StationProblemIndicator says a problem.
+        station_problem: bool,
+        /// Backup, not primary.
+        backup: bool,
+    },
     /// DCP set the station's name or IP suite (to a new value, or to keep the value across a
     /// restart), or reset it to factory. The engine has no event for it: the role tells it
     /// from what the engine holds (`identity.rs`).
@@ -222,8 +230,21 @@ impl Station {
                 Some(s) => tracing::debug!("alarm {tag} acknowledged by the PLC: {s:02x?}"),
                 None => tracing::debug!("alarm {tag} unacknowledged: the AR ended"),
             },
-            StationEvent::PlcRunning(running) => {
-                tracing::info!("the PLC is in {}", if *running { "RUN" } else { "STOP" });
+            StationEvent::PlcRunning {
+                running,
+                station_problem,
+                backup,
+            } => {
+                tracing::info!(
+                    "the PLC is in {}{}{}",
+                    if *running { "RUN" } else { "STOP" },
+                    if *station_problem {
+                        ", with a station problem"
+                    } else {
+                        ""
+                    },
+                    if *backup { ", as the backup" } else { "" }
+                );
                 if let Some(ar) = r.ar.as_mut() {
                     ar.plc_running = Some(*running);
                 }

@@ -37,9 +37,9 @@
 //!    [`ArState::Parameterized`](procimg_client::ArState::Parameterized) (the PLC's PrmEnd); the ApplicationReady waits for
 //!    `PNIO_set_appl_state_ready` (procimgd sends it by itself after 10 s).
 //! 6. `PNIO_CBF_AR_INDATA_IND` when the station reports [`ArState::Data`](procimg_client::ArState::Data).
-//! 7. `PNIO_CBF_APDU_STATUS_IND` when the PLC's frames change between RUN and STOP:
-//!    `PNIO_EVENT_APDU_STATUS_RUN` or `_STOP`, each with `_STATION_OK` (procimgd reports no
-//!    station problem); a change before data exchange is given right after
+//! 7. `PNIO_CBF_APDU_STATUS_IND` when the DataStatus of the PLC's frames changes:
+//!    `PNIO_EVENT_APDU_STATUS_RUN` or `_STOP`, `_STATION_OK` or `_STATION_PROBLEM`,
+//!    `_PRIMARY` or `_BACKUP`; a change before data exchange is given right after
 //!    `AR_INDATA_IND`.
 //! 8. `PNIO_CBF_AR_OFFLINE_IND` when the AR ends after `AR_INDATA_IND`, else
 //!    `PNIO_CBF_AR_ABORT_IND`, with the reason of [`ArEndReason::iobase_code`]. An AR that a new
@@ -67,7 +67,7 @@ use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_IO_IN;
 use procimg_client::StationRecordJob;
-use procimg_client::iobase::{ArEndReason, ArId, DeviceCallbacks};
+use procimg_client::iobase::{ApduStatus, ArEndReason, ArId, DeviceCallbacks};
 use procimg_control::services::{ExpectedSubmodule, StationArCheckJob};
 use std::time::Duration;
 
@@ -89,6 +89,24 @@ pub(crate) fn uuid(text: &str) -> PNIO_UUID_TYPE {
         ClockSeqLow: b[9],
         Node: [b[10], b[11], b[12], b[13], b[14], b[15]],
     }
+}
+
+/// `APDU_STATUS_IND`'s bits for the DataStatus of the PLC's frames.
+pub(crate) fn apdu_bits(s: ApduStatus) -> PNIO_APDU_STATUS_IND {
+    let pick = |on: bool, yes, no| if on { yes } else { no };
+    pick(
+        s.running,
+        PNIO_EVENT_APDU_STATUS_RUN,
+        PNIO_EVENT_APDU_STATUS_STOP,
+    ) | pick(
+        s.station_problem,
+        PNIO_EVENT_APDU_STATUS_STATION_PROBLEM,
+        PNIO_EVENT_APDU_STATUS_STATION_OK,
+    ) | pick(
+        s.backup,
+        PNIO_EVENT_APDU_STATUS_BACKUP,
+        PNIO_EVENT_APDU_STATUS_PRIMARY,
+    )
 }
 
 /// `AR_CHECK_IND`'s HostIp: the PLC's address as `struct in_addr`'s `s_addr` holds it
@@ -294,13 +312,8 @@ impl DeviceCallbacks for Callbacks<'_> {
         });
     }
 
-    fn apdu_status(&mut self, ar: ArId, running: bool) {
-        let status = PNIO_EVENT_APDU_STATUS_STATION_OK
-            | if running {
-                PNIO_EVENT_APDU_STATUS_RUN
-            } else {
-                PNIO_EVENT_APDU_STATUS_STOP
-            };
+    fn apdu_status(&mut self, ar: ArId, apdu: ApduStatus) {
+        let status = apdu_bits(apdu);
         // SAFETY: the program's callback (see the impl); the pointers live until it returned.
         self.call(self.dev.cbf.cbf_apdu_status_ind, |f, h| unsafe {
             f(h, ar.number, ar.session_key, status)
@@ -447,6 +460,17 @@ mod tests {
             "wrong: left as it is"
         );
         assert_eq!(substitute(plugged, plugged, proper), None, "already there");
+    }
+
+    #[test]
+    fn the_apdu_status_says_what_the_data_status_says() {
+        let s = |running, station_problem, backup| ApduStatus {
+            running,
+            station_problem,
+            backup,
+        };
+        assert_eq!(apdu_bits(s(true, false, false)), 0x02 | 0x04 | 0x10);
+        assert_eq!(apdu_bits(s(false, true, true)), 0x01 | 0x08 | 0x20);
     }
 
     #[test]
