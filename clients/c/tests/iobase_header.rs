@@ -512,6 +512,16 @@ fn reason_constants_match_their_table() {
             "PNIO_CTRL_REASON_MP_DEVICE_DISABLED",
             PNIO_CTRL_REASON_MP_DEVICE_DISABLED,
         ),
+        ("PNIO_CTRL_REASON_RPC_ERROR", PNIO_CTRL_REASON_RPC_ERROR),
+        (
+            "PNIO_CTRL_REASON_PNIO_CONFIGURATION",
+            PNIO_CTRL_REASON_PNIO_CONFIGURATION,
+        ),
+        (
+            "PNIO_CTRL_REASON_IP_SET_ABORTED",
+            PNIO_CTRL_REASON_IP_SET_ABORTED,
+        ),
+        ("PNIO_CTRL_REASON_MISS", PNIO_CTRL_REASON_MISS),
     ] {
         assert_eq!(
             PNIO_CTRL_REASONS
