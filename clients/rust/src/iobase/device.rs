@@ -173,6 +173,15 @@ impl IoBaseDevice {
         lock(&self.sessions).current().cloned()
     }
 
+    /// Whether the current AR takes the program's IO data ([`ProgramAr::takes_data`]),
+    /// without a copy of it: the data functions ask this every call, in an isochronous
+    /// program inside its STARTOP callback.
+    pub fn ar_takes_data(&self) -> bool {
+        lock(&self.sessions)
+            .current()
+            .is_some_and(ProgramAr::takes_data)
+    }
+
     /// Checks the ArNumber and SessionKey of a call; the current AR.
     pub fn check(&self, ar: ArId) -> Result<ProgramAr, SessionError> {
         lock(&self.sessions).check(ar).cloned()

@@ -216,7 +216,7 @@ pub(crate) fn initiate(
         );
     }
     // From PRM_END_IND on (the manual's steps 14 and 15, before the ApplicationReady).
-    let in_ar = dev.iobase.current_ar().is_some_and(|a| a.takes_data());
+    let in_ar = dev.iobase.ar_takes_data();
     if !in_ar {
         return PNIO_WARN_NO_SUBMODULES;
     }
