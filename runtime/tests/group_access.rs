@@ -303,7 +303,13 @@ fn members_of_the_access_group_attach_and_nobody_else_does() {
         .env(CHILD_ENV, format!("cycles:{instance}"))
         .output()
         .expect("setpriv (util-linux)");
-    assert_eq!(result_line(&member), "RESULT cycles 100");
+    assert_eq!(
+        result_line(&member),
+        "RESULT cycles 100",
+        "the member's client: {}\nprocimgd's log:\n{}",
+        String::from_utf8_lossy(&member.stderr),
+        std::fs::read_to_string(&server.log).unwrap_or_default()
+    );
     // The member's processes ended cleanly and left nothing in /dev/shm, where procimgd (another
     // user) could not remove it.
     let left: Vec<String> = std::fs::read_dir("/dev/shm")

@@ -10,6 +10,7 @@ use iceoryx2::port::client::Client as RrClient;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::port::update_connections::UpdateConnections as _;
 use iceoryx2::prelude::{
     AllocationStrategy, BackpressureStrategy, FileDescriptorBased, FileName, NodeName,
     SemanticString, ServiceName, SignalHandlingMode,
@@ -117,9 +118,8 @@ pub(crate) fn access_group_active() -> bool {
 }
 
 /// With procimgd's `[access] group`, gives the group the files this process created (procimgd
-/// runs as another user and must open them); nothing otherwise. iceoryx2 creates a
-/// subscriber's connection files when the first sample comes, so the loops that wait for one
-/// call this too; it looks at most every 10 ms.
+/// runs as another user and must open them); nothing otherwise. For the loops that wait for
+/// the server: it looks at most every 10 ms.
 pub(crate) fn share_own_files() {
     static LAST_MS: AtomicU64 = AtomicU64::new(0);
     let now_ms = procimg_shm_layout::os::monotonic_ns() / 1_000_000 + 1;
@@ -128,6 +128,11 @@ pub(crate) fn share_own_files() {
         return;
     }
     LAST_MS.store(now_ms, Ordering::Relaxed);
+    share_own_files_now();
+}
+
+/// [`share_own_files`] at once, for a step that has just created files procimgd will open.
+fn share_own_files_now() {
     let root = root_dir();
     if let Some(gid) = share::access_group(&root) {
         share::share_own_files(&root, control::IOX2_PREFIX, gid);
@@ -284,7 +289,14 @@ impl Connection {
             _ => shm(instance, "the handshake block", e),
         })?;
         let handshake = std::sync::Arc::new(handshake);
-        share_own_files();
+        // iceoryx2 connects a subscriber to its publishers lazily, at its first receive, and
+        // whichever side comes first creates the connection's file, owner-only. procimgd's
+        // cycle thread tries a new subscriber's connection once: it waits for a file it may
+        // not open yet for iceoryx2's creation timeout (1 s), then gives up until a port comes
+        // or goes. So the subscriber connects here, and what it created goes to the group
+        // right after, not at some later receive after which nothing shares it.
+        let _ = inputs.update_connections();
+        share_own_files_now();
         // SAFETY: the descriptor belongs to `events`, which lives in the same Connection and
         // outlives every use of the descriptor.
         #[allow(unsafe_code)]
