@@ -56,6 +56,20 @@ impl StationDiagnosisChange {
     }
 }
 
+/// A pending entry of the station's diagnosis (device role), as the status report has it:
+/// what the PLC reads in its diagnosis records (0x800A and the others).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StationDiagnosis {
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// The entry.
+    pub entry: DiagnosisEntry,
+}
+
 /// The format of a diagnosis entry.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]

@@ -31,7 +31,8 @@ mod states;
 mod status;
 
 pub use diagnosis::{
-    DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosisChange,
+    DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosis,
+    StationDiagnosisChange,
 };
 pub use names::*;
 pub use refusal::{AlarmRefusal, PlugRefusal, Refusal};

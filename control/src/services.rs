@@ -240,6 +240,9 @@ pub enum Notification {
         ar_uuid: String,
         /// The PLC's MAC address.
         controller_mac: String,
+        /// The PLC's NameOfStation (empty from an older server).
+        #[serde(default)]
+        controller_name: String,
     },
     /// Device role: the station's AR ended.
     StationArEnded {
@@ -603,6 +606,7 @@ mod tests {
                     state: ArState::Data,
                     ar_uuid: "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2".into(),
                     controller_mac: "02:50:49:fe:00:01".into(),
+                    controller_name: "plc-1".into(),
                 },
                 "station_ar",
             ),

@@ -227,6 +227,14 @@ pub struct StationReport {
     /// Why the last one ended so.
     #[serde(default)]
     pub last_abort: Option<String>,
+    /// The pending diagnosis, by submodule in (API, slot, subslot) order, each submodule's
+    /// entries oldest first: what the PLC reads in the diagnosis records.
+    #[serde(default)]
+    pub diagnosis: Vec<crate::StationDiagnosis>,
+    /// The station problem indicator of the station's frames: a fault is pending, or a
+    /// client reported a problem.
+    #[serde(default)]
+    pub station_problem: bool,
 }
 
 /// An AR of the device role, for the status report.
@@ -238,6 +246,9 @@ pub struct ArReport {
     pub ar_uuid: String,
     /// The PLC's MAC address.
     pub controller_mac: String,
+    /// The PLC's NameOfStation (empty from an older server).
+    #[serde(default)]
+    pub controller_name: String,
     /// Whether the PLC's provider is in RUN (its output frames' DataStatus); none before its
     /// first frame.
     #[serde(default)]

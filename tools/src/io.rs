@@ -12,18 +12,21 @@ use std::time::{Duration, Instant};
 
 #[derive(Subcommand)]
 pub enum IoCommand {
-    /// Read inputs (or, with --output, the outputs as last sent) at a logical address.
+    /// Read inputs (or, with --output, the outputs as last sent) at a logical address. In the
+    /// device role: the Q data the PLC writes (or, with --output, the I data it reads), at
+    /// the addresses `procimg layout` gives in its Q (or I) column.
     Read {
         /// Logical address (decimal or 0x hex).
         #[arg(value_parser = parse_u32)]
         address: u32,
         /// Bytes to read (default: to the end of the submodule).
         length: Option<usize>,
-        /// Read the output (Q) space instead of the input (I) space.
+        /// Read the output (Q) space instead of the input (I) space; in the device role the I
+        /// data the station sends to the PLC.
         #[arg(long)]
         output: bool,
     },
-    /// Write outputs at a logical address and hold them: the command claims the submodule,
+    /// Write outputs (in the device role: the I data the PLC reads) at a logical address and hold them: the command claims the submodule,
     /// writes, and keeps the claim (so the outputs keep going out) until Ctrl-C or --seconds;
     /// then the outputs go out invalid again. `io force` keeps values without a command running.
     Write {
@@ -32,7 +35,7 @@ pub enum IoCommand {
         address: u32,
         /// Bytes in hex, e.g. 01ff or "01 ff".
         bytes: String,
-        /// Send the outputs with local status BAD.
+        /// Send the outputs (in the device role: the I data) with IOPS BAD.
         #[arg(long)]
         bad: bool,
         /// Hold the outputs this long, then release them (default: until Ctrl-C).
@@ -68,14 +71,16 @@ pub enum IoCommand {
         all: bool,
     },
     /// Print the inputs at an address whenever they, their IOPS/IOCS, a force on them or
-    /// their device's state change: a line with the time and the cycle number each.
+    /// their device's state change: a line with the time and the cycle number each. In the
+    /// device role: the Q data from the PLC (with --output, the I data to it), and the AR's
+    /// state.
     Watch {
         /// Logical address (decimal or 0x hex).
         #[arg(value_parser = parse_u32)]
         address: u32,
         /// Bytes to show (default: to the end of the submodule).
         length: Option<usize>,
-        /// Watch the output (Q) space.
+        /// Watch the output (Q) space; in the device role the I data the PLC reads.
         #[arg(long)]
         output: bool,
         /// Stop after this many lines.
@@ -106,6 +111,17 @@ pub(crate) fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
     }
     hex::decode(&digits)
         .map_err(|e| anyhow::anyhow!("{s:?} is not whole bytes in hex ({e}); e.g. 01ff"))
+}
+
+/// What the bytes of `space` are, in words: in the device role (`device`) as the PLC sees
+/// them, whose Q data is in the image's input space and whose I data in its output space.
+pub(crate) fn space_words(device: bool, space: Space) -> &'static str {
+    match (device, space) {
+        (false, Space::Input) => "inputs",
+        (false, Space::Output) => "outputs",
+        (true, Space::Input) => "Q data from the PLC",
+        (true, Space::Output) => "I data to the PLC",
+    }
 }
 
 /// Addresses for people: `0..15`, or `7` for one byte.
@@ -142,14 +158,32 @@ fn read(
     )?;
     let n = length.unwrap_or(at.data_len);
     let mut buf = vec![0u8; n];
+    let device = client.is_device();
     let mut text = if output {
         let r = client.output_data_read(address, &mut buf)?;
         buf.truncate(r.len.min(n));
-        format!("local {:?} remote {:?}", r.local, r.remote)
+        if device {
+            format!(
+                "{}: this station's IOPS {:?}, the PLC's IOCS {:?}",
+                space_words(true, space),
+                r.local,
+                r.remote
+            )
+        } else {
+            format!("local {:?} remote {:?}", r.local, r.remote)
+        }
     } else {
         let r = client.data_read(address, &mut buf, Ioxs::Good)?;
         buf.truncate(r.len.min(n));
-        format!("remote {:?}", r.remote)
+        if device {
+            format!(
+                "{}: the PLC's IOPS {:?}",
+                space_words(true, space),
+                r.remote
+            )
+        } else {
+            format!("remote {:?}", r.remote)
+        }
     };
     if let Some(st) = status
         && st
@@ -258,14 +292,20 @@ pub fn run(instance: &str, op: IoCommand) -> anyhow::Result<()> {
             let local = if bad { Ioxs::Bad } else { Ioxs::Good };
             let remote = client.data_write(address, &data, local)?;
             let span = range(address, data.len());
+            // In the device role the bytes are I data: the PLC reads them.
+            let (at_text, remote_text, what) = if client.is_device() {
+                ("I data to the PLC at", "the PLC's IOCS", "the I data goes")
+            } else {
+                ("at Q", "remote status", "the outputs go")
+            };
             match seconds {
                 Some(s) => println!(
-                    "written {} at Q {span} (remote status {remote:?}); held for {s} s",
+                    "written {} {at_text} {span} ({remote_text} {remote:?}); held for {s} s",
                     hex(&data)
                 ),
                 None => println!(
-                    "written {} at Q {span} (remote status {remote:?}); held until \
-                     Ctrl-C, then the outputs go out invalid (`procimg io force` keeps them \
+                    "written {} {at_text} {span} ({remote_text} {remote:?}); held until \
+                     Ctrl-C, then {what} out invalid (`procimg io force` keeps them \
                      without a running command)",
                     hex(&data)
                 ),

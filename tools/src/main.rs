@@ -7,6 +7,7 @@ mod gsdml;
 mod interrupt;
 mod io;
 mod services;
+mod station_diag;
 mod status;
 mod text;
 mod watch;
@@ -80,7 +81,9 @@ enum Command {
         #[command(subcommand)]
         op: DeviceCommand,
     },
-    /// The state of every device: state, activation, last error, module differences.
+    /// The state of every device: state, activation, last error, module differences; of a
+    /// device-role server, the station's own diagnosis as the PLC reads it (its diagnosis
+    /// records) and the station problem indicator.
     Diag {
         /// JSON instead of text.
         #[arg(long)]

@@ -203,7 +203,10 @@ fn describe(n: &Notification) -> String {
             state,
             ar_uuid,
             controller_mac,
-        } => format!("station: AR {ar_uuid} with PLC {controller_mac}: {state}"),
+            controller_name,
+        } => format!(
+            "station: AR {ar_uuid} with PLC \"{controller_name}\" ({controller_mac}): {state}"
+        ),
         Notification::StationArEnded {
             ar_uuid, reason, ..
         } => format!("station: AR {ar_uuid} ended: {reason}"),
@@ -322,9 +325,12 @@ pub fn activate(instance: &str, name: &str, active: bool) -> anyhow::Result<()> 
     bail!("no confirmation from instance \"{instance}\" within 5 s")
 }
 
-/// `procimg diag`: the state of every device.
+/// `procimg diag`: the state of every device, or the station's diagnosis in the device role.
 pub fn diag(instance: &str, json: bool) -> anyhow::Result<()> {
     let s = open(instance, "procimg-diag", false)?;
+    if let Some(station) = s.control().status()?.station {
+        return crate::station_diag::print(&station, json);
+    }
     let d = s.diagnosis()?;
     if json {
         println!("{}", serde_json::to_string_pretty(&d)?);

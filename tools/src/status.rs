@@ -137,16 +137,10 @@ fn station(st: &StationReport) {
                 Some(false) => "STOP",
                 None => "no frame yet",
             };
-            let state = match ar.state {
-                ArState::Connected => "connected, the PLC writes its parameters",
-                ArState::Parameterized => "parameterized, the ApplicationReady waits",
-                ArState::WaitingForApplicationReadyConfirm => "ApplicationReady sent",
-                ArState::Data => "in data exchange",
-                ArState::Unknown => "in a state this tool does not know",
-            };
+            let state = ar_words(ar.state);
             println!(
-                "AR {state}  with PLC {} ({plc})  ARUUID {}",
-                ar.controller_mac, ar.ar_uuid
+                "AR {state}  with PLC \"{}\" {} ({plc})  ARUUID {}",
+                ar.controller_name, ar.controller_mac, ar.ar_uuid
             );
         }
         None => println!("AR none (no PLC connected)"),
@@ -177,4 +171,15 @@ fn line(what: &str, p: &Percentiles) {
         us(p.max_ns),
         p.count
     );
+}
+
+/// Where an AR of the device role stands, in words.
+pub fn ar_words(state: ArState) -> &'static str {
+    match state {
+        ArState::Connected => "connected, the PLC writes its parameters",
+        ArState::Parameterized => "parameterized, the ApplicationReady waits",
+        ArState::WaitingForApplicationReadyConfirm => "ApplicationReady sent",
+        ArState::Data => "in data exchange",
+        ArState::Unknown => "in a state this tool does not know",
+    }
 }

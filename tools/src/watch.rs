@@ -98,6 +98,12 @@ pub fn watch(client: &mut Client, w: &Watch) -> anyhow::Result<()> {
     let device = entry.device;
     let device_name = client.layout().device_name(device as usize).to_owned();
     let length = w.length.unwrap_or(at.data_len).min(at.data_len);
+    // In the device role a line says which of the PLC's data it shows.
+    let label = if client.is_device() {
+        format!("{device_name} ({})", crate::io::space_words(true, space))
+    } else {
+        device_name.clone()
+    };
     // Without the notification service the status report keeps the state, once a second.
     let mut services =
         Services::open(client.instance(), ServiceOptions::new("procimg io watch")).ok();
@@ -151,7 +157,7 @@ pub fn watch(client: &mut Client, w: &Watch) -> anyhow::Result<()> {
             if w.json {
                 println!("{}", line_json(&time, cycle, w, &device_name, &now));
             } else {
-                println!("{}", line_text(&time, cycle, &device_name, &now));
+                println!("{}", line_text(&time, cycle, &label, &now));
             }
             last = Some(now);
             lines += 1;

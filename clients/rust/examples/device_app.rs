@@ -92,6 +92,7 @@ fn run(args: Args) -> anyhow::Result<()> {
             state: ar.state,
             ar_uuid: ar.ar_uuid,
             controller_mac: ar.controller_mac,
+            controller_name: ar.controller_name,
         })
     {
         println!("device_app: {line}");

@@ -74,6 +74,8 @@ pub(super) struct Ar {
     pub(super) ar_uuid: Uuid,
     pub(super) session_key: u16,
     pub(super) initiator_object: Uuid,
+    /// The PLC's NameOfStation (the Connect's CMInitiatorStationName).
+    pub(super) controller_name: String,
     /// Where the ApplicationReady goes: the Connect's IP, the controller's RPC server port.
     pub(super) controller: SocketAddrV4,
     pub(super) state: ArState,
@@ -153,6 +155,7 @@ impl Ar {
             ar_uuid: plan.ar.ar_uuid,
             session_key: plan.ar.session_key,
             initiator_object: plan.ar.initiator_object_uuid,
+            controller_name: plan.ar.station_name.clone(),
             controller,
             state: ArState::Connected,
             submodules,

@@ -62,6 +62,12 @@ impl ArSlot {
         self.current.as_ref().map(Ar::controller_mac)
     }
 
+    /// The NameOfStation of the controller of the current AR (its Connect's
+    /// CMInitiatorStationName).
+    pub fn controller_name(&self) -> Option<&str> {
+        self.current.as_ref().map(|a| a.controller_name.as_str())
+    }
+
     /// How many ARs ended other than by Release (aborted by either side).
     pub fn aborted_ars(&self) -> u64 {
         self.aborted_ars

@@ -24,6 +24,41 @@ pub const USI_MAINTENANCE: u16 = 0x8100;
 /// ChannelNumber meaning "the whole submodule".
 pub const CHANNEL_NUMBER_SUBMODULE: u16 = 0x8000;
 
+/// What a ChannelErrorType means (IEC 61158-6-10, table "ChannelErrorType"): the common
+/// values; `None` for reserved, profile and manufacturer-specific ones.
+pub const fn channel_error_text(error_type: u16) -> Option<&'static str> {
+    Some(match error_type {
+        0x0001 => "short circuit",
+        0x0002 => "undervoltage",
+        0x0003 => "overvoltage",
+        0x0004 => "overload",
+        0x0005 => "overtemperature",
+        0x0006 => "wire break",
+        0x0007 => "upper limit exceeded",
+        0x0008 => "lower limit exceeded",
+        0x0009 => "error",
+        0x0010 => "parameter assignment error",
+        0x0011 => "power supply fault",
+        0x0012 => "fuse blown",
+        0x0014 => "ground fault",
+        0x0015 => "reference point lost",
+        0x0016 => "sampling error",
+        0x0017 => "threshold exceeded",
+        0x0018 => "output disabled",
+        0x0019 => "safety-related fault",
+        0x001A => "external fault",
+        0x8000 => "data transmission impossible",
+        0x8001 => "remote mismatch",
+        0x8002 => "media redundancy mismatch",
+        0x8003 => "sync mismatch",
+        0x8004 => "isochronous mode mismatch",
+        0x8005 => "multicast CR mismatch",
+        0x8007 => "fibre optic mismatch",
+        0x8008 => "network component function mismatch",
+        _ => return None,
+    })
+}
+
 /// `1 << n` if `b`, else 0.
 pub(crate) const fn bit(b: bool, n: u16) -> u16 {
     if b { 1 << n } else { 0 }

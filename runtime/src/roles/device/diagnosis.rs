@@ -56,6 +56,52 @@ pub fn entry(e: &DiagnosisEntry) -> Result<DiagEntry, String> {
     Ok(DiagEntry::Channel(channel))
 }
 
+/// `e` as clients give it and the status report shows it: [`entry`]'s inverse.
+pub fn reported(e: &DiagEntry) -> DiagnosisEntry {
+    let direction = |d: ChannelDirection| match d {
+        ChannelDirection::Input => DiagnosisDirection::Input,
+        ChannelDirection::Output => DiagnosisDirection::Output,
+        ChannelDirection::InputOutput => DiagnosisDirection::InputOutput,
+        _ => DiagnosisDirection::Manufacturer,
+    };
+    match e {
+        DiagEntry::Generic(g) => DiagnosisEntry {
+            kind: DiagnosisKind::Manufacturer,
+            usi: g.usi,
+            data: g.data.clone(),
+            channel: g.channel_number,
+            direction: direction(g.direction),
+            ..DiagnosisEntry::default()
+        },
+        DiagEntry::Channel(c) => {
+            let (severity, qualifier) = match c.severity {
+                Severity::Fault => (DiagnosisSeverity::Fault, 0),
+                Severity::MaintenanceRequired => (DiagnosisSeverity::MaintenanceRequired, 0),
+                Severity::MaintenanceDemanded => (DiagnosisSeverity::MaintenanceDemanded, 0),
+                Severity::Qualified(q) => (DiagnosisSeverity::Fault, q),
+            };
+            DiagnosisEntry {
+                kind: match c.format {
+                    DiagnosisFormat::Extended => DiagnosisKind::Extended,
+                    DiagnosisFormat::Qualified => DiagnosisKind::Qualified,
+                    DiagnosisFormat::Channel => DiagnosisKind::Channel,
+                },
+                channel: c.channel_number,
+                error_type: c.error_type,
+                ext_error_type: c.ext_error_type,
+                ext_add_value: c.ext_add_value,
+                qualifier,
+                direction: direction(c.direction),
+                severity,
+                data_type: c.data_type,
+                accumulative: c.accumulative,
+                usi: 0,
+                data: Vec::new(),
+            }
+        }
+    }
+}
+
 /// Carries out `change` on `device`: what it sends goes to `out`; `Err` says why the change
 /// was refused.
 pub fn apply(
@@ -137,5 +183,45 @@ mod tests {
             ..DiagnosisEntry::default()
         };
         assert!(entry(&m).is_err());
+    }
+
+    #[test]
+    fn a_reported_entry_is_the_entry_that_was_given() {
+        let given = [
+            DiagnosisEntry {
+                channel: 1,
+                error_type: 6,
+                direction: DiagnosisDirection::Input,
+                data_type: 1,
+                ..DiagnosisEntry::default()
+            },
+            DiagnosisEntry {
+                kind: DiagnosisKind::Extended,
+                channel: 0x8000,
+                error_type: 2,
+                ext_error_type: 0x8000,
+                ext_add_value: 7,
+                severity: DiagnosisSeverity::MaintenanceDemanded,
+                accumulative: true,
+                ..DiagnosisEntry::default()
+            },
+            DiagnosisEntry {
+                kind: DiagnosisKind::Qualified,
+                channel: 4,
+                error_type: 9,
+                qualifier: 1 << 27,
+                direction: DiagnosisDirection::InputOutput,
+                ..DiagnosisEntry::default()
+            },
+            DiagnosisEntry {
+                kind: DiagnosisKind::Manufacturer,
+                usi: 0x1234,
+                data: vec![1, 2, 3],
+                ..DiagnosisEntry::default()
+            },
+        ];
+        for e in given {
+            assert_eq!(reported(&entry(&e).unwrap()), e);
+        }
     }
 }

@@ -18,10 +18,12 @@ pub fn notification(event: StationEvent) -> Notification {
             state,
             ar_uuid,
             controller_mac,
+            controller_name,
         } => Notification::StationAr {
             state,
             ar_uuid,
             controller_mac,
+            controller_name,
         },
         StationEvent::ArEnded {
             ar_uuid,
@@ -192,6 +194,7 @@ mod tests {
                 state: told,
                 ar_uuid: UUID.into(),
                 controller_mac: "02:50:49:fe:00:01".into(),
+                controller_name: "plc-1".into(),
             });
             assert_eq!(
                 n,
@@ -199,6 +202,7 @@ mod tests {
                     state: told,
                     ar_uuid: UUID.into(),
                     controller_mac: "02:50:49:fe:00:01".into(),
+                    controller_name: "plc-1".into(),
                 }
             );
         }

@@ -268,7 +268,7 @@ impl DeviceRole {
             .station_problem
             .store(problem, Ordering::Relaxed);
         self.keep();
-        self.station.refresh(&self.device);
+        self.station.refresh(&self.device, problem);
         // Told before the AR's end that a new name or address brings about.
         if let Some(change) = self.identity.check(&self.device) {
             // Before the DCP answer (among `out`) goes: the PLC connects to the new address
@@ -318,6 +318,12 @@ impl DeviceRole {
                         .controller_mac()
                         .map(|m| m.to_string())
                         .unwrap_or_default(),
+                    controller_name: self
+                        .device
+                        .ar()
+                        .controller_name()
+                        .unwrap_or_default()
+                        .to_owned(),
                 }
             } else {
                 let aborted = self.device.ar().aborted_ars() != self.aborted;

@@ -4,10 +4,10 @@
 
 use super::identity::Identity;
 use crate::config::StationConfig;
-use procimg_control::{self as control, ArReport, StationReport};
+use procimg_control::{self as control, ArReport, StationDiagnosis, StationReport};
 use procimg_profinet::device::{
-    Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, ParameterRecord, RecordJob,
-    SubslotAddr,
+    Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, DiagnosisStore,
+    ParameterRecord, RecordJob, SubslotAddr,
 };
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
@@ -34,6 +34,8 @@ pub enum StationEvent {
         ar_uuid: String,
         /// The PLC's MAC address.
         controller_mac: String,
+        /// The PLC's NameOfStation.
+        controller_name: String,
     },
     /// The AR ended: by the PLC's Release (`abort` none), or aborted.
     ArEnded {
@@ -103,6 +105,9 @@ pub enum StationEvent {
 /// The station as the status report shows it.
 pub struct Station {
     report: Mutex<StationReport>,
+    /// The diagnosis the report shows, as the engine held it: the report's copy is made
+    /// again only when the engine's changed.
+    diagnosis_shown: Mutex<DiagnosisStore>,
 }
 
 impl Station {
@@ -121,7 +126,10 @@ impl Station {
                 aborted_ars: 0,
                 alarms_acknowledged: 0,
                 last_abort: None,
+                diagnosis: Vec::new(),
+                station_problem: false,
             }),
+            diagnosis_shown: Mutex::new(DiagnosisStore::new()),
         }
     }
 
@@ -135,13 +143,36 @@ impl Station {
         self.lock().ar.is_some()
     }
 
-    /// Takes in the counters of `device` (the name and address come with
-    /// [`StationEvent::Identity`]).
-    pub fn refresh<A>(&self, device: &Device<A>)
+    /// Takes in the counters and the diagnosis of `device`, and whether the station's frames
+    /// say a problem (the name and address come with [`StationEvent::Identity`]).
+    pub fn refresh<A>(&self, device: &Device<A>, station_problem: bool)
     where
         A: procimg_profinet::device::Application,
     {
-        self.lock().alarms_acknowledged = device.alarm_acks().count();
+        let mut shown = self
+            .diagnosis_shown
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let changed = *shown != *device.diagnosis();
+        if changed {
+            shown.clone_from(device.diagnosis());
+        }
+        let mut r = self.lock();
+        r.alarms_acknowledged = device.alarm_acks().count();
+        r.station_problem = station_problem;
+        if changed {
+            r.diagnosis = shown
+                .iter()
+                .flat_map(|(at, entries)| {
+                    entries.iter().map(move |e| StationDiagnosis {
+                        api: at.api,
+                        slot: at.slot,
+                        subslot: at.subslot,
+                        entry: super::diagnosis::reported(e),
+                    })
+                })
+                .collect();
+        }
     }
 
     /// Takes in `event`, and logs it.
@@ -152,17 +183,20 @@ impl Station {
                 state,
                 ar_uuid,
                 controller_mac,
+                controller_name,
             } => {
                 let report = ArReport {
                     state: *state,
                     ar_uuid: ar_uuid.clone(),
                     controller_mac: controller_mac.clone(),
+                    controller_name: controller_name.clone(),
                     plc_running: r.ar.as_ref().and_then(|a| a.plc_running),
                 };
                 if *state == control::ArState::Data {
                     tracing::info!(
-                        "AR {} with PLC {} is in data exchange",
+                        "AR {} with PLC \"{}\" ({}) is in data exchange",
                         report.ar_uuid,
+                        report.controller_name,
                         report.controller_mac
                     );
                 } else {
