@@ -535,6 +535,53 @@ pub struct StationArCheckJob {
     pub cmi_object_uuid: String,
     /// Every submodule the PLC expects, with what is plugged there (GOAL's EXP_SUBMOD).
     pub expected: Vec<ExpectedSubmodule>,
+    /// The AR's IO CRs, input CR first (none from an older server).
+    #[serde(default)]
+    pub crs: Vec<ArCr>,
+}
+
+/// An IO CR of a new AR (IO-Base's `PNIO_IOCR_TYPE`): its timing as the PLC's Connect gives
+/// it, the FrameID of its frames, and where each submodule's data sits in them.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ArCr {
+    /// An input CR (the station sends: the PLC's I data) or an output CR (the PLC's Q data).
+    pub input: bool,
+    /// RTClass (1 and 2 RT, 3 IRT, 4 RT over UDP).
+    pub rt_class: u8,
+    /// The FrameID of its frames.
+    pub frame_id: u16,
+    /// SendClockFactor (× 31.25 µs; 32 = 1 ms).
+    pub send_clock_factor: u16,
+    /// ReductionRatio: a frame every so many send clocks.
+    pub reduction_ratio: u16,
+    /// Phase.
+    pub phase: u16,
+    /// DataHoldFactor: frames missed before the receiver gives up.
+    pub data_hold_factor: u16,
+    /// C_SDU bytes of its frames.
+    pub data_length: u16,
+    /// Each submodule's data object (its data, then its IOPS), in the Connect's order.
+    pub data_objects: Vec<CrDataObject>,
+}
+
+/// Where a submodule's data object sits in the frames of an IO CR.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CrDataObject {
+    /// API.
+    pub api: u32,
+    /// Slot.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// Its first byte in the C_SDU.
+    pub frame_offset: u16,
+}
+
+impl ArCr {
+    /// The period of its frames in µs: SendClockFactor × 31.25 µs × ReductionRatio.
+    pub fn period_us(&self) -> f64 {
+        f64::from(self.send_clock_factor) * 31.25 * f64::from(self.reduction_ratio)
+    }
 }
 
 /// No IP address, as an older server leaves it.

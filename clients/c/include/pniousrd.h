@@ -483,16 +483,17 @@ typedef struct {
     PNIO_UINT8 Node[6];
 } ATTR_PACKED PNIO_UUID_TYPE;
 
-/* A submodule in an IOCR. */
+/* A submodule in an IOCR: one whose data object (its data, then its IOPS) the frames carry. */
 typedef struct {
     PNIO_UINT32 SlotNum;
     PNIO_UINT32 SubslotNum;
-    PNIO_UINT32 reserved;
+    PNIO_UINT32 reserved; /* procimg: the data object's first byte in the frames' C_SDU */
 } ATTR_PACKED PNIO_IOCS_TYPE;
 
 /* An IO communication relation: one input or output frame of an AR. */
 typedef struct {
-    PNIO_UINT32 CycleTime;              /* SendClock x 31.25 us x ReductioFactor */
+    PNIO_UINT32 CycleTime;              /* in ms: SendClock x 31.25 us x ReductioFactor,
+                                           rounded down */
     PNIO_IOCR_TYPE_ENUM Direction;      /* PNIO_IOCR_TYPE_* */
     PNIO_IOCR_PROP_ENUM IOCRProperties; /* PNIO_IOCR_PROP_*: mask with RT_CLASS_MASK */
     PNIO_UINT32 SendClock;              /* in 31.25 us units */
@@ -500,7 +501,8 @@ typedef struct {
     PNIO_UINT32 Phase;
     PNIO_UINT32 NumOfIoCs;              /* elements of pIoCsList */
     PNIO_IOCS_TYPE *pIoCsList;          /* the submodules in this frame */
-    PNIO_UINT32 reserved[3];
+    PNIO_UINT32 reserved[3];            /* procimg: [0] the FrameID of the frames, [1] their
+                                           C_SDU length in bytes, [2] 0 */
 } ATTR_PACKED PNIO_IOCR_TYPE;
 
 /* A submodule of an AR. Lengths are in bytes; In* is the data the device sends. */

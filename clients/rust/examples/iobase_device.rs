@@ -24,7 +24,7 @@ use procimg_client::iobase::{
     ApduStatus, ArEndReason, ArId, DeviceCallbacks, DiagTagKind, IoBaseDevice, channel_entry,
     channel_properties,
 };
-use procimg_client::{AttachOptions, Client, ExpectedSubmodule, Ioxs, Mode, StationArCheckJob};
+use procimg_client::{AttachOptions, Client, Ioxs, Mode, StationArCheckJob};
 use std::time::{Duration, Instant};
 
 #[derive(Parser)]
@@ -74,10 +74,35 @@ impl DeviceCallbacks for Program {
         );
     }
 
-    fn ar_info(&mut self, ar: ArId, expected: &[ExpectedSubmodule]) {
-        let i: u32 = expected.iter().map(|e| u32::from(e.input_length)).sum();
-        let q: u32 = expected.iter().map(|e| u32::from(e.output_length)).sum();
-        println!("AR_INFO_IND ar {}: {i} bytes I, {q} bytes Q", ar.number);
+    fn ar_info(&mut self, ar: ArId, check: &StationArCheckJob) {
+        let i: u32 = check
+            .expected
+            .iter()
+            .map(|e| u32::from(e.input_length))
+            .sum();
+        let q: u32 = check
+            .expected
+            .iter()
+            .map(|e| u32::from(e.output_length))
+            .sum();
+        let crs: Vec<String> = check
+            .crs
+            .iter()
+            .map(|cr| {
+                format!(
+                    "{} CR frame {:#06x} RT class {} every {} µs",
+                    if cr.input { "input" } else { "output" },
+                    cr.frame_id,
+                    cr.rt_class,
+                    cr.period_us()
+                )
+            })
+            .collect();
+        println!(
+            "AR_INFO_IND ar {}: {i} bytes I, {q} bytes Q; {}",
+            ar.number,
+            crs.join(", ")
+        );
     }
 
     fn prm_end(&mut self, ar: ArId, submodule: Option<(u32, u16, u16)>) {

@@ -57,10 +57,10 @@ pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_control::services::{
-    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, DCP_SET_CHECK_TIMEOUT_MS,
-    DeviceDiagnosis, DiagnosisReport, ExpectedSubmodule, FailureCause, Notification,
-    RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS, StationArCheckJob,
-    StationDcpSetJob, StationRecordJob, SubmoduleDiff,
+    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, ArCr, CrDataObject,
+    DCP_SET_CHECK_TIMEOUT_MS, DeviceDiagnosis, DiagnosisReport, ExpectedSubmodule, FailureCause,
+    Notification, RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS,
+    StationArCheckJob, StationDcpSetJob, StationRecordJob, SubmoduleDiff,
 };
 pub use procimg_control::{
     AlarmRefusal, ArReport, ArState, ClientRole, DeviceState, DiagnosisDirection, DiagnosisEntry,

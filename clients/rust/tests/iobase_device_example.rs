@@ -56,6 +56,13 @@ fn a_rust_program_follows_two_ars_with_io_base_semantics() {
         order.windows(2).all(|w| w[0] < w[1]),
         "out of the manual's order:\n{said}"
     );
+    // AR_INFO_IND has the CRs of the demo PLC's Connect: a frame each way every 1 ms.
+    let info = lines[order[1]];
+    assert!(
+        info.contains("input CR frame 0x") && info.contains("output CR frame 0x"),
+        "{info}"
+    );
+    assert_eq!(info.matches("every 1000 µs").count(), 2, "{info}");
     assert!(
         stdout.contains("a second application ready is refused: not now for AR 1: it was called for this AR already"),
         "{said}"

@@ -11,6 +11,7 @@
 use super::connect::{self, CMRPC, refuse};
 use super::diagnosis::SubslotAddr;
 use super::{Application, Device, DeviceAction, PluggedSubmodule};
+use crate::wire::connect as wire_connect;
 use crate::wire::rpc::Header;
 use crate::wire::{MacAddress, PnioStatus, Uuid};
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -42,6 +43,60 @@ pub struct ArCheck {
     pub cmi_object_uuid: Uuid,
     /// Every submodule the controller expects, with what is plugged there.
     pub expected: Vec<ExpectedAt>,
+    /// The AR's IO CRs: the input CR first, then the output CR.
+    pub crs: Vec<CrInfo>,
+}
+
+/// An IO CR of the AR a Connect asks for (IO-Base's `PNIO_IOCR_TYPE`): its timing as the
+/// Connect gives it, its FrameID as the AR will use it, and where each submodule's data
+/// object sits in its frames.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CrInfo {
+    /// An input CR (the device sends) or an output CR (the device receives).
+    pub input: bool,
+    /// RTClass (IOCRProperties bits 0–3: 1 and 2 RT, 3 IRT, 4 RT over UDP).
+    pub rt_class: u8,
+    /// The FrameID of its frames: the device's choice for a CR whose FrameID the
+    /// controller left open.
+    pub frame_id: u16,
+    /// SendClockFactor (× 31.25 µs).
+    pub send_clock_factor: u16,
+    /// ReductionRatio: a frame every so many send clocks.
+    pub reduction_ratio: u16,
+    /// Phase.
+    pub phase: u16,
+    /// DataHoldFactor.
+    pub data_hold_factor: u16,
+    /// C_SDU bytes.
+    pub data_length: u16,
+    /// Each submodule's data object (its data, then its IOPS) and where it starts in the
+    /// C_SDU, in the Connect's order.
+    pub data_objects: Vec<(SubslotAddr, u16)>,
+}
+
+impl CrInfo {
+    /// The CR `c` of a Connect, whose frames carry `frame_id`.
+    pub(super) fn new(c: &wire_connect::IocrBlockReq, frame_id: u16) -> CrInfo {
+        CrInfo {
+            input: c.iocr_type == wire_connect::iocr_type::INPUT,
+            rt_class: (c.iocr_properties & wire_connect::iocr_properties::RT_CLASS_MASK) as u8,
+            frame_id,
+            send_clock_factor: c.send_clock_factor,
+            reduction_ratio: c.reduction_ratio,
+            phase: c.phase,
+            data_hold_factor: c.data_hold_factor,
+            data_length: c.data_length,
+            data_objects: c
+                .apis
+                .iter()
+                .flat_map(|a| {
+                    a.data_objects
+                        .iter()
+                        .map(move |o| (SubslotAddr::new(a.api, o.slot, o.subslot), o.frame_offset))
+                })
+                .collect(),
+        }
+    }
 }
 
 /// One submodule the controller expects (GOAL's EXP_SUBMOD), and the real one at its place.
@@ -186,6 +241,13 @@ impl<A: Application> Device<A> {
             ar_properties: plan.ar.ar_properties,
             cmi_object_uuid: plan.ar.initiator_object_uuid,
             expected,
+            crs: {
+                let (input, output) = connect::frame_ids(plan);
+                vec![
+                    CrInfo::new(&plan.input, input),
+                    CrInfo::new(&plan.output, output),
+                ]
+            },
         }));
         self.ar_checks.waiting = Some(WaitingConnect {
             job,

@@ -107,7 +107,7 @@ pub use alarms::{AlarmAcks, DiagnosisChange};
 pub use app_ready::APP_READY_HOLD_TIMEOUT_NS;
 pub use application::Application;
 use ar::Ar;
-pub use ar_check::{AR_CHECK_TIMEOUT_NS, ArCheck, ArChecks, ExpectedAt, UnknownArCheck};
+pub use ar_check::{AR_CHECK_TIMEOUT_NS, ArCheck, ArChecks, CrInfo, ExpectedAt, UnknownArCheck};
 pub use ar_slot::ArSlot;
 pub use dcp_veto::{DCP_SET_CHECK_TIMEOUT_NS, DcpSetCheck, DcpSetChecks, UnknownDcpSetCheck};
 pub use delegated_records::{

@@ -346,8 +346,21 @@ static void ar_check_ind(PNIO_UINT32 h, PNIO_UINT32 ip, PNIO_UINT16 t, PNIO_UUID
     PNIO_UINT32 empty = ar->NumOfMod == 0 && ar->pModList == NULL;
     record(EV_AR_CHECK, ar->ArNumber, ar->SessionKey, t, inside, empty | (PNIO_UINT32)l << 1);
 }
+/* AR_INFO_IND's IOCRs, as the PLC's Connect asked for them. */
+static PNIO_IOCR_TYPE info_iocr[2];
+/* The offset of slot 1's data object in the input IOCR's frames, or 0xffff. */
+static PNIO_UINT32 info_slot1_offset = 0xffff;
 static void ar_info_ind(PNIO_UINT32 h, PNIO_UINT16 ar, PNIO_UINT16 sk, PNIO_AR_TYPE *p) {
     (void)h;
+    pthread_mutex_lock(&mu);
+    for (PNIO_UINT32 i = 0; i < p->NumOfIocr && i < 2; i++)
+        info_iocr[i] = p->pIoCrList[i];
+    for (PNIO_UINT32 i = 0; i < p->NumOfIocr; i++)
+        if (p->pIoCrList[i].Direction == PNIO_IOCR_TYPE_INPUT)
+            for (PNIO_UINT32 k = 0; k < p->pIoCrList[i].NumOfIoCs; k++)
+                if (p->pIoCrList[i].pIoCsList[k].SlotNum == 1)
+                    info_slot1_offset = p->pIoCrList[i].pIoCsList[k].reserved;
+    pthread_mutex_unlock(&mu);
     /* Slot 1's first submodule ident, or 0. */
     PNIO_UINT32 slot1 = 0;
     for (PNIO_UINT32 i = 0; i < p->NumOfMod; i++)
@@ -533,6 +546,30 @@ int main(void) {
     CHECK(ip[0] != 0 && check_properties != 0 && check_cmi_set,
           "AR_CHECK_IND: HostIp %u.%u.%u.%u, ArProperties 0x%x, CmiObjUUID %s", ip[0], ip[1],
           ip[2], ip[3], (unsigned)check_properties, check_cmi_set ? "set" : "nil");
+    /* The IOCRs as the demo PLC connects: RT, a frame every 1 ms (32 × 31.25 µs), the
+     * input IOCR first with the FrameID of the station's frames in reserved[0] and its C_SDU
+     * length in reserved[1], slot 1's data object inside it. */
+    const PNIO_IOCR_TYPE *in = &info_iocr[0], *out = &info_iocr[1];
+    CHECK(in->Direction == PNIO_IOCR_TYPE_INPUT && out->Direction == PNIO_IOCR_TYPE_OUTPUT,
+          "AR_INFO_IND: IOCR directions %u, %u", (unsigned)in->Direction,
+          (unsigned)out->Direction);
+    for (int i = 0; i < 2; i++) {
+        const PNIO_IOCR_TYPE *c = &info_iocr[i];
+        PNIO_UINT32 rt = c->IOCRProperties & PNIO_IOCR_PROP_RT_CLASS_MASK;
+        CHECK((rt == PNIO_IOCR_PROP_RT_CLASS_1 || rt == PNIO_IOCR_PROP_RT_CLASS_2) &&
+                  c->SendClock * c->ReductioFactor == 32 && c->CycleTime == 1 &&
+                  c->Phase >= 1 && c->reserved[0] != 0 && c->reserved[1] >= 40,
+              "AR_INFO_IND IOCR %d: RT class %u, SendClock %u, ReductioFactor %u, CycleTime %u, "
+              "Phase %u, FrameID 0x%x, C_SDU %u",
+              i, (unsigned)rt, (unsigned)c->SendClock, (unsigned)c->ReductioFactor,
+              (unsigned)c->CycleTime, (unsigned)c->Phase, (unsigned)c->reserved[0],
+              (unsigned)c->reserved[1]);
+    }
+    CHECK(in->reserved[0] != out->reserved[0], "AR_INFO_IND: one FrameID 0x%x for both IOCRs",
+          (unsigned)in->reserved[0]);
+    CHECK(info_slot1_offset < in->reserved[1],
+          "AR_INFO_IND: slot 1's data object at %u in a C_SDU of %u",
+          (unsigned)info_slot1_offset, (unsigned)in->reserved[1]);
     pthread_mutex_unlock(&mu);
     for (int i = 0; i <= iprm; i++) {
         event_t e = event(i);

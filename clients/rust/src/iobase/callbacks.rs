@@ -24,8 +24,9 @@ pub trait DeviceCallbacks {
     /// own report).
     fn check_submodule(&mut self, ar: ArId, expected: &ExpectedSubmodule, plugged: (u32, u32)) {}
 
-    /// `AR_INFO_IND`: the AR's submodules, as the PLC expects them.
-    fn ar_info(&mut self, ar: ArId, expected: &[ExpectedSubmodule]) {}
+    /// `AR_INFO_IND`: the AR's submodules as the PLC expects them (`check.expected`) and its
+    /// IO CRs (`check.crs`: RT class, timing, FrameIDs, where each submodule's data sits).
+    fn ar_info(&mut self, ar: ArId, check: &StationArCheckJob) {}
 
     /// `PRM_END_IND`: the PLC ended its parameters, of the AR (`submodule` none) or of one
     /// submodule plugged in data exchange. The ApplicationReady waits for

@@ -327,7 +327,7 @@ impl IoBaseDevice {
         // Accepting: the manual's refusal is an abort after the callbacks. An answer that
         // does not arrive is taken as accepted by the station after its timeout.
         let _ = lock(&self.services).answer_ar_check(check, Ok(()));
-        program.ar_info(ar, &check.expected);
+        program.ar_info(ar, check);
     }
 
     /// The station reports the AR `uuid` at `state`.

@@ -4,6 +4,7 @@
 //! and retransmissions and pings while a call waits.
 
 use super::*;
+use crate::device::CrInfo;
 use crate::wire::record::{RecordErrorCode, join_write_multiple_to_vec};
 
 /// The counter device in data exchange at `t`, slot 1's records given to the application.
@@ -440,6 +441,27 @@ fn a_new_ar_waits_for_the_applications_check_and_is_accepted() {
         (SubslotAddr::new(0, 1, 1), 0x30, 4)
     );
     assert_eq!(slot1.plugged.map(|p| p.module_ident), Some(0x30));
+    // The CRs as the Connect asks for them (1 ms send clock, a frame every 2, data hold
+    // factor 3), with the FrameIDs the AR will use and each submodule's data object.
+    let [input, output] = &check.crs[..] else {
+        panic!("two CRs: {:?}", check.crs);
+    };
+    assert!(input.input && !output.input);
+    assert_eq!((input.frame_id, output.frame_id), (0x8000, 0x8001));
+    for cr in [input, output] {
+        assert_eq!(
+            (
+                cr.send_clock_factor,
+                cr.reduction_ratio,
+                cr.data_hold_factor
+            ),
+            (32, 2, 3)
+        );
+        assert!(cr.data_objects.iter().all(|&(_, at)| at < cr.data_length));
+    }
+    let holds = |cr: &CrInfo, slot| cr.data_objects.iter().any(|(a, _)| a.slot == slot);
+    assert!(holds(input, 1) && !holds(input, 2), "{input:?}");
+    assert!(holds(output, 2) && !holds(output, 1), "{output:?}");
     // Its retransmission waits too.
     let again = send(&mut dev, opnum::CONNECT, 0, &[], MS);
     assert!(again.is_empty(), "{again:?}");

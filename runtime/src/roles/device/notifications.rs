@@ -4,7 +4,8 @@
 
 use super::station::StationEvent;
 use procimg_control::services::{
-    ExpectedSubmodule, Notification, StationArCheckJob, StationDcpSetJob, StationRecordJob,
+    ArCr, CrDataObject, ExpectedSubmodule, Notification, StationArCheckJob, StationDcpSetJob,
+    StationRecordJob,
 };
 use procimg_profinet::wire::rta_pdu::AbortCode;
 
@@ -122,6 +123,30 @@ pub fn notification(event: StationEvent) -> Notification {
                         input_length: e.input_length,
                         output_length: e.output_length,
                         plugged: e.plugged.map(|p| (p.module_ident, p.submodule_ident)),
+                    })
+                    .collect(),
+                crs: c
+                    .crs
+                    .iter()
+                    .map(|cr| ArCr {
+                        input: cr.input,
+                        rt_class: cr.rt_class,
+                        frame_id: cr.frame_id,
+                        send_clock_factor: cr.send_clock_factor,
+                        reduction_ratio: cr.reduction_ratio,
+                        phase: cr.phase,
+                        data_hold_factor: cr.data_hold_factor,
+                        data_length: cr.data_length,
+                        data_objects: cr
+                            .data_objects
+                            .iter()
+                            .map(|&(at, frame_offset)| CrDataObject {
+                                api: at.api,
+                                slot: at.slot,
+                                subslot: at.subslot,
+                                frame_offset,
+                            })
+                            .collect(),
                     })
                     .collect(),
             },

@@ -26,13 +26,17 @@
 //! 3. The station's AR check is answered accepting once these callbacks returned: the
 //!    manual's way to refuse is `PNIO_device_ar_abort`, which the program calls after the
 //!    callback.
-//! 4. `PNIO_CBF_AR_INFO_IND` with the AR's IOCRs and modules, built from the Connect's
-//!    expected submodules: an input IOCR with every submodule that has inputs or no data, an
-//!    output IOCR with every one that has outputs (RT class 1; CycleTime, SendClock,
-//!    ReductioFactor and Phase 0, not reported by procimgd), a module per (API, slot) with
-//!    its expected ModuleIdentNumber, and per submodule its ident, type and lengths (one
-//!    byte of IOPS and IOCS per direction it has; a submodule without data has the input
-//!    side's). The memory is the library's and valid only during the callback.
+//! 4. `PNIO_CBF_AR_INFO_IND` with the AR's IOCRs and modules, built from the Connect: the
+//!    input IOCR and the output IOCR as the PLC asked for them (IOCRProperties its RT
+//!    class, SendClock, ReductioFactor, Phase; CycleTime in ms, SendClock × 31.25 µs ×
+//!    ReductioFactor rounded down; `reserved[0]` the FrameID of its frames, `reserved[1]`
+//!    their C_SDU length), each listing the submodules whose data objects it carries
+//!    (`PNIO_IOCS_TYPE::reserved` the data object's offset in the C_SDU); a module per
+//!    (API, slot) with its expected ModuleIdentNumber, and per submodule its ident, type
+//!    and lengths (one byte of IOPS and IOCS per direction it has; a submodule without data
+//!    has the input side's). From a server too old to report the CRs, the IOCRs list the
+//!    submodules by direction with RT class 1 and no timing. The memory is the library's
+//!    and valid only during the callback.
 //! 5. `PNIO_CBF_PRM_END_IND` (API, slot and subslot 0) when the station reports the AR
 //!    [`ArState::Parameterized`](procimg_client::ArState::Parameterized) (the PLC's PrmEnd); the ApplicationReady waits for
 //!    `PNIO_set_appl_state_ready` (procimgd sends it by itself after 10 s).
@@ -68,7 +72,7 @@ use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_IO_IN;
 use procimg_client::StationRecordJob;
 use procimg_client::iobase::{ApduStatus, ArEndReason, ArId, DeviceCallbacks};
-use procimg_control::services::{ExpectedSubmodule, StationArCheckJob};
+use procimg_control::services::{ArCr, ExpectedSubmodule, StationArCheckJob};
 use std::time::Duration;
 
 /// The UUID procimgd writes ("0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2"); zero if it is none.
@@ -137,8 +141,39 @@ fn sub_type(e: &ExpectedSubmodule) -> u32 {
     }
 }
 
-/// Builds the AR's IOCRs and modules from the Connect's expected submodules.
-pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]) -> ArTree {
+/// `PNIO_IOCR_TYPE::CycleTime`: the CR's period in whole ms.
+fn cycle_time_ms(cr: &ArCr) -> u32 {
+    // SendClockFactor × ReductionRatio × 31.25 µs = × 1/32 ms.
+    (u32::from(cr.send_clock_factor) * u32::from(cr.reduction_ratio)) / 32
+}
+
+/// The IOCR `cr` of the Connect, listing `list`.
+fn iocr(cr: &ArCr, list: &mut Vec<PNIO_IOCS_TYPE>) -> PNIO_IOCR_TYPE {
+    PNIO_IOCR_TYPE {
+        CycleTime: cycle_time_ms(cr),
+        Direction: if cr.input {
+            PNIO_IOCR_TYPE_INPUT
+        } else {
+            PNIO_IOCR_TYPE_OUTPUT
+        },
+        IOCRProperties: u32::from(cr.rt_class),
+        SendClock: cr.send_clock_factor.into(),
+        ReductioFactor: cr.reduction_ratio.into(),
+        Phase: cr.phase.into(),
+        NumOfIoCs: list.len() as u32,
+        pIoCsList: list.as_mut_ptr(),
+        reserved: [cr.frame_id.into(), cr.data_length.into(), 0],
+    }
+}
+
+/// Builds the AR's IOCRs and modules from the Connect's expected submodules and CRs (`crs`
+/// empty from an older server).
+pub(crate) fn tree(
+    number: u16,
+    session_key: u16,
+    expected: &[ExpectedSubmodule],
+    crs: &[ArCr],
+) -> ArTree {
     let mut sorted: Vec<&ExpectedSubmodule> = expected.iter().collect();
     sorted.sort_by_key(|e| (e.api, e.slot, e.subslot));
     let mut subs: Vec<Vec<PNIO_SUBMOD_TYPE>> = Vec::new();
@@ -196,21 +231,30 @@ pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]
             pSubList: v.as_mut_ptr(),
         })
         .collect();
-    let mut iocrs: Vec<PNIO_IOCR_TYPE> = [PNIO_IOCR_TYPE_INPUT, PNIO_IOCR_TYPE_OUTPUT]
-        .into_iter()
-        .zip(iocs.iter_mut())
-        .map(|(direction, list)| PNIO_IOCR_TYPE {
-            CycleTime: 0,
-            Direction: direction,
-            IOCRProperties: PNIO_IOCR_PROP_RT_CLASS_1,
-            SendClock: 0,
-            ReductioFactor: 0,
-            Phase: 0,
-            NumOfIoCs: list.len() as u32,
-            pIoCsList: list.as_mut_ptr(),
-            reserved: [0; 3],
-        })
-        .collect();
+    if !crs.is_empty() {
+        // The Connect's own lists, with each data object's offset.
+        iocs = [Vec::new(), Vec::new()];
+        for (k, cr) in crs.iter().take(2).enumerate() {
+            iocs[k] = cr
+                .data_objects
+                .iter()
+                .map(|o| PNIO_IOCS_TYPE {
+                    SlotNum: o.slot.into(),
+                    SubslotNum: o.subslot.into(),
+                    reserved: o.frame_offset.into(),
+                })
+                .collect();
+        }
+    }
+    let mut iocrs: Vec<PNIO_IOCR_TYPE> = if crs.is_empty() {
+        legacy_iocrs(&mut iocs)
+    } else {
+        crs.iter()
+            .take(2)
+            .zip(iocs.iter_mut())
+            .map(|(cr, list)| iocr(cr, list))
+            .collect()
+    };
     let ar = PNIO_AR_TYPE {
         pNextAr: std::ptr::null_mut(),
         ArNumber: number,
@@ -227,6 +271,26 @@ pub(crate) fn tree(number: u16, session_key: u16, expected: &[ExpectedSubmodule]
         _modules: modules,
         _subs: subs,
     }
+}
+
+/// The IOCRs of an AR whose CRs an older server did not report: the submodules by
+/// direction, RT class 1, no timing.
+fn legacy_iocrs(iocs: &mut [Vec<PNIO_IOCS_TYPE>; 2]) -> Vec<PNIO_IOCR_TYPE> {
+    [PNIO_IOCR_TYPE_INPUT, PNIO_IOCR_TYPE_OUTPUT]
+        .into_iter()
+        .zip(iocs.iter_mut())
+        .map(|(direction, list)| PNIO_IOCR_TYPE {
+            CycleTime: 0,
+            Direction: direction,
+            IOCRProperties: PNIO_IOCR_PROP_RT_CLASS_1,
+            SendClock: 0,
+            ReductioFactor: 0,
+            Phase: 0,
+            NumOfIoCs: list.len() as u32,
+            pIoCsList: list.as_mut_ptr(),
+            reserved: [0; 3],
+        })
+        .collect()
 }
 
 /// The program's callbacks for the notifications [`IoBaseDevice`] turns into them: each
@@ -288,8 +352,8 @@ impl DeviceCallbacks for Callbacks<'_> {
         check_ind(self.dev, self.occupants, ar, e, plugged);
     }
 
-    fn ar_info(&mut self, ar: ArId, expected: &[ExpectedSubmodule]) {
-        let mut t = tree(ar.number, ar.session_key, expected);
+    fn ar_info(&mut self, ar: ArId, check: &StationArCheckJob) {
+        let mut t = tree(ar.number, ar.session_key, &check.expected, &check.crs);
         let p: *mut PNIO_AR_TYPE = &mut t.ar;
         // SAFETY: the program's callback (see the impl); the pointers live until it returned.
         self.call(self.dev.cbf.cbf_ar_info_ind, |f, h| unsafe {
@@ -512,6 +576,7 @@ mod tests {
                 e(0, 0x8000, 0, 0),
                 e(2, 1, 0, 4),
             ],
+            &[],
         );
         assert_eq!((t.ar.ArNumber, t.ar.SessionKey), (3, 7));
         assert_eq!((t.ar.NumOfIocr, t.ar.NumOfMod), (2, 3));
@@ -536,6 +601,67 @@ mod tests {
                 (PNIO_IOCR_TYPE_OUTPUT, 1)
             );
             assert_eq!((*output.pIoCsList).SlotNum, 2);
+        }
+    }
+
+    #[test]
+    fn the_iocrs_carry_the_connects_timing_frame_ids_and_offsets() {
+        use procimg_control::services::CrDataObject;
+        let e = |slot, i, o| ExpectedSubmodule {
+            api: 0,
+            slot,
+            subslot: 1,
+            module_ident: 0x10,
+            submodule_ident: 1,
+            input_length: i,
+            output_length: o,
+            plugged: None,
+        };
+        let object = |slot, frame_offset| CrDataObject {
+            api: 0,
+            slot,
+            subslot: 1,
+            frame_offset,
+        };
+        let cr = |input, frame_id, data_objects| ArCr {
+            input,
+            rt_class: 2,
+            frame_id,
+            send_clock_factor: 32,
+            reduction_ratio: 4,
+            phase: 2,
+            data_hold_factor: 3,
+            data_length: 40,
+            data_objects,
+        };
+        let crs = [
+            cr(true, 0x8002, vec![object(1, 0), object(2, 3)]),
+            cr(false, 0x8003, vec![object(2, 0)]),
+        ];
+        let t = tree(1, 1, &[e(1, 2, 0), e(2, 0, 4)], &crs);
+        // SAFETY: the tree's pointers point into its own vectors, alive with it.
+        unsafe {
+            let input = &*t.ar.pIoCrList;
+            let output = &*t.ar.pIoCrList.add(1);
+            assert_eq!(
+                (
+                    input.Direction,
+                    input.IOCRProperties,
+                    input.SendClock,
+                    input.ReductioFactor,
+                    input.Phase,
+                    input.CycleTime
+                ),
+                (PNIO_IOCR_TYPE_INPUT, PNIO_IOCR_PROP_RT_CLASS_2, 32, 4, 2, 4)
+            );
+            assert_eq!(input.reserved[..2], [0x8002, 40]);
+            assert_eq!(
+                (output.Direction, output.reserved[0]),
+                (PNIO_IOCR_TYPE_OUTPUT, 0x8003)
+            );
+            assert_eq!(input.NumOfIoCs, 2);
+            let second = &*input.pIoCsList.add(1);
+            assert_eq!((second.SlotNum, second.reserved), (2, 3));
         }
     }
 }
