@@ -405,3 +405,83 @@ fn an_asynchronous_client_reattaches_and_reports_the_gap() {
             .any(|e| matches!(e, Event::Reattached { .. }))
     );
 }
+
+#[test]
+fn a_client_follows_the_new_layout_of_a_server_restarted_with_another_configuration() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let mut server = Procimgd::demo("follow");
+    let instance = server.instance.clone();
+    let mut c = Client::attach(&instance, AttachOptions::synchronous("follower")).unwrap();
+    let (echo, dio) = (
+        c.layout().find("echo", 1, 1).unwrap(),
+        c.layout().find("dio", 2, 1).unwrap(),
+    );
+    c.claim(&[echo, dio]).unwrap();
+    let was = c.layout().hash();
+    // Another configuration for the same instance: the demo's without its device "dio".
+    let demo = Command::new(procimg_testkit::build::procimgd_bin())
+        .arg("--print-demo-config")
+        .output()
+        .expect("procimgd --print-demo-config");
+    let demo = String::from_utf8(demo.stdout).unwrap();
+    let cut = demo
+        .find("[[device]]\nname = \"dio\"")
+        .expect("the demo configuration has the device dio");
+    let config = demo[..cut].replacen(
+        "instance = \"procimg\"",
+        &format!("instance = \"{instance}\""),
+        1,
+    );
+    server.kill();
+    let _again = procimg_testkit::Launch::config("follow-b", &config)
+        .instance(&instance)
+        .start();
+    // The client re-attaches, follows the new layout and says so; dio's claim is lost,
+    // echo's taken again under its index in the new layout.
+    let mut events = Vec::new();
+    let until = Instant::now() + Duration::from_secs(30);
+    while !events
+        .iter()
+        .any(|e| matches!(e, Event::LayoutChanged { .. }))
+    {
+        assert!(
+            Instant::now() < until,
+            "no layout change in 30 s: {events:?}"
+        );
+        // While the server is gone, and until the new one takes this client's outputs,
+        // an OPDONE may not be delivered.
+        if let Ok(cycle) = c.wait_startop(Duration::from_millis(50)) {
+            let _ = cycle.set_opdone();
+        }
+        events.extend(c.events());
+    }
+    events.extend(c.events());
+    let now = c.layout().hash();
+    assert_ne!(now, was);
+    let reattached = events
+        .iter()
+        .position(|e| matches!(e, Event::Reattached { .. }))
+        .expect("Reattached");
+    let changed = events
+        .iter()
+        .position(|e| *e == Event::LayoutChanged { was, now })
+        .expect("LayoutChanged with both hashes");
+    assert_eq!(changed, reattached + 1, "{events:?}");
+    assert!(
+        events.contains(&Event::ClaimLost { submodule: dio }),
+        "{events:?}"
+    );
+    assert!(c.layout().find("dio", 2, 1).is_none());
+    let echo_now = c.layout().find("echo", 1, 1).unwrap();
+    // Cycles run with the new layout, echo's outputs written under its new index.
+    let mut cycles = 0;
+    let until = Instant::now() + Duration::from_secs(20);
+    while cycles < 20 && Instant::now() < until {
+        if let Ok(mut cycle) = c.wait_startop(Duration::from_millis(100)) {
+            cycle.output_mut(echo_now).unwrap().fill(9);
+            cycle.set_opdone().unwrap();
+            cycles += 1;
+        }
+    }
+    assert_eq!(cycles, 20);
+}

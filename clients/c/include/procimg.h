@@ -164,6 +164,16 @@ typedef struct procimg_client procimg_client_t;
 #define PROCIMG_EVENT_CLAIM_LOST 6
 
 /**
+ * Event kind: the restarted server has another layout (a changed configuration, or a
+ * station its program defined anew), hash `layout_hash`, and the client follows it:
+ * submodule indexes and addresses are the new layout's, and claims of submodules still
+ * there were taken again. Comes right after `PROCIMG_EVENT_REATTACHED`. A client attached
+ * with `PROCIMG_ATTACH_EXPECT_LAYOUT_HASH` does not follow: its calls answer
+ * `PROCIMG_ERR_LAYOUT` instead.
+ */
+#define PROCIMG_EVENT_LAYOUT_CHANGED 7
+
+/**
  * The result of every function of `procimg.h`: `PROCIMG_OK` or one of the `PROCIMG_ERR_*`
  * codes. On an error, `procimg_last_error()` tells this thread what went wrong and what to do.
  */
@@ -243,6 +253,10 @@ typedef struct {
    * `PROCIMG_EVENT_CLAIM_LOST`: the submodule index.
    */
   uint64_t submodule;
+  /**
+   * `PROCIMG_EVENT_LAYOUT_CHANGED`: the new layout hash.
+   */
+  uint64_t layout_hash;
 } procimg_event_t;
 
 /**

@@ -135,6 +135,7 @@ fn constants() -> Vec<(&'static str, i64)> {
         PROCIMG_EVENT_SERVER_SHUTDOWN,
         PROCIMG_EVENT_REATTACHED,
         PROCIMG_EVENT_CLAIM_LOST,
+        PROCIMG_EVENT_LAYOUT_CHANGED,
     ]
 }
 

@@ -122,6 +122,19 @@ pub enum Event {
         /// Submodule index.
         submodule: usize,
     },
+    /// The server came back with another layout (a changed configuration, or a station its
+    /// program defined anew), and the client follows it: [`Client::layout`] is the new one,
+    /// submodule indexes and addresses are the new layout's, and the claims of submodules
+    /// still there (same device, API, slot, subslot and ident numbers) were taken again
+    /// under their new indexes. Comes right after [`Event::Reattached`]. A client attached
+    /// with [`AttachOptions::expect_layout_hash`] does not follow: its wait ends with
+    /// [`WaitError::LayoutChanged`] instead.
+    LayoutChanged {
+        /// The layout hash before.
+        was: u64,
+        /// The layout hash now.
+        now: u64,
+    },
 }
 
 /// How often a client without STARTOP checks whether the server is still alive.
@@ -606,16 +619,33 @@ impl Client {
             }
         };
         self.control.own_ports(&conn.port_ids);
-        if conn.layout.hash() != self.layout.hash() {
+        let was = self.layout.hash();
+        let changed = conn.layout.hash() != was;
+        if changed && self.opts.expected_layout_hash.is_some() {
             let _ = self
                 .control
                 .request_done(CoreRequest::Unregister { slot, token });
             return Err(WaitError::LayoutChanged {
                 instance: self.instance().to_string(),
-                was: self.layout.hash(),
+                was,
                 found: conn.layout.hash(),
             });
         }
+        // The claims, as indexes of the layout they will be taken in again.
+        let mut lost = Vec::new();
+        let claims: Vec<usize> = if changed {
+            let (claims, gone) = claims_in(&self.layout, &conn.layout, &self.claims);
+            lost = gone;
+            self.layout = conn.layout.clone();
+            self.write_cache = crate::cache::WriteCache::new(&self.layout);
+            self.local_input_iocs = vec![Ioxs::Good; self.layout.submodules.len()];
+            self.read_cache = None;
+            self.latest = None;
+            claims
+        } else {
+            self.claims.iter().copied().collect()
+        };
+        self.claims.clear();
         self.slot = slot;
         self.token = token;
         self.generation = generation;
@@ -631,7 +661,15 @@ impl Client {
         self.mode_changes_seen = None;
         self.write_cache.valid.iter_mut().for_each(|v| *v = false);
         self.push_event(Event::Reattached { generation });
-        let claims: Vec<usize> = std::mem::take(&mut self.claims).into_iter().collect();
+        if changed {
+            self.push_event(Event::LayoutChanged {
+                was,
+                now: self.layout.hash(),
+            });
+        }
+        for submodule in lost {
+            self.push_event(Event::ClaimLost { submodule });
+        }
         for s in claims {
             if self.claim(&[s]).is_err() {
                 self.push_event(Event::ClaimLost { submodule: s });
@@ -816,4 +854,32 @@ fn register(
             detail: e.to_string(),
         }),
     }
+}
+
+/// The submodules of `claims` (indexes in `old`) as indexes in `new`: those with the same
+/// device, API, slot, subslot and ident numbers there; and the indexes of `old` that have
+/// no such submodule in `new`.
+fn claims_in(old: &Layout, new: &Layout, claims: &BTreeSet<usize>) -> (Vec<usize>, Vec<usize>) {
+    let key = |l: &Layout, e: &procimg_shm_layout::SubmoduleEntry| {
+        (
+            l.device_name(usize::from(e.device)).to_owned(),
+            e.api,
+            e.slot,
+            e.subslot,
+            e.module_ident,
+            e.submodule_ident,
+        )
+    };
+    let (mut kept, mut lost) = (Vec::new(), Vec::new());
+    for &s in claims {
+        let found = old.submodules.get(s).and_then(|e| {
+            let k = key(old, e);
+            new.submodules.iter().position(|n| key(new, n) == k)
+        });
+        match found {
+            Some(i) => kept.push(i),
+            None => lost.push(s),
+        }
+    }
+    (kept, lost)
 }

@@ -635,7 +635,7 @@ impl CycleSide for EventThread {
         match e {
             Event::Mode(m) => self.ctl.report_mode(pnio_mode(m)),
             Event::ServerShutdown => lock(&self.ctl.mode).pending = None,
-            Event::Reattached { .. } => self.resync = true,
+            Event::Reattached { .. } | Event::LayoutChanged { .. } => self.resync = true,
             Event::OpFault { .. } | Event::NewCycle | Event::ClaimLost { .. } => {}
         }
     }

@@ -31,6 +31,13 @@ pub const PROCIMG_EVENT_REATTACHED: u32 = 5;
 /// Event kind: after a server restart, the claim on submodule `submodule` could not be taken
 /// again (another client holds it now).
 pub const PROCIMG_EVENT_CLAIM_LOST: u32 = 6;
+/// Event kind: the restarted server has another layout (a changed configuration, or a
+/// station its program defined anew), hash `layout_hash`, and the client follows it:
+/// submodule indexes and addresses are the new layout's, and claims of submodules still
+/// there were taken again. Comes right after `PROCIMG_EVENT_REATTACHED`. A client attached
+/// with `PROCIMG_ATTACH_EXPECT_LAYOUT_HASH` does not follow: its calls answer
+/// `PROCIMG_ERR_LAYOUT` instead.
+pub const PROCIMG_EVENT_LAYOUT_CHANGED: u32 = 7;
 
 // procimg_shm.h defines event ids of the same names: identical values keep including both
 // headers legal C (a macro may be defined again with the same value, not with another).
@@ -52,6 +59,8 @@ pub struct procimg_event_t {
     pub generation: u64,
     /// `PROCIMG_EVENT_CLAIM_LOST`: the submodule index.
     pub submodule: u64,
+    /// `PROCIMG_EVENT_LAYOUT_CHANGED`: the new layout hash.
+    pub layout_hash: u64,
 }
 
 impl From<Event> for procimg_event_t {
@@ -84,6 +93,11 @@ impl From<Event> for procimg_event_t {
             Event::ClaimLost { submodule } => procimg_event_t {
                 kind: PROCIMG_EVENT_CLAIM_LOST,
                 submodule: submodule as u64,
+                ..none
+            },
+            Event::LayoutChanged { now, .. } => procimg_event_t {
+                kind: PROCIMG_EVENT_LAYOUT_CHANGED,
+                layout_hash: now,
                 ..none
             },
         }
