@@ -23,6 +23,7 @@ use super::{
 
 mod devices;
 mod station;
+pub(crate) mod station_tree;
 use devices::devices;
 
 /// Checks `raw` and resolves defaults and addresses.

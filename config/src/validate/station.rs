@@ -171,7 +171,7 @@ fn dap(raw: RawDap) -> DapConfig {
 
 /// The DAP's submodule, interface and port: no IO data; the DAP's own speaks for the
 /// device's I&M.
-fn dap_submodules(dap: &DapConfig) -> Vec<StationSubmodule> {
+pub(crate) fn dap_submodules(dap: &DapConfig) -> Vec<StationSubmodule> {
     [
         (DAP_SUBSLOT, dap.submodule_ident),
         (INTERFACE_SUBSLOT, dap.interface_ident),
@@ -373,6 +373,17 @@ fn frame_fits(
     span: Range<usize>,
     cx: &Cx<'_>,
 ) -> Result<(), ConfigError> {
+    match frame_overflow(submodules) {
+        Some(message) => Err(cx.invalid(span, "station.submodule", message)),
+        None => Ok(()),
+    }
+}
+
+/// Why the station's cyclic data does not fit its frames, if it does not: each direction's
+/// C_SDU carries every submodule's data of that direction with its IOPS and an IOCS for
+/// every submodule with data of the other (and for each dataless one, an IOPS in the input
+/// CR and an IOCS in the output CR).
+pub(crate) fn frame_overflow(submodules: &[StationSubmodule]) -> Option<String> {
     let (mut input_cr, mut output_cr) = (0usize, 0usize);
     for s in submodules.iter().map(|s| &s.submodule) {
         let (i, o) = (usize::from(s.input_length), usize::from(s.output_length));
@@ -390,19 +401,15 @@ fn frame_fits(
             input_cr += 1;
         }
     }
-    for (bytes, what) in [(input_cr, "input"), (output_cr, "output")] {
-        if bytes > MAX_CR_DATA {
-            return Err(cx.invalid(
-                span.clone(),
-                "station.submodule",
-                format!(
-                    "the {what} frame would carry {bytes} bytes of data and status, more than \
-                     the {MAX_CR_DATA} of one RT frame; plug fewer or shorter submodules"
-                ),
-            ));
-        }
-    }
-    Ok(())
+    [(input_cr, "input"), (output_cr, "output")]
+        .into_iter()
+        .find(|&(bytes, _)| bytes > MAX_CR_DATA)
+        .map(|(bytes, what)| {
+            format!(
+                "the {what} frame would carry {bytes} bytes of data and status, more than the \
+                 {MAX_CR_DATA} of one RT frame; plug fewer or shorter submodules"
+            )
+        })
 }
 
 fn netmask(text: &str) -> Result<Ipv4Addr, String> {
