@@ -71,8 +71,21 @@ pub struct StationConfig {
     /// The device access point (table `[station.dap]`).
     pub dap: DapConfig,
     /// Every submodule, the DAP's three first, then `[[station.submodule]]` in configuration
-    /// order.
+    /// order (a station its program defines: the DAP's only, until the program's tree).
     pub submodules: Vec<StationSubmodule>,
+    /// The station's GSDML file when its program defines the tree (key `gsdml`, no
+    /// `[[station.submodule]]`): the program's (module, submodule) ident numbers are looked
+    /// up there.
+    pub program: Option<ProgramStation>,
+}
+
+/// A station its program defines: the GSDML file its tree is checked against.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProgramStation {
+    /// The GSDML file (key `gsdml`, relative to the configuration file's directory).
+    pub gsdml: PathBuf,
+    /// The ID of its device access point (key `gsdml_dap`, default the file's first).
+    pub dap: String,
 }
 
 impl StationConfig {

@@ -174,6 +174,66 @@ fn a_slot_holds_one_module_and_a_frame_bounds_the_data() {
 
 #[test]
 fn errors_are_config_errors() {
-    let e = parse("role = \"device\"\n[station]\nname = \"a\"\n", "d.toml").unwrap_err();
+    let e = parse("role = \"device\"\n[station]\nvendor_id = 1\n", "d.toml").unwrap_err();
     assert!(matches!(e, ConfigError::Syntax { .. }), "{e:?}");
+    // A missing identity is checked after parsing (a GSDML file may give it).
+    let e = parse("role = \"device\"\n[station]\nname = \"a\"\n", "d.toml").unwrap_err();
+    assert!(matches!(e, ConfigError::Invalid { line: 2, .. }), "{e:?}");
+}
+
+/// The sample device's GSDML file of the tests (tests/fixtures/gsdml/README.md).
+fn sample_gsdml() -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/gsdml/sample-16real-32bool.xml")
+        .display()
+        .to_string()
+}
+
+#[test]
+fn a_station_its_program_defines_takes_identity_and_access_point_from_its_gsdml() {
+    let text = format!(
+        "role = \"device\"\n[station]\nname = \"pc-device\"\ngsdml = \"{}\"\n",
+        sample_gsdml()
+    );
+    let c = parse(&text, "device.toml").unwrap();
+    let s = c.station.unwrap();
+    let program = s.program.as_ref().expect("defined by its program");
+    assert_eq!(program.dap, "DAP1");
+    // The file's VendorID and DeviceID, its DAP's ident numbers; slot 0 only.
+    let gsdml = procimg_config::gsdml::Gsdml::load(std::path::Path::new(&sample_gsdml())).unwrap();
+    assert_eq!(
+        (s.vendor_id, s.device_id),
+        (gsdml.vendor_id, gsdml.device_id)
+    );
+    assert_eq!(s.dap.module_ident, gsdml.daps[0].module_ident);
+    assert_eq!(s.submodules.len(), 3);
+    assert!(s.submodules.iter().all(|m| m.submodule.slot == 0));
+}
+
+#[test]
+fn a_gsdml_station_has_no_configured_tree_and_its_dap_must_exist() {
+    let base = format!(
+        "role = \"device\"\n[station]\nname = \"pc-device\"\ngsdml = \"{}\"\n",
+        sample_gsdml()
+    );
+    let m = refused(&format!(
+        "{base}[[station.submodule]]\nslot = 1\nmodule_ident = 1\nsubmodule_ident = 1\n"
+    ));
+    assert!(
+        m.contains("station.submodule[0]") && m.contains("program defines its submodules"),
+        "{m}"
+    );
+    let m = refused(&base.replace(
+        "name = \"pc-device\"\n",
+        "name = \"pc-device\"\ngsdml_dap = \"DAP9\"\n",
+    ));
+    assert!(
+        m.contains("no device access point \"DAP9\"") && m.contains("DAP1"),
+        "{m}"
+    );
+    let m = refused(&format!("{base}[station.dap]\nmodule_ident = 1\n"));
+    assert!(m.contains("remove [station.dap]"), "{m}");
+    // Without a GSDML file the identity is the configuration's to give.
+    let m = refused("role = \"device\"\n[station]\nname = \"pc-device\"\ndevice_id = 1\n");
+    assert!(m.contains("vendor_id") && m.contains("gsdml"), "{m}");
 }

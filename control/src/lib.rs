@@ -38,6 +38,7 @@ pub use names::*;
 pub use refusal::{AlarmRefusal, PlugRefusal, Refusal};
 pub use request::{
     ClientRole, ControllerRequest, CoreRequest, DeviceRequest, Request, StationAlarmKind,
+    StationTreeEntry,
 };
 pub use response::Response;
 pub use space::Space;

@@ -13,6 +13,7 @@ use procimg_runtime::config::{self, Config};
 use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
 use procimg_runtime::roles;
+use procimg_runtime::roles::device::program::{Next, StationProgram};
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::access::GroupAccess;
 use procimg_runtime::shm::{ControlPorts, cleanup_dead_nodes};
@@ -222,7 +223,7 @@ fn generation() -> u64 {
     now ^ ((std::process::id() as u64) << 40)
 }
 
-fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> {
+fn serve(mut config: Config, mut tables: Tables, live_view: bool) -> anyhow::Result<()> {
     let instance = config.instance.clone();
     // Before the first file: iceoryx2's directory becomes the access group's.
     let mut group_access =
@@ -250,6 +251,87 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
             None
         }
     };
+    let term = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(sig, term.clone())
+            .with_context(|| format!("cannot install the handler for signal {sig}"))?;
+    }
+    // A station its program defines: waiting (OFFLINE, the device access point only) until
+    // the program sends its tree; each tree, and each end of the program, runs a generation
+    // anew.
+    let program = station_program(&config)?;
+    let configured_mode = config.start_mode;
+    if program.is_some() {
+        config.start_mode = Mode::Offline;
+        info!("the station waits for its program to define it (OFFLINE until then)");
+    }
+    let mut ready = false;
+    loop {
+        let end = run_generation(
+            &config,
+            &tables,
+            live_view,
+            &term,
+            &mut group_access,
+            program.as_ref(),
+            &mut ready,
+        )?;
+        let Some(next) = end else {
+            return Ok(());
+        };
+        let Some(program) = &program else {
+            return Ok(());
+        };
+        let (station, mode) = match next {
+            Next::Defined(station) => (*station, configured_mode),
+            Next::Waiting => (program.waiting().clone(), Mode::Offline),
+        };
+        config.station = Some(station);
+        config.start_mode = mode;
+        tables = Tables::from_config(&config).with_context(|| {
+            format!(
+                "{}: the station does not fit in a process image",
+                config.origin
+            )
+        })?;
+        info!(
+            "the station runs anew: {} submodules, {} bytes of Q data and {} of I data",
+            tables.submodules.len(),
+            tables.layout.input_size,
+            tables.layout.output_size
+        );
+    }
+}
+
+/// The program state of a station its program defines (`[station] gsdml`), with its GSDML
+/// file read; `None` for every other configuration.
+fn station_program(config: &Config) -> anyhow::Result<Option<Arc<StationProgram>>> {
+    let Some(station) = &config.station else {
+        return Ok(None);
+    };
+    let Some(p) = &station.program else {
+        return Ok(None);
+    };
+    let gsdml = procimg_config::gsdml::Gsdml::load(&p.gsdml)
+        .with_context(|| format!("{}: station.gsdml", config.origin))?;
+    let dap = gsdml.daps.iter().position(|d| d.id == p.dap).unwrap_or(0);
+    Ok(Some(StationProgram::new(station.clone(), gsdml, dap)))
+}
+
+/// Runs one generation of the server: its image, cycle thread, role and data services, until
+/// a signal ends procimgd (`None`) or the station's program asks for another station.
+#[allow(clippy::too_many_arguments)]
+fn run_generation(
+    config: &Config,
+    tables: &Tables,
+    live_view: bool,
+    term: &Arc<AtomicBool>,
+    group_access: &mut Option<GroupAccess>,
+    program: Option<&Arc<StationProgram>>,
+    ready: &mut bool,
+) -> anyhow::Result<Option<Next>> {
+    let instance = config.instance.clone();
+    let tables = tables.clone();
     let generation = generation();
     // The control thread's doorbell (after the left-overs are gone: a killed predecessor's
     // is taken over, so its clients' mappings stay right).
@@ -287,8 +369,8 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         generation,
     };
     let mut role = match config.role {
-        config::Role::Controller => roles::controller::start(&config, shared.clone())?,
-        config::Role::Device => roles::device::start(&config, shared.clone())?,
+        config::Role::Controller => roles::controller::start(config, shared.clone())?,
+        config::Role::Device => roles::device::start(config, shared.clone(), program.cloned())?,
     };
     let io = role.io.take().context("the IO system was already taken")?;
     let services = role
@@ -334,11 +416,6 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
         collector,
         services,
     );
-    let term = Arc::new(AtomicBool::new(false));
-    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register(sig, term.clone())
-            .with_context(|| format!("cannot install the handler for signal {sig}"))?;
-    }
     let mut view = live_view.then(|| demo_view::DemoView::new(&instance, generation, &tables));
     let mut last_mode = shared.mode();
     let mut last_view = Instant::now();
@@ -352,14 +429,18 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     {
         warn!("{w}");
     }
-    let mut ready = false;
+    let mut next = None;
     while !term.load(Ordering::Acquire) {
+        if let Some(n) = program.and_then(|p| p.take_next()) {
+            next = Some(n);
+            break;
+        }
         if let Some(access) = group_access.as_mut() {
             access.share();
         }
-        if !ready {
+        if !*ready {
             // Clients can attach from here: tell systemd (Type=notify), a no-op elsewhere.
-            ready = true;
+            *ready = true;
             let _ = sd_notify::notify(false, &[sd_notify::NotifyState::Ready]);
         }
         for gone in control.poll() {
@@ -386,8 +467,12 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     } else {
         Mode::Clear
     };
-    let _ = sd_notify::notify(false, &[sd_notify::NotifyState::Stopping]);
-    info!("stopping: outputs to {safe} first");
+    if next.is_none() {
+        let _ = sd_notify::notify(false, &[sd_notify::NotifyState::Stopping]);
+        info!("stopping: outputs to {safe} first");
+    } else {
+        info!("the station's tree changes: outputs to {safe}, the AR ends, the station runs anew");
+    }
     shared.target_mode.store(safe.as_u32(), Ordering::Release);
     shared.command(Command::SetMode(safe));
     let until = Instant::now() + Duration::from_secs(2);
@@ -415,6 +500,8 @@ fn serve(config: Config, tables: Tables, live_view: bool) -> anyhow::Result<()> 
     control.finish();
     drop(view);
     drop(control);
-    info!("stopped; shared memory of instance \"{instance}\" released");
-    Ok(())
+    if next.is_none() {
+        info!("stopped; shared memory of instance \"{instance}\" released");
+    }
+    Ok(next)
 }

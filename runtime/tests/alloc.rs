@@ -68,7 +68,7 @@ fn steady_state_cycles_of_the_device_role_allocate_nothing() {
         frames_per_cycle: 1,
     };
     steady_state(Config::demo_device(), work, |config, shared| {
-        device::start(config, shared).unwrap()
+        device::start(config, shared, None).unwrap()
     });
 }
 

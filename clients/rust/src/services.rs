@@ -189,7 +189,7 @@ impl Services {
         }
     }
 
-    fn announce(&mut self) -> Result<(), ControlError> {
+    pub(crate) fn announce(&self) -> Result<(), ControlError> {
         self.control.request_done(CoreRequest::Subscribe {
             subscriber: self.id,
             name: self.options.name.clone(),

@@ -29,7 +29,7 @@
 use crate::services::Services;
 use crate::{ControlError, DEFAULT_CONTROL_TIMEOUT};
 use procimg_control::services::{StationArCheckJob, StationDcpSetJob, StationRecordJob};
-use procimg_control::{DeviceRequest, Response};
+use procimg_control::{DeviceRequest, Refusal, Response, StationTreeEntry};
 
 /// The Connect error (ErrorCode1 CMRPC, ErrorCode2 "out of AR resources") a device gives
 /// when it cannot take an AR now.
@@ -76,7 +76,15 @@ impl RecordRefusal {
 impl Services {
     /// Sends `req`, which is answered with Done.
     pub(crate) fn station_request(&self, req: DeviceRequest) -> Result<(), ControlError> {
-        match self.control().request(req, DEFAULT_CONTROL_TIMEOUT)? {
+        let mut response = self
+            .control()
+            .request(req.clone(), DEFAULT_CONTROL_TIMEOUT)?;
+        // A server that started since this handle last looked (a restart, a station its
+        // program defined anew) does not know it yet: announce it, then ask again.
+        if response == Response::Refused(Refusal::UnknownSubscriber) && self.announce().is_ok() {
+            response = self.control().request(req, DEFAULT_CONTROL_TIMEOUT)?;
+        }
+        match response {
             Response::Done | Response::Accepted => Ok(()),
             Response::Refused(r) => Err(ControlError::Refused(r)),
             other => Err(ControlError::Protocol {
@@ -145,6 +153,30 @@ impl Services {
             job: job.job,
             data,
             error,
+        })
+    }
+
+    /// Defines the station's tree, for a station whose configuration names its GSDML file and
+    /// no submodules: `tree` is every submodule after the device access point, by place and
+    /// ident numbers; the file gives their IO lengths and parameter records. Once accepted
+    /// the station runs anew with the tree and goes on the wire: clients re-attach and follow
+    /// the new layout ([`Event::LayoutChanged`](crate::Event::LayoutChanged)), and this handle
+    /// is the station's program until [`release_station`](Self::release_station) or its
+    /// process's end, which take the station off the wire again. Refused, naming what is
+    /// wrong, for an ident or place the file does not allow, while an AR runs, when another
+    /// program defined the station, and for a configured station.
+    pub fn define_station(&self, tree: &[StationTreeEntry]) -> Result<(), ControlError> {
+        self.station_request(DeviceRequest::StationDefine {
+            subscriber: self.id(),
+            tree: tree.to_vec(),
+        })
+    }
+
+    /// Ends this handle's part as the station's program: the AR ends with an abort and the
+    /// station waits, off the wire, for a program to define it again.
+    pub fn release_station(&self) -> Result<(), ControlError> {
+        self.station_request(DeviceRequest::StationRelease {
+            subscriber: self.id(),
         })
     }
 

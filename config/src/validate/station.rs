@@ -17,10 +17,12 @@ use super::devices::{
 use crate::SubmoduleConfig;
 use crate::context::Cx;
 use crate::error::ConfigError;
+use crate::gsdml::Gsdml;
 use crate::raw::{RawAcceptedRecord, RawDap, RawStation, RawStationSubmodule};
 use crate::station::{
     AcceptedRecord, DAP_SUBSLOT, DapConfig, INTERFACE_SUBSLOT, MAX_CR_DATA, MAX_RECORD_LENGTH,
-    MAX_STATION_SLOT, PORT_SUBSLOT, SoftwareVersion, StationConfig, StationSubmodule,
+    MAX_STATION_SLOT, PORT_SUBSLOT, ProgramStation, SoftwareVersion, StationConfig,
+    StationSubmodule,
 };
 
 /// Checks `[station]`.
@@ -101,10 +103,42 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
         Some(v) => Some(PathBuf::from(v.get_ref())),
         None => None,
     };
-    let dap = match raw.dap {
-        Some(d) => dap(d.into_inner()),
-        None => DapConfig::default(),
+    let program = program_station(&raw, cx)?;
+    let dap = match (raw.dap, &program) {
+        (Some(d), None) => dap(d.into_inner()),
+        (Some(d), Some(_)) => {
+            return Err(cx.invalid(
+                d.span(),
+                "station.dap",
+                "with `gsdml` the file's device access point gives the ident numbers of slot \
+                 0; remove [station.dap]",
+            ));
+        }
+        (None, Some((_, gsdml, at))) => super::station_tree::dap_config(&gsdml.daps[*at]),
+        (None, None) => DapConfig::default(),
     };
+    let identity =
+        |v: &Option<Spanned<u16>>, key: &str, from_file: Option<u16>| match (v, from_file) {
+            (Some(v), _) => Ok(*v.get_ref()),
+            (None, Some(id)) => Ok(id),
+            (None, None) => Err(cx.missing(
+                span.clone(),
+                "station",
+                key,
+                "give the station's PROFINET identity (vendor_id and device_id), or its GSDML \
+             file with `gsdml`",
+            )),
+        };
+    let vendor_id = identity(
+        &raw.vendor_id,
+        "vendor_id",
+        program.as_ref().map(|(_, g, _)| g.vendor_id),
+    )?;
+    let device_id = identity(
+        &raw.device_id,
+        "device_id",
+        program.as_ref().map(|(_, g, _)| g.device_id),
+    )?;
 
     let mut submodules = dap_submodules(&dap);
     let mut drafts: Vec<Draft> = submodules
@@ -143,8 +177,8 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
         ip,
         netmask,
         gateway,
-        vendor_id: *raw.vendor_id.get_ref(),
-        device_id: *raw.device_id.get_ref(),
+        vendor_id,
+        device_id,
         instance,
         device_type,
         order_number,
@@ -155,7 +189,64 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
         dcp_hello: raw.dcp_hello.unwrap_or(false),
         dap,
         submodules,
+        program: program.map(|(p, _, _)| p),
     })
+}
+
+/// `gsdml` and `gsdml_dap` of `[station]`: a station its program defines, its GSDML file
+/// read and its device access point chosen (index in the file's DAPs); `None` without
+/// `gsdml`.
+fn program_station(
+    raw: &RawStation,
+    cx: &Cx<'_>,
+) -> Result<Option<(ProgramStation, Gsdml, usize)>, ConfigError> {
+    let Some(written) = &raw.gsdml else {
+        if let Some(d) = &raw.gsdml_dap {
+            return Err(cx.invalid(
+                d.span(),
+                "station.gsdml_dap",
+                "a device access point without a GSDML file; give the file with `gsdml`, or \
+                 leave gsdml_dap out",
+            ));
+        }
+        return Ok(None);
+    };
+    if let Some(first) = raw.submodule.first() {
+        return Err(cx.invalid(
+            first.span(),
+            "station.submodule[0]",
+            "with `gsdml` the station's program defines its submodules; remove the \
+             [[station.submodule]] tables, or remove `gsdml` to give the tree here",
+        ));
+    }
+    let path = cx.dir.join(written.get_ref());
+    let gsdml =
+        Gsdml::load(&path).map_err(|e| cx.gsdml_error(written.span(), "station.gsdml", e))?;
+    let at = match &raw.gsdml_dap {
+        Some(id) => gsdml
+            .daps
+            .iter()
+            .position(|d| d.id == *id.get_ref() || d.name.as_deref() == Some(id.get_ref()))
+            .ok_or_else(|| {
+                let ids: Vec<&str> = gsdml.daps.iter().map(|d| d.id.as_str()).collect();
+                cx.invalid(
+                    id.span(),
+                    "station.gsdml_dap",
+                    format!(
+                        "{} has no device access point {:?}; it has {}",
+                        path.display(),
+                        id.get_ref(),
+                        ids.join(", ")
+                    ),
+                )
+            })?,
+        None => 0,
+    };
+    let program = ProgramStation {
+        gsdml: path,
+        dap: gsdml.daps[at].id.clone(),
+    };
+    Ok(Some((program, gsdml, at)))
 }
 
 fn dap(raw: RawDap) -> DapConfig {

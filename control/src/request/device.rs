@@ -19,6 +19,22 @@ pub enum StationAlarmKind {
     ReturnOfSubmodule,
 }
 
+/// One submodule of a station its program defines ([`DeviceRequest::StationDefine`]): where,
+/// and which module and submodule by ident number; the station's GSDML file gives the rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct StationTreeEntry {
+    /// API.
+    pub api: u32,
+    /// Slot, 1 and up.
+    pub slot: u16,
+    /// Subslot.
+    pub subslot: u16,
+    /// ModuleIdentNumber.
+    pub module_ident: u32,
+    /// SubmoduleIdentNumber.
+    pub submodule_ident: u32,
+}
+
 /// A request of the IO device's station services.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "request", rename_all = "snake_case")]
@@ -158,6 +174,25 @@ pub enum DeviceRequest {
         subscriber: u64,
         /// Check (`true`) or stop.
         check: bool,
+    },
+    /// In the device role, a station whose configuration names its GSDML file and no
+    /// submodules: the subscriber's program defines the station's tree (every submodule
+    /// after the device access point). Checked against the GSDML file; once accepted the
+    /// station runs anew with the tree (a new generation and layout, which clients follow)
+    /// and goes on the wire. Refused while an AR runs, when another program defined the
+    /// station, and for a configured station.
+    StationDefine {
+        /// The subscriber's id: the station's program from now on.
+        subscriber: u64,
+        /// The submodules after the device access point.
+        tree: Vec<StationTreeEntry>,
+    },
+    /// In the device role: the station's program ends (IO-Base's `PNIO_device_close`): its
+    /// AR ends with an abort and the station waits, off the wire, for a program to define it
+    /// again. The same happens when the program's process is gone.
+    StationRelease {
+        /// The subscriber's id (the one that defined the station).
+        subscriber: u64,
     },
     /// In the device role: end the AR `ar_uuid` from the station's side (an ERR-RTA with
     /// AbortRequest, IO-Base's `PNIO_device_ar_abort`); the station stays on the wire and

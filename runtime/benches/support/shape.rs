@@ -116,6 +116,7 @@ pub fn as_station(config: &Config) -> Config {
         role: Role::Device,
         devices: Vec::new(),
         station: Some(StationConfig {
+            program: None,
             name: d.name.clone(),
             ip: Some(std::net::Ipv4Addr::new(192, 168, 0, 50)),
             netmask: std::net::Ipv4Addr::new(255, 255, 255, 0),

@@ -22,6 +22,7 @@ use application::ApplicationSay;
 mod diagnosis;
 mod identity;
 mod notifications;
+pub mod program;
 mod role;
 mod services;
 pub mod sim_plc;
@@ -83,7 +84,11 @@ pub enum DeviceStartError {
 /// Starts the device of `config` (and, with `network = "sim"`, the demo's PLC). The device
 /// takes part while the mode of `shared` is CLEAR or OPERATE and ends when `shared.stop` is
 /// set, aborting its AR.
-pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceStartError> {
+pub fn start(
+    config: &Config,
+    shared: Arc<Shared>,
+    program: Option<Arc<program::StationProgram>>,
+) -> Result<RoleSystem, DeviceStartError> {
     let configured = config
         .station
         .as_ref()
@@ -96,6 +101,8 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     let station = &kept
         .as_ref()
         .map_or_else(|| configured.clone(), |k| with_kept(configured, &k.state));
+    // A station its program defines, without its program yet.
+    let waiting = program.as_ref().is_some_and(|p| p.definer().is_none());
     let plc_stop = Arc::new(AtomicBool::new(false));
     let mut threads = Vec::new();
     let channel = Arc::new(Channel::new());
@@ -193,7 +200,8 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     threads.push(
         acyclic::spawn(acyclic::AcyclicSetup {
             role: {
-                let role = DeviceRole::new(device, shown.clone(), channel.clone());
+                let role = DeviceRole::new(device, shown.clone(), channel.clone())
+                    .waiting_for_program(waiting);
                 let role = match kept {
                     Some(k) => role.with_state_file(k),
                     None => role,
@@ -226,18 +234,21 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, DeviceS
     );
     Ok(RoleSystem {
         io: Some(io),
-        services: Some(Box::new(DeviceServices::new(
-            shown,
-            ApplicationSay::new(
-                station
-                    .submodule_configs()
-                    .map(|s| procimg_profinet::device::SubslotAddr::new(s.api, s.slot, s.subslot)),
-            ),
-            commands,
-            event_rx,
-            channel,
-            datagrams,
-        ))),
+        services: Some(Box::new(
+            DeviceServices::new(
+                shown,
+                ApplicationSay::new(
+                    station.submodule_configs().map(|s| {
+                        procimg_profinet::device::SubslotAddr::new(s.api, s.slot, s.subslot)
+                    }),
+                ),
+                commands,
+                event_rx,
+                channel,
+                datagrams,
+            )
+            .with_program(program),
+        )),
         threads,
         stop: Some(Box::new(move || plc_stop.store(true, Ordering::Release))),
     })

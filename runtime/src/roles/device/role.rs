@@ -162,6 +162,8 @@ pub struct DeviceRole {
     alarms: ClientAlarms,
     /// A client reports a problem of the station.
     problem: bool,
+    /// The station waits for its program to define it: it takes no AR whatever the mode.
+    waiting: bool,
 }
 
 /// The state file as the role keeps it up to date.
@@ -209,7 +211,15 @@ impl DeviceRole {
             data_flows: false,
             alarms: ClientAlarms::default(),
             problem: false,
+            waiting: false,
         }
+    }
+
+    /// A station that waits for its program: it answers DCP but takes no AR, whatever the
+    /// mode.
+    pub fn waiting_for_program(mut self, waiting: bool) -> DeviceRole {
+        self.waiting = waiting;
+        self
     }
 
     /// Keeps what must survive a restart in `kept` from now on.
@@ -373,7 +383,8 @@ impl Role for DeviceRole {
     type Event = StationEvent;
 
     fn set_online(&mut self, online: bool, now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
-        self.device.set_accepting(online, now_ns, &mut self.actions);
+        self.device
+            .set_accepting(online && !self.waiting, now_ns, &mut self.actions);
         self.hand_over(out);
     }
 

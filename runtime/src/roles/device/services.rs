@@ -8,6 +8,7 @@
 use super::alarms::AlarmOrder;
 use super::application::{ApplicationSay, Order};
 use super::notifications::notification;
+use super::program::StationProgram;
 use super::role::DeviceCommand;
 use super::station::{Station, StationEvent};
 use crate::acyclic::DatagramCounters;
@@ -18,7 +19,7 @@ use crate::shm::Notices;
 use procimg_control::services::Notification;
 use procimg_control::{
     ArState, DeviceReport, DeviceRequest, NetworkReport, Refusal, Response, StationReport,
-    SubscriberReport,
+    StationTreeEntry, SubscriberReport,
 };
 use procimg_profinet::device::SubslotAddr;
 use procimg_profinet::wire::record::RecordErrorCode;
@@ -40,6 +41,8 @@ pub struct DeviceServices {
     datagrams: Arc<DatagramCounters>,
     subscribers: Subscribers,
     say: ApplicationSay,
+    /// The station's program, for a station its program defines.
+    program: Option<Arc<StationProgram>>,
 }
 
 impl DeviceServices {
@@ -62,6 +65,53 @@ impl DeviceServices {
             datagrams,
             subscribers: Subscribers::default(),
             say,
+            program: None,
+        }
+    }
+
+    /// For a station its program defines: `program` takes the definitions.
+    pub fn with_program(mut self, program: Option<Arc<StationProgram>>) -> DeviceServices {
+        self.program = program;
+        self
+    }
+
+    /// Subscriber `subscriber`'s program defines the station as `tree`.
+    fn define(&mut self, subscriber: u64, tree: &[StationTreeEntry]) -> Response {
+        let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
+        let Some(program) = &self.program else {
+            return refused(
+                "this station's tree is its configuration's ([[station.submodule]]); a program \
+                 defines the tree of a station configured with `gsdml` and no submodules"
+                    .into(),
+            );
+        };
+        let Some(who) = self.subscribers.get(subscriber).cloned() else {
+            return Response::Refused(Refusal::UnknownSubscriber);
+        };
+        match program.define(subscriber, &who, tree, self.station.has_ar()) {
+            Ok(()) => {
+                tracing::info!(
+                    "{who} defines the station: {} submodules after the device access point",
+                    tree.len()
+                );
+                Response::Done
+            }
+            Err(e) => refused(e.to_string()),
+        }
+    }
+
+    /// Subscriber `subscriber`'s program ends.
+    fn release(&mut self, subscriber: u64) -> Response {
+        match &self.program {
+            Some(p) if p.release(subscriber) => {
+                tracing::info!("the station's program ended: the station waits for another");
+                Response::Done
+            }
+            _ => Response::Refused(Refusal::BadRequest {
+                message: "this subscriber did not define the station; only its program \
+                          releases it"
+                    .into(),
+            }),
         }
     }
 
@@ -321,6 +371,8 @@ impl Answers<DeviceRequest> for DeviceServices {
                 job,
                 refuse,
             } => self.answer_ar_check(subscriber, job, refuse),
+            DeviceRequest::StationDefine { subscriber, tree } => self.define(subscriber, &tree),
+            DeviceRequest::StationRelease { subscriber } => self.release(subscriber),
             DeviceRequest::StationAbortAr { ar_uuid } => {
                 self.carry_out(|reply| DeviceCommand::AbortAr { ar_uuid, reply })
             }
@@ -485,6 +537,12 @@ impl RoleServices for DeviceServices {
             for o in self.say.forget(*id) {
                 self.order(o);
             }
+        }
+        if let Some(d) = self.program.as_ref().and_then(|p| p.reap(alive)) {
+            tracing::info!(
+                "the station's program {} is gone: the station waits for another",
+                d.who
+            );
         }
         gone.into_iter().map(|(_, s)| s.to_string()).collect()
     }

@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A station its program defines (`[station] gsdml`, no `[[station.submodule]]`): who its
+//! program is, and the station procimgd is to run next. It outlives a generation: the
+//! control side of each generation asks it, procimgd's main loop runs the next generation
+//! from what it holds (docs/ARCHITECTURE.md, "A station its program defines").
+
+use crate::config::StationConfig;
+use crate::roles::subscribers::Subscriber;
+use procimg_config::gsdml::Gsdml;
+use procimg_config::{PlannedSubmodule, define_station};
+use procimg_control::StationTreeEntry;
+use std::collections::HashSet;
+use std::sync::{Arc, Mutex, PoisonError};
+
+/// The program that defined the station.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Definer {
+    /// Its subscriber id.
+    pub subscriber: u64,
+    /// The subscriber as it announced itself (name, pid, iceoryx2 node).
+    pub who: Subscriber,
+}
+
+/// What procimgd runs after this generation.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Next {
+    /// The station with the program's tree, on the wire.
+    Defined(Box<StationConfig>),
+    /// The station without its program: the device access point only, off the wire.
+    Waiting,
+}
+
+/// Why a definition is refused.
+#[derive(Debug, PartialEq, Eq, thiserror::Error)]
+pub enum DefineError {
+    /// Another program defined the station.
+    #[error(
+        "the station is defined by {0} already; one program defines it: end that one first \
+         (its close, or its process's end, takes the station off the wire)"
+    )]
+    Taken(String),
+    /// The station has an AR.
+    #[error(
+        "an AR with the PLC runs: the tree is defined before a PLC connects; end the \
+         station's program (its close) to take the station off the wire, then define it again"
+    )]
+    ArRuns,
+    /// The tree does not fit the GSDML file.
+    #[error("{0}")]
+    Tree(String),
+}
+
+/// The station's program and the generation to come.
+pub struct StationProgram {
+    /// The station as configured: identity and device access point, no tree.
+    waiting: StationConfig,
+    /// Its GSDML file, read once.
+    gsdml: Gsdml,
+    /// Its device access point's index in the file.
+    dap: usize,
+    state: Mutex<State>,
+}
+
+#[derive(Default)]
+struct State {
+    definer: Option<Definer>,
+    next: Option<Next>,
+}
+
+impl StationProgram {
+    /// The program state of `waiting`, a station whose program defines it by `gsdml`'s
+    /// device access point `dap`.
+    pub fn new(waiting: StationConfig, gsdml: Gsdml, dap: usize) -> Arc<StationProgram> {
+        Arc::new(StationProgram {
+            waiting,
+            gsdml,
+            dap,
+            state: Mutex::new(State::default()),
+        })
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The station without a program, as configured.
+    pub fn waiting(&self) -> &StationConfig {
+        &self.waiting
+    }
+
+    /// The program that defined the current station, if one did.
+    pub fn definer(&self) -> Option<Definer> {
+        self.lock().definer.clone()
+    }
+
+    /// Subscriber `subscriber` (`who`) defines the station as `tree`: refused when another
+    /// program defined it, while an AR runs (`ar_runs`), or when the GSDML file does not
+    /// allow the tree; once accepted the next generation runs it.
+    pub fn define(
+        &self,
+        subscriber: u64,
+        who: &Subscriber,
+        tree: &[StationTreeEntry],
+        ar_runs: bool,
+    ) -> Result<(), DefineError> {
+        let mut state = self.lock();
+        if let Some(d) = &state.definer
+            && d.subscriber != subscriber
+        {
+            return Err(DefineError::Taken(d.who.to_string()));
+        }
+        if ar_runs {
+            return Err(DefineError::ArRuns);
+        }
+        let planned: Vec<PlannedSubmodule> = tree
+            .iter()
+            .map(|e| PlannedSubmodule {
+                api: e.api,
+                slot: e.slot,
+                subslot: e.subslot,
+                module_ident: e.module_ident,
+                submodule_ident: e.submodule_ident,
+            })
+            .collect();
+        let station = define_station(
+            &self.waiting,
+            &self.gsdml,
+            &self.gsdml.daps[self.dap],
+            &planned,
+        )
+        .map_err(|e| DefineError::Tree(e.to_string()))?;
+        state.definer = Some(Definer {
+            subscriber,
+            who: who.clone(),
+        });
+        state.next = Some(Next::Defined(Box::new(station)));
+        Ok(())
+    }
+
+    /// Subscriber `subscriber`'s program ends: if it defined the station, the next
+    /// generation waits for a program. Whether it had.
+    pub fn release(&self, subscriber: u64) -> bool {
+        let mut state = self.lock();
+        if state
+            .definer
+            .as_ref()
+            .is_none_or(|d| d.subscriber != subscriber)
+        {
+            return false;
+        }
+        state.definer = None;
+        state.next = Some(Next::Waiting);
+        true
+    }
+
+    /// When the defining program's process is gone (`alive`: the live iceoryx2 node ids),
+    /// the next generation waits for a program; the program, if it was so.
+    pub fn reap(&self, alive: &HashSet<String>) -> Option<Definer> {
+        let mut state = self.lock();
+        let gone = state
+            .definer
+            .as_ref()
+            .is_some_and(|d| !alive.contains(&d.who.node_id));
+        if !gone {
+            return None;
+        }
+        state.next = Some(Next::Waiting);
+        state.definer.take()
+    }
+
+    /// The generation to run next, if one was asked for.
+    pub fn take_next(&self) -> Option<Next> {
+        self.lock().next.take()
+    }
+}

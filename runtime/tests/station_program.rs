@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A station its program defines: procimgd with `[station] gsdml` and no submodules waits,
+//! OFFLINE with the device access point only; a program's tree that the GSDML does not allow
+//! is refused naming the ident and the file, and changes nothing; an accepted tree runs the
+//! station anew (a client attached before follows the new layout) and the demo PLC
+//! connects it; a second program and a definition during the AR are refused; the program's
+//! end aborts the AR and the station waits again.
+
+use procimg_client::{
+    ArState, AttachOptions, Client, ControlError, Event, Refusal, ServiceOptions, Services,
+    StationTreeEntry,
+};
+use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
+use procimg_config::{Config, StationConfig};
+use procimg_shm_layout::Mode;
+use procimg_testkit::Launch;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Set for the child process that plays a station's program: the instance to define.
+const CHILD_ENV: &str = "PROCIMG_TEST_STATION_PROGRAM";
+
+/// The demo station's tree (after slot 0), as a program plugs it.
+fn demo_tree(station: &StationConfig) -> Vec<StationTreeEntry> {
+    station
+        .submodule_configs()
+        .filter(|s| s.slot > 0)
+        .map(|s| StationTreeEntry {
+            api: s.api,
+            slot: s.slot,
+            subslot: s.subslot,
+            module_ident: s.module_ident,
+            submodule_ident: s.submodule_ident,
+        })
+        .collect()
+}
+
+/// Polls `client` (so that it re-attaches) until `done` says yes of its events so far.
+fn follow(client: &mut Client, events: &mut Vec<Event>, done: impl Fn(&[Event]) -> bool) {
+    let until = Instant::now() + Duration::from_secs(30);
+    while !done(events) {
+        assert!(Instant::now() < until, "not within 30 s: {events:?}");
+        let _ = client.wait_startop(Duration::from_millis(20));
+        events.extend(client.events());
+    }
+}
+
+/// The config of a station its program defines, with the demo station's GSDML written into
+/// `dir`: the TOML and the file's name.
+fn waiting_station(dir: &std::path::Path) -> (String, String) {
+    let demo = Config::demo_device();
+    let file = station_gsdml(
+        demo.station.as_ref().unwrap(),
+        demo.cycle_ns,
+        GsdmlDate::new(2026, 11, 28).unwrap(),
+    )
+    .unwrap();
+    let gsdml = dir.join(&file.file_name);
+    std::fs::write(&gsdml, file.xml).unwrap();
+    let toml = format!(
+        "role = \"device\"\ncycle_time = \"1ms\"\nnetwork = \"sim\"\n[station]\n\
+         name = \"procimg-device\"\nip = \"192.168.0.50\"\ngsdml = \"{}\"\n",
+        gsdml.display()
+    );
+    (toml, file.file_name)
+}
+
+/// Run as a child process only (`PROCIMG_TEST_STATION_PROGRAM` set): defines the demo
+/// station on that instance, says so, and lives until killed.
+#[test]
+fn child_station_program() {
+    let Ok(instance) = std::env::var(CHILD_ENV) else {
+        return;
+    };
+    let program = Services::open(&instance, ServiceOptions::new("child-program")).unwrap();
+    let station = Config::demo_device().station.unwrap();
+    program.define_station(&demo_tree(&station)).unwrap();
+    println!("DEFINED");
+    loop {
+        std::thread::sleep(Duration::from_secs(1));
+    }
+}
+
+fn refusal(r: Result<(), ControlError>) -> String {
+    match r {
+        Err(ControlError::Refused(Refusal::BadRequest { message })) => message,
+        other => panic!("not refused with a message: {other:?}"),
+    }
+}
+
+#[test]
+fn a_program_defines_the_station_from_its_gsdml_and_its_end_takes_it_off_the_wire() {
+    let demo_station = Config::demo_device().station.unwrap();
+    let dir = procimg_testkit::files::temp_dir("station-program");
+    let (toml, file_name) = waiting_station(dir.path());
+    let server = Launch::config("station-program", &toml)
+        .until_cycling()
+        .start();
+    let instance = server.instance.clone();
+
+    // Waiting: OFFLINE, the device access point only, VendorID and DeviceID from the file.
+    let st = server.status();
+    let station = st.station.clone().expect("a station");
+    assert_eq!(
+        (station.vendor_id, station.device_id),
+        (demo_station.vendor_id, demo_station.device_id)
+    );
+    assert!(station.ar.is_none());
+    assert_eq!(server.mode(), Mode::Offline);
+    // OPERATE asked for by hand does not put the waiting station on the wire: the PLC's
+    // Connects stay refused.
+    server.set_mode(Mode::Operate);
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(server.status().station.unwrap().ar.is_none());
+    server.set_mode(Mode::Offline);
+    let mut watcher = Client::attach(&instance, AttachOptions::asynchronous("watcher")).unwrap();
+    assert_eq!(watcher.layout().submodules.len(), 3, "slot 0 only");
+    let waiting_hash = watcher.layout().hash();
+
+    let program = Services::open(&instance, ServiceOptions::new("the-program")).unwrap();
+    // An ident the GSDML lacks: refused naming it and the file; nothing changes.
+    let mut tree = demo_tree(&demo_station);
+    let mut wrong = tree.clone();
+    wrong[0].module_ident = 0x4242;
+    let m = refusal(program.define_station(&wrong));
+    assert!(
+        m.contains("module ident 0x00004242") && m.contains(&file_name),
+        "{m}"
+    );
+    // A slot beyond the DAP's PhysicalSlots.
+    let mut far = tree.clone();
+    far[0].slot = 60;
+    let m = refusal(program.define_station(&far));
+    assert!(m.contains("PhysicalSlots"), "{m}");
+    assert_eq!(server.mode(), Mode::Offline);
+
+    // The program's tree: the station runs anew with it, the PLC connects it.
+    program.define_station(&tree).unwrap();
+    let mut events = Vec::new();
+    follow(&mut watcher, &mut events, |e| {
+        e.iter().any(|e| matches!(e, Event::LayoutChanged { .. }))
+    });
+    assert_eq!(
+        watcher.layout().submodules.len(),
+        demo_station.submodules.len()
+    );
+    let running = server.wait_status("the AR in data exchange", |s| {
+        s.station
+            .as_ref()
+            .and_then(|s| s.ar.as_ref())
+            .is_some_and(|a| a.state == ArState::Data)
+    });
+    assert_eq!(running.mode, Mode::Operate);
+
+    // A second program, and a definition during the AR: refused.
+    let other = Services::open(&instance, ServiceOptions::new("another-program")).unwrap();
+    let m = refusal(other.define_station(&tree));
+    assert!(m.contains("defined by the-program"), "{m}");
+    tree.pop();
+    let m = refusal(program.define_station(&tree));
+    assert!(m.contains("an AR with the PLC runs"), "{m}");
+
+    // The program's end: the AR ends with an abort, the station waits again, OFFLINE with
+    // slot 0 only, and the watcher follows.
+    program.release_station().unwrap();
+    let mut events = Vec::new();
+    follow(&mut watcher, &mut events, |e| {
+        e.iter()
+            .any(|e| matches!(e, Event::LayoutChanged { now, .. } if *now == waiting_hash))
+    });
+    let st = server.wait_status("the station waiting", |s| {
+        s.station.as_ref().is_some_and(|s| s.ar.is_none()) && s.mode == Mode::Offline
+    });
+    assert!(st.station.unwrap().aborted_ars <= 1);
+}
+
+#[test]
+fn the_programs_process_gone_aborts_the_ar_and_the_station_waits() {
+    let dir = procimg_testkit::files::temp_dir("station-program-gone");
+    let (toml, _) = waiting_station(dir.path());
+    let server = Launch::config("station-gone", &toml)
+        .until_cycling()
+        .start();
+    let waiting = server.status().layout_hash;
+    let mut child = Command::new(std::env::current_exe().unwrap())
+        .args(["--exact", "child_station_program", "--nocapture"])
+        .env(CHILD_ENV, &server.instance)
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Ended and reaped whatever happens below.
+    struct Reap<'a>(&'a mut std::process::Child);
+    impl Drop for Reap<'_> {
+        fn drop(&mut self) {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+    let child = Reap(&mut child);
+    let up = server.wait_status("the AR in data exchange", |s| {
+        s.station
+            .as_ref()
+            .and_then(|s| s.ar.as_ref())
+            .is_some_and(|a| a.state == ArState::Data)
+    });
+    assert_ne!(up.layout_hash, waiting);
+    drop(child);
+    // The station runs without the tree again: slot 0 only, OFFLINE, no AR.
+    server.wait_status("the station waiting after its program's end", |s| {
+        s.layout_hash == waiting
+            && s.mode == Mode::Offline
+            && s.station.as_ref().is_some_and(|s| s.ar.is_none())
+    });
+}
