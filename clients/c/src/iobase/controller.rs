@@ -569,10 +569,11 @@ impl Controller {
     /// Reports a mode: updates the state first (the program may ask for the next mode as
     /// soon as it sees this one), then calls MODE_IND.
     fn report_mode(&self, mode: PNIO_MODE_TYPE) {
-        if mode == PNIO_MODE_OFFLINE {
-            // OFFLINE takes the connections down.
-            self.devices_up.set_all(false);
-        }
+        // OFFLINE takes the connections down, and each device's state notification says so
+        // (the data functions refuse in OFFLINE meanwhile). Clearing every device here would
+        // race with them: this report comes from the image stream, the notifications from the
+        // services worker, and a report of the OFFLINE that `PNIO_controller_open` asked for
+        // could come after the devices had come up again, leaving them down for good.
         {
             let mut m = lock(&self.mode);
             m.mode = mode;

@@ -34,7 +34,7 @@ impl DevicesUp {
         }
     }
 
-    /// Every device is (`true`) or is not in data exchange: OFFLINE, a new server.
+    /// Every device is (`true`) or is not in data exchange: a new server.
     pub(crate) fn set_all(&self, up: bool) {
         let _order = lock(&self.order);
         self.up.iter().for_each(|u| u.store(up, Ordering::Relaxed));
