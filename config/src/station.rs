@@ -93,6 +93,21 @@ impl StationConfig {
     pub fn submodule_configs(&self) -> impl Iterator<Item = &SubmoduleConfig> {
         self.submodules.iter().map(|s| &s.submodule)
     }
+
+    /// Its tree after the device access point, as a program would define it
+    /// ([`crate::define_station`]): places and ident numbers.
+    pub fn tree(&self) -> Vec<crate::PlannedSubmodule> {
+        self.submodule_configs()
+            .filter(|s| s.slot > 0)
+            .map(|s| crate::PlannedSubmodule {
+                api: s.api,
+                slot: s.slot,
+                subslot: s.subslot,
+                module_ident: s.module_ident,
+                submodule_ident: s.submodule_ident,
+            })
+            .collect()
+    }
 }
 
 /// I&M0's software revision: a prefix letter and three numbers, e.g. `V1.2.0`.

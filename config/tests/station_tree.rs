@@ -24,21 +24,6 @@ fn demo() -> (Config, Gsdml) {
     (config, gsdml)
 }
 
-/// The tree of a station: its submodules after slot 0.
-fn tree_of(station: &StationConfig) -> Vec<PlannedSubmodule> {
-    station
-        .submodule_configs()
-        .filter(|s| s.slot > 0)
-        .map(|s| PlannedSubmodule {
-            api: s.api,
-            slot: s.slot,
-            subslot: s.subslot,
-            module_ident: s.module_ident,
-            submodule_ident: s.submodule_ident,
-        })
-        .collect()
-}
-
 fn define(tree: &[PlannedSubmodule]) -> Result<StationConfig, TreeError> {
     let (config, gsdml) = demo();
     let station = config.station.unwrap();
@@ -49,7 +34,7 @@ fn define(tree: &[PlannedSubmodule]) -> Result<StationConfig, TreeError> {
 fn the_configured_tree_makes_the_configured_station() {
     let (config, gsdml) = demo();
     let station = config.station.unwrap();
-    let defined = define_station(&station, &gsdml, &gsdml.daps[0], &tree_of(&station)).unwrap();
+    let defined = define_station(&station, &gsdml, &gsdml.daps[0], &station.tree()).unwrap();
     // Lengths, addresses and parameter records as the configuration has them.
     let plain = |s: &StationConfig| -> Vec<_> {
         s.submodules
@@ -65,7 +50,7 @@ fn the_configured_tree_makes_the_configured_station() {
 #[test]
 fn a_partial_tree_gets_its_lengths_from_the_gsdml_and_addresses_from_zero() {
     let (config, _) = demo();
-    let full = tree_of(config.station.as_ref().unwrap());
+    let full = config.station.as_ref().unwrap().tree();
     // Only the last submodule of the demo, in its slot.
     let last = *full.last().unwrap();
     let defined = define(&[last]).unwrap();
@@ -95,7 +80,7 @@ fn a_partial_tree_gets_its_lengths_from_the_gsdml_and_addresses_from_zero() {
 #[test]
 fn what_the_gsdml_does_not_allow_is_refused_naming_it() {
     let (config, _) = demo();
-    let full = tree_of(config.station.as_ref().unwrap());
+    let full = config.station.as_ref().unwrap().tree();
     let first = full[0];
     let message = |tree: &[PlannedSubmodule]| define(tree).unwrap_err().to_string();
 

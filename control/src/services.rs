@@ -540,27 +540,27 @@ pub struct StationArCheckJob {
     pub crs: Vec<ArCr>,
 }
 
-/// An IO CR of a new AR (IO-Base's `PNIO_IOCR_TYPE`): its timing as the PLC's Connect gives
-/// it, the FrameID of its frames, and where each submodule's data sits in them.
+/// An IO CR of a new AR, as IO-Base's `PNIO_IOCR_TYPE` gives it to the program: the
+/// IOCRBlockReq's values, with the FrameID the station's frames use.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ArCr {
-    /// An input CR (the station sends: the PLC's I data) or an output CR (the PLC's Q data).
+    /// Input CR (the PLC's I data), else output CR (its Q data).
     pub input: bool,
-    /// RTClass (1 and 2 RT, 3 IRT, 4 RT over UDP).
+    /// IOCRProperties' RTClass: 1, 2 (RT), 3 (IRT), 4 (UDP).
     pub rt_class: u8,
-    /// The FrameID of its frames.
+    /// FrameID.
     pub frame_id: u16,
-    /// SendClockFactor (× 31.25 µs; 32 = 1 ms).
+    /// SendClockFactor, in 31.25 µs.
     pub send_clock_factor: u16,
-    /// ReductionRatio: a frame every so many send clocks.
+    /// ReductionRatio.
     pub reduction_ratio: u16,
     /// Phase.
     pub phase: u16,
-    /// DataHoldFactor: frames missed before the receiver gives up.
+    /// DataHoldFactor.
     pub data_hold_factor: u16,
-    /// C_SDU bytes of its frames.
+    /// DataLength (C_SDU bytes).
     pub data_length: u16,
-    /// Each submodule's data object (its data, then its IOPS), in the Connect's order.
+    /// The IODataObjects, in the Connect's order.
     pub data_objects: Vec<CrDataObject>,
 }
 

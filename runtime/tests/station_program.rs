@@ -22,17 +22,14 @@ const CHILD_ENV: &str = "PROCIMG_TEST_STATION_PROGRAM";
 
 /// The demo station's tree (after slot 0), as a program plugs it.
 fn demo_tree(station: &StationConfig) -> Vec<StationTreeEntry> {
-    station
-        .submodule_configs()
-        .filter(|s| s.slot > 0)
-        .map(|s| StationTreeEntry {
-            api: s.api,
-            slot: s.slot,
-            subslot: s.subslot,
-            module_ident: s.module_ident,
-            submodule_ident: s.submodule_ident,
-        })
-        .collect()
+    let entry = |p: procimg_config::PlannedSubmodule| StationTreeEntry {
+        api: p.api,
+        slot: p.slot,
+        subslot: p.subslot,
+        module_ident: p.module_ident,
+        submodule_ident: p.submodule_ident,
+    };
+    station.tree().into_iter().map(entry).collect()
 }
 
 /// Polls `client` (so that it re-attaches) until `done` says yes of its events so far.

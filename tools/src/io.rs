@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! `procimg io read|write|watch` and `procimg layout`.
 
-use crate::text::hex;
+use crate::text::{hex, space_words};
 use anyhow::bail;
 use clap::Subcommand;
 use procimg_client::access::{resolve_read, resolve_write};
@@ -111,17 +111,6 @@ pub(crate) fn parse_hex(s: &str) -> anyhow::Result<Vec<u8>> {
     }
     hex::decode(&digits)
         .map_err(|e| anyhow::anyhow!("{s:?} is not whole bytes in hex ({e}); e.g. 01ff"))
-}
-
-/// What the bytes of `space` are, in words: in the device role (`device`) as the PLC sees
-/// them, whose Q data is in the image's input space and whose I data in its output space.
-pub(crate) fn space_words(device: bool, space: Space) -> &'static str {
-    match (device, space) {
-        (false, Space::Input) => "inputs",
-        (false, Space::Output) => "outputs",
-        (true, Space::Input) => "Q data from the PLC",
-        (true, Space::Output) => "I data to the PLC",
-    }
 }
 
 /// Addresses for people: `0..15`, or `7` for one byte.

@@ -100,7 +100,7 @@ pub fn watch(client: &mut Client, w: &Watch) -> anyhow::Result<()> {
     let length = w.length.unwrap_or(at.data_len).min(at.data_len);
     // In the device role a line says which of the PLC's data it shows.
     let label = if client.is_device() {
-        format!("{device_name} ({})", crate::io::space_words(true, space))
+        format!("{device_name} ({})", crate::text::space_words(true, space))
     } else {
         device_name.clone()
     };

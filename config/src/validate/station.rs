@@ -17,7 +17,7 @@ use super::devices::{
 use crate::SubmoduleConfig;
 use crate::context::Cx;
 use crate::error::ConfigError;
-use crate::gsdml::Gsdml;
+use crate::gsdml::{Dap, Gsdml, SubmoduleKind};
 use crate::raw::{RawAcceptedRecord, RawDap, RawStation, RawStationSubmodule};
 use crate::station::{
     AcceptedRecord, DAP_SUBSLOT, DapConfig, INTERFACE_SUBSLOT, MAX_CR_DATA, MAX_RECORD_LENGTH,
@@ -114,7 +114,7 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
                  0; remove [station.dap]",
             ));
         }
-        (None, Some((_, gsdml, at))) => super::station_tree::dap_config(&gsdml.daps[*at]),
+        (None, Some((_, gsdml, at))) => dap_config(&gsdml.daps[*at]),
         (None, None) => DapConfig::default(),
     };
     let identity =
@@ -562,6 +562,30 @@ fn software_version(text: &str) -> Result<SoftwareVersion, String> {
             internal: *internal,
         }),
         _ => Err(format!("{text:?} is not a software revision; {HOW}")),
+    }
+}
+
+/// The ident numbers of the DAP's own submodule, interface and port, from the GSDML.
+pub fn dap_config(dap: &Dap) -> DapConfig {
+    let d = DapConfig::default();
+    let ident = |kind: SubmoduleKind, subslot: Option<u16>| {
+        dap.submodules
+            .iter()
+            .find(|s| {
+                s.kind == kind
+                    && subslot.is_none_or(|n| {
+                        s.subslots.as_ref().is_none_or(|l| l.contains(u32::from(n)))
+                    })
+            })
+            .map(|s| s.submodule_ident)
+    };
+    DapConfig {
+        module_ident: dap.module_ident,
+        submodule_ident: ident(SubmoduleKind::Virtual, Some(DAP_SUBSLOT))
+            .unwrap_or(d.submodule_ident),
+        interface_ident: ident(SubmoduleKind::Interface, Some(INTERFACE_SUBSLOT))
+            .unwrap_or(d.interface_ident),
+        port_ident: ident(SubmoduleKind::Port, None).unwrap_or(d.port_ident),
     }
 }
 

@@ -13,13 +13,13 @@ use std::path::Path;
 use procimg_shm_layout::NO_ADDRESS;
 
 use super::devices::{Draft, addresses};
+pub use super::station::dap_config;
 use super::station::{dap_submodules, frame_overflow};
 use crate::SubmoduleConfig;
 use crate::context::Cx;
-use crate::gsdml::{Dap, Gsdml, GsdmlError, Module, Submodule, SubmoduleKind};
+use crate::gsdml::{Dap, Gsdml, GsdmlError, Module, Submodule};
 use crate::station::{
-    AcceptedRecord, DAP_SUBSLOT, DapConfig, INTERFACE_SUBSLOT, MAX_RECORD_LENGTH, MAX_STATION_SLOT,
-    StationConfig, StationSubmodule,
+    AcceptedRecord, MAX_RECORD_LENGTH, MAX_STATION_SLOT, StationConfig, StationSubmodule,
 };
 
 /// One submodule as the program plugs it.
@@ -176,30 +176,6 @@ pub enum TreeError {
     /// No logical addresses for the tree.
     #[error("the station's logical addresses: {0}")]
     Addresses(String),
-}
-
-/// The ident numbers of the DAP's own submodule, interface and port, from the GSDML.
-pub fn dap_config(dap: &Dap) -> DapConfig {
-    let d = DapConfig::default();
-    let ident = |kind: SubmoduleKind, subslot: Option<u16>| {
-        dap.submodules
-            .iter()
-            .find(|s| {
-                s.kind == kind
-                    && subslot.is_none_or(|n| {
-                        s.subslots.as_ref().is_none_or(|l| l.contains(u32::from(n)))
-                    })
-            })
-            .map(|s| s.submodule_ident)
-    };
-    DapConfig {
-        module_ident: dap.module_ident,
-        submodule_ident: ident(SubmoduleKind::Virtual, Some(DAP_SUBSLOT))
-            .unwrap_or(d.submodule_ident),
-        interface_ident: ident(SubmoduleKind::Interface, Some(INTERFACE_SUBSLOT))
-            .unwrap_or(d.interface_ident),
-        port_ident: ident(SubmoduleKind::Port, None).unwrap_or(d.port_ident),
-    }
 }
 
 /// The station `base` (its identity) as the device access point `dap` of `gsdml` in slot 0

@@ -2,12 +2,12 @@
 //! Diagnosis from clients: the control protocol's [`StationDiagnosisChange`] in the device
 //! engine's terms, and carried out on it (the store changes, the PLC gets the alarm).
 
-use super::station::ImageApplication;
 use procimg_control::{
     DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, StationDiagnosisChange,
 };
 use procimg_profinet::device::{
-    ChannelDiag, Device, DeviceAction, DiagEntry, DiagnosisEdit, GenericDiag, Severity, SubslotAddr,
+    Application, ChannelDiag, Device, DeviceAction, DiagEntry, DiagnosisEdit, GenericDiag,
+    Severity, SubslotAddr,
 };
 use procimg_profinet::wire::alarm::{ChannelDirection, DiagnosisFormat};
 
@@ -104,8 +104,8 @@ pub fn reported(e: &DiagEntry) -> DiagnosisEntry {
 
 /// Carries out `change` on `device`: what it sends goes to `out`; `Err` says why the change
 /// was refused.
-pub fn apply(
-    device: &mut Device<ImageApplication>,
+pub fn apply<A: Application>(
+    device: &mut Device<A>,
     change: &StationDiagnosisChange,
     now_ns: u64,
     out: &mut Vec<DeviceAction>,
@@ -140,8 +140,8 @@ pub fn apply(
 
 /// Carries out `change` on `device`'s store only, without an alarm (the client sends its
 /// own); `Err` says why the change was refused.
-pub fn keep(
-    device: &mut Device<ImageApplication>,
+pub fn keep<A: Application>(
+    device: &mut Device<A>,
     change: &StationDiagnosisChange,
 ) -> Result<(), String> {
     let (api, slot, subslot) = change.submodule();

@@ -15,16 +15,11 @@ pub const RELEASED: &str = "released by the PLC";
 /// The notification of `event`.
 pub fn notification(event: StationEvent) -> Notification {
     match event {
-        StationEvent::Ar {
-            state,
-            ar_uuid,
-            controller_mac,
-            controller_name,
-        } => Notification::StationAr {
-            state,
-            ar_uuid,
-            controller_mac,
-            controller_name,
+        StationEvent::Ar(a) => Notification::StationAr {
+            state: a.state,
+            ar_uuid: a.ar_uuid,
+            controller_mac: a.controller_mac,
+            controller_name: a.controller_name,
         },
         StationEvent::ArEnded {
             ar_uuid,
@@ -215,12 +210,13 @@ mod tests {
             (ArState::Data, control::ArState::Data),
         ] {
             assert_eq!(reported(engine), Some(told));
-            let n = notification(StationEvent::Ar {
+            let n = notification(StationEvent::Ar(control::ArReport {
                 state: told,
                 ar_uuid: UUID.into(),
                 controller_mac: "02:50:49:fe:00:01".into(),
                 controller_name: "plc-1".into(),
-            });
+                plc_running: Some(true),
+            }));
             assert_eq!(
                 n,
                 Notification::StationAr {

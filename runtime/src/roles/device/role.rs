@@ -319,7 +319,7 @@ impl DeviceRole {
                     .ar_uuid()
                     .map(|u| u.to_string())
                     .unwrap_or_default();
-                StationEvent::Ar {
+                StationEvent::Ar(procimg_control::ArReport {
                     state: reported,
                     ar_uuid: self.ar_uuid.clone(),
                     controller_mac: self
@@ -334,7 +334,8 @@ impl DeviceRole {
                         .controller_name()
                         .unwrap_or_default()
                         .to_owned(),
-                }
+                    plc_running: None,
+                })
             } else {
                 let aborted = self.device.ar().aborted_ars() != self.aborted;
                 self.aborted = self.device.ar().aborted_ars();

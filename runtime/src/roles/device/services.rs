@@ -119,10 +119,10 @@ impl DeviceServices {
     fn publish(&mut self, event: StationEvent, notices: &mut Notices) {
         if matches!(
             event,
-            StationEvent::Ar {
+            StationEvent::Ar(procimg_control::ArReport {
                 state: ArState::Parameterized,
                 ..
-            } | StationEvent::PlugParameterized(_)
+            }) | StationEvent::PlugParameterized(_)
         ) {
             self.say.parameters_ended();
         }

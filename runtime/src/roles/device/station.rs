@@ -26,17 +26,9 @@ impl Application for ImageApplication {
 /// What the device tells its client services and the log.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum StationEvent {
-    /// The AR reached this state.
-    Ar {
-        /// The state, as clients are told it.
-        state: control::ArState,
-        /// The ARUUID.
-        ar_uuid: String,
-        /// The PLC's MAC address.
-        controller_mac: String,
-        /// The PLC's NameOfStation.
-        controller_name: String,
-    },
+    /// The AR reached a state: as the status report shows it (the PLC's RUN/STOP comes with
+    /// [`StationEvent::PlcRunning`], and stays as it was).
+    Ar(ArReport),
     /// The AR ended: by the PLC's Release (`abort` none), or aborted.
     ArEnded {
         /// The ARUUID.
@@ -179,20 +171,12 @@ impl Station {
     pub fn note(&self, event: &StationEvent) {
         let mut r = self.lock();
         match event {
-            StationEvent::Ar {
-                state,
-                ar_uuid,
-                controller_mac,
-                controller_name,
-            } => {
+            StationEvent::Ar(reached) => {
                 let report = ArReport {
-                    state: *state,
-                    ar_uuid: ar_uuid.clone(),
-                    controller_mac: controller_mac.clone(),
-                    controller_name: controller_name.clone(),
                     plc_running: r.ar.as_ref().and_then(|a| a.plc_running),
+                    ..reached.clone()
                 };
-                if *state == control::ArState::Data {
+                if report.state == control::ArState::Data {
                     tracing::info!(
                         "AR {} with PLC \"{}\" ({}) is in data exchange",
                         report.ar_uuid,
