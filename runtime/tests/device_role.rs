@@ -1070,8 +1070,11 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     // The device dies: the controller reports DEV_FAILURE; restarted, it comes back under
     // the name the state file kept, and the controller reports DEV_RETURN.
     while services.next(Duration::from_millis(10)).is_some() {}
-    drop(again);
     device.kill();
+    // The device's echo thread ends with its server (its wait for STARTOP runs out), before
+    // the restart it would otherwise follow: a thread still running when the test binary
+    // exits leaves its client's iceoryx2 files behind.
+    let _ = again.join();
     let failure = next_device_event(&mut services, "failure");
     assert!(
         matches!(failure, Notification::DeviceFailure { .. }),
