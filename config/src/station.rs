@@ -80,13 +80,27 @@ pub struct StationConfig {
 }
 
 /// A station its program defines: the GSDML file its tree is checked against.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct ProgramStation {
     /// The GSDML file (key `gsdml`, relative to the configuration file's directory).
     pub gsdml: PathBuf,
     /// The ID of its device access point (key `gsdml_dap`, default the file's first).
     pub dap: String,
+    /// The file as read when the configuration was checked.
+    pub file: std::sync::Arc<crate::gsdml::Gsdml>,
+    /// The index of the device access point in `file.daps`.
+    pub dap_index: usize,
 }
+
+/// Two are the same when they name the same file and device access point (the file's
+/// contents are read from it).
+impl PartialEq for ProgramStation {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.gsdml, &self.dap) == (&other.gsdml, &other.dap)
+    }
+}
+
+impl Eq for ProgramStation {}
 
 impl StationConfig {
     /// The plain submodule descriptions, in table order.

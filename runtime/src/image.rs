@@ -63,7 +63,7 @@ impl Tables {
 
     /// The device role's tables: the station as the one device, each submodule with its Q
     /// data in the server-written part and its I data in the client-written part.
-    fn of_station(station: &StationConfig) -> Result<Tables, LayoutError> {
+    pub fn of_station(station: &StationConfig) -> Result<Tables, LayoutError> {
         let devices = vec![DeviceEntry {
             station_name: station_name(&station.name),
             vendor_id: station.vendor_id,

@@ -259,7 +259,10 @@ fn serve(mut config: Config, mut tables: Tables, live_view: bool) -> anyhow::Res
     // A station its program defines: waiting (OFFLINE, the device access point only) until
     // the program sends its tree; each tree, and each end of the program, runs a generation
     // anew.
-    let program = station_program(&config)?;
+    let program = config
+        .station
+        .as_ref()
+        .and_then(|s| StationProgram::of(s, &tables));
     let configured_mode = config.start_mode;
     if program.is_some() {
         config.start_mode = Mode::Offline;
@@ -276,24 +279,16 @@ fn serve(mut config: Config, mut tables: Tables, live_view: bool) -> anyhow::Res
             program.as_ref(),
             &mut ready,
         )?;
-        let Some(next) = end else {
+        let (Some(next), Some(program)) = (end, &program) else {
             return Ok(());
         };
-        let Some(program) = &program else {
-            return Ok(());
-        };
-        let (station, mode) = match next {
-            Next::Defined(station) => (*station, configured_mode),
+        let (next, mode) = match next {
+            Next::Defined(defined) => (*defined, configured_mode),
             Next::Waiting => (program.waiting().clone(), Mode::Offline),
         };
-        config.station = Some(station);
+        config.station = Some(next.station);
         config.start_mode = mode;
-        tables = Tables::from_config(&config).with_context(|| {
-            format!(
-                "{}: the station does not fit in a process image",
-                config.origin
-            )
-        })?;
+        tables = next.tables;
         info!(
             "the station runs anew: {} submodules, {} bytes of Q data and {} of I data",
             tables.submodules.len(),
@@ -301,21 +296,6 @@ fn serve(mut config: Config, mut tables: Tables, live_view: bool) -> anyhow::Res
             tables.layout.output_size
         );
     }
-}
-
-/// The program state of a station its program defines (`[station] gsdml`), with its GSDML
-/// file read; `None` for every other configuration.
-fn station_program(config: &Config) -> anyhow::Result<Option<Arc<StationProgram>>> {
-    let Some(station) = &config.station else {
-        return Ok(None);
-    };
-    let Some(p) = &station.program else {
-        return Ok(None);
-    };
-    let gsdml = procimg_config::gsdml::Gsdml::load(&p.gsdml)
-        .with_context(|| format!("{}: station.gsdml", config.origin))?;
-    let dap = gsdml.daps.iter().position(|d| d.id == p.dap).unwrap_or(0);
-    Ok(Some(StationProgram::new(station.clone(), gsdml, dap)))
 }
 
 /// Runs one generation of the server: its image, cycle thread, role and data services, until

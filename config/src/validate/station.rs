@@ -114,7 +114,7 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
                  0; remove [station.dap]",
             ));
         }
-        (None, Some((_, gsdml, at))) => dap_config(&gsdml.daps[*at]),
+        (None, Some(p)) => dap_config(&p.file.daps[p.dap_index]),
         (None, None) => DapConfig::default(),
     };
     let identity =
@@ -132,12 +132,12 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
     let vendor_id = identity(
         &raw.vendor_id,
         "vendor_id",
-        program.as_ref().map(|(_, g, _)| g.vendor_id),
+        program.as_ref().map(|p| p.file.vendor_id),
     )?;
     let device_id = identity(
         &raw.device_id,
         "device_id",
-        program.as_ref().map(|(_, g, _)| g.device_id),
+        program.as_ref().map(|p| p.file.device_id),
     )?;
 
     let mut submodules = dap_submodules(&dap);
@@ -189,17 +189,14 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
         dcp_hello: raw.dcp_hello.unwrap_or(false),
         dap,
         submodules,
-        program: program.map(|(p, _, _)| p),
+        program,
     })
 }
 
 /// `gsdml` and `gsdml_dap` of `[station]`: a station its program defines, its GSDML file
 /// read and its device access point chosen (index in the file's DAPs); `None` without
 /// `gsdml`.
-fn program_station(
-    raw: &RawStation,
-    cx: &Cx<'_>,
-) -> Result<Option<(ProgramStation, Gsdml, usize)>, ConfigError> {
+fn program_station(raw: &RawStation, cx: &Cx<'_>) -> Result<Option<ProgramStation>, ConfigError> {
     let Some(written) = &raw.gsdml else {
         if let Some(d) = &raw.gsdml_dap {
             return Err(cx.invalid(
@@ -242,11 +239,12 @@ fn program_station(
             })?,
         None => 0,
     };
-    let program = ProgramStation {
+    Ok(Some(ProgramStation {
         gsdml: path,
         dap: gsdml.daps[at].id.clone(),
-    };
-    Ok(Some((program, gsdml, at)))
+        file: std::sync::Arc::new(gsdml),
+        dap_index: at,
+    }))
 }
 
 fn dap(raw: RawDap) -> DapConfig {

@@ -5,8 +5,8 @@
 //! from what it holds (docs/ARCHITECTURE.md, "A station its program defines").
 
 use crate::config::StationConfig;
+use crate::image::Tables;
 use crate::roles::subscribers::Subscriber;
-use procimg_config::gsdml::Gsdml;
 use procimg_config::{PlannedSubmodule, define_station};
 use procimg_control::StationTreeEntry;
 use std::collections::HashSet;
@@ -21,11 +21,20 @@ pub struct Definer {
     pub who: Subscriber,
 }
 
+/// A station and its image tables, made when its tree was checked.
+#[derive(Clone, Debug)]
+pub struct Generation {
+    /// The station.
+    pub station: StationConfig,
+    /// Its image tables.
+    pub tables: Tables,
+}
+
 /// What procimgd runs after this generation.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub enum Next {
     /// The station with the program's tree, on the wire.
-    Defined(Box<StationConfig>),
+    Defined(Box<Generation>),
     /// The station without its program: the device access point only, off the wire.
     Waiting,
 }
@@ -45,19 +54,16 @@ pub enum DefineError {
          station's program (its close) to take the station off the wire, then define it again"
     )]
     ArRuns,
-    /// The tree does not fit the GSDML file.
+    /// The tree does not fit the GSDML file, or the station no process image.
     #[error("{0}")]
     Tree(String),
 }
 
 /// The station's program and the generation to come.
 pub struct StationProgram {
-    /// The station as configured: identity and device access point, no tree.
-    waiting: StationConfig,
-    /// Its GSDML file, read once.
-    gsdml: Gsdml,
-    /// Its device access point's index in the file.
-    dap: usize,
+    /// The station as configured (identity and device access point, no tree), with its
+    /// tables.
+    waiting: Generation,
     state: Mutex<State>,
 }
 
@@ -68,23 +74,25 @@ struct State {
 }
 
 impl StationProgram {
-    /// The program state of `waiting`, a station whose program defines it by `gsdml`'s
-    /// device access point `dap`.
-    pub fn new(waiting: StationConfig, gsdml: Gsdml, dap: usize) -> Arc<StationProgram> {
-        Arc::new(StationProgram {
-            waiting,
-            gsdml,
-            dap,
+    /// The program state of `station`, if its program defines it (`[station] gsdml`), whose
+    /// image has `tables` while it waits.
+    pub fn of(station: &StationConfig, tables: &Tables) -> Option<Arc<StationProgram>> {
+        station.program.as_ref()?;
+        Some(Arc::new(StationProgram {
+            waiting: Generation {
+                station: station.clone(),
+                tables: tables.clone(),
+            },
             state: Mutex::new(State::default()),
-        })
+        }))
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, State> {
         self.state.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
-    /// The station without a program, as configured.
-    pub fn waiting(&self) -> &StationConfig {
+    /// The station without a program, as configured, with its tables.
+    pub fn waiting(&self) -> &Generation {
         &self.waiting
     }
 
@@ -122,18 +130,27 @@ impl StationProgram {
                 submodule_ident: e.submodule_ident,
             })
             .collect();
+        let Some(file) = &self.waiting.station.program else {
+            return Err(DefineError::Tree(
+                "the station is not one its program defines".into(),
+            ));
+        };
         let station = define_station(
-            &self.waiting,
-            &self.gsdml,
-            &self.gsdml.daps[self.dap],
+            &self.waiting.station,
+            &file.file,
+            &file.file.daps[file.dap_index],
             &planned,
         )
         .map_err(|e| DefineError::Tree(e.to_string()))?;
+        // Made now, so that a station without an image is refused rather than found out
+        // when the current generation has ended.
+        let tables = Tables::of_station(&station)
+            .map_err(|e| DefineError::Tree(format!("the station's process image: {e}")))?;
         state.definer = Some(Definer {
             subscriber,
             who: who.clone(),
         });
-        state.next = Some(Next::Defined(Box::new(station)));
+        state.next = Some(Next::Defined(Box::new(Generation { station, tables })));
         Ok(())
     }
 
