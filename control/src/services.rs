@@ -370,6 +370,21 @@ pub enum Notification {
     },
 }
 
+/// What the DataStatus of the PLC's frames says, in words: "RUN", "STOP", with ", with a
+/// station problem" and ", as the backup" when they apply.
+pub fn plc_state_text(running: bool, station_problem: bool, backup: bool) -> String {
+    format!(
+        "{}{}{}",
+        if running { "RUN" } else { "STOP" },
+        if station_problem {
+            ", with a station problem"
+        } else {
+            ""
+        },
+        if backup { ", as the backup" } else { "" }
+    )
+}
+
 impl Notification {
     /// The subscriber this notification is for, or `None` for all.
     pub fn reply_to(&self) -> Option<u64> {
@@ -642,6 +657,15 @@ pub struct StationRecordJob {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn the_plcs_state_in_words() {
+        assert_eq!(plc_state_text(true, false, false), "RUN");
+        assert_eq!(
+            plc_state_text(false, true, true),
+            "STOP, with a station problem, as the backup"
+        );
+    }
     use super::*;
     use crate::{decode, encode};
 

@@ -214,18 +214,10 @@ fn describe(n: &Notification) -> String {
             running,
             station_problem,
             backup,
-        } => {
-            format!(
-                "station: the PLC is in {}{}{}",
-                if *running { "RUN" } else { "STOP" },
-                if *station_problem {
-                    ", with a station problem"
-                } else {
-                    ""
-                },
-                if *backup { ", as the backup" } else { "" }
-            )
-        }
+        } => format!(
+            "station: the PLC is in {}",
+            procimg_control::services::plc_state_text(*running, *station_problem, *backup)
+        ),
         Notification::StationBlink => "station: DCP Signal (blink)".to_owned(),
         Notification::StationIdentity {
             name,

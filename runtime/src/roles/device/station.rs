@@ -254,14 +254,8 @@ impl Station {
                 backup,
             } => {
                 tracing::info!(
-                    "the PLC is in {}{}{}",
-                    if *running { "RUN" } else { "STOP" },
-                    if *station_problem {
-                        ", with a station problem"
-                    } else {
-                        ""
-                    },
-                    if *backup { ", as the backup" } else { "" }
+                    "the PLC is in {}",
+                    control::services::plc_state_text(*running, *station_problem, *backup)
                 );
                 if let Some(ar) = r.ar.as_mut() {
                     ar.plc_running = Some(*running);
