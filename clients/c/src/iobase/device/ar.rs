@@ -196,16 +196,19 @@ pub(crate) fn tree(
             OutIocsLen: output_side.into(),
             reserved: [0; 8],
         };
-        let io = PNIO_IOCS_TYPE {
-            SlotNum: e.slot.into(),
-            SubslotNum: e.subslot.into(),
-            reserved: 0,
-        };
-        if input_side {
-            iocs[0].push(io);
-        }
-        if output_side {
-            iocs[1].push(io);
+        // Without the Connect's CRs (an older server): the submodules by direction.
+        if crs.is_empty() {
+            let io = PNIO_IOCS_TYPE {
+                SlotNum: e.slot.into(),
+                SubslotNum: e.subslot.into(),
+                reserved: 0,
+            };
+            if input_side {
+                iocs[0].push(io);
+            }
+            if output_side {
+                iocs[1].push(io);
+            }
         }
         match keys.last() {
             Some(&(api, slot, _)) if (api, slot) == (e.api, e.slot) => {
@@ -231,20 +234,17 @@ pub(crate) fn tree(
             pSubList: v.as_mut_ptr(),
         })
         .collect();
-    if !crs.is_empty() {
-        // The Connect's own lists, with each data object's offset.
-        iocs = [Vec::new(), Vec::new()];
-        for (k, cr) in crs.iter().take(2).enumerate() {
-            iocs[k] = cr
-                .data_objects
-                .iter()
-                .map(|o| PNIO_IOCS_TYPE {
-                    SlotNum: o.slot.into(),
-                    SubslotNum: o.subslot.into(),
-                    reserved: o.frame_offset.into(),
-                })
-                .collect();
-        }
+    // The Connect's own lists, with each data object's offset.
+    for (k, cr) in crs.iter().take(2).enumerate() {
+        iocs[k] = cr
+            .data_objects
+            .iter()
+            .map(|o| PNIO_IOCS_TYPE {
+                SlotNum: o.slot.into(),
+                SubslotNum: o.subslot.into(),
+                reserved: o.frame_offset.into(),
+            })
+            .collect();
     }
     let mut iocrs: Vec<PNIO_IOCR_TYPE> = if crs.is_empty() {
         legacy_iocrs(&mut iocs)
