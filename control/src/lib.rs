@@ -38,7 +38,7 @@ pub use names::*;
 pub use refusal::{AlarmRefusal, PlugRefusal, Refusal};
 pub use request::{
     ClientRole, ControllerRequest, CoreRequest, DeviceRequest, Request, StationAlarmKind,
-    StationTreeEntry,
+    StationTreeEntry, TreeRecords,
 };
 pub use response::Response;
 pub use space::Space;

@@ -7,8 +7,8 @@
 //! end aborts the AR and the station waits again.
 
 use procimg_client::{
-    ArState, AttachOptions, Client, ControlError, Event, Refusal, ServiceOptions, Services,
-    StationTreeEntry,
+    ArState, AttachOptions, Client, ControlError, Event, Notification, Refusal, ServiceOptions,
+    Services, StationTreeEntry, TreeRecords,
 };
 use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
 use procimg_config::{Config, StationConfig};
@@ -28,6 +28,7 @@ fn demo_tree(station: &StationConfig) -> Vec<StationTreeEntry> {
         subslot: p.subslot,
         module_ident: p.module_ident,
         submodule_ident: p.submodule_ident,
+        records: TreeRecords::Station,
     };
     station.tree().into_iter().map(entry).collect()
 }
@@ -207,5 +208,76 @@ fn the_programs_process_gone_aborts_the_ar_and_the_station_waits() {
         s.layout_hash == waiting
             && s.mode == Mode::Offline
             && s.station.as_ref().is_some_and(|s| s.ar.is_none())
+    });
+}
+
+/// The next notification of `services` that `pick` takes, within 30 s.
+fn next_picked<T>(
+    services: &mut Services,
+    what: &str,
+    pick: impl Fn(Notification) -> Option<T>,
+) -> T {
+    let until = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < until {
+        if let Some(found) = services.next(Duration::from_millis(200)).and_then(&pick) {
+            return found;
+        }
+    }
+    panic!("no {what} within 30 s");
+}
+
+#[test]
+fn what_the_program_said_holds_from_the_defined_stations_first_moment() {
+    let demo_station = Config::demo_device().station.unwrap();
+    let dir = procimg_testkit::files::temp_dir("station-program-say");
+    let (toml, _) = waiting_station(dir.path());
+    let server = Launch::config("station-say", &toml).until_cycling().start();
+    let mut program = Services::open(&server.instance, ServiceOptions::new("the-program")).unwrap();
+    // Checked, not defined: nothing changes.
+    let mut tree = demo_tree(&demo_station);
+    program.check_station_tree(&tree).unwrap();
+    let mut wrong = tree.clone();
+    wrong[0].submodule_ident = 0x4243;
+    let m = refusal(program.check_station_tree(&wrong));
+    assert!(m.contains("0x00004243"), "{m}");
+    assert_eq!(server.mode(), Mode::Offline);
+
+    // The program checks ARs and holds the ApplicationReady in the waiting station, and
+    // takes slot 1's records with the tree.
+    program.check_ars(true).unwrap();
+    program.hold_application_ready(true).unwrap();
+    tree[0].records = TreeRecords::Program;
+    let slot1 = (tree[0].api, tree[0].slot, tree[0].subslot);
+    program.define_station(&tree).unwrap();
+
+    // The PLC's first Connect to the new station waits for the program's check.
+    let check = next_picked(&mut program, "AR check", |n| match n {
+        Notification::StationArCheck { check, .. } => Some(check),
+        _ => None,
+    });
+    program.answer_ar_check(&check, Ok(())).unwrap();
+    // Its parameter record of slot 1 is the program's to answer.
+    let job = next_picked(&mut program, "record job of slot 1", |n| match n {
+        Notification::StationRecord { job, .. }
+            if (job.api, job.slot, job.subslot) == slot1 && job.write =>
+        {
+            Some(job)
+        }
+        _ => None,
+    });
+    program.answer_record(&job, Ok(&[])).unwrap();
+    // The ApplicationReady waits for the program: no data exchange before it says so.
+    server.wait_status("the AR parameterized", |s| {
+        s.station
+            .as_ref()
+            .and_then(|s| s.ar.as_ref())
+            .is_some_and(|a| a.state == ArState::Parameterized)
+    });
+    program.application_ready().unwrap();
+    server.wait_status("the AR in data exchange", |s| {
+        s.station
+            .as_ref()
+            .and_then(|s| s.ar.as_ref())
+            .is_some_and(|a| a.state == ArState::Data)
     });
 }

@@ -158,16 +158,29 @@ impl Services {
 
     /// Defines the station's tree, for a station whose configuration names its GSDML file and
     /// no submodules: `tree` is every submodule after the device access point, by place and
-    /// ident numbers; the file gives their IO lengths and parameter records. Once accepted
-    /// the station runs anew with the tree and goes on the wire: clients re-attach and follow
-    /// the new layout ([`Event::LayoutChanged`](crate::Event::LayoutChanged)), and this handle
-    /// is the station's program until [`release_station`](Self::release_station) or its
+    /// ident numbers, and who answers its records; the file gives their IO lengths and
+    /// parameter records. Once accepted the station runs anew with the tree and goes on the
+    /// wire: clients re-attach and follow the new layout
+    /// ([`Event::LayoutChanged`](crate::Event::LayoutChanged)). What this handle said
+    /// before (it checks ARs or DCP's changes, holds the ApplicationReady, took records of
+    /// the device access point) holds in the new station from its first moment, so that a
+    /// PLC that connects at once meets the program. This handle is the station's program
+    /// until [`release_station`](Self::release_station) or its
     /// process's end, which take the station off the wire again. Refused, naming what is
     /// wrong, for an ident or place the file does not allow, while an AR runs, when another
     /// program defined the station, and for a configured station.
     pub fn define_station(&self, tree: &[StationTreeEntry]) -> Result<(), ControlError> {
         self.station_request(DeviceRequest::StationDefine {
             subscriber: self.id(),
+            tree: tree.to_vec(),
+        })
+    }
+
+    /// Checks `tree` as [`define_station`](Self::define_station) would, without defining
+    /// anything: refused, naming what is wrong, for an ident or place the station's GSDML
+    /// file does not allow. A program that builds its tree plug by plug checks each.
+    pub fn check_station_tree(&self, tree: &[StationTreeEntry]) -> Result<(), ControlError> {
+        self.station_request(DeviceRequest::StationCheckTree {
             tree: tree.to_vec(),
         })
     }

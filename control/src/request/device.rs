@@ -19,6 +19,21 @@ pub enum StationAlarmKind {
     ReturnOfSubmodule,
 }
 
+/// Who answers the PLC's reads and writes of a defined submodule's records
+/// ([`StationTreeEntry::records`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TreeRecords {
+    /// The station: the parameter records the GSDML file gives, "invalid index" for others.
+    #[default]
+    Station,
+    /// The program (as after `StationOwnRecords` with `im` false): indices 0x0000–0x7FFF
+    /// come to it as jobs from the station's first moment on the wire.
+    Program,
+    /// The program, with the submodule's I&M records (0xAFF0–0xAFF4) too.
+    ProgramWithIm,
+}
+
 /// One submodule of a station its program defines ([`DeviceRequest::StationDefine`]): where,
 /// and which module and submodule by ident number; the station's GSDML file gives the rest.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -33,6 +48,10 @@ pub struct StationTreeEntry {
     pub module_ident: u32,
     /// SubmoduleIdentNumber.
     pub submodule_ident: u32,
+    /// Who answers its records. Given with the tree, so that a PLC that connects at once
+    /// already finds them taken.
+    #[serde(default)]
+    pub records: TreeRecords,
 }
 
 /// A request of the IO device's station services.
@@ -184,6 +203,14 @@ pub enum DeviceRequest {
     StationDefine {
         /// The subscriber's id: the station's program from now on.
         subscriber: u64,
+        /// The submodules after the device access point.
+        tree: Vec<StationTreeEntry>,
+    },
+    /// In the device role: whether the station's GSDML file allows `tree`, checked as
+    /// [`DeviceRequest::StationDefine`] checks it, without defining anything (a program
+    /// checks each plug when it is made). Answered with
+    /// [`Response::Done`](crate::Response::Done), or refused naming what is wrong.
+    StationCheckTree {
         /// The submodules after the device access point.
         tree: Vec<StationTreeEntry>,
     },

@@ -46,6 +46,20 @@ pub enum Order {
     AllowDcp(u64),
 }
 
+/// What one subscriber said that lasts beyond one AR: the station's program says it once,
+/// and it holds in each station the program defines (see `program.rs`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Standing {
+    /// It checks new ARs.
+    pub checks_ars: bool,
+    /// It checks DCP's changes.
+    pub verifies_dcp: bool,
+    /// It holds the ApplicationReady.
+    pub holds: bool,
+    /// The submodules whose records it took, with (`true`) or without their I&M records.
+    pub records: BTreeMap<SubslotAddr, bool>,
+}
+
 /// How long a job is remembered after it was given out: its timeout in the engine and a
 /// margin, so that a late answer is refused as stale here already.
 const JOB_MEMORY: Duration = Duration::from_millis(STATION_RECORD_TIMEOUT_MS + 1000);
@@ -57,6 +71,8 @@ pub struct ApplicationSay {
     submodules: BTreeSet<SubslotAddr>,
     /// Who took the records of a submodule.
     owners: BTreeMap<SubslotAddr, u64>,
+    /// The submodules whose I&M records went with them.
+    im_owned: BTreeSet<SubslotAddr>,
     /// Jobs given out: to whom, and when.
     jobs: BTreeMap<u64, (u64, Instant)>,
     /// Subscribers that hold the ApplicationReady.
@@ -163,14 +179,19 @@ impl ApplicationSay {
                 subslot: at.subslot,
                 by: name(o),
             }),
-            // Taken again: with or without the I&M records, as said now.
-            (Some(_), true) => Ok(Some(Order::Records(at, true, im))),
-            (None, true) => {
+            // Taken (again): with or without the I&M records, as said now.
+            (_, true) => {
                 self.owners.insert(at, subscriber);
+                if im {
+                    self.im_owned.insert(at);
+                } else {
+                    self.im_owned.remove(&at);
+                }
                 Ok(Some(Order::Records(at, true, im)))
             }
             (Some(o), false) if o == subscriber => {
                 self.owners.remove(&at);
+                self.im_owned.remove(&at);
                 Ok(Some(Order::Records(at, false, false)))
             }
             (_, false) => Ok(None),
@@ -292,6 +313,7 @@ impl ApplicationSay {
             .map(|(at, _)| Order::Records(*at, false, false))
             .collect();
         self.owners.retain(|_, o| *o != subscriber);
+        self.im_owned.retain(|at| self.owners.contains_key(at));
         self.jobs.retain(|_, (o, _)| *o != subscriber);
         // Its open checks are decided as without a checker: the AR accepted, the Set allowed.
         let (was, open) = self.ars.forget(subscriber);
@@ -308,6 +330,47 @@ impl ApplicationSay {
         self.holders.remove(&subscriber);
         self.ready.remove(&subscriber);
         orders.extend(self.after_holders_changed(before));
+        orders
+    }
+
+    /// What `subscriber` has said that lasts beyond one AR.
+    pub fn standing(&self, subscriber: u64) -> Standing {
+        Standing {
+            checks_ars: self.ars.by == Some(subscriber),
+            verifies_dcp: self.dcp.by == Some(subscriber),
+            holds: self.holders.contains(&subscriber),
+            records: self
+                .owners
+                .iter()
+                .filter(|(_, o)| **o == subscriber)
+                .map(|(at, _)| (*at, self.im_owned.contains(at)))
+                .collect(),
+        }
+    }
+
+    /// `subscriber` says again what `standing` holds, as far as this station has the
+    /// submodules; the orders for the engine.
+    pub fn resume(&mut self, subscriber: u64, standing: &Standing) -> Vec<Order> {
+        let nobody = |_: u64| String::new();
+        let mut orders = Vec::new();
+        for (&at, &im) in &standing.records {
+            if let Ok(Some(o)) = self.own(subscriber, at, true, im, &nobody) {
+                orders.push(o);
+            }
+        }
+        if standing.checks_ars
+            && let Ok(Some(o)) = self.check(subscriber, true, &nobody)
+        {
+            orders.push(o);
+        }
+        if standing.verifies_dcp
+            && let Ok(Some(o)) = self.verify_dcp(subscriber, true, &nobody)
+        {
+            orders.push(o);
+        }
+        if standing.holds {
+            orders.extend(self.hold(subscriber, true));
+        }
         orders
     }
 
@@ -469,5 +532,30 @@ mod tests {
         assert_eq!(s.ready(2), None);
         assert_eq!(s.forget(1), [Order::Release]);
         assert_eq!(s.hold(2, false), [Order::Hold(false), Order::Release]);
+    }
+    #[test]
+    fn what_a_subscriber_said_is_said_again_in_another_station() {
+        let mut old = say();
+        let none = |_: u64| String::new();
+        old.own(7, SLOT1, true, true, &none).unwrap();
+        old.check(7, true, &none).unwrap();
+        old.hold(7, true);
+        old.check(8, false, &none).unwrap();
+        let standing = old.standing(7);
+        assert!(standing.checks_ars && standing.holds && !standing.verifies_dcp);
+        assert_eq!(standing.records.get(&SLOT1), Some(&true));
+        assert_eq!(old.standing(8), Standing::default());
+
+        // A station with slot 1 subslot 1 and another submodule, and one without slot 1.
+        let mut new = ApplicationSay::new([SLOT1, SubslotAddr::new(0, 2, 1)]);
+        let orders = new.resume(7, &standing);
+        assert!(orders.contains(&Order::Records(SLOT1, true, true)));
+        assert!(orders.contains(&Order::Check(true)));
+        assert!(orders.contains(&Order::Hold(true)));
+        assert_eq!(new.standing(7), standing);
+        let mut other = ApplicationSay::new([SubslotAddr::new(0, 2, 1)]);
+        let orders = other.resume(7, &standing);
+        assert!(!orders.iter().any(|o| matches!(o, Order::Records(..))));
+        assert!(other.standing(7).records.is_empty());
     }
 }

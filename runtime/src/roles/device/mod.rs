@@ -197,6 +197,22 @@ pub fn start(
     let datagrams = Arc::new(DatagramCounters::default());
     let (commands, command_rx) = std::sync::mpsc::channel();
     let (events, event_rx) = std::sync::mpsc::channel();
+    let mut services = DeviceServices::new(
+        shown.clone(),
+        ApplicationSay::new(
+            station
+                .submodule_configs()
+                .map(|s| procimg_profinet::device::SubslotAddr::new(s.api, s.slot, s.subslot)),
+        ),
+        commands,
+        event_rx,
+        channel.clone(),
+        datagrams.clone(),
+    )
+    .with_program(program);
+    // Before the acyclic thread takes its first frame: a PLC that connects at once meets
+    // the station's program.
+    services.resume_program();
     threads.push(
         acyclic::spawn(acyclic::AcyclicSetup {
             role: {
@@ -211,10 +227,10 @@ pub fn start(
                     None => role,
                 }
             },
-            channel: channel.clone(),
+            channel,
             datagrams: udp,
             shared,
-            counters: datagrams.clone(),
+            counters: datagrams,
             commands: command_rx,
             events: Some(events),
             settle_for: acyclic::SETTLE_WAIT,
@@ -234,21 +250,7 @@ pub fn start(
     );
     Ok(RoleSystem {
         io: Some(io),
-        services: Some(Box::new(
-            DeviceServices::new(
-                shown,
-                ApplicationSay::new(
-                    station.submodule_configs().map(|s| {
-                        procimg_profinet::device::SubslotAddr::new(s.api, s.slot, s.subslot)
-                    }),
-                ),
-                commands,
-                event_rx,
-                channel,
-                datagrams,
-            )
-            .with_program(program),
-        )),
+        services: Some(Box::new(services)),
         threads,
         stop: Some(Box::new(move || plc_stop.store(true, Ordering::Release))),
     })

@@ -4,11 +4,13 @@
 //! control side of each generation asks it, procimgd's main loop runs the next generation
 //! from what it holds (docs/ARCHITECTURE.md, "A station its program defines").
 
+use super::application::Standing;
 use crate::config::StationConfig;
 use crate::image::Tables;
 use crate::roles::subscribers::Subscriber;
 use procimg_config::{PlannedSubmodule, define_station};
-use procimg_control::StationTreeEntry;
+use procimg_control::{StationTreeEntry, TreeRecords};
+use procimg_profinet::device::SubslotAddr;
 use std::collections::HashSet;
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -70,6 +72,8 @@ pub struct StationProgram {
 #[derive(Default)]
 struct State {
     definer: Option<Definer>,
+    /// What the definer said that holds in the station it defined.
+    standing: Standing,
     next: Option<Next>,
 }
 
@@ -101,25 +105,9 @@ impl StationProgram {
         self.lock().definer.clone()
     }
 
-    /// Subscriber `subscriber` (`who`) defines the station as `tree`: refused when another
-    /// program defined it, while an AR runs (`ar_runs`), or when the GSDML file does not
-    /// allow the tree; once accepted the next generation runs it.
-    pub fn define(
-        &self,
-        subscriber: u64,
-        who: &Subscriber,
-        tree: &[StationTreeEntry],
-        ar_runs: bool,
-    ) -> Result<(), DefineError> {
-        let mut state = self.lock();
-        if let Some(d) = &state.definer
-            && d.subscriber != subscriber
-        {
-            return Err(DefineError::Taken(d.who.to_string()));
-        }
-        if ar_runs {
-            return Err(DefineError::ArRuns);
-        }
+    /// The station `tree` defines, with its tables: refused when the GSDML file does not
+    /// allow the tree or the station would have no process image.
+    pub fn plan(&self, tree: &[StationTreeEntry]) -> Result<Generation, DefineError> {
         let planned: Vec<PlannedSubmodule> = tree
             .iter()
             .map(|e| PlannedSubmodule {
@@ -146,12 +134,58 @@ impl StationProgram {
         // when the current generation has ended.
         let tables = Tables::of_station(&station)
             .map_err(|e| DefineError::Tree(format!("the station's process image: {e}")))?;
+        Ok(Generation { station, tables })
+    }
+
+    /// Subscriber `subscriber` (`who`) defines the station as `tree`, having said
+    /// `standing` so far: refused when another program defined it, while an AR runs
+    /// (`ar_runs`), or when the GSDML file does not allow the tree; once accepted the next
+    /// generation runs it, with `standing` and the records the tree gives the program
+    /// taken from its start.
+    pub fn define(
+        &self,
+        subscriber: u64,
+        who: &Subscriber,
+        tree: &[StationTreeEntry],
+        ar_runs: bool,
+        mut standing: Standing,
+    ) -> Result<(), DefineError> {
+        let mut state = self.lock();
+        if let Some(d) = &state.definer
+            && d.subscriber != subscriber
+        {
+            return Err(DefineError::Taken(d.who.to_string()));
+        }
+        if ar_runs {
+            return Err(DefineError::ArRuns);
+        }
+        let next = self.plan(tree)?;
+        for e in tree {
+            let at = SubslotAddr::new(e.api, e.slot, e.subslot);
+            match e.records {
+                TreeRecords::Station => {}
+                TreeRecords::Program => {
+                    standing.records.insert(at, false);
+                }
+                TreeRecords::ProgramWithIm => {
+                    standing.records.insert(at, true);
+                }
+            }
+        }
         state.definer = Some(Definer {
             subscriber,
             who: who.clone(),
         });
-        state.next = Some(Next::Defined(Box::new(Generation { station, tables })));
+        state.standing = standing;
+        state.next = Some(Next::Defined(Box::new(next)));
         Ok(())
+    }
+
+    /// The program that defined the current station and what it said that holds there.
+    pub fn carried(&self) -> Option<(Definer, Standing)> {
+        let state = self.lock();
+        let d = state.definer.clone()?;
+        Some((d, state.standing.clone()))
     }
 
     /// Subscriber `subscriber`'s program ends: if it defined the station, the next
@@ -166,6 +200,7 @@ impl StationProgram {
             return false;
         }
         state.definer = None;
+        state.standing = Standing::default();
         state.next = Some(Next::Waiting);
         true
     }
@@ -182,6 +217,7 @@ impl StationProgram {
             return None;
         }
         state.next = Some(Next::Waiting);
+        state.standing = Standing::default();
         state.definer.take()
     }
 

@@ -32,6 +32,11 @@ use std::time::{Duration, Instant};
 /// changes the engine's state and queues frames.
 const COMMAND_WAIT: Duration = Duration::from_millis(500);
 
+/// The refusal of a tree for a station whose configuration gives its tree.
+const CONFIGURED_TREE: &str = "this station's tree is its configuration's \
+     ([[station.submodule]]); a program defines the tree of a station configured with `gsdml` \
+     and no submodules";
+
 /// The device role's client services.
 pub struct DeviceServices {
     station: Arc<Station>,
@@ -79,16 +84,13 @@ impl DeviceServices {
     fn define(&mut self, subscriber: u64, tree: &[StationTreeEntry]) -> Response {
         let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
         let Some(program) = &self.program else {
-            return refused(
-                "this station's tree is its configuration's ([[station.submodule]]); a program \
-                 defines the tree of a station configured with `gsdml` and no submodules"
-                    .into(),
-            );
+            return refused(CONFIGURED_TREE.into());
         };
         let Some(who) = self.subscribers.get(subscriber).cloned() else {
             return Response::Refused(Refusal::UnknownSubscriber);
         };
-        match program.define(subscriber, &who, tree, self.station.has_ar()) {
+        let standing = self.say.standing(subscriber);
+        match program.define(subscriber, &who, tree, self.station.has_ar(), standing) {
             Ok(()) => {
                 tracing::info!(
                     "{who} defines the station: {} submodules after the device access point",
@@ -97,6 +99,30 @@ impl DeviceServices {
                 Response::Done
             }
             Err(e) => refused(e.to_string()),
+        }
+    }
+
+    /// Whether the GSDML file allows `tree`.
+    fn check_tree(&self, tree: &[StationTreeEntry]) -> Response {
+        let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
+        match &self.program {
+            None => refused(CONFIGURED_TREE.into()),
+            Some(p) => match p.plan(tree) {
+                Ok(_) => Response::Done,
+                Err(e) => refused(e.to_string()),
+            },
+        }
+    }
+
+    /// In the station its program defined: the program is known from the start, and what it
+    /// said before holds (sent to the engine before the station takes its first frame).
+    pub fn resume_program(&mut self) {
+        let Some((definer, standing)) = self.program.as_ref().and_then(|p| p.carried()) else {
+            return;
+        };
+        self.subscribers.subscribe(definer.subscriber, definer.who);
+        for order in self.say.resume(definer.subscriber, &standing) {
+            self.order(order);
         }
     }
 
@@ -372,6 +398,7 @@ impl Answers<DeviceRequest> for DeviceServices {
                 refuse,
             } => self.answer_ar_check(subscriber, job, refuse),
             DeviceRequest::StationDefine { subscriber, tree } => self.define(subscriber, &tree),
+            DeviceRequest::StationCheckTree { tree } => self.check_tree(&tree),
             DeviceRequest::StationRelease { subscriber } => self.release(subscriber),
             DeviceRequest::StationAbortAr { ar_uuid } => {
                 self.carry_out(|reply| DeviceCommand::AbortAr { ar_uuid, reply })
