@@ -45,7 +45,8 @@ pub use space::Space;
 pub use states::{ArState, DeviceState};
 pub use status::{
     ArReport, Bucket, ClaimReport, ClientReport, DeviceReport, ForceReport, HistogramsReport,
-    NetworkReport, Percentiles, StationReport, StatusReport, SubscriberReport,
+    NetworkReport, Percentiles, StationProgramReport, StationReport, StatusReport,
+    SubscriberReport,
 };
 
 use serde::{Deserialize, Serialize};

@@ -235,6 +235,20 @@ pub struct StationReport {
     /// client reported a problem.
     #[serde(default)]
     pub station_problem: bool,
+    /// For a station its program defines (`[station] gsdml` and no submodules): its file and
+    /// its program.
+    #[serde(default)]
+    pub program: Option<StationProgramReport>,
+}
+
+/// A station its program defines, for the status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StationProgramReport {
+    /// The station's GSDML file, as configured.
+    pub gsdml: String,
+    /// The program that defined the station (its name and process id); none while the
+    /// station waits for one, off the wire.
+    pub defined_by: Option<String>,
 }
 
 /// An AR of the device role, for the status report.

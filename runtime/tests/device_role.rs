@@ -84,6 +84,31 @@ fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
 }
 
 /// The next station notification, skipping the others; `None` after `within`.
+#[test]
+fn a_device_program_knows_when_the_station_sends_what_it_wrote() {
+    let server = Launch::demo_device("devapplied").start();
+    let mut client = Client::attach(&server.instance, AttachOptions::asynchronous("applied"))
+        .expect("attach to the device");
+    client.claim_i_data().expect("claim the I data");
+    let slot1 = client.layout().submodules[at(&client, 1, 1)];
+    let data = [0xa5u8; 8];
+    // Written into the cache only: not sent, so not applied.
+    client
+        .data_write_cache(slot1.output_address, &data, Ioxs::Good)
+        .unwrap();
+    assert!(!client.outputs_applied().unwrap());
+    client.data_write_cache_flush().unwrap();
+    assert!(
+        client.wait_outputs_applied(BRING_UP).unwrap(),
+        "procimgd did not apply the write"
+    );
+    let mut back = [0u8; 8];
+    let read = client
+        .output_data_read(slot1.output_address, &mut back)
+        .unwrap();
+    assert_eq!((back, read.local), (data, Ioxs::Good));
+}
+
 fn next_station(services: &mut Services, within: Duration) -> Option<Notification> {
     let until = Instant::now() + within;
     while Instant::now() < until {

@@ -104,6 +104,9 @@ fn a_program_defines_the_station_from_its_gsdml_and_its_end_takes_it_off_the_wir
         (demo_station.vendor_id, demo_station.device_id)
     );
     assert!(station.ar.is_none());
+    let program_report = station.program.expect("a station its program defines");
+    assert!(program_report.gsdml.ends_with(&file_name));
+    assert_eq!(program_report.defined_by, None);
     assert_eq!(server.mode(), Mode::Offline);
     // OPERATE asked for by hand does not put the waiting station on the wire: the PLC's
     // Connects stay refused.
@@ -149,6 +152,14 @@ fn a_program_defines_the_station_from_its_gsdml_and_its_end_takes_it_off_the_wir
             .is_some_and(|a| a.state == ArState::Data)
     });
     assert_eq!(running.mode, Mode::Operate);
+    let defined_by = running
+        .station
+        .unwrap()
+        .program
+        .unwrap()
+        .defined_by
+        .unwrap();
+    assert!(defined_by.contains("the-program"), "{defined_by}");
 
     // A second program, and a definition during the AR: refused.
     let other = Services::open(&instance, ServiceOptions::new("another-program")).unwrap();

@@ -358,6 +358,17 @@ impl Procimgd {
         self.child.lock().unwrap_or_else(|e| e.into_inner())
     }
 
+    /// The lines of its whole log so far that contain `needle` (started with
+    /// [`Launch::debug_log`]).
+    pub fn log_lines(&self, needle: &str) -> Vec<String> {
+        std::fs::read_to_string(self.dir.join("procimgd.log"))
+            .unwrap_or_default()
+            .lines()
+            .filter(|l| l.contains(needle))
+            .map(str::to_owned)
+            .collect()
+    }
+
     /// Its log so far, when it was started with [`Launch::debug_log`].
     pub fn log(&self) -> String {
         let read = |name: &str| std::fs::read_to_string(self.dir.join(name)).unwrap_or_default();

@@ -130,6 +130,15 @@ fn station(st: &StationReport) {
         "station \"{}\"  IP {}  MAC {}  VendorID {:#06x}  DeviceID {:#06x}",
         st.name, st.ip, st.mac, st.vendor_id, st.device_id
     );
+    if let Some(p) = &st.program {
+        match &p.defined_by {
+            Some(who) => println!("tree defined by its program {who} from {}", p.gsdml),
+            None => println!(
+                "tree: waits for its program to define it from {} (off the wire until then)",
+                p.gsdml
+            ),
+        }
+    }
     match &st.ar {
         Some(ar) => {
             let plc = match ar.plc_running {

@@ -29,7 +29,8 @@
  * without an AR whose PNIO_CBF_PRM_END_IND was given, or with nothing selected:
  * PNIO_WARN_NO_SUBMODULES. As the manual's order has it, the program writes after
  * PRM_END_IND the I data the PLC gets with the ApplicationReady (its IOPS too), then calls
- * PNIO_set_appl_state_ready.
+ * PNIO_set_appl_state_ready, which lets the ApplicationReady go once procimgd sends that
+ * data (a few cycles at most).
  *
  * ARs. From open to close the device checks the station's ARs and holds its
  * ApplicationReady. All callbacks come from one library thread, in the manual's order: for
@@ -39,8 +40,7 @@
  * CmiObjUUID, the PLC's station name), PNIO_CBF_CHECK_IND per expected submodule where other ident numbers are plugged
  * (a PROPER or SUBSTITUTED answer with other ident numbers plugs those before the Connect
  * is answered), then the Connect is accepted (PNIO_device_ar_abort refuses it afterwards);
- * PNIO_CBF_AR_INFO_IND (IOCRs and modules from the Connect, valid during the call; the
- * IOCRs' timing fields are 0); PNIO_CBF_PRM_END_IND (subslot 0) at the PLC's PrmEnd;
+ * PNIO_CBF_AR_INFO_IND (IOCRs and modules from the Connect, valid during the call); PNIO_CBF_PRM_END_IND (subslot 0) at the PLC's PrmEnd;
  * PNIO_set_appl_state_ready then sends the ApplicationReady (procimgd sends it itself after
  * 10 s), whose ModuleDiffBlock gives the submodules of its list (NULL: none) the ARInfo
  * "application ready pending" until PNIO_ret_of_sub_alarm_send announces each;
@@ -116,6 +116,19 @@
  * (the PLC's AR ends) and PNIO_CBF_DEVICE_STOPPED confirms on a library thread.
  * PNIO_device_close leaves the server as it is. procimgd's station serves one AR at a time,
  * whatever MaxAr says; the annotation is checked but the station shows its configuration's.
+ *
+ * A station the program defines. When procimgd's configuration names the station's GSDML
+ * file and no submodules (`[station] gsdml = "FILE"`), the program's plugs outside slot 0
+ * are the station: each PNIO_sub_plug is checked against the file at once (a module or
+ * submodule ident the file lacks, or a slot or subslot it does not allow: PNIO_ERR_PRM_ADD,
+ * the text naming the ident and the file) and confirmed without touching procimgd, whose
+ * station waits off the wire with its DAP. PNIO_device_start defines the station with the
+ * program's tree (IO lengths and parameter records from the file; every submodule's records
+ * the program's, its I&M records too when plugged with IM0_bits): procimgd runs the station
+ * anew, and the PLC may connect at once. A start after a stop defines it again only when
+ * the tree changed. PNIO_device_close (or the program's end) ends the AR with an abort and
+ * the station waits off the wire for the next program. The VendorID and DeviceID given to
+ * PNIO_device_open are the file's.
  *
  * Plugging. What the program plugs must lie at positions procimgd's configuration of the
  * station has (`[[station.submodule]]`, with those IO lengths); its ident numbers are what

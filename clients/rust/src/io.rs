@@ -239,6 +239,51 @@ impl Client {
             .map_or(Ioxs::Bad, |c| read_status(&c.payload, &e).output_remote))
     }
 
+    /// Whether the newest image holds what this client last sent of each submodule it wrote
+    /// since it attached: the same bytes and IOPS. Then the server has applied the writes,
+    /// and its frames carry them: a device program that wrote the I data the PLC is to get
+    /// with the ApplicationReady asks this before it lets the ApplicationReady go (IO-Base's
+    /// order: `PNIO_initiate_data_write`, then `PNIO_set_appl_state_ready`). Written into
+    /// the cache and not flushed counts as not applied.
+    pub fn outputs_applied(&mut self) -> Result<bool, IoError> {
+        self.ensure_fresh()?;
+        let Some(latest) = &self.latest else {
+            return Ok(false);
+        };
+        let payload = latest.payload();
+        let cache = &self.write_cache;
+        Ok(self
+            .layout
+            .submodules
+            .iter()
+            .enumerate()
+            .filter(|&(s, _)| cache.valid[s])
+            .all(|(s, e)| {
+                let (at, len) = (e.output_offset as usize, e.output_length as usize);
+                let mirror = e.output_mirror_offset as usize;
+                !cache.dirty[s]
+                    && payload.get(mirror..mirror + len) == cache.data.get(at..at + len)
+                    && read_status(payload, e).output_local == cache.output_iops[s]
+            }))
+    }
+
+    /// Waits until [`outputs_applied`](Self::outputs_applied) says yes, at most `timeout`
+    /// (a few cycles are plenty); whether it did.
+    pub fn wait_outputs_applied(&mut self, timeout: std::time::Duration) -> Result<bool, IoError> {
+        let until = std::time::Instant::now() + timeout;
+        loop {
+            if self.outputs_applied()? {
+                return Ok(true);
+            }
+            if std::time::Instant::now() >= until {
+                return Ok(false);
+            }
+            // A fraction of the shortest cycle procimgd runs: the answer comes with the
+            // next image.
+            std::thread::sleep(std::time::Duration::from_micros(250));
+        }
+    }
+
     /// Sends everything in the write cache in one sample, applied in one cycle (IO-Base
     /// `PNIO_data_write_cache_flush`).
     pub fn data_write_cache_flush(&mut self) -> Result<(), IoError> {

@@ -65,7 +65,8 @@ pub use procimg_control::services::{
 pub use procimg_control::{
     AlarmRefusal, ArReport, ArState, ClientRole, DeviceState, DiagnosisDirection, DiagnosisEntry,
     DiagnosisKind, DiagnosisSeverity, ForceReport, PlugRefusal, Refusal, StationAlarmKind,
-    StationDiagnosisChange, StationReport, StationTreeEntry, StatusReport, TreeRecords,
+    StationDiagnosisChange, StationProgramReport, StationReport, StationTreeEntry, StatusReport,
+    TreeRecords,
 };
 pub use procimg_rt_alloc as rt_alloc;
 pub use procimg_shm_layout::{CycleInfo, Mode};

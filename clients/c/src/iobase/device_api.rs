@@ -599,6 +599,7 @@ pub unsafe extern "C" fn PNIO_set_appl_state_ready(
             number: ArNumber,
             session_key: SessionKey,
         };
+        io::before_application_ready(&dev);
         match dev.iobase.application_ready(ar, &not_ready) {
             Ok(()) => PNIO_OK,
             Err(ApplicationReadyError::Refused(ReadyError::Session(e))) => session_failure(F, e),

@@ -18,8 +18,8 @@ use crate::roles::{Answers, RoleServices};
 use crate::shm::Notices;
 use procimg_control::services::Notification;
 use procimg_control::{
-    ArState, DeviceReport, DeviceRequest, NetworkReport, Refusal, Response, StationReport,
-    StationTreeEntry, SubscriberReport,
+    ArState, DeviceReport, DeviceRequest, NetworkReport, Refusal, Response, StationProgramReport,
+    StationReport, StationTreeEntry, SubscriberReport,
 };
 use procimg_profinet::device::SubslotAddr;
 use procimg_profinet::wire::record::RecordErrorCode;
@@ -588,7 +588,15 @@ impl RoleServices for DeviceServices {
     }
 
     fn station(&self) -> Option<StationReport> {
-        Some(self.station.report())
+        let mut report = self.station.report();
+        report.program = self.program.as_ref().and_then(|p| {
+            let file = p.waiting().station.program.as_ref()?;
+            Some(StationProgramReport {
+                gsdml: file.gsdml.display().to_string(),
+                defined_by: p.definer().map(|d| d.who.to_string()),
+            })
+        });
+        Some(report)
     }
 
     fn released(&self) -> bool {

@@ -19,7 +19,9 @@ use procimg_nic::sim_link::LinkEnd;
 use procimg_profinet::controller::plan::{
     ControllerIdentity, DevicePlan, PlanError, PlannedRecord,
 };
-use procimg_profinet::controller::{Controller, ControllerAction, DeviceEvent, RecordRequest};
+use procimg_profinet::controller::{
+    Controller, ControllerAction, DeviceEvent, DeviceState, RecordRequest,
+};
 use procimg_profinet::cyclic::{Consumer, CyclicAr, Verdict};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
@@ -304,6 +306,25 @@ impl Plc {
                 ControllerAction::Stop { .. } => self.exchange = None,
                 ControllerAction::Event(e) => {
                     log(&e, &self.names);
+                    // What a PLC program sees first: the station's I data as its frames
+                    // carried it when the ApplicationReady came (zeros where the station
+                    // marks it BAD).
+                    if let (
+                        DeviceEvent::State {
+                            state: DeviceState::Running,
+                            ..
+                        },
+                        Some(x),
+                    ) = (&e, &self.exchange)
+                    {
+                        for (sub, data) in &x.inputs {
+                            tracing::info!(
+                                "demo PLC: I data at the ApplicationReady: submodule {sub} = \
+                                 {:02x?}",
+                                &data[..data.len().min(16)]
+                            );
+                        }
+                    }
                     // The PLC program takes every alarm at once (an OB that returns).
                     if let DeviceEvent::Alarm { ticket, .. } = e {
                         let mut acks = Vec::new();

@@ -120,6 +120,7 @@ impl Station {
                 last_abort: None,
                 diagnosis: Vec::new(),
                 station_problem: false,
+                program: None,
             }),
             diagnosis_shown: Mutex::new(DiagnosisStore::new()),
         }

@@ -4,7 +4,8 @@
 //!
 //! Codes where the manual leaves the choice: an API not added, a slot above MaxSlots, a
 //! subslot outside 1..MaxSubslots, an address that is not geographical or a position the
-//! station's configuration does not have answer `PNIO_ERR_PRM_ADD`; a submodule plugged
+//! station's configuration does not have answer `PNIO_ERR_PRM_ADD` (for a station its
+//! program defines, outside slot 0: a submodule its GSDML file does not allow there); a submodule plugged
 //! before its module, at a position the program plugged already, a pull of what the program
 //! did not plug, a module plugged twice, an API added twice or removed while it has modules,
 //! and plug or pull after start without `PNIO_CBF_PULL_PLUG_CONF` answer
@@ -19,6 +20,7 @@ use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_ADDR_GEO;
+use procimg_client::{ControlError, Refusal, StationTreeEntry, TreeRecords};
 use std::sync::MutexGuard;
 
 /// The configuration when plug and pull are allowed now: before start, after stop, and after
@@ -75,7 +77,8 @@ pub(crate) fn api_add(f: &str, dev: &Device, api: u32, high: (u16, u16)) -> u32 
             format_args!("API {api} is added already"),
         );
     }
-    if !dev.positions.iter().any(|p| p.at.0 == api) {
+    // A station its program defines takes the APIs its GSDML file has: its plugs say.
+    if dev.gsdml.is_none() && !dev.positions().iter().any(|p| p.at.0 == api) {
         return fail(
             f,
             PNIO_ERR_PRM_ADD,
@@ -147,11 +150,15 @@ fn address(
             ));
         }
     };
+    // Outside slot 0 a station its program defines has the positions the program plugs,
+    // checked against its GSDML file (`tree_allows`), until it is defined at start.
+    let open_tree = defines_tree(dev, c) && slot != 0;
     if !sub {
-        if !dev
-            .positions
-            .iter()
-            .any(|p| (p.at.0, p.at.1) == (api, slot))
+        if !open_tree
+            && !dev
+                .positions()
+                .iter()
+                .any(|p| (p.at.0, p.at.1) == (api, slot))
         {
             return Err(fail(
                 f,
@@ -178,7 +185,7 @@ fn address(
             ));
         }
     };
-    if dev.position((api, slot, subslot)).is_none() {
+    if !open_tree && !dev.has_position((api, slot, subslot)) {
         return Err(fail(
             f,
             PNIO_ERR_PRM_ADD,
@@ -190,6 +197,63 @@ fn address(
         ));
     }
     Ok((api, slot, subslot))
+}
+
+/// Whether the program's plugs outside slot 0 define the station now: it is one its program
+/// defines, and the device is not started (after start its positions are the tree's).
+pub(crate) fn defines_tree(dev: &Device, c: &Config) -> bool {
+    dev.gsdml.is_some() && c.life != Life::Started
+}
+
+/// The program's tree after slot 0 as procimgd's station takes it: each submodule with its
+/// module's ident number, its records the program's (with the I&M records when plugged with
+/// I&M0 bits).
+pub(crate) fn program_tree(c: &Config) -> Vec<StationTreeEntry> {
+    c.subs
+        .iter()
+        .filter(|(at, _)| at.1 != 0)
+        .filter_map(|(&(api, slot, subslot), &submodule_ident)| {
+            Some(StationTreeEntry {
+                api,
+                slot,
+                subslot,
+                module_ident: *c.modules.get(&(api, slot))?,
+                submodule_ident,
+                records: if c.im.contains(&(api, slot, subslot)) {
+                    TreeRecords::ProgramWithIm
+                } else {
+                    TreeRecords::Program
+                },
+            })
+        })
+        .collect()
+}
+
+/// Whether the station's GSDML file allows the program's tree with `module` and
+/// `submodule` at `at` too (asked of procimgd, which names what is wrong).
+fn tree_allows(f: &str, dev: &Device, at: Pos, module: u32, submodule: u32) -> Result<(), u32> {
+    let mut tree = program_tree(&lock(&dev.config));
+    tree.push(StationTreeEntry {
+        api: at.0,
+        slot: at.1,
+        subslot: at.2,
+        module_ident: module,
+        submodule_ident: submodule,
+        records: TreeRecords::Program,
+    });
+    let checked = dev.iobase.services().check_station_tree(&tree);
+    checked.map_err(|e| match e {
+        ControlError::Refused(Refusal::BadRequest { message }) => fail(
+            f,
+            PNIO_ERR_PRM_ADD,
+            format_args!(
+                "instance \"{}\" does not take module {module:#010x} submodule \
+                 {submodule:#010x} at API {} slot {} subslot {:#06x}: {message}",
+                dev.instance, at.0, at.1, at.2
+            ),
+        ),
+        e => fail(f, PNIO_ERR_NO_FW_COMMUNICATION, e),
+    })
 }
 
 /// Counts the job as waiting for its confirmation and gives it to the library thread.
@@ -340,6 +404,24 @@ pub(crate) fn sub_plug(
                 at.1, at.2
             ),
         );
+    }
+    if at.1 != 0 && defines_tree(dev, &c) {
+        // Asked without the configuration locked: the library thread takes it meanwhile.
+        drop(c);
+        if let Err(code) = tree_allows(f, dev, at, module, ident) {
+            return code;
+        }
+        c = match config_at(f, dev, api, &addr, true) {
+            Ok((c, _)) => c,
+            Err(code) => return code,
+        };
+        if c.subs.contains_key(&at) || c.modules.get(&(api, at.1)) != Some(&module) {
+            return fail(
+                f,
+                PNIO_ERR_SEQUENCE,
+                "the program's configuration changed during the call: plug again",
+            );
+        }
     }
     c.subs.insert(at, ident);
     if im0_bits == PNIO_PLUG_IM0_BITS_NOTHING {

@@ -40,6 +40,7 @@ use crate::iobase::types::{
 };
 use procimg_client::{Client, IoError, Ioxs};
 use procimg_shm_layout::{NO_ADDRESS, RT_CLASS_3};
+use std::time::Duration;
 
 /// Which data the call visits, by RT class (`PNIO_ACCESS_ENUM`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,22 +99,22 @@ fn returned_ioxs(v: PNIO_IOXS) -> Ioxs {
 }
 
 /// The layout indexes of the submodules at `mine` with I data the client can claim.
-fn claimable(dev: &Device, client: &Client, mine: &[Pos]) -> Vec<usize> {
+fn claimable(client: &Client, mine: &[Pos]) -> Vec<usize> {
     client
         .layout()
         .submodules
         .iter()
         .enumerate()
         .filter(|(_, e)| e.output_length > 0 && e.output_address != NO_ADDRESS)
-        .filter(|(i, _)| mine.contains(&dev.positions[*i].at))
+        .filter(|(_, e)| mine.contains(&(e.api, e.slot, e.subslot)))
         .map(|(i, _)| i)
         .collect()
 }
 
 /// Claims the I data of the program's submodules at `mine` that the client does not hold
 /// yet.
-pub(crate) fn claim(dev: &Device, client: &mut Client, mine: &[Pos]) -> Result<(), String> {
-    let want: Vec<usize> = claimable(dev, client, mine)
+pub(crate) fn claim(client: &mut Client, mine: &[Pos]) -> Result<(), String> {
+    let want: Vec<usize> = claimable(client, mine)
         .into_iter()
         .filter(|&s| !client.holds(s))
         .collect();
@@ -126,13 +127,46 @@ pub(crate) fn claim(dev: &Device, client: &mut Client, mine: &[Pos]) -> Result<(
 }
 
 /// Releases what the client holds: everything, or the submodule at `at`.
-pub(crate) fn release(dev: &Device, client: &mut Client, at: Option<Pos>) {
-    let held: Vec<usize> = (0..dev.positions.len())
-        .filter(|&s| client.holds(s) && at.is_none_or(|a| a == dev.positions[s].at))
+pub(crate) fn release(client: &mut Client, at: Option<Pos>) {
+    let held: Vec<usize> = (0..client.layout().submodules.len())
+        .filter(|&s| client.holds(s) && at.is_none_or(|a| a == position(client, s)))
         .collect();
     if !held.is_empty() {
         // A server that is gone holds nothing any more.
         let _ = client.release(&held);
+    }
+}
+
+/// The position of the layout's submodule `s`.
+fn position(client: &Client, s: usize) -> Pos {
+    let e = &client.layout().submodules[s];
+    (e.api, e.slot, e.subslot)
+}
+
+/// How long `PNIO_set_appl_state_ready` waits for procimgd to apply the I data written
+/// before it: a few cycles are plenty.
+const APPLIED_WAIT: Duration = Duration::from_millis(500);
+
+/// Before the ApplicationReady goes: the I data the program wrote (its steps 14 and 15)
+/// is what procimgd's frames carry, so that the PLC gets it, IOPS included, with the
+/// ApplicationReady and not a cycle after. Inside an isochronous device's STARTOP window the
+/// data goes out with `PNIO_CP_set_opdone`, later: no wait then.
+pub(crate) fn before_application_ready(dev: &Device) {
+    if lock(&dev.iso.window).is_open() {
+        return;
+    }
+    let applied = lock(&dev.client).wait_outputs_applied(APPLIED_WAIT);
+    if let Ok(false) = applied {
+        fail(
+            "PNIO_set_appl_state_ready",
+            PNIO_OK,
+            format_args!(
+                "instance \"{}\" did not apply the I data written before within {} ms: the \
+                 ApplicationReady goes all the same",
+                dev.instance,
+                APPLIED_WAIT.as_millis()
+            ),
+        );
     }
 }
 
@@ -198,14 +232,18 @@ pub(crate) fn initiate(
         );
     }
     let mine: Vec<Pos> = lock(&dev.config).subs.keys().copied().collect();
-    let chosen: Vec<usize> = (0..dev.positions.len())
-        .filter(|&i| mine.contains(&dev.positions[i].at))
-        .filter(|&i| {
-            let (_, slot, subslot) = dev.positions[i].at;
-            filter
-                .is_none_or(|(s, ss)| s == u32::from(slot) && (ss == 0 || ss == u32::from(subslot)))
-        })
-        .collect();
+    let chosen: Vec<usize> = {
+        let client = lock(&dev.client);
+        (0..client.layout().submodules.len())
+            .filter(|&i| mine.contains(&position(&client, i)))
+            .filter(|&i| {
+                let (_, slot, subslot) = position(&client, i);
+                filter.is_none_or(|(s, ss)| {
+                    s == u32::from(slot) && (ss == 0 || ss == u32::from(subslot))
+                })
+            })
+            .collect()
+    };
     if let Some((slot, subslot)) = filter
         && chosen.is_empty()
     {
@@ -225,7 +263,10 @@ pub(crate) fn initiate(
         let mut client = lock(&dev.client);
         let entries = client.layout().submodules.clone();
         for i in chosen {
-            let e = entries[i];
+            // The layout changes only at start, before any AR: a submodule gone is skipped.
+            let Some(&e) = entries.get(i) else {
+                continue;
+            };
             let (len, address) = match dir {
                 Direction::Write => (e.output_length, e.output_address),
                 Direction::Read => (e.input_length, e.input_address),
@@ -253,7 +294,7 @@ pub(crate) fn initiate(
                     Err(e) => return io_failure(f, dev, e),
                 },
             };
-            let (_, slot, subslot) = dev.positions[i].at;
+            let (_, slot, subslot) = (e.api, e.slot, e.subslot);
             visits.push(Visit {
                 slot,
                 subslot,

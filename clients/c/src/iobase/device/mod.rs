@@ -43,7 +43,8 @@
 //!
 //! `PNIO_device_open` attaches to the procimgd instance that CpIndex names (as for the
 //! controller: `PROCIMG_CP<n>`, else `PROCIMG_INSTANCE`, else `procimg`), which must be in the
-//! device role with the VendorID and DeviceID given, and takes the server to OFFLINE: the
+//! device role with the VendorID and DeviceID given (its configuration's, or its GSDML
+//! file's), and takes the server to OFFLINE: the
 //! station takes no AR until `PNIO_device_start`, which takes it to OPERATE. From open to
 //! close the device checks the station's ARs and holds its ApplicationReady, so that the
 //! AR callbacks come in the manual's order and `PNIO_set_appl_state_ready` sends it (see
@@ -58,6 +59,23 @@
 //! The CP application watchdog (`crate::iobase::watchdog`) stops a device on expiry: every
 //! call answers `PNIO_ERR_NO_FW_COMMUNICATION` but `PNIO_device_close`, which then also
 //! takes a started device OFFLINE.
+//!
+//! # A station its program defines
+//!
+//! When procimgd's configuration names only the station's GSDML file (`[station] gsdml`, no
+//! submodules), the program's plugs outside slot 0 are its station: each submodule plug is
+//! checked at once against the file by procimgd (a module or submodule ident the file lacks,
+//! or a slot or subslot it does not allow: `PNIO_ERR_PRM_ADD`, the text naming the ident
+//! and the file) and confirmed without changing procimgd's station, which waits off the
+//! wire with its device access point. `PNIO_device_start` defines the station with the
+//! program's tree (each submodule's records the program's, with its I&M records when
+//! plugged with I&M0 bits): procimgd runs the station anew with the lengths the file gives,
+//! the device's client follows the new layout, and the PLC may connect at once; the
+//! device's AR checks and its hold of the ApplicationReady are in place from the station's
+//! first moment. A start after a stop defines the station again only when the program's
+//! tree changed. After start, plug and pull work on the positions of the defined tree, as
+//! for a configured station. `PNIO_device_close` (or the program's end) ends the station:
+//! its AR ends with an abort and it waits off the wire for the next program.
 //!
 //! # Plugging
 //!

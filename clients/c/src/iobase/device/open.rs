@@ -8,7 +8,7 @@
 //! `PNIO_ERR_SEQUENCE`; no server (or no answer) is `PNIO_ERR_NO_FW_COMMUNICATION`; an
 //! instance whose ARs another program checks `PNIO_ERR_CREATE_INSTANCE`.
 
-use super::state::{Device, Position, instance_open};
+use super::state::{Device, instance_open};
 use crate::iobase::controller::instance_for;
 use crate::iobase::device_types::*;
 use crate::iobase::errors::*;
@@ -279,22 +279,13 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
             format_args!("instance \"{instance}\" did not take the mode OFFLINE: {e}"),
         )
     })?;
-    let positions = client
-        .layout()
-        .submodules
-        .iter()
-        .map(|s| Position {
-            at: (s.api, s.slot, s.subslot),
-            module_ident: s.module_ident,
-            submodule_ident: s.submodule_ident,
-        })
-        .collect();
+    let gsdml = station.program.map(|p| p.gsdml);
     Device::register(
         cp,
         instance,
         cbf,
         req.high,
-        positions,
+        gsdml,
         client,
         iobase,
         super::worker::spawn,

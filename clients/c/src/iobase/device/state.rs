@@ -11,7 +11,7 @@ use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::{handles, stopped};
 use procimg_client::iobase::IoBaseDevice;
-use procimg_client::{Client, Mode};
+use procimg_client::{Client, Layout, Mode, StationTreeEntry};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex};
 
@@ -68,6 +68,9 @@ pub(crate) struct Config {
     pub im: BTreeSet<Pos>,
     /// The SequenceNum of the last record job.
     pub record_sequence: u32,
+    /// The tree this device defined the station with, if it did (a station its program
+    /// defines).
+    pub defined: Option<Vec<StationTreeEntry>>,
 }
 
 /// One open device.
@@ -82,8 +85,13 @@ pub(crate) struct Device {
     pub cbf: PNIO_CBF_FUNCTIONS,
     /// `PNIO_device_open_ext`'s highest slot and subslot numbers.
     pub high: Option<(u16, u16)>,
-    /// The station's configured positions.
-    pub positions: Vec<Position>,
+    /// The station's positions, as its layout has them (a station its program defines
+    /// gets new ones at start).
+    positions: Mutex<Arc<Vec<Position>>>,
+    /// For a station its program defines (`[station] gsdml`): the GSDML file, as procimgd
+    /// reported it. The program's tree is then checked against the file and defined at
+    /// start.
+    pub gsdml: Option<String>,
     /// The program's configuration and the lifecycle.
     pub config: Mutex<Config>,
     /// The client of the instance (plug, pull, mode).
@@ -148,7 +156,7 @@ impl Device {
         instance: String,
         cbf: PNIO_CBF_FUNCTIONS,
         high: Option<(u16, u16)>,
-        positions: Vec<Position>,
+        gsdml: Option<String>,
         client: Client,
         iobase: IoBaseDevice,
         spawn: impl FnOnce(Arc<Device>) -> std::io::Result<Worker>,
@@ -160,7 +168,8 @@ impl Device {
             instance,
             cbf,
             high,
-            positions,
+            positions: Mutex::new(Arc::new(positions_of(client.layout()))),
+            gsdml,
             config: Mutex::new(Config {
                 life: Life::Opened,
                 apis: BTreeMap::new(),
@@ -169,6 +178,7 @@ impl Device {
                 pending: 0,
                 im: BTreeSet::new(),
                 record_sequence: 0,
+                defined: None,
             }),
             client: Mutex::new(client),
             iobase,
@@ -197,8 +207,9 @@ impl Device {
     }
 
     /// `PNIO_device_close` after the checks: the library thread finishes its jobs and ends,
-    /// the handle goes, the station no longer waits for this device's AR checks and
-    /// ApplicationReady, then the client goes.
+    /// the handle goes, a station this device defined waits for its next program, the
+    /// station no longer waits for this device's AR checks and ApplicationReady, then the
+    /// client goes.
     pub(crate) fn close(&self) {
         // No isochronous callback runs once close returned; one running now still finds
         // the handle for its PNIO_CP_set_opdone.
@@ -208,6 +219,11 @@ impl Device {
         let worker = lock(&self.worker).take();
         if let Some(w) = worker {
             w.stop();
+        }
+        if lock(&self.config).defined.is_some() {
+            // The program ends: its AR ends with an abort, and the station waits off the
+            // wire for the next one. A server that is gone has nothing to release.
+            let _ = self.iobase.services().release_station();
         }
         self.iobase.close();
     }
@@ -234,8 +250,31 @@ impl Device {
         }
     }
 
-    /// The station's position at `at`, if configured.
-    pub(crate) fn position(&self, at: Pos) -> Option<&Position> {
-        self.positions.iter().find(|p| p.at == at)
+    /// The station's positions now.
+    pub(crate) fn positions(&self) -> Arc<Vec<Position>> {
+        lock(&self.positions).clone()
     }
+
+    /// The station's positions are `layout`'s from now on (the client follows a new one).
+    pub(crate) fn follow_layout(&self, layout: &Layout) {
+        *lock(&self.positions) = Arc::new(positions_of(layout));
+    }
+
+    /// Whether the station has a position at `at`.
+    pub(crate) fn has_position(&self, at: Pos) -> bool {
+        lock(&self.positions).iter().any(|p| p.at == at)
+    }
+}
+
+/// The positions of `layout`, in its order.
+pub(crate) fn positions_of(layout: &Layout) -> Vec<Position> {
+    layout
+        .submodules
+        .iter()
+        .map(|s| Position {
+            at: (s.api, s.slot, s.subslot),
+            module_ident: s.module_ident,
+            submodule_ident: s.submodule_ident,
+        })
+        .collect()
 }

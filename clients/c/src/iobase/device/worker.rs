@@ -9,6 +9,7 @@
 use super::Pos;
 use super::alarms;
 use super::ar;
+use super::config::{defines_tree, program_tree};
 use super::data;
 use super::jobs::{Job, Worker};
 use super::records;
@@ -20,8 +21,8 @@ use crate::iobase::errors::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::PNIO_ERR_STAT;
 use crate::iobase::wake::Wake;
-use procimg_client::Mode;
 use procimg_client::iobase::AbortError;
+use procimg_client::{ControlError, Mode, Refusal, StationTreeEntry};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
@@ -32,6 +33,8 @@ const IDLE: Duration = Duration::from_millis(500);
 /// How long a stop or an AR abort waits for the station to report the AR's end; then the
 /// library ends it itself (`PNIO_AR_REASON_ABORT`).
 const END_WAIT: Duration = Duration::from_secs(5);
+/// How long `PNIO_device_start` waits for procimgd to run the station the program defined.
+const DEFINE_WAIT: Duration = Duration::from_secs(10);
 
 /// Starts the library thread of `dev`.
 pub(crate) fn spawn(dev: Arc<Device>) -> std::io::Result<Worker> {
@@ -49,11 +52,7 @@ pub(crate) fn spawn(dev: Arc<Device>) -> std::io::Result<Worker> {
 /// is over).
 fn run(dev: Arc<Device>, rx: Receiver<Job>, wake: &Wake) {
     let dev = &*dev;
-    let mut occupants: Occupants = dev
-        .positions
-        .iter()
-        .map(|p| (p.at, Some((p.module_ident, p.submodule_ident))))
-        .collect();
+    let mut occupants = occupants_of(dev);
     let mut taken = records::Taken::new();
     let notify_fd = dev.iobase.notify_fd();
     loop {
@@ -77,6 +76,20 @@ fn run(dev: Arc<Device>, rx: Receiver<Job>, wake: &Wake) {
     }
 }
 
+/// What procimgd has at each of the station's positions, as its layout says.
+fn occupants_of(dev: &Device) -> Occupants {
+    dev.positions()
+        .iter()
+        .map(|p| (p.at, Some((p.module_ident, p.submodule_ident))))
+        .collect()
+}
+
+/// Whether a plug or pull at `at` only changes the tree the program defines at start (not
+/// procimgd's station now).
+fn tree_only(dev: &Device, at: Pos) -> bool {
+    at.1 != 0 && defines_tree(dev, &lock(&dev.config))
+}
+
 /// The uuid of the current AR, if there is one.
 fn current_uuid(dev: &Device) -> Option<String> {
     dev.iobase.current_ar().map(|a| a.uuid)
@@ -90,12 +103,16 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
             idents,
             mut addr,
         } => {
-            let code = plug(&lock(&dev.client), occupants, at, idents);
+            let code = if tree_only(dev, at) {
+                PNIO_OK
+            } else {
+                plug(&lock(&dev.client), occupants, at, idents)
+            };
             let started = lock(&dev.config).life == Life::Started;
             if code == PNIO_OK && started {
                 // Plugged all the same: without the claim the PLC gets the I data with IOPS
                 // BAD, and PNIO_initiate_data_write says why.
-                let _ = data::claim(dev, &mut lock(&dev.client), &[at]);
+                let _ = data::claim(&mut lock(&dev.client), &[at]);
             }
             if code != PNIO_OK {
                 let mut c = lock(&dev.config);
@@ -117,9 +134,12 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
             {
                 let mut client = lock(&dev.client);
                 for &(p, _) in &at {
-                    data::release(dev, &mut client, Some(p));
+                    data::release(&mut client, Some(p));
                 }
                 for (p, ident) in at {
+                    if tree_only(dev, p) {
+                        continue;
+                    }
                     let c = pull(&client, occupants, p);
                     if c != PNIO_OK {
                         code = c;
@@ -132,7 +152,7 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
                 if started {
                     // The program keeps these: its I data too.
                     let at: Vec<Pos> = kept.iter().map(|&(p, _)| p).collect();
-                    let _ = data::claim(dev, &mut lock(&dev.client), &at);
+                    let _ = data::claim(&mut lock(&dev.client), &at);
                 }
                 let mut c = lock(&dev.config);
                 c.subs.extend(kept);
@@ -160,7 +180,7 @@ fn run_job(dev: &Device, occupants: &mut Occupants, job: Job) {
                 ar::until_ended(dev, occupants, &uuid, END_WAIT);
             }
             if code == PNIO_OK {
-                data::release(dev, &mut lock(&dev.client), None);
+                data::release(&mut lock(&dev.client), None);
             }
             lock(&dev.config).life = if code == PNIO_OK {
                 Life::Stopped
@@ -203,12 +223,46 @@ fn confirm(dev: &Device, api: u32, action: PNIO_DEV_ACTION, addr: &mut PNIO_DEV_
     }
 }
 
-/// `PNIO_device_start`: pulls the positions outside slot 0 that the program did not plug,
-/// then takes procimgd to OPERATE. `Err` with the code and the text for the caller.
+/// `PNIO_device_start`: a station its program defines is defined with the program's tree
+/// (unless it has that one already); else the positions outside slot 0 that the program did
+/// not plug are pulled. Then procimgd goes to OPERATE, the program's I data claimed. `Err`
+/// with the code and the text for the caller.
 fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
-    let mine: Vec<Pos> = lock(&dev.config).subs.keys().copied().collect();
+    let (mine, tree, defined) = {
+        let c = lock(&dev.config);
+        let mine: Vec<Pos> = c.subs.keys().copied().collect();
+        (mine, program_tree(&c), c.defined.clone())
+    };
+    if dev.gsdml.is_some() && defined.as_ref() != Some(&tree) {
+        define(dev, &tree)?;
+        *occupants = occupants_of(dev);
+        lock(&dev.config).defined = Some(tree);
+    } else if dev.gsdml.is_none() {
+        pull_unplugged(dev, occupants, &mine)?;
+    }
     let mut client = lock(&dev.client);
-    for p in &dev.positions {
+    data::claim(&mut client, &mine).map_err(|e| {
+        (
+            PNIO_ERR_NO_CONNECTION,
+            format!("instance \"{}\": {e}", dev.instance),
+        )
+    })?;
+    client.control().set_mode(Mode::Operate).map_err(|e| {
+        (
+            code_of(&e),
+            format!("instance \"{}\" did not take OPERATE: {e}", dev.instance),
+        )
+    })
+}
+
+/// Pulls the station's positions outside slot 0 that the program did not plug (`mine`).
+fn pull_unplugged(
+    dev: &Device,
+    occupants: &mut Occupants,
+    mine: &[Pos],
+) -> Result<(), (u32, String)> {
+    let client = lock(&dev.client);
+    for p in dev.positions().iter() {
         if p.at.1 == 0 || mine.contains(&p.at) || occupants.get(&p.at) == Some(&None) {
             continue;
         }
@@ -225,16 +279,47 @@ fn start(dev: &Device, occupants: &mut Occupants) -> Result<(), (u32, String)> {
             ));
         }
     }
-    data::claim(dev, &mut client, &mine).map_err(|e| {
+    Ok(())
+}
+
+/// Defines procimgd's station with `tree` and follows it: procimgd runs the station anew
+/// with it, and the device's client re-attaches to the new layout (within [`DEFINE_WAIT`]).
+fn define(dev: &Device, tree: &[StationTreeEntry]) -> Result<(), (u32, String)> {
+    let mut client = lock(&dev.client);
+    let before = client.generation();
+    let defined = dev.iobase.services().define_station(tree);
+    defined.map_err(|e| {
+        let code = match &e {
+            ControlError::Refused(Refusal::BadRequest { .. }) => PNIO_ERR_PRM_ADD,
+            e => code_of(e),
+        };
         (
-            PNIO_ERR_NO_CONNECTION,
-            format!("instance \"{}\": {e}", dev.instance),
+            code,
+            format!(
+                "instance \"{}\" did not take the program's tree: {e}",
+                dev.instance
+            ),
         )
     })?;
-    client.control().set_mode(Mode::Operate).map_err(|e| {
-        (
-            code_of(&e),
-            format!("instance \"{}\" did not take OPERATE: {e}", dev.instance),
-        )
-    })
+    let until = Instant::now() + DEFINE_WAIT;
+    while client.generation() == before || !client.connected() {
+        if Instant::now() >= until {
+            return Err((
+                PNIO_ERR_NO_FW_COMMUNICATION,
+                format!(
+                    "instance \"{}\" took the program's tree but did not run the station \
+                     with it within {} s",
+                    dev.instance,
+                    DEFINE_WAIT.as_secs()
+                ),
+            ));
+        }
+        // Waiting for a cycle drives the client: it re-attaches when the server's new
+        // generation is there.
+        let _ = client.wait_startop(Duration::from_millis(20));
+    }
+    // The events of the change are the library's own doing.
+    let _ = client.events();
+    dev.follow_layout(client.layout());
+    Ok(())
 }
