@@ -173,3 +173,35 @@ fn a_vendors_gsdml_gives_lengths_and_places() {
         .to_string();
     assert!(m.contains("PhysicalSlots") && m.contains("0..4"), "{m}");
 }
+
+#[test]
+fn a_submodule_has_its_own_i_and_m_where_the_gsdml_lets_the_plc_write_it() {
+    // The demo with slot 1 carrying I&M of its own.
+    let toml = DEMO_DEVICE_TOML.replacen(
+        "records = [{ index = 1, length = 4, data = [0, 0, 0, 10] }]",
+        "records = [{ index = 1, length = 4, data = [0, 0, 0, 10] }]\nim = true",
+        1,
+    );
+    assert_ne!(toml, DEMO_DEVICE_TOML, "the demo's slot 1 as expected");
+    let config = parse(&toml, DEMO_DEVICE_ORIGIN).unwrap();
+    let station = config.station.unwrap();
+    let file = station_gsdml(
+        &station,
+        config.cycle_ns,
+        GsdmlDate::new(2026, 11, 28).unwrap(),
+    )
+    .unwrap();
+    let gsdml = Gsdml::parse(&file.xml, &file.file_name).unwrap();
+    let defined = define_station(&station, &gsdml, &gsdml.daps[0], &station.tree()).unwrap();
+    let im: Vec<(u16, bool)> = defined
+        .submodules
+        .iter()
+        .filter(|s| s.submodule.slot != 0)
+        .map(|s| (s.submodule.slot, s.im))
+        .collect();
+    assert!(im.contains(&(1, true)), "{im:?}");
+    assert!(
+        im.iter().filter(|(slot, _)| *slot != 1).all(|(_, im)| !im),
+        "{im:?}"
+    );
+}

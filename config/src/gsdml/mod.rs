@@ -317,6 +317,10 @@ pub struct Submodule {
     /// `@SubslotNumber` of an interface (default 32768, 0x8000) or port; `None` for a
     /// pluggable submodule, whose subslots its module's [`PlugRef`] gives.
     pub subslots: Option<ValueList>,
+    /// `@Writeable_IM_Records`: the I&M records 1–4 the PLC may write. A submodule that has
+    /// them has I&M data of its own (I&M0 included), rather than its module's or the
+    /// device's.
+    pub writeable_im: Option<ValueList>,
     io: Vec<IoItem>,
     records: Vec<RecordItem>,
 }

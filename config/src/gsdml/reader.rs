@@ -441,6 +441,11 @@ impl<'a, 'input> Reader<'a, 'input> {
             submodule_ident: self.number(node, "SubmoduleIdentNumber", 0xFFFF_FFFF)? as u32,
             api,
             subslots,
+            // Empty says none, as the attribute left out does.
+            writeable_im: match node.attribute("Writeable_IM_Records") {
+                Some(t) if t.trim().is_empty() => None,
+                _ => self.value_list(node, "Writeable_IM_Records")?,
+            },
             io,
             records,
         })

@@ -266,7 +266,8 @@ pub fn define_station(
                 records: Vec::new(),
             },
             accepts,
-            im: false,
+            // I&M of its own where the file says the PLC may write its I&M records.
+            im: submodule.writeable_im.is_some(),
             plugged: true,
         });
     }
