@@ -4,11 +4,12 @@
 //! is refused naming the ident and the file, and changes nothing; an accepted tree runs the
 //! station anew (a client attached before follows the new layout) and the demo PLC
 //! connects it; a second program and a definition during the AR are refused; the program's
-//! end aborts the AR and the station waits again.
+//! end aborts the AR and the station waits again. A module only the GSDML file has is
+//! connected by the demo PLC, which plans it from the file, and its data flows.
 
 use procimg_client::{
-    ArState, AttachOptions, Client, ControlError, Event, Notification, Refusal, ServiceOptions,
-    Services, StationTreeEntry, TreeRecords,
+    ArState, AttachOptions, Client, ControlError, Event, Ioxs, Notification, Refusal,
+    ServiceOptions, Services, StationTreeEntry, TreeRecords,
 };
 use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
 use procimg_config::{Config, StationConfig};
@@ -46,10 +47,14 @@ fn follow(client: &mut Client, events: &mut Vec<Event>, done: impl Fn(&[Event]) 
 /// The config of a station its program defines, with the demo station's GSDML written into
 /// `dir`: the TOML and the file's name.
 fn waiting_station(dir: &std::path::Path) -> (String, String) {
-    let demo = Config::demo_device();
+    waiting_station_of(dir, Config::demo_device().station.as_ref().unwrap())
+}
+
+/// [`waiting_station`] with the GSDML file of `described`.
+fn waiting_station_of(dir: &std::path::Path, described: &StationConfig) -> (String, String) {
     let file = station_gsdml(
-        demo.station.as_ref().unwrap(),
-        demo.cycle_ns,
+        described,
+        Config::demo_device().cycle_ns,
         GsdmlDate::new(2026, 11, 28).unwrap(),
     )
     .unwrap();
@@ -291,4 +296,83 @@ fn what_the_program_said_holds_from_the_defined_stations_first_moment() {
             .and_then(|s| s.ar.as_ref())
             .is_some_and(|a| a.state == ArState::Data)
     });
+}
+
+/// A module the demo's configuration does not have, with other IO lengths than its modules.
+const ONLY_IN_THE_FILE: u32 = 0x4242;
+/// Its input and output bytes.
+const ONLY_IN_THE_FILE_LEN: usize = 40;
+
+/// The station's program plugs a module that only the station's GSDML file describes; the
+/// demo PLC, which reads the tree and plans it from the file, connects it, and its data
+/// flows both ways: Q = I + 1 on its 40 bytes.
+#[test]
+fn the_demo_plc_connects_a_module_only_the_gsdml_file_has() {
+    let mut described = Config::demo_device().station.unwrap();
+    let mut extra = described.submodules.last().unwrap().clone();
+    extra.submodule.slot = 3;
+    extra.submodule.module_ident = ONLY_IN_THE_FILE;
+    extra.submodule.submodule_ident = 1;
+    extra.submodule.input_length = ONLY_IN_THE_FILE_LEN as u16;
+    extra.submodule.output_length = ONLY_IN_THE_FILE_LEN as u16;
+    extra.accepts.clear();
+    described.submodules.push(extra);
+    let dir = procimg_testkit::files::temp_dir("station-program-file-module");
+    let (toml, _) = waiting_station_of(dir.path(), &described);
+    let server = Launch::config("station-file-module", &toml)
+        .until_cycling()
+        .start();
+    // Lives to the end: its close would take the station off the wire.
+    let program = Services::open(&server.instance, ServiceOptions::new("the-program")).unwrap();
+    let tree = [StationTreeEntry {
+        api: 0,
+        slot: 3,
+        subslot: 1,
+        module_ident: ONLY_IN_THE_FILE,
+        submodule_ident: 1,
+        records: TreeRecords::Station,
+    }];
+    program.define_station(&tree).unwrap();
+    server.wait_status("the AR in data exchange", |s| {
+        s.station
+            .as_ref()
+            .and_then(|s| s.ar.as_ref())
+            .is_some_and(|a| a.state == ArState::Data)
+    });
+
+    let mut client =
+        Client::attach(&server.instance, AttachOptions::synchronous("file-module")).unwrap();
+    let module = client
+        .layout()
+        .submodules
+        .iter()
+        .position(|e| (e.slot, e.subslot) == (3, 1))
+        .expect("the program's module in the layout");
+    let mine = client.claim_i_data().expect("claim the I data");
+    assert!(mine.contains(&module), "slot 3 has I data: {mine:?}");
+    let written: Vec<u8> = (0..ONLY_IN_THE_FILE_LEN as u8)
+        .map(|i| i.wrapping_mul(37).wrapping_add(5))
+        .collect();
+    let wanted: Vec<u8> = written.iter().map(|b| b.wrapping_add(1)).collect();
+    let until = Instant::now() + Duration::from_secs(30);
+    loop {
+        let mut cycle = client
+            .wait_startop(Duration::from_secs(5))
+            .expect("STARTOP");
+        let last = cycle.q_data(module).expect("Q data").to_vec();
+        let good = cycle.q_status(module).expect("Q status") == Ioxs::Good;
+        cycle
+            .i_data_mut(module)
+            .expect("I data")
+            .copy_from_slice(&written);
+        cycle.set_opdone().expect("OPDONE");
+        if good && last == wanted {
+            break;
+        }
+        assert!(
+            Instant::now() < until,
+            "the PLC's Q data never answered the I data: last Q {last:02x?}"
+        );
+    }
+    drop(program);
 }

@@ -320,7 +320,8 @@ impl Controller {
         self.devices.iter().map(DeviceAr::state)
     }
 
-    /// The plan of device `d`.
+    /// The plan of device `d` (for one planned from its RealIdentificationData, the plan of
+    /// its last Connect).
     pub fn plan(&self, d: usize) -> Option<&DevicePlan> {
         self.devices.get(d).map(|d| &d.plan)
     }
@@ -367,6 +368,23 @@ impl Controller {
         for d in &mut self.devices {
             d.learn_real_identification(on);
         }
+    }
+
+    /// Device `device`'s RealIdentificationData (0xF000) is read before each Connect and
+    /// `planner` makes the plan connected from it: the device connects with the tree it
+    /// has, with the lengths and records its owner knows for it (a GSDML file, say), rather
+    /// than with the tree it was planned with (see [`device::TreePlanner`]). `false` when
+    /// there is no such device.
+    pub fn plan_from_real_identification(
+        &mut self,
+        device: usize,
+        planner: device::TreePlanner,
+    ) -> bool {
+        let Some(d) = self.devices.get_mut(device) else {
+            return false;
+        };
+        d.plan_from_real_identification(planner);
+        true
     }
 
     /// Sends the AlarmAck of the alarm `ticket` names (positive, as IO-Base does when the

@@ -29,6 +29,7 @@ mod alarms;
 mod learn;
 mod records;
 mod step;
+pub use learn::TreePlanner;
 use records::{record_result, write_failure};
 use step::{Ar, Phase, Plug, Step, priority_slot};
 
@@ -72,6 +73,9 @@ pub struct DeviceAr {
     uuids: UuidSource,
     /// Read the device's RealIdentificationData before each Connect (`learn.rs`).
     learn_tree: bool,
+    /// What plans the device from its RealIdentificationData, if anything does (`learn.rs`;
+    /// boxed: most devices have none).
+    planning: Option<Box<learn::Planning>>,
     /// The Release of the last AR while its answer is awaited, and where it went.
     releasing: Option<(RpcCall, SocketAddrV4)>,
 }
@@ -97,6 +101,7 @@ impl DeviceAr {
             plugs: VecDeque::new(),
             uuids,
             learn_tree: false,
+            planning: None,
             releasing: None,
         }
     }

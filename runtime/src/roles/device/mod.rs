@@ -130,6 +130,7 @@ pub fn start(
             threads.push(
                 sim_plc::spawn(
                     plans,
+                    sim_plc::tree_planner(&station, cycle_ns),
                     sim_plc::plc_ip(&station),
                     cycle_ns,
                     plc_end,

@@ -1,11 +1,25 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The device demo's PLC (`network = "sim"` in the device role): procimg's own IO controller
 //! in a thread of procimgd, on the in-process link and UDP network to the station. It
-//! connects the station as configured — DCP, Connect, the parameter records with their
-//! configured values, PrmEnd, ApplicationReady — and then runs the controller's end of the
+//! connects the station — DCP, a read of its RealIdentificationData (0xF000), Connect, the
+//! parameter records, PrmEnd, ApplicationReady — and then runs the controller's end of the
 //! cyclic exchange with a small PLC program: a submodule's output data (Q) is its input data
 //! (I) plus one, byte by byte, so that whatever a client of the station writes comes back
 //! changed; output bytes without input bytes count the PLC's cycles.
+//!
+//! What it connects:
+//! - A configured station (`[[station.submodule]]`): the configuration's tree, lengths and
+//!   record values, its ident numbers following what the read finds plugged at those
+//!   positions (the controller's `learn_real_identification`), so that whatever the
+//!   managing client plugged is cycled.
+//! - A station its program defines (`[station] gsdml`): the tree the read finds, with the
+//!   IO lengths and parameter records (their defaults) of the station's GSDML file, as a
+//!   PLC that has only that file would plan it (the controller's
+//!   `plan_from_real_identification`, [`tree_planner`]). The file is looked up by
+//!   `procimg_config::define_station`, the same rule that makes the station procimgd runs
+//!   from the program's tree. A tree the file does not allow is warned about, naming the
+//!   ident, and the station is connected as procimgd runs it (the device then reports the
+//!   differences).
 //!
 //! Nothing here is the device: the station is procimgd's device role, which cannot tell
 //! this PLC from a real one.
@@ -14,8 +28,10 @@ use crate::config::{DeviceConfig, SimBehaviour, StationConfig};
 use crate::phy::datagram::{SimDatagram, SimDatagramPeer};
 use crate::roles::controller::device_spec;
 use crate::sys::clock::{now_ns, sleep_until_ns};
+use procimg_config::{PlannedSubmodule, ProgramStation, define_station};
 use procimg_nic::Nic;
 use procimg_nic::sim_link::LinkEnd;
+use procimg_profinet::controller::device::TreePlanner;
 use procimg_profinet::controller::plan::{
     ControllerIdentity, DevicePlan, PlanError, PlannedRecord,
 };
@@ -25,6 +41,7 @@ use procimg_profinet::controller::{
 use procimg_profinet::cyclic::{Consumer, CyclicAr, Verdict};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::wire::record::IdentificationData;
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rt::{TIME_UNIT_NS, data_status};
 use std::net::{Ipv4Addr, SocketAddrV4};
@@ -99,10 +116,87 @@ pub fn plan(station: &StationConfig, cycle_ns: u64) -> Result<Vec<DevicePlan>, P
     DevicePlan::all(&[device_spec(&as_device(station))], cycle_ns)
 }
 
+/// How the PLC plans `station` from the tree it reads, when its program defines it: from
+/// the station's GSDML file (see the module docs). `None` for a configured station, whose
+/// configured plan the PLC keeps.
+pub fn tree_planner(station: &StationConfig, cycle_ns: u64) -> Option<TreePlanner> {
+    let program = station.program.clone()?;
+    let base = station.clone();
+    // Why the last tree could not be planned, so that a station that keeps its tree is
+    // not warned about before every Connect.
+    let warned = std::cell::Cell::new(None::<String>);
+    Some(Box::new(move |current, real| {
+        let planned = plan_of_tree(&base, &program, real, cycle_ns, current);
+        let last = warned.take();
+        match &planned {
+            Err(why) if last.as_ref() != Some(why) => {
+                tracing::warn!(
+                    "demo PLC: station {:?}: {why}; it is connected as procimgd runs it",
+                    base.name
+                );
+                warned.set(Some(why.clone()));
+            }
+            Err(_) => warned.set(last),
+            Ok(p) => tracing::debug!(
+                "demo PLC: station {:?} planned from the tree it reports and its GSDML file: \
+                 {} submodules",
+                base.name,
+                p.submodules.len()
+            ),
+        }
+        planned.ok()
+    }))
+}
+
+/// The plan of the station `base` whose program defines it as `real` reports (after slot
+/// 0, which the GSDML file defines), from `program`'s GSDML file, for the device and table
+/// entries of `current`; why not, in words.
+fn plan_of_tree(
+    base: &StationConfig,
+    program: &ProgramStation,
+    real: &IdentificationData,
+    cycle_ns: u64,
+    current: &DevicePlan,
+) -> Result<DevicePlan, String> {
+    let tree: Vec<PlannedSubmodule> = real
+        .apis
+        .iter()
+        .flat_map(|a| {
+            a.modules.iter().filter(|m| m.slot != 0).flat_map(move |m| {
+                m.submodules.iter().map(move |s| PlannedSubmodule {
+                    api: a.api,
+                    slot: m.slot,
+                    subslot: s.subslot,
+                    module_ident: m.module_ident,
+                    submodule_ident: s.submodule_ident,
+                })
+            })
+        })
+        .collect();
+    let dap = program.file.daps.get(program.dap_index).ok_or_else(|| {
+        format!(
+            "{} has no device access point {}",
+            program.file.origin, program.dap
+        )
+    })?;
+    let station = define_station(base, &program.file, dap, &tree)
+        .map_err(|e| format!("the tree it reports does not fit its GSDML file: {e}"))?;
+    DevicePlan::new(
+        current.device,
+        current.first_submodule,
+        &device_spec(&as_device(&station)),
+        cycle_ns,
+    )
+    .map_err(|e| format!("the tree it reports cannot be planned: {e}"))
+}
+
 /// Starts the PLC for the station of `plans` on `link` and `udp` until `stop`, cycling every
-/// `cycle_ns`, at SCHED_FIFO `priority` where allowed.
+/// `cycle_ns`, at SCHED_FIFO `priority` where allowed; `planner`, if given, plans the
+/// station from the tree it reports ([`tree_planner`]).
+#[allow(clippy::too_many_arguments)]
 pub fn spawn(
     plans: Vec<DevicePlan>,
+    planner: Option<TreePlanner>,
     ip: Ipv4Addr,
     cycle_ns: u64,
     link: LinkEnd,
@@ -124,15 +218,20 @@ pub fn spawn(
                 instance: 1,
             };
             let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
-            let recipe = plans.first().and_then(|p| p.records.first().cloned());
             let mut controller = Controller::new(id, plans, 0, now_ns());
             // Like an engineering tool, the demo PLC reads what the station has plugged
-            // before it connects: whatever the managing client plugged is cycled.
-            controller.learn_real_identification(true);
+            // before it connects: whatever the managing client plugged is cycled, and a
+            // station its program defines is planned from that and its GSDML file.
+            match planner {
+                Some(p) => {
+                    controller.plan_from_real_identification(0, p);
+                }
+                None => controller.learn_real_identification(true),
+            }
             Plc {
                 controller,
                 names,
-                recipe,
+                recipe: None,
                 recipe_writes: 0,
                 link,
                 udp,
@@ -159,7 +258,8 @@ struct Exchange {
 struct Plc {
     controller: Controller,
     names: Vec<String>,
-    /// The station's first parameter record, which the program writes now and then.
+    /// The station's first parameter record in the plan of the running AR, which the
+    /// program writes now and then.
     recipe: Option<PlannedRecord>,
     /// Writes of it by the program so far.
     recipe_writes: u32,
@@ -295,6 +395,11 @@ impl Plc {
                     });
                 }
                 ControllerAction::Start(ar) => {
+                    // The plan the AR was connected with, which the tree read may have made.
+                    self.recipe = self
+                        .controller
+                        .plan(ar.device)
+                        .and_then(|p| p.records.first().cloned());
                     self.exchange = Some(Exchange {
                         consumer: Consumer::of(&ar, now),
                         ar,
@@ -473,6 +578,80 @@ mod tests {
     use procimg_profinet::cyclic::trial::TrialSetup;
 
     const MS: u64 = 1_000_000;
+
+    /// A module that only the GSDML file of the planner test has: 40 bytes each way.
+    const ONLY_IN_THE_FILE: u32 = 0x4242;
+
+    /// The demo station as a program defines it from a GSDML file that also has
+    /// [`ONLY_IN_THE_FILE`] in slot 3; procimgd's table has the demo's tree.
+    fn program_station() -> StationConfig {
+        let mut station = crate::config::Config::demo_device().station.unwrap();
+        let mut described = station.clone();
+        let mut extra = described.submodules.last().unwrap().clone();
+        extra.submodule.slot = 3;
+        extra.submodule.module_ident = ONLY_IN_THE_FILE;
+        extra.submodule.submodule_ident = 1;
+        extra.submodule.input_length = 40;
+        extra.submodule.output_length = 40;
+        extra.accepts.clear();
+        described.submodules.push(extra);
+        let date = procimg_config::gsdml::export::GsdmlDate::new(2026, 1, 2).unwrap();
+        let file = procimg_config::gsdml::export::station_gsdml(&described, MS, date).unwrap();
+        let gsdml = procimg_config::gsdml::Gsdml::parse(&file.xml, &file.file_name).unwrap();
+        station.program = Some(ProgramStation {
+            gsdml: file.file_name.into(),
+            dap: gsdml.daps[0].id.clone(),
+            file: Arc::new(gsdml),
+            dap_index: 0,
+        });
+        station
+    }
+
+    fn real(tree: &[(u16, u32)]) -> IdentificationData {
+        use procimg_profinet::wire::record::{IdentApi, IdentificationKind, RecordVersion};
+        IdentificationData {
+            kind: IdentificationKind::Real,
+            version: RecordVersion::V1_1,
+            apis: IdentApi::group(tree.iter().map(|&(slot, m)| (0, slot, m, 1, 1))),
+        }
+    }
+
+    /// For a station its program defines, the PLC plans the tree it reads with the lengths
+    /// and record defaults of the GSDML file, not procimgd's table; a tree the file does
+    /// not allow gets no plan. A configured station keeps its configured plan.
+    #[test]
+    fn the_plc_plans_a_program_defined_station_from_the_tree_read_and_its_gsdml() {
+        let station = program_station();
+        let plans = plan(&station, MS).unwrap();
+        assert!(!plans[0].has_submodule(0, 3, 1));
+        let planner = tree_planner(&station, MS).expect("a planner");
+        let learned = planner(
+            &plans[0],
+            &real(&[(0, 1), (1, 0x10), (3, ONLY_IN_THE_FILE)]),
+        )
+        .expect("a plan of the tree");
+        let io: Vec<(u16, u16, u16)> = learned
+            .submodules
+            .iter()
+            .filter(|s| s.slot > 0)
+            .map(|s| (s.slot, s.input_length, s.output_length))
+            .collect();
+        assert_eq!(io, [(1, 8, 8), (3, 40, 40)]);
+        let records: Vec<(u16, u16, &[u8])> = learned
+            .records
+            .iter()
+            .map(|r| (r.slot, r.index, &r.data[..]))
+            .collect();
+        assert_eq!(records, [(1, 1, &[0, 0, 0, 10][..])]);
+        assert_eq!(
+            (learned.device, learned.first_submodule),
+            (plans[0].device, plans[0].first_submodule)
+        );
+        assert!(planner(&plans[0], &real(&[(3, 0x4343)])).is_none());
+
+        let configured = crate::config::Config::demo_device().station.unwrap();
+        assert!(tree_planner(&configured, MS).is_none());
+    }
 
     /// The demo PLC judges the station's frames as the protocol crate's consumer does: it
     /// hands the controller only what is not the exchange's, keeps the data of accepted
