@@ -240,12 +240,24 @@ impl Procimgd {
         ControlHandle::open(&self.instance, "test-control").expect("open the control service")
     }
 
-    /// Status over the control service.
+    /// Status over the control service. A server between two generations (a station its
+    /// program defines runs anew) has no control service for a moment: asked again then,
+    /// for a few seconds.
     pub fn status(&self) -> StatusReport {
-        ControlHandle::open(&self.instance, "test-status")
-            .expect("open the control service")
-            .status()
-            .expect("status")
+        let until = Instant::now() + Duration::from_secs(5);
+        loop {
+            let asked = ControlHandle::open(&self.instance, "test-status")
+                .map_err(|e| e.to_string())
+                .and_then(|c| c.status().map_err(|e| e.to_string()));
+            match asked {
+                Ok(s) => return s,
+                Err(e) if Instant::now() >= until => panic!("{}: status: {e}", self.instance),
+                Err(_) => {
+                    self.assert_alive();
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            }
+        }
     }
 
     /// The server's mode now.
@@ -276,15 +288,20 @@ impl Procimgd {
         mut done: impl FnMut(&StatusReport) -> bool,
     ) -> StatusReport {
         let until = Instant::now() + timeout;
-        let control =
-            ControlHandle::open(&self.instance, "test-wait").expect("open the control service");
+        // Opened again when the server is between two generations (no control service for a
+        // moment).
+        let mut control = None;
         let mut last = None;
         loop {
             self.assert_alive();
-            match control.status() {
-                Ok(s) if done(&s) => return s,
-                Ok(s) => last = Some(s),
-                Err(e) => eprintln!("{}: status: {e}", self.instance),
+            if control.is_none() {
+                control = ControlHandle::open(&self.instance, "test-wait").ok();
+            }
+            match control.as_ref().map(ControlHandle::status) {
+                Some(Ok(s)) if done(&s) => return s,
+                Some(Ok(s)) => last = Some(s),
+                Some(Err(e)) => eprintln!("{}: status: {e}", self.instance),
+                None => {}
             }
             assert!(
                 Instant::now() < until,
