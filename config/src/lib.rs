@@ -76,6 +76,13 @@ pub const DEMO_DEVICE_TOML: &str = include_str!("demo_device.toml");
 /// Origin named in messages about [`DEMO_DEVICE_TOML`].
 pub const DEMO_DEVICE_ORIGIN: &str = "<built-in device demo>";
 
+/// Origin named in messages about [`Config::demo_device_program`].
+pub const DEMO_DEVICE_PROGRAM_ORIGIN: &str = "<built-in device demo, defined by its program>";
+
+/// The date of the device demo's GSDML file in [`Config::demo_device_program`] (year,
+/// month, day): fixed, so that the file's name stays the same from run to run.
+pub const DEMO_GSDML_DATE: (u16, u8, u8) = (2026, 11, 28);
+
 /// Default instance name.
 pub const DEFAULT_INSTANCE: &str = "procimg";
 /// Default cycle time: 1 ms.
@@ -191,6 +198,39 @@ impl Config {
         // A constant that a test parses, with no CPU set.
         parse(DEMO_DEVICE_TOML, DEMO_DEVICE_ORIGIN)
             .expect("the built-in device demo configuration is valid")
+    }
+
+    /// The built-in demo of the device role with a station its program defines: the device
+    /// demo's identity and device access point, its tree left to a program (an IO-Base
+    /// device program's plugs, or [`PlannedSubmodule`]s over the client services), and the
+    /// demo station's own GSDML file (what `procimg gsdml` writes for [`DEMO_DEVICE_TOML`],
+    /// dated [`DEMO_GSDML_DATE`]) as the station's description. Until a program defines
+    /// it the station waits off the wire.
+    pub fn demo_device_program() -> Config {
+        let mut config = Config::demo_device();
+        config.origin = DEMO_DEVICE_PROGRAM_ORIGIN.to_owned();
+        let Some(station) = config.station.as_mut() else {
+            unreachable!("the device demo has a station")
+        };
+        let (year, month, day) = DEMO_GSDML_DATE;
+        let date = gsdml::export::GsdmlDate::new(year, month, day).expect("a valid date");
+        // The built-in demo is checked by a test: none of these fail.
+        let file = gsdml::export::station_gsdml(station, config.cycle_ns, date)
+            .expect("the device demo has a GSDML file");
+        let parsed =
+            gsdml::Gsdml::parse(&file.xml, &file.file_name).expect("procimg's GSDML file reads");
+        let waiting = define_station(station, &parsed, &parsed.daps[0], &[])
+            .expect("the demo's device access point alone is a station");
+        *station = StationConfig {
+            program: Some(ProgramStation {
+                gsdml: PathBuf::from(file.file_name),
+                dap: parsed.daps[0].id.clone(),
+                dap_index: 0,
+                file: std::sync::Arc::new(parsed),
+            }),
+            ..waiting
+        };
+        config
     }
 
     /// Number of submodules in the image: over all devices, or the station's.

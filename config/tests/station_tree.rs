@@ -205,3 +205,27 @@ fn a_submodule_has_its_own_i_and_m_where_the_gsdml_lets_the_plc_write_it() {
         "{im:?}"
     );
 }
+
+#[test]
+fn the_device_demo_defined_by_its_program_waits_with_its_device_access_point() {
+    let demo = Config::demo_device();
+    let config = Config::demo_device_program();
+    let station = config.station.as_ref().unwrap();
+    let configured = demo.station.as_ref().unwrap();
+    assert_eq!(
+        (station.vendor_id, station.device_id, &station.name),
+        (configured.vendor_id, configured.device_id, &configured.name)
+    );
+    assert!(station.submodules.iter().all(|s| s.submodule.slot == 0));
+    let program = station.program.as_ref().expect("defined by its program");
+    // The demo's own tree is one its program may define.
+    let file = &program.file;
+    let defined = define_station(
+        station,
+        file,
+        &file.daps[program.dap_index],
+        &configured.tree(),
+    )
+    .unwrap();
+    assert_eq!(defined.submodules.len(), configured.submodules.len());
+}

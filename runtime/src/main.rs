@@ -52,6 +52,12 @@ struct Args {
     /// procimg's own IO controller plays the PLC on an in-process network; no root needed.
     #[arg(long, conflicts_with_all = ["config", "demo"])]
     demo_device: bool,
+    /// Run the built-in demo of the IO device role with a station its program defines: the
+    /// station waits off the wire, with its device access point only, until a device
+    /// program (the IO-Base DevEasy example, device_app) plugs its modules, which the demo
+    /// station's own GSDML file describes; no root needed.
+    #[arg(long, conflicts_with_all = ["config", "demo", "demo_device"])]
+    demo_device_program: bool,
     /// Print the built-in demo configuration (a commented example file) and exit.
     #[arg(long)]
     print_demo_config: bool,
@@ -81,6 +87,7 @@ fn main() {
     if args.config.is_none()
         && !args.demo
         && !args.demo_device
+        && !args.demo_device_program
         && !args.print_demo_config
         && !args.print_demo_device_config
     {
@@ -122,6 +129,7 @@ fn run(args: Args) -> anyhow::Result<()> {
     let mut config = match &args.config {
         Some(path) => config::load(path, &procimg_nic::interfaces::check)?,
         None if args.demo_device => Config::demo_device(),
+        None if args.demo_device_program => Config::demo_device_program(),
         None => Config::demo(),
     };
     if let Some(name) = args.instance {

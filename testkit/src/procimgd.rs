@@ -79,6 +79,17 @@ impl Launch {
         }
     }
 
+    /// `procimgd --demo-device-program` (the device demo's station, defined by its program)
+    /// under a fresh instance name; it waits until cycles run (the station waits for its
+    /// program).
+    pub fn demo_device_program(tag: &str) -> Launch {
+        Launch {
+            demo: "--demo-device-program",
+            ready: Ready::Cycling,
+            ..Launch::demo(tag)
+        }
+    }
+
     /// procimgd with configuration `toml` under a fresh instance name.
     pub fn config(tag: &str, toml: &str) -> Launch {
         Launch {

@@ -21,7 +21,7 @@
  * module, 4 bytes) and REC_READ gives it back.
  *
  *   cc -std=c11 pnio_dev_easy.c $(pkg-config --cflags --libs procimg)
- *   procimgd --demo-device &
+ *   procimgd --demo-device-program &
  *   ./a.out [seconds [vendor_id device_id]]
  *
  * CP 1 is the instance in $PROCIMG_CP1, else $PROCIMG_INSTANCE, else "procimg". The VendorID
@@ -30,9 +30,14 @@
  * $PNIO_VENDOR_ID and $PNIO_DEVICE_ID or the command line say otherwise. Prints each step;
  * exits 0 when all of them happened, in this order.
  *
- * Plugging: the program's submodules must lie where procimgd's configuration of the station
- * has submodules, with those IO lengths (the demo: 8 bytes in and out in slot 1); the ident
- * numbers are the program's, and the PLC sees them. See "Plugging" in pniousrd.h.
+ * The program defines its station: against `procimgd --demo-device-program` (or any
+ * configuration with `[station] gsdml` and no submodules) its plugs are the station's tree,
+ * each checked against the station's GSDML file, which gives the IO lengths (the demo's
+ * module 0x10: 8 bytes in and out, parameter record 1). Against a station whose
+ * configuration gives the tree (`procimgd --demo-device`) the plugs must lie at its
+ * positions. See "A station the program defines" and "Plugging" in pniousrd.h. VendorID
+ * 0x0493 is the demo's; a product needs a VendorID of its own from PROFIBUS & PROFINET
+ * International, and its own GSDML file.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "pniousrd.h"
@@ -47,15 +52,15 @@
 
 #define CP_INDEX 1
 
-/* The program's ident numbers. The DAP keeps the station's own (the demo's 1 and 1), as a
- * device's GSDML fixes its DAP; the IO module's are this program's. */
+/* The program's ident numbers, as the station's GSDML file describes them: the DAP (the
+ * demo's 1 and 1) and an IO module (the demo's 0x10 with submodule 1). */
 #define DAP_MOD_IDENT 0x00000001u
 #define DAP_SUB_IDENT 0x00000001u
-#define IO_MOD_IDENT 0x00000030u
-#define IO_SUB_IDENT 0x00000002u
+#define IO_MOD_IDENT 0x00000010u
+#define IO_SUB_IDENT 0x00000001u
 #define IO_SLOT 1
 #define IO_SUBSLOT 1
-#define IO_LEN 8 /* the configured IO lengths of slot 1 */
+#define IO_LEN 8 /* the module's IO lengths in the GSDML file */
 
 /* The parameter record of the IO module the PLC writes. */
 #define PARAM_INDEX 1
@@ -385,9 +390,11 @@ static int connect_ar(PNIO_UINT32 h) {
     /* All submodules are ready: an empty list. */
     PNIO_APPL_READY_LIST_TYPE ready;
     ready.ap_list.Flink = ready.ap_list.Blink = NULL;
+    /* Said before the call: AR_INDATA_IND may come on the library thread before the call
+     * returns. */
+    printf("application ready for AR %u\n", (unsigned)ar_now);
     if (!call("PNIO_set_appl_state_ready", PNIO_set_appl_state_ready(h, ar_now, sk_now, &ready)))
         return 0;
-    printf("application ready for AR %u\n", (unsigned)ar_now);
     if (!wait_for(&s.ar_phase, AR_INDATA)) return missing("AR_INDATA_IND");
     return 1;
 }

@@ -8,7 +8,7 @@
 // destructor stops it if it still runs, pulls what it plugged and closes it.
 //
 //   c++ -std=c++17 pnio_dev_easy.cpp $(pkg-config --cflags --libs procimg)
-//   procimgd --demo-device &
+//   procimgd --demo-device-program &
 //   ./a.out [seconds [vendor_id device_id]]
 //
 // CP 1 is the instance in $PROCIMG_CP1, else $PROCIMG_INSTANCE, else "procimg"; VendorID
@@ -37,10 +37,10 @@ namespace {
 constexpr PNIO_UINT32 kCpIndex = 1;
 constexpr unsigned long kDemoVendorId = 0x0493;
 constexpr unsigned long kDemoDeviceId = 0x0100;
-// The DAP keeps the station's own ident numbers (a device's GSDML fixes its DAP); the IO
-// module's are this program's. Slot 1 is where the demo station has 8 bytes in and out.
+// The program defines its station (as pnio_dev_easy.c says): the DAP and an IO module as
+// the station's GSDML file describes them (the demo's module 0x10: 8 bytes in and out).
 constexpr PNIO_UINT32 kDapModIdent = 0x1, kDapSubIdent = 0x1;
-constexpr PNIO_UINT32 kIoModIdent = 0x30, kIoSubIdent = 0x2;
+constexpr PNIO_UINT32 kIoModIdent = 0x10, kIoSubIdent = 0x1;
 constexpr PNIO_UINT32 kIoSlot = 1, kIoSubslot = 1;
 constexpr std::size_t kIoLen = 8;
 constexpr PNIO_UINT32 kParamIndex = 1;
@@ -416,8 +416,9 @@ void dev_easy(double seconds, PNIO_UINT16 vendor, PNIO_UINT16 device_id) {
     }
     PNIO_APPL_READY_LIST_TYPE ready{};
     ready.ap_list.Flink = ready.ap_list.Blink = nullptr; // all submodules are ready
-    check("PNIO_set_appl_state_ready", PNIO_set_appl_state_ready(h, ar, sk, &ready));
+    // Said before the call: AR_INDATA_IND may come on the library thread before it returns.
     std::printf("application ready for AR %u\n", static_cast<unsigned>(ar));
+    check("PNIO_set_appl_state_ready", PNIO_set_appl_state_ready(h, ar, sk, &ready));
     wait_for("AR_INDATA_IND", [] { return seen.phase >= kInData; });
 
     // Cyclic data: the outputs come back as inputs; the PLC adds one.

@@ -10,7 +10,7 @@
  * input byte, so the outputs count the round trips.
  *
  *   cc -std=c11 pnio_dev_isochronous.c $(pkg-config --cflags --libs procimg)
- *   procimgd --demo-device &
+ *   procimgd --demo-device-program &
  *   ./a.out [cycles [vendor_id device_id]]
  *
  * The AR comes as in DevEasy (AR_CHECK_IND, AR_INFO_IND, PRM_END_IND, then
@@ -41,12 +41,12 @@
 #include <time.h>
 
 #define CP_INDEX 1
-/* The DAP keeps the station's ident numbers; the IO module's are this program's. Slot 1 is
- * where the demo station has 8 bytes in and out. */
+/* The DAP and the IO module as the station's GSDML file describes them (the demo's module
+ * 0x10: 8 bytes in and out); the program defines its station, as pnio_dev_easy.c says. */
 #define DAP_MOD_IDENT 0x00000001u
 #define DAP_SUB_IDENT 0x00000001u
-#define IO_MOD_IDENT 0x00000030u
-#define IO_SUB_IDENT 0x00000002u
+#define IO_MOD_IDENT 0x00000010u
+#define IO_SUB_IDENT 0x00000001u
 #define IO_SLOT 1
 #define IO_LEN 8
 #define PARAM_INDEX 1

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The IO-Base device examples against a real `procimgd --demo-device`: DevEasy in C (shared
-//! library) and C++17 (static library), and the isochronous device loop, built with
+//! The IO-Base device examples against a real `procimgd --demo-device-program` (the device
+//! demo whose station its program defines: the examples' plugs are the station's tree):
+//! DevEasy in C (shared library) and C++17 (static library), and the isochronous device loop, built with
 //! `-Wall -Wextra -Werror -pedantic` (and ASan/UBSan with `PROCIMG_C_SANITIZE=1`). Each run
 //! gets a procimgd of its own, since a run leaves the station OFFLINE with its modules
 //! pulled. The checks are on the exit status and the milestones the programs print, in
@@ -28,13 +29,20 @@ fn build(tag: &str, name: &str, link: Link) -> PathBuf {
     exe
 }
 
-/// Runs `exe` with `args` against a fresh demo device; its stdout, after asserting success.
+/// Runs `exe` with `args` against a fresh device demo whose station its program defines;
+/// its stdout, after asserting success.
 fn run_against_demo_device(tag: &str, exe: &Path, args: &[&str], what: &str) -> String {
-    let server = Launch::demo_device(tag).start();
+    let server = Launch::demo_device_program(tag).start();
     let o = run(exe, args, &server.instance, TIMEOUT);
     assert_success(&o, what);
-    // Stop leaves the station OFFLINE, and close leaves it so.
-    assert_eq!(server.mode(), Mode::Offline, "{what} left the server so");
+    // The program's close takes its station off the wire: it waits for the next program.
+    let after = server.wait_status("the station waiting again", |s| {
+        s.station
+            .as_ref()
+            .and_then(|s| s.program.as_ref())
+            .is_some_and(|p| p.defined_by.is_none())
+    });
+    assert_eq!(after.mode, Mode::Offline, "{what} left the server so");
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
@@ -119,7 +127,7 @@ fn dev_easy_in_c_and_cpp() {
             &[
                 "device open: handle",
                 "plugged the DAP: slot 0 subslot 1",
-                "plugged the IO module: slot 1 subslot 1, module 0x30 submodule 0x2",
+                "plugged the IO module: slot 1 subslot 1, module 0x10 submodule 0x1",
                 "device started",
                 "AR_CHECK_IND: AR 1,",
                 "AR_INFO_IND: AR 1,",

@@ -12,12 +12,14 @@
 //! Run against `procimgd --demo-device`, whose PLC writes each submodule's I data plus one
 //! into its Q data, so that the values climb by one every round trip:
 //!   cargo run --release --example device_app -- --cycles 5000
+//! Against `procimgd --demo-device-program` (a station its program defines) it first defines
+//! the station itself: the demo's modules, which the station's GSDML file describes.
 
 use anyhow::{Context, bail};
 use clap::Parser;
 use procimg_client::{
     ArState, AttachOptions, Client, DiagnosisDirection, DiagnosisEntry, Event, Ioxs, Notification,
-    RecordRefusal, ServiceOptions, Services, StationRecordJob,
+    RecordRefusal, ServiceOptions, Services, StationRecordJob, StationTreeEntry, TreeRecords,
 };
 use std::time::Duration;
 
@@ -51,6 +53,17 @@ fn run(args: Args) -> anyhow::Result<()> {
             args.priority
         );
     }
+    // The station's events from now on; where the AR stands already is in the status.
+    let mut station = match Services::open(&args.instance, ServiceOptions::new("device_app")) {
+        Ok(s) => Some(s),
+        Err(e) => {
+            eprintln!("warning: no station notifications ({e}); running without them");
+            None
+        }
+    };
+    if let Some(s) = station.as_mut() {
+        define_if_waiting(s)?;
+    }
     let mut client = Client::attach(&args.instance, AttachOptions::synchronous("device_app"))
         .context("attaching")?;
     if !client.is_device() {
@@ -66,14 +79,6 @@ fn run(args: Args) -> anyhow::Result<()> {
         mine.len(),
         args.instance
     );
-    // The station's events from now on; where the AR stands already is in the status.
-    let mut station = match Services::open(&args.instance, ServiceOptions::new("device_app")) {
-        Ok(s) => Some(s),
-        Err(e) => {
-            eprintln!("warning: no station notifications ({e}); running without them");
-            None
-        }
-    };
     // Slot 1's records are this program's to answer from now on.
     if let Some(s) = station.as_ref() {
         match s.take_records(PARAMETER_AT) {
@@ -170,6 +175,59 @@ fn run(args: Args) -> anyhow::Result<()> {
          parameter records answered {}",
         parameter.answered
     );
+    Ok(())
+}
+
+/// The station this program defines when procimgd leaves the tree to its program
+/// (`[station] gsdml`, `procimgd --demo-device-program`): slot, module and submodule ident
+/// numbers, as the demo station's GSDML file describes them (module 0x10: 8 bytes each way
+/// and parameter record 1; module 0x20: 4 bytes of inputs).
+const TREE: [(u16, u32, u32); 2] = [(1, 0x10, 0x1), (2, 0x20, 0x1)];
+
+/// Defines the station as [`TREE`] when it waits for its program, and waits until procimgd
+/// runs it (a new generation, which the station's notifications announce; the client then
+/// attaches to its layout). Slot 1's records are this program's from the station's first
+/// moment: the PLC's records that come at once wait in the notifications.
+fn define_if_waiting(services: &mut Services) -> anyhow::Result<()> {
+    let status = services
+        .control()
+        .status()
+        .context("asking for the status")?;
+    let waits = status
+        .station
+        .and_then(|s| s.program)
+        .is_some_and(|p| p.defined_by.is_none());
+    if !waits {
+        return Ok(());
+    }
+    let tree: Vec<StationTreeEntry> = TREE
+        .iter()
+        .map(|&(slot, module_ident, submodule_ident)| StationTreeEntry {
+            api: 0,
+            slot,
+            subslot: 1,
+            module_ident,
+            submodule_ident,
+            records: if (0, slot, 1) == PARAMETER_AT {
+                TreeRecords::Program
+            } else {
+                TreeRecords::Station
+            },
+        })
+        .collect();
+    let before = services.generation();
+    services
+        .define_station(&tree)
+        .context("defining the station")?;
+    let until = std::time::Instant::now() + Duration::from_secs(10);
+    // What comes before the new generation's start is the old station's.
+    while services.generation() == before {
+        if std::time::Instant::now() >= until {
+            bail!("procimgd did not run the defined station within 10 s");
+        }
+        let _ = services.next(Duration::from_millis(100));
+    }
+    println!("device_app: defined the station: {} modules", TREE.len());
     Ok(())
 }
 
