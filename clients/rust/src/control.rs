@@ -19,6 +19,8 @@ pub const DEFAULT_CONTROL_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// How often a request looks for its answer.
 const ANSWER_POLL: Duration = Duration::from_micros(50);
+/// How long a request waits before it asks whether the server it went to still holds it.
+const RESEND_AFTER: Duration = Duration::from_millis(100);
 
 /// A connection to an instance's control service.
 pub struct ControlHandle {
@@ -118,21 +120,27 @@ impl ControlHandle {
             detail,
         };
         let bytes = control::encode(&req.into());
-        let sample = self
-            .port
-            .loan_slice_uninit(bytes.len())
-            .map_err(|e| transport(format!("cannot loan a request: {e:?}")))?;
-        let pending = sample
-            .write_from_slice(&bytes)
-            .send()
-            .map_err(|e| transport(format!("cannot send the request: {e:?}")))?;
-        if pending.number_of_server_connections() == 0 {
-            return Err(ControlError::NoServer {
-                instance: self.instance.clone(),
-            });
-        }
-        self.ring_server();
-        let until = Instant::now() + timeout;
+        let send = || {
+            let sample = self
+                .port
+                .loan_slice_uninit(bytes.len())
+                .map_err(|e| transport(format!("cannot loan a request: {e:?}")))?;
+            let pending = sample
+                .write_from_slice(&bytes)
+                .send()
+                .map_err(|e| transport(format!("cannot send the request: {e:?}")))?;
+            if pending.number_of_server_connections() == 0 {
+                return Err(ControlError::NoServer {
+                    instance: self.instance.clone(),
+                });
+            }
+            self.ring_server();
+            Ok(pending)
+        };
+        let mut pending = send()?;
+        let mut sent_at = Instant::now();
+        let mut sent_again = false;
+        let until = sent_at + timeout;
         loop {
             match pending.receive() {
                 Ok(Some(answer)) => {
@@ -151,6 +159,21 @@ impl ControlHandle {
                     instance: self.instance.clone(),
                     timeout,
                 });
+            }
+            // A server that ended without taking the request (procimgd stopping, or running
+            // its station anew) will not answer it: its successor gets it once, rather than
+            // the caller waiting out its timeout. A request a server took is always answered.
+            if !sent_again && sent_at.elapsed() >= RESEND_AFTER && !pending.is_connected() {
+                sent_at = Instant::now();
+                match send() {
+                    Ok(p) => {
+                        pending = p;
+                        sent_again = true;
+                    }
+                    // The successor is not there yet: looked for again a little later.
+                    Err(ControlError::NoServer { .. }) => {}
+                    Err(e) => return Err(e),
+                }
             }
             // The answer's connection is made when it comes: the access group needs it too.
             crate::connection::share_own_files();
