@@ -276,15 +276,23 @@ impl Procimgd {
         mut done: impl FnMut(&StatusReport) -> bool,
     ) -> StatusReport {
         let until = Instant::now() + timeout;
-        let control =
-            ControlHandle::open(&self.instance, "test-wait").expect("open the control service");
+        let mut control = None;
         let mut last = None;
         loop {
             self.assert_alive();
-            match control.status() {
-                Ok(s) if done(&s) => return s,
-                Ok(s) => last = Some(s),
-                Err(e) => eprintln!("{}: status: {e}", self.instance),
+            // Between two generations (a station its program defines runs anew) the control
+            // service is briefly not there: it is opened again, until the wait runs out.
+            if control.is_none() {
+                match ControlHandle::open(&self.instance, "test-wait") {
+                    Ok(c) => control = Some(c),
+                    Err(e) => eprintln!("{}: control service: {e}", self.instance),
+                }
+            }
+            match control.as_ref().map(ControlHandle::status) {
+                Some(Ok(s)) if done(&s) => return s,
+                Some(Ok(s)) => last = Some(s),
+                Some(Err(e)) => eprintln!("{}: status: {e}", self.instance),
+                None => {}
             }
             assert!(
                 Instant::now() < until,
