@@ -4,7 +4,8 @@
 //! is refused naming the ident and the file, and changes nothing; an accepted tree runs the
 //! station anew (a client attached before follows the new layout) and the demo PLC
 //! connects it; a second program and a definition during the AR are refused; the program's
-//! end aborts the AR and the station waits again. And — as root — the same over a veth pair
+//! end aborts the AR and the station waits again; a control request that meets the end of
+//! a generation is answered or refused at once. And — as root — the same over a veth pair
 //! with procimg's controller, configured from the station's GSDML file, as the PLC.
 
 use procimg_client::{
@@ -455,4 +456,46 @@ fn procimg_controller_connects_a_station_its_program_defines_over_a_veth_pair() 
         !abort.trim().is_empty(),
         "no ERR-RTA AbortRequest from the station ({station_mac}) on the wire"
     );
+}
+
+#[test]
+fn a_control_request_across_the_stations_new_generations_is_answered_or_refused_at_once() {
+    let dir = procimg_testkit::files::temp_dir("station-program-requests");
+    let (toml, _) = waiting_station(dir.path());
+    let server = Launch::config("station-requests", &toml)
+        .until_cycling()
+        .start();
+    // One handle, asking all along: some of its requests meet a generation's end.
+    let instance = server.instance.clone();
+    let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let asking = {
+        let done = done.clone();
+        std::thread::spawn(move || {
+            let control = procimg_client::ControlHandle::open(&instance, "asker").unwrap();
+            let (mut answered, mut unanswered) = (0, Vec::new());
+            while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                match control.status() {
+                    Ok(_) => answered += 1,
+                    // Between two generations no server takes the request: said at once.
+                    Err(ControlError::NoServer { .. }) => {}
+                    Err(e) => unanswered.push(e.to_string()),
+                }
+                std::thread::sleep(Duration::from_millis(2));
+            }
+            (answered, unanswered)
+        })
+    };
+    // Each definition and each end of the program runs a new generation.
+    for _ in 0..5 {
+        let program = ProgramProcess::start(&server.instance);
+        server.wait_status("the AR in data exchange", in_data);
+        drop(program);
+        server.wait_status("the station waiting", |s| {
+            s.station.as_ref().is_some_and(|s| s.ar.is_none()) && s.mode == Mode::Offline
+        });
+    }
+    done.store(true, std::sync::atomic::Ordering::Relaxed);
+    let (answered, unanswered) = asking.join().unwrap();
+    assert!(answered > 0);
+    assert!(unanswered.is_empty(), "{unanswered:?}");
 }

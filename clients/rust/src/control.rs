@@ -134,6 +134,9 @@ impl ControlHandle {
         self.ring_server();
         let until = Instant::now() + timeout;
         loop {
+            // Asked before the answer is looked for, so that an answer sent just before the
+            // server let the request go is still read.
+            let held = pending.is_connected();
             match pending.receive() {
                 Ok(Some(answer)) => {
                     return control::decode(answer.payload()).map_err(|detail| {
@@ -141,6 +144,14 @@ impl ControlHandle {
                             instance: self.instance.clone(),
                             detail,
                         }
+                    });
+                }
+                // The server that took the request is gone without answering it (procimgd
+                // ended a generation; the next one's server takes new requests): no answer
+                // will come, which the caller learns now rather than at the timeout.
+                Ok(None) if !held => {
+                    return Err(ControlError::NoServer {
+                        instance: self.instance.clone(),
                     });
                 }
                 Ok(None) => {}
