@@ -486,6 +486,9 @@ fn run_generation(
     role.join();
     // The AR's end, which the role reported while releasing, for the subscribers.
     control.finish();
+    // The requests that came while the threads ended are answered before the control
+    // server goes: else their askers would wait for an answer until their timeout.
+    control.poll();
     drop(view);
     drop(control);
     if next.is_none() {

@@ -14,22 +14,13 @@ use procimg_client::{
 use procimg_profinet::wire::alarm::AlarmItem;
 use procimg_profinet::wire::record::DiagnosisData;
 use procimg_testkit::Launch;
+use procimg_testkit::exchange::{at, controller_pattern, device_echo, next_device_event};
 use procimg_testkit::netns::TestNet;
 use procimg_testkit::tshark::{LiveCapture, flagged, frames_matching};
 use std::time::{Duration, Instant};
 
 /// Generous: a loaded machine may be slow to connect.
 const BRING_UP: Duration = Duration::from_secs(30);
-
-/// The index of the submodule at `slot`/`subslot` (of the first device).
-fn at(client: &Client, slot: u16, subslot: u16) -> usize {
-    client
-        .layout()
-        .submodules
-        .iter()
-        .position(|e| (e.slot, e.subslot) == (slot, subslot))
-        .unwrap_or_else(|| panic!("no submodule at slot {slot} subslot {subslot}"))
-}
 
 #[test]
 fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
@@ -605,91 +596,6 @@ submodule_ident = 1
 input_length = 4
 "#;
 
-/// Runs the device's side for `cycles`: Q of slot 1 echoed into its I data.
-fn device_echo(instance: String, cycles: u64) -> std::thread::JoinHandle<u64> {
-    std::thread::spawn(move || {
-        let _ = procimg_client::realtime::make_current_thread_realtime(60);
-        let mut client = Client::attach(&instance, AttachOptions::synchronous("dev-echo"))
-            .expect("attach to the device");
-        client.claim_i_data().expect("claim the I data");
-        let s = at(&client, 1, 1);
-        let mut echoed = 0;
-        for _ in 0..cycles {
-            let Ok(mut cycle) = client.wait_startop(Duration::from_secs(5)) else {
-                break;
-            };
-            // The server may go away under it (the test kills it): then it stops.
-            let (Ok(q), Ok(st)) = (cycle.q_data(s).map(<[u8]>::to_vec), cycle.q_status(s)) else {
-                break;
-            };
-            echoed += u64::from(st == Ioxs::Good);
-            let Ok(i) = cycle.i_data_mut(s) else {
-                break;
-            };
-            i.copy_from_slice(&q);
-            if cycle.set_opdone().is_err() {
-                break;
-            }
-        }
-        echoed
-    })
-}
-
-/// What the controller's client saw.
-#[derive(Debug, Default)]
-struct Seen {
-    cycles: u64,
-    /// Valid inputs that carried a pattern written before.
-    echoes: u64,
-    /// Valid inputs that carried something never written.
-    wrong: u64,
-}
-
-/// Runs the controller's side for `cycles`: a pattern per cycle into Q of slot 1, its I
-/// data checked against the patterns written.
-fn controller_pattern(instance: &str, cycles: u64) -> Seen {
-    let _ = procimg_client::realtime::make_current_thread_realtime(60);
-    let mut client = Client::attach(instance, AttachOptions::synchronous("ctl-pattern"))
-        .expect("attach to the controller");
-    client.claim_device("pc-device").expect("claim the outputs");
-    let s = at(&client, 1, 1);
-    let pattern = |k: u64| {
-        let mut p = (k as u32).to_be_bytes().to_vec();
-        p.extend_from_slice(&(!(k as u32)).to_be_bytes());
-        p
-    };
-    let mut written = std::collections::VecDeque::new();
-    let mut seen = Seen::default();
-    for _ in 0..cycles {
-        let mut cycle = client
-            .wait_startop(Duration::from_secs(5))
-            .expect("STARTOP");
-        let k = cycle.number();
-        let valid = cycle
-            .status(s)
-            .is_some_and(|st| st.input_remote == Ioxs::Good);
-        let input = cycle.input(s).unwrap_or(&[]).to_vec();
-        cycle
-            .output_mut(s)
-            .expect("outputs")
-            .copy_from_slice(&pattern(k));
-        cycle.set_opdone().expect("OPDONE");
-        if valid && input != [0; 8] {
-            if written.contains(&input) {
-                seen.echoes += 1;
-            } else {
-                seen.wrong += 1;
-            }
-        }
-        written.push_back(pattern(k));
-        if written.len() > 4096 {
-            written.pop_front();
-        }
-        seen.cycles += 1;
-    }
-    seen
-}
-
 /// Waits until `done`, for at most 5 s.
 fn wait_for(mut done: impl FnMut() -> bool, what: &str) {
     let until = Instant::now() + Duration::from_secs(5);
@@ -713,22 +619,6 @@ fn wait_station_name(device: &procimg_testkit::Procimgd, name: &str) {
         );
         std::thread::sleep(Duration::from_millis(20));
     }
-}
-
-/// The next device failure or return among the controller's notifications.
-fn next_device_event(services: &mut Services, what: &str) -> Notification {
-    let until = Instant::now() + BRING_UP;
-    while Instant::now() < until {
-        if let Some(n) = services.next(Duration::from_millis(100))
-            && matches!(
-                n,
-                Notification::DeviceFailure { .. } | Notification::DeviceReturn { .. }
-            )
-        {
-            return n;
-        }
-    }
-    panic!("no device {what} within {BRING_UP:?}");
 }
 
 /// The next alarm among the controller's notifications.
@@ -878,7 +768,7 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
     let expiries = |s: &procimg_client::StatusReport| s.network.watchdog_expiries;
     let before = (expiries(&controller.status()), expiries(&device.status()));
     let echo = device_echo(device.instance.clone(), 11_000);
-    let seen = controller_pattern(&controller.instance, 10_000);
+    let seen = controller_pattern(&controller.instance, "pc-device", 10_000);
     let echoed = echo.join().expect("the device's client");
     let after = (expiries(&controller.status()), expiries(&device.status()));
     assert_eq!(seen.cycles, 10_000);

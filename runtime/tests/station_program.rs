@@ -4,22 +4,34 @@
 //! is refused naming the ident and the file, and changes nothing; an accepted tree runs the
 //! station anew (a client attached before follows the new layout) and the demo PLC
 //! connects it; a second program and a definition during the AR are refused; the program's
-//! end aborts the AR and the station waits again. A module only the GSDML file has is
-//! connected by the demo PLC, which plans it from the file, and its data flows.
+//! end aborts the AR and the station waits again; a control request that meets the end of
+//! a generation is answered or refused at once. A module only the GSDML file has is
+//! connected by the demo PLC, which plans it from the file, and its data flows. What the
+//! program said before it defined the station holds from the station's first moment. And —
+//! as root — the same over a veth pair with procimg's controller, configured from the
+//! station's GSDML file, as the PLC.
 
 use procimg_client::{
-    ArState, AttachOptions, Client, ControlError, Event, Ioxs, Notification, Refusal,
-    ServiceOptions, Services, StationTreeEntry, TreeRecords,
+    ArState, AttachOptions, Client, ControlError, DeviceState, Event, Ioxs, Notification, Refusal,
+    ServiceOptions, Services, StationTreeEntry, StatusReport, TreeRecords,
 };
-use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
+use procimg_config::gsdml::export::{GsdmlDate, module_item_id, station_gsdml, submodule_item_id};
 use procimg_config::{Config, StationConfig};
 use procimg_shm_layout::Mode;
 use procimg_testkit::Launch;
-use std::process::{Command, Stdio};
+use procimg_testkit::exchange::{controller_pattern, device_echo, next_device_event};
+use procimg_testkit::netns::TestNet;
+use procimg_testkit::tshark::{LiveCapture, fields_matching, flagged, frames_matching};
+use std::io::BufRead;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// Set for the child process that plays a station's program: the instance to define.
 const CHILD_ENV: &str = "PROCIMG_TEST_STATION_PROGRAM";
+
+/// Generous: a loaded machine may be slow to connect.
+const BRING_UP: Duration = Duration::from_secs(30);
 
 /// The demo station's tree (after slot 0), as a program plugs it.
 fn demo_tree(station: &StationConfig) -> Vec<StationTreeEntry> {
@@ -44,28 +56,87 @@ fn follow(client: &mut Client, events: &mut Vec<Event>, done: impl Fn(&[Event]) 
     }
 }
 
-/// The config of a station its program defines, with the demo station's GSDML written into
-/// `dir`: the TOML and the file's name.
-fn waiting_station(dir: &std::path::Path) -> (String, String) {
-    waiting_station_of(dir, Config::demo_device().station.as_ref().unwrap())
-}
-
-/// [`waiting_station`] with the GSDML file of `described`.
-fn waiting_station_of(dir: &std::path::Path, described: &StationConfig) -> (String, String) {
+/// The GSDML file of `described`, written into `dir`: its path and its name.
+fn gsdml_of(dir: &Path, described: &StationConfig) -> (PathBuf, String) {
     let file = station_gsdml(
         described,
         Config::demo_device().cycle_ns,
         GsdmlDate::new(2026, 11, 28).unwrap(),
     )
     .unwrap();
-    let gsdml = dir.join(&file.file_name);
-    std::fs::write(&gsdml, file.xml).unwrap();
-    let toml = format!(
-        "role = \"device\"\ncycle_time = \"1ms\"\nnetwork = \"sim\"\n[station]\n\
-         name = \"procimg-device\"\nip = \"192.168.0.50\"\ngsdml = \"{}\"\n",
+    let path = dir.join(&file.file_name);
+    std::fs::write(&path, file.xml).unwrap();
+    (path, file.file_name)
+}
+
+/// The demo station's GSDML file, written into `dir`: its path and its name.
+fn demo_gsdml(dir: &Path) -> (PathBuf, String) {
+    gsdml_of(dir, Config::demo_device().station.as_ref().unwrap())
+}
+
+/// The config of a station its program defines on `network`, at `ip`, from GSDML file
+/// `gsdml`.
+fn station_toml(network: &str, ip: &str, gsdml: &Path) -> String {
+    format!(
+        "role = \"device\"\ncycle_time = \"1ms\"\nnetwork = \"{network}\"\n[station]\n\
+         name = \"procimg-device\"\nip = \"{ip}\"\ngsdml = \"{}\"\n",
         gsdml.display()
-    );
-    (toml, file.file_name)
+    )
+}
+
+/// The config of a station its program defines, with the demo station's GSDML written into
+/// `dir`: the TOML and the file's name.
+fn waiting_station(dir: &Path) -> (String, String) {
+    let (gsdml, file_name) = demo_gsdml(dir);
+    (station_toml("sim", "192.168.0.50", &gsdml), file_name)
+}
+
+/// [`waiting_station`] with the GSDML file of `described`.
+fn waiting_station_of(dir: &Path, described: &StationConfig) -> (String, String) {
+    let (gsdml, file_name) = gsdml_of(dir, described);
+    (station_toml("sim", "192.168.0.50", &gsdml), file_name)
+}
+
+/// A station's program in a child process: this test binary again, running
+/// `child_station_program` on an instance. Started, it has defined the station; dropped, it
+/// is killed (its process's end is what the station sees) and reaped, also when the test
+/// fails.
+struct ProgramProcess(Child);
+
+impl ProgramProcess {
+    /// Starts the program on `instance` and returns once it has defined the station.
+    fn start(instance: &str) -> ProgramProcess {
+        let mut child = Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", "child_station_program", "--nocapture"])
+            .env(CHILD_ENV, instance)
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let stdout = child.stdout.take().unwrap();
+        let program = ProgramProcess(child);
+        // Read in a thread of its own, so that a program that hangs fails the test rather
+        // than stopping it; the thread ends at the line or at the child's end.
+        let (said, heard) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let defined = std::io::BufReader::new(stdout)
+                .lines()
+                .map_while(Result::ok)
+                .any(|line| line == "DEFINED");
+            let _ = said.send(defined);
+        });
+        match heard.recv_timeout(BRING_UP) {
+            Ok(true) => program,
+            Ok(false) => panic!("the program ended without defining the station"),
+            Err(_) => panic!("the program did not define the station within {BRING_UP:?}"),
+        }
+    }
+}
+
+impl Drop for ProgramProcess {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
 }
 
 /// Run as a child process only (`PROCIMG_TEST_STATION_PROGRAM` set): defines the demo
@@ -82,6 +153,14 @@ fn child_station_program() {
     loop {
         std::thread::sleep(Duration::from_secs(1));
     }
+}
+
+/// Whether the station's AR is in data exchange.
+fn in_data(s: &StatusReport) -> bool {
+    s.station
+        .as_ref()
+        .and_then(|st| st.ar.as_ref())
+        .is_some_and(|ar| ar.state == ArState::Data)
 }
 
 fn refusal(r: Result<(), ControlError>) -> String {
@@ -150,12 +229,7 @@ fn a_program_defines_the_station_from_its_gsdml_and_its_end_takes_it_off_the_wir
         watcher.layout().submodules.len(),
         demo_station.submodules.len()
     );
-    let running = server.wait_status("the AR in data exchange", |s| {
-        s.station
-            .as_ref()
-            .and_then(|s| s.ar.as_ref())
-            .is_some_and(|a| a.state == ArState::Data)
-    });
+    let running = server.wait_status("the AR in data exchange", in_data);
     assert_eq!(running.mode, Mode::Operate);
     let defined_by = running
         .station
@@ -196,29 +270,10 @@ fn the_programs_process_gone_aborts_the_ar_and_the_station_waits() {
         .until_cycling()
         .start();
     let waiting = server.status().layout_hash;
-    let mut child = Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", "child_station_program", "--nocapture"])
-        .env(CHILD_ENV, &server.instance)
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    // Ended and reaped whatever happens below.
-    struct Reap<'a>(&'a mut std::process::Child);
-    impl Drop for Reap<'_> {
-        fn drop(&mut self) {
-            let _ = self.0.kill();
-            let _ = self.0.wait();
-        }
-    }
-    let child = Reap(&mut child);
-    let up = server.wait_status("the AR in data exchange", |s| {
-        s.station
-            .as_ref()
-            .and_then(|s| s.ar.as_ref())
-            .is_some_and(|a| a.state == ArState::Data)
-    });
+    let program = ProgramProcess::start(&server.instance);
+    let up = server.wait_status("the AR in data exchange", in_data);
     assert_ne!(up.layout_hash, waiting);
-    drop(child);
+    drop(program);
     // The station runs without the tree again: slot 0 only, OFFLINE, no AR.
     server.wait_status("the station waiting after its program's end", |s| {
         s.layout_hash == waiting
@@ -382,4 +437,247 @@ fn the_demo_plc_connects_a_module_only_the_gsdml_file_has() {
         );
     }
     drop(program);
+}
+
+/// procimg's controller configured for the demo station from its GSDML file `gsdml`: the
+/// station `procimg-device` at 10.47.0.50 on `network`, its submodules named by the file's
+/// items at the places the program plugs them.
+///
+/// The watchdog allows 100 frames (100 ms), for both sides (the station takes its data hold
+/// time from the Connect): two cycle threads of a test build and their clients share two
+/// virtual CPUs with the machine's other work here, whose stalls reach several ms (the
+/// cycle threads' own wake-up latency shows them); the default 3 ms would count those
+/// stalls, where the test counts what procimgd does.
+fn controller_toml(network: &str, gsdml: &Path) -> String {
+    let mut toml = format!(
+        "cycle_time = \"1ms\"\nnetwork = \"{network}\"\n[[device]]\nname = \"procimg-device\"\n\
+         ip = \"10.47.0.50\"\ngsdml = \"{}\"\nwatchdog_factor = 100\n",
+        gsdml.display()
+    );
+    for e in demo_tree(&Config::demo_device().station.unwrap()) {
+        toml += &format!(
+            "[[device.submodule]]\napi = {}\nslot = {}\nsubslot = {}\nmodule = \"{}\"\n\
+             submodule = \"{}\"\n",
+            e.api,
+            e.slot,
+            e.subslot,
+            module_item_id(e.module_ident),
+            submodule_item_id(e.module_ident, e.subslot)
+        );
+    }
+    toml
+}
+
+/// The network counters that must not move while the AR runs: the consumer watchdog's
+/// expiries of the controller and of the station, and the station's aborted ARs.
+fn losses(controller: &StatusReport, station: &StatusReport) -> (u64, u64, u64) {
+    (
+        controller.network.watchdog_expiries,
+        station.network.watchdog_expiries,
+        station.station.as_ref().map_or(0, |s| s.aborted_ars),
+    )
+}
+
+/// Asserts that the station's layout, as a client attached to `instance` sees it, is the
+/// device access point's slot 0 only.
+fn assert_slot_0_only(instance: &str) {
+    let watcher = Client::attach(instance, AttachOptions::asynchronous("watcher"))
+        .expect("attach to the station");
+    let submodules = &watcher.layout().submodules;
+    assert!(submodules.iter().all(|e| e.slot == 0), "{submodules:?}");
+}
+
+/// The number of the first frame of `pcap` that matches display filter `filter`, if any.
+fn first_frame(pcap: &Path, filter: &str) -> Option<u64> {
+    fields_matching(pcap, filter, &["frame.number"])
+        .first()
+        .and_then(|f| f.first())
+        .and_then(|n| n.parse().ok())
+}
+
+/// The notifications `services` has now, without waiting for more.
+fn pending(services: &mut Services) -> Vec<Notification> {
+    std::iter::from_fn(|| services.next(Duration::from_millis(10))).collect()
+}
+
+#[test]
+#[ignore = "needs root: network namespaces, veth, AF_PACKET"]
+fn procimg_controller_connects_a_station_its_program_defines_over_a_veth_pair() {
+    let net = TestNet::new("sp", true);
+    net.address(0, "10.47.0.1/24");
+    let dir = procimg_testkit::files::temp_dir("station-program-veth");
+    let (gsdml, _) = demo_gsdml(dir.path());
+    // Every frame on the wire, from before the station starts.
+    let pcap = dir.path().join("wire.pcapng");
+    let capture = LiveCapture::start(&net.ns[0], &net.ifs[0], &pcap);
+
+    // The station waits for its program: slot 0 only, off the wire; the PLC's Connects are
+    // refused meanwhile.
+    let station = Launch::config("spd", &station_toml(&net.ifs[1], "10.47.0.50", &gsdml))
+        .netns(&net.ns[1])
+        .until_cycling()
+        .start();
+    let waiting = station.status();
+    assert!(waiting.station.as_ref().unwrap().ar.is_none());
+    let station_mac = waiting.station.as_ref().unwrap().mac.clone();
+    let plc = Launch::config("spc", &controller_toml(&net.ifs[0], &gsdml))
+        .netns(&net.ns[0])
+        .until_cycling()
+        .start();
+    let mut plc_events = Services::open(&plc.instance, ServiceOptions::new("plc-events"))
+        .expect("the controller's services");
+    // The PLC found the station by its name, and its Connect failed.
+    let mut states = Vec::new();
+    while !states.ends_with(&[DeviceState::Connecting, DeviceState::Failed]) {
+        match plc_events.next(BRING_UP) {
+            Some(Notification::DeviceState { state, .. }) => states.push(state),
+            Some(_) => {}
+            None => panic!("no refused Connect within {BRING_UP:?}: {states:?}"),
+        }
+    }
+    assert_slot_0_only(&station.instance);
+
+    // The program defines the station: the PLC connects it.
+    let program = ProgramProcess::start(&station.instance);
+    plc.wait_devices_running(BRING_UP);
+    let running = station.wait_status("the station's AR in data exchange", in_data);
+    assert_ne!(running.layout_hash, waiting.layout_hash);
+    let ar_uuid = running.station.unwrap().ar.unwrap().ar_uuid;
+
+    // 10 s at 1 ms, data both ways: the controller's patterns come back through a client of
+    // the station, in one AR, without a watchdog expiry on either side.
+    let _ = pending(&mut plc_events);
+    let before = losses(&plc.status(), &station.status());
+    let echo = device_echo(station.instance.clone(), 11_000);
+    let seen = controller_pattern(&plc.instance, "procimg-device", 10_000);
+    let echoed = echo.join().expect("the station's client");
+    let after = losses(&plc.status(), &station.status());
+    assert_eq!(seen.cycles, 10_000);
+    assert_eq!(seen.wrong, 0, "{seen:?}");
+    assert!(seen.echoes > 1_000, "{seen:?}");
+    assert!(
+        echoed > 1_000,
+        "the station's client saw GOOD Q data {echoed} times"
+    );
+    assert_eq!(
+        after, before,
+        "(controller watchdog expiries, station watchdog expiries, station aborted ARs)"
+    );
+    let same_ar = station.status().station.unwrap().ar.map(|a| a.ar_uuid);
+    assert_eq!(same_ar, Some(ar_uuid));
+    let failures: Vec<_> = pending(&mut plc_events)
+        .into_iter()
+        .filter(|n| matches!(n, Notification::DeviceFailure { .. }))
+        .collect();
+    assert!(failures.is_empty(), "{failures:?}");
+
+    // The program killed: the station aborts the AR, and the PLC hears it as the device's
+    // abort (not as its watchdog's expiry); the station waits again with slot 0 only.
+    drop(program);
+    let failure = next_device_event(&mut plc_events, "failure");
+    let Notification::DeviceFailure { reason, .. } = &failure else {
+        panic!("not a failure: {failure:?}");
+    };
+    assert!(reason.contains("the device aborted the AR"), "{reason}");
+    let gone = station.wait_status("the station waiting after its program's end", |s| {
+        s.layout_hash == waiting.layout_hash
+            && s.mode == Mode::Offline
+            && s.station.as_ref().is_some_and(|s| s.ar.is_none())
+    });
+    assert_ne!(gone.generation, waiting.generation);
+    assert_slot_0_only(&station.instance);
+    assert_ne!(plc.status().devices[0].state, DeviceState::Running);
+
+    // The program started again: it defines the station again, the PLC's AR comes back.
+    let program = ProgramProcess::start(&station.instance);
+    let back = next_device_event(&mut plc_events, "return");
+    assert!(
+        matches!(back, Notification::DeviceReturn { .. }),
+        "{back:?}"
+    );
+    plc.wait_devices_running(BRING_UP);
+    station.wait_status("the station's AR in data exchange again", in_data);
+    let echo = device_echo(station.instance.clone(), 2_000);
+    let seen = controller_pattern(&plc.instance, "procimg-device", 1_000);
+    let _ = echo.join();
+    assert_eq!(seen.wrong, 0, "{seen:?}");
+    assert!(seen.echoes > 0, "{seen:?}");
+
+    // The PLC stops first (it releases the AR), then the program and the station.
+    drop(plc);
+    drop(program);
+    drop(station);
+    let pcap = capture.stop();
+    let bad = flagged(&pcap);
+    assert!(bad.is_empty(), "tshark flags frames on the wire:\n{bad}");
+    // The station's cyclic frames (the FrameIDs below the alarms' 0xFC01), none before its
+    // answer to the PLC's first Connect, a refusal (a negative PNIOStatus in the Connect
+    // response); and its ERR-RTA AbortRequest (PDUType 4, ErrorCode2 0x0D) when its program
+    // was killed.
+    let from_station = format!("eth.src == {station_mac}");
+    let cyclic = format!("{from_station} && pn_rt.frame_id >= 0x0100 && pn_rt.frame_id < 0xfc00");
+    let frames = frames_matching(&pcap, &cyclic).lines().count();
+    assert!(frames > 10_000, "{frames} cyclic frames from the station");
+    let refused = format!(
+        "{from_station} && dcerpc.pkt_type == 2 && dcerpc.opnum == 0 && pn_io.error_code != 0"
+    );
+    let refused = first_frame(&pcap, &refused).expect("a refused Connect on the wire");
+    let exchanged = first_frame(&pcap, &cyclic).expect("cyclic frames on the wire");
+    assert!(
+        refused < exchanged,
+        "the waiting station sent cyclic frames (frame {exchanged}) before it refused the \
+         Connect (frame {refused})"
+    );
+    let abort = frames_matching(
+        &pcap,
+        &format!(
+            "eth.src == {station_mac} && pn_io.pdu_type.type == 4 && pn_io.error_code2 == 0x0d"
+        ),
+    );
+    assert!(
+        !abort.trim().is_empty(),
+        "no ERR-RTA AbortRequest from the station ({station_mac}) on the wire"
+    );
+}
+
+#[test]
+fn a_control_request_across_the_stations_new_generations_is_answered_or_refused_at_once() {
+    let dir = procimg_testkit::files::temp_dir("station-program-requests");
+    let (toml, _) = waiting_station(dir.path());
+    let server = Launch::config("station-requests", &toml)
+        .until_cycling()
+        .start();
+    // One handle, asking all along: some of its requests meet a generation's end.
+    let instance = server.instance.clone();
+    let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let asking = {
+        let done = done.clone();
+        std::thread::spawn(move || {
+            let control = procimg_client::ControlHandle::open(&instance, "asker").unwrap();
+            let (mut answered, mut unanswered) = (0, Vec::new());
+            while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                match control.status() {
+                    Ok(_) => answered += 1,
+                    // Between two generations no server takes the request: said at once.
+                    Err(ControlError::NoServer { .. }) => {}
+                    Err(e) => unanswered.push(e.to_string()),
+                }
+                std::thread::sleep(Duration::from_millis(2));
+            }
+            (answered, unanswered)
+        })
+    };
+    // Each definition and each end of the program runs a new generation.
+    for _ in 0..5 {
+        let program = ProgramProcess::start(&server.instance);
+        server.wait_status("the AR in data exchange", in_data);
+        drop(program);
+        server.wait_status("the station waiting", |s| {
+            s.station.as_ref().is_some_and(|s| s.ar.is_none()) && s.mode == Mode::Offline
+        });
+    }
+    done.store(true, std::sync::atomic::Ordering::Relaxed);
+    let (answered, unanswered) = asking.join().unwrap();
+    assert!(answered > 0);
+    assert!(unanswered.is_empty(), "{unanswered:?}");
 }

@@ -2,14 +2,16 @@
 //! What procimg's tests, benches and interop tests share, once: the real `procimgd` as a
 //! child process that is stopped even when a test fails ([`Procimgd`]), unique instance
 //! names, the workspace's binaries built up to date, two network namespaces joined by a veth
-//! pair ([`netns::TestNet`]), Wireshark's verdict on frames ([`tshark::dissect_clean`]),
-//! C and C++ programs built against `libprocimg` ([`c`]), hex fixtures, and the deterministic
-//! in-memory PROFINET network of a controller and simulated devices ([`world`]).
+//! pair ([`netns::TestNet`]), data both ways between procimg's two roles ([`exchange`]),
+//! Wireshark's verdict on frames ([`tshark::dissect_clean`]), C and C++ programs built
+//! against `libprocimg` ([`c`]), hex fixtures, and the deterministic in-memory PROFINET
+//! network of a controller and simulated devices ([`world`]).
 //!
 //! Dev-only (`publish = false`): no production crate depends on it.
 
 pub mod build;
 pub mod c;
+pub mod exchange;
 pub mod files;
 pub mod fixtures;
 /// Network namespaces with a veth pair (the `procimg-netns` crate, which the soak shares).

@@ -299,14 +299,17 @@ impl Procimgd {
         mut done: impl FnMut(&StatusReport) -> bool,
     ) -> StatusReport {
         let until = Instant::now() + timeout;
-        // Opened again when the server is between two generations (no control service for a
-        // moment).
         let mut control = None;
         let mut last = None;
         loop {
             self.assert_alive();
+            // Between two generations (a station its program defines runs anew) the control
+            // service is briefly not there: it is opened again, until the wait runs out.
             if control.is_none() {
-                control = ControlHandle::open(&self.instance, "test-wait").ok();
+                match ControlHandle::open(&self.instance, "test-wait") {
+                    Ok(c) => control = Some(c),
+                    Err(e) => eprintln!("{}: control service: {e}", self.instance),
+                }
             }
             match control.as_ref().map(ControlHandle::status) {
                 Some(Ok(s)) if done(&s) => return s,

@@ -19,8 +19,11 @@ pub const DEFAULT_CONTROL_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// How often a request looks for its answer.
 const ANSWER_POLL: Duration = Duration::from_micros(50);
-/// How long a request waits before it asks whether the server it went to still holds it.
-const RESEND_AFTER: Duration = Duration::from_millis(100);
+/// How long a request whose server went without taking it waits for that server's
+/// successor (procimgd running its station anew starts the next one within this).
+const SUCCESSOR_WAIT: Duration = Duration::from_secs(1);
+/// How often it looks for the successor meanwhile.
+const SUCCESSOR_POLL: Duration = Duration::from_millis(5);
 
 /// A connection to an instance's control service.
 pub struct ControlHandle {
@@ -138,10 +141,13 @@ impl ControlHandle {
             Ok(pending)
         };
         let mut pending = send()?;
-        let mut sent_at = Instant::now();
         let mut sent_again = false;
-        let until = sent_at + timeout;
+        let mut gone_since: Option<Instant> = None;
+        let until = Instant::now() + timeout;
         loop {
+            // Asked before the answer is looked for, so that an answer sent just before the
+            // server let the request go is still read.
+            let held = pending.is_connected();
             match pending.receive() {
                 Ok(Some(answer)) => {
                     return control::decode(answer.payload()).map_err(|detail| {
@@ -151,6 +157,29 @@ impl ControlHandle {
                         }
                     });
                 }
+                // The server went without taking the request (procimgd ended a generation,
+                // having answered what it took; the next generation's server takes new
+                // requests): the request goes once to that successor, as soon as it is
+                // there, rather than the caller waiting out its timeout; without one soon,
+                // the caller learns at once that there is no server.
+                Ok(None) if !held => {
+                    let since = *gone_since.get_or_insert_with(Instant::now);
+                    if sent_again || since.elapsed() >= SUCCESSOR_WAIT {
+                        return Err(ControlError::NoServer {
+                            instance: self.instance.clone(),
+                        });
+                    }
+                    match send() {
+                        Ok(p) => {
+                            pending = p;
+                            sent_again = true;
+                        }
+                        Err(ControlError::NoServer { .. }) => {
+                            std::thread::sleep(SUCCESSOR_POLL);
+                        }
+                        Err(e) => return Err(e),
+                    }
+                }
                 Ok(None) => {}
                 Err(e) => return Err(transport(format!("cannot read the answer: {e:?}"))),
             }
@@ -159,21 +188,6 @@ impl ControlHandle {
                     instance: self.instance.clone(),
                     timeout,
                 });
-            }
-            // A server that ended without taking the request (procimgd stopping, or running
-            // its station anew) will not answer it: its successor gets it once, rather than
-            // the caller waiting out its timeout. A request a server took is always answered.
-            if !sent_again && sent_at.elapsed() >= RESEND_AFTER && !pending.is_connected() {
-                sent_at = Instant::now();
-                match send() {
-                    Ok(p) => {
-                        pending = p;
-                        sent_again = true;
-                    }
-                    // The successor is not there yet: looked for again a little later.
-                    Err(ControlError::NoServer { .. }) => {}
-                    Err(e) => return Err(e),
-                }
             }
             // The answer's connection is made when it comes: the access group needs it too.
             crate::connection::share_own_files();
