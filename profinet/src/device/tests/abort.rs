@@ -161,3 +161,46 @@ fn a_controller_silent_in_start_up_loses_the_ar_after_its_cmi_timeout() {
     );
     assert_eq!(status(&r), PnioStatus::OK);
 }
+
+/// Each record call of the AR in start-up is the controller's activity: the CMI timeout
+/// counts from the last one, not from the Connect.
+#[test]
+fn a_record_call_in_start_up_starts_the_cmi_timeout_again() {
+    let (mut dev, connect) = counter_device();
+    let timeout = u64::from(connect.ar.activity_timeout_factor) * 100 * MS;
+    assert_eq!(
+        status(&call(&mut dev, &connect_request(&connect), 0)),
+        PnioStatus::OK
+    );
+    let at = timeout / 2;
+    let h = IodHeader::write_request(1, AR_UUID, 0, 1, 1, 0x10, 2);
+    let mut blocks = h.to_bytes().to_vec();
+    blocks.extend_from_slice(&[1, 2]);
+    let r = call(
+        &mut dev,
+        &request(opnum::WRITE, ACTIVITY, 1, &blocks, false),
+        at,
+    );
+    assert_eq!(status(&r), PnioStatus::OK);
+    // An implicit read names no AR: it is not the AR's controller at work.
+    let implicit = IodHeader::read_request(2, Uuid::NIL, 0, 1, 1, 0x10, 2);
+    let r = call(
+        &mut dev,
+        &request(
+            opnum::READ_IMPLICIT,
+            Uuid::from_fields(0xbbbb_0001, 1, 0x4000, [1; 8]),
+            0,
+            &implicit.to_bytes(),
+            false,
+        ),
+        at + MS,
+    );
+    assert!(r.ndr.status().is_some(), "the implicit read is answered");
+
+    let sent = run_until(&mut dev, at + timeout - 1);
+    assert!(err_rtas(&sent).is_empty());
+    assert_eq!(dev.ar().state(), ArState::Connected);
+    run_until(&mut dev, at + timeout);
+    assert_eq!(dev.ar().state(), ArState::Idle);
+    assert_eq!(dev.ar().last_abort(), Some(AbortCode::CmiTimeout));
+}
