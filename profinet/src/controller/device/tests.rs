@@ -83,9 +83,9 @@ impl Rig {
             application: Zeros,
             im0: Default::default(),
         });
-        let plan = DevicePlan::all(&[spec], MS)
-            .expect("a 1 ms cycle suits the device")
-            .remove(0);
+        // Device 3 of the controller: its alarm endpoint (3) differs from the device's (0),
+        // so that the device checks both endpoints of the ERR-RTA for real.
+        let plan = DevicePlan::new(3, 0, &spec, MS).expect("a 1 ms cycle suits the device");
         Rig {
             id: ControllerIdentity {
                 mac: MacAddress([2, 0, 0, 0, 0, 1]),
@@ -212,7 +212,7 @@ fn a_failed_parameter_write_aborts_the_ar_and_the_next_connect_is_taken() {
     let (dst, pdu) = &errs[0];
     assert_eq!(*dst, DEVICE_MAC);
     assert_eq!(pdu.priority, Priority::Low);
-    assert_eq!(pdu.header.src_endpoint, rig.ar.plan.alarm_reference());
+    assert_eq!(pdu.header.src_endpoint, 3);
     assert_eq!(
         pdu.body,
         RtaBody::Err(ErrRta::abort(FailureCause::Refused.abort_code()))
