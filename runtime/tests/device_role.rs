@@ -442,6 +442,78 @@ fn a_device_program_refuses_a_new_ar_and_accepts_the_next() {
     drop(other);
 }
 
+/// The PLC gives up an AR in its start-up: this handle took slot 1's records and leaves the
+/// PLC's parameter write unanswered, the station answers it "resource busy" after its record
+/// timeout, and the PLC's write has failed. The PLC aborts that AR towards the station, which
+/// ends it at once, so that the PLC's next Connect is taken instead of refused "out of AR
+/// resources" until the AR's CMI timeout; with the records the station's again, the AR
+/// reaches data exchange.
+#[test]
+fn a_plc_that_gives_up_an_ar_in_start_up_is_taken_again_at_its_next_connect() {
+    let server = Launch::demo_device("devgiveup").debug_log().start();
+    server.wait_devices_running(BRING_UP);
+    let mut services =
+        Services::open(&server.instance, ServiceOptions::new("devgiveup")).expect("services");
+    services.take_records((0, 1, 1)).expect("slot 1's records");
+    let first = server
+        .status()
+        .station
+        .and_then(|s| s.ar)
+        .expect("the demo's AR");
+    services.abort_ar(&first.ar_uuid).expect("the AR ends");
+
+    // The PLC connects again and writes its parameter record here (the program's writes in
+    // the first AR may come before: they are not the one), unanswered.
+    let unanswered = next_picked(
+        &mut services,
+        "the next AR's parameter write",
+        |n| match n {
+            Notification::StationRecord { job, .. }
+                if job.write && job.ar_uuid != first.ar_uuid =>
+            {
+                Some(job)
+            }
+            _ => None,
+        },
+    );
+    let (reason, planned, abort_code) =
+        next_picked(&mut services, "the end of the given-up AR", |n| match n {
+            Notification::StationArEnded {
+                ar_uuid,
+                reason,
+                aborted: true,
+                planned,
+                abort_code,
+            } if ar_uuid == unanswered.ar_uuid => Some((reason, planned, abort_code)),
+            _ => None,
+        });
+    // Ended by the PLC's ERR-RTA, with the abort code of a refused start-up ("AR protocol
+    // violation"), not by the station's CMI timeout (0x06), which the PLC would wait for.
+    assert_eq!((abort_code, planned), (Some(0x12), false), "{reason}");
+
+    services.give_back_records((0, 1, 1)).expect("give back");
+    // A job of the next attempt that reached this handle before is answered all the same.
+    let until = Instant::now() + BRING_UP;
+    let uuid = loop {
+        assert!(Instant::now() < until, "no data exchange within 30 s");
+        match services.next(Duration::from_millis(100)) {
+            Some(Notification::StationRecord { job, .. }) => {
+                let _ = services.answer_record(&job, Ok(&[]));
+            }
+            Some(Notification::StationAr {
+                state: ArState::Data,
+                ar_uuid,
+                ..
+            }) => break ar_uuid,
+            _ => {}
+        }
+    };
+    assert_ne!(uuid, unanswered.ar_uuid);
+    assert!(in_data(&server.status()));
+    let refused = server.log_lines("out of AR resources");
+    assert!(refused.is_empty(), "{refused:#?}");
+}
+
 #[test]
 fn a_device_call_on_a_controller_is_an_error() {
     let server = Launch::demo("devctl").start();

@@ -92,8 +92,11 @@ pub(super) struct Ar {
     pub(super) app_ready_pending: Vec<SubslotAddr>,
     /// The outstanding ApplicationReady.
     pub(super) app_ready: Option<ClientCall>,
-    /// The AR must reach data exchange before this (CMInitiatorActivityTimeoutFactor).
+    /// The AR ends unless it reaches data exchange before this: the CM initiator's activity
+    /// timeout, from the Connect or the AR's last record call.
     pub(super) cmi_deadline: Option<u64>,
+    /// CMInitiatorActivityTimeoutFactor × 100 ms.
+    cmi_timeout_ns: u64,
     /// Records written in this AR.
     pub(super) records: WrittenRecords,
     /// Grows whenever a submodule starts or stops exchanging data in the AR (pull, the end
@@ -145,6 +148,7 @@ impl Ar {
             .collect();
         let controller_mac = plan.ar.initiator_mac;
         let a = &plan.alarm_cr;
+        let cmi_timeout_ns = u64::from(plan.ar.activity_timeout_factor) * 100_000_000;
         let timing = CrTiming {
             send_clock_factor: plan.output.send_clock_factor,
             reduction_ratio: plan.output.reduction_ratio,
@@ -195,9 +199,8 @@ impl Ar {
             app_ready_held: None,
             app_ready_pending: Vec::new(),
             app_ready: None,
-            cmi_deadline: Some(
-                now_ns.saturating_add(u64::from(plan.ar.activity_timeout_factor) * 100_000_000),
-            ),
+            cmi_deadline: Some(now_ns.saturating_add(cmi_timeout_ns)),
+            cmi_timeout_ns,
             records: WrittenRecords::new(),
             exchange_generation: 0,
             plug_ready: std::collections::VecDeque::new(),
@@ -205,6 +208,16 @@ impl Ar {
             timing,
             device_outputs: Vec::new(),
             c_sdu: Vec::new(),
+        }
+    }
+
+    /// The controller was active in the AR's start-up (a record call of the AR): its CMI
+    /// timeout starts again, so that a long parameterization (records its application
+    /// answers slowly, one call after another) is not taken for a controller gone silent.
+    /// Nothing in data exchange, where the timeout is off.
+    pub(super) fn restart_cmi_timeout(&mut self, now_ns: u64) {
+        if let Some(d) = self.cmi_deadline.as_mut() {
+            *d = now_ns.saturating_add(self.cmi_timeout_ns);
         }
     }
 

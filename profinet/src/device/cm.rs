@@ -120,6 +120,7 @@ impl<A: Application> Device<A> {
             opnum::CONNECT => self.establish(blocks, from, now_ns, out),
             opnum::RELEASE => self.release(blocks),
             opnum::READ | opnum::READ_IMPLICIT | opnum::WRITE => {
+                self.cm_initiator_active(blocks, now_ns);
                 let outcome = if h.opnum == opnum::WRITE {
                     served_records::write(
                         self.ar.current.as_mut().map(|a| served_records::ArRecords {
@@ -168,6 +169,17 @@ impl<A: Application> Device<A> {
         if h.opnum == opnum::WRITE && status.is_ok() {
             self.alarm_on_request(blocks, now_ns, out);
             self.adjust_lldp();
+        }
+    }
+
+    /// A record call that names the AR is its controller's activity (an implicit read names
+    /// none): the AR's CMI timeout starts again.
+    fn cm_initiator_active(&mut self, blocks: &[u8], now_ns: u64) {
+        let Ok(h) = IodHeader::parse(blocks) else {
+            return;
+        };
+        if let Some(ar) = self.ar.current.as_mut().filter(|a| a.ar_uuid == h.ar_uuid) {
+            ar.restart_cmi_timeout(now_ns);
         }
     }
 

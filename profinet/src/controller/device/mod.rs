@@ -29,6 +29,8 @@ mod alarms;
 mod learn;
 mod records;
 mod step;
+#[cfg(test)]
+mod tests;
 pub use learn::TreePlanner;
 use records::{record_result, write_failure};
 use step::{Ar, Phase, Plug, Step, priority_slot};
@@ -224,20 +226,59 @@ impl DeviceAr {
         now: u64,
         out: &mut Vec<ControllerAction>,
     ) {
+        // The AR ends here; a record job on the wire is failed with the queued ones. An AR
+        // whose Connect is unanswered is not known to the device yet: nothing to tell it.
+        let accepted = match core::mem::replace(&mut self.step, Step::Idle) {
+            Step::Ar {
+                phase: Phase::Connect(_),
+                ..
+            } => None,
+            Step::Ar {
+                ar,
+                phase: Phase::Record { request, .. },
+            } => {
+                self.records.push_front(request);
+                Some(ar)
+            }
+            Step::Ar { ar, .. } => Some(ar),
+            _ => None,
+        };
+        self.give_up(accepted, cause, why, status, now, out);
+    }
+
+    /// [`fail_with`](Self::fail_with) for an AR the device accepted that the caller took out
+    /// of its step (to answer its call, or to make the next one): the step no longer holds
+    /// it, so it is handed over, or the device would never learn that it is given up.
+    fn fail_accepted(
+        &mut self,
+        ar: Box<Ar>,
+        cause: FailureCause,
+        why: &str,
+        status: Option<PnioStatus>,
+        now: u64,
+        out: &mut Vec<ControllerAction>,
+    ) {
+        self.give_up(Some(ar), cause, why, status, now, out);
+    }
+
+    /// Ends the attempt: the cyclic exchange stops, `accepted` (the AR the device accepted,
+    /// if any) is aborted towards the device, the queued record jobs fail, and the next
+    /// attempt waits for the back-off.
+    fn give_up(
+        &mut self,
+        accepted: Option<Box<Ar>>,
+        cause: FailureCause,
+        why: &str,
+        status: Option<PnioStatus>,
+        now: u64,
+        out: &mut Vec<ControllerAction>,
+    ) {
         out.push(ControllerAction::Stop {
             device: self.plan.device,
         });
         let code = cause.abort_code();
-        let aborted = self.abort_accepted_ar(code, out);
+        let aborted = accepted.is_some_and(|mut ar| ar.abort(code, out));
         let status = status.or(aborted.then(|| ErrRta::abort(code).status));
-        // The AR ends here; a record job on the wire is failed with the queued ones.
-        if let Step::Ar {
-            phase: Phase::Record { request, .. },
-            ..
-        } = core::mem::replace(&mut self.step, Step::Idle)
-        {
-            self.records.push_front(request);
-        }
         self.fail_records(why, out);
         let was_running = self.state == DeviceState::Running;
         if was_running {
@@ -262,35 +303,6 @@ impl DeviceAr {
             until: now + backoff,
         };
         self.set_state(DeviceState::Failed, out);
-    }
-
-    /// Tells the device that an AR it accepted is given up (an ERR-RTA with `code` on the
-    /// low-priority alarm channel), so that it frees the AR at once for the next Connect
-    /// instead of holding it until its CMI timeout. Nothing for an AR whose Connect is still
-    /// unanswered, or whose alarm channel was aborted already. Whether the abort was sent.
-    fn abort_accepted_ar(
-        &mut self,
-        code: rta_pdu::AbortCode,
-        out: &mut Vec<ControllerAction>,
-    ) -> bool {
-        let Step::Ar { ar, phase } = &mut self.step else {
-            return false;
-        };
-        if matches!(phase, Phase::Connect(_)) {
-            return false;
-        }
-        let mut events = Vec::new();
-        ar.alarm_low.abort(code, &mut events);
-        let mut sent = false;
-        for e in events {
-            if let RtaEvent::Send(pdu) = e
-                && let Some(f) = alarms::rta_frame(ar.own_mac, ar.peer_mac, &pdu)
-            {
-                out.push(ControllerAction::Frame(f));
-                sent = true;
-            }
-        }
-        sent
     }
 
     /// Whether the Release of its last AR still waits for the device's answer.
@@ -649,6 +661,8 @@ impl DeviceAr {
                 return true;
             }
         };
+        // The AR leaves its step while its answer is judged: a failure from here on hands it
+        // to `fail_accepted`, as `fail` would not find it in the step.
         let Step::Ar { ar, phase } = core::mem::replace(&mut self.step, Step::Idle) else {
             return true;
         };
@@ -657,7 +671,7 @@ impl DeviceAr {
             Phase::Write(_) => match write_failure(status, &blocks) {
                 None => self.prm_end(ar, now, out),
                 Some((why, status)) => {
-                    self.fail_with(FailureCause::Refused, &why, status, now, out)
+                    self.fail_accepted(ar, FailureCause::Refused, &why, status, now, out)
                 }
             },
             Phase::PrmEnd(_) => {
@@ -673,7 +687,7 @@ impl DeviceAr {
                 } else {
                     let why = format!("PrmEnd failed: {}", rpc::describe(status));
                     let status = (!status.is_ok()).then_some(status);
-                    self.fail_with(FailureCause::Refused, &why, status, now, out);
+                    self.fail_accepted(ar, FailureCause::Refused, &why, status, now, out);
                 }
             }
             Phase::PlugWrite { plug, .. } => match write_failure(status, &blocks) {
@@ -684,7 +698,7 @@ impl DeviceAr {
                          {why}",
                         plug.slot, plug.subslot
                     );
-                    self.fail_with(FailureCause::Refused, &why, status, now, out)
+                    self.fail_accepted(ar, FailureCause::Refused, &why, status, now, out)
                 }
             },
             Phase::PlugPrmEnd { plug, .. } => {
@@ -817,9 +831,11 @@ impl DeviceAr {
                     phase: phase(call),
                 };
             }
-            None => self.fail(
+            None => self.fail_accepted(
+                ar,
                 FailureCause::Internal,
                 "a request is longer than an RPC call can carry",
+                None,
                 now,
                 out,
             ),

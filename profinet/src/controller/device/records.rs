@@ -88,9 +88,11 @@ impl DeviceAr {
         }
         match write_body(&mut ar, records) {
             Ok(body) => self.call(ar, opnum::WRITE, &body, now, out, phase),
-            Err(_) => self.fail(
+            Err(_) => self.fail_accepted(
+                ar,
                 FailureCause::Internal,
                 "the parameter records do not fit a Write request",
+                None,
                 now,
                 out,
             ),

@@ -48,6 +48,30 @@ impl Ar {
         RpcCall::new(object, self.activity, self.seq, op, blocks, more, now).ok()
     }
 
+    /// Tells the device that this AR, which it accepted, is given up: an ERR-RTA with `code`
+    /// on the low-priority alarm channel (where aborts go), so that it frees the AR at once
+    /// for the next Connect instead of holding it until its CMI timeout refuses every
+    /// Connect meanwhile. Nothing when the channel was aborted already (by either side).
+    /// Whether the ERR-RTA went out.
+    pub(super) fn abort(
+        &mut self,
+        code: rta_pdu::AbortCode,
+        out: &mut Vec<ControllerAction>,
+    ) -> bool {
+        let mut events = Vec::new();
+        self.alarm_low.abort(code, &mut events);
+        let mut sent = false;
+        for e in events {
+            if let RtaEvent::Send(pdu) = e
+                && let Some(f) = alarms::rta_frame(self.own_mac, self.peer_mac, &pdu)
+            {
+                out.push(ControllerAction::Frame(f));
+                sent = true;
+            }
+        }
+        sent
+    }
+
     /// The alarm channel of a priority.
     pub(super) fn channel(&mut self, p: Priority) -> &mut RtaChannel {
         match p {
