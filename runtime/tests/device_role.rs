@@ -14,7 +14,9 @@ use procimg_client::{
 use procimg_profinet::wire::alarm::AlarmItem;
 use procimg_profinet::wire::record::DiagnosisData;
 use procimg_testkit::Launch;
-use procimg_testkit::exchange::{at, controller_pattern, device_echo, next_device_event};
+use procimg_testkit::exchange::{
+    at, controller_pattern, device_echo, next_device_event, until_the_plc_answers,
+};
 use procimg_testkit::netns::TestNet;
 use procimg_testkit::tshark::{LiveCapture, flagged, frames_matching};
 use std::time::{Duration, Instant};
@@ -40,27 +42,7 @@ fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
     assert!(mine.contains(&echo), "slot 1 has I data: {mine:?}");
     // The demo's PLC answers every I byte with that byte plus one in the Q data.
     let written = [0x10, 0x21, 0x32, 0x43, 0x54, 0x65, 0x76, 0x87];
-    let wanted: Vec<u8> = written.iter().map(|b| b + 1).collect();
-    let until = Instant::now() + BRING_UP;
-    loop {
-        let mut cycle = client
-            .wait_startop(Duration::from_secs(5))
-            .expect("STARTOP");
-        let last = cycle.q_data(echo).expect("Q data").to_vec();
-        let good = cycle.q_status(echo).expect("Q status") == Ioxs::Good;
-        cycle
-            .i_data_mut(echo)
-            .expect("I data")
-            .copy_from_slice(&written);
-        cycle.set_opdone().expect("OPDONE");
-        if good && last == wanted {
-            break;
-        }
-        assert!(
-            Instant::now() < until,
-            "the PLC's Q data never answered the I data: last Q {last:02x?}"
-        );
-    }
+    until_the_plc_answers(&mut client, echo, &written, BRING_UP);
 
     // The device's services are the station's events; the controller's, asked for, say so.
     let services = Services::open(&server.instance, ServiceOptions::new("devapp-services"))
@@ -74,7 +56,6 @@ fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
     assert_eq!(server.status().network.watchdog_expiries, 0);
 }
 
-/// The next station notification, skipping the others; `None` after `within`.
 #[test]
 fn a_device_program_knows_when_the_station_sends_what_it_wrote() {
     let server = Launch::demo_device("devapplied").start();
@@ -100,6 +81,7 @@ fn a_device_program_knows_when_the_station_sends_what_it_wrote() {
     assert_eq!((back, read.local), (data, Ioxs::Good));
 }
 
+/// The next station notification, skipping the others; `None` after `within`.
 fn next_station(services: &mut Services, within: Duration) -> Option<Notification> {
     let until = Instant::now() + within;
     while Instant::now() < until {

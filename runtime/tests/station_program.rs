@@ -12,14 +12,16 @@
 //! station's GSDML file, as the PLC.
 
 use procimg_client::{
-    ArState, AttachOptions, Client, ControlError, DeviceState, Event, Ioxs, Notification, Refusal,
+    ArState, AttachOptions, Client, ControlError, DeviceState, Event, Notification, Refusal,
     ServiceOptions, Services, StationTreeEntry, StatusReport, TreeRecords,
 };
 use procimg_config::gsdml::export::{GsdmlDate, module_item_id, station_gsdml, submodule_item_id};
 use procimg_config::{Config, StationConfig};
 use procimg_shm_layout::Mode;
 use procimg_testkit::Launch;
-use procimg_testkit::exchange::{controller_pattern, device_echo, next_device_event};
+use procimg_testkit::exchange::{
+    controller_pattern, device_echo, next_device_event, until_the_plc_answers,
+};
 use procimg_testkit::netns::TestNet;
 use procimg_testkit::tshark::{LiveCapture, fields_matching, flagged, frames_matching};
 use std::io::BufRead;
@@ -415,27 +417,7 @@ fn the_demo_plc_connects_a_module_only_the_gsdml_file_has() {
     let written: Vec<u8> = (0..ONLY_IN_THE_FILE_LEN as u8)
         .map(|i| i.wrapping_mul(37).wrapping_add(5))
         .collect();
-    let wanted: Vec<u8> = written.iter().map(|b| b.wrapping_add(1)).collect();
-    let until = Instant::now() + Duration::from_secs(30);
-    loop {
-        let mut cycle = client
-            .wait_startop(Duration::from_secs(5))
-            .expect("STARTOP");
-        let last = cycle.q_data(module).expect("Q data").to_vec();
-        let good = cycle.q_status(module).expect("Q status") == Ioxs::Good;
-        cycle
-            .i_data_mut(module)
-            .expect("I data")
-            .copy_from_slice(&written);
-        cycle.set_opdone().expect("OPDONE");
-        if good && last == wanted {
-            break;
-        }
-        assert!(
-            Instant::now() < until,
-            "the PLC's Q data never answered the I data: last Q {last:02x?}"
-        );
-    }
+    until_the_plc_answers(&mut client, module, &written, BRING_UP);
     drop(program);
 }
 

@@ -22,6 +22,36 @@ pub fn at(client: &Client, slot: u16, subslot: u16) -> usize {
         .unwrap_or_else(|| panic!("no submodule at slot {slot} subslot {subslot}"))
 }
 
+/// The station's client side of the device demo's PLC program (each Q byte is its I byte
+/// plus one): writes `written` as the I data of `submodule` every cycle until the PLC's Q
+/// data of it answers so, with IOPS GOOD; fails the test after `within`.
+pub fn until_the_plc_answers(
+    client: &mut Client,
+    submodule: usize,
+    written: &[u8],
+    within: Duration,
+) {
+    let wanted: Vec<u8> = written.iter().map(|b| b.wrapping_add(1)).collect();
+    let until = Instant::now() + within;
+    loop {
+        let mut cycle = client.wait_startop(STARTOP_WAIT).expect("STARTOP");
+        let last = cycle.q_data(submodule).expect("Q data").to_vec();
+        let good = cycle.q_status(submodule).expect("Q status") == Ioxs::Good;
+        cycle
+            .i_data_mut(submodule)
+            .expect("I data")
+            .copy_from_slice(written);
+        cycle.set_opdone().expect("OPDONE");
+        if good && last == wanted {
+            return;
+        }
+        assert!(
+            Instant::now() < until,
+            "the PLC's Q data never answered the I data: last Q {last:02x?}"
+        );
+    }
+}
+
 /// Runs the device's side for `cycles` in a thread of its own: the Q data of slot 1
 /// (subslot 1) echoed into its I data. The thread's result is how many cycles the Q data
 /// was GOOD. It ends early, without failing, when its server goes away (a test that kills

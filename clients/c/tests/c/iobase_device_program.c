@@ -21,6 +21,7 @@
 #include "pniousrd.h"
 #include "procimg.h"
 #include "check.h"
+#include "../../examples/device_example.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -219,16 +220,6 @@ static PNIO_CBF_FUNCTIONS callbacks = {
     NULL,
     pull_plug_conf,
 };
-
-static PNIO_DEV_ADDR geo(PNIO_UINT32 slot, PNIO_UINT32 subslot) {
-    PNIO_DEV_ADDR a;
-    memset(&a, 0, sizeof a);
-    a.AddrType = PNIO_ADDR_GEO;
-    a.IODataType = PNIO_IO_IN;
-    a.u.Geo.Slot = slot;
-    a.u.Geo.Subslot = subslot;
-    return a;
-}
 
 /* Sets the I data to `base + i`, writes it and reads the Q data once. */
 static void exchange(PNIO_UINT32 h, PNIO_UINT8 base) {

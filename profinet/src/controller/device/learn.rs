@@ -430,16 +430,7 @@ mod tests {
             output_length: 0,
             records: Vec::new(),
         };
-        let spec = DeviceSpec {
-            name: "dev".into(),
-            ip: None,
-            vendor_id: 1,
-            device_id: 2,
-            instance: 1,
-            reduction_ratio: 1,
-            watchdog_factor: 3,
-            submodules: vec![sub(1, 0x10, 0x1), sub(2, 0x20, 0x2)],
-        };
+        let spec = spec(vec![sub(1, 0x10, 0x1), sub(2, 0x20, 0x2)]);
         let mut plan = DevicePlan::all(&[spec], 1_000_000).unwrap().remove(0);
         let real = IdentificationData {
             kind: IdentificationKind::Real,
