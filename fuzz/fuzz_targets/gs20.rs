@@ -2,12 +2,14 @@
 //! The GS20-PN host link: the input as one frame, as a frame type and data with a good CRC
 //! (so that the message parsers see more than the CRC lets through), and as a UART byte
 //! stream, fed in chunks with silences between some of them; every frame the stream decoder
-//! yields is parsed as a message.
+//! yields is parsed as a message, and everything it yields drives the module's host-link
+//! state machine, whose every answer must be a frame that parses.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 use procimg_gs20::frame::{FrameId, FrameRepr, MAX_FRAME_LEN};
-use procimg_gs20::messages::{AnyMessage, HostMessage};
+use procimg_gs20::link::{Action, Baskets, ItemSlot, Link};
+use procimg_gs20::messages::{AdapterMessage, AnyMessage, HostMessage, ItemId, StatusFlags};
 use procimg_gs20::stream::{DEFAULT_GAP, Decoder};
 use std::time::{Duration, Instant};
 
@@ -66,11 +68,13 @@ fn stream(data: &[u8]) {
     let t0 = Instant::now();
     let mut whole = Decoder::new();
     let mut frames = 0u64;
+    let mut link = link();
     whole.feed(data, t0, |r| {
-        if let Ok(f) = r {
+        if let Ok(f) = &r {
             frames += 1;
-            message(&f);
+            message(f);
         }
+        drive(&mut link, r);
     });
     assert!(whole.buffered() <= MAX_FRAME_LEN);
     assert_eq!(whole.stats().frames, frames);
@@ -105,4 +109,47 @@ fn stream(data: &[u8]) {
         let _ = r.map(|f| message(&f));
     }
     assert_eq!(chunked.buffered(), 0);
+}
+
+/// A module whose Ethernet link is up, with one basket (ID 1) to select.
+fn link() -> Link {
+    let mut baskets = Baskets::new();
+    let items = [(3008, 1), (1002, 2)].map(|(id, slot)| ItemSlot {
+        item: ItemId::from_u16(id).expect("catalogue items"),
+        slot,
+    });
+    baskets.insert(1, items.to_vec());
+    let mut link = Link::new(baskets);
+    link.set_flags(StatusFlags::LINK_KNOWN | StatusFlags::LINK_UP);
+    link
+}
+
+/// One item of the decoder into the link; its frames parse, its Start starts, and the Run
+/// frames keep to their mode and lengths.
+fn drive(link: &mut Link, item: Result<FrameRepr<'_>, procimg_gs20::stream::StreamError>) {
+    let step = link.handle(item);
+    for bytes in &step.send {
+        let f = FrameRepr::parse_bytes(bytes).expect("the link sends whole frames");
+        assert_eq!(f.buffer_len(), bytes.len());
+        assert!(matches!(
+            AdapterMessage::parse(&f),
+            Ok(AdapterMessage::AdapterResponse(_))
+        ));
+    }
+    for a in &step.actions {
+        match a {
+            Action::Start(station) => {
+                assert!(!station.items.is_empty() && station.network.is_some());
+                assert!(station.input_len() <= 384 && station.output_len() <= 384);
+                link.started();
+                let out = vec![0; station.output_len()];
+                assert!(link.adapter_data(&out).is_some());
+            }
+            Action::SetInputs(data) => assert_eq!(data.len(), link.station().input_len()),
+            Action::Warn(w) => {
+                let _ = w.to_string();
+            }
+            Action::Reset | Action::Socket(_) => {}
+        }
+    }
 }

@@ -66,5 +66,6 @@
 #![forbid(unsafe_code)]
 
 pub mod frame;
+pub mod link;
 pub mod messages;
 pub mod stream;
