@@ -18,7 +18,8 @@
 //! The CRC is CRC-16/Modbus over ID, LEN and DATA, low byte first. Request Status is
 //! `20 00 18 70`. [`frame`] has the codec (a checked view and a `FrameRepr`), [`stream`]
 //! finds frames in the UART's byte stream and resynchronises after garbage or a damaged
-//! frame, [`messages`] types every frame of the catalogue.
+//! frame, [`messages`] types every frame of the catalogue, and [`link`] is the module's side
+//! of the protocol as a state machine: frames in, responses and actions for a bridge out.
 //!
 //! # The modes (§1.3)
 //!

@@ -10,6 +10,7 @@ use crate::messages::{
     RequestStatus, SetBusData, SetMac, SetNetworkConfig, SetSerialNumber,
 };
 use crate::stream::Decoder;
+use proptest::prelude::*;
 
 /// Add Item 3008 at slot 1 and the reference's response to it (§1.4).
 static ADD_ITEM_3008_SLOT_1: [u8; 10] =
@@ -442,4 +443,42 @@ fn reset_goes_back_to_standby_from_any_mode() {
         response(&send(&mut link, RequestStatus)).errors,
         ErrorBits::START_REFUSED
     );
+}
+
+proptest! {
+    /// Any host frames (and line errors) in any order: the link never panics, answers only
+    /// with Adapter Responses of its mode, and hands out input data of the configured length.
+    #[test]
+    fn any_host_traffic_keeps_the_rules(
+        frames in proptest::collection::vec(crate::frame::tests::any_frame(), 0..40),
+        errors in proptest::collection::vec(any::<bool>(), 40),
+    ) {
+        let mut link = Link::new(Baskets::new());
+        link.set_flags(StatusFlags::LINK_UP);
+        for ((id, payload), error) in frames.iter().zip(&errors) {
+            let item = if *error {
+                Err(StreamError::UnknownId(0xFF))
+            } else {
+                Ok(FrameRepr { id: *id, payload })
+            };
+            let before = link.mode();
+            let step = link.handle(item);
+            for bytes in &step.send {
+                let r = <AdapterResponse as Message>::parse(&FrameRepr::parse_bytes(bytes).unwrap());
+                prop_assert_eq!(r.unwrap().status.mode, link.mode());
+            }
+            if before == Mode::Standby {
+                prop_assert!(step.send.len() <= 1);
+            }
+            for a in &step.actions {
+                match a {
+                    Action::Start(_) => link.started(),
+                    Action::SetInputs(d) => prop_assert_eq!(d.len(), link.station().input_len()),
+                    _ => {}
+                }
+            }
+            prop_assert_eq!(link.adapter_data(&vec![0; link.station().output_len()]).is_some(),
+                            link.mode() == Mode::Run);
+        }
+    }
 }
