@@ -27,13 +27,14 @@ if ! cargo fuzz --version >/dev/null 2>&1; then
     cargo install cargo-fuzz --locked
 fi
 
-# The longest input per target: a frame, an RPC PDU, a block list, an operation sequence or a
-# text file, with room above the largest seed.
+# The longest input per target: a frame, an RPC PDU, a block list, an operation sequence, a
+# GS20-PN UART stream (a few of its largest frames, 1478 bytes) or a text file, with room above
+# the largest seed.
 max_len() {
     case "$1" in
         frame | dcp | alarm | rpc) echo 1600 ;;
         control) echo 512 ;;
-        connect | record | rta_channel) echo 4096 ;;
+        connect | record | rta_channel | gs20) echo 4096 ;;
         controller | device | config) echo 8192 ;;
         gsdml) echo 32768 ;;
         *) echo 4096 ;;

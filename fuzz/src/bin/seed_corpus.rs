@@ -11,7 +11,8 @@
 //! Each target gets the part of a frame it parses: whole frames (`frame`), the PROFINET PDU
 //! behind the EtherType (`dcp`, `alarm`), the UDP payload (`rpc`), the PNIO blocks after the
 //! RPC and NDR headers (`connect`, `control`, `record`), operation sequences (`controller`,
-//! `device`, `rta_channel`), text (`config`, `gsdml`). Run it again when the captures,
+//! `device`, `rta_channel`), text (`config`, `gsdml`), GS20-PN host link frames and UART
+//! streams (`gs20`, from the reference's examples). Run it again when the captures,
 //! the operation formats in `src/world.rs` or the fuzz network change. The output is the same
 //! every time except for the ARUUIDs and activity UUIDs the controller draws at random, which
 //! appear in the `device` bring-up seed.
@@ -43,6 +44,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     sessions(&caps, &mut seeds);
     rta_channel(&caps, &mut seeds);
     text(fuzz_dir, &mut seeds)?;
+    gs20(&mut seeds)?;
     let mut total = 0;
     for (target, files) in &seeds {
         let dir = out.join(target);
@@ -392,5 +394,106 @@ fn text(fuzz_dir: &Path, seeds: &mut Seeds) -> std::io::Result<()> {
             }
         }
     }
+    Ok(())
+}
+
+/// The GS20-PN host link: the reference's example frames (§1.4) one by one, and UART streams
+/// of a host's session and of a module in Run, with garbage and a damaged frame in the first.
+fn gs20(seeds: &mut Seeds) -> Result<(), procimg_gs20::frame::EmitError> {
+    use procimg_gs20::messages::*;
+    use std::net::{Ipv4Addr, SocketAddrV4};
+
+    let add_item = AddItem {
+        item_id: 3008,
+        position: 1,
+    }
+    .to_vec()?;
+    let response = AdapterResponse::new(
+        Mode::Config,
+        StatusFlags::empty(),
+        ErrorBits::NO_NETWORK_CONFIG,
+    )
+    .to_vec()?;
+    let status = RequestStatus.to_vec()?;
+    let start = RequestStart.to_vec()?;
+    add(seeds, "gs20", "add-item-3008-slot-1", &add_item);
+    add(seeds, "gs20", "adapter-response-no-network", &response);
+    add(seeds, "gs20", "request-status", &status);
+    add(seeds, "gs20", "request-reset", &RequestReset.to_vec()?);
+    add(seeds, "gs20", "request-start", &start);
+
+    let network = SetNetworkConfig {
+        mode: AddressMode::Static,
+        ip: Ipv4Addr::new(192, 168, 0, 50),
+        mask: Ipv4Addr::new(255, 255, 255, 0),
+        gateway: Ipv4Addr::UNSPECIFIED,
+        dns1: Ipv4Addr::UNSPECIFIED,
+        dns2: Ipv4Addr::UNSPECIFIED,
+        host_name: b"gs20-host",
+    }
+    .to_vec()?;
+    let mut damaged = add_item.clone();
+    damaged[5] ^= 0x01;
+    let host = [
+        &status[..],
+        &AddDevice { device_id: 1 }.to_vec()?,
+        &add_item,
+        &AddItem {
+            item_id: 1002,
+            position: 2,
+        }
+        .to_vec()?,
+        &[0x00, 0x55, 0xFF],
+        &damaged,
+        &network,
+        &SetSerialNumber { serial: 42 }.to_vec()?,
+        &start,
+        &SetBusData { data: &[1; 10] }.to_vec()?,
+        &OpenSocket {
+            role: SocketRole::Client,
+            protocol: SocketProtocol::Udp,
+            port: 5000,
+            ip: Ipv4Addr::new(192, 168, 0, 9),
+        }
+        .to_vec()?,
+        &SendSocketData {
+            handle: 1,
+            data: b"ping",
+        }
+        .to_vec()?,
+    ]
+    .concat();
+    add(seeds, "gs20", "host-session", &host);
+
+    let remote = SocketAddrV4::new(Ipv4Addr::new(192, 168, 0, 9), 5000);
+    let module = [
+        &AdapterResponse::new(Mode::Run, StatusFlags::PLC_CONNECTED, ErrorBits::empty())
+            .to_vec()?[..],
+        &AdapterEvent {
+            mode: Mode::Run,
+            event: Event::PlcConnected,
+        }
+        .to_vec()?,
+        &AdapterData { data: &[2; 8] }.to_vec()?,
+        &SocketResponse {
+            handle: 1,
+            status: SocketStatus::LISTENING,
+            errors: SocketErrors::empty(),
+        }
+        .to_vec()?,
+        &SocketEvent {
+            handle: 1,
+            status: SocketStatus::CONNECTED,
+            event: SocketEventKind::Connected { remote },
+        }
+        .to_vec()?,
+        &AdapterSocketData {
+            handle: 1,
+            data: b"pong",
+        }
+        .to_vec()?,
+    ]
+    .concat();
+    add(seeds, "gs20", "module-run", &module);
     Ok(())
 }
