@@ -60,6 +60,7 @@ pub use duration::{DurationError, format_duration, parse_duration};
 pub use error::ConfigError;
 use procimg_shm_layout::Mode;
 pub use station::{ProgramStation, StationConfig};
+pub use validate::station::with_identity;
 pub use validate::station_tree::{PlannedSubmodule, TreeError, dap_config, define_station};
 
 /// The built-in demo configuration (three simulated devices on a simulated network), which is

@@ -663,3 +663,32 @@ fn a_control_request_across_the_stations_new_generations_is_answered_or_refused_
     assert!(answered > 0);
     assert!(unanswered.is_empty(), "{unanswered:?}");
 }
+
+#[test]
+fn the_program_gives_the_station_its_name_and_address_with_its_tree() {
+    let dir = procimg_testkit::files::temp_dir("station-program-identity");
+    let (toml, _) = waiting_station(dir.path());
+    let server = Launch::config("station-identity", &toml)
+        .until_cycling()
+        .start();
+    let program = Services::open(&server.instance, ServiceOptions::new("the-program")).unwrap();
+    let tree = demo_tree(&Config::demo_device().station.unwrap());
+    let bad = procimg_client::DefinedIdentity {
+        name: Some("Host_Board".into()),
+        ..Default::default()
+    };
+    let m = refusal(program.define_station_as(&tree, &bad));
+    assert!(m.contains("name:") && m.contains("host_board"), "{m}");
+    let identity = procimg_client::DefinedIdentity {
+        name: Some("gs20-host".into()),
+        ip: Some([[192, 168, 0, 60], [255, 255, 255, 0], [0, 0, 0, 0]]),
+        serial_number: Some("SN-0042".into()),
+    };
+    program.define_station_as(&tree, &identity).unwrap();
+    let st = server.wait_status("the AR in data exchange", in_data);
+    let station = st.station.unwrap();
+    assert_eq!(
+        (station.name.as_str(), station.ip.as_str()),
+        ("gs20-host", "192.168.0.60")
+    );
+}

@@ -29,7 +29,7 @@
 use crate::services::Services;
 use crate::{ControlError, DEFAULT_CONTROL_TIMEOUT};
 use procimg_control::services::{StationArCheckJob, StationDcpSetJob, StationRecordJob};
-use procimg_control::{DeviceRequest, Refusal, Response, StationTreeEntry};
+use procimg_control::{DefinedIdentity, DeviceRequest, Refusal, Response, StationTreeEntry};
 
 /// The Connect error (ErrorCode1 CMRPC, ErrorCode2 "out of AR resources") a device gives
 /// when it cannot take an AR now.
@@ -170,9 +170,22 @@ impl Services {
     /// wrong, for an ident or place the file does not allow, while an AR runs, when another
     /// program defined the station, and for a configured station.
     pub fn define_station(&self, tree: &[StationTreeEntry]) -> Result<(), ControlError> {
+        self.define_station_as(tree, &DefinedIdentity::default())
+    }
+
+    /// [`define_station`](Self::define_station), the station's name, address and serial
+    /// number taken from `identity` where it gives them (as a GS20-PN host's network
+    /// configuration makes its module's). Refused, naming it, for a name that is not a
+    /// NameOfStation, an address that is not a host's, a serial number over 16 characters.
+    pub fn define_station_as(
+        &self,
+        tree: &[StationTreeEntry],
+        identity: &DefinedIdentity,
+    ) -> Result<(), ControlError> {
         self.station_request(DeviceRequest::StationDefine {
             subscriber: self.id(),
             tree: tree.to_vec(),
+            identity: identity.clone(),
         })
     }
 

@@ -22,7 +22,7 @@ use super::{
 };
 
 mod devices;
-mod station;
+pub(crate) mod station;
 pub(crate) mod station_tree;
 use devices::devices;
 

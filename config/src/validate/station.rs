@@ -501,6 +501,38 @@ pub(crate) fn frame_overflow(submodules: &[StationSubmodule]) -> Option<String> 
         })
 }
 
+/// `base` with the name, IP suite (address, netmask, gateway; address `0.0.0.0`: none, the
+/// PLC assigns one by DCP) and serial number a station's program gives, each checked as
+/// the configuration's keys are (the message names the part: `name`, `ip`, `netmask`,
+/// `gateway`, `serial_number`).
+pub fn with_identity(
+    base: &StationConfig,
+    name: Option<&str>,
+    ip: Option<(Ipv4Addr, Ipv4Addr, Ipv4Addr)>,
+    serial_number: Option<&str>,
+) -> Result<StationConfig, String> {
+    let mut s = base.clone();
+    if let Some(name) = name {
+        station_name(name).map_err(|e| format!("name: {e}"))?;
+        s.name = name.to_owned();
+    }
+    if let Some((ip, mask, gw)) = ip {
+        if ip.is_unspecified() {
+            s.ip = None;
+        } else {
+            let ip = device_ip(&ip.to_string()).map_err(|e| format!("ip: {e}"))?;
+            let mask = netmask(&mask.to_string()).map_err(|e| format!("netmask: {e}"))?;
+            let gw = gateway(&gw.to_string(), ip, mask).map_err(|e| format!("gateway: {e}"))?;
+            (s.ip, s.netmask, s.gateway) = (Some(ip), mask, gw);
+        }
+    }
+    if let Some(serial) = serial_number {
+        visible_ascii(serial, 16).map_err(|e| format!("serial_number: {e}"))?;
+        s.serial_number = serial.to_owned();
+    }
+    Ok(s)
+}
+
 fn netmask(text: &str) -> Result<Ipv4Addr, String> {
     let mask: Ipv4Addr = text
         .parse()

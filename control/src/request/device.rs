@@ -54,6 +54,21 @@ pub struct StationTreeEntry {
     pub records: TreeRecords,
 }
 
+/// What a station's program says of the station's identity with its tree
+/// ([`DeviceRequest::StationDefine`]): each part given replaces the configuration's, as a
+/// GS20-PN host's network configuration and serial number make its module's. What is not
+/// given stays as configured.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct DefinedIdentity {
+    /// NameOfStation.
+    pub name: Option<String>,
+    /// The IP suite: address, netmask, gateway (`0.0.0.0`: none). `Some` with address
+    /// `0.0.0.0`: no address of its own, the PLC assigns one by DCP.
+    pub ip: Option<[[u8; 4]; 3]>,
+    /// The serial number (I&M0), at most 16 characters.
+    pub serial_number: Option<String>,
+}
+
 /// A request of the IO device's station services.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "request", rename_all = "snake_case")]
@@ -205,6 +220,9 @@ pub enum DeviceRequest {
         subscriber: u64,
         /// The submodules after the device access point.
         tree: Vec<StationTreeEntry>,
+        /// The station's name, address and serial number, where the program gives them.
+        #[serde(default)]
+        identity: DefinedIdentity,
     },
     /// In the device role: whether the station's GSDML file allows `tree`, checked as
     /// [`DeviceRequest::StationDefine`] checks it, without defining anything (a program

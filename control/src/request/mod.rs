@@ -14,7 +14,7 @@ mod device;
 
 pub use self::core::{ClientRole, CoreRequest};
 pub use controller::ControllerRequest;
-pub use device::{DeviceRequest, StationAlarmKind, StationTreeEntry, TreeRecords};
+pub use device::{DefinedIdentity, DeviceRequest, StationAlarmKind, StationTreeEntry, TreeRecords};
 
 use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize};

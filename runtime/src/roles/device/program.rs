@@ -8,8 +8,8 @@ use super::application::Standing;
 use crate::config::StationConfig;
 use crate::image::Tables;
 use crate::roles::subscribers::Subscriber;
-use procimg_config::{PlannedSubmodule, define_station};
-use procimg_control::{StationTreeEntry, TreeRecords};
+use procimg_config::{PlannedSubmodule, define_station, with_identity};
+use procimg_control::{DefinedIdentity, StationTreeEntry, TreeRecords};
 use procimg_profinet::device::SubslotAddr;
 use std::collections::HashSet;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -105,9 +105,15 @@ impl StationProgram {
         self.lock().definer.clone()
     }
 
-    /// The station `tree` defines, with its tables: refused when the GSDML file does not
-    /// allow the tree or the station would have no process image.
-    pub fn plan(&self, tree: &[StationTreeEntry]) -> Result<Generation, DefineError> {
+    /// The station `tree` defines, with `identity`'s name, address and serial number where
+    /// it gives them, and its tables: refused when the identity is not one a station can
+    /// have, the GSDML file does not allow the tree, or the station would have no process
+    /// image.
+    pub fn plan(
+        &self,
+        tree: &[StationTreeEntry],
+        identity: &DefinedIdentity,
+    ) -> Result<Generation, DefineError> {
         let planned: Vec<PlannedSubmodule> = tree
             .iter()
             .map(|e| PlannedSubmodule {
@@ -123,13 +129,17 @@ impl StationProgram {
                 "the station is not one its program defines".into(),
             ));
         };
-        let station = define_station(
+        let base = with_identity(
             &self.waiting.station,
-            &file.file,
-            &file.file.daps[file.dap_index],
-            &planned,
+            identity.name.as_deref(),
+            identity
+                .ip
+                .map(|[ip, mask, gw]| (ip.into(), mask.into(), gw.into())),
+            identity.serial_number.as_deref(),
         )
-        .map_err(|e| DefineError::Tree(e.to_string()))?;
+        .map_err(|e| DefineError::Tree(format!("the station's identity: {e}")))?;
+        let station = define_station(&base, &file.file, &file.file.daps[file.dap_index], &planned)
+            .map_err(|e| DefineError::Tree(e.to_string()))?;
         // Made now, so that a station without an image is refused rather than found out
         // when the current generation has ended.
         let tables = Tables::of_station(&station)
@@ -137,8 +147,8 @@ impl StationProgram {
         Ok(Generation { station, tables })
     }
 
-    /// Subscriber `subscriber` (`who`) defines the station as `tree`, having said
-    /// `standing` so far: refused when another program defined it, while an AR runs
+    /// Subscriber `subscriber` (`who`) defines the station as `tree` with the parts of
+    /// `identity` it gives, having said `standing` so far: refused when another program defined it, while an AR runs
     /// (`ar_runs`), or when the GSDML file does not allow the tree; once accepted the next
     /// generation runs it, with `standing` and the records the tree gives the program
     /// taken from its start.
@@ -147,6 +157,7 @@ impl StationProgram {
         subscriber: u64,
         who: &Subscriber,
         tree: &[StationTreeEntry],
+        identity: &DefinedIdentity,
         ar_runs: bool,
         mut standing: Standing,
     ) -> Result<(), DefineError> {
@@ -159,7 +170,7 @@ impl StationProgram {
         if ar_runs {
             return Err(DefineError::ArRuns);
         }
-        let next = self.plan(tree)?;
+        let next = self.plan(tree, identity)?;
         for e in tree {
             let at = SubslotAddr::new(e.api, e.slot, e.subslot);
             match e.records {

@@ -18,8 +18,8 @@ use crate::roles::{Answers, RoleServices};
 use crate::shm::Notices;
 use procimg_control::services::Notification;
 use procimg_control::{
-    ArState, DeviceReport, DeviceRequest, NetworkReport, Refusal, Response, StationProgramReport,
-    StationReport, StationTreeEntry, SubscriberReport,
+    ArState, DefinedIdentity, DeviceReport, DeviceRequest, NetworkReport, Refusal, Response,
+    StationProgramReport, StationReport, StationTreeEntry, SubscriberReport,
 };
 use procimg_profinet::device::SubslotAddr;
 use procimg_profinet::wire::record::RecordErrorCode;
@@ -81,7 +81,12 @@ impl DeviceServices {
     }
 
     /// Subscriber `subscriber`'s program defines the station as `tree`.
-    fn define(&mut self, subscriber: u64, tree: &[StationTreeEntry]) -> Response {
+    fn define(
+        &mut self,
+        subscriber: u64,
+        tree: &[StationTreeEntry],
+        identity: &DefinedIdentity,
+    ) -> Response {
         let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
         let Some(program) = &self.program else {
             return refused(CONFIGURED_TREE.into());
@@ -90,7 +95,14 @@ impl DeviceServices {
             return Response::Refused(Refusal::UnknownSubscriber);
         };
         let standing = self.say.standing(subscriber);
-        match program.define(subscriber, &who, tree, self.station.has_ar(), standing) {
+        match program.define(
+            subscriber,
+            &who,
+            tree,
+            identity,
+            self.station.has_ar(),
+            standing,
+        ) {
             Ok(()) => {
                 tracing::info!(
                     "{who} defines the station: {} submodules after the device access point",
@@ -107,7 +119,7 @@ impl DeviceServices {
         let refused = |message: String| Response::Refused(Refusal::BadRequest { message });
         match &self.program {
             None => refused(CONFIGURED_TREE.into()),
-            Some(p) => match p.plan(tree) {
+            Some(p) => match p.plan(tree, &DefinedIdentity::default()) {
                 Ok(_) => Response::Done,
                 Err(e) => refused(e.to_string()),
             },
@@ -397,7 +409,11 @@ impl Answers<DeviceRequest> for DeviceServices {
                 job,
                 refuse,
             } => self.answer_ar_check(subscriber, job, refuse),
-            DeviceRequest::StationDefine { subscriber, tree } => self.define(subscriber, &tree),
+            DeviceRequest::StationDefine {
+                subscriber,
+                tree,
+                identity,
+            } => self.define(subscriber, &tree, &identity),
             DeviceRequest::StationCheckTree { tree } => self.check_tree(&tree),
             DeviceRequest::StationRelease { subscriber } => self.release(subscriber),
             DeviceRequest::StationAbortAr { ar_uuid } => {
