@@ -103,6 +103,16 @@ impl ItemId {
         }
     }
 
+    /// The ModuleIdentNumber of the item's module in the catalogue's GSDML and in the
+    /// station the bridge defines: the item ID itself (3008 → 0x00000BC0), so that a PLC
+    /// project and a host's Add Item name one thing by one number.
+    pub const fn module_ident(self) -> u32 {
+        self.to_u16() as u32
+    }
+
+    /// The SubmoduleIdentNumber of the item's one submodule: 1 in every item module.
+    pub const SUBMODULE_IDENT: u32 = 1;
+
     /// The whole catalogue, by kind and then by size (1001 … 1256, 2001 …, 3001 … 3256):
     /// what a GSDML of the items lists.
     pub fn all() -> impl Iterator<Item = ItemId> {
