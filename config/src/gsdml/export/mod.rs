@@ -5,6 +5,7 @@
 //! [`station_gsdml`] turns a [`StationConfig`] into GSDML V2.4 text and its standard file
 //! name, `GSDML-V2.4-procimg-<family>-<yyyymmdd>.xml`; the family is the station's
 //! `device_type`, the date is the caller's ([`GsdmlDate`]: nothing here reads a clock).
+//! [`StationGsdml::write`] puts it on disk atomically.
 //!
 //! The file has one device access point (slot 0: the DAP's own submodule, the interface and
 //! one port, with `[station.dap]`'s ident numbers and the station's name, instance and I&M0
@@ -29,12 +30,14 @@ mod catalogue;
 mod date;
 mod document;
 mod plan;
+mod write;
 mod xml;
 
 use core::fmt;
 
 pub use catalogue::{Catalogue, CatalogueModule, CatalogueSubmodule};
 pub use date::{DateError, GsdmlDate};
+pub use write::WriteError;
 
 use crate::station::StationConfig;
 
