@@ -6,7 +6,8 @@
 //! events and even TCP/UDP sockets through it. This crate is that protocol as bytes in and
 //! bytes out, so that procimg can stand in for the module (the `procimg-gs20` program, a
 //! later step, puts a serial port on one side and procimgd's device role on the other).
-//! It has no serial port, no clock and no procimgd code: time comes in as an argument.
+//! It has no serial port, no clock and no daemon code (the catalogue's GSDML comes from
+//! procimg's configuration crate): time comes in as an argument.
 //! The reference is `shared/reference/gs20-goal-sfc.md` §1, cited by section.
 //!
 //! # The frame (§1.4)
@@ -33,6 +34,16 @@
 //! - **Run**: the host sends its input data (Set Bus Data, 0x30), the module sends the PLC's
 //!   output data (Adapter Data, 0x31) and events (0xF1) unsolicited; sockets (0x40–0x43,
 //!   0x50, 0x51, 0xE0, 0xE1) work. Request Reset (0x21) goes back to Standby.
+//!
+//! # The item catalogue (§1.5, §1.7)
+//!
+//! A host adds items by ID (`D·1000 + n`: n bytes in, out, or both) at positions that are
+//! the PLC's slots, and the PLC's project must hold the same modules there. [`catalogue`]
+//! writes the GSDML file that makes this so: every item of the catalogue as a module whose
+//! ModuleIdentNumber is the item ID, with one submodule of the item's lengths, allowed in
+//! every slot 1 to 64 and plugged in none. The same file is procimgd's station's
+//! (`[station] gsdml = "FILE"`), against which the host's items become the station's
+//! modules. `procimg-gs20 gsdml -o FILE` writes it.
 //!
 //! # Example
 //!
@@ -66,6 +77,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+pub mod catalogue;
 pub mod frame;
 pub mod link;
 pub mod messages;

@@ -3,8 +3,8 @@
 //! engineering tool of the PLC that connects to it.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::path::PathBuf;
+use std::time::SystemTime;
 
 use anyhow::{Context, anyhow, bail};
 use clap::Args;
@@ -76,48 +76,13 @@ pub fn run(args: GsdmlArgs) -> anyhow::Result<()> {
             return Ok(());
         }
     };
-    write_atomically(&path, gsdml.xml.as_bytes())?;
+    gsdml.write(&path)?;
     println!("{}", path.display());
     Ok(())
 }
 
 fn today() -> anyhow::Result<GsdmlDate> {
-    let seconds = SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_err(|_| anyhow!("the system clock is before 1970; give the date with --date"))?
-        .as_secs();
-    i64::try_from(seconds / 86_400)
-        .ok()
-        .and_then(GsdmlDate::from_unix_days)
-        .ok_or_else(|| anyhow!("the system clock is past year 9999; give the date with --date"))
-}
-
-/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: a reader
-/// (or an engineering tool importing the file) sees the old file or the whole new one.
-fn write_atomically(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| anyhow!("{}: give a file name, not a directory", path.display()))?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut temporary = name.to_os_string();
-    temporary.push(format!(".{}.tmp", std::process::id()));
-    let temporary = dir.join(temporary);
-    let written = (|| {
-        let mut file = std::fs::File::create(&temporary)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        std::fs::rename(&temporary, path)
-    })();
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&temporary);
-        return Err(anyhow!(
-            "cannot write {}: {e}; check that the directory {} exists and is writable",
-            path.display(),
-            dir.display()
-        ));
-    }
-    Ok(())
+    GsdmlDate::of(SystemTime::now()).ok_or_else(|| {
+        anyhow!("the system clock is not between 1970 and 9999; give the date with --date")
+    })
 }

@@ -40,8 +40,9 @@ pub enum AddItemError {
     Item(#[from] ItemIdError),
     /// The position is no slot an item can have.
     #[error(
-        "position {position} is no slot for an item: use 1 to 32767 (slot 0 is the module's \
-         own, the DAP), the slot the PLC's project has the module in"
+        "position {position} is no slot for an item: use 1 to {} (slot 0 is the module's \
+         own, the DAP), the slot the PLC's project has the module in",
+        AddItem::MAX_SLOT
     )]
     Slot {
         /// The position sent.
@@ -50,13 +51,16 @@ pub enum AddItemError {
 }
 
 impl AddItem {
-    /// The largest PROFINET slot number.
-    pub const MAX_SLOT: u16 = 0x7FFF;
+    /// The last slot an item may have: the item catalogue's last
+    /// ([`crate::catalogue::MAX_SLOT`], 64).
+    pub const MAX_SLOT: u16 = crate::catalogue::MAX_SLOT;
 
     /// The item and its slot, if both are valid.
     ///
-    /// The reference says only "position = slot". Chosen: slots 1 to 0x7FFF; slot 0 is the
-    /// DAP (the module itself) in PROFINET, and slot numbers above 0x7FFF do not exist.
+    /// The reference says only "position = slot". Chosen: slots 1 to [`AddItem::MAX_SLOT`];
+    /// slot 0 is the DAP (the module itself) in PROFINET, and the catalogue's GSDML file
+    /// allows the items no other slots, so that a host learns of a position the PLC's
+    /// project could not match at Add Item, not at Request Start.
     pub fn validate(&self) -> Result<(ItemId, u16), AddItemError> {
         let item = ItemId::from_u16(self.item_id)?;
         match u16::try_from(self.position) {

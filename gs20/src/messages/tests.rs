@@ -389,14 +389,25 @@ fn the_item_catalogue() {
         .validate(),
         Err(AddItemError::Slot { position: 0 })
     );
+    // The catalogue's slots end at 64.
     assert_eq!(
         AddItem {
             item_id: 1001,
-            position: 0x8000
+            position: 64
         }
         .validate(),
-        Err(AddItemError::Slot { position: 0x8000 })
+        Ok((ItemId::from_u16(1001).unwrap(), 64))
     );
+    for position in [65, 0x8000, 0x1_0001] {
+        let e = AddItem {
+            item_id: 1001,
+            position,
+        }
+        .validate();
+        assert_eq!(e, Err(AddItemError::Slot { position }));
+    }
+    let shown = AddItemError::Slot { position: 65 }.to_string();
+    assert!(shown.contains("use 1 to 64"), "{shown}");
     assert!(matches!(
         AddItem {
             item_id: 3512,

@@ -64,6 +64,13 @@ impl GsdmlDate {
         )
     }
 
+    /// The date (UTC) of `time`, e.g. `SystemTime::now()`: the caller reads the clock;
+    /// `None` outside years 1970 to 9999.
+    pub fn of(time: std::time::SystemTime) -> Option<GsdmlDate> {
+        let seconds = time.duration_since(std::time::UNIX_EPOCH).ok()?.as_secs();
+        GsdmlDate::from_unix_days(i64::try_from(seconds / 86_400).ok()?)
+    }
+
     /// The year.
     pub fn year(self) -> u16 {
         self.year
@@ -151,6 +158,15 @@ mod tests {
             assert!(wrapped || next.day == previous.day + 1, "{previous} {next}");
             previous = next;
         }
+    }
+
+    #[test]
+    fn the_date_of_a_time() {
+        use std::time::{Duration, UNIX_EPOCH};
+        let at = |seconds| GsdmlDate::of(UNIX_EPOCH + Duration::from_secs(seconds));
+        assert_eq!(at(0), GsdmlDate::new(1970, 1, 1));
+        assert_eq!(at(20_089 * 86_400 + 86_399), GsdmlDate::new(2025, 1, 1));
+        assert_eq!(GsdmlDate::of(UNIX_EPOCH - Duration::from_secs(1)), None);
     }
 
     #[test]

@@ -2,12 +2,11 @@
 //! The GSDML document of a planned station: the structure of the GSDML V2.4 schema, in its
 //! element order, as the hand-written files in `config/gsdml/` have it.
 
-use super::plan::{Plan, PlannedModule};
+use super::catalogue::Catalogue;
+use super::plan::{FileSubmodule, Plan, PlannedModule, Slots};
 use super::xml::El;
 use super::{Timing, VENDOR_NAME};
-use crate::station::{
-    AcceptedRecord, DAP_SUBSLOT, INTERFACE_SUBSLOT, PORT_SUBSLOT, StationConfig, StationSubmodule,
-};
+use crate::station::{AcceptedRecord, DAP_SUBSLOT, INTERFACE_SUBSLOT, PORT_SUBSLOT, StationConfig};
 
 const NAMESPACE: &str = "http://www.profibus.com/GSDML/2003/11/DeviceProfile";
 const DAP_ID: &str = "DAP";
@@ -66,6 +65,15 @@ fn value_list(values: &[u16]) -> String {
     parts.join(" ")
 }
 
+/// "1..64", or "3" for one slot.
+fn range(slots: &core::ops::RangeInclusive<u16>) -> String {
+    if slots.start() == slots.end() {
+        slots.start().to_string()
+    } else {
+        format!("{}..{}", slots.start(), slots.end())
+    }
+}
+
 /// Slots 0 to `max_slot`: "0..4", or "0" for the DAP alone.
 fn physical_slots(max_slot: u16) -> String {
     match max_slot {
@@ -83,8 +91,8 @@ fn bytes(n: u16) -> String {
 }
 
 /// "8 bytes in, 8 bytes out", "4 bytes in", "no IO data".
-fn io_text(s: &StationSubmodule) -> String {
-    match (s.submodule.input_length, s.submodule.output_length) {
+fn io_text(s: &FileSubmodule<'_>) -> String {
+    match (s.input_length, s.output_length) {
         (0, 0) => "no IO data".to_owned(),
         (i, 0) => format!("{} in", bytes(i)),
         (0, o) => format!("{} out", bytes(o)),
@@ -92,23 +100,48 @@ fn io_text(s: &StationSubmodule) -> String {
     }
 }
 
+/// The head comment of a station's own file.
+const STATION_COMMENT: &str = "Written by `procimg gsdml` from a procimgd configuration (role = \
+     \"device\").\n     Not certified by PI; change the configuration and write the file again \
+     rather than editing it.";
+
+/// The comment at the file's head: who wrote it, and not to edit it. The writer's name
+/// comes from the caller, so any "--" in it is broken up: it would end the comment.
+fn head_comment(catalogue: Option<&Catalogue>) -> String {
+    let mut text = match catalogue {
+        None => STATION_COMMENT.to_owned(),
+        Some(c) => format!(
+            "Written by `{}`: a procimgd station and the modules its program may plug.\n     \
+             Not certified by PI; write the file again rather than editing it.",
+            c.writer
+        ),
+    };
+    while text.contains("--") {
+        text = text.replace("--", "- -");
+    }
+    format!("<!-- {text} -->\n")
+}
+
 /// The whole document, with the XML declaration and a closing line end.
-pub(super) fn document(station: &StationConfig, plan: &Plan<'_>, timing: &Timing) -> String {
+pub(super) fn document(
+    station: &StationConfig,
+    catalogue: Option<&Catalogue>,
+    plan: &Plan<'_>,
+    timing: &Timing,
+) -> String {
     let mut texts = Texts::default();
+    let info = match catalogue {
+        None => format!(
+            "{}: procimgd as a PROFINET IO device, described by `procimg gsdml` from its \
+             configuration",
+            station.device_type
+        ),
+        Some(c) => c.info.clone(),
+    };
     let identity = El::new("DeviceIdentity")
         .attr("VendorID", format!("0x{:04X}", station.vendor_id))
         .attr("DeviceID", format!("0x{:04X}", station.device_id))
-        .child(El::new("InfoText").attr(
-            "TextId",
-            texts.add(
-                "T_DeviceInfo",
-                format!(
-                    "{}: procimgd as a PROFINET IO device, described by `procimg gsdml` from \
-                     its configuration",
-                    station.device_type
-                ),
-            ),
-        ))
+        .child(El::new("InfoText").attr("TextId", texts.add("T_DeviceInfo", info)))
         .child(El::new("VendorName").attr("Value", VENDOR_NAME));
     let function = El::new("DeviceFunction").child(
         El::new("Family")
@@ -146,12 +179,7 @@ pub(super) fn document(station: &StationConfig, plan: &Plan<'_>, timing: &Timing
                 .child(process),
         );
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
-    // No text from the configuration goes into the comment: "--" would end it.
-    out.push_str(
-        "<!-- Written by `procimg gsdml` from a procimgd configuration (role = \"device\").\n     \
-         Not certified by PI; change the configuration and write the file again rather than \
-         editing it. -->\n",
-    );
+    out.push_str(&head_comment(catalogue));
     root.write(&mut out, 0);
     out
 }
@@ -195,9 +223,11 @@ fn dap(station: &StationConfig, plan: &Plan<'_>, timing: &Timing, texts: &mut Te
         .modules
         .iter()
         .map(|m| {
-            El::new("ModuleItemRef")
-                .attr("ModuleItemTarget", module_id(m.module_ident))
-                .attr("FixedInSlots", value_list(&m.slots))
+            let item = El::new("ModuleItemRef").attr("ModuleItemTarget", module_id(m.module_ident));
+            match &m.slots {
+                Slots::Fixed(slots) => item.attr("FixedInSlots", value_list(slots)),
+                Slots::Allowed(slots) => item.attr("AllowedInSlots", range(slots)),
+            }
         })
         .collect();
     let own = El::new("VirtualSubmoduleItem")
@@ -284,20 +314,23 @@ fn module(m: &PlannedModule<'_>, texts: &mut Texts) -> El {
     let id = module_id(m.module_ident);
     let name = texts.add(
         format!("T_{id}"),
-        format!("Module 0x{:08X}", m.module_ident),
+        match m.name {
+            Some(name) => name.to_owned(),
+            None => format!("Module 0x{:08X}", m.module_ident),
+        },
     );
     let contents: Vec<String> = m
         .submodules
         .iter()
-        .map(|s| format!("subslot {}: {}", s.submodule.subslot, io_text(s)))
+        .map(|s| format!("subslot {}: {}", s.subslot, io_text(s)))
         .collect();
+    let slots = match &m.slots {
+        Slots::Fixed(slots) => format!("In slot(s) {}", value_list(slots)),
+        Slots::Allowed(slots) => format!("Allowed in slots {}", range(slots)),
+    };
     let info = texts.add(
         format!("T_{id}_Info"),
-        format!(
-            "In slot(s) {}; {}",
-            value_list(&m.slots),
-            contents.join("; ")
-        ),
+        format!("{slots}; {}", contents.join("; ")),
     );
     let submodules: Vec<El> = m
         .submodules
@@ -315,36 +348,35 @@ fn module(m: &PlannedModule<'_>, texts: &mut Texts) -> El {
         .child(El::new("VirtualSubmoduleList").children(submodules))
 }
 
-fn submodule(module_ident: u32, s: &StationSubmodule, texts: &mut Texts) -> El {
-    let sub = &s.submodule;
-    let id = submodule_id(module_ident, sub.subslot);
+fn submodule(module_ident: u32, s: &FileSubmodule<'_>, texts: &mut Texts) -> El {
+    let id = submodule_id(module_ident, s.subslot);
     let name = texts.add(
         format!("T_{id}"),
-        format!("Subslot {}: {}", sub.subslot, io_text(s)),
+        format!("Subslot {}: {}", s.subslot, io_text(s)),
     );
     let mut io = El::new("IOData");
-    if sub.input_length > 0 {
+    if s.input_length > 0 {
         let text = texts.add("T_Input", "Input data (the device provides, the PLC reads)");
         io = io.child(
             El::new("Input")
                 .attr("Consistency", "All items consistency")
-                .child(data_item(sub.input_length, text)),
+                .child(data_item(s.input_length, text)),
         );
     }
-    if sub.output_length > 0 {
+    if s.output_length > 0 {
         let text = texts.add("T_Output", "Output data (the PLC writes, the device reads)");
         io = io.child(
             El::new("Output")
                 .attr("Consistency", "All items consistency")
-                .child(data_item(sub.output_length, text)),
+                .child(data_item(s.output_length, text)),
         );
     }
     let records: Vec<El> = s.accepts.iter().map(|r| record(r, texts)).collect();
     let mut item = El::new("VirtualSubmoduleItem")
         .attr("ID", &id)
-        .attr("SubmoduleIdentNumber", hex32(sub.submodule_ident))
-        .attr_opt("API", (sub.api != 0).then_some(sub.api))
-        .attr("FixedInSubslots", sub.subslot)
+        .attr("SubmoduleIdentNumber", hex32(s.submodule_ident))
+        .attr_opt("API", (s.api != 0).then_some(s.api))
+        .attr("FixedInSubslots", s.subslot)
         .attr("MayIssueProcessAlarm", "true")
         .attr_opt("Writeable_IM_Records", s.im.then_some(WRITEABLE_IM))
         .child(io);

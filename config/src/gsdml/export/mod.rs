@@ -5,6 +5,7 @@
 //! [`station_gsdml`] turns a [`StationConfig`] into GSDML V2.4 text and its standard file
 //! name, `GSDML-V2.4-procimg-<family>-<yyyymmdd>.xml`; the family is the station's
 //! `device_type`, the date is the caller's ([`GsdmlDate`]: nothing here reads a clock).
+//! [`StationGsdml::write`] puts it on disk atomically.
 //!
 //! The file has one device access point (slot 0: the DAP's own submodule, the interface and
 //! one port, with `[station.dap]`'s ident numbers and the station's name, instance and I&M0
@@ -15,19 +16,28 @@
 //! `M_0x<module_ident>` and `M_0x<module_ident>_SS<subslot>`, so importing the file gives
 //! back the station's ident numbers, lengths, subslots, APIs and records.
 //!
+//! A station whose program plugs its modules (`[station] gsdml = "FILE"`) may be offered more:
+//! [`station_gsdml_with_catalogue`] adds a [`Catalogue`] of modules the station does not hold
+//! when it starts, each allowed in a range of slots (`AllowedInSlots`), none plugged by
+//! default, which the PLC's project and the program choose from.
+//!
 //! A module ident number stands for one set of submodules: a station whose slots of one
 //! ModuleIdentNumber hold different submodules cannot be described by one GSDML file, and
 //! is refused ([`ExportError::ModuleDiffers`]) rather than given two items of one ident
 //! number, which an engineering tool could not tell apart.
 
+mod catalogue;
 mod date;
 mod document;
 mod plan;
+mod write;
 mod xml;
 
 use core::fmt;
 
+pub use catalogue::{Catalogue, CatalogueModule, CatalogueSubmodule};
 pub use date::{DateError, GsdmlDate};
+pub use write::WriteError;
 
 use crate::station::StationConfig;
 
@@ -110,6 +120,13 @@ pub enum ExportError {
         /// The station's cycle time in ns.
         cycle_ns: u64,
     },
+    /// A module of the catalogue cannot be offered as given.
+    Catalogue {
+        /// Its ModuleIdentNumber.
+        module_ident: u32,
+        /// Why, and what to do.
+        reason: String,
+    },
 }
 
 impl fmt::Display for ExportError {
@@ -174,6 +191,10 @@ impl fmt::Display for ExportError {
                  as \"1ms\", \"2ms\", \"4ms\" or \"500us\"",
                 crate::format_duration(*cycle_ns)
             ),
+            ExportError::Catalogue {
+                module_ident,
+                reason,
+            } => write!(f, "catalogue module 0x{module_ident:08X}: {reason}"),
         }
     }
 }
@@ -235,11 +256,34 @@ pub fn station_gsdml(
     cycle_ns: u64,
     date: GsdmlDate,
 ) -> Result<StationGsdml, ExportError> {
+    export(station, None, cycle_ns, date)
+}
+
+/// The GSDML file of `station` as [`station_gsdml`] writes it, with the modules of
+/// `catalogue` after the station's own: each a `ModuleItem` the device access point takes
+/// in its allowed slots (`PhysicalSlots` reaching the highest), plugged in none. Since the
+/// PLC's project chooses among them, the file gives the longest frames procimgd takes
+/// (1440 bytes of data and status each way) as the device's maximum.
+pub fn station_gsdml_with_catalogue(
+    station: &StationConfig,
+    catalogue: &Catalogue,
+    cycle_ns: u64,
+    date: GsdmlDate,
+) -> Result<StationGsdml, ExportError> {
+    export(station, Some(catalogue), cycle_ns, date)
+}
+
+fn export(
+    station: &StationConfig,
+    catalogue: Option<&Catalogue>,
+    cycle_ns: u64,
+    date: GsdmlDate,
+) -> Result<StationGsdml, ExportError> {
     let timing = timing(cycle_ns)?;
-    let plan = plan::plan(station)?;
+    let plan = plan::plan(station, catalogue)?;
     Ok(StationGsdml {
         file_name: station_file_name(station, date),
-        xml: document::document(station, &plan, &timing),
+        xml: document::document(station, catalogue, &plan, &timing),
     })
 }
 

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! From a station's submodules to GSDML modules: the submodules of each slot, grouped by
-//! ModuleIdentNumber into one module per ident number, with the slots it is plugged in; and
-//! the refusals for what one GSDML file cannot describe.
+//! ModuleIdentNumber into one module per ident number, with the slots it is plugged in; the
+//! catalogue's modules after them; and the refusals for what one GSDML file cannot describe.
 
 use std::collections::BTreeMap;
+use std::ops::RangeInclusive;
 
 use super::ExportError;
+use super::catalogue::{self, Catalogue};
 use crate::station::{
-    AcceptedRecord, DAP_SUBSLOT, INTERFACE_SUBSLOT, PORT_SUBSLOT, StationConfig, StationSubmodule,
+    AcceptedRecord, DAP_SUBSLOT, INTERFACE_SUBSLOT, MAX_CR_DATA, PORT_SUBSLOT, StationConfig,
+    StationSubmodule,
 };
 
 /// What the file describes.
@@ -15,9 +18,10 @@ pub(super) struct Plan<'s> {
     /// Whether the DAP's own submodule has writable I&M1 to I&M4 (`im` of slot 0 subslot 1;
     /// it always has them when the station lists no slot 0).
     pub dap_im: bool,
-    /// The modules, in the order of the first slot each is plugged in.
+    /// The modules: the station's, in the order of the first slot each is plugged in, then
+    /// the catalogue's in its order.
     pub modules: Vec<PlannedModule<'s>>,
-    /// The highest slot used (0: only the DAP).
+    /// The highest slot used or allowed (0: only the DAP).
     pub max_slot: u16,
     /// Bytes of the input and the output frame's C_SDU: IO data, IOPS and IOCS.
     pub input_bytes: usize,
@@ -25,17 +29,69 @@ pub(super) struct Plan<'s> {
     pub output_bytes: usize,
 }
 
+/// Where a module goes.
+pub(super) enum Slots {
+    /// The station has it plugged in these slots, ascending (`FixedInSlots`).
+    Fixed(Vec<u16>),
+    /// A catalogue module: the PLC's project may plug it in any of these (`AllowedInSlots`).
+    Allowed(RangeInclusive<u16>),
+}
+
+impl Slots {
+    /// The first slot it is plugged in or allowed in.
+    pub fn first(&self) -> u16 {
+        match self {
+            Slots::Fixed(slots) => slots.first().copied().unwrap_or(0),
+            Slots::Allowed(slots) => *slots.start(),
+        }
+    }
+}
+
 /// One `ModuleItem`.
 pub(super) struct PlannedModule<'s> {
     pub module_ident: u32,
-    /// The slots it is plugged in, ascending.
-    pub slots: Vec<u16>,
-    /// Its submodules (those of its first slot; the other slots' are the same), by subslot.
-    pub submodules: Vec<&'s StationSubmodule>,
+    /// Its name in the file; `None`: "Module 0x…".
+    pub name: Option<&'s str>,
+    pub slots: Slots,
+    /// Its submodules (for a station's module, those of its first slot; the other slots'
+    /// are the same), by subslot.
+    pub submodules: Vec<FileSubmodule<'s>>,
 }
 
-/// Groups the station's submodules into modules; refuses what one GSDML cannot describe.
-pub(super) fn plan(station: &StationConfig) -> Result<Plan<'_>, ExportError> {
+/// One `VirtualSubmoduleItem` of a module: what the file says of a submodule.
+pub(super) struct FileSubmodule<'s> {
+    pub api: u32,
+    pub subslot: u16,
+    pub submodule_ident: u32,
+    pub input_length: u16,
+    pub output_length: u16,
+    /// Whether it has I&M data of its own.
+    pub im: bool,
+    /// The parameter records it accepts.
+    pub accepts: &'s [AcceptedRecord],
+}
+
+impl<'s> From<&'s StationSubmodule> for FileSubmodule<'s> {
+    fn from(s: &'s StationSubmodule) -> FileSubmodule<'s> {
+        let sub = &s.submodule;
+        FileSubmodule {
+            api: sub.api,
+            subslot: sub.subslot,
+            submodule_ident: sub.submodule_ident,
+            input_length: sub.input_length,
+            output_length: sub.output_length,
+            im: s.im,
+            accepts: &s.accepts,
+        }
+    }
+}
+
+/// Groups the station's submodules into modules and adds the catalogue's; refuses what one
+/// GSDML cannot describe.
+pub(super) fn plan<'s>(
+    station: &'s StationConfig,
+    catalogue: Option<&'s Catalogue>,
+) -> Result<Plan<'s>, ExportError> {
     let dap = &station.dap;
     let mut dap_im = true;
     let mut slots: BTreeMap<u16, Vec<&StationSubmodule>> = BTreeMap::new();
@@ -83,10 +139,12 @@ pub(super) fn plan(station: &StationConfig) -> Result<Plan<'_>, ExportError> {
         }
     }
 
+    for subs in slots.values_mut() {
+        subs.sort_by_key(|s| (s.submodule.subslot, s.submodule.api));
+    }
     let mut modules: Vec<PlannedModule<'_>> = Vec::new();
     let mut by_ident: BTreeMap<u32, usize> = BTreeMap::new();
-    for (&slot, subs) in &mut slots {
-        subs.sort_by_key(|s| (s.submodule.subslot, s.submodule.api));
+    for (&slot, subs) in &slots {
         let module_ident = subs[0].submodule.module_ident;
         if let Some(other) = subs
             .iter()
@@ -113,59 +171,80 @@ pub(super) fn plan(station: &StationConfig) -> Result<Plan<'_>, ExportError> {
         }
         match by_ident.get(&module_ident) {
             Some(&m) => {
-                let module = &mut modules[m];
-                let first_slot = module.slots[0];
-                if let Some(difference) = difference(first_slot, &module.submodules, slot, subs) {
-                    return Err(ExportError::ModuleDiffers {
-                        module_ident,
-                        first_slot,
-                        slot,
-                        difference,
-                    });
+                // The station's modules are all fixed in their slots.
+                if let Slots::Fixed(plugged) = &mut modules[m].slots {
+                    let first_slot = plugged[0];
+                    if let Some(difference) =
+                        difference(first_slot, &slots[&first_slot], slot, subs)
+                    {
+                        return Err(ExportError::ModuleDiffers {
+                            module_ident,
+                            first_slot,
+                            slot,
+                            difference,
+                        });
+                    }
+                    plugged.push(slot);
                 }
-                module.slots.push(slot);
             }
             None => {
                 by_ident.insert(module_ident, modules.len());
                 modules.push(PlannedModule {
                     module_ident,
-                    slots: vec![slot],
-                    submodules: subs.clone(),
+                    name: None,
+                    slots: Slots::Fixed(vec![slot]),
+                    submodules: subs.iter().map(|&s| s.into()).collect(),
                 });
             }
         }
     }
 
-    // The C_SDU of each frame as procimg's station check counts it: every submodule's data
-    // with its IOPS, the consumer's IOCS in the other frame, and for a submodule without
-    // data an IOPS in the input frame and an IOCS in the output frame. The DAP's three
-    // submodules have no data.
-    let (mut input_bytes, mut output_bytes) = (3, 3);
-    for subs in slots.values() {
-        for s in subs.iter().map(|s| &s.submodule) {
-            let (i, o) = (usize::from(s.input_length), usize::from(s.output_length));
-            if s.has_no_data() {
-                input_bytes += 1;
-                output_bytes += 1;
-            }
-            if i > 0 {
-                input_bytes += i + 1;
-                output_bytes += 1;
-            }
-            if o > 0 {
-                output_bytes += o + 1;
-                input_bytes += 1;
-            }
-        }
+    let mut max_slot = slots.keys().next_back().copied().unwrap_or(0);
+    let (mut input_bytes, mut output_bytes) = DAP_FRAME_BYTES;
+    for s in slots.values().flatten() {
+        let (i, o) = frame_bytes(s.submodule.input_length, s.submodule.output_length);
+        input_bytes += i;
+        output_bytes += o;
+    }
+    if let Some(catalogue) = catalogue {
+        let planned = catalogue::plan(catalogue, dap.module_ident, &modules)?;
+        max_slot = planned
+            .iter()
+            .filter_map(|m| match &m.slots {
+                Slots::Allowed(allowed) => Some(*allowed.end()),
+                Slots::Fixed(_) => None,
+            })
+            .fold(max_slot, u16::max);
+        modules.extend(planned);
+        // The PLC's project chooses the modules, so the frames may be as long as procimgd
+        // takes them.
+        (input_bytes, output_bytes) = (MAX_CR_DATA, MAX_CR_DATA);
     }
 
     Ok(Plan {
         dap_im,
         modules,
-        max_slot: slots.keys().next_back().copied().unwrap_or(0),
+        max_slot,
         input_bytes,
         output_bytes,
     })
+}
+
+/// The C_SDU bytes of the DAP's three submodules, which have no data: an IOPS in the input
+/// frame and an IOCS in the output frame each.
+pub(super) const DAP_FRAME_BYTES: (usize, usize) = (3, 3);
+
+/// The bytes a submodule with these lengths takes in the input and the output frame's
+/// C_SDU, as procimg's station check counts them: its data with its IOPS, the consumer's
+/// IOCS in the other frame, and without data an IOPS in the input frame and an IOCS in the
+/// output frame.
+pub(super) fn frame_bytes(input_length: u16, output_length: u16) -> (usize, usize) {
+    match (usize::from(input_length), usize::from(output_length)) {
+        (0, 0) => (1, 1),
+        (i, 0) => (i + 1, 1),
+        (0, o) => (1, o + 1),
+        (i, o) => (i + 2, o + 2),
+    }
 }
 
 /// What the file says about a submodule: everything but where it is and its addresses.
