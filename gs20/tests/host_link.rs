@@ -1,0 +1,333 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg-gs20 run` with a host played over a pty pair and procimgd in the device role
+//! with its built-in PLC (`network = "sim"`, whose program writes each submodule's Q data as
+//! its I data plus one): the host defines its station (Add Device, two items, a network
+//! configuration), starts it, and its input bytes come back as Adapter Data by the PLC's
+//! rule; a wrong-length image, garbage and a CRC error get their error bits and change
+//! nothing the PLC sees; Request Reset takes the station off the wire.
+
+mod host;
+
+use host::{Got, Host};
+use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
+use procimg_gs20::messages::{
+    AddDevice, AddItem, AddressMode, ErrorBits, Event, Mode, RequestReset, RequestStart,
+    RequestStatus, SetBusData, SetNetworkConfig, StatusFlags,
+};
+use procimg_testkit::Launch;
+use std::net::Ipv4Addr;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The station's GSDML file: a module for each item the test adds (module ident = the item
+/// ID, submodule 1, the item's lengths), as the catalogue has them.
+const DESCRIBED: &str = r#"
+role = "device"
+network = "sim"
+[station]
+name = "gs20-catalogue"
+vendor_id = 0x0493
+device_id = 0x0120
+[[station.submodule]]
+slot = 1
+module_ident = 3008
+submodule_ident = 1
+input_length = 8
+output_length = 8
+[[station.submodule]]
+slot = 2
+module_ident = 1004
+submodule_ident = 1
+input_length = 4
+"#;
+
+/// Writes the GSDML file into `dir`; its path.
+fn gsdml(dir: &Path) -> std::path::PathBuf {
+    let config = procimg_config::parse(DESCRIBED, "the test's catalogue").unwrap();
+    let file = station_gsdml(
+        config.station.as_ref().unwrap(),
+        config.cycle_ns,
+        GsdmlDate::new(2026, 11, 28).unwrap(),
+    )
+    .unwrap();
+    let path = dir.join(&file.file_name);
+    std::fs::write(&path, file.xml).unwrap();
+    path
+}
+
+/// The bridge as a child process, killed and reaped when dropped (also when the test fails).
+struct Bridge(Child);
+
+impl Bridge {
+    fn start(port: &str, instance: &str) -> Bridge {
+        let child = Command::new(env!("CARGO_BIN_EXE_procimg-gs20"))
+            .args(["run", "--port", port, "--instance", instance])
+            .args(["--min-period-ms", "20"])
+            .env("RUST_LOG", "info")
+            .env("NO_COLOR", "1")
+            .stdin(Stdio::null())
+            .spawn()
+            .expect("start procimg-gs20");
+        Bridge(child)
+    }
+}
+
+impl Drop for Bridge {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Request Status until the module answers: the host's synchronisation point (the bridge
+/// may still be opening the port or attaching).
+fn synchronise(host: &mut Host, bridge: &mut Bridge) -> procimg_gs20::messages::AdapterResponse {
+    let deadline = Instant::now() + host::GENEROUS;
+    loop {
+        assert!(
+            bridge.0.try_wait().unwrap().is_none(),
+            "procimg-gs20 stopped (its log is above)"
+        );
+        let from = host.mark();
+        host.send(RequestStatus);
+        // A second's worth of frames, then ask again.
+        let until = Instant::now() + Duration::from_secs(1);
+        while Instant::now() < until {
+            if let Some(Got::Response(r)) = host.got[from..]
+                .iter()
+                .find(|g| matches!(g, Got::Response(_)))
+            {
+                return *r;
+            }
+            host.poll_once();
+        }
+        assert!(Instant::now() < deadline, "no answer to Request Status");
+    }
+}
+
+fn network() -> SetNetworkConfig<'static> {
+    SetNetworkConfig {
+        mode: AddressMode::Static,
+        ip: Ipv4Addr::new(192, 168, 0, 50),
+        mask: Ipv4Addr::new(255, 255, 255, 0),
+        gateway: Ipv4Addr::UNSPECIFIED,
+        dns1: Ipv4Addr::UNSPECIFIED,
+        dns2: Ipv4Addr::UNSPECIFIED,
+        host_name: b"gs20-host",
+    }
+}
+
+/// The host's input image: item 3008's 8 bytes, item 1004's 4.
+fn inputs(seed: u8) -> Vec<u8> {
+    (0..12).map(|i| seed.wrapping_add(i * 3)).collect()
+}
+
+/// What the PLC answers: item 3008's inputs plus one (item 1004 has no outputs).
+fn answer(inputs: &[u8]) -> Vec<u8> {
+    inputs[..8].iter().map(|b| b.wrapping_add(1)).collect()
+}
+
+fn defined_by(server: &procimg_testkit::Procimgd) -> Option<String> {
+    server
+        .status()
+        .station
+        .and_then(|s| s.program)
+        .and_then(|p| p.defined_by)
+}
+
+#[test]
+fn a_host_defines_starts_and_exchanges_data_through_the_bridge() {
+    let dir = procimg_testkit::files::temp_dir("gs20-host-link");
+    let gsdml = gsdml(dir.path());
+    let toml = format!(
+        "role = \"device\"\ncycle_time = \"1ms\"\nnetwork = \"sim\"\n[station]\n\
+         name = \"procimg-device\"\ngsdml = \"{}\"\n",
+        gsdml.display()
+    );
+    let server = Launch::config("gs20", &toml).until_cycling().start();
+    assert_eq!(
+        defined_by(&server),
+        None,
+        "the station waits for its program"
+    );
+    let mut host = Host::new();
+    let mut bridge = Bridge::start(host.port(), &server.instance);
+
+    // Standby → Config: the configuration is incomplete (bits 0 and 2); procimgd answers,
+    // so the link is known and up.
+    let r = synchronise(&mut host, &mut bridge);
+    assert_eq!(r.status.mode, Mode::Config);
+    assert_eq!(
+        r.errors,
+        ErrorBits::INCOMPLETE_CONFIG | ErrorBits::NO_NETWORK_CONFIG
+    );
+    assert!(
+        r.status
+            .flags
+            .contains(StatusFlags::ERROR | StatusFlags::LINK_KNOWN | StatusFlags::LINK_UP)
+    );
+    assert!(!r.status.flags.contains(StatusFlags::PLC_CONNECTED));
+
+    // The station: a device, two items, a network configuration.
+    let r = host.command(AddDevice { device_id: 1 });
+    assert_eq!(
+        (r.status.mode, r.errors),
+        (
+            Mode::Config,
+            ErrorBits::INCOMPLETE_CONFIG | ErrorBits::NO_NETWORK_CONFIG
+        )
+    );
+    for (item_id, position) in [(3008, 1), (1004, 2)] {
+        let r = host.command(AddItem { item_id, position });
+        assert_eq!(
+            (r.status.mode, r.errors),
+            (Mode::Config, ErrorBits::NO_NETWORK_CONFIG)
+        );
+    }
+    let r = host.command(network());
+    assert_eq!(
+        (r.status.mode, r.errors),
+        (Mode::Config, ErrorBits::empty())
+    );
+    assert!(!r.status.flags.contains(StatusFlags::ERROR));
+
+    // Start: Pending, then Run with the station on the wire under the host's name and
+    // address, and the PLC connecting it.
+    let started = host.mark();
+    let r = host.command(RequestStart);
+    assert_eq!(
+        (r.status.mode, r.errors),
+        (Mode::Pending, ErrorBits::empty())
+    );
+    let (up, _) = host.until(started, "Adapter Event link up", |g| {
+        g.is_event(Event::LinkUp)
+    });
+    assert!(matches!(
+        host.got[up],
+        Got::Event {
+            mode: Mode::Run,
+            ..
+        }
+    ));
+    let (_, net) = host.until(started, "Adapter Event network up", |g| {
+        matches!(g, Got::Event { code: 3, .. })
+    });
+    assert_eq!(
+        net,
+        Got::Event {
+            mode: Mode::Run,
+            code: 3,
+            ip: Some(Ipv4Addr::new(192, 168, 0, 50))
+        }
+    );
+    let first = inputs(0x10);
+    host.send(SetBusData { data: &first });
+    host.until(started, "Adapter Event PLC connected", |g| {
+        g.is_event(Event::PlcConnected)
+    });
+    let st = server.status().station.unwrap();
+    assert_eq!(
+        (st.name.as_str(), st.ip.as_str()),
+        ("gs20-host", "192.168.0.50")
+    );
+    assert!(defined_by(&server).is_some_and(|b| b.contains("procimg-gs20")));
+    let want = answer(&first);
+    host.until(started, "Adapter Data with the PLC's answer", |g| {
+        *g == Got::Data(want.clone())
+    });
+    let r = host.command(RequestStatus);
+    assert_eq!(r.status.mode, Mode::Run);
+    assert_eq!(r.errors, ErrorBits::empty());
+    assert!(r.status.flags.contains(
+        StatusFlags::LINK_UP
+            | StatusFlags::IP_OK
+            | StatusFlags::NETWORK_OK
+            | StatusFlags::PLC_CONNECTED
+    ));
+
+    // A wrong length: error bit 7, and the PLC keeps the last whole image: the next
+    // Adapter Data frames (one per period at least) still answer it.
+    let from = host.mark();
+    host.send(SetBusData { data: &first[..11] });
+    let (at, r) = host.response(from);
+    assert_eq!(
+        (r.status.mode, r.errors),
+        (Mode::Run, ErrorBits::IO_SIZE_MISMATCH)
+    );
+    assert!(r.status.flags.contains(StatusFlags::ERROR));
+    let mut after = at + 1;
+    for _ in 0..5 {
+        let (i, g) = host.until(after, "Adapter Data", |g| matches!(g, Got::Data(_)));
+        assert_eq!(
+            g,
+            Got::Data(want.clone()),
+            "the wrong-length image reached the PLC"
+        );
+        after = i + 1;
+    }
+
+    // A CRC error right after a good frame: bit 4; garbage between frames: bit 5; the
+    // frames after them are taken.
+    let from = host.mark();
+    host.send_bytes(&[0x20, 0x00, 0x18, 0x71]);
+    host.send(RequestStatus);
+    let (i, r) = host.response(from);
+    assert_eq!(r.errors, ErrorBits::CRC);
+    let (_, r) = host.response(i + 1);
+    assert_eq!((r.status.mode, r.errors), (Mode::Run, ErrorBits::empty()));
+    let from = host.mark();
+    host.send_bytes(&[0x00, 0x7F, 0xAA, 0x55]);
+    host.send(RequestStatus);
+    let (i, r) = host.response(from);
+    assert_eq!(r.errors, ErrorBits::FRAME);
+    let (_, r) = host.response(i + 1);
+    assert_eq!(r.errors, ErrorBits::empty());
+    let second = inputs(0x80);
+    let from = host.mark();
+    host.send(SetBusData { data: &second });
+    let want = answer(&second);
+    host.until(
+        from,
+        "Adapter Data with the PLC's answer to the second image",
+        |g| *g == Got::Data(want.clone()),
+    );
+    let connected = host
+        .got
+        .iter()
+        .filter(|g| g.is_event(Event::PlcConnected))
+        .count();
+    assert_eq!(connected, 1, "{:?}", host.got);
+    assert!(!host.got.iter().any(|g| g.is_event(Event::PlcLost)));
+
+    // Request Reset: the AR ends, the station leaves the wire and waits for its program
+    // again; the host hears it as PLC lost and link down, then the module is in Standby.
+    let from = host.mark();
+    host.send(RequestReset);
+    let (lost, _) = host.until(from, "Adapter Event PLC lost", |g| {
+        g.is_event(Event::PlcLost)
+    });
+    let (down, _) = host.until(from, "Adapter Event link down", |g| {
+        g.is_event(Event::LinkDown)
+    });
+    assert!(lost < down);
+    server.wait_status("the station waiting again", |s| {
+        s.station
+            .as_ref()
+            .and_then(|s| s.program.as_ref())
+            .is_some_and(|p| p.defined_by.is_none())
+    });
+    let r = synchronise(&mut host, &mut bridge);
+    assert_eq!(
+        (r.status.mode, r.errors),
+        (
+            Mode::Config,
+            ErrorBits::INCOMPLETE_CONFIG | ErrorBits::NO_NETWORK_CONFIG
+        )
+    );
+    assert!(!r.status.flags.contains(StatusFlags::PLC_CONNECTED));
+    assert!(
+        bridge.0.try_wait().unwrap().is_none(),
+        "procimg-gs20 still runs"
+    );
+}
