@@ -4,18 +4,22 @@
 //! its I data plus one): the host defines its station (Add Device, two items, a network
 //! configuration), starts it, and its input bytes come back as Adapter Data by the PLC's
 //! rule; a wrong-length image, garbage and a CRC error get their error bits and change
-//! nothing the PLC sees; Request Reset takes the station off the wire.
+//! nothing the PLC sees; Request Reset takes the station off the wire. And the host's
+//! sockets reach peers on this machine (loopback): a UDP datagram each way, a line each way
+//! over a TCP client socket, a connection to a TCP server socket.
 
 mod host;
 
 use host::{Got, Host};
 use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
 use procimg_gs20::messages::{
-    AddDevice, AddItem, AddressMode, ErrorBits, Event, Mode, RequestReset, RequestStart,
-    RequestStatus, SetBusData, SetNetworkConfig, StatusFlags,
+    AddDevice, AddItem, AddressMode, CloseSocket, ErrorBits, Event, Mode, OpenSocket, RequestReset,
+    RequestSocketStatus, RequestStart, RequestStatus, SendSocketData, SetBusData, SetNetworkConfig,
+    SocketErrors, SocketProtocol, SocketRole, SocketStatus, StatusFlags,
 };
 use procimg_testkit::Launch;
-use std::net::Ipv4Addr;
+use std::io::{BufRead, Write};
+use std::net::{Ipv4Addr, TcpListener, TcpStream, UdpSocket};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -136,23 +140,74 @@ fn defined_by(server: &procimg_testkit::Procimgd) -> Option<String> {
         .and_then(|p| p.defined_by)
 }
 
+/// procimgd with a station its program defines (the test's GSDML file), a host on a pty,
+/// the bridge between them. Dropped in this order: the bridge, the host's pty, procimgd,
+/// the files.
+struct Rig {
+    bridge: Bridge,
+    host: Host,
+    server: procimg_testkit::Procimgd,
+    _dir: procimg_testkit::files::TempDir,
+}
+
+impl Rig {
+    fn start(tag: &str) -> Rig {
+        let dir = procimg_testkit::files::temp_dir(tag);
+        let gsdml = gsdml(dir.path());
+        let toml = format!(
+            "role = \"device\"\ncycle_time = \"1ms\"\nnetwork = \"sim\"\n[station]\n\
+             name = \"procimg-device\"\ngsdml = \"{}\"\n",
+            gsdml.display()
+        );
+        let server = Launch::config(tag, &toml).until_cycling().start();
+        assert_eq!(
+            defined_by(&server),
+            None,
+            "the station waits for its program"
+        );
+        let host = Host::new();
+        let bridge = Bridge::start(host.port(), &server.instance);
+        Rig {
+            bridge,
+            host,
+            server,
+            _dir: dir,
+        }
+    }
+
+    /// Defines and starts the host's station; returns once it is in Run, on the wire.
+    fn run(&mut self) {
+        synchronise(&mut self.host, &mut self.bridge);
+        self.host.command(AddDevice { device_id: 1 });
+        self.host.command(AddItem {
+            item_id: 3008,
+            position: 1,
+        });
+        self.host.command(AddItem {
+            item_id: 1004,
+            position: 2,
+        });
+        let r = self.host.command(network());
+        assert_eq!(r.errors, ErrorBits::empty());
+        let from = self.host.mark();
+        let r = self.host.command(RequestStart);
+        assert_eq!(
+            (r.status.mode, r.errors),
+            (Mode::Pending, ErrorBits::empty())
+        );
+        self.host
+            .until(from, "Adapter Event link up", |g| g.is_event(Event::LinkUp));
+    }
+}
+
 #[test]
 fn a_host_defines_starts_and_exchanges_data_through_the_bridge() {
-    let dir = procimg_testkit::files::temp_dir("gs20-host-link");
-    let gsdml = gsdml(dir.path());
-    let toml = format!(
-        "role = \"device\"\ncycle_time = \"1ms\"\nnetwork = \"sim\"\n[station]\n\
-         name = \"procimg-device\"\ngsdml = \"{}\"\n",
-        gsdml.display()
-    );
-    let server = Launch::config("gs20", &toml).until_cycling().start();
-    assert_eq!(
-        defined_by(&server),
-        None,
-        "the station waits for its program"
-    );
-    let mut host = Host::new();
-    let mut bridge = Bridge::start(host.port(), &server.instance);
+    let Rig {
+        mut bridge,
+        mut host,
+        server,
+        _dir,
+    } = Rig::start("gs20");
 
     // Standby → Config: the configuration is incomplete (bits 0 and 2); procimgd answers,
     // so the link is known and up.
@@ -328,6 +383,133 @@ fn a_host_defines_starts_and_exchanges_data_through_the_bridge() {
     assert!(!r.status.flags.contains(StatusFlags::PLC_CONNECTED));
     assert!(
         bridge.0.try_wait().unwrap().is_none(),
+        "procimg-gs20 still runs"
+    );
+}
+
+#[test]
+fn the_hosts_sockets_reach_peers_on_this_machine() {
+    let mut rig = Rig::start("gs20-sockets");
+    rig.run();
+    let host = &mut rig.host;
+    let loopback = Ipv4Addr::LOCALHOST;
+
+    // UDP: a datagram to a peer, its answer back.
+    let peer = UdpSocket::bind((loopback, 0)).unwrap();
+    peer.set_read_timeout(Some(host::GENEROUS)).unwrap();
+    let port = peer.local_addr().unwrap().port();
+    let r = host.socket(OpenSocket {
+        role: SocketRole::Client,
+        protocol: SocketProtocol::Udp,
+        port,
+        ip: loopback,
+    });
+    assert_eq!(
+        (r.status, r.errors),
+        (SocketStatus::LISTENING, SocketErrors::empty())
+    );
+    let udp = r.handle;
+    assert_ne!(udp, 0);
+    let r = host.socket(SendSocketData {
+        handle: udp,
+        data: b"ping",
+    });
+    assert_eq!(r.errors, SocketErrors::empty());
+    let mut buf = [0u8; 64];
+    let (n, from) = peer.recv_from(&mut buf).expect("the host's datagram");
+    assert_eq!(&buf[..n], b"ping");
+    let mark = host.mark();
+    peer.send_to(b"pong", from).unwrap();
+    assert_eq!(host.socket_data(mark, udp, b"pong"), b"pong");
+
+    // TCP client: connected, a line each way.
+    let server = TcpListener::bind((loopback, 0)).unwrap();
+    let port = server.local_addr().unwrap().port();
+    let mark = host.mark();
+    let r = host.socket(OpenSocket {
+        role: SocketRole::Client,
+        protocol: SocketProtocol::Tcp,
+        port,
+        ip: loopback,
+    });
+    assert_eq!(r.errors, SocketErrors::empty());
+    let tcp = r.handle;
+    assert!(tcp != 0 && tcp != udp);
+    let (_, connected) = host.until(
+        mark,
+        "Socket Event connected",
+        |g| matches!(g, Got::SocketEvent { handle, code: 1, .. } if *handle == tcp),
+    );
+    assert!(
+        matches!(connected, Got::SocketEvent { status, .. } if status == SocketStatus::CONNECTED)
+    );
+    let (conn, _) = server.accept().unwrap();
+    conn.set_read_timeout(Some(host::GENEROUS)).unwrap();
+    let r = host.socket(SendSocketData {
+        handle: tcp,
+        data: b"hello from the host\n",
+    });
+    assert_eq!(r.errors, SocketErrors::empty());
+    let mut line = String::new();
+    std::io::BufReader::new(&conn).read_line(&mut line).unwrap();
+    assert_eq!(line, "hello from the host\n");
+    let mark = host.mark();
+    (&conn).write_all(b"and back\n").unwrap();
+    assert_eq!(host.socket_data(mark, tcp, b"\n"), b"and back\n");
+
+    // TCP server: a connection is a child socket, announced on the server's handle; the
+    // server cannot close while it has one.
+    let port = TcpListener::bind((loopback, 0))
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let r = host.socket(OpenSocket {
+        role: SocketRole::Server,
+        protocol: SocketProtocol::Tcp,
+        port,
+        ip: loopback,
+    });
+    assert_eq!(
+        (r.status, r.errors),
+        (SocketStatus::ACCEPTING, SocketErrors::empty())
+    );
+    let listening = r.handle;
+    let mark = host.mark();
+    let client = TcpStream::connect((loopback, port)).unwrap();
+    host.until(
+        mark,
+        "Socket Event accepted",
+        |g| matches!(g, Got::SocketEvent { handle, code: 2, .. } if *handle == listening),
+    );
+    (&client).write_all(b"to the child\n").unwrap();
+    let child = host.got[mark..].iter().find_map(|g| match g {
+        Got::SocketData { handle, .. } if ![udp, tcp, listening].contains(handle) => Some(*handle),
+        _ => None,
+    });
+    let child = match child {
+        Some(c) => c,
+        None => {
+            let (_, g) = host.until(mark, "data on the child socket", |g| {
+                matches!(g, Got::SocketData { handle, .. } if ![udp, tcp, listening].contains(handle))
+            });
+            match g {
+                Got::SocketData { handle, .. } => handle,
+                _ => unreachable!(),
+            }
+        }
+    };
+    assert_eq!(host.socket_data(mark, child, b"\n"), b"to the child\n");
+    let r = host.socket(CloseSocket { handle: listening });
+    assert_eq!(r.errors, SocketErrors::CLOSE_FAILED);
+    for handle in [child, listening, tcp, udp] {
+        let r = host.socket(CloseSocket { handle });
+        assert_eq!(r.errors, SocketErrors::empty(), "closing {handle}");
+    }
+    let r = host.socket(RequestSocketStatus { handle: tcp });
+    assert_eq!(r.errors, SocketErrors::NOT_OPEN);
+    assert!(
+        rig.bridge.0.try_wait().unwrap().is_none(),
         "procimg-gs20 still runs"
     );
 }

@@ -8,6 +8,9 @@
 //!   station's I data in one piece; Reset releases the station.
 //! - The PLC's Q data goes to the host as Adapter Data when it changes (see [`Pacer`]), the
 //!   station's notifications as Adapter Events (see [`NetState`]).
+//! - The host's sockets are polled in the same loop (see [`Sockets`]); their data is read
+//!   only while the line to the host is idle, so that a busy socket cannot hold back the
+//!   Adapter Data, nor pile up frames the UART cannot carry.
 //! - procimgd's cycle never waits for the UART: the last complete host image stays in the I
 //!   data until the next one has arrived whole, and Adapter Data is built from one image.
 //!
@@ -26,7 +29,7 @@ use crate::run::network::{NetState, parse_suite};
 use crate::run::pacer::Pacer;
 use crate::run::procimgd::{Procimgd, Starting};
 use crate::run::serial::{PortError, Serial};
-use crate::run::sockets;
+use crate::run::sockets::Sockets;
 use nix::poll::{PollFd, PollFlags};
 use procimg_client::{ArState, Ioxs};
 use procimg_gs20::link::{Action, Link, StartRefusal, Station, Step};
@@ -63,6 +66,7 @@ pub struct Bridge {
     net: NetState,
     pacer: Pacer,
     procimgd: Procimgd,
+    sockets: Sockets,
     phase: Phase,
     /// The host's station as it started.
     station: Option<Station>,
@@ -90,6 +94,7 @@ impl Bridge {
             net,
             pacer,
             procimgd,
+            sockets: Sockets::default(),
             phase: Phase::Idle,
             station: None,
             inputs: None,
@@ -119,6 +124,13 @@ impl Bridge {
             if let Some(fd) = image_fd {
                 fds.push(PollFd::new(fd, PollFlags::POLLIN));
             }
+            let take_data = self.take_socket_data();
+            for i in self.sockets.interests(take_data) {
+                let mut events = PollFlags::empty();
+                events.set(PollFlags::POLLIN, i.read);
+                events.set(PollFlags::POLLOUT, i.write);
+                fds.push(PollFd::new(i.fd, events));
+            }
             let ms = timeout.as_millis().clamp(0, i32::MAX as u128) as i32;
             match nix::poll::poll(&mut fds, ms) {
                 Ok(_) | Err(nix::errno::Errno::EINTR) => {}
@@ -135,6 +147,12 @@ impl Bridge {
             self.notifications();
             self.follow_procimgd(Instant::now());
             self.push_outputs(Instant::now());
+            if self.link.mode() == Mode::Run {
+                let take_data = self.take_socket_data();
+                for frame in self.sockets.poll(take_data) {
+                    self.serial.queue(&frame);
+                }
+            }
             self.serial.flush()?;
         }
     }
@@ -189,10 +207,9 @@ impl Bridge {
                 Action::Reset => self.reset(was),
                 Action::SetInputs(bytes) => self.set_inputs(bytes),
                 Action::Socket(request) => {
-                    if let Some(frame) = sockets::answer(&request) {
-                        debug!("socket request {request:?}: sockets are not supported");
-                        self.serial.queue(&frame);
-                    }
+                    debug!("socket request {request:?}");
+                    let frame = self.sockets.request(request);
+                    self.serial.queue(&frame);
                 }
                 Action::Warn(w) => warn!("host link: {w}"),
             }
@@ -275,6 +292,12 @@ impl Bridge {
         self.station = None;
         self.inputs = None;
         self.pacer.reset();
+        self.sockets.close_all();
+    }
+
+    /// Whether the sockets' data may be read now: in Run, on an idle line.
+    fn take_socket_data(&self) -> bool {
+        self.link.mode() == Mode::Run && self.serial.idle()
     }
 
     /// Set Bus Data: the host's whole input image.
@@ -301,6 +324,8 @@ impl Bridge {
             }
         }
         self.link.set_flags(self.net.flags());
+        self.sockets
+            .set_subnet_broadcast(self.net.subnet_broadcast());
     }
 
     fn send_event(&mut self, event: Event<'_>) {
@@ -426,6 +451,8 @@ impl Bridge {
             self.send_event(event);
         }
         self.link.set_flags(self.net.flags());
+        self.sockets
+            .set_subnet_broadcast(self.net.subnet_broadcast());
         self.pacer.reset();
         info!(
             "the host's station runs: {} bytes of I data, {} of Q data{}",

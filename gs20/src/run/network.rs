@@ -77,6 +77,13 @@ impl NetState {
         f
     }
 
+    /// The broadcast address of the station's subnet, while it has an address.
+    pub fn subnet_broadcast(&self) -> Option<Ipv4Addr> {
+        self.suite
+            .filter(|_| self.on_wire)
+            .map(|s| Ipv4Addr::from(u32::from(s.ip) | !u32::from(s.mask)))
+    }
+
     /// Whether procimgd answers.
     pub fn set_server(&mut self, up: bool) {
         self.server = up;

@@ -8,7 +8,9 @@
 use nix::poll::{PollFd, PollFlags, poll};
 use nix::pty::openpty;
 use nix::sys::termios::{SetArg, cfmakeraw, tcgetattr, tcsetattr};
-use procimg_gs20::messages::{AdapterMessage, AdapterResponse, Event, Message, Mode};
+use procimg_gs20::messages::{
+    AdapterMessage, AdapterResponse, Event, Message, Mode, SocketResponse, SocketStatus,
+};
 use procimg_gs20::stream::Decoder;
 use std::net::Ipv4Addr;
 use std::os::fd::RawFd;
@@ -33,8 +35,24 @@ pub enum Got {
     },
     /// 0x31.
     Data(Vec<u8>),
-    /// Another frame, by ID.
-    Other(u8),
+    /// 0xE0.
+    SocketResponse(SocketResponse),
+    /// 0xE1: the handle, the status, the event code.
+    SocketEvent {
+        /// The socket.
+        handle: u8,
+        /// Its status.
+        status: SocketStatus,
+        /// The event code.
+        code: u8,
+    },
+    /// 0x51.
+    SocketData {
+        /// The socket.
+        handle: u8,
+        /// The data.
+        data: Vec<u8>,
+    },
     /// A decoding error (the bridge sent something broken).
     Broken(String),
 }
@@ -139,7 +157,16 @@ impl Host {
                         },
                     },
                     Ok(AdapterMessage::AdapterData(d)) => Got::Data(d.data.to_vec()),
-                    Ok(m) => Got::Other(m.id().as_u8()),
+                    Ok(AdapterMessage::SocketResponse(r)) => Got::SocketResponse(r),
+                    Ok(AdapterMessage::SocketEvent(e)) => Got::SocketEvent {
+                        handle: e.handle,
+                        status: e.status,
+                        code: e.event.code(),
+                    },
+                    Ok(AdapterMessage::AdapterSocketData(d)) => Got::SocketData {
+                        handle: d.handle,
+                        data: d.data.to_vec(),
+                    },
                     Err(e) => Got::Broken(e.to_string()),
                 },
             })
@@ -179,6 +206,47 @@ impl Host {
         let from = self.mark();
         self.send(m);
         self.response(from).1
+    }
+}
+
+impl Host {
+    /// Sends a socket request and returns the Socket Response that follows it.
+    pub fn socket<'a>(&mut self, m: impl Message<'a>) -> SocketResponse {
+        let from = self.mark();
+        self.send(m);
+        match self.until(from, "Socket Response", |g| {
+            matches!(g, Got::SocketResponse(_))
+        }) {
+            (_, Got::SocketResponse(r)) => r,
+            _ => unreachable!(),
+        }
+    }
+
+    /// Reads until the data of socket `handle` received from `from` on ends with `end`;
+    /// that data.
+    pub fn socket_data(&mut self, from: usize, handle: u8, end: &[u8]) -> Vec<u8> {
+        let collected = |got: &[Got]| -> Vec<u8> {
+            got.iter()
+                .filter_map(|g| match g {
+                    Got::SocketData { handle: h, data } if *h == handle => Some(data.clone()),
+                    _ => None,
+                })
+                .flatten()
+                .collect()
+        };
+        let deadline = Instant::now() + GENEROUS;
+        loop {
+            let data = collected(&self.got[from..]);
+            if data.ends_with(end) {
+                return data;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "socket {handle} did not receive {end:?} within {GENEROUS:?}; received: {:?}",
+                &self.got[from..]
+            );
+            self.poll_once();
+        }
     }
 }
 
