@@ -68,7 +68,10 @@ impl Bridge {
         let child = Command::new(env!("CARGO_BIN_EXE_procimg-gs20"))
             .args(["run", "--port", port, "--instance", instance])
             .args(["--min-period-ms", "20"])
-            .env("RUST_LOG", "info")
+            .env(
+                "RUST_LOG",
+                std::env::var("GS20_TEST_LOG").unwrap_or_else(|_| "info".into()),
+            )
             .env("NO_COLOR", "1")
             .stdin(Stdio::null())
             .spawn()
@@ -175,8 +178,9 @@ impl Rig {
         }
     }
 
-    /// Defines and starts the host's station; returns once it is in Run, on the wire.
-    fn run(&mut self) {
+    /// Defines and starts the host's station; returns once it is in Run, on the wire, with
+    /// the index of the first frame after Request Start's response.
+    fn run(&mut self) -> usize {
         synchronise(&mut self.host, &mut self.bridge);
         self.host.command(AddDevice { device_id: 1 });
         self.host.command(AddItem {
@@ -197,6 +201,7 @@ impl Rig {
         );
         self.host
             .until(from, "Adapter Event link up", |g| g.is_event(Event::LinkUp));
+        from
     }
 }
 
@@ -390,7 +395,7 @@ fn a_host_defines_starts_and_exchanges_data_through_the_bridge() {
 #[test]
 fn the_hosts_sockets_reach_peers_on_this_machine() {
     let mut rig = Rig::start("gs20-sockets");
-    rig.run();
+    let _ = rig.run();
     let host = &mut rig.host;
     let loopback = Ipv4Addr::LOCALHOST;
 
@@ -508,6 +513,103 @@ fn the_hosts_sockets_reach_peers_on_this_machine() {
     }
     let r = host.socket(RequestSocketStatus { handle: tcp });
     assert_eq!(r.errors, SocketErrors::NOT_OPEN);
+    assert!(
+        rig.bridge.0.try_wait().unwrap().is_none(),
+        "procimg-gs20 still runs"
+    );
+}
+
+/// An item the station's GSDML file does not have: procimgd refuses the station, the host
+/// gets error bit 6 in Config, and after a Request Reset a station of known items starts.
+#[test]
+fn a_station_procimgd_refuses_is_start_refused_and_the_host_can_start_again() {
+    let Rig {
+        mut bridge,
+        mut host,
+        server,
+        _dir,
+    } = Rig::start("gs20-refused");
+    synchronise(&mut host, &mut bridge);
+    host.command(AddDevice { device_id: 1 });
+    let r = host.command(AddItem {
+        item_id: 3016,
+        position: 1,
+    });
+    assert_eq!(
+        r.errors,
+        ErrorBits::NO_NETWORK_CONFIG,
+        "the catalogue has item 3016"
+    );
+    host.command(network());
+    let r = host.command(RequestStart);
+    assert_eq!(r.status.mode, Mode::Pending);
+    let r = host.command(RequestStatus);
+    assert_eq!(
+        (r.status.mode, r.errors),
+        (Mode::Config, ErrorBits::START_REFUSED)
+    );
+    assert_eq!(defined_by(&server), None, "the station still waits");
+    // The bit was reported once; the link keeps working.
+    let r = host.command(RequestStatus);
+    assert_eq!(
+        (r.status.mode, r.errors),
+        (Mode::Config, ErrorBits::empty())
+    );
+
+    host.send(RequestReset);
+    let mut rig = Rig {
+        bridge,
+        host,
+        server,
+        _dir,
+    };
+    let _ = rig.run();
+    assert!(defined_by(&rig.server).is_some_and(|b| b.contains("procimg-gs20")));
+}
+
+/// procimgd stops and starts again while the host is in Run: the host hears PLC lost and
+/// link down, stays in Run, and its station is defined again with its last input image,
+/// which the PLC answers again.
+#[test]
+fn the_hosts_station_comes_back_when_procimgd_does() {
+    let mut rig = Rig::start("gs20-restart");
+    let started = rig.run();
+    let image = inputs(0x40);
+    let from = rig.host.mark();
+    rig.host.send(SetBusData { data: &image });
+    let want = answer(&image);
+    rig.host
+        .until(from, "Adapter Data with the PLC's answer", |g| {
+            *g == Got::Data(want.clone())
+        });
+    rig.host.until(started, "Adapter Event PLC connected", |g| {
+        g.is_event(Event::PlcConnected)
+    });
+
+    let from = rig.host.mark();
+    rig.server.restart();
+    let (lost, _) = rig.host.until(from, "Adapter Event PLC lost", |g| {
+        g.is_event(Event::PlcLost)
+    });
+    let (down, _) = rig.host.until(from, "Adapter Event link down", |g| {
+        g.is_event(Event::LinkDown)
+    });
+    assert!(lost < down);
+    let (up, _) = rig
+        .host
+        .until(down, "Adapter Event link up", |g| g.is_event(Event::LinkUp));
+    rig.host
+        .until(up, "Adapter Event PLC connected again", |g| {
+            g.is_event(Event::PlcConnected)
+        });
+    // No Set Bus Data since: the station got the host's last image.
+    rig.host
+        .until(up, "Adapter Data with the PLC's answer again", |g| {
+            *g == Got::Data(want.clone())
+        });
+    let r = rig.host.command(RequestStatus);
+    assert_eq!((r.status.mode, r.errors), (Mode::Run, ErrorBits::empty()));
+    assert!(defined_by(&rig.server).is_some_and(|b| b.contains("procimg-gs20")));
     assert!(
         rig.bridge.0.try_wait().unwrap().is_none(),
         "procimg-gs20 still runs"

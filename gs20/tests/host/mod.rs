@@ -186,10 +186,37 @@ impl Host {
             let now = Instant::now();
             assert!(
                 now < deadline,
-                "no {what} within {GENEROUS:?}; received since: {:?}",
-                &self.got[from.min(self.got.len())..]
+                "no {what} within {GENEROUS:?}; received since: {}",
+                self.describe(from)
             );
             self.read((deadline - now).min(Duration::from_millis(200)));
+        }
+    }
+
+    /// The frames received from `from` on, for a failure's message: the first and last 10,
+    /// each run of equal frames once with its count.
+    pub fn describe(&self, from: usize) -> String {
+        let mut runs: Vec<(usize, &Got)> = Vec::new();
+        for g in &self.got[from.min(self.got.len())..] {
+            match runs.last_mut() {
+                Some((n, last)) if *last == g => *n += 1,
+                _ => runs.push((1, g)),
+            }
+        }
+        let line = |(n, g): &(usize, &Got)| format!("{n} × {g:?}");
+        if runs.len() <= 20 {
+            runs.iter().map(line).collect::<Vec<_>>().join(", ")
+        } else {
+            format!(
+                "{}, … {} more …, {}",
+                runs[..10].iter().map(line).collect::<Vec<_>>().join(", "),
+                runs.len() - 20,
+                runs[runs.len() - 10..]
+                    .iter()
+                    .map(line)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
         }
     }
 
@@ -242,8 +269,8 @@ impl Host {
             }
             assert!(
                 Instant::now() < deadline,
-                "socket {handle} did not receive {end:?} within {GENEROUS:?}; received: {:?}",
-                &self.got[from..]
+                "socket {handle} did not receive {end:?} within {GENEROUS:?}; received: {}",
+                self.describe(from)
             );
             self.poll_once();
         }
