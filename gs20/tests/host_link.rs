@@ -390,6 +390,8 @@ fn a_host_defines_starts_and_exchanges_data_through_the_bridge() {
         bridge.0.try_wait().unwrap().is_none(),
         "procimg-gs20 still runs"
     );
+    // The bridge first, procimgd after it (the rig's order).
+    drop((bridge, host, server));
 }
 
 #[test]
@@ -614,4 +616,61 @@ fn the_hosts_station_comes_back_when_procimgd_does() {
         rig.bridge.0.try_wait().unwrap().is_none(),
         "procimg-gs20 still runs"
     );
+}
+
+/// A host that asks for DHCP: its station goes on the wire without an address of its own,
+/// the PLC assigns one by DCP (PROFINET's way; the demo PLC does it before its Connect),
+/// and the host hears the address in Network Up after link up, then the PLC connects.
+#[test]
+fn with_dhcp_the_plc_gives_the_station_its_address() {
+    let Rig {
+        mut bridge,
+        mut host,
+        server,
+        _dir,
+    } = Rig::start("gs20-dhcp");
+    synchronise(&mut host, &mut bridge);
+    host.command(AddDevice { device_id: 1 });
+    host.command(AddItem {
+        item_id: 3008,
+        position: 1,
+    });
+    let r = host.command(SetNetworkConfig {
+        mode: AddressMode::Dhcp,
+        ip: Ipv4Addr::UNSPECIFIED,
+        mask: Ipv4Addr::UNSPECIFIED,
+        ..network()
+    });
+    assert_eq!(r.errors, ErrorBits::empty());
+    let started = host.mark();
+    let r = host.command(RequestStart);
+    assert_eq!(r.status.mode, Mode::Pending);
+    let (up, _) = host.until(started, "Adapter Event link up", |g| {
+        g.is_event(Event::LinkUp)
+    });
+    let (net, got) = host.until(started, "Adapter Event network up", |g| {
+        matches!(g, Got::Event { code: 3, .. })
+    });
+    assert!(up < net, "no address before the PLC gives one");
+    let Got::Event { ip: Some(ip), .. } = got else {
+        unreachable!()
+    };
+    assert!(!ip.is_unspecified());
+    host.until(started, "Adapter Event PLC connected", |g| {
+        g.is_event(Event::PlcConnected)
+    });
+    let st = server.status().station.unwrap();
+    assert_eq!(
+        st.ip,
+        ip.to_string(),
+        "the address the host heard is the station's"
+    );
+    let r = host.command(RequestStatus);
+    assert!(
+        r.status
+            .flags
+            .contains(StatusFlags::IP_OK | StatusFlags::PLC_CONNECTED)
+    );
+    // The bridge first, procimgd after it (the rig's order).
+    drop((bridge, host, server));
 }
