@@ -22,33 +22,33 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 pub enum BasketsError {
     /// It cannot be read.
-    #[error("cannot read the baskets file {path}: {source}")]
+    #[error("cannot read the baskets file {path}: {cause}")]
     Read {
         /// The file.
         path: PathBuf,
         /// Why.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// It is no baskets file.
     #[error(
-        "the baskets file {path} is not valid: {source}; write [[basket]] tables with an id \
+        "the baskets file {path} is not valid: {cause}; write [[basket]] tables with an id \
          and items = [{{ item = 3008, slot = 1 }}, ...]"
     )]
     Parse {
         /// The file.
         path: PathBuf,
         /// Why.
-        source: toml::de::Error,
+        cause: toml::de::Error,
     },
     /// An item ID is not in the catalogue.
-    #[error("the baskets file {path}, basket {basket}: {source}")]
+    #[error("the baskets file {path}, basket {basket}: {cause}")]
     Item {
         /// The file.
         path: PathBuf,
         /// The basket.
         basket: u16,
         /// Why.
-        source: ItemIdError,
+        cause: ItemIdError,
     },
     /// Two baskets have one ID.
     #[error("the baskets file {path} has basket {basket} twice; give each basket its own id")]
@@ -83,18 +83,18 @@ struct Item {
 
 /// Reads the baskets file at `path`.
 pub fn load(path: &Path) -> Result<Baskets, BasketsError> {
-    let text = std::fs::read_to_string(path).map_err(|source| BasketsError::Read {
+    let text = std::fs::read_to_string(path).map_err(|cause| BasketsError::Read {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     parse(&text, path)
 }
 
 /// Parses the text of the baskets file `path`.
 fn parse(text: &str, path: &Path) -> Result<Baskets, BasketsError> {
-    let file: File = toml::from_str(text).map_err(|source| BasketsError::Parse {
+    let file: File = toml::from_str(text).map_err(|cause| BasketsError::Parse {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     let mut baskets = Baskets::new();
     for b in file.basket {
@@ -104,10 +104,10 @@ fn parse(text: &str, path: &Path) -> Result<Baskets, BasketsError> {
             .map(|i| {
                 ItemId::from_u16(i.item)
                     .map(|item| ItemSlot { item, slot: i.slot })
-                    .map_err(|source| BasketsError::Item {
+                    .map_err(|cause| BasketsError::Item {
                         path: path.to_owned(),
                         basket: b.id,
-                        source,
+                        cause,
                     })
             })
             .collect::<Result<Vec<_>, _>>()?;

@@ -24,20 +24,20 @@ pub const START_WAIT: Duration = Duration::from_secs(20);
 #[derive(Debug, thiserror::Error)]
 pub enum AttachError {
     /// Opening the services or the image failed.
-    #[error("cannot attach to procimgd instance \"{instance}\": {source}")]
+    #[error("cannot attach to procimgd instance \"{instance}\": {cause}")]
     Attach {
         /// The instance.
         instance: String,
         /// Why.
-        source: procimg_client::AttachError,
+        cause: procimg_client::AttachError,
     },
     /// The status request failed.
-    #[error("procimgd instance \"{instance}\" does not tell its status: {source}")]
+    #[error("procimgd instance \"{instance}\" does not tell its status: {cause}")]
     Status {
         /// The instance.
         instance: String,
         /// Why.
-        source: ControlError,
+        cause: ControlError,
     },
     /// A controller.
     #[error(
@@ -79,7 +79,7 @@ pub enum AttachError {
 pub enum StartError {
     /// procimgd refused the tree or the identity.
     #[error(
-        "procimgd instance \"{instance}\" did not take the host's station: {source}; every \
+        "procimgd instance \"{instance}\" did not take the host's station: {cause}; every \
          item must be a module of the station's GSDML file (`procimg-gs20 gsdml -o FILE` \
          writes one with the whole catalogue), the host name a NameOfStation"
     )]
@@ -87,7 +87,7 @@ pub enum StartError {
         /// The instance.
         instance: String,
         /// Why.
-        source: ControlError,
+        cause: ControlError,
     },
     /// procimgd did not run it in time.
     #[error(
@@ -103,12 +103,12 @@ pub enum StartError {
     #[error(transparent)]
     Layout(#[from] LayoutMismatch),
     /// Claiming the I data failed.
-    #[error("cannot claim the I data of procimgd instance \"{instance}\": {source}")]
+    #[error("cannot claim the I data of procimgd instance \"{instance}\": {cause}")]
     Claim {
         /// The instance.
         instance: String,
         /// Why.
-        source: ControlError,
+        cause: ControlError,
     },
 }
 
@@ -134,18 +134,18 @@ impl Procimgd {
     /// Attaches to `instance`, which must be the device role with a station its program
     /// defines, waiting for one.
     pub fn attach(instance: &str) -> Result<Procimgd, AttachError> {
-        let attach = |source| AttachError::Attach {
+        let attach = |cause| AttachError::Attach {
             instance: instance.to_owned(),
-            source,
+            cause,
         };
         let services =
             Services::open(instance, ServiceOptions::new(CLIENT_NAME)).map_err(attach)?;
         let status = services
             .control()
             .status()
-            .map_err(|source| AttachError::Status {
+            .map_err(|cause| AttachError::Status {
                 instance: instance.to_owned(),
-                source,
+                cause,
             })?;
         let Some(station) = status.station else {
             return Err(AttachError::NotDevice {
@@ -206,9 +206,9 @@ impl Procimgd {
         let before = self.client.generation();
         self.services
             .define_station_as(&definition::tree(station), &definition::identity(station))
-            .map_err(|source| StartError::Refused {
+            .map_err(|cause| StartError::Refused {
                 instance: self.instance.clone(),
-                source,
+                cause,
             })?;
         Ok(Starting {
             before,
@@ -238,9 +238,9 @@ impl Procimgd {
         let map = ImageMap::new(self.client.layout(), &s.items)?;
         self.client
             .claim_i_data()
-            .map_err(|source| StartError::Claim {
+            .map_err(|cause| StartError::Claim {
                 instance: self.instance.clone(),
-                source,
+                cause,
             })?;
         Ok(Some(map))
     }

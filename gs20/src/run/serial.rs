@@ -15,7 +15,7 @@ pub enum OpenError {
     /// open(2) or the line settings failed.
     #[error(
         "cannot open serial port {port} at {baud} bit/s, 8 data bits, parity {parity}, 1 stop \
-         bit: {source}; check the path (ls /dev/ttyUSB* /dev/ttyACM* /dev/ttyS*), that no other \
+         bit: {cause}; check the path (ls /dev/ttyUSB* /dev/ttyACM* /dev/ttyS*), that no other \
          program holds the port, and that you may use it (the dialout group)"
     )]
     Open {
@@ -26,15 +26,15 @@ pub enum OpenError {
         /// The parity.
         parity: Parity,
         /// What failed.
-        source: serialport::Error,
+        cause: serialport::Error,
     },
     /// fcntl(2) failed.
-    #[error("cannot make serial port {port} non-blocking: {source}")]
+    #[error("cannot make serial port {port} non-blocking: {cause}")]
     NonBlocking {
         /// The port's path.
         port: String,
         /// What failed.
-        source: Errno,
+        cause: Errno,
     },
 }
 
@@ -42,7 +42,7 @@ pub enum OpenError {
 /// pty closed).
 #[derive(Debug, thiserror::Error)]
 #[error(
-    "serial port {port} failed while {what}: {source}; was the USB-UART unplugged? start \
+    "serial port {port} failed while {what}: {cause}; was the USB-UART unplugged? start \
      procimg-gs20 again once the port is back"
 )]
 pub struct PortError {
@@ -51,7 +51,7 @@ pub struct PortError {
     /// Reading or writing.
     pub what: &'static str,
     /// The error.
-    pub source: Errno,
+    pub cause: Errno,
 }
 
 /// An open serial port with its queue of bytes to write.
@@ -72,16 +72,16 @@ impl Serial {
             .flow_control(FlowControl::None)
             .timeout(Duration::ZERO)
             .open_native()
-            .map_err(|source| OpenError::Open {
+            .map_err(|cause| OpenError::Open {
                 port: path.to_owned(),
                 baud,
                 parity,
-                source,
+                cause,
             })?;
-        fcntl(port.as_raw_fd(), FcntlArg::F_SETFL(OFlag::O_NONBLOCK)).map_err(|source| {
+        fcntl(port.as_raw_fd(), FcntlArg::F_SETFL(OFlag::O_NONBLOCK)).map_err(|cause| {
             OpenError::NonBlocking {
                 port: path.to_owned(),
-                source,
+                cause,
             }
         })?;
         Ok(Serial {
@@ -108,7 +108,7 @@ impl Serial {
                 Ok(n) => return Ok(n),
                 Err(Errno::EAGAIN) => return Ok(0),
                 Err(Errno::EINTR) => continue,
-                Err(source) => return Err(self.error("reading", source)),
+                Err(cause) => return Err(self.error("reading", cause)),
             }
         }
     }
@@ -132,7 +132,7 @@ impl Serial {
                 }
                 Err(Errno::EAGAIN) => break,
                 Err(Errno::EINTR) => continue,
-                Err(source) => return Err(self.error("writing", source)),
+                Err(cause) => return Err(self.error("writing", cause)),
             }
         }
         Ok(())
@@ -145,11 +145,11 @@ impl Serial {
         self.out.is_empty() && self.port.bytes_to_write().unwrap_or(0) == 0
     }
 
-    fn error(&self, what: &'static str, source: Errno) -> PortError {
+    fn error(&self, what: &'static str, cause: Errno) -> PortError {
         PortError {
             port: self.name.clone(),
             what,
-            source,
+            cause,
         }
     }
 }
