@@ -674,3 +674,56 @@ fn with_dhcp_the_plc_gives_the_station_its_address() {
     // The bridge first, procimgd after it (the rig's order).
     drop((bridge, host, server));
 }
+
+/// Request Reset in Run and the next station's commands and Request Start right after it,
+/// without waiting: the next station starts (the release's waiting station, which procimgd
+/// runs in between, is not taken for it).
+#[test]
+fn a_reset_and_a_new_start_back_to_back() {
+    let mut rig = Rig::start("gs20-again");
+    let _ = rig.run();
+    let host = &mut rig.host;
+    let from = host.mark();
+    host.send(RequestReset);
+    host.send(RequestStatus);
+    host.send(AddDevice { device_id: 2 });
+    host.send(AddItem {
+        item_id: 3008,
+        position: 1,
+    });
+    host.send(network());
+    host.send(RequestStart);
+    let (config, got) = host.until(
+        from,
+        "the response to Request Status",
+        |g| matches!(g, Got::Response(r) if r.status.mode == Mode::Config),
+    );
+    let Got::Response(r) = got else {
+        unreachable!()
+    };
+    assert!(
+        !r.status
+            .flags
+            .intersects(StatusFlags::IP_OK | StatusFlags::PLC_CONNECTED),
+        "the station left the wire with the reset: {r:?}"
+    );
+    let (pending, _) = host.until(
+        config,
+        "the response to Request Start",
+        |g| matches!(g, Got::Response(r) if r.status.mode == Mode::Pending),
+    );
+    let (up, _) = host.until(pending, "Adapter Event link up", |g| {
+        g.is_event(Event::LinkUp)
+    });
+    host.until(up, "Adapter Event PLC connected", |g| {
+        g.is_event(Event::PlcConnected)
+    });
+    let image: Vec<u8> = inputs(0x20)[..8].to_vec();
+    let mark = host.mark();
+    host.send(SetBusData { data: &image });
+    let want = answer(&image);
+    host.until(mark, "Adapter Data with the PLC's answer", |g| {
+        *g == Got::Data(want.clone())
+    });
+    assert!(defined_by(&rig.server).is_some_and(|b| b.contains("procimg-gs20")));
+}

@@ -49,6 +49,10 @@ const IDLE_TICK: Duration = Duration::from_millis(200);
 enum Phase {
     /// No station of the host's: Standby, Config, or a start that failed.
     Idle,
+    /// Request Start came while the station the host released is still leaving the wire
+    /// (procimgd takes a definition only once the release's waiting station runs): the
+    /// host's station is defined then.
+    Deferred { station: Station, deadline: Instant },
     /// Defined, waiting for procimgd to run it; `resume` when the link is in Run already
     /// (procimgd came back).
     Starting { starting: Starting, resume: bool },
@@ -77,6 +81,8 @@ pub struct Bridge {
     /// The generation of procimgd in which the station was last defined again after
     /// procimgd came back (tried once per generation).
     resumed_in: Option<u64>,
+    /// The generation in which the station was last released (Request Reset).
+    released_in: Option<u64>,
 }
 
 impl Bridge {
@@ -100,6 +106,7 @@ impl Bridge {
             inputs: None,
             write_failed: false,
             resumed_in: None,
+            released_in: None,
         }
     }
 
@@ -186,14 +193,22 @@ impl Bridge {
     /// Feeds bytes received at `now` (none: only the silence timeout) to the decoder and
     /// carries out what the link makes of them.
     fn decode(&mut self, bytes: &[u8], now: Instant) {
-        let mut steps = Vec::new();
-        let link = &mut self.link;
-        self.decoder.feed(bytes, now, |item| {
-            let was = link.mode();
-            steps.push((was, link.handle(item)));
-        });
-        for (was, step) in steps {
-            self.step(was, step);
+        let mut rest = bytes;
+        loop {
+            let taken = self.decoder.push(rest, now);
+            rest = &rest[taken..];
+            // Each frame's actions before the next frame: a Request Reset's release, say,
+            // changes the status flags of the responses after it.
+            while let Some((was, step)) = self.decoder.poll(now).map(|item| {
+                let was = self.link.mode();
+                (was, self.link.handle(item))
+            }) {
+                self.step(was, step);
+            }
+            // A drained decoder always has room: this ends.
+            if rest.is_empty() || taken == 0 {
+                return;
+            }
         }
     }
 
@@ -230,6 +245,19 @@ impl Bridge {
                  network interface ({actual})"
             );
         }
+        if self.released_in == Some(self.procimgd.generation()) {
+            debug!("Request Start: waiting for the released station to leave the wire first");
+            self.phase = Phase::Deferred {
+                station,
+                deadline: Instant::now() + crate::run::procimgd::START_WAIT,
+            };
+            return;
+        }
+        self.define(station);
+    }
+
+    /// Defines the host's station (Request Start).
+    fn define(&mut self, station: Station) {
         match self.procimgd.define(&station) {
             Ok(starting) => {
                 info!(
@@ -265,12 +293,14 @@ impl Bridge {
 
     /// Request Reset: releases the station.
     fn reset(&mut self, was: Mode) {
-        if !matches!(self.phase, Phase::Idle | Phase::Lost)
-            && let Err(e) = self.procimgd.release()
-        {
-            warn!("Request Reset: releasing the station failed: {e}");
+        if matches!(self.phase, Phase::Starting { .. } | Phase::Running { .. }) {
+            match self.procimgd.release() {
+                Ok(()) => self.released_in = Some(self.procimgd.generation()),
+                Err(e) => warn!("Request Reset: releasing the station failed: {e}"),
+            }
         }
         let events = self.net.went_off_wire();
+        self.link.set_flags(self.net.flags());
         if was == Mode::Run {
             for event in events {
                 // The link is in Standby already; these are the last words of Run (see the
@@ -375,6 +405,21 @@ impl Bridge {
                 self.phase = Phase::Lost;
                 if up {
                     self.resume();
+                }
+            }
+            Phase::Deferred { station, deadline } => {
+                if up && self.released_in != Some(self.procimgd.generation()) {
+                    self.define(station);
+                } else if now >= deadline {
+                    error!(
+                        "procimgd instance \"{}\" did not take the released station off the \
+                         wire within {} s",
+                        self.procimgd.instance(),
+                        crate::run::procimgd::START_WAIT.as_secs()
+                    );
+                    self.fail_start(StartRefusal::NotRunning, false);
+                } else {
+                    self.phase = Phase::Deferred { station, deadline };
                 }
             }
             Phase::Idle => {}

@@ -225,17 +225,25 @@ impl Procimgd {
         s: &Starting,
         now: Instant,
     ) -> Result<Option<ImageMap>, StartError> {
+        let instance = self.instance.clone();
+        let timeout = || StartError::Timeout { instance };
         let (up, _) = self.drive();
         if !up || self.client.generation() == s.before {
             return if now >= s.deadline {
-                Err(StartError::Timeout {
-                    instance: self.instance.clone(),
-                })
+                Err(timeout())
             } else {
                 Ok(None)
             };
         }
-        let map = ImageMap::new(self.client.layout(), &s.items)?;
+        let map = match ImageMap::new(self.client.layout(), &s.items) {
+            Ok(map) => map,
+            // A generation in between is not the defined station: after a Request Reset
+            // and a Request Start back to back, the waiting station of the release runs
+            // first. The layout is wrong only once the defined station runs.
+            Err(e) if self.runs_defined() => return Err(e.into()),
+            Err(_) if now >= s.deadline => return Err(timeout()),
+            Err(_) => return Ok(None),
+        };
         self.client
             .claim_i_data()
             .map_err(|cause| StartError::Claim {
@@ -243,6 +251,17 @@ impl Procimgd {
                 cause,
             })?;
         Ok(Some(map))
+    }
+
+    /// Whether the generation the client is attached to runs a defined station.
+    fn runs_defined(&self) -> bool {
+        self.status().is_ok_and(|st| {
+            st.generation == self.client.generation()
+                && st
+                    .station
+                    .and_then(|s| s.program)
+                    .is_some_and(|p| p.defined_by.is_some())
+        })
     }
 
     /// Writes the host's input image as the station's I data, all submodules in one sample
