@@ -390,8 +390,22 @@ fn a_host_defines_starts_and_exchanges_data_through_the_bridge() {
         bridge.0.try_wait().unwrap().is_none(),
         "procimg-gs20 still runs"
     );
-    // The bridge first, procimgd after it (the rig's order).
-    drop((bridge, host, server));
+    // The host's end of the line goes away (a USB-UART unplugged): the bridge stops with
+    // an error rather than spinning on the hung-up port.
+    drop(host);
+    let deadline = Instant::now() + host::GENEROUS;
+    let status = loop {
+        if let Some(status) = bridge.0.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "procimg-gs20 did not stop after the hang-up"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert_eq!(status.code(), Some(1));
+    drop((bridge, server));
 }
 
 #[test]

@@ -143,11 +143,14 @@ impl Bridge {
                 Ok(_) | Err(nix::errno::Errno::EINTR) => {}
                 Err(e) => warn!("poll failed: {e}"),
             }
-            let port_ready = fds[0].revents().is_some_and(|r| {
-                r.intersects(PollFlags::POLLIN | PollFlags::POLLHUP | PollFlags::POLLERR)
-            });
-            if port_ready {
-                self.read_port(&mut buf)?;
+            let port = fds[0].revents().unwrap_or(PollFlags::empty());
+            if port.intersects(PollFlags::POLLIN | PollFlags::POLLHUP | PollFlags::POLLERR) {
+                let read = self.read_port(&mut buf)?;
+                // Hung up with nothing to read: the port will not come back by itself (and
+                // poll would return at once for ever).
+                if read == 0 && port.intersects(PollFlags::POLLHUP | PollFlags::POLLERR) {
+                    return Err(self.serial.hung_up());
+                }
             }
             // The decoder's silence timeout, whether or not bytes came.
             self.decode(&[], Instant::now());
@@ -180,12 +183,15 @@ impl Bridge {
         until.saturating_duration_since(now)
     }
 
-    fn read_port(&mut self, buf: &mut [u8]) -> Result<(), PortError> {
+    /// Reads and decodes what the port has; how many bytes.
+    fn read_port(&mut self, buf: &mut [u8]) -> Result<usize, PortError> {
+        let mut total = 0;
         loop {
             let n = self.serial.read(buf)?;
             if n == 0 {
-                return Ok(());
+                return Ok(total);
             }
+            total += n;
             self.decode(&buf[..n], Instant::now());
         }
     }

@@ -145,6 +145,12 @@ impl Serial {
         self.out.is_empty() && self.port.bytes_to_write().unwrap_or(0) == 0
     }
 
+    /// The error of a port that hung up (the adapter unplugged, the pty's other end
+    /// closed).
+    pub fn hung_up(&self) -> PortError {
+        self.error("reading (it hung up)", Errno::EIO)
+    }
+
     fn error(&self, what: &'static str, cause: Errno) -> PortError {
         PortError {
             port: self.name.clone(),

@@ -5,6 +5,7 @@
 
 #![allow(dead_code)]
 
+use nix::fcntl::{FcntlArg, FdFlag, fcntl};
 use nix::poll::{PollFd, PollFlags, poll};
 use nix::pty::openpty;
 use nix::sys::termios::{SetArg, cfmakeraw, tcgetattr, tcsetattr};
@@ -79,6 +80,11 @@ impl Host {
     /// host writes early is echoed or cooked).
     pub fn new() -> Host {
         let pty = openpty(None, None).expect("openpty");
+        // Not inherited by the bridge (or any child): the host's end must close when the
+        // host drops it.
+        for fd in [pty.master, pty.slave] {
+            fcntl(fd, FcntlArg::F_SETFD(FdFlag::FD_CLOEXEC)).expect("close-on-exec");
+        }
         let mut t = tcgetattr(pty.slave).expect("the slave's termios");
         cfmakeraw(&mut t);
         tcsetattr(pty.slave, SetArg::TCSANOW, &t).expect("the slave raw");
