@@ -291,10 +291,12 @@ impl Bridge {
     fn fail_start(&mut self, refusal: StartRefusal, resume: bool) {
         if resume {
             self.phase = Phase::Lost;
-        } else if let Action::Warn(w) = self.link.start_failed(refusal) {
-            warn!("host link: {w}");
-            self.phase = Phase::Idle;
+            return;
         }
+        if let Action::Warn(w) = self.link.start_failed(refusal) {
+            warn!("host link: {w}");
+        }
+        self.phase = Phase::Idle;
     }
 
     /// Request Reset: releases the station.
