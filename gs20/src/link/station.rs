@@ -159,6 +159,16 @@ pub enum StartRefusal {
     /// The Ethernet link is down.
     #[error("no network connection: the module's Ethernet link is down; plug in the cable")]
     NoLink,
+    /// The network side did not take the station (a bridge's PROFINET stack refused its
+    /// modules or its name).
+    #[error(
+        "the network side did not take the station: an item is no module of its GSDML file, \
+         or the host name is no station name; see the bridge's log"
+    )]
+    NotTaken,
+    /// The network side took the station but did not run it in time.
+    #[error("the network side did not run the station in time; see the bridge's log")]
+    NotRunning,
 }
 
 /// The station as the host defined it so far.
