@@ -23,16 +23,9 @@ use procimg_config::station::{DapConfig, SoftwareVersion};
 
 pub use procimg_config::gsdml::export::{GsdmlDate, StationGsdml, WriteError};
 
-use crate::link::MAX_ITEMS;
 use crate::messages::{ItemId, ItemKind};
 
-/// The highest slot an item may have: N of the catalogue's slots 1..=N and of the DAP's
-/// `PhysicalSlots` 0..=N.
-///
-/// The reference does not say how many slots or items the module has (§1.1: only an error
-/// "maximum number of items already added" exists). Taken: the link's limit of items,
-/// [`MAX_ITEMS`] = 64, so that a host may give each of its most items a slot of its own.
-pub const MAX_SLOT: u16 = MAX_ITEMS as u16;
+pub use crate::messages::item::MAX_SLOT;
 
 /// The subslot of an item's one submodule.
 pub const ITEM_SUBSLOT: u16 = 1;

@@ -12,11 +12,7 @@ use crate::messages::{
     AddItem, AddressMode, ItemId, MacAddress, NetworkConfigError, SetNetworkConfig,
 };
 
-/// The most items a station takes (error bit 1, "maximum number of items reached").
-///
-/// The reference names the limit but not its value (§1.1). Chosen: 64, with the 384 bytes
-/// per direction the tighter bound for all but the smallest items.
-pub const MAX_ITEMS: usize = 64;
+pub use crate::messages::item::MAX_ITEMS;
 
 /// One item at one slot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

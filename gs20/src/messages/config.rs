@@ -52,8 +52,8 @@ pub enum AddItemError {
 
 impl AddItem {
     /// The last slot an item may have: the item catalogue's last
-    /// ([`crate::catalogue::MAX_SLOT`], 64).
-    pub const MAX_SLOT: u16 = crate::catalogue::MAX_SLOT;
+    /// ([`super::item::MAX_SLOT`], 64).
+    pub const MAX_SLOT: u16 = super::item::MAX_SLOT;
 
     /// The item and its slot, if both are valid.
     ///

@@ -3,6 +3,20 @@
 
 use core::fmt;
 
+/// The most items a station takes (error bit 1, "maximum number of items reached").
+///
+/// The reference names the limit but not its value (§1.1). Chosen: 64, with the 384 bytes
+/// per direction the tighter bound for all but the smallest items.
+pub const MAX_ITEMS: usize = 64;
+
+/// The highest slot an item may have: N of the catalogue's slots 1..=N and of the DAP's
+/// `PhysicalSlots` 0..=N.
+///
+/// The reference does not say how many slots or items the module has (§1.1: only an error
+/// "maximum number of items already added" exists). Taken: the limit of items,
+/// [`MAX_ITEMS`] = 64, so that a host may give each of its most items a slot of its own.
+pub const MAX_SLOT: u16 = MAX_ITEMS as u16;
+
 /// What an item exchanges (the thousands digit of its ID).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ItemKind {

@@ -8,7 +8,7 @@
 use std::ops::RangeInclusive;
 
 use super::ExportError;
-use super::plan::{DAP_FRAME_BYTES, FileSubmodule, PlannedModule, Slots, frame_bytes};
+use super::planned::{DAP_FRAME_BYTES, FileSubmodule, PlannedModule, Slots, frame_bytes};
 use crate::station::{MAX_CR_DATA, MAX_STATION_SLOT};
 
 /// The modules a station's program may plug, beyond those the station has plugged, and what

@@ -3,7 +3,8 @@
 //! element order, as the hand-written files in `config/gsdml/` have it.
 
 use super::catalogue::Catalogue;
-use super::plan::{FileSubmodule, Plan, PlannedModule, Slots};
+use super::plan::Plan;
+use super::planned::{FileSubmodule, PlannedModule, Slots};
 use super::xml::El;
 use super::{Timing, VENDOR_NAME};
 use crate::station::{AcceptedRecord, DAP_SUBSLOT, INTERFACE_SUBSLOT, PORT_SUBSLOT, StationConfig};

@@ -30,6 +30,7 @@ mod catalogue;
 mod date;
 mod document;
 mod plan;
+mod planned;
 mod write;
 mod xml;
 
