@@ -2,12 +2,12 @@
 //! `procimg-gs20 gsdml`: the item catalogue's GSDML file ([`procimg_gs20::catalogue`]) to
 //! standard output, to a file or into a directory under its standard name.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::SystemTime;
 
-use anyhow::{Context, anyhow};
+use anyhow::anyhow;
 use clap::Args;
+use procimg_config::gsdml::export::Destination;
 use procimg_gs20::catalogue::{
     CatalogueIdentity, DEFAULT_DEVICE_ID, DEFAULT_VENDOR_ID, GsdmlDate, catalogue_gsdml,
 };
@@ -63,18 +63,8 @@ pub fn run(args: GsdmlArgs) -> anyhow::Result<()> {
         })?,
     };
     let gsdml = catalogue_gsdml(&identity, args.cycle_time, date)?;
-    let path = match (args.output, args.dir) {
-        (Some(file), _) => file,
-        (None, Some(dir)) => dir.join(&gsdml.file_name),
-        (None, None) => {
-            let mut out = std::io::stdout().lock();
-            out.write_all(gsdml.xml.as_bytes())
-                .and_then(|()| out.flush())
-                .context("cannot write to standard output")?;
-            return Ok(());
-        }
-    };
-    gsdml.write(&path)?;
-    println!("{}", path.display());
+    if let Some(path) = gsdml.deliver(Destination::of(args.output, args.dir))? {
+        println!("{}", path.display());
+    }
     Ok(())
 }

@@ -2,14 +2,13 @@
 //! `procimg gsdml`: the GSDML file of procimgd's own station (`role = "device"`), for the
 //! engineering tool of the PLC that connects to it.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::SystemTime;
 
-use anyhow::{Context, anyhow, bail};
+use anyhow::{anyhow, bail};
 use clap::Args;
 use procimg_config::Role;
-use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
+use procimg_config::gsdml::export::{Destination, GsdmlDate, station_gsdml};
 
 #[derive(Args)]
 pub struct GsdmlArgs {
@@ -65,19 +64,9 @@ pub fn run(args: GsdmlArgs) -> anyhow::Result<()> {
     };
     let gsdml = station_gsdml(station, config.cycle_ns, date)
         .map_err(|e| anyhow!("{}: {e}", args.config.display()))?;
-    let path = match (args.output, args.dir) {
-        (Some(file), _) => file,
-        (None, Some(dir)) => dir.join(&gsdml.file_name),
-        (None, None) => {
-            let mut out = std::io::stdout().lock();
-            out.write_all(gsdml.xml.as_bytes())
-                .and_then(|()| out.flush())
-                .context("cannot write to standard output")?;
-            return Ok(());
-        }
-    };
-    gsdml.write(&path)?;
-    println!("{}", path.display());
+    if let Some(path) = gsdml.deliver(Destination::of(args.output, args.dir))? {
+        println!("{}", path.display());
+    }
     Ok(())
 }
 

@@ -38,7 +38,7 @@ use core::fmt;
 
 pub use catalogue::{Catalogue, CatalogueModule, CatalogueSubmodule};
 pub use date::{DateError, GsdmlDate};
-pub use write::WriteError;
+pub use write::{Destination, WriteError};
 
 use crate::station::StationConfig;
 

@@ -31,9 +31,53 @@ pub enum WriteError {
         /// What the system said. Not the error's source: the message already shows it.
         error: std::io::Error,
     },
+    /// Writing to standard output failed.
+    #[error("cannot write the file to standard output: {0}")]
+    Stdout(std::io::Error),
+}
+
+/// Where a program puts the file it made: a file (`-o FILE`), a directory under the file's
+/// standard name (`-d DIR`), or standard output (neither).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Destination {
+    /// This file.
+    File(PathBuf),
+    /// This directory, under the file's standard name.
+    Dir(PathBuf),
+    /// Standard output.
+    Stdout,
+}
+
+impl Destination {
+    /// The destination of the options `-o FILE` and `-d DIR` (the file if both).
+    pub fn of(file: Option<PathBuf>, dir: Option<PathBuf>) -> Destination {
+        match (file, dir) {
+            (Some(file), _) => Destination::File(file),
+            (None, Some(dir)) => Destination::Dir(dir),
+            (None, None) => Destination::Stdout,
+        }
+    }
 }
 
 impl StationGsdml {
+    /// Puts the file's text at `to` (a file as [`write`](Self::write) does); the path
+    /// written, or `None` for standard output.
+    pub fn deliver(&self, to: Destination) -> Result<Option<PathBuf>, WriteError> {
+        let path = match to {
+            Destination::File(file) => file,
+            Destination::Dir(dir) => dir.join(&self.file_name),
+            Destination::Stdout => {
+                let mut out = std::io::stdout().lock();
+                out.write_all(self.xml.as_bytes())
+                    .and_then(|()| out.flush())
+                    .map_err(WriteError::Stdout)?;
+                return Ok(None);
+            }
+        };
+        self.write(&path)?;
+        Ok(Some(path))
+    }
+
     /// Writes the file's text to `path`, replacing the file there: to a temporary file
     /// beside it first (same directory, so the rename cannot cross file systems), then
     /// renamed over it. A temporary file left by a failure is removed.
