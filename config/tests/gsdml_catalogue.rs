@@ -6,8 +6,6 @@
 //! modules; what one file cannot offer is refused with what to do.
 
 use std::ops::RangeInclusive;
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use procimg_config::gsdml::Gsdml;
 use procimg_config::gsdml::export::{
@@ -20,19 +18,6 @@ use procimg_config::{
 
 fn date() -> GsdmlDate {
     GsdmlDate::new(2025, 1, 31).unwrap()
-}
-
-/// A fresh directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    static NEXT: AtomicUsize = AtomicUsize::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "procimg-gsdml-catalogue-{}-{}-{name}",
-        std::process::id(),
-        NEXT.fetch_add(1, Ordering::Relaxed)
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// A device configuration: `[[station.submodule]]` tables after the identity.
@@ -168,7 +153,8 @@ fn a_program_plugs_the_catalogues_modules_in_their_slots() {
 #[test]
 fn a_controller_configuration_names_the_catalogues_modules() {
     let file = export(&station(""), &three()).unwrap();
-    let dir = scratch("controller");
+    let scratch = tempfile::tempdir().unwrap();
+    let dir = scratch.path();
     std::fs::write(dir.join(&file.file_name), &file.xml).unwrap();
     let text = format!(
         "[[device]]\nname = \"catalogued\"\ngsdml = \"{}\"\n\
@@ -178,7 +164,7 @@ fn a_controller_configuration_names_the_catalogues_modules() {
         module_item_id(0x2016),
         module_item_id(0x3004),
     );
-    let config: Config = match parse_in_dir(&text, "plant.toml", &dir) {
+    let config: Config = match parse_in_dir(&text, "plant.toml", dir) {
         Ok(c) => c,
         Err(e) => panic!("the import refused: {e}\n{text}"),
     };
@@ -190,7 +176,6 @@ fn a_controller_configuration_names_the_catalogues_modules() {
         .map(|s| (s.slot, s.module_ident, s.input_length, s.output_length))
         .collect();
     assert_eq!(plugged, [(2, 0x2016, 0, 16), (5, 0x3004, 4, 4)]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -114,15 +114,11 @@ fn synchronise(host: &mut Host, bridge: &mut Bridge) -> procimg_gs20::messages::
 }
 
 fn network() -> SetNetworkConfig<'static> {
-    SetNetworkConfig {
-        mode: AddressMode::Static,
-        ip: Ipv4Addr::new(192, 168, 0, 50),
-        mask: Ipv4Addr::new(255, 255, 255, 0),
-        gateway: Ipv4Addr::UNSPECIFIED,
-        dns1: Ipv4Addr::UNSPECIFIED,
-        dns2: Ipv4Addr::UNSPECIFIED,
-        host_name: b"gs20-host",
-    }
+    SetNetworkConfig::static_ip(
+        Ipv4Addr::new(192, 168, 0, 50),
+        Ipv4Addr::new(255, 255, 255, 0),
+        b"gs20-host",
+    )
 }
 
 /// The host's input image: item 3008's 8 bytes, item 1004's 4.

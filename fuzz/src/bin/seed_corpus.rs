@@ -422,15 +422,11 @@ fn gs20(seeds: &mut Seeds) -> Result<(), procimg_gs20::frame::EmitError> {
     add(seeds, "gs20", "request-reset", &RequestReset.to_vec()?);
     add(seeds, "gs20", "request-start", &start);
 
-    let network = SetNetworkConfig {
-        mode: AddressMode::Static,
-        ip: Ipv4Addr::new(192, 168, 0, 50),
-        mask: Ipv4Addr::new(255, 255, 255, 0),
-        gateway: Ipv4Addr::UNSPECIFIED,
-        dns1: Ipv4Addr::UNSPECIFIED,
-        dns2: Ipv4Addr::UNSPECIFIED,
-        host_name: b"gs20-host",
-    }
+    let network = SetNetworkConfig::static_ip(
+        Ipv4Addr::new(192, 168, 0, 50),
+        Ipv4Addr::new(255, 255, 255, 0),
+        b"gs20-host",
+    )
     .to_vec()?;
     let mut damaged = add_item.clone();
     damaged[5] ^= 0x01;

@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use super::*;
 use crate::messages::{
-    AddBasket, AddDevice, AddItem, AddressMode, CloseSocket, ItemId, RequestReset, RequestStart,
-    RequestStatus, SetBusData, SetMac, SetNetworkConfig, SetSerialNumber,
+    AddBasket, AddDevice, AddItem, CloseSocket, ItemId, RequestReset, RequestStart, RequestStatus,
+    SetBusData, SetMac, SetNetworkConfig, SetSerialNumber,
 };
 use crate::stream::Decoder;
 use proptest::prelude::*;
@@ -30,15 +30,11 @@ fn response(step: &Step) -> AdapterResponse {
 }
 
 fn network() -> SetNetworkConfig<'static> {
-    SetNetworkConfig {
-        mode: AddressMode::Static,
-        ip: Ipv4Addr::new(192, 168, 0, 50),
-        mask: Ipv4Addr::new(255, 255, 255, 0),
-        gateway: Ipv4Addr::UNSPECIFIED,
-        dns1: Ipv4Addr::UNSPECIFIED,
-        dns2: Ipv4Addr::UNSPECIFIED,
-        host_name: b"GS20-Host",
-    }
+    SetNetworkConfig::static_ip(
+        Ipv4Addr::new(192, 168, 0, 50),
+        Ipv4Addr::new(255, 255, 255, 0),
+        b"GS20-Host",
+    )
 }
 
 fn warnings(step: &Step) -> Vec<&Warning> {

@@ -97,6 +97,22 @@ pub enum NetworkConfigError {
     HostNameReserved,
 }
 
+impl<'a> SetNetworkConfig<'a> {
+    /// Static addresses without a gateway or DNS servers, as a host on a plant network
+    /// without routing sends them.
+    pub const fn static_ip(ip: Ipv4Addr, mask: Ipv4Addr, host_name: &'a [u8]) -> Self {
+        SetNetworkConfig {
+            mode: AddressMode::Static,
+            ip,
+            mask,
+            gateway: Ipv4Addr::UNSPECIFIED,
+            dns1: Ipv4Addr::UNSPECIFIED,
+            dns2: Ipv4Addr::UNSPECIFIED,
+            host_name,
+        }
+    }
+}
+
 impl SetNetworkConfig<'_> {
     /// Checks the configuration as the module would (error bit 3).
     ///
