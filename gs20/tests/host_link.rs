@@ -10,6 +10,7 @@
 
 mod host;
 
+use host::bridge::{Bridge, synchronise};
 use host::{Got, Host};
 use procimg_config::gsdml::export::{GsdmlDate, station_gsdml};
 use procimg_gs20::messages::{
@@ -21,7 +22,6 @@ use procimg_testkit::Launch;
 use std::io::{BufRead, Write};
 use std::net::{Ipv4Addr, TcpListener, TcpStream, UdpSocket};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// The station's GSDML file: a module for each item the test adds (module ident = the item
@@ -58,59 +58,6 @@ fn gsdml(dir: &Path) -> std::path::PathBuf {
     let path = dir.join(&file.file_name);
     std::fs::write(&path, file.xml).unwrap();
     path
-}
-
-/// The bridge as a child process, killed and reaped when dropped (also when the test fails).
-struct Bridge(Child);
-
-impl Bridge {
-    fn start(port: &str, instance: &str) -> Bridge {
-        let child = Command::new(env!("CARGO_BIN_EXE_procimg-gs20"))
-            .args(["run", "--port", port, "--instance", instance])
-            .args(["--min-period-ms", "20"])
-            .env(
-                "RUST_LOG",
-                std::env::var("GS20_TEST_LOG").unwrap_or_else(|_| "info".into()),
-            )
-            .env("NO_COLOR", "1")
-            .stdin(Stdio::null())
-            .spawn()
-            .expect("start procimg-gs20");
-        Bridge(child)
-    }
-}
-
-impl Drop for Bridge {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// Request Status until the module answers: the host's synchronisation point (the bridge
-/// may still be opening the port or attaching).
-fn synchronise(host: &mut Host, bridge: &mut Bridge) -> procimg_gs20::messages::AdapterResponse {
-    let deadline = Instant::now() + host::GENEROUS;
-    loop {
-        assert!(
-            bridge.0.try_wait().unwrap().is_none(),
-            "procimg-gs20 stopped (its log is above)"
-        );
-        let from = host.mark();
-        host.send(RequestStatus);
-        // A second's worth of frames, then ask again.
-        let until = Instant::now() + Duration::from_secs(1);
-        while Instant::now() < until {
-            if let Some(Got::Response(r)) = host.got[from..]
-                .iter()
-                .find(|g| matches!(g, Got::Response(_)))
-            {
-                return *r;
-            }
-            host.poll_once();
-        }
-        assert!(Instant::now() < deadline, "no answer to Request Status");
-    }
 }
 
 fn network() -> SetNetworkConfig<'static> {

@@ -16,7 +16,7 @@ use anyhow::Context;
 use procimg_gs20::link::Link;
 use std::path::PathBuf;
 use std::time::Duration;
-use tracing::info;
+use tracing::{info, warn};
 
 /// The parity of the serial line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -51,6 +51,11 @@ pub struct RunArgs {
     /// Basket is refused (error bit 1).
     #[arg(long)]
     baskets: Option<PathBuf>,
+    /// SCHED_FIFO priority of the bridge, 1 to 99 (0: normal scheduling). The default, 40,
+    /// is above the machine's normal work and below procimgd's cycle thread (80), so that
+    /// a busy machine does not hold back the host's Adapter Data.
+    #[arg(long, default_value_t = 40, value_parser = clap::value_parser!(u8).range(0..=99))]
+    priority: u8,
 }
 
 /// Runs the bridge until the serial port fails.
@@ -64,6 +69,16 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         ParityArg::None => serialport::Parity::None,
     };
     let serial = serial::Serial::open(&args.port, args.baud, parity)?;
+    if args.priority > 0
+        && let Err(e) = procimg_client::realtime::make_current_thread_realtime(args.priority)
+    {
+        warn!(
+            "cannot run at SCHED_FIFO priority {} with its memory locked ({e}): a busy \
+             machine may delay the host's frames; run it as \
+             root or with CAP_SYS_NICE and CAP_IPC_LOCK, or pass --priority 0 to silence this",
+            args.priority
+        );
+    }
     let procimgd = procimgd::Procimgd::attach(&args.instance)?;
     let period = (args.min_period_ms > 0).then(|| Duration::from_millis(args.min_period_ms));
     info!(

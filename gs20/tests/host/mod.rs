@@ -5,6 +5,9 @@
 
 #![allow(dead_code)]
 
+pub mod bridge;
+pub mod plant;
+
 use nix::fcntl::{FcntlArg, FdFlag, fcntl};
 use nix::poll::{PollFd, PollFlags, poll};
 use nix::pty::openpty;
@@ -73,6 +76,8 @@ pub struct Host {
     decoder: Decoder,
     /// Every frame received, in order.
     pub got: Vec<Got>,
+    /// When each frame of [`Host::got`] was read from the pty.
+    pub arrived: Vec<Instant>,
 }
 
 impl Host {
@@ -98,6 +103,7 @@ impl Host {
             path,
             decoder: Decoder::with_gap(None),
             got: Vec::new(),
+            arrived: Vec::new(),
         }
     }
 
@@ -136,7 +142,7 @@ impl Host {
     }
 
     /// Reads what is there (waiting up to `wait` for something) into [`Host::got`].
-    fn read(&mut self, wait: Duration) {
+    pub fn read(&mut self, wait: Duration) {
         let mut fds = [PollFd::new(self.master, PollFlags::POLLIN)];
         let ms = wait.as_millis().min(i32::MAX as u128) as i32;
         if !matches!(poll(&mut fds, ms), Ok(n) if n > 0) {
@@ -148,8 +154,9 @@ impl Host {
             Err(nix::errno::Errno::EINTR | nix::errno::Errno::EAGAIN) => return,
             Err(e) => panic!("reading the pty: {e}"),
         };
+        let now = Instant::now();
         let got = &mut self.got;
-        self.decoder.feed(&buf[..n], Instant::now(), |item| {
+        self.decoder.feed(&buf[..n], now, |item| {
             got.push(match item {
                 Err(e) => Got::Broken(e.to_string()),
                 Ok(frame) => match AdapterMessage::parse(&frame) {
@@ -177,6 +184,7 @@ impl Host {
                 },
             })
         });
+        self.arrived.resize(self.got.len(), now);
     }
 
     /// Reads until a frame at index `from` or later matches `pick`, within [`GENEROUS`]:
