@@ -143,6 +143,7 @@ pub mod cyclic;
 pub mod dcp_client;
 pub mod device;
 pub mod iocr_layout;
+pub mod port;
 pub mod rta;
 #[cfg(test)]
 pub(crate) mod test_fixtures;

@@ -56,6 +56,9 @@ pub(super) struct Identity {
     pub(super) type_of_station: String,
     /// Whether the device sends a Hello request at start-up (its DeviceInitiative).
     pub(super) hello: bool,
+    /// The alias name its LLDP neighbour gives it (`<peer port>.<peer station>`), if it has
+    /// one neighbour that names itself.
+    pub(super) alias: Option<String>,
 }
 
 /// What a Set changed, for the device to act on (an AR ends when its station changes).
@@ -200,8 +203,10 @@ fn matches(id: &Identity, filter: &BlockRepr) -> bool {
             (*ip, *mask, *gateway) == (id.ip, id.mask, id.gateway)
         }
         BlockRepr::MacAddress(m) => *m == id.mac,
-        // An alias is the name of our neighbour's port: we have no LLDP neighbour, so no
-        // alias, and filters we do not know match nothing.
+        // The alias is what the LLDP neighbour makes of the device: a controller finds a
+        // device without a name by where it is plugged.
+        BlockRepr::AliasName(a) => id.alias.as_deref() == Some(a.as_str()),
+        // Filters we do not know match nothing.
         _ => false,
     }
 }

@@ -83,7 +83,6 @@ mod im;
 mod iobase_alarms;
 #[cfg(test)]
 mod iobase_alarms_tests;
-pub mod lldp;
 mod params;
 mod plug;
 #[cfg(test)]
@@ -123,6 +122,7 @@ pub use params::ParameterRecord;
 pub use plug::{PlugError, Plugging};
 pub use records::Records;
 pub use station::Station;
+use crate::port::lldp;
 use std::net::SocketAddrV4;
 
 /// What the device is and what is plugged into it.
@@ -295,6 +295,7 @@ impl<A: Application> Device<A> {
                     instance: spec.instance,
                     type_of_station: "procimg simulated device".into(),
                     hello: false,
+                    alias: None,
                 },
                 spec.im0,
             ),
@@ -347,6 +348,13 @@ impl<A: Application> Device<A> {
         let Ok(eth) = ethernet::Frame::new_checked(frame) else {
             return;
         };
+        if eth.ethertype() == crate::wire::lldp::ETHERTYPE_LLDP
+            && eth.dst() == crate::wire::lldp::MULTICAST_NEAREST_BRIDGE
+            && eth.src() != self.station.id.mac
+        {
+            self.station.on_lldpdu(eth.src(), eth.payload(), now_ns);
+            return;
+        }
         if eth.ethertype() != ETHERTYPE_PROFINET {
             return;
         }

@@ -14,7 +14,7 @@
 //! PDev records (0x8000–0x80FF) of the interface and port submodules (subslots 0x8000 and
 //! up; an S7 writes PDInterfaceAdjust 0x8071 there) and for I&M1–I&M4; the user and PDev
 //! data is kept for the AR and read back as written. PDInterfaceAdjust also sets where the
-//! device's LLDP frames carry its name ([`super::lldp::NameOfDeviceMode`]). The records the
+//! device's LLDP frames carry its name ([`crate::port::lldp::NameOfDeviceMode`]). The records the
 //! device serves are read-only; the rest is refused with a PNIORW status: invalid index,
 //! invalid slot/subslot, access denied, state conflict (the AR's records without an AR).
 

@@ -10,7 +10,9 @@
 //! ([`Station::after_dcp`] says what changed).
 
 use super::dcp::{self, Changes};
-use super::{DeviceAction, ImRecords, KeptIdentity, lldp};
+use super::{DeviceAction, ImRecords, KeptIdentity};
+use crate::port::lldp;
+use crate::port::neighbours::{NeighbourChange, Neighbours};
 use crate::wire::MacAddress;
 use crate::wire::record::Im0;
 
@@ -22,6 +24,8 @@ pub struct Station {
     pub(super) im: ImRecords,
     pub(super) im_writes: u64,
     lldp: Option<lldp::Announcer>,
+    /// The port's LLDP neighbours.
+    neighbours: Neighbours,
     /// A DCP Hello request is to go out at the next poll.
     hello_due: bool,
     signals: u32,
@@ -37,6 +41,7 @@ impl Station {
             im: ImRecords::default(),
             im_writes: 0,
             lldp: None,
+            neighbours: Neighbours::default(),
             hello_due: false,
             signals: 0,
         };
@@ -81,6 +86,37 @@ impl Station {
     /// here is overwritten by the next DCP change.
     pub fn lldp_mut(&mut self) -> Option<&mut lldp::Announcer> {
         self.lldp.as_mut()
+    }
+
+    /// The port's LLDP neighbours, as received.
+    pub fn neighbours(&self) -> &Neighbours {
+        &self.neighbours
+    }
+
+    /// The alias name the neighbour gives the station, which DCP Identify answers to.
+    pub fn alias_name(&self) -> Option<&str> {
+        self.id.alias.as_deref()
+    }
+
+    /// Takes an LLDPDU received from `source`.
+    pub(super) fn on_lldpdu(
+        &mut self,
+        source: MacAddress,
+        pdu: &[u8],
+        now_ns: u64,
+    ) -> Option<NeighbourChange> {
+        let change = self.neighbours.on_lldpdu(source, pdu, now_ns);
+        if change.is_some() {
+            self.id.alias = self.neighbours.alias_name();
+        }
+        change
+    }
+
+    /// The port's link went down: its neighbours are gone with it.
+    pub fn link_down(&mut self) {
+        if !self.neighbours.clear().is_empty() {
+            self.id.alias = None;
+        }
     }
 
     /// Sets the DeviceVendor (type of station) text DCP reports; "procimg simulated device"
@@ -198,6 +234,9 @@ impl Station {
         if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now_ns)) {
             out.push(DeviceAction::Frame(frame));
         }
+        if !self.neighbours.age(now_ns).is_empty() {
+            self.id.alias = self.neighbours.alias_name();
+        }
     }
 
     /// When the station needs a poll next.
@@ -205,6 +244,7 @@ impl Station {
         [
             self.hello_due.then_some(0),
             self.lldp.as_ref().map(lldp::Announcer::next_deadline_ns),
+            self.neighbours.next_deadline_ns(),
         ]
         .into_iter()
         .flatten()
