@@ -45,7 +45,7 @@ pub use space::Space;
 pub use states::{ArState, DeviceState};
 pub use status::{
     ArReport, Bucket, ClaimReport, ClientReport, DeviceReport, ForceReport, HistogramsReport,
-    NetworkReport, Percentiles, StationProgramReport, StationReport, StatusReport,
+    NeighbourReport, NetworkReport, Percentiles, StationProgramReport, StationReport, StatusReport,
     SubscriberReport,
 };
 

@@ -239,6 +239,34 @@ pub struct StationReport {
     /// its program.
     #[serde(default)]
     pub program: Option<StationProgramReport>,
+    /// The port's LLDP neighbours, as they announced themselves.
+    #[serde(default)]
+    pub neighbours: Vec<NeighbourReport>,
+    /// The alias name the neighbour gives the station (`<peer port>.<peer station>`), which
+    /// DCP Identify answers to.
+    #[serde(default)]
+    pub alias_name: Option<String>,
+}
+
+/// An LLDP neighbour of the station's port, for the status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct NeighbourReport {
+    /// Its Chassis ID, as text (a MAC address as `aa:bb:…`).
+    pub chassis_id: String,
+    /// Its Port ID, as text.
+    pub port_id: String,
+    /// Its PROFINET station name, if it announced one.
+    pub station: Option<String>,
+    /// Its port name (`port-001`), if it announced one.
+    pub port: Option<String>,
+    /// Its interface MAC address.
+    pub mac: String,
+    /// Its IPv4 management address, if it announced one.
+    pub ip: Option<String>,
+    /// The MAU type it runs (IETF RFC 4836), if it announced one.
+    pub mau_type: Option<u16>,
+    /// Seconds until it is forgotten without a newer frame.
+    pub ttl_left_s: u64,
 }
 
 /// A station its program defines, for the status report.

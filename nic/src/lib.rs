@@ -3,7 +3,7 @@
 //! [`Nic`], for the cycle thread of procimgd and for the `procimg` tool.
 //!
 //! - [`af_packet`]: a real interface through an AF_PACKET socket, filtered in the kernel to
-//!   PROFINET frames (EtherType 0x8892, tagged or not);
+//!   PROFINET frames (EtherType 0x8892, tagged or not) and LLDP's (0x88CC);
 //! - [`sim_link`]: an in-process link between two ends, for the simulated network and tests;
 //! - [`replay`]: a pcap or pcapng capture played as received frames;
 //! - [`capture`]: a pcap writer, for what an interface saw;

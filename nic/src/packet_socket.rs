@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The raw AF_PACKET socket the AF_PACKET backend reads and writes, with a kernel filter that
-//! lets only PROFINET frames through, so the cycle thread never wakes for other traffic. The
-//! crate's system calls, behind a safe interface.
+//! lets only PROFINET frames (and LLDP's, every few seconds) through, so the cycle thread
+//! never wakes for other traffic. The crate's system calls, behind a safe interface.
 //!
 //! The socket is ours rather than a library's channel for the receive: `recv` with
 //! `MSG_TRUNC` returns a frame's real length, so a frame longer than the buffer is seen
@@ -11,12 +11,15 @@ use std::io;
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 use std::time::Duration;
 
-/// Classic BPF: accept EtherType 0x8892, directly or behind one 802.1Q tag; drop the rest.
-const PROFINET_FILTER: [libc::sock_filter; 7] = [
+/// Classic BPF: accept EtherType 0x8892, directly or behind one 802.1Q tag, and LLDP
+/// (0x88CC, never tagged: the port's neighbours); drop the rest.
+const PROFINET_FILTER: [libc::sock_filter; 8] = [
     // ldh [12]: EtherType (or TPID)
     bpf(0x28, 0, 0, 12),
     // jeq #0x8892 -> accept, else next
-    bpf(0x15, 3, 0, 0x8892),
+    bpf(0x15, 4, 0, 0x8892),
+    // jeq #0x88cc -> accept, else next
+    bpf(0x15, 3, 0, 0x88cc),
     // jeq #0x8100 -> next (inner type), else reject
     bpf(0x15, 0, 3, 0x8100),
     // ldh [16]: EtherType behind the tag

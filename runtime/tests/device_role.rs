@@ -840,6 +840,31 @@ fn procimg_controller_and_procimg_device_exchange_data_over_a_veth_pair() {
         "the device's client saw GOOD Q data {echoed} times; watchdog expiries {expired:?}"
     );
 
+    // The controller's port announces itself by LLDP: the station knows its neighbour (the
+    // controller's name, port and address) and takes its alias name from it.
+    let with_neighbour = device.wait_status("the controller as the LLDP neighbour", |s| {
+        s.station
+            .as_ref()
+            .is_some_and(|st| !st.neighbours.is_empty())
+    });
+    let station = with_neighbour.station.unwrap();
+    let n = &station.neighbours[0];
+    let controller_name = format!("procimgd-{}", controller.instance.to_ascii_lowercase());
+    assert_eq!(
+        (n.station.as_deref(), n.port.as_deref(), n.ip.as_deref()),
+        (
+            Some(controller_name.as_str()),
+            Some("port-001"),
+            Some("10.47.0.1")
+        ),
+        "{n:?}"
+    );
+    assert!(n.ttl_left_s <= 20, "{n:?}");
+    assert_eq!(
+        station.alias_name,
+        Some(format!("port-001.{controller_name}"))
+    );
+
     // The PLC's STOP (its controller in CLEAR) and RUN reach the device's status.
     let plc_running = |device: &procimg_testkit::Procimgd| {
         device

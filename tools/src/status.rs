@@ -163,6 +163,34 @@ fn station(st: &StationReport) {
             .unwrap_or_default(),
         st.alarms_acknowledged
     );
+    neighbours(st);
+}
+
+/// The station port's LLDP neighbours and the alias name they give it.
+fn neighbours(st: &StationReport) {
+    if st.neighbours.is_empty() {
+        println!("port-001 neighbour none (no LLDP received)");
+    }
+    for n in &st.neighbours {
+        let who = match (&n.station, &n.port) {
+            (Some(s), Some(p)) => format!("\"{s}\" {p}"),
+            _ => format!("chassis {} port {}", n.chassis_id, n.port_id),
+        };
+        println!(
+            "port-001 neighbour {who}  MAC {}{}{}  (forgotten in {} s without LLDP)",
+            n.mac,
+            n.ip.as_deref()
+                .map(|ip| format!("  IP {ip}"))
+                .unwrap_or_default(),
+            n.mau_type
+                .map(|m| format!("  MAU type {m}"))
+                .unwrap_or_default(),
+            n.ttl_left_s
+        );
+    }
+    if let Some(alias) = &st.alias_name {
+        println!("alias name {alias:?} (DCP Identify answers to it)");
+    }
 }
 
 fn line(what: &str, p: &Percentiles) {

@@ -280,6 +280,10 @@ pub struct Controller {
     boot_time: u32,
     wanted: bool,
     dropped: DatagramCounters,
+    /// What the controller's port announces by LLDP, when it does.
+    lldp: Option<crate::port::lldp::Announcer>,
+    /// Its port's LLDP neighbours.
+    neighbours: crate::port::neighbours::Neighbours,
 }
 
 impl Controller {
@@ -302,7 +306,32 @@ impl Controller {
             boot_time,
             wanted: false,
             dropped: DatagramCounters::default(),
+            lldp: None,
+            neighbours: Default::default(),
         }
+    }
+
+    /// Makes the controller's port announce the controller by LLDP (its name, MAC and IP
+    /// address, as a PROFINET station's port does: [`crate::port::lldp`]), from the next
+    /// poll on and every 5 s, so that its devices know their neighbour; `port` says how the
+    /// port is described (its link, ifIndex), the name and addresses come from the
+    /// controller's identity. Off until called.
+    pub fn announce_by_lldp(&mut self, port: impl FnOnce(&mut crate::port::lldp::LldpStation)) {
+        let ip = (!self.id.ip.is_unspecified()).then(|| self.id.ip.octets());
+        let mut station = crate::port::lldp::LldpStation::new(
+            &self.id.station_name,
+            self.id.mac,
+            self.id.mac,
+            ip,
+            1,
+        );
+        port(&mut station);
+        self.lldp = Some(crate::port::lldp::Announcer::new(station));
+    }
+
+    /// The controller's port's LLDP neighbours.
+    pub fn neighbours(&self) -> &crate::port::neighbours::Neighbours {
+        &self.neighbours
     }
 
     /// The datagrams dropped so far.
@@ -416,8 +445,18 @@ impl Controller {
         }
     }
 
-    /// An acyclic PROFINET frame (DCP response, alarm).
+    /// An acyclic frame: a PROFINET one (DCP response, alarm), or the port neighbour's LLDP.
     pub fn on_frame(&mut self, frame: &[u8], now: u64, out: &mut Vec<ControllerAction>) {
+        let Ok(eth) = crate::wire::ethernet::Frame::new_checked(frame) else {
+            return;
+        };
+        if eth.ethertype() == crate::wire::lldp::ETHERTYPE_LLDP {
+            if eth.dst() == crate::wire::lldp::MULTICAST_NEAREST_BRIDGE && eth.src() != self.id.mac
+            {
+                self.neighbours.on_lldpdu(eth.src(), eth.payload(), now);
+            }
+            return;
+        }
         for d in &mut self.devices {
             d.on_frame(frame, &self.id, now, out);
         }
@@ -524,6 +563,10 @@ impl Controller {
         for d in &mut self.devices {
             d.poll(&self.id, now, out);
         }
+        if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now)) {
+            out.push(ControllerAction::Frame(frame));
+        }
+        self.neighbours.age(now);
     }
 
     /// Whether a Release still waits for a device's answer (a stopping controller waits for
@@ -534,6 +577,15 @@ impl Controller {
 
     /// When [`poll`](Self::poll) is due next, at the latest.
     pub fn next_deadline_ns(&self) -> Option<u64> {
-        self.devices.iter().filter_map(DeviceAr::deadline).min()
+        self.devices
+            .iter()
+            .filter_map(DeviceAr::deadline)
+            .chain(
+                self.lldp
+                    .as_ref()
+                    .map(crate::port::lldp::Announcer::next_deadline_ns),
+            )
+            .chain(self.neighbours.next_deadline_ns())
+            .min()
     }
 }

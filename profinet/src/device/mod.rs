@@ -95,6 +95,7 @@ mod station;
 mod tests;
 
 use crate::cyclic::{CyclicAr, Verdict};
+use crate::port::lldp;
 use crate::wire::control::ControlBlock;
 use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
 use crate::wire::record::Im0;
@@ -122,7 +123,6 @@ pub use params::ParameterRecord;
 pub use plug::{PlugError, Plugging};
 pub use records::Records;
 pub use station::Station;
-use crate::port::lldp;
 use std::net::SocketAddrV4;
 
 /// What the device is and what is plugged into it.

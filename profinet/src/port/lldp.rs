@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The LLDP announcer of a device port, sans-IO: what the port tells its neighbour about the
-//! station, every 5 s and at once when the station's name, address or naming mode changed.
+//! The LLDP announcer of a station's port (a device's or a controller's), sans-IO: what the
+//! port tells its neighbour about the station, every 5 s and at once when the station's
+//! name, address or naming mode changed.
 //!
 //! A PROFINET IO device sends per port (IEC 61158-6-10, LLDP as used by PROFINET):
 //!

@@ -63,8 +63,8 @@ fn a_neighbour_comes_is_refreshed_changes_and_ages_out() {
 fn ttl_zero_withdraws_and_a_changed_tlv_is_a_change() {
     let mut n = Neighbours::default();
     n.on_lldpdu(PLC_MAC, &s7(20, "port-001"), 0);
-    let mut other = lldp::Repr::parse(&Packet::new_checked(&s7(20, "port-001")[..]).unwrap())
-        .unwrap();
+    let mut other =
+        lldp::Repr::parse(&Packet::new_checked(&s7(20, "port-001")[..]).unwrap()).unwrap();
     other.tlvs.pop();
     assert_eq!(
         n.on_lldpdu(PLC_MAC, &other.to_vec().unwrap(), S),

@@ -18,6 +18,7 @@ use channel::{Channel, FromCycle, NetCounters, ToCycle};
 use procimg_nic::{Nic, RecvError};
 use procimg_profinet::cyclic::{Consumer, CyclicAr, ProducedData, Verdict};
 use procimg_profinet::wire::ethernet::{self, ETHERTYPE_PROFINET};
+use procimg_profinet::wire::lldp::ETHERTYPE_LLDP;
 use procimg_profinet::wire::rt::{FrameIdClass, TIME_UNIT_NS, data_status};
 use procimg_shm_layout::{IOXS_BAD, IOXS_GOOD, Mode, SubmoduleStatus};
 use std::sync::Arc;
@@ -189,12 +190,29 @@ impl Exchanges {
         }
     }
 
+    /// Hands an acyclic frame to the acyclic side, in a buffer of the pool (counted as
+    /// dropped when the pool is empty: the cycle never waits for it).
+    fn forward(&mut self, frame: &[u8]) {
+        match self.channel.free.pop() {
+            Some(mut buf) => {
+                buf.data[..frame.len()].copy_from_slice(frame);
+                buf.len = frame.len();
+                self.report(FromCycle::Received(buf));
+            }
+            None => NetCounters::count(&self.channel.counters.dropped),
+        }
+    }
+
     fn take_frame(&mut self, frame: &[u8], now_ns: u64, image: &mut Image) {
         let counters = &self.channel.counters;
         let Ok(eth) = ethernet::Frame::new_checked(frame) else {
             NetCounters::count(&counters.malformed);
             return;
         };
+        if eth.ethertype() == ETHERTYPE_LLDP {
+            // The port's neighbours: the acyclic side's business.
+            return self.forward(frame);
+        }
         if eth.ethertype() != ETHERTYPE_PROFINET {
             NetCounters::count(&counters.unknown);
             return;
@@ -205,16 +223,8 @@ impl Exchanges {
             return;
         };
         if !FrameIdClass::of(id).is_cyclic() {
-            // DCP, alarms: the controller's business.
-            match self.channel.free.pop() {
-                Some(mut buf) => {
-                    buf.data[..frame.len()].copy_from_slice(frame);
-                    buf.len = frame.len();
-                    self.report(FromCycle::Received(buf));
-                }
-                None => NetCounters::count(&counters.dropped),
-            }
-            return;
+            // DCP, alarms: the acyclic side's business.
+            return self.forward(frame);
         }
         let src = eth.src();
         let Some(d) = usize::from(self.device_by_frame_id[usize::from(id)]).checked_sub(1) else {

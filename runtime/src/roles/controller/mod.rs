@@ -88,6 +88,9 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         .collect();
     let channel = Arc::new(Channel::new());
     let (ch, cycle_ns) = (channel.clone(), config.cycle_ns);
+    // The interface's index, for the LLDP announcements of a real port (the management
+    // address names the port by it, as the LLDP-MIB's ifIndex).
+    let mut if_index = None;
     let (io, udp, mac, ip): (IoFactory, Box<dyn Datagrams>, MacAddress, Ipv4Addr) =
         match &config.network {
             Network::Sim => {
@@ -130,7 +133,10 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                 // The devices' MAC addresses from DCP go to the interface's neighbour table,
                 // so that no RPC call waits for ARP (see `ControllerAction::Neighbour`).
                 match crate::sys::netlink::interface_index(name) {
-                    Ok(index) => udp = udp.with_neighbours_on(index),
+                    Ok(index) => {
+                        udp = udp.with_neighbours_on(index);
+                        if_index = Some(index);
+                    }
                     Err(e) => tracing::warn!(
                         "no index of interface {name:?} ({e}); RPC calls wait for ARP"
                     ),
@@ -161,7 +167,12 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     if !crate::sys::random::fill(&mut seed) {
         seed = crate::sys::clock::now_ns().to_le_bytes();
     }
-    let controller = Controller::new(id, plans, boot_time, u64::from_le_bytes(seed));
+    let mut controller = Controller::new(id, plans, boot_time, u64::from_le_bytes(seed));
+    // On a real network the controller's port tells its neighbour who it is, as every
+    // PROFINET station's port does; its devices learn their neighbour from it.
+    if let (Network::Interface(_), Some(index)) = (&config.network, if_index) {
+        controller.announce_by_lldp(|port| port.if_index = index);
+    }
     let (commands, command_rx) = std::sync::mpsc::channel();
     let (events, event_rx) = std::sync::mpsc::channel();
     threads.push(

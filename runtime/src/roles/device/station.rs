@@ -4,13 +4,17 @@
 
 use super::identity::Identity;
 use crate::config::StationConfig;
-use procimg_control::{self as control, ArReport, StationDiagnosis, StationReport};
+use procimg_control::{
+    self as control, ArReport, NeighbourReport, StationDiagnosis, StationReport,
+};
 use procimg_profinet::device::{
     Application, ArCheck, ArState, DcpSetCheck, Device, DeviceSetup, DiagnosisStore,
     ParameterRecord, RecordJob, SubslotAddr,
 };
+use procimg_profinet::port::neighbours::Neighbour;
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::alarm::AlarmType;
+use procimg_profinet::wire::lldp::Id;
 use procimg_profinet::wire::record::{Im0, SoftwareRevision, blank_padded};
 use procimg_profinet::wire::rta_pdu::AbortCode;
 use std::sync::Mutex;
@@ -100,6 +104,9 @@ pub struct Station {
     /// The diagnosis the report shows, as the engine held it: the report's copy is made
     /// again only when the engine's changed.
     diagnosis_shown: Mutex<DiagnosisStore>,
+    /// The neighbour table's change count and the time when the report's copy was made:
+    /// made again when the table changed, and every second for the time left to live.
+    neighbours_shown: Mutex<(u64, u64)>,
 }
 
 impl Station {
@@ -121,8 +128,11 @@ impl Station {
                 diagnosis: Vec::new(),
                 station_problem: false,
                 program: None,
+                neighbours: Vec::new(),
+                alias_name: None,
             }),
             diagnosis_shown: Mutex::new(DiagnosisStore::new()),
+            neighbours_shown: Mutex::new((0, 0)),
         }
     }
 
@@ -150,9 +160,25 @@ impl Station {
         if changed {
             shown.clone_from(device.diagnosis());
         }
+        let neighbours = self.neighbours_due(device.station().neighbours().changes);
         let mut r = self.lock();
         r.alarms_acknowledged = device.alarm_acks().count();
         r.station_problem = station_problem;
+        if let Some(now_ns) = neighbours {
+            let (list, alias) = (device.station().neighbours(), device.station().alias_name());
+            if r.alias_name.as_deref() != alias {
+                match alias {
+                    Some(a) => tracing::info!("the station's alias name is now {a:?}"),
+                    None => tracing::info!("the station has no alias name any more"),
+                }
+            }
+            r.neighbours = list
+                .entries()
+                .iter()
+                .map(|n| neighbour(n, now_ns))
+                .collect();
+            r.alias_name = alias.map(str::to_owned);
+        }
         if changed {
             r.diagnosis = shown
                 .iter()
@@ -295,6 +321,21 @@ impl Station {
         }
     }
 
+    /// Whether the report's neighbours are to be made again, the table's change count being
+    /// `changes`: the time now if so.
+    fn neighbours_due(&self, changes: u64) -> Option<u64> {
+        let mut shown = self
+            .neighbours_shown
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let now_ns = crate::sys::clock::now_ns();
+        let due = shown.0 != changes || now_ns.saturating_sub(shown.1) >= 1_000_000_000;
+        due.then(|| {
+            *shown = (changes, now_ns);
+            now_ns
+        })
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, StationReport> {
         // A panic elsewhere does not make the report wrong: take it as it is.
         self.report.lock().unwrap_or_else(|e| e.into_inner())
@@ -387,5 +428,26 @@ fn im0(station: &StationConfig) -> Im0 {
         profile_specific_type: 0,
         im_version: (1, 1),
         im_supported: 0,
+    }
+}
+
+/// A neighbour as the status report shows it, at `now_ns`.
+fn neighbour(n: &Neighbour, now_ns: u64) -> NeighbourReport {
+    let id = |id: &Id| match id {
+        Id::Local(s) => s.clone(),
+        Id::MacAddress(m) => m.to_string(),
+        other => other.to_string(),
+    };
+    NeighbourReport {
+        chassis_id: id(&n.chassis_id),
+        port_id: id(&n.port_id),
+        station: n.peer_station().map(str::to_owned),
+        port: n.peer_port().map(str::to_owned),
+        mac: n.mac().to_string(),
+        ip: n
+            .management_ipv4()
+            .map(|ip| std::net::Ipv4Addr::from(ip).to_string()),
+        mau_type: n.mac_phy().map(|m| m.mau_type),
+        ttl_left_s: n.expires_ns().saturating_sub(now_ns) / 1_000_000_000,
     }
 }
