@@ -4,7 +4,7 @@
 //! must decode in Wireshark's dissectors without malformed packets or error-level expert
 //! items, and tshark must read the chassis ID, port ID and TTL we meant.
 
-use procimg_profinet::device::lldp::{Announcer, LldpStation, NameOfDeviceMode};
+use procimg_profinet::port::lldp::{Announcer, LldpStation, NameOfDeviceMode};
 use procimg_profinet::device::{Application, Device, DeviceAction, DeviceSetup};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::lldp::{
@@ -57,7 +57,7 @@ fn stations() -> Vec<LldpStation> {
             let mut s = LldpStation::new(name, MAC, PORT_MAC, ip, port);
             s.mode = mode;
             s.if_index = 7;
-            s.system_identification = procimg_profinet::device::lldp::system_identification(
+            s.system_identification = procimg_profinet::port::lldp::system_identification(
                 "procimg simulated device",
                 &Default::default(),
             );
