@@ -107,6 +107,12 @@ enum_with_unknown! {
         Im0FilterDataModule = 0x0031 => "I&M0FilterDataModule",
         /// 0x0032 I&M0FilterDataDevice (record 0xF840).
         Im0FilterDataDevice = 0x0032 => "I&M0FilterDataDevice",
+        /// 0x0018 ARData (records 0xF820, 0xF020).
+        ArData = 0x0018 => "ARData",
+        /// 0x0019 LogBookData (record 0xF830).
+        LogBookData = 0x0019 => "LogBookData",
+        /// 0x001A APIData (record 0xF821).
+        ApiData = 0x001a => "APIData",
         /// 0x0101 ARBlockReq.
         ArBlockReq = 0x0101 => "ARBlockReq",
         /// 0x0102 IOCRBlockReq.
@@ -129,6 +135,44 @@ enum_with_unknown! {
         ReleaseReq = 0x0114 => "IODReleaseReq",
         /// 0x0118 IODControlReq PrmBegin (re-parameterization, advanced startup).
         PrmBeginReq = 0x0118 => "IODControlReq PrmBegin",
+        /// 0x0200 PDPortDataCheck (record 0x802B).
+        PdPortDataCheck = 0x0200 => "PDPortDataCheck",
+        /// 0x0202 PDPortDataAdjust (record 0x802F).
+        PdPortDataAdjust = 0x0202 => "PDPortDataAdjust",
+        /// 0x0209 AdjustDomainBoundary.
+        AdjustDomainBoundary = 0x0209 => "AdjustDomainBoundary",
+        /// 0x020A CheckPeers.
+        CheckPeers = 0x020a => "CheckPeers",
+        /// 0x020B CheckLineDelay.
+        CheckLineDelay = 0x020b => "CheckLineDelay",
+        /// 0x020C CheckMAUType.
+        CheckMauType = 0x020c => "CheckMAUType",
+        /// 0x020E AdjustMAUType.
+        AdjustMauType = 0x020e => "AdjustMAUType",
+        /// 0x020F PDPortDataReal (record 0x802A).
+        PdPortDataReal = 0x020f => "PDPortDataReal",
+        /// 0x0210 AdjustMulticastBoundary.
+        AdjustMulticastBoundary = 0x0210 => "AdjustMulticastBoundary",
+        /// 0x021B AdjustLinkState.
+        AdjustLinkState = 0x021b => "AdjustLinkState",
+        /// 0x021C CheckLinkState.
+        CheckLinkState = 0x021c => "CheckLinkState",
+        /// 0x021E CheckSyncDifference.
+        CheckSyncDifference = 0x021e => "CheckSyncDifference",
+        /// 0x021F CheckMAUTypeDifference.
+        CheckMauTypeDifference = 0x021f => "CheckMAUTypeDifference",
+        /// 0x0224 AdjustPeerToPeerBoundary.
+        AdjustPeerToPeerBoundary = 0x0224 => "AdjustPeerToPeerBoundary",
+        /// 0x0225 AdjustDCPBoundary.
+        AdjustDcpBoundary = 0x0225 => "AdjustDCPBoundary",
+        /// 0x0240 PDInterfaceDataReal (record 0x8080).
+        PdInterfaceDataReal = 0x0240 => "PDInterfaceDataReal",
+        /// 0x0250 PDInterfaceAdjust (record 0x8071).
+        PdInterfaceAdjust = 0x0250 => "PDInterfaceAdjust",
+        /// 0x0251 PDPortStatistic (record 0x8072).
+        PdPortStatistic = 0x0251 => "PDPortStatistic",
+        /// 0x0400 MultipleBlockHeader (records 0xF841, 0xF842).
+        MultipleBlockHeader = 0x0400 => "MultipleBlockHeader",
         /// 0x0F00 MaintenanceItem.
         MaintenanceItem = 0x0f00 => "MaintenanceItem",
         /// 0x8001 AlarmAckHigh.

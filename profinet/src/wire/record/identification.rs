@@ -18,7 +18,9 @@
 
 use super::super::common::{BLOCK_HEADER_LEN, blocks};
 use super::super::cursor::{Reader, Writer};
-use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, RecordVersion, Result};
+use super::{
+    BlockHeader, BlockType, EmitError, EmitResult, Error, RecordVersion, Result, emit_block,
+};
 
 /// A subslot of an identification list.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -157,30 +159,6 @@ fn write_apis(w: &mut Writer<'_>, apis: &[IdentApi]) -> EmitResult<()> {
         write_modules(w, &a.modules)?;
     }
     Ok(())
-}
-
-/// Writes a block of `block_type` and version 1.`version_low` whose body `body_len` bytes
-/// `body` fills, into the first bytes of `buf`; the bytes written.
-fn emit_block(
-    what: &'static str,
-    block_type: BlockType,
-    version_low: u8,
-    body_len: usize,
-    buf: &mut [u8],
-    body: impl FnOnce(&mut Writer<'_>) -> EmitResult<()>,
-) -> EmitResult<usize> {
-    let header = BlockHeader {
-        version_low,
-        ..BlockHeader::v1(block_type, body_len)?
-    };
-    let total = header.total_len();
-    EmitError::check_len(what, total, buf.len())?;
-    let out = buf.get_mut(..total).unwrap_or_default();
-    let mut w = Writer::new(what, out);
-    w.put(&header.to_bytes())?;
-    body(&mut w)?;
-    w.finish()?;
-    Ok(total)
 }
 
 /// Which identification a block gives.

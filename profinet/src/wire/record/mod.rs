@@ -34,6 +34,7 @@ use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, PnioStatus, Re
 mod diagnosis;
 mod identification;
 mod im;
+mod pdev;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
@@ -45,6 +46,12 @@ pub use identification::{
     Im0FilterKind,
 };
 pub use im::{IM0_LEN, IM1_LEN, IM2_LEN, Im0, Im1, Im2, Im3, Im4, SoftwareRevision, blank_padded};
+pub use pdev::{
+    INDEX_PD_EXPECTED_DATA, INDEX_PD_INTERFACE_DATA_REAL, INDEX_PD_PORT_DATA_ADJUST,
+    INDEX_PD_PORT_DATA_CHECK, INDEX_PD_PORT_DATA_REAL, INDEX_PD_PORT_STATISTIC, INDEX_PD_REAL_DATA,
+    LINK_DOWN, LINK_UP, MEDIA_COPPER, MEDIA_UNKNOWN, MultipleBlockHeader, PORT_STATE_FORWARDING,
+    PORT_STATE_UNKNOWN, PdInterfaceDataReal, PdPortDataReal, PdPortStatistic, PeerReal,
+};
 
 /// BlockVersion of the diagnosis and identification records: 1.0 knows API 0 alone and has
 /// no field for the API, 1.1 carries it.
@@ -679,4 +686,28 @@ impl core::fmt::Display for RecordError {
         }
         write!(f, "{} (ErrorCode2 {:#04x})", self.code, self.error_code2)
     }
+}
+
+/// Writes a block of `block_type` and version 1.`version_low` whose body `body_len` bytes
+/// `body` fills, into the first bytes of `buf`; the bytes written.
+pub(super) fn emit_block(
+    what: &'static str,
+    block_type: BlockType,
+    version_low: u8,
+    body_len: usize,
+    buf: &mut [u8],
+    body: impl FnOnce(&mut Writer<'_>) -> EmitResult<()>,
+) -> EmitResult<usize> {
+    let header = BlockHeader {
+        version_low,
+        ..BlockHeader::v1(block_type, body_len)?
+    };
+    let total = header.total_len();
+    EmitError::check_len(what, total, buf.len())?;
+    let out = buf.get_mut(..total).unwrap_or_default();
+    let mut w = Writer::new(what, out);
+    w.put(&header.to_bytes())?;
+    body(&mut w)?;
+    w.finish()?;
+    Ok(total)
 }
