@@ -407,7 +407,7 @@ impl MultipleBlockHeader {
 
     /// Writes the block into the first [`buffer_len`](Self::buffer_len) bytes of `buf`.
     pub fn emit(&self, buf: &mut [u8]) -> EmitResult<usize> {
-        if self.blocks.len() % 4 != 0 {
+        if !self.blocks.len().is_multiple_of(4) {
             return Err(EmitError::Inconsistent(
                 "the blocks of a MultipleBlockHeader must end 4-aligned",
             ));

@@ -133,7 +133,7 @@ proptest! {
             media_type: media,
         };
         let v = b.to_vec().unwrap();
-        prop_assert_eq!(v.len() % 4, 0);
+        prop_assert!(v.len().is_multiple_of(4));
         prop_assert_eq!(PdPortDataReal::parse(&v).unwrap(), b);
     }
 
@@ -141,7 +141,7 @@ proptest! {
     fn pd_interface_data_real_round_trips(name in text(240), mac in any::<[u8; 6]>(), ip in any::<[u8; 4]>()) {
         let b = PdInterfaceDataReal { chassis_id: name, mac: MacAddress(mac), ip, mask: [255, 255, 0, 0], gateway: ip };
         let v = b.to_vec().unwrap();
-        prop_assert_eq!(v.len() % 4, 0);
+        prop_assert!(v.len().is_multiple_of(4));
         prop_assert_eq!(PdInterfaceDataReal::parse(&v).unwrap(), b);
     }
 
