@@ -404,3 +404,217 @@ fn everything_the_sim_device_emits_in_a_bring_up_dissects_clean() {
         );
     }
 }
+
+/// A request of `opnum` with `blocks` on a fresh activity (`n` tells the calls apart).
+fn call(connect_header: &Header, n: u8, opnum: u16, blocks: &[u8]) -> Vec<u8> {
+    let mut activity = connect_header.activity;
+    activity.0[15] ^= n;
+    activity.0[14] ^= 0xa5;
+    let h = Header {
+        activity,
+        sequence_number: 0,
+        opnum,
+        ..*connect_header
+    };
+    rpc::emit_request(&h, 4096, blocks).unwrap()
+}
+
+/// The record data of a positive Read response among `actions`.
+fn record_of(actions: &[DeviceAction]) -> Vec<u8> {
+    let (_, res) = datagram(actions);
+    let pdu = Pdu::parse(&res).unwrap();
+    assert_eq!(
+        pdu.ndr.status(),
+        Some(PnioStatus::OK),
+        "{:02x?}",
+        pdu.blocks
+    );
+    let (_, data, rest) = IodHeader::split(pdu.blocks).unwrap();
+    assert!(rest.is_empty());
+    data.to_vec()
+}
+
+#[test]
+fn the_physical_device_the_ar_records_and_a_device_access_ar_dissect_clean() {
+    use procimg_profinet::port::lldp::{Announcer, LldpStation};
+    use procimg_profinet::wire::connect::{ArBlockReq, ar_properties};
+    use procimg_profinet::wire::record::{
+        ArData, LogBookData, MultipleBlockHeader, PdInterfaceDataReal, PdPortDataReal,
+    };
+    use procimg_profinet::wire::{BlockHeader, Uuid};
+
+    let mut dev = device(None);
+    let mut wire = Wire { frames: Vec::new() };
+    let mut out = Vec::new();
+    dev.on_frame(&capture("cm/dcp_set_req"), 0, &mut out);
+    // The S7's port announces itself: the device's neighbour.
+    let mut s7 = Announcer::new(LldpStation::new(
+        "plc",
+        S7_MAC,
+        S7_MAC,
+        Some(S7_IP.octets()),
+        1,
+    ));
+    let lldp = s7.poll(0).expect("an announcement");
+    dev.on_frame(&lldp, 0, &mut out);
+    assert_eq!(dev.station().alias_name(), Some("port-001.plc"));
+    // The IO AR, parameterized (its PDInterfaceAdjust written).
+    for (name, t) in [
+        ("cm/connect_req", 0),
+        ("cm/write_req", MS),
+        ("cm/prmend_req", MS),
+    ] {
+        dev.on_datagram(S7_CLIENT, rpc::RPC_PORT, &rpc_capture(name), t, &mut out);
+    }
+    let ar_uuid = dev.ar().ar_uuid().unwrap();
+    wire.take(&mut out);
+    let connect_header =
+        Header::parse(&rpc::Packet::new_checked(&rpc_capture("cm/connect_req")[..]).unwrap())
+            .unwrap();
+    let client = SocketAddrV4::new(S7_IP, 50001);
+    let read = |dev: &mut DemoDevice, wire: &mut Wire, n: u8, ar: Uuid, slot, subslot, index| {
+        let implicit = ar == Uuid([0; 16]);
+        let h = IodHeader::read_request(n.into(), ar, 0, slot, subslot, index, 4096);
+        let op = if implicit {
+            opnum::READ_IMPLICIT
+        } else {
+            opnum::READ
+        };
+        let mut o = Vec::new();
+        dev.on_datagram(
+            client,
+            rpc::RPC_PORT,
+            &call(&connect_header, n, op, &h.to_bytes()),
+            2 * MS,
+            &mut o,
+        );
+        let data = record_of(&o);
+        wire.take(&mut o);
+        data
+    };
+    let nil = Uuid([0; 16]);
+
+    let real = read(&mut dev, &mut wire, 1, nil, 0, 0, 0xf841);
+    let interface = MultipleBlockHeader::parse(&real).unwrap();
+    assert_eq!((interface.slot, interface.subslot), (0, 0x8000));
+    let i = PdInterfaceDataReal::parse(&interface.blocks).unwrap();
+    assert_eq!(
+        (i.chassis_id.as_str(), i.mac, i.ip),
+        ("rt-labs-dev", DEVICE_MAC, DEVICE_IP)
+    );
+    let port = MultipleBlockHeader::parse(&real[interface.buffer_len()..]).unwrap();
+    assert_eq!(port.subslot, 0x8001);
+    let p = PdPortDataReal::parse(&port.blocks).unwrap();
+    assert_eq!(p.peers.len(), 1);
+    assert_eq!(
+        (
+            p.peers[0].chassis_id.as_str(),
+            p.peers[0].port_id.as_str(),
+            p.peers[0].mac
+        ),
+        ("plc", "port-001", S7_MAC)
+    );
+    assert_eq!(
+        PdInterfaceDataReal::parse(&read(&mut dev, &mut wire, 2, nil, 0, 0x8000, 0x8080)).unwrap(),
+        i
+    );
+    assert_eq!(
+        PdPortDataReal::parse(&read(&mut dev, &mut wire, 3, nil, 0, 0x8001, 0x802a)).unwrap(),
+        p
+    );
+    let statistic = read(&mut dev, &mut wire, 4, nil, 0, 0x8001, 0x8072);
+    assert_eq!(
+        BlockHeader::parse(&statistic).unwrap().block_type.raw(),
+        0x0251
+    );
+    let ars = ArData::parse(&read(&mut dev, &mut wire, 5, nil, 0, 0, 0xf820)).unwrap();
+    assert_eq!(ars.ars.len(), 1);
+    assert_eq!(ars.ars[0].ar_uuid, ar_uuid);
+    assert_eq!(ars.ars[0].iocrs.len(), 2);
+    read(&mut dev, &mut wire, 6, nil, 0, 0, 0xf821);
+    let log = LogBookData::parse(&read(&mut dev, &mut wire, 7, nil, 0, 0, 0xf830)).unwrap();
+    assert!(log.entries.iter().any(|e| e.ar_uuid == ar_uuid), "{log:?}");
+    // PDExpectedData in the AR: the PDInterfaceAdjust it wrote.
+    let expected = read(&mut dev, &mut wire, 8, ar_uuid, 0, 0, 0xf842);
+    let m = MultipleBlockHeader::parse(&expected).unwrap();
+    assert_eq!((m.subslot, &m.blocks[..2]), (0x8000, &[0x02, 0x50][..]));
+
+    // An engineering tool's device access AR beside the IO AR: Connect, a read of I&M0, a
+    // write of I&M1, ARData with both ARs, Release.
+    let tool = Uuid([0x7a; 16]);
+    let ar = ArBlockReq {
+        ar_type: 0x0006,
+        ar_properties: ar_properties::STATE_ACTIVE
+            | ar_properties::PARAMETERIZATION_SERVER_CM_INITIATOR
+            | ar_properties::DEVICE_ACCESS,
+        ..ArBlockReq::io_controller(
+            tool,
+            1,
+            MacAddress([0x02, 0, 0, 0, 0, 0x7a]),
+            rpc::object_uuid(1, 0x0001, 0x002a),
+            "engineering-tool".into(),
+        )
+    };
+    let mut o = Vec::new();
+    dev.on_datagram(
+        client,
+        rpc::RPC_PORT,
+        &call(&connect_header, 20, opnum::CONNECT, &ar.to_vec().unwrap()),
+        2 * MS,
+        &mut o,
+    );
+    let (_, res) = datagram(&o);
+    assert_eq!(Pdu::parse(&res).unwrap().ndr.status(), Some(PnioStatus::OK));
+    wire.take(&mut o);
+    assert_eq!(dev.ar().access().map(|a| a.ar_uuid()), Some(tool));
+    assert_eq!(dev.ar().ar_uuid(), Some(ar_uuid), "the IO AR is untouched");
+    read(&mut dev, &mut wire, 21, tool, 0, 1, 0xaff0);
+    let im1 = {
+        let mut d = vec![0x00, 0x21, 0x00, 0x38, 0x01, 0x00];
+        d.extend_from_slice(&[b' '; 32]);
+        d.extend_from_slice(b"hall-3                ");
+        d
+    };
+    let h = IodHeader::write_request(22, tool, 0, 1, 1, 0xaff1, im1.len() as u32);
+    let mut w = h.to_bytes().to_vec();
+    w.extend_from_slice(&im1);
+    dev.on_datagram(
+        client,
+        rpc::RPC_PORT,
+        &call(&connect_header, 22, opnum::WRITE, &w),
+        2 * MS,
+        &mut o,
+    );
+    let (_, res) = datagram(&o);
+    assert_eq!(Pdu::parse(&res).unwrap().ndr.status(), Some(PnioStatus::OK));
+    wire.take(&mut o);
+    let ars = ArData::parse(&read(&mut dev, &mut wire, 23, tool, 0, 0, 0xf820)).unwrap();
+    assert_eq!(
+        ars.ars
+            .iter()
+            .map(|a| (a.ar_type, a.initiator_station_name.as_str()))
+            .collect::<Vec<_>>(),
+        [
+            (1, ars.ars[0].initiator_station_name.as_str()),
+            (6, "engineering-tool")
+        ]
+    );
+    let release = ControlBlock::release(tool, 1).to_bytes();
+    dev.on_datagram(
+        client,
+        rpc::RPC_PORT,
+        &call(&connect_header, 24, opnum::RELEASE, &release),
+        2 * MS,
+        &mut o,
+    );
+    assert!(dev.ar().access().is_none());
+    assert_eq!(dev.ar().ar_uuid(), Some(ar_uuid));
+    wire.take(&mut o);
+
+    let d = procimg_testkit::tshark::dissect_clean("sim-device-pdev", &wire.frames);
+    let info: Vec<&str> = d.iter().map(|f| f.info.as_str()).collect();
+    assert!(
+        info.iter().any(|i| i.contains("Read response")),
+        "{info:#?}"
+    );
+}

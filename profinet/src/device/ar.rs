@@ -113,6 +113,8 @@ pub(super) struct Ar {
     /// The outputs of all submodules as the behaviour sees them (zeros where invalid).
     device_outputs: Vec<u8>,
     c_sdu: Vec<u8>,
+    /// The AR as ARData reports it (its CRs' APDU status filled in when read).
+    pub(super) described: crate::wire::record::ArDataEntry,
 }
 
 impl Ar {
@@ -155,7 +157,20 @@ impl Ar {
             every_cycles: 1,
             data_hold_factor: plan.output.data_hold_factor,
         };
+        let mut apis: Vec<u32> = plan.expected.iter().map(|e| e.api).collect();
+        apis.sort_unstable();
+        apis.dedup();
+        let described = super::connect::described(
+            &plan.ar,
+            Some(&plan.alarm_cr),
+            &[
+                (&plan.input, input_frame_id),
+                (&plan.output, output_frame_id),
+            ],
+            apis,
+        );
         Ar {
+            described,
             ar_uuid: plan.ar.ar_uuid,
             session_key: plan.ar.session_key,
             initiator_object: plan.ar.initiator_object_uuid,

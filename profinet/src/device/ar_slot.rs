@@ -5,16 +5,24 @@
 //! ApplicationReady). [`Device::ar`](super::Device::ar) gives the read-only view: the AR's
 //! state and identity, its submodules' IO data, its alarm sequence and the counters.
 
+use super::access_ar::AccessAr;
 use super::ar::{Ar, ArSubmodule};
+use super::log_book::{LogBook, detail};
 use super::{ArState, DeviceAction};
 use crate::cyclic::VerdictCounts;
-use crate::wire::rta_pdu::AbortCode;
-use crate::wire::{MacAddress, Uuid};
+use crate::wire::rta_pdu::{AbortCode, ErrRta};
+use crate::wire::{MacAddress, PnioStatus, Uuid};
 
 /// The device's AR, if it holds one, and what it keeps across ARs.
 pub struct ArSlot {
     /// The AR, from its Connect to its end.
     pub(super) current: Option<Ar>,
+    /// An engineering tool's device access AR, beside it.
+    pub(super) access: Option<AccessAr>,
+    /// What happened to the ARs.
+    pub(super) log: LogBook,
+    /// The device's clock at its last input (frame, datagram, poll): the log book's time.
+    pub(super) now_ns: u64,
     /// Input CR frames produced since the device was made.
     pub(super) frames_produced: u64,
     /// The counter behind the activity UUIDs of the device's client calls.
@@ -35,6 +43,9 @@ impl Default for ArSlot {
     fn default() -> ArSlot {
         ArSlot {
             current: None,
+            access: None,
+            log: LogBook::default(),
+            now_ns: 0,
             frames_produced: 0,
             activities: 0,
             last_abort: None,
@@ -151,15 +162,38 @@ impl ArSlot {
             ar.alarms.abort(code, mac, out);
             self.last_abort = Some(code);
             self.aborted_ars += 1;
+            self.note_abort(ar.ar_uuid, code);
         }
+    }
+
+    fn note_abort(&mut self, ar_uuid: Uuid, code: AbortCode) {
+        let status = ErrRta::abort(code).status;
+        self.log
+            .note(self.now_ns, ar_uuid, status, detail::AR_ABORTED);
+    }
+
+    /// Notes in the log book what happened to `ar_uuid` (OK, or the refusal `status`).
+    pub(super) fn note(&mut self, ar_uuid: Uuid, status: PnioStatus, what: u32) {
+        self.log.note(self.now_ns, ar_uuid, status, what);
+    }
+
+    /// The device access AR, if a tool holds one.
+    pub fn access(&self) -> Option<&AccessAr> {
+        self.access.as_ref()
+    }
+
+    /// The log book.
+    pub fn log_book(&self) -> &LogBook {
+        &self.log
     }
 
     /// The AR ended without a further ERR-RTA from the device (the controller aborted it,
     /// or the alarm channel already sent one).
     pub(super) fn end(&mut self, code: AbortCode) {
-        if self.current.take().is_some() {
+        if let Some(ar) = self.current.take() {
             self.last_abort = Some(code);
             self.aborted_ars += 1;
+            self.note_abort(ar.ar_uuid, code);
         }
     }
 }

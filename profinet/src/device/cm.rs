@@ -3,11 +3,13 @@
 //! Read, Write, Control) executed against the device's state, and the answer to its own
 //! ApplicationReady call.
 
+use super::access_ar::AccessAr;
 use super::ar::Ar;
 use super::connect::{self, CMDEV, CMDEV_STATE_CONFLICT, CMRPC, refuse};
 use super::diagnosis::SubslotAddr;
 use super::{
-    Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, rpc, served_records,
+    Application, ArState, Device, DeviceAction, SIM_ALARM_INDEX, SIM_ALARM_USI, log_book, physical,
+    rpc, served_records,
 };
 use crate::wire::control::{self, ControlBlock};
 use crate::wire::record::{ERROR_CODE_READ, ERROR_CODE_WRITE, IodHeader};
@@ -106,6 +108,12 @@ impl<A: Application> Device<A> {
                 return;
             }
         };
+        if let Some(access) = self.access_call(h, blocks, from, now_ns) {
+            let (status, res) = access;
+            self.rpc
+                .respond(h, from, status, ndr.args_maximum, &res, out);
+            return;
+        }
         let (status, res) = match h.opnum {
             opnum::CONNECT if self.ar_checks.on => match self.admit(blocks, out) {
                 Err(s) => (s, Vec::new()),
@@ -144,13 +152,7 @@ impl<A: Application> Device<A> {
                             submodules: &a.submodules,
                             app_ready_pending: &a.app_ready_pending,
                         }),
-                        &served_records::DeviceRead {
-                            real: self.plugging.plugged(),
-                            im0: &self.station.im0,
-                            im: &self.station.im,
-                            diagnosis: &self.diagnosis,
-                            params: &self.records.params,
-                        },
+                        &self.device_read(),
                         blocks,
                     )
                 };
@@ -243,7 +245,11 @@ impl<A: Application> Device<A> {
     ) -> (PnioStatus, Vec<u8>) {
         let plan = match self.admit(blocks, out) {
             Ok(p) => p,
-            Err(s) => return (s, Vec::new()),
+            Err(s) => {
+                self.ar
+                    .note(Uuid([0; 16]), s, log_book::detail::CONNECT_REFUSED);
+                return (s, Vec::new());
+            }
         };
         let diagnosis = &self.diagnosis;
         let state =
@@ -262,6 +268,11 @@ impl<A: Application> Device<A> {
         };
         let controller = SocketAddrV4::new(*from.ip(), plan.rpc_port.unwrap_or(wire_rpc::RPC_PORT));
         self.ar.current = Some(Ar::new(&plan, &fits, ids, controller, now_ns));
+        self.ar.note(
+            plan.ar.ar_uuid,
+            PnioStatus::OK,
+            log_book::detail::AR_ESTABLISHED,
+        );
         (PnioStatus::OK, res)
     }
 
@@ -341,10 +352,184 @@ impl<A: Application> Device<A> {
         if c.command != control::command::RELEASE {
             return fail(FAULTY_RELEASE, 8);
         }
+        let uuid = ar.ar_uuid;
         self.ar.current = None;
+        self.ar
+            .note(uuid, PnioStatus::OK, log_book::detail::AR_RELEASED);
         match ControlBlock::done_response_for(&c) {
             Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
             None => fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
+        }
+    }
+
+    /// What of the device a Read may see.
+    fn device_read(&self) -> served_records::DeviceRead<'_> {
+        let id = &self.station.id;
+        let own_port_id = self
+            .station
+            .lldp()
+            .and_then(|l| l.station().port_id().local().map(str::to_owned))
+            .unwrap_or_else(|| "port-001".to_owned());
+        let mut ars: Vec<crate::wire::record::ArDataEntry> = Vec::new();
+        if let Some(a) = &self.ar.current {
+            let mut d = a.described.clone();
+            // The CRs run: their frames are valid, the provider in RUN.
+            if a.state == ArState::Data {
+                for c in &mut d.iocrs {
+                    c.data_status = 0x35;
+                }
+            }
+            ars.push(d);
+        }
+        ars.extend(self.ar.access.as_ref().map(|a| a.described.clone()));
+        served_records::DeviceRead {
+            real: self.plugging.plugged(),
+            im0: &self.station.im0,
+            im: &self.station.im,
+            diagnosis: &self.diagnosis,
+            params: &self.records.params,
+            physical: physical::PhysicalView {
+                name: &id.name,
+                mac: id.mac,
+                ip_suite: [id.ip, id.mask, id.gateway],
+                own_port_id,
+                physical: &self.physical,
+                neighbours: self.station.neighbours(),
+            },
+            ars,
+            log: &self.ar.log,
+            now_ns: self.ar.now_ns,
+        }
+    }
+
+    /// A call of the device access AR: its Connect, its records, its Release. `None` for
+    /// any other call.
+    fn access_call(
+        &mut self,
+        h: &Header,
+        blocks: &[u8],
+        from: SocketAddrV4,
+        now_ns: u64,
+    ) -> Option<(PnioStatus, Vec<u8>)> {
+        if h.opnum == opnum::CONNECT {
+            let plan = connect::validate_device_access(blocks)?;
+            return Some(self.establish_access(plan, from, now_ns));
+        }
+        let access = self.ar.access.as_mut()?;
+        let named = match h.opnum {
+            opnum::READ | opnum::WRITE => IodHeader::parse(blocks).ok()?.ar_uuid,
+            opnum::RELEASE => ControlBlock::parse(blocks).ok()?.ar_uuid,
+            _ => return None,
+        };
+        if named != access.ar_uuid {
+            return None;
+        }
+        access.active(now_ns);
+        Some(match h.opnum {
+            opnum::READ => self.read_by_access(blocks),
+            opnum::WRITE => served_records::write_by_access(
+                access.ar_uuid,
+                served_records::DeviceWrite {
+                    real: self.plugging.plugged(),
+                    im: &mut self.station.im,
+                    im_writes: &mut self.station.im_writes,
+                    params: &self.records.params,
+                },
+                blocks,
+            ),
+            _ => self.release_access(blocks),
+        })
+    }
+
+    /// A device access Connect: the AR beside the IO AR, or the refusal.
+    fn establish_access(
+        &mut self,
+        plan: Result<connect::AccessPlan, PnioStatus>,
+        from: SocketAddrV4,
+        now_ns: u64,
+    ) -> (PnioStatus, Vec<u8>) {
+        let plan = match plan {
+            Ok(p) => p,
+            Err(s) => {
+                self.ar
+                    .note(Uuid([0; 16]), s, log_book::detail::CONNECT_REFUSED);
+                return (s, Vec::new());
+            }
+        };
+        if let Some(held) = &self.ar.access
+            && held.ar_uuid != plan.ar.ar_uuid
+        {
+            // One tool at a time; a tool that lost its AR connects with the same ARUUID
+            // again only after it timed out.
+            let s = refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES);
+            self.ar
+                .note(plan.ar.ar_uuid, s, log_book::detail::CONNECT_REFUSED);
+            return (s, Vec::new());
+        }
+        let Ok(res) = connect::access_response_blocks(&plan, self.station.id.mac) else {
+            return (refuse(CMRPC, connect::CMRPC_NO_AR_RESOURCES), Vec::new());
+        };
+        self.ar.access = Some(AccessAr::new(&plan, from, now_ns));
+        self.ar.note(
+            plan.ar.ar_uuid,
+            PnioStatus::OK,
+            log_book::detail::ACCESS_AR_ESTABLISHED,
+        );
+        (PnioStatus::OK, res)
+    }
+
+    /// A Read in the device access AR: what a Read Implicit may read, the IO AR's own
+    /// records excepted.
+    fn read_by_access(&mut self, blocks: &[u8]) -> (PnioStatus, Vec<u8>) {
+        let view = self.device_read();
+        match served_records::read_by_access(&view, blocks) {
+            served_records::Outcome::Done(s, b) => (s, b),
+            // The application's records are read in the IO AR only.
+            served_records::Outcome::Pending(_) => (
+                pnio(ERROR_CODE_READ, CMRPC, connect::CMRPC_AR_UUID_UNKNOWN),
+                Vec::new(),
+            ),
+        }
+    }
+
+    /// The device access AR's Release.
+    fn release_access(&mut self, blocks: &[u8]) -> (PnioStatus, Vec<u8>) {
+        let fail = |c1, c2| (pnio(ERROR_CODE_RELEASE, c1, c2), Vec::new());
+        let Ok(c) = ControlBlock::parse(blocks) else {
+            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
+        };
+        let Some(access) = self.ar.access.as_ref() else {
+            return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
+        };
+        if c.block_type != BlockType::ReleaseReq || blocks.len() != control::BLOCK_LEN {
+            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
+        }
+        if c.session_key != access.session_key {
+            return fail(FAULTY_RELEASE, 6);
+        }
+        if c.command != control::command::RELEASE {
+            return fail(FAULTY_RELEASE, 8);
+        }
+        let uuid = access.ar_uuid;
+        self.ar.access = None;
+        self.ar
+            .note(uuid, PnioStatus::OK, log_book::detail::ACCESS_AR_ENDED);
+        match ControlBlock::done_response_for(&c) {
+            Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
+            None => fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
+        }
+    }
+
+    /// Ends the device access AR whose tool has been silent for its activity timeout.
+    pub(super) fn expire_access_ar(&mut self, now_ns: u64) {
+        if let Some(a) = self.ar.access.as_ref()
+            && now_ns >= a.deadline_ns
+        {
+            let uuid = a.ar_uuid;
+            self.ar.access = None;
+            let status = crate::wire::rta_pdu::ErrRta::abort(AbortCode::CmiTimeout).status;
+            self.ar
+                .note(uuid, status, log_book::detail::ACCESS_AR_ENDED);
         }
     }
 

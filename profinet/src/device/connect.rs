@@ -19,6 +19,7 @@ use crate::wire::connect::{
     ModuleDiffModule, ModuleDiffSubmodule, ModuleState, SubmoduleState, ar_properties,
     iocr_properties, iocr_type, submodule,
 };
+use crate::wire::record::{ArDataEntry, ArDataIocr};
 use crate::wire::rpc::{RPC_PORT, object_uuid_parts};
 use crate::wire::{BlockHeader, BlockType, EmitResult, MacAddress, PnioStatus, rt};
 
@@ -197,16 +198,30 @@ pub(super) fn validate(bytes: &[u8]) -> Result<Plan, PnioStatus> {
 pub(super) const FRAME_ID_ASSIGN: u16 = 0xffff;
 
 fn check_ar(ar: &ArBlockReq) -> Result<(), PnioStatus> {
-    // Bits a single IOC-AR of an RT device leaves clear: reserved 5–7 and 12–28, device access,
-    // companion ARs, the combined object container.
+    check_ar_block(ar, false)
+}
+
+/// ARType of a supervisor AR (IOSAR), which with ARProperties.DeviceAccess is a device
+/// access AR.
+pub(super) const AR_TYPE_IOSAR: u16 = 0x0006;
+
+/// Checks an ARBlockReq: of a single IOC-AR (`device_access` false), or of a device access
+/// AR (an IOSAR with ARProperties.DeviceAccess).
+fn check_ar_block(ar: &ArBlockReq, device_access: bool) -> Result<(), PnioStatus> {
+    // Bits an AR of an RT device leaves clear: reserved 5–7 and 12–28, companion ARs, the
+    // combined object container; device access only in a device access AR.
     const UNSUPPORTED: u32 = 0x0000_00e0
         | 0x1fff_f000
-        | ar_properties::DEVICE_ACCESS
         | ar_properties::COMPANION_AR_MASK
         | ar_properties::COMBINED_OBJECT_CONTAINER;
     let p = ar.ar_properties;
+    let (ar_type, access_bit) = if device_access {
+        (AR_TYPE_IOSAR, ar_properties::DEVICE_ACCESS)
+    } else {
+        (0x0001, 0)
+    };
     let checks = [
-        (ar.ar_type == 0x0001, 4),
+        (ar.ar_type == ar_type, 4),
         (!ar.ar_uuid.is_nil(), 5),
         (
             !ar.initiator_mac.is_multicast() && ar.initiator_mac != MacAddress::default(),
@@ -216,7 +231,8 @@ fn check_ar(ar: &ArBlockReq) -> Result<(), PnioStatus> {
         (
             p & ar_properties::STATE_MASK == ar_properties::STATE_ACTIVE
                 && p & ar_properties::PARAMETERIZATION_SERVER_CM_INITIATOR != 0
-                && p & UNSUPPORTED == 0,
+                && p & UNSUPPORTED == 0
+                && p & ar_properties::DEVICE_ACCESS == access_bit,
             9,
         ),
         ((1..=1000).contains(&ar.activity_timeout_factor), 10),
@@ -228,6 +244,106 @@ fn check_ar(ar: &ArBlockReq) -> Result<(), PnioStatus> {
         ),
     ];
     first_failure(AR, &checks)
+}
+
+/// A device access AR's Connect, checked.
+pub(super) struct AccessPlan {
+    pub(super) ar: ArBlockReq,
+    /// The initiator's RPC server port from an ARRPCBlockReq, if one came.
+    pub(super) rpc_port: Option<u16>,
+}
+
+/// Whether a Connect's blocks ask for a device access AR (an ARBlockReq with
+/// ARProperties.DeviceAccess), and if so the checked request or its refusal: one ARBlockReq
+/// and perhaps an ARRPCBlockReq, no CRs, no expected submodules.
+pub(super) fn validate_device_access(bytes: &[u8]) -> Option<Result<AccessPlan, PnioStatus>> {
+    let asks = blocks(bytes).flatten().any(|(h, b)| {
+        h.block_type == BlockType::ArBlockReq
+            && ArBlockReq::parse(b)
+                .is_ok_and(|ar| ar.ar_properties & ar_properties::DEVICE_ACCESS != 0)
+    });
+    asks.then(|| {
+        let (mut ar, mut rpc_port) = (None, None);
+        for r in blocks(bytes) {
+            let (h, block) = r.map_err(|_| refuse(CMRPC, CMRPC_ARGS_LENGTH))?;
+            if (h.version_high, h.version_low) != (1, 0) {
+                return Err(refuse(AR, 2));
+            }
+            match h.block_type {
+                BlockType::ArBlockReq if ar.is_none() => {
+                    ar = Some(ArBlockReq::parse(block).map_err(|_| refuse(AR, 1))?);
+                }
+                BlockType::ArRpcBlockReq if rpc_port.is_none() => match h.body(block) {
+                    [hi, lo] => rpc_port = Some(u16::from_be_bytes([*hi, *lo])),
+                    _ => return Err(refuse(AR_RPC, 1)),
+                },
+                BlockType::ArBlockReq | BlockType::ArRpcBlockReq => {
+                    return Err(refuse(CMRPC, CMRPC_WRONG_BLOCK_COUNT));
+                }
+                // A device access AR has no IO, no alarms, no expected submodules.
+                _ => return Err(refuse(CMRPC, CMRPC_UNKNOWN_BLOCKS)),
+            }
+        }
+        let ar = ar.ok_or_else(|| refuse(CMRPC, CMRPC_WRONG_BLOCK_COUNT))?;
+        check_ar_block(&ar, true)?;
+        Ok(AccessPlan { ar, rpc_port })
+    })
+}
+
+/// The positive response to a device access Connect: ARBlockRes, and ARRPCBlockRes if
+/// asked for.
+pub(super) fn access_response_blocks(
+    plan: &AccessPlan,
+    device_mac: MacAddress,
+) -> EmitResult<Vec<u8>> {
+    let mut out = ArBlockRes {
+        ar_type: plan.ar.ar_type,
+        ar_uuid: plan.ar.ar_uuid,
+        session_key: plan.ar.session_key,
+        responder_mac: device_mac,
+        udp_rt_port: 0x8892,
+    }
+    .to_vec()?;
+    if plan.rpc_port.is_some() {
+        out.extend_from_slice(&BlockHeader::v1(BlockType::ArRpcBlockRes, 2)?.to_bytes());
+        out.extend_from_slice(&RPC_PORT.to_be_bytes());
+    }
+    Ok(out)
+}
+
+/// An AR as ARData describes it, from its Connect: `iocrs` its CRs with their FrameIDs.
+pub(super) fn described(
+    ar: &ArBlockReq,
+    alarm_cr: Option<&AlarmCrBlockReq>,
+    iocrs: &[(&IocrBlockReq, u16)],
+    apis: Vec<u32>,
+) -> ArDataEntry {
+    ArDataEntry {
+        ar_uuid: ar.ar_uuid,
+        initiator_object_uuid: ar.initiator_object_uuid,
+        parameter_server_object_uuid: crate::wire::Uuid([0; 16]),
+        ar_properties: ar.ar_properties,
+        ar_type: ar.ar_type,
+        alarm_cr_type: alarm_cr.map_or(0, |a| a.alarm_cr_type),
+        local_alarm_reference: alarm_cr.map_or(0, |_| DEVICE_ALARM_REFERENCE),
+        remote_alarm_reference: alarm_cr.map_or(0, |a| a.local_alarm_reference),
+        initiator_udp_rt_port: ar.udp_rt_port,
+        responder_udp_rt_port: 0x8892,
+        initiator_station_name: ar.station_name.clone(),
+        parameter_server_station_name: String::new(),
+        iocrs: iocrs
+            .iter()
+            .map(|(c, frame_id)| ArDataIocr {
+                properties: c.iocr_properties,
+                iocr_type: c.iocr_type,
+                frame_id: *frame_id,
+                cycle_counter: 0,
+                data_status: 0,
+                transfer_status: 0,
+            })
+            .collect(),
+        apis,
+    }
 }
 
 /// `Err(DB 81 code field)` for the first check that fails.

@@ -62,6 +62,7 @@
 //! watchdog starts with the first valid output frame, at the latest when data exchange
 //! begins.
 
+mod access_ar;
 mod alarms;
 mod app_ready;
 mod application;
@@ -83,7 +84,9 @@ mod im;
 mod iobase_alarms;
 #[cfg(test)]
 mod iobase_alarms_tests;
+pub mod log_book;
 mod params;
+pub mod physical;
 mod plug;
 #[cfg(test)]
 mod plug_tests;
@@ -103,6 +106,7 @@ use crate::wire::rpc::{self as wire_rpc, Header, PacketType};
 use crate::wire::rt::FrameIdClass;
 use crate::wire::rta_pdu::{self, AbortCode, RtaPdu};
 use crate::wire::{MacAddress, Uuid};
+pub use access_ar::AccessAr;
 pub use alarms::{AlarmAcks, DiagnosisChange};
 pub use app_ready::APP_READY_HOLD_TIMEOUT_NS;
 pub use application::Application;
@@ -271,6 +275,8 @@ pub struct Device<A> {
     records: Records,
     /// The application's checks of new ARs.
     ar_checks: ArChecks,
+    /// What the device knows of its interface and port.
+    physical: physical::Physical,
 }
 
 impl<A: Application> Device<A> {
@@ -309,7 +315,33 @@ impl<A: Application> Device<A> {
             diagnosis: DiagnosisStore::new(),
             records: Records::default(),
             ar_checks: ArChecks::default(),
+            physical: physical::Physical::default(),
         }
+    }
+
+    /// What the device knows of its interface and port (the physical device's records).
+    pub fn physical(&self) -> &physical::Physical {
+        &self.physical
+    }
+
+    /// Tells the device its port's link, as its runtime reads it from the interface: the
+    /// physical device's records report it, and a link that went down takes the port's
+    /// LLDP neighbours with it.
+    pub fn set_port_link(&mut self, link: physical::PortLink) {
+        if self.physical.link.up && !link.up {
+            self.station.link_down();
+        }
+        if self.physical.link.mau_type != link.mau_type
+            && let Some(l) = self.station.lldp_mut()
+        {
+            l.update(|s| s.link.mau_type = link.mau_type);
+        }
+        self.physical.link = link;
+    }
+
+    /// Tells the device its interface's counters (`None`: it has none to read).
+    pub fn set_port_counters(&mut self, counters: Option<physical::PortCounters>) {
+        self.physical.counters = counters;
     }
 
     /// The station: identity, I&M, LLDP.
@@ -340,6 +372,7 @@ impl<A: Application> Device<A> {
 
     /// Takes an Ethernet frame seen on the link; what is not for us is ignored.
     pub fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
+        self.ar.now_ns = now_ns;
         self.take_frame(frame, now_ns, out);
         self.sync_handover(now_ns, out);
     }
@@ -452,6 +485,7 @@ impl<A: Application> Device<A> {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) {
+        self.ar.now_ns = now_ns;
         self.take_datagram(from, to_port, payload, now_ns, out);
         self.sync_handover(now_ns, out);
     }
@@ -512,6 +546,8 @@ impl<A: Application> Device<A> {
     /// Runs the timers: delayed DCP responses, LLDP announcements, the ApplicationReady and
     /// its retransmission, input CR frames, the watchdogs, alarm retransmissions.
     pub fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
+        self.ar.now_ns = now_ns;
+        self.expire_access_ar(now_ns);
         self.run_timers(now_ns, out);
         self.sync_handover(now_ns, out);
     }
@@ -600,6 +636,7 @@ impl<A: Application> Device<A> {
             self.station.next_deadline_ns(),
             self.dcp.next_deadline_ns(),
             self.ar.current.as_ref().and_then(Ar::deadline),
+            self.ar.access.as_ref().map(|a| a.deadline_ns),
             self.records.waiting.deadline(),
             self.ar_checks.deadline(),
             self.dcp.checks.held.as_ref().map(|h| h.deadline),

@@ -25,12 +25,21 @@ use super::diagnosis::records::{DiagnosisScope, diagnosis_index};
 use super::diagnosis::{DiagnosisStore, SubslotAddr};
 use super::identification::{expected_data, module_diff, real_data};
 use super::im::{ImRecords, filter_data};
+use super::log_book::LogBook;
 use super::params::ParameterRecords;
+use super::physical::{self, PhysicalView};
+use crate::port::lldp::INDEX_PD_INTERFACE_ADJUST;
+use crate::wire::record::{
+    ApiData, ArData, ArDataEntry, INDEX_API_DATA, INDEX_AR_DATA, INDEX_LOG_BOOK_DATA,
+    INDEX_PD_EXPECTED_DATA, INDEX_PD_INTERFACE_DATA_REAL, INDEX_PD_PORT_DATA_ADJUST,
+    INDEX_PD_PORT_DATA_CHECK, INDEX_PD_PORT_DATA_REAL, INDEX_PD_PORT_STATISTIC, INDEX_PD_REAL_DATA,
+    MultipleBlockHeader,
+};
 use crate::wire::record::{
     ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, INDEX_IM0_FILTER_DATA, INDEX_IM4,
     INDEX_MODULE_DIFF, Im0, IodHeader, IodKind, RecordError, RecordErrorCode, split_write_multiple,
 };
-use crate::wire::{PnioStatus, Uuid};
+use crate::wire::{EmitResult, PnioStatus, Uuid};
 
 /// Bytes of record data kept per AR: a bound against a controller that writes without end.
 const MAX_STORED: usize = 64 * 1024;
@@ -207,6 +216,16 @@ fn served(index: u16) -> bool {
     matches!(
         index,
         0x8000 | 0x8001 | 0xc000 | 0xc001 | 0xe000..=0xe002 | 0xf000
+    ) || matches!(
+        index,
+        INDEX_PD_PORT_DATA_REAL
+            | INDEX_PD_PORT_STATISTIC
+            | INDEX_PD_INTERFACE_DATA_REAL
+            | INDEX_PD_REAL_DATA
+            | INDEX_PD_EXPECTED_DATA
+            | INDEX_AR_DATA
+            | INDEX_API_DATA
+            | INDEX_LOG_BOOK_DATA
     ) || diagnosis_index(index).is_some()
         || index == INDEX_IM0_FILTER_DATA
 }
@@ -284,6 +303,82 @@ pub(super) struct DeviceRead<'a> {
     pub(super) diagnosis: &'a DiagnosisStore,
     /// Which user records are accepted, and which the application answers.
     pub(super) params: &'a ParameterRecords,
+    /// The interface and port, for the physical device's records.
+    pub(super) physical: PhysicalView<'a>,
+    /// The ARs as ARData reports them: the IO AR, the device access AR.
+    pub(super) ars: Vec<ArDataEntry>,
+    /// The log book.
+    pub(super) log: &'a LogBook,
+    /// The device's clock now.
+    pub(super) now_ns: u64,
+}
+
+/// Handles a Read request's blocks in the device access AR (`ar_uuid`, which the request
+/// names): what a Read Implicit outside any AR may read.
+pub(super) fn read_by_access(dev: &DeviceRead<'_>, blocks: &[u8]) -> Outcome {
+    let Ok(h) = IodHeader::parse(blocks) else {
+        return Outcome::Done(pnio(ERROR_CODE_READ, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
+    };
+    if h.kind != IodKind::ReadReq {
+        return Outcome::Done(
+            pnio(ERROR_CODE_READ, CMRPC, CMRPC_UNKNOWN_BLOCKS),
+            Vec::new(),
+        );
+    }
+    let (s, b) = read_response(&h, read_one(None, dev, &h));
+    Outcome::Done(s, b)
+}
+
+/// Handles a Write request's blocks in the device access AR `ar_uuid`: I&M1 to I&M4 of the
+/// plugged submodules, nothing else (the parameters are the IO AR's).
+pub(super) fn write_by_access(
+    ar_uuid: Uuid,
+    dev: DeviceWrite<'_>,
+    blocks: &[u8],
+) -> (PnioStatus, Vec<u8>) {
+    let Ok((outer, data, rest)) = IodHeader::split(blocks) else {
+        return (pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_ARGS_LENGTH), Vec::new());
+    };
+    if outer.kind != IodKind::WriteReq || !rest.is_empty() {
+        return (
+            pnio(ERROR_CODE_WRITE, CMRPC, CMRPC_UNKNOWN_BLOCKS),
+            Vec::new(),
+        );
+    }
+    let writes = if outer.is_write_multiple() {
+        match split_write_multiple(data) {
+            Ok(w) => w,
+            Err(_) => {
+                let s = RecordError::write(RecordErrorCode::InvalidParameter, 0).status();
+                return write_response(&outer, &[(outer, s)]);
+            }
+        }
+    } else {
+        vec![(outer, data)]
+    };
+    let fail = |code| RecordError::write(code, 0).status();
+    let parts: Vec<(IodHeader, PnioStatus)> = writes
+        .iter()
+        .map(|(h, d)| {
+            let status = if h.ar_uuid != ar_uuid {
+                fail(RecordErrorCode::StateConflict)
+            } else if !plugged(dev.real, SubslotAddr::new(h.api, h.slot, h.subslot)) {
+                fail(RecordErrorCode::InvalidSlotSubslot)
+            } else if (INDEX_IM0 + 1..=INDEX_IM4).contains(&h.index) {
+                match dev.im.write(h.index - INDEX_IM0, d) {
+                    Ok(()) => {
+                        *dev.im_writes = dev.im_writes.saturating_add(1);
+                        PnioStatus::OK
+                    }
+                    Err(e) => e.status(),
+                }
+            } else {
+                fail(RecordErrorCode::AccessDenied)
+            };
+            (*h, status)
+        })
+        .collect();
+    write_response(&outer, &parts)
 }
 
 /// Handles a Read (or ReadImplicit) request's blocks: answered at once, or waiting for the
@@ -421,6 +516,46 @@ fn read_one(
             }
         }
         INDEX_IM0_FILTER_DATA => emitted(filter_data(dev.real).to_vec()),
+        // The device's own records, whatever address the request names.
+        INDEX_PD_REAL_DATA => emitted(dev.physical.real_data(dev.real)),
+        INDEX_PD_EXPECTED_DATA => emitted(expected_pd_data(ar, dev.real)),
+        INDEX_AR_DATA => emitted(
+            ArData {
+                ars: dev.ars.clone(),
+            }
+            .to_vec(),
+        ),
+        INDEX_API_DATA => {
+            let mut apis: Vec<u32> = dev.real.iter().map(|r| r.api).collect();
+            apis.sort_unstable();
+            apis.dedup();
+            emitted(ApiData { apis }.to_vec())
+        }
+        INDEX_LOG_BOOK_DATA => emitted(dev.log.record(dev.now_ns).to_vec()),
+        // The interface's data, at the interface submodule or its slot's subslot 0.
+        INDEX_PD_INTERFACE_DATA_REAL => {
+            let interface = dev.real.iter().any(|r| {
+                (r.api, r.slot) == (at.api, at.slot)
+                    && physical::is_interface(r.subslot)
+                    && (r.subslot == at.subslot || at.subslot == 0)
+            });
+            if !interface {
+                return Err(fail(RecordErrorCode::InvalidSlotSubslot));
+            }
+            emitted(dev.physical.interface_data_real().to_vec())
+        }
+        INDEX_PD_PORT_DATA_REAL if plugged(dev.real, at) && physical::is_port(at.subslot) => {
+            emitted(dev.physical.port_data_real(at.slot, at.subslot).to_vec())
+        }
+        INDEX_PD_PORT_STATISTIC
+            if plugged(dev.real, at)
+                && (physical::is_port(at.subslot) || physical::is_interface(at.subslot)) =>
+        {
+            emitted(dev.physical.statistic().to_vec())
+        }
+        INDEX_PD_PORT_DATA_REAL | INDEX_PD_PORT_STATISTIC => {
+            Err(fail(RecordErrorCode::InvalidSlotSubslot))
+        }
         _ if !plugged(dev.real, at) => Err(fail(RecordErrorCode::InvalidSlotSubslot)),
         INDEX_IM0..=INDEX_IM4 => dev
             .im
@@ -434,6 +569,46 @@ fn read_one(
     }
 }
 
+/// PDExpectedData: for each interface and port of `real`, a MultipleBlockHeader with what
+/// the AR wrote of its PD parameters (PDInterfaceAdjust; PDPortDataCheck, PDPortDataAdjust),
+/// none for a submodule it wrote none of; empty without an AR.
+fn expected_pd_data(ar: Option<&ArView<'_>>, real: &[PluggedSubmodule]) -> EmitResult<Vec<u8>> {
+    let mut out = Vec::new();
+    let Some(ar) = ar else {
+        return Ok(out);
+    };
+    for r in real
+        .iter()
+        .filter(|r| physical::is_interface(r.subslot) || physical::is_port(r.subslot))
+    {
+        let blocks: Vec<u8> = [
+            INDEX_PD_INTERFACE_ADJUST,
+            INDEX_PD_PORT_DATA_CHECK,
+            INDEX_PD_PORT_DATA_ADJUST,
+        ]
+        .iter()
+        .filter_map(|i| ar.records.get(&(r.api, r.slot, r.subslot, *i)))
+        // A record that is not whole 4-byte blocks cannot stand in a MultipleBlockHeader.
+        .filter(|b| b.len().is_multiple_of(4))
+        .flatten()
+        .copied()
+        .collect();
+        if blocks.is_empty() {
+            continue;
+        }
+        out.extend(
+            MultipleBlockHeader {
+                api: r.api,
+                slot: r.slot,
+                subslot: r.subslot,
+                blocks,
+            }
+            .to_vec()?,
+        );
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -442,11 +617,11 @@ mod tests {
     fn served_indices_are_read_only() {
         for i in [
             0x800a, 0x800c, 0x8010, 0xc00b, 0xe00a, 0xf00c, 0xf80c, 0x8000, 0x8001, 0xe002, 0xf000,
-            0xf840,
+            0xf840, 0xf841, 0xf842, 0xf820, 0xf821, 0xf830, 0x8080, 0x802a, 0x8072,
         ] {
             assert!(served(i), "{i:#06x}");
         }
-        for i in [0x8071, 0xaff0, 0xaff1, 0x000a, 0xf841, 0x802f] {
+        for i in [0x8071, 0xaff0, 0xaff1, 0x000a, 0x802b, 0x802f] {
             assert!(!served(i), "{i:#06x}");
         }
     }

@@ -31,6 +31,7 @@ use super::common::BLOCK_HEADER_LEN;
 use super::cursor::{Reader, Writer};
 use super::{BlockHeader, BlockType, EmitError, EmitResult, Error, PnioStatus, Result, Uuid};
 
+mod ar_data;
 mod diagnosis;
 mod identification;
 mod im;
@@ -40,6 +41,10 @@ mod tests;
 #[cfg(test)]
 mod tests_examples;
 
+pub use ar_data::{
+    ApiData, ArData, ArDataEntry, ArDataIocr, INDEX_API_DATA, INDEX_AR_DATA, INDEX_LOG_BOOK_DATA,
+    LogBookData, LogEntry,
+};
 pub use diagnosis::DiagnosisData;
 pub use identification::{
     IdentApi, IdentModule, IdentSubmodule, IdentificationData, IdentificationKind, Im0FilterData,
