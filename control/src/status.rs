@@ -246,6 +246,20 @@ pub struct StationReport {
     /// DCP Identify answers to.
     #[serde(default)]
     pub alias_name: Option<String>,
+    /// An engineering tool's device access AR beside the PLC's, if one is up.
+    #[serde(default)]
+    pub access_ar: Option<AccessArReport>,
+}
+
+/// An engineering tool's device access AR, for the status report.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AccessArReport {
+    /// Its ARUUID.
+    pub ar_uuid: String,
+    /// The tool's NameOfStation.
+    pub tool_name: String,
+    /// The tool's MAC address.
+    pub tool_mac: String,
 }
 
 /// An LLDP neighbour of the station's port, for the status report.

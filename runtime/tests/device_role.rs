@@ -19,6 +19,7 @@ use procimg_testkit::exchange::{
 };
 use procimg_testkit::netns::TestNet;
 use procimg_testkit::tshark::{LiveCapture, flagged, frames_matching};
+use procimg_testkit::veth_station::{CONTROLLER_TOML, DEVICE_TOML};
 use std::time::{Duration, Instant};
 
 /// Generous: a loaded machine may be slow to connect.
@@ -580,75 +581,6 @@ fn a_device_program_vetoes_a_dcp_name_change_and_allows_the_next() {
     );
     wait_station_name(&device, "allowed-name");
 }
-
-/// The station both sides describe: the access point, 8 bytes each way in slot 1 with a
-/// parameter record, 4 input bytes in slot 2.
-const DEVICE_TOML: &str = r#"
-role = "device"
-network = "IFACE"
-[station]
-name = "fresh-device"
-ip = "10.47.0.50"
-vendor_id = 0x0493
-device_id = 0x0100
-order_number = "PC-DEVICE-TEST"
-state_file = "STATE"
-[[station.submodule]]
-slot = 1
-module_ident = 0x10
-submodule_ident = 1
-input_length = 8
-output_length = 8
-records = [{ index = 1, length = 4, data = [0, 0, 0, 10] }]
-[[station.submodule]]
-slot = 2
-module_ident = 0x20
-submodule_ident = 1
-input_length = 4
-"#;
-
-/// The same station as the controller's configuration describes it. The watchdog allows
-/// 100 frames (100 ms): two cycle threads, their clients and the other tests' servers share
-/// two virtual CPUs here, and an AR given up in the middle of an alarm's way would take the
-/// alarm with it (the next AR's ModuleDiffBlock says it instead).
-const CONTROLLER_TOML: &str = r#"
-network = "IFACE"
-[[device]]
-name = "pc-device"
-ip = "10.47.0.50"
-vendor_id = 0x0493
-device_id = 0x0100
-watchdog_factor = 100
-[[device.submodule]]
-slot = 0
-subslot = 1
-module_ident = 1
-submodule_ident = 1
-[[device.submodule]]
-slot = 0
-subslot = 0x8000
-module_ident = 1
-submodule_ident = 0x8000
-[[device.submodule]]
-slot = 0
-subslot = 0x8001
-module_ident = 1
-submodule_ident = 0x8001
-[[device.submodule]]
-slot = 1
-subslot = 1
-module_ident = 0x10
-submodule_ident = 1
-input_length = 8
-output_length = 8
-records = [{ index = 1, data = [0, 0, 0, 7] }]
-[[device.submodule]]
-slot = 2
-subslot = 1
-module_ident = 0x20
-submodule_ident = 1
-input_length = 4
-"#;
 
 /// Waits until `done`, for at most 5 s.
 fn wait_for(mut done: impl FnMut() -> bool, what: &str) {

@@ -22,6 +22,7 @@ mod procimgd;
 pub use procimg_netns::signal;
 pub mod tshark;
 pub mod udp;
+pub mod veth_station;
 pub mod world;
 
 pub use build::{procimgd_bin, profile_dir, workspace_bin, workspace_dir};

@@ -4,8 +4,8 @@
 //! must decode in Wireshark's dissectors without malformed packets or error-level expert
 //! items, and tshark must read the chassis ID, port ID and TTL we meant.
 
-use procimg_profinet::port::lldp::{Announcer, LldpStation, NameOfDeviceMode};
 use procimg_profinet::device::{Application, Device, DeviceAction, DeviceSetup};
+use procimg_profinet::port::lldp::{Announcer, LldpStation, NameOfDeviceMode};
 use procimg_profinet::wire::MacAddress;
 use procimg_profinet::wire::lldp::{
     self, Id, MacPhyStatus, ManagementAddress, TlvRepr, capability,

@@ -154,6 +154,12 @@ fn station(st: &StationReport) {
         }
         None => println!("AR none (no PLC connected)"),
     }
+    if let Some(a) = &st.access_ar {
+        println!(
+            "device access AR of tool \"{}\" {}  ARUUID {}",
+            a.tool_name, a.tool_mac, a.ar_uuid
+        );
+    }
     println!(
         "ARs aborted {}{}  alarms acknowledged by the PLC {}",
         st.aborted_ars,

@@ -223,6 +223,10 @@ pub fn start(
                     Some(k) => role.with_state_file(k),
                     None => role,
                 };
+                let role = match &config.network {
+                    Network::Interface(name) => role.with_port(name),
+                    Network::Sim => role,
+                };
                 match address {
                     Some(a) => role.with_address(a),
                     None => role,

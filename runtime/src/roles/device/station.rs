@@ -130,6 +130,7 @@ impl Station {
                 program: None,
                 neighbours: Vec::new(),
                 alias_name: None,
+                access_ar: None,
             }),
             diagnosis_shown: Mutex::new(DiagnosisStore::new()),
             neighbours_shown: Mutex::new((0, 0)),
@@ -164,6 +165,24 @@ impl Station {
         let mut r = self.lock();
         r.alarms_acknowledged = device.alarm_acks().count();
         r.station_problem = station_problem;
+        let access = device.ar().access();
+        if r.access_ar.as_ref().map(|a| a.ar_uuid.as_str())
+            != access.map(|a| a.ar_uuid().to_string()).as_deref()
+        {
+            r.access_ar = access.map(|a| {
+                tracing::info!(
+                    "engineering tool \"{}\" ({}) has a device access AR {}",
+                    a.initiator_name(),
+                    a.initiator_mac(),
+                    a.ar_uuid()
+                );
+                control::AccessArReport {
+                    ar_uuid: a.ar_uuid().to_string(),
+                    tool_name: a.initiator_name().to_owned(),
+                    tool_mac: a.initiator_mac().to_string(),
+                }
+            });
+        }
         if let Some(now_ns) = neighbours {
             let (list, alias) = (device.station().neighbours(), device.station().alias_name());
             if r.alias_name.as_deref() != alias {
