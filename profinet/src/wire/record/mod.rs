@@ -36,6 +36,7 @@ mod diagnosis;
 mod identification;
 mod im;
 mod pdev;
+mod port_check;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
@@ -56,6 +57,10 @@ pub use pdev::{
     INDEX_PD_PORT_DATA_CHECK, INDEX_PD_PORT_DATA_REAL, INDEX_PD_PORT_STATISTIC, INDEX_PD_REAL_DATA,
     LINK_DOWN, LINK_UP, MEDIA_COPPER, MEDIA_UNKNOWN, MultipleBlockHeader, PORT_STATE_FORWARDING,
     PORT_STATE_UNKNOWN, PdInterfaceDataReal, PdPortDataReal, PdPortStatistic, PeerReal,
+};
+pub use port_check::{
+    CheckedPeer, DCP_BOUNDARY_HELLO, DCP_BOUNDARY_IDENTIFY, PEER_TO_PEER_NO_LLDP, PdPortDataAdjust,
+    PdPortDataCheck, PortAdjust, PortCheck,
 };
 
 /// BlockVersion of the diagnosis and identification records: 1.0 knows API 0 alone and has
