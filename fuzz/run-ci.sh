@@ -34,7 +34,7 @@ max_len() {
     case "$1" in
         frame | dcp | alarm | rpc) echo 1600 ;;
         control) echo 512 ;;
-        connect | record | rta_channel | gs20) echo 4096 ;;
+        connect | record | rta_channel | gs20 | topology) echo 4096 ;;
         controller | device | config) echo 8192 ;;
         gsdml) echo 32768 ;;
         *) echo 4096 ;;

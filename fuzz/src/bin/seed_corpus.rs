@@ -12,7 +12,8 @@
 //! behind the EtherType (`dcp`, `alarm`), the UDP payload (`rpc`), the PNIO blocks after the
 //! RPC and NDR headers (`connect`, `control`, `record`), operation sequences (`controller`,
 //! `device`, `rta_channel`), text (`config`, `gsdml`), GS20-PN host link frames and UART
-//! streams (`gs20`, from the reference's examples). Run it again when the captures,
+//! streams (`gs20`, from the reference's examples), LLDPDUs and the physical device's records
+//! (`topology`). Run it again when the captures,
 //! the operation formats in `src/world.rs` or the fuzz network change. The output is the same
 //! every time except for the ARUUIDs and activity UUIDs the controller draws at random, which
 //! appear in the `device` bring-up seed.
@@ -45,6 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     rta_channel(&caps, &mut seeds);
     text(fuzz_dir, &mut seeds)?;
     gs20(&mut seeds)?;
+    topology(&mut seeds)?;
     let mut total = 0;
     for (target, files) in &seeds {
         let dir = out.join(target);
@@ -491,5 +493,109 @@ fn gs20(seeds: &mut Seeds) -> Result<(), procimg_gs20::frame::EmitError> {
     ]
     .concat();
     add(seeds, "gs20", "module-run", &module);
+    Ok(())
+}
+
+/// The topology: an S7-like port's LLDPDUs as a length-prefixed stream (announced, again,
+/// withdrawn), and the physical device's blocks one by one.
+fn topology(seeds: &mut Seeds) -> Result<(), procimg_profinet::wire::EmitError> {
+    use procimg_profinet::port::lldp::{Announcer, LldpStation};
+    use procimg_profinet::wire::MacAddress;
+    use procimg_profinet::wire::record::*;
+
+    let plc = MacAddress([0x28, 0x63, 0x36, 0x8a, 0x1b, 0x01]);
+    let mut port = Announcer::new(LldpStation::new("plc", plc, plc, Some([192, 168, 0, 1]), 1));
+    let frame = port.poll(0).expect("an announcement");
+    let pdu = &frame[14..];
+    let mut withdrawn = pdu.to_vec();
+    // The TTL TLV follows Chassis ID and Port ID: set it to 0.
+    let ttl_at = 2 + usize::from(pdu[1]) + 2 + usize::from(pdu[2 + usize::from(pdu[1]) + 1]);
+    withdrawn[ttl_at + 2..ttl_at + 4].copy_from_slice(&[0, 0]);
+    let mut stream = Vec::new();
+    for p in [pdu, pdu, &withdrawn[..]] {
+        stream.extend_from_slice(&(p.len() as u16).to_be_bytes());
+        stream.extend_from_slice(p);
+    }
+    add(seeds, "topology", "lldp-announced-again-withdrawn", &stream);
+    let peer = PeerReal {
+        port_id: "port-001".into(),
+        chassis_id: "plc".into(),
+        line_delay: 0,
+        mac: plc,
+    };
+    let real = PdPortDataReal {
+        slot: 0,
+        subslot: 0x8001,
+        own_port_id: "port-001".into(),
+        peers: vec![peer],
+        mau_type: 0x10,
+        domain_boundary: 0,
+        multicast_boundary: 0,
+        port_state: PORT_STATE_UNKNOWN,
+        link: LINK_UP,
+        media_type: MEDIA_COPPER,
+    };
+    add(seeds, "topology", "pd-port-data-real", &real.to_vec()?);
+    let interface = PdInterfaceDataReal {
+        chassis_id: "io-device".into(),
+        mac: plc,
+        ip: [192, 168, 0, 10],
+        mask: [255, 255, 255, 0],
+        gateway: [0; 4],
+    };
+    add(
+        seeds,
+        "topology",
+        "pd-interface-data-real",
+        &interface.to_vec()?,
+    );
+    let mut blocks = interface.to_vec()?;
+    blocks.extend(PdPortStatistic::default().to_vec()?);
+    let mbh = MultipleBlockHeader {
+        api: 0,
+        slot: 0,
+        subslot: 0x8000,
+        blocks,
+    };
+    add(seeds, "topology", "multiple-block-header", &mbh.to_vec()?);
+    let check = PdPortDataCheck {
+        slot: 0,
+        subslot: 0x8001,
+        checks: vec![
+            PortCheck::Peers(vec![CheckedPeer {
+                port_id: "port-002".into(),
+                chassis_id: "switch".into(),
+            }]),
+            PortCheck::MauType(0x10),
+        ],
+    };
+    add(seeds, "topology", "pd-port-data-check", &check.to_vec()?);
+    let adjust = PdPortDataAdjust {
+        slot: 0,
+        subslot: 0x8001,
+        adjusts: vec![
+            PortAdjust::PeerToPeerBoundary {
+                boundary: PEER_TO_PEER_NO_LLDP,
+                properties: 0,
+            },
+            PortAdjust::DcpBoundary {
+                boundary: DCP_BOUNDARY_IDENTIFY,
+                properties: 0,
+            },
+        ],
+    };
+    add(seeds, "topology", "pd-port-data-adjust", &adjust.to_vec()?);
+    add(
+        seeds,
+        "topology",
+        "log-book-empty",
+        &LogBookData::default().to_vec()?,
+    );
+    add(
+        seeds,
+        "topology",
+        "api-data",
+        &ApiData { apis: vec![0] }.to_vec()?,
+    );
     Ok(())
 }
