@@ -171,6 +171,7 @@ impl<A: Application> Device<A> {
         if h.opnum == opnum::WRITE && status.is_ok() {
             self.alarm_on_request(blocks, now_ns, out);
             self.adjust_lldp();
+            self.adjust_ports();
         }
     }
 

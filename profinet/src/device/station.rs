@@ -26,6 +26,11 @@ pub struct Station {
     lldp: Option<lldp::Announcer>,
     /// The port's LLDP neighbours.
     neighbours: Neighbours,
+    /// The PLC's PDPortDataAdjust makes the port a peer-to-peer boundary: no LLDP goes out
+    /// (the neighbour's still come in).
+    lldp_boundary: bool,
+    /// The PLC's PDPortDataAdjust keeps DCP Hello multicasts from leaving the port.
+    hello_boundary: bool,
     /// A DCP Hello request is to go out at the next poll.
     hello_due: bool,
     signals: u32,
@@ -42,6 +47,8 @@ impl Station {
             im_writes: 0,
             lldp: None,
             neighbours: Neighbours::default(),
+            lldp_boundary: false,
+            hello_boundary: false,
             hello_due: false,
             signals: 0,
         };
@@ -110,6 +117,18 @@ impl Station {
             self.id.alias = self.neighbours.alias_name();
         }
         change
+    }
+
+    /// Sets the boundaries a PDPortDataAdjust asks for: no LLDP out of the port
+    /// (PeerToPeerBoundary bit 0), no DCP Hello out of it (DCPBoundary bit 1).
+    pub(super) fn set_boundaries(&mut self, lldp: bool, hello: bool) {
+        self.lldp_boundary = lldp;
+        self.hello_boundary = hello;
+    }
+
+    /// Whether the port sends no LLDP (a PDPortDataAdjust's peer-to-peer boundary).
+    pub fn lldp_boundary(&self) -> bool {
+        self.lldp_boundary
     }
 
     /// The port's link went down: its neighbours are gone with it.
@@ -228,10 +247,14 @@ impl Station {
 
     /// The station's frames due at `now_ns`: the Hello at start-up, LLDP announcements.
     pub(super) fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
-        if std::mem::take(&mut self.hello_due) {
+        if std::mem::take(&mut self.hello_due) && !self.hello_boundary {
             out.extend(dcp::hello_frame(&self.id).map(DeviceAction::Frame));
         }
-        if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now_ns)) {
+        // The announcer keeps its schedule behind a boundary, so that it speaks again at
+        // once when the boundary goes.
+        if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now_ns))
+            && !self.lldp_boundary
+        {
             out.push(DeviceAction::Frame(frame));
         }
         if !self.neighbours.age(now_ns).is_empty() {

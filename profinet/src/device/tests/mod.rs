@@ -32,6 +32,7 @@ mod abort;
 mod delegated_records;
 mod diagnosis;
 mod kept_identity;
+mod topology;
 
 /// The applications these tests need: inputs left alone, the echo of the submodule's own
 /// outputs, or a big-endian u32 count of the frames produced.
@@ -65,7 +66,7 @@ pub(super) const S7_MAC: MacAddress = MacAddress([0xec, 0x1c, 0x5d, 0x61, 0xe7, 
 /// The p-net sample device of the captures.
 pub(super) const PNET_MAC: MacAddress = MacAddress([0x8c, 0xf3, 0x19, 0xcd, 0x19, 0xf8]);
 const S7_IP: Ipv4Addr = Ipv4Addr::new(172, 16, 2, 100);
-const DEVICE_IP: [u8; 4] = [172, 16, 2, 10];
+pub(super) const DEVICE_IP: [u8; 4] = [172, 16, 2, 10];
 /// The S7's RPC client socket in the captures.
 const S7_CLIENT: SocketAddrV4 = SocketAddrV4::new(S7_IP, 54766);
 pub(super) const MS: u64 = 1_000_000;
@@ -103,7 +104,7 @@ fn pnet_submodules() -> Vec<PluggedSubmodule> {
         .collect()
 }
 
-fn pnet_spec(behaviour: TestApp) -> DeviceSetup<TestApp> {
+pub(super) fn pnet_spec(behaviour: TestApp) -> DeviceSetup<TestApp> {
     DeviceSetup {
         name: "rt-labs-dev".into(),
         mac: PNET_MAC,
@@ -1495,7 +1496,7 @@ fn prm_begin_reparameterizes_and_release_checks_the_session() {
 }
 
 /// The LLDPDU of an LLDP frame among `out`, if there is one.
-fn lldp_announcement(out: &[DeviceAction]) -> Option<crate::wire::lldp::Repr> {
+pub(super) fn lldp_announcement(out: &[DeviceAction]) -> Option<crate::wire::lldp::Repr> {
     use crate::wire::lldp;
     frames(out).iter().find_map(|f| {
         let eth = ethernet::Frame::new_checked(&f[..]).ok()?;
