@@ -212,7 +212,7 @@ impl<A: Application> Device<A> {
     }
 
     /// Sends `alarms` to the AR if it is in data exchange and owns their submodule.
-    fn send_diagnosis(
+    pub(super) fn send_diagnosis(
         &mut self,
         alarms: Vec<DiagnosisAlarm>,
         now_ns: u64,

@@ -172,6 +172,7 @@ impl<A: Application> Device<A> {
             self.alarm_on_request(blocks, now_ns, out);
             self.adjust_lldp();
             self.adjust_ports();
+            self.check_topology(now_ns, out);
         }
     }
 

@@ -96,7 +96,7 @@ mod served_records;
 mod station;
 #[cfg(test)]
 mod tests;
-mod topology;
+pub mod topology;
 
 use crate::cyclic::{CyclicAr, Verdict};
 use crate::port::lldp;
@@ -278,6 +278,8 @@ pub struct Device<A> {
     ar_checks: ArChecks,
     /// What the device knows of its interface and port.
     physical: physical::Physical,
+    /// The PLC's topology check and what it found.
+    topology: topology::TopologyCheck,
 }
 
 impl<A: Application> Device<A> {
@@ -317,7 +319,13 @@ impl<A: Application> Device<A> {
             records: Records::default(),
             ar_checks: ArChecks::default(),
             physical: physical::Physical::default(),
+            topology: topology::TopologyCheck::default(),
         }
+    }
+
+    /// The PLC's topology check (PDPortDataCheck) and the mismatches it finds.
+    pub fn topology(&self) -> &topology::TopologyCheck {
+        &self.topology
     }
 
     /// What the device knows of its interface and port (the physical device's records).
@@ -375,6 +383,7 @@ impl<A: Application> Device<A> {
     pub fn on_frame(&mut self, frame: &[u8], now_ns: u64, out: &mut Vec<DeviceAction>) {
         self.ar.now_ns = now_ns;
         self.take_frame(frame, now_ns, out);
+        self.check_topology(now_ns, out);
         self.sync_handover(now_ns, out);
     }
 
@@ -550,6 +559,7 @@ impl<A: Application> Device<A> {
         self.ar.now_ns = now_ns;
         self.expire_access_ar(now_ns);
         self.run_timers(now_ns, out);
+        self.check_topology(now_ns, out);
         self.sync_handover(now_ns, out);
     }
 
@@ -638,6 +648,7 @@ impl<A: Application> Device<A> {
             self.dcp.next_deadline_ns(),
             self.ar.current.as_ref().and_then(Ar::deadline),
             self.ar.access.as_ref().map(|a| a.deadline_ns),
+            self.topology_due().then_some(0),
             self.records.waiting.deadline(),
             self.ar_checks.deadline(),
             self.dcp.checks.held.as_ref().map(|h| h.deadline),

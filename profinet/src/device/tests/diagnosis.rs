@@ -44,7 +44,7 @@ fn alarms_sent(out: &[DeviceAction]) -> Vec<(RtaPdu, Vec<u8>)> {
 
 /// The S7's transport acknowledgement of the DATA-RTA with `h` (as the capture
 /// alarm_ack_rta_low_cpu shows it).
-fn ack_rta(
+pub(super) fn ack_rta(
     dev: &mut Device<TestApp>,
     h: &RtaHeader,
     priority: Priority,

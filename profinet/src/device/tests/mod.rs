@@ -250,7 +250,7 @@ fn s7_app_ready_response(activity: Uuid) -> Vec<u8> {
 }
 
 /// The device in data exchange after the captured bring-up.
-fn pnet_in_data(behaviour: TestApp) -> (Device<TestApp>, u64) {
+pub(super) fn pnet_in_data(behaviour: TestApp) -> (Device<TestApp>, u64) {
     let mut dev = pnet_device(behaviour);
     let (app_ready, t) = bring_up_to_app_ready(&mut dev);
     let mut out = Vec::new();
