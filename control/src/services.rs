@@ -276,6 +276,19 @@ pub enum Notification {
     /// Device role: DCP Signal, an engineering tool asks the station to make itself seen
     /// (flash its LED).
     StationBlink,
+    /// Device role: the neighbour on the station's port changed (GOAL's LLDP_UPDATE): one
+    /// came, went (its TTL ran out, it withdrew, the link dropped) or announced something
+    /// else. The port's neighbours as they are now, and the alias name they give the
+    /// station.
+    StationNeighbours {
+        /// The port (1 for `port-001`).
+        port: u8,
+        /// Its neighbours, as LLDP announced them.
+        neighbours: Vec<crate::NeighbourReport>,
+        /// The alias name (`<peer port>.<peer station>`) DCP Identify answers to, if the
+        /// port has one PROFINET neighbour.
+        alias_name: Option<String>,
+    },
     /// Device role: DCP set the station's name or IP suite, or reset it to factory. A new
     /// name or address ends the AR, if one is up (a [`Notification::StationArEnded`]
     /// follows).
@@ -700,6 +713,14 @@ mod tests {
                 "station_plc_running",
             ),
             (Notification::StationBlink, "station_blink"),
+            (
+                Notification::StationNeighbours {
+                    port: 1,
+                    neighbours: Vec::new(),
+                    alias_name: None,
+                },
+                "station_neighbours",
+            ),
             (
                 Notification::StationIdentity {
                     name: "pc-device".into(),

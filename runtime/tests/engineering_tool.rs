@@ -10,7 +10,7 @@
 //! `python3 -m venv target/profinet-py-venv && target/profinet-py-venv/bin/pip install
 //! profinet-py==0.6.6`.
 
-use procimg_client::ArState;
+use procimg_client::{ArState, Notification, ServiceOptions, Services};
 use procimg_testkit::Launch;
 use procimg_testkit::netns::TestNet;
 use procimg_testkit::veth_station::{CONTROLLER_TOML, DEVICE_TOML};
@@ -57,6 +57,9 @@ fn an_engineering_tool_reads_the_station_beside_the_plcs_ar() {
         .netns(&net.ns[1])
         .until_cycling()
         .start();
+    // The station's program hears of its neighbour (GOAL's LLDP_UPDATE).
+    let mut events = Services::open(&device.instance, ServiceOptions::new("et-events"))
+        .expect("the station's services");
     let plc = Launch::config("etc", &CONTROLLER_TOML.replace("IFACE", &net.ifs[0]))
         .netns(&net.ns[0])
         .until_cycling()
@@ -77,6 +80,20 @@ fn an_engineering_tool_reads_the_station_beside_the_plcs_ar() {
             .is_some_and(|st| st.neighbours.len() == 1)
     });
     let station = running.station.unwrap();
+    let controller_name = format!("procimgd-{}", plc.instance.to_ascii_lowercase());
+    let told = std::iter::from_fn(|| events.next(Duration::from_secs(10))).find_map(|n| match n {
+        Notification::StationNeighbours {
+            port, neighbours, ..
+        } => Some((port, neighbours)),
+        _ => None,
+    });
+    let (port, neighbours) = told.expect("a neighbour notification");
+    assert_eq!(port, 1);
+    assert_eq!(neighbours.len(), 1, "{neighbours:?}");
+    assert_eq!(
+        neighbours[0].station.as_deref(),
+        Some(controller_name.as_str())
+    );
 
     let script = procimg_testkit::workspace_dir().join("interop/profinet-py/engineering_tool.py");
     let out = Command::new("ip")

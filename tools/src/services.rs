@@ -219,6 +219,31 @@ fn describe(n: &Notification) -> String {
             procimg_control::services::plc_state_text(*running, *station_problem, *backup)
         ),
         Notification::StationBlink => "station: DCP Signal (blink)".to_owned(),
+        Notification::StationNeighbours {
+            port,
+            neighbours,
+            alias_name,
+        } => {
+            let who: Vec<String> = neighbours
+                .iter()
+                .map(|n| match (&n.station, &n.port) {
+                    (Some(s), Some(p)) => format!("\"{s}\" {p} ({})", n.mac),
+                    _ => format!("chassis {} port {} ({})", n.chassis_id, n.port_id, n.mac),
+                })
+                .collect();
+            let alias = alias_name
+                .as_deref()
+                .map(|a| format!(", alias {a:?}"))
+                .unwrap_or_default();
+            if who.is_empty() {
+                format!("station: port-{port:03} has no neighbour{alias}")
+            } else {
+                format!(
+                    "station: port-{port:03} neighbour {}{alias}",
+                    who.join(", ")
+                )
+            }
+        }
         Notification::StationIdentity {
             name,
             ip,

@@ -56,6 +56,14 @@ pub fn notification(event: StationEvent) -> Notification {
             status,
         },
         StationEvent::Blink => Notification::StationBlink,
+        StationEvent::Neighbours {
+            neighbours,
+            alias_name,
+        } => Notification::StationNeighbours {
+            port: 1,
+            neighbours,
+            alias_name,
+        },
         StationEvent::Plug { at, idents, alarm } => {
             let (module_ident, submodule_ident) = idents.unwrap_or((0, 0));
             Notification::StationPlug {

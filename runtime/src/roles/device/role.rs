@@ -153,6 +153,8 @@ pub struct DeviceRole {
     identity: IdentityWatch,
     /// DCP Signal requests seen so far.
     signals: u32,
+    /// The neighbour table's change count as last told.
+    neighbours_told: u64,
     /// Aborted ARs seen so far, to tell an abort from a Release.
     aborted: u64,
     /// The state file and what it holds, if the station has one.
@@ -213,6 +215,7 @@ impl DeviceRole {
             last_state: ArState::Idle,
             ar_uuid: String::new(),
             signals: 0,
+            neighbours_told: 0,
             aborted: 0,
             kept: None,
             address: None,
@@ -426,6 +429,20 @@ impl DeviceRole {
         if self.device.station().signal_count() != self.signals {
             self.signals = self.device.station().signal_count();
             self.tell(StationEvent::Blink, out);
+        }
+        let neighbours = self.device.station().neighbours();
+        if neighbours.changes != self.neighbours_told {
+            self.neighbours_told = neighbours.changes;
+            let now_ns = crate::sys::clock::now_ns();
+            let event = StationEvent::Neighbours {
+                neighbours: neighbours
+                    .entries()
+                    .iter()
+                    .map(|n| super::station::neighbour(n, now_ns))
+                    .collect(),
+                alias_name: self.device.station().alias_name().map(str::to_owned),
+            };
+            self.tell(event, out);
         }
     }
 

@@ -44,6 +44,13 @@ pub enum StationEvent {
     },
     /// DCP Signal: the engineering tool asks the station to make itself seen.
     Blink,
+    /// The port's LLDP neighbours changed: as they are now, and the alias name.
+    Neighbours {
+        /// The neighbours.
+        neighbours: Vec<NeighbourReport>,
+        /// The alias name they give the station.
+        alias_name: Option<String>,
+    },
     /// The DataStatus of the PLC's output frames: RUN (`true`) or STOP, a station problem,
     /// backup rather than primary.
     PlcRunning {
@@ -252,6 +259,27 @@ impl Station {
                     None => tracing::info!("AR {uuid} released by the PLC"),
                 }
             }
+            StationEvent::Neighbours {
+                neighbours,
+                alias_name,
+            } => {
+                match neighbours.first() {
+                    Some(n) => tracing::info!(
+                        "port-001 neighbour: chassis {:?} port {:?} ({}){}",
+                        n.chassis_id,
+                        n.port_id,
+                        n.mac,
+                        if neighbours.len() > 1 {
+                            format!(" and {} more", neighbours.len() - 1)
+                        } else {
+                            String::new()
+                        }
+                    ),
+                    None => tracing::info!("port-001 has no LLDP neighbour any more"),
+                }
+                r.neighbours.clone_from(neighbours);
+                r.alias_name.clone_from(alias_name);
+            }
             StationEvent::Blink => {
                 tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
             }
@@ -450,8 +478,8 @@ fn im0(station: &StationConfig) -> Im0 {
     }
 }
 
-/// A neighbour as the status report shows it, at `now_ns`.
-fn neighbour(n: &Neighbour, now_ns: u64) -> NeighbourReport {
+/// A neighbour as the status report and the notifications show it, at `now_ns`.
+pub fn neighbour(n: &Neighbour, now_ns: u64) -> NeighbourReport {
     let id = |id: &Id| match id {
         Id::Local(s) => s.clone(),
         Id::MacAddress(m) => m.to_string(),

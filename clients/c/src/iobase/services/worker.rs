@@ -123,6 +123,7 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::StationArEnded { .. }
         | Notification::StationPlcRunning { .. }
         | Notification::StationBlink
+        | Notification::StationNeighbours { .. }
         | Notification::StationIdentity { .. }
         | Notification::StationPlug { .. }
         | Notification::StationRecord { .. }
