@@ -418,6 +418,21 @@ pub struct DeviceConfig {
     pub sim: SimBehaviour,
     /// Its submodules (array of tables `[[device.submodule]]`), in configuration order.
     pub submodules: Vec<SubmoduleConfig>,
+    /// The neighbours its ports are to have (array of tables `[[device.topology]]`), which
+    /// the controller writes as the ports' topology checks (PDPortDataCheck) at connect.
+    pub topology: Vec<PortPeer>,
+}
+
+/// The neighbour a port of a device is to have (an element of `[[device.topology]]`).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct PortPeer {
+    /// The device's port submodule (key `subslot`, default its first port, 0x8001 on most
+    /// devices), in slot 0.
+    pub subslot: u16,
+    /// The neighbour's NameOfStation (key `station`).
+    pub station: String,
+    /// The neighbour's port (key `port`, e.g. `port-001`).
+    pub port: String,
 }
 
 /// Where a device's description came from (keys `gsdml` and `dap` of a device).

@@ -58,6 +58,17 @@ pub(super) struct RawDevice {
     pub sim: Option<Spanned<String>>,
     #[serde(default)]
     pub submodule: Vec<Spanned<RawSubmodule>>,
+    #[serde(default)]
+    pub topology: Vec<Spanned<RawTopology>>,
+}
+
+/// An element of a device's `topology`: the neighbour one of its ports is to have.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawTopology {
+    pub subslot: Option<Spanned<u16>>,
+    pub station: Spanned<String>,
+    pub port: Spanned<String>,
 }
 
 #[derive(Debug, Deserialize)]

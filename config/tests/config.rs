@@ -1258,3 +1258,74 @@ fn every_simulated_behaviour_is_read_by_its_documented_name() {
         assert_eq!(parse(&text).unwrap().devices[0].sim, behaviour, "{text}");
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The topology a device's ports are to have.
+
+/// A device with its access point's interface and two ports, and `topology`.
+fn device_with_ports(topology: &str) -> String {
+    let mut text = device("io-1", "");
+    for subslot in [1, 0x8000, 0x8001, 0x8002] {
+        text += &format!(
+            "[[device.submodule]]\nslot = 0\nsubslot = {subslot:#06x}\nmodule_ident = 1\n\
+             submodule_ident = {subslot:#06x}\n"
+        );
+    }
+    text + topology
+}
+
+#[test]
+fn a_ports_neighbour_defaults_to_the_first_port() {
+    let c = parse(&device_with_ports(
+        "[[device.topology]]\nstation = \"plc\"\nport = \"port-001\"\n\
+         [[device.topology]]\nsubslot = 0x8002\nstation = \"switch-1\"\nport = \"port-007\"\n",
+    ))
+    .unwrap();
+    let peers: Vec<(u16, &str, &str)> = c.devices[0]
+        .topology
+        .iter()
+        .map(|p| (p.subslot, p.station.as_str(), p.port.as_str()))
+        .collect();
+    assert_eq!(
+        peers,
+        [
+            (0x8001, "plc", "port-001"),
+            (0x8002, "switch-1", "port-007")
+        ]
+    );
+}
+
+#[test]
+fn bad_topology() {
+    let text = device_with_ports(
+        "[[device.topology]]\nsubslot = 0x8005\nstation = \"plc\"\nport = \"port-001\"\n",
+    );
+    refused_at(
+        &text,
+        "subslot = 0x8005",
+        "device[0].topology[0].subslot",
+        "0x8001, 0x8002",
+    );
+    let text = device_with_ports("[[device.topology]]\nstation = \"PLC\"\nport = \"port-001\"\n");
+    refused_at(
+        &text,
+        "station = \"PLC\"",
+        "device[0].topology[0].station",
+        "lower case",
+    );
+    let text = device_with_ports("[[device.topology]]\nstation = \"plc\"\nport = \"\"\n");
+    refused_at(
+        &text,
+        "port = \"\"",
+        "device[0].topology[0].port",
+        "not a port name",
+    );
+    let text = device("io-1", &submodule(1, ""))
+        + "[[device.topology]]\nstation = \"plc\"\nport = \"port-001\"\n";
+    refused_at(
+        &text,
+        "[[device.topology]]",
+        "device[0].topology[0]",
+        "no port submodule",
+    );
+}

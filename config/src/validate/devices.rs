@@ -412,7 +412,14 @@ fn device_config(
         drafts.push(draft);
     }
 
+    let topology = raw
+        .topology
+        .into_iter()
+        .enumerate()
+        .map(|(t, peer)| port_peer(&key(&format!("topology[{t}]")), peer, &submodules, cx))
+        .collect::<Result<Vec<_>, _>>()?;
     let config = DeviceConfig {
+        topology,
         name: raw.name.into_inner(),
         ip,
         vendor_id,
@@ -428,6 +435,77 @@ fn device_config(
         submodules,
     };
     Ok((config, drafts))
+}
+
+/// Whether `subslot` is a port's: 0x8X01 to 0x8XFF.
+fn is_port(subslot: u16) -> bool {
+    subslot & 0xf000 == 0x8000 && subslot & 0x00ff != 0
+}
+
+/// Checks an element of a device's `topology`: a port of the device (its first one if
+/// `subslot` is left out), a station name, a port name.
+fn port_peer(
+    base: &str,
+    raw: Spanned<RawTopology>,
+    submodules: &[SubmoduleConfig],
+    cx: &Cx<'_>,
+) -> Result<PortPeer, ConfigError> {
+    let span = raw.span();
+    let raw = raw.into_inner();
+    let key = |k: &str| format!("{base}.{k}");
+    let ports: Vec<u16> = submodules
+        .iter()
+        .filter(|s| s.slot == 0 && is_port(s.subslot))
+        .map(|s| s.subslot)
+        .collect();
+    let list = || {
+        ports
+            .iter()
+            .map(|p| format!("{p:#06x}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let subslot = match &raw.subslot {
+        Some(v) if ports.contains(v.get_ref()) => *v.get_ref(),
+        Some(v) => {
+            return Err(cx.invalid(
+                v.span(),
+                key("subslot"),
+                format!(
+                    "{:#06x} is not a port of the device: its ports are the subslots 0x8X01 to                      0x8XFF of slot 0 among its submodules ({}); name one of them",
+                    v.get_ref(),
+                    if ports.is_empty() { "none".to_owned() } else { list() }
+                ),
+            ));
+        }
+        None => *ports.first().ok_or_else(|| {
+            cx.invalid(
+                span.clone(),
+                base,
+                "the device has no port submodule (subslot 0x8001 … of slot 0) to check; add                  its ports to its submodules, or name them with a GSDML file",
+            )
+        })?,
+    };
+    cx.check(
+        &raw.station,
+        key("station"),
+        station_name(raw.station.get_ref()),
+    )?;
+    let port = raw.port.get_ref();
+    if port.is_empty() || port.len() > 240 || !port.bytes().all(|b| b.is_ascii_graphic()) {
+        return Err(cx.invalid(
+            raw.port.span(),
+            key("port"),
+            format!(
+                "{port:?} is not a port name: the neighbour's port as its LLDP names it, 1 to                  240 visible characters, e.g. \"port-001\""
+            ),
+        ));
+    }
+    Ok(PortPeer {
+        subslot,
+        station: raw.station.into_inner(),
+        port: raw.port.into_inner(),
+    })
 }
 
 fn dap_message(imp: &DeviceImport, sub: &Submodule, message: String) -> String {

@@ -14,11 +14,11 @@ use super::duration::{format_duration, parse_duration};
 use super::error::ConfigError;
 use super::gsdml::Submodule;
 use super::import::{self, DeviceImport, Files, Found, Lookup};
-use super::raw::{RawAccess, RawConfig, RawCycleThread, RawDevice, RawSubmodule};
+use super::raw::{RawAccess, RawConfig, RawCycleThread, RawDevice, RawSubmodule, RawTopology};
 use super::{
     AccessConfig, CYCLE_UNIT_NS, Config, CycleThreadConfig, DEFAULT_CYCLE_NS, DEFAULT_INSTANCE,
     DeviceConfig, GsdmlSource, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network,
-    OpdoneWait, OutputTiming, ParameterRecord, Role, SimBehaviour, SubmoduleConfig,
+    OpdoneWait, OutputTiming, ParameterRecord, PortPeer, Role, SimBehaviour, SubmoduleConfig,
 };
 
 mod devices;

@@ -4,6 +4,9 @@
 
 use crate::config::{Config, DeviceConfig, SubmoduleConfig};
 use procimg_profinet::controller::plan::{DevicePlan, DeviceSpec, PlanError, SubmoduleSpec};
+use procimg_profinet::wire::record::{
+    CheckedPeer, INDEX_PD_PORT_DATA_CHECK, PdPortDataCheck, PortCheck,
+};
 
 /// The controller's plan of every configured device: the configuration translated into the
 /// protocol crate's terms, then planned (send clock, frame layouts, expected submodules).
@@ -14,6 +17,26 @@ pub fn plan_devices(config: &Config) -> Result<Vec<DevicePlan>, PlanError> {
 
 /// What the controller needs to know of a configured device.
 pub fn device_spec(dev: &DeviceConfig) -> DeviceSpec {
+    let mut submodules: Vec<SubmoduleSpec> = dev.submodules.iter().map(submodule_spec).collect();
+    // The topology the device's ports are to have: their PDPortDataCheck, written with the
+    // other parameter records at connect.
+    for peer in &dev.topology {
+        let check = PdPortDataCheck {
+            slot: 0,
+            subslot: peer.subslot,
+            checks: vec![PortCheck::Peers(vec![CheckedPeer {
+                port_id: peer.port.clone(),
+                chassis_id: peer.station.clone(),
+            }])],
+        };
+        let port = submodules
+            .iter_mut()
+            .find(|s| (s.slot, s.subslot) == (0, peer.subslot));
+        // The configuration checked both: a port of the device, names that fit.
+        if let (Some(port), Ok(data)) = (port, check.to_vec()) {
+            port.records.push((INDEX_PD_PORT_DATA_CHECK, data));
+        }
+    }
     DeviceSpec {
         name: dev.name.clone(),
         ip: dev.ip,
@@ -22,7 +45,7 @@ pub fn device_spec(dev: &DeviceConfig) -> DeviceSpec {
         instance: dev.instance,
         reduction_ratio: dev.reduction_ratio,
         watchdog_factor: dev.watchdog_factor,
-        submodules: dev.submodules.iter().map(submodule_spec).collect(),
+        submodules,
     }
 }
 

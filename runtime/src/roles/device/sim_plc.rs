@@ -92,6 +92,7 @@ fn as_device(station: &StationConfig) -> DeviceConfig {
         reduction_ratio: 1,
         watchdog_factor: SIM_WATCHDOG_FACTOR,
         sim: SimBehaviour::None,
+        topology: Vec::new(),
         submodules: station
             .submodules
             .iter()

@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! As root: procimg's controller and procimg's device on a veth pair, the controller's
+//! project with a topology (`[[device.topology]]`). The controller's port announces itself
+//! by LLDP; the device checks the neighbour its PLC names against the one it has: the
+//! project's check holds. A check written in data exchange that names another neighbour
+//! raises the port's diagnosis and the PortDataChangeNotification alarm; the right one
+//! written again clears both.
+
+use procimg_client::{AlarmReport, ArState, Notification, RecordTarget, ServiceOptions, Services};
+use procimg_profinet::wire::record::{
+    CheckedPeer, INDEX_PD_PORT_DATA_CHECK, PdPortDataCheck, PortCheck,
+};
+use procimg_testkit::Launch;
+use procimg_testkit::netns::TestNet;
+use procimg_testkit::tshark::{LiveCapture, flagged, frames_matching};
+use procimg_testkit::veth_station::{CONTROLLER_TOML, DEVICE_TOML};
+use std::time::{Duration, Instant};
+
+/// AlarmType Port Data Change Notification.
+const PORT_DATA_CHANGE: u16 = 0x000e;
+/// ChannelErrorType remote mismatch, ExtChannelErrorType wrong peer NameOfStation.
+const REMOTE_MISMATCH: u16 = 0x8001;
+
+/// The next alarm among the controller's notifications, within 30 s.
+fn next_alarm(services: &mut Services) -> AlarmReport {
+    let until = Instant::now() + Duration::from_secs(30);
+    while Instant::now() < until {
+        if let Some(Notification::Alarm(a)) = services.next(Duration::from_millis(100)) {
+            return a;
+        }
+    }
+    panic!("no alarm within 30 s");
+}
+
+fn in_data(s: &procimg_client::StatusReport) -> bool {
+    s.station
+        .as_ref()
+        .and_then(|st| st.ar.as_ref())
+        .is_some_and(|ar| ar.state == ArState::Data)
+}
+
+/// The remote mismatches pending on the device's port.
+fn mismatches(device: &procimg_testkit::Procimgd) -> Vec<u16> {
+    device
+        .status()
+        .station
+        .unwrap()
+        .diagnosis
+        .iter()
+        .filter(|d| (d.slot, d.subslot) == (0, 0x8001) && d.entry.error_type == REMOTE_MISMATCH)
+        .map(|d| d.entry.ext_error_type)
+        .collect()
+}
+
+#[test]
+#[ignore = "needs root: network namespaces, veth, AF_PACKET"]
+fn a_topology_mismatch_raises_the_port_diagnosis_and_the_right_neighbour_clears_it() {
+    let net = TestNet::new("tp", true);
+    net.address(0, "10.47.0.1/24");
+    let dir = procimg_testkit::files::temp_dir("topology");
+    let pcap = dir.path().join("wire.pcapng");
+    let capture = LiveCapture::start(&net.ns[0], &net.ifs[0], &pcap);
+    let device = Launch::config(
+        "tpd",
+        &DEVICE_TOML
+            .replace("IFACE", &net.ifs[1])
+            .replace(
+                "STATE",
+                &dir.path().join("station.toml").display().to_string(),
+            )
+            .replace("fresh-device", "pc-device"),
+    )
+    .netns(&net.ns[1])
+    .until_cycling()
+    .start();
+    // The PLC's project: the device's port 1 faces the controller's port-001.
+    let instance = format!("tpc-{}", std::process::id());
+    let controller_name = format!("procimgd-{instance}");
+    let project = CONTROLLER_TOML.replace("IFACE", &net.ifs[0])
+        + &format!("[[device.topology]]\nstation = \"{controller_name}\"\nport = \"port-001\"\n");
+    let plc = Launch::config("tpc", &project)
+        .instance(&instance)
+        .netns(&net.ns[0])
+        .until_cycling()
+        .start();
+    let mut services = Services::open(
+        &plc.instance,
+        ServiceOptions::new("tp-alarms").acknowledge_alarms(true),
+    )
+    .expect("the controller's services");
+    plc.wait_devices_running(Duration::from_secs(30));
+    device.wait_status("the AR in data exchange", in_data);
+    // The check the project wrote at connect holds once the controller has announced itself.
+    device.wait_status("the controller as the port's neighbour", |s| {
+        s.station
+            .as_ref()
+            .is_some_and(|st| st.neighbours.len() == 1)
+    });
+    assert!(mismatches(&device).is_empty());
+
+    // The PLC writes a check naming another station: the wrong name, with the alarm.
+    let write_check = |services: &mut Services, station: &str| {
+        let check = PdPortDataCheck {
+            slot: 0,
+            subslot: 0x8001,
+            checks: vec![PortCheck::Peers(vec![CheckedPeer {
+                port_id: "port-001".into(),
+                chassis_id: station.into(),
+            }])],
+        };
+        let target = RecordTarget {
+            device: 0,
+            api: 0,
+            slot: 0,
+            subslot: 0x8001,
+            index: INDEX_PD_PORT_DATA_CHECK,
+        };
+        services
+            .write_record(target, &check.to_vec().unwrap(), Duration::from_secs(10))
+            .expect("write the check");
+    };
+    let port_alarm = |services: &mut Services| loop {
+        let a = next_alarm(services);
+        services.acknowledge(&a).expect("acknowledge");
+        if a.alarm_type == PORT_DATA_CHANGE {
+            return a;
+        }
+    };
+    write_check(&mut services, "someone-else");
+    let alarm = port_alarm(&mut services);
+    assert_eq!((alarm.slot, alarm.subslot), (0, 0x8001), "{alarm:?}");
+    assert_ne!(
+        alarm.specifier & 0x0800,
+        0,
+        "the submodule has a diagnosis: {alarm:?}"
+    );
+    assert_eq!(mismatches(&device), [0x8000]);
+
+    // The right neighbour again: the diagnosis goes, with the alarm.
+    write_check(&mut services, &controller_name);
+    let cleared = port_alarm(&mut services);
+    assert_eq!(
+        cleared.specifier & 0x0800,
+        0,
+        "no diagnosis left: {cleared:?}"
+    );
+    assert!(mismatches(&device).is_empty());
+    assert_eq!(
+        plc.status().devices[0].state,
+        procimg_client::DeviceState::Running
+    );
+
+    drop((services, plc, device));
+    let pcap = capture.stop();
+    let bad = flagged(&pcap);
+    assert!(bad.is_empty(), "tshark flags frames on the wire:\n{bad}");
+    // The alarms, the check written, the controller's LLDP: all on the wire.
+    for filter in [
+        "pn_io.alarm_type == 0x000e",
+        "pn_io.index == 0x802b",
+        "lldp && lldp.chassis.id",
+    ] {
+        assert!(
+            !frames_matching(&pcap, filter).trim().is_empty(),
+            "nothing matches {filter:?} on the wire"
+        );
+    }
+    drop((net, dir));
+}
