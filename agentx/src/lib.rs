@@ -4,4 +4,5 @@
 //! placeholder
 #![deny(missing_docs)]
 
+pub mod mib;
 pub mod pdu;
