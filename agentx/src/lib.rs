@@ -6,3 +6,5 @@
 
 pub mod mib;
 pub mod pdu;
+pub mod runner;
+pub mod session;
