@@ -68,8 +68,10 @@ impl SessionConfig {
     ///   [`SYSTEM_PRIORITY`]. net-snmp's snmpd registers each of these objects itself (as
     ///   subtrees one level below `system`, priority 127); in its registry the more
     ///   specific subtree wins before priority is looked at, so registering `system`
-    ///   whole would change nothing, while the same subtrees at a better priority take
-    ///   them over. sysORLastChange and sysORTable stay snmpd's.
+    ///   whole changes nothing (at any priority), the same subtrees at 127 are refused
+    ///   (duplicateRegistration), and at a better priority they are taken over (tried
+    ///   with net-snmp 5.9.3). sysUpTime is taken over too: managers see the snapshot's.
+    ///   sysORLastChange and sysORTable stay snmpd's.
     /// - the LLDP-MIB (1.0.8802.1.1.2) at the default priority; it includes the
     ///   LLDP-EXT-PNO-MIB under lldpExtensions.
     pub fn procimgd() -> SessionConfig {

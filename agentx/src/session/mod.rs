@@ -16,7 +16,8 @@
 //!    ready, closed, timed out;
 //! 5. [`poll_timeout`](Session::poll_timeout) tells when to call
 //!    [`handle_timeout`](Session::handle_timeout) if no input comes first;
-//! 6. [`close`](Session::close) to leave, [`ping`](Session::ping) to check on the master.
+//! 6. [`close`](Session::close) to leave, [`ping`](Session::ping) to check on the master,
+//!    [`notify`](Session::notify) to send a notification.
 //!
 //! What happens on the way: the master's answer to Open gives the session its ID, and the
 //! configured subtrees are registered (all at once); a refused registration is reported
@@ -40,7 +41,7 @@ pub use event::{Event, InputError, SessionState};
 use crate::mib::Snapshot;
 use crate::pdu::{
     self, Close, CloseReason, Flags, Open, ParseError, Pdu, PduRepr, PduType, Register,
-    ResponseError,
+    ResponseError, VarBind,
 };
 use answer::{LazyView, answer, response};
 
@@ -58,6 +59,7 @@ enum PendingKind {
     /// The index of the registration in the configuration.
     Register(usize),
     Ping,
+    Notify,
     Close(CloseReason),
 }
 
@@ -67,6 +69,7 @@ impl PendingKind {
             PendingKind::Open => PduType::Open,
             PendingKind::Register(_) => PduType::Register,
             PendingKind::Ping => PduType::Ping,
+            PendingKind::Notify => PduType::Notify,
             PendingKind::Close(_) => PduType::Close,
         }
     }
@@ -219,6 +222,20 @@ impl Session {
         }
     }
 
+    /// Sends a notification (agentx-Notify-PDU): snmpd forwards it as a trap to its
+    /// trap sinks. RFC 2741 §6.2.10 wants `snmpTrapOID.0` (1.3.6.1.6.3.1.1.4.1.0) first,
+    /// after an optional sysUpTime.0. Ignored until the session is open.
+    pub fn notify(&mut self, now: Instant, varbinds: Vec<VarBind>) {
+        if matches!(self.state, SessionState::Registering | SessionState::Ready) {
+            self.request(
+                now,
+                PendingKind::Notify,
+                Flags::default(),
+                Pdu::Notify(varbinds),
+            );
+        }
+    }
+
     fn handle_pdu<F: FnMut() -> Snapshot>(
         &mut self,
         now: Instant,
@@ -283,7 +300,7 @@ impl Session {
                 }
                 self.ready_when_registered();
             }
-            PendingKind::Ping => {}
+            PendingKind::Ping | PendingKind::Notify => {}
             PendingKind::Close(reason) => {
                 self.events.push_back(Event::Closed {
                     reason,

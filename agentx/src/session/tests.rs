@@ -446,3 +446,28 @@ fn closing_by_either_side() {
     );
     assert_eq!(s.state(), SessionState::Closed);
 }
+
+#[test]
+fn a_notification_goes_out_once_open() {
+    let t0 = Instant::now();
+    let trap_oid: Oid = "1.3.6.1.6.3.1.1.4.1.0".parse().unwrap();
+    // lldpNotificationPrefix.1: lldpRemTablesChange.
+    let change = Value::ObjectIdentifier("1.0.8802.1.1.2.0.0.1".parse().unwrap());
+    let varbinds = vec![VarBind::new(trap_oid, change)];
+    let mut s = Session::new(SessionConfig::procimgd(), t0);
+    s.poll_transmit();
+    s.notify(t0, varbinds.clone());
+    assert_eq!(s.poll_transmit(), None, "not open yet");
+    let mut s = opened(t0, &[ResponseError::NoError; 2]);
+    s.notify(t0, varbinds.clone());
+    let notify = pdus(&s.poll_transmit().unwrap());
+    assert_eq!(notify[0].pdu, Pdu::Notify(varbinds));
+    assert_eq!(notify[0].session_id, 9);
+    s.handle_input(
+        t0,
+        &from_master(9, notify[0].packet_id, answer(ResponseError::NoError)),
+        Snapshot::example,
+    )
+    .unwrap();
+    assert_eq!(s.poll_timeout(), None);
+}
