@@ -6,9 +6,8 @@
 //! Ignored by default: run as root with `cargo test -p procimg-agentx -- --ignored`.
 
 use std::fs;
-use std::net::UdpSocket;
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::path::Path;
+use std::process::Command;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver};
@@ -19,6 +18,7 @@ use procimg_agentx::mib::{MibView, Snapshot};
 use procimg_agentx::pdu::Value;
 use procimg_agentx::runner::{self, MasterAddress, RunnerConfig, RunnerEvent};
 use procimg_agentx::session::Event;
+use procimg_testkit::snmpd::Snmpd;
 
 const LLDP_MIB: &str = "1.0.8802.1.1.2";
 const SYS_NAME: &str = "1.3.6.1.2.1.1.5.0";
@@ -26,101 +26,11 @@ const SYS_LOCATION: &str = "1.3.6.1.2.1.1.6.0";
 
 /// Fails the test with what to do when it cannot run here.
 fn require_root_and_net_snmp() {
-    let status = fs::read_to_string("/proc/self/status").unwrap_or_default();
-    let uid = status
-        .lines()
-        .find_map(|l| l.strip_prefix("Uid:"))
-        .and_then(|ids| ids.split_whitespace().nth(1))
-        .unwrap_or("?");
-    assert_eq!(uid, "0", "run this test as root (it starts snmpd)");
-    for tool in ["/usr/sbin/snmpd", "/usr/bin/snmpwalk", "/usr/bin/snmpget"] {
-        assert!(
-            Path::new(tool).exists(),
-            "{tool} is missing: install net-snmp with `apt-get install -y snmpd snmp`"
-        );
-    }
-}
-
-/// snmpd as AgentX master in a temporary directory; ended (by its pid) and the
-/// directory removed when dropped, also when the test fails.
-struct Snmpd {
-    child: Child,
-    port: u16,
-    log: PathBuf,
-    // Dropped after `drop` has ended the process.
-    _dir: Arc<tempfile::TempDir>,
-}
-
-impl Snmpd {
-    /// Starts snmpd with the master socket `socket` (in `dir`) and a free UDP port on
-    /// 127.0.0.1, and waits until the socket is there.
-    fn start(dir: &Arc<tempfile::TempDir>, socket: &Path) -> Snmpd {
-        let port = free_udp_port();
-        let conf = dir.path().join("snmpd.conf");
-        let log = dir.path().join("snmpd.log");
-        fs::write(
-            &conf,
-            format!(
-                "master agentx\n\
-                 agentXSocket {}\n\
-                 agentXTimeout 5\n\
-                 agentaddress udp:127.0.0.1:{port}\n\
-                 rocommunity public 127.0.0.1\n\
-                 rwcommunity private 127.0.0.1\n",
-                socket.display()
-            ),
-        )
-        .unwrap();
-        let child = Command::new("/usr/sbin/snmpd")
-            .args(["-f", "-Lo", "-C", "-c"])
-            .arg(&conf)
-            // Its persistent state goes to the temporary directory, not /var/lib/snmp.
-            .env("SNMP_PERSISTENT_DIR", dir.path())
-            .stdin(Stdio::null())
-            .stdout(fs::File::create(&log).unwrap())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("snmpd starts");
-        let snmpd = Snmpd {
-            child,
-            port,
-            log,
-            _dir: Arc::clone(dir),
-        };
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while !socket.exists() {
-            assert!(
-                Instant::now() < deadline,
-                "snmpd made no AgentX socket in 10 s; its log:\n{}",
-                snmpd.log()
-            );
-            thread::sleep(Duration::from_millis(50));
-        }
-        snmpd
-    }
-
-    fn log(&self) -> String {
-        fs::read_to_string(&self.log).unwrap_or_default()
-    }
-
-    fn target(&self) -> String {
-        format!("127.0.0.1:{}", self.port)
-    }
-}
-
-impl Drop for Snmpd {
-    fn drop(&mut self) {
-        // Child::kill signals this child's own pid (SIGKILL); wait reaps it.
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn free_udp_port() -> u16 {
-    UdpSocket::bind("127.0.0.1:0")
-        .and_then(|s| s.local_addr())
-        .map(|a| a.port())
-        .unwrap()
+    assert!(
+        procimg_testkit::netns::is_root(),
+        "run this test as root (it starts snmpd)"
+    );
+    procimg_testkit::snmpd::require_net_snmp();
 }
 
 /// The runner on a thread; stopped and joined when dropped.
@@ -180,24 +90,6 @@ impl Drop for Subagent {
     }
 }
 
-/// Runs a net-snmp tool with numeric OIDs and enums; its stdout.
-fn net_snmp(tool: &str, snmpd: &Snmpd, args: &[&str]) -> String {
-    let out = Command::new(tool)
-        .args(["-v2c", "-c", "public", "-On", "-Oe", "-t", "2", "-r", "1"])
-        .arg(snmpd.target())
-        .args(args)
-        .output()
-        .expect("the net-snmp tool runs");
-    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success(),
-        "{tool} {args:?} failed: {}{stdout}\nsnmpd's log:\n{}",
-        String::from_utf8_lossy(&out.stderr),
-        snmpd.log()
-    );
-    stdout
-}
-
 /// `.1.2.3 = TYPE: value` lines as (OID without the leading dot, type, value).
 fn parse_lines(output: &str) -> Vec<(String, String, String)> {
     output
@@ -246,7 +138,7 @@ fn is_ready(e: &RunnerEvent) -> bool {
 
 fn check_walk_and_get(snmpd: &Snmpd) {
     for tool in ["/usr/bin/snmpwalk", "/usr/bin/snmpbulkwalk"] {
-        let walk = parse_lines(&net_snmp(tool, snmpd, &[LLDP_MIB]));
+        let walk = parse_lines(&snmpd.tool(tool, &[LLDP_MIB]));
         let got: Vec<(String, &str)> = walk
             .iter()
             .map(|(o, t, _)| (o.clone(), t.as_str()))
@@ -268,11 +160,7 @@ fn check_walk_and_get(snmpd: &Snmpd) {
         assert_eq!(value("1.0.8802.1.1.2.1.3.8.1.3.1.4.192.168.0.50"), "5");
         assert_eq!(value("1.0.8802.1.1.2.1.5.3791.1.3.1.1.3.300.1.1"), "240");
     }
-    let get = parse_lines(&net_snmp(
-        "/usr/bin/snmpget",
-        snmpd,
-        &[SYS_NAME, SYS_LOCATION],
-    ));
+    let get = parse_lines(&snmpd.tool("/usr/bin/snmpget", &[SYS_NAME, SYS_LOCATION]));
     assert_eq!(
         get,
         [
@@ -288,9 +176,9 @@ fn check_walk_and_get(snmpd: &Snmpd) {
 #[ignore = "needs root: snmpd"]
 fn snmpd_serves_the_lldp_mib_and_the_system_group_from_the_subagent() {
     require_root_and_net_snmp();
-    let dir = Arc::new(tempfile::tempdir().unwrap());
+    let dir = tempfile::tempdir().unwrap();
     let socket = dir.path().join("master");
-    let snmpd = Snmpd::start(&dir, &socket);
+    let snmpd = Snmpd::start(dir.path(), &socket, None);
     let subagent = Subagent::start(&socket, Duration::from_millis(200));
     let events = subagent.wait_for("registration", is_ready);
     assert!(
@@ -319,13 +207,13 @@ fn snmpd_serves_the_lldp_mib_and_the_system_group_from_the_subagent() {
 #[ignore = "needs root: snmpd"]
 fn a_subagent_started_before_snmpd_attaches_when_snmpd_comes_up() {
     require_root_and_net_snmp();
-    let dir = Arc::new(tempfile::tempdir().unwrap());
+    let dir = tempfile::tempdir().unwrap();
     let socket = dir.path().join("master");
     let subagent = Subagent::start(&socket, Duration::from_millis(200));
     subagent.wait_for("failed connection", |e| {
         matches!(e, RunnerEvent::ConnectFailed(..))
     });
-    let snmpd = Snmpd::start(&dir, &socket);
+    let snmpd = Snmpd::start(dir.path(), &socket, None);
     subagent.wait_for("registration", is_ready);
     check_walk_and_get(&snmpd);
     // snmpd goes away and comes back: the subagent attaches again.
@@ -334,7 +222,7 @@ fn a_subagent_started_before_snmpd_attaches_when_snmpd_comes_up() {
         matches!(e, RunnerEvent::Disconnected(_))
     });
     let _ = fs::remove_file(&socket);
-    let snmpd = Snmpd::start(&dir, &socket);
+    let snmpd = Snmpd::start(dir.path(), &socket, None);
     subagent.wait_for("registration", is_ready);
     check_walk_and_get(&snmpd);
 }

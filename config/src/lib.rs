@@ -59,7 +59,7 @@ pub use address::LAST_ADDRESS;
 pub use duration::{DurationError, format_duration, parse_duration};
 pub use error::ConfigError;
 use procimg_shm_layout::Mode;
-pub use station::{ProgramStation, StationConfig};
+pub use station::{ProgramStation, SnmpMaster, StationConfig};
 pub use validate::station::with_identity;
 pub use validate::station_tree::{PlannedSubmodule, TreeError, dap_config, define_station};
 

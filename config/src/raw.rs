@@ -119,6 +119,7 @@ pub(super) struct RawStation {
     pub software_revision: Option<Spanned<String>>,
     pub state_file: Option<Spanned<String>>,
     pub dcp_hello: Option<bool>,
+    pub snmp_agentx: Option<Spanned<String>>,
     pub dap: Option<Spanned<RawDap>>,
     #[serde(default)]
     pub submodule: Vec<Spanned<RawStationSubmodule>>,

@@ -68,6 +68,9 @@ pub struct StationConfig {
     pub state_file: Option<PathBuf>,
     /// Send a DCP Hello at start-up (key `dcp_hello`, default false).
     pub dcp_hello: bool,
+    /// Where the station's SNMP goes (key `snmp_agentx`): the AgentX master socket of the
+    /// system's SNMP agent (net-snmp's snmpd), whose subagent procimgd becomes.
+    pub snmp_agentx: SnmpMaster,
     /// The device access point (table `[station.dap]`).
     pub dap: DapConfig,
     /// Every submodule, the DAP's three first, then `[[station.submodule]]` in configuration
@@ -101,6 +104,19 @@ impl PartialEq for ProgramStation {
 }
 
 impl Eq for ProgramStation {}
+
+/// The AgentX master a station's SNMP subagent attaches to (key `snmp_agentx`).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SnmpMaster {
+    /// Left out: the agent's standard socket (`/var/agentx/master`) on a real interface,
+    /// none on the simulated network.
+    #[default]
+    Standard,
+    /// `"off"`: no SNMP.
+    Off,
+    /// A socket path, `unix:PATH` or `tcp:HOST:PORT`.
+    At(String),
+}
 
 impl StationConfig {
     /// The plain submodule descriptions, in table order.

@@ -172,6 +172,7 @@ fn station(identity: &CatalogueIdentity) -> StationConfig {
         },
         state_file: None,
         dcp_hello: false,
+        snmp_agentx: Default::default(),
         dap: DapConfig::default(),
         submodules: Vec::new(),
         program: None,

@@ -20,6 +20,7 @@ pub mod pattern;
 mod procimgd;
 /// Signals to child processes (the `procimg-netns` crate).
 pub use procimg_netns::signal;
+pub mod snmpd;
 pub mod tshark;
 pub mod udp;
 pub mod veth_station;

@@ -14,7 +14,6 @@ use toml::Spanned;
 use super::devices::{
     Draft, addresses, data_length, device_ip, diagnostic_address_fits, station_name,
 };
-use crate::SubmoduleConfig;
 use crate::context::Cx;
 use crate::error::ConfigError;
 use crate::gsdml::{Dap, Gsdml, SubmoduleKind};
@@ -24,6 +23,7 @@ use crate::station::{
     MAX_STATION_SLOT, PORT_SUBSLOT, ProgramStation, SoftwareVersion, StationConfig,
     StationSubmodule,
 };
+use crate::{SnmpMaster, SubmoduleConfig};
 
 /// Checks `[station]`.
 pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationConfig, ConfigError> {
@@ -187,6 +187,19 @@ pub(super) fn station(raw: Spanned<RawStation>, cx: &Cx<'_>) -> Result<StationCo
         software_revision,
         state_file,
         dcp_hello: raw.dcp_hello.unwrap_or(false),
+        snmp_agentx: match &raw.snmp_agentx {
+            None => SnmpMaster::Standard,
+            Some(v) if v.get_ref() == "off" => SnmpMaster::Off,
+            Some(v) if v.get_ref().is_empty() => {
+                return Err(cx.invalid(
+                    v.span(),
+                    "station.snmp_agentx",
+                    "an empty master; give the AgentX socket of the SNMP agent (e.g. \
+                     \"/var/agentx/master\", \"tcp:127.0.0.1:705\"), or \"off\" for no SNMP",
+                ));
+            }
+            Some(v) => SnmpMaster::At(v.get_ref().clone()),
+        },
         dap,
         submodules,
         program,

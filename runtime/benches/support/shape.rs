@@ -136,6 +136,7 @@ pub fn as_station(config: &Config) -> Config {
             },
             state_file: None,
             dcp_hello: false,
+            snmp_agentx: Default::default(),
             dap: DapConfig::default(),
             submodules: d
                 .submodules

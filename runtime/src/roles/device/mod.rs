@@ -26,6 +26,7 @@ pub mod program;
 mod role;
 mod services;
 pub mod sim_plc;
+mod snmp;
 mod state_file;
 mod station;
 
@@ -195,6 +196,23 @@ pub fn start(
             device.station_mut().set_im_records(records);
         }
     }
+    // The station's SNMP subagent: on a real interface unless turned off.
+    let snmp = snmp_master(&station, &config.network).map(|master| {
+        let if_index = match &config.network {
+            Network::Interface(name) => crate::sys::netlink::interface_index(name).unwrap_or(0),
+            Network::Sim => 0,
+        };
+        (
+            snmp::SnmpFeed::new(if_index, crate::sys::clock::now_ns()),
+            master,
+        )
+    });
+    if let Some((feed, master)) = &snmp {
+        threads.push(
+            feed.spawn(master.clone(), plc_stop.clone())
+                .map_err(|e| NetworkError::Thread("SNMP subagent", e))?,
+        );
+    }
     let datagrams = Arc::new(DatagramCounters::default());
     let (commands, command_rx) = std::sync::mpsc::channel();
     let (events, event_rx) = std::sync::mpsc::channel();
@@ -226,6 +244,10 @@ pub fn start(
                 let role = match &config.network {
                     Network::Interface(name) => role.with_port(name),
                     Network::Sim => role,
+                };
+                let role = match &snmp {
+                    Some((feed, _)) => role.with_snmp(feed.clone()),
+                    None => role,
                 };
                 match address {
                     Some(a) => role.with_address(a),
@@ -259,6 +281,29 @@ pub fn start(
         threads,
         stop: Some(Box::new(move || plc_stop.store(true, Ordering::Release))),
     })
+}
+
+/// Where the station's SNMP subagent attaches (`[station] snmp_agentx`), if it has one: the
+/// agent's standard socket on a real interface unless told otherwise, none on the simulated
+/// network; an address that does not parse is logged and leaves the station without SNMP.
+fn snmp_master(
+    station: &StationConfig,
+    network: &Network,
+) -> Option<procimg_agentx::runner::MasterAddress> {
+    use procimg_config::SnmpMaster;
+    match (&station.snmp_agentx, network) {
+        (SnmpMaster::Off, _) | (SnmpMaster::Standard, Network::Sim) => None,
+        (SnmpMaster::Standard, Network::Interface(_)) => Some(Default::default()),
+        (SnmpMaster::At(text), _) => match procimg_agentx::runner::MasterAddress::parse(text) {
+            Ok(m) => Some(m),
+            Err(e) => {
+                tracing::warn!(
+                    "[station] snmp_agentx = {text:?}: {e}; the station runs without SNMP"
+                );
+                None
+            }
+        },
+    }
 }
 
 /// `station` with what the state file kept: a name or address DCP set permanently.

@@ -155,6 +155,8 @@ pub struct DeviceRole {
     signals: u32,
     /// The neighbour table's change count as last told.
     neighbours_told: u64,
+    /// The station's SNMP snapshot, if it has an SNMP subagent.
+    snmp: Option<super::snmp::SnmpFeed>,
     /// Aborted ARs seen so far, to tell an abort from a Release.
     aborted: u64,
     /// The state file and what it holds, if the station has one.
@@ -216,6 +218,7 @@ impl DeviceRole {
             ar_uuid: String::new(),
             signals: 0,
             neighbours_told: 0,
+            snmp: None,
             aborted: 0,
             kept: None,
             address: None,
@@ -252,6 +255,12 @@ impl DeviceRole {
     /// gets the counters as they are).
     pub fn with_port(mut self, interface: &str) -> DeviceRole {
         self.port = Some((interface.to_owned(), 0));
+        self
+    }
+
+    /// Keeps `feed`, the station's SNMP snapshot, up to date from now on.
+    pub fn with_snmp(mut self, feed: super::snmp::SnmpFeed) -> DeviceRole {
+        self.snmp = Some(feed);
         self
     }
 
@@ -429,6 +438,9 @@ impl DeviceRole {
         if self.device.station().signal_count() != self.signals {
             self.signals = self.device.station().signal_count();
             self.tell(StationEvent::Blink, out);
+        }
+        if let Some(feed) = self.snmp.as_mut() {
+            feed.follow(&self.device, crate::sys::clock::now_ns());
         }
         let neighbours = self.device.station().neighbours();
         if neighbours.changes != self.neighbours_told {
