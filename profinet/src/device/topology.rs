@@ -9,7 +9,11 @@
 //!   is a diagnosis of the port submodule, channel 0x8000, ChannelErrorType 0x8001 "remote
 //!   mismatch" with the ExtChannelErrorType saying which (the peer's NameOfStation, its port,
 //!   no peer at all), announced and withdrawn by the PortDataChangeNotification alarm
-//!   (AlarmType 0x000E). The check stays after the AR, as PDev parameters do.
+//!   (AlarmType 0x000E). CheckMAUType and CheckLinkState are checked against the port's own
+//!   link, whenever it changes: a MAU type other than the one checked, or a link down where
+//!   the check wants it up, is ChannelErrorType 0x8000 "data transmission impossible" (with
+//!   ExtChannelErrorType 0x8001 and 0x8000), announced the same way. The check stays after
+//!   the AR, as PDev parameters do.
 
 use super::diagnosis::{ChannelDiag, DiagEntry, SubslotAddr};
 use super::{Application, Device, DeviceAction, physical};
@@ -17,12 +21,14 @@ use crate::port::neighbours::Neighbours;
 use crate::wire::alarm::AlarmType;
 use crate::wire::record::{
     DCP_BOUNDARY_HELLO, INDEX_PD_PORT_DATA_ADJUST, INDEX_PD_PORT_DATA_CHECK, PEER_TO_PEER_NO_LLDP,
-    PdPortDataAdjust, PdPortDataCheck,
+    PdPortDataAdjust, PdPortDataCheck, PortCheck,
 };
 
 /// ChannelNumber of a diagnosis of the whole submodule.
 const WHOLE_SUBMODULE: u16 = 0x8000;
-/// ChannelErrorType "remote mismatch".
+/// ChannelErrorType "data transmission impossible": the port's own link.
+pub const TRANSMISSION_IMPOSSIBLE: u16 = 0x8000;
+/// ChannelErrorType "remote mismatch": the neighbour.
 pub const REMOTE_MISMATCH: u16 = 0x8001;
 
 /// ExtChannelErrorTypes of a remote mismatch.
@@ -35,26 +41,56 @@ pub mod mismatch {
     pub const NO_PEER: u16 = 0x8005;
 }
 
-/// What the port's neighbourhood makes of `check`: the mismatch, if there is one. Only the
-/// peers are checked; with several neighbours (a switch without LLDP between) the first is
-/// taken.
-pub fn topology_mismatch(check: &PdPortDataCheck, neighbours: &Neighbours) -> Option<u16> {
-    let expected = check.peers()?.first()?;
-    let Some(n) = neighbours.entries().first() else {
-        return Some(mismatch::NO_PEER);
-    };
-    if n.peer_station() != Some(expected.chassis_id.as_str()) {
-        Some(mismatch::PEER_NAME)
-    } else if n.peer_port() != Some(expected.port_id.as_str()) {
-        Some(mismatch::PEER_PORT)
-    } else {
-        None
-    }
+/// ExtChannelErrorTypes of data transmission impossible.
+pub mod transmission {
+    /// The link is down.
+    pub const LINK_DOWN: u16 = 0x8000;
+    /// The port runs another MAU type than the one checked.
+    pub const MAU_TYPE: u16 = 0x8001;
 }
 
-/// The diagnosis entry of a mismatch.
-fn entry(ext: u16) -> DiagEntry {
-    ChannelDiag::extended(WHOLE_SUBMODULE, REMOTE_MISMATCH, ext, 0).into()
+/// What a check found: ChannelErrorType and ExtChannelErrorType.
+pub type Finding = (u16, u16);
+
+/// What the port's neighbourhood and link make of `check`: the mismatches, if any. Of the
+/// peers, with several neighbours (a switch without LLDP between) the first is taken.
+pub fn topology_findings(
+    check: &PdPortDataCheck,
+    neighbours: &Neighbours,
+    link: &physical::PortLink,
+) -> Vec<Finding> {
+    let mut found = Vec::new();
+    if let Some(expected) = check.peers().and_then(<[_]>::first) {
+        let remote = match neighbours.entries().first() {
+            None => Some(mismatch::NO_PEER),
+            Some(n) if n.peer_station() != Some(expected.chassis_id.as_str()) => {
+                Some(mismatch::PEER_NAME)
+            }
+            Some(n) if n.peer_port() != Some(expected.port_id.as_str()) => {
+                Some(mismatch::PEER_PORT)
+            }
+            Some(_) => None,
+        };
+        found.extend(remote.map(|e| (REMOTE_MISMATCH, e)));
+    }
+    for c in &check.checks {
+        match c {
+            PortCheck::MauType(m) if link.up && link.mau_type != *m => {
+                found.push((TRANSMISSION_IMPOSSIBLE, transmission::MAU_TYPE));
+            }
+            // LinkState 1: up.
+            PortCheck::LinkState(1) if !link.up => {
+                found.push((TRANSMISSION_IMPOSSIBLE, transmission::LINK_DOWN));
+            }
+            _ => {}
+        }
+    }
+    found
+}
+
+/// The diagnosis entry of a finding.
+fn entry((error_type, ext): Finding) -> DiagEntry {
+    ChannelDiag::extended(WHOLE_SUBMODULE, error_type, ext, 0).into()
 }
 
 impl<A: Application> Device<A> {
@@ -98,43 +134,49 @@ impl<A: Application> Device<A> {
         }
     }
 
-    /// Whether the topology is to be checked again: the check or the neighbourhood changed.
-    pub(super) fn topology_due(&self) -> bool {
-        !self.topology.checks.is_empty()
-            && self.topology.seen != Some(self.station.neighbours().changes)
+    /// What the check depends on now: the neighbour table's change count and the link.
+    fn topology_inputs(&self) -> (u64, bool, u16) {
+        let link = &self.physical.link;
+        (self.station.neighbours().changes, link.up, link.mau_type)
     }
 
-    /// Checks the topology again if it is due: raises, changes or withdraws each port's
-    /// mismatch diagnosis, with the PortDataChangeNotification alarm.
+    /// Whether the topology is to be checked again: the check, the neighbourhood or the
+    /// link changed.
+    pub(super) fn topology_due(&self) -> bool {
+        !self.topology.checks.is_empty() && self.topology.seen != Some(self.topology_inputs())
+    }
+
+    /// Checks the topology again if it is due: raises and withdraws each port's findings
+    /// as diagnosis, with the PortDataChangeNotification alarm.
     pub(super) fn check_topology(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
         if !self.topology_due() {
             return;
         }
-        self.topology.seen = Some(self.station.neighbours().changes);
+        self.topology.seen = Some(self.topology_inputs());
         for i in 0..self.topology.checks.len() {
             let (at, check) = &self.topology.checks[i];
             let at = *at;
-            let now = topology_mismatch(check, self.station.neighbours());
-            let before = self
+            let now = topology_findings(check, self.station.neighbours(), &self.physical.link);
+            let before: Vec<Finding> = self
                 .topology
                 .raised
                 .iter()
-                .find(|(a, _)| *a == at)
-                .map(|(_, e)| *e);
-            if now == before {
-                continue;
-            }
+                .filter(|(a, _)| *a == at)
+                .map(|(_, f)| *f)
+                .collect();
             let mut alarms = Vec::new();
-            if let Some(e) = before {
-                alarms.extend(self.diagnosis.remove(at, &entry(e).key()));
+            for gone in before.iter().filter(|f| !now.contains(f)) {
+                alarms.extend(self.diagnosis.remove(at, &entry(*gone).key()));
             }
-            if let Some(e) = now
-                && let Ok(a) = self.diagnosis.add(at, entry(e))
-            {
-                alarms.extend(a);
+            for came in now.iter().filter(|f| !before.contains(f)) {
+                if let Ok(a) = self.diagnosis.add(at, entry(*came)) {
+                    alarms.extend(a);
+                }
             }
             self.topology.raised.retain(|(a, _)| *a != at);
-            self.topology.raised.extend(now.map(|e| (at, e)));
+            self.topology
+                .raised
+                .extend(now.into_iter().map(|f| (at, f)));
             for a in &mut alarms {
                 a.alarm_type = AlarmType::PortDataChange;
             }
@@ -148,15 +190,15 @@ impl<A: Application> Device<A> {
 pub struct TopologyCheck {
     /// Each port's PDPortDataCheck.
     pub(super) checks: Vec<(SubslotAddr, PdPortDataCheck)>,
-    /// The mismatch diagnosis raised per port.
-    pub(super) raised: Vec<(SubslotAddr, u16)>,
-    /// The neighbour table's change count when last checked (`None`: check now).
-    seen: Option<u64>,
+    /// The findings raised as diagnosis, per port.
+    pub(super) raised: Vec<(SubslotAddr, Finding)>,
+    /// What the check depended on when last made (`None`: check now).
+    seen: Option<(u64, bool, u16)>,
 }
 
 impl TopologyCheck {
-    /// The mismatch (ExtChannelErrorType) pending on each checked port.
-    pub fn mismatches(&self) -> &[(SubslotAddr, u16)] {
+    /// The findings pending as diagnosis on each checked port.
+    pub fn mismatches(&self) -> &[(SubslotAddr, Finding)] {
         &self.raised
     }
 }

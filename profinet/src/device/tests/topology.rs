@@ -144,7 +144,7 @@ fn withdrawal(name: &str, port: u8) -> Vec<u8> {
 #[test]
 fn the_topology_check_follows_the_neighbour() {
     use crate::device::physical::PortLink;
-    use crate::device::topology::mismatch;
+    use crate::device::topology::{REMOTE_MISMATCH, mismatch};
     let (mut dev, mut t) = pnet_in_data(TestApp::None);
     let at = SubslotAddr::new(0, 0, 0x8001);
     let mut out = Vec::new();
@@ -179,7 +179,10 @@ fn the_topology_check_follows_the_neighbour() {
         t,
         &mut o,
     );
-    assert_eq!(dev.topology().mismatches(), &[(at, mismatch::NO_PEER)]);
+    assert_eq!(
+        dev.topology().mismatches(),
+        &[(at, (REMOTE_MISMATCH, mismatch::NO_PEER))]
+    );
     assert_eq!(port_alarms(&mut dev, &o, t), [true]);
     assert!(dev.diagnosis().has_fault_at(at));
 
@@ -197,7 +200,10 @@ fn the_topology_check_follows_the_neighbour() {
     );
     assert_eq!(
         frame(&mut dev, &withdrawal("plc", 1), t),
-        (vec![(at, mismatch::PEER_PORT)], vec![true])
+        (
+            vec![(at, (REMOTE_MISMATCH, mismatch::PEER_PORT))],
+            vec![true]
+        )
     );
     // The link drops: no peer (at the next poll); one mismatch goes, the other comes.
     dev.set_port_link(PortLink {
@@ -207,13 +213,19 @@ fn the_topology_check_follows_the_neighbour() {
     assert_eq!(dev.next_deadline_ns(), Some(0));
     o.clear();
     dev.poll(t, &mut o);
-    assert_eq!(dev.topology().mismatches(), &[(at, mismatch::NO_PEER)]);
+    assert_eq!(
+        dev.topology().mismatches(),
+        &[(at, (REMOTE_MISMATCH, mismatch::NO_PEER))]
+    );
     assert_eq!(port_alarms(&mut dev, &o, t), [false, true]);
     // Another station: the wrong name.
     dev.set_port_link(PortLink::default());
     assert_eq!(
         frame(&mut dev, &neighbour("other", 1, t), t),
-        (vec![(at, mismatch::PEER_NAME)], vec![false, true])
+        (
+            vec![(at, (REMOTE_MISMATCH, mismatch::PEER_NAME))],
+            vec![false, true]
+        )
     );
     // The diagnosis record says so: ChannelErrorType 0x8001 with its extended type.
     let pending = dev
@@ -230,4 +242,31 @@ fn the_topology_check_follows_the_neighbour() {
         ),
         other => panic!("{other:?}"),
     }
+}
+
+#[test]
+fn the_ports_own_link_is_checked_against_mau_type_and_link_state() {
+    use crate::device::physical::PortLink;
+    use crate::device::topology::{TRANSMISSION_IMPOSSIBLE, topology_findings, transmission};
+    use crate::port::neighbours::Neighbours;
+    let check = PdPortDataCheck {
+        slot: 0,
+        subslot: 0x8001,
+        checks: vec![PortCheck::MauType(16), PortCheck::LinkState(1)],
+    };
+    let none = Neighbours::default();
+    let link = |up, mau_type| PortLink {
+        up,
+        mau_type,
+        ..PortLink::default()
+    };
+    assert!(topology_findings(&check, &none, &link(true, 16)).is_empty());
+    assert_eq!(
+        topology_findings(&check, &none, &link(true, 30)),
+        [(TRANSMISSION_IMPOSSIBLE, transmission::MAU_TYPE)]
+    );
+    assert_eq!(
+        topology_findings(&check, &none, &link(false, 0)),
+        [(TRANSMISSION_IMPOSSIBLE, transmission::LINK_DOWN)]
+    );
 }
