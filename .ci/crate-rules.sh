@@ -42,6 +42,7 @@ forbid procimg-c 'procimg-runtime|procimg-profinet|procimg-nic|procimg-config' \
 forbid procimg-tools 'procimg-runtime' "the command line works over the client, the protocol crate and procimg-nic"
 forbid procimg-testkit 'procimg-runtime' "the test kit does not depend on the runtime (its unit tests use the kit)"
 forbid procimg-netns 'procimg-.*' "the namespaces and signals the soak shares with the test kit need no procimg crate"
+forbid coded-enum '.+' "the codes' macro depends on nothing"
 forbid procimg-agentx 'procimg-.*' \
     "the SNMP subagent serves plain data: it depends on no procimg crate"
 forbid procimg-gs20 'procimg-runtime|procimg-profinet|procimg-nic' \

@@ -77,6 +77,9 @@
 //! ```
 #![forbid(unsafe_code)]
 
+#[macro_use]
+extern crate coded_enum;
+
 pub mod catalogue;
 pub mod frame;
 pub mod link;

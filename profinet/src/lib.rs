@@ -138,6 +138,9 @@
 //! ```
 #![forbid(unsafe_code)]
 
+#[macro_use]
+extern crate coded_enum;
+
 pub mod controller;
 pub mod cyclic;
 pub mod dcp_client;

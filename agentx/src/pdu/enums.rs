@@ -3,72 +3,7 @@
 //! error codes of a Response (§6.2.16), each with an `Unknown` catch-all so that every raw
 //! value parses and round-trips.
 
-/// Defines a `Copy` enum over a wire integer with an `Unknown` catch-all: `from_raw`,
-/// `raw`, `name` (the text of a known value), `From` both ways and `Display` (the text, or
-/// `FORMAT` with the raw value for an unknown one).
-macro_rules! coded_enum {
-    (
-        $(#[$m:meta])*
-        pub enum $name:ident($ty:ty) display $unknown:literal {
-            $( $(#[$vm:meta])* $var:ident = $val:literal => $text:literal, )+
-        }
-    ) => {
-        $(#[$m])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-        pub enum $name {
-            $( $(#[$vm])* $var, )+
-            /// Any other value (never one of the above).
-            Unknown($ty),
-        }
-
-        impl $name {
-            /// The variant of a raw wire value (`Unknown` for values without a name).
-            pub const fn from_raw(v: $ty) -> $name {
-                match v {
-                    $( $val => $name::$var, )+
-                    other => $name::Unknown(other),
-                }
-            }
-
-            /// The raw wire value.
-            pub const fn raw(self) -> $ty {
-                match self {
-                    $( $name::$var => $val, )+
-                    $name::Unknown(other) => other,
-                }
-            }
-
-            /// The name RFC 2741 gives a known value; `None` for `Unknown`.
-            pub const fn name(self) -> Option<&'static str> {
-                match self {
-                    $( $name::$var => Some($text), )+
-                    $name::Unknown(_) => None,
-                }
-            }
-        }
-
-        impl From<$ty> for $name {
-            fn from(v: $ty) -> $name {
-                $name::from_raw(v)
-            }
-        }
-
-        impl From<$name> for $ty {
-            fn from(v: $name) -> $ty {
-                v.raw()
-            }
-        }
-
-        impl core::fmt::Display for $name {
-            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-                match self.name() {
-                    Some(name) => f.write_str(name),
-                    None => write!(f, $unknown, self.raw()),
-                }
-            }
-        }
-    };
-}
+use coded_enum::coded_enum;
 
 coded_enum! {
     /// h.type: what a PDU is (RFC 2741 §6.1).

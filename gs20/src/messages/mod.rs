@@ -25,53 +25,6 @@ use std::net::Ipv4Addr;
 
 use crate::frame::{self, Direction, EmitError, FrameId, FrameRepr};
 
-/// Defines a `Copy` enum over a wire integer with an `Unknown` catch-all, so that parsing a
-/// value without a name succeeds and every raw value emits back as it came. `from_raw` never
-/// makes `Unknown` of a named value, so `Unknown(v)` always means "no name for v".
-macro_rules! wire_enum {
-    (
-        $(#[$m:meta])*
-        pub enum $name:ident($ty:ty) {
-            $( $(#[$vm:meta])* $var:ident = $val:literal => $text:literal, )+
-        }
-    ) => {
-        $(#[$m])*
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-        pub enum $name {
-            $( $(#[$vm])* $var, )+
-            /// A value without a name (never one of the above).
-            Unknown($ty),
-        }
-
-        impl $name {
-            /// The variant of a raw value.
-            pub const fn from_raw(v: $ty) -> $name {
-                match v {
-                    $( $val => $name::$var, )+
-                    other => $name::Unknown(other),
-                }
-            }
-
-            /// The raw value.
-            pub const fn raw(self) -> $ty {
-                match self {
-                    $( $name::$var => $val, )+
-                    $name::Unknown(other) => other,
-                }
-            }
-        }
-
-        impl core::fmt::Display for $name {
-            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-                match self {
-                    $( $name::$var => f.write_str($text), )+
-                    $name::Unknown(v) => write!(f, "unknown value {v}"),
-                }
-            }
-        }
-    };
-}
-
 pub mod config;
 pub mod data;
 pub mod event;

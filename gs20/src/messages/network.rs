@@ -10,9 +10,9 @@ use crate::frame::{EmitError, FrameId};
 /// The longest host name (reference §1.5).
 pub const MAX_HOST_NAME: usize = 63;
 
-wire_enum! {
+coded_enum! {
     /// How the module gets its IP settings (0x10 byte 2, and the Network Up event).
-    pub enum AddressMode(u8) {
+    pub enum AddressMode(u8) display "unknown value {}" {
         /// 0: the addresses of the frame.
         Static = 0 => "static",
         /// 1: from a DHCP server (the module waits in Pending).

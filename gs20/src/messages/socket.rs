@@ -30,9 +30,9 @@ use bitflags::bitflags;
 use super::{Message, ParseError, Reader, Writer, check_len};
 use crate::frame::{EmitError, FrameId};
 
-wire_enum! {
+coded_enum! {
     /// Open Socket byte 2: which end the socket is.
-    pub enum SocketRole(u8) {
+    pub enum SocketRole(u8) display "unknown value {}" {
         /// 0: connects to (TCP) or sends to (UDP) the given IP and port.
         Client = 0 => "client",
         /// 1: listens (TCP) or receives (UDP) on the given port.
@@ -40,9 +40,9 @@ wire_enum! {
     }
 }
 
-wire_enum! {
+coded_enum! {
     /// Open Socket byte 3: the transport.
-    pub enum SocketProtocol(u8) {
+    pub enum SocketProtocol(u8) display "unknown value {}" {
         /// 0.
         Tcp = 0 => "TCP",
         /// 1.
@@ -50,9 +50,9 @@ wire_enum! {
     }
 }
 
-wire_enum! {
+coded_enum! {
     /// The socket options (reference §1.6; the number of data bytes in brackets).
-    pub enum SocketOption(u8) {
+    pub enum SocketOption(u8) display "unknown value {}" {
         /// 0: allow broadcasts (1).
         Broadcast = 0 => "broadcast",
         /// 1: bind a port already in use (1).

@@ -180,9 +180,9 @@ impl fmt::Display for ErrorBits {
     }
 }
 
-wire_enum! {
+coded_enum! {
     /// The protocol of the module (reference §1.5, Adapter Response byte 6).
-    pub enum Protocol(u8) {
+    pub enum Protocol(u8) display "unknown value {}" {
         /// 1.
         Profibus = 1 => "PROFIBUS",
         /// 2: the GS20-PN.

@@ -73,7 +73,7 @@ impl core::fmt::Display for Uuid {
     }
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// The BlockType of a PNIO block: the ones this crate reads or writes. Bit 15 is set in
     /// the response (or acknowledgement) counterpart of a request block type.
     pub enum BlockType(u16) {

@@ -100,7 +100,7 @@ impl ChannelSpecifier {
     }
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// ChannelDirection (bits 13–15 of ChannelProperties). Values 4..=7 are reserved.
     pub enum ChannelDirection(u8) {
         /// 0: manufacturer specific.

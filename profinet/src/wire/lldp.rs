@@ -79,7 +79,7 @@ const MAX_MGMT_ADDRESS_LEN: usize = 31;
 /// Longest object identifier of a Management Address TLV.
 const MAX_OID_LEN: usize = 128;
 
-enum_with_unknown! {
+coded_enum! {
     /// The type of a TLV (7 bits on the wire).
     pub enum TlvType(u8) display "TLV {}" {
         /// 0: end of LLDPDU.
@@ -412,7 +412,7 @@ pub mod capability {
     pub const STATION_ONLY: u16 = 0x0080;
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// How the Management Address TLV numbers the interface.
     pub enum InterfaceNumbering(u8) display "numbering {}" {
         /// 1: unknown.

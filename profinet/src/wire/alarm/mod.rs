@@ -87,7 +87,7 @@ impl core::fmt::Display for Priority {
     }
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// AlarmType.
     pub enum AlarmType(u16) {
         /// 0x0001 diagnosis (appears).

@@ -4,7 +4,7 @@
 
 use super::*;
 
-enum_with_unknown! {
+coded_enum! {
     /// ModuleState of a ModuleDiffBlock entry.
     pub enum ModuleState(u16) {
         /// 0: no module plugged.
@@ -19,7 +19,7 @@ enum_with_unknown! {
     }
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// IdentInfo of a [`SubmoduleState`] (bits 11–14): how the real submodule matches the
     /// expected one. Values 4..=15 are reserved.
     pub enum IdentInfo(u8) {
@@ -34,7 +34,7 @@ enum_with_unknown! {
     }
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// ARInfo of a [`SubmoduleState`] (bits 7–10): who owns the submodule. Values 5..=15 are
     /// reserved.
     pub enum ArInfo(u8) {

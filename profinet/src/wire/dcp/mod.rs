@@ -126,7 +126,7 @@ const BLOCK_HEADER_LEN: usize = 4;
 /// Bytes of a BlockInfo or BlockQualifier.
 const PREFIX_LEN: usize = 2;
 
-enum_with_unknown! {
+coded_enum! {
     /// DCP ServiceID.
     pub enum ServiceId(u8) display "Service({:#04x})" {
         /// 3: Get.
@@ -140,7 +140,7 @@ enum_with_unknown! {
     }
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// DCP ServiceType.
     pub enum ServiceType(u8) display "Type({:#04x})" {
         /// 0x00: request.

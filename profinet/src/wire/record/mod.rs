@@ -556,7 +556,7 @@ impl core::fmt::Display for ErrorClass {
     }
 }
 
-enum_with_unknown! {
+coded_enum! {
     /// PNIORW ErrorCode1: error class (high nibble) and code (low nibble).
     pub enum RecordErrorCode(u8) {
         /// 0xA0 application: read error.

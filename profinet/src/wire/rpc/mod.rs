@@ -174,7 +174,7 @@ pub mod flags2 {
 /// accept either).
 pub const REPLY_FLAGS1: u8 = flags1::LAST_FRAGMENT | flags1::NO_FACK;
 
-enum_with_unknown! {
+coded_enum! {
     /// The PacketType of a connectionless PDU.
     pub enum PacketType(u8) display "type {:#04x}" {
         /// 0: request (a call).

@@ -11,7 +11,7 @@ pub const ERROR_DECODE_PNIO: u8 = 0x81;
 /// ErrorCode1 "RTA protocol" (ErrorCode2 then holds the [`AbortCode`]).
 pub const ERROR_CODE1_RTA_PROTOCOL: u8 = 0xfd;
 
-enum_with_unknown! {
+coded_enum! {
     /// The abort reason of an ERR-RTA: ErrorCode2 of a `CF 81 FD xx` PNIOStatus.
     pub enum AbortCode(u8) {
         /// 0x00: no reason given (p-net uses it for aborts it initiates).

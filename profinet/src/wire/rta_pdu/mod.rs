@@ -63,7 +63,7 @@ const ADD_FLAGS_WINDOW: u8 = 0x0f;
 /// AddFlags: TACK.
 const ADD_FLAGS_TACK: u8 = 0x10;
 
-enum_with_unknown! {
+coded_enum! {
     /// The type of an RTA PDU: the low nibble of PDUType (the high nibble is the version).
     pub enum PduType(u8) display "PDUType({})" {
         /// 1: DATA-RTA, carries an alarm block.
