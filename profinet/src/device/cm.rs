@@ -335,33 +335,15 @@ impl<A: Application> Device<A> {
     }
 
     fn release(&mut self, blocks: &[u8]) -> (PnioStatus, Vec<u8>) {
-        let fail = |c1, c2| (pnio(ERROR_CODE_RELEASE, c1, c2), Vec::new());
-        let Ok(c) = ControlBlock::parse(blocks) else {
-            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
+        let held = self.ar.current.as_ref().map(|a| (a.ar_uuid, a.session_key));
+        let c = match release_request(blocks, held) {
+            Ok(c) => c,
+            Err(s) => return (s, Vec::new()),
         };
-        if c.block_type != BlockType::ReleaseReq {
-            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
-        }
-        if blocks.len() != control::BLOCK_LEN {
-            return fail(CMRPC, connect::CMRPC_ARGS_LENGTH);
-        }
-        let Some(ar) = self.ar.current.as_ref().filter(|a| a.ar_uuid == c.ar_uuid) else {
-            return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
-        };
-        if c.session_key != ar.session_key {
-            return fail(FAULTY_RELEASE, 6);
-        }
-        if c.command != control::command::RELEASE {
-            return fail(FAULTY_RELEASE, 8);
-        }
-        let uuid = ar.ar_uuid;
         self.ar.current = None;
         self.ar
-            .note(uuid, PnioStatus::OK, log_book::detail::AR_RELEASED);
-        match ControlBlock::done_response_for(&c) {
-            Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
-            None => fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
-        }
+            .note(c.ar_uuid, PnioStatus::OK, log_book::detail::AR_RELEASED);
+        release_response(&c)
     }
 
     /// What of the device a Read may see.
@@ -496,30 +478,15 @@ impl<A: Application> Device<A> {
 
     /// The device access AR's Release.
     fn release_access(&mut self, blocks: &[u8]) -> (PnioStatus, Vec<u8>) {
-        let fail = |c1, c2| (pnio(ERROR_CODE_RELEASE, c1, c2), Vec::new());
-        let Ok(c) = ControlBlock::parse(blocks) else {
-            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
+        let held = self.ar.access.as_ref().map(|a| (a.ar_uuid, a.session_key));
+        let c = match release_request(blocks, held) {
+            Ok(c) => c,
+            Err(s) => return (s, Vec::new()),
         };
-        let Some(access) = self.ar.access.as_ref() else {
-            return fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN);
-        };
-        if c.block_type != BlockType::ReleaseReq || blocks.len() != control::BLOCK_LEN {
-            return fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS);
-        }
-        if c.session_key != access.session_key {
-            return fail(FAULTY_RELEASE, 6);
-        }
-        if c.command != control::command::RELEASE {
-            return fail(FAULTY_RELEASE, 8);
-        }
-        let uuid = access.ar_uuid;
         self.ar.access = None;
         self.ar
-            .note(uuid, PnioStatus::OK, log_book::detail::ACCESS_AR_ENDED);
-        match ControlBlock::done_response_for(&c) {
-            Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
-            None => fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
-        }
+            .note(c.ar_uuid, PnioStatus::OK, log_book::detail::ACCESS_AR_ENDED);
+        release_response(&c)
     }
 
     /// Ends the device access AR whose tool has been silent for its activity timeout.
@@ -565,5 +532,39 @@ impl<A: Application> Device<A> {
             rpc::CallOutcome::Failed => self.abort_ar(AbortCode::RpcClientCallNegative, out),
             rpc::CallOutcome::Pending | rpc::CallOutcome::NotOurs => {}
         }
+    }
+}
+
+/// Checks a Release of the AR `held` (its ARUUID and SessionKey): the request, or the
+/// negative status to answer.
+fn release_request(blocks: &[u8], held: Option<(Uuid, u16)>) -> Result<ControlBlock, PnioStatus> {
+    let fail = |c1, c2| pnio(ERROR_CODE_RELEASE, c1, c2);
+    let c = ControlBlock::parse(blocks).map_err(|_| fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS))?;
+    if c.block_type != BlockType::ReleaseReq {
+        return Err(fail(CMRPC, connect::CMRPC_UNKNOWN_BLOCKS));
+    }
+    if blocks.len() != control::BLOCK_LEN {
+        return Err(fail(CMRPC, connect::CMRPC_ARGS_LENGTH));
+    }
+    let Some((_, session_key)) = held.filter(|(uuid, _)| *uuid == c.ar_uuid) else {
+        return Err(fail(CMRPC, connect::CMRPC_AR_UUID_UNKNOWN));
+    };
+    if c.session_key != session_key {
+        return Err(fail(FAULTY_RELEASE, 6));
+    }
+    if c.command != control::command::RELEASE {
+        return Err(fail(FAULTY_RELEASE, 8));
+    }
+    Ok(c)
+}
+
+/// The positive answer to the Release `c`.
+fn release_response(c: &ControlBlock) -> (PnioStatus, Vec<u8>) {
+    match ControlBlock::done_response_for(c) {
+        Some(r) => (PnioStatus::OK, r.to_bytes().to_vec()),
+        None => (
+            pnio(ERROR_CODE_RELEASE, CMRPC, connect::CMRPC_UNKNOWN_BLOCKS),
+            Vec::new(),
+        ),
     }
 }

@@ -296,19 +296,31 @@ pub(super) fn access_response_blocks(
     plan: &AccessPlan,
     device_mac: MacAddress,
 ) -> EmitResult<Vec<u8>> {
-    let mut out = ArBlockRes {
-        ar_type: plan.ar.ar_type,
-        ar_uuid: plan.ar.ar_uuid,
-        session_key: plan.ar.session_key,
+    let mut out = ar_block_res(&plan.ar, device_mac)?;
+    rpc_block_res(&mut out, plan.rpc_port)?;
+    Ok(out)
+}
+
+/// The ARBlockRes answering `ar` from the device at `device_mac`.
+fn ar_block_res(ar: &ArBlockReq, device_mac: MacAddress) -> EmitResult<Vec<u8>> {
+    ArBlockRes {
+        ar_type: ar.ar_type,
+        ar_uuid: ar.ar_uuid,
+        session_key: ar.session_key,
         responder_mac: device_mac,
         udp_rt_port: 0x8892,
     }
-    .to_vec()?;
-    if plan.rpc_port.is_some() {
+    .to_vec()
+}
+
+/// Appends the ARRPCBlockRes (the responder's RPC server port) if the Connect asked with an
+/// ARRPCBlockReq.
+fn rpc_block_res(out: &mut Vec<u8>, asked: Option<u16>) -> EmitResult<()> {
+    if asked.is_some() {
         out.extend_from_slice(&BlockHeader::v1(BlockType::ArRpcBlockRes, 2)?.to_bytes());
         out.extend_from_slice(&RPC_PORT.to_be_bytes());
     }
-    Ok(out)
+    Ok(())
 }
 
 /// An AR as ARData describes it, from its Connect: `iocrs` its CRs with their FrameIDs.
@@ -689,14 +701,7 @@ pub(super) fn response_blocks(
     output_frame_id: u16,
     diff: Option<&ModuleDiffBlock>,
 ) -> EmitResult<Vec<u8>> {
-    let mut out = ArBlockRes {
-        ar_type: plan.ar.ar_type,
-        ar_uuid: plan.ar.ar_uuid,
-        session_key: plan.ar.session_key,
-        responder_mac: device_mac,
-        udp_rt_port: 0x8892,
-    }
-    .to_vec()?;
+    let mut out = ar_block_res(&plan.ar, device_mac)?;
     for &(t, reference) in &plan.iocr_order {
         let frame_id = if t == iocr_type::INPUT {
             input_frame_id
@@ -722,11 +727,7 @@ pub(super) fn response_blocks(
     if let Some(d) = diff {
         out.extend(d.to_vec()?);
     }
-    if plan.rpc_port.is_some() {
-        // ARRPCBlockRes: the responder's RPC server port.
-        out.extend_from_slice(&BlockHeader::v1(BlockType::ArRpcBlockRes, 2)?.to_bytes());
-        out.extend_from_slice(&RPC_PORT.to_be_bytes());
-    }
+    rpc_block_res(&mut out, plan.rpc_port)?;
     if plan.advanced() {
         let server = ArServerBlock {
             station_name: station_name.to_string(),
