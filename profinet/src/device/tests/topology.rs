@@ -270,3 +270,30 @@ fn the_ports_own_link_is_checked_against_mau_type_and_link_state() {
         [(TRANSMISSION_IMPOSSIBLE, transmission::LINK_DOWN)]
     );
 }
+
+#[test]
+fn dcp_identify_by_alias_answers_once_the_neighbour_names_the_port() {
+    use crate::wire::dcp::{self as wire_dcp, BlockRepr};
+    let mut dev = Device::new(pnet_spec(TestApp::None));
+    let mut by_alias = wire_dcp::Repr::identify_by_name(7, 1, "unused");
+    by_alias.blocks[0].value = BlockRepr::AliasName("port-001.plc".into());
+    let identify = crate::dcp_client::frame(MacAddress::DCP_IDENTIFY, S7_MAC, &by_alias).unwrap();
+    let answers = |dev: &mut Device<TestApp>, t: u64| {
+        let mut out = Vec::new();
+        dev.on_frame(&identify, t, &mut out);
+        let until = dev.next_deadline_ns().unwrap_or(t).max(t) + 1_000 * MS;
+        dev.poll(until, &mut out);
+        frames(&out)
+            .iter()
+            .filter(|f| f.get(12..14) == Some(&[0x88, 0x92][..]))
+            .count()
+    };
+    // No neighbour: no alias, no answer.
+    assert_eq!(answers(&mut dev, 0), 0);
+    // The S7's port 1 as neighbour: the alias is "port-001.plc", and the Identify by it
+    // is answered.
+    let mut out = Vec::new();
+    dev.on_frame(&neighbour("plc", 1, MS), MS, &mut out);
+    assert_eq!(dev.station().alias_name(), Some("port-001.plc"));
+    assert_eq!(answers(&mut dev, 2 * MS), 1);
+}
