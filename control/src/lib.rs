@@ -44,9 +44,9 @@ pub use response::Response;
 pub use space::Space;
 pub use states::{ArState, DeviceState};
 pub use status::{
-    AccessArReport, ArReport, Bucket, ClaimReport, ClientReport, DeviceReport, ForceReport,
-    HistogramsReport, NeighbourReport, NetworkReport, Percentiles, StationProgramReport,
-    StationReport, StatusReport, SubscriberReport,
+    AccessArReport, ArReport, Bucket, ClaimReport, ClientReport, ControllerReport, DeviceReport,
+    ForceReport, HistogramsReport, InterfaceCounters, NeighbourReport, NetworkReport, Percentiles,
+    StationProgramReport, StationReport, StatusReport, SubscriberReport,
 };
 
 use serde::{Deserialize, Serialize};

@@ -134,6 +134,9 @@ pub struct StatusReport {
     /// In the device role: the station and its AR.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub station: Option<StationReport>,
+    /// In the controller role: the controller's own station on its interface.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub controller: Option<ControllerReport>,
     /// Server process id.
     pub pid: u32,
     /// Server generation (in JSON a hex string: see [`hex_id`]).
@@ -260,6 +263,44 @@ pub struct AccessArReport {
     pub tool_name: String,
     /// The tool's MAC address.
     pub tool_mac: String,
+}
+
+/// The controller's own station, for the status report (IO-Base's CONFIG_NAME_ADDR_INFO
+/// and communication counters).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ControllerReport {
+    /// Its NameOfStation.
+    pub station_name: String,
+    /// Its type of station.
+    pub type_of_station: String,
+    /// The network interface (`"sim"`: the simulated network).
+    pub interface: String,
+    /// Its IPv4 address.
+    pub ip: String,
+    /// Its subnet mask.
+    pub netmask: String,
+    /// Its default router ("0.0.0.0": none known).
+    pub gateway: String,
+    /// The interface's Ethernet counters since procimgd started or they were reset (none on
+    /// the simulated network).
+    pub counters: Option<InterfaceCounters>,
+}
+
+/// An interface's Ethernet counters (the kernel's, since the last reset).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InterfaceCounters {
+    /// Frames sent.
+    pub frames_sent: u64,
+    /// Sends failed by a collision.
+    pub send_collisions: u64,
+    /// Sends failed otherwise.
+    pub send_errors: u64,
+    /// Frames received.
+    pub frames_received: u64,
+    /// Frames received with errors.
+    pub receive_errors: u64,
+    /// Frames received and dropped.
+    pub received_dropped: u64,
 }
 
 /// An LLDP neighbour of the station's port, for the status report.

@@ -150,6 +150,30 @@ fn a_topology_mismatch_raises_the_port_diagnosis_and_the_right_neighbour_clears_
         procimg_client::DeviceState::Running
     );
 
+    // The controller's own station and its interface's counters (IO-Base's
+    // CONFIG_NAME_ADDR_INFO and communication counters), reset by a program.
+    let own = plc.status().controller.expect("the controller's station");
+    assert_eq!(
+        (
+            own.station_name.as_str(),
+            own.ip.as_str(),
+            own.netmask.as_str()
+        ),
+        (controller_name.as_str(), "10.47.0.1", "255.255.255.0")
+    );
+    assert_eq!(own.interface, net.ifs[0]);
+    let before = own.counters.expect("the interface's counters");
+    assert!(
+        before.frames_sent > 100 && before.frames_received > 100,
+        "{before:?}"
+    );
+    services.reset_comm_counters().expect("reset the counters");
+    let after = plc.status().controller.unwrap().counters.unwrap();
+    assert!(
+        after.frames_sent < before.frames_sent,
+        "{before:?} then {after:?}"
+    );
+
     drop((services, plc, device));
     let pcap = capture.stop();
     let bad = flagged(&pcap);

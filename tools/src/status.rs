@@ -50,6 +50,24 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
                 .map(|d| format!("{} {}", d.name, d.state))
                 .collect();
             println!("devices: {}", devices.join(", "));
+            if let Some(c) = &s.controller {
+                println!(
+                    "controller station \"{}\" ({}) on {}  IP {}/{}",
+                    c.station_name, c.type_of_station, c.interface, c.ip, c.netmask
+                );
+                if let Some(n) = &c.counters {
+                    println!(
+                        "interface frames: {} sent ({} errors, {} collisions), {} received \
+                         ({} errors, {} dropped)",
+                        n.frames_sent,
+                        n.send_errors,
+                        n.send_collisions,
+                        n.frames_received,
+                        n.receive_errors,
+                        n.received_dropped
+                    );
+                }
+            }
         }
     }
     let n = &s.network;

@@ -301,7 +301,9 @@ typedef struct {
     PNIO_UINT16 BitLength;
 } ATTR_PACKED PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE;
 
-/* CONFIG_NAME_ADDR_INFO: the controller's own name and address. */
+/* CONFIG_NAME_ADDR_INFO: the controller's own name and address (procimgd's station name,
+ * its type "procimg controller", the interface's address and mask; the addresses in network
+ * byte order, as struct in_addr holds them; default_router 0 when none is known). */
 typedef struct {
     PNIO_UINT8 name[256];          /* station name, NUL-terminated */
     PNIO_UINT8 TypeOfStation[256]; /* NUL-terminated */
@@ -318,7 +320,10 @@ typedef struct {
     PNIO_UINT8 AdditionalInfo[10];
 } ATTR_PACKED PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA;
 
-/* GET_COMM_COUNTER_DATA, RESET_COMM_COUNTERS: Ethernet counters of one port. */
+/* GET_COMM_COUNTER_DATA, RESET_COMM_COUNTERS: Ethernet counters of one port. procimg counts
+ * the controller's interface as its one port (NumberOfPorts 1; 0 on the simulated network),
+ * from the kernel's counters since procimgd started or a RESET; RESET answers the counters
+ * as they were, then starts them again from 0. */
 typedef struct {
     PNIO_UINT32 SndNoError;    /* frames sent */
     PNIO_UINT32 SndCollision;  /* sends failed by collision */

@@ -63,10 +63,11 @@ pub use procimg_control::services::{
     StationArCheckJob, StationDcpSetJob, StationRecordJob, SubmoduleDiff,
 };
 pub use procimg_control::{
-    AlarmRefusal, ArReport, ArState, ClientRole, DefinedIdentity, DeviceState, DiagnosisDirection,
-    DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, ForceReport, PlugRefusal, Refusal,
-    StationAlarmKind, StationDiagnosisChange, StationProgramReport, StationReport,
-    StationTreeEntry, StatusReport, TreeRecords,
+    AccessArReport, AlarmRefusal, ArReport, ArState, ClientRole, ControllerReport, DefinedIdentity,
+    DeviceState, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, ForceReport,
+    InterfaceCounters, NeighbourReport, PlugRefusal, Refusal, StationAlarmKind,
+    StationDiagnosisChange, StationProgramReport, StationReport, StationTreeEntry, StatusReport,
+    TreeRecords,
 };
 pub use procimg_rt_alloc as rt_alloc;
 pub use procimg_shm_layout::{CycleInfo, Mode};

@@ -439,6 +439,23 @@ impl Services {
             }),
         }
     }
+
+    /// Starts the controller interface's communication counters
+    /// ([`StatusReport::controller`](crate::StatusReport)'s `counters`) again from 0, as
+    /// IO-Base's RESET_COMM_COUNTERS does.
+    pub fn reset_comm_counters(&self) -> Result<(), ControlError> {
+        match self.control.request(
+            ControllerRequest::ResetCommCounters,
+            DEFAULT_CONTROL_TIMEOUT,
+        )? {
+            Response::Done => Ok(()),
+            Response::Refused(r) => Err(ControlError::Refused(r)),
+            other => Err(ControlError::Protocol {
+                instance: self.control.instance().to_string(),
+                detail: format!("{other:?}"),
+            }),
+        }
+    }
 }
 
 impl Drop for Services {

@@ -53,6 +53,9 @@ pub enum ControllerRequest {
     },
     /// The state of every device; answered with [`Response::Diagnosis`](crate::Response::Diagnosis).
     Diagnosis,
+    /// Start the controller interface's communication counters again from 0 (IO-Base's
+    /// RESET_COMM_COUNTERS); answered with [`Response::Done`](crate::Response::Done).
+    ResetCommCounters,
 }
 
 impl ControllerRequest {
@@ -64,6 +67,7 @@ impl ControllerRequest {
             ControllerRequest::ActivateDevice { .. } => "activating an IO device",
             ControllerRequest::AcknowledgeAlarm { .. } => "acknowledging an IO device's alarm",
             ControllerRequest::Diagnosis => "the IO system diagnosis",
+            ControllerRequest::ResetCommCounters => "resetting the communication counters",
         }
     }
 }

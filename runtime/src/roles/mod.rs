@@ -199,6 +199,10 @@ pub trait RoleServices: Send {
     fn station(&self) -> Option<StationReport> {
         None
     }
+    /// In the controller role, the controller's own station, for the status report.
+    fn controller(&self) -> Option<procimg_control::ControllerReport> {
+        None
+    }
     /// Whether the role holds no connection any more: the server waits for this on shutdown,
     /// so that every peer is released before the cyclic data ends.
     fn released(&self) -> bool;

@@ -399,6 +399,7 @@ impl Control {
             }
             .to_owned(),
             station,
+            controller: self.role.controller(),
             pid: std::process::id(),
             generation: self.info.generation,
             layout_hash: self.tables.hash,

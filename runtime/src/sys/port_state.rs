@@ -18,6 +18,8 @@ pub struct InterfaceState {
     pub full_duplex: bool,
     /// The `statistics` counters: rx/tx bytes, dropped, errors.
     pub counters: [u64; 6],
+    /// The `statistics` frame counters: rx and tx packets, collisions.
+    pub frames: [u64; 3],
 }
 
 /// Reads `interface`'s state. Files a driver does not provide (speed, duplex) read as
@@ -38,7 +40,15 @@ pub fn read(interface: &str) -> io::Result<InterfaceState> {
     ]) {
         *c = number(&format!("statistics/{name}")).map_or(0, |v| v.max(0) as u64);
     }
+    let mut frames = [0u64; 3];
+    for (c, name) in frames
+        .iter_mut()
+        .zip(["rx_packets", "tx_packets", "collisions"])
+    {
+        *c = number(&format!("statistics/{name}")).map_or(0, |v| v.max(0) as u64);
+    }
     Ok(InterfaceState {
+        frames,
         up: operstate == "up",
         speed_mbit: number("speed").and_then(|s| u32::try_from(s).ok()),
         full_duplex: text("duplex").is_ok_and(|d| d == "full"),

@@ -380,12 +380,42 @@ static void records(void) {
     CHECK(dd.Mode == PNIO_DA_TRUE && dd.ErrorCause == 0, "DEVICE_DIAGNOSTIC Mode %u",
           (unsigned)dd.Mode);
 
-    /* No IO router: the answer is its length, 0. A service procimg does not offer. */
+    /* No IO router: the answer is its length, 0. */
     e = diag(h, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT, echo_in);
     CHECK(e.result == PNIO_OK && e.len == 0, "IOROUTER_PRESENT: %u", (unsigned)e.len);
+
+    /* The controller's own station: its name (from the instance), type and address (the
+     * simulated network's 192.168.0.1/24, in network byte order as struct in_addr). */
+    e = diag(h, PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO, echo_in);
+    PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA na;
+    CHECK(e.result == PNIO_OK && e.len == sizeof na, "NAME_ADDR_INFO: 0x%x, %u bytes",
+          (unsigned)e.result, (unsigned)e.len);
+    memcpy(&na, e.data, sizeof na);
+    const PNIO_UINT8 *ip = (const PNIO_UINT8 *)&na.ip_addr;
+    const PNIO_UINT8 *mask = (const PNIO_UINT8 *)&na.ip_mask;
+    CHECK(strncmp((const char *)na.name, "procimgd-", 9) == 0 &&
+              strcmp((const char *)na.TypeOfStation, "procimg controller") == 0,
+          "NAME_ADDR_INFO name \"%s\" type \"%s\"", (const char *)na.name,
+          (const char *)na.TypeOfStation);
+    CHECK(ip[0] == 192 && ip[1] == 168 && mask[0] == 255 && mask[3] == 0,
+          "NAME_ADDR_INFO ip %u.%u.%u.%u mask %u.%u.%u.%u", ip[0], ip[1], ip[2], ip[3], mask[0],
+          mask[1], mask[2], mask[3]);
+
+    /* The communication counters: the simulated network has no Ethernet port to count. */
+    e = diag(h, PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA, echo_in);
+    PNIO_CTRL_COMM_COUNTER_DATA cc;
+    CHECK(e.result == PNIO_OK && e.len == sizeof cc, "GET_COMM_COUNTER_DATA: 0x%x, %u bytes",
+          (unsigned)e.result, (unsigned)e.len);
+    memcpy(&cc, e.data, sizeof cc);
+    CHECK(cc.NumberOfPorts == 0, "GET_COMM_COUNTER_DATA: %u ports", (unsigned)cc.NumberOfPorts);
+    e = diag(h, PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, echo_in);
+    CHECK(e.result == PNIO_OK && e.len == sizeof cc, "RESET_COMM_COUNTERS: 0x%x, %u bytes",
+          (unsigned)e.result, (unsigned)e.len);
+
+    /* A service that is none of PNIO_ctrl_diag_req's. */
     PNIO_CTRL_DIAG unknown;
     memset(&unknown, 0, sizeof unknown);
-    unknown.DiagService = PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO;
+    unknown.DiagService = (PNIO_CTRL_DIAG_ENUM)9;
     CHECK_RC(PNIO_ctrl_diag_req(h, &unknown), PNIO_ERR_PRM_INVALIDARG);
     unknown.DiagService = PNIO_CTRL_DIAG_DEVICE_STATE;
     unknown.u.Addr = nowhere;

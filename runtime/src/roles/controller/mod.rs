@@ -4,6 +4,7 @@
 //! acyclic thread ([`ControllerRole`]), the factory of the cycle thread's IO system, and the
 //! controller's client services ([`ControllerServices`]).
 
+mod interface;
 pub(crate) mod plan;
 mod role;
 mod services;
@@ -23,6 +24,8 @@ use crate::cycle::Shared;
 use crate::cycle::thread::IoFactory;
 use crate::io::pnio::channel::Channel;
 use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
+use interface::ControllerInterface;
+use procimg_control::ControllerReport;
 use procimg_nic::Nic;
 use procimg_nic::af_packet::{AfPacket, OpenError};
 use procimg_nic::sim_link;
@@ -150,10 +153,26 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                 )
             }
         };
+    let station_name = controller_station_name(&config.instance);
+    let interface = ControllerInterface::new(
+        ControllerReport {
+            station_name: station_name.clone(),
+            type_of_station: TYPE_OF_STATION.to_owned(),
+            interface: config.network.to_string(),
+            ip: ip.to_string(),
+            netmask: netmask_of(if_index, ip).to_string(),
+            gateway: Ipv4Addr::UNSPECIFIED.to_string(),
+            counters: None,
+        },
+        match &config.network {
+            Network::Interface(name) => Some(name.clone()),
+            Network::Sim => None,
+        },
+    );
     let id = ControllerIdentity {
         mac,
         ip,
-        station_name: controller_station_name(&config.instance),
+        station_name,
         vendor_id: 0x0493,
         device_id: 0x0fff,
         instance: 1,
@@ -198,10 +217,28 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     };
     Ok(RoleSystem {
         io: Some(io),
-        services: Some(Box::new(ControllerServices::new(names, Some(link)))),
+        services: Some(Box::new(
+            ControllerServices::new(names, Some(link)).with_interface(interface),
+        )),
         threads,
         stop: Some(Box::new(move || plant_stop.store(true, Ordering::Release))),
     })
+}
+
+/// The type of station the controller reports (IO-Base's CONFIG_NAME_ADDR_INFO).
+const TYPE_OF_STATION: &str = "procimg controller";
+
+/// The subnet mask of `ip` on the interface of index `if_index`, as the kernel has it;
+/// 255.255.255.0 where it cannot be read (the simulated network).
+fn netmask_of(if_index: Option<u32>, ip: Ipv4Addr) -> Ipv4Addr {
+    let prefix = if_index
+        .and_then(|index| {
+            let mut nl = crate::sys::netlink::Netlink::open().ok()?;
+            let addresses = nl.addresses(index).ok()?;
+            addresses.into_iter().find(|a| a.ip == ip).map(|a| a.prefix)
+        })
+        .unwrap_or(24);
+    Ipv4Addr::from(u32::MAX.checked_shl(32 - u32::from(prefix)).unwrap_or(0))
 }
 
 /// The simulated devices' priority: they stand for field devices, which answer in real time,

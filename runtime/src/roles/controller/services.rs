@@ -104,6 +104,8 @@ pub struct ControllerServices {
     jobs: HashMap<u64, Job>,
     next_job: u64,
     activations: Vec<VecDeque<u64>>,
+    /// The controller's own station on its interface, when it runs one.
+    interface: Option<super::interface::ControllerInterface>,
 }
 
 impl ControllerServices {
@@ -122,7 +124,14 @@ impl ControllerServices {
             next_alarm: 1,
             jobs: HashMap::new(),
             next_job: 1,
+            interface: None,
         }
+    }
+
+    /// Reports `interface`, the controller's own station, from now on.
+    pub fn with_interface(mut self, interface: super::interface::ControllerInterface) -> Self {
+        self.interface = Some(interface);
+        self
     }
 
     /// The services for the devices of `tables` with no controller behind them: for a
@@ -581,6 +590,12 @@ impl Answers<ControllerRequest> for ControllerServices {
                 self.acknowledge(subscriber, alarm)
             }
             ControllerRequest::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
+            ControllerRequest::ResetCommCounters => {
+                if let Some(i) = self.interface.as_mut() {
+                    i.reset();
+                }
+                Ok(())
+            }
         };
         match result {
             Ok(()) => Response::Done,
@@ -624,6 +639,12 @@ impl RoleServices for ControllerServices {
                     .map_or(control::DeviceState::Offline, |l| l.states.reported(d)),
             })
             .collect()
+    }
+
+    fn controller(&self) -> Option<procimg_control::ControllerReport> {
+        self.interface
+            .as_ref()
+            .map(super::interface::ControllerInterface::report)
     }
 
     fn network(&self) -> NetworkReport {

@@ -11,8 +11,9 @@ use super::address;
 use crate::iobase::types::{
     PNIO_ADDR, PNIO_ALARM_DEV_FAILURE, PNIO_ALARM_DEV_RETURN, PNIO_ALARM_INFO, PNIO_ALARM_INFO_u,
     PNIO_ALARM_TINFO, PNIO_APRIO_HIGH, PNIO_APRIO_LOW, PNIO_COM_UNICAST, PNIO_CTRL_ALARM_DATA,
-    PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK, PNIO_CTRL_DEV_DIAG_AR_CONNECTING,
-    PNIO_CTRL_DEV_DIAG_AR_IN_DATA, PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_DEV_DIAG_OFFLINE,
+    PNIO_CTRL_COMM_COUNTER_DATA, PNIO_CTRL_COMM_PORT_COUNTER_DATA, PNIO_CTRL_DEV_DIAG_ADDR_INFO_OK,
+    PNIO_CTRL_DEV_DIAG_AR_CONNECTING, PNIO_CTRL_DEV_DIAG_AR_IN_DATA, PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
+    PNIO_CTRL_DEV_DIAG_OFFLINE, PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA,
     PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE, PNIO_CTRL_DIAG_CONFIG_SUBMODULE, PNIO_CTRL_DIAG_DEVICE,
     PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA, PNIO_CTRL_REASON_IOC_ABORTED,
     PNIO_CTRL_REASON_IOD_ABORTED, PNIO_CTRL_REASON_IOD_NOT_FOUND, PNIO_CTRL_REASON_IP_SET_ABORTED,
@@ -22,7 +23,7 @@ use crate::iobase::types::{
     PNIO_IO_OUT, PNIO_MAX_ALARM_DATA_LEN,
 };
 use procimg_client::{
-    AlarmReport, DeviceDiagnosis, DeviceState, FailureCause, Layout, RecordStatus,
+    AlarmReport, ControllerReport, DeviceDiagnosis, DeviceState, FailureCause, Layout, RecordStatus,
 };
 
 use procimg_shm_layout::{CYCLE_COUNT_UNIT_NS, NO_ADDRESS, RT_CLASS_3};
@@ -292,6 +293,53 @@ pub(crate) fn device_state(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE {
     }
 }
 
+/// An address as IO-Base's structures hold it: `struct in_addr`'s `s_addr`, network byte
+/// order in memory; 0 for text that is not an address.
+fn in_addr(text: &str) -> u32 {
+    text.parse::<std::net::Ipv4Addr>()
+        .map_or(0, |ip| u32::from_ne_bytes(ip.octets()))
+}
+
+/// `text` NUL-terminated in `buf`, cut to fit.
+fn c_string(buf: &mut [u8; 256], text: &str) {
+    let n = text.len().min(buf.len() - 1);
+    buf[..n].copy_from_slice(&text.as_bytes()[..n]);
+    buf[n..].fill(0);
+}
+
+/// CONFIG_NAME_ADDR_INFO: the controller's station name, type and address.
+pub(crate) fn name_addr_info(c: &ControllerReport) -> PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA {
+    let mut d = PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA {
+        name: [0; 256],
+        TypeOfStation: [0; 256],
+        ip_addr: in_addr(&c.ip),
+        ip_mask: in_addr(&c.netmask),
+        default_router: in_addr(&c.gateway),
+    };
+    c_string(&mut d.name, &c.station_name);
+    c_string(&mut d.TypeOfStation, &c.type_of_station);
+    d
+}
+
+/// GET/RESET_COMM_COUNTERS: the interface's counters as its one port's (IO-Base counts 32
+/// bits, which wrap); no port on the simulated network.
+pub(crate) fn comm_counters(c: &ControllerReport) -> PNIO_CTRL_COMM_COUNTER_DATA {
+    let mut d = PNIO_CTRL_COMM_COUNTER_DATA::default();
+    if let Some(n) = c.counters {
+        let low = |v: u64| v as u32;
+        d.Port[0] = PNIO_CTRL_COMM_PORT_COUNTER_DATA {
+            SndNoError: low(n.frames_sent.saturating_sub(n.send_errors)),
+            SndCollision: low(n.send_collisions),
+            SndOtherError: low(n.send_errors),
+            RcvNoError: low(n.frames_received),
+            RcvResError: low(n.receive_errors),
+            RcvRejected: low(n.received_dropped),
+        };
+        d.NumberOfPorts = 1;
+    }
+    d
+}
+
 /// The DEVICE_DIAGNOSTIC answer, of the device's last failure (all 0 but Mode while it runs):
 /// * ErrorCause: the CM error cause, the low byte of the failure's `PNIO_CTRL_REASON_*`
 ///   (0x07xx) + 1, 0 without one; big-endian in memory, as PN Driver gives it;
@@ -339,6 +387,42 @@ fn abort_reason(status: Option<[u8; 4]>) -> u8 {
 mod tests {
     use super::*;
     use crate::iobase::services::address::tests::demo_layout;
+
+    #[test]
+    fn the_controllers_station_and_counters() {
+        let mut c = ControllerReport {
+            station_name: "procimgd-plant".into(),
+            type_of_station: "procimg controller".into(),
+            interface: "eth1".into(),
+            ip: "10.0.0.1".into(),
+            netmask: "255.255.0.0".into(),
+            gateway: "0.0.0.0".into(),
+            counters: None,
+        };
+        let na = name_addr_info(&c);
+        assert_eq!(&na.name[..15], b"procimgd-plant\0");
+        assert_eq!(na.ip_addr.to_ne_bytes(), [10, 0, 0, 1]);
+        assert_eq!(na.ip_mask.to_ne_bytes(), [255, 255, 0, 0]);
+        assert_eq!(comm_counters(&c).NumberOfPorts, 0);
+        c.counters = Some(procimg_client::InterfaceCounters {
+            frames_sent: 100,
+            send_collisions: 1,
+            send_errors: 2,
+            frames_received: 90,
+            receive_errors: 3,
+            received_dropped: 4,
+        });
+        let cc = comm_counters(&c);
+        assert_eq!(cc.NumberOfPorts, 1);
+        assert_eq!(
+            (
+                cc.Port[0].SndNoError,
+                cc.Port[0].SndOtherError,
+                cc.Port[0].RcvRejected
+            ),
+            (98, 2, 4)
+        );
+    }
 
     fn diagnosis(state: DeviceState, active: bool, cause: FailureCause) -> DeviceDiagnosis {
         DeviceDiagnosis {

@@ -52,10 +52,11 @@ use super::errors::{
 use super::sync::lock;
 use super::types::{
     PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CTRL_DIAG,
-    PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT, PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST,
-    PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST, PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC,
-    PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_ENUM, PNIO_DA_FALSE, PNIO_DA_TRUE,
-    PNIO_DEV_ACT_TYPE, PNIO_MAX_REC_LEN, PNIO_REF,
+    PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT, PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO,
+    PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST, PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST,
+    PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_ENUM,
+    PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA, PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, PNIO_DA_FALSE,
+    PNIO_DA_TRUE, PNIO_DEV_ACT_TYPE, PNIO_MAX_REC_LEN, PNIO_REF,
 };
 use super::wake::Wake;
 use crate::ffi::set_last_error;
@@ -509,7 +510,10 @@ impl ServiceWorker {
         let device = match copy.DiagService {
             PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST
             | PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT
-            | PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST => None,
+            | PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST
+            | PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO
+            | PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA
+            | PNIO_CTRL_DIAG_RESET_COMM_COUNTERS => None,
             PNIO_CTRL_DIAG_DEVICE_STATE | PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC => {
                 // SAFETY: the union's PNIO_ADDR member is made of integers: every bit pattern
                 // of the request's bytes is a valid value.
@@ -530,9 +534,8 @@ impl ServiceWorker {
                     WHAT,
                     PNIO_ERR_PRM_INVALIDARG,
                     format_args!(
-                        "DiagService {other} is not offered: procimg answers \
-                         CONFIG_SUBMODULE_LIST (1), DEVICE_STATE (2), CONFIG_IOROUTER_PRESENT \
-                         (3), CONFIG_OUTPUT_SLICE_LIST (4) and DEVICE_DIAGNOSTIC (8)"
+                        "DiagService {other} is not a service of PNIO_ctrl_diag_req: give \
+                         1 (CONFIG_SUBMODULE_LIST) to 8 (DEVICE_DIAGNOSTIC)"
                     ),
                 );
             }

@@ -19,9 +19,10 @@ use crate::iobase::types::{
     PNIO_CBE_PRM_ALARM_IND, PNIO_CBE_PRM_CTRL_DIAG_CONF, PNIO_CBE_PRM_DEV_ACT_CONF,
     PNIO_CBE_PRM_REC_READ_CONF, PNIO_CBE_PRM_REC_WRITE_CONF, PNIO_CBE_REC_READ_CONF,
     PNIO_CBE_REC_WRITE_CONF, PNIO_CTRL_ALARM_DATA, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT,
-    PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST, PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST,
-    PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_DA_FALSE, PNIO_DA_TRUE,
-    PNIO_ERR_STAT, PNIO_REF,
+    PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO, PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST,
+    PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST, PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC,
+    PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA,
+    PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_ERR_STAT, PNIO_REF,
 };
 use procimg_client::{AlarmReport, DeviceDiagnosis, DeviceState, Notification, RecordConfirmation};
 use std::os::fd::RawFd;
@@ -331,6 +332,8 @@ enum Answer {
     Slices(Vec<crate::iobase::types::PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE>),
     Device(Box<crate::iobase::types::PNIO_CTRL_DIAG_DEVICE>),
     Diagnostic(Box<crate::iobase::types::PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC_DATA>),
+    NameAddr(Box<crate::iobase::types::PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO_DATA>),
+    Counters(Box<crate::iobase::types::PNIO_CTRL_COMM_COUNTER_DATA>),
 }
 
 impl Answer {
@@ -346,6 +349,8 @@ impl Answer {
             Answer::Slices(v) => bytes(v),
             Answer::Device(d) => bytes(std::slice::from_mut(&mut **d)),
             Answer::Diagnostic(d) => bytes(std::slice::from_mut(&mut **d)),
+            Answer::NameAddr(d) => bytes(std::slice::from_mut(&mut **d)),
+            Answer::Counters(d) => bytes(std::slice::from_mut(&mut **d)),
         };
         if n == 0 {
             (none.as_mut_ptr(), 0)
@@ -406,9 +411,45 @@ fn answer(shared: &Shared, job: &DiagJob) -> (Answer, u32) {
                 Err(code) => (Answer::None, code),
             }
         }
+        PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO => match controller(shared) {
+            Ok(c) => (
+                Answer::NameAddr(Box::new(build::name_addr_info(&c))),
+                PNIO_OK,
+            ),
+            Err(code) => (Answer::None, code),
+        },
+        // RESET answers the counters as they were, then starts them again from 0.
+        PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA | PNIO_CTRL_DIAG_RESET_COMM_COUNTERS => {
+            let counters = controller(shared).map(|c| build::comm_counters(&c));
+            let reset = || {
+                shared
+                    .with_services(|s| s.reset_comm_counters())
+                    .ok_or(PNIO_ERR_NO_FW_COMMUNICATION)?
+                    .map_err(|e| super::control_code(&e))
+            };
+            match counters {
+                Ok(c) if job.service == PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA => {
+                    (Answer::Counters(Box::new(c)), PNIO_OK)
+                }
+                Ok(c) => match reset() {
+                    Ok(()) => (Answer::Counters(Box::new(c)), PNIO_OK),
+                    Err(code) => (Answer::None, code),
+                },
+                Err(code) => (Answer::None, code),
+            }
+        }
         // Refused at the call; kept for safety.
         _ => (Answer::None, PNIO_ERR_PRM_INVALIDARG),
     }
+}
+
+/// The controller's own station, from the server's status.
+fn controller(shared: &Shared) -> Result<procimg_client::ControllerReport, u32> {
+    let status = shared
+        .with_services(|s| s.control().status())
+        .ok_or(PNIO_ERR_NO_FW_COMMUNICATION)?
+        .map_err(|e| super::control_code(&e))?;
+    status.controller.ok_or(PNIO_ERR_NO_FW_COMMUNICATION)
 }
 
 /// The server's diagnosis of `device`.
