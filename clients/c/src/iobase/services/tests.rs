@@ -6,9 +6,8 @@ use super::*;
 use crate::iobase::types::{
     PNIO_ALARM_DEV_FAILURE, PNIO_ALARM_DEV_RETURN, PNIO_CBE_DEV_ACT_CONF, PNIO_CBE_PRM,
     PNIO_CBE_REC_READ_CONF, PNIO_CBE_REC_WRITE_CONF, PNIO_CBE_TYPE, PNIO_CTRL_ALARM_DATA,
-    PNIO_CTRL_DEV_DIAG_AR_IN_DATA, PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
-    PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO, PNIO_CTRL_DIAG_CONFIG_SUBMODULE, PNIO_CTRL_DIAG_DEVICE,
-    PNIO_CTRL_DIAG_u, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IO_OUT,
+    PNIO_CTRL_DEV_DIAG_AR_IN_DATA, PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_DIAG_CONFIG_SUBMODULE,
+    PNIO_CTRL_DIAG_DEVICE, PNIO_CTRL_DIAG_u, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IO_OUT,
 };
 use procimg_client::{AttachOptions, Client};
 use procimg_testkit::Procimgd;
@@ -463,7 +462,7 @@ fn alarms_activation_and_diagnosis_reach_the_callbacks() {
         ]
     );
 
-    // Refused at the call: an unknown device, a service procimg does not offer.
+    // Refused at the call: an unknown device, a service that is none of ctrl_diag_req's.
     let mut req = PNIO_CTRL_DIAG {
         DiagService: PNIO_CTRL_DIAG_DEVICE_STATE,
         u: PNIO_CTRL_DIAG_u {
@@ -473,7 +472,7 @@ fn alarms_activation_and_diagnosis_reach_the_callbacks() {
         Reserved2: 0,
     };
     assert_eq!(w.ctrl_diag_req(&mut req), PNIO_ERR_PRM_ADD);
-    req.DiagService = PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO;
+    req.DiagService = 9;
     assert_eq!(w.ctrl_diag_req(&mut req), PNIO_ERR_PRM_INVALIDARG);
     w.stop();
     assert_eq!(
