@@ -61,19 +61,29 @@ impl SnmpFeed {
     /// Makes the snapshot again if the station changed or a second went by.
     pub fn follow<A: Application>(&mut self, device: &Device<A>, now_ns: u64) {
         let station = device.station();
-        let key = (
-            station.neighbours().changes,
-            station.name().to_owned(),
-            station.ip(),
-            station.im_write_count(),
-            station.lldp().map(|l| l.station().mode),
-        );
-        if self.made_of.as_ref() == Some(&key) && now_ns < self.made_at + REFRESH_NS {
+        let mode = station.lldp().map(|l| l.station().mode);
+        let same = self
+            .made_of
+            .as_ref()
+            .is_some_and(|(changes, name, ip, im, m)| {
+                *changes == station.neighbours().changes
+                    && name == station.name()
+                    && *ip == station.ip()
+                    && *im == station.im_write_count()
+                    && *m == mode
+            });
+        if same && now_ns < self.made_at + REFRESH_NS {
             return;
         }
         let snapshot = self.snapshot_of(device, now_ns);
         *self.snapshot.lock().unwrap_or_else(PoisonError::into_inner) = snapshot;
-        self.made_of = Some(key);
+        self.made_of = Some((
+            station.neighbours().changes,
+            station.name().to_owned(),
+            station.ip(),
+            station.im_write_count(),
+            mode,
+        ));
         self.made_at = now_ns;
     }
 

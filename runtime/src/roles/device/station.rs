@@ -105,15 +105,24 @@ pub enum StationEvent {
     DcpSetCheck(DcpSetCheck),
 }
 
+/// What the report's neighbours and access AR were made from: made again when the
+/// neighbour table changed (and every second, for the time left to live) or another tool
+/// holds the access AR.
+#[derive(Default)]
+struct Shown {
+    neighbour_changes: u64,
+    neighbours_at: u64,
+    access: Option<procimg_profinet::wire::Uuid>,
+}
+
 /// The station as the status report shows it.
 pub struct Station {
     report: Mutex<StationReport>,
     /// The diagnosis the report shows, as the engine held it: the report's copy is made
     /// again only when the engine's changed.
     diagnosis_shown: Mutex<DiagnosisStore>,
-    /// The neighbour table's change count and the time when the report's copy was made:
-    /// made again when the table changed, and every second for the time left to live.
-    neighbours_shown: Mutex<(u64, u64)>,
+    /// What the report's neighbours and access AR were made from.
+    shown: Mutex<Shown>,
 }
 
 impl Station {
@@ -140,7 +149,7 @@ impl Station {
                 access_ar: None,
             }),
             diagnosis_shown: Mutex::new(DiagnosisStore::new()),
-            neighbours_shown: Mutex::new((0, 0)),
+            shown: Mutex::new(Shown::default()),
         }
     }
 
@@ -172,11 +181,8 @@ impl Station {
         let mut r = self.lock();
         r.alarms_acknowledged = device.alarm_acks().count();
         r.station_problem = station_problem;
-        let access = device.ar().access();
-        if r.access_ar.as_ref().map(|a| a.ar_uuid.as_str())
-            != access.map(|a| a.ar_uuid().to_string()).as_deref()
-        {
-            r.access_ar = access.map(|a| {
+        if self.access_due(device.ar().access().map(|a| a.ar_uuid())) {
+            r.access_ar = device.ar().access().map(|a| {
                 tracing::info!(
                     "engineering tool \"{}\" ({}) has a device access AR {}",
                     a.initiator_name(),
@@ -259,27 +265,21 @@ impl Station {
                     None => tracing::info!("AR {uuid} released by the PLC"),
                 }
             }
-            StationEvent::Neighbours {
-                neighbours,
-                alias_name,
-            } => {
-                match neighbours.first() {
-                    Some(n) => tracing::info!(
-                        "port-001 neighbour: chassis {:?} port {:?} ({}){}",
-                        n.chassis_id,
-                        n.port_id,
-                        n.mac,
-                        if neighbours.len() > 1 {
-                            format!(" and {} more", neighbours.len() - 1)
-                        } else {
-                            String::new()
-                        }
-                    ),
-                    None => tracing::info!("port-001 has no LLDP neighbour any more"),
-                }
-                r.neighbours.clone_from(neighbours);
-                r.alias_name.clone_from(alias_name);
-            }
+            // The report's copy is `refresh`'s, made from the same change.
+            StationEvent::Neighbours { neighbours, .. } => match neighbours.first() {
+                Some(n) => tracing::info!(
+                    "port-001 neighbour: chassis {:?} port {:?} ({}){}",
+                    n.chassis_id,
+                    n.port_id,
+                    n.mac,
+                    if neighbours.len() > 1 {
+                        format!(" and {} more", neighbours.len() - 1)
+                    } else {
+                        String::new()
+                    }
+                ),
+                None => tracing::info!("port-001 has no LLDP neighbour any more"),
+            },
             StationEvent::Blink => {
                 tracing::info!("DCP Signal: station \"{}\" asked to blink", r.name)
             }
@@ -371,16 +371,28 @@ impl Station {
     /// Whether the report's neighbours are to be made again, the table's change count being
     /// `changes`: the time now if so.
     fn neighbours_due(&self, changes: u64) -> Option<u64> {
-        let mut shown = self
-            .neighbours_shown
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut shown = self.shown();
         let now_ns = crate::sys::clock::now_ns();
-        let due = shown.0 != changes || now_ns.saturating_sub(shown.1) >= 1_000_000_000;
+        let due = shown.neighbour_changes != changes
+            || now_ns.saturating_sub(shown.neighbours_at) >= 1_000_000_000;
         due.then(|| {
-            *shown = (changes, now_ns);
+            (shown.neighbour_changes, shown.neighbours_at) = (changes, now_ns);
             now_ns
         })
+    }
+
+    /// Whether the report's access AR is to be made again, the device's being `now`.
+    fn access_due(&self, now: Option<procimg_profinet::wire::Uuid>) -> bool {
+        let mut shown = self.shown();
+        let due = shown.access != now;
+        shown.access = now;
+        due
+    }
+
+    fn shown(&self) -> std::sync::MutexGuard<'_, Shown> {
+        self.shown
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, StationReport> {
