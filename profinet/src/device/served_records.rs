@@ -33,7 +33,7 @@ use crate::wire::record::{
     ApiData, ArData, ArDataEntry, INDEX_API_DATA, INDEX_AR_DATA, INDEX_LOG_BOOK_DATA,
     INDEX_PD_EXPECTED_DATA, INDEX_PD_INTERFACE_DATA_REAL, INDEX_PD_PORT_DATA_ADJUST,
     INDEX_PD_PORT_DATA_CHECK, INDEX_PD_PORT_DATA_REAL, INDEX_PD_PORT_STATISTIC, INDEX_PD_REAL_DATA,
-    MultipleBlockHeader,
+    MultipleBlockHeader, PdPortDataAdjust, PdPortDataCheck,
 };
 use crate::wire::record::{
     ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, INDEX_IM0_FILTER_DATA, INDEX_IM4,
@@ -265,6 +265,16 @@ fn write_one(
     };
     if !writable {
         return fail(RecordErrorCode::InvalidIndex);
+    }
+    // The port's parameters the device acts on are taken only as blocks it can read: a
+    // malformed one would be kept and never checked.
+    let malformed = match h.index {
+        INDEX_PD_PORT_DATA_CHECK => PdPortDataCheck::parse(data).is_err(),
+        INDEX_PD_PORT_DATA_ADJUST => PdPortDataAdjust::parse(data).is_err(),
+        _ => false,
+    };
+    if malformed {
+        return fail(RecordErrorCode::InvalidParameter);
     }
     let key = (h.api, h.slot, h.subslot, h.index);
     let stored: usize = records

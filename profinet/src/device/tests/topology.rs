@@ -297,3 +297,25 @@ fn dcp_identify_by_alias_answers_once_the_neighbour_names_the_port() {
     assert_eq!(dev.station().alias_name(), Some("port-001.plc"));
     assert_eq!(answers(&mut dev, 2 * MS), 1);
 }
+
+#[test]
+fn a_malformed_check_or_adjust_is_refused_as_an_invalid_parameter() {
+    let mut dev = connected();
+    let mut check = check_plc_port_1();
+    // A CheckPeers whose BlockLength runs past the record.
+    check[15] = 0xff;
+    let refused = crate::wire::record::RecordError::write(
+        crate::wire::record::RecordErrorCode::InvalidParameter,
+        0,
+    )
+    .status();
+    assert_eq!(
+        write_port(&mut dev, INDEX_PD_PORT_DATA_CHECK, &check, MS),
+        refused
+    );
+    assert_eq!(
+        write_port(&mut dev, INDEX_PD_PORT_DATA_ADJUST, &[0x02, 0x02, 0x00], MS),
+        refused
+    );
+    assert!(dev.topology().mismatches().is_empty());
+}
