@@ -131,6 +131,23 @@ pub fn parse(text: &str, origin: &str) -> Result<Config, ConfigError> {
     parse_in_dir(text, origin, Path::new(""))
 }
 
+/// [`load`] for text that is not in a file (a program hands it over): parses and validates
+/// `text`, named `origin` in messages, with relative `gsdml` paths starting at `dir`, and a
+/// `network` interface must pass `interface`.
+pub fn parse_for_machine(
+    text: &str,
+    origin: &str,
+    dir: &Path,
+    interface: InterfaceCheck<'_>,
+) -> Result<Config, ConfigError> {
+    build(&context::Cx {
+        text,
+        origin,
+        dir,
+        interface: Some(interface),
+    })
+}
+
 /// [`parse`], with relative `gsdml` paths starting at `dir` (the directory of the file the
 /// text came from).
 pub fn parse_in_dir(text: &str, origin: &str, dir: &Path) -> Result<Config, ConfigError> {

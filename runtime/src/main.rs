@@ -42,7 +42,9 @@ mod demo_view;
 #[derive(Parser, Debug)]
 #[command(name = "procimgd", version, about, long_about = None)]
 struct Args {
-    /// Configuration file (TOML); see `--print-demo-config` for a commented example.
+    /// Configuration file (TOML); see `--print-demo-config` for a commented example. `-`
+    /// reads it from standard input, up to its end or to a NUL byte (relative `gsdml` paths
+    /// then start at the current directory).
     #[arg(short, long, value_name = "FILE")]
     config: Option<PathBuf>,
     /// Run the built-in demo: simulated devices on an in-process network, no root needed.
@@ -72,6 +74,17 @@ struct Args {
     /// Use this instance name instead of the configuration's.
     #[arg(long, value_name = "NAME")]
     instance: Option<String>,
+    /// The network interface a program chose for this procimgd (IO-Base's SERV_CP_startup
+    /// picks its adapter by MAC address or PCI location): it replaces the configuration's
+    /// `network` interface. A configuration that simulates its network (`network = "sim"`)
+    /// keeps its simulation, so a program can be tried against a simulated plant.
+    #[arg(long, value_name = "INTERFACE")]
+    adapter: Option<String>,
+    /// Stop, as on SIGTERM, when standard input reaches its end: the program that started
+    /// procimgd as its stack (IO-Base's SERV_CP_startup) holds the other end of the pipe, so
+    /// procimgd stops when that program ends, however it ends.
+    #[arg(long)]
+    exit_with_stdin: bool,
     /// Do not print the live one-line view of the demo.
     #[arg(long)]
     quiet: bool,
@@ -107,7 +120,7 @@ fn main() {
         // Said plainly, as a command line tool says why it stops; the log lines before it
         // have told what happened until then.
         eprintln!("procimgd: {e:#}");
-        std::process::exit(1);
+        std::process::exit(exit_status(&e));
     }
 }
 
@@ -115,6 +128,59 @@ fn main() {
 /// anything but the empty string (<https://no-color.org>).
 fn colour_on_stderr() -> bool {
     std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
+}
+
+/// sysexits.h's EX_CONFIG: the configuration cannot be used. A program that starts procimgd
+/// (SERV_CP_startup) tells a bad configuration from a failed start by it.
+const EXIT_CONFIGURATION: i32 = 78;
+
+/// The exit status for the error that ended `run`.
+fn exit_status(e: &anyhow::Error) -> i32 {
+    let configuration = e
+        .chain()
+        .any(|c| c.is::<config::ConfigError>() || c.is::<procimg_shm_layout::LayoutError>());
+    if configuration { EXIT_CONFIGURATION } else { 1 }
+}
+
+/// The configuration `-c` names: a file, or with `-` the text on standard input up to its
+/// end or a NUL byte (the rest of standard input is left for `--exit-with-stdin`).
+fn load_configuration(path: &std::path::Path) -> anyhow::Result<Config> {
+    if path != std::path::Path::new("-") {
+        return Ok(config::load(path, &procimg_nic::interfaces::check)?);
+    }
+    let mut text = Vec::new();
+    std::io::BufRead::read_until(&mut std::io::stdin().lock(), 0, &mut text)
+        .context("cannot read the configuration from standard input")?;
+    if text.last() == Some(&0) {
+        text.pop();
+    }
+    let text =
+        String::from_utf8(text).context("the configuration on standard input is not UTF-8 text")?;
+    let dir = std::env::current_dir().unwrap_or_default();
+    Ok(config::parse_for_machine(
+        &text,
+        "standard input",
+        &dir,
+        &procimg_nic::interfaces::check,
+    )?)
+}
+
+/// With `--exit-with-stdin`: sets `term` when standard input ends, as SIGTERM would.
+fn stop_with_stdin(term: Arc<AtomicBool>) {
+    let watch = move || {
+        let mut sink = [0u8; 256];
+        let mut stdin = std::io::stdin().lock();
+        // Whatever the starting program writes is read and dropped; only its end counts.
+        while matches!(std::io::Read::read(&mut stdin, &mut sink), Ok(n) if n > 0) {}
+        info!("standard input closed: the program that started procimgd has ended; stopping");
+        term.store(true, Ordering::Release);
+    };
+    if let Err(e) = std::thread::Builder::new()
+        .name("stdin-watch".into())
+        .spawn(watch)
+    {
+        warn!("cannot watch standard input ({e}); procimgd stops by signal only");
+    }
 }
 
 fn run(args: Args) -> anyhow::Result<()> {
@@ -127,13 +193,22 @@ fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let mut config = match &args.config {
-        Some(path) => config::load(path, &procimg_nic::interfaces::check)?,
+        Some(path) => load_configuration(path)?,
         None if args.demo_device => Config::demo_device(),
         None if args.demo_device_program => Config::demo_device_program(),
         None => Config::demo(),
     };
     if let Some(name) = args.instance {
         config.instance = name;
+    }
+    if let Some(interface) = args.adapter {
+        procimg_nic::interfaces::check(&interface)
+            .map_err(|e| anyhow::anyhow!("--adapter {interface}: {e}"))?;
+        if config.network == config::Network::Sim {
+            info!("adapter {interface} chosen; the configuration's network is simulated (sim)");
+        } else {
+            config.network = config::Network::Interface(interface);
+        }
     }
     let tables = Tables::from_config(&config).with_context(|| {
         format!(
@@ -145,7 +220,12 @@ fn run(args: Args) -> anyhow::Result<()> {
         print_layout(&config, &tables);
         return Ok(());
     }
-    serve(config, tables, args.demo && !args.quiet)
+    serve(
+        config,
+        tables,
+        args.demo && !args.quiet,
+        args.exit_with_stdin,
+    )
 }
 
 fn print_layout(config: &Config, tables: &Tables) {
@@ -231,7 +311,12 @@ fn generation() -> u64 {
     now ^ ((std::process::id() as u64) << 40)
 }
 
-fn serve(mut config: Config, mut tables: Tables, live_view: bool) -> anyhow::Result<()> {
+fn serve(
+    mut config: Config,
+    mut tables: Tables,
+    live_view: bool,
+    exit_with_stdin: bool,
+) -> anyhow::Result<()> {
     let instance = config.instance.clone();
     // Before the first file: iceoryx2's directory becomes the access group's.
     let mut group_access =
@@ -263,6 +348,9 @@ fn serve(mut config: Config, mut tables: Tables, live_view: bool) -> anyhow::Res
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         signal_hook::flag::register(sig, term.clone())
             .with_context(|| format!("cannot install the handler for signal {sig}"))?;
+    }
+    if exit_with_stdin {
+        stop_with_stdin(term.clone());
     }
     // A station its program defines: waiting (OFFLINE, the device access point only) until
     // the program sends its tree; each tree, and each end of the program, runs a generation

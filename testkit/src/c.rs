@@ -100,8 +100,20 @@ pub fn compile(sources: &[PathBuf], out: &Path, link: Link, sanitize: bool) {
 /// test's holds this build's libprocimg.so, and a program must find it the way a user's does
 /// (its rpath).
 pub fn run(program: &Path, args: &[&str], instance: &str, timeout: Duration) -> Output {
+    run_with_env(program, args, instance, &[], timeout)
+}
+
+/// [`run`] with more environment variables (`PROCIMGD` for a program that starts its own).
+pub fn run_with_env(
+    program: &Path,
+    args: &[&str],
+    instance: &str,
+    env: &[(&str, &std::ffi::OsStr)],
+    timeout: Duration,
+) -> Output {
     let mut child = Command::new(program)
         .args(args)
+        .envs(env.iter().copied())
         .env_remove("LD_LIBRARY_PATH")
         .env("PROCIMG_INSTANCE", instance)
         .env(

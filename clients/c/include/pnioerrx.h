@@ -7,7 +7,8 @@
  * IO-Base compares the same numbers. Every function returns PNIO_OK on success, a warning
  * PNIO_WARN_* when it did its job with a remark, and an error PNIO_ERR_* otherwise. When
  * libprocimg returns an error it also keeps a text saying what went wrong and what to do
- * for the calling thread (see pniousrx.h).
+ * for the calling thread (see pniousrx.h). The codes marked PN Driver have the values of PN
+ * Driver's public headers: the manual names some of them and prints no value.
  */
 #ifndef PNIOERRX_H
 #define PNIOERRX_H
@@ -24,6 +25,8 @@
 #define PNIO_WARN_NO_SUBMODULES                  0x011
 /** The local state is BAD. */
 #define PNIO_WARN_LOCAL_STATE_BAD                0x012
+/** PN Driver: the configuration has no IO system of its own. */
+#define PNIO_WARN_NO_DECENTRALIOSYSTEM           0x013
 /** The handle pointer is NULL. */
 #define PNIO_ERR_PRM_HND                         0x101
 /** The buffer pointer is NULL (or its length 0). */
@@ -70,6 +73,12 @@
 #define PNIO_ERR_PRM_CYCLE_OFFSET                0x116
 /** The router address is invalid. */
 #define PNIO_ERR_PRM_ROUTER_ADD                  0x117
+/** PN Driver: the IP suite is invalid. */
+#define PNIO_ERR_PRM_IP                          0x118
+/** PN Driver: the NameOfStation is invalid. */
+#define PNIO_ERR_PRM_NOS                         0x119
+/** PN Driver: the NameOfStation is too long. */
+#define PNIO_ERR_PRM_NOS_LEN                     0x11A
 /** The handle is unknown or closed. */
 #define PNIO_ERR_WRONG_HND                       0x201
 /** No more instances. */
@@ -84,6 +93,8 @@
 #define PNIO_ERR_NEWCYCLE_SEQUENCE_REG           0x206
 /** The network protocol is not available. */
 #define PNIO_ERR_NETWORK_PROT_NOT_AVAILABLE      0x207
+/** PN Driver: the stack is not available yet; try again later. */
+#define PNIO_ERR_RETRY                           0x208
 /** No connection to the device (or the server). */
 #define PNIO_ERR_NO_CONNECTION                   0x301
 /** An operating-system resource failed. */
@@ -142,6 +153,20 @@
 #define PNIO_ERR_WRONG_RQB_LEN                   0x31B
 /** No reset verification. */
 #define PNIO_ERR_NO_RESET_VERIFICATION           0x31C
+/** PN Driver: the configuration does not let the program set the IP suite or NameOfStation. */
+#define PNIO_ERR_SET_IP_NOS_NOT_ALLOWED          0x31D
+/** PN Driver: the retentive data cannot be read. */
+#define PNIO_ERR_INVALID_REMA                    0x31E
+/** PN Driver: the previous job of this kind has not ended. */
+#define PNIO_ERR_NOT_REENTERABLE                 0x31F
+/** PN Driver: the station is not configured as optional (tailoring). */
+#define PNIO_ERR_INVALID_STATION                 0x320
+/** PN Driver: the port has no programmable peer (tailoring). */
+#define PNIO_ERR_INVALID_PORT                    0x321
+/** PN Driver: no network adapter found. */
+#define PNIO_ERR_NO_ADAPTER_FOUND                0x322
+/** PN Driver: access denied. */
+#define PNIO_ERR_ACCESS_DENIED                   0x323
 /** Internal error. */
 #define PNIO_ERR_INTERNAL                        0x3FF
 

@@ -198,7 +198,9 @@
  * PNIO_CBF_APPL_WATCHDOG) is pniobase.h's, for controllers and devices alike; what its
  * expiry does is said there. Error codes are pnioerrx.h's.
  *
- * Not here: the SERV_CP_* services and PROFIenergy: procimg does not offer them.
+ * Not here: the CP service functions of chapter 8 (SERV_CP_set_type_of_station and the
+ * others) and PROFIenergy: procimg does not offer them yet. PN Driver's start-up is
+ * servusrx.h's.
  */
 #ifndef PNIOUSRD_H
 #define PNIOUSRD_H

@@ -99,9 +99,13 @@
  * Errors. Besides the code, a failing call leaves a text for the calling thread saying what
  * went wrong and what to do: procimg_last_error() in procimg.h.
  *
+ * PN Driver. A PN Driver program starts its own stack first (SERV_CP_init,
+ * SERV_CP_startup: servusrx.h); between SERV_CP_init and SERV_CP_startup, and after
+ * SERV_CP_shutdown, PNIO_controller_open gives PNIO_ERR_SEQUENCE.
+ *
  * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types), the
- * PN Driver interface functions (PNIO_interface_*), the PN Driver services (SERV_CP_*),
- * PNIO_iosystem_reconfig and PNIO_data_cache_exchange: procimg does not offer them. LED
+ * PN Driver interface functions (PNIO_interface_*), PNIO_iosystem_reconfig and
+ * PNIO_data_cache_exchange: procimg does not offer them yet. LED
  * flashing and CP_STOP_REQ can be registered but never occur. The CP application watchdog
  * (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
  * pniobase.h's, shared with the device side; what its expiry does is said there.

@@ -3,12 +3,13 @@
 //! built against the INSTALLED headers and library — with `pkg-config --cflags --libs procimg`
 //! and with CMake's `find_package(procimg)` — run against a procimgd the test starts: the
 //! manual's PnioEasy flow in C (shared library) and C++17 (static library), the isochronous
-//! IO-Base loop and the native STARTOP/OPDONE loop.
+//! IO-Base loop and the native STARTOP/OPDONE loop; and a PN Driver program that starts its
+//! own stack.
 //!
 //! Needs cmake, pkg-config, gcc and g++ (`.ci/run` installs them).
 
-use procimg_testkit::c::{assert_success, crate_dir, run, scratch};
-use procimg_testkit::{Procimgd, profile_dir};
+use procimg_testkit::c::{assert_success, crate_dir, run, run_with_env, scratch};
+use procimg_testkit::{Procimgd, procimgd_bin, profile_dir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
@@ -110,6 +111,7 @@ fn installed_library_builds_and_runs_the_examples() {
         "pniousrx.h",
         "pniousrd.h",
         "pnioerrx.h",
+        "servusrx.h",
     ] {
         assert!(
             prefix.join("include/procimg").join(header).exists(),
@@ -204,4 +206,27 @@ fn installed_library_builds_and_runs_the_examples() {
             "{what} left the server so"
         );
     }
+
+    // A PN Driver program starts its own stack from a configuration file: no server before.
+    let instance = procimg_testkit::unique_instance("installed-pnd");
+    let plant = scratch("installed").join("plant.toml");
+    let demo = Command::new(procimgd_bin())
+        .arg("--print-demo-config")
+        .output()
+        .expect("procimgd --print-demo-config");
+    std::fs::write(&plant, demo.stdout).unwrap();
+    let procimgd = procimgd_bin();
+    let o = run_with_env(
+        &ex_build.join("pnd_easy"),
+        &[plant.to_str().unwrap(), "", "50"],
+        &instance,
+        &[("PROCIMGD", procimgd.as_os_str())],
+        t,
+    );
+    assert_success(&o, "the PN Driver program (find_package, shared)");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("50 exchanges") && stdout.contains("stack ended"),
+        "pnd_easy said:\n{stdout}"
+    );
 }

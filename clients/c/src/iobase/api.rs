@@ -62,6 +62,9 @@ pub unsafe extern "C" fn PNIO_controller_open(
                 format_args!("CpIndex {CpIndex} is not 1..255"),
             );
         }
+        if let Err(why) = super::pn_driver::controller_may_open() {
+            return fail(F, PNIO_ERR_SEQUENCE, why);
+        }
         let allowed = PNIO_CEP_MODE_CTRL | PNIO_CEP_SLICE_ACCESS;
         if ExtPar & !allowed != 0 {
             return fail(

@@ -153,6 +153,12 @@ pub(crate) fn invoke_cp(cbf: PNIO_CP_CBF, prm: &mut PNIO_CP_CBE_PRM) {
 /// Runs `call` (one call of a device callback, `pniousrd.h`'s typed ones) as a callback:
 /// inside it only the IO-data functions are allowed, and a panic stops here.
 pub(crate) fn invoke_device(call: impl FnOnce()) {
+    invoke_call(call);
+}
+
+/// Runs `call`, one call of any callback of the program whose type the tables above do not
+/// hold (PN Driver's trace callbacks), as a callback.
+pub(crate) fn invoke_call(call: impl FnOnce()) {
     let _inside = InCallback::enter();
     let _ = catch_unwind(AssertUnwindSafe(call));
 }

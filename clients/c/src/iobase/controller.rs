@@ -145,6 +145,11 @@ pub(crate) fn wrong_handle(function: &str, handle: u32) -> u32 {
     )
 }
 
+/// The handles of the controllers open now.
+pub(crate) fn open_handles() -> Vec<u32> {
+    lock(&CONTROLLERS).keys().copied().collect()
+}
+
 /// The procimgd instance that CpIndex `cp` names.
 pub(crate) fn instance_for(cp: u32) -> String {
     std::env::var(format!("PROCIMG_CP{cp}"))

@@ -15,6 +15,8 @@ pub const PNIO_WARN_IRT_INCONSISTENT: u32 = 0x010;
 pub const PNIO_WARN_NO_SUBMODULES: u32 = 0x011;
 /// The local state is BAD.
 pub const PNIO_WARN_LOCAL_STATE_BAD: u32 = 0x012;
+/// PN Driver: the configuration has no IO system of its own.
+pub const PNIO_WARN_NO_DECENTRALIOSYSTEM: u32 = 0x013;
 
 /// The handle pointer is NULL.
 pub const PNIO_ERR_PRM_HND: u32 = 0x101;
@@ -62,6 +64,12 @@ pub const PNIO_ERR_PRM_MEASURE_NUMBER: u32 = 0x115;
 pub const PNIO_ERR_PRM_CYCLE_OFFSET: u32 = 0x116;
 /// The router address is invalid.
 pub const PNIO_ERR_PRM_ROUTER_ADD: u32 = 0x117;
+/// PN Driver: the IP suite is invalid.
+pub const PNIO_ERR_PRM_IP: u32 = 0x118;
+/// PN Driver: the NameOfStation is invalid.
+pub const PNIO_ERR_PRM_NOS: u32 = 0x119;
+/// PN Driver: the NameOfStation is too long.
+pub const PNIO_ERR_PRM_NOS_LEN: u32 = 0x11A;
 
 /// The handle is unknown or closed.
 pub const PNIO_ERR_WRONG_HND: u32 = 0x201;
@@ -77,6 +85,8 @@ pub const PNIO_ERR_OPFAULT_NOT_REG: u32 = 0x205;
 pub const PNIO_ERR_NEWCYCLE_SEQUENCE_REG: u32 = 0x206;
 /// The network protocol is not available.
 pub const PNIO_ERR_NETWORK_PROT_NOT_AVAILABLE: u32 = 0x207;
+/// PN Driver: the stack is not available yet; try again later.
+pub const PNIO_ERR_RETRY: u32 = 0x208;
 
 /// No connection to the device (or the server).
 pub const PNIO_ERR_NO_CONNECTION: u32 = 0x301;
@@ -136,6 +146,20 @@ pub const PNIO_ERR_FLASH_ACCESS: u32 = 0x31A;
 pub const PNIO_ERR_WRONG_RQB_LEN: u32 = 0x31B;
 /// No reset verification.
 pub const PNIO_ERR_NO_RESET_VERIFICATION: u32 = 0x31C;
+/// PN Driver: the configuration does not let the program set the IP suite or NameOfStation.
+pub const PNIO_ERR_SET_IP_NOS_NOT_ALLOWED: u32 = 0x31D;
+/// PN Driver: the retentive data cannot be read.
+pub const PNIO_ERR_INVALID_REMA: u32 = 0x31E;
+/// PN Driver: the previous job of this kind has not ended.
+pub const PNIO_ERR_NOT_REENTERABLE: u32 = 0x31F;
+/// PN Driver: the station is not configured as optional (tailoring).
+pub const PNIO_ERR_INVALID_STATION: u32 = 0x320;
+/// PN Driver: the port has no programmable peer (tailoring).
+pub const PNIO_ERR_INVALID_PORT: u32 = 0x321;
+/// PN Driver: no network adapter found.
+pub const PNIO_ERR_NO_ADAPTER_FOUND: u32 = 0x322;
+/// PN Driver: access denied.
+pub const PNIO_ERR_ACCESS_DENIED: u32 = 0x323;
 /// Internal error.
 pub const PNIO_ERR_INTERNAL: u32 = 0x3FF;
 
@@ -147,6 +171,10 @@ pub const ALL: &[(&str, u32)] = &[
     ("PNIO_WARN_IRT_INCONSISTENT", PNIO_WARN_IRT_INCONSISTENT),
     ("PNIO_WARN_NO_SUBMODULES", PNIO_WARN_NO_SUBMODULES),
     ("PNIO_WARN_LOCAL_STATE_BAD", PNIO_WARN_LOCAL_STATE_BAD),
+    (
+        "PNIO_WARN_NO_DECENTRALIOSYSTEM",
+        PNIO_WARN_NO_DECENTRALIOSYSTEM,
+    ),
     ("PNIO_ERR_PRM_HND", PNIO_ERR_PRM_HND),
     ("PNIO_ERR_PRM_BUF", PNIO_ERR_PRM_BUF),
     ("PNIO_ERR_PRM_LEN", PNIO_ERR_PRM_LEN),
@@ -170,6 +198,9 @@ pub const ALL: &[(&str, u32)] = &[
     ("PNIO_ERR_PRM_MEASURE_NUMBER", PNIO_ERR_PRM_MEASURE_NUMBER),
     ("PNIO_ERR_PRM_CYCLE_OFFSET", PNIO_ERR_PRM_CYCLE_OFFSET),
     ("PNIO_ERR_PRM_ROUTER_ADD", PNIO_ERR_PRM_ROUTER_ADD),
+    ("PNIO_ERR_PRM_IP", PNIO_ERR_PRM_IP),
+    ("PNIO_ERR_PRM_NOS", PNIO_ERR_PRM_NOS),
+    ("PNIO_ERR_PRM_NOS_LEN", PNIO_ERR_PRM_NOS_LEN),
     ("PNIO_ERR_WRONG_HND", PNIO_ERR_WRONG_HND),
     ("PNIO_ERR_MAX_REACHED", PNIO_ERR_MAX_REACHED),
     ("PNIO_ERR_CREATE_INSTANCE", PNIO_ERR_CREATE_INSTANCE),
@@ -183,6 +214,7 @@ pub const ALL: &[(&str, u32)] = &[
         "PNIO_ERR_NETWORK_PROT_NOT_AVAILABLE",
         PNIO_ERR_NETWORK_PROT_NOT_AVAILABLE,
     ),
+    ("PNIO_ERR_RETRY", PNIO_ERR_RETRY),
     ("PNIO_ERR_NO_CONNECTION", PNIO_ERR_NO_CONNECTION),
     ("PNIO_ERR_OS_RES", PNIO_ERR_OS_RES),
     ("PNIO_ERR_ALREADY_DONE", PNIO_ERR_ALREADY_DONE),
@@ -224,6 +256,16 @@ pub const ALL: &[(&str, u32)] = &[
         "PNIO_ERR_NO_RESET_VERIFICATION",
         PNIO_ERR_NO_RESET_VERIFICATION,
     ),
+    (
+        "PNIO_ERR_SET_IP_NOS_NOT_ALLOWED",
+        PNIO_ERR_SET_IP_NOS_NOT_ALLOWED,
+    ),
+    ("PNIO_ERR_INVALID_REMA", PNIO_ERR_INVALID_REMA),
+    ("PNIO_ERR_NOT_REENTERABLE", PNIO_ERR_NOT_REENTERABLE),
+    ("PNIO_ERR_INVALID_STATION", PNIO_ERR_INVALID_STATION),
+    ("PNIO_ERR_INVALID_PORT", PNIO_ERR_INVALID_PORT),
+    ("PNIO_ERR_NO_ADAPTER_FOUND", PNIO_ERR_NO_ADAPTER_FOUND),
+    ("PNIO_ERR_ACCESS_DENIED", PNIO_ERR_ACCESS_DENIED),
     ("PNIO_ERR_INTERNAL", PNIO_ERR_INTERNAL),
 ];
 

@@ -15,6 +15,8 @@
 //!   share; `cycle_thread`: the thread that calls the isochronous callbacks, for both;
 //!   `io_failure`: the codes of a failed IO data access, for both; `handles`: the one
 //!   handle counter of both; [`watchdog`]: the CP application watchdog of both.
+//! * [`pn_driver`] and [`pn_driver_types`]: PN Driver's start-up (`servusrx.h`), a procimgd
+//!   started as the program's stack.
 
 pub mod api;
 pub(crate) mod callbacks;
@@ -30,6 +32,8 @@ pub mod errors;
 mod handles;
 mod io_failure;
 mod isochronous;
+pub mod pn_driver;
+pub mod pn_driver_types;
 pub(crate) mod services;
 pub(crate) mod stopped;
 pub(crate) mod sync;

@@ -11,6 +11,11 @@
 //! * [`ArSessions`], [`DiagTags`], [`LedFlash`], [`ArEndReason`]: the rules on their own,
 //!   for a program that drives them itself.
 //!
+//! And what PN Driver's start-up gives a controller or device program
+//! (`SERV_CP_get_network_adapters`, `SERV_CP_startup`, `SERV_CP_shutdown`):
+//! [`network_adapters`], the machine's Ethernet adapters to choose from, and [`Stack`], a
+//! procimgd started with the program's configuration on the adapter it chose, ending with it.
+//!
 //! The IO data stay the client's: a device program attaches a [`Client`](crate::Client)
 //! as any other, claims its I data and exchanges them in the cycle; [`ProgramAr::is_ready`]
 //! tells when the PLC's AR takes them.
@@ -46,14 +51,17 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod adapters;
 mod callbacks;
 mod device;
 mod diag_tags;
 mod end_reason;
 mod led;
 mod sessions;
+mod stack;
 mod watchdog;
 
+pub use adapters::{NetworkAdapter, PciLocation, adapters_under, network_adapters, parse_mac};
 pub use callbacks::DeviceCallbacks;
 pub use device::{
     AbortError, ApplicationReadyError, DeviceOpenError, END_WAIT, IoBaseDevice, MODE_WAIT,
@@ -68,5 +76,9 @@ pub use end_reason::{
 pub use led::{FLASH_FOR, FLASH_HZ, LedFlash};
 pub use sessions::{
     ApduStatus, ArId, ArPhase, ArSessions, ProgramAr, Ready, ReadyError, SessionError,
+};
+pub use stack::{
+    LogSink, START_TIMEOUT, STOP_TIMEOUT, Stack, StackStart, StackStartError, StackStopError,
+    instance_serves, procimgd_program,
 };
 pub use watchdog::{AppWatchdogs, WatchdogError};

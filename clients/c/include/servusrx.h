@@ -1,0 +1,215 @@
+/* SPDX-License-Identifier: MIT OR Apache-2.0 */
+/*
+ * servusrx.h - PN Driver's start-up functions in procimg's IO-Base compatible API
+ * (libprocimg).
+ *
+ * A PN Driver program (Siemens' IO controller on a standard Ethernet adapter) starts and
+ * ends its stack itself:
+ *
+ *     SERV_CP_init(&debug or NULL)              first
+ *     SERV_CP_get_network_adapters(list, &n)    optional: the adapters to choose from
+ *     SERV_CP_startup(&list[i], 1, config, len, rema, rlen, &sysdescr)
+ *     PNIO_controller_open(1, ...) ... PNIO_controller_close(handle)
+ *     SERV_CP_shutdown()
+ *     SERV_CP_undo_init()                       last
+ *
+ * Such a program compiles unchanged against this header and runs against procimg. Names,
+ * types and values are the manual's (chapter 9 of the IO-Base manual, PN Driver V1.0);
+ * where the manual prints none (the trace enums, PNIO_SYSTEM_DESCR) they are those of PN
+ * Driver's public headers. What follows is how procimg answers the questions the manual
+ * leaves open.
+ *
+ * The stack is a procimgd. SERV_CP_startup starts one for the program (the program named
+ * by the environment variable PROCIMGD, else procimgd on PATH), for the instance CpIndex 1
+ * names (PROCIMG_CP1, else PROCIMG_INSTANCE, else "procimg": see pniousrx.h), and returns
+ * once it serves; SERV_CP_shutdown stops it (outputs to their safe state first). It also
+ * stops when the program ends, however it ends: it watches a pipe the program holds.
+ * If a procimgd already serves that instance, SERV_CP_startup gives
+ * PNIO_ERR_CREATE_INSTANCE: one stack per instance.
+ *
+ * The configuration. pConfigData is procimg's own configuration, the TOML text procimgd
+ * reads from a file (`procimgd --print-demo-config` prints a commented example), of
+ * ConfigDataLen bytes or up to a NUL byte. This is the one difference from PN Driver, whose
+ * configuration is the XML that TIA Portal exports: procimg does not read that XML, and
+ * gives PNIO_ERR_CORRUPTED_DATA for it, as for any configuration procimgd refuses; the
+ * reason (line and key) is in procimg_last_error() (procimg.h). Relative gsdml paths start
+ * at the program's current directory.
+ *
+ * The adapter. SERV_CP_get_network_adapters lists the machine's Ethernet interfaces
+ * (those of the network namespace the program runs in; not the loopback), in interface
+ * index order, at most PROCIMG_MAX_NETWORK_ADAPTERS of them: CpList must hold that many.
+ * Each entry has CpSelection = PNIO_CP_SELECT_WITH_MAC_ADDRESS, the interface's MAC in
+ * CpMacAddr, the PCI location of a PCI card in CpPciLocation (zero for a virtual interface),
+ * and the interface name ("enp3s0") as the NUL-terminated Description. SERV_CP_startup takes
+ * the adapter its entry names, by MAC address, or by PCI location with
+ * PNIO_CP_SELECT_WITH_PCI_LOCATION; no such adapter gives PNIO_ERR_CREATE_INSTANCE. The
+ * adapter replaces the configuration's `network` interface; a configuration that simulates
+ * its network (`network = "sim"`, as the demo does) keeps its simulation, so a program can
+ * be tried without hardware (the adapter is then not used, but must exist).
+ *
+ * Retentive data. procimg keeps none of its own: pRemaData NULL or RemaDataLen 0, else
+ * PNIO_ERR_INVALID_REMA (retentive data from another PN Driver cannot be read).
+ * pSysDescr may be NULL; procimg reads nothing from it.
+ *
+ * The trace. procimgd's log is the stack's trace, component PNIO_TRACE_COMP_PND. With a
+ * DebugSetting whose CbfPntrcBufferFull is set, SERV_CP_startup sets procimgd's log level
+ * from TraceLevels[PNIO_TRACE_COMP_PND] (ERROR: errors, WARN: warnings, NOTE_HIGH and NOTE:
+ * progress, NOTE_LOW and CHAT: details), and its lines, text ending in '\n', are gathered
+ * in a buffer of PROCIMG_TRACE_BUFFER_SIZE bytes, handed to the callback (on a library
+ * thread) when the next line does not fit, and once more at SERV_CP_shutdown.
+ * SERV_CP_set_trace_level(PNIO_TRACE_COMP_PND, ...) changes which lines are kept, within the
+ * level procimgd was started with; the other components' levels are kept and used by
+ * nothing (procimgd's log is one). Its CbfSetTraceLevelDone, if not NULL, is called on a
+ * library thread once the level holds. Without the callback (DebugSetting NULL, or
+ * CbfPntrcBufferFull NULL) procimgd's log goes to the program's standard error.
+ *
+ * Order. SERV_CP_init first and once (else PNIO_ERR_SEQUENCE), SERV_CP_startup once after
+ * it, SERV_CP_set_trace_level after startup, SERV_CP_shutdown after startup and after every
+ * controller is closed, SERV_CP_undo_init after shutdown (or without startup); then
+ * SERV_CP_init may start again. In a program that called SERV_CP_init, PNIO_controller_open
+ * before SERV_CP_startup gives PNIO_ERR_SEQUENCE. A program that never calls SERV_CP_init
+ * opens controllers on procimgd instances that run already, as a CP 1616 program does.
+ *
+ * The layout of PNIO_DEBUG_SETTINGS_TYPE is the manual's (PN Driver V1.0: the callback,
+ * then the levels); PN Driver V2.1 inserts a second callback between them, so a V2.1
+ * program's DebugSetting does not fit.
+ */
+#ifndef SERVUSRX_H
+#define SERVUSRX_H
+
+#include "pniobase.h"
+#include "pnioerrx.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- procimg's limits ------------------------------------------------------------------ */
+
+/* Most entries SERV_CP_get_network_adapters writes (PN Driver's samples allow 50). */
+#define PROCIMG_MAX_NETWORK_ADAPTERS 50
+/* Bytes of trace gathered before CbfPntrcBufferFull is called. */
+#define PROCIMG_TRACE_BUFFER_SIZE 65536
+
+/* ---- Trace components and levels (PN Driver's public headers) --------------------------- */
+
+typedef enum {
+    PNIO_TRACE_COMP_ACP = 0,
+    PNIO_TRACE_COMP_CLRPC = 1,
+    PNIO_TRACE_COMP_CM = 2,
+    PNIO_TRACE_COMP_DCP = 3,
+    PNIO_TRACE_COMP_EDDI = 4,
+    PNIO_TRACE_COMP_EDDS = 5,
+    PNIO_TRACE_COMP_EPS = 6,
+    PNIO_TRACE_COMP_GSY = 7,
+    PNIO_TRACE_COMP_HIF = 8,
+    PNIO_TRACE_COMP_LLDP = 9,
+    PNIO_TRACE_COMP_NARE = 10,
+    PNIO_TRACE_COMP_OHA = 11,
+    PNIO_TRACE_COMP_PNTRC = 12,
+    PNIO_TRACE_COMP_PSI = 13,
+    PNIO_TRACE_COMP_SNMPX = 14,
+    PNIO_TRACE_COMP_SOCK = 15,
+    PNIO_TRACE_COMP_TCIP = 16,
+    PNIO_TRACE_COMP_PND = 17,
+    PNIO_TRACE_COMP_NUM = 18
+} pnio_stack_comp;
+
+typedef enum {
+    PNIO_TRACE_LEVEL_OFF = 0,
+    PNIO_TRACE_LEVEL_FATAL = 1,
+    PNIO_TRACE_LEVEL_ERROR = 2,
+    PNIO_TRACE_LEVEL_UNEXP = 3,
+    PNIO_TRACE_LEVEL_WARN = 4,
+    PNIO_TRACE_LEVEL_NOTE_HIGH = 5,
+    PNIO_TRACE_LEVEL_NOTE = 6,
+    PNIO_TRACE_LEVEL_NOTE_LOW = 7,
+    PNIO_TRACE_LEVEL_CHAT = 8,
+    PNIO_TRACE_LEVEL_NUM = 9
+} pnio_trace_level;
+
+/* ---- Chapter 9's types ------------------------------------------------------------------ */
+
+typedef enum {
+    PNIO_CP_SELECT_WITH_PCI_LOCATION = 1,
+    PNIO_CP_SELECT_WITH_MAC_ADDRESS = 2
+} PNIO_CP_SELECT_TYPE;
+
+#define PNIO_MAC_ADDR_SIZE 6
+typedef PNIO_UINT8 PNIO_MAC_ADDR_TYPE[PNIO_MAC_ADDR_SIZE];
+
+typedef struct pnio_pci_location_s {
+    PNIO_UINT16 BusNr;
+    PNIO_UINT16 DeviceNr;
+    PNIO_UINT16 FunctionNr;
+} PNIO_PCI_LOCATION_TYPE, *PNIO_PCI_LOCATION_PTR_TYPE;
+
+typedef void (*PNIO_PNTRC_BUFFER_FULL)(PNIO_UINT8 *pBuffer, PNIO_UINT32 BufferSize);
+typedef void (*PNIO_PNTRC_SET_TRACE_LEVEL_DONE)(void);
+
+typedef struct pnio_debug_settings_s {
+    PNIO_PNTRC_BUFFER_FULL CbfPntrcBufferFull; /* receives the trace; NULL: no trace */
+    PNIO_UINT8 TraceLevels[PNIO_TRACE_COMP_NUM]; /* the first level of each component */
+} PNIO_DEBUG_SETTINGS_TYPE, *PNIO_DEBUG_SETTINGS_PTR_TYPE;
+
+typedef struct pnio_cp_id_s {
+    PNIO_CP_SELECT_TYPE CpSelection;
+    PNIO_MAC_ADDR_TYPE CpMacAddr;
+    PNIO_PCI_LOCATION_TYPE CpPciLocation;
+    PNIO_UINT8 Description[300];
+} PNIO_CP_ID_TYPE, *PNIO_CP_ID_PTR_TYPE;
+
+typedef struct {
+    PNIO_UINT8 revision_prefix;
+    PNIO_UINT8 functional_enhancement;
+    PNIO_UINT8 bug_fix;
+    PNIO_UINT8 internal_change;
+} PNIO_SW_VERSION_TYPE;
+
+typedef struct {
+    PNIO_UINT8 Vendor[128];
+    PNIO_UINT8 ProductFamily[128];
+    PNIO_UINT8 ProductSerialNr[128];
+    PNIO_UINT8 IM_DeviceType[25 + 1];
+    PNIO_UINT8 IM_OrderId[20 + 1];
+    PNIO_UINT16 IM_HwRevision;
+    PNIO_SW_VERSION_TYPE IM_SwVersion;
+    PNIO_UINT16 IM_RevisionCounter;
+    PNIO_UINT16 IM_Version;
+    PNIO_UINT16 IM_Supported;
+    PNIO_UINT16 IM_ProfileSpecificType;
+    PNIO_UINT16 IM_ProfileId;
+} PNIO_SYSTEM_DESCR;
+
+/* ---- Functions -------------------------------------------------------------------------- */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_init(
+    PNIO_DEBUG_SETTINGS_PTR_TYPE DebugSetting); /* in, may be NULL */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_undo_init(void);
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_get_network_adapters(
+    PNIO_CP_ID_PTR_TYPE CpList, /* out, PROCIMG_MAX_NETWORK_ADAPTERS entries */
+    PNIO_UINT8 *NrOfCp);        /* out */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_startup(
+    PNIO_CP_ID_PTR_TYPE CpList,  /* in, the adapter */
+    PNIO_UINT32 NrOfCp,          /* in, 1 */
+    PNIO_UINT8 *pConfigData,     /* in, procimg's configuration (TOML text) */
+    PNIO_UINT32 ConfigDataLen,   /* in, without a terminating NUL */
+    PNIO_UINT8 *pRemaData,       /* in, NULL */
+    PNIO_UINT32 RemaDataLen,     /* in, 0 */
+    PNIO_SYSTEM_DESCR *pSysDescr); /* in, may be NULL */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_shutdown(void);
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_set_trace_level(
+    PNIO_UINT32 Component,                                /* pnio_stack_comp */
+    PNIO_UINT32 TraceLevel,                               /* pnio_trace_level */
+    PNIO_PNTRC_SET_TRACE_LEVEL_DONE CbfSetTraceLevelDone); /* may be NULL */
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SERVUSRX_H */

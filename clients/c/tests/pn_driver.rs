@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! A PN Driver program against procimg: `tests/c/pnd_startup.c`, built with strict warnings
+//! against `servusrx.h` and `pniousrx.h`, linked static and shared (with ASan and UBSan when
+//! `PROCIMG_C_SANITIZE=1`), starts its own stack (a procimgd with the demo's configuration,
+//! a simulated plant: no root) and lives the whole PN Driver life; and when it dies, its
+//! stack ends with it.
+
+use procimg_client::iobase::{instance_serves, network_adapters};
+use procimg_testkit::c::{
+    Link, assert_success, compile, crate_dir, run_with_env, sanitize_from_env, scratch,
+};
+use procimg_testkit::{procimgd_bin, unique_instance};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+const RUN_TIMEOUT: Duration = Duration::from_secs(120);
+
+fn build(link: Link) -> PathBuf {
+    let src = crate_dir().join("tests/c/pnd_startup.c");
+    let out = scratch("pn_driver").join(format!("pnd_startup-{link:?}").to_lowercase());
+    compile(&[src], &out, link, sanitize_from_env());
+    out
+}
+
+/// The demo's configuration in a file, as a PN Driver program reads its own.
+fn demo_config(tag: &str) -> PathBuf {
+    let out = std::process::Command::new(procimgd_bin())
+        .arg("--print-demo-config")
+        .output()
+        .expect("run procimgd --print-demo-config");
+    assert!(out.status.success());
+    let path = scratch("pn_driver").join(format!("{tag}.toml"));
+    std::fs::write(&path, out.stdout).unwrap();
+    path
+}
+
+/// procimgd processes serving `instance` (their command line names it).
+fn stacks_of(instance: &str) -> Vec<u32> {
+    let Ok(dir) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    dir.filter_map(Result::ok)
+        .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|pid| {
+            std::fs::read(format!("/proc/{pid}/cmdline")).is_ok_and(|c| {
+                let args: Vec<&[u8]> = c.split(|b| *b == 0).collect();
+                args.first().is_some_and(|a| a.ends_with(b"procimgd"))
+                    && args.contains(&instance.as_bytes())
+            })
+        })
+        .collect()
+}
+
+/// SEQUENCE before init, between init and startup and after shutdown; the adapters listed;
+/// startup refusing NrOfCp 2, NULL pointers, length 0, retentive data, TIA's XML, a
+/// configuration procimgd refuses (its line and key in the last error), an adapter the
+/// machine lacks and an unknown CpSelection; then the stack: trace levels set and
+/// confirmed, a controller in OPERATE whose echo device returns the outputs written,
+/// shutdown refused while it is open, then closed, shut down and undone; procimgd's log
+/// lines reached the trace callback.
+#[test]
+fn a_pn_driver_program_starts_uses_and_ends_its_own_stack() {
+    let adapters = network_adapters().expect("read /sys/class/net");
+    assert!(
+        !adapters.is_empty(),
+        "this machine has no Ethernet interface for the program to choose"
+    );
+    let procimgd = procimgd_bin();
+    for link in [Link::Static, Link::Shared] {
+        let instance = unique_instance("pnd");
+        let config = demo_config(&instance);
+        let program = build(link);
+        let o = run_with_env(
+            &program,
+            &["run", config.to_str().unwrap()],
+            &instance,
+            &[("PROCIMGD", procimgd.as_os_str())],
+            RUN_TIMEOUT,
+        );
+        assert_success(&o, &format!("pnd_startup run ({link:?})"));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            stdout.contains("pnd: all checks held"),
+            "pnd_startup ({link:?}) said:\n{stdout}"
+        );
+        // The adapters the program listed are the machine's, in its order.
+        let listed: Vec<&str> = stdout
+            .lines()
+            .filter_map(|l| l.strip_prefix("adapter "))
+            .filter_map(|l| l.split_whitespace().next())
+            .collect();
+        let names: Vec<&str> = adapters.iter().map(|a| a.name.as_str()).collect();
+        assert_eq!(listed, names, "SERV_CP_get_network_adapters ({link:?})");
+        assert!(!instance_serves(&instance));
+        assert!(stacks_of(&instance).is_empty(), "no procimgd left behind");
+    }
+}
+
+/// A program that dies (abort) with its stack serving and a controller open: the stack
+/// stops by itself, and its shared memory is released.
+#[test]
+fn a_stack_ends_with_the_program_that_started_it() {
+    let instance = unique_instance("pnd-crash");
+    let config = demo_config(&instance);
+    let program = build(Link::Shared);
+    let procimgd = procimgd_bin();
+    let o = run_with_env(
+        &program,
+        &["crash", config.to_str().unwrap()],
+        &instance,
+        &[("PROCIMGD", procimgd.as_os_str())],
+        RUN_TIMEOUT,
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("stack serving") && !o.status.success(),
+        "the program should have started its stack and died: {:?}\n{stdout}\n{}",
+        o.status,
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let until = Instant::now() + Duration::from_secs(30);
+    while !stacks_of(&instance).is_empty() && Instant::now() < until {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    assert!(
+        stacks_of(&instance).is_empty(),
+        "procimgd of instance {instance} outlived its program"
+    );
+    assert!(!instance_serves(&instance));
+}

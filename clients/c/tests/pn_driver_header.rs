@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! The hand-written `servusrx.h` (PN Driver's start-up) must agree with its Rust mirrors in
+//! `src/iobase/pn_driver_types.rs` and the functions of `src/iobase/pn_driver.rs`: every
+//! struct's size, alignment and field offsets, every constant's value and every function's
+//! signature, as a C11 and a C++17 compiler see them.
+
+use procimg::iobase::pn_driver::*;
+use procimg::iobase::pn_driver_types::*;
+use procimg::iobase::types::{PNIO_UINT8, PNIO_UINT32};
+use std::fmt::Write as _;
+use std::mem::{align_of, offset_of, size_of};
+#[macro_use]
+mod layout_check;
+use layout_check::{Offsets, Sizes};
+
+fn layout_facts() -> (Sizes, Offsets) {
+    let mut sizes: Sizes = Vec::new();
+    let mut offs: Offsets = Vec::new();
+    macro_rules! ty {
+        ($($layout:tt)*) => { record_layout!(sizes, offs, $($layout)*) };
+    }
+    ty!(PNIO_PCI_LOCATION_TYPE, [BusNr, DeviceNr, FunctionNr]);
+    ty!(PNIO_DEBUG_SETTINGS_TYPE, [CbfPntrcBufferFull, TraceLevels]);
+    ty!(
+        PNIO_CP_ID_TYPE,
+        [CpSelection, CpMacAddr, CpPciLocation, Description]
+    );
+    ty!(
+        PNIO_SW_VERSION_TYPE,
+        [
+            revision_prefix,
+            functional_enhancement,
+            bug_fix,
+            internal_change
+        ]
+    );
+    ty!(
+        PNIO_SYSTEM_DESCR,
+        [
+            Vendor,
+            ProductFamily,
+            ProductSerialNr,
+            IM_DeviceType,
+            IM_OrderId,
+            IM_HwRevision,
+            IM_SwVersion,
+            IM_RevisionCounter,
+            IM_Version,
+            IM_Supported,
+            IM_ProfileSpecificType,
+            IM_ProfileId
+        ]
+    );
+    for e in ["PNIO_CP_SELECT_TYPE", "pnio_stack_comp", "pnio_trace_level"] {
+        sizes.push((e, size_of::<u32>(), align_of::<u32>()));
+    }
+    sizes.push(("PNIO_MAC_ADDR_TYPE", 6, 1));
+    (sizes, offs)
+}
+
+/// Every constant of the header with its Rust value.
+fn constants() -> Vec<(&'static str, u64)> {
+    let mut v: Vec<(&'static str, u64)> = Vec::new();
+    macro_rules! c {
+        ($($n:ident),* $(,)?) => { $( v.push((stringify!($n), u64::from($n))); )* };
+    }
+    c!(
+        PROCIMG_MAX_NETWORK_ADAPTERS,
+        PROCIMG_TRACE_BUFFER_SIZE,
+        PNIO_TRACE_COMP_PND,
+        PNIO_TRACE_COMP_NUM,
+        PNIO_TRACE_LEVEL_OFF,
+        PNIO_TRACE_LEVEL_FATAL,
+        PNIO_TRACE_LEVEL_ERROR,
+        PNIO_TRACE_LEVEL_UNEXP,
+        PNIO_TRACE_LEVEL_WARN,
+        PNIO_TRACE_LEVEL_NOTE_HIGH,
+        PNIO_TRACE_LEVEL_NOTE,
+        PNIO_TRACE_LEVEL_NOTE_LOW,
+        PNIO_TRACE_LEVEL_CHAT,
+        PNIO_TRACE_LEVEL_NUM,
+        PNIO_CP_SELECT_WITH_PCI_LOCATION,
+        PNIO_CP_SELECT_WITH_MAC_ADDRESS,
+        PNIO_MAC_ADDR_SIZE,
+    );
+    for (value, name) in PNIO_TRACE_COMPONENTS.iter().enumerate() {
+        v.push((name, value as u64));
+    }
+    v
+}
+
+/// `(function, C pointer type)`.
+const FUNCTIONS: &[(&str, &str)] = &[
+    (
+        "SERV_CP_init",
+        "PNIO_UINT32 (*)(PNIO_DEBUG_SETTINGS_PTR_TYPE)",
+    ),
+    ("SERV_CP_undo_init", "PNIO_UINT32 (*)(void)"),
+    (
+        "SERV_CP_get_network_adapters",
+        "PNIO_UINT32 (*)(PNIO_CP_ID_PTR_TYPE, PNIO_UINT8 *)",
+    ),
+    (
+        "SERV_CP_startup",
+        "PNIO_UINT32 (*)(PNIO_CP_ID_PTR_TYPE, PNIO_UINT32, PNIO_UINT8 *, PNIO_UINT32, PNIO_UINT8 *, PNIO_UINT32, PNIO_SYSTEM_DESCR *)",
+    ),
+    ("SERV_CP_shutdown", "PNIO_UINT32 (*)(void)"),
+    (
+        "SERV_CP_set_trace_level",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_UINT32, PNIO_PNTRC_SET_TRACE_LEVEL_DONE)",
+    ),
+];
+
+/// The Rust side of each exported function has the manual's signature.
+#[test]
+fn rust_signatures_are_the_manuals() {
+    type U = PNIO_UINT32;
+    let _: unsafe extern "C" fn(*mut PNIO_DEBUG_SETTINGS_TYPE) -> U = SERV_CP_init;
+    let _: unsafe extern "C" fn() -> U = SERV_CP_undo_init;
+    let _: unsafe extern "C" fn(*mut PNIO_CP_ID_TYPE, *mut PNIO_UINT8) -> U =
+        SERV_CP_get_network_adapters;
+    let _: unsafe extern "C" fn(
+        *mut PNIO_CP_ID_TYPE,
+        U,
+        *mut PNIO_UINT8,
+        U,
+        *mut PNIO_UINT8,
+        U,
+        *mut PNIO_SYSTEM_DESCR,
+    ) -> U = SERV_CP_startup;
+    let _: unsafe extern "C" fn() -> U = SERV_CP_shutdown;
+    let _: unsafe extern "C" fn(U, U, PNIO_PNTRC_SET_TRACE_LEVEL_DONE) -> U =
+        SERV_CP_set_trace_level;
+    let _: PNIO_PNTRC_BUFFER_FULL = None::<unsafe extern "C" fn(*mut PNIO_UINT8, U)>;
+    assert_eq!(FUNCTIONS.len(), 6);
+}
+
+fn program(cpp: bool) -> String {
+    let (sizes, offsets) = layout_facts();
+    let mut s = String::new();
+    writeln!(s, "#include \"servusrx.h\"").unwrap();
+    layout_check::prelude(&mut s, cpp);
+    for (i, (f, t)) in FUNCTIONS.iter().enumerate() {
+        let decl = t.replacen("(*)", &format!("(*fn{i})"), 1);
+        writeln!(s, "static {decl} = {f};").unwrap();
+    }
+    // The callback types have the manual's shapes.
+    writeln!(
+        s,
+        "static void (*full_shape)(PNIO_UINT8 *, PNIO_UINT32) = (PNIO_PNTRC_BUFFER_FULL)0;\n\
+         static void (*done_shape)(void) = (PNIO_PNTRC_SET_TRACE_LEVEL_DONE)0;"
+    )
+    .unwrap();
+    writeln!(s, "int main(void) {{").unwrap();
+    for (i, (f, _)) in FUNCTIONS.iter().enumerate() {
+        writeln!(s, "    check(fn{i} == NULL, 0, \"{f}\");").unwrap();
+    }
+    writeln!(
+        s,
+        "    check(full_shape != NULL, 0, \"PNIO_PNTRC_BUFFER_FULL\");\n    \
+         check(done_shape != NULL, 0, \"PNIO_PNTRC_SET_TRACE_LEVEL_DONE\");"
+    )
+    .unwrap();
+    layout_check::layout_checks(&mut s, &sizes, &offsets);
+    for (n, v) in constants() {
+        writeln!(s, "    check((unsigned long long)({n}), {v}ull, \"{n}\");").unwrap();
+    }
+    writeln!(
+        s,
+        "    printf(\"%d mismatches, %d checks\\n\", fails, {});\n    return fails != 0;\n}}",
+        sizes.len() * 2 + offsets.len() + constants().len() + FUNCTIONS.len() + 2
+    )
+    .unwrap();
+    s
+}
+
+/// Linked with the library: every function the header declares must be exported.
+#[test]
+fn c11_and_cpp17_agree_with_rust() {
+    layout_check::build_and_run_c11_and_cpp17("pn-driver-header", program, "src/iobase");
+}
+
+/// The header stands alone, and beside the controller's.
+#[test]
+fn the_header_compiles_alone_and_with_pniousrx() {
+    layout_check::headers_compile_alone(
+        "pn-driver-alone",
+        &[&["servusrx.h", "servusrx.h"], &["pniousrx.h", "servusrx.h"]],
+    );
+}
