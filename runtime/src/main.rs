@@ -76,8 +76,9 @@ struct Args {
     instance: Option<String>,
     /// The network interface a program chose for this procimgd (IO-Base's SERV_CP_startup
     /// picks its adapter by MAC address or PCI location): it replaces the configuration's
-    /// `network` interface. A configuration that simulates its network (`network = "sim"`)
-    /// keeps its simulation, so a program can be tried against a simulated plant.
+    /// `network` interface, which then need not exist on this machine. A configuration that
+    /// simulates its network (`network = "sim"`) keeps its simulation, so a program can be
+    /// tried against a simulated plant.
     #[arg(long, value_name = "INTERFACE")]
     adapter: Option<String>,
     /// Stop, as on SIGTERM, when standard input reaches its end: the program that started
@@ -143,10 +144,18 @@ fn exit_status(e: &anyhow::Error) -> i32 {
 }
 
 /// The configuration `-c` names: a file, or with `-` the text on standard input up to its
-/// end or a NUL byte (the rest of standard input is left for `--exit-with-stdin`).
-fn load_configuration(path: &std::path::Path) -> anyhow::Result<Config> {
+/// end or a NUL byte (the rest of standard input is left for `--exit-with-stdin`). With an
+/// `--adapter` the configuration's `network` interface need not exist here: the adapter
+/// replaces it.
+fn load_configuration(path: &std::path::Path, adapter: bool) -> anyhow::Result<Config> {
+    let any_interface = |_: &str| Ok(());
+    let interface: config::InterfaceCheck<'_> = if adapter {
+        &any_interface
+    } else {
+        &procimg_nic::interfaces::check
+    };
     if path != std::path::Path::new("-") {
-        return Ok(config::load(path, &procimg_nic::interfaces::check)?);
+        return Ok(config::load(path, interface)?);
     }
     let mut text = Vec::new();
     std::io::BufRead::read_until(&mut std::io::stdin().lock(), 0, &mut text)
@@ -161,7 +170,7 @@ fn load_configuration(path: &std::path::Path) -> anyhow::Result<Config> {
         &text,
         "standard input",
         &dir,
-        &procimg_nic::interfaces::check,
+        interface,
     )?)
 }
 
@@ -193,7 +202,7 @@ fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let mut config = match &args.config {
-        Some(path) => load_configuration(path)?,
+        Some(path) => load_configuration(path, args.adapter.is_some())?,
         None if args.demo_device => Config::demo_device(),
         None if args.demo_device_program => Config::demo_device_program(),
         None => Config::demo(),

@@ -43,7 +43,8 @@
  * and the interface name ("enp3s0") as the NUL-terminated Description. SERV_CP_startup takes
  * the adapter its entry names, by MAC address, or by PCI location with
  * PNIO_CP_SELECT_WITH_PCI_LOCATION; no such adapter gives PNIO_ERR_CREATE_INSTANCE. The
- * adapter replaces the configuration's `network` interface; a configuration that simulates
+ * adapter replaces the configuration's `network` interface (which need not exist on this
+ * machine: the configuration is written once for all of them); a configuration that simulates
  * its network (`network = "sim"`, as the demo does) keeps its simulation, so a program can
  * be tried without hardware (the adapter is then not used, but must exist).
  *

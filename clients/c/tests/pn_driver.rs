@@ -128,3 +128,59 @@ fn a_stack_ends_with_the_program_that_started_it() {
     );
     assert!(!instance_serves(&instance));
 }
+
+/// Over a real interface: the program in one network namespace chooses the veth end there
+/// (its configuration names an interface this machine lacks), its stack connects procimg's
+/// device role in the other namespace, and the outputs it writes come back as the station's
+/// inputs (the station's program echoes them).
+#[test]
+#[ignore = "needs root: network namespaces, veth, AF_PACKET"]
+fn a_pn_driver_program_drives_the_adapter_it_chose() {
+    use procimg_testkit::netns::TestNet;
+    use procimg_testkit::veth_station::{CONTROLLER_TOML, DEVICE_TOML};
+    let net = TestNet::new("pd", true);
+    net.address(0, "10.47.0.1/24");
+    net.address(1, "10.47.0.50/24");
+    let dir = procimg_testkit::files::temp_dir("pn-driver-veth");
+    let state = dir.path().join("station.toml");
+    let device_toml = DEVICE_TOML
+        .replace("IFACE", &net.ifs[1])
+        .replace("STATE", &state.display().to_string())
+        .replace("fresh-device", "pc-device");
+    let device = procimg_testkit::Launch::config("pdd", &device_toml)
+        .netns(&net.ns[1])
+        .until_cycling()
+        .start();
+    let echo = procimg_testkit::exchange::device_echo(device.instance.clone(), 60_000);
+
+    let config = dir.path().join("plant.toml");
+    std::fs::write(&config, CONTROLLER_TOML.replace("IFACE", "pnd0")).unwrap();
+    let instance = unique_instance("pnd-veth");
+    let program = build(Link::Shared);
+    let procimgd = procimgd_bin();
+    let o = run_with_env(
+        std::path::Path::new("ip"),
+        &[
+            "netns",
+            "exec",
+            &net.ns[0],
+            program.to_str().unwrap(),
+            "veth",
+            config.to_str().unwrap(),
+            &net.ifs[0],
+        ],
+        &instance,
+        &[("PROCIMGD", procimgd.as_os_str())],
+        RUN_TIMEOUT,
+    );
+    assert_success(&o, "pnd_startup veth");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains(&format!("echoed the outputs over {}", net.ifs[0]))
+            && stdout.contains("veth: all checks held"),
+        "pnd_startup veth said:\n{stdout}"
+    );
+    assert!(stacks_of(&instance).is_empty(), "no procimgd left behind");
+    drop(device);
+    let _ = echo.join();
+}

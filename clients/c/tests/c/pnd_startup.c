@@ -7,6 +7,13 @@
  *   pnd_startup run CONFIG      the whole life; the configuration is the demo's (a
  *                               simulated plant), so the stack needs no root: echo
  *                               (I 0..15, Q 0..15) gives back what the program writes
+ *   pnd_startup veth CONFIG ADAPTER
+ *                               over a real interface: the stack on the adapter whose
+ *                               Description is ADAPTER (the configuration names another
+ *                               interface), a controller in OPERATE writing the
+ *                               station's outputs (Q 0..7) until its inputs (I 0..7, which
+ *                               the station's program echoes) bring them back GOOD, then
+ *                               the stack's end; prints "veth: all checks held"
  *   pnd_startup crash CONFIG    starts the stack and opens a controller, prints
  *                               "stack serving", then dies by abort(): the stack must end
  *                               with it
@@ -211,6 +218,39 @@ static void run(const char *config_path) {
     printf("pnd: all checks held\n");
 }
 
+static void veth(const char *config_path, const char *adapter) {
+    PNIO_UINT32 config_len = 0;
+    const char *config = read_file(config_path, &config_len);
+    static PNIO_CP_ID_TYPE cps[PROCIMG_MAX_NETWORK_ADAPTERS];
+    PNIO_UINT8 n = 0;
+    int chosen = -1;
+    CHECK_RC(SERV_CP_init(NULL), PNIO_OK);
+    CHECK_RC(SERV_CP_get_network_adapters(cps, &n), PNIO_OK);
+    for (int k = 0; k < n; k++) {
+        if (strcmp((const char *)cps[k].Description, adapter) == 0) chosen = k;
+    }
+    CHECK(chosen >= 0, "adapter %s is not among the %u listed", adapter, (unsigned)n);
+    CHECK_RC(startup(&cps[chosen], config, config_len), PNIO_OK);
+    PNIO_UINT32 h = open_operate();
+    PNIO_ADDR i = logical(PNIO_IO_IN, 0), q = logical(PNIO_IO_OUT, 0);
+    PNIO_UINT8 in[8], out[8] = {0x5A, 1, 2, 3, 4, 5, 6, 7};
+    int good = 0;
+    for (int tries = 0; tries < 3000 && !good; tries++) {
+        PNIO_IOXS rem = PNIO_S_BAD;
+        PNIO_UINT32 got = 0;
+        good = PNIO_data_write(h, &q, sizeof out, out, PNIO_S_GOOD, &rem) == PNIO_OK &&
+               PNIO_data_read(h, &i, sizeof in, &got, in, PNIO_S_GOOD, &rem) == PNIO_OK &&
+               rem == PNIO_S_GOOD && got == sizeof in && memcmp(in, out, sizeof in) == 0;
+        if (!good) sleep_ms(10);
+    }
+    CHECK(good, "the station never echoed the outputs over %s", adapter);
+    printf("the station echoed the outputs over %s\n", adapter);
+    offline_close(h);
+    CHECK_RC(SERV_CP_shutdown(), PNIO_OK);
+    CHECK_RC(SERV_CP_undo_init(), PNIO_OK);
+    printf("veth: all checks held\n");
+}
+
 static void crash(const char *config_path) {
     PNIO_UINT32 config_len = 0;
     const char *config = read_file(config_path, &config_len);
@@ -231,11 +271,16 @@ int main(int argc, char **argv) {
         run(argv[2]);
         return 0;
     }
+    if (argc == 4 && strcmp(argv[1], "veth") == 0) {
+        check_part = "veth";
+        veth(argv[2], argv[3]);
+        return 0;
+    }
     if (argc == 3 && strcmp(argv[1], "crash") == 0) {
         check_part = "crash";
         crash(argv[2]);
         return 0;
     }
-    fprintf(stderr, "usage: pnd_startup run|crash CONFIG\n");
+    fprintf(stderr, "usage: pnd_startup run|crash CONFIG | veth CONFIG ADAPTER\n");
     return 2;
 }
