@@ -438,6 +438,11 @@ pub struct DeviceConfig {
     /// The neighbours its ports are to have (array of tables `[[device.topology]]`), which
     /// the controller writes as the ports' topology checks (PDPortDataCheck) at connect.
     pub topology: Vec<PortPeer>,
+    /// Whether the device is optional (key `optional`, default `false`): a machine may be
+    /// built without it. An optional device stays deactivated until a program tailors the
+    /// IO system (IO-Base's `PNIO_iosystem_reconfig`, `procimg device tailor`) and names it
+    /// among those present.
+    pub optional: bool,
 }
 
 /// The neighbour a port of a device is to have (an element of `[[device.topology]]`).
@@ -446,10 +451,23 @@ pub struct PortPeer {
     /// The device's port submodule (key `subslot`, default its first port, 0x8001 on most
     /// devices), in slot 0.
     pub subslot: u16,
-    /// The neighbour's NameOfStation (key `station`).
-    pub station: String,
-    /// The neighbour's port (key `port`, e.g. `port-001`).
-    pub port: String,
+    /// Who the neighbour is.
+    pub peer: Peer,
+}
+
+/// The neighbour of a [`PortPeer`].
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Peer {
+    /// A fixed neighbour (keys `station` and `port`).
+    Fixed {
+        /// The neighbour's NameOfStation (key `station`).
+        station: String,
+        /// The neighbour's port (key `port`, e.g. `port-001`).
+        port: String,
+    },
+    /// A programmable peer (key `programmable = true`): the neighbour depends on how the
+    /// machine is built, and tailoring the IO system names it.
+    Programmable,
 }
 
 /// Where a device's description came from (keys `gsdml` and `dap` of a device).

@@ -56,6 +56,7 @@ pub(super) struct RawDevice {
     /// Any integer: out of range, the message gives the key's own range.
     pub watchdog_factor: Option<Spanned<i64>>,
     pub sim: Option<Spanned<String>>,
+    pub optional: Option<bool>,
     #[serde(default)]
     pub submodule: Vec<Spanned<RawSubmodule>>,
     #[serde(default)]
@@ -67,8 +68,9 @@ pub(super) struct RawDevice {
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub(super) struct RawTopology {
     pub subslot: Option<Spanned<u16>>,
-    pub station: Spanned<String>,
-    pub port: Spanned<String>,
+    pub station: Option<Spanned<String>>,
+    pub port: Option<Spanned<String>>,
+    pub programmable: Option<Spanned<bool>>,
 }
 
 #[derive(Debug, Deserialize)]

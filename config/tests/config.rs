@@ -6,7 +6,8 @@ use std::net::Ipv4Addr;
 
 use procimg_config::{
     self as config, Config, ConfigError, DEMO_ORIGIN, DEMO_TOML, DurationError, LatePolicy,
-    Network, OpdoneWait, OutputTiming, SimBehaviour, format_duration, parse_duration,
+    Network, OpdoneWait, OutputTiming, Peer, PortPeer, SimBehaviour, format_duration,
+    parse_duration,
 };
 use procimg_shm_layout::{MAX_SUBMODULE_DATA_LEN, Mode, NO_ADDRESS};
 use proptest::prelude::*;
@@ -1284,7 +1285,10 @@ fn a_ports_neighbour_defaults_to_the_first_port() {
     let peers: Vec<(u16, &str, &str)> = c.devices[0]
         .topology
         .iter()
-        .map(|p| (p.subslot, p.station.as_str(), p.port.as_str()))
+        .map(|p| match &p.peer {
+            Peer::Fixed { station, port } => (p.subslot, station.as_str(), port.as_str()),
+            Peer::Programmable => panic!("no programmable peer here"),
+        })
         .collect();
     assert_eq!(
         peers,
@@ -1292,6 +1296,42 @@ fn a_ports_neighbour_defaults_to_the_first_port() {
             (0x8001, "plc", "port-001"),
             (0x8002, "switch-1", "port-007")
         ]
+    );
+}
+
+#[test]
+fn optional_devices_and_programmable_peers_are_read() {
+    let text = device_with_ports("[[device.topology]]\nsubslot = 0x8002\nprogrammable = true\n")
+        .replacen(
+            "[[device.submodule]]",
+            "optional = true\n[[device.submodule]]",
+            1,
+        );
+    let c = parse(&text).unwrap();
+    assert!(c.devices[0].optional);
+    assert_eq!(
+        c.devices[0].topology,
+        [PortPeer {
+            subslot: 0x8002,
+            peer: Peer::Programmable
+        }]
+    );
+    assert!(!parse(&device_with_ports("")).unwrap().devices[0].optional);
+    let both = device_with_ports(
+        "[[device.topology]]\nprogrammable = true\nstation = \"plc\"\nport = \"port-001\"\n",
+    );
+    refused_at(
+        &both,
+        "[[device.topology]]",
+        "device[0].topology[0]",
+        "leave out station and port",
+    );
+    let neither = device_with_ports("[[device.topology]]\nsubslot = 0x8001\n");
+    refused_at(
+        &neither,
+        "[[device.topology]]",
+        "device[0].topology[0]",
+        "programmable = true",
     );
 }
 

@@ -37,8 +37,8 @@ pub use diagnosis::{
 pub use names::*;
 pub use refusal::{AlarmRefusal, PlugRefusal, Refusal};
 pub use request::{
-    ClientRole, ControllerRequest, CoreRequest, DefinedIdentity, DeviceRequest, Request,
-    StationAlarmKind, StationTreeEntry, TreeRecords,
+    ClientRole, ControllerRequest, CoreRequest, DefinedIdentity, DeviceRequest, PortRef, Request,
+    StationAlarmKind, StationTreeEntry, Tailoring, TreeRecords,
 };
 pub use response::Response;
 pub use space::Space;

@@ -231,6 +231,17 @@ pub enum Notification {
         /// Whether the device took it.
         ok: bool,
     },
+    /// A reconfiguration of the IO system of `reply_to` was done or refused (IO-Base
+    /// `PNIO_CBE_IOSYSTEM_RECONFIG`); the devices' state changes follow as device events.
+    Reconfigured {
+        /// The subscriber that asked.
+        reply_to: u64,
+        /// Tailored: the devices wanted are activated (`true`); or every device is
+        /// deactivated (`false`).
+        active: bool,
+        /// Why it was refused, changing nothing; `None`: done.
+        refused: Option<TailoringRefusal>,
+    },
     /// Device role: the station's AR reached a state (GOAL's and IO-Base's AR indications).
     StationAr {
         /// The state it reached. A state passed within one step of the station may not be
@@ -404,6 +415,7 @@ impl Notification {
         match self {
             Notification::Record { reply_to, .. }
             | Notification::Activation { reply_to, .. }
+            | Notification::Reconfigured { reply_to, .. }
             | Notification::StationRecord { reply_to, .. }
             | Notification::StationAlarmDone { reply_to, .. }
             | Notification::StationArCheck { reply_to, .. }
@@ -411,6 +423,28 @@ impl Notification {
             _ => None,
         }
     }
+}
+
+/// Why a tailoring of the IO system was refused.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(tag = "refusal", rename_all = "snake_case")]
+pub enum TailoringRefusal {
+    /// The device named is not optional, or there is no such device (IO-Base
+    /// `PNIO_ERR_INVALID_STATION`).
+    Station {
+        /// Device index.
+        device: u32,
+        /// What is wrong, in words.
+        reason: String,
+    },
+    /// The port named has no programmable peer, or is joined twice (IO-Base
+    /// `PNIO_ERR_INVALID_PORT`).
+    Port {
+        /// The port.
+        port: crate::request::PortRef,
+        /// What is wrong, in words.
+        reason: String,
+    },
 }
 
 /// One submodule whose real state differs from the expected one.

@@ -51,6 +51,7 @@
 //!         api: 0, slot, subslot: 1, module_ident: 0x10 + u32::from(slot), submodule_ident: 1,
 //!         input_length, output_length, records: vec![],
 //!     }).collect(),
+//!     ..Default::default()
 //! };
 //! let mut device = Device::new(DeviceSetup {
 //!     name: spec.name.clone(), mac: MacAddress([2, 0, 0, 0, 0, 11]), ip: Some(device_ip.octets()),

@@ -136,6 +136,20 @@ enum DeviceCommand {
         /// Station name.
         name: String,
     },
+    /// Tailor the IO system to the machine as built: every device down, then the mandatory
+    /// devices and the optional ones named up, each joined port checking its neighbour
+    /// (IO-Base's PNIO_iosystem_reconfig TAILOR).
+    Tailor {
+        /// The optional devices the machine has (station names).
+        #[arg(value_name = "DEVICE")]
+        present: Vec<String>,
+        /// Two ports joined: NAME:SUBSLOT=NAME:SUBSLOT (a port submodule of slot 0, e.g.
+        /// conveyor:0x8002=labeller:0x8001); repeat for more.
+        #[arg(long = "link", value_name = "PORT=PORT")]
+        links: Vec<String>,
+    },
+    /// Deactivate every device (IO-Base's PNIO_iosystem_reconfig DEACT).
+    DeactivateAll,
 }
 
 fn main() {
@@ -155,6 +169,10 @@ fn main() {
         Command::Device { op } => match op {
             DeviceCommand::Activate { name } => services::activate(&cli.instance, &name, true),
             DeviceCommand::Deactivate { name } => services::activate(&cli.instance, &name, false),
+            DeviceCommand::Tailor { present, links } => {
+                services::tailor(&cli.instance, Some((&present, &links)))
+            }
+            DeviceCommand::DeactivateAll => services::tailor(&cli.instance, None),
         },
         Command::Diag { json } => services::diag(&cli.instance, json),
         Command::Dcp { iface, op, .. } => dcp::run(&iface, op),

@@ -6,7 +6,9 @@ use crate::io::parse_hex;
 use crate::text::hex;
 use anyhow::{Context, bail};
 use clap::Subcommand;
-use procimg_client::{Notification, RecordTarget, ServiceOptions, Services};
+use procimg_client::{
+    Notification, PortRef, RecordTarget, ServiceOptions, Services, Tailoring, TailoringRefusal,
+};
 use procimg_profinet::wire::record::Im0;
 use std::time::{Duration, Instant};
 
@@ -199,6 +201,13 @@ fn describe(n: &Notification) -> String {
             "device #{device} {}",
             if *active { "activated" } else { "deactivated" }
         ),
+        Notification::Reconfigured {
+            active, refused, ..
+        } => match refused {
+            Some(r) => format!("IO system tailoring refused: {}", refusal_text(r)),
+            None if *active => "IO system tailored".to_owned(),
+            None => "IO system deactivated".to_owned(),
+        },
         Notification::StationAr {
             state,
             ar_uuid,
@@ -335,6 +344,77 @@ pub fn activate(instance: &str, name: &str, active: bool) -> anyhow::Result<()> 
             println!(
                 "{name} {}",
                 if active { "activated" } else { "deactivated" }
+            );
+            return Ok(());
+        }
+    }
+    bail!("no confirmation from instance \"{instance}\" within 5 s")
+}
+
+/// Why a tailoring was refused, in words.
+fn refusal_text(r: &TailoringRefusal) -> &str {
+    match r {
+        TailoringRefusal::Station { reason, .. } | TailoringRefusal::Port { reason, .. } => reason,
+    }
+}
+
+/// One end of a `--link`: `NAME:SUBSLOT`, the subslot in hex (`0x8002`) or decimal.
+fn port_of(s: &Services, end: &str) -> anyhow::Result<PortRef> {
+    let (name, subslot) = end
+        .rsplit_once(':')
+        .ok_or_else(|| anyhow::anyhow!("{end:?} is not NAME:SUBSLOT (e.g. conveyor:0x8002)"))?;
+    let subslot = match subslot.strip_prefix("0x") {
+        Some(hex) => u16::from_str_radix(hex, 16),
+        None => subslot.parse(),
+    }
+    .map_err(|_| anyhow::anyhow!("{subslot:?} in {end:?} is not a subslot (e.g. 0x8001)"))?;
+    Ok(PortRef {
+        device: device_index(s, name)?,
+        slot: 0,
+        subslot,
+    })
+}
+
+/// `procimg device tailor [DEVICE…] [--link A:SUBSLOT=B:SUBSLOT…]` (with `what`) and
+/// `procimg device deactivate-all` (without): waits for the confirmation.
+pub fn tailor(instance: &str, what: Option<(&[String], &[String])>) -> anyhow::Result<()> {
+    let mut s = open(instance, "procimg-tailor", false)?;
+    let tailoring = match what {
+        None => None,
+        Some((present, links)) => {
+            let devices = present
+                .iter()
+                .map(|n| device_index(&s, n))
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            let links = links
+                .iter()
+                .map(|l| {
+                    let (a, b) = l.split_once('=').ok_or_else(|| {
+                        anyhow::anyhow!("--link {l:?} is not PORT=PORT (e.g. a:0x8002=b:0x8001)")
+                    })?;
+                    Ok([port_of(&s, a)?, port_of(&s, b)?])
+                })
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            Some(Tailoring { devices, links })
+        }
+    };
+    s.reconfigure_io_system(tailoring)?;
+    let until = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < until {
+        if let Some(Notification::Reconfigured {
+            active, refused, ..
+        }) = s.next(Duration::from_millis(100))
+        {
+            if let Some(r) = refused {
+                bail!("the tailoring was refused: {}", refusal_text(&r));
+            }
+            println!(
+                "{}",
+                if active {
+                    "IO system tailored: the mandatory devices and those named come up"
+                } else {
+                    "every device deactivated"
+                }
             );
             return Ok(());
         }

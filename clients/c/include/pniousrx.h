@@ -103,9 +103,25 @@
  * SERV_CP_startup: servusrx.h); between SERV_CP_init and SERV_CP_startup, and after
  * SERV_CP_shutdown, PNIO_controller_open gives PNIO_ERR_SEQUENCE.
  *
+ * Tailoring (PNIO_iosystem_reconfig). The configuration marks devices `optional = true`
+ * and ports `programmable = true` in their `[[device.topology]]`; an optional device stays
+ * deactivated until a TAILOR names it. The call checks the handle (PNIO_ERR_WRONG_HND), the
+ * open (without PNIO_CEP_MODE_CTRL: PNIO_ERR_DEV_ACT_NOT_ALLOWED), Mode (PNIO_ERR_MODE_VALUE,
+ * the manual's code, where PN Driver's headers give PNIO_ERR_PRM_TYPE), a reconfiguration
+ * under way (PNIO_ERR_NOT_REENTERABLE), a count above 0 with a NULL list (PNIO_ERR_PRM_BUF)
+ * and that every address is the program's (PNIO_ERR_PRM_ADD). Then every device is taken
+ * down, each port of a pair gets its neighbour (the other port's station and "port-00N")
+ * as its PDPortDataCheck, written at connect, and the mandatory devices and the optional
+ * ones listed come up. PNIO_CBE_IOSYSTEM_RECONFIG (register it first; else
+ * PNIO_ERR_SEQUENCE) says Mode PNIO_DA_TRUE after a TAILOR, PNIO_DA_FALSE after a DEACT,
+ * and Status PNIO_OK, or PNIO_ERR_INVALID_STATION (a device listed is not optional) or
+ * PNIO_ERR_INVALID_PORT (a port has no programmable peer, or is joined twice) with pAddr
+ * the address that named it: then nothing was changed. These are PN Driver's names; the
+ * manual's TAILOR_INV_STATION and TAILOR_INV_PORT have no value anywhere.
+ *
  * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types), the
- * PN Driver interface functions (PNIO_interface_*), PNIO_iosystem_reconfig and
- * PNIO_data_cache_exchange: procimg does not offer them yet. LED
+ * PN Driver interface functions (PNIO_interface_*) and PNIO_data_cache_exchange: procimg
+ * does not offer them yet. LED
  * flashing and CP_STOP_REQ can be registered but never occur. The CP application watchdog
  * (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
  * pniobase.h's, shared with the device side; what its expiry does is said there.
@@ -149,7 +165,7 @@ typedef enum {
     PNIO_CBE_CTRL_DIAG_CONF = 9,    /* a diagnosis request finished */
     PNIO_CBE_IFC_SET_ADDR_CONF = 10, /* PN Driver only */
     PNIO_CBE_REMA_READ_CONF = 11,   /* PN Driver only */
-    PNIO_CBE_IOSYSTEM_RECONFIG = 12, /* PN Driver only */
+    PNIO_CBE_IOSYSTEM_RECONFIG = 12,
     PNIO_CBE_IFC_REC_READ_CONF = 13, /* PN Driver only */
     PNIO_CBE_IFC_ALARM_IND = 14     /* PN Driver only */
 } PNIO_CBE_TYPE;
@@ -387,6 +403,12 @@ typedef struct {
     PNIO_UINT32 ErrorCode;       /* PNIO_OK or the service's error */
 } ATTR_PACKED PNIO_CBE_PRM_CTRL_DIAG_CONF;
 
+typedef struct {
+    PNIO_ADDR *pAddr;       /* the device or port that made it fail; all zero if none */
+    PNIO_DEV_ACT_TYPE Mode; /* PNIO_DA_TRUE after TAILOR, PNIO_DA_FALSE after DEACT */
+    PNIO_UINT32 Status;     /* PNIO_OK, PNIO_ERR_INVALID_STATION, PNIO_ERR_INVALID_PORT */
+} ATTR_PACKED PNIO_CBE_PRM_IOSYS_CONF;
+
 /* What a controller callback receives; the member of the anonymous union that CbeType
  * selects holds the event's parameters. Valid during the callback only. */
 typedef struct {
@@ -400,6 +422,7 @@ typedef struct {
         PNIO_CBE_PRM_DEV_ACT_CONF DevActConf;
         PNIO_CBE_PRM_LED_FLASH LedFlash;
         PNIO_CBE_PRM_CTRL_DIAG_CONF CtrlDiagConf;
+        PNIO_CBE_PRM_IOSYS_CONF IoSystemReconf;
     };
 } ATTR_PACKED PNIO_CBE_PRM;
 
@@ -518,6 +541,18 @@ PNIO_UINT32 PNIO_CODE_ATTR PNIO_rec_write_req(
 PNIO_UINT32 PNIO_CODE_ATTR PNIO_ctrl_diag_req(
     PNIO_UINT32 Handle,        /* in */
     PNIO_CTRL_DIAG *pDiagReq); /* in */
+
+/* Deactivates every device (DEACT) or tailors the IO system (TAILOR); the end comes as
+ * PNIO_CBE_IOSYSTEM_RECONFIG. DeviceList: an address of each optional device present;
+ * PortInterconnectionList: 2 x PortInterconnectionCnt addresses, each pair two ports
+ * joined. Both lists are copied during the call. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_iosystem_reconfig(
+    PNIO_UINT32 Handle,                        /* in */
+    PNIO_IOS_RECONFIG_MODE Mode,               /* in */
+    PNIO_UINT32 DeviceCnt,                     /* in */
+    PNIO_ADDR *DeviceList,                     /* in */
+    PNIO_UINT32 PortInterconnectionCnt,        /* in, pairs */
+    PNIO_ADDR *PortInterconnectionList);       /* in */
 
 #ifdef __cplusplus
 }

@@ -60,14 +60,14 @@ pub use procimg_control::services::{
     APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, ArCr, CrDataObject,
     DCP_SET_CHECK_TIMEOUT_MS, DeviceDiagnosis, DiagnosisReport, ExpectedSubmodule, FailureCause,
     Notification, RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS,
-    StationArCheckJob, StationDcpSetJob, StationRecordJob, SubmoduleDiff,
+    StationArCheckJob, StationDcpSetJob, StationRecordJob, SubmoduleDiff, TailoringRefusal,
 };
 pub use procimg_control::{
     AccessArReport, AlarmRefusal, ArReport, ArState, ClientRole, ControllerReport, DefinedIdentity,
     DeviceState, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, ForceReport,
-    InterfaceCounters, NeighbourReport, PlugRefusal, Refusal, StationAlarmKind,
+    InterfaceCounters, NeighbourReport, PlugRefusal, PortRef, Refusal, StationAlarmKind,
     StationDiagnosisChange, StationProgramReport, StationReport, StationTreeEntry, StatusReport,
-    TreeRecords,
+    Tailoring, TreeRecords,
 };
 pub use procimg_rt_alloc as rt_alloc;
 pub use procimg_shm_layout::{CycleInfo, Mode};

@@ -26,7 +26,7 @@ use procimg_control::services::{
     self, AlarmReport, DiagnosisReport, NOTIFICATION_BUFFER, Notification, RecordConfirmation,
     RecordStatus, RecordTarget,
 };
-use procimg_control::{ControllerRequest, CoreRequest, Response};
+use procimg_control::{ControllerRequest, CoreRequest, Response, Tailoring};
 use std::collections::VecDeque;
 use std::hash::{Hash, Hasher};
 use std::os::fd::RawFd;
@@ -422,6 +422,20 @@ impl Services {
                 reply_to: self.id,
                 device,
                 active,
+            })
+    }
+
+    /// Reconfigures the IO system (IO-Base `PNIO_iosystem_reconfig`): with `None`
+    /// deactivates every device; with a [`Tailoring`] takes every device down, writes the
+    /// joined ports' expected neighbours, and brings up the mandatory devices and the
+    /// optional ones it names. Confirmed by a [`Notification::Reconfigured`] (which says
+    /// why, if the tailoring was refused); the devices' state changes follow as device
+    /// notifications.
+    pub fn reconfigure_io_system(&self, tailoring: Option<Tailoring>) -> Result<(), ControlError> {
+        self.control
+            .request_done(ControllerRequest::ReconfigureIoSystem {
+                reply_to: self.id,
+                tailoring,
             })
     }
 

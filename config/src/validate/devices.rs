@@ -420,6 +420,7 @@ fn device_config(
         .collect::<Result<Vec<_>, _>>()?;
     let config = DeviceConfig {
         topology,
+        optional: raw.optional.unwrap_or(false),
         name: raw.name.into_inner(),
         ip,
         vendor_id,
@@ -486,25 +487,52 @@ fn port_peer(
             )
         })?,
     };
-    cx.check(
-        &raw.station,
-        key("station"),
-        station_name(raw.station.get_ref()),
-    )?;
-    let port = raw.port.get_ref();
-    if port.is_empty() || port.len() > 240 || !port.bytes().all(|b| b.is_ascii_graphic()) {
+    let programmable = raw.programmable.as_ref().is_some_and(|p| *p.get_ref());
+    let (station, port) = match (raw.station, raw.port, programmable) {
+        (None, None, true) => {
+            return Ok(PortPeer {
+                subslot,
+                peer: Peer::Programmable,
+            });
+        }
+        (Some(station), Some(port), false) => (station, port),
+        (_, _, true) => {
+            return Err(cx.invalid(
+                span,
+                base,
+                "a programmable peer has no fixed neighbour: leave out station and port (the \
+                 IO system's tailoring names the neighbour), or programmable",
+            ));
+        }
+        _ => {
+            return Err(cx.invalid(
+                span,
+                base,
+                "give the neighbour as station and port (its NameOfStation and its port, e.g. \
+                 \"port-001\"), or programmable = true for a neighbour tailoring names",
+            ));
+        }
+    };
+    cx.check(&station, key("station"), station_name(station.get_ref()))?;
+    let port_name = port.get_ref();
+    if port_name.is_empty()
+        || port_name.len() > 240
+        || !port_name.bytes().all(|b| b.is_ascii_graphic())
+    {
         return Err(cx.invalid(
-            raw.port.span(),
+            port.span(),
             key("port"),
             format!(
-                "{port:?} is not a port name: the neighbour's port as its LLDP names it, 1 to                  240 visible characters, e.g. \"port-001\""
+                "{port_name:?} is not a port name: the neighbour's port as its LLDP names it, 1 to                  240 visible characters, e.g. \"port-001\""
             ),
         ));
     }
     Ok(PortPeer {
         subslot,
-        station: raw.station.into_inner(),
-        port: raw.port.into_inner(),
+        peer: Peer::Fixed {
+            station: station.into_inner(),
+            port: port.into_inner(),
+        },
     })
 }
 

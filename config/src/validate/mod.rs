@@ -18,7 +18,7 @@ use super::raw::{RawAccess, RawConfig, RawCycleThread, RawDevice, RawSubmodule, 
 use super::{
     AccessConfig, CYCLE_UNIT_NS, Config, CycleThreadConfig, DEFAULT_CYCLE_NS, DEFAULT_INSTANCE,
     DeviceConfig, GsdmlSource, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network,
-    OpdoneWait, OutputTiming, ParameterRecord, PortPeer, Role, SimBehaviour, SubmoduleConfig,
+    OpdoneWait, OutputTiming, ParameterRecord, Peer, PortPeer, Role, SimBehaviour, SubmoduleConfig,
 };
 
 mod devices;

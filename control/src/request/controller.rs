@@ -44,6 +44,18 @@ pub enum ControllerRequest {
         /// Activate (`true`) or deactivate.
         active: bool,
     },
+    /// Reconfigure the IO system (IO-Base `PNIO_iosystem_reconfig`): deactivate every
+    /// device (`tailoring` `None`), or tailor it: every device down, the optional devices
+    /// present and the ports joined taken, then the mandatory devices and those present
+    /// up. Confirmed by a
+    /// [`Notification::Reconfigured`](crate::services::Notification::Reconfigured) to
+    /// `reply_to`.
+    ReconfigureIoSystem {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// What the machine has; `None`: deactivate all.
+        tailoring: Option<Tailoring>,
+    },
     /// Acknowledge an alarm this subscriber was given with `ack_expected`.
     AcknowledgeAlarm {
         /// The subscriber's id.
@@ -65,9 +77,30 @@ impl ControllerRequest {
             ControllerRequest::RecordRead { .. } => "reading a record of an IO device",
             ControllerRequest::RecordWrite { .. } => "writing a record of an IO device",
             ControllerRequest::ActivateDevice { .. } => "activating an IO device",
+            ControllerRequest::ReconfigureIoSystem { .. } => "reconfiguring the IO system",
             ControllerRequest::AcknowledgeAlarm { .. } => "acknowledging an IO device's alarm",
             ControllerRequest::Diagnosis => "the IO system diagnosis",
             ControllerRequest::ResetCommCounters => "resetting the communication counters",
         }
     }
+}
+
+/// How a machine is built, for tailoring its IO system.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Tailoring {
+    /// The optional devices it has (device indexes).
+    pub devices: Vec<u32>,
+    /// The ports joined, in pairs.
+    pub links: Vec<[PortRef; 2]>,
+}
+
+/// A port submodule of a device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct PortRef {
+    /// Device index.
+    pub device: u32,
+    /// Slot (0).
+    pub slot: u16,
+    /// Subslot (0x8001 …).
+    pub subslot: u16,
 }

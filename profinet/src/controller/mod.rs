@@ -15,6 +15,7 @@ pub mod device;
 mod failure;
 pub mod plan;
 pub mod rpc_call;
+mod tailoring;
 pub mod uuids;
 
 use crate::wire::MacAddress;
@@ -28,6 +29,7 @@ use device::DeviceAr;
 pub use failure::FailureCause;
 use plan::{ControllerIdentity, DevicePlan};
 use std::net::{Ipv4Addr, SocketAddrV4};
+pub use tailoring::{PortEnd, Reconfiguration, TailorError, port_id};
 
 /// Where a device is in its life.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -226,6 +228,13 @@ pub enum DeviceEvent {
     },
     /// A record read or write finished.
     Record(RecordResult),
+    /// A reconfiguration of the IO system ([`Controller::reconfigure`]) was done: the
+    /// devices it wanted are activated (`Ok(true)`, a tailoring) or all are deactivated
+    /// (`Ok(false)`); or it was refused, changing nothing.
+    Reconfigured {
+        /// What became of it.
+        result: Result<bool, TailorError>,
+    },
 }
 
 /// What the controller asks its driver to do.

@@ -95,6 +95,11 @@ pub struct DeviceSpec {
     pub watchdog_factor: u16,
     /// Its submodules, in configuration order.
     pub submodules: Vec<SubmoduleSpec>,
+    /// Optional: it stays deactivated until the IO system is tailored with it
+    /// ([`Controller::reconfigure`](super::Controller::reconfigure)).
+    pub optional: bool,
+    /// Its ports (subslots of slot 0) whose neighbour tailoring names (programmable peers).
+    pub programmable_ports: Vec<u16>,
 }
 
 /// One submodule of a [`DeviceSpec`].
@@ -179,6 +184,10 @@ pub struct DevicePlan {
     pub records: Vec<PlannedRecord>,
     /// The FrameIDs proposed for the input and output CR.
     pub frame_ids: (u16, u16),
+    /// Optional ([`DeviceSpec::optional`]).
+    pub optional: bool,
+    /// Ports with a programmable peer ([`DeviceSpec::programmable_ports`]).
+    pub programmable_ports: Vec<u16>,
 }
 
 /// Properties of the controller itself that go into every Connect.
@@ -318,6 +327,8 @@ impl DevicePlan {
             },
             records,
             frame_ids: (base, base + 1),
+            optional: dev.optional,
+            programmable_ports: dev.programmable_ports.clone(),
         })
     }
 

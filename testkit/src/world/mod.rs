@@ -31,6 +31,7 @@
 //!     name: "dev".into(), ip: Some(Ipv4Addr::new(192, 168, 0, 11)), vendor_id: 0x0493,
 //!     device_id: 1, instance: 1, reduction_ratio: 1, watchdog_factor: 3,
 //!     submodules: vec![SubmoduleSpec { slot: 0, input_length: 0, output_length: 0, ..io.clone() }, io],
+//!     ..Default::default()
 //! };
 //! let device = Device::new(DeviceSetup {
 //!     name: spec.name.clone(), mac: MacAddress([2, 0, 0, 0, 0, 11]), ip: None,

@@ -260,6 +260,7 @@ mod tests {
                 output_length: 0,
                 records: vec![],
             }],
+            ..Default::default()
         };
         let plan = &DevicePlan::all(&[spec], MS).unwrap()[0];
         let (own, device) = (

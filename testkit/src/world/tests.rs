@@ -47,6 +47,7 @@ fn world(seed: u64) -> World<Counter> {
                 submodule(0, 0, vec![]),
                 submodule(1, 4, vec![(0x100, vec![1, 2, 3])]),
             ],
+            ..Default::default()
         })
         .collect();
     let devices = specs

@@ -145,7 +145,8 @@ pub unsafe extern "C" fn PNIO_register_cbf(
             | PNIO_CBE_CP_STOP_REQ
             | PNIO_CBE_START_LED_FLASH
             | PNIO_CBE_STOP_LED_FLASH
-            | PNIO_CBE_CTRL_DIAG_CONF => {}
+            | PNIO_CBE_CTRL_DIAG_CONF
+            | PNIO_CBE_IOSYSTEM_RECONFIG => {}
             PNIO_CBE_ALARM_IND | PNIO_CBE_REC_READ_CONF | PNIO_CBE_REC_WRITE_CONF => {
                 return fail(
                     F,
@@ -255,6 +256,78 @@ pub unsafe extern "C" fn PNIO_device_activate(
         // SAFETY: not NULL, readable by the caller's contract.
         let addr = unsafe { pAddr.read_unaligned() };
         ctl.with_services(|s| s.device_activate(&addr, DeviceMode))
+            .unwrap_or_else(|| wrong_handle(F, Handle))
+    })
+}
+
+/// Deactivates every device or tailors the IO system (see `pniousrx.h`).
+///
+/// # Safety
+/// `DeviceList` is NULL or points to `DeviceCnt` readable addresses;
+/// `PortInterconnectionList` is NULL or points to `2 × PortInterconnectionCnt` of them.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn PNIO_iosystem_reconfig(
+    Handle: PNIO_UINT32,
+    Mode: PNIO_IOS_RECONFIG_MODE,
+    DeviceCnt: PNIO_UINT32,
+    DeviceList: *mut PNIO_ADDR,
+    PortInterconnectionCnt: PNIO_UINT32,
+    PortInterconnectionList: *mut PNIO_ADDR,
+) -> PNIO_UINT32 {
+    const F: &str = "PNIO_iosystem_reconfig";
+    guard(PNIO_ERR_INTERNAL, || {
+        if in_callback() {
+            return not_in_callback(F);
+        }
+        let Some(ctl) = lookup(Handle) else {
+            return wrong_handle(F, Handle);
+        };
+        if !ctl.mode_ctrl {
+            return fail(
+                F,
+                PNIO_ERR_DEV_ACT_NOT_ALLOWED,
+                format_args!(
+                    "controller {Handle} was opened without PNIO_CEP_MODE_CTRL: it may not \
+                     reconfigure the IO system"
+                ),
+            );
+        }
+        let tailor = match Mode {
+            PNIO_IOS_RECONFIG_MODE_DEACT => false,
+            PNIO_IOS_RECONFIG_MODE_TAILOR => true,
+            other => {
+                return fail(
+                    F,
+                    PNIO_ERR_MODE_VALUE,
+                    format_args!(
+                        "Mode {other} is neither PNIO_IOS_RECONFIG_MODE_DEACT nor \
+                         PNIO_IOS_RECONFIG_MODE_TAILOR"
+                    ),
+                );
+            }
+        };
+        let (devices, ports) = if tailor {
+            let pairs = PortInterconnectionCnt as usize;
+            if (DeviceCnt > 0 && DeviceList.is_null())
+                || (pairs > 0 && PortInterconnectionList.is_null())
+            {
+                return fail(F, PNIO_ERR_PRM_BUF, "a list with a count above 0 is NULL");
+            }
+            let read = |list: *mut PNIO_ADDR, n: usize| -> Vec<PNIO_ADDR> {
+                // SAFETY: n readable addresses by the caller's contract (checked not NULL
+                // when n > 0); copied here, as the manual says.
+                (0..n)
+                    .map(|i| unsafe { list.add(i).read_unaligned() })
+                    .collect()
+            };
+            (
+                read(DeviceList, DeviceCnt as usize),
+                read(PortInterconnectionList, pairs.saturating_mul(2)),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        ctl.with_services(|s| s.iosystem_reconfig(tailor, &devices, &ports))
             .unwrap_or_else(|| wrong_handle(F, Handle))
     })
 }

@@ -711,6 +711,20 @@ pub struct PNIO_CBE_PRM_DEV_ACT_CONF {
     pub Result: PNIO_UINT32,
 }
 
+/// `PNIO_CBE_PRM_IOSYS_CONF`: the end of a `PNIO_iosystem_reconfig`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PNIO_CBE_PRM_IOSYS_CONF {
+    /// The address of the device or port that made it fail (as the program gave it); all
+    /// zero when none did.
+    pub pAddr: *mut PNIO_ADDR,
+    /// `PNIO_DA_TRUE` after a tailoring (the devices wanted are activated), `PNIO_DA_FALSE`
+    /// after a deactivation.
+    pub Mode: PNIO_DEV_ACT_TYPE,
+    /// `PNIO_OK`, `PNIO_ERR_INVALID_STATION` or `PNIO_ERR_INVALID_PORT`.
+    pub Status: PNIO_UINT32,
+}
+
 /// `PNIO_CBE_PRM_LED_FLASH`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -751,6 +765,8 @@ pub union PNIO_CBE_PRM_u {
     pub LedFlash: PNIO_CBE_PRM_LED_FLASH,
     /// `PNIO_CBE_CTRL_DIAG_CONF`.
     pub CtrlDiagConf: PNIO_CBE_PRM_CTRL_DIAG_CONF,
+    /// `PNIO_CBE_IOSYSTEM_RECONFIG`.
+    pub IoSystemReconf: PNIO_CBE_PRM_IOSYS_CONF,
 }
 
 /// `PNIO_CBE_PRM`: what a controller callback receives.

@@ -195,6 +195,7 @@ mod tests {
             reduction_ratio: 1,
             watchdog_factor: 3,
             submodules,
+            ..Default::default()
         }
     }
 

@@ -87,12 +87,18 @@ impl DeviceAr {
     pub fn new(plan: DevicePlan, uuids: UuidSource) -> DeviceAr {
         // Only the low bits of the index matter: the Xid just has to differ between devices.
         let xid = 0x0100_0000 | ((plan.device as u32) << 12);
+        // An optional device waits for the IO system's tailoring to name it.
+        let deactivated = plan.optional;
         DeviceAr {
             plan,
-            state: DeviceState::Offline,
+            state: if deactivated {
+                DeviceState::Deactivated
+            } else {
+                DeviceState::Offline
+            },
             step: Step::Idle,
             wanted: false,
-            deactivated: false,
+            deactivated,
             mac: None,
             ip: None,
             epoch: 0,

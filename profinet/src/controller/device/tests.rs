@@ -71,6 +71,7 @@ impl Rig {
             reduction_ratio: 1,
             watchdog_factor: 3,
             submodules: vec![dap, io],
+            ..Default::default()
         };
         let device = Device::new(DeviceSetup {
             name: spec.name.clone(),

@@ -187,6 +187,10 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         seed = crate::sys::clock::now_ns().to_le_bytes();
     }
     let mut controller = Controller::new(id, plans, boot_time, u64::from_le_bytes(seed));
+    // Where each device starts (an optional one deactivated), before any event says more.
+    for (d, state) in controller.states().enumerate() {
+        states.set(d, state);
+    }
     // On a real network the controller's port tells its neighbour who it is, as every
     // PROFINET station's port does; its devices learn their neighbour from it.
     if let (Network::Interface(_), Some(index)) = (&config.network, if_index) {

@@ -2,7 +2,7 @@
 //! The configuration in the protocol crate's terms: what the controller plans for each
 //! device.
 
-use crate::config::{Config, DeviceConfig, SubmoduleConfig};
+use crate::config::{Config, DeviceConfig, Peer, SubmoduleConfig};
 use procimg_profinet::controller::plan::{DevicePlan, DeviceSpec, PlanError, SubmoduleSpec};
 use procimg_profinet::wire::record::{
     CheckedPeer, INDEX_PD_PORT_DATA_CHECK, PdPortDataCheck, PortCheck,
@@ -20,13 +20,22 @@ pub fn device_spec(dev: &DeviceConfig) -> DeviceSpec {
     let mut submodules: Vec<SubmoduleSpec> = dev.submodules.iter().map(submodule_spec).collect();
     // The topology the device's ports are to have: their PDPortDataCheck, written with the
     // other parameter records at connect.
+    let mut programmable_ports = Vec::new();
     for peer in &dev.topology {
+        let (station, port) = match &peer.peer {
+            Peer::Fixed { station, port } => (station, port),
+            // Tailoring the IO system writes its check.
+            Peer::Programmable => {
+                programmable_ports.push(peer.subslot);
+                continue;
+            }
+        };
         let check = PdPortDataCheck {
             slot: 0,
             subslot: peer.subslot,
             checks: vec![PortCheck::Peers(vec![CheckedPeer {
-                port_id: peer.port.clone(),
-                chassis_id: peer.station.clone(),
+                port_id: port.clone(),
+                chassis_id: station.clone(),
             }])],
         };
         let port = submodules
@@ -46,6 +55,8 @@ pub fn device_spec(dev: &DeviceConfig) -> DeviceSpec {
         reduction_ratio: dev.reduction_ratio,
         watchdog_factor: dev.watchdog_factor,
         submodules,
+        optional: dev.optional,
+        programmable_ports,
     }
 }
 

@@ -5,7 +5,7 @@
 use super::states::DeviceStates;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
 use procimg_profinet::controller::{
-    AlarmTicket, Controller, ControllerAction, DeviceEvent, RecordRequest,
+    AlarmTicket, Controller, ControllerAction, DeviceEvent, Reconfiguration, RecordRequest,
 };
 use procimg_profinet::wire::connect::IdentInfo;
 use std::net::SocketAddrV4;
@@ -21,6 +21,8 @@ pub enum ControllerCommand {
         /// Active or not.
         active: bool,
     },
+    /// Reconfigure the IO system (deactivate all, or tailor it).
+    Reconfigure(Reconfiguration),
     /// Read or write a record.
     Record(RecordRequest),
     /// Send the AlarmAck of a delivered alarm.
@@ -118,6 +120,9 @@ impl Role for ControllerRole {
             ControllerCommand::Activate { device, active } => {
                 self.controller
                     .activate(device, active, now_ns, &mut self.actions);
+            }
+            ControllerCommand::Reconfigure(how) => {
+                self.controller.reconfigure(how, now_ns, &mut self.actions);
             }
             ControllerCommand::Record(r) => self.controller.record(r, &mut self.actions),
             ControllerCommand::AcknowledgeAlarm(t) => {
@@ -251,6 +256,11 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates, problems:
             name(*device),
             if *active { "activated" } else { "deactivated" }
         ),
+        DeviceEvent::Reconfigured { result } => match result {
+            Ok(true) => tracing::info!("IO system tailored"),
+            Ok(false) => tracing::info!("IO system deactivated"),
+            Err(e) => tracing::warn!("IO system tailoring refused: {e}"),
+        },
     }
 }
 

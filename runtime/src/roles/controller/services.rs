@@ -21,14 +21,15 @@ use crate::shm::Notices;
 use procimg_control::services::{
     ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
     MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
-    SubmoduleDiff,
+    SubmoduleDiff, TailoringRefusal,
 };
 use procimg_control::{
-    self as control, ControllerRequest, DeviceReport, NetworkReport, Refusal, Response,
-    SubscriberReport,
+    self as control, ControllerRequest, DeviceReport, NetworkReport, PortRef, Refusal, Response,
+    SubscriberReport, Tailoring,
 };
 use procimg_profinet::controller::{
-    self, AlarmTicket, DeviceEvent, DeviceState, RecordFailure, RecordRequest, RecordResult,
+    self, AlarmTicket, DeviceEvent, DeviceState, PortEnd, Reconfiguration, RecordFailure,
+    RecordRequest, RecordResult, TailorError,
 };
 use procimg_profinet::wire::PnioStatus;
 use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
@@ -104,6 +105,8 @@ pub struct ControllerServices {
     jobs: HashMap<u64, Job>,
     next_job: u64,
     activations: Vec<VecDeque<u64>>,
+    /// Who asked for each reconfiguration under way, in order.
+    reconfigurations: VecDeque<u64>,
     /// The controller's own station on its interface, when it runs one.
     interface: Option<super::interface::ControllerInterface>,
 }
@@ -113,10 +116,24 @@ impl ControllerServices {
     /// (without one, every request to the controller is refused as busy and every device
     /// reported offline).
     pub fn new(names: Vec<String>, link: Option<ControllerLink>) -> ControllerServices {
-        let devices = names.iter().map(|_| DeviceRecord::default()).collect();
+        let devices = (0..names.len())
+            .map(|d| {
+                // An optional device starts deactivated, waiting for the IO system's
+                // tailoring.
+                let state = link
+                    .as_ref()
+                    .map_or(control::DeviceState::Offline, |l| l.states.reported(d));
+                DeviceRecord {
+                    state,
+                    inactive: state == control::DeviceState::Deactivated,
+                    ..DeviceRecord::default()
+                }
+            })
+            .collect();
         ControllerServices {
             link,
             activations: names.iter().map(|_| VecDeque::new()).collect(),
+            reconfigurations: VecDeque::new(),
             names,
             devices,
             subscribers: Subscribers::default(),
@@ -251,6 +268,24 @@ impl ControllerServices {
         if let Some(q) = self.activations.get_mut(d) {
             q.push_back(reply_to);
         }
+        Ok(())
+    }
+
+    /// Reconfigures the IO system: deactivates all, or tailors it.
+    fn reconfigure(&mut self, reply_to: u64, tailoring: Option<Tailoring>) -> Result<(), Refusal> {
+        let how = match tailoring {
+            None => Reconfiguration::Deactivate,
+            Some(t) => Reconfiguration::Tailor {
+                optional_present: t.devices.iter().map(|&d| d as usize).collect(),
+                links: t
+                    .links
+                    .iter()
+                    .map(|[a, b]| (port_end(a), port_end(b)))
+                    .collect(),
+            },
+        };
+        self.command(ControllerCommand::Reconfigure(how))?;
+        self.reconfigurations.push_back(reply_to);
         Ok(())
     }
 
@@ -412,6 +447,20 @@ impl ControllerServices {
                 ticket,
             } => self.on_alarm(device, &notification, ticket, notices),
             DeviceEvent::Record(r) => self.on_record(r, notices),
+            DeviceEvent::Reconfigured { result } => {
+                let Some(reply_to) = self.reconfigurations.pop_front() else {
+                    return;
+                };
+                let (active, refused) = match result {
+                    Ok(active) => (active, None),
+                    Err(e) => (true, Some(tailoring_refusal(&e))),
+                };
+                notices.publish(&Notification::Reconfigured {
+                    reply_to,
+                    active,
+                    refused,
+                });
+            }
             DeviceEvent::Activation { device, active } => {
                 if let Some(r) = self.devices.get_mut(device) {
                     r.inactive = !active;
@@ -586,6 +635,10 @@ impl Answers<ControllerRequest> for ControllerServices {
                 device,
                 active,
             } => self.activate(reply_to, device, active, online),
+            ControllerRequest::ReconfigureIoSystem {
+                reply_to,
+                tailoring,
+            } => self.reconfigure(reply_to, tailoring),
             ControllerRequest::AcknowledgeAlarm { subscriber, alarm } => {
                 self.acknowledge(subscriber, alarm)
             }
@@ -715,5 +768,33 @@ fn reported_cause(cause: controller::FailureCause) -> FailureCause {
         Protocol::Released => FailureCause::Released,
         Protocol::Deactivated => FailureCause::Deactivated,
         Protocol::Internal => FailureCause::Internal,
+    }
+}
+
+/// The protocol crate's port end of a request's port.
+fn port_end(p: &PortRef) -> PortEnd {
+    PortEnd {
+        device: p.device as usize,
+        slot: p.slot,
+        subslot: p.subslot,
+    }
+}
+
+/// What a client is told of a refused tailoring.
+fn tailoring_refusal(e: &TailorError) -> TailoringRefusal {
+    let port = |e: &PortEnd| PortRef {
+        device: e.device as u32,
+        slot: e.slot,
+        subslot: e.subslot,
+    };
+    match e {
+        TailorError::NoSuchDevice(d) | TailorError::NotOptional(d) => TailoringRefusal::Station {
+            device: *d as u32,
+            reason: e.to_string(),
+        },
+        TailorError::NotProgrammable(p) | TailorError::PortTwice(p) => TailoringRefusal::Port {
+            port: port(p),
+            reason: e.to_string(),
+        },
     }
 }

@@ -93,6 +93,7 @@ fn as_device(station: &StationConfig) -> DeviceConfig {
         watchdog_factor: SIM_WATCHDOG_FACTOR,
         sim: SimBehaviour::None,
         topology: Vec::new(),
+        optional: false,
         submodules: station
             .submodules
             .iter()
@@ -568,7 +569,7 @@ fn log(e: &DeviceEvent, names: &[String]) {
                 Err(f) => tracing::warn!("demo PLC: writing {what} failed: {}", f.reason),
             }
         }
-        DeviceEvent::Activation { .. } => {}
+        DeviceEvent::Activation { .. } | DeviceEvent::Reconfigured { .. } => {}
     }
 }
 

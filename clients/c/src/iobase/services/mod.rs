@@ -19,6 +19,8 @@
 //!   alarms `PNIO_ALARM_DEV_FAILURE` / `PNIO_ALARM_DEV_RETURN`.
 //! * `PNIO_CBE_DEV_ACT_CONF` when the server has carried out a (de)activation.
 //! * `PNIO_CBE_CTRL_DIAG_CONF` for `PNIO_ctrl_diag_req`, with the caller's request pointer.
+//! * `PNIO_CBE_IOSYSTEM_RECONFIG` when the server has reconfigured the IO system
+//!   (`PNIO_iosystem_reconfig`), or refused to.
 //!
 //! Choices where the manual leaves room:
 //! * Parallel record jobs are capped at 16 per controller (PN Driver's limit, and the
@@ -45,14 +47,14 @@ use super::devices_up::DevicesUp;
 use super::errors::fail;
 use super::errors::{
     PNIO_ERR_INTERNAL, PNIO_ERR_MAX_REACHED, PNIO_ERR_MODE_VALUE, PNIO_ERR_NO_FW_COMMUNICATION,
-    PNIO_ERR_NO_RESOURCE, PNIO_ERR_OS_RES, PNIO_ERR_PRM_ADD, PNIO_ERR_PRM_DEV_STATE,
-    PNIO_ERR_PRM_INVALIDARG, PNIO_ERR_PRM_REC_INDEX, PNIO_ERR_SEQUENCE,
+    PNIO_ERR_NO_RESOURCE, PNIO_ERR_NOT_REENTERABLE, PNIO_ERR_OS_RES, PNIO_ERR_PRM_ADD,
+    PNIO_ERR_PRM_DEV_STATE, PNIO_ERR_PRM_INVALIDARG, PNIO_ERR_PRM_REC_INDEX, PNIO_ERR_SEQUENCE,
     PNIO_ERR_START_THREAD_FAILED, PNIO_ERR_VALUE_LEN, PNIO_OK, name,
 };
 use super::sync::lock;
 use super::types::{
-    PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CTRL_DIAG,
-    PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT, PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO,
+    PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CBE_IOSYSTEM_RECONFIG,
+    PNIO_CTRL_DIAG, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT, PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO,
     PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST, PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST,
     PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_ENUM,
     PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA, PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, PNIO_DA_FALSE,
@@ -61,7 +63,8 @@ use super::types::{
 use super::wake::Wake;
 use crate::ffi::set_last_error;
 use procimg_client::{
-    AttachError, ControlError, Layout, RecordTarget, Refusal, ServiceOptions, Services,
+    AttachError, ControlError, Layout, PortRef, RecordTarget, Refusal, ServiceOptions, Services,
+    Tailoring,
 };
 use std::collections::{HashMap, VecDeque};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -126,6 +129,17 @@ struct ActivationJob {
     generation: Option<u64>,
 }
 
+/// A `PNIO_iosystem_reconfig` waiting for its confirmation, with the addresses the program
+/// named each device and port by (the confirmation names the one that made it fail).
+struct ReconfigJob {
+    tailor: bool,
+    devices: Vec<(u32, PNIO_ADDR)>,
+    ports: Vec<(PortRef, PNIO_ADDR)>,
+    deadline: Instant,
+    /// The generation of the server it was sent to (`None`: it did not say).
+    generation: Option<u64>,
+}
+
 /// The program's `PNIO_CTRL_DIAG`, handed back in the confirmation.
 struct DiagRequest(*mut PNIO_CTRL_DIAG);
 
@@ -148,6 +162,7 @@ struct Jobs {
     records: HashMap<u64, RecordJob>,
     activations: VecDeque<ActivationJob>,
     diags: VecDeque<DiagJob>,
+    reconfig: Option<ReconfigJob>,
 }
 
 impl Jobs {
@@ -487,6 +502,97 @@ impl ServiceWorker {
             ),
         };
         lock(&s.jobs).activations.retain(|j| j.id != id);
+        failed
+    }
+
+    /// `PNIO_iosystem_reconfig` after the checks of the call itself: the addresses resolved,
+    /// the job noted and handed to the server.
+    pub(crate) fn iosystem_reconfig(
+        &self,
+        tailor: bool,
+        devices: &[PNIO_ADDR],
+        ports: &[PNIO_ADDR],
+    ) -> u32 {
+        const WHAT: &str = "PNIO_iosystem_reconfig";
+        let s = &self.shared;
+        if s.callbacks.get(PNIO_CBE_IOSYSTEM_RECONFIG).is_none() {
+            return s.fail(
+                WHAT,
+                PNIO_ERR_SEQUENCE,
+                "register PNIO_CBE_IOSYSTEM_RECONFIG first: it says how the reconfiguration ended",
+            );
+        }
+        let resolve = |addr: &PNIO_ADDR, what: &str| {
+            address::resolve(&s.layout, addr).ok_or_else(|| {
+                s.fail(
+                    WHAT,
+                    PNIO_ERR_PRM_ADD,
+                    format_args!("no {what} has {}", address::describe(addr)),
+                )
+            })
+        };
+        let mut named_devices = Vec::new();
+        for addr in devices {
+            match resolve(addr, "device") {
+                Ok(r) => named_devices.push((r.device, *addr)),
+                Err(code) => return code,
+            }
+        }
+        let mut named_ports = Vec::new();
+        for addr in ports {
+            match resolve(addr, "port submodule") {
+                Ok(r) => named_ports.push((
+                    PortRef {
+                        device: r.device,
+                        slot: r.slot,
+                        subslot: r.subslot,
+                    },
+                    *addr,
+                )),
+                Err(code) => return code,
+            }
+        }
+        let tailoring = tailor.then(|| Tailoring {
+            devices: named_devices.iter().map(|(d, _)| *d).collect(),
+            links: named_ports
+                .chunks_exact(2)
+                .map(|pair| [pair[0].0, pair[1].0])
+                .collect(),
+        });
+        {
+            let mut jobs = lock(&s.jobs);
+            if jobs.reconfig.is_some() {
+                return s.fail(
+                    WHAT,
+                    PNIO_ERR_NOT_REENTERABLE,
+                    "the previous reconfiguration has not ended: wait for its \
+                     PNIO_CBE_IOSYSTEM_RECONFIG",
+                );
+            }
+            jobs.reconfig = Some(ReconfigJob {
+                tailor,
+                devices: named_devices,
+                ports: named_ports,
+                deadline: Instant::now() + JOB_TIMEOUT,
+                generation: None,
+            });
+        }
+        let sent = s.with_services(|sv| {
+            if let Some(j) = lock(&s.jobs).reconfig.as_mut() {
+                j.generation = sv.generation();
+            }
+            sv.reconfigure_io_system(tailoring)
+        });
+        let failed = match sent {
+            Some(Ok(())) => return PNIO_OK,
+            Some(Err(e)) => s.fail_control(WHAT, &e),
+            None => s.fail(
+                WHAT,
+                PNIO_ERR_NO_FW_COMMUNICATION,
+                "the controller is being closed",
+            ),
+        };
+        lock(&s.jobs).reconfig = None;
         failed
     }
 

@@ -7,24 +7,27 @@
 //! lock held, so the API (including the IO-data functions a callback may call) never waits
 //! for a callback.
 
-use super::{ActivationJob, DiagJob, RecordJob, Shared, build};
+use super::{ActivationJob, DiagJob, ReconfigJob, RecordJob, Shared, build};
 use crate::iobase::callbacks::CallbackTable;
 use crate::iobase::errors::{
-    PNIO_ERR_DEV_ACT_NOT_ALLOWED, PNIO_ERR_NO_FW_COMMUNICATION, PNIO_ERR_PRM_ADD,
-    PNIO_ERR_PRM_INVALIDARG, PNIO_OK,
+    PNIO_ERR_DEV_ACT_NOT_ALLOWED, PNIO_ERR_INVALID_PORT, PNIO_ERR_INVALID_STATION,
+    PNIO_ERR_NO_FW_COMMUNICATION, PNIO_ERR_PRM_ADD, PNIO_ERR_PRM_INVALIDARG, PNIO_OK,
 };
 use crate::iobase::sync::lock;
 use crate::iobase::types::{
-    PNIO_ADDR, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CBE_DEV_ACT_CONF, PNIO_CBE_PRM,
-    PNIO_CBE_PRM_ALARM_IND, PNIO_CBE_PRM_CTRL_DIAG_CONF, PNIO_CBE_PRM_DEV_ACT_CONF,
-    PNIO_CBE_PRM_REC_READ_CONF, PNIO_CBE_PRM_REC_WRITE_CONF, PNIO_CBE_REC_READ_CONF,
-    PNIO_CBE_REC_WRITE_CONF, PNIO_CTRL_ALARM_DATA, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT,
+    PNIO_ADDR, PNIO_ADDR_u, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CBE_DEV_ACT_CONF,
+    PNIO_CBE_IOSYSTEM_RECONFIG, PNIO_CBE_PRM, PNIO_CBE_PRM_ALARM_IND, PNIO_CBE_PRM_CTRL_DIAG_CONF,
+    PNIO_CBE_PRM_DEV_ACT_CONF, PNIO_CBE_PRM_IOSYS_CONF, PNIO_CBE_PRM_REC_READ_CONF,
+    PNIO_CBE_PRM_REC_WRITE_CONF, PNIO_CBE_REC_READ_CONF, PNIO_CBE_REC_WRITE_CONF,
+    PNIO_CTRL_ALARM_DATA, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT,
     PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO, PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST,
     PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST, PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC,
     PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA,
     PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_ERR_STAT, PNIO_REF,
 };
-use procimg_client::{AlarmReport, DeviceDiagnosis, DeviceState, Notification, RecordConfirmation};
+use procimg_client::{
+    AlarmReport, DeviceDiagnosis, DeviceState, Notification, RecordConfirmation, TailoringRefusal,
+};
 use std::os::fd::RawFd;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -109,6 +112,9 @@ fn handle(shared: &Shared, n: Notification) {
         Notification::Activation {
             device, active, ok, ..
         } => activation_done(shared, device, active, ok),
+        Notification::Reconfigured {
+            active, refused, ..
+        } => reconfigured(shared, active, refused.as_ref()),
         // The handle announces itself to a new server by itself; the jobs of its
         // predecessors will never be confirmed.
         Notification::ServerStarted { generation } => {
@@ -164,7 +170,17 @@ fn fail_jobs(shared: &Shared, gone: impl Fn(Option<u64>, Instant) -> bool) -> bo
         jobs.activations.extend(waiting);
         (records, lost)
     };
-    let any = !records.is_empty() || !activations.is_empty();
+    let reconfig = {
+        let mut jobs = lock(&shared.jobs);
+        match &jobs.reconfig {
+            Some(j) if gone(j.generation, j.deadline) => jobs.reconfig.take(),
+            _ => None,
+        }
+    };
+    if let Some(job) = &reconfig {
+        deliver_reconfig(shared, job, job.tailor, PNIO_ERR_NO_FW_COMMUNICATION, None);
+    }
+    let any = !records.is_empty() || !activations.is_empty() || reconfig.is_some();
     for job in records {
         deliver_record(shared, &job, build::NO_CONNECTION, &[]);
     }
@@ -304,6 +320,56 @@ fn activation_done(shared: &Shared, device: u32, active: bool, ok: bool) {
         };
         deliver_activation(shared, &job, result);
     }
+}
+
+/// The end of the reconfiguration under way: its callback, naming by the program's own
+/// address the device or port a refusal names.
+fn reconfigured(shared: &Shared, active: bool, refused: Option<&TailoringRefusal>) {
+    let Some(job) = lock(&shared.jobs).reconfig.take() else {
+        return;
+    };
+    let (status, addr) = match refused {
+        None => (PNIO_OK, None),
+        Some(TailoringRefusal::Station { device, .. }) => (
+            PNIO_ERR_INVALID_STATION,
+            job.devices
+                .iter()
+                .find(|(d, _)| d == device)
+                .map(|(_, a)| *a),
+        ),
+        Some(TailoringRefusal::Port { port, .. }) => (
+            PNIO_ERR_INVALID_PORT,
+            job.ports.iter().find(|(p, _)| p == port).map(|(_, a)| *a),
+        ),
+    };
+    deliver_reconfig(shared, &job, active, status, addr);
+}
+
+fn deliver_reconfig(
+    shared: &Shared,
+    job: &ReconfigJob,
+    active: bool,
+    status: u32,
+    addr: Option<PNIO_ADDR>,
+) {
+    let cbf = shared.callbacks.get(PNIO_CBE_IOSYSTEM_RECONFIG);
+    // All zero when nothing made it fail (the manual's "zero if none").
+    let mut addr = addr.unwrap_or(PNIO_ADDR {
+        AddrType: 0,
+        IODataType: 0,
+        u: PNIO_ADDR_u { Reserved: [0; 5] },
+    });
+    let mut prm = PNIO_CBE_PRM::new(PNIO_CBE_IOSYSTEM_RECONFIG, shared.handle);
+    prm.u.IoSystemReconf = PNIO_CBE_PRM_IOSYS_CONF {
+        pAddr: &mut addr,
+        Mode: if active && job.tailor {
+            PNIO_DA_TRUE
+        } else {
+            PNIO_DA_FALSE
+        },
+        Status: status,
+    };
+    CallbackTable::invoke(cbf, &mut prm);
 }
 
 fn deliver_activation(shared: &Shared, job: &ActivationJob, result: u32) {
