@@ -163,3 +163,53 @@ fn tailoring_brings_up_the_optional_devices_present_and_checks_the_ports_joined(
     assert_eq!(reconfigured(&mut s), (false, None));
     wait_states(&s, &[Deactivated, Deactivated, Deactivated]);
 }
+
+/// `procimg device tailor` and `procimg device deactivate-all`, as an operator runs them.
+#[test]
+fn the_command_line_tailors_and_deactivates() {
+    use DeviceState::{Deactivated, Running};
+    let config = format!(
+        "network = \"sim\"\n{}{}",
+        device("conveyor", "10.0.0.2", "echo", false),
+        device("labeller", "10.0.0.3", "echo", true),
+    );
+    let server = Launch::config("tailoring-cli", &config)
+        .until_cycling()
+        .start();
+    let procimg = procimg_testkit::workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(&procimg)
+            .args(["--instance", &server.instance, "device"])
+            .args(args)
+            .output()
+            .expect("run procimg");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stdout).into_owned()
+                + &String::from_utf8_lossy(&out.stderr),
+        )
+    };
+    let s = Services::open(&server.instance, ServiceOptions::new("cli-watch")).expect("open");
+    wait_states(&s, &[Running, Deactivated]);
+
+    let (ok, text) = run(&["tailor", "conveyor"]);
+    assert!(!ok && text.contains("not optional"), "{text}");
+    let (ok, text) = run(&[
+        "tailor",
+        "labeller",
+        "--link",
+        "conveyor:0x8001=labeller:0x8001",
+    ]);
+    assert!(!ok && text.contains("programmable"), "{text}");
+    let (ok, text) = run(&[
+        "tailor",
+        "labeller",
+        "--link",
+        "conveyor:0x8002=labeller:0x8001",
+    ]);
+    assert!(ok && text.contains("IO system tailored"), "{text}");
+    wait_states(&s, &[Running, Running]);
+    let (ok, text) = run(&["deactivate-all"]);
+    assert!(ok && text.contains("every device deactivated"), "{text}");
+    wait_states(&s, &[Deactivated, Deactivated]);
+}

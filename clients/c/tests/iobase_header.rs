@@ -128,6 +128,7 @@ fn layout_facts() -> (Sizes, Offsets) {
     ty!(PNIO_CBE_PRM_ALARM_IND, [pAddr, IndRef, pAlarmData]);
     ty!(PNIO_CBE_PRM_DEV_ACT_CONF, [pAddr, Mode, Result]);
     ty!(PNIO_CBE_PRM_LED_FLASH, [Frequency]);
+    ty!(PNIO_CBE_PRM_IOSYS_CONF, [pAddr, Mode, Status]);
     ty!(
         PNIO_CBE_PRM_CTRL_DIAG_CONF,
         [pDiagData, DiagDataBufferLen, pDiagDataBuffer, ErrorCode]
@@ -143,6 +144,7 @@ fn layout_facts() -> (Sizes, Offsets) {
         "DevActConf",
         "LedFlash",
         "CtrlDiagConf",
+        "IoSystemReconf",
     ] {
         offs.push(("PNIO_CBE_PRM", m, u));
     }
@@ -351,6 +353,10 @@ const FUNCTIONS: &[(&str, &str)] = &[
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CTRL_DIAG *)",
     ),
     (
+        "PNIO_iosystem_reconfig",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_IOS_RECONFIG_MODE, PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_ADDR *)",
+    ),
+    (
         "PNIO_CP_register_cbf",
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CP_CBE_TYPE, PNIO_CP_CBF)",
     ),
@@ -412,13 +418,21 @@ fn rust_signatures_are_the_manuals() {
     let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, U, PNIO_REF, U, *mut u8) -> U =
         PNIO_rec_write_req;
     let _: unsafe extern "C" fn(U, *mut PNIO_CTRL_DIAG) -> U = PNIO_ctrl_diag_req;
+    let _: unsafe extern "C" fn(
+        U,
+        PNIO_IOS_RECONFIG_MODE,
+        U,
+        *mut PNIO_ADDR,
+        U,
+        *mut PNIO_ADDR,
+    ) -> U = PNIO_iosystem_reconfig;
     let _: unsafe extern "C" fn(U, PNIO_CP_CBE_TYPE, PNIO_CP_CBF) -> U = PNIO_CP_register_cbf;
     let _: unsafe extern "C" fn(U, *mut PNIO_CYCLE_INFO) -> U = PNIO_CP_set_opdone;
     let _: unsafe extern "C" fn(U, U, PNIO_CBF_APPL_WATCHDOG) -> U = PNIO_CP_set_appl_watchdog;
     let _: unsafe extern "C" fn(U) -> U = PNIO_CP_trigger_watchdog;
     // The callback's type is the manual's: void (*)(PNIO_UINT32).
     let _: PNIO_CBF_APPL_WATCHDOG = None::<unsafe extern "C" fn(U)>;
-    assert_eq!(FUNCTIONS.len(), 19);
+    assert_eq!(FUNCTIONS.len(), 20);
 }
 
 fn program(cpp: bool) -> String {
