@@ -73,11 +73,14 @@
  * PNIO_ERR_NEWCYCLE_SEQUENCE_REG) makes the controller take part in the server's cycle handshake:
  * STARTOP_IND comes every cycle, on a thread of the library, from then on (also in OFFLINE).
  * Between STARTOP_IND and PNIO_CP_set_opdone, data_read and data_write act on this cycle's
- * consistent image, and the outputs written go out with PNIO_CP_set_opdone. procimg
- * exchanges all data in that window, so for an isochronous controller every submodule is IRT
- * data: outside the window data_read and data_write still work but return
- * PNIO_WARN_IRT_INCONSISTENT, the cached functions are passed to them (as the manual does
- * for IRT data), and refresh and flush have nothing to do. OPFAULT_IND reports a
+ * consistent image, and the outputs written go out with PNIO_CP_set_opdone. The window's
+ * rules hold for IRT data: the submodules configured with rt_class = 3 (CONFIG_SUBMODULE_LIST
+ * says PNIO_DATA_IRT for them). Outside the window data_read and data_write of IRT data still
+ * work but return PNIO_WARN_IRT_INCONSISTENT, and the cached functions are passed to them
+ * (as the manual does for IRT data). RT data (rt_class = 1) is accessed as by a controller
+ * that is not isochronous: PNIO_OK outside the window too, and data_read_cache_refresh and
+ * data_write_cache_flush move it (procimg sends both kinds in RT frames of its cycle; the
+ * window is what makes IRT data consistent with the cycle). OPFAULT_IND reports a
  * PNIO_CP_set_opdone that came too late (those outputs were not used); a late
  * PNIO_CP_set_opdone still returns PNIO_OK, and one without an open window (twice in a
  * cycle, before the first STARTOP_IND) gives PNIO_ERR_SEQUENCE.

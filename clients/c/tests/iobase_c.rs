@@ -142,6 +142,7 @@ fn pnio_isochronous_runs_the_cycle() {
     for line in [
         "isochronous controller",
         "with PNIO_WARN_IRT_INCONSISTENT",
+        "RT reads outside the window:",
         "cycles in OPERATE",
         "a second PNIO_CP_set_opdone in one cycle: 0x309",
         "back in mode OPERATE",

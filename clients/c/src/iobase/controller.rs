@@ -334,7 +334,6 @@ impl Controller {
             handle,
             cp_index: cp,
             layout: layout.clone(),
-            isochronous: isochronous.clone(),
             callbacks: callbacks.clone(),
             devices_up: devices_up.clone(),
         })?;

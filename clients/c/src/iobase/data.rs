@@ -11,6 +11,7 @@ use super::sync::lock;
 use super::types::*;
 use procimg_client::access::{AccessError, Resolved, Space, resolve_read, resolve_write};
 use procimg_client::{Client, Cycle, IoError, Ioxs};
+use procimg_shm_layout::RT_CLASS_3;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
@@ -267,6 +268,7 @@ pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
         a.buf_len as usize,
         ctl.slice,
     );
+    let irt_data = is_irt(&ctl, &resolved);
     // SAFETY: `rem` checked for NULL above.
     if let Err(code) = unsafe { reachable(f, &ctl, resolved, a.rem) } {
         return code;
@@ -274,6 +276,8 @@ pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
     // SAFETY: not NULL, and the caller's buffer holds BufLen bytes.
     let buf = unsafe { std::slice::from_raw_parts_mut(a.buf, a.buf_len as usize) };
     let iso = ctl.isochronous.load(Ordering::Acquire);
+    // The window's rules are IRT data's: an isochronous controller's RT data is read as any.
+    let irt = iso && irt_data;
     let mut guard = lock(&ctl.io);
     let io = &mut *guard;
     let (res, warn) = if kind == ReadKind::Outputs {
@@ -299,9 +303,9 @@ pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
             Ok(c) => c,
             Err(code) => return code,
         };
-        // The cached path of IRT data is the direct one (the manual), and for an
-        // isochronous controller all data is IRT.
-        let res = if kind == ReadKind::Cache && !iso {
+        // The cached path of an isochronous controller's IRT data is the direct one (the
+        // manual).
+        let res = if kind == ReadKind::Cache && !irt {
             match client.data_read_cache(address, buf, local) {
                 Err(IoError::NoImage { .. }) => {
                     return fail(
@@ -315,7 +319,7 @@ pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
         } else {
             delivered(client, |c| c.data_read(address, buf, local))
         };
-        (res.map(|x| (x.len, x.remote)), iso)
+        (res.map(|x| (x.len, x.remote)), irt)
     };
     drop(guard);
     match res {
@@ -331,12 +335,22 @@ pub(crate) unsafe fn read(f: &str, kind: ReadKind, a: &ReadArgs) -> u32 {
     }
 }
 
+/// Whether an access resolved to IRT data (a submodule of RT class 3).
+fn is_irt(ctl: &Controller, resolved: &Result<Resolved, AccessError>) -> bool {
+    resolved.as_ref().is_ok_and(|r| {
+        ctl.layout
+            .submodules
+            .get(r.submodule)
+            .is_some_and(|e| e.rt_class == RT_CLASS_3)
+    })
+}
+
 fn irt_inconsistent(f: &str) -> u32 {
     fail(
         f,
         PNIO_WARN_IRT_INCONSISTENT,
-        "done outside the STARTOP..PNIO_CP_set_opdone window of this isochronous controller: \
-         the data may belong to another cycle than the rest",
+        "IRT data accessed outside the STARTOP..PNIO_CP_set_opdone window of this isochronous \
+         controller: the data may belong to another cycle than the rest",
     )
 }
 
@@ -369,6 +383,7 @@ pub(crate) unsafe fn write(f: &str, cached: bool, a: &WriteArgs) -> u32 {
         a.buf_len as usize,
         ctl.slice,
     );
+    let irt_data = is_irt(&ctl, &resolved);
     // SAFETY: `rem` checked for NULL above.
     if let Err(code) = unsafe { reachable(f, &ctl, resolved, a.rem) } {
         return code;
@@ -376,6 +391,7 @@ pub(crate) unsafe fn write(f: &str, cached: bool, a: &WriteArgs) -> u32 {
     // SAFETY: not NULL, and the caller's buffer holds BufLen bytes.
     let data = unsafe { std::slice::from_raw_parts(a.buf.cast_const(), a.buf_len as usize) };
     let iso = ctl.isochronous.load(Ordering::Acquire);
+    let irt = iso && irt_data;
     let mut guard = lock(&ctl.io);
     let io = &mut *guard;
     let (res, warn) = if let Some(res) = iso
@@ -388,12 +404,12 @@ pub(crate) unsafe fn write(f: &str, cached: bool, a: &WriteArgs) -> u32 {
             Ok(c) => c,
             Err(code) => return code,
         };
-        let res = if cached && !iso {
+        let res = if cached && !irt {
             client.data_write_cache(address, data, local)
         } else {
             delivered(client, |c| c.data_write(address, data, local))
         };
-        (res, iso)
+        (res, irt)
     };
     drop(guard);
     match res {
@@ -411,10 +427,8 @@ pub(crate) fn cache(f: &str, handle: u32, flush: bool) -> u32 {
     let Some(ctl) = lookup_io(handle) else {
         return wrong_handle(f, handle);
     };
-    if ctl.isochronous.load(Ordering::Acquire) {
-        // Refresh and flush move RT data only; an isochronous controller's data is IRT.
-        return PNIO_OK;
-    }
+    // Refresh and flush move what the cached functions hold: for an isochronous controller
+    // its RT data only (its IRT data goes the direct way).
     let mut io = lock(&ctl.io);
     let client = match client(f, &ctl, &mut io) {
         Ok(c) => c,

@@ -353,7 +353,9 @@ static void records(void) {
               "element %u: %s %u, %u bytes, station %u slot %u", (unsigned)i,
               s.Address.IODataType == PNIO_IO_IN ? "I" : "Q", (unsigned)s.Address.u.Addr,
               (unsigned)s.DataLength, (unsigned)s.StatNo, (unsigned)s.Slot);
-        CHECK(s.DataType == PNIO_DATA_RT && s.ComType == PNIO_COM_UNICAST && s.Api == 0 &&
+        /* The echo's data is IRT (rt_class = 3 in the demo), the others' RT. */
+        PNIO_DATA_TYPE type = (i == 1 || i == 2) ? PNIO_DATA_IRT : PNIO_DATA_RT;
+        CHECK(s.DataType == type && s.ComType == PNIO_COM_UNICAST && s.Api == 0 &&
                   s.ReductionFactor == 1 && s.Phase == 0 && s.CycleTime == 32,
               "element %u: type %u, reduction %u, cycle %u", (unsigned)i, (unsigned)s.DataType,
               (unsigned)s.ReductionFactor, (unsigned)s.CycleTime);

@@ -217,9 +217,12 @@ pub(crate) mod tests {
         e
     }
 
-    /// The demo's IO system: echo (I 0..15, Q 0..15), counter (I 16..19), dio (I 20..21,
-    /// Q 16..17), each with a data-less DAP in slot 0 (diagnostic addresses I 22, 23, 24).
+    /// The demo's IO system: echo (I 0..15, Q 0..15, IRT data), counter (I 16..19), dio
+    /// (I 20..21, Q 16..17), each with a data-less DAP in slot 0 (diagnostic addresses I 22,
+    /// 23, 24).
     pub(crate) fn demo_layout() -> Layout {
+        let mut echo = sub(0, 1, Some((0, 16)), Some((0, 16)));
+        echo.rt_class = procimg_shm_layout::RT_CLASS_3;
         Layout {
             header: LayoutHeader {
                 cycle_ns: 1_000_000,
@@ -234,7 +237,7 @@ pub(crate) mod tests {
             ],
             submodules: vec![
                 sub(0, 0, Some((22, 0)), None),
-                sub(0, 1, Some((0, 16)), Some((0, 16))),
+                echo,
                 sub(1, 0, Some((23, 0)), None),
                 sub(1, 1, Some((16, 4)), None),
                 sub(2, 0, Some((24, 0)), None),

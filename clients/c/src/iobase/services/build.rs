@@ -172,10 +172,7 @@ pub(crate) fn station_alarm(
 
 /// The CONFIG_SUBMODULE_LIST answer: one element per data direction of every submodule
 /// with data, in layout order (inputs before outputs of the same submodule).
-pub(crate) fn submodule_list(
-    layout: &Layout,
-    isochronous: bool,
-) -> Vec<PNIO_CTRL_DIAG_CONFIG_SUBMODULE> {
+pub(crate) fn submodule_list(layout: &Layout) -> Vec<PNIO_CTRL_DIAG_CONFIG_SUBMODULE> {
     let cycle = u32::try_from(layout.header.cycle_ns / CYCLE_COUNT_UNIT_NS).unwrap_or(u32::MAX);
     let mut list = Vec::new();
     for e in &layout.submodules {
@@ -186,7 +183,7 @@ pub(crate) fn submodule_list(
         let element = |io, address, length: u16| PNIO_CTRL_DIAG_CONFIG_SUBMODULE {
             Address: PNIO_ADDR::logical(io, address),
             DataLength: u32::from(length),
-            DataType: if e.rt_class == RT_CLASS_3 || isochronous {
+            DataType: if e.rt_class == RT_CLASS_3 {
                 PNIO_DATA_IRT
             } else {
                 PNIO_DATA_RT
@@ -532,7 +529,7 @@ mod tests {
     #[test]
     fn the_submodule_list_has_one_element_per_direction_and_diagnostic_address() {
         let l = demo_layout();
-        let list = submodule_list(&l, false);
+        let list = submodule_list(&l);
         let seen: Vec<(u32, u32, u32, u32)> = list
             .iter()
             .map(|e| {
@@ -557,15 +554,24 @@ mod tests {
                 (PNIO_IO_OUT, 16, 2, 3),
             ]
         );
-        assert!(list.iter().all(|e| e.DataType == PNIO_DATA_RT
-            && e.CycleTime == 32
+        assert!(list.iter().all(|e| e.CycleTime == 32
             && e.ReductionFactor == 1
             && e.Phase == 0
             && e.ComType == PNIO_COM_UNICAST));
-        assert!(
-            submodule_list(&l, true)
-                .iter()
-                .all(|e| e.DataType == PNIO_DATA_IRT)
+        // The echo's data is IRT (RT class 3), the others' RT.
+        let types: Vec<u32> = list.iter().map(|e| e.DataType).collect();
+        assert_eq!(
+            types,
+            [
+                PNIO_DATA_RT,
+                PNIO_DATA_IRT,
+                PNIO_DATA_IRT,
+                PNIO_DATA_RT,
+                PNIO_DATA_RT,
+                PNIO_DATA_RT,
+                PNIO_DATA_RT,
+                PNIO_DATA_RT
+            ]
         );
         let slices = output_slices(&l);
         assert_eq!(slices.len(), 2);

@@ -93,8 +93,6 @@ pub(crate) struct ServiceContext {
     pub cp_index: u32,
     /// The server's layout, for logical addresses.
     pub layout: Layout,
-    /// True while the controller runs isochronously: its data is reported as IRT.
-    pub isochronous: Arc<AtomicBool>,
     /// The program's callbacks, read at delivery time.
     pub callbacks: Arc<CallbackTable>,
     /// Per device of the layout: in data exchange. The worker keeps it as the server's
@@ -177,7 +175,6 @@ struct Shared {
     instance: String,
     handle: u32,
     layout: Layout,
-    isochronous: Arc<AtomicBool>,
     callbacks: Arc<CallbackTable>,
     devices_up: Arc<DevicesUp>,
     /// Whether the server waits for our acknowledgement of alarms.
@@ -282,7 +279,6 @@ impl ServiceWorker {
             instance: ctx.instance,
             handle: ctx.handle,
             layout: ctx.layout,
-            isochronous: ctx.isochronous,
             callbacks: ctx.callbacks,
             devices_up: ctx.devices_up,
             acknowledges,

@@ -7,7 +7,8 @@ use crate::iobase::types::{
     PNIO_ALARM_DEV_FAILURE, PNIO_ALARM_DEV_RETURN, PNIO_CBE_DEV_ACT_CONF, PNIO_CBE_PRM,
     PNIO_CBE_REC_READ_CONF, PNIO_CBE_REC_WRITE_CONF, PNIO_CBE_TYPE, PNIO_CTRL_ALARM_DATA,
     PNIO_CTRL_DEV_DIAG_AR_IN_DATA, PNIO_CTRL_DEV_DIAG_AR_OFFLINE, PNIO_CTRL_DIAG_CONFIG_SUBMODULE,
-    PNIO_CTRL_DIAG_DEVICE, PNIO_CTRL_DIAG_u, PNIO_DATA_RT, PNIO_ERR_STAT, PNIO_IO_IN, PNIO_IO_OUT,
+    PNIO_CTRL_DIAG_DEVICE, PNIO_CTRL_DIAG_u, PNIO_DATA_IRT, PNIO_DATA_RT, PNIO_ERR_STAT,
+    PNIO_IO_IN, PNIO_IO_OUT,
 };
 use procimg_client::{AttachOptions, Client};
 use procimg_testkit::Procimgd;
@@ -156,7 +157,6 @@ fn worker(server: &Procimgd, types: &[PNIO_CBE_TYPE]) -> (u32, ServiceWorker) {
         handle,
         cp_index: 1,
         layout: client.layout().clone(),
-        isochronous: Arc::new(AtomicBool::new(false)),
         callbacks,
         devices_up: Arc::new(DevicesUp::new(client.layout().devices.len())),
     })
@@ -435,9 +435,11 @@ fn alarms_activation_and_diagnosis_reach_the_callbacks() {
             // SAFETY: each chunk is one PNIO_CTRL_DIAG_CONFIG_SUBMODULE, made of integers.
             let e: PNIO_CTRL_DIAG_CONFIG_SUBMODULE =
                 unsafe { std::ptr::read_unaligned(c.as_ptr().cast()) };
+            // The echo's data (I/Q 0, 16 bytes) is IRT in the demo, the rest RT.
+            let irt = e.Address.addr() == 0 && e.DataLength == 16;
             assert_eq!(
                 (e.DataType, e.CycleTime, e.ReductionFactor),
-                (PNIO_DATA_RT, 32, 1)
+                (if irt { PNIO_DATA_IRT } else { PNIO_DATA_RT }, 32, 1)
             );
             (
                 e.Address.IODataType,

@@ -452,13 +452,10 @@ fn diagnose(shared: &Shared) -> bool {
 
 fn answer(shared: &Shared, job: &DiagJob) -> (Answer, u32) {
     match job.service {
-        PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST => {
-            let irt = shared.isochronous.load(Ordering::Acquire);
-            (
-                Answer::Submodules(build::submodule_list(&shared.layout, irt)),
-                PNIO_OK,
-            )
-        }
+        PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST => (
+            Answer::Submodules(build::submodule_list(&shared.layout)),
+            PNIO_OK,
+        ),
         // procimg has no IO router: the answer is its length, 0.
         PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT => (Answer::None, PNIO_OK),
         PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST => (
@@ -567,7 +564,6 @@ mod tests {
             instance: "worker-test".into(),
             handle: 77,
             layout: demo_layout(),
-            isochronous: Arc::new(AtomicBool::new(false)),
             callbacks,
             devices_up: Arc::new(DevicesUp::new(3)),
             acknowledges: false,
