@@ -954,8 +954,8 @@ struct DemoDevice {
     file: &'static str,
     /// The name of its DAP.
     dap: &'static str,
-    /// (slot, module name) of its IO modules.
-    modules: &'static [(u16, &'static str)],
+    /// (slot, module name, RT class) of its IO modules.
+    modules: &'static [(u16, &'static str, u8)],
 }
 
 const DEMO_DEVICES: [DemoDevice; 3] = [
@@ -963,19 +963,20 @@ const DEMO_DEVICES: [DemoDevice; 3] = [
         name: "echo",
         file: DEMO_ECHO,
         dap: "Sim echo",
-        modules: &[(1, "Echo 16 bytes")],
+        // Marked IRT in demo.toml (rt_class is the configuration's, not the GSDML's).
+        modules: &[(1, "Echo 16 bytes", 3)],
     },
     DemoDevice {
         name: "counter",
         file: DEMO_COUNTER,
         dap: "Sim counter",
-        modules: &[(1, "Counter 32 bit")],
+        modules: &[(1, "Counter 32 bit", 1)],
     },
     DemoDevice {
         name: "dio",
         file: DEMO_DIO,
         dap: "Sim DIO",
-        modules: &[(1, "DI 16"), (2, "DO 16")],
+        modules: &[(1, "DI 16", 1), (2, "DO 16", 1)],
     },
 ];
 
@@ -1003,9 +1004,9 @@ fn demo_from_gsdml(list_slot_zero: bool) -> Config {
                 dev.dap
             ));
         }
-        for (slot, module) in dev.modules {
+        for (slot, module, rt_class) in dev.modules {
             text.push_str(&format!(
-                "[[device.submodule]]\nslot = {slot}\nmodule = {module:?}\n"
+                "[[device.submodule]]\nslot = {slot}\nmodule = {module:?}\nrt_class = {rt_class}\n"
             ));
         }
     }

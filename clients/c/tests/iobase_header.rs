@@ -437,41 +437,18 @@ fn rust_signatures_are_the_manuals() {
 
 fn program(cpp: bool) -> String {
     let (sizes, offsets) = layout_facts();
-    let mut s = String::new();
-    writeln!(s, "#include \"pniousrx.h\"").unwrap();
-    layout_check::prelude(&mut s, cpp);
-    // Each prototype must have exactly the manual's type: assigning the function to a
-    // pointer of that type compiles only then (C++ is strict about it, C warns, -Werror).
-    for (i, (f, t)) in FUNCTIONS.iter().enumerate() {
-        let decl = t.replacen("(*)", &format!("(*fn{i})"), 1);
-        writeln!(s, "static {decl} = {f};").unwrap();
-    }
-    // The watchdog's callback type has the manual's shape.
-    writeln!(
-        s,
-        "static void (*wd_shape)(PNIO_UINT32) = (PNIO_CBF_APPL_WATCHDOG)0;"
+    layout_check::header_program(
+        cpp,
+        &layout_check::HeaderFacts {
+            header: "pniousrx.h",
+            functions: FUNCTIONS,
+            // The watchdog's callback type has the manual's shape.
+            callbacks: &[("void (*)(PNIO_UINT32)", "PNIO_CBF_APPL_WATCHDOG")],
+            sizes: &sizes,
+            offsets: &offsets,
+            constants: &constants(),
+        },
     )
-    .unwrap();
-    writeln!(s, "int main(void) {{").unwrap();
-    for (i, (f, _)) in FUNCTIONS.iter().enumerate() {
-        writeln!(s, "    check(fn{i} == NULL, 0, \"{f}\");").unwrap();
-    }
-    writeln!(
-        s,
-        "    check(wd_shape != NULL, 0, \"PNIO_CBF_APPL_WATCHDOG\");"
-    )
-    .unwrap();
-    layout_check::layout_checks(&mut s, &sizes, &offsets);
-    for (n, v) in constants() {
-        writeln!(s, "    check((unsigned long long)({n}), {v}ull, \"{n}\");").unwrap();
-    }
-    writeln!(
-        s,
-        "    printf(\"%d mismatches, %d checks\\n\", fails, {});\n    return fails != 0;\n}}",
-        sizes.len() * 2 + offsets.len() + constants().len() + FUNCTIONS.len() + 1
-    )
-    .unwrap();
-    s
 }
 
 /// Linked with the library: every function the header declares must be exported.

@@ -137,41 +137,23 @@ fn rust_signatures_are_the_manuals() {
 
 fn program(cpp: bool) -> String {
     let (sizes, offsets) = layout_facts();
-    let mut s = String::new();
-    writeln!(s, "#include \"servusrx.h\"").unwrap();
-    layout_check::prelude(&mut s, cpp);
-    for (i, (f, t)) in FUNCTIONS.iter().enumerate() {
-        let decl = t.replacen("(*)", &format!("(*fn{i})"), 1);
-        writeln!(s, "static {decl} = {f};").unwrap();
-    }
-    // The callback types have the manual's shapes.
-    writeln!(
-        s,
-        "static void (*full_shape)(PNIO_UINT8 *, PNIO_UINT32) = (PNIO_PNTRC_BUFFER_FULL)0;\n\
-         static void (*done_shape)(void) = (PNIO_PNTRC_SET_TRACE_LEVEL_DONE)0;"
+    layout_check::header_program(
+        cpp,
+        &layout_check::HeaderFacts {
+            header: "servusrx.h",
+            functions: FUNCTIONS,
+            callbacks: &[
+                (
+                    "void (*)(PNIO_UINT8 *, PNIO_UINT32)",
+                    "PNIO_PNTRC_BUFFER_FULL",
+                ),
+                ("void (*)(void)", "PNIO_PNTRC_SET_TRACE_LEVEL_DONE"),
+            ],
+            sizes: &sizes,
+            offsets: &offsets,
+            constants: &constants(),
+        },
     )
-    .unwrap();
-    writeln!(s, "int main(void) {{").unwrap();
-    for (i, (f, _)) in FUNCTIONS.iter().enumerate() {
-        writeln!(s, "    check(fn{i} == NULL, 0, \"{f}\");").unwrap();
-    }
-    writeln!(
-        s,
-        "    check(full_shape != NULL, 0, \"PNIO_PNTRC_BUFFER_FULL\");\n    \
-         check(done_shape != NULL, 0, \"PNIO_PNTRC_SET_TRACE_LEVEL_DONE\");"
-    )
-    .unwrap();
-    layout_check::layout_checks(&mut s, &sizes, &offsets);
-    for (n, v) in constants() {
-        writeln!(s, "    check((unsigned long long)({n}), {v}ull, \"{n}\");").unwrap();
-    }
-    writeln!(
-        s,
-        "    printf(\"%d mismatches, %d checks\\n\", fails, {});\n    return fails != 0;\n}}",
-        sizes.len() * 2 + offsets.len() + constants().len() + FUNCTIONS.len() + 2
-    )
-    .unwrap();
-    s
 }
 
 /// Linked with the library: every function the header declares must be exported.

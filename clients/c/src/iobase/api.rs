@@ -14,6 +14,7 @@ use super::errors::*;
 use super::isochronous;
 use super::types::*;
 use crate::ffi::guard;
+use std::sync::Arc;
 
 /// Whether `h` is a device's handle (from `PNIO_device_open`): the isochronous functions
 /// take both kinds, and the two never share a number.
@@ -30,6 +31,24 @@ fn not_in_callback(f: &str) -> u32 {
          PNIO_CP_set_opdone may be called; leave the callback (set a flag) and call it from \
          your program's thread",
     )
+}
+
+/// The controller `handle` names, if it was opened with `PNIO_CEP_MODE_CTRL`, which
+/// `what` (device activation, reconfiguration) needs: else `PNIO_ERR_DEV_ACT_NOT_ALLOWED`.
+fn mode_controller(f: &str, handle: u32, what: &str) -> Result<Arc<Controller>, u32> {
+    let Some(ctl) = lookup(handle) else {
+        return Err(wrong_handle(f, handle));
+    };
+    if !ctl.mode_ctrl {
+        return Err(fail(
+            f,
+            PNIO_ERR_DEV_ACT_NOT_ALLOWED,
+            format_args!(
+                "controller {handle} was opened without PNIO_CEP_MODE_CTRL: it may not {what}"
+            ),
+        ));
+    }
+    Ok(ctl)
 }
 
 /// Opens an IO controller on CP `CpIndex` and registers the record and alarm callbacks
@@ -223,19 +242,10 @@ pub unsafe extern "C" fn PNIO_device_activate(
         if in_callback() {
             return not_in_callback(F);
         }
-        let Some(ctl) = lookup(Handle) else {
-            return wrong_handle(F, Handle);
+        let ctl = match mode_controller(F, Handle, "activate or deactivate devices") {
+            Ok(ctl) => ctl,
+            Err(code) => return code,
         };
-        if !ctl.mode_ctrl {
-            return fail(
-                F,
-                PNIO_ERR_DEV_ACT_NOT_ALLOWED,
-                format_args!(
-                    "controller {Handle} was opened without PNIO_CEP_MODE_CTRL: it may not \
-                     activate or deactivate devices"
-                ),
-            );
-        }
         if pAddr.is_null() {
             return fail(F, PNIO_ERR_PRM_ADD, "pAddr is NULL");
         }
@@ -279,19 +289,10 @@ pub unsafe extern "C" fn PNIO_iosystem_reconfig(
         if in_callback() {
             return not_in_callback(F);
         }
-        let Some(ctl) = lookup(Handle) else {
-            return wrong_handle(F, Handle);
+        let ctl = match mode_controller(F, Handle, "reconfigure the IO system") {
+            Ok(ctl) => ctl,
+            Err(code) => return code,
         };
-        if !ctl.mode_ctrl {
-            return fail(
-                F,
-                PNIO_ERR_DEV_ACT_NOT_ALLOWED,
-                format_args!(
-                    "controller {Handle} was opened without PNIO_CEP_MODE_CTRL: it may not \
-                     reconfigure the IO system"
-                ),
-            );
-        }
         let tailor = match Mode {
             PNIO_IOS_RECONFIG_MODE_DEACT => false,
             PNIO_IOS_RECONFIG_MODE_TAILOR => true,

@@ -371,15 +371,38 @@ impl ServiceWorker {
             );
             reference
         };
-        let sent = s.with_services(|sv| {
-            // Stamped under the services lock: the worker learns of a new server under it too.
-            if let Some(j) = lock(&s.jobs).records.get_mut(&reference) {
-                j.generation = sv.generation();
-            }
-            match write {
+        self.hand_over(
+            what,
+            |jobs, generation| {
+                if let Some(j) = jobs.records.get_mut(&reference) {
+                    j.generation = generation;
+                }
+            },
+            |sv| match write {
                 Some(data) => sv.record_write(target, data, reference),
                 None => sv.record_read(target, max_len, reference),
-            }
+            },
+            |jobs| {
+                jobs.records.remove(&reference);
+            },
+        )
+    }
+
+    /// Hands a noted job to the server: `stamp` gives it the generation of the server it
+    /// goes to (under the services lock: the worker learns of a new server under it too),
+    /// `send` sends it. When it cannot be sent, `forget` drops the note and the failure is
+    /// returned.
+    fn hand_over(
+        &self,
+        what: &str,
+        stamp: impl FnOnce(&mut Jobs, Option<u64>),
+        send: impl FnOnce(&mut Services) -> Result<(), ControlError>,
+        forget: impl FnOnce(&mut Jobs),
+    ) -> u32 {
+        let s = &self.shared;
+        let sent = s.with_services(|sv| {
+            stamp(&mut lock(&s.jobs), sv.generation());
+            send(sv)
         });
         let failed = match sent {
             Some(Ok(())) => return PNIO_OK,
@@ -390,7 +413,7 @@ impl ServiceWorker {
                 "the controller is being closed",
             ),
         };
-        lock(&s.jobs).records.remove(&reference);
+        forget(&mut lock(&s.jobs));
         failed
     }
 
@@ -481,24 +504,16 @@ impl ServiceWorker {
             });
             id
         };
-        let sent = s.with_services(|sv| {
-            // Stamped under the services lock, as a record job's.
-            if let Some(j) = lock(&s.jobs).activations.iter_mut().find(|j| j.id == id) {
-                j.generation = sv.generation();
-            }
-            sv.activate(r.device, active)
-        });
-        let failed = match sent {
-            Some(Ok(())) => return PNIO_OK,
-            Some(Err(e)) => s.fail_control(WHAT, &e),
-            None => s.fail(
-                WHAT,
-                PNIO_ERR_NO_FW_COMMUNICATION,
-                "the controller is being closed",
-            ),
-        };
-        lock(&s.jobs).activations.retain(|j| j.id != id);
-        failed
+        self.hand_over(
+            WHAT,
+            |jobs, generation| {
+                if let Some(j) = jobs.activations.iter_mut().find(|j| j.id == id) {
+                    j.generation = generation;
+                }
+            },
+            |sv| sv.activate(r.device, active),
+            |jobs| jobs.activations.retain(|j| j.id != id),
+        )
     }
 
     /// `PNIO_iosystem_reconfig` after the checks of the call itself: the addresses resolved,
@@ -573,23 +588,16 @@ impl ServiceWorker {
                 generation: None,
             });
         }
-        let sent = s.with_services(|sv| {
-            if let Some(j) = lock(&s.jobs).reconfig.as_mut() {
-                j.generation = sv.generation();
-            }
-            sv.reconfigure_io_system(tailoring)
-        });
-        let failed = match sent {
-            Some(Ok(())) => return PNIO_OK,
-            Some(Err(e)) => s.fail_control(WHAT, &e),
-            None => s.fail(
-                WHAT,
-                PNIO_ERR_NO_FW_COMMUNICATION,
-                "the controller is being closed",
-            ),
-        };
-        lock(&s.jobs).reconfig = None;
-        failed
+        self.hand_over(
+            WHAT,
+            |jobs, generation| {
+                if let Some(j) = jobs.reconfig.as_mut() {
+                    j.generation = generation;
+                }
+            },
+            |sv| sv.reconfigure_io_system(tailoring),
+            |jobs| jobs.reconfig = None,
+        )
     }
 
     /// `PNIO_ctrl_diag_req`: queues the request for the worker, which answers it with
