@@ -8,7 +8,6 @@ use procimg::iobase::api::*;
 use procimg::iobase::errors;
 use procimg::iobase::types::*;
 use procimg::iobase::watchdog::*;
-use std::fmt::Write as _;
 use std::mem::{align_of, offset_of, size_of};
 #[macro_use]
 mod layout_check;

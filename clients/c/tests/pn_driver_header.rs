@@ -7,7 +7,6 @@
 use procimg::iobase::pn_driver::*;
 use procimg::iobase::pn_driver_types::*;
 use procimg::iobase::types::{PNIO_UINT8, PNIO_UINT32};
-use std::fmt::Write as _;
 use std::mem::{align_of, offset_of, size_of};
 #[macro_use]
 mod layout_check;
