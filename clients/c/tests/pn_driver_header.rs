@@ -10,6 +10,7 @@ use procimg::iobase::types::{PNIO_UINT8, PNIO_UINT32};
 use std::mem::{align_of, offset_of, size_of};
 #[macro_use]
 mod layout_check;
+mod header_program;
 use layout_check::{Offsets, Sizes};
 
 fn layout_facts() -> (Sizes, Offsets) {
@@ -136,9 +137,9 @@ fn rust_signatures_are_the_manuals() {
 
 fn program(cpp: bool) -> String {
     let (sizes, offsets) = layout_facts();
-    layout_check::header_program(
+    header_program::header_program(
         cpp,
-        &layout_check::HeaderFacts {
+        &header_program::HeaderFacts {
             header: "servusrx.h",
             functions: FUNCTIONS,
             callbacks: &[
