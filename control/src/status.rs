@@ -128,6 +128,9 @@ pub struct NetworkReport {
 pub struct StatusReport {
     /// Instance name.
     pub instance: String,
+    /// procimgd's version (`0.1.0`).
+    #[serde(default)]
+    pub server_version: String,
     /// The server's PROFINET role: `"controller"` or `"device"`.
     #[serde(default = "controller_role")]
     pub role: String,
@@ -216,6 +219,24 @@ pub struct StationReport {
     pub mac: String,
     /// IPv4 address now (`0.0.0.0`: none).
     pub ip: String,
+    /// Subnet mask now.
+    #[serde(default)]
+    pub netmask: String,
+    /// Default gateway now (`0.0.0.0`: none).
+    #[serde(default)]
+    pub gateway: String,
+    /// The type of station DCP reports (DeviceVendorValue).
+    #[serde(default)]
+    pub type_of_station: String,
+    /// I&M0 OrderID.
+    #[serde(default)]
+    pub order_number: String,
+    /// I&M0 IM_Serial_Number.
+    #[serde(default)]
+    pub serial_number: String,
+    /// I&M0 IM_Hardware_Revision.
+    #[serde(default)]
+    pub hardware_revision: u16,
     /// VendorID.
     pub vendor_id: u16,
     /// DeviceID.
@@ -275,6 +296,9 @@ pub struct ControllerReport {
     pub type_of_station: String,
     /// The network interface (`"sim"`: the simulated network).
     pub interface: String,
+    /// The interface's MAC address.
+    #[serde(default)]
+    pub mac: String,
     /// Its IPv4 address.
     pub ip: String,
     /// Its subnet mask.

@@ -71,6 +71,16 @@
  * before SERV_CP_startup gives PNIO_ERR_SEQUENCE. A program that never calls SERV_CP_init
  * opens controllers on procimgd instances that run already, as a CP 1616 program does.
  *
+ * The CP service functions (chapter 8 of the manual) that procimg has: SERV_CP_get_fw_info
+ * tells the firmware of the CP that CpIndex names (see pniousrx.h): procimgd's version
+ * (fw_version 0.1.0 -> v1 0, v2 1, v3 0), the instance name as cp_ser_nr (a procimgd has no
+ * board serial number), the order number ("procimgd" for a controller, the station's I&M0
+ * OrderID in the device role), the hardware revision (0 for a controller, the station's
+ * I&M0 one), the interface's MAC in mac, its IPv4 address, mask and default router (network
+ * byte order, as struct in_addr holds them), the station name and the type of station. No
+ * procimgd serving that instance gives PNIO_ERR_NO_FW_COMMUNICATION. It may be called
+ * without SERV_CP_init, as on a CP.
+ *
  * The layout of PNIO_DEBUG_SETTINGS_TYPE is the manual's (PN Driver V1.0: the callback,
  * then the levels); PN Driver V2.1 inserts a second callback between them, so a V2.1
  * program's DebugSetting does not fit.
@@ -182,7 +192,30 @@ typedef struct {
     PNIO_UINT16 IM_ProfileId;
 } PNIO_SYSTEM_DESCR;
 
+/* ---- Chapter 8's firmware information --------------------------------------------------- */
+
+typedef struct {
+    PNIO_UINT16 v1, v2, v3, v4, v5, reserved; /* V1.2.3 -> v1 1, v2 2, v3 3 */
+} SERV_FW_VERS_TYPE;
+
+typedef struct {
+    SERV_FW_VERS_TYPE fw_version;
+    PNIO_UINT8 cp_ser_nr[16];       /* NUL-terminated */
+    PNIO_UINT8 mlfb[32];            /* order number, NUL-terminated */
+    PNIO_UINT16 hw_version;
+    PNIO_UINT8 mac[6];
+    PNIO_UINT32 ip_addr;            /* network byte order */
+    PNIO_UINT32 ip_mask;            /* network byte order */
+    PNIO_UINT32 default_router;     /* network byte order */
+    PNIO_UINT8 name[256];           /* NameOfStation, NUL-terminated */
+    PNIO_UINT8 TypeOfStation[256];  /* NUL-terminated */
+} SERV_CP_FW_INFO_TYPE;
+
 /* ---- Functions -------------------------------------------------------------------------- */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_get_fw_info(
+    PNIO_UINT32 CpIndex,            /* in */
+    SERV_CP_FW_INFO_TYPE *p_info);  /* out */
 
 PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_init(
     PNIO_DEBUG_SETTINGS_PTR_TYPE DebugSetting); /* in, may be NULL */

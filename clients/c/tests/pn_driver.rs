@@ -66,6 +66,12 @@ fn a_pn_driver_program_starts_uses_and_ends_its_own_stack() {
         "this machine has no Ethernet interface for the program to choose"
     );
     let procimgd = procimgd_bin();
+    // CP 2: a station in the device role, whose firmware information the program asks too.
+    let device = procimg_testkit::Launch::demo_device("pnd-dev")
+        .until_cycling()
+        .start();
+    let station = device.status().station.expect("a station");
+    let nobody = unique_instance("pnd-nobody");
     for link in [Link::Static, Link::Shared] {
         let instance = unique_instance("pnd");
         let config = demo_config(&instance);
@@ -74,7 +80,11 @@ fn a_pn_driver_program_starts_uses_and_ends_its_own_stack() {
             &program,
             &["run", config.to_str().unwrap()],
             &instance,
-            &[("PROCIMGD", procimgd.as_os_str())],
+            &[
+                ("PROCIMGD", procimgd.as_os_str()),
+                ("PROCIMG_CP2", device.instance.as_ref()),
+                ("PROCIMG_CP3", nobody.as_ref()),
+            ],
             RUN_TIMEOUT,
         );
         assert_success(&o, &format!("pnd_startup run ({link:?})"));
@@ -91,6 +101,36 @@ fn a_pn_driver_program_starts_uses_and_ends_its_own_stack() {
             .collect();
         let names: Vec<&str> = adapters.iter().map(|a| a.name.as_str()).collect();
         assert_eq!(listed, names, "SERV_CP_get_network_adapters ({link:?})");
+        // SERV_CP_get_fw_info of the stack (a controller) and of the station.
+        let version = env!("CARGO_PKG_VERSION");
+        let fw = |cp: u32| {
+            stdout
+                .lines()
+                .find_map(|l| l.strip_prefix(&format!("fw {cp}: ")))
+                .unwrap_or_else(|| panic!("no fw {cp} line in:\n{stdout}"))
+                .to_owned()
+        };
+        // cp_ser_nr holds 15 characters and the NUL.
+        let serial = |i: &str| i[..i.len().min(15)].to_owned();
+        let controller = fw(1);
+        assert!(
+            controller.starts_with(&format!(
+                "version {version} ser {} mlfb procimgd hw 0",
+                serial(&instance)
+            )) && controller.ends_with("type procimg controller"),
+            "{controller}"
+        );
+        let want = format!(
+            "version {version} ser {} mlfb {} hw {} mac {} ip {} name {} type {}",
+            serial(&device.instance),
+            station.order_number,
+            station.hardware_revision,
+            station.mac,
+            station.ip,
+            station.name,
+            station.type_of_station
+        );
+        assert_eq!(fw(2), want, "the station's firmware information");
         assert!(!instance_serves(&instance));
         assert!(stacks_of(&instance).is_empty(), "no procimgd left behind");
     }

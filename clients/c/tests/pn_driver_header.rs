@@ -51,6 +51,22 @@ fn layout_facts() -> (Sizes, Offsets) {
             IM_ProfileId
         ]
     );
+    ty!(SERV_FW_VERS_TYPE, [v1, v2, v3, v4, v5, reserved]);
+    ty!(
+        SERV_CP_FW_INFO_TYPE,
+        [
+            fw_version,
+            cp_ser_nr,
+            mlfb,
+            hw_version,
+            mac,
+            ip_addr,
+            ip_mask,
+            default_router,
+            name,
+            TypeOfStation
+        ]
+    );
     for e in ["PNIO_CP_SELECT_TYPE", "pnio_stack_comp", "pnio_trace_level"] {
         sizes.push((e, size_of::<u32>(), align_of::<u32>()));
     }
@@ -109,6 +125,10 @@ const FUNCTIONS: &[(&str, &str)] = &[
         "SERV_CP_set_trace_level",
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_UINT32, PNIO_PNTRC_SET_TRACE_LEVEL_DONE)",
     ),
+    (
+        "SERV_CP_get_fw_info",
+        "PNIO_UINT32 (*)(PNIO_UINT32, SERV_CP_FW_INFO_TYPE *)",
+    ),
 ];
 
 /// The Rust side of each exported function has the manual's signature.
@@ -131,8 +151,10 @@ fn rust_signatures_are_the_manuals() {
     let _: unsafe extern "C" fn() -> U = SERV_CP_shutdown;
     let _: unsafe extern "C" fn(U, U, PNIO_PNTRC_SET_TRACE_LEVEL_DONE) -> U =
         SERV_CP_set_trace_level;
+    let _: unsafe extern "C" fn(U, *mut SERV_CP_FW_INFO_TYPE) -> U =
+        procimg::iobase::cp_services::SERV_CP_get_fw_info;
     let _: PNIO_PNTRC_BUFFER_FULL = None::<unsafe extern "C" fn(*mut PNIO_UINT8, U)>;
-    assert_eq!(FUNCTIONS.len(), 6);
+    assert_eq!(FUNCTIONS.len(), 7);
 }
 
 fn program(cpp: bool) -> String {

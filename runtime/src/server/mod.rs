@@ -392,6 +392,7 @@ impl Control {
         let station = self.role.station();
         StatusReport {
             instance: self.info.instance.clone(),
+            server_version: env!("CARGO_PKG_VERSION").to_owned(),
             role: if station.is_some() {
                 "device"
             } else {

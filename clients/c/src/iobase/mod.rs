@@ -16,11 +16,13 @@
 //!   `io_failure`: the codes of a failed IO data access, for both; `handles`: the one
 //!   handle counter of both; [`watchdog`]: the CP application watchdog of both.
 //! * [`pn_driver`] and [`pn_driver_types`]: PN Driver's start-up (`servusrx.h`), a procimgd
-//!   started as the program's stack.
+//!   started as the program's stack; [`cp_services`]: the CP service functions of chapter 8
+//!   that procimg has.
 
 pub mod api;
 pub(crate) mod callbacks;
 mod controller;
+pub mod cp_services;
 mod cycle_thread;
 mod data;
 pub(crate) mod device;

@@ -159,3 +159,47 @@ pub struct PNIO_SYSTEM_DESCR {
     /// I&M: the profile.
     pub IM_ProfileId: PNIO_UINT16,
 }
+
+/// `SERV_FW_VERS_TYPE`: a firmware version, V`v1`.`v2`.`v3`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SERV_FW_VERS_TYPE {
+    /// Major.
+    pub v1: PNIO_UINT16,
+    /// Minor.
+    pub v2: PNIO_UINT16,
+    /// Patch.
+    pub v3: PNIO_UINT16,
+    /// Build.
+    pub v4: PNIO_UINT16,
+    /// Build increment (reserved).
+    pub v5: PNIO_UINT16,
+    /// Reserved.
+    pub reserved: PNIO_UINT16,
+}
+
+/// `SERV_CP_FW_INFO_TYPE`: what `SERV_CP_get_fw_info` tells of a CP.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct SERV_CP_FW_INFO_TYPE {
+    /// The firmware's (procimgd's) version.
+    pub fw_version: SERV_FW_VERS_TYPE,
+    /// The serial number, NUL-terminated: procimg writes the instance name.
+    pub cp_ser_nr: [PNIO_UINT8; 16],
+    /// The order number, NUL-terminated.
+    pub mlfb: [PNIO_UINT8; 32],
+    /// The hardware version.
+    pub hw_version: PNIO_UINT16,
+    /// The interface's MAC address.
+    pub mac: [PNIO_UINT8; 6],
+    /// IPv4 address, network byte order.
+    pub ip_addr: PNIO_UINT32,
+    /// Subnet mask, network byte order.
+    pub ip_mask: PNIO_UINT32,
+    /// Default router, network byte order.
+    pub default_router: PNIO_UINT32,
+    /// NameOfStation, NUL-terminated.
+    pub name: [PNIO_UINT8; 256],
+    /// Type of station, NUL-terminated.
+    pub TypeOfStation: [PNIO_UINT8; 256],
+}

@@ -18,7 +18,9 @@
  *                               "stack serving", then dies by abort(): the stack must end
  *                               with it
  *
- * CpIndex 1 is the instance in PROCIMG_INSTANCE; PROCIMGD names procimgd. Prints
+ * CpIndex 1 is the instance in PROCIMG_INSTANCE; PROCIMGD names procimgd. `run` also asks
+ * SERV_CP_get_fw_info of CP 1 (its stack), of CP 2 (PROCIMG_CP2: a station in the device
+ * role) and of CP 3 (PROCIMG_CP3: no procimgd), printing what CP 1 and 2 say. Prints
  * "pnd: all checks held" at the end of `run`.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -81,6 +83,20 @@ static PNIO_UINT32 startup(PNIO_CP_ID_TYPE *cp, const char *config, PNIO_UINT32 
     strcpy((char *)sys.Vendor, "procimg tests");
     strcpy((char *)sys.ProductFamily, "PN Driver program");
     return SERV_CP_startup(cp, 1, (PNIO_UINT8 *)config, len, NULL, 0, &sys);
+}
+
+static void print_fw_info(int cp) {
+    SERV_CP_FW_INFO_TYPE fw;
+    memset(&fw, 0xEE, sizeof fw);
+    CHECK_RC(SERV_CP_get_fw_info((PNIO_UINT32)cp, &fw), PNIO_OK);
+    const PNIO_UINT8 *ip = (const PNIO_UINT8 *)&fw.ip_addr;
+    printf("fw %d: version %u.%u.%u ser %s mlfb %s hw %u mac %02x:%02x:%02x:%02x:%02x:%02x "
+           "ip %u.%u.%u.%u name %s type %s\n",
+           cp, (unsigned)fw.fw_version.v1, (unsigned)fw.fw_version.v2,
+           (unsigned)fw.fw_version.v3, (const char *)fw.cp_ser_nr, (const char *)fw.mlfb,
+           (unsigned)fw.hw_version, fw.mac[0], fw.mac[1], fw.mac[2], fw.mac[3], fw.mac[4],
+           fw.mac[5], ip[0], ip[1], ip[2], ip[3], (const char *)fw.name,
+           (const char *)fw.TypeOfStation);
 }
 
 static PNIO_UINT32 open_operate(void) {
@@ -194,6 +210,14 @@ static void run(const char *config_path) {
              PNIO_OK);
     for (int k = 0; k < 1000 && !atomic_load(&level_done); k++) sleep_ms(10);
     CHECK(atomic_load(&level_done), "CbfSetTraceLevelDone never came");
+
+    /* The firmware information of the stack and of another CP. */
+    SERV_CP_FW_INFO_TYPE fw;
+    CHECK_RC(SERV_CP_get_fw_info(0, &fw), PNIO_ERR_PRM_CP_ID);
+    CHECK_RC(SERV_CP_get_fw_info(1, NULL), PNIO_ERR_PRM_POINTER);
+    CHECK_RC(SERV_CP_get_fw_info(3, &fw), PNIO_ERR_NO_FW_COMMUNICATION);
+    print_fw_info(1);
+    print_fw_info(2);
 
     h = open_operate();
     echo_round_trip(h);

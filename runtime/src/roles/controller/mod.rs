@@ -159,6 +159,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
             station_name: station_name.clone(),
             type_of_station: TYPE_OF_STATION.to_owned(),
             interface: config.network.to_string(),
+            mac: mac.to_string(),
             ip: ip.to_string(),
             netmask: netmask_of(if_index, ip).to_string(),
             gateway: Ipv4Addr::UNSPECIFIED.to_string(),

@@ -135,6 +135,12 @@ impl Station {
                 ip: config
                     .ip
                     .map_or_else(|| "0.0.0.0".to_owned(), |ip| ip.to_string()),
+                netmask: config.netmask.to_string(),
+                gateway: config.gateway.to_string(),
+                type_of_station: config.device_type.clone(),
+                order_number: config.order_number.clone(),
+                serial_number: config.serial_number.clone(),
+                hardware_revision: config.hardware_revision,
                 vendor_id: config.vendor_id,
                 device_id: config.device_id,
                 ar: None,
@@ -364,6 +370,8 @@ impl Station {
                 }
                 r.name.clone_from(&identity.name);
                 r.ip = ip;
+                r.netmask = identity.netmask.to_string();
+                r.gateway = identity.gateway.to_string();
             }
         }
     }

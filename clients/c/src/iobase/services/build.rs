@@ -292,13 +292,13 @@ pub(crate) fn device_state(d: &DeviceDiagnosis) -> PNIO_CTRL_DIAG_DEVICE {
 
 /// An address as IO-Base's structures hold it: `struct in_addr`'s `s_addr`, network byte
 /// order in memory; 0 for text that is not an address.
-fn in_addr(text: &str) -> u32 {
+pub(crate) fn in_addr(text: &str) -> u32 {
     text.parse::<std::net::Ipv4Addr>()
         .map_or(0, |ip| u32::from_ne_bytes(ip.octets()))
 }
 
 /// `text` NUL-terminated in `buf`, cut to fit.
-fn c_string(buf: &mut [u8; 256], text: &str) {
+pub(crate) fn c_string(buf: &mut [u8], text: &str) {
     let n = text.len().min(buf.len() - 1);
     buf[..n].copy_from_slice(&text.as_bytes()[..n]);
     buf[n..].fill(0);
@@ -391,6 +391,7 @@ mod tests {
             station_name: "procimgd-plant".into(),
             type_of_station: "procimg controller".into(),
             interface: "eth1".into(),
+            mac: "02:00:00:00:00:01".into(),
             ip: "10.0.0.1".into(),
             netmask: "255.255.0.0".into(),
             gateway: "0.0.0.0".into(),

@@ -39,7 +39,7 @@
 //!   `PNIO_ERR_DEV_ACT_NOT_ALLOWED`.
 
 mod address;
-mod build;
+pub(crate) mod build;
 mod worker;
 
 use super::callbacks::CallbackTable;
