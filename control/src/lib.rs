@@ -37,10 +37,11 @@ pub use diagnosis::{
 pub use names::*;
 pub use refusal::{AlarmRefusal, PlugRefusal, Refusal};
 pub use request::{
-    ClientRole, ControllerRequest, CoreRequest, DefinedIdentity, DeviceRequest, PortRef, Request,
+    ClientRole, ControllerRequest, CoreRequest, DefinedIdentity, DeviceRequest, Request,
     StationAlarmKind, StationTreeEntry, Tailoring, TreeRecords,
 };
 pub use response::Response;
+pub use services::PortRef;
 pub use space::Space;
 pub use states::{ArState, DeviceState};
 pub use status::{

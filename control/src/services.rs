@@ -425,6 +425,17 @@ impl Notification {
     }
 }
 
+/// A port submodule of a device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct PortRef {
+    /// Device index.
+    pub device: u32,
+    /// Slot (0).
+    pub slot: u16,
+    /// Subslot (0x8001 …).
+    pub subslot: u16,
+}
+
 /// Why a tailoring of the IO system was refused.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "refusal", rename_all = "snake_case")]
@@ -441,7 +452,7 @@ pub enum TailoringRefusal {
     /// `PNIO_ERR_INVALID_PORT`).
     Port {
         /// The port.
-        port: crate::request::PortRef,
+        port: PortRef,
         /// What is wrong, in words.
         reason: String,
     },

@@ -2,7 +2,7 @@
 //! The requests only a server in the IO controller role answers: record jobs, device
 //! activation, alarm acknowledgement and the IO system's diagnosis.
 
-use crate::services::RecordTarget;
+use crate::services::{PortRef, RecordTarget};
 use serde::{Deserialize, Serialize};
 
 /// A request of the IO controller's services.
@@ -92,15 +92,4 @@ pub struct Tailoring {
     pub devices: Vec<u32>,
     /// The ports joined, in pairs.
     pub links: Vec<[PortRef; 2]>,
-}
-
-/// A port submodule of a device.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub struct PortRef {
-    /// Device index.
-    pub device: u32,
-    /// Slot (0).
-    pub slot: u16,
-    /// Subslot (0x8001 …).
-    pub subslot: u16,
 }

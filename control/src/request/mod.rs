@@ -13,7 +13,7 @@ mod core;
 mod device;
 
 pub use self::core::{ClientRole, CoreRequest};
-pub use controller::{ControllerRequest, PortRef, Tailoring};
+pub use controller::{ControllerRequest, Tailoring};
 pub use device::{DefinedIdentity, DeviceRequest, StationAlarmKind, StationTreeEntry, TreeRecords};
 
 use serde::de::Error as _;
