@@ -1,85 +1,21 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The DCP responder of the device: Identify (all, by name and the other filters,
-//! answered after the ResponseDelay the request asks for), Get, and Set of the IP parameters
-//! and NameOfStation, Signal, start/stop transaction and reset to factory; and the Hello
-//! request a device may send at start-up.
+//! The device's DCP responder: the station's DCP side ([`crate::port::dcp_station`]) with
+//! the application's veto on the Sets that change the station (`dcp_veto.rs`).
 
 use super::dcp_veto::{DcpSetChecks, HeldSet, Hold, UnknownDcpSetCheck};
-use super::{Application, Device, DeviceAction, ethernet_frame};
+use super::{Application, Device, DeviceAction};
+use crate::port::dcp_station::{DcpAnswers, DcpRequest, busy_response};
+pub(super) use crate::port::dcp_station::{
+    DcpChanges as Changes, DcpIdentity as Identity, ROLE_IO_DEVICE, answer_set, hello_frame,
+    is_request_frame_id,
+};
 use crate::wire::MacAddress;
-use crate::wire::dcp::{self, Block, BlockRepr, ServiceId, ServiceType, block_error, code};
 
-/// DeviceRole bit 0: IO device.
-const ROLE_IO_DEVICE: u8 = 0x01;
-/// BlockInfo of the IP parameter block: bit 0, an IP address is set.
-const BLOCK_INFO_IP_SET: u16 = 0x0001;
-/// Longest NameOfStation.
-const MAX_NAME_LEN: usize = 240;
-/// Identify responses waiting for their delay at most; more requests in the window are not
-/// answered (a bound against a flood, far above what a network of controllers sends).
-const MAX_PENDING: usize = 64;
-
-/// The Xid of the Hello request (one per start-up, as p-net's).
-const HELLO_XID: u32 = 1;
-/// DeviceInitiative bit 0: the device sends a Hello request at start-up.
-const INITIATIVE_HELLO: u16 = 0x0001;
-
-/// The (option, suboption) pairs we answer in Get and announce in DeviceOptions.
-const OPTIONS: [(u8, u8); 14] = [
-    code::MAC_ADDRESS,
-    code::IP_PARAMETER,
-    code::FULL_IP_SUITE,
-    code::DEVICE_VENDOR,
-    code::NAME_OF_STATION,
-    code::DEVICE_ID,
-    code::DEVICE_ROLE,
-    code::DEVICE_OPTIONS,
-    code::DEVICE_INSTANCE,
-    code::CONTROL_START,
-    code::CONTROL_STOP,
-    code::CONTROL_SIGNAL,
-    code::RESET_TO_FACTORY,
-    code::DEVICE_INITIATIVE,
-];
-
-/// What the device is called and where it is, as DCP reads and sets it.
-#[derive(Clone, Debug)]
-pub(super) struct Identity {
-    pub(super) mac: MacAddress,
-    pub(super) name: String,
-    pub(super) ip: [u8; 4],
-    pub(super) mask: [u8; 4],
-    pub(super) gateway: [u8; 4],
-    pub(super) vendor_id: u16,
-    pub(super) device_id: u16,
-    pub(super) instance: u16,
-    pub(super) type_of_station: String,
-    /// Whether the device sends a Hello request at start-up (its DeviceInitiative).
-    pub(super) hello: bool,
-    /// The alias name its LLDP neighbour gives it (`<peer port>.<peer station>`), if it has
-    /// one neighbour that names itself.
-    pub(super) alias: Option<String>,
-}
-
-/// What a Set changed, for the device to act on (an AR ends when its station changes).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(super) struct Changes {
-    pub(super) name: bool,
-    pub(super) ip: bool,
-    /// The name was set to be kept permanently (BlockQualifier bit 0), changed or not.
-    pub(super) store_name: bool,
-    /// The IP suite was set to be kept permanently.
-    pub(super) store_ip: bool,
-    /// A Signal request arrived (flash the LED).
-    pub(super) signal: bool,
-    /// Reset to factory (communication parameters).
-    pub(super) reset: bool,
-}
-
-/// The DCP side of the device: Identify responses waiting for their delay.
+/// The DCP side of the device: Identify responses waiting for their delay, and the
+/// application's checks of Sets.
 #[derive(Default)]
 pub(super) struct Responder {
-    pending: Vec<(u64, Vec<u8>)>,
+    answers: DcpAnswers,
     /// The application's checks of Sets that change the station.
     pub(super) checks: DcpSetChecks,
 }
@@ -96,381 +32,38 @@ impl Responder {
         now_ns: u64,
         out: &mut Vec<DeviceAction>,
     ) -> Changes {
-        let Ok(packet) = dcp::Packet::new_checked(pdu) else {
-            return Changes::default();
+        let mut frames = Vec::new();
+        let req = self.answers.on_pdu(id, dst, src, pdu, now_ns, &mut frames);
+        let changes = match req {
+            DcpRequest::Done => Changes::default(),
+            DcpRequest::Set(req) => match self.checks.hold(src, &req, now_ns) {
+                Hold::GoAhead => answer_set(id, src, &req, true, &mut frames),
+                Hold::Wait(check) => {
+                    out.push(DeviceAction::DcpSetCheck(check));
+                    Changes::default()
+                }
+                Hold::Repeat => Changes::default(),
+                Hold::Busy => {
+                    frames.extend(busy_response(id, src, &req));
+                    Changes::default()
+                }
+            },
         };
-        let Ok(req) = dcp::Repr::parse(&packet) else {
-            return Changes::default();
-        };
-        if req.service_type != ServiceType::Request {
-            return Changes::default();
-        }
-        let to_us = dst == id.mac;
-        match (req.frame_id, req.service_id) {
-            (dcp::FRAME_ID_IDENTIFY_REQUEST, ServiceId::Identify)
-                if to_us || dst == MacAddress::DCP_IDENTIFY =>
-            {
-                if !req.blocks.iter().all(|b| matches(id, &b.value)) {
-                    return Changes::default();
-                }
-                let res = response(&req, dcp::FRAME_ID_IDENTIFY_RESPONSE, identify_blocks(id));
-                let Some(frame) = frame(id.mac, src, &res) else {
-                    return Changes::default();
-                };
-                let delay = dcp::response_delay_ns(id.mac, req.response_delay);
-                if delay == 0 {
-                    out.push(DeviceAction::Frame(frame));
-                } else if self.pending.len() < MAX_PENDING {
-                    self.pending.push((now_ns.saturating_add(delay), frame));
-                }
-                Changes::default()
-            }
-            (dcp::FRAME_ID_GET_SET, ServiceId::Get) if to_us => {
-                let blocks = req.blocks.iter().map(|b| get(id, b.value.code())).collect();
-                let res = response(&req, dcp::FRAME_ID_GET_SET, blocks);
-                out.extend(frame(id.mac, src, &res).map(DeviceAction::Frame));
-                Changes::default()
-            }
-            (dcp::FRAME_ID_GET_SET, ServiceId::Set) if to_us => {
-                match self.checks.hold(src, &req, now_ns) {
-                    Hold::GoAhead => answer_set(id, src, &req, true, out),
-                    Hold::Wait(check) => {
-                        out.push(DeviceAction::DcpSetCheck(check));
-                        Changes::default()
-                    }
-                    Hold::Repeat => Changes::default(),
-                    Hold::Busy => {
-                        let blocks = req
-                            .blocks
-                            .iter()
-                            .map(|b| control_response(b, block_error::RESOURCE_ERROR))
-                            .collect();
-                        let res = response(&req, dcp::FRAME_ID_GET_SET, blocks);
-                        out.extend(frame(id.mac, src, &res).map(DeviceAction::Frame));
-                        Changes::default()
-                    }
-                }
-            }
-            _ => Changes::default(),
-        }
+        out.extend(frames.into_iter().map(DeviceAction::Frame));
+        changes
     }
 
     /// Sends the Identify responses whose delay is over.
     pub(super) fn poll(&mut self, now_ns: u64, out: &mut Vec<DeviceAction>) {
-        let (due, later): (Vec<_>, Vec<_>) =
-            self.pending.drain(..).partition(|(at, _)| *at <= now_ns);
-        self.pending = later;
-        out.extend(due.into_iter().map(|(_, f)| DeviceAction::Frame(f)));
+        let mut frames = Vec::new();
+        self.answers.poll(now_ns, &mut frames);
+        out.extend(frames.into_iter().map(DeviceAction::Frame));
     }
 
     /// When the next delayed response is due.
     pub(super) fn next_deadline_ns(&self) -> Option<u64> {
-        self.pending.iter().map(|(at, _)| *at).min()
+        self.answers.next_deadline_ns()
     }
-}
-
-/// The response to `req`: same service and Xid, ServiceType success, no delay field.
-fn response(req: &dcp::Repr, frame_id: u16, blocks: Vec<Block>) -> dcp::Repr {
-    dcp::Repr {
-        frame_id,
-        service_id: req.service_id,
-        service_type: ServiceType::Success,
-        xid: req.xid,
-        response_delay: 0,
-        blocks,
-    }
-}
-
-/// The response frame: untagged, like p-net's (DCP needs no priority), padded to 60 bytes.
-fn frame(src: MacAddress, dst: MacAddress, repr: &dcp::Repr) -> Option<Vec<u8>> {
-    let pdu = repr.to_vec().ok()?;
-    Some(ethernet_frame(dst, src, None, &pdu))
-}
-
-/// Whether an Identify filter block matches the device (every block must).
-fn matches(id: &Identity, filter: &BlockRepr) -> bool {
-    match filter {
-        BlockRepr::AllSelector => true,
-        BlockRepr::NameOfStation(n) => !id.name.is_empty() && *n == id.name,
-        BlockRepr::DeviceVendor(v) => *v == id.type_of_station,
-        BlockRepr::DeviceId {
-            vendor_id,
-            device_id,
-        } => (*vendor_id, *device_id) == (id.vendor_id, id.device_id),
-        BlockRepr::DeviceRole { role, .. } => role & ROLE_IO_DEVICE != 0,
-        BlockRepr::DeviceInstance { high, low } => u16::from_be_bytes([*high, *low]) == id.instance,
-        BlockRepr::IpParameter { ip, mask, gateway } => {
-            (*ip, *mask, *gateway) == (id.ip, id.mask, id.gateway)
-        }
-        BlockRepr::MacAddress(m) => *m == id.mac,
-        // The alias is what the LLDP neighbour makes of the device: a controller finds a
-        // device without a name by where it is plugged.
-        BlockRepr::AliasName(a) => id.alias.as_deref() == Some(a.as_str()),
-        // Filters we do not know match nothing.
-        _ => false,
-    }
-}
-
-/// The value of one (option, suboption) as a response block.
-fn value(id: &Identity, (option, suboption): (u8, u8)) -> Option<Block> {
-    let v = match (option, suboption) {
-        code::MAC_ADDRESS => BlockRepr::MacAddress(id.mac),
-        code::IP_PARAMETER => BlockRepr::IpParameter {
-            ip: id.ip,
-            mask: id.mask,
-            gateway: id.gateway,
-        },
-        code::FULL_IP_SUITE => BlockRepr::FullIpSuite {
-            ip: id.ip,
-            mask: id.mask,
-            gateway: id.gateway,
-            dns: [[0; 4]; 4],
-        },
-        code::DEVICE_VENDOR => BlockRepr::DeviceVendor(id.type_of_station.clone()),
-        code::NAME_OF_STATION => BlockRepr::NameOfStation(id.name.clone()),
-        code::DEVICE_ID => BlockRepr::DeviceId {
-            vendor_id: id.vendor_id,
-            device_id: id.device_id,
-        },
-        code::DEVICE_ROLE => BlockRepr::DeviceRole {
-            role: ROLE_IO_DEVICE,
-            reserved: 0,
-        },
-        code::DEVICE_OPTIONS => BlockRepr::DeviceOptions(OPTIONS.to_vec()),
-        code::DEVICE_INSTANCE => {
-            let [high, low] = id.instance.to_be_bytes();
-            BlockRepr::DeviceInstance { high, low }
-        }
-        code::DEVICE_INITIATIVE => {
-            BlockRepr::DeviceInitiative(if id.hello { INITIATIVE_HELLO } else { 0 })
-        }
-        _ => return None,
-    };
-    // BlockInfo of the IP blocks: whether an address is set; 0 for the others.
-    let info = match v {
-        BlockRepr::IpParameter { .. } | BlockRepr::FullIpSuite { .. } if id.ip != [0; 4] => {
-            BLOCK_INFO_IP_SET
-        }
-        _ => 0,
-    };
-    Some(Block::new(info, v))
-}
-
-/// The blocks of an Identify response, in p-net's order plus the DeviceInstance (which lets
-/// a controller build our RPC object UUID without guessing the instance).
-fn identify_blocks(id: &Identity) -> Vec<Block> {
-    [
-        code::IP_PARAMETER,
-        code::DEVICE_VENDOR,
-        code::NAME_OF_STATION,
-        code::DEVICE_ID,
-        code::DEVICE_ROLE,
-        code::DEVICE_OPTIONS,
-        code::DEVICE_INSTANCE,
-    ]
-    .into_iter()
-    .filter_map(|c| value(id, c))
-    .collect()
-}
-
-/// The Hello request (device initiative) to [`MacAddress::DCP_HELLO`], untagged: the
-/// blocks IEC 61158-6-10's DCP-Hello-ReqPDU lists (as p-net quotes its syntax:
-/// NameOfStation, IPParameter, DeviceID, DeviceOptions or DeviceVendor, DeviceRole,
-/// DeviceInitiative), each with its BlockInfo, the DeviceVendor chosen of the two.
-pub(super) fn hello_frame(id: &Identity) -> Option<Vec<u8>> {
-    let blocks = [
-        code::NAME_OF_STATION,
-        code::IP_PARAMETER,
-        code::DEVICE_ID,
-        code::DEVICE_VENDOR,
-        code::DEVICE_ROLE,
-        code::DEVICE_INITIATIVE,
-    ]
-    .into_iter()
-    .filter_map(|c| value(id, c))
-    .collect();
-    let req = dcp::Repr {
-        frame_id: dcp::FRAME_ID_HELLO,
-        service_id: ServiceId::Hello,
-        service_type: ServiceType::Request,
-        xid: HELLO_XID,
-        response_delay: 0,
-        blocks,
-    };
-    frame(id.mac, MacAddress::DCP_HELLO, &req)
-}
-
-/// The answer to one Get pair: its value, or a ControlResponse with the reason.
-fn get(id: &Identity, (option, suboption): (u8, u8)) -> Block {
-    value(id, (option, suboption)).unwrap_or_else(|| {
-        Block::bare(BlockRepr::ControlResponse {
-            option,
-            suboption,
-            error: unsupported(option),
-        })
-    })
-}
-
-/// BlockError for an (option, suboption) we do not serve.
-fn unsupported(option: u8) -> u8 {
-    if matches!(option, 0x01 | 0x02 | 0x05 | 0x06) {
-        block_error::SUBOPTION_UNSUPPORTED
-    } else {
-        block_error::OPTION_UNSUPPORTED
-    }
-}
-
-/// Carries out Set request `req` from `src` and answers it; with `allow` false its name,
-/// address and reset blocks are refused ("SET not possible") and leave the station alone.
-/// Returns what changed.
-pub(super) fn answer_set(
-    id: &mut Identity,
-    src: MacAddress,
-    req: &dcp::Repr,
-    allow: bool,
-    out: &mut Vec<DeviceAction>,
-) -> Changes {
-    let mut changes = Changes::default();
-    let blocks = req
-        .blocks
-        .iter()
-        .map(|b| {
-            let vetoed = !allow
-                && matches!(
-                    b.value,
-                    BlockRepr::NameOfStation(_)
-                        | BlockRepr::IpParameter { .. }
-                        | BlockRepr::FullIpSuite { .. }
-                        | BlockRepr::ResetToFactory(_)
-                        | BlockRepr::FactoryReset(_)
-                );
-            let error = if vetoed {
-                block_error::SET_NOT_POSSIBLE
-            } else {
-                set(id, b, &mut changes)
-            };
-            control_response(b, error)
-        })
-        .collect();
-    let res = response(req, dcp::FRAME_ID_GET_SET, blocks);
-    out.extend(frame(id.mac, src, &res).map(DeviceAction::Frame));
-    changes
-}
-
-/// The ControlResponse block answering Set block `b` with `error`.
-fn control_response(b: &Block, error: u8) -> Block {
-    let (option, suboption) = b.value.code();
-    Block::bare(BlockRepr::ControlResponse {
-        option,
-        suboption,
-        error,
-    })
-}
-
-/// Applies one Set block; returns its BlockError.
-fn set(id: &mut Identity, b: &Block, changes: &mut Changes) -> u8 {
-    // BlockQualifier bit 0: keep the value across a restart (permanent), else until then.
-    let permanent = b.prefix & 1 == 1;
-    match &b.value {
-        BlockRepr::IpParameter { ip, mask, gateway }
-        | BlockRepr::FullIpSuite {
-            ip, mask, gateway, ..
-        } => {
-            if !valid_ip(*ip, *mask, *gateway) {
-                return block_error::SET_NOT_POSSIBLE;
-            }
-            changes.ip |= (id.ip, id.mask, id.gateway) != (*ip, *mask, *gateway);
-            changes.store_ip |= permanent;
-            (id.ip, id.mask, id.gateway) = (*ip, *mask, *gateway);
-            block_error::OK
-        }
-        BlockRepr::NameOfStation(n) => {
-            if !valid_name(n) {
-                return block_error::SET_NOT_POSSIBLE;
-            }
-            changes.name |= id.name != *n;
-            changes.store_name |= permanent;
-            id.name.clone_from(n);
-            block_error::OK
-        }
-        BlockRepr::ControlStart | BlockRepr::ControlStop => block_error::OK,
-        BlockRepr::ControlSignal(_) => {
-            changes.signal = true;
-            block_error::OK
-        }
-        BlockRepr::ResetToFactory(_) | BlockRepr::FactoryReset(_) => {
-            // Resetting the communication parameters: no name, no IP.
-            changes.reset = true;
-            // What a restart comes back with, too: the factory state.
-            changes.store_name = true;
-            changes.store_ip = true;
-            id.name.clear();
-            (id.ip, id.mask, id.gateway) = ([0; 4], [0; 4], [0; 4]);
-            block_error::OK
-        }
-        // Read-only properties of the device.
-        BlockRepr::MacAddress(_)
-        | BlockRepr::DeviceVendor(_)
-        | BlockRepr::DeviceId { .. }
-        | BlockRepr::DeviceRole { .. }
-        | BlockRepr::DeviceOptions(_)
-        | BlockRepr::DeviceInstance { .. } => block_error::SET_NOT_POSSIBLE,
-        other => unsupported(other.code().0),
-    }
-}
-
-/// A NameOfStation a device accepts: empty (no name) or up to 240 characters of dot-separated
-/// labels of 1 to 63 lower-case letters, digits and inner hyphens, not an IPv4 address and not
-/// a port name (`port-xyz`, `port-xyz-abcde`).
-pub(super) fn valid_name(n: &str) -> bool {
-    if n.is_empty() {
-        return true;
-    }
-    if n.len() > MAX_NAME_LEN {
-        return false;
-    }
-    let label_ok = |l: &str| {
-        !l.is_empty()
-            && l.len() <= 63
-            && !l.starts_with('-')
-            && !l.ends_with('-')
-            && l.bytes()
-                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'-')
-    };
-    if !n.split('.').all(label_ok) {
-        return false;
-    }
-    let looks_like_ip = n.split('.').count() == 4 && n.split('.').all(|l| l.parse::<u8>().is_ok());
-    let first = n.split('.').next().unwrap_or("");
-    let port = |s: &str| s.len() == 3 && s.bytes().all(|c| c.is_ascii_digit());
-    let looks_like_port = first.strip_prefix("port-").is_some_and(|rest| {
-        rest.split_once('-')
-            .map_or(port(rest), |(a, b)| port(a) && b.len() == 5)
-    });
-    !looks_like_ip && !looks_like_port
-}
-
-/// IP parameters a device accepts: all zero (no address), or a unicast address with a
-/// contiguous mask and a gateway that is none (0 or the address itself) or in the subnet.
-fn valid_ip(ip: [u8; 4], mask: [u8; 4], gateway: [u8; 4]) -> bool {
-    if ip == [0; 4] {
-        return mask == [0; 4] && gateway == [0; 4];
-    }
-    let (a, m, g) = (
-        u32::from_be_bytes(ip),
-        u32::from_be_bytes(mask),
-        u32::from_be_bytes(gateway),
-    );
-    let contiguous = m.leading_ones() + m.trailing_zeros() == 32;
-    let unicast = ip[0] != 0 && ip[0] != 127 && ip[0] < 224;
-    let host_part_ok = m == u32::MAX || (a & !m != 0 && a & !m != !m);
-    let gateway_ok = g == 0 || g == a || (g & m == a & m && g & !m != 0 && g & !m != !m);
-    contiguous && unicast && host_part_ok && gateway_ok
-}
-
-/// Whether a FrameID is one of the DCP requests a device answers (Identify, Get/Set).
-pub(super) fn is_request_frame_id(frame_id: u16) -> bool {
-    frame_id == dcp::FRAME_ID_IDENTIFY_REQUEST || frame_id == dcp::FRAME_ID_GET_SET
 }
 
 /// The application's veto on DCP's changes (`dcp_veto.rs`): turning the checks on,
@@ -517,44 +110,15 @@ impl<A: Application> Device<A> {
     }
 
     fn carry_out_set(&mut self, held: &HeldSet, allow: bool, out: &mut Vec<DeviceAction>) {
-        let changes: Changes = answer_set(&mut self.station.id, held.src, &held.req, allow, out);
+        let mut frames = Vec::new();
+        let changes = answer_set(
+            &mut self.station.id,
+            held.src,
+            &held.req,
+            allow,
+            &mut frames,
+        );
+        out.extend(frames.into_iter().map(DeviceAction::Frame));
         self.after_dcp(changes, out);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn names() {
-        for ok in ["", "rt-labs-dev", "a.b-c.d0", "dio"] {
-            assert!(valid_name(ok), "{ok}");
-        }
-        for bad in [
-            "Upper",
-            "-x",
-            "x-",
-            "a..b",
-            "1.2.3.4",
-            "port-001",
-            "port-001-00001",
-            "under_score",
-        ] {
-            assert!(!valid_name(bad), "{bad}");
-        }
-        assert!(!valid_name(&"a".repeat(241)));
-    }
-
-    #[test]
-    fn ip_parameters() {
-        let ip = [172, 16, 2, 10];
-        assert!(valid_ip(ip, [255, 255, 255, 0], ip));
-        assert!(valid_ip(ip, [255, 255, 255, 0], [172, 16, 2, 1]));
-        assert!(valid_ip([0; 4], [0; 4], [0; 4]));
-        assert!(!valid_ip(ip, [255, 0, 255, 0], ip));
-        assert!(!valid_ip([224, 0, 0, 1], [255, 0, 0, 0], [0; 4]));
-        assert!(!valid_ip([172, 16, 2, 255], [255, 255, 255, 0], [0; 4]));
-        assert!(!valid_ip(ip, [255, 255, 255, 0], [10, 0, 0, 1]));
     }
 }

@@ -101,7 +101,7 @@ pub mod topology;
 use crate::cyclic::{CyclicAr, Verdict};
 use crate::port::lldp;
 use crate::wire::control::ControlBlock;
-use crate::wire::ethernet::{self, ETHERTYPE_PROFINET, VlanTag};
+use crate::wire::ethernet::{self, ETHERTYPE_PROFINET};
 use crate::wire::record::Im0;
 use crate::wire::rpc::{self as wire_rpc, Header, PacketType};
 use crate::wire::rt::FrameIdClass;
@@ -241,19 +241,7 @@ pub const SIM_ALARM_INDEX: u16 = 0x7FF0;
 pub const SIM_ALARM_USI: u16 = 0x0001;
 /// AlarmAcks [`AlarmAcks::list`] keeps, the most recent.
 pub const MAX_KEPT_ACKS: usize = 64;
-/// The smallest Ethernet frame without FCS; shorter frames are padded.
-const MIN_FRAME_LEN: usize = 60;
-
-/// An Ethernet frame around a PROFINET PDU, tagged if `tci` is given, padded to 60 bytes.
-fn ethernet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]) -> Vec<u8> {
-    let eth = ethernet::Repr {
-        dst,
-        src,
-        vlan: tci.map(VlanTag::from_tci),
-        ethertype: ETHERTYPE_PROFINET,
-    };
-    eth.frame(pdu, MIN_FRAME_LEN)
-}
+use crate::wire::ethernet::profinet_frame as ethernet_frame;
 
 /// A PROFINET IO device.
 pub struct Device<A> {
@@ -303,6 +291,7 @@ impl<A: Application> Device<A> {
                     device_id: spec.device_id,
                     instance: spec.instance,
                     type_of_station: "procimg simulated device".into(),
+                    role: dcp::ROLE_IO_DEVICE,
                     hello: false,
                     alias: None,
                 },

@@ -209,6 +209,21 @@ impl Repr {
     }
 }
 
+/// The smallest Ethernet frame without FCS; shorter frames are padded.
+pub const MIN_FRAME_LEN: usize = 60;
+
+/// An Ethernet frame around a PROFINET PDU, tagged if `tci` is given, padded to
+/// [`MIN_FRAME_LEN`] bytes.
+pub fn profinet_frame(dst: MacAddress, src: MacAddress, tci: Option<u16>, pdu: &[u8]) -> Vec<u8> {
+    let eth = Repr {
+        dst,
+        src,
+        vlan: tci.map(VlanTag::from_tci),
+        ethertype: ETHERTYPE_PROFINET,
+    };
+    eth.frame(pdu, MIN_FRAME_LEN)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
