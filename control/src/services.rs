@@ -242,6 +242,10 @@ pub enum Notification {
         /// Why it was refused, changing nothing; `None`: done.
         refused: Option<TailoringRefusal>,
     },
+    /// Controller role: a DCP Signal came to the controller's own station, which is to flash
+    /// its LED for three seconds (IO-Base `PNIO_CBE_START_LED_FLASH`, then
+    /// `PNIO_CBE_STOP_LED_FLASH`).
+    ControllerSignal,
     /// Device role: the station's AR reached a state (GOAL's and IO-Base's AR indications).
     StationAr {
         /// The state it reached. A state passed within one step of the station may not be

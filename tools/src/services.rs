@@ -201,6 +201,9 @@ fn describe(n: &Notification) -> String {
             "device #{device} {}",
             if *active { "activated" } else { "deactivated" }
         ),
+        Notification::ControllerSignal => {
+            "the controller's station: DCP Signal (flash its LED)".to_owned()
+        }
         Notification::Reconfigured {
             active, refused, ..
         } => match refused {

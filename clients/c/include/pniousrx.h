@@ -122,10 +122,17 @@
  * the address that named it: then nothing was changed. These are PN Driver's names; the
  * manual's TAILOR_INV_STATION and TAILOR_INV_PORT have no value anywhere.
  *
+ * The controller's station. On a real interface procimgd's controller answers DCP as a
+ * station of its own (DeviceRole IO controller, its NameOfStation, IP suite and type of
+ * station "procimg controller"): engineering tools find it. Its name and address are the
+ * configuration's, and a DCP Set of them is refused. A DCP Signal to it gives every
+ * controller program PNIO_CBE_START_LED_FLASH (Frequency 2 Hz) and, three seconds later,
+ * PNIO_CBE_STOP_LED_FLASH; another Signal meanwhile extends the flashing.
+ *
  * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types), the
  * PN Driver interface functions (PNIO_interface_*) and PNIO_data_cache_exchange: procimg
- * does not offer them yet. LED
- * flashing and CP_STOP_REQ can be registered but never occur. The CP application watchdog
+ * does not offer them yet. CP_STOP_REQ can be registered but never occurs (procimgd takes
+ * no configuration while it runs). The CP application watchdog
  * (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
  * pniobase.h's, shared with the device side; what its expiry does is said there.
  */
@@ -163,8 +170,8 @@ typedef enum {
     PNIO_CBE_REC_WRITE_CONF = 4,    /* a record write finished */
     PNIO_CBE_DEV_ACT_CONF = 5,      /* a device (de)activation finished */
     PNIO_CBE_CP_STOP_REQ = 6,       /* remote download request (never in procimg) */
-    PNIO_CBE_START_LED_FLASH = 7,   /* start flashing (never in procimg) */
-    PNIO_CBE_STOP_LED_FLASH = 8,    /* stop flashing (never in procimg) */
+    PNIO_CBE_START_LED_FLASH = 7,   /* start flashing: DCP Signal to the controller's station */
+    PNIO_CBE_STOP_LED_FLASH = 8,    /* stop flashing, 3 s later */
     PNIO_CBE_CTRL_DIAG_CONF = 9,    /* a diagnosis request finished */
     PNIO_CBE_IFC_SET_ADDR_CONF = 10, /* PN Driver only */
     PNIO_CBE_REMA_READ_CONF = 11,   /* PN Driver only */

@@ -15,6 +15,7 @@ pub mod device;
 mod failure;
 pub mod plan;
 pub mod rpc_call;
+mod station;
 mod tailoring;
 pub mod uuids;
 
@@ -228,6 +229,9 @@ pub enum DeviceEvent {
     },
     /// A record read or write finished.
     Record(RecordResult),
+    /// A DCP Signal came to the controller's own station: flash its LED (IO-Base's
+    /// `PNIO_CBE_START_LED_FLASH`).
+    Signal,
     /// A reconfiguration of the IO system ([`Controller::reconfigure`]) was done: the
     /// devices it wanted are activated (`Ok(true)`, a tailoring) or all are deactivated
     /// (`Ok(false)`); or it was refused, changing nothing.
@@ -293,6 +297,8 @@ pub struct Controller {
     lldp: Option<crate::port::lldp::Announcer>,
     /// Its port's LLDP neighbours.
     neighbours: crate::port::neighbours::Neighbours,
+    /// Its own station's DCP side, when it answers DCP.
+    station: Option<station::OwnStation>,
 }
 
 impl Controller {
@@ -317,6 +323,7 @@ impl Controller {
             dropped: DatagramCounters::default(),
             lldp: None,
             neighbours: Default::default(),
+            station: None,
         }
     }
 
@@ -454,11 +461,15 @@ impl Controller {
         }
     }
 
-    /// An acyclic frame: a PROFINET one (DCP response, alarm), or the port neighbour's LLDP.
+    /// An acyclic frame: a PROFINET one (DCP response, alarm; a DCP request to its own
+    /// station), or the port neighbour's LLDP.
     pub fn on_frame(&mut self, frame: &[u8], now: u64, out: &mut Vec<ControllerAction>) {
         let Ok(eth) = crate::wire::ethernet::Frame::new_checked(frame) else {
             return;
         };
+        if self.on_station_frame(&eth, now, out) {
+            return;
+        }
         if eth.ethertype() == crate::wire::lldp::ETHERTYPE_LLDP {
             if eth.dst() == crate::wire::lldp::MULTICAST_NEAREST_BRIDGE && eth.src() != self.id.mac
             {
@@ -575,6 +586,7 @@ impl Controller {
         if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now)) {
             out.push(ControllerAction::Frame(frame));
         }
+        self.poll_station(now, out);
         self.neighbours.age(now);
     }
 
@@ -595,6 +607,7 @@ impl Controller {
                     .map(crate::port::lldp::Announcer::next_deadline_ns),
             )
             .chain(self.neighbours.next_deadline_ns())
+            .chain(self.station_deadline_ns())
             .min()
     }
 }

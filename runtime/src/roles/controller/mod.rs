@@ -154,6 +154,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
             }
         };
     let station_name = controller_station_name(&config.instance);
+    let netmask = netmask_of(if_index, ip);
     let interface = ControllerInterface::new(
         ControllerReport {
             station_name: station_name.clone(),
@@ -161,7 +162,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
             interface: config.network.to_string(),
             mac: mac.to_string(),
             ip: ip.to_string(),
-            netmask: netmask_of(if_index, ip).to_string(),
+            netmask: netmask.to_string(),
             gateway: Ipv4Addr::UNSPECIFIED.to_string(),
             counters: None,
         },
@@ -196,6 +197,8 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     // PROFINET station's port does; its devices learn their neighbour from it.
     if let (Network::Interface(_), Some(index)) = (&config.network, if_index) {
         controller.announce_by_lldp(|port| port.if_index = index);
+        // Its station answers DCP too: engineering tools find it, and a Signal flashes it.
+        controller.answer_dcp(TYPE_OF_STATION, netmask.octets());
     }
     let (commands, command_rx) = std::sync::mpsc::channel();
     let (events, event_rx) = std::sync::mpsc::channel();

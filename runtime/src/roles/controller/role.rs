@@ -256,6 +256,9 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates, problems:
             name(*device),
             if *active { "activated" } else { "deactivated" }
         ),
+        DeviceEvent::Signal => {
+            tracing::info!("DCP Signal: the controller's station flashes its LED");
+        }
         DeviceEvent::Reconfigured { result } => match result {
             Ok(true) => tracing::info!("IO system tailored"),
             Ok(false) => tracing::info!("IO system deactivated"),

@@ -447,6 +447,7 @@ impl ControllerServices {
                 ticket,
             } => self.on_alarm(device, &notification, ticket, notices),
             DeviceEvent::Record(r) => self.on_record(r, notices),
+            DeviceEvent::Signal => notices.publish(&Notification::ControllerSignal),
             DeviceEvent::Reconfigured { result } => {
                 let Some(reply_to) = self.reconfigurations.pop_front() else {
                     return;

@@ -569,7 +569,8 @@ fn log(e: &DeviceEvent, names: &[String]) {
                 Err(f) => tracing::warn!("demo PLC: writing {what} failed: {}", f.reason),
             }
         }
-        DeviceEvent::Activation { .. } | DeviceEvent::Reconfigured { .. } => {}
+        DeviceEvent::Activation { .. } | DeviceEvent::Reconfigured { .. } | DeviceEvent::Signal => {
+        }
     }
 }
 

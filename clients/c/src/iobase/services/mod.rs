@@ -21,6 +21,9 @@
 //! * `PNIO_CBE_CTRL_DIAG_CONF` for `PNIO_ctrl_diag_req`, with the caller's request pointer.
 //! * `PNIO_CBE_IOSYSTEM_RECONFIG` when the server has reconfigured the IO system
 //!   (`PNIO_iosystem_reconfig`), or refused to.
+//! * `PNIO_CBE_START_LED_FLASH` when a DCP Signal comes to the controller's own station,
+//!   and `PNIO_CBE_STOP_LED_FLASH` three seconds later (another Signal meanwhile extends
+//!   the flashing).
 //!
 //! Choices where the manual leaves room:
 //! * Parallel record jobs are capped at 16 per controller (PN Driver's limit, and the
@@ -62,6 +65,7 @@ use super::types::{
 };
 use super::wake::Wake;
 use crate::ffi::set_last_error;
+use procimg_client::iobase::LedFlash;
 use procimg_client::{
     AttachError, ControlError, Layout, PortRef, RecordTarget, Refusal, ServiceOptions, Services,
     Tailoring,
@@ -176,6 +180,8 @@ struct Shared {
     handle: u32,
     layout: Layout,
     callbacks: Arc<CallbackTable>,
+    /// The controller station's LED, flashing after a DCP Signal.
+    led: Mutex<LedFlash>,
     devices_up: Arc<DevicesUp>,
     /// Whether the server waits for our acknowledgement of alarms.
     acknowledges: bool,
@@ -280,6 +286,7 @@ impl ServiceWorker {
             handle: ctx.handle,
             layout: ctx.layout,
             callbacks: ctx.callbacks,
+            led: Mutex::new(LedFlash::default()),
             devices_up: ctx.devices_up,
             acknowledges,
             services: Mutex::new(Some(services)),

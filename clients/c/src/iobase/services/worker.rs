@@ -17,14 +17,16 @@ use crate::iobase::sync::lock;
 use crate::iobase::types::{
     PNIO_ADDR, PNIO_ADDR_u, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CBE_DEV_ACT_CONF,
     PNIO_CBE_IOSYSTEM_RECONFIG, PNIO_CBE_PRM, PNIO_CBE_PRM_ALARM_IND, PNIO_CBE_PRM_CTRL_DIAG_CONF,
-    PNIO_CBE_PRM_DEV_ACT_CONF, PNIO_CBE_PRM_IOSYS_CONF, PNIO_CBE_PRM_REC_READ_CONF,
-    PNIO_CBE_PRM_REC_WRITE_CONF, PNIO_CBE_REC_READ_CONF, PNIO_CBE_REC_WRITE_CONF,
+    PNIO_CBE_PRM_DEV_ACT_CONF, PNIO_CBE_PRM_IOSYS_CONF, PNIO_CBE_PRM_LED_FLASH,
+    PNIO_CBE_PRM_REC_READ_CONF, PNIO_CBE_PRM_REC_WRITE_CONF, PNIO_CBE_REC_READ_CONF,
+    PNIO_CBE_REC_WRITE_CONF, PNIO_CBE_START_LED_FLASH, PNIO_CBE_STOP_LED_FLASH, PNIO_CBE_TYPE,
     PNIO_CTRL_ALARM_DATA, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT,
     PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO, PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST,
     PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST, PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC,
     PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA,
     PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_ERR_STAT, PNIO_REF,
 };
+use procimg_client::iobase::FLASH_HZ;
 use procimg_client::{
     AlarmReport, DeviceDiagnosis, DeviceState, Notification, RecordConfirmation, TailoringRefusal,
 };
@@ -53,6 +55,7 @@ pub(super) fn run(shared: Arc<Shared>) {
     let mut last_liveness = Instant::now();
     while !stopping(&shared) {
         let mut busy = expire(&shared);
+        led_over(&shared);
         if last_liveness.elapsed() >= LIVENESS_PERIOD {
             last_liveness = Instant::now();
             busy |= orphaned(&shared);
@@ -115,6 +118,12 @@ fn handle(shared: &Shared, n: Notification) {
         Notification::Reconfigured {
             active, refused, ..
         } => reconfigured(shared, active, refused.as_ref()),
+        Notification::ControllerSignal => {
+            let start = lock(&shared.led).signal(Instant::now());
+            if start {
+                led_flash(shared, PNIO_CBE_START_LED_FLASH);
+            }
+        }
         // The handle announces itself to a new server by itself; the jobs of its
         // predecessors will never be confirmed.
         Notification::ServerStarted { generation } => {
@@ -320,6 +329,27 @@ fn activation_done(shared: &Shared, device: u32, active: bool, ok: bool) {
         };
         deliver_activation(shared, &job, result);
     }
+}
+
+/// Stops the LED's flashing when its time is over.
+fn led_over(shared: &Shared) {
+    let over = lock(&shared.led).over(Instant::now());
+    if over {
+        led_flash(shared, PNIO_CBE_STOP_LED_FLASH);
+    }
+}
+
+/// `PNIO_CBE_START_LED_FLASH` (at DCP Signal's 2 Hz) or `PNIO_CBE_STOP_LED_FLASH`.
+fn led_flash(shared: &Shared, event: PNIO_CBE_TYPE) {
+    let mut prm = PNIO_CBE_PRM::new(event, shared.handle);
+    prm.u.LedFlash = PNIO_CBE_PRM_LED_FLASH {
+        Frequency: if event == PNIO_CBE_START_LED_FLASH {
+            FLASH_HZ
+        } else {
+            0
+        },
+    };
+    CallbackTable::invoke(shared.callbacks.get(event), &mut prm);
 }
 
 /// The end of the reconfiguration under way: its callback, naming by the program's own
@@ -565,6 +595,7 @@ mod tests {
             handle: 77,
             layout: demo_layout(),
             callbacks,
+            led: Mutex::new(procimg_client::iobase::LedFlash::default()),
             devices_up: Arc::new(DevicesUp::new(3)),
             acknowledges: false,
             services: Mutex::new(None),
