@@ -37,6 +37,14 @@ const fn bpf(code: u16, jt: u8, jf: u8, k: u32) -> libc::sock_filter {
 }
 
 /// An AF_PACKET raw socket bound to one interface, with the PROFINET filter attached.
+/// The multicast groups a PROFINET station receives on: DCP Identify, DCP Hello, and LLDP's
+/// nearest bridge.
+const STATION_MULTICAST: [[u8; 6]; 3] = [
+    [0x01, 0x0e, 0xcf, 0x00, 0x00, 0x00],
+    [0x01, 0x0e, 0xcf, 0x00, 0x00, 0x01],
+    [0x01, 0x80, 0xc2, 0x00, 0x00, 0x0e],
+];
+
 /// Closed when dropped.
 pub(crate) struct PacketSocket {
     fd: OwnedFd,
@@ -88,6 +96,21 @@ impl PacketSocket {
                 mr_address: [0; 8],
             };
             socket.set_option(libc::SOL_PACKET, libc::PACKET_ADD_MEMBERSHIP, &membership)?;
+        } else {
+            // A NIC hands up only the multicast groups it was told of: the station joins
+            // those its protocols are addressed by, or it would never see an Identify, a
+            // Hello or its neighbour's LLDP on real hardware (a veth pair passes them all).
+            for group in STATION_MULTICAST {
+                let mut mr_address = [0u8; 8];
+                mr_address[..6].copy_from_slice(&group);
+                let membership = libc::packet_mreq {
+                    mr_ifindex: ifindex,
+                    mr_type: libc::PACKET_MR_MULTICAST as libc::c_ushort,
+                    mr_alen: 6,
+                    mr_address,
+                };
+                socket.set_option(libc::SOL_PACKET, libc::PACKET_ADD_MEMBERSHIP, &membership)?;
+            }
         }
         // Bound last, with the filter and the options in place: only from here on does the
         // socket take frames, and only those of this interface. ETH_P_ALL, narrowed by the

@@ -45,6 +45,19 @@ fn engineering_tools_find_the_controllers_station_and_make_it_flash() {
         .status()
         .controller
         .expect("the controller's station");
+    // The station joined the multicast groups it is addressed by, as a real NIC needs it.
+    let groups = Command::new("ip")
+        .args(["-n", &net.ns[0], "maddr", "show", "dev", &net.ifs[0]])
+        .output()
+        .expect("ip maddr");
+    let groups = String::from_utf8_lossy(&groups.stdout);
+    for group in [
+        "01:0e:cf:00:00:00",
+        "01:0e:cf:00:00:01",
+        "01:80:c2:00:00:0e",
+    ] {
+        assert!(groups.contains(group), "{group} not joined:\n{groups}");
+    }
 
     // The tool finds the controller's station.
     let (ok, scan) = procimg(&net.ns[1], &["dcp", "--iface", &net.ifs[1], "scan"]);
