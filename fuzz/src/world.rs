@@ -381,6 +381,9 @@ impl World {
             .collect();
         let cycle = Cycle::new(config, &tables, ranges);
         let mut net = net::World::new(Setup::new(id, plans), sim_plant::devices(config), cycle);
+        // The controller's own station answers DCP, as on a real interface: the arbitrary
+        // frames reach its responder too.
+        net.with_controller(|c, _, _| c.answer_dcp("procimg controller", [255, 255, 255, 0]));
         net.tap(|r| {
             check(r);
             false
