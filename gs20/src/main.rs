@@ -46,6 +46,8 @@ fn main() {
         )
         .with_writer(std::io::stderr)
         .with_ansi(colour_on_stderr())
+        // A log line that cannot be written is lost, not a reason to stop the bridge.
+        .log_internal_errors(false)
         .init();
     let result = match Cli::parse().command {
         Command::Gsdml(args) => gsdml::run(args),

@@ -21,7 +21,7 @@ use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::rt::lock_memory;
 use procimg_runtime::sys::rt_alloc::RtAllocator;
 use procimg_shm_layout::Mode;
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write as _};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -116,11 +116,15 @@ fn main() {
         )
         .with_writer(std::io::stderr)
         .with_ansi(colour_on_stderr())
+        // A log line that cannot be written is lost, not a reason to stop: procimgd goes on
+        // (and stops cleanly) when whoever read its standard error has gone, as a program
+        // that started it as its stack may have (the fallback would panic on that stderr).
+        .log_internal_errors(false)
         .init();
     if let Err(e) = run(args) {
         // Said plainly, as a command line tool says why it stops; the log lines before it
         // have told what happened until then.
-        eprintln!("procimgd: {e:#}");
+        let _ = writeln!(std::io::stderr(), "procimgd: {e:#}");
         std::process::exit(exit_status(&e));
     }
 }

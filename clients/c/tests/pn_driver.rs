@@ -167,6 +167,18 @@ fn a_stack_ends_with_the_program_that_started_it() {
         "procimgd of instance {instance} outlived its program"
     );
     assert!(!instance_serves(&instance));
+    // It stopped as procimgd stops, though its standard error had gone with the program:
+    // its shared memory is released (a dead client's handshake block goes at the next
+    // start of the instance, as always).
+    let leftovers: Vec<String> = std::fs::read_dir("/dev/shm")
+        .map(|d| {
+            d.filter_map(Result::ok)
+                .filter_map(|e| e.file_name().to_str().map(str::to_owned))
+                .filter(|n| n.contains(&instance.replace('-', "_")) && n.ends_with(".doorbell"))
+                .collect()
+        })
+        .unwrap_or_default();
+    assert!(leftovers.is_empty(), "left in /dev/shm: {leftovers:?}");
 }
 
 /// Over a real interface: the program in one network namespace chooses the veth end there
