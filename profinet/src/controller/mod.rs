@@ -13,6 +13,7 @@
 pub mod cyclic;
 pub mod device;
 mod failure;
+mod interface;
 pub mod plan;
 pub mod rpc_call;
 mod station;
@@ -28,6 +29,10 @@ use crate::wire::rpc::{self, Header, Ndr, PacketType, opnum};
 use cyclic::CyclicAr;
 use device::DeviceAr;
 pub use failure::FailureCause;
+pub use interface::{
+    AddressError, INTERFACE_SUBMODULE_IDENT, INTERFACE_SUBSLOT, InterfaceSetup, MODULE_IDENT,
+    PORT_SUBMODULE_IDENT, PORT_SUBSLOT, StationAddress,
+};
 use plan::{ControllerIdentity, DevicePlan};
 use std::net::{Ipv4Addr, SocketAddrV4};
 pub use tailoring::{PortEnd, Reconfiguration, TailorError, port_id};
@@ -239,6 +244,18 @@ pub enum DeviceEvent {
         /// What became of it.
         result: Result<bool, TailorError>,
     },
+    /// The controller's own interface raised an alarm (its port's topology check found a
+    /// mismatch, or one went): IO-Base's `PNIO_CBE_IFC_ALARM_IND`. Nothing acknowledges it.
+    InterfaceAlarm(Box<AlarmNotification>),
+    /// The controller's station got a new name or IP suite: by DCP from an engineering
+    /// tool (`by_dcp`), or by [`Controller::set_station_address`]. The runtime carries the
+    /// address out on the host, keeps a permanent change, and tells the programs.
+    StationAddress {
+        /// What changed.
+        change: StationAddress,
+        /// Set by DCP rather than by a program.
+        by_dcp: bool,
+    },
 }
 
 /// What the controller asks its driver to do.
@@ -299,6 +316,8 @@ pub struct Controller {
     neighbours: crate::port::neighbours::Neighbours,
     /// Its own station's DCP side, when it answers DCP.
     station: Option<station::OwnStation>,
+    /// Its own interface: records, settable address, port check.
+    interface: interface::OwnInterface,
 }
 
 impl Controller {
@@ -324,6 +343,7 @@ impl Controller {
             lldp: None,
             neighbours: Default::default(),
             station: None,
+            interface: Default::default(),
         }
     }
 
@@ -474,6 +494,8 @@ impl Controller {
             if eth.dst() == crate::wire::lldp::MULTICAST_NEAREST_BRIDGE && eth.src() != self.id.mac
             {
                 self.neighbours.on_lldpdu(eth.src(), eth.payload(), now);
+                self.sync_station_identity();
+                self.check_port(out);
             }
             return;
         }
@@ -586,8 +608,9 @@ impl Controller {
         if let Some(frame) = self.lldp.as_mut().and_then(|l| l.poll(now)) {
             out.push(ControllerAction::Frame(frame));
         }
-        self.poll_station(now, out);
         self.neighbours.age(now);
+        self.poll_station(now, out);
+        self.check_port(out);
     }
 
     /// Whether a Release still waits for a device's answer (a stopping controller waits for
@@ -611,3 +634,6 @@ impl Controller {
             .min()
     }
 }
+
+#[cfg(test)]
+mod interface_tests;

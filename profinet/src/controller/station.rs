@@ -1,16 +1,21 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The controller's own station on its interface, as DCP sees it: an engineering tool's or a
 //! network manager's Identify finds it (DeviceRole IO controller, its NameOfStation, IP
-//! suite, type of station), a Get reads it, and a Signal makes it flash its LED. Its name
-//! and address are the configuration's: a Set of them is refused ("set not possible").
+//! suite, type of station, the alias its LLDP neighbour gives it), a Get reads it, and a
+//! Signal makes it flash its LED. A Set of its name or address is carried out where the
+//! configuration lets them change ([`super::InterfaceSetup`]), and refused ("set not
+//! possible") where it does not; a reset to factory is refused always, as the controller
+//! cannot be without a name.
 
 use super::{Controller, ControllerAction, DeviceEvent};
 use crate::port::dcp_station::{
-    DcpAnswers, DcpIdentity, DcpRequest, ROLE_IO_CONTROLLER, answer_set, is_request_frame_id,
+    DcpAnswers, DcpIdentity, DcpRequest, ROLE_IO_CONTROLLER, Settable, answer_set,
+    is_request_frame_id,
 };
 use crate::wire::MacAddress;
-use crate::wire::dcp::{self, ServiceType};
+use crate::wire::dcp::{self, BlockRepr, ServiceType};
 use crate::wire::ethernet::{ETHERTYPE_PROFINET, Frame};
+use std::net::Ipv4Addr;
 
 /// The controller's station and its pending Identify responses.
 #[derive(Debug)]
@@ -24,6 +29,7 @@ impl Controller {
     /// controller's name, MAC, IP address and `mask`, from now on (off until called).
     pub fn answer_dcp(&mut self, type_of_station: &str, mask: [u8; 4]) {
         let ip = self.id.ip.octets();
+        self.interface.mask = if ip == [0; 4] { [0; 4] } else { mask };
         self.station = Some(OwnStation {
             identity: DcpIdentity {
                 mac: self.id.mac,
@@ -71,14 +77,51 @@ impl Controller {
             .answers
             .on_pdu(&station.identity, dst, src, pdu, now, &mut frames);
         if let DcpRequest::Set(req) = req {
-            // The name and address are the configuration's: refused; a Signal is taken.
-            let changes = answer_set(&mut station.identity, src, &req, false, &mut frames);
+            let settable = self.dcp_settable();
+            let Some(station) = self.station.as_mut() else {
+                return true;
+            };
+            // A reset to factory would leave the controller without a name: refused.
+            let reset = req.blocks.iter().any(|b| {
+                matches!(
+                    b.value,
+                    BlockRepr::ResetToFactory(_) | BlockRepr::FactoryReset(_)
+                )
+            });
+            let allow = if reset {
+                Settable::all(false)
+            } else {
+                settable
+            };
+            let changes = answer_set(&mut station.identity, src, &req, allow, &mut frames);
+            let id = &station.identity;
+            let name = changes.name.then(|| id.name.clone());
+            let ip_suite = changes
+                .ip
+                .then(|| [id.ip, id.mask, id.gateway].map(Ipv4Addr::from));
+            if name.is_some() || ip_suite.is_some() {
+                let permanent = changes.store_name || changes.store_ip;
+                self.on_dcp_address(name, ip_suite, permanent, out);
+            }
             if changes.signal {
                 out.push(ControllerAction::Event(DeviceEvent::Signal));
             }
         }
         out.extend(frames.into_iter().map(ControllerAction::Frame));
         true
+    }
+
+    /// Brings the DCP side up to date with the controller's name, address and neighbour.
+    pub(super) fn sync_station_identity(&mut self) {
+        let alias = self.neighbours.alias_name();
+        if let Some(station) = self.station.as_mut() {
+            let id = &mut station.identity;
+            id.name.clone_from(&self.id.station_name);
+            id.ip = self.id.ip.octets();
+            id.mask = self.interface.mask;
+            id.gateway = self.interface.gateway;
+            id.alias = alias;
+        }
     }
 
     /// Sends the station's Identify responses whose delay is over.

@@ -6,8 +6,8 @@ use super::dcp_veto::{DcpSetChecks, HeldSet, Hold, UnknownDcpSetCheck};
 use super::{Application, Device, DeviceAction};
 use crate::port::dcp_station::{DcpAnswers, DcpRequest, busy_response};
 pub(super) use crate::port::dcp_station::{
-    DcpChanges as Changes, DcpIdentity as Identity, ROLE_IO_DEVICE, answer_set, hello_frame,
-    is_request_frame_id,
+    DcpChanges as Changes, DcpIdentity as Identity, ROLE_IO_DEVICE, Settable, answer_set,
+    hello_frame, is_request_frame_id,
 };
 use crate::wire::MacAddress;
 
@@ -37,7 +37,7 @@ impl Responder {
         let changes = match req {
             DcpRequest::Done => Changes::default(),
             DcpRequest::Set(req) => match self.checks.hold(src, &req, now_ns) {
-                Hold::GoAhead => answer_set(id, src, &req, true, &mut frames),
+                Hold::GoAhead => answer_set(id, src, &req, Settable::all(true), &mut frames),
                 Hold::Wait(check) => {
                     out.push(DeviceAction::DcpSetCheck(check));
                     Changes::default()
@@ -115,7 +115,7 @@ impl<A: Application> Device<A> {
             &mut self.station.id,
             held.src,
             &held.req,
-            allow,
+            Settable::all(allow),
             &mut frames,
         );
         out.extend(frames.into_iter().map(DeviceAction::Frame));

@@ -86,7 +86,7 @@ mod iobase_alarms;
 mod iobase_alarms_tests;
 pub mod log_book;
 mod params;
-pub mod physical;
+pub use crate::port::physical;
 mod plug;
 #[cfg(test)]
 mod plug_tests;

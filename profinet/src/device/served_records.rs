@@ -527,7 +527,10 @@ fn read_one(
         }
         INDEX_IM0_FILTER_DATA => emitted(filter_data(dev.real).to_vec()),
         // The device's own records, whatever address the request names.
-        INDEX_PD_REAL_DATA => emitted(dev.physical.real_data(dev.real)),
+        INDEX_PD_REAL_DATA => emitted(
+            dev.physical
+                .real_data(dev.real.iter().map(|r| (r.api, r.slot, r.subslot))),
+        ),
         INDEX_PD_EXPECTED_DATA => emitted(expected_pd_data(ar, dev.real)),
         INDEX_AR_DATA => emitted(
             ArData {

@@ -17,79 +17,18 @@
 
 use super::diagnosis::{ChannelDiag, DiagEntry, SubslotAddr};
 use super::{Application, Device, DeviceAction, physical};
-use crate::port::neighbours::Neighbours;
+pub use crate::port::check::{
+    Finding, REMOTE_MISMATCH, TRANSMISSION_IMPOSSIBLE, WHOLE_SUBMODULE, mismatch,
+    topology_findings, transmission,
+};
 use crate::wire::alarm::AlarmType;
 use crate::wire::record::{
     DCP_BOUNDARY_HELLO, INDEX_PD_PORT_DATA_ADJUST, INDEX_PD_PORT_DATA_CHECK, PEER_TO_PEER_NO_LLDP,
-    PdPortDataAdjust, PdPortDataCheck, PortCheck,
+    PdPortDataAdjust, PdPortDataCheck,
 };
 
-/// ChannelNumber of a diagnosis of the whole submodule.
-const WHOLE_SUBMODULE: u16 = 0x8000;
-/// ChannelErrorType "data transmission impossible": the port's own link.
-pub const TRANSMISSION_IMPOSSIBLE: u16 = 0x8000;
-/// ChannelErrorType "remote mismatch": the neighbour.
-pub const REMOTE_MISMATCH: u16 = 0x8001;
-
-/// ExtChannelErrorTypes of a remote mismatch.
-pub mod mismatch {
-    /// The peer's NameOfStation is not the one checked.
-    pub const PEER_NAME: u16 = 0x8000;
-    /// The peer's port is not the one checked.
-    pub const PEER_PORT: u16 = 0x8001;
-    /// No peer answers on the port.
-    pub const NO_PEER: u16 = 0x8005;
-}
-
-/// ExtChannelErrorTypes of data transmission impossible.
-pub mod transmission {
-    /// The link is down.
-    pub const LINK_DOWN: u16 = 0x8000;
-    /// The port runs another MAU type than the one checked.
-    pub const MAU_TYPE: u16 = 0x8001;
-}
-
-/// What a check found: ChannelErrorType and ExtChannelErrorType.
-pub type Finding = (u16, u16);
-
-/// What the port's neighbourhood and link make of `check`: the mismatches, if any. Of the
-/// peers, with several neighbours (a switch without LLDP between) the first is taken.
-pub fn topology_findings(
-    check: &PdPortDataCheck,
-    neighbours: &Neighbours,
-    link: &physical::PortLink,
-) -> Vec<Finding> {
-    let mut found = Vec::new();
-    if let Some(expected) = check.peers().and_then(<[_]>::first) {
-        let remote = match neighbours.entries().first() {
-            None => Some(mismatch::NO_PEER),
-            Some(n) if n.peer_station() != Some(expected.chassis_id.as_str()) => {
-                Some(mismatch::PEER_NAME)
-            }
-            Some(n) if n.peer_port() != Some(expected.port_id.as_str()) => {
-                Some(mismatch::PEER_PORT)
-            }
-            Some(_) => None,
-        };
-        found.extend(remote.map(|e| (REMOTE_MISMATCH, e)));
-    }
-    for c in &check.checks {
-        match c {
-            PortCheck::MauType(m) if link.up && link.mau_type != *m => {
-                found.push((TRANSMISSION_IMPOSSIBLE, transmission::MAU_TYPE));
-            }
-            // LinkState 1: up.
-            PortCheck::LinkState(1) if !link.up => {
-                found.push((TRANSMISSION_IMPOSSIBLE, transmission::LINK_DOWN));
-            }
-            _ => {}
-        }
-    }
-    found
-}
-
 /// The diagnosis entry of a finding.
-fn entry((error_type, ext): Finding) -> DiagEntry {
+pub(crate) fn entry((error_type, ext): Finding) -> DiagEntry {
     ChannelDiag::extended(WHOLE_SUBMODULE, error_type, ext, 0).into()
 }
 

@@ -339,14 +339,44 @@ fn unsupported(option: u8) -> u8 {
     }
 }
 
-/// Carries out Set request `req` from `src` and answers it; with `allow` false its name,
-/// address and reset blocks are refused ("SET not possible") and leave the station alone.
-/// Returns what changed.
+/// What a DCP Set may change of a station.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Settable {
+    /// Its NameOfStation.
+    pub name: bool,
+    /// Its IP suite.
+    pub ip: bool,
+}
+
+impl Settable {
+    /// Both, or neither.
+    pub const fn all(allow: bool) -> Settable {
+        Settable {
+            name: allow,
+            ip: allow,
+        }
+    }
+
+    /// Whether Set block `value` may be carried out: a reset to factory clears both, so it
+    /// needs both.
+    fn allows(self, value: &BlockRepr) -> bool {
+        match value {
+            BlockRepr::NameOfStation(_) => self.name,
+            BlockRepr::IpParameter { .. } | BlockRepr::FullIpSuite { .. } => self.ip,
+            BlockRepr::ResetToFactory(_) | BlockRepr::FactoryReset(_) => self.name && self.ip,
+            _ => true,
+        }
+    }
+}
+
+/// Carries out Set request `req` from `src` and answers it; the name, address and reset
+/// blocks `allow` does not allow are refused ("SET not possible") and leave the station
+/// alone. Returns what changed.
 pub fn answer_set(
     id: &mut DcpIdentity,
     src: MacAddress,
     req: &dcp::Repr,
-    allow: bool,
+    allow: Settable,
     frames: &mut Vec<Vec<u8>>,
 ) -> DcpChanges {
     let mut changes = DcpChanges::default();
@@ -354,15 +384,7 @@ pub fn answer_set(
         .blocks
         .iter()
         .map(|b| {
-            let vetoed = !allow
-                && matches!(
-                    b.value,
-                    BlockRepr::NameOfStation(_)
-                        | BlockRepr::IpParameter { .. }
-                        | BlockRepr::FullIpSuite { .. }
-                        | BlockRepr::ResetToFactory(_)
-                        | BlockRepr::FactoryReset(_)
-                );
+            let vetoed = !allow.allows(&b.value);
             let error = if vetoed {
                 block_error::SET_NOT_POSSIBLE
             } else {
@@ -471,7 +493,7 @@ pub fn valid_name(n: &str) -> bool {
 
 /// IP parameters a station accepts: all zero (no address), or a unicast address with a
 /// contiguous mask and a gateway that is none (0 or the address itself) or in the subnet.
-fn valid_ip(ip: [u8; 4], mask: [u8; 4], gateway: [u8; 4]) -> bool {
+pub fn valid_ip(ip: [u8; 4], mask: [u8; 4], gateway: [u8; 4]) -> bool {
     if ip == [0; 4] {
         return mask == [0; 4] && gateway == [0; 4];
     }

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The physical device as its records describe it: the interface submodule (subslot
-//! 0x8000 of the device access point) and its port (0x8001), with what the device knows of
-//! its link (set by its runtime: the interface's state, speed and counters) and of its
-//! neighbour (from LLDP).
+//! The physical device as its records describe it, for a station of either role: the
+//! interface submodule (subslot 0x8000 of the device access point, or of the controller's
+//! own interface) and its port (0x8001), with what the station knows of its link (set by its
+//! runtime: the interface's state, speed and counters) and of its neighbour (from LLDP).
 //!
 //! The records, all read-only:
 //!
@@ -16,7 +16,6 @@
 //! A station with one port counts the same frames on its interface and its port: both
 //! report the interface's counters.
 
-use super::PluggedSubmodule;
 use crate::port::neighbours::Neighbours;
 use crate::wire::MacAddress;
 use crate::wire::lldp::MacPhyStatus;
@@ -105,18 +104,18 @@ pub const fn is_port(subslot: u16) -> bool {
 const NO_COUNTERS: u16 = 0x003f;
 
 /// The station as its physical records need it.
-pub(super) struct PhysicalView<'a> {
-    pub(super) name: &'a str,
-    pub(super) mac: MacAddress,
-    pub(super) ip_suite: [[u8; 4]; 3],
+pub(crate) struct PhysicalView<'a> {
+    pub(crate) name: &'a str,
+    pub(crate) mac: MacAddress,
+    pub(crate) ip_suite: [[u8; 4]; 3],
     /// The port's own LLDP Port ID (`port-001`, or `port-001.<name>`).
-    pub(super) own_port_id: String,
-    pub(super) physical: &'a Physical,
-    pub(super) neighbours: &'a Neighbours,
+    pub(crate) own_port_id: String,
+    pub(crate) physical: &'a Physical,
+    pub(crate) neighbours: &'a Neighbours,
 }
 
 impl PhysicalView<'_> {
-    pub(super) fn interface_data_real(&self) -> PdInterfaceDataReal {
+    pub(crate) fn interface_data_real(&self) -> PdInterfaceDataReal {
         let [ip, mask, gateway] = self.ip_suite;
         PdInterfaceDataReal {
             chassis_id: self.name.to_owned(),
@@ -127,7 +126,7 @@ impl PhysicalView<'_> {
         }
     }
 
-    pub(super) fn port_data_real(&self, slot: u16, subslot: u16) -> PdPortDataReal {
+    pub(crate) fn port_data_real(&self, slot: u16, subslot: u16) -> PdPortDataReal {
         let link = &self.physical.link;
         PdPortDataReal {
             slot,
@@ -153,7 +152,7 @@ impl PhysicalView<'_> {
         }
     }
 
-    pub(super) fn statistic(&self) -> PdPortStatistic {
+    pub(crate) fn statistic(&self) -> PdPortStatistic {
         let low = |v: u64| v as u32;
         match self.physical.counters {
             Some(c) => PdPortStatistic {
@@ -173,25 +172,28 @@ impl PhysicalView<'_> {
     }
 
     /// PDRealData: a MultipleBlockHeader for the interface (PDInterfaceDataReal and
-    /// PDPortStatistic) and one for each port (PDPortDataReal and PDPortStatistic), in
-    /// `real`'s order.
-    pub(super) fn real_data(&self, real: &[PluggedSubmodule]) -> crate::wire::EmitResult<Vec<u8>> {
+    /// PDPortStatistic) and one for each port (PDPortDataReal and PDPortStatistic), of the
+    /// submodules `real` names by API, slot and subslot, in its order.
+    pub(crate) fn real_data(
+        &self,
+        real: impl IntoIterator<Item = (u32, u16, u16)>,
+    ) -> crate::wire::EmitResult<Vec<u8>> {
         let mut out = Vec::new();
-        for s in real
-            .iter()
-            .filter(|s| is_interface(s.subslot) || is_port(s.subslot))
+        for (api, slot, subslot) in real
+            .into_iter()
+            .filter(|&(_, _, subslot)| is_interface(subslot) || is_port(subslot))
         {
-            let mut blocks = if is_interface(s.subslot) {
+            let mut blocks = if is_interface(subslot) {
                 self.interface_data_real().to_vec()?
             } else {
-                self.port_data_real(s.slot, s.subslot).to_vec()?
+                self.port_data_real(slot, subslot).to_vec()?
             };
             blocks.extend(self.statistic().to_vec()?);
             out.extend(
                 MultipleBlockHeader {
-                    api: s.api,
-                    slot: s.slot,
-                    subslot: s.subslot,
+                    api,
+                    slot,
+                    subslot,
                     blocks,
                 }
                 .to_vec()?,
