@@ -200,6 +200,56 @@ pub struct Config {
     /// This server as an IO device (table `[station]`); with `role = "device"`, and only
     /// then.
     pub station: Option<StationConfig>,
+    /// The controller's own PROFINET interface (table `[interface]`); with
+    /// `role = "controller"` only (the defaults otherwise).
+    pub interface: InterfaceConfig,
+}
+
+/// The controller's own PROFINET interface (table `[interface]`): its station as DCP, LLDP
+/// and its programs see it (IO-Base's `PNIO_interface_*`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct InterfaceConfig {
+    /// The controller's NameOfStation (key `station_name`; default `procimgd-<instance>`,
+    /// see [`Config::controller_station_name`]).
+    pub station_name: Option<String>,
+    /// Whether a program (`PNIO_interface_set_ip_and_nos`) or an engineering tool (DCP Set)
+    /// may change the NameOfStation (key `name_by_program`, default `false`): TIA Portal's
+    /// "PROFINET device name is set directly at the device".
+    pub name_by_program: bool,
+    /// Whether they may change the IP suite (key `address_by_program`, default `false`):
+    /// "IP address is set directly at the device". procimgd then carries the address out
+    /// on the interface.
+    pub address_by_program: bool,
+    /// Whether the port's link is checked (key `check_link`, default `false`): a link down
+    /// is a diagnosis of the port, with an alarm to the programs.
+    pub check_link: bool,
+    /// The interface submodule's diagnostic address (key `diagnostic_address`, default
+    /// [`DEFAULT_INTERFACE_ADDRESS`]), an address of the I space.
+    pub diagnostic_address: u32,
+    /// The port submodule's diagnostic address (key `port_diagnostic_address`, default
+    /// [`DEFAULT_PORT_ADDRESS`]).
+    pub port_diagnostic_address: u32,
+}
+
+/// The controller interface's default diagnostic address.
+pub const DEFAULT_INTERFACE_ADDRESS: u32 = 16382;
+/// The controller port's default diagnostic address.
+pub const DEFAULT_PORT_ADDRESS: u32 = 16381;
+/// The largest diagnostic address of the controller's interface (IO-Base's interface
+/// functions take logical addresses up to 0x7FFF).
+pub const MAX_INTERFACE_ADDRESS: u32 = 0x7fff;
+
+impl Default for InterfaceConfig {
+    fn default() -> InterfaceConfig {
+        InterfaceConfig {
+            station_name: None,
+            name_by_program: false,
+            address_by_program: false,
+            check_link: false,
+            diagnostic_address: DEFAULT_INTERFACE_ADDRESS,
+            port_diagnostic_address: DEFAULT_PORT_ADDRESS,
+        }
+    }
 }
 
 impl Config {
@@ -249,6 +299,39 @@ impl Config {
             ..waiting
         };
         config
+    }
+
+    /// The controller's NameOfStation: `[interface] station_name`, or from the instance
+    /// name: `procimgd-` and the name in lower case, other characters as '-', as DCP names
+    /// allow.
+    pub fn controller_station_name(&self) -> String {
+        if let Some(name) = &self.interface.station_name {
+            return name.clone();
+        }
+        let s: String = self
+            .instance
+            .chars()
+            .map(|c| match c.to_ascii_lowercase() {
+                c @ ('a'..='z' | '0'..='9' | '-') => c,
+                _ => '-',
+            })
+            .collect();
+        format!("procimgd-{}", s.trim_matches('-'))
+    }
+
+    /// The neighbour the configuration gives the controller's port: the device whose
+    /// `[[device.topology]]` names the controller's station and its port `port-001`, and
+    /// that device's port subslot.
+    pub fn controller_port_peer(&self) -> Option<(&str, u16)> {
+        let own = self.controller_station_name();
+        self.devices.iter().find_map(|d| {
+            d.topology.iter().find_map(|t| match &t.peer {
+                Peer::Fixed { station, port } if *station == own && port == "port-001" => {
+                    Some((d.name.as_str(), t.subslot))
+                }
+                _ => None,
+            })
+        })
     }
 
     /// Number of submodules in the image: over all devices, or the station's.

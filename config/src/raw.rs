@@ -21,6 +21,19 @@ pub(super) struct RawConfig {
     #[serde(default)]
     pub device: Vec<Spanned<RawDevice>>,
     pub station: Option<Spanned<RawStation>>,
+    pub interface: Option<Spanned<RawInterface>>,
+}
+
+/// `[interface]`: the controller's own PROFINET interface (`role = "controller"`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct RawInterface {
+    pub station_name: Option<Spanned<String>>,
+    pub name_by_program: Option<bool>,
+    pub address_by_program: Option<bool>,
+    pub check_link: Option<bool>,
+    pub diagnostic_address: Option<Spanned<u32>>,
+    pub port_diagnostic_address: Option<Spanned<u32>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -242,6 +242,53 @@ pub enum Notification {
         /// Why it was refused, changing nothing; `None`: done.
         refused: Option<TailoringRefusal>,
     },
+    /// Controller role: an alarm of the controller's own interface (IO-Base
+    /// `PNIO_CBE_IFC_ALARM_IND`), such as its port's PortDataChangeNotification when the
+    /// neighbour or the link is not what the configuration expects, or is again. `device`
+    /// is 0 and `device_name` the controller's station name; nothing acknowledges it.
+    InterfaceAlarm(AlarmReport),
+    /// Controller role: a read of a record of the controller's own interface of `reply_to`
+    /// ended ([`crate::ControllerRequest::InterfaceRecordRead`]).
+    InterfaceRecord {
+        /// The subscriber that asked.
+        reply_to: u64,
+        /// The request's reference.
+        reference: u64,
+        /// The subslot read.
+        subslot: u16,
+        /// The record index.
+        index: u16,
+        /// The PNIO status (0: read).
+        status: RecordStatus,
+        /// The record, cut to the length asked for.
+        #[serde(default)]
+        data: Vec<u8>,
+        /// Why it failed, in words (empty when it succeeded).
+        #[serde(default)]
+        message: String,
+    },
+    /// Controller role: the controller's own station has a new NameOfStation or IP suite,
+    /// set by DCP from an engineering tool (`reply_to` `None`, to every subscriber), or a
+    /// program's change of them ([`crate::ControllerRequest::SetControllerAddress`]) was
+    /// made or refused (to `reply_to`).
+    ControllerAddress {
+        /// The subscriber that asked, if one did.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reply_to: Option<u64>,
+        /// The station's name now.
+        name: String,
+        /// Its IP address now.
+        ip: String,
+        /// Its subnet mask now.
+        netmask: String,
+        /// Its default gateway now ("0.0.0.0": none).
+        gateway: String,
+        /// The change is kept across a restart.
+        permanent: bool,
+        /// Why the change was refused, leaving name and address as they were; `None`: done.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        refused: Option<String>,
+    },
     /// Controller role: a DCP Signal came to the controller's own station, which is to flash
     /// its LED for three seconds (IO-Base `PNIO_CBE_START_LED_FLASH`, then
     /// `PNIO_CBE_STOP_LED_FLASH`).
@@ -423,7 +470,9 @@ impl Notification {
             | Notification::StationRecord { reply_to, .. }
             | Notification::StationAlarmDone { reply_to, .. }
             | Notification::StationArCheck { reply_to, .. }
-            | Notification::StationDcpSetCheck { reply_to, .. } => Some(*reply_to),
+            | Notification::StationDcpSetCheck { reply_to, .. }
+            | Notification::InterfaceRecord { reply_to, .. } => Some(*reply_to),
+            Notification::ControllerAddress { reply_to, .. } => *reply_to,
             _ => None,
         }
     }

@@ -308,6 +308,19 @@ pub struct ControllerReport {
     /// The interface's Ethernet counters since procimgd started or they were reset (none on
     /// the simulated network).
     pub counters: Option<InterfaceCounters>,
+    /// The interface submodule's diagnostic address (`[interface] diagnostic_address`).
+    #[serde(default)]
+    pub interface_address: u32,
+    /// The port submodule's diagnostic address.
+    #[serde(default)]
+    pub port_address: u32,
+    /// Whether programs may set the station's NameOfStation (`[interface]
+    /// name_by_program`).
+    #[serde(default)]
+    pub name_by_program: bool,
+    /// Whether programs may set its IP suite (`address_by_program`).
+    #[serde(default)]
+    pub address_by_program: bool,
 }
 
 /// An interface's Ethernet counters (the kernel's, since the last reset).

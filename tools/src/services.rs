@@ -204,6 +204,49 @@ fn describe(n: &Notification) -> String {
         Notification::ControllerSignal => {
             "the controller's station: DCP Signal (flash its LED)".to_owned()
         }
+        Notification::InterfaceAlarm(a) => format!(
+            "the controller's interface: alarm #{}: {}{}",
+            a.id,
+            a.text,
+            if a.payload.is_empty() {
+                String::new()
+            } else {
+                format!(" [{}]", hex(&a.payload))
+            }
+        ),
+        Notification::InterfaceRecord {
+            subslot,
+            index,
+            status,
+            data,
+            ..
+        } => format!(
+            "the controller's interface: record {index:#06x} of subslot {subslot:#06x}: {} \
+             bytes, {status:?}",
+            data.len()
+        ),
+        Notification::ControllerAddress {
+            name,
+            ip,
+            netmask,
+            gateway,
+            reply_to,
+            refused,
+            ..
+        } => {
+            let by = if reply_to.is_some() {
+                "a program"
+            } else {
+                "DCP"
+            };
+            match refused {
+                Some(why) => format!("the controller's station: {by}'s change refused: {why}"),
+                None => format!(
+                    "the controller's station: {by} set it to \"{name}\" at {ip} \
+                     (netmask {netmask}, gateway {gateway})"
+                ),
+            }
+        }
         Notification::Reconfigured {
             active, refused, ..
         } => match refused {

@@ -71,7 +71,10 @@ pub use procimg_control::{
 };
 pub use procimg_rt_alloc as rt_alloc;
 pub use procimg_shm_layout::{CycleInfo, Mode};
-pub use services::{RecordError, ServiceOptions, Services};
+pub use services::{
+    AddressChangeError, ControllerAddress, INTERFACE_SUBSLOT, PORT_SUBSLOT, RecordError,
+    ServiceOptions, Services,
+};
 pub use station_services::{AR_REFUSED_NO_RESOURCES, RecordRefusal};
 pub use status::{Ioxs, SubmoduleIoxs};
 

@@ -16,6 +16,10 @@
 //!
 //! [`Client`]: crate::Client
 
+mod own_interface;
+
+pub use own_interface::{AddressChangeError, ControllerAddress, INTERFACE_SUBSLOT, PORT_SUBSLOT};
+
 use crate::connection::{Ipc, event_error, pubsub_error, service_name, shm};
 use crate::control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
 use crate::error::{AttachError, ControlError};
@@ -385,28 +389,38 @@ impl Services {
         reference: u64,
         timeout: Duration,
     ) -> Result<RecordConfirmation, RecordError> {
+        let found = self.await_notification(timeout, |n| {
+            matches!(n, Notification::Record { confirmation, .. }
+                if confirmation.reference == reference)
+        });
+        match found {
+            Some(Notification::Record { confirmation, .. }) if confirmation.status.is_ok() => {
+                Ok(confirmation)
+            }
+            Some(Notification::Record { confirmation, .. }) => Err(RecordError::Failed {
+                status: confirmation.status,
+                message: confirmation.message,
+            }),
+            _ => Err(RecordError::Timeout(timeout)),
+        }
+    }
+
+    /// Waits up to `timeout` for the first notification `wanted` picks and takes it from
+    /// the queue; the others stay.
+    fn await_notification(
+        &mut self,
+        timeout: Duration,
+        wanted: impl Fn(&Notification) -> bool,
+    ) -> Option<Notification> {
         let until = Instant::now() + timeout;
         loop {
             self.drain();
-            let found = self.queue.iter().position(|n| {
-                matches!(n, Notification::Record { confirmation, .. }
-                    if confirmation.reference == reference)
-            });
-            if let Some(i) = found
-                && let Some(Notification::Record { confirmation, .. }) = self.queue.remove(i)
-            {
-                return if confirmation.status.is_ok() {
-                    Ok(confirmation)
-                } else {
-                    Err(RecordError::Failed {
-                        status: confirmation.status,
-                        message: confirmation.message,
-                    })
-                };
+            if let Some(i) = self.queue.iter().position(&wanted) {
+                return self.queue.remove(i);
             }
             let now = Instant::now();
             if now >= until {
-                return Err(RecordError::Timeout(timeout));
+                return None;
             }
             let ns = (until - now).as_nanos().min(u64::MAX as u128) as u64;
             procimg_shm_layout::os::wait_readable(self.fd, ns.min(100_000_000));

@@ -14,11 +14,14 @@ use super::duration::{format_duration, parse_duration};
 use super::error::ConfigError;
 use super::gsdml::Submodule;
 use super::import::{self, DeviceImport, Files, Found, Lookup};
-use super::raw::{RawAccess, RawConfig, RawCycleThread, RawDevice, RawSubmodule, RawTopology};
+use super::raw::{
+    RawAccess, RawConfig, RawCycleThread, RawDevice, RawInterface, RawSubmodule, RawTopology,
+};
 use super::{
     AccessConfig, CYCLE_UNIT_NS, Config, CycleThreadConfig, DEFAULT_CYCLE_NS, DEFAULT_INSTANCE,
-    DeviceConfig, GsdmlSource, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES, MAX_SUBMODULES, Network,
-    OpdoneWait, OutputTiming, ParameterRecord, Peer, PortPeer, Role, SimBehaviour, SubmoduleConfig,
+    DeviceConfig, GsdmlSource, InterfaceConfig, LatePolicy, MAX_CYCLE_NS, MAX_DEVICES,
+    MAX_INTERFACE_ADDRESS, MAX_SUBMODULES, Network, OpdoneWait, OutputTiming, ParameterRecord,
+    Peer, PortPeer, Role, SimBehaviour, SubmoduleConfig,
 };
 
 mod devices;
@@ -153,6 +156,19 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
             (Vec::new(), Some(station::station(station, cx)?))
         }
     };
+    let interface = match raw.interface {
+        Some(i) if role == Role::Device => {
+            return Err(cx.invalid(
+                i.span(),
+                "interface",
+                "[interface] describes the controller's own interface, and the role is \
+                 \"device\"; the station's name and address are in [station]",
+            ));
+        }
+        Some(i) => interface(i.into_inner(), &devices, cx)?,
+        None if role == Role::Controller => interface(RawInterface::default(), &devices, cx)?,
+        None => InterfaceConfig::default(),
+    };
     Ok(Config {
         origin: cx.origin.to_owned(),
         role,
@@ -167,7 +183,90 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
         access,
         devices,
         station,
+        interface,
     })
+}
+
+/// `[interface]`: the controller's own interface, its diagnostic addresses clear of every
+/// device's inputs.
+fn interface(
+    raw: RawInterface,
+    devices: &[DeviceConfig],
+    cx: &Cx<'_>,
+) -> Result<InterfaceConfig, ConfigError> {
+    let mut config = InterfaceConfig {
+        name_by_program: raw.name_by_program.unwrap_or(false),
+        address_by_program: raw.address_by_program.unwrap_or(false),
+        check_link: raw.check_link.unwrap_or(false),
+        ..InterfaceConfig::default()
+    };
+    if let Some(name) = raw.station_name {
+        cx.check(
+            &name,
+            "interface.station_name",
+            devices::station_name(name.get_ref()),
+        )?;
+        config.station_name = Some(name.into_inner());
+    }
+    let taken = |address: u32| {
+        devices.iter().find_map(|d| {
+            d.submodules.iter().find_map(|s| {
+                let extent = u32::from(s.input_length.max(u16::from(s.has_no_data())));
+                (s.input_address != NO_ADDRESS
+                    && (s.input_address..s.input_address + extent).contains(&address))
+                .then(|| format!("{} slot {} subslot {:#06x}", d.name, s.slot, s.subslot))
+            })
+        })
+    };
+    // A default address is checked too: a device's inputs may have taken it.
+    let check = |value: Option<&Spanned<u32>>, default: u32, key: &str| {
+        let a = value.map_or(default, |v| *v.get_ref());
+        let problem = match taken(a) {
+            _ if a > MAX_INTERFACE_ADDRESS => Some(format!(
+                "{a} is not a diagnostic address of the controller's interface; use 0 to \
+                 {MAX_INTERFACE_ADDRESS}"
+            )),
+            Some(owner) if value.is_some() => Some(format!(
+                "I address {a} is {owner}'s; give the controller's interface another one"
+            )),
+            Some(owner) => Some(format!(
+                "the default diagnostic address {a} of the controller's interface is {owner}'s; \
+                 set `{key}` in [interface] to a free I address"
+            )),
+            None => None,
+        };
+        match problem {
+            Some(p) => Err(cx.invalid(
+                value.map_or(0..0, Spanned::span),
+                format!("interface.{key}"),
+                p,
+            )),
+            None => Ok(a),
+        }
+    };
+    config.diagnostic_address = check(
+        raw.diagnostic_address.as_ref(),
+        config.diagnostic_address,
+        "diagnostic_address",
+    )?;
+    config.port_diagnostic_address = check(
+        raw.port_diagnostic_address.as_ref(),
+        config.port_diagnostic_address,
+        "port_diagnostic_address",
+    )?;
+    if config.diagnostic_address == config.port_diagnostic_address {
+        let at = raw
+            .port_diagnostic_address
+            .as_ref()
+            .or(raw.diagnostic_address.as_ref())
+            .map_or(0..0, Spanned::span);
+        return Err(cx.invalid(
+            at,
+            "interface.port_diagnostic_address",
+            "the interface and its port need diagnostic addresses of their own",
+        ));
+    }
+    Ok(config)
 }
 
 fn instance_name(name: &str) -> Result<(), String> {

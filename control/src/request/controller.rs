@@ -68,6 +68,38 @@ pub enum ControllerRequest {
     /// Start the controller interface's communication counters again from 0 (IO-Base's
     /// RESET_COMM_COUNTERS); answered with [`Response::Done`](crate::Response::Done).
     ResetCommCounters,
+    /// Read a record of the controller's own interface (IO-Base
+    /// `PNIO_interface_rec_read_req`): subslot 0x8000 is the interface, 0x8001 its port.
+    /// Answered with [`Response::Accepted`](crate::Response::Accepted); the record follows
+    /// as a [`Notification::InterfaceRecord`](crate::services::Notification::InterfaceRecord)
+    /// to `reply_to`.
+    InterfaceRecordRead {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Echoed in the confirmation.
+        reference: u64,
+        /// The submodule: 0x8000 the interface, 0x8001 the port.
+        subslot: u16,
+        /// The record index.
+        index: u16,
+        /// The most bytes wanted.
+        max_len: u32,
+    },
+    /// Give the controller's own station a new NameOfStation and/or IP suite (IO-Base
+    /// `PNIO_interface_set_ip_and_nos`), where `[interface]` lets programs change them.
+    /// Answered with [`Response::Accepted`](crate::Response::Accepted); confirmed by a
+    /// [`Notification::ControllerAddress`](crate::services::Notification::ControllerAddress)
+    /// to `reply_to`.
+    SetControllerAddress {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// The new name, if it is to change.
+        name: Option<String>,
+        /// The new address, netmask and gateway, if they are to change.
+        ip_suite: Option<[std::net::Ipv4Addr; 3]>,
+        /// To be kept across a restart of procimgd.
+        permanent: bool,
+    },
 }
 
 impl ControllerRequest {
@@ -81,6 +113,12 @@ impl ControllerRequest {
             ControllerRequest::AcknowledgeAlarm { .. } => "acknowledging an IO device's alarm",
             ControllerRequest::Diagnosis => "the IO system diagnosis",
             ControllerRequest::ResetCommCounters => "resetting the communication counters",
+            ControllerRequest::InterfaceRecordRead { .. } => {
+                "reading a record of the controller's own interface"
+            }
+            ControllerRequest::SetControllerAddress { .. } => {
+                "setting the controller's name or IP suite"
+            }
         }
     }
 }

@@ -98,6 +98,9 @@ pub enum AddressError {
     /// The controller needs a name.
     #[error("the controller's station needs a NameOfStation: an empty one is refused")]
     NoName,
+    /// The host could not carry it out.
+    #[error("{0}")]
+    NotCarriedOut(String),
     /// Not an IP suite a station can have.
     #[error(
         "{ip} with netmask {mask} and gateway {gateway} is not an IP suite: a unicast address, a \
@@ -262,7 +265,8 @@ impl Controller {
         self.take_station_address(&change);
         out.push(ControllerAction::Event(DeviceEvent::StationAddress {
             change,
-            by_dcp: true,
+            reference: None,
+            result: Ok(()),
         }));
     }
 

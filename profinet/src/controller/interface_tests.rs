@@ -214,7 +214,7 @@ fn dcp_sets_the_name_where_allowed_and_the_runtime_is_told() {
     );
     assert_eq!(set_errors(&out), [block_error::OK]);
     let told = events(&out).into_iter().any(|e| {
-        matches!(e, DeviceEvent::StationAddress { change, by_dcp: true }
+        matches!(e, DeviceEvent::StationAddress { change, reference: None, result: Ok(()) }
             if change.name.as_deref() == Some("plc-line-9") && change.permanent)
     });
     assert!(told);
@@ -272,8 +272,15 @@ fn the_ports_neighbour_is_checked_and_a_mismatch_raised_and_withdrawn_by_alarm()
     c.on_frame(&neighbour_frame("io-dev-1", 2), 1, &mut out);
     let a = alarms(&out);
     assert!(a.len() >= 2);
-    assert!(!a.last().unwrap().specifier.submodule_diagnosis, "nothing pending");
-    assert!(c.read_interface_record(PORT_SUBSLOT, 0x800a).unwrap().is_empty());
+    assert!(
+        !a.last().unwrap().specifier.submodule_diagnosis,
+        "nothing pending"
+    );
+    assert!(
+        c.read_interface_record(PORT_SUBSLOT, 0x800a)
+            .unwrap()
+            .is_empty()
+    );
 
     // Unchanged inputs: no alarm again.
     out.clear();

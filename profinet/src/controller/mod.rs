@@ -247,14 +247,29 @@ pub enum DeviceEvent {
     /// The controller's own interface raised an alarm (its port's topology check found a
     /// mismatch, or one went): IO-Base's `PNIO_CBE_IFC_ALARM_IND`. Nothing acknowledges it.
     InterfaceAlarm(Box<AlarmNotification>),
-    /// The controller's station got a new name or IP suite: by DCP from an engineering
-    /// tool (`by_dcp`), or by [`Controller::set_station_address`]. The runtime carries the
+    /// The controller's station got a new name or IP suite by DCP from an engineering tool
+    /// (`reference` `None`); or, from the runtime, a program's change
+    /// ([`Controller::set_station_address`]) was made or refused. The runtime carries the
     /// address out on the host, keeps a permanent change, and tells the programs.
     StationAddress {
-        /// What changed.
+        /// What changed, or was to.
         change: StationAddress,
-        /// Set by DCP rather than by a program.
-        by_dcp: bool,
+        /// The program's request, if a program asked.
+        reference: Option<u64>,
+        /// Done, or why not.
+        result: Result<(), AddressError>,
+    },
+    /// A read of a record of the controller's own interface
+    /// ([`Controller::read_interface_record`]) ended, for the program that asked.
+    InterfaceRecord {
+        /// The program's request.
+        reference: u64,
+        /// The subslot read.
+        subslot: u16,
+        /// The record index.
+        index: u16,
+        /// The record, or why not.
+        result: Result<Vec<u8>, crate::wire::record::RecordErrorCode>,
     },
 }
 

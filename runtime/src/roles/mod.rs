@@ -19,8 +19,10 @@
 //! Starting a role ([`controller::start`]) gives a [`RoleSystem`]: the factory of the cycle
 //! thread's IO system, the running acyclic thread, and the role's client services.
 
+pub mod address;
 pub mod controller;
 pub mod device;
+pub mod port_watch;
 pub mod subscribers;
 
 use crate::cycle::thread::IoFactory;

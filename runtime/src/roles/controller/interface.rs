@@ -59,6 +59,18 @@ impl ControllerInterface {
         }
     }
 
+    /// Takes the station's new name or IP suite.
+    pub fn take_address(&mut self, change: &procimg_profinet::controller::StationAddress) {
+        if let Some(name) = &change.name {
+            self.report.station_name.clone_from(name);
+        }
+        if let Some([ip, mask, gateway]) = change.ip_suite {
+            self.report.ip = ip.to_string();
+            self.report.netmask = mask.to_string();
+            self.report.gateway = gateway.to_string();
+        }
+    }
+
     /// Starts the counters again from 0.
     pub fn reset(&mut self) {
         self.baseline = self.raw().unwrap_or_default();

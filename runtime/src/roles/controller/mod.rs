@@ -23,14 +23,16 @@ use crate::config::{Config, Network};
 use crate::cycle::Shared;
 use crate::cycle::thread::IoFactory;
 use crate::io::pnio::channel::Channel;
-use crate::phy::datagram::{self, BindError, Datagrams, UdpDatagrams};
+use crate::phy::datagram::{self, BindError, Datagrams, InterfaceBindError, UdpDatagrams};
+use crate::roles::address::{AddressStartError, InterfaceAddress};
 use interface::ControllerInterface;
 use procimg_control::ControllerReport;
 use procimg_nic::Nic;
 use procimg_nic::af_packet::{AfPacket, OpenError};
 use procimg_nic::sim_link;
-use procimg_profinet::controller::Controller;
 use procimg_profinet::controller::plan::{ControllerIdentity, PlanError};
+use procimg_profinet::controller::{Controller, InterfaceSetup, port_id};
+use procimg_profinet::port::dcp_station::Settable;
 use procimg_profinet::wire::MacAddress;
 use std::net::Ipv4Addr;
 use std::sync::Arc;
@@ -71,6 +73,18 @@ pub enum NetworkError {
     /// Port 34964 is taken.
     #[error(transparent)]
     Bind(#[from] BindError),
+    /// Port 34964 is taken on the interface.
+    #[error(transparent)]
+    InterfaceBind(InterfaceBindError),
+    /// The station's address could not be taken over (`[interface] address_by_program`).
+    // Not a `source`: the message already holds it, and error chains would repeat it.
+    #[error("{origin}: {error}")]
+    Address {
+        /// Configuration file.
+        origin: String,
+        /// What went wrong.
+        error: AddressStartError,
+    },
     /// A thread could not be started.
     #[error("cannot start the {0} thread: {1}")]
     Thread(&'static str, std::io::Error),
@@ -94,6 +108,8 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     // The interface's index, for the LLDP announcements of a real port (the management
     // address names the port by it, as the LLDP-MIB's ifIndex).
     let mut if_index = None;
+    let iface = &config.interface;
+    let mut address = None;
     let (io, udp, mac, ip): (IoFactory, Box<dyn Datagrams>, MacAddress, Ipv4Addr) =
         match &config.network {
             Network::Sim => {
@@ -132,7 +148,21 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                 })?;
                 let ip = procimg_nic::interfaces::ipv4(name)
                     .ok_or_else(|| NetworkError::NoAddress(name.clone()))?;
-                let mut udp = UdpDatagrams::bind(ip)?;
+                let mut udp = if iface.address_by_program {
+                    // The station's address may change under the socket: it listens on the
+                    // interface, whatever address it has.
+                    let netmask = netmask_of(crate::sys::netlink::interface_index(name).ok(), ip);
+                    address = Some(
+                        InterfaceAddress::take(name, Some(ip), netmask, Ipv4Addr::UNSPECIFIED)
+                            .map_err(|error| NetworkError::Address {
+                                origin: config.origin.clone(),
+                                error,
+                            })?,
+                    );
+                    UdpDatagrams::on_interface(name).map_err(NetworkError::InterfaceBind)?
+                } else {
+                    UdpDatagrams::bind(ip)?
+                };
                 // The devices' MAC addresses from DCP go to the interface's neighbour table,
                 // so that no RPC call waits for ARP (see `ControllerAction::Neighbour`).
                 match crate::sys::netlink::interface_index(name) {
@@ -153,7 +183,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                 )
             }
         };
-    let station_name = controller_station_name(&config.instance);
+    let station_name = config.controller_station_name();
     let netmask = netmask_of(if_index, ip);
     let interface = ControllerInterface::new(
         ControllerReport {
@@ -165,6 +195,10 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
             netmask: netmask.to_string(),
             gateway: Ipv4Addr::UNSPECIFIED.to_string(),
             counters: None,
+            interface_address: iface.diagnostic_address,
+            port_address: iface.port_diagnostic_address,
+            name_by_program: iface.name_by_program,
+            address_by_program: iface.address_by_program,
         },
         match &config.network {
             Network::Interface(name) => Some(name.clone()),
@@ -200,11 +234,28 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         // Its station answers DCP too: engineering tools find it, and a Signal flashes it.
         controller.answer_dcp(TYPE_OF_STATION, netmask.octets());
     }
+    controller.set_up_interface(InterfaceSetup {
+        settable: Settable {
+            name: iface.name_by_program,
+            ip: iface.address_by_program && address.is_some(),
+        },
+        peer: config
+            .controller_port_peer()
+            .map(|(device, subslot)| (device.to_owned(), port_id(subslot))),
+        check_link: iface.check_link,
+    });
+    let mut role = ControllerRole::new(controller, states.clone(), names.clone());
+    if let Some(a) = address {
+        role = role.with_address(a);
+    }
+    if let Network::Interface(name) = &config.network {
+        role = role.with_port(name);
+    }
     let (commands, command_rx) = std::sync::mpsc::channel();
     let (events, event_rx) = std::sync::mpsc::channel();
     threads.push(
         acyclic::spawn(acyclic::AcyclicSetup {
-            role: ControllerRole::new(controller, states.clone(), names.clone()),
+            role,
             channel: channel.clone(),
             datagrams: udp,
             shared,
@@ -254,19 +305,6 @@ fn netmask_of(if_index: Option<u32>, ip: Ipv4Addr) -> Ipv4Addr {
 /// machine starves them past their watchdog.
 pub(crate) fn sim_priority(cycle_priority: u8) -> u8 {
     cycle_priority.saturating_sub(10).max(1)
-}
-
-/// The controller's NameOfStation, from the instance name: lower case, other characters as
-/// '-', as DCP names allow.
-fn controller_station_name(instance: &str) -> String {
-    let s: String = instance
-        .chars()
-        .map(|c| match c.to_ascii_lowercase() {
-            c @ ('a'..='z' | '0'..='9' | '-') => c,
-            _ => '-',
-        })
-        .collect();
-    format!("procimgd-{}", s.trim_matches('-'))
 }
 
 /// `error`, with what to do about it in procimgd's words.

@@ -3,9 +3,12 @@
 //! bookkeeping around it (the device states the control side reads, the log).
 
 use super::states::DeviceStates;
+use crate::roles::address::InterfaceAddress;
+use crate::roles::port_watch::PortWatch;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
 use procimg_profinet::controller::{
-    AlarmTicket, Controller, ControllerAction, DeviceEvent, Reconfiguration, RecordRequest,
+    AddressError, AlarmTicket, Controller, ControllerAction, DeviceEvent, Reconfiguration,
+    RecordRequest, StationAddress,
 };
 use procimg_profinet::wire::connect::IdentInfo;
 use std::net::SocketAddrV4;
@@ -27,6 +30,22 @@ pub enum ControllerCommand {
     Record(RecordRequest),
     /// Send the AlarmAck of a delivered alarm.
     AcknowledgeAlarm(AlarmTicket),
+    /// Read a record of the controller's own interface.
+    InterfaceRecord {
+        /// The request's reference.
+        reference: u64,
+        /// The subslot (0x8000 interface, 0x8001 port).
+        subslot: u16,
+        /// The record index.
+        index: u16,
+    },
+    /// Give the controller's station a new name or IP suite, for a program.
+    StationAddress {
+        /// The request's reference.
+        reference: u64,
+        /// What is to change.
+        change: StationAddress,
+    },
 }
 
 /// The controller on the acyclic thread.
@@ -40,6 +59,10 @@ pub struct ControllerRole {
     /// The last problem logged of each device, so that a retry failing the same way (a
     /// missing device, twice a second) is not a new warning.
     problems: ProblemLog,
+    /// The station's address on a real interface, where programs and DCP may change it.
+    address: Option<InterfaceAddress>,
+    /// The real interface whose link and counters the interface's records report.
+    port: Option<PortWatch>,
 }
 
 /// The last problem of each device that was logged as a warning, until it comes up.
@@ -83,6 +106,53 @@ impl ControllerRole {
             names,
             actions: Vec::new(),
             problems: ProblemLog::default(),
+            address: None,
+            port: None,
+        }
+    }
+
+    /// Carries out the station's IP suite on the interface whenever it changes, from now on.
+    pub fn with_address(mut self, address: InterfaceAddress) -> ControllerRole {
+        self.address = Some(address);
+        self
+    }
+
+    /// Reports `interface`'s link and counters in the interface's records, looked at every
+    /// second.
+    pub fn with_port(mut self, interface: &str) -> ControllerRole {
+        self.port = Some(PortWatch::new(interface));
+        self
+    }
+
+    /// Tells the controller the interface's link and counters, if it has a real one.
+    fn look_at_port(&mut self, now_ns: u64) {
+        let Some(port) = self.port.as_mut() else {
+            return;
+        };
+        let (link, counters) = port.look(now_ns);
+        if let Some(link) = link {
+            self.controller.set_port_link(link);
+        }
+        self.controller.set_port_counters(counters);
+    }
+
+    /// A program's change of the station's name or address: checked, carried out on the
+    /// interface, then taken by the controller; the outcome is an event either way.
+    fn change_address(&mut self, reference: u64, change: StationAddress) -> DeviceEvent {
+        let result = self
+            .controller
+            .check_station_address(&change)
+            .and_then(|()| match (change.ip_suite, self.address.as_mut()) {
+                (Some([ip, mask, gateway]), Some(a)) => a
+                    .follow(ip, mask, gateway)
+                    .map_err(|e| AddressError::NotCarriedOut(e.to_string())),
+                _ => Ok(()),
+            })
+            .and_then(|()| self.controller.set_station_address(&change));
+        DeviceEvent::StationAddress {
+            change,
+            reference: Some(reference),
+            result,
         }
     }
 
@@ -97,6 +167,14 @@ impl ControllerRole {
                 ControllerAction::Start(ar) => Effect::Start(ar),
                 ControllerAction::Stop { device } => Effect::Stop { device },
                 ControllerAction::Event(e) => {
+                    if let DeviceEvent::StationAddress {
+                        change,
+                        reference: None,
+                        ..
+                    } = &e
+                    {
+                        follow_dcp(self.address.as_mut(), change);
+                    }
                     log_event(&e, &self.names, &self.states, &mut self.problems);
                     Effect::Event(e)
                 }
@@ -128,6 +206,26 @@ impl Role for ControllerRole {
             ControllerCommand::AcknowledgeAlarm(t) => {
                 self.controller
                     .acknowledge_alarm(t, now_ns, &mut self.actions);
+            }
+            ControllerCommand::InterfaceRecord {
+                reference,
+                subslot,
+                index,
+            } => {
+                // The counters as they are now.
+                self.look_at_port(now_ns);
+                let result = self.controller.read_interface_record(subslot, index);
+                self.actions
+                    .push(ControllerAction::Event(DeviceEvent::InterfaceRecord {
+                        reference,
+                        subslot,
+                        index,
+                        result,
+                    }));
+            }
+            ControllerCommand::StationAddress { reference, change } => {
+                let event = self.change_address(reference, change);
+                self.actions.push(ControllerAction::Event(event));
             }
         }
         self.hand_over(out);
@@ -164,12 +262,20 @@ impl Role for ControllerRole {
     }
 
     fn poll(&mut self, now_ns: u64, out: &mut Vec<Effect<DeviceEvent>>) {
+        if self.port.as_ref().is_some_and(|p| p.due(now_ns)) {
+            self.look_at_port(now_ns);
+        }
         self.controller.poll(now_ns, &mut self.actions);
         self.hand_over(out);
     }
 
     fn deadline(&self) -> Option<u64> {
-        self.controller.next_deadline_ns()
+        let port = self.port.as_ref().map(PortWatch::next_ns);
+        self.controller
+            .next_deadline_ns()
+            .into_iter()
+            .chain(port)
+            .min()
     }
 
     fn settling(&self) -> bool {
@@ -259,12 +365,79 @@ fn log_event(e: &DeviceEvent, names: &[String], states: &DeviceStates, problems:
         DeviceEvent::Signal => {
             tracing::info!("DCP Signal: the controller's station flashes its LED");
         }
+        DeviceEvent::InterfaceAlarm(n) => tracing::info!(
+            "the controller's port: alarm {:?}{}",
+            n.alarm_type,
+            if n.specifier.submodule_diagnosis {
+                " (a diagnosis is pending: the neighbour or the link is not as configured)"
+            } else {
+                " (no diagnosis pending)"
+            }
+        ),
+        DeviceEvent::StationAddress {
+            change,
+            reference,
+            result,
+        } => {
+            let by = if reference.is_some() {
+                "a program"
+            } else {
+                "DCP"
+            };
+            let what = describe_change(change);
+            match result {
+                Ok(()) => tracing::info!("the controller's station: {by} set {what}"),
+                Err(e) => {
+                    tracing::warn!("the controller's station: {by} could not set {what}: {e}")
+                }
+            }
+        }
+        DeviceEvent::InterfaceRecord {
+            subslot,
+            index,
+            result,
+            ..
+        } => tracing::debug!(
+            "the controller's interface: record {index:#06x} of subslot {subslot:#06x} read: {:?}",
+            result.as_ref().map(Vec::len)
+        ),
         DeviceEvent::Reconfigured { result } => match result {
             Ok(true) => tracing::info!("IO system tailored"),
             Ok(false) => tracing::info!("IO system deactivated"),
             Err(e) => tracing::warn!("IO system tailoring refused: {e}"),
         },
     }
+}
+
+/// DCP gave the station a new IP suite: the interface (`address`, where procimgd holds it)
+/// follows, before the DCP answer goes (the tool reaches the station at its new address as
+/// soon as it has the answer).
+fn follow_dcp(address: Option<&mut InterfaceAddress>, change: &StationAddress) {
+    if let (Some([ip, mask, gateway]), Some(a)) = (change.ip_suite, address)
+        && let Err(e) = a.follow(ip, mask, gateway)
+    {
+        // Logged: the station goes on with the address DCP gave it.
+        tracing::error!("{e}");
+    }
+}
+
+/// A change of the station's name or address in words.
+fn describe_change(change: &StationAddress) -> String {
+    let mut parts = Vec::new();
+    if let Some(name) = &change.name {
+        parts.push(format!("the name {name:?}"));
+    }
+    if let Some([ip, mask, gateway]) = change.ip_suite {
+        parts.push(format!(
+            "the address {ip}, netmask {mask}, gateway {gateway}"
+        ));
+    }
+    let kept = if change.permanent {
+        ", kept across restarts"
+    } else {
+        ""
+    };
+    format!("{}{kept}", parts.join(" and "))
 }
 
 #[cfg(test)]

@@ -29,7 +29,7 @@ use procimg_control::{
 };
 use procimg_profinet::controller::{
     self, AlarmTicket, DeviceEvent, DeviceState, PortEnd, Reconfiguration, RecordFailure,
-    RecordRequest, RecordResult, TailorError,
+    RecordRequest, RecordResult, StationAddress, TailorError,
 };
 use procimg_profinet::wire::PnioStatus;
 use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
@@ -109,6 +109,17 @@ pub struct ControllerServices {
     reconfigurations: VecDeque<u64>,
     /// The controller's own station on its interface, when it runs one.
     interface: Option<super::interface::ControllerInterface>,
+    /// Reads of the interface's records on their way, by job id.
+    interface_jobs: HashMap<u64, InterfaceJob>,
+    /// Who asked for each change of the station's name or address, by job id.
+    address_jobs: HashMap<u64, u64>,
+}
+
+/// A read of a record of the controller's own interface on its way.
+struct InterfaceJob {
+    reply_to: u64,
+    reference: u64,
+    max_len: u32,
 }
 
 impl ControllerServices {
@@ -142,6 +153,8 @@ impl ControllerServices {
             jobs: HashMap::new(),
             next_job: 1,
             interface: None,
+            interface_jobs: HashMap::new(),
+            address_jobs: HashMap::new(),
         }
     }
 
@@ -286,6 +299,61 @@ impl ControllerServices {
         };
         self.command(ControllerCommand::Reconfigure(how))?;
         self.reconfigurations.push_back(reply_to);
+        Ok(())
+    }
+
+    /// Starts a read of a record of the controller's own interface.
+    fn interface_record(
+        &mut self,
+        reply_to: u64,
+        reference: u64,
+        subslot: u16,
+        index: u16,
+        max_len: u32,
+    ) -> Result<(), Refusal> {
+        if max_len > MAX_RECORD_LEN {
+            return Err(Refusal::RecordTooLong {
+                len: max_len,
+                max: MAX_RECORD_LEN,
+            });
+        }
+        let open = self
+            .interface_jobs
+            .values()
+            .filter(|j| j.reply_to == reply_to)
+            .count();
+        if open >= MAX_RECORD_JOBS {
+            return Err(Refusal::TooManyJobs {
+                max: MAX_RECORD_JOBS as u32,
+            });
+        }
+        let id = self.next_job;
+        self.command(ControllerCommand::InterfaceRecord {
+            reference: id,
+            subslot,
+            index,
+        })?;
+        self.next_job += 1;
+        self.interface_jobs.insert(
+            id,
+            InterfaceJob {
+                reply_to,
+                reference,
+                max_len,
+            },
+        );
+        Ok(())
+    }
+
+    /// Starts a change of the station's name or address.
+    fn set_address(&mut self, reply_to: u64, change: StationAddress) -> Result<(), Refusal> {
+        let id = self.next_job;
+        self.command(ControllerCommand::StationAddress {
+            reference: id,
+            change,
+        })?;
+        self.next_job += 1;
+        self.address_jobs.insert(id, reply_to);
         Ok(())
     }
 
@@ -448,6 +516,90 @@ impl ControllerServices {
             } => self.on_alarm(device, &notification, ticket, notices),
             DeviceEvent::Record(r) => self.on_record(r, notices),
             DeviceEvent::Signal => notices.publish(&Notification::ControllerSignal),
+            DeviceEvent::InterfaceAlarm(n) => {
+                let id = self.next_alarm;
+                self.next_alarm += 1;
+                let station = self
+                    .interface
+                    .as_ref()
+                    .map(|i| i.report().station_name)
+                    .unwrap_or_default();
+                let report = alarm_report(id, 0, station, &n);
+                notices.publish(&Notification::InterfaceAlarm(report));
+            }
+            DeviceEvent::InterfaceRecord {
+                reference,
+                subslot,
+                index,
+                result,
+            } => {
+                let Some(job) = self.interface_jobs.remove(&reference) else {
+                    return;
+                };
+                let (status, data, message) = match result {
+                    Ok(mut data) => {
+                        let more = data.len() > job.max_len as usize;
+                        data.truncate(job.max_len as usize);
+                        let status = RecordStatus {
+                            add_value1: u16::from(more),
+                            ..RecordStatus::OK
+                        };
+                        (status, data, String::new())
+                    }
+                    Err(code) => (
+                        RecordStatus {
+                            error_code: 0xde,
+                            error_decode: 0x80,
+                            error_code1: code.into(),
+                            ..RecordStatus::default()
+                        },
+                        Vec::new(),
+                        format!(
+                            "record {index:#06x} of the controller's interface subslot \
+                             {subslot:#06x}: {code}"
+                        ),
+                    ),
+                };
+                notices.publish(&Notification::InterfaceRecord {
+                    reply_to: job.reply_to,
+                    reference: job.reference,
+                    subslot,
+                    index,
+                    status,
+                    data,
+                    message,
+                });
+            }
+            DeviceEvent::StationAddress {
+                change,
+                reference,
+                result,
+            } => {
+                let reply_to = match reference {
+                    Some(r) => match self.address_jobs.remove(&r) {
+                        Some(reply_to) => Some(reply_to),
+                        None => return,
+                    },
+                    None => None,
+                };
+                if result.is_ok()
+                    && let Some(i) = self.interface.as_mut()
+                {
+                    i.take_address(&change);
+                }
+                let Some(now) = self.interface.as_ref().map(|i| i.report()) else {
+                    return;
+                };
+                notices.publish(&Notification::ControllerAddress {
+                    reply_to,
+                    name: now.station_name,
+                    ip: now.ip,
+                    netmask: now.netmask,
+                    gateway: now.gateway,
+                    permanent: change.permanent,
+                    refused: result.err().map(|e| e.to_string()),
+                });
+            }
             DeviceEvent::Reconfigured { result } => {
                 let Some(reply_to) = self.reconfigurations.pop_front() else {
                     return;
@@ -488,30 +640,8 @@ impl ControllerServices {
     ) {
         let id = self.next_alarm;
         self.next_alarm += 1;
-        let mut block = vec![0u8; n.buffer_len()];
-        // The fixed part of the block: header (6), AlarmType, API, slot, subslot, module and
-        // submodule ident, AlarmSpecifier; what follows is the user data.
-        const FIXED: usize = 6 + 2 + 4 + 2 + 2 + 4 + 4 + 2;
-        let payload = match n.emit(&mut block) {
-            Ok(()) => block.get(FIXED..).unwrap_or_default().to_vec(),
-            Err(_) => Vec::new(),
-        };
         let name = self.names.get(device).cloned().unwrap_or_default();
-        let report = AlarmReport {
-            id,
-            device: device as u32,
-            text: alarm_text(&name, n),
-            device_name: name,
-            high_priority: n.priority == Priority::High,
-            alarm_type: n.alarm_type.into(),
-            api: n.api,
-            slot: n.slot,
-            subslot: n.subslot,
-            module_ident: n.module_ident,
-            submodule_ident: n.submodule_ident,
-            specifier: n.specifier.to_u16(),
-            payload,
-        };
+        let report = alarm_report(id, device as u32, name, n);
         let waiting = self.subscribers.acknowledging();
         notices.publish(&Notification::Alarm(report));
         if waiting.is_empty() {
@@ -644,6 +774,32 @@ impl Answers<ControllerRequest> for ControllerServices {
                 self.acknowledge(subscriber, alarm)
             }
             ControllerRequest::Diagnosis => return Response::Diagnosis(Box::new(self.diagnosis())),
+            ControllerRequest::InterfaceRecordRead {
+                reply_to,
+                reference,
+                subslot,
+                index,
+                max_len,
+            } => {
+                return accepted(
+                    self.interface_record(reply_to, reference, subslot, index, max_len),
+                );
+            }
+            ControllerRequest::SetControllerAddress {
+                reply_to,
+                name,
+                ip_suite,
+                permanent,
+            } => {
+                return accepted(self.set_address(
+                    reply_to,
+                    StationAddress {
+                        name,
+                        ip_suite,
+                        permanent,
+                    },
+                ));
+            }
             ControllerRequest::ResetCommCounters => {
                 if let Some(i) = self.interface.as_mut() {
                     i.reset();
@@ -713,6 +869,33 @@ impl RoleServices for ControllerServices {
 
     fn released(&self) -> bool {
         self.link.as_ref().is_none_or(|l| l.states.all_released())
+    }
+}
+
+/// What subscribers are told of alarm `n` of `device` (named `name`), as alarm `id`.
+fn alarm_report(id: u64, device: u32, name: String, n: &AlarmNotification) -> AlarmReport {
+    let mut block = vec![0u8; n.buffer_len()];
+    // The fixed part of the block: header (6), AlarmType, API, slot, subslot, module and
+    // submodule ident, AlarmSpecifier; what follows is the user data.
+    const FIXED: usize = 6 + 2 + 4 + 2 + 2 + 4 + 4 + 2;
+    let payload = match n.emit(&mut block) {
+        Ok(()) => block.get(FIXED..).unwrap_or_default().to_vec(),
+        Err(_) => Vec::new(),
+    };
+    AlarmReport {
+        id,
+        device,
+        text: alarm_text(&name, n),
+        device_name: name,
+        high_priority: n.priority == Priority::High,
+        alarm_type: n.alarm_type.into(),
+        api: n.api,
+        slot: n.slot,
+        subslot: n.subslot,
+        module_ident: n.module_ident,
+        submodule_ident: n.submodule_ident,
+        specifier: n.specifier.to_u16(),
+        payload,
     }
 }
 

@@ -14,10 +14,9 @@
 //! part the device's input data (I), one submodule table entry per configured submodule in
 //! configuration order: the order the engine maps the AR's cyclic data onto.
 
-mod address;
 mod alarms;
 mod application;
-use address::InterfaceAddress;
+use crate::roles::address::{self, InterfaceAddress};
 use application::ApplicationSay;
 mod diagnosis;
 mod identity;

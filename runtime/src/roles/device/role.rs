@@ -3,19 +3,18 @@
 //! handed over to the cycle thread, and the daemon's bookkeeping around it (the station
 //! report the control side reads, the log).
 
-use super::address::InterfaceAddress;
 use super::alarms::{AlarmOrder, ClientAlarms};
 use super::diagnosis;
 use super::identity::{IdentityChange, IdentityWatch};
 use super::state_file::{self, KeptState};
 use super::station::{ImageApplication, Station, StationEvent};
 use crate::io::pnio::channel::Channel;
+use crate::roles::address::InterfaceAddress;
+use crate::roles::port_watch::PortWatch;
 use crate::roles::{CycleReport, DroppedDatagrams, Effect, Role};
 use procimg_control::{PlugRefusal, Refusal, StationDiagnosisChange};
-use procimg_profinet::device::physical::{PortCounters, PortLink};
 use procimg_profinet::device::{ArState, Device, DeviceAction, PlugError, SubslotAddr};
 use procimg_profinet::wire::record::RecordErrorCode;
-use procimg_profinet::wire::record::{MEDIA_COPPER, MEDIA_UNKNOWN};
 use procimg_profinet::wire::rpc::RPC_PORT;
 use procimg_profinet::wire::rt::data_status::{PROVIDER_RUN, STATE_PRIMARY, STATION_OK};
 use procimg_profinet::wire::rta_pdu::AbortCode;
@@ -24,10 +23,6 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::SyncSender;
-
-/// How often the interface's link is looked at: a link that went down is in the records
-/// (and its neighbours forgotten) within a second.
-const PORT_LOOK_NS: u64 = 1_000_000_000;
 
 /// What the client services ask of the device.
 #[derive(Debug)]
@@ -163,9 +158,8 @@ pub struct DeviceRole {
     kept: Option<Kept>,
     /// The station's address on a real interface, which follows DCP's changes.
     address: Option<InterfaceAddress>,
-    /// The real interface whose link and counters the physical records report, and when
-    /// its link is looked at next.
-    port: Option<(String, u64)>,
+    /// The real interface whose link and counters the physical records report.
+    port: Option<PortWatch>,
     /// The DataStatus bits of the PLC's last output frame that the application is told of
     /// (RUN, StationProblemIndicator, primary), while its data flows.
     plc_status: Option<u8>,
@@ -254,7 +248,7 @@ impl DeviceRole {
     /// on: looked at every second, and before every call of a peer (a record read then
     /// gets the counters as they are).
     pub fn with_port(mut self, interface: &str) -> DeviceRole {
-        self.port = Some((interface.to_owned(), 0));
+        self.port = Some(PortWatch::new(interface));
         self
     }
 
@@ -266,41 +260,14 @@ impl DeviceRole {
 
     /// Tells the engine the interface's link and counters, if it has a real one.
     fn look_at_port(&mut self, now_ns: u64) {
-        let Some((name, next)) = self.port.as_mut() else {
+        let Some(port) = self.port.as_mut() else {
             return;
         };
-        *next = now_ns.saturating_add(PORT_LOOK_NS);
-        match crate::sys::port_state::read(name) {
-            Ok(s) => {
-                let mau_type = PortLink::mau_type_of(s.speed_mbit.unwrap_or(0), s.full_duplex);
-                self.device.set_port_link(PortLink {
-                    up: s.up,
-                    mau_type,
-                    media_type: if mau_type == 0 {
-                        MEDIA_UNKNOWN
-                    } else {
-                        MEDIA_COPPER
-                    },
-                });
-                let [
-                    in_octets,
-                    out_octets,
-                    in_discards,
-                    out_discards,
-                    in_errors,
-                    out_errors,
-                ] = s.counters;
-                self.device.set_port_counters(Some(PortCounters {
-                    in_octets,
-                    out_octets,
-                    in_discards,
-                    out_discards,
-                    in_errors,
-                    out_errors,
-                }));
-            }
-            Err(_) => self.device.set_port_counters(None),
+        let (link, counters) = port.look(now_ns);
+        if let Some(link) = link {
+            self.device.set_port_link(link);
         }
+        self.device.set_port_counters(counters);
     }
 
     /// Writes the state file when DCP set something to keep or the PLC wrote I&M data.
@@ -353,7 +320,11 @@ impl DeviceRole {
             // Before the DCP answer (among `out`) goes: the PLC connects to the new address
             // as soon as it has the answer.
             if let Some(a) = self.address.as_mut() {
-                a.follow(&change.identity);
+                let id = &change.identity;
+                // Logged: the station goes on with the address DCP gave it.
+                if let Err(e) = a.follow(id.ip, id.netmask, id.gateway) {
+                    tracing::error!("{e}");
+                }
             }
             let IdentityChange {
                 identity,
@@ -647,7 +618,7 @@ impl Role for DeviceRole {
     }
 
     fn poll(&mut self, now_ns: u64, out: &mut Vec<Effect<StationEvent>>) {
-        if self.port.as_ref().is_some_and(|(_, next)| now_ns >= *next) {
+        if self.port.as_ref().is_some_and(|p| p.due(now_ns)) {
             self.look_at_port(now_ns);
         }
         self.device.poll(now_ns, &mut self.actions);
@@ -655,7 +626,7 @@ impl Role for DeviceRole {
     }
 
     fn deadline(&self) -> Option<u64> {
-        let port = self.port.as_ref().map(|(_, next)| *next);
+        let port = self.port.as_ref().map(PortWatch::next_ns);
         self.device.next_deadline_ns().into_iter().chain(port).min()
     }
 

@@ -569,8 +569,13 @@ fn log(e: &DeviceEvent, names: &[String]) {
                 Err(f) => tracing::warn!("demo PLC: writing {what} failed: {}", f.reason),
             }
         }
-        DeviceEvent::Activation { .. } | DeviceEvent::Reconfigured { .. } | DeviceEvent::Signal => {
-        }
+        // Of a controller's own station, which the demo PLC does not run.
+        DeviceEvent::Activation { .. }
+        | DeviceEvent::Reconfigured { .. }
+        | DeviceEvent::Signal
+        | DeviceEvent::InterfaceAlarm(_)
+        | DeviceEvent::StationAddress { .. }
+        | DeviceEvent::InterfaceRecord { .. } => {}
     }
 }
 

@@ -106,7 +106,7 @@ pub fn load(path: &Path) -> Result<KeptState, StateFileError> {
     })?;
     // The station's address goes onto its interface with the netmask's prefix length.
     if let Some(mask) = state.netmask
-        && super::address::prefix_len(mask).is_none()
+        && crate::roles::address::prefix_len(mask).is_none()
     {
         return Err(StateFileError::Damaged {
             path: path.to_path_buf(),

@@ -147,6 +147,10 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::StationPlugParameterized { .. }
         | Notification::StationArCheck { .. }
         | Notification::StationDcpSetCheck { .. } => {}
+        // The controller's own interface: for the handle of `PNIO_interface_open`.
+        Notification::InterfaceAlarm(_)
+        | Notification::InterfaceRecord { .. }
+        | Notification::ControllerAddress { .. } => {}
     }
 }
 

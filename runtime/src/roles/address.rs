@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The station's IPv4 address on its network interface. A PROFINET device's address is the
-//! PLC's to give: the engineering tool or the PLC sets it by DCP (for now or for good),
+//! A station's IPv4 address on its network interface, for the device role's station and for
+//! the controller's own station where programs and DCP may change it (`[interface]
+//! address_by_program`). A PROFINET device's address is the PLC's to give: the engineering tool or the PLC sets it by DCP (for now or for good),
 //! resets it to factory (none), and then connects to it. On a real interface procimgd
 //! carries that out on the Linux interface, so that the PLC's Connect arrives:
 //!
@@ -28,7 +29,6 @@
 //! as soon as it has the answer. A change that fails is logged with the interface named;
 //! the station goes on with the address DCP gave it.
 
-use super::identity::Identity;
 use crate::sys::netlink::{self, IfAddress, Netlink};
 use std::net::Ipv4Addr;
 
@@ -319,21 +319,20 @@ impl InterfaceAddress {
         Ok(me)
     }
 
-    /// Carries out on the interface the station's IP suite in `identity`, if it changed.
-    /// Failures are logged: the station goes on.
-    pub fn follow(&mut self, identity: &Identity) {
-        if let Err(e) = self.try_follow(identity) {
-            tracing::error!("{e}");
-        }
-    }
-
-    fn try_follow(&mut self, identity: &Identity) -> Result<(), AddressChangeError> {
-        let want = Suite::new(identity.ip, identity.netmask, identity.gateway).map_err(
-            |NotANetmask(mask)| AddressChangeError::Netmask {
+    /// Carries out on the interface the station's IP suite `ip`, `netmask`, `gateway` (ip
+    /// 0.0.0.0: none), if it changed.
+    pub fn follow(
+        &mut self,
+        ip: Ipv4Addr,
+        netmask: Ipv4Addr,
+        gateway: Ipv4Addr,
+    ) -> Result<(), AddressChangeError> {
+        let want = Suite::new(ip, netmask, gateway).map_err(|NotANetmask(mask)| {
+            AddressChangeError::Netmask {
                 interface: self.interface.clone(),
                 mask,
-            },
-        )?;
+            }
+        })?;
         for step in steps(self.held, want) {
             self.apply(step)?;
         }
