@@ -1371,3 +1371,75 @@ fn bad_topology() {
         "no port submodule",
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// The controller's own interface.
+
+#[test]
+fn the_controllers_interface() {
+    let c = parse("instance = \"Line_1\"").unwrap();
+    assert_eq!(c.controller_station_name(), "procimgd-line-1");
+    assert_eq!(
+        (
+            c.interface.diagnostic_address,
+            c.interface.port_diagnostic_address
+        ),
+        (16382, 16381)
+    );
+    assert!(!c.interface.name_by_program && !c.interface.address_by_program);
+
+    let text = "[interface]\nstation_name = \"plc-1\"\nname_by_program = true\n\
+                address_by_program = true\ncheck_link = true\ndiagnostic_address = 100\n\
+                port_diagnostic_address = 101\n"
+        .to_owned()
+        + &device("io-1", &submodule(1, "input_length = 4"))
+        + "[[device.submodule]]\nslot = 0\nsubslot = 0x8002\nmodule_ident = 1\n\
+           submodule_ident = 2\n"
+        + "[[device.topology]]\nsubslot = 0x8002\nstation = \"plc-1\"\nport = \"port-001\"\n";
+    let c = parse(&text).unwrap();
+    assert_eq!(c.controller_station_name(), "plc-1");
+    assert!(c.interface.name_by_program && c.interface.address_by_program);
+    assert!(c.interface.check_link);
+    assert_eq!(c.controller_port_peer(), Some(("io-1", 0x8002)));
+
+    // Its addresses are clear of the devices' inputs and of each other.
+    let taken = "[interface]\ndiagnostic_address = 2\n".to_owned()
+        + &device("io-1", &submodule(1, "input_length = 4"));
+    refused_at(
+        &taken,
+        "diagnostic_address = 2",
+        "interface.diagnostic_address",
+        "io-1 slot 1",
+    );
+    let default_taken = device(
+        "io-1",
+        &submodule(1, "input_length = 4\ninput_address = 16378"),
+    );
+    let e = refused(&default_taken);
+    assert!(e.to_string().contains("port_diagnostic_address"), "{e}");
+    refused_at(
+        "[interface]\ndiagnostic_address = 40000\n",
+        "40000",
+        "interface.diagnostic_address",
+        "0 to 32767",
+    );
+    refused_at(
+        "[interface]\ndiagnostic_address = 7\nport_diagnostic_address = 7\n",
+        "port_diagnostic_address = 7",
+        "interface.port_diagnostic_address",
+        "of their own",
+    );
+    refused_at(
+        "[interface]\nstation_name = \"Bad Name\"\n",
+        "Bad Name",
+        "interface.station_name",
+        "Bad Name",
+    );
+    // The device role's station is [station].
+    refused_at(
+        "role = \"device\"\n[interface]\nname_by_program = true\n",
+        "[interface]",
+        "interface",
+        "[station]",
+    );
+}

@@ -287,7 +287,7 @@ pub enum Notification {
         permanent: bool,
         /// Why the change was refused, leaving name and address as they were; `None`: done.
         #[serde(default, skip_serializing_if = "Option::is_none")]
-        refused: Option<String>,
+        refused: Option<AddressRefusal>,
     },
     /// Controller role: a DCP Signal came to the controller's own station, which is to flash
     /// its LED for three seconds (IO-Base `PNIO_CBE_START_LED_FLASH`, then
@@ -476,6 +476,29 @@ impl Notification {
             _ => None,
         }
     }
+}
+
+/// Why a change of the controller station's name or address was refused.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AddressRefusal {
+    /// What was wrong.
+    pub problem: AddressProblem,
+    /// The refusal in words.
+    pub message: String,
+}
+
+/// What was wrong with a change of the controller station's name or address.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AddressProblem {
+    /// The configuration keeps it (`[interface] name_by_program`, `address_by_program`).
+    NotAllowed,
+    /// Not a NameOfStation.
+    Name,
+    /// Not an IP suite.
+    Ip,
+    /// The network interface would not take the address.
+    Interface,
 }
 
 /// A port submodule of a device.

@@ -288,7 +288,7 @@ pub struct AccessArReport {
 
 /// The controller's own station, for the status report (IO-Base's CONFIG_NAME_ADDR_INFO
 /// and communication counters).
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ControllerReport {
     /// Its NameOfStation.
     pub station_name: String,

@@ -383,7 +383,7 @@ impl World {
         let mut net = net::World::new(Setup::new(id, plans), sim_plant::devices(config), cycle);
         // The controller's own station answers DCP, as on a real interface: the arbitrary
         // frames reach its responder too.
-        net.with_controller(|c, _, _| c.answer_dcp("procimg controller", [255, 255, 255, 0]));
+        net.with_controller(|c, _, _| c.answer_dcp("procimg controller"));
         net.tap(|r| {
             check(r);
             false

@@ -4,6 +4,7 @@
 mod capture;
 mod dcp;
 mod gsdml;
+mod interface;
 mod interrupt;
 mod io;
 mod services;
@@ -80,6 +81,11 @@ enum Command {
     Device {
         #[command(subcommand)]
         op: DeviceCommand,
+    },
+    /// The controller's own interface: its records, its station's name and address.
+    Interface {
+        #[command(subcommand)]
+        op: interface::InterfaceCommand,
     },
     /// The state of every device: state, activation, last error, module differences; of a
     /// device-role server, the station's own diagnosis as the PLC reads it (its diagnosis
@@ -174,6 +180,7 @@ fn main() {
             }
             DeviceCommand::DeactivateAll => services::tailor(&cli.instance, None),
         },
+        Command::Interface { op } => interface::run(&cli.instance, op),
         Command::Diag { json } => services::diag(&cli.instance, json),
         Command::Dcp { iface, op, .. } => dcp::run(&iface, op),
         Command::Capture {

@@ -13,7 +13,7 @@ use procimg_profinet::wire::record::Im0;
 use std::time::{Duration, Instant};
 
 /// How long a record job may take before the command gives up.
-const RECORD_TIMEOUT: Duration = Duration::from_secs(10);
+pub(crate) const RECORD_TIMEOUT: Duration = Duration::from_secs(10);
 
 #[derive(Subcommand)]
 pub enum RecordCommand {
@@ -53,7 +53,7 @@ pub struct RecordAt {
     api: u32,
 }
 
-fn parse_u16(s: &str) -> Result<u16, String> {
+pub(crate) fn parse_u16(s: &str) -> Result<u16, String> {
     let r = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
         Some(hex) => u16::from_str_radix(hex, 16),
         None => s.parse(),
@@ -61,7 +61,7 @@ fn parse_u16(s: &str) -> Result<u16, String> {
     r.map_err(|e| format!("{s:?} is not a 16-bit number: {e}"))
 }
 
-fn open(instance: &str, name: &str, acknowledge: bool) -> anyhow::Result<Services> {
+pub(crate) fn open(instance: &str, name: &str, acknowledge: bool) -> anyhow::Result<Services> {
     Ok(Services::open(
         instance,
         ServiceOptions::new(name).acknowledge_alarms(acknowledge),
@@ -240,7 +240,10 @@ fn describe(n: &Notification) -> String {
                 "DCP"
             };
             match refused {
-                Some(why) => format!("the controller's station: {by}'s change refused: {why}"),
+                Some(why) => format!(
+                    "the controller's station: {by}'s change refused: {}",
+                    why.message
+                ),
                 None => format!(
                     "the controller's station: {by} set it to \"{name}\" at {ip} \
                      (netmask {netmask}, gateway {gateway})"

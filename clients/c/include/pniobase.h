@@ -8,9 +8,9 @@
  * unchanged. Structs are "ATTR_PACKED", which IO-Base defines as alignment 4, not byte
  * packing: the natural C layout, with every struct aligned to at least 4 bytes.
  *
- * PN Driver's start-up (SERV_CP_init ... SERV_CP_undo_init) is servusrx.h's. Not here: the
- * PROFIenergy types and the PN Driver interface (PNIO_interface_*): procimg does not offer
- * them yet.
+ * PN Driver's start-up (SERV_CP_init ... SERV_CP_undo_init) is servusrx.h's, the controller's
+ * own interface (PNIO_interface_*) pniousrx.h's. Not here: the PROFIenergy types: procimg
+ * does not offer them yet.
  */
 #ifndef PNIOBASE_H
 #define PNIOBASE_H

@@ -123,15 +123,32 @@
  * manual's TAILOR_INV_STATION and TAILOR_INV_PORT have no value anywhere.
  *
  * The controller's station. On a real interface procimgd's controller answers DCP as a
- * station of its own (DeviceRole IO controller, its NameOfStation, IP suite and type of
- * station "procimg controller"): engineering tools find it. Its name and address are the
- * configuration's, and a DCP Set of them is refused. A DCP Signal to it gives every
- * controller program PNIO_CBE_START_LED_FLASH (Frequency 2 Hz) and, three seconds later,
- * PNIO_CBE_STOP_LED_FLASH; another Signal meanwhile extends the flashing.
+ * station of its own (DeviceRole IO controller, its NameOfStation, IP suite, type of station
+ * "procimg controller", the alias its LLDP neighbour gives it): engineering tools find it.
+ * A DCP Signal to it gives every controller program PNIO_CBE_START_LED_FLASH (Frequency
+ * 2 Hz) and, three seconds later, PNIO_CBE_STOP_LED_FLASH; another Signal meanwhile
+ * extends the flashing. Its name and IP suite are the configuration's unless [interface]
+ * lets programs change them (name_by_program, address_by_program): then
+ * PNIO_interface_set_ip_and_nos and a DCP Set from an engineering tool change them (the
+ * address on the Linux interface too), and every PNIO_interface_open handle hears of a
+ * DCP change as PNIO_CBE_IFC_SET_ADDR_CONF; otherwise a DCP Set is refused and the call
+ * confirmed with PNIO_ERR_SET_IP_NOS_NOT_ALLOWED. A reset to factory is always refused.
  *
- * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types), the
- * PN Driver interface functions (PNIO_interface_*) and PNIO_data_cache_exchange: procimg
- * does not offer them yet. CP_STOP_REQ can be registered but never occurs (procimgd takes
+ * The controller's own interface (PNIO_interface_*, PN Driver's chapter 10) is the
+ * interface submodule 0x8000 and its port 0x8001 in slot 0, named by the diagnostic
+ * addresses of [interface] (default 16382 and 16381, PNIO_IO_IN). Their records:
+ * PDInterfaceDataReal 0x8080, PDPortDataReal 0x802A, PDPortStatistic 0x8072, PDRealData
+ * 0xF841, the port's expected PDPortDataCheck 0x802B, and their diagnosis (0x800A ...
+ * 0x8013, 0xC00A ... 0xC013, 0xF80C); another index is refused by the interface with
+ * PNIORW "invalid index" (ErrCode 0xDE, ErrDecode 0x80, ErrCode1 0xB0), and AddValue1 holds
+ * the call's PNIO result as PN Driver's samples test it. Its alarms: the port is checked
+ * against the neighbour the configuration gives it (the device whose [[device.topology]]
+ * names the controller's station and port-001) and, with check_link, against a link down;
+ * a mismatch appears and disappears as PNIO_ALARM_PORT_DATA_CHANGED with its extended
+ * channel diagnosis, one at a time.
+ *
+ * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types) and
+ * PNIO_data_cache_exchange: procimg does not offer them yet. CP_STOP_REQ can be registered but never occurs (procimgd takes
  * no configuration while it runs). The CP application watchdog
  * (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
  * pniobase.h's, shared with the device side; what its expiry does is said there.
@@ -419,6 +436,56 @@ typedef struct {
     PNIO_UINT32 Status;     /* PNIO_OK, PNIO_ERR_INVALID_STATION, PNIO_ERR_INVALID_PORT */
 } ATTR_PACKED PNIO_CBE_PRM_IOSYS_CONF;
 
+/* ---- The controller's own interface (PN Driver's PNIO_interface_*) ------------------- */
+
+/* PN Driver's boolean (its LSA_BOOL, one byte). */
+typedef PNIO_UINT8 PNIO_BOOL;
+#define PNIO_FALSE 0
+#define PNIO_TRUE 1
+
+/* What PNIO_interface_set_ip_and_nos changes: either or both (0x0003). */
+typedef enum {
+    PNIO_SET_IP_MODE = 0x0001,  /* the IP suite */
+    PNIO_SET_NOS_MODE = 0x0002  /* the NameOfStation */
+} PNIO_SET_IP_NOS_MODE_TYPE;
+
+/* An IP suite, bytes in dotted order ({192, 168, 0, 1}). */
+typedef struct {
+    PNIO_UINT8 IpAddress[4];
+    PNIO_UINT8 NetMask[4];
+    PNIO_UINT8 Gateway[4]; /* {0, 0, 0, 0}: none */
+    PNIO_BOOL Remanent;    /* kept across a restart (PNIO_CBE_REMA_READ_CONF hands it out) */
+} ATTR_PACKED PNIO_IPv4;
+
+/* A NameOfStation: Length bytes of Nos (a NUL after them is not needed). */
+typedef struct {
+    PNIO_UINT8 Nos[256];
+    PNIO_UINT16 Length; /* 1 .. 240 */
+    PNIO_BOOL Remanent; /* kept across a restart */
+} ATTR_PACKED PNIO_NOS;
+
+/* PNIO_CBE_IFC_SET_ADDR_CONF: a PNIO_interface_set_ip_and_nos ended, or an engineering tool
+ * set the name or address by DCP (then Mode says what it set). The station as it is now. */
+typedef struct {
+    PNIO_SET_IP_NOS_MODE_TYPE Mode; /* what was to change */
+    void *pStationName;             /* StationNameLen bytes: valid during the callback only */
+    PNIO_UINT16 StationNameLen;
+    PNIO_UINT8 LocalIPAddress[4];
+    PNIO_UINT8 LocalSubnetMask[4];
+    PNIO_UINT8 DefaultRouterAddr[4];
+    PNIO_UINT32 Options;            /* reserved: 0 */
+    PNIO_UINT32 Err;                /* PNIO_OK, PNIO_ERR_SET_IP_NOS_NOT_ALLOWED, PRM_IP, ... */
+} ATTR_PACKED PNIO_CBE_PRM_SET_ADDR_CONF;
+
+/* PNIO_CBE_REMA_READ_CONF: the interface's retentive data changed (a Remanent name or
+ * address set by the program, or a permanent one by DCP): store the text and hand it to
+ * SERV_CP_startup as pRemaData next time. */
+typedef struct {
+    PNIO_UINT8 *RemaXMLBuffer;       /* valid during the callback only */
+    PNIO_UINT32 RemaXMLBufferLength; /* bytes, without a terminating NUL */
+    PNIO_UINT32 Err;                 /* PNIO_OK */
+} ATTR_PACKED PNIO_CBE_PRM_REMA_READ_IND;
+
 /* What a controller callback receives; the member of the anonymous union that CbeType
  * selects holds the event's parameters. Valid during the callback only. */
 typedef struct {
@@ -433,6 +500,8 @@ typedef struct {
         PNIO_CBE_PRM_LED_FLASH LedFlash;
         PNIO_CBE_PRM_CTRL_DIAG_CONF CtrlDiagConf;
         PNIO_CBE_PRM_IOSYS_CONF IoSystemReconf;
+        PNIO_CBE_PRM_SET_ADDR_CONF SetAddrConf;
+        PNIO_CBE_PRM_REMA_READ_IND RemaReadConf;
     };
 } ATTR_PACKED PNIO_CBE_PRM;
 
@@ -563,6 +632,42 @@ PNIO_UINT32 PNIO_CODE_ATTR PNIO_iosystem_reconfig(
     PNIO_ADDR *DeviceList,                     /* in */
     PNIO_UINT32 PortInterconnectionCnt,        /* in, pairs */
     PNIO_ADDR *PortInterconnectionList);       /* in */
+
+/* Opens the controller's own interface on CP CpIndex (one open per interface). Its record
+ * reads are confirmed by PNIO_CBE_IFC_REC_READ_CONF (RecReadConf), its alarms come as
+ * PNIO_CBE_IFC_ALARM_IND (AlarmInd); either callback may be NULL. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_interface_open(
+    PNIO_UINT32 CpIndex,        /* in */
+    PNIO_CBF cbf_rec_read_conf, /* in, may be NULL */
+    PNIO_CBF cbf_alarm_ind,     /* in, may be NULL */
+    PNIO_UINT32 *Handle);       /* out */
+
+/* Registers PNIO_CBE_IFC_SET_ADDR_CONF or PNIO_CBE_REMA_READ_CONF, once each. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_interface_register_cbf(
+    PNIO_UINT32 Handle,    /* in */
+    PNIO_CBE_TYPE CbeType, /* in */
+    PNIO_CBF Cbf);         /* in */
+
+/* Closes the interface: no callback runs after it returns. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_interface_close(PNIO_UINT32 Handle);
+
+/* Gives the controller's station a new IP suite and/or NameOfStation, where the
+ * configuration lets programs change them ([interface] address_by_program,
+ * name_by_program); the outcome comes as PNIO_CBE_IFC_SET_ADDR_CONF. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_interface_set_ip_and_nos(
+    PNIO_UINT32 Handle,             /* in */
+    PNIO_SET_IP_NOS_MODE_TYPE Mode, /* in */
+    PNIO_IPv4 IpV4,                 /* in */
+    PNIO_NOS NoS);                  /* in */
+
+/* Reads a record of the interface (pAddr: its diagnostic address or its port's, PNIO_IO_IN);
+ * the record comes as PNIO_CBE_IFC_REC_READ_CONF. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_interface_rec_read_req(
+    PNIO_UINT32 Handle,      /* in */
+    PNIO_ADDR *pAddr,        /* in */
+    PNIO_UINT32 RecordIndex, /* in */
+    PNIO_REF ReqRef,         /* in */
+    PNIO_UINT32 Length);     /* in: 1 .. 4096 */
 
 #ifdef __cplusplus
 }

@@ -48,8 +48,12 @@
  * its network (`network = "sim"`, as the demo does) keeps its simulation, so a program can
  * be tried without hardware (the adapter is then not used, but must exist).
  *
- * Retentive data. procimg keeps none of its own: pRemaData NULL or RemaDataLen 0, else
- * PNIO_ERR_INVALID_REMA (retentive data from another PN Driver cannot be read).
+ * Retentive data. pRemaData is the text PNIO_CBE_REMA_READ_CONF handed out (the station's
+ * NameOfStation and IP suite that a program or DCP set to be kept), or NULL / RemaDataLen 0
+ * for none. The started controller takes the name and address from it where its
+ * configuration lets programs set them ([interface] name_by_program, address_by_program);
+ * text that is not procimg's retentive data (another PN Driver's) is PNIO_ERR_INVALID_REMA,
+ * and so is a name or address the station cannot take (the stack is then stopped again).
  * pSysDescr may be NULL; procimg reads nothing from it.
  *
  * The trace. procimgd's log is the stack's trace, component PNIO_TRACE_COMP_PND. With a
@@ -231,8 +235,8 @@ PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_startup(
     PNIO_UINT32 NrOfCp,          /* in, 1 */
     PNIO_UINT8 *pConfigData,     /* in, procimg's configuration (TOML text) */
     PNIO_UINT32 ConfigDataLen,   /* in, without a terminating NUL */
-    PNIO_UINT8 *pRemaData,       /* in, NULL */
-    PNIO_UINT32 RemaDataLen,     /* in, 0 */
+    PNIO_UINT8 *pRemaData,       /* in, may be NULL */
+    PNIO_UINT32 RemaDataLen,     /* in, 0: none */
     PNIO_SYSTEM_DESCR *pSysDescr); /* in, may be NULL */
 
 PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_shutdown(void);

@@ -6,6 +6,8 @@
 
 use procimg::iobase::api::*;
 use procimg::iobase::errors;
+use procimg::iobase::interface_api::*;
+use procimg::iobase::interface_types::*;
 use procimg::iobase::types::*;
 use procimg::iobase::watchdog::*;
 use std::mem::{align_of, offset_of, size_of};
@@ -133,6 +135,25 @@ fn layout_facts() -> (Sizes, Offsets) {
         PNIO_CBE_PRM_CTRL_DIAG_CONF,
         [pDiagData, DiagDataBufferLen, pDiagDataBuffer, ErrorCode]
     );
+    ty!(PNIO_IPv4, [IpAddress, NetMask, Gateway, Remanent]);
+    ty!(PNIO_NOS, [Nos, Length, Remanent]);
+    ty!(
+        PNIO_CBE_PRM_SET_ADDR_CONF,
+        [
+            Mode,
+            pStationName,
+            StationNameLen,
+            LocalIPAddress,
+            LocalSubnetMask,
+            DefaultRouterAddr,
+            Options,
+            Err
+        ]
+    );
+    ty!(
+        PNIO_CBE_PRM_REMA_READ_IND,
+        [RemaXMLBuffer, RemaXMLBufferLength, Err]
+    );
     ty!(PNIO_CBE_PRM, [CbeType, Handle]);
     // The anonymous union of PNIO_CBE_PRM: each member at the union's offset.
     let u = offset_of!(PNIO_CBE_PRM, u);
@@ -145,6 +166,8 @@ fn layout_facts() -> (Sizes, Offsets) {
         "LedFlash",
         "CtrlDiagConf",
         "IoSystemReconf",
+        "SetAddrConf",
+        "RemaReadConf",
     ] {
         offs.push(("PNIO_CBE_PRM", m, u));
     }
@@ -181,11 +204,13 @@ fn layout_facts() -> (Sizes, Offsets) {
         "PNIO_CTRL_DIAG_ENUM",
         "PNIO_ALARM_TYPE",
         "PNIO_APRIO_TYPE",
+        "PNIO_SET_IP_NOS_MODE_TYPE",
     ] {
         sizes.push((e, size_of::<u32>(), align_of::<u32>()));
     }
     for (t, s) in [
         ("PNIO_UINT8", 1),
+        ("PNIO_BOOL", 1),
         ("PNIO_UINT16", 2),
         ("PNIO_UINT32", 4),
         ("PNIO_REF", 4),
@@ -285,6 +310,10 @@ fn constants() -> Vec<(&'static str, u64)> {
         PNIO_CTRL_DEV_DIAG_AR_IN_DATA,
         PNIO_CTRL_DEV_DIAG_AR_OFFLINE,
         PNIO_CTRL_DEV_DIAG_AR_RTC3_FOLLOWS,
+        PNIO_SET_IP_MODE,
+        PNIO_SET_NOS_MODE,
+        PNIO_FALSE,
+        PNIO_TRUE,
     );
     for &(n, code) in PNIO_CTRL_REASONS.iter().chain(errors::ALL) {
         v.push((n, u64::from(code)));
@@ -369,6 +398,23 @@ const FUNCTIONS: &[(&str, &str)] = &[
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_UINT32, PNIO_CBF_APPL_WATCHDOG)",
     ),
     ("PNIO_CP_trigger_watchdog", "PNIO_UINT32 (*)(PNIO_UINT32)"),
+    (
+        "PNIO_interface_open",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CBF, PNIO_CBF, PNIO_UINT32 *)",
+    ),
+    (
+        "PNIO_interface_register_cbf",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CBE_TYPE, PNIO_CBF)",
+    ),
+    ("PNIO_interface_close", "PNIO_UINT32 (*)(PNIO_UINT32)"),
+    (
+        "PNIO_interface_set_ip_and_nos",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_SET_IP_NOS_MODE_TYPE, PNIO_IPv4, PNIO_NOS)",
+    ),
+    (
+        "PNIO_interface_rec_read_req",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_UINT32, PNIO_REF, PNIO_UINT32)",
+    ),
 ];
 
 /// The Rust functions have the manual's parameter types (as the C types map to Rust).
@@ -432,7 +478,14 @@ fn rust_signatures_are_the_manuals() {
     let _: unsafe extern "C" fn(U) -> U = PNIO_CP_trigger_watchdog;
     // The callback's type is the manual's: void (*)(PNIO_UINT32).
     let _: PNIO_CBF_APPL_WATCHDOG = None::<unsafe extern "C" fn(U)>;
-    assert_eq!(FUNCTIONS.len(), 20);
+    let _: unsafe extern "C" fn(U, PNIO_CBF, PNIO_CBF, *mut U) -> U = PNIO_interface_open;
+    let _: unsafe extern "C" fn(U, PNIO_CBE_TYPE, PNIO_CBF) -> U = PNIO_interface_register_cbf;
+    let _: unsafe extern "C" fn(U) -> U = PNIO_interface_close;
+    let _: unsafe extern "C" fn(U, PNIO_SET_IP_NOS_MODE_TYPE, PNIO_IPv4, PNIO_NOS) -> U =
+        PNIO_interface_set_ip_and_nos;
+    let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, U, PNIO_REF, U) -> U =
+        PNIO_interface_rec_read_req;
+    assert_eq!(FUNCTIONS.len(), 25);
 }
 
 fn program(cpp: bool) -> String {

@@ -57,10 +57,11 @@ pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_control::services::{
-    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AlarmReport, ArCr, CrDataObject,
-    DCP_SET_CHECK_TIMEOUT_MS, DeviceDiagnosis, DiagnosisReport, ExpectedSubmodule, FailureCause,
-    Notification, RecordConfirmation, RecordStatus, RecordTarget, STATION_RECORD_TIMEOUT_MS,
-    StationArCheckJob, StationDcpSetJob, StationRecordJob, SubmoduleDiff, TailoringRefusal,
+    APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AddressProblem, AddressRefusal, AlarmReport,
+    ArCr, CrDataObject, DCP_SET_CHECK_TIMEOUT_MS, DeviceDiagnosis, DiagnosisReport,
+    ExpectedSubmodule, FailureCause, Notification, RecordConfirmation, RecordStatus, RecordTarget,
+    STATION_RECORD_TIMEOUT_MS, StationArCheckJob, StationDcpSetJob, StationRecordJob,
+    SubmoduleDiff, TailoringRefusal,
 };
 pub use procimg_control::{
     AccessArReport, AlarmRefusal, ArReport, ArState, ClientRole, ControllerReport, DefinedIdentity,

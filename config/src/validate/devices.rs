@@ -473,7 +473,8 @@ fn port_peer(
                 v.span(),
                 key("subslot"),
                 format!(
-                    "{:#06x} is not a port of the device: its ports are the subslots 0x8X01 to                      0x8XFF of slot 0 among its submodules ({}); name one of them",
+                    "{:#06x} is not a port of the device: its ports are the subslots 0x8X01 to \
+                     0x8XFF of slot 0 among its submodules ({}); name one of them",
                     v.get_ref(),
                     if ports.is_empty() { "none".to_owned() } else { list() }
                 ),

@@ -123,6 +123,14 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
         Some(a) => access(a, cx)?,
         None => AccessConfig::default(),
     };
+    if let (Role::Device, Some(i)) = (role, &raw.interface) {
+        return Err(cx.invalid(
+            i.span(),
+            "interface",
+            "[interface] describes the controller's own interface, and the role is \
+             \"device\"; the station's name and address are in [station]",
+        ));
+    }
     let (devices, station) = match (role, raw.station) {
         (Role::Controller, Some(station)) => {
             return Err(cx.invalid(
@@ -157,14 +165,6 @@ pub(super) fn build(raw: RawConfig, cx: &Cx<'_>) -> Result<Config, ConfigError> 
         }
     };
     let interface = match raw.interface {
-        Some(i) if role == Role::Device => {
-            return Err(cx.invalid(
-                i.span(),
-                "interface",
-                "[interface] describes the controller's own interface, and the role is \
-                 \"device\"; the station's name and address are in [station]",
-            ));
-        }
         Some(i) => interface(i.into_inner(), &devices, cx)?,
         None if role == Role::Controller => interface(RawInterface::default(), &devices, cx)?,
         None => InterfaceConfig::default(),

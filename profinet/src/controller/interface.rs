@@ -51,6 +51,10 @@ pub struct InterfaceSetup {
     pub peer: Option<(String, String)>,
     /// Whether the port's link is checked: down is a fault.
     pub check_link: bool,
+    /// The station's netmask (its address is the controller identity's).
+    pub netmask: Ipv4Addr,
+    /// Its default gateway (0.0.0.0: none).
+    pub gateway: Ipv4Addr,
 }
 
 impl Default for InterfaceSetup {
@@ -60,6 +64,8 @@ impl Default for InterfaceSetup {
             settable: Settable::all(false),
             peer: None,
             check_link: false,
+            netmask: Ipv4Addr::UNSPECIFIED,
+            gateway: Ipv4Addr::UNSPECIFIED,
         }
     }
 }
@@ -153,8 +159,13 @@ impl Controller {
             subslot: PORT_SUBSLOT,
             checks,
         });
+        if !self.id.ip.is_unspecified() {
+            self.interface.mask = setup.netmask.octets();
+            self.interface.gateway = setup.gateway.octets();
+        }
         self.interface.setup = setup;
         self.interface.seen = None;
+        self.sync_station_identity();
     }
 
     /// Tells the controller its port's link, as its runtime reads it from the interface.

@@ -26,9 +26,12 @@ fn controller(setup: InterfaceSetup) -> Controller {
         instance: 1,
     };
     let mut c = Controller::new(id, Vec::new(), 0, 1);
-    c.answer_dcp("procimg controller", [255, 255, 255, 0]);
+    c.set_up_interface(InterfaceSetup {
+        netmask: Ipv4Addr::new(255, 255, 255, 0),
+        ..setup
+    });
+    c.answer_dcp("procimg controller");
     c.announce_by_lldp(|_| {});
-    c.set_up_interface(setup);
     c
 }
 

@@ -26,17 +26,16 @@ pub(super) struct OwnStation {
 
 impl Controller {
     /// Makes the controller's own station answer DCP, as `type_of_station` with the
-    /// controller's name, MAC, IP address and `mask`, from now on (off until called).
-    pub fn answer_dcp(&mut self, type_of_station: &str, mask: [u8; 4]) {
-        let ip = self.id.ip.octets();
-        self.interface.mask = if ip == [0; 4] { [0; 4] } else { mask };
+    /// controller's name, MAC and IP suite (its netmask and gateway those of
+    /// [`set_up_interface`](Self::set_up_interface)), from now on (off until called).
+    pub fn answer_dcp(&mut self, type_of_station: &str) {
         self.station = Some(OwnStation {
             identity: DcpIdentity {
                 mac: self.id.mac,
                 name: self.id.station_name.clone(),
-                ip,
-                mask: if ip == [0; 4] { [0; 4] } else { mask },
-                gateway: [0; 4],
+                ip: self.id.ip.octets(),
+                mask: self.interface.mask,
+                gateway: self.interface.gateway,
                 vendor_id: self.id.vendor_id,
                 device_id: self.id.device_id,
                 instance: self.id.instance,
@@ -160,7 +159,11 @@ mod tests {
             instance: 1,
         };
         let mut c = Controller::new(id, Vec::new(), 0, 1);
-        c.answer_dcp("procimg controller", [255, 255, 255, 0]);
+        c.set_up_interface(crate::controller::InterfaceSetup {
+            netmask: Ipv4Addr::new(255, 255, 255, 0),
+            ..Default::default()
+        });
+        c.answer_dcp("procimg controller");
         c
     }
 

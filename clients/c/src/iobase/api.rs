@@ -23,7 +23,7 @@ fn is_device(h: u32) -> bool {
 }
 
 /// The answer of every function but the IO data ones when called inside a callback.
-fn not_in_callback(f: &str) -> u32 {
+pub(crate) fn not_in_callback(f: &str) -> u32 {
     fail(
         f,
         PNIO_ERR_SEQUENCE,

@@ -15,6 +15,8 @@
 //!   share; `cycle_thread`: the thread that calls the isochronous callbacks, for both;
 //!   `io_failure`: the codes of a failed IO data access, for both; `handles`: the one
 //!   handle counter of both; [`watchdog`]: the CP application watchdog of both.
+//! * [`interface_api`] and [`interface_types`]: the controller's own interface (PN
+//!   Driver's `PNIO_interface_*`), its events delivered by `interface_worker`.
 //! * [`pn_driver`] and [`pn_driver_types`]: PN Driver's start-up (`servusrx.h`), a procimgd
 //!   started as the program's stack; [`cp_services`]: the CP service functions of chapter 8
 //!   that procimg has.
@@ -32,10 +34,14 @@ pub mod device_types;
 mod devices_up;
 pub mod errors;
 mod handles;
+pub mod interface_api;
+pub mod interface_types;
+mod interface_worker;
 mod io_failure;
 mod isochronous;
 pub mod pn_driver;
 pub mod pn_driver_types;
+pub(crate) mod rema;
 pub(crate) mod services;
 pub(crate) mod stopped;
 pub(crate) mod sync;

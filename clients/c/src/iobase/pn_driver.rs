@@ -9,13 +9,16 @@
 use super::callbacks::{in_callback, invoke_call};
 use super::errors::*;
 use super::pn_driver_types::*;
+use super::rema::RemanentData;
 use super::types::{PNIO_UINT8, PNIO_UINT32};
 use crate::ffi::guard;
 use procimg_client::iobase::{
     NetworkAdapter, PciLocation, Stack, StackStart, StackStartError, network_adapters,
 };
+use procimg_client::{ControllerAddress, ServiceOptions, Services};
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 /// Where a PN Driver program is in its start-up.
 enum Phase {
@@ -324,7 +327,8 @@ pub unsafe extern "C" fn SERV_CP_get_network_adapters(
 ///
 /// # Safety
 /// `CpList` is NULL or points to `NrOfCp` readable entries; `pConfigData` is NULL or points
-/// to `ConfigDataLen` readable bytes; `pRemaData` and `pSysDescr` are not read.
+/// to `ConfigDataLen` readable bytes; `pRemaData` is NULL or points to `RemaDataLen`
+/// readable bytes; `pSysDescr` is not read.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn SERV_CP_startup(
     CpList: *mut PNIO_CP_ID_TYPE,
@@ -382,15 +386,30 @@ pub unsafe extern "C" fn SERV_CP_startup(
                 &"ConfigDataLen is 0: give the configuration's length",
             );
         }
-        if !pRemaData.is_null() && RemaDataLen > 0 {
-            return refuse(
-                &mut phase,
-                trace,
-                PNIO_ERR_INVALID_REMA,
-                &"procimg keeps no retentive data, and cannot read another stack's: pass \
-                  pRemaData NULL or RemaDataLen 0",
-            );
-        }
+        let rema = if !pRemaData.is_null() && RemaDataLen > 0 {
+            // SAFETY: not NULL; RemaDataLen readable bytes by the contract.
+            let bytes = unsafe { std::slice::from_raw_parts(pRemaData, RemaDataLen as usize) };
+            let text = bytes.split(|b| *b == 0).next().unwrap_or_default();
+            let parsed = std::str::from_utf8(text)
+                .map_err(|_| "not UTF-8 text".to_owned())
+                .and_then(RemanentData::parse);
+            match parsed {
+                Ok(r) => Some(r),
+                Err(why) => {
+                    return refuse(
+                        &mut phase,
+                        trace,
+                        PNIO_ERR_INVALID_REMA,
+                        &format_args!(
+                            "pRemaData is not the retentive data PNIO_CBE_REMA_READ_CONF \
+                             handed out: {why}"
+                        ),
+                    );
+                }
+            }
+        } else {
+            None
+        };
         // SAFETY: not NULL; one readable entry by the contract (NrOfCp is 1).
         let id = unsafe { CpList.read_unaligned() };
         // SAFETY: not NULL; ConfigDataLen readable bytes by the contract.
@@ -418,6 +437,12 @@ pub unsafe extern "C" fn SERV_CP_startup(
         });
         match started {
             Ok(stack) => {
+                if let Some(r) = &rema
+                    && let Err(why) = take_rema(&instance, r)
+                {
+                    let _ = stack.shutdown();
+                    return refuse(&mut phase, trace, PNIO_ERR_INVALID_REMA, &why);
+                }
                 *phase = Phase::Started(trace, stack);
                 PNIO_OK
             }
@@ -428,6 +453,41 @@ pub unsafe extern "C" fn SERV_CP_startup(
         }
     })
 }
+
+/// Gives the started stack's station the name and IP suite of its retentive data, where
+/// the configuration lets programs set them (elsewhere the configuration's stay).
+fn take_rema(instance: &str, rema: &RemanentData) -> Result<(), String> {
+    let mut services =
+        Services::open(instance, ServiceOptions::new("SERV_CP_startup")).map_err(|e| {
+            format!("cannot reach the started stack to give it its retentive data: {e}")
+        })?;
+    let now = services
+        .control()
+        .status()
+        .map_err(|e| e.to_string())?
+        .controller
+        .ok_or("the started stack runs no controller")?;
+    let name = (now.name_by_program && now.station_name != rema.name).then(|| rema.name.clone());
+    let [ip, mask, gateway] = rema.ip_suite;
+    let suite = [ip, mask, gateway].map(|a| a.to_string());
+    let ip_suite = (now.address_by_program
+        && [&now.ip, &now.netmask, &now.gateway] != suite.each_ref())
+    .then_some(rema.ip_suite);
+    if name.is_none() && ip_suite.is_none() {
+        return Ok(());
+    }
+    let change = ControllerAddress {
+        name,
+        ip_suite,
+        permanent: true,
+    };
+    services
+        .change_controller_address(&change, REMA_TIMEOUT)
+        .map_err(|e| format!("the retentive name or address was not taken: {e}"))
+}
+
+/// How long the station may take to take its retentive name and address.
+const REMA_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// Stops the stack.
 ///
@@ -456,6 +516,13 @@ pub unsafe extern "C" fn SERV_CP_shutdown() -> PNIO_UINT32 {
                 format_args!(
                     "controller handle {handle} is still open: PNIO_controller_close first"
                 ),
+            );
+        }
+        if let Some(handle) = super::interface_api::open_handles().first() {
+            return fail(
+                F,
+                PNIO_ERR_SEQUENCE,
+                format_args!("interface handle {handle} is still open: PNIO_interface_close first"),
             );
         }
         let Phase::Started(trace, stack) = std::mem::replace(&mut *phase, Phase::ShutDown) else {

@@ -767,6 +767,10 @@ pub union PNIO_CBE_PRM_u {
     pub CtrlDiagConf: PNIO_CBE_PRM_CTRL_DIAG_CONF,
     /// `PNIO_CBE_IOSYSTEM_RECONFIG`.
     pub IoSystemReconf: PNIO_CBE_PRM_IOSYS_CONF,
+    /// `PNIO_CBE_IFC_SET_ADDR_CONF`.
+    pub SetAddrConf: super::interface_types::PNIO_CBE_PRM_SET_ADDR_CONF,
+    /// `PNIO_CBE_REMA_READ_CONF`.
+    pub RemaReadConf: super::interface_types::PNIO_CBE_PRM_REMA_READ_IND,
 }
 
 /// `PNIO_CBE_PRM`: what a controller callback receives.

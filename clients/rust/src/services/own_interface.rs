@@ -113,7 +113,7 @@ impl Services {
         match found {
             Some(Notification::ControllerAddress {
                 refused: Some(why), ..
-            }) => Err(AddressChangeError::Refused(why)),
+            }) => Err(AddressChangeError::Refused(why.message)),
             Some(_) => Ok(()),
             None => Err(AddressChangeError::Timeout(timeout)),
         }

@@ -183,6 +183,13 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
                 )
             }
         };
+    if matches!(config.network, Network::Sim) && iface.address_by_program {
+        tracing::warn!(
+            "{}: [interface] address_by_program: on the simulated network the controller's \
+             address stays {SIM_CONTROLLER_IP}",
+            config.origin
+        );
+    }
     let station_name = config.controller_station_name();
     let netmask = netmask_of(if_index, ip);
     let interface = ControllerInterface::new(
@@ -232,7 +239,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     if let (Network::Interface(_), Some(index)) = (&config.network, if_index) {
         controller.announce_by_lldp(|port| port.if_index = index);
         // Its station answers DCP too: engineering tools find it, and a Signal flashes it.
-        controller.answer_dcp(TYPE_OF_STATION, netmask.octets());
+        controller.answer_dcp(TYPE_OF_STATION);
     }
     controller.set_up_interface(InterfaceSetup {
         settable: Settable {
@@ -243,6 +250,8 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
             .controller_port_peer()
             .map(|(device, subslot)| (device.to_owned(), port_id(subslot))),
         check_link: iface.check_link,
+        netmask,
+        gateway: Ipv4Addr::UNSPECIFIED,
     });
     let mut role = ControllerRole::new(controller, states.clone(), names.clone());
     if let Some(a) = address {

@@ -19,17 +19,17 @@ use crate::roles::subscribers::{Subscriber, Subscribers};
 use crate::roles::{Answers, RoleServices};
 use crate::shm::Notices;
 use procimg_control::services::{
-    ALARM_ACK_TIMEOUT_MS, AlarmReport, DeviceDiagnosis, DiagnosisReport, FailureCause,
-    MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification, RecordConfirmation, RecordStatus, RecordTarget,
-    SubmoduleDiff, TailoringRefusal,
+    ALARM_ACK_TIMEOUT_MS, AddressProblem, AddressRefusal, AlarmReport, DeviceDiagnosis,
+    DiagnosisReport, FailureCause, MAX_RECORD_JOBS, MAX_RECORD_LEN, Notification,
+    RecordConfirmation, RecordStatus, RecordTarget, SubmoduleDiff, TailoringRefusal,
 };
 use procimg_control::{
     self as control, ControllerRequest, DeviceReport, NetworkReport, PortRef, Refusal, Response,
     SubscriberReport, Tailoring,
 };
 use procimg_profinet::controller::{
-    self, AlarmTicket, DeviceEvent, DeviceState, PortEnd, Reconfiguration, RecordFailure,
-    RecordRequest, RecordResult, StationAddress, TailorError,
+    self, AddressError, AlarmTicket, DeviceEvent, DeviceState, PortEnd, Reconfiguration,
+    RecordFailure, RecordRequest, RecordResult, StationAddress, TailorError,
 };
 use procimg_profinet::wire::PnioStatus;
 use procimg_profinet::wire::alarm::{AlarmNotification, Priority};
@@ -597,7 +597,15 @@ impl ControllerServices {
                     netmask: now.netmask,
                     gateway: now.gateway,
                     permanent: change.permanent,
-                    refused: result.err().map(|e| e.to_string()),
+                    refused: result.err().map(|e| AddressRefusal {
+                        problem: match e {
+                            AddressError::NotAllowed { .. } => AddressProblem::NotAllowed,
+                            AddressError::Name(_) | AddressError::NoName => AddressProblem::Name,
+                            AddressError::Ip { .. } => AddressProblem::Ip,
+                            AddressError::NotCarriedOut(_) => AddressProblem::Interface,
+                        },
+                        message: e.to_string(),
+                    }),
                 });
             }
             DeviceEvent::Reconfigured { result } => {

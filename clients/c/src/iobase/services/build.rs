@@ -102,6 +102,19 @@ fn tinfo(layout: &Layout, device: u32) -> PNIO_ALARM_TINFO {
 
 /// An alarm from a device, with the address it is reported at (the module's).
 pub(crate) fn alarm(layout: &Layout, a: &AlarmReport) -> (PNIO_ADDR, Box<PNIO_CTRL_ALARM_DATA>) {
+    let data = alarm_data(a, station_number(a.device), tinfo(layout, a.device));
+    let addr = address::module_address(layout, a.device, a.api, a.slot, a.subslot);
+    (addr, Box::new(data))
+}
+
+/// An alarm of the controller's own interface (`PNIO_CBE_IFC_ALARM_IND`): station number 0,
+/// no device of the IO system behind it.
+pub(crate) fn interface_alarm(a: &AlarmReport) -> Box<PNIO_CTRL_ALARM_DATA> {
+    Box::new(alarm_data(a, 0, PNIO_ALARM_TINFO::default()))
+}
+
+/// The alarm data of `a`, for station `station` described by `tinfo`.
+fn alarm_data(a: &AlarmReport, station: u16, tinfo: PNIO_ALARM_TINFO) -> PNIO_CTRL_ALARM_DATA {
     let mut info = empty_alarm_info();
     info.BlockType = if a.high_priority {
         BLOCK_ALARM_HIGH
@@ -121,25 +134,23 @@ pub(crate) fn alarm(layout: &Layout, a: &AlarmReport) -> (PNIO_ADDR, Box<PNIO_CT
         unsafe { info.UAData.UserAlarmData[..n].copy_from_slice(&user[..n]) };
         info.UserAlarmDataLen = n as u16;
     }
-    let data = PNIO_CTRL_ALARM_DATA {
+    PNIO_CTRL_ALARM_DATA {
         AlarmType: u32::from(a.alarm_type),
         AlarmPriority: if a.high_priority {
             PNIO_APRIO_HIGH
         } else {
             PNIO_APRIO_LOW
         },
-        DeviceNum: station_number(a.device),
+        DeviceNum: station,
         SlotNum: a.slot,
         SubslotNum: a.subslot,
         CpuAlarmPriority: 0,
         PnioCompatModtype: 0,
-        AlarmTinfo: tinfo(layout, a.device),
+        AlarmTinfo: tinfo,
         DiagDs: [0; 4],
         PrAlarmInfo: [0; 4],
         AlarmAinfo: info,
-    };
-    let addr = address::module_address(layout, a.device, a.api, a.slot, a.subslot);
-    (addr, Box::new(data))
+    }
 }
 
 /// The station failure (`failure`) or return alarm IO-Base makes of a device leaving or
@@ -395,7 +406,7 @@ mod tests {
             ip: "10.0.0.1".into(),
             netmask: "255.255.0.0".into(),
             gateway: "0.0.0.0".into(),
-            counters: None,
+            ..ControllerReport::default()
         };
         let na = name_addr_info(&c);
         assert_eq!(&na.name[..15], b"procimgd-plant\0");
