@@ -22,7 +22,8 @@ fn build(link: Link) -> PathBuf {
     out
 }
 
-/// The demo's configuration in a file, as a PN Driver program reads its own.
+/// The demo's configuration in a file, as a PN Driver program reads its own, with the
+/// controller's name settable by programs (and so by retentive data).
 fn demo_config(tag: &str) -> PathBuf {
     let out = std::process::Command::new(procimgd_bin())
         .arg("--print-demo-config")
@@ -30,7 +31,9 @@ fn demo_config(tag: &str) -> PathBuf {
         .expect("run procimgd --print-demo-config");
     assert!(out.status.success());
     let path = scratch("pn_driver").join(format!("{tag}.toml"));
-    std::fs::write(&path, out.stdout).unwrap();
+    let mut text = out.stdout;
+    text.extend_from_slice(b"\n[interface]\nname_by_program = true\n");
+    std::fs::write(&path, text).unwrap();
     path
 }
 
@@ -117,8 +120,8 @@ fn a_pn_driver_program_starts_uses_and_ends_its_own_stack() {
             controller.starts_with(&format!(
                 "version {version} ser {} mlfb procimgd hw 0",
                 serial(&instance)
-            )) && controller.ends_with("type procimg controller"),
-            "{controller}"
+            )) && controller.ends_with("name plc-from-rema type procimg controller"),
+            "the stack's firmware information, its name the retentive data's: {controller}"
         );
         let want = format!(
             "version {version} ser {} mlfb {} hw {} mac {} ip {} name {} type {}",

@@ -198,8 +198,16 @@ static void run(const char *config_path) {
     nowhere.CpSelection = (PNIO_CP_SELECT_TYPE)7;
     CHECK_RC(startup(&nowhere, config, config_len), PNIO_ERR_PRM_INVALIDARG);
 
-    /* The stack. */
-    CHECK_RC(startup(&cps[0], config, config_len), PNIO_OK);
+    /* The stack, its station named by the retentive data a program kept (the test's
+     * configuration lets programs name it). */
+    const char *rema_kept =
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+        "<RemanentData xmlns=\"urn:procimg:rema:1\"><NameOfStation>plc-from-rema"
+        "</NameOfStation><IPSuite Address=\"192.168.0.1\" SubnetMask=\"255.255.255.0\" "
+        "DefaultRouter=\"0.0.0.0\"/></RemanentData>\n";
+    CHECK_RC(SERV_CP_startup(&cps[0], 1, (PNIO_UINT8 *)config, config_len,
+                             (PNIO_UINT8 *)rema_kept, (PNIO_UINT32)strlen(rema_kept), NULL),
+             PNIO_OK);
     CHECK_RC(startup(&cps[0], config, config_len), PNIO_ERR_SEQUENCE);
     CHECK_RC(SERV_CP_set_trace_level(PNIO_TRACE_COMP_NUM, PNIO_TRACE_LEVEL_NOTE, NULL),
              PNIO_ERR_PRM_INVALIDARG);
