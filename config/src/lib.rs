@@ -229,7 +229,14 @@ pub struct InterfaceConfig {
     /// The port submodule's diagnostic address (key `port_diagnostic_address`, default
     /// [`DEFAULT_PORT_ADDRESS`]).
     pub port_diagnostic_address: u32,
+    /// The type of station DCP reports (key `type_of_station`, default
+    /// [`DEFAULT_TYPE_OF_STATION`]; IO-Base's `SERV_CP_set_type_of_station`), at most 255
+    /// bytes.
+    pub type_of_station: String,
 }
+
+/// The type of station the controller reports by default.
+pub const DEFAULT_TYPE_OF_STATION: &str = "procimg controller";
 
 /// The controller interface's default diagnostic address.
 pub const DEFAULT_INTERFACE_ADDRESS: u32 = 16382;
@@ -248,6 +255,7 @@ impl Default for InterfaceConfig {
             check_link: false,
             diagnostic_address: DEFAULT_INTERFACE_ADDRESS,
             port_diagnostic_address: DEFAULT_PORT_ADDRESS,
+            type_of_station: DEFAULT_TYPE_OF_STATION.to_owned(),
         }
     }
 }
@@ -332,6 +340,15 @@ impl Config {
                 _ => None,
             })
         })
+    }
+
+    /// Makes `text` the type of station of the server's own station: the controller's, or
+    /// the device role station's device type.
+    pub fn set_type_of_station(&mut self, text: &str) {
+        match self.station.as_mut() {
+            Some(station) => station.device_type = text.to_owned(),
+            None => self.interface.type_of_station = text.to_owned(),
+        }
     }
 
     /// Number of submodules in the image: over all devices, or the station's.

@@ -34,6 +34,7 @@ pub(super) struct RawInterface {
     pub check_link: Option<bool>,
     pub diagnostic_address: Option<Spanned<u32>>,
     pub port_diagnostic_address: Option<Spanned<u32>>,
+    pub type_of_station: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -38,7 +38,7 @@ pub use names::*;
 pub use refusal::{AlarmRefusal, PlugRefusal, Refusal};
 pub use request::{
     ClientRole, ControllerRequest, CoreRequest, DefinedIdentity, DeviceRequest, Request,
-    StationAlarmKind, StationTreeEntry, Tailoring, TreeRecords,
+    RestartClients, StationAlarmKind, StationTreeEntry, Tailoring, TreeRecords,
 };
 pub use response::Response;
 pub use services::PortRef;

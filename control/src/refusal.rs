@@ -201,6 +201,18 @@ pub enum Refusal {
         /// The job.
         job: u64,
     },
+    /// A configuration to restart with does not check.
+    BadConfiguration {
+        /// Why, with the line and key.
+        message: String,
+    },
+    /// Programs are attached: a SAFE restart waits for none.
+    ClientsAttached {
+        /// Their names.
+        clients: Vec<String>,
+    },
+    /// A restart is under way already.
+    RestartPending,
     /// The answer could not be handed over (the control service had no room for it).
     AnswerLost {
         /// Bytes of the answer.
@@ -255,6 +267,17 @@ impl core::fmt::Display for Refusal {
             Refusal::RecordTooLong { len, max } => write!(
                 f,
                 "a record of {len} bytes is longer than the {max} bytes a job carries"
+            ),
+            Refusal::BadConfiguration { message } => {
+                write!(f, "the configuration is refused: {message}")
+            }
+            Refusal::ClientsAttached { clients } => write!(
+                f,
+                "programs are attached ({}): close them first, or restart asking them to stop",
+                clients.join(", ")
+            ),
+            Refusal::RestartPending => f.write_str(
+                "the server is restarting already; wait for its new start (ServerStarted)",
             ),
             Refusal::Offline => {
                 f.write_str("the controller is OFFLINE; set the mode to CLEAR or OPERATE first")

@@ -38,6 +38,10 @@ pub const MAX_RECORD_JOBS: usize = 16;
 /// Largest record a job reads or writes (IO-Base's `PNIO_MAX_REC_LEN`).
 pub const MAX_RECORD_LEN: u32 = 4096;
 
+/// How long a restart ([`crate::CoreRequest::Restart`]) waits for the programs it asked to
+/// stop to detach.
+pub const RESTART_WAIT_MS: u64 = 10_000;
+
 /// How long the server waits for the acknowledging subscribers of an alarm before it
 /// acknowledges the alarm to the device itself.
 pub const ALARM_ACK_TIMEOUT_MS: u64 = 5000;
@@ -241,6 +245,23 @@ pub enum Notification {
         active: bool,
         /// Why it was refused, changing nothing; `None`: done.
         refused: Option<TailoringRefusal>,
+    },
+    /// The server is to restart (a configuration download, a reset): every program attached
+    /// is asked to stop, to close its controller or device (IO-Base's CP_STOP_REQ). The
+    /// restart waits for them up to [`RESTART_WAIT_MS`].
+    StopRequest {
+        /// Why, in words.
+        reason: String,
+    },
+    /// A [`crate::CoreRequest::Restart`] of `reply_to` takes effect now (a
+    /// [`Notification::ServerStarted`] follows when the new server runs), or was given up.
+    Restart {
+        /// The subscriber that asked.
+        reply_to: u64,
+        /// It takes effect.
+        done: bool,
+        /// What happens, or why not.
+        message: String,
     },
     /// Controller role: an alarm of the controller's own interface (IO-Base
     /// `PNIO_CBE_IFC_ALARM_IND`), such as its port's PortDataChangeNotification when the
@@ -471,7 +492,8 @@ impl Notification {
             | Notification::StationAlarmDone { reply_to, .. }
             | Notification::StationArCheck { reply_to, .. }
             | Notification::StationDcpSetCheck { reply_to, .. }
-            | Notification::InterfaceRecord { reply_to, .. } => Some(*reply_to),
+            | Notification::InterfaceRecord { reply_to, .. }
+            | Notification::Restart { reply_to, .. } => Some(*reply_to),
             Notification::ControllerAddress { reply_to, .. } => *reply_to,
             _ => None,
         }

@@ -14,6 +14,7 @@ use procimg_runtime::cycle::{self, Command, EngineSettings, Shared};
 use procimg_runtime::image::Tables;
 use procimg_runtime::roles;
 use procimg_runtime::roles::device::program::{Next, StationProgram};
+use procimg_runtime::server::restart::{ConfigSource, Restart};
 use procimg_runtime::server::{Control, ServerInfo};
 use procimg_runtime::shm::access::GroupAccess;
 use procimg_runtime::shm::{ControlPorts, cleanup_dead_nodes};
@@ -214,7 +215,7 @@ fn run(args: Args) -> anyhow::Result<()> {
     if let Some(name) = args.instance {
         config.instance = name;
     }
-    if let Some(interface) = args.adapter {
+    if let Some(interface) = args.adapter.clone() {
         procimg_nic::interfaces::check(&interface)
             .map_err(|e| anyhow::anyhow!("--adapter {interface}: {e}"))?;
         if config.network == config::Network::Sim {
@@ -233,9 +234,18 @@ fn run(args: Args) -> anyhow::Result<()> {
         print_layout(&config, &tables);
         return Ok(());
     }
+    let source = ConfigSource {
+        path: args
+            .config
+            .clone()
+            .filter(|p| p != std::path::Path::new("-")),
+        instance: config.instance.clone(),
+        adapter: args.adapter.clone(),
+    };
     serve(
         config,
         tables,
+        source,
         args.demo && !args.quiet,
         args.exit_with_stdin,
     )
@@ -327,6 +337,7 @@ fn generation() -> u64 {
 fn serve(
     mut config: Config,
     mut tables: Tables,
+    source: ConfigSource,
     live_view: bool,
     exit_with_stdin: bool,
 ) -> anyhow::Result<()> {
@@ -368,11 +379,11 @@ fn serve(
     // A station its program defines: waiting (OFFLINE, the device access point only) until
     // the program sends its tree; each tree, and each end of the program, runs a generation
     // anew.
-    let program = config
+    let mut program = config
         .station
         .as_ref()
         .and_then(|s| StationProgram::of(s, &tables));
-    let configured_mode = config.start_mode;
+    let mut configured_mode = config.start_mode;
     if program.is_some() {
         config.start_mode = Mode::Offline;
         info!("the station waits for its program to define it (OFFLINE until then)");
@@ -382,29 +393,73 @@ fn serve(
         let end = run_generation(
             &config,
             &tables,
+            &source,
             live_view,
             &term,
             &mut group_access,
             program.as_ref(),
             &mut ready,
         )?;
-        let (Some(next), Some(program)) = (end, &program) else {
-            return Ok(());
-        };
-        let (next, mode) = match next {
-            Next::Defined(defined) => (*defined, configured_mode),
-            Next::Waiting => (program.waiting().clone(), Mode::Offline),
-        };
-        config.station = Some(next.station);
-        config.start_mode = mode;
-        tables = next.tables;
-        info!(
-            "the station runs anew: {} submodules, {} bytes of Q data and {} of I data",
-            tables.submodules.len(),
-            tables.layout.input_size,
-            tables.layout.output_size
-        );
+        match end {
+            End::Stop => return Ok(()),
+            End::Restart(restart, type_of_station) => {
+                if let Restart::With(new, _) = restart {
+                    let new_tables = Tables::from_config(&new).with_context(|| {
+                        format!(
+                            "{}: the IO system does not fit in a process image",
+                            new.origin
+                        )
+                    })?;
+                    config = *new;
+                    tables = new_tables;
+                    program = config
+                        .station
+                        .as_ref()
+                        .and_then(|s| StationProgram::of(s, &tables));
+                    configured_mode = config.start_mode;
+                    if program.is_some() {
+                        config.start_mode = Mode::Offline;
+                    }
+                }
+                if let Some(text) = type_of_station {
+                    config.set_type_of_station(&text);
+                }
+                info!(
+                    "instance \"{}\" starts anew from {}",
+                    config.instance, config.origin
+                );
+            }
+            End::Program(next) => {
+                let Some(program) = &program else {
+                    return Ok(());
+                };
+                let (next, mode) = match next {
+                    Next::Defined(defined) => (*defined, configured_mode),
+                    Next::Waiting => (program.waiting().clone(), Mode::Offline),
+                };
+                config.station = Some(next.station);
+                config.start_mode = mode;
+                tables = next.tables;
+                info!(
+                    "the station runs anew: {} submodules, {} bytes of Q data and {} of I data",
+                    tables.submodules.len(),
+                    tables.layout.input_size,
+                    tables.layout.output_size
+                );
+            }
+        }
     }
+}
+
+/// How a generation of the server ended.
+enum End {
+    /// procimgd stops (a signal, its standard input's end).
+    Stop,
+    /// The station's program asked for another station.
+    Program(Next),
+    /// A reset or a download: the server starts anew, with the type of station a program
+    /// set meanwhile.
+    Restart(Restart, Option<String>),
 }
 
 /// Runs one generation of the server: its image, cycle thread, role and data services, until
@@ -413,12 +468,13 @@ fn serve(
 fn run_generation(
     config: &Config,
     tables: &Tables,
+    source: &ConfigSource,
     live_view: bool,
     term: &Arc<AtomicBool>,
     group_access: &mut Option<GroupAccess>,
     program: Option<&Arc<StationProgram>>,
     ready: &mut bool,
-) -> anyhow::Result<Option<Next>> {
+) -> anyhow::Result<End> {
     let instance = config.instance.clone();
     let tables = tables.clone();
     let generation = generation();
@@ -504,7 +560,8 @@ fn run_generation(
         shared.clone(),
         collector,
         services,
-    );
+    )
+    .with_source(source.clone());
     let mut view = live_view.then(|| demo_view::DemoView::new(&instance, generation, &tables));
     let mut last_mode = shared.mode();
     let mut last_view = Instant::now();
@@ -518,10 +575,14 @@ fn run_generation(
     {
         warn!("{w}");
     }
-    let mut next = None;
+    let mut next = End::Stop;
     while !term.load(Ordering::Acquire) {
         if let Some(n) = program.and_then(|p| p.take_next()) {
-            next = Some(n);
+            next = End::Program(n);
+            break;
+        }
+        if let Some(r) = control.take_restart() {
+            next = End::Restart(r, control.type_of_station().map(str::to_owned));
             break;
         }
         if let Some(access) = group_access.as_mut() {
@@ -556,11 +617,15 @@ fn run_generation(
     } else {
         Mode::Clear
     };
-    if next.is_none() {
-        let _ = sd_notify::notify(false, &[sd_notify::NotifyState::Stopping]);
-        info!("stopping: outputs to {safe} first");
-    } else {
-        info!("the station's tree changes: outputs to {safe}, the AR ends, the station runs anew");
+    match next {
+        End::Stop => {
+            let _ = sd_notify::notify(false, &[sd_notify::NotifyState::Stopping]);
+            info!("stopping: outputs to {safe} first");
+        }
+        End::Program(_) => info!(
+            "the station's tree changes: outputs to {safe}, the AR ends, the station runs anew"
+        ),
+        End::Restart(..) => info!("restarting: outputs to {safe} first"),
     }
     shared.target_mode.store(safe.as_u32(), Ordering::Release);
     shared.command(Command::SetMode(safe));
@@ -592,7 +657,7 @@ fn run_generation(
     control.poll();
     drop(view);
     drop(control);
-    if next.is_none() {
+    if matches!(next, End::Stop) {
         info!("stopped; shared memory of instance \"{instance}\" released");
     }
     Ok(next)

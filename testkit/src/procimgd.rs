@@ -232,6 +232,11 @@ impl Procimgd {
         Launch::config(tag, toml).start()
     }
 
+    /// The configuration file it was started with (`-c FILE`; none for a demo).
+    pub fn config_path(&self) -> PathBuf {
+        self.dir.join("procimgd.toml")
+    }
+
     /// The process id (procimgd's own, also inside a namespace).
     pub fn pid(&self) -> u32 {
         self.pid

@@ -7,6 +7,7 @@ mod gsdml;
 mod interface;
 mod interrupt;
 mod io;
+mod restart;
 mod services;
 mod station_diag;
 mod status;
@@ -81,6 +82,22 @@ enum Command {
     Device {
         #[command(subcommand)]
         op: DeviceCommand,
+    },
+    /// Take a new configuration into use under the running procimgd.
+    Config {
+        #[command(subcommand)]
+        op: restart::ConfigCommand,
+    },
+    /// Start procimgd's instance anew with its configuration (programs are asked to stop).
+    Reset {
+        /// What happens while programs are attached.
+        #[arg(long, value_enum, default_value = "ask")]
+        kind: restart::ResetKind,
+    },
+    /// The type of station procimgd's own station reports by DCP, from its next start on.
+    TypeOfStation {
+        /// The text (engineering tools show 19 characters).
+        text: String,
     },
     /// The controller's own interface: its records, its station's name and address.
     Interface {
@@ -181,6 +198,9 @@ fn main() {
             DeviceCommand::DeactivateAll => services::tailor(&cli.instance, None),
         },
         Command::Interface { op } => interface::run(&cli.instance, op),
+        Command::Config { op } => restart::config(&cli.instance, op),
+        Command::Reset { kind } => restart::reset(&cli.instance, kind),
+        Command::TypeOfStation { text } => restart::type_of_station(&cli.instance, &text),
         Command::Diag { json } => services::diag(&cli.instance, json),
         Command::Dcp { iface, op, .. } => dcp::run(&iface, op),
         Command::Capture {

@@ -204,6 +204,16 @@ fn describe(n: &Notification) -> String {
         Notification::ControllerSignal => {
             "the controller's station: DCP Signal (flash its LED)".to_owned()
         }
+        Notification::StopRequest { reason } => {
+            format!("stop request (CP_STOP_REQ): {reason}; programs are to close")
+        }
+        Notification::Restart { done, message, .. } => {
+            if *done {
+                format!("restart: {message}")
+            } else {
+                format!("restart given up: {message}")
+            }
+        }
         Notification::InterfaceAlarm(a) => format!(
             "the controller's interface: alarm #{}: {}{}",
             a.id,

@@ -83,7 +83,21 @@
  * I&M0 one), the interface's MAC in mac, its IPv4 address, mask and default router (network
  * byte order, as struct in_addr holds them), the station name and the type of station. No
  * procimgd serving that instance gives PNIO_ERR_NO_FW_COMMUNICATION. It may be called
- * without SERV_CP_init, as on a CP.
+ * without SERV_CP_init, as on a CP; so may the three below.
+ *
+ * SERV_CP_set_type_of_station sets what the procimgd's station reports by DCP (the
+ * controller's type of station, the device role's device type) from its next start on, as
+ * on a CP after its reset: SERV_CP_reset. SERV_CP_download takes a configuration
+ * (PNIO_CP_DLD_CONFIG: procimg's TOML text; anything procimgd would refuse at start,
+ * STEP 7's XML included, is PNIO_ERR_CORRUPTED_DATA, a firmware file PNIO_ERR_PRM_TYPE):
+ * every program attached to that procimgd gets PNIO_CBE_CP_STOP_REQ (a device program its
+ * cbf_cp_stop_req) and is to close; once none is attached, procimgd starts anew with the
+ * configuration (a procimgd started with -c FILE keeps it in FILE) and the call returns
+ * PNIO_OK. A program still attached after 10 s makes it PNIO_ERR_MAX_REACHED, nothing
+ * changed. SERV_CP_reset starts procimgd anew with its configuration: SAFE only when no
+ * program is attached (else PNIO_ERR_MAX_REACHED), FORCE after asking them to stop, after
+ * 10 s whoever stays. The caller itself must have no controller, device or interface open
+ * (PNIO_ERR_MAX_REACHED: the manual's exclusive access).
  *
  * The layout of PNIO_DEBUG_SETTINGS_TYPE is the manual's (PN Driver V1.0: the callback,
  * then the levels); PN Driver V2.1 inserts a second callback between them, so a V2.1
@@ -215,7 +229,33 @@ typedef struct {
     PNIO_UINT8 TypeOfStation[256];  /* NUL-terminated */
 } SERV_CP_FW_INFO_TYPE;
 
+/* ---- Chapter 8's download and reset ------------------------------------------------------ */
+
+typedef enum {
+    PNIO_CP_DLD_FIRMWARE = 1, /* refused: procimgd is updated as a package */
+    PNIO_CP_DLD_CONFIG = 2    /* procimg's configuration, TOML text */
+} PNIO_CP_DLD_TYPE;
+
+typedef enum {
+    PNIO_CP_RESET_SAFE = 0,  /* only with no program attached */
+    PNIO_CP_RESET_FORCE = 1  /* programs are asked to stop, then it restarts anyway */
+} PNIO_CP_RESET_TYPE;
+
 /* ---- Functions -------------------------------------------------------------------------- */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_set_type_of_station(
+    PNIO_UINT32 CpIndex,  /* in */
+    char *TypeName);      /* in, NUL-terminated, at most 255 bytes taken */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_download(
+    PNIO_UINT32 CpIndex,        /* in */
+    PNIO_CP_DLD_TYPE DataType,  /* in */
+    PNIO_UINT8 *pData,          /* in */
+    PNIO_UINT32 DataLen);       /* in */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_reset(
+    PNIO_UINT32 CpIndex,          /* in */
+    PNIO_CP_RESET_TYPE ResetType); /* in */
 
 PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_get_fw_info(
     PNIO_UINT32 CpIndex,            /* in */

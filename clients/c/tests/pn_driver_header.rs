@@ -67,7 +67,13 @@ fn layout_facts() -> (Sizes, Offsets) {
             TypeOfStation
         ]
     );
-    for e in ["PNIO_CP_SELECT_TYPE", "pnio_stack_comp", "pnio_trace_level"] {
+    for e in [
+        "PNIO_CP_SELECT_TYPE",
+        "pnio_stack_comp",
+        "pnio_trace_level",
+        "PNIO_CP_DLD_TYPE",
+        "PNIO_CP_RESET_TYPE",
+    ] {
         sizes.push((e, size_of::<u32>(), align_of::<u32>()));
     }
     sizes.push(("PNIO_MAC_ADDR_TYPE", 6, 1));
@@ -98,6 +104,10 @@ fn constants() -> Vec<(&'static str, u64)> {
         PNIO_CP_SELECT_WITH_PCI_LOCATION,
         PNIO_CP_SELECT_WITH_MAC_ADDRESS,
         PNIO_MAC_ADDR_SIZE,
+        PNIO_CP_DLD_FIRMWARE,
+        PNIO_CP_DLD_CONFIG,
+        PNIO_CP_RESET_SAFE,
+        PNIO_CP_RESET_FORCE,
     );
     for (value, name) in PNIO_TRACE_COMPONENTS.iter().enumerate() {
         v.push((name, value as u64));
@@ -129,6 +139,18 @@ const FUNCTIONS: &[(&str, &str)] = &[
         "SERV_CP_get_fw_info",
         "PNIO_UINT32 (*)(PNIO_UINT32, SERV_CP_FW_INFO_TYPE *)",
     ),
+    (
+        "SERV_CP_set_type_of_station",
+        "PNIO_UINT32 (*)(PNIO_UINT32, char *)",
+    ),
+    (
+        "SERV_CP_download",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CP_DLD_TYPE, PNIO_UINT8 *, PNIO_UINT32)",
+    ),
+    (
+        "SERV_CP_reset",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CP_RESET_TYPE)",
+    ),
 ];
 
 /// The Rust side of each exported function has the manual's signature.
@@ -153,8 +175,14 @@ fn rust_signatures_are_the_manuals() {
         SERV_CP_set_trace_level;
     let _: unsafe extern "C" fn(U, *mut SERV_CP_FW_INFO_TYPE) -> U =
         procimg::iobase::cp_services::SERV_CP_get_fw_info;
+    let _: unsafe extern "C" fn(U, *mut core::ffi::c_char) -> U =
+        procimg::iobase::cp_services::SERV_CP_set_type_of_station;
+    let _: unsafe extern "C" fn(U, PNIO_CP_DLD_TYPE, *mut PNIO_UINT8, U) -> U =
+        procimg::iobase::cp_services::SERV_CP_download;
+    let _: unsafe extern "C" fn(U, PNIO_CP_RESET_TYPE) -> U =
+        procimg::iobase::cp_services::SERV_CP_reset;
     let _: PNIO_PNTRC_BUFFER_FULL = None::<unsafe extern "C" fn(*mut PNIO_UINT8, U)>;
-    assert_eq!(FUNCTIONS.len(), 7);
+    assert_eq!(FUNCTIONS.len(), 10);
 }
 
 fn program(cpp: bool) -> String {

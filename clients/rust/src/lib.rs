@@ -66,15 +66,15 @@ pub use procimg_control::services::{
 pub use procimg_control::{
     AccessArReport, AlarmRefusal, ArReport, ArState, ClientRole, ControllerReport, DefinedIdentity,
     DeviceState, DiagnosisDirection, DiagnosisEntry, DiagnosisKind, DiagnosisSeverity, ForceReport,
-    InterfaceCounters, NeighbourReport, PlugRefusal, PortRef, Refusal, StationAlarmKind,
-    StationDiagnosisChange, StationProgramReport, StationReport, StationTreeEntry, StatusReport,
-    Tailoring, TreeRecords,
+    InterfaceCounters, NeighbourReport, PlugRefusal, PortRef, Refusal, RestartClients,
+    StationAlarmKind, StationDiagnosisChange, StationProgramReport, StationReport,
+    StationTreeEntry, StatusReport, Tailoring, TreeRecords,
 };
 pub use procimg_rt_alloc as rt_alloc;
 pub use procimg_shm_layout::{CycleInfo, Mode};
 pub use services::{
     AddressChangeError, ControllerAddress, INTERFACE_SUBSLOT, PORT_SUBSLOT, RecordError,
-    ServiceOptions, Services,
+    RestartError, ServiceOptions, Services,
 };
 pub use station_services::{AR_REFUSED_NO_RESOURCES, RecordRefusal};
 pub use status::{Ioxs, SubmoduleIoxs};

@@ -17,6 +17,9 @@
 //! [`Client`]: crate::Client
 
 mod own_interface;
+mod restart;
+
+pub use restart::RestartError;
 
 pub use own_interface::{AddressChangeError, ControllerAddress, INTERFACE_SUBSLOT, PORT_SUBSLOT};
 
@@ -309,7 +312,7 @@ impl Services {
             })
     }
 
-    fn accepted(&self, req: ControllerRequest) -> Result<(), ControlError> {
+    fn accepted(&self, req: impl Into<procimg_control::Request>) -> Result<(), ControlError> {
         match self.control.request(req, DEFAULT_CONTROL_TIMEOUT)? {
             Response::Accepted | Response::Done => Ok(()),
             Response::Refused(r) => Err(ControlError::Refused(r)),

@@ -200,6 +200,20 @@ fn interface(
         check_link: raw.check_link.unwrap_or(false),
         ..InterfaceConfig::default()
     };
+    if let Some(t) = raw.type_of_station {
+        cx.check(&t, "interface.type_of_station", {
+            let n = t.get_ref().len();
+            if n == 0 || n > 255 {
+                Err(format!(
+                    "a type of station of {n} bytes: give 1 to 255 (engineering tools show 19 \
+                     characters)"
+                ))
+            } else {
+                Ok(())
+            }
+        })?;
+        config.type_of_station = t.into_inner();
+    }
     if let Some(name) = raw.station_name {
         cx.check(
             &name,

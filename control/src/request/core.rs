@@ -115,4 +115,43 @@ pub enum CoreRequest {
         /// Bytes; `None`: to the end of the submodule.
         length: Option<u32>,
     },
+    /// Start the server anew, with the configuration it runs (a reset, IO-Base's
+    /// `SERV_CP_reset`) or with a new one (a download, `SERV_CP_download`, `procimg config
+    /// load`). The configuration is checked first (refused as
+    /// [`Refusal::BadConfiguration`](crate::Refusal::BadConfiguration)); then what
+    /// `clients` says happens to the attached programs. Answered with
+    /// [`Response::Accepted`](crate::Response::Accepted); the outcome follows as a
+    /// [`Notification::Restart`](crate::services::Notification::Restart) to `reply_to`, and
+    /// the new server as [`Notification::ServerStarted`](crate::services::Notification::ServerStarted).
+    Restart {
+        /// The subscriber that gets the outcome.
+        reply_to: u64,
+        /// The new configuration (TOML text); `None`: the one the server runs.
+        configuration: Option<String>,
+        /// What happens while programs are attached.
+        clients: RestartClients,
+    },
+    /// The type of station the server's own station reports (DCP's DeviceVendorValue,
+    /// IO-Base's `SERV_CP_set_type_of_station`), from the server's next start on (a
+    /// [`CoreRequest::Restart`]); answered with [`Response::Done`](crate::Response::Done).
+    SetTypeOfStation {
+        /// The text, at most 255 bytes (engineering tools show 19 characters).
+        text: String,
+    },
+}
+
+/// What a [`CoreRequest::Restart`] does while programs are attached to the server.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RestartClients {
+    /// Refuse at once ([`Refusal::ClientsAttached`](crate::Refusal::ClientsAttached)):
+    /// `SERV_CP_reset` SAFE.
+    Refuse,
+    /// Ask them to stop ([`Notification::StopRequest`](crate::services::Notification::StopRequest),
+    /// IO-Base's CP_STOP_REQ) and restart once all have detached; give up if one is still
+    /// attached after [`RESTART_WAIT_MS`](crate::services::RESTART_WAIT_MS).
+    Ask,
+    /// Ask them, and restart after [`RESTART_WAIT_MS`](crate::services::RESTART_WAIT_MS)
+    /// whoever is still attached: `SERV_CP_reset` FORCE.
+    Force,
 }

@@ -12,7 +12,7 @@ mod controller;
 mod core;
 mod device;
 
-pub use self::core::{ClientRole, CoreRequest};
+pub use self::core::{ClientRole, CoreRequest, RestartClients};
 pub use controller::{ControllerRequest, Tailoring};
 pub use device::{DefinedIdentity, DeviceRequest, StationAlarmKind, StationTreeEntry, TreeRecords};
 

@@ -6,6 +6,7 @@
 
 pub mod force;
 mod registry;
+pub mod restart;
 
 pub use force::ForceTable;
 pub use registry::{ClientEntry, Registry};
@@ -68,6 +69,13 @@ pub struct Control {
     forces: ForceTable,
     /// The doorbell's count when the last round of work began.
     rung_before_round: u32,
+    /// Where the configuration came from, for restarts with a new one (none: restarts
+    /// are refused, as in benches and tests that run a control side alone).
+    source: Option<restart::ConfigSource>,
+    /// A restart waiting for the programs to detach.
+    restart: Option<restart::PendingRestart>,
+    /// The type of station a program set, for the next start.
+    type_of_station: Option<String>,
     // Dropped after the ports above, which live on it.
     _node: Node<Ipc>,
 }
@@ -111,7 +119,118 @@ impl Control {
             reaped_early: Vec::new(),
             forces: ForceTable::default(),
             rung_before_round: 0,
+            source: None,
+            restart: None,
+            type_of_station: None,
         }
+    }
+
+    /// Takes restarts (resets, downloads) from now on, checking a new configuration as
+    /// `source` says.
+    pub fn with_source(mut self, source: restart::ConfigSource) -> Control {
+        self.source = Some(source);
+        self
+    }
+
+    /// The names of the programs attached now.
+    fn attached(&self) -> Vec<String> {
+        self.registry
+            .clients()
+            .map(|(_, c)| format!("\"{}\" (pid {})", c.name, c.pid))
+            .collect()
+    }
+
+    /// Starts a restart of `reply_to`, with `configuration` or the running one.
+    fn begin_restart(
+        &mut self,
+        reply_to: u64,
+        configuration: Option<String>,
+        clients: control::RestartClients,
+    ) -> Result<(), Refusal> {
+        let Some(source) = &self.source else {
+            return Err(Refusal::ServerBusy);
+        };
+        if self.restart.is_some() {
+            return Err(Refusal::RestartPending);
+        }
+        let what = match configuration {
+            None => restart::Restart::Same,
+            Some(text) => {
+                let config = source
+                    .check(&text, &procimg_nic::interfaces::check)
+                    .map_err(|message| Refusal::BadConfiguration { message })?;
+                restart::Restart::With(Box::new(config), text)
+            }
+        };
+        let attached = self.attached();
+        let notices = &mut self.notices;
+        self.restart = Some(restart::PendingRestart::begin(
+            reply_to,
+            what,
+            clients,
+            &attached,
+            &mut |n| notices.publish(n),
+        )?);
+        Ok(())
+    }
+
+    /// A restart that is to take effect now, if there is one: the generation ends and the
+    /// next starts as it says (a new configuration is kept in the configuration file
+    /// first). A restart given up is told to whoever asked.
+    pub fn take_restart(&mut self) -> Option<restart::Restart> {
+        let attached = self.attached();
+        let step = self.restart.as_mut()?.step(&attached, Instant::now());
+        let reply_to = self
+            .restart
+            .as_ref()
+            .map_or(0, restart::PendingRestart::reply_to);
+        let (done, message, next) = match step {
+            restart::RestartStep::Waiting => return None,
+            restart::RestartStep::GivenUp => (
+                false,
+                format!(
+                    "{} did not close within {} s: the restart is given up",
+                    attached.join(", "),
+                    control::services::RESTART_WAIT_MS / 1000
+                ),
+                None,
+            ),
+            restart::RestartStep::Now(r) => {
+                let kept = match (&r, &self.source) {
+                    (restart::Restart::With(_, text), Some(source)) => match source.keep(text) {
+                        Ok(true) => " (the configuration file holds it now)",
+                        Ok(false) => " (kept until procimgd stops: it has no configuration file)",
+                        Err(e) => {
+                            tracing::warn!("the downloaded configuration is not kept: {e}");
+                            " (it could not be written to the configuration file)"
+                        }
+                    },
+                    _ => "",
+                };
+                let what = match r {
+                    restart::Restart::Same => "the server restarts",
+                    restart::Restart::With(..) => "the server restarts with the new configuration",
+                };
+                (true, format!("{what}{kept}"), Some(r))
+            }
+        };
+        self.restart = None;
+        if done {
+            tracing::info!("{message}");
+        } else {
+            tracing::warn!("{message}");
+        }
+        self.notices.publish(&Notification::Restart {
+            reply_to,
+            done,
+            message,
+        });
+        next
+    }
+
+    /// The type of station a program set for the next start, if one did.
+    pub fn type_of_station(&self) -> Option<&str> {
+        self.type_of_station.as_deref()
     }
 
     /// Answers every pending request; every `LIVENESS_PERIOD` reaps dead clients. Returns
@@ -280,6 +399,26 @@ impl Control {
                         hex(&data)
                     )
                 }),
+            CoreRequest::Restart {
+                reply_to,
+                configuration,
+                clients,
+            } => {
+                return match self.begin_restart(reply_to, configuration, clients) {
+                    Ok(()) => Response::Accepted,
+                    Err(r) => Response::Refused(r),
+                };
+            }
+            CoreRequest::SetTypeOfStation { text } => {
+                // At most 255 bytes, cut at a character.
+                let mut end = text.len().min(255);
+                while !text.is_char_boundary(end) {
+                    end -= 1;
+                }
+                tracing::info!("type of station {:?} from the next start on", &text[..end]);
+                self.type_of_station = Some(text[..end].to_owned());
+                Ok(())
+            }
             CoreRequest::Unforce {
                 space,
                 address,

@@ -203,3 +203,17 @@ pub struct SERV_CP_FW_INFO_TYPE {
     /// Type of station, NUL-terminated.
     pub TypeOfStation: [PNIO_UINT8; 256],
 }
+
+/// `PNIO_CP_DLD_TYPE`: what `SERV_CP_download` carries.
+pub type PNIO_CP_DLD_TYPE = u32;
+/// A firmware file.
+pub const PNIO_CP_DLD_FIRMWARE: PNIO_CP_DLD_TYPE = 1;
+/// A configuration.
+pub const PNIO_CP_DLD_CONFIG: PNIO_CP_DLD_TYPE = 2;
+
+/// `PNIO_CP_RESET_TYPE`: how `SERV_CP_reset` treats attached programs.
+pub type PNIO_CP_RESET_TYPE = u32;
+/// Only with no program attached.
+pub const PNIO_CP_RESET_SAFE: PNIO_CP_RESET_TYPE = 0;
+/// Whoever is attached (after asking them to stop).
+pub const PNIO_CP_RESET_FORCE: PNIO_CP_RESET_TYPE = 1;

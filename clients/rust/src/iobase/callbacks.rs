@@ -53,9 +53,10 @@ pub trait DeviceCallbacks {
     /// `STOP_LED_FLASH`: the Signal's time is over.
     fn led_flash_stop(&mut self) {}
 
-    /// `CP_STOP_REQ`: a DCP reset to factory took the station's name and address; the
-    /// program is to close the device (and may open it again) outside the callback.
-    fn factory_reset(&mut self) {}
+    /// `CP_STOP_REQ`: a DCP reset to factory took the station's name and address, or the
+    /// server is to restart (a configuration download, a reset); the program is to close
+    /// the device (and may open it again) outside the callback.
+    fn stop_request(&mut self) {}
 
     /// `REC_READ` / `REC_WRITE`: the PLC reads or writes a record of a submodule whose
     /// records the program took; answer it with the services handle

@@ -304,7 +304,8 @@ impl IoBaseDevice {
             Notification::StationIdentity {
                 factory_reset: true,
                 ..
-            } => program.factory_reset(),
+            }
+            | Notification::StopRequest { .. } => program.stop_request(),
             _ => {}
         }
     }

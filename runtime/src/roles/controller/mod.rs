@@ -195,7 +195,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     let interface = ControllerInterface::new(
         ControllerReport {
             station_name: station_name.clone(),
-            type_of_station: TYPE_OF_STATION.to_owned(),
+            type_of_station: iface.type_of_station.clone(),
             interface: config.network.to_string(),
             mac: mac.to_string(),
             ip: ip.to_string(),
@@ -239,7 +239,7 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
     if let (Network::Interface(_), Some(index)) = (&config.network, if_index) {
         controller.announce_by_lldp(|port| port.if_index = index);
         // Its station answers DCP too: engineering tools find it, and a Signal flashes it.
-        controller.answer_dcp(TYPE_OF_STATION);
+        controller.answer_dcp(&iface.type_of_station);
     }
     controller.set_up_interface(InterfaceSetup {
         settable: Settable {
@@ -292,9 +292,6 @@ pub fn start(config: &Config, shared: Arc<Shared>) -> Result<RoleSystem, Network
         stop: Some(Box::new(move || plant_stop.store(true, Ordering::Release))),
     })
 }
-
-/// The type of station the controller reports (IO-Base's CONFIG_NAME_ADDR_INFO).
-const TYPE_OF_STATION: &str = "procimg controller";
 
 /// The subnet mask of `ip` on the interface of index `if_index`, as the kernel has it;
 /// 255.255.255.0 where it cannot be read (the simulated network).

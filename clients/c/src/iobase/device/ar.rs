@@ -410,7 +410,7 @@ impl DeviceCallbacks for Callbacks<'_> {
         self.call(self.dev.cbf.cbf_stop_led_flash, |f, h| unsafe { f(h) });
     }
 
-    fn factory_reset(&mut self) {
+    fn stop_request(&mut self) {
         // SAFETY: the program's callback (see the impl); the pointers live until it returned.
         self.call(self.dev.cbf.cbf_cp_stop_req, |f, h| unsafe { f(h) });
     }

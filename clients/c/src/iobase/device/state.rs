@@ -127,6 +127,11 @@ pub(crate) fn on_instance(instance: &str) -> Vec<Arc<Device>> {
         .collect()
 }
 
+/// The handles of the devices open now.
+pub(crate) fn open_handles() -> Vec<u32> {
+    lock(&DEVICES).keys().copied().collect()
+}
+
 /// Whether a device of this process has instance `instance` open.
 pub(crate) fn instance_open(instance: &str) -> bool {
     lock(&DEVICES).values().any(|d| d.instance == instance)

@@ -15,16 +15,17 @@ use crate::iobase::errors::{
 };
 use crate::iobase::sync::lock;
 use crate::iobase::types::{
-    PNIO_ADDR, PNIO_ADDR_u, PNIO_CBE_ALARM_IND, PNIO_CBE_CTRL_DIAG_CONF, PNIO_CBE_DEV_ACT_CONF,
-    PNIO_CBE_IOSYSTEM_RECONFIG, PNIO_CBE_PRM, PNIO_CBE_PRM_ALARM_IND, PNIO_CBE_PRM_CTRL_DIAG_CONF,
-    PNIO_CBE_PRM_DEV_ACT_CONF, PNIO_CBE_PRM_IOSYS_CONF, PNIO_CBE_PRM_LED_FLASH,
-    PNIO_CBE_PRM_REC_READ_CONF, PNIO_CBE_PRM_REC_WRITE_CONF, PNIO_CBE_REC_READ_CONF,
-    PNIO_CBE_REC_WRITE_CONF, PNIO_CBE_START_LED_FLASH, PNIO_CBE_STOP_LED_FLASH, PNIO_CBE_TYPE,
-    PNIO_CTRL_ALARM_DATA, PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT,
-    PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO, PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST,
-    PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST, PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC,
-    PNIO_CTRL_DIAG_DEVICE_STATE, PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA,
-    PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, PNIO_DA_FALSE, PNIO_DA_TRUE, PNIO_ERR_STAT, PNIO_REF,
+    PNIO_ADDR, PNIO_ADDR_u, PNIO_CBE_ALARM_IND, PNIO_CBE_CP_STOP_REQ, PNIO_CBE_CTRL_DIAG_CONF,
+    PNIO_CBE_DEV_ACT_CONF, PNIO_CBE_IOSYSTEM_RECONFIG, PNIO_CBE_PRM, PNIO_CBE_PRM_ALARM_IND,
+    PNIO_CBE_PRM_CTRL_DIAG_CONF, PNIO_CBE_PRM_DEV_ACT_CONF, PNIO_CBE_PRM_IOSYS_CONF,
+    PNIO_CBE_PRM_LED_FLASH, PNIO_CBE_PRM_REC_READ_CONF, PNIO_CBE_PRM_REC_WRITE_CONF,
+    PNIO_CBE_REC_READ_CONF, PNIO_CBE_REC_WRITE_CONF, PNIO_CBE_START_LED_FLASH,
+    PNIO_CBE_STOP_LED_FLASH, PNIO_CBE_TYPE, PNIO_CTRL_ALARM_DATA,
+    PNIO_CTRL_DIAG_CONFIG_IOROUTER_PRESENT, PNIO_CTRL_DIAG_CONFIG_NAME_ADDR_INFO,
+    PNIO_CTRL_DIAG_CONFIG_OUTPUT_SLICE_LIST, PNIO_CTRL_DIAG_CONFIG_SUBMODULE_LIST,
+    PNIO_CTRL_DIAG_DEVICE_DIAGNOSTIC, PNIO_CTRL_DIAG_DEVICE_STATE,
+    PNIO_CTRL_DIAG_GET_COMM_COUNTER_DATA, PNIO_CTRL_DIAG_RESET_COMM_COUNTERS, PNIO_DA_FALSE,
+    PNIO_DA_TRUE, PNIO_ERR_STAT, PNIO_REF,
 };
 use procimg_client::iobase::FLASH_HZ;
 use procimg_client::{
@@ -118,6 +119,12 @@ fn handle(shared: &Shared, n: Notification) {
         Notification::Reconfigured {
             active, refused, ..
         } => reconfigured(shared, active, refused.as_ref()),
+        // The server is to restart: the program is to close its controller.
+        Notification::StopRequest { .. } => {
+            let cbf = shared.callbacks.get(PNIO_CBE_CP_STOP_REQ);
+            let mut prm = PNIO_CBE_PRM::new(PNIO_CBE_CP_STOP_REQ, shared.handle);
+            CallbackTable::invoke(cbf, &mut prm);
+        }
         Notification::ControllerSignal => {
             let start = lock(&shared.led).signal(Instant::now());
             if start {
@@ -151,6 +158,8 @@ fn handle(shared: &Shared, n: Notification) {
         Notification::InterfaceAlarm(_)
         | Notification::InterfaceRecord { .. }
         | Notification::ControllerAddress { .. } => {}
+        // Of the program that asked for a restart (SERV_CP_download, SERV_CP_reset).
+        Notification::Restart { .. } => {}
     }
 }
 
