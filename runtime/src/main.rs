@@ -373,6 +373,10 @@ fn serve(
         signal_hook::flag::register(sig, term.clone())
             .with_context(|| format!("cannot install the handler for signal {sig}"))?;
     }
+    // SIGHUP (systemctl reload): the configuration file is read again and taken into use.
+    let hangup = Arc::new(AtomicBool::new(false));
+    signal_hook::flag::register(signal_hook::consts::SIGHUP, hangup.clone())
+        .context("cannot install the handler for SIGHUP")?;
     if exit_with_stdin {
         stop_with_stdin(term.clone());
     }
@@ -396,6 +400,7 @@ fn serve(
             &source,
             live_view,
             &term,
+            &hangup,
             &mut group_access,
             program.as_ref(),
             &mut ready,
@@ -451,6 +456,29 @@ fn serve(
     }
 }
 
+/// SIGHUP: the configuration file read again and taken into use, as a download would be
+/// (the programs attached asked to stop first). Said in the log when it cannot be.
+fn reload(control: &mut Control, source: &ConfigSource) {
+    let Some(path) = &source.path else {
+        warn!("SIGHUP: procimgd has no configuration file to read again (demo or standard input)");
+        return;
+    };
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) => {
+            warn!(
+                "SIGHUP: cannot read {}: {e}; the running configuration stays",
+                path.display()
+            );
+            return;
+        }
+    };
+    info!("SIGHUP: {} read again", path.display());
+    if let Err(r) = control.restart_with(text) {
+        warn!("SIGHUP: {r}; the running configuration stays");
+    }
+}
+
 /// How a generation of the server ended.
 enum End {
     /// procimgd stops (a signal, its standard input's end).
@@ -471,6 +499,7 @@ fn run_generation(
     source: &ConfigSource,
     live_view: bool,
     term: &Arc<AtomicBool>,
+    hangup: &Arc<AtomicBool>,
     group_access: &mut Option<GroupAccess>,
     program: Option<&Arc<StationProgram>>,
     ready: &mut bool,
@@ -580,6 +609,9 @@ fn run_generation(
         if let Some(n) = program.and_then(|p| p.take_next()) {
             next = End::Program(n);
             break;
+        }
+        if hangup.swap(false, Ordering::AcqRel) {
+            reload(&mut control, source);
         }
         if let Some(r) = control.take_restart() {
             next = End::Restart(r, control.type_of_station().map(str::to_owned));

@@ -116,3 +116,26 @@ fn a_program_that_stays_makes_the_restart_give_up() {
     }
     assert_eq!(server.status().generation, first, "nothing changed");
 }
+
+#[test]
+fn sighup_takes_the_configuration_file_into_use() {
+    let server = Launch::config("rsh", DEMO_TOML).until_cycling().start();
+    let first = server.status().generation;
+    let new = DEMO_TOML.replace("cycle_time = \"1ms\"", "cycle_time = \"2ms\"");
+    std::fs::write(server.config_path(), &new).unwrap();
+    let hup = std::process::Command::new("kill")
+        .args(["-HUP", &server.pid().to_string()])
+        .status()
+        .expect("kill -HUP");
+    assert!(hup.success());
+    let until = Instant::now() + WAIT;
+    loop {
+        let now = server.status();
+        if now.generation != first {
+            assert_eq!(now.cycle_ns, 2_000_000, "the file's configuration runs");
+            break;
+        }
+        assert!(Instant::now() < until, "no restart after SIGHUP");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}

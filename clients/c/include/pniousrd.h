@@ -105,7 +105,9 @@
  * PNIO_CBF_START_LED_FLASH (2 Hz) and, three seconds later, PNIO_CBF_STOP_LED_FLASH. A DCP
  * reset to factory, which takes the station's name and address (its setup over the network),
  * calls PNIO_CBF_CP_STOP_REQ: close the device outside the callback, and open it again once
- * the station has an address (until then open answers PNIO_ERR_CONFIG_IN_UPDATE).
+ * the station has an address (until then open answers PNIO_ERR_CONFIG_IN_UPDATE). So does
+ * a restart of the procimgd (a configuration download, a reset: servusrx.h), which waits up
+ * to 10 s for the device to close.
  *
  * Open, start, stop. CpIndex names a procimgd instance as for the controller (PROCIMG_CP<n>,
  * else PROCIMG_INSTANCE, else "procimg"); it must be in the device role (otherwise

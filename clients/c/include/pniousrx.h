@@ -148,9 +148,10 @@
  * channel diagnosis, one at a time.
  *
  * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types) and
- * PNIO_data_cache_exchange: procimg does not offer them yet. CP_STOP_REQ can be registered but never occurs (procimgd takes
- * no configuration while it runs). The CP application watchdog
- * (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
+ * PNIO_data_cache_exchange: procimg does not offer them yet. PNIO_CBE_CP_STOP_REQ comes
+ * when the procimgd is to restart (a configuration download, a reset: servusrx.h): close
+ * the controller, outside the callback; the restart waits up to 10 s for it. The CP
+ * application watchdog (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
  * pniobase.h's, shared with the device side; what its expiry does is said there.
  */
 #ifndef PNIOUSRX_H
@@ -186,7 +187,7 @@ typedef enum {
     PNIO_CBE_REC_READ_CONF = 3,     /* a record read finished */
     PNIO_CBE_REC_WRITE_CONF = 4,    /* a record write finished */
     PNIO_CBE_DEV_ACT_CONF = 5,      /* a device (de)activation finished */
-    PNIO_CBE_CP_STOP_REQ = 6,       /* remote download request (never in procimg) */
+    PNIO_CBE_CP_STOP_REQ = 6,       /* the server is to restart: close */
     PNIO_CBE_START_LED_FLASH = 7,   /* start flashing: DCP Signal to the controller's station */
     PNIO_CBE_STOP_LED_FLASH = 8,    /* stop flashing, 3 s later */
     PNIO_CBE_CTRL_DIAG_CONF = 9,    /* a diagnosis request finished */

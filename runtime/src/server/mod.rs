@@ -140,6 +140,12 @@ impl Control {
             .collect()
     }
 
+    /// Starts a restart with `configuration` for procimgd itself (a SIGHUP): the programs
+    /// attached are asked to stop and waited for; refused as a client's would be.
+    pub fn restart_with(&mut self, configuration: String) -> Result<(), Refusal> {
+        self.begin_restart(0, Some(configuration), control::RestartClients::Ask)
+    }
+
     /// Starts a restart of `reply_to`, with `configuration` or the running one.
     fn begin_restart(
         &mut self,
