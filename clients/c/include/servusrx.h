@@ -99,6 +99,18 @@
  * 10 s whoever stays. The caller itself must have no controller, device or interface open
  * (PNIO_ERR_MAX_REACHED: the manual's exclusive access).
  *
+ * The info interface (SERV_CP_info_open, _register_cbf, _close) delivers, on a thread of
+ * the library, one callback at a time: SERV_CP_INFO_STOP_REQ before a restart (close what is
+ * open, outside the callback); of a controller's procimgd, SERV_CP_INFO_PDEV_DATA for each
+ * alarm of its port (the topology and link check of pniousrx.h's own interface), with
+ * SERV_CP_INFO_PDEV_INIT_DATA once when PDEV_DATA is registered (the interface and its port,
+ * EXISTS, DISTURBED while a diagnosis is pending); and SERV_CP_INFO_LED_STATE, the current
+ * state of both LEDs when it is registered and every change after: BF (bus fault) lit while
+ * a device of the IO system is not in data exchange (a deactivated one does not count), or
+ * in the device role while the station has no AR in data exchange; SF (group fault) while
+ * the controller's port has a diagnosis. A NULL Cbf deregisters; a second registration is
+ * PNIO_ERR_ALREADY_DONE.
+ *
  * The layout of PNIO_DEBUG_SETTINGS_TYPE is the manual's (PN Driver V1.0: the callback,
  * then the levels); PN Driver V2.1 inserts a second callback between them, so a V2.1
  * program's DebugSetting does not fit.
@@ -241,7 +253,103 @@ typedef enum {
     PNIO_CP_RESET_FORCE = 1  /* programs are asked to stop, then it restarts anyway */
 } PNIO_CP_RESET_TYPE;
 
+/* ---- Chapter 8's info interface ----------------------------------------------------------- */
+
+typedef enum {
+    SERV_CP_INFO_STOP_REQ = 1,       /* the procimgd is to restart: close */
+    SERV_CP_INFO_PDEV_DATA = 2,      /* an alarm of the controller's port */
+    SERV_CP_INFO_PDEV_INIT_DATA = 3, /* the ports' states (with PDEV_DATA's registration) */
+    SERV_CP_INFO_LED_STATE = 4       /* the BF or SF LED changed */
+} SERV_CP_INFO_TYPE;
+
+typedef struct {
+    PNIO_UINT16 Channel;    /* 0x8000: the whole submodule */
+    PNIO_UINT16 Properties; /* ChannelProperties */
+    PNIO_UINT16 ErrType;    /* ChannelErrorType */
+    PNIO_UINT16 ExtErrType; /* ExtChannelErrorType */
+    PNIO_UINT16 ExtAdvAlLo; /* ExtChannelAddValue, low word */
+    PNIO_UINT16 ExtAdvAlHi; /* ExtChannelAddValue, high word */
+} ATTR_PACKED SERV_CIB_PDEV_EXTCHNL_DIAG;
+
+typedef struct {
+    PNIO_UINT32 Version;            /* 0 */
+    PNIO_IO_TYPE IODataType;        /* PNIO_IO_IN */
+    PNIO_UINT32 LogAddr;            /* the submodule's diagnostic address */
+    PNIO_UINT32 Slot;
+    PNIO_UINT32 Subslot;
+    PNIO_ALARM_TYPE AlarmType;      /* PNIO_ALARM_PORT_DATA_CHANGED */
+    PNIO_APRIO_TYPE AlarmPriority;
+    PNIO_UINT32 AlarmSequence;
+    PNIO_UINT32 StationNr;          /* 0: the controller's own station */
+    PNIO_UINT8 Reserved1[4];
+    PNIO_UINT8 Reserved2[48];
+    PNIO_ALARM_TINFO AlarmTinfo;
+    SERV_CIB_PDEV_EXTCHNL_DIAG Diagnostics; /* the alarm's extended channel diagnosis */
+    PNIO_UINT8 DiagDs[4];
+    PNIO_ALARM_INFO AlarmAinfo;     /* the alarm notification and its user data */
+} ATTR_PACKED SERV_CIB_PDEV_DATA;
+
+#define SERV_CIB_PDEV_MAX_PORT_ITEMS 8
+#define SERV_CIB_PDEV_PORT_STATE_DISTURBED 0x0001
+#define SERV_CIB_PDEV_PORT_STATE_EXISTS 0x0002
+#define SERV_CIB_PDEV_PORT_STATE_NOT_AVAILABLE 0x0004
+#define SERV_CIB_PDEV_PORT_STATE_MAINTENANCE_REQUIRED 0x0100
+#define SERV_CIB_PDEV_PORT_STATE_MAINTENANCE_DEMANDED 0x0200
+
+typedef struct {
+    PNIO_UINT8 Reserved1;
+    PNIO_UINT8 Reserved2;
+    PNIO_UINT16 Reserved3;
+    PNIO_IO_TYPE IODataType; /* PNIO_IO_IN */
+    PNIO_UINT32 LogAddr;     /* diagnostic address */
+    PNIO_UINT32 Slot;
+    PNIO_UINT32 Subslot;     /* 0x8000 the interface, 0x8001 the port */
+    PNIO_UINT16 PortState;   /* SERV_CIB_PDEV_PORT_STATE_* */
+    PNIO_UINT16 Reserved4;
+} ATTR_PACKED SERV_CIB_PDEV_INIT_STATE;
+
+typedef struct {
+    PNIO_UINT32 ItemNumber;
+    SERV_CIB_PDEV_INIT_STATE InitState[SERV_CIB_PDEV_MAX_PORT_ITEMS];
+} ATTR_PACKED SERV_CIB_PDEV_INIT_DATA;
+
+typedef enum { SERV_CIB_LED_BF = 1, SERV_CIB_LED_SF = 2 } SERV_CIB_LED_TYPE;
+typedef enum { SERV_CIB_LED_OFF = 1, SERV_CIB_LED_ON = 2 } SERV_CIB_LED_STATE;
+
+typedef struct {
+    SERV_CIB_LED_TYPE LedType;
+    SERV_CIB_LED_STATE LedState;
+    PNIO_UINT8 Reserved1[4];
+} ATTR_PACKED SERV_CIB_LED;
+
+typedef struct {
+    PNIO_UINT32 Version;        /* 0 */
+    PNIO_UINT32 Handle;         /* from SERV_CP_info_open */
+    PNIO_UINT32 CpIndex;
+    SERV_CP_INFO_TYPE InfoType;
+    union {
+        SERV_CIB_PDEV_DATA PdevData;
+        SERV_CIB_PDEV_INIT_DATA PdevInitData;
+        SERV_CIB_LED LedInfo;
+    } u;
+} ATTR_PACKED SERV_CP_INFO_PRM;
+
+typedef void (*SERV_CP_INFO_CBF)(SERV_CP_INFO_PRM *pCbfPrm);
+
 /* ---- Functions -------------------------------------------------------------------------- */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_info_open(
+    PNIO_UINT32 CpIndex,   /* in */
+    PNIO_UINT32 *Handle,   /* out */
+    PNIO_UINT32 Reserved); /* in, 0 */
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_info_close(PNIO_UINT32 Handle);
+
+PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_info_register_cbf(
+    PNIO_UINT32 Handle,         /* in */
+    SERV_CP_INFO_TYPE InfoType, /* in */
+    SERV_CP_INFO_CBF Cbf,       /* in, NULL: deregister */
+    PNIO_UINT32 Reserved);      /* in, 0 */
 
 PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_set_type_of_station(
     PNIO_UINT32 CpIndex,  /* in */

@@ -67,7 +67,46 @@ fn layout_facts() -> (Sizes, Offsets) {
             TypeOfStation
         ]
     );
+    ty!(
+        SERV_CIB_PDEV_EXTCHNL_DIAG,
+        [
+            Channel, Properties, ErrType, ExtErrType, ExtAdvAlLo, ExtAdvAlHi
+        ]
+    );
+    ty!(
+        SERV_CIB_PDEV_DATA,
+        [
+            Version,
+            IODataType,
+            LogAddr,
+            Slot,
+            Subslot,
+            AlarmType,
+            AlarmPriority,
+            AlarmSequence,
+            StationNr,
+            Reserved1,
+            Reserved2,
+            AlarmTinfo,
+            Diagnostics,
+            DiagDs,
+            AlarmAinfo
+        ]
+    );
+    ty!(
+        SERV_CIB_PDEV_INIT_STATE,
+        [
+            Reserved1, Reserved2, Reserved3, IODataType, LogAddr, Slot, Subslot, PortState,
+            Reserved4
+        ]
+    );
+    ty!(SERV_CIB_PDEV_INIT_DATA, [ItemNumber, InitState]);
+    ty!(SERV_CIB_LED, [LedType, LedState, Reserved1]);
+    ty!(SERV_CP_INFO_PRM, [Version, Handle, CpIndex, InfoType, u]);
     for e in [
+        "SERV_CP_INFO_TYPE",
+        "SERV_CIB_LED_TYPE",
+        "SERV_CIB_LED_STATE",
         "PNIO_CP_SELECT_TYPE",
         "pnio_stack_comp",
         "pnio_trace_level",
@@ -108,6 +147,20 @@ fn constants() -> Vec<(&'static str, u64)> {
         PNIO_CP_DLD_CONFIG,
         PNIO_CP_RESET_SAFE,
         PNIO_CP_RESET_FORCE,
+        SERV_CP_INFO_STOP_REQ,
+        SERV_CP_INFO_PDEV_DATA,
+        SERV_CP_INFO_PDEV_INIT_DATA,
+        SERV_CP_INFO_LED_STATE,
+        SERV_CIB_PDEV_MAX_PORT_ITEMS,
+        SERV_CIB_PDEV_PORT_STATE_DISTURBED,
+        SERV_CIB_PDEV_PORT_STATE_EXISTS,
+        SERV_CIB_PDEV_PORT_STATE_NOT_AVAILABLE,
+        SERV_CIB_PDEV_PORT_STATE_MAINTENANCE_REQUIRED,
+        SERV_CIB_PDEV_PORT_STATE_MAINTENANCE_DEMANDED,
+        SERV_CIB_LED_BF,
+        SERV_CIB_LED_SF,
+        SERV_CIB_LED_OFF,
+        SERV_CIB_LED_ON,
     );
     for (value, name) in PNIO_TRACE_COMPONENTS.iter().enumerate() {
         v.push((name, value as u64));
@@ -151,6 +204,15 @@ const FUNCTIONS: &[(&str, &str)] = &[
         "SERV_CP_reset",
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CP_RESET_TYPE)",
     ),
+    (
+        "SERV_CP_info_open",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_UINT32 *, PNIO_UINT32)",
+    ),
+    ("SERV_CP_info_close", "PNIO_UINT32 (*)(PNIO_UINT32)"),
+    (
+        "SERV_CP_info_register_cbf",
+        "PNIO_UINT32 (*)(PNIO_UINT32, SERV_CP_INFO_TYPE, SERV_CP_INFO_CBF, PNIO_UINT32)",
+    ),
 ];
 
 /// The Rust side of each exported function has the manual's signature.
@@ -181,8 +243,13 @@ fn rust_signatures_are_the_manuals() {
         procimg::iobase::cp_services::SERV_CP_download;
     let _: unsafe extern "C" fn(U, PNIO_CP_RESET_TYPE) -> U =
         procimg::iobase::cp_services::SERV_CP_reset;
+    let _: unsafe extern "C" fn(U, *mut U, U) -> U = procimg::iobase::cp_info::SERV_CP_info_open;
+    let _: unsafe extern "C" fn(U) -> U = procimg::iobase::cp_info::SERV_CP_info_close;
+    let _: unsafe extern "C" fn(U, SERV_CP_INFO_TYPE, SERV_CP_INFO_CBF, U) -> U =
+        procimg::iobase::cp_info::SERV_CP_info_register_cbf;
+    let _: SERV_CP_INFO_CBF = None::<unsafe extern "C" fn(*mut SERV_CP_INFO_PRM)>;
     let _: PNIO_PNTRC_BUFFER_FULL = None::<unsafe extern "C" fn(*mut PNIO_UINT8, U)>;
-    assert_eq!(FUNCTIONS.len(), 10);
+    assert_eq!(FUNCTIONS.len(), 13);
 }
 
 fn program(cpp: bool) -> String {
@@ -198,6 +265,7 @@ fn program(cpp: bool) -> String {
                     "PNIO_PNTRC_BUFFER_FULL",
                 ),
                 ("void (*)(void)", "PNIO_PNTRC_SET_TRACE_LEVEL_DONE"),
+                ("void (*)(SERV_CP_INFO_PRM *)", "SERV_CP_INFO_CBF"),
             ],
             sizes: &sizes,
             offsets: &offsets,

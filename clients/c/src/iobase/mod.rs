@@ -24,6 +24,7 @@
 pub mod api;
 pub(crate) mod callbacks;
 mod controller;
+pub mod cp_info;
 pub mod cp_services;
 mod cycle_thread;
 mod data;

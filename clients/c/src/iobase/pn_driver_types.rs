@@ -4,7 +4,10 @@
 //! them with the C compiler's view.
 #![allow(non_camel_case_types, non_snake_case)]
 
-use super::types::{PNIO_UINT8, PNIO_UINT16, PNIO_UINT32};
+use super::types::{
+    PNIO_ALARM_INFO, PNIO_ALARM_TINFO, PNIO_ALARM_TYPE, PNIO_APRIO_TYPE, PNIO_IO_TYPE, PNIO_UINT8,
+    PNIO_UINT16, PNIO_UINT32,
+};
 
 /// `PROCIMG_MAX_NETWORK_ADAPTERS`: most entries `SERV_CP_get_network_adapters` writes.
 pub const PROCIMG_MAX_NETWORK_ADAPTERS: u32 = 50;
@@ -217,3 +220,171 @@ pub type PNIO_CP_RESET_TYPE = u32;
 pub const PNIO_CP_RESET_SAFE: PNIO_CP_RESET_TYPE = 0;
 /// Whoever is attached (after asking them to stop).
 pub const PNIO_CP_RESET_FORCE: PNIO_CP_RESET_TYPE = 1;
+
+/// `SERV_CP_INFO_TYPE`: the info interface's events.
+pub type SERV_CP_INFO_TYPE = u32;
+/// The procimgd is to restart.
+pub const SERV_CP_INFO_STOP_REQ: SERV_CP_INFO_TYPE = 1;
+/// An alarm of the controller's port.
+pub const SERV_CP_INFO_PDEV_DATA: SERV_CP_INFO_TYPE = 2;
+/// The ports' states.
+pub const SERV_CP_INFO_PDEV_INIT_DATA: SERV_CP_INFO_TYPE = 3;
+/// An LED changed.
+pub const SERV_CP_INFO_LED_STATE: SERV_CP_INFO_TYPE = 4;
+
+/// `SERV_CIB_PDEV_EXTCHNL_DIAG`: a port alarm's extended channel diagnosis.
+#[repr(C, align(4))]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SERV_CIB_PDEV_EXTCHNL_DIAG {
+    /// ChannelNumber.
+    pub Channel: PNIO_UINT16,
+    /// ChannelProperties.
+    pub Properties: PNIO_UINT16,
+    /// ChannelErrorType.
+    pub ErrType: PNIO_UINT16,
+    /// ExtChannelErrorType.
+    pub ExtErrType: PNIO_UINT16,
+    /// ExtChannelAddValue, low word.
+    pub ExtAdvAlLo: PNIO_UINT16,
+    /// ExtChannelAddValue, high word.
+    pub ExtAdvAlHi: PNIO_UINT16,
+}
+
+/// `SERV_CIB_PDEV_DATA`: an alarm of the controller's port.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct SERV_CIB_PDEV_DATA {
+    /// 0.
+    pub Version: PNIO_UINT32,
+    /// `PNIO_IO_IN`.
+    pub IODataType: PNIO_IO_TYPE,
+    /// The submodule's diagnostic address.
+    pub LogAddr: PNIO_UINT32,
+    /// Slot.
+    pub Slot: PNIO_UINT32,
+    /// Subslot.
+    pub Subslot: PNIO_UINT32,
+    /// AlarmType.
+    pub AlarmType: PNIO_ALARM_TYPE,
+    /// Priority.
+    pub AlarmPriority: PNIO_APRIO_TYPE,
+    /// The AlarmSpecifier's sequence number.
+    pub AlarmSequence: PNIO_UINT32,
+    /// 0: the controller's own station.
+    pub StationNr: PNIO_UINT32,
+    /// Reserved.
+    pub Reserved1: [PNIO_UINT8; 4],
+    /// Reserved.
+    pub Reserved2: [PNIO_UINT8; 48],
+    /// Station details.
+    pub AlarmTinfo: PNIO_ALARM_TINFO,
+    /// The extended channel diagnosis.
+    pub Diagnostics: SERV_CIB_PDEV_EXTCHNL_DIAG,
+    /// OB82-style bytes.
+    pub DiagDs: [PNIO_UINT8; 4],
+    /// The alarm notification.
+    pub AlarmAinfo: PNIO_ALARM_INFO,
+}
+
+/// `SERV_CIB_PDEV_MAX_PORT_ITEMS`.
+pub const SERV_CIB_PDEV_MAX_PORT_ITEMS: u32 = 8;
+/// A diagnosis is pending.
+pub const SERV_CIB_PDEV_PORT_STATE_DISTURBED: u16 = 0x0001;
+/// The submodule exists.
+pub const SERV_CIB_PDEV_PORT_STATE_EXISTS: u16 = 0x0002;
+/// It is not available.
+pub const SERV_CIB_PDEV_PORT_STATE_NOT_AVAILABLE: u16 = 0x0004;
+/// Maintenance required.
+pub const SERV_CIB_PDEV_PORT_STATE_MAINTENANCE_REQUIRED: u16 = 0x0100;
+/// Maintenance demanded.
+pub const SERV_CIB_PDEV_PORT_STATE_MAINTENANCE_DEMANDED: u16 = 0x0200;
+
+/// `SERV_CIB_PDEV_INIT_STATE`: one submodule's state.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SERV_CIB_PDEV_INIT_STATE {
+    /// Reserved.
+    pub Reserved1: PNIO_UINT8,
+    /// Reserved.
+    pub Reserved2: PNIO_UINT8,
+    /// Reserved.
+    pub Reserved3: PNIO_UINT16,
+    /// `PNIO_IO_IN`.
+    pub IODataType: PNIO_IO_TYPE,
+    /// Diagnostic address.
+    pub LogAddr: PNIO_UINT32,
+    /// Slot.
+    pub Slot: PNIO_UINT32,
+    /// Subslot.
+    pub Subslot: PNIO_UINT32,
+    /// `SERV_CIB_PDEV_PORT_STATE_*`.
+    pub PortState: PNIO_UINT16,
+    /// Reserved.
+    pub Reserved4: PNIO_UINT16,
+}
+
+/// `SERV_CIB_PDEV_INIT_DATA`: the interface's and ports' states.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SERV_CIB_PDEV_INIT_DATA {
+    /// Entries used.
+    pub ItemNumber: PNIO_UINT32,
+    /// The entries.
+    pub InitState: [SERV_CIB_PDEV_INIT_STATE; SERV_CIB_PDEV_MAX_PORT_ITEMS as usize],
+}
+
+/// `SERV_CIB_LED_TYPE`.
+pub type SERV_CIB_LED_TYPE = u32;
+/// Bus fault.
+pub const SERV_CIB_LED_BF: SERV_CIB_LED_TYPE = 1;
+/// Group fault.
+pub const SERV_CIB_LED_SF: SERV_CIB_LED_TYPE = 2;
+/// `SERV_CIB_LED_STATE`.
+pub type SERV_CIB_LED_STATE = u32;
+/// Off.
+pub const SERV_CIB_LED_OFF: SERV_CIB_LED_STATE = 1;
+/// On.
+pub const SERV_CIB_LED_ON: SERV_CIB_LED_STATE = 2;
+
+/// `SERV_CIB_LED`: an LED's state.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SERV_CIB_LED {
+    /// Which LED.
+    pub LedType: SERV_CIB_LED_TYPE,
+    /// On or off.
+    pub LedState: SERV_CIB_LED_STATE,
+    /// Reserved.
+    pub Reserved1: [PNIO_UINT8; 4],
+}
+
+/// The union of `SERV_CP_INFO_PRM`.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub union SERV_CP_INFO_PRM_u {
+    /// `SERV_CP_INFO_PDEV_DATA`.
+    pub PdevData: SERV_CIB_PDEV_DATA,
+    /// `SERV_CP_INFO_PDEV_INIT_DATA`.
+    pub PdevInitData: SERV_CIB_PDEV_INIT_DATA,
+    /// `SERV_CP_INFO_LED_STATE`.
+    pub LedInfo: SERV_CIB_LED,
+}
+
+/// `SERV_CP_INFO_PRM`: what an info callback receives.
+#[repr(C)]
+#[derive(Clone, Copy)]
+pub struct SERV_CP_INFO_PRM {
+    /// 0.
+    pub Version: PNIO_UINT32,
+    /// From `SERV_CP_info_open`.
+    pub Handle: PNIO_UINT32,
+    /// The CP.
+    pub CpIndex: PNIO_UINT32,
+    /// The event.
+    pub InfoType: SERV_CP_INFO_TYPE,
+    /// Its parameters.
+    pub u: SERV_CP_INFO_PRM_u,
+}
+
+/// `SERV_CP_INFO_CBF`: an info callback.
+pub type SERV_CP_INFO_CBF = Option<unsafe extern "C" fn(pCbfPrm: *mut SERV_CP_INFO_PRM)>;

@@ -6,7 +6,8 @@
  * (tests/iobase_interface.rs) acts on the network when this program prints a step's name,
  * and answers "go" on stdin where the program waits for it:
  *
- *   ready       the interface is open and its records read; the test starts the device
+ *   ready       the interface is open and its records read, the CP info interface shows the
+ *               port disturbed and both LEDs lit; the test starts the device
  *   peer        the neighbour arrived (its alarm disappeared) and PDPortDataReal names it;
  *               the test takes the link down
  *   down        the link-down alarm came; the test brings the link up
@@ -22,6 +23,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "pniousrx.h"
+#include "servusrx.h"
 #include "iobase_controller.h"
 #include "procimg.h"
 #include "check.h"
@@ -40,6 +42,43 @@ static atomic_uint last_specifier, last_error_type, last_alarm_type, last_subslo
 static atomic_uint conf_err, conf_mode;
 static char conf_name[256];
 static char rema_text[1024];
+
+/* The CP info interface's view of the same port. */
+static atomic_int init_events, link_down_pdevs, led_events;
+static atomic_uint init_items, init_port_state, led_bf, led_sf;
+
+static void on_info(SERV_CP_INFO_PRM *p) {
+    switch (p->InfoType) {
+    case SERV_CP_INFO_PDEV_INIT_DATA:
+        atomic_store(&init_items, p->u.PdevInitData.ItemNumber);
+        atomic_store(&init_port_state, p->u.PdevInitData.InitState[1].PortState);
+        atomic_fetch_add(&init_events, 1);
+        break;
+    case SERV_CP_INFO_PDEV_DATA:
+        if (p->u.PdevData.LogAddr == PORT_ADDR && p->u.PdevData.Diagnostics.ErrType == 0x8000 &&
+            p->u.PdevData.Diagnostics.ExtErrType == 0x8000)
+            atomic_fetch_add(&link_down_pdevs, 1);
+        break;
+    case SERV_CP_INFO_LED_STATE:
+        if (p->u.LedInfo.LedType == SERV_CIB_LED_BF)
+            atomic_store(&led_bf, p->u.LedInfo.LedState);
+        else
+            atomic_store(&led_sf, p->u.LedInfo.LedState);
+        atomic_fetch_add(&led_events, 1);
+        break;
+    default:
+        break;
+    }
+}
+
+/* Waits up to 30 s for *value to be `want`. */
+static int wait_value(atomic_uint *value, unsigned want) {
+    for (int i = 0; i < 3000; i++) {
+        if (atomic_load(value) == want) return 1;
+        sleep_ms(10);
+    }
+    return 0;
+}
 
 static void on_read(PNIO_CBE_PRM *p) {
     if (p->CbeType != PNIO_CBE_IFC_REC_READ_CONF) return;
@@ -188,6 +227,22 @@ int main(void) {
     CHECK(atomic_load(&last_read_add1) == (PNIO_ERR_PRM_REC_INDEX & 0xffff), "AddValue1 0x%x",
           atomic_load(&last_read_add1));
 
+    /* The CP info interface: the port's state, both LEDs; no neighbour yet, no device up. */
+    PNIO_UINT32 info = 0;
+    CHECK_RC(SERV_CP_info_open(1, &info, 0), PNIO_OK);
+    CHECK_RC(SERV_CP_info_register_cbf(info, 9, on_info, 0), PNIO_ERR_PRM_TYPE);
+    CHECK_RC(SERV_CP_info_register_cbf(info, SERV_CP_INFO_PDEV_DATA, on_info, 0), PNIO_OK);
+    CHECK_RC(SERV_CP_info_register_cbf(info, SERV_CP_INFO_PDEV_DATA, on_info, 0),
+             PNIO_ERR_ALREADY_DONE);
+    CHECK_RC(SERV_CP_info_register_cbf(info, SERV_CP_INFO_LED_STATE, on_info, 0), PNIO_OK);
+    CHECK(wait_past(&init_events, 0), "no SERV_CP_INFO_PDEV_INIT_DATA");
+    CHECK(atomic_load(&init_items) == 2, "%u items", atomic_load(&init_items));
+    CHECK(atomic_load(&init_port_state) ==
+              (SERV_CIB_PDEV_PORT_STATE_EXISTS | SERV_CIB_PDEV_PORT_STATE_DISTURBED),
+          "port state 0x%x", atomic_load(&init_port_state));
+    CHECK(wait_value(&led_sf, SERV_CIB_LED_ON), "SF not lit");
+    CHECK(wait_value(&led_bf, SERV_CIB_LED_ON), "BF not lit");
+
     /* The configured neighbour arrives: its "no peer" diagnosis disappears. */
     int seen = atomic_load(&alarms);
     step("ready");
@@ -196,6 +251,8 @@ int main(void) {
           atomic_load(&last_alarm_type));
     CHECK(atomic_load(&last_subslot) == 0x8001, "alarm of subslot 0x%x",
           atomic_load(&last_subslot));
+    CHECK(wait_value(&led_sf, SERV_CIB_LED_OFF), "SF still lit");
+    CHECK(wait_value(&led_bf, SERV_CIB_LED_OFF), "BF still lit: the device is not up");
     read_record(h, PORT_ADDR, 0x802a);
     CHECK(atomic_load(&last_read_err) == 0, "0x802A failed");
     CHECK(record_has("pc-device", 9) && record_has("port-001", 8),
@@ -205,6 +262,8 @@ int main(void) {
     step("peer");
     CHECK(wait_past(&link_down_alarms, 0), "no link-down alarm (last ChannelErrorType 0x%x)",
           atomic_load(&last_error_type));
+    CHECK(wait_past(&link_down_pdevs, 0), "no SERV_CP_INFO_PDEV_DATA for the link");
+    CHECK(wait_value(&led_sf, SERV_CIB_LED_ON), "SF not lit by the link");
     seen = atomic_load(&alarms);
     step("down");
     wait_clear(seen);
@@ -258,6 +317,8 @@ int main(void) {
     CHECK(strcmp(conf_name, "plc-ifc-3") == 0, "after DCP the station is \"%s\"", conf_name);
     step("tool-named");
 
+    CHECK_RC(SERV_CP_info_close(info), PNIO_OK);
+    CHECK_RC(SERV_CP_info_close(info), PNIO_ERR_WRONG_HND);
     CHECK_RC(PNIO_interface_close(h), PNIO_OK);
     CHECK_RC(PNIO_interface_close(h), PNIO_ERR_WRONG_HND);
     printf("interface: all checks held\n");
