@@ -173,6 +173,10 @@ coded_enum! {
         PdPortStatistic = 0x0251 => "PDPortStatistic",
         /// 0x0400 MultipleBlockHeader (records 0xF841, 0xF842).
         MultipleBlockHeader = 0x0400 => "MultipleBlockHeader",
+        /// 0x0800 PROFIenergy ServiceRequest (record 0x80A0).
+        PeServiceRequest = 0x0800 => "PE ServiceRequest",
+        /// 0x0801 PROFIenergy ServiceResponse (record 0x80A0).
+        PeServiceResponse = 0x0801 => "PE ServiceResponse",
         /// 0x0F00 MaintenanceItem.
         MaintenanceItem = 0x0f00 => "MaintenanceItem",
         /// 0x8001 AlarmAckHigh.

@@ -36,6 +36,7 @@ mod diagnosis;
 mod identification;
 mod im;
 mod pdev;
+pub mod pe;
 mod port_check;
 #[cfg(test)]
 mod tests;
