@@ -96,6 +96,7 @@ mod served_records;
 mod station;
 #[cfg(test)]
 mod tests;
+pub mod pe;
 pub mod topology;
 
 use crate::cyclic::{CyclicAr, Verdict};

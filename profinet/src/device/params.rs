@@ -5,6 +5,7 @@
 
 use super::diagnosis::SubslotAddr;
 use super::{Application, Device};
+use crate::wire::record::pe::INDEX_PE_SERVICE;
 use crate::wire::record::{INDEX_IM0, INDEX_IM4, RecordErrorCode};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -33,6 +34,8 @@ pub(super) struct ParameterRecords {
     delegated: BTreeSet<SubslotAddr>,
     /// Submodules whose I&M0–I&M4 (0xAFF0–0xAFF4) the application answers.
     delegated_im: BTreeSet<SubslotAddr>,
+    /// Submodules whose PROFIenergy record (0x80A0) the application answers.
+    delegated_pe: BTreeSet<SubslotAddr>,
 }
 
 impl ParameterRecords {
@@ -42,6 +45,7 @@ impl ParameterRecords {
         match index {
             0x0000..=0x7fff => self.delegated.contains(&at),
             INDEX_IM0..=INDEX_IM4 => self.delegated_im.contains(&at),
+            INDEX_PE_SERVICE => self.delegated_pe.contains(&at),
             _ => false,
         }
     }
@@ -100,6 +104,17 @@ impl<A: Application> Device<A> {
             self.records.params.delegated.insert(at);
         } else {
             self.records.params.delegated.remove(&at);
+        }
+    }
+
+    /// Hands the PROFIenergy record (0x80A0) of submodule `at` to the application (`true`),
+    /// as IO-Base's device interface does with `PNIO_CEP_PE_MODE_ENABLE`, or has the device
+    /// give the standard's answer again ([`super::pe`]).
+    pub fn delegate_pe_records(&mut self, at: SubslotAddr, to_application: bool) {
+        if to_application {
+            self.records.params.delegated_pe.insert(at);
+        } else {
+            self.records.params.delegated_pe.remove(&at);
         }
     }
 

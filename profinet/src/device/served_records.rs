@@ -35,6 +35,7 @@ use crate::wire::record::{
     INDEX_PD_PORT_DATA_CHECK, INDEX_PD_PORT_DATA_REAL, INDEX_PD_PORT_STATISTIC, INDEX_PD_REAL_DATA,
     MultipleBlockHeader, PdPortDataAdjust, PdPortDataCheck,
 };
+use crate::wire::record::pe::INDEX_PE_SERVICE;
 use crate::wire::record::{
     ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, INDEX_IM0_FILTER_DATA, INDEX_IM4,
     INDEX_MODULE_DIFF, Im0, IodHeader, IodKind, RecordError, RecordErrorCode, split_write_multiple,
@@ -257,6 +258,14 @@ fn write_one(
         .check_write(h.api, h.slot, h.subslot, h.index, data.len())
     {
         return fail(code);
+    }
+    if h.index == INDEX_PE_SERVICE {
+        // The station's own PE entity: the answer waits as the record for the next read.
+        records.insert(
+            (h.api, h.slot, h.subslot, h.index),
+            super::pe::answer_bytes(data),
+        );
+        return PnioStatus::OK;
     }
     let writable = match h.index {
         0x0000..=0x7fff => true,
@@ -570,6 +579,11 @@ fn read_one(
             Err(fail(RecordErrorCode::InvalidSlotSubslot))
         }
         _ if !plugged(dev.real, at) => Err(fail(RecordErrorCode::InvalidSlotSubslot)),
+        // No PE request before: nothing to answer.
+        INDEX_PE_SERVICE => ar
+            .and_then(|a| a.records.get(&(h.api, h.slot, h.subslot, h.index)))
+            .cloned()
+            .ok_or_else(|| fail(RecordErrorCode::StateConflict)),
         INDEX_IM0..=INDEX_IM4 => dev
             .im
             .read(dev.im0, h.index - INDEX_IM0)
