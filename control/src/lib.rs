@@ -22,6 +22,7 @@ pub mod doorbell;
 pub mod futex;
 pub mod hex_id;
 pub mod names;
+pub mod pe;
 mod refusal;
 mod request;
 mod response;

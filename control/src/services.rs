@@ -170,7 +170,7 @@ impl AlarmReport {
 }
 
 /// What the server tells subscribers.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "notification", rename_all = "snake_case")]
 pub enum Notification {
     /// A server (re)started: announce again (its predecessor's subscriptions, jobs and
@@ -261,6 +261,28 @@ pub enum Notification {
         /// It takes effect.
         done: bool,
         /// What happens, or why not.
+        message: String,
+    },
+    /// Controller role: a PROFIenergy command of `reply_to` ended
+    /// ([`crate::ControllerRequest::PeCommand`]): the device's answer, or the record job's
+    /// failure (no answer within [`crate::pe::PE_LIFETIME_MS`] is IO-Base's "no
+    /// connection" status).
+    PeConfirmation {
+        /// The subscriber that asked.
+        reply_to: u64,
+        /// The request's reference.
+        reference: u64,
+        /// The submodule.
+        target: RecordTarget,
+        /// The command.
+        command: crate::pe::PeCommand,
+        /// The answer; `None` when the command could not be carried out (`status` says
+        /// why).
+        answer: Option<crate::pe::PeAnswer>,
+        /// The record jobs' PNIO status (0: the answer came).
+        status: RecordStatus,
+        /// Why it failed, in words (empty when the answer came).
+        #[serde(default)]
         message: String,
     },
     /// Controller role: an alarm of the controller's own interface (IO-Base
@@ -493,7 +515,8 @@ impl Notification {
             | Notification::StationArCheck { reply_to, .. }
             | Notification::StationDcpSetCheck { reply_to, .. }
             | Notification::InterfaceRecord { reply_to, .. }
-            | Notification::Restart { reply_to, .. } => Some(*reply_to),
+            | Notification::Restart { reply_to, .. }
+            | Notification::PeConfirmation { reply_to, .. } => Some(*reply_to),
             Notification::ControllerAddress { reply_to, .. } => *reply_to,
             _ => None,
         }

@@ -7,6 +7,7 @@ mod gsdml;
 mod interface;
 mod interrupt;
 mod io;
+mod pe;
 mod restart;
 mod services;
 mod station_diag;
@@ -83,6 +84,8 @@ enum Command {
         #[command(subcommand)]
         op: DeviceCommand,
     },
+    /// A PROFIenergy command to a submodule of an IO device (record 0x80A0).
+    Pe(pe::PeArgs),
     /// Take a new configuration into use under the running procimgd.
     Config {
         #[command(subcommand)]
@@ -198,6 +201,7 @@ fn main() {
             DeviceCommand::DeactivateAll => services::tailor(&cli.instance, None),
         },
         Command::Interface { op } => interface::run(&cli.instance, op),
+        Command::Pe(args) => pe::run(&cli.instance, args),
         Command::Config { op } => restart::config(&cli.instance, op),
         Command::Reset { kind } => restart::reset(&cli.instance, kind),
         Command::TypeOfStation { text } => restart::type_of_station(&cli.instance, &text),

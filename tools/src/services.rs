@@ -69,7 +69,7 @@ pub(crate) fn open(instance: &str, name: &str, acknowledge: bool) -> anyhow::Res
 }
 
 /// The index of the device named `name`.
-fn device_index(s: &Services, name: &str) -> anyhow::Result<u32> {
+pub(crate) fn device_index(s: &Services, name: &str) -> anyhow::Result<u32> {
     let devices = s.control().status()?.devices;
     match devices.iter().position(|d| d.name == name) {
         Some(i) => Ok(i as u32),
@@ -204,6 +204,15 @@ fn describe(n: &Notification) -> String {
         Notification::ControllerSignal => {
             "the controller's station: DCP Signal (flash its LED)".to_owned()
         }
+        Notification::PeConfirmation {
+            command,
+            answer,
+            message,
+            ..
+        } => match answer {
+            Some(a) => format!("PE {command:?}: {a:?}"),
+            None => format!("PE {command:?} failed: {message}"),
+        },
         Notification::StopRequest { reason } => {
             format!("stop request (CP_STOP_REQ): {reason}; programs are to close")
         }

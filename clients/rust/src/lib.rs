@@ -56,6 +56,7 @@ pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
 pub use io::{OutputReadResult, ReadResult};
 pub use layout::Layout;
+pub use procimg_control::pe;
 pub use procimg_control::services::{
     APP_READY_HOLD_TIMEOUT_MS, AR_CHECK_TIMEOUT_MS, AddressProblem, AddressRefusal, AlarmReport,
     ArCr, CrDataObject, DCP_SET_CHECK_TIMEOUT_MS, DeviceDiagnosis, DiagnosisReport,

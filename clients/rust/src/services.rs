@@ -17,6 +17,7 @@
 //! [`Client`]: crate::Client
 
 mod own_interface;
+mod pe;
 mod restart;
 
 pub use restart::RestartError;

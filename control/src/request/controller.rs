@@ -85,6 +85,22 @@ pub enum ControllerRequest {
         /// The most bytes wanted.
         max_len: u32,
     },
+    /// A PROFIenergy command to a submodule of a device (IO-Base `PNIO_pe_cmd_req`): its
+    /// record 0x80A0 written, the answer read until it is ready or
+    /// [`PE_LIFETIME_MS`](crate::pe::PE_LIFETIME_MS) passed. Answered with
+    /// [`Response::Accepted`](crate::Response::Accepted); the outcome follows as a
+    /// [`Notification::PeConfirmation`](crate::services::Notification::PeConfirmation) to
+    /// `reply_to`.
+    PeCommand {
+        /// The subscriber that gets the confirmation.
+        reply_to: u64,
+        /// Echoed in the confirmation.
+        reference: u64,
+        /// The submodule (its `index` is not used: PE's record is 0x80A0).
+        target: RecordTarget,
+        /// The command.
+        command: crate::pe::PeCommand,
+    },
     /// Give the controller's own station a new NameOfStation and/or IP suite (IO-Base
     /// `PNIO_interface_set_ip_and_nos`), where `[interface]` lets programs change them.
     /// Answered with [`Response::Accepted`](crate::Response::Accepted); confirmed by a
@@ -116,6 +132,7 @@ impl ControllerRequest {
             ControllerRequest::InterfaceRecordRead { .. } => {
                 "reading a record of the controller's own interface"
             }
+            ControllerRequest::PeCommand { .. } => "a PROFIenergy command to an IO device",
             ControllerRequest::SetControllerAddress { .. } => {
                 "setting the controller's name or IP suite"
             }

@@ -87,6 +87,7 @@ mod iobase_alarms_tests;
 pub mod log_book;
 mod params;
 pub use crate::port::physical;
+pub mod pe;
 mod plug;
 #[cfg(test)]
 mod plug_tests;
@@ -96,7 +97,6 @@ mod served_records;
 mod station;
 #[cfg(test)]
 mod tests;
-pub mod pe;
 pub mod topology;
 
 use crate::cyclic::{CyclicAr, Verdict};

@@ -11,8 +11,8 @@
 //! conflict").
 
 use crate::wire::record::pe::{
-    MODE_READY_TO_OPERATE, MeasurementValue, ModeInfo, PeAnswer, PeCommand, PeRequest,
-    PeResponse, PemStatus, error, service,
+    MODE_READY_TO_OPERATE, MeasurementValue, ModeInfo, PeAnswer, PeCommand, PeRequest, PeResponse,
+    PemStatus, error, service,
 };
 
 /// The PE version the station's answers follow.

@@ -29,13 +29,13 @@ use super::log_book::LogBook;
 use super::params::ParameterRecords;
 use super::physical::{self, PhysicalView};
 use crate::port::lldp::INDEX_PD_INTERFACE_ADJUST;
+use crate::wire::record::pe::INDEX_PE_SERVICE;
 use crate::wire::record::{
     ApiData, ArData, ArDataEntry, INDEX_API_DATA, INDEX_AR_DATA, INDEX_LOG_BOOK_DATA,
     INDEX_PD_EXPECTED_DATA, INDEX_PD_INTERFACE_DATA_REAL, INDEX_PD_PORT_DATA_ADJUST,
     INDEX_PD_PORT_DATA_CHECK, INDEX_PD_PORT_DATA_REAL, INDEX_PD_PORT_STATISTIC, INDEX_PD_REAL_DATA,
     MultipleBlockHeader, PdPortDataAdjust, PdPortDataCheck,
 };
-use crate::wire::record::pe::INDEX_PE_SERVICE;
 use crate::wire::record::{
     ERROR_CODE_READ, ERROR_CODE_WRITE, INDEX_IM0, INDEX_IM0_FILTER_DATA, INDEX_IM4,
     INDEX_MODULE_DIFF, Im0, IodHeader, IodKind, RecordError, RecordErrorCode, split_write_multiple,

@@ -5,6 +5,7 @@
 //! controller's client services ([`ControllerServices`]).
 
 mod interface;
+mod pe_jobs;
 pub(crate) mod plan;
 mod role;
 mod services;

@@ -113,6 +113,8 @@ pub struct ControllerServices {
     interface_jobs: HashMap<u64, InterfaceJob>,
     /// Who asked for each change of the station's name or address, by job id.
     address_jobs: HashMap<u64, u64>,
+    /// PROFIenergy commands on their way.
+    pe: super::pe_jobs::PeJobs,
 }
 
 /// A read of a record of the controller's own interface on its way.
@@ -155,6 +157,7 @@ impl ControllerServices {
             interface: None,
             interface_jobs: HashMap::new(),
             address_jobs: HashMap::new(),
+            pe: Default::default(),
         }
     }
 
@@ -345,6 +348,55 @@ impl ControllerServices {
         Ok(())
     }
 
+    /// Starts a PROFIenergy command.
+    fn pe_command(
+        &mut self,
+        reply_to: u64,
+        reference: u64,
+        target: RecordTarget,
+        command: procimg_control::pe::PeCommand,
+    ) -> Result<(), Refusal> {
+        let device = self.device(target.device)?;
+        if self.link.is_none() {
+            return Err(Refusal::ServerBusy);
+        }
+        let id = self.next_job;
+        self.next_job += 1;
+        let write = self.pe.start(
+            id,
+            reply_to,
+            reference,
+            target,
+            device,
+            command,
+            Instant::now(),
+        );
+        self.command(ControllerCommand::Record(write))
+    }
+
+    /// Carries out what the PROFIenergy commands asked for: their record jobs, and the
+    /// confirmations of those that ended.
+    fn apply_pe(&mut self, steps: super::pe_jobs::PeSteps, notices: &mut Notices) {
+        for r in steps.records {
+            let _ = self.command(ControllerCommand::Record(r));
+        }
+        for d in steps.done {
+            let (answer, status, message) = match d.result {
+                Ok(a) => (Some(a), RecordStatus::OK, String::new()),
+                Err((status, message)) => (None, status, message),
+            };
+            notices.publish(&Notification::PeConfirmation {
+                reply_to: d.reply_to,
+                reference: d.reference,
+                target: d.target,
+                command: d.command,
+                answer,
+                status,
+                message,
+            });
+        }
+    }
+
     /// Starts a change of the station's name or address.
     fn set_address(&mut self, reply_to: u64, change: StationAddress) -> Result<(), Refusal> {
         let id = self.next_job;
@@ -414,6 +466,17 @@ impl ControllerServices {
         for e in events {
             self.on_event(e, notices);
         }
+        let mut steps = super::pe_jobs::PeSteps::default();
+        let next_job = &mut self.next_job;
+        self.pe.poll(
+            Instant::now(),
+            || {
+                *next_job += 1;
+                *next_job - 1
+            },
+            &mut steps,
+        );
+        self.apply_pe(steps, notices);
         let now = Instant::now();
         let mut late = Vec::new();
         for a in &mut self.alarms {
@@ -514,6 +577,11 @@ impl ControllerServices {
                 notification,
                 ticket,
             } => self.on_alarm(device, &notification, ticket, notices),
+            DeviceEvent::Record(r) if self.pe.owns(r.request.reference) => {
+                let mut steps = super::pe_jobs::PeSteps::default();
+                self.pe.on_record(r, Instant::now(), &mut steps);
+                self.apply_pe(steps, notices);
+            }
             DeviceEvent::Record(r) => self.on_record(r, notices),
             DeviceEvent::Signal => notices.publish(&Notification::ControllerSignal),
             DeviceEvent::InterfaceAlarm(n) => {
@@ -793,6 +861,12 @@ impl Answers<ControllerRequest> for ControllerServices {
                     self.interface_record(reply_to, reference, subslot, index, max_len),
                 );
             }
+            ControllerRequest::PeCommand {
+                reply_to,
+                reference,
+                target,
+                command,
+            } => return accepted(self.pe_command(reply_to, reference, target, command)),
             ControllerRequest::SetControllerAddress {
                 reply_to,
                 name,

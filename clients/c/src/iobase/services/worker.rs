@@ -160,6 +160,7 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::ControllerAddress { .. } => {}
         // Of the program that asked for a restart (SERV_CP_download, SERV_CP_reset).
         Notification::Restart { .. } => {}
+        Notification::PeConfirmation { .. } => {}
     }
 }
 
