@@ -6,6 +6,7 @@
 //! raises the port's diagnosis and the PortDataChangeNotification alarm; the right one
 //! written again clears both.
 
+use procimg_client::pe::{PeAnswer, PeCommand};
 use procimg_client::{AlarmReport, ArState, Notification, RecordTarget, ServiceOptions, Services};
 use procimg_profinet::wire::record::{
     CheckedPeer, INDEX_PD_PORT_DATA_CHECK, PdPortDataCheck, PortCheck,
@@ -174,6 +175,33 @@ fn a_topology_mismatch_raises_the_port_diagnosis_and_the_right_neighbour_clears_
         "{before:?} then {after:?}"
     );
 
+    // PROFIenergy to procimg's own station, which no program took PE for: the standard
+    // answer of an entity without energy-saving modes, over records 0x80A0 on the wire.
+    let head = RecordTarget {
+        device: 0,
+        api: 0,
+        slot: 0,
+        subslot: 1,
+        index: 0x80a0,
+    };
+    assert_eq!(
+        services
+            .pe(head, PeCommand::QueryVersion)
+            .expect("Query_Version"),
+        PeAnswer::Version { major: 1, minor: 1 }
+    );
+    assert_eq!(
+        services
+            .pe(head, PeCommand::StartPause { pause_ms: 60_000 })
+            .expect("Start_Pause"),
+        PeAnswer::Error { code: 0x06 },
+        "no PE energy-saving mode supported"
+    );
+    assert_eq!(
+        services.pe(head, PeCommand::EndPause).expect("End_Pause"),
+        PeAnswer::EndPause { time_to_operate: 0 }
+    );
+
     drop((services, plc, device));
     let pcap = capture.stop();
     let bad = flagged(&pcap);
@@ -182,6 +210,7 @@ fn a_topology_mismatch_raises_the_port_diagnosis_and_the_right_neighbour_clears_
     for filter in [
         "pn_io.alarm_type == 0x000e",
         "pn_io.index == 0x802b",
+        "pn_io.index == 0x80a0",
         "lldp && lldp.chassis.id",
     ] {
         assert!(
