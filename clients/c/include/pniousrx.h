@@ -147,12 +147,23 @@
  * a mismatch appears and disappears as PNIO_ALARM_PORT_DATA_CHANGED with its extended
  * channel diagnosis, one at a time.
  *
- * Not here: PROFIenergy (PNIO_register_pe_cbf, PNIO_pe_cmd_req and their types) and
- * PNIO_data_cache_exchange: procimg does not offer them yet. PNIO_CBE_CP_STOP_REQ comes
- * when the procimgd is to restart (a configuration download, a reset: servusrx.h): close
- * the controller, outside the callback; the restart waits up to 10 s for it. The CP
- * application watchdog (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog, PNIO_CBF_APPL_WATCHDOG) is
- * pniobase.h's, shared with the device side; what its expiry does is said there.
+ * PROFIenergy. PNIO_pe_cmd_req writes the PE request to record 0x80A0 (PE_SAP_DR_INDEX) of
+ * the submodule at pAddr and reads the answer from it, again while the device answers
+ * "resource busy/unavailable", for at most PNIO_PE_SERVICE_REQ_LIFETIME_DEFAULT seconds;
+ * the PE callback gets pe_hdr.state 1 and the member struct_id names for an answer, state 2
+ * with RespNegative (struct_id PE_CNF_STRUCT_ID_ERROR) for the device's refusal, state 2
+ * with struct_id 0 and Err for a command not carried out (IO-Base's "no connection" C0 80
+ * A3 00 when the lifetime passed). PNIO_pe_cmd_req without a registered PE callback is
+ * PNIO_ERR_SEQUENCE; an unknown CmdId or modifier PNIO_ERR_PRM_INVALIDARG; 16 commands and
+ * record jobs open PNIO_ERR_NO_RESOURCE. procimg's own device role answers as a station
+ * without energy-saving modes unless its program takes PE (pniousrd.h).
+ *
+ * Not here: PNIO_data_cache_exchange: procimg does not offer it yet. PNIO_CBE_CP_STOP_REQ
+ * comes when the procimgd is to restart (a configuration download, a reset: servusrx.h):
+ * close the controller, outside the callback; the restart waits up to 10 s for it. The CP
+ * application watchdog (PNIO_CP_set_appl_watchdog, PNIO_CP_trigger_watchdog,
+ * PNIO_CBF_APPL_WATCHDOG) is pniobase.h's, shared with the device side; what its expiry
+ * does is said there.
  */
 #ifndef PNIOUSRX_H
 #define PNIOUSRX_H
@@ -437,6 +448,169 @@ typedef struct {
     PNIO_UINT32 Status;     /* PNIO_OK, PNIO_ERR_INVALID_STATION, PNIO_ERR_INVALID_PORT */
 } ATTR_PACKED PNIO_CBE_PRM_IOSYS_CONF;
 
+/* ---- PROFIenergy ------------------------------------------------------------------------ */
+
+/* PE's record: the subslot's PROFIenergy service access point. */
+#define PE_SAP_DR_INDEX 0x80A0
+#define PE_MSRMT_IDS_MAX 254
+/* How long a PE command is polled for its answer, seconds. */
+#define PNIO_PE_SERVICE_REQ_LIFETIME_DEFAULT 10
+
+typedef enum {
+    PNIO_PE_CMD_RESERVED = 0,
+    PNIO_PE_CMD_START_PAUSE = 1,
+    PNIO_PE_CMD_END_PAUSE = 2,
+    PNIO_PE_CMD_Q_MODES = 3,
+    PNIO_PE_CMD_PEM_STATUS = 4,
+    PNIO_PE_CMD_PE_IDENTIFY = 5,
+    PNIO_PE_CMD_Q_MSRMT = 16
+} PNIO_PE_CMD_ENUM;
+
+typedef enum {
+    PE_CMD_MODIF_NOT_USED = 0,         /* every command but the two below */
+    PE_CMD_MODIF_Q_MODE_LIST_ALL = 1,  /* with PNIO_PE_CMD_Q_MODES */
+    PE_CMD_MODIF_Q_MODE_GET_MODE = 2,
+    PE_CMD_MODIF_Q_MSRMT_LIST_ALL = 1, /* with PNIO_PE_CMD_Q_MSRMT */
+    PE_CMD_MODIF_Q_MSRMT_GET_VAL = 2
+} PNIO_PE_CMD_MODIFIER_ENUM;
+
+/* pe_hdr.struct_id: with CmdId, which member of pe_prm holds the answer. */
+#define PE_CNF_STRUCT_ID_RESERVED 0
+#define PE_CNF_STRUCT_ID_UNIQUE 1
+#define PE_CNF_STRUCT_ID_QMODE_LIST_ALL 1
+#define PE_CNF_STRUCT_ID_QMODE_GET_MODE 2
+#define PE_CNF_STRUCT_ID_QMSRMT_LIST_ALL 1
+#define PE_CNF_STRUCT_ID_QMSRMT_GET_VAL 2
+#define PE_CNF_STRUCT_ID_ERROR 0xFF
+
+typedef struct {
+    PNIO_UINT32 time_ms; /* the pause expected */
+} ATTR_PACKED PNIO_PE_PRM_START_PAUSE_REQ;
+
+typedef struct {
+    PNIO_UINT8 peModeId;
+    PNIO_UINT8 reserved;
+} ATTR_PACKED PNIO_PE_PRM_Q_MODE_GET_MODE_REQ;
+
+typedef struct {
+    PNIO_UINT8 num;
+    PNIO_UINT8 reserved;
+    PNIO_UINT16 Measurement_ID[PE_MSRMT_IDS_MAX];
+} ATTR_PACKED PNIO_PE_PRM_Q_MSRMT_GET_VAL_REQ;
+
+/* A PE command: CmdId and CmdModifier, and the parameters of those that have any. */
+typedef struct {
+    PNIO_PE_CMD_ENUM CmdId;
+    PNIO_PE_CMD_MODIFIER_ENUM CmdModifier;
+    union {
+        PNIO_PE_PRM_START_PAUSE_REQ StartPause;
+        PNIO_PE_PRM_Q_MODE_GET_MODE_REQ ModeGet;
+        PNIO_PE_PRM_Q_MSRMT_GET_VAL_REQ MeasurementValue;
+    } rq;
+} ATTR_PACKED PNIO_PE_REQ_PRM;
+
+typedef struct {
+    PNIO_UINT8 err_code; /* the device's PE Error_Code */
+    PNIO_UINT8 reserved;
+} ATTR_PACKED PNIO_PE_PRM_GENERIC_CONF_NEG;
+
+typedef struct {
+    PNIO_UINT32 pe_mode_id; /* the mode reached */
+} ATTR_PACKED PNIO_PE_PRM_START_PAUSE_CONF;
+
+typedef struct {
+    PNIO_UINT32 time_ms; /* until ready to operate */
+} ATTR_PACKED PNIO_PE_PRM_END_PAUSE_CONF;
+
+typedef struct {
+    PNIO_UINT8 numServices;
+    PNIO_UINT8 serviceId[254];
+} ATTR_PACKED PNIO_PE_PRM_PE_IDENTIFY_CONF;
+
+typedef struct {
+    PNIO_UINT8 PE_Mode_ID_Source;
+    PNIO_UINT8 PE_Mode_ID_Destination;
+    PNIO_UINT32 Time_to_operate;               /* ms */
+    PNIO_UINT32 Remaining_time_to_destination; /* ms */
+    float Mode_Power_Consumption;               /* kW */
+    float Energy_Consumption_to_Destination;    /* kWh */
+    float Energy_Consumption_to_operate;        /* kWh */
+} ATTR_PACKED PNIO_PE_PRM_PEM_STATUS_CONF;
+
+typedef struct {
+    PNIO_UINT8 numModeIds;
+    PNIO_UINT8 peModeId[254];
+} ATTR_PACKED PNIO_PE_PRM_Q_MODE_LIST_ALL_CONF;
+
+typedef struct {
+    PNIO_UINT8 peModeId;
+    PNIO_UINT8 PE_Mode_Attributes; /* bit 0: dynamic figures */
+    PNIO_UINT32 Time_min_Pause;
+    PNIO_UINT32 Time_to_Pause;
+    PNIO_UINT32 Time_to_operate;
+    PNIO_UINT32 Time_min_length_of_stay;
+    PNIO_UINT32 Time_max_length_of_stay;
+    float Mode_Power_Consumption;
+    float Energy_Consumption_to_pause;
+    float Energy_Consumption_to_operate;
+} ATTR_PACKED PNIO_PE_PRM_Q_MODE_GET_MODE_CONF;
+
+typedef struct {
+    PNIO_UINT16 Measurement_ID;
+    PNIO_UINT8 Accuracy_Domain;
+    PNIO_UINT8 Accuracy_Class;
+    float Range;
+} ATTR_PACKED PNIO_PE_PRM_Q_MSRMT_LIST_ELEM;
+
+typedef struct {
+    PNIO_UINT8 numMeasurementIds;
+    PNIO_UINT8 reserved;
+    PNIO_PE_PRM_Q_MSRMT_LIST_ELEM elem[PE_MSRMT_IDS_MAX];
+} ATTR_PACKED PNIO_PE_PRM_Q_MSRMT_GET_LIST_CONF;
+
+typedef struct {
+    PNIO_UINT16 Measurement_ID;
+    PNIO_UINT16 Status_of_Measurement_Value; /* 1 valid, 2 not available, 3 temporarily */
+    float Transmission_Data_Type;             /* the value */
+    PNIO_UINT32 End_of_demand;
+    PNIO_UINT32 reserved;
+} ATTR_PACKED PNIO_PE_PRM_Q_MSRMT_VAL_ELEM;
+
+typedef struct {
+    PNIO_UINT8 numMeasurementValues;
+    PNIO_UINT8 reserved;
+    PNIO_PE_PRM_Q_MSRMT_VAL_ELEM value[PE_MSRMT_IDS_MAX];
+} ATTR_PACKED PNIO_PE_PRM_Q_MSRMT_GET_VAL_CONF;
+
+typedef struct {
+    PNIO_PE_CMD_ENUM CmdId; /* the command */
+    PNIO_UINT32 Handle;     /* the controller's */
+    PNIO_ADDR Addr;         /* the address the command went to */
+    PNIO_REF Ref;           /* as given to PNIO_pe_cmd_req */
+    PNIO_ERR_STAT Err;      /* the record jobs' status */
+    PNIO_UINT16 state;      /* 1: answered; 2: refused by the device or not carried out */
+    PNIO_UINT16 struct_id;  /* PE_CNF_STRUCT_ID_*: which member of pe_prm */
+    PNIO_UINT32 length;     /* bytes of that member */
+} ATTR_PACKED PE_CBE_HDR;
+
+typedef struct {
+    PE_CBE_HDR pe_hdr;
+    union {
+        PNIO_PE_PRM_GENERIC_CONF_NEG RespNegative;
+        PNIO_PE_PRM_START_PAUSE_CONF StartPause;
+        PNIO_PE_PRM_END_PAUSE_CONF EndPause;
+        PNIO_PE_PRM_PE_IDENTIFY_CONF PeIdentify;
+        PNIO_PE_PRM_PEM_STATUS_CONF PemStatus;
+        PNIO_PE_PRM_Q_MODE_LIST_ALL_CONF ModeList;
+        PNIO_PE_PRM_Q_MODE_GET_MODE_CONF ModeGet;
+        PNIO_PE_PRM_Q_MSRMT_GET_LIST_CONF MeasurementList;
+        PNIO_PE_PRM_Q_MSRMT_GET_VAL_CONF MeasurementValue;
+    } pe_prm;
+} ATTR_PACKED PNIO_PE_CBE_PRM;
+
+/* A PE confirmation callback: its parameters are valid during the call only. */
+typedef void (*PNIO_PE_CBF)(PNIO_PE_CBE_PRM *pPeCbfPrm);
+
 /* ---- The controller's own interface (PN Driver's PNIO_interface_*) ------------------- */
 
 /* PN Driver's boolean (its LSA_BOOL, one byte). */
@@ -633,6 +807,20 @@ PNIO_UINT32 PNIO_CODE_ATTR PNIO_iosystem_reconfig(
     PNIO_ADDR *DeviceList,                     /* in */
     PNIO_UINT32 PortInterconnectionCnt,        /* in, pairs */
     PNIO_ADDR *PortInterconnectionList);       /* in */
+
+/* Registers the PE confirmation callback, once, before the first PNIO_pe_cmd_req. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_register_pe_cbf(
+    PNIO_UINT32 Handle,           /* in */
+    PNIO_PE_CBF cbf_pe_cmd_conf); /* in */
+
+/* Sends a PE command to the submodule at pAddr (the device's head module: the diagnostic
+ * address of its slot 0 subslot 1); *pPeReqPrm is copied. The answer comes to the PE
+ * callback. */
+PNIO_UINT32 PNIO_CODE_ATTR PNIO_pe_cmd_req(
+    PNIO_UINT32 Handle,           /* in */
+    PNIO_ADDR *pAddr,             /* in */
+    PNIO_REF ReqRef,              /* in */
+    PNIO_PE_REQ_PRM *pPeReqPrm);  /* in */
 
 /* Opens the controller's own interface on CP CpIndex (one open per interface). Its record
  * reads are confirmed by PNIO_CBE_IFC_REC_READ_CONF (RecReadConf), its alarms come as

@@ -8,6 +8,8 @@ use procimg::iobase::api::*;
 use procimg::iobase::errors;
 use procimg::iobase::interface_api::*;
 use procimg::iobase::interface_types::*;
+use procimg::iobase::pe_api::*;
+use procimg::iobase::pe_types::*;
 use procimg::iobase::types::*;
 use procimg::iobase::watchdog::*;
 use std::mem::{align_of, offset_of, size_of};
@@ -135,6 +137,72 @@ fn layout_facts() -> (Sizes, Offsets) {
         PNIO_CBE_PRM_CTRL_DIAG_CONF,
         [pDiagData, DiagDataBufferLen, pDiagDataBuffer, ErrorCode]
     );
+    ty!(PNIO_PE_PRM_START_PAUSE_REQ, [time_ms]);
+    ty!(PNIO_PE_PRM_Q_MODE_GET_MODE_REQ, [peModeId, reserved]);
+    ty!(
+        PNIO_PE_PRM_Q_MSRMT_GET_VAL_REQ,
+        [num, reserved, Measurement_ID]
+    );
+    ty!(PNIO_PE_REQ_PRM, [CmdId, CmdModifier, rq]);
+    ty!(PNIO_PE_PRM_GENERIC_CONF_NEG, [err_code, reserved]);
+    ty!(PNIO_PE_PRM_START_PAUSE_CONF, [pe_mode_id]);
+    ty!(PNIO_PE_PRM_END_PAUSE_CONF, [time_ms]);
+    ty!(PNIO_PE_PRM_PE_IDENTIFY_CONF, [numServices, serviceId]);
+    ty!(
+        PNIO_PE_PRM_PEM_STATUS_CONF,
+        [
+            PE_Mode_ID_Source,
+            PE_Mode_ID_Destination,
+            Time_to_operate,
+            Remaining_time_to_destination,
+            Mode_Power_Consumption,
+            Energy_Consumption_to_Destination,
+            Energy_Consumption_to_operate
+        ]
+    );
+    ty!(PNIO_PE_PRM_Q_MODE_LIST_ALL_CONF, [numModeIds, peModeId]);
+    ty!(
+        PNIO_PE_PRM_Q_MODE_GET_MODE_CONF,
+        [
+            peModeId,
+            PE_Mode_Attributes,
+            Time_min_Pause,
+            Time_to_Pause,
+            Time_to_operate,
+            Time_min_length_of_stay,
+            Time_max_length_of_stay,
+            Mode_Power_Consumption,
+            Energy_Consumption_to_pause,
+            Energy_Consumption_to_operate
+        ]
+    );
+    ty!(
+        PNIO_PE_PRM_Q_MSRMT_LIST_ELEM,
+        [Measurement_ID, Accuracy_Domain, Accuracy_Class, Range]
+    );
+    ty!(
+        PNIO_PE_PRM_Q_MSRMT_GET_LIST_CONF,
+        [numMeasurementIds, reserved, elem]
+    );
+    ty!(
+        PNIO_PE_PRM_Q_MSRMT_VAL_ELEM,
+        [
+            Measurement_ID,
+            Status_of_Measurement_Value,
+            Transmission_Data_Type,
+            End_of_demand,
+            reserved
+        ]
+    );
+    ty!(
+        PNIO_PE_PRM_Q_MSRMT_GET_VAL_CONF,
+        [numMeasurementValues, reserved, value]
+    );
+    ty!(
+        PE_CBE_HDR,
+        [CmdId, Handle, Addr, Ref, Err, state, struct_id, length]
+    );
+    ty!(PNIO_PE_CBE_PRM, [pe_hdr, pe_prm]);
     ty!(PNIO_IPv4, [IpAddress, NetMask, Gateway, Remanent]);
     ty!(PNIO_NOS, [Nos, Length, Remanent]);
     ty!(
@@ -205,6 +273,8 @@ fn layout_facts() -> (Sizes, Offsets) {
         "PNIO_ALARM_TYPE",
         "PNIO_APRIO_TYPE",
         "PNIO_SET_IP_NOS_MODE_TYPE",
+        "PNIO_PE_CMD_ENUM",
+        "PNIO_PE_CMD_MODIFIER_ENUM",
     ] {
         sizes.push((e, size_of::<u32>(), align_of::<u32>()));
     }
@@ -314,6 +384,28 @@ fn constants() -> Vec<(&'static str, u64)> {
         PNIO_SET_NOS_MODE,
         PNIO_FALSE,
         PNIO_TRUE,
+        PE_SAP_DR_INDEX,
+        PE_MSRMT_IDS_MAX,
+        PNIO_PE_SERVICE_REQ_LIFETIME_DEFAULT,
+        PNIO_PE_CMD_RESERVED,
+        PNIO_PE_CMD_START_PAUSE,
+        PNIO_PE_CMD_END_PAUSE,
+        PNIO_PE_CMD_Q_MODES,
+        PNIO_PE_CMD_PEM_STATUS,
+        PNIO_PE_CMD_PE_IDENTIFY,
+        PNIO_PE_CMD_Q_MSRMT,
+        PE_CMD_MODIF_NOT_USED,
+        PE_CMD_MODIF_Q_MODE_LIST_ALL,
+        PE_CMD_MODIF_Q_MODE_GET_MODE,
+        PE_CMD_MODIF_Q_MSRMT_LIST_ALL,
+        PE_CMD_MODIF_Q_MSRMT_GET_VAL,
+        PE_CNF_STRUCT_ID_RESERVED,
+        PE_CNF_STRUCT_ID_UNIQUE,
+        PE_CNF_STRUCT_ID_QMODE_LIST_ALL,
+        PE_CNF_STRUCT_ID_QMODE_GET_MODE,
+        PE_CNF_STRUCT_ID_QMSRMT_LIST_ALL,
+        PE_CNF_STRUCT_ID_QMSRMT_GET_VAL,
+        PE_CNF_STRUCT_ID_ERROR,
     );
     for &(n, code) in PNIO_CTRL_REASONS.iter().chain(errors::ALL) {
         v.push((n, u64::from(code)));
@@ -398,6 +490,14 @@ const FUNCTIONS: &[(&str, &str)] = &[
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_UINT32, PNIO_CBF_APPL_WATCHDOG)",
     ),
     ("PNIO_CP_trigger_watchdog", "PNIO_UINT32 (*)(PNIO_UINT32)"),
+    (
+        "PNIO_register_pe_cbf",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_PE_CBF)",
+    ),
+    (
+        "PNIO_pe_cmd_req",
+        "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_ADDR *, PNIO_REF, PNIO_PE_REQ_PRM *)",
+    ),
     (
         "PNIO_interface_open",
         "PNIO_UINT32 (*)(PNIO_UINT32, PNIO_CBF, PNIO_CBF, PNIO_UINT32 *)",
@@ -485,7 +585,11 @@ fn rust_signatures_are_the_manuals() {
         PNIO_interface_set_ip_and_nos;
     let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, U, PNIO_REF, U) -> U =
         PNIO_interface_rec_read_req;
-    assert_eq!(FUNCTIONS.len(), 25);
+    let _: unsafe extern "C" fn(U, PNIO_PE_CBF) -> U = PNIO_register_pe_cbf;
+    let _: unsafe extern "C" fn(U, *mut PNIO_ADDR, PNIO_REF, *mut PNIO_PE_REQ_PRM) -> U =
+        PNIO_pe_cmd_req;
+    let _: PNIO_PE_CBF = None::<unsafe extern "C" fn(*mut PNIO_PE_CBE_PRM)>;
+    assert_eq!(FUNCTIONS.len(), 27);
 }
 
 fn program(cpp: bool) -> String {
@@ -496,7 +600,10 @@ fn program(cpp: bool) -> String {
             header: "pniousrx.h",
             functions: FUNCTIONS,
             // The watchdog's callback type has the manual's shape.
-            callbacks: &[("void (*)(PNIO_UINT32)", "PNIO_CBF_APPL_WATCHDOG")],
+            callbacks: &[
+                ("void (*)(PNIO_UINT32)", "PNIO_CBF_APPL_WATCHDOG"),
+                ("void (*)(PNIO_PE_CBE_PRM *)", "PNIO_PE_CBF"),
+            ],
             sizes: &sizes,
             offsets: &offsets,
             constants: &constants(),

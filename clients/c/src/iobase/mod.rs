@@ -40,6 +40,8 @@ pub mod interface_types;
 mod interface_worker;
 mod io_failure;
 mod isochronous;
+pub mod pe_api;
+pub mod pe_types;
 pub mod pn_driver;
 pub mod pn_driver_types;
 pub(crate) mod rema;

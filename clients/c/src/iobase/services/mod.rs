@@ -43,6 +43,7 @@
 
 mod address;
 pub(crate) mod build;
+mod pe;
 mod worker;
 
 use super::callbacks::CallbackTable;
@@ -165,6 +166,8 @@ struct Jobs {
     activations: VecDeque<ActivationJob>,
     diags: VecDeque<DiagJob>,
     reconfig: Option<ReconfigJob>,
+    /// PROFIenergy commands waiting for their confirmation, by reference.
+    pe: HashMap<u64, pe::PeJob>,
 }
 
 impl Jobs {
@@ -185,6 +188,8 @@ struct Shared {
     devices_up: Arc<DevicesUp>,
     /// Whether the server waits for our acknowledgement of alarms.
     acknowledges: bool,
+    /// The PE confirmation callback (`PNIO_register_pe_cbf`).
+    pe_cbf: Mutex<crate::iobase::pe_types::PNIO_PE_CBF>,
     /// `None` once the worker has ended (and unsubscribed).
     services: Mutex<Option<Services>>,
     jobs: Mutex<Jobs>,
@@ -289,6 +294,7 @@ impl ServiceWorker {
             led: Mutex::new(LedFlash::default()),
             devices_up: ctx.devices_up,
             acknowledges,
+            pe_cbf: Mutex::new(None),
             services: Mutex::new(Some(services)),
             jobs: Mutex::new(Jobs::default()),
             stop: AtomicBool::new(false),

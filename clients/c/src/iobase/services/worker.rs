@@ -160,7 +160,12 @@ fn handle(shared: &Shared, n: Notification) {
         | Notification::ControllerAddress { .. } => {}
         // Of the program that asked for a restart (SERV_CP_download, SERV_CP_reset).
         Notification::Restart { .. } => {}
-        Notification::PeConfirmation { .. } => {}
+        Notification::PeConfirmation {
+            reference,
+            answer,
+            status,
+            ..
+        } => super::pe::pe_done(shared, reference, answer.as_ref(), status),
     }
 }
 
@@ -203,7 +208,21 @@ fn fail_jobs(shared: &Shared, gone: impl Fn(Option<u64>, Instant) -> bool) -> bo
     if let Some(job) = &reconfig {
         deliver_reconfig(shared, job, job.tailor, PNIO_ERR_NO_FW_COMMUNICATION, None);
     }
-    let any = !records.is_empty() || !activations.is_empty() || reconfig.is_some();
+    let pe: Vec<super::pe::PeJob> = {
+        let mut jobs = lock(&shared.jobs);
+        let lost: Vec<u64> = jobs
+            .pe
+            .iter()
+            .filter(|(_, j)| gone(j.generation, j.deadline))
+            .map(|(&r, _)| r)
+            .collect();
+        lost.iter().filter_map(|r| jobs.pe.remove(r)).collect()
+    };
+    for job in &pe {
+        super::pe::deliver(shared, job, None, no_connection());
+    }
+    let any =
+        !records.is_empty() || !activations.is_empty() || reconfig.is_some() || !pe.is_empty();
     for job in records {
         deliver_record(shared, &job, build::NO_CONNECTION, &[]);
     }
@@ -213,13 +232,23 @@ fn fail_jobs(shared: &Shared, gone: impl Fn(Option<u64>, Instant) -> bool) -> bo
     any
 }
 
+/// IO-Base's "no connection" status of a job the server can no longer confirm.
+fn no_connection() -> procimg_client::RecordStatus {
+    procimg_client::RecordStatus {
+        error_code: 0xc0,
+        error_decode: 0x80,
+        error_code1: 0xa3,
+        ..procimg_client::RecordStatus::default()
+    }
+}
+
 /// While jobs wait, looks whether the server they were sent to still runs, and confirms them
 /// as failed when it is gone (a killed server says nothing; its successor, if one comes, may
 /// take long).
 fn orphaned(shared: &Shared) -> bool {
     {
         let jobs = lock(&shared.jobs);
-        if jobs.records.is_empty() && jobs.activations.is_empty() {
+        if jobs.records.is_empty() && jobs.activations.is_empty() && jobs.pe.is_empty() {
             return false;
         }
     }
