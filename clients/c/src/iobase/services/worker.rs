@@ -641,6 +641,7 @@ mod tests {
             led: Mutex::new(procimg_client::iobase::LedFlash::default()),
             devices_up: Arc::new(DevicesUp::new(3)),
             acknowledges: false,
+            pe_cbf: Mutex::new(None),
             services: Mutex::new(None),
             jobs: Mutex::new(Jobs::default()),
             stop: AtomicBool::new(false),
