@@ -6,8 +6,12 @@
 //! raises the port's diagnosis and the PortDataChangeNotification alarm; the right one
 //! written again clears both.
 
+use procimg_client::RecordRefusal;
 use procimg_client::pe::{PeAnswer, PeCommand};
 use procimg_client::{AlarmReport, ArState, Notification, RecordTarget, ServiceOptions, Services};
+use procimg_profinet::wire::record::pe::{
+    INDEX_PE_SERVICE, PeAnswer as WireAnswer, PeCommand as WirePe, PeRequest, PeResponse,
+};
 use procimg_profinet::wire::record::{
     CheckedPeer, INDEX_PD_PORT_DATA_CHECK, PdPortDataCheck, PortCheck,
 };
@@ -51,6 +55,52 @@ fn mismatches(device: &procimg_testkit::Procimgd) -> Vec<u16> {
         .filter(|d| (d.slot, d.subslot) == (0, 0x8001) && d.entry.error_type == REMOTE_MISMATCH)
         .map(|d| d.entry.ext_error_type)
         .collect()
+}
+
+/// A station program that takes PE for the head module (slot 0, subslot 1) and answers
+/// Start_Pause with mode 0x01 and End_Pause with 500 ms, until it answered both; how many PE
+/// commands it answered.
+fn pe_program(instance: &str) -> u32 {
+    let mut s = Services::open(instance, ServiceOptions::new("pe-program")).expect("services");
+    s.take_records_with((0, 0, 1), false, true)
+        .expect("take the PE record");
+    let mut pending: Option<PeRequest> = None;
+    let mut answered = 0;
+    let until = Instant::now() + Duration::from_secs(30);
+    while answered < 2 && Instant::now() < until {
+        let Some(Notification::StationRecord { job, .. }) = s.next(Duration::from_millis(100))
+        else {
+            continue;
+        };
+        assert_eq!(job.index, INDEX_PE_SERVICE, "{job:?}");
+        if job.write {
+            pending = Some(PeRequest::parse(&job.data).expect("a PE request"));
+            s.answer_record(&job, Ok(&[])).expect("answer the write");
+            continue;
+        }
+        let Some(req) = pending.take() else {
+            s.answer_record(&job, Err(RecordRefusal::new(0xb5)))
+                .expect("answer the read");
+            continue;
+        };
+        let answer = match req.command {
+            WirePe::StartPause { .. } => WireAnswer::StartPause { mode: 0x01 },
+            WirePe::EndPause => WireAnswer::EndPause {
+                time_to_operate: 500,
+            },
+            _ => WireAnswer::Error(0x01),
+        };
+        let res = PeResponse {
+            service: req.command.codes().0,
+            reference: req.reference,
+            answer,
+        };
+        s.answer_record(&job, Ok(&res.to_vec().unwrap()))
+            .expect("answer the read");
+        answered += 1;
+    }
+    let _ = s.give_back_records((0, 0, 1));
+    answered
 }
 
 #[test]
@@ -201,6 +251,37 @@ fn a_topology_mismatch_raises_the_port_diagnosis_and_the_right_neighbour_clears_
         services.pe(head, PeCommand::EndPause).expect("End_Pause"),
         PeAnswer::EndPause { time_to_operate: 0 }
     );
+
+    // A program of the station takes PE for the head module and pauses for real: the
+    // controller's Start_Pause and End_Pause reach it as record jobs and its answers come
+    // back.
+    let program = std::thread::spawn({
+        let instance = device.instance.clone();
+        move || pe_program(&instance)
+    });
+    let until = Instant::now() + Duration::from_secs(30);
+    let answer = loop {
+        let a = services
+            .pe(head, PeCommand::StartPause { pause_ms: 60_000 })
+            .expect("Start_Pause");
+        // Until the program has taken the record, the station answers itself.
+        if a != (PeAnswer::Error { code: 0x06 }) || Instant::now() > until {
+            break a;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    assert_eq!(
+        answer,
+        PeAnswer::StartPause { mode: 0x01 },
+        "the program's pause"
+    );
+    assert_eq!(
+        services.pe(head, PeCommand::EndPause).expect("End_Pause"),
+        PeAnswer::EndPause {
+            time_to_operate: 500
+        }
+    );
+    assert_eq!(program.join().unwrap(), 2, "the program answered both");
 
     drop((services, plc, device));
     let pcap = capture.stop();

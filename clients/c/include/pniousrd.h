@@ -200,9 +200,17 @@
  * PNIO_CBF_APPL_WATCHDOG) is pniobase.h's, for controllers and devices alike; what its
  * expiry does is said there. Error codes are pnioerrx.h's.
  *
- * Not here: the CP service functions of chapter 8 (SERV_CP_set_type_of_station and the
- * others) and PROFIenergy: procimg does not offer them yet. PN Driver's start-up is
- * servusrx.h's.
+ * PROFIenergy. A device opened with PNIO_CEP_PE_MODE_ENABLE answers the PROFIenergy record
+ * (0x80A0) of the submodules it plugged itself: the PLC's PE request comes as a REC_WRITE
+ * of index 0x80A0 (a PE request block), the read that fetches the answer as a REC_READ of
+ * it, which the program answers with the PE response block (or refuses with ErrCode1 0xB5
+ * "state conflict" when nothing was asked, 0xC3 "resource unavailable" while the answer is
+ * not ready: the controller reads again). Without it the station answers PE itself, as an
+ * entity without energy-saving modes (Start_Pause refused with PE error 0x06, one mode,
+ * 0xFF ready to operate).
+ *
+ * The CP service functions of chapter 8 (SERV_CP_get_fw_info, _set_type_of_station,
+ * _download, _reset, the info interface) and PN Driver's start-up are servusrx.h's.
  */
 #ifndef PNIOUSRD_H
 #define PNIOUSRD_H

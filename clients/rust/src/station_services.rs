@@ -101,7 +101,7 @@ impl Services {
     /// [`STATION_RECORD_TIMEOUT_MS`](crate::STATION_RECORD_TIMEOUT_MS). Refused when another
     /// handle took them.
     pub fn take_records(&self, at: (u32, u16, u16)) -> Result<(), ControlError> {
-        self.own_records(at, true, false)
+        self.own_records(at, true, false, false)
     }
 
     /// [`take_records`](Self::take_records), and the submodule's I&M0–I&M4 records
@@ -109,21 +109,37 @@ impl Services {
     /// handle answers with the whole record (BlockHeader included; a refused write with
     /// [`RecordRefusal::ACCESS_DENIED`] for I&M0).
     pub fn take_records_and_im(&self, at: (u32, u16, u16)) -> Result<(), ControlError> {
-        self.own_records(at, true, true)
+        self.own_records(at, true, true, false)
     }
 
-    /// Gives the records of a submodule (and its I&M records, if it took them) back to the
-    /// station, which answers them itself again.
+    /// [`take_records`](Self::take_records), with the submodule's I&M records if `im` and
+    /// its PROFIenergy record (0x80A0) if `pe`: a PE request the PLC writes comes as a write
+    /// job, and the read that fetches the answer as a read job (answered with the PE
+    /// response block, or [`RecordRefusal`] "state conflict" 0xB5 when nothing was asked,
+    /// "resource unavailable" 0xC3 while the answer is not ready).
+    pub fn take_records_with(
+        &self,
+        at: (u32, u16, u16),
+        im: bool,
+        pe: bool,
+    ) -> Result<(), ControlError> {
+        self.own_records(at, true, im, pe)
+    }
+
+    /// Gives the records of a submodule (and its I&M and PE records, if it took them) back
+    /// to the station, which answers them itself again.
     pub fn give_back_records(&self, at: (u32, u16, u16)) -> Result<(), ControlError> {
-        self.own_records(at, false, true)
+        self.own_records(at, false, true, true)
     }
 
-    /// Takes (`own`; with the I&M records if `im`) or gives back the records of a submodule.
+    /// Takes (`own`; with the I&M records if `im`, the PE record if `pe`) or gives back the
+    /// records of a submodule.
     fn own_records(
         &self,
         (api, slot, subslot): (u32, u16, u16),
         own: bool,
         im: bool,
+        pe: bool,
     ) -> Result<(), ControlError> {
         self.station_request(DeviceRequest::StationOwnRecords {
             subscriber: self.id(),
@@ -132,6 +148,7 @@ impl Services {
             subslot,
             own,
             im,
+            pe,
         })
     }
 

@@ -197,6 +197,10 @@ pub enum DeviceRequest {
         /// answers otherwise.
         #[serde(default)]
         im: bool,
+        /// With them its PROFIenergy record (0x80A0), which procimgd answers otherwise as
+        /// a station without energy-saving modes.
+        #[serde(default)]
+        pe: bool,
     },
     /// In the device role: check every new AR (`check`), or stop. The PLC's Connect then
     /// waits for this subscriber's [`DeviceRequest::StationArCheckAnswer`] to a

@@ -24,12 +24,22 @@ use procimg_profinet::device::SubslotAddr;
 use std::collections::{BTreeMap, BTreeSet};
 use std::time::{Duration, Instant};
 
+/// Which of the station's own records of a submodule a client takes besides its user
+/// records.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Taken {
+    /// I&M0–I&M4 (0xAFF0–0xAFF4).
+    pub im: bool,
+    /// PROFIenergy's record 0x80A0.
+    pub pe: bool,
+}
+
 /// What the engine is to do after a change of the clients' say.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Order {
-    /// Give the records of a submodule to a client (`true`; its I&M records too with the
-    /// second `true`) or answer them again.
-    Records(SubslotAddr, bool, bool),
+    /// Give the records of a submodule to a client (`true`, with the station's own records
+    /// `Taken` names) or answer them again.
+    Records(SubslotAddr, bool, Taken),
     /// Hold the ApplicationReady after each PrmEnd, or not.
     Hold(bool),
     /// Let a held ApplicationReady go out.
@@ -57,7 +67,7 @@ pub struct Standing {
     /// It holds the ApplicationReady.
     pub holds: bool,
     /// The submodules whose records it took, with (`true`) or without their I&M records.
-    pub records: BTreeMap<SubslotAddr, bool>,
+    pub records: BTreeMap<SubslotAddr, Taken>,
 }
 
 /// How long a job is remembered after it was given out: its timeout in the engine and a
@@ -72,7 +82,7 @@ pub struct ApplicationSay {
     /// Who took the records of a submodule.
     owners: BTreeMap<SubslotAddr, u64>,
     /// The submodules whose I&M records went with them.
-    im_owned: BTreeSet<SubslotAddr>,
+    taken: BTreeMap<SubslotAddr, Taken>,
     /// Jobs given out: to whom, and when.
     jobs: BTreeMap<u64, (u64, Instant)>,
     /// Subscribers that hold the ApplicationReady.
@@ -162,7 +172,7 @@ impl ApplicationSay {
         subscriber: u64,
         at: SubslotAddr,
         own: bool,
-        im: bool,
+        taken: Taken,
         name: &dyn Fn(u64) -> String,
     ) -> Result<Option<Order>, Refusal> {
         if !self.submodules.contains(&at) {
@@ -179,20 +189,16 @@ impl ApplicationSay {
                 subslot: at.subslot,
                 by: name(o),
             }),
-            // Taken (again): with or without the I&M records, as said now.
+            // Taken (again): with or without the station's own records, as said now.
             (_, true) => {
                 self.owners.insert(at, subscriber);
-                if im {
-                    self.im_owned.insert(at);
-                } else {
-                    self.im_owned.remove(&at);
-                }
-                Ok(Some(Order::Records(at, true, im)))
+                self.taken.insert(at, taken);
+                Ok(Some(Order::Records(at, true, taken)))
             }
             (Some(o), false) if o == subscriber => {
                 self.owners.remove(&at);
-                self.im_owned.remove(&at);
-                Ok(Some(Order::Records(at, false, false)))
+                self.taken.remove(&at);
+                Ok(Some(Order::Records(at, false, Taken::default())))
             }
             (_, false) => Ok(None),
         }
@@ -310,10 +316,10 @@ impl ApplicationSay {
             .owners
             .iter()
             .filter(|(_, o)| **o == subscriber)
-            .map(|(at, _)| Order::Records(*at, false, false))
+            .map(|(at, _)| Order::Records(*at, false, Taken::default()))
             .collect();
         self.owners.retain(|_, o| *o != subscriber);
-        self.im_owned.retain(|at| self.owners.contains_key(at));
+        self.taken.retain(|at, _| self.owners.contains_key(at));
         self.jobs.retain(|_, (o, _)| *o != subscriber);
         // Its open checks are decided as without a checker: the AR accepted, the Set allowed.
         let (was, open) = self.ars.forget(subscriber);
@@ -343,7 +349,7 @@ impl ApplicationSay {
                 .owners
                 .iter()
                 .filter(|(_, o)| **o == subscriber)
-                .map(|(at, _)| (*at, self.im_owned.contains(at)))
+                .map(|(at, _)| (*at, self.taken.get(at).copied().unwrap_or_default()))
                 .collect(),
         }
     }
@@ -353,8 +359,8 @@ impl ApplicationSay {
     pub fn resume(&mut self, subscriber: u64, standing: &Standing) -> Vec<Order> {
         let nobody = |_: u64| String::new();
         let mut orders = Vec::new();
-        for (&at, &im) in &standing.records {
-            if let Ok(Some(o)) = self.own(subscriber, at, true, im, &nobody) {
+        for (&at, &taken) in &standing.records {
+            if let Ok(Some(o)) = self.own(subscriber, at, true, taken, &nobody) {
                 orders.push(o);
             }
         }
@@ -423,15 +429,31 @@ mod tests {
         let mut s = say();
         let name: &dyn Fn(u64) -> String = &|id| format!("client {id}");
         assert_eq!(
-            s.own(1, SLOT1, true, false, name),
-            Ok(Some(Order::Records(SLOT1, true, false)))
+            s.own(1, SLOT1, true, Taken::default(), name),
+            Ok(Some(Order::Records(SLOT1, true, Taken::default())))
         );
         assert_eq!(
-            s.own(1, SLOT1, true, true, name),
-            Ok(Some(Order::Records(SLOT1, true, true)))
+            s.own(
+                1,
+                SLOT1,
+                true,
+                Taken {
+                    im: true,
+                    pe: false
+                },
+                name
+            ),
+            Ok(Some(Order::Records(
+                SLOT1,
+                true,
+                Taken {
+                    im: true,
+                    pe: false
+                }
+            )))
         );
         assert_eq!(
-            s.own(2, SLOT1, true, false, name),
+            s.own(2, SLOT1, true, Taken::default(), name),
             Err(Refusal::RecordsTaken {
                 api: 0,
                 slot: 1,
@@ -440,7 +462,7 @@ mod tests {
             })
         );
         assert!(matches!(
-            s.own(1, SubslotAddr::new(0, 9, 1), true, false, name),
+            s.own(1, SubslotAddr::new(0, 9, 1), true, Taken::default(), name),
             Err(Refusal::NoSuchStationSubmodule { slot: 9, .. })
         ));
         let now = Instant::now();
@@ -454,18 +476,22 @@ mod tests {
         assert_eq!(s.answer(1, 7), Err(Refusal::StaleRecordJob { job: 7 }));
         // Gone: its records come back, its jobs are stale.
         assert_eq!(s.job(9, SLOT1, now), Ok(1));
-        assert_eq!(s.forget(1), [Order::Records(SLOT1, false, false)]);
+        assert_eq!(
+            s.forget(1),
+            [Order::Records(SLOT1, false, Taken::default())]
+        );
         assert_eq!(s.answer(1, 9), Err(Refusal::StaleRecordJob { job: 9 }));
         assert_eq!(
-            s.own(2, SLOT1, true, false, name),
-            Ok(Some(Order::Records(SLOT1, true, false)))
+            s.own(2, SLOT1, true, Taken::default(), name),
+            Ok(Some(Order::Records(SLOT1, true, Taken::default())))
         );
     }
 
     #[test]
     fn old_jobs_are_forgotten() {
         let mut s = say();
-        s.own(1, SLOT1, true, false, &|_| String::new()).unwrap();
+        s.own(1, SLOT1, true, Taken::default(), &|_| String::new())
+            .unwrap();
         let then = Instant::now();
         assert_eq!(s.job(1, SLOT1, then), Ok(1));
         assert_eq!(s.job(2, SLOT1, then + JOB_MEMORY), Ok(1));
@@ -537,19 +563,42 @@ mod tests {
     fn what_a_subscriber_said_is_said_again_in_another_station() {
         let mut old = say();
         let none = |_: u64| String::new();
-        old.own(7, SLOT1, true, true, &none).unwrap();
+        old.own(
+            7,
+            SLOT1,
+            true,
+            Taken {
+                im: true,
+                pe: false,
+            },
+            &none,
+        )
+        .unwrap();
         old.check(7, true, &none).unwrap();
         old.hold(7, true);
         old.check(8, false, &none).unwrap();
         let standing = old.standing(7);
         assert!(standing.checks_ars && standing.holds && !standing.verifies_dcp);
-        assert_eq!(standing.records.get(&SLOT1), Some(&true));
+        assert_eq!(
+            standing.records.get(&SLOT1),
+            Some(&Taken {
+                im: true,
+                pe: false
+            })
+        );
         assert_eq!(old.standing(8), Standing::default());
 
         // A station with slot 1 subslot 1 and another submodule, and one without slot 1.
         let mut new = ApplicationSay::new([SLOT1, SubslotAddr::new(0, 2, 1)]);
         let orders = new.resume(7, &standing);
-        assert!(orders.contains(&Order::Records(SLOT1, true, true)));
+        assert!(orders.contains(&Order::Records(
+            SLOT1,
+            true,
+            Taken {
+                im: true,
+                pe: false
+            }
+        )));
         assert!(orders.contains(&Order::Check(true)));
         assert!(orders.contains(&Order::Hold(true)));
         assert_eq!(new.standing(7), standing);

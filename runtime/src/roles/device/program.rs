@@ -4,7 +4,7 @@
 //! control side of each generation asks it, procimgd's main loop runs the next generation
 //! from what it holds (docs/ARCHITECTURE.md, "A station its program defines").
 
-use super::application::Standing;
+use super::application::{Standing, Taken};
 use crate::config::StationConfig;
 use crate::image::Tables;
 use crate::roles::subscribers::Subscriber;
@@ -176,10 +176,16 @@ impl StationProgram {
             match e.records {
                 TreeRecords::Station => {}
                 TreeRecords::Program => {
-                    standing.records.insert(at, false);
+                    standing.records.insert(at, Taken::default());
                 }
                 TreeRecords::ProgramWithIm => {
-                    standing.records.insert(at, true);
+                    standing.records.insert(
+                        at,
+                        Taken {
+                            im: true,
+                            pe: false,
+                        },
+                    );
                 }
             }
         }

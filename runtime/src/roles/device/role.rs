@@ -88,9 +88,9 @@ pub enum DeviceCommand {
         /// Where the outcome goes.
         reply: SyncSender<Result<(), Refusal>>,
     },
-    /// Give the user records of a submodule to a client (`true`; its I&M records too with
-    /// the second `true`) or answer them again.
-    Records(SubslotAddr, bool, bool),
+    /// Give the user records of a submodule to a client (`true`, with the station's own
+    /// records `Taken` names) or answer them again.
+    Records(SubslotAddr, bool, super::application::Taken),
     /// A client's answer to record job `job`: the record read (anything for a write) or the
     /// PNIORW error; the outcome goes back on `reply`.
     AnswerRecord {
@@ -546,9 +546,10 @@ impl Role for DeviceRole {
                     .send(&mut self.device, order, now_ns, &mut self.actions);
                 let _ = reply.try_send(r);
             }
-            DeviceCommand::Records(at, to_client, im) => {
+            DeviceCommand::Records(at, to_client, taken) => {
                 self.device.delegate_records(at, to_client);
-                self.device.delegate_im_records(at, to_client && im);
+                self.device.delegate_im_records(at, to_client && taken.im);
+                self.device.delegate_pe_records(at, to_client && taken.pe);
             }
             DeviceCommand::AnswerRecord { job, answer, reply } => {
                 let r = self

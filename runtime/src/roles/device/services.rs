@@ -6,7 +6,7 @@
 //! acknowledgement, the controller's diagnosis).
 
 use super::alarms::AlarmOrder;
-use super::application::{ApplicationSay, Order};
+use super::application::{ApplicationSay, Order, Taken};
 use super::notifications::notification;
 use super::program::StationProgram;
 use super::role::DeviceCommand;
@@ -195,7 +195,7 @@ impl DeviceServices {
     /// Passes an order of the clients' say to the engine.
     fn order(&self, order: Order) {
         let command = match order {
-            Order::Records(at, to_client, im) => DeviceCommand::Records(at, to_client, im),
+            Order::Records(at, to_client, taken) => DeviceCommand::Records(at, to_client, taken),
             Order::Hold(hold) => DeviceCommand::HoldApplicationReady(hold),
             Order::Release => DeviceCommand::ReleaseApplicationReady,
             Order::Check(on) => DeviceCommand::CheckConnects(on),
@@ -382,12 +382,13 @@ impl Answers<DeviceRequest> for DeviceServices {
                 subslot,
                 own,
                 im,
+                pe,
             } => done(self.change_say(subscriber, |say, name| {
                 say.own(
                     subscriber,
                     SubslotAddr::new(api, slot, subslot),
                     own,
-                    im,
+                    Taken { im, pe },
                     name,
                 )
             })),

@@ -18,10 +18,13 @@ use procimg_client::{AttachError, AttachOptions, Client, Mode, Refusal, ServiceO
 
 const F: &str = "PNIO_device_open";
 
-/// The ExtPar bits a device takes: PNIO_CEP_MODE_CTRL (required), the MaxAr encoding, and
-/// the MRP role off (procimgd has no MRP, so it is off).
-const EXT_PAR_ALLOWED: u32 =
-    PNIO_CEP_MODE_CTRL | PNIO_CEP_DEV_MAXAR_BY_TYPE | PNIO_CEP_SET_MRP_ROLE_OFF;
+/// The ExtPar bits a device takes: PNIO_CEP_MODE_CTRL (required), the MaxAr encoding, the
+/// MRP role off (procimgd has no MRP, so it is off) and PROFIenergy (the program answers its
+/// submodules' PE records).
+const EXT_PAR_ALLOWED: u32 = PNIO_CEP_MODE_CTRL
+    | PNIO_CEP_DEV_MAXAR_BY_TYPE
+    | PNIO_CEP_SET_MRP_ROLE_OFF
+    | PNIO_CEP_PE_MODE_ENABLE;
 
 /// What `PNIO_device_open` and `PNIO_device_open_ext` were given, read from C.
 pub(crate) struct OpenRequest {
@@ -112,8 +115,8 @@ pub(crate) fn check(req: &OpenRequest) -> Result<PNIO_CBF_FUNCTIONS, u32> {
             PNIO_ERR_PRM_EXT_PAR,
             format_args!(
                 "ExtPar {ext:#x} has bits {:#x} a device here does not take: only \
-                 PNIO_CEP_MODE_CTRL, PNIO_CEP_DEV_MAXAR_BY_TYPE and PNIO_CEP_SET_MRP_ROLE_OFF \
-                 (procimg offers no PROFIenergy and no slice access on a device)",
+                 PNIO_CEP_MODE_CTRL, PNIO_CEP_DEV_MAXAR_BY_TYPE, PNIO_CEP_SET_MRP_ROLE_OFF and \
+                 PNIO_CEP_PE_MODE_ENABLE (procimg offers no slice access on a device)",
                 ext & !EXT_PAR_ALLOWED
             ),
         ));
@@ -285,6 +288,7 @@ pub(crate) fn open(req: &OpenRequest, cbf: PNIO_CBF_FUNCTIONS) -> Result<u32, u3
         instance,
         cbf,
         req.high,
+        req.ext_par & PNIO_CEP_PE_MODE_ENABLE != 0,
         gsdml,
         client,
         iobase,

@@ -60,11 +60,7 @@ pub(crate) fn follow(dev: &Device, taken: &mut Taken) {
         if taken.get(&p) == Some(&im) {
             continue;
         }
-        let r = if im {
-            services.take_records_and_im(p)
-        } else {
-            services.take_records(p)
-        };
+        let r = services.take_records_with(p, im, dev.pe);
         match r {
             Ok(()) => {
                 taken.insert(p, im);

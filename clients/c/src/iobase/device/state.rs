@@ -85,6 +85,9 @@ pub(crate) struct Device {
     pub cbf: PNIO_CBF_FUNCTIONS,
     /// `PNIO_device_open_ext`'s highest slot and subslot numbers.
     pub high: Option<(u16, u16)>,
+    /// Opened with `PNIO_CEP_PE_MODE_ENABLE`: the program answers its submodules'
+    /// PROFIenergy records (0x80A0) through its record callbacks.
+    pub pe: bool,
     /// The station's positions, as its layout has them (a station its program defines
     /// gets new ones at start).
     positions: Mutex<Arc<Vec<Position>>>,
@@ -161,6 +164,7 @@ impl Device {
         instance: String,
         cbf: PNIO_CBF_FUNCTIONS,
         high: Option<(u16, u16)>,
+        pe: bool,
         gsdml: Option<String>,
         client: Client,
         iobase: IoBaseDevice,
@@ -173,6 +177,7 @@ impl Device {
             instance,
             cbf,
             high,
+            pe,
             positions: Mutex::new(Arc::new(positions_of(client.layout()))),
             gsdml,
             config: Mutex::new(Config {
