@@ -72,3 +72,19 @@ pub fn workspace_bin(name: &str, env: &str, package: &str) -> PathBuf {
     );
     path
 }
+
+/// Runs the `procimg` tool with `args` inside network namespace `ns`: whether it succeeded,
+/// and its standard output and error together.
+pub fn procimg_in_netns(ns: &str, args: &[&str]) -> (bool, String) {
+    let procimg = workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
+    let out = std::process::Command::new("ip")
+        .args(["netns", "exec", ns])
+        .arg(procimg)
+        .args(args)
+        .output()
+        .expect("run procimg");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr),
+    )
+}

@@ -26,6 +26,6 @@ pub mod udp;
 pub mod veth_station;
 pub mod world;
 
-pub use build::{procimgd_bin, profile_dir, workspace_bin, workspace_dir};
+pub use build::{procimg_in_netns, procimgd_bin, profile_dir, workspace_bin, workspace_dir};
 pub use pattern::{pattern, pattern_value};
 pub use procimgd::{Launch, Procimgd, unique_instance};

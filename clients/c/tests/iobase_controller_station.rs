@@ -8,25 +8,12 @@
 use procimg_testkit::Launch;
 use procimg_testkit::c::{Link, compile, crate_dir, sanitize_from_env, scratch};
 use procimg_testkit::netns::TestNet;
+use procimg_testkit::procimg_in_netns as procimg;
 use procimg_testkit::tshark::{LiveCapture, flagged};
 use procimg_testkit::veth_station::CONTROLLER_TOML;
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::Duration;
-
-fn procimg(ns: &str, args: &[&str]) -> (bool, String) {
-    let procimg = procimg_testkit::workspace_bin("procimg", "PROCIMG_BIN", "procimg-tools");
-    let out = Command::new("ip")
-        .args(["netns", "exec", ns])
-        .arg(procimg)
-        .args(args)
-        .output()
-        .expect("run procimg");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr),
-    )
-}
 
 #[test]
 #[ignore = "needs root: network namespaces, veth, AF_PACKET"]

@@ -143,7 +143,7 @@ fn cp_instance(f: &str, CpIndex: PNIO_UINT32) -> Result<String, u32> {
 /// The handles this process has open (the manual's "registered applications"), in words.
 fn own_handles() -> Option<String> {
     let controllers = super::controller::open_handles();
-    let interfaces = super::interface_api::open_handles();
+    let interfaces = super::interface_worker::open_handles();
     let devices = super::device::state::open_handles();
     let all: Vec<String> = controllers
         .iter()

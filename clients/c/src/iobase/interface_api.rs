@@ -33,29 +33,20 @@ use super::api::not_in_callback;
 use super::callbacks::{CallbackTable, in_callback};
 use super::errors::*;
 use super::interface_types::{PNIO_IPv4, PNIO_NOS, PNIO_SET_IP_NOS_MODE_TYPE};
-use super::interface_worker::{InterfaceWorker, OwnAddresses};
+use super::interface_worker::{INTERFACES, InterfaceWorker, OwnAddresses};
 use super::sync::lock;
 use super::types::*;
 use crate::ffi::guard;
 use procimg_client::ControllerAddress;
-use std::collections::BTreeMap;
 use std::net::Ipv4Addr;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// The longest NameOfStation.
 const MAX_NOS_LEN: u16 = 240;
 
-/// The open interfaces, by handle.
-static INTERFACES: Mutex<BTreeMap<u32, Arc<InterfaceWorker>>> = Mutex::new(BTreeMap::new());
-
 /// The open interface `handle` names.
 fn lookup(handle: u32) -> Option<Arc<InterfaceWorker>> {
     lock(&INTERFACES).get(&handle).cloned()
-}
-
-/// The handles of the interfaces open now.
-pub(crate) fn open_handles() -> Vec<u32> {
-    lock(&INTERFACES).keys().copied().collect()
 }
 
 fn wrong_handle(f: &str, handle: u32) -> u32 {

@@ -3,7 +3,11 @@
 //! Driver's `PNIO_interface_*`), with the C names; laid out as [`super::types`] says.
 #![allow(non_camel_case_types, non_snake_case)]
 
-use super::types::{PNIO_UINT8, PNIO_UINT16, PNIO_UINT32};
+pub use super::types::{
+    PNIO_CBE_PRM_REMA_READ_IND, PNIO_CBE_PRM_SET_ADDR_CONF, PNIO_SET_IP_MODE,
+    PNIO_SET_IP_NOS_MODE_TYPE, PNIO_SET_NOS_MODE,
+};
+use super::types::{PNIO_UINT8, PNIO_UINT16};
 
 /// `PNIO_BOOL`: PN Driver's boolean (its `LSA_BOOL`, one byte).
 pub type PNIO_BOOL = PNIO_UINT8;
@@ -11,13 +15,6 @@ pub type PNIO_BOOL = PNIO_UINT8;
 pub const PNIO_FALSE: PNIO_BOOL = 0;
 /// `PNIO_TRUE`.
 pub const PNIO_TRUE: PNIO_BOOL = 1;
-
-/// `PNIO_SET_IP_NOS_MODE_TYPE`: what `PNIO_interface_set_ip_and_nos` changes (bits).
-pub type PNIO_SET_IP_NOS_MODE_TYPE = u32;
-/// The IP suite.
-pub const PNIO_SET_IP_MODE: PNIO_SET_IP_NOS_MODE_TYPE = 0x0001;
-/// The NameOfStation.
-pub const PNIO_SET_NOS_MODE: PNIO_SET_IP_NOS_MODE_TYPE = 0x0002;
 
 /// `PNIO_IPv4`: an IP suite, bytes in dotted order.
 #[repr(C, align(4))]
@@ -43,39 +40,4 @@ pub struct PNIO_NOS {
     pub Length: PNIO_UINT16,
     /// Kept across a restart.
     pub Remanent: PNIO_BOOL,
-}
-
-/// `PNIO_CBE_PRM_SET_ADDR_CONF`: the end of a `PNIO_interface_set_ip_and_nos`, or a change
-/// by DCP; the station as it is now.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct PNIO_CBE_PRM_SET_ADDR_CONF {
-    /// What was to change.
-    pub Mode: PNIO_SET_IP_NOS_MODE_TYPE,
-    /// The station's name, `StationNameLen` bytes, valid during the callback only.
-    pub pStationName: *mut core::ffi::c_void,
-    /// Bytes of the name.
-    pub StationNameLen: PNIO_UINT16,
-    /// The address.
-    pub LocalIPAddress: [PNIO_UINT8; 4],
-    /// The netmask.
-    pub LocalSubnetMask: [PNIO_UINT8; 4],
-    /// The gateway.
-    pub DefaultRouterAddr: [PNIO_UINT8; 4],
-    /// Reserved: 0.
-    pub Options: PNIO_UINT32,
-    /// `PNIO_OK`, or why not.
-    pub Err: PNIO_UINT32,
-}
-
-/// `PNIO_CBE_PRM_REMA_READ_IND`: the interface's retentive data.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct PNIO_CBE_PRM_REMA_READ_IND {
-    /// The text, valid during the callback only.
-    pub RemaXMLBuffer: *mut PNIO_UINT8,
-    /// Its length in bytes (no terminating NUL).
-    pub RemaXMLBufferLength: PNIO_UINT32,
-    /// `PNIO_OK`.
-    pub Err: PNIO_UINT32,
 }

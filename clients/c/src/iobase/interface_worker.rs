@@ -35,12 +35,21 @@ use procimg_client::{
     AddressProblem, AlarmReport, AttachError, ControlError, ControllerAddress, ControllerReport,
     Notification, RecordStatus, Refusal, ServiceOptions, Services,
 };
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::net::Ipv4Addr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
+
+/// The open interfaces, by handle.
+pub(crate) static INTERFACES: Mutex<BTreeMap<u32, Arc<InterfaceWorker>>> =
+    Mutex::new(BTreeMap::new());
+
+/// The handles of the interfaces open now.
+pub(crate) fn open_handles() -> Vec<u32> {
+    lock(&INTERFACES).keys().copied().collect()
+}
 
 /// How long a record read or an address change waits for its confirmation.
 const JOB_TIMEOUT: Duration = Duration::from_secs(60);

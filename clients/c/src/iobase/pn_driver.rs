@@ -518,7 +518,7 @@ pub unsafe extern "C" fn SERV_CP_shutdown() -> PNIO_UINT32 {
                 ),
             );
         }
-        if let Some(handle) = super::interface_api::open_handles().first() {
+        if let Some(handle) = super::interface_worker::open_handles().first() {
             return fail(
                 F,
                 PNIO_ERR_SEQUENCE,

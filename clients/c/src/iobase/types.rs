@@ -747,6 +747,48 @@ pub struct PNIO_CBE_PRM_CTRL_DIAG_CONF {
     pub ErrorCode: PNIO_UINT32,
 }
 
+/// `PNIO_SET_IP_NOS_MODE_TYPE`: what `PNIO_interface_set_ip_and_nos` changes (bits).
+pub type PNIO_SET_IP_NOS_MODE_TYPE = u32;
+/// The IP suite.
+pub const PNIO_SET_IP_MODE: PNIO_SET_IP_NOS_MODE_TYPE = 0x0001;
+/// The NameOfStation.
+pub const PNIO_SET_NOS_MODE: PNIO_SET_IP_NOS_MODE_TYPE = 0x0002;
+
+/// `PNIO_CBE_PRM_SET_ADDR_CONF`: the end of a `PNIO_interface_set_ip_and_nos`, or a change
+/// by DCP; the station as it is now.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PNIO_CBE_PRM_SET_ADDR_CONF {
+    /// What was to change.
+    pub Mode: PNIO_SET_IP_NOS_MODE_TYPE,
+    /// The station's name, `StationNameLen` bytes, valid during the callback only.
+    pub pStationName: *mut core::ffi::c_void,
+    /// Bytes of the name.
+    pub StationNameLen: PNIO_UINT16,
+    /// The address.
+    pub LocalIPAddress: [PNIO_UINT8; 4],
+    /// The netmask.
+    pub LocalSubnetMask: [PNIO_UINT8; 4],
+    /// The gateway.
+    pub DefaultRouterAddr: [PNIO_UINT8; 4],
+    /// Reserved: 0.
+    pub Options: PNIO_UINT32,
+    /// `PNIO_OK`, or why not.
+    pub Err: PNIO_UINT32,
+}
+
+/// `PNIO_CBE_PRM_REMA_READ_IND`: the interface's retentive data.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct PNIO_CBE_PRM_REMA_READ_IND {
+    /// The text, valid during the callback only.
+    pub RemaXMLBuffer: *mut PNIO_UINT8,
+    /// Its length in bytes (no terminating NUL).
+    pub RemaXMLBufferLength: PNIO_UINT32,
+    /// `PNIO_OK`.
+    pub Err: PNIO_UINT32,
+}
+
 /// The anonymous union of `PNIO_CBE_PRM`.
 #[repr(C)]
 #[derive(Clone, Copy)]
@@ -768,9 +810,9 @@ pub union PNIO_CBE_PRM_u {
     /// `PNIO_CBE_IOSYSTEM_RECONFIG`.
     pub IoSystemReconf: PNIO_CBE_PRM_IOSYS_CONF,
     /// `PNIO_CBE_IFC_SET_ADDR_CONF`.
-    pub SetAddrConf: super::interface_types::PNIO_CBE_PRM_SET_ADDR_CONF,
+    pub SetAddrConf: PNIO_CBE_PRM_SET_ADDR_CONF,
     /// `PNIO_CBE_REMA_READ_CONF`.
-    pub RemaReadConf: super::interface_types::PNIO_CBE_PRM_REMA_READ_IND,
+    pub RemaReadConf: PNIO_CBE_PRM_REMA_READ_IND,
 }
 
 /// `PNIO_CBE_PRM`: what a controller callback receives.
