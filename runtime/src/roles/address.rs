@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! A station's IPv4 address on its network interface, for the device role's station and for
 //! the controller's own station where programs and DCP may change it (`[interface]
-//! address_by_program`). A PROFINET device's address is the PLC's to give: the engineering tool or the PLC sets it by DCP (for now or for good),
-//! resets it to factory (none), and then connects to it. On a real interface procimgd
-//! carries that out on the Linux interface, so that the PLC's Connect arrives:
+//! address_by_program`). A PROFINET device's address is the PLC's to give: the engineering
+//! tool or the PLC sets it by DCP (for now or for good), resets it to factory (none), and
+//! then connects to it. On a real interface procimgd carries that out on the Linux
+//! interface, so that the PLC's Connect arrives:
 //!
 //! - At start the interface gets the station's address (configured, or kept in the state
 //!   file), prefix from its netmask, unless it carries it already. A station without an
@@ -175,9 +176,9 @@ pub enum AddressStartError {
     /// The interface's addresses could not be read or changed.
     // Not a `source`: the message already holds it, and error chains would repeat it.
     #[error(
-        "network interface \"{interface}\": cannot {doing}: {error}; in the device role \
-         procimgd gives the interface the station's address, which needs root (or \
-         CAP_NET_ADMIN)"
+        "network interface \"{interface}\": cannot {doing}: {error}; procimgd gives the \
+         interface the station's address (the device role's station, or a controller whose \
+         [interface] has address_by_program), which needs root (or CAP_NET_ADMIN)"
     )]
     Netlink {
         /// The interface.
@@ -190,10 +191,11 @@ pub enum AddressStartError {
     /// The interface carries addresses that are not the station's.
     #[error(
         "network interface \"{interface}\" carries {found}, not the station's address \
-         ({station}): in the device role the station owns its interface's IPv4 address (the \
-         PLC sets it by DCP) and procimgd shares the interface with no other; remove them \
-         (ip -4 addr flush dev {interface}), make one the station's (`ip` in [station]), or \
-         give the station a network interface of its own"
+         ({station}): the station owns its interface's IPv4 address (the device role's, which \
+         the PLC sets by DCP, or a controller's with [interface] address_by_program) and \
+         procimgd shares the interface with no other; remove them (ip -4 addr flush dev \
+         {interface}), make one the station's, or give the station a network interface of \
+         its own"
     )]
     Foreign {
         /// The interface.
