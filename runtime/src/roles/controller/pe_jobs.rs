@@ -24,6 +24,9 @@ const POLL_START: Duration = Duration::from_millis(20);
 const POLL_MAX: Duration = Duration::from_millis(1000);
 /// The most bytes of an answer read.
 const MAX_ANSWER: u32 = 4096;
+/// How long after its lifetime a command whose record job never ended is given up (the
+/// controller confirms every record job; this is for one that went nowhere).
+const LOST_GRACE: Duration = Duration::from_secs(30);
 
 /// A command on its way.
 struct PeJob {
@@ -116,6 +119,19 @@ impl PeJobs {
         self.jobs.contains_key(&id)
     }
 
+    /// Forgets the command of record job `id` (its write could not be sent).
+    pub(super) fn forget(&mut self, id: u64) {
+        self.jobs.remove(&id);
+    }
+
+    /// Commands of `reply_to` on their way.
+    pub(super) fn open_of(&self, reply_to: u64) -> usize {
+        self.jobs
+            .values()
+            .filter(|j| j.reply_to == reply_to)
+            .count()
+    }
+
     /// A command's record job ended.
     pub(super) fn on_record(&mut self, r: RecordResult, now: Instant, steps: &mut PeSteps) {
         let Some(mut job) = self.jobs.remove(&r.request.reference) else {
@@ -168,6 +184,17 @@ impl PeJobs {
     /// The reads that are due, each under a new id from `ids`, and the commands whose
     /// lifetime ended.
     pub(super) fn poll(&mut self, now: Instant, mut ids: impl FnMut() -> u64, steps: &mut PeSteps) {
+        let lost: Vec<u64> = self
+            .jobs
+            .iter()
+            .filter(|(_, j)| j.next_read.is_none() && now >= j.deadline + LOST_GRACE)
+            .map(|(id, _)| *id)
+            .collect();
+        for id in lost {
+            if let Some(job) = self.jobs.remove(&id) {
+                steps.done.push(timeout(job));
+            }
+        }
         let due: Vec<u64> = self
             .jobs
             .iter()
@@ -320,5 +347,133 @@ fn from_wire(a: wire::PeAnswer) -> PeAnswer {
             structure,
             data,
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use procimg_profinet::controller::RecordData;
+    use procimg_profinet::wire::PnioStatus;
+
+    const TARGET: RecordTarget = RecordTarget {
+        device: 0,
+        api: 0,
+        slot: 0,
+        subslot: 1,
+        index: INDEX_PE_SERVICE,
+    };
+
+    fn failure(request: RecordRequest, c1: u8) -> RecordResult {
+        RecordResult {
+            request,
+            result: Err(RecordFailure {
+                status: PnioStatus::from_bytes([0xde, 0x80, c1, 0]),
+                add_value1: 0,
+                add_value2: 0,
+                reason: String::new(),
+            }),
+        }
+    }
+
+    fn data(request: RecordRequest, bytes: Vec<u8>) -> RecordResult {
+        RecordResult {
+            request,
+            result: Ok(RecordData {
+                data: bytes,
+                add_value1: 0,
+                add_value2: 0,
+            }),
+        }
+    }
+
+    #[test]
+    fn a_busy_answer_is_read_again_until_it_comes() {
+        let mut jobs = PeJobs::default();
+        let t0 = Instant::now();
+        let write = jobs.start(1, 9, 77, TARGET, 0, PeCommand::EndPause, t0);
+        let request = PeRequest::parse(write.write.as_deref().unwrap()).unwrap();
+        let mut steps = PeSteps::default();
+        // The write went: a read is due at once.
+        jobs.on_record(data(write, Vec::new()), t0, &mut steps);
+        let mut next = 10;
+        jobs.poll(
+            t0,
+            || {
+                next += 1;
+                next
+            },
+            &mut steps,
+        );
+        let read = steps.records.pop().expect("a read");
+        assert_eq!((read.index, read.write.is_none()), (INDEX_PE_SERVICE, true));
+        // Not ready: read again after the wait, not before.
+        jobs.on_record(failure(read, 0xc3), t0, &mut steps);
+        jobs.poll(
+            t0,
+            || {
+                next += 1;
+                next
+            },
+            &mut steps,
+        );
+        assert!(steps.records.is_empty());
+        jobs.poll(
+            t0 + POLL_START,
+            || {
+                next += 1;
+                next
+            },
+            &mut steps,
+        );
+        let read = steps.records.pop().expect("the read again");
+        let answer = PeResponse {
+            service: wire::service::END_PAUSE,
+            reference: request.reference,
+            answer: wire::PeAnswer::EndPause { time_to_operate: 5 },
+        };
+        jobs.on_record(data(read, answer.to_vec().unwrap()), t0, &mut steps);
+        let done = steps.done.pop().expect("confirmed");
+        assert_eq!((done.reply_to, done.reference), (9, 77));
+        assert_eq!(
+            done.result.unwrap(),
+            PeAnswer::EndPause { time_to_operate: 5 }
+        );
+    }
+
+    #[test]
+    fn a_device_that_never_gets_ready_ends_the_command_after_its_lifetime() {
+        let mut jobs = PeJobs::default();
+        let t0 = Instant::now();
+        let write = jobs.start(1, 9, 1, TARGET, 0, PeCommand::PemStatus, t0);
+        let mut steps = PeSteps::default();
+        jobs.on_record(data(write, Vec::new()), t0, &mut steps);
+        let late = t0 + Duration::from_millis(PE_LIFETIME_MS);
+        let mut next = 10;
+        jobs.poll(
+            t0,
+            || {
+                next += 1;
+                next
+            },
+            &mut steps,
+        );
+        let read = steps.records.pop().unwrap();
+        jobs.on_record(failure(read, 0xc2), late, &mut steps);
+        let done = steps.done.pop().expect("given up");
+        let (status, _) = done.result.unwrap_err();
+        assert_eq!((status.error_code, status.error_code1), (0xc0, 0xa3));
+        assert_eq!(jobs.open_of(9), 0);
+    }
+
+    #[test]
+    fn another_failure_ends_the_command_with_its_status() {
+        let mut jobs = PeJobs::default();
+        let t0 = Instant::now();
+        let write = jobs.start(1, 9, 1, TARGET, 0, PeCommand::Identify, t0);
+        let mut steps = PeSteps::default();
+        jobs.on_record(failure(write, 0xb0), t0, &mut steps);
+        let (status, _) = steps.done.pop().unwrap().result.unwrap_err();
+        assert_eq!(status.error_code1, 0xb0);
     }
 }

@@ -360,6 +360,11 @@ impl ControllerServices {
         if self.link.is_none() {
             return Err(Refusal::ServerBusy);
         }
+        if self.pe.open_of(reply_to) >= MAX_RECORD_JOBS {
+            return Err(Refusal::TooManyJobs {
+                max: MAX_RECORD_JOBS as u32,
+            });
+        }
         let id = self.next_job;
         self.next_job += 1;
         let write = self.pe.start(
@@ -372,6 +377,7 @@ impl ControllerServices {
             Instant::now(),
         );
         self.command(ControllerCommand::Record(write))
+            .inspect_err(|_| self.pe.forget(id))
     }
 
     /// Carries out what the PROFIenergy commands asked for: their record jobs, and the
