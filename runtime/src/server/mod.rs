@@ -184,6 +184,7 @@ impl Control {
     /// next starts as it says (a new configuration is kept in the configuration file
     /// first). A restart given up is told to whoever asked.
     pub fn take_restart(&mut self) -> Option<restart::Restart> {
+        self.restart.as_ref()?;
         let attached = self.attached();
         let step = self.restart.as_mut()?.step(&attached, Instant::now());
         let reply_to = self
