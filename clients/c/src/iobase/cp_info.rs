@@ -14,7 +14,7 @@
 
 #![allow(non_snake_case)]
 
-use super::callbacks::in_callback;
+use super::callbacks::{in_callback, invoke_call};
 use super::errors::*;
 use super::pn_driver_types::*;
 use super::services::build;
@@ -26,7 +26,6 @@ use procimg_client::{
     AlarmReport, ArState, DeviceState, Notification, ServiceOptions, Services, StatusReport,
 };
 use std::collections::BTreeMap;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -395,9 +394,8 @@ fn deliver(s: &Shared, info: SERV_CP_INFO_TYPE, fill: impl FnOnce(&mut SERV_CP_I
     fill(&mut prm);
     let p: *mut SERV_CP_INFO_PRM = &mut prm;
     // SAFETY: the program registered `f` for this event; `p` points to a live, initialised
-    // SERV_CP_INFO_PRM for the duration of the call. A panic cannot come out of C, and is
-    // stopped here if it came from Rust.
-    let _ = catch_unwind(AssertUnwindSafe(|| unsafe { f(p) }));
+    // SERV_CP_INFO_PRM for the duration of the call.
+    invoke_call(|| unsafe { f(p) });
 }
 
 /// `SERV_CP_INFO_PDEV_DATA` for alarm `a` of the controller's port.

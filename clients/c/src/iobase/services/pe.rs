@@ -4,13 +4,13 @@
 //! confirmation to the PE callback as `PNIO_PE_CBE_PRM`.
 
 use super::{JOB_TIMEOUT, ServiceWorker, Shared};
+use crate::iobase::callbacks::invoke_call;
 use crate::iobase::errors::*;
 use crate::iobase::pe_types::*;
 use crate::iobase::sync::lock;
 use crate::iobase::types::{PNIO_ADDR, PNIO_ERR_STAT, PNIO_REF};
 use procimg_client::RecordStatus;
 use procimg_client::pe::{PeAnswer, PeCommand};
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
 
 /// A PE command waiting for its confirmation.
@@ -182,9 +182,8 @@ pub(super) fn deliver(
     prm.pe_hdr.length = length as u32;
     let p: *mut PNIO_PE_CBE_PRM = &mut prm;
     // SAFETY: the program registered `cbf`; `p` is a live, initialised PNIO_PE_CBE_PRM for
-    // the duration of the call. A panic cannot come out of C, and stops here if it came from
-    // Rust.
-    let _ = catch_unwind(AssertUnwindSafe(|| unsafe { cbf(p) }));
+    // the duration of the call.
+    invoke_call(|| unsafe { cbf(p) });
 }
 
 /// Writes `a` into its member of `u`: the state, struct_id and the member's size.
