@@ -5,7 +5,9 @@
 #![allow(non_snake_case)]
 
 use super::callbacks::in_callback;
-use super::controller::{Controller, OpenRequest, is_controller, lookup, wrong_handle};
+use super::controller::{
+    Controller, OpenRequest, check_cp_index, is_controller, lookup, wrong_handle,
+};
 use super::data::{self, ReadArgs, ReadKind, WriteArgs};
 use super::device::isochronous as device_iso;
 use super::device::state as device_state;
@@ -74,12 +76,8 @@ pub unsafe extern "C" fn PNIO_controller_open(
         if Handle.is_null() {
             return fail(F, PNIO_ERR_PRM_HND, "Handle (the out pointer) is NULL");
         }
-        if CpIndex == 0 || CpIndex > 255 {
-            return fail(
-                F,
-                PNIO_ERR_PRM_CP_ID,
-                format_args!("CpIndex {CpIndex} is not 1..255"),
-            );
+        if let Err(code) = check_cp_index(F, CpIndex) {
+            return code;
         }
         if let Err(why) = super::pn_driver::controller_may_open() {
             return fail(F, PNIO_ERR_SEQUENCE, why);

@@ -150,6 +150,23 @@ pub(crate) fn open_handles() -> Vec<u32> {
     lock(&CONTROLLERS).keys().copied().collect()
 }
 
+/// `PNIO_ERR_PRM_CP_ID`, said for function `f`, unless `cp` is a CpIndex (1..255).
+pub(crate) fn check_cp_index(f: &str, cp: u32) -> Result<(), u32> {
+    if cp == 0 || cp > 255 {
+        return Err(fail(
+            f,
+            PNIO_ERR_PRM_CP_ID,
+            format_args!("CpIndex {cp} is not 1..255"),
+        ));
+    }
+    Ok(())
+}
+
+/// The procimgd instance CpIndex `cp` names, once [`check_cp_index`] took it.
+pub(crate) fn cp_instance(f: &str, cp: u32) -> Result<String, u32> {
+    check_cp_index(f, cp).map(|()| instance_for(cp))
+}
+
 /// The procimgd instance that CpIndex `cp` names.
 pub(crate) fn instance_for(cp: u32) -> String {
     std::env::var(format!("PROCIMG_CP{cp}"))

@@ -129,14 +129,10 @@ pub unsafe extern "C" fn SERV_CP_info_open(
         if Handle.is_null() {
             return fail(F, PNIO_ERR_PRM_HND, "Handle (the out pointer) is NULL");
         }
-        if CpIndex == 0 || CpIndex > 255 {
-            return fail(
-                F,
-                PNIO_ERR_PRM_CP_ID,
-                format_args!("CpIndex {CpIndex} is not 1..255"),
-            );
-        }
-        let instance = super::controller::instance_for(CpIndex);
+        let instance = match super::controller::cp_instance(F, CpIndex) {
+            Ok(i) => i,
+            Err(code) => return code,
+        };
         let handle = super::handles::next();
         let opened = Services::open(
             &instance,

@@ -99,12 +99,8 @@ pub unsafe extern "C" fn SERV_CP_get_fw_info(
         if in_callback() {
             return fail(F, PNIO_ERR_SEQUENCE, "not allowed inside a callback");
         }
-        if CpIndex == 0 || CpIndex > 255 {
-            return fail(
-                F,
-                PNIO_ERR_PRM_CP_ID,
-                format_args!("CpIndex {CpIndex} is not 1..255"),
-            );
+        if let Err(code) = super::controller::check_cp_index(F, CpIndex) {
+            return code;
         }
         if p_info.is_null() {
             return fail(F, PNIO_ERR_PRM_POINTER, "p_info is NULL");
@@ -126,18 +122,6 @@ pub unsafe extern "C" fn SERV_CP_get_fw_info(
             ),
         }
     })
-}
-
-/// The instance CP `CpIndex` names, or `PNIO_ERR_PRM_CP_ID`.
-fn cp_instance(f: &str, CpIndex: PNIO_UINT32) -> Result<String, u32> {
-    if CpIndex == 0 || CpIndex > 255 {
-        return Err(fail(
-            f,
-            PNIO_ERR_PRM_CP_ID,
-            format_args!("CpIndex {CpIndex} is not 1..255"),
-        ));
-    }
-    Ok(super::controller::instance_for(CpIndex))
 }
 
 /// The handles this process has open (the manual's "registered applications"), in words.
@@ -203,7 +187,7 @@ pub unsafe extern "C" fn SERV_CP_set_type_of_station(
         if in_callback() {
             return fail(F, PNIO_ERR_SEQUENCE, "not allowed inside a callback");
         }
-        let instance = match cp_instance(F, CpIndex) {
+        let instance = match super::controller::cp_instance(F, CpIndex) {
             Ok(i) => i,
             Err(code) => return code,
         };
@@ -248,7 +232,7 @@ pub unsafe extern "C" fn SERV_CP_download(
         if in_callback() {
             return fail(F, PNIO_ERR_SEQUENCE, "not allowed inside a callback");
         }
-        let instance = match cp_instance(F, CpIndex) {
+        let instance = match super::controller::cp_instance(F, CpIndex) {
             Ok(i) => i,
             Err(code) => return code,
         };
@@ -314,7 +298,7 @@ pub unsafe extern "C" fn SERV_CP_reset(
         if in_callback() {
             return fail(F, PNIO_ERR_SEQUENCE, "not allowed inside a callback");
         }
-        let instance = match cp_instance(F, CpIndex) {
+        let instance = match super::controller::cp_instance(F, CpIndex) {
             Ok(i) => i,
             Err(code) => return code,
         };

@@ -80,12 +80,8 @@ pub unsafe extern "C" fn PNIO_interface_open(
         if Handle.is_null() {
             return fail(F, PNIO_ERR_PRM_HND, "Handle (the out pointer) is NULL");
         }
-        if CpIndex == 0 || CpIndex > 255 {
-            return fail(
-                F,
-                PNIO_ERR_PRM_CP_ID,
-                format_args!("CpIndex {CpIndex} is not 1..255"),
-            );
+        if let Err(code) = super::controller::check_cp_index(F, CpIndex) {
+            return code;
         }
         if let Err(why) = super::pn_driver::controller_may_open() {
             return fail(F, PNIO_ERR_SEQUENCE, why);

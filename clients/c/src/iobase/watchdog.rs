@@ -57,21 +57,10 @@ static STATE: Mutex<State> = Mutex::new(State {
     timer: false,
 });
 
-fn check_cp(f: &str, cp: u32) -> Result<(), u32> {
-    if cp == 0 || cp > 255 {
-        return Err(fail(
-            f,
-            PNIO_ERR_PRM_CP_ID,
-            format_args!("CPIndex {cp} is not 1..255"),
-        ));
-    }
-    Ok(())
-}
-
 /// `PNIO_CP_set_appl_watchdog` after the caller check.
 fn set(cp: u32, ms: u32, cbf: PNIO_CBF_APPL_WATCHDOG) -> u32 {
     const F: &str = "PNIO_CP_set_appl_watchdog";
-    if let Err(code) = check_cp(F, cp) {
+    if let Err(code) = super::controller::check_cp_index(F, cp) {
         return code;
     }
     let mut st = lock(&STATE);
@@ -130,7 +119,7 @@ fn set(cp: u32, ms: u32, cbf: PNIO_CBF_APPL_WATCHDOG) -> u32 {
 /// `PNIO_CP_trigger_watchdog` after the caller check.
 fn trigger(cp: u32) -> u32 {
     const F: &str = "PNIO_CP_trigger_watchdog";
-    if let Err(code) = check_cp(F, cp) {
+    if let Err(code) = super::controller::check_cp_index(F, cp) {
         return code;
     }
     let triggered = lock(&STATE).dogs.trigger(cp, Instant::now());

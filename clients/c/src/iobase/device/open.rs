@@ -94,13 +94,7 @@ fn missing_callbacks(c: &PNIO_CBF_FUNCTIONS) -> Vec<&'static str> {
 /// Checks the parameters; the callback table when they hold.
 pub(crate) fn check(req: &OpenRequest) -> Result<PNIO_CBF_FUNCTIONS, u32> {
     let cp = req.cp_index;
-    if cp == 0 || cp > 255 {
-        return Err(fail(
-            F,
-            PNIO_ERR_PRM_CP_ID,
-            format_args!("CpIndex {cp} is not 1..255"),
-        ));
-    }
+    crate::iobase::controller::check_cp_index(F, cp)?;
     let ext = req.ext_par;
     if ext & PNIO_CEP_MODE_CTRL == 0 {
         return Err(fail(
