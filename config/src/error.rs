@@ -55,6 +55,17 @@ pub enum ConfigError {
         /// than the other variants).
         error: Box<GsdmlError>,
     },
+    /// TIA Portal's PN Driver configuration (XML) has something the import cannot use.
+    PnDriver {
+        /// Name of the XML file (or other origin).
+        origin: String,
+        /// 1-based line of the XML element.
+        line: usize,
+        /// The element: its object and, where it is one, the record field.
+        element: String,
+        /// What is wrong and what to do.
+        message: String,
+    },
 }
 
 impl ConfigError {
@@ -63,7 +74,9 @@ impl ConfigError {
         match self {
             ConfigError::Read { .. } => None,
             ConfigError::Syntax { line, .. } => *line,
-            ConfigError::Invalid { line, .. } | ConfigError::Gsdml { line, .. } => Some(*line),
+            ConfigError::Invalid { line, .. }
+            | ConfigError::Gsdml { line, .. }
+            | ConfigError::PnDriver { line, .. } => Some(*line),
         }
     }
 
@@ -74,6 +87,7 @@ impl ConfigError {
             ConfigError::Read { .. } => None,
             ConfigError::Syntax { key, .. } => key.as_deref(),
             ConfigError::Invalid { key, .. } | ConfigError::Gsdml { key, .. } => Some(key),
+            ConfigError::PnDriver { element, .. } => Some(element),
         }
     }
 
@@ -83,7 +97,8 @@ impl ConfigError {
             ConfigError::Read { path, .. } => path.display().to_string(),
             ConfigError::Syntax { origin, .. }
             | ConfigError::Invalid { origin, .. }
-            | ConfigError::Gsdml { origin, .. } => origin.clone(),
+            | ConfigError::Gsdml { origin, .. }
+            | ConfigError::PnDriver { origin, .. } => origin.clone(),
         }
     }
 
@@ -94,9 +109,9 @@ impl ConfigError {
                 "cannot read the configuration: {source}; {}",
                 read_hint(path, source)
             ),
-            ConfigError::Syntax { message, .. } | ConfigError::Invalid { message, .. } => {
-                message.clone()
-            }
+            ConfigError::Syntax { message, .. }
+            | ConfigError::Invalid { message, .. }
+            | ConfigError::PnDriver { message, .. } => message.clone(),
             ConfigError::Gsdml { error, .. } => error.to_string(),
         }
     }
@@ -156,6 +171,12 @@ impl fmt::Display for ConfigError {
                 key,
                 error,
             } => write!(f, "{origin}:{line}: {key}: {error}"),
+            ConfigError::PnDriver {
+                origin,
+                line,
+                element,
+                message,
+            } => write!(f, "{origin}:{line}: {element}: {message}"),
         }
     }
 }

@@ -47,6 +47,7 @@ mod duration;
 mod error;
 pub mod gsdml;
 mod import;
+pub mod pn_driver;
 mod raw;
 mod span;
 pub mod station;
@@ -160,6 +161,18 @@ pub fn parse_in_dir(text: &str, origin: &str, dir: &Path) -> Result<Config, Conf
 }
 
 fn build(cx: &context::Cx<'_>) -> Result<Config, ConfigError> {
+    if pn_driver::is_xml(cx.text) {
+        // TIA Portal's PN Driver configuration: imported, then checked as any other; its
+        // messages name the imported text's lines, whose comments give the project's.
+        let text = pn_driver::import(cx.text, cx.origin, None)?;
+        let origin = format!("{} (imported)", cx.origin);
+        return build(&context::Cx {
+            text: &text,
+            origin: &origin,
+            dir: cx.dir,
+            interface: cx.interface,
+        });
+    }
     let raw = toml::from_str::<raw::RawConfig>(cx.text).map_err(|e| cx.toml_error(&e))?;
     validate::build(raw, cx)
 }

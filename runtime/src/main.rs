@@ -241,6 +241,7 @@ fn run(args: Args) -> anyhow::Result<()> {
             .filter(|p| p != std::path::Path::new("-")),
         instance: config.instance.clone(),
         adapter: args.adapter.clone(),
+        network: config.network.clone(),
     };
     serve(
         config,

@@ -3,7 +3,8 @@
 //! controller and procimg's device on the two ends of a veth pair: the device's
 //! configuration (`IFACE` its interface, `STATE` its state file, named `fresh-device` until
 //! an engineering tool names it) and the controller's (`IFACE`; the station it connects is
-//! `pc-device` at 10.47.0.50).
+//! `pc-device` at 10.47.0.50), in procimg's TOML and as TIA Portal's PN Driver configuration
+//! describes it.
 
 /// The station both sides describe: the access point, 8 bytes each way in slot 1 with a
 /// parameter record, 4 input bytes in slot 2.
@@ -73,3 +74,11 @@ module_ident = 0x20
 submodule_ident = 1
 input_length = 4
 "#;
+
+/// The controller's configuration as a PN Driver configuration (the XML TIA Portal exports,
+/// in the format of Siemens' "PROFINET Driver Engineering Interface" manual): the PN Driver
+/// `plc-pn-driver` at 10.47.0.1, and the station as [`CONTROLLER_TOML`] has it (the same
+/// addresses, record and watchdog). It names no interface: a PN Driver program chooses its
+/// adapter.
+pub const CONTROLLER_PN_DRIVER_XML: &str =
+    include_str!("../../config/tests/data/pn-driver/pc-device.xml");

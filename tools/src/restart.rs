@@ -2,7 +2,8 @@
 //! `procimg config load`, `procimg reset` and `procimg type-of-station`: a new configuration
 //! taken into use under a running procimgd, a restart with the one it runs, and the type of
 //! station its own station reports from the next start on. Programs attached are asked to
-//! stop (IO-Base's CP_STOP_REQ) and waited for.
+//! stop (IO-Base's CP_STOP_REQ) and waited for. And `procimg config import`: TIA Portal's PN
+//! Driver configuration written as procimgd's own.
 
 use crate::services::open;
 use anyhow::Context;
@@ -26,6 +27,17 @@ pub enum ConfigCommand {
         #[arg(long)]
         force: bool,
     },
+    /// Print TIA Portal's PN Driver configuration (…PNDriverConfiguration.xml) as procimgd's
+    /// own TOML configuration, commented with the project's objects and lines. procimgd,
+    /// `config load` and SERV_CP_startup take the XML itself too.
+    Import {
+        /// The PN Driver configuration (XML).
+        file: PathBuf,
+        /// The network interface procimgd is to drive (the project names none: a PN
+        /// Driver program chooses its adapter); without it, procimgd needs --adapter.
+        #[arg(long, value_name = "INTERFACE")]
+        network: Option<String>,
+    },
 }
 
 /// What `procimg reset` does with attached programs.
@@ -41,7 +53,10 @@ pub enum ResetKind {
 }
 
 pub fn config(instance: &str, op: ConfigCommand) -> anyhow::Result<()> {
-    let ConfigCommand::Load { file, force } = op;
+    let (file, force) = match op {
+        ConfigCommand::Load { file, force } => (file, force),
+        ConfigCommand::Import { file, network } => return import(&file, network.as_deref()),
+    };
     let text = std::fs::read_to_string(&file)
         .with_context(|| format!("cannot read {}", file.display()))?;
     let clients = if force {
@@ -50,6 +65,20 @@ pub fn config(instance: &str, op: ConfigCommand) -> anyhow::Result<()> {
         RestartClients::Ask
     };
     restart(instance, Some(text), clients)
+}
+
+/// Prints the PN Driver configuration in `file` as procimgd's, checked as procimgd checks
+/// it (but for the interface, which need not be this machine's).
+fn import(file: &std::path::Path, network: Option<&str>) -> anyhow::Result<()> {
+    let text =
+        std::fs::read_to_string(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let origin = file.display().to_string();
+    let toml = procimg_config::pn_driver::import(&text, &origin, network)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    procimg_config::parse(&toml, &format!("{origin} (imported)"))
+        .map_err(|e| anyhow::anyhow!("{e}\n{toml}"))?;
+    print!("{toml}");
+    Ok(())
 }
 
 pub fn reset(instance: &str, kind: ResetKind) -> anyhow::Result<()> {

@@ -55,9 +55,9 @@ fn stacks_of(instance: &str) -> Vec<u32> {
 }
 
 /// SEQUENCE before init, between init and startup and after shutdown; the adapters listed;
-/// startup refusing NrOfCp 2, NULL pointers, length 0, retentive data, TIA's XML, a
-/// configuration procimgd refuses (its line and key in the last error), an adapter the
-/// machine lacks and an unknown CpSelection; then the stack: trace levels set and
+/// startup refusing NrOfCp 2, NULL pointers, length 0, retentive data, XML that is no PN
+/// Driver configuration, a configuration procimgd refuses (its line and key in the last
+/// error), an adapter the machine lacks and an unknown CpSelection; then the stack: trace levels set and
 /// confirmed, a controller in OPERATE whose echo device returns the outputs written,
 /// shutdown refused while it is open, then closed, shut down and undone; procimgd's log
 /// lines reached the trace callback.
@@ -185,14 +185,16 @@ fn a_stack_ends_with_the_program_that_started_it() {
 }
 
 /// Over a real interface: the program in one network namespace chooses the veth end there
-/// (its configuration names an interface this machine lacks), its stack connects procimg's
-/// device role in the other namespace, and the outputs it writes come back as the station's
-/// inputs (the station's program echoes them).
+/// (its configuration names an interface this machine lacks, or none), its stack connects
+/// procimg's device role in the other namespace, and the outputs it writes come back as the
+/// station's inputs (the station's program echoes them). Once with procimg's configuration,
+/// once with TIA Portal's PN Driver configuration of the same plant, whose controller name
+/// the stack takes.
 #[test]
 #[ignore = "needs root: network namespaces, veth, AF_PACKET"]
 fn a_pn_driver_program_drives_the_adapter_it_chose() {
     use procimg_testkit::netns::TestNet;
-    use procimg_testkit::veth_station::{CONTROLLER_TOML, DEVICE_TOML};
+    use procimg_testkit::veth_station::{CONTROLLER_PN_DRIVER_XML, CONTROLLER_TOML, DEVICE_TOML};
     let net = TestNet::new("pd", true);
     net.address(0, "10.47.0.1/24");
     net.address(1, "10.47.0.50/24");
@@ -208,34 +210,51 @@ fn a_pn_driver_program_drives_the_adapter_it_chose() {
         .start();
     let echo = procimg_testkit::exchange::device_echo(device.instance.clone(), 60_000);
 
-    let config = dir.path().join("plant.toml");
-    std::fs::write(&config, CONTROLLER_TOML.replace("IFACE", "pnd0")).unwrap();
-    let instance = unique_instance("pnd-veth");
+    let toml = dir.path().join("plant.toml");
+    std::fs::write(&toml, CONTROLLER_TOML.replace("IFACE", "pnd0")).unwrap();
+    let xml = dir
+        .path()
+        .join("Station_1.PN Driver_1.PNDriverConfiguration.xml");
+    std::fs::write(&xml, CONTROLLER_PN_DRIVER_XML).unwrap();
     let program = build(Link::Shared);
     let procimgd = procimgd_bin();
-    let o = run_with_env(
-        std::path::Path::new("ip"),
-        &[
-            "netns",
-            "exec",
-            &net.ns[0],
-            program.to_str().unwrap(),
-            "veth",
-            config.to_str().unwrap(),
-            &net.ifs[0],
-        ],
-        &instance,
-        &[("PROCIMGD", procimgd.as_os_str())],
-        RUN_TIMEOUT,
-    );
-    assert_success(&o, "pnd_startup veth");
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        stdout.contains(&format!("echoed the outputs over {}", net.ifs[0]))
-            && stdout.contains("veth: all checks held"),
-        "pnd_startup veth said:\n{stdout}"
-    );
-    assert!(stacks_of(&instance).is_empty(), "no procimgd left behind");
+    for (config, name) in [(&toml, None), (&xml, Some("plc-pn-driver"))] {
+        let instance = unique_instance("pnd-veth");
+        let o = run_with_env(
+            std::path::Path::new("ip"),
+            &[
+                "netns",
+                "exec",
+                &net.ns[0],
+                program.to_str().unwrap(),
+                "veth",
+                config.to_str().unwrap(),
+                &net.ifs[0],
+            ],
+            &instance,
+            &[("PROCIMGD", procimgd.as_os_str())],
+            RUN_TIMEOUT,
+        );
+        let what = format!("pnd_startup veth {}", config.display());
+        assert_success(&o, &what);
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            stdout.contains(&format!("echoed the outputs over {}", net.ifs[0]))
+                && stdout.contains("veth: all checks held"),
+            "{what} said:\n{stdout}"
+        );
+        if let Some(name) = name {
+            let fw = stdout
+                .lines()
+                .find(|l| l.starts_with("fw 1: "))
+                .unwrap_or_else(|| panic!("{what} printed no firmware information:\n{stdout}"));
+            assert!(
+                fw.contains(&format!(" ip 10.47.0.1 name {name} type ")),
+                "the stack's station is the project's: {fw}"
+            );
+        }
+        assert!(stacks_of(&instance).is_empty(), "no procimgd left behind");
+    }
     drop(device);
     let _ = echo.join();
 }

@@ -381,6 +381,13 @@ fn interface_name(name: &str) -> Result<(), String> {
 
 fn interface_exists(check: crate::InterfaceCheck<'_>, name: &str) -> Result<(), String> {
     check(name).map_err(|missing| {
+        if name == crate::pn_driver::ADAPTER_PLACEHOLDER {
+            return "the PN Driver configuration names no network interface (PN Driver's \
+                    program chooses its adapter): start procimgd with --adapter IFACE, as \
+                    SERV_CP_startup does, or import it with `procimg config import FILE \
+                    --network IFACE`"
+                .to_owned();
+        }
         format!(
             "{missing}; give one of them (as `ip link` lists it), or \"sim\" for the simulated \
              devices"

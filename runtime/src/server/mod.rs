@@ -162,10 +162,10 @@ impl Control {
         let what = match configuration {
             None => restart::Restart::Same,
             Some(text) => {
-                let config = source
+                let (config, keep) = source
                     .check(&text, &procimg_nic::interfaces::check)
                     .map_err(|message| Refusal::BadConfiguration { message })?;
-                restart::Restart::With(Box::new(config), text)
+                restart::Restart::With(Box::new(config), keep)
             }
         };
         let attached = self.attached();

@@ -28,13 +28,22 @@ pub struct ConfigSource {
     pub instance: String,
     /// The network interface `--adapter` chose, over the configuration's.
     pub adapter: Option<String>,
+    /// The network procimgd started on: a downloaded PN Driver configuration (TIA Portal's
+    /// XML), which names no interface, runs on it.
+    pub network: procimg_config::Network,
 }
 
 impl ConfigSource {
     /// Checks `text` as a configuration for this machine and makes it the running
-    /// instance's; why not, with the line and key.
-    pub fn check(&self, text: &str, interface: InterfaceCheck<'_>) -> Result<Config, String> {
-        let origin = match &self.path {
+    /// instance's; why not, with the line and key. With it comes the text to keep: `text`,
+    /// or for a PN Driver configuration its import on procimgd's network, so that the file
+    /// starts procimgd again as it runs.
+    pub fn check(
+        &self,
+        text: &str,
+        interface: InterfaceCheck<'_>,
+    ) -> Result<(Config, String), String> {
+        let mut origin = match &self.path {
             Some(p) => format!("{} (downloaded)", p.display()),
             None => "the downloaded configuration".to_owned(),
         };
@@ -45,7 +54,17 @@ impl ConfigSource {
             .map(Path::to_path_buf)
             .or_else(|| std::env::current_dir().ok())
             .unwrap_or_default();
-        let mut config = procimg_config::parse_for_machine(text, &origin, &dir, interface)
+        let mut keep = text.to_owned();
+        if procimg_config::pn_driver::is_xml(text) {
+            let network = self.adapter.clone().or(match &self.network {
+                procimg_config::Network::Interface(name) => Some(name.clone()),
+                procimg_config::Network::Sim => None,
+            });
+            keep = procimg_config::pn_driver::import(text, &origin, network.as_deref())
+                .map_err(|e| e.to_string())?;
+            origin.push_str(" (imported)");
+        }
+        let mut config = procimg_config::parse_for_machine(&keep, &origin, &dir, interface)
             .map_err(|e| e.to_string())?;
         config.instance.clone_from(&self.instance);
         if let Some(a) = &self.adapter
@@ -53,7 +72,7 @@ impl ConfigSource {
         {
             config.network = procimg_config::Network::Interface(a.clone());
         }
-        Ok(config)
+        Ok((config, keep))
     }
 
     /// Keeps `text` as the configuration of the next start: written over the file procimgd
@@ -219,14 +238,25 @@ mod tests {
             path: Some(path.clone()),
             instance: "line".into(),
             adapter: None,
+            network: procimg_config::Network::Interface("eth7".into()),
         };
         let any = |_: &str| Ok(());
-        let c = source
+        let (c, kept) = source
             .check("instance = \"other\"\ncycle_time = \"2ms\"\n", &any)
             .unwrap();
+        assert_eq!(kept, "instance = \"other\"\ncycle_time = \"2ms\"\n");
         assert_eq!((c.instance.as_str(), c.cycle_ns), ("line", 2_000_000));
         let bad = source.check("cycle_time = \"3us\"\n", &any).unwrap_err();
         assert!(bad.contains("cycle_time") && bad.contains(":1:"), "{bad}");
+        // TIA Portal's PN Driver configuration runs on procimgd's network, and its import is
+        // what is kept.
+        let (c, kept) = source.check(pn_driver_xml(), &any).unwrap();
+        assert_eq!(c.network, procimg_config::Network::Interface("eth7".into()));
+        assert_eq!(c.devices[0].name, "pc-device");
+        assert!(
+            kept.starts_with("# procimgd's configuration, imported")
+                && kept.contains("network = \"eth7\"")
+        );
         assert!(source.keep("cycle_time = \"2ms\"\n").unwrap());
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),
@@ -238,5 +268,10 @@ mod tests {
             ..source
         };
         assert!(!no_file.keep("").unwrap());
+    }
+
+    /// The veth station's PN Driver configuration (the configuration crate's test data).
+    fn pn_driver_xml() -> &'static str {
+        include_str!("../../../config/tests/data/pn-driver/pc-device.xml")
     }
 }

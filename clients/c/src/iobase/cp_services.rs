@@ -271,14 +271,6 @@ pub unsafe extern "C" fn SERV_CP_download(
                 "the configuration is not UTF-8 text",
             );
         };
-        if text.trim_start().starts_with('<') {
-            return fail(
-                F,
-                PNIO_ERR_CORRUPTED_DATA,
-                "the configuration is XML (a STEP 7 download?): procimgd takes its own \
-                 configuration, TOML text as `procimgd --print-demo-config` prints it",
-            );
-        }
         restart(F, &instance, Some(text.to_owned()), RestartClients::Ask)
     })
 }

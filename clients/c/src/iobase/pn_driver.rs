@@ -415,15 +415,6 @@ pub unsafe extern "C" fn SERV_CP_startup(
         // SAFETY: not NULL; ConfigDataLen readable bytes by the contract.
         let config = unsafe { std::slice::from_raw_parts(pConfigData, ConfigDataLen as usize) };
         let config = config.split(|b| *b == 0).next().unwrap_or_default();
-        if config.trim_ascii_start().starts_with(b"<") {
-            return refuse(
-                &mut phase,
-                trace,
-                PNIO_ERR_CORRUPTED_DATA,
-                &"the configuration is XML (TIA Portal's PN Driver export?): procimg reads its \
-                  own configuration, TOML text as `procimgd --print-demo-config` prints it",
-            );
-        }
         let adapter = match chosen_adapter(&id) {
             Ok(a) => a,
             Err((code, why)) => return refuse(&mut phase, trace, code, &why),

@@ -9,8 +9,10 @@
  *                               (I 0..15, Q 0..15) gives back what the program writes
  *   pnd_startup veth CONFIG ADAPTER
  *                               over a real interface: the stack on the adapter whose
- *                               Description is ADAPTER (the configuration names another
- *                               interface), a controller in OPERATE writing the
+ *                               Description is ADAPTER (the configuration, procimg's TOML
+ *                               or TIA Portal's PN Driver XML, names another interface or
+ *                               none), its firmware information printed, a controller
+ *                               in OPERATE writing the
  *                               station's outputs (Q 0..7) until its inputs (I 0..7, which
  *                               the station's program echoes) bring them back GOOD, then
  *                               the stack's end; prints "veth: all checks held"
@@ -186,7 +188,8 @@ static void run(const char *config_path) {
              PNIO_ERR_INVALID_REMA);
     const char *xml = "<?xml version=\"1.0\"?><HWConfiguration/>";
     CHECK_RC(startup(cps, xml, (PNIO_UINT32)strlen(xml)), PNIO_ERR_CORRUPTED_DATA);
-    CHECK(strstr(procimg_last_error(), "TOML") != NULL, "the XML refusal says what to give");
+    CHECK(strstr(procimg_last_error(), "not a PN Driver configuration") != NULL,
+          "the refusal of XML that is no PN Driver configuration says so");
     const char *bad = "cycle_time = \"1ms\"\nno_such_key = 1\n";
     CHECK_RC(startup(cps, bad, (PNIO_UINT32)strlen(bad)), PNIO_ERR_CORRUPTED_DATA);
     CHECK(strstr(procimg_last_error(), "standard input:2") != NULL &&
@@ -263,6 +266,7 @@ static void veth(const char *config_path, const char *adapter) {
     }
     CHECK(chosen >= 0, "adapter %s is not among the %u listed", adapter, (unsigned)n);
     CHECK_RC(startup(&cps[chosen], config, config_len), PNIO_OK);
+    print_fw_info(1);
     PNIO_UINT32 h = open_operate();
     PNIO_ADDR i = logical(PNIO_IO_IN, 0), q = logical(PNIO_IO_OUT, 0);
     PNIO_UINT8 in[8], out[8] = {0x5A, 1, 2, 3, 4, 5, 6, 7};
