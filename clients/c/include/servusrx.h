@@ -27,12 +27,14 @@
  * If a procimgd already serves that instance, SERV_CP_startup gives
  * PNIO_ERR_CREATE_INSTANCE: one stack per instance.
  *
- * The configuration. pConfigData is procimg's own configuration, the TOML text procimgd
+ * The configuration. pConfigData is PN Driver's configuration, the XML that TIA Portal
+ * exports for it (…PNDriverConfiguration.xml), or procimg's own, the TOML text procimgd
  * reads from a file (`procimgd --print-demo-config` prints a commented example), of
- * ConfigDataLen bytes or up to a NUL byte. This is the one difference from PN Driver, whose
- * configuration is the XML that TIA Portal exports: procimg does not read that XML, and
- * gives PNIO_ERR_CORRUPTED_DATA for it, as for any configuration procimgd refuses; the
- * reason (line and key) is in procimg_last_error() (procimg.h). Relative gsdml paths start
+ * ConfigDataLen bytes or up to a NUL byte. procimgd imports the XML as the README's "TIA
+ * Portal's PN Driver configuration" says (`procimg config import FILE` shows the result):
+ * IRT, isochronous mode, multicast IOCRs and shared devices are refused. Its controller starts
+ * OFFLINE, as PN Driver's. What procimgd refuses gives PNIO_ERR_CORRUPTED_DATA; the reason
+ * (line and what to do) is in procimg_last_error() (procimg.h). Relative gsdml paths start
  * at the program's current directory.
  *
  * The adapter. SERV_CP_get_network_adapters lists the machine's Ethernet interfaces
@@ -88,8 +90,9 @@
  * SERV_CP_set_type_of_station sets what the procimgd's station reports by DCP (the
  * controller's type of station, the device role's device type) from its next start on, as
  * on a CP after its reset: SERV_CP_reset. SERV_CP_download takes a configuration
- * (PNIO_CP_DLD_CONFIG: procimg's TOML text; anything procimgd would refuse at start,
- * STEP 7's XML included, is PNIO_ERR_CORRUPTED_DATA, a firmware file PNIO_ERR_PRM_TYPE):
+ * (PNIO_CP_DLD_CONFIG: procimg's TOML text or PN Driver's XML, which runs on the
+ * procimgd's interface; anything procimgd would refuse at start is
+ * PNIO_ERR_CORRUPTED_DATA, a firmware file PNIO_ERR_PRM_TYPE):
  * every program attached to that procimgd gets PNIO_CBE_CP_STOP_REQ (a device program its
  * cbf_cp_stop_req) and is to close; once none is attached, procimgd starts anew with the
  * configuration (a procimgd started with -c FILE keeps it in FILE) and the call returns
@@ -245,7 +248,7 @@ typedef struct {
 
 typedef enum {
     PNIO_CP_DLD_FIRMWARE = 1, /* refused: procimgd is updated as a package */
-    PNIO_CP_DLD_CONFIG = 2    /* procimg's configuration, TOML text */
+    PNIO_CP_DLD_CONFIG = 2    /* a configuration: procimg's TOML or PN Driver's XML */
 } PNIO_CP_DLD_TYPE;
 
 typedef enum {
@@ -381,7 +384,7 @@ PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_get_network_adapters(
 PNIO_UINT32 PNIO_CODE_ATTR SERV_CP_startup(
     PNIO_CP_ID_PTR_TYPE CpList,  /* in, the adapter */
     PNIO_UINT32 NrOfCp,          /* in, 1 */
-    PNIO_UINT8 *pConfigData,     /* in, procimg's configuration (TOML text) */
+    PNIO_UINT8 *pConfigData,     /* in, PN Driver's XML or procimg's TOML */
     PNIO_UINT32 ConfigDataLen,   /* in, without a terminating NUL */
     PNIO_UINT8 *pRemaData,       /* in, may be NULL */
     PNIO_UINT32 RemaDataLen,     /* in, 0: none */
