@@ -106,13 +106,15 @@ impl NameOfStation {
 }
 
 /// Blocks 0x3006 (IP address validation) and 0x3009 (NameOfStation validation) of the
-/// controller's interface: whether the value is the project's, or is "set directly at the
-/// device" (0xFFFF: by a program, DCP or the retentive data).
+/// controller's interface, and 0x3011 (remote IP address validation) of a device: whether
+/// the value is the project's, or is "set directly at the device" (0xFFFF: by a program,
+/// DCP or the retentive data; a device's by whoever commissions it).
 pub(super) struct SetAtDevice;
 
 impl SetAtDevice {
     pub const IP_BLOCK_TYPE: u16 = 0x3006;
     pub const NAME_BLOCK_TYPE: u16 = 0x3009;
+    pub const REMOTE_IP_BLOCK_TYPE: u16 = 0x3011;
 
     pub fn parse(bytes: &[u8], block_type: u16) -> Result<bool> {
         let v = View::new(bytes, block_type, "validation")?;

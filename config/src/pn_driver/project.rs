@@ -45,6 +45,7 @@ const KEY_IP_SUITE: u64 = 0x1000;
 const KEY_IP_AT_DEVICE: u64 = 0x1001;
 const KEY_NAME: u64 = 0x1003;
 const KEY_NAME_AT_DEVICE: u64 = 0x1004;
+const KEY_REMOTE_IP_AT_DEVICE: u64 = 0x1007;
 const KEY_DEVICE_PROPERTIES: u64 = 0x3060;
 const KEY_EXPECTED: u64 = 0x3101;
 const KEY_IOCRS: u64 = 0x3102;
@@ -76,7 +77,11 @@ pub(super) struct Device {
     pub object: String,
     pub line: usize,
     pub name: String,
+    /// The address the controller gives it: none where the project leaves it at 0.0.0.0 or
+    /// to the device ([`Device::ip_at_device`]).
     pub ip: Option<Ipv4Addr>,
+    /// The project's "IP address is set directly at the device" for this device.
+    pub ip_at_device: bool,
     pub identity: DeviceProperties,
     pub deactivated: bool,
     pub send_clock_factor: u16,
@@ -368,7 +373,7 @@ fn read_device(d: &Object) -> Result<Device> {
         Some(f) if f.data.len() >= 10 => usize::from(u16::from_be_bytes([f.data[8], f.data[9]])),
         _ => 0,
     };
-    let (name, ip) = read_network(d)?;
+    let (name, ip, ip_at_device) = read_network(d)?;
     let mut submodules = Vec::with_capacity(expected.len());
     for e in expected {
         submodules.push(read_submodule(d, e)?);
@@ -390,6 +395,7 @@ fn read_device(d: &Object) -> Result<Device> {
         line: d.line,
         name,
         ip,
+        ip_at_device,
         identity,
         deactivated,
         send_clock_factor,
@@ -400,8 +406,9 @@ fn read_device(d: &Object) -> Result<Device> {
     })
 }
 
-/// The device's NameOfStation and IP address (none for 0.0.0.0), from its network object.
-fn read_network(d: &Object) -> Result<(String, Option<Ipv4Addr>)> {
+/// The device's NameOfStation, the IP address the controller gives it (none for 0.0.0.0,
+/// and none where the project leaves it to the device), and whether it does so.
+fn read_network(d: &Object) -> Result<(String, Option<Ipv4Addr>, bool)> {
     let network = d
         .children_of(CLASS_NETWORK)
         .next()
@@ -426,7 +433,13 @@ fn read_network(d: &Object) -> Result<(String, Option<Ipv4Addr>)> {
         ),
         None => None,
     };
-    Ok((name, ip.filter(|ip| !ip.is_unspecified())))
+    let at_device = match field(network, AID_NETWORK, KEY_REMOTE_IP_AT_DEVICE) {
+        Some(f) => SetAtDevice::parse(&f.data, SetAtDevice::REMOTE_IP_BLOCK_TYPE)
+            .map_err(|e| field_problem(network, f, "IP address validation", e))?,
+        None => false,
+    };
+    let ip = ip.filter(|ip| !ip.is_unspecified() && !at_device);
+    Ok((name, ip, at_device))
 }
 
 /// The submodule the expected configuration lists, with what its object in the tree adds:

@@ -120,6 +120,14 @@ fn a_deactivated_device_is_optional_and_a_lost_ip_is_none() {
 }
 
 #[test]
+fn an_address_set_at_the_device_is_the_devices() {
+    let text = PC_DEVICE.replace("301100080101000000000000", "3011000801010000FFFF0000");
+    let toml = import(&text, "pc-device.xml", Some("veth0")).unwrap();
+    assert!(toml.contains("set directly at the device"), "{toml}");
+    assert_eq!(parse(&toml, "imported").unwrap().devices[0].ip, None);
+}
+
+#[test]
 fn an_irt_device_is_refused_at_its_line() {
     // IOCRProperties 2 (RT) → 3 (IRT), in the input IOCR.
     let text = PC_DEVICE.replace("88920000000000020012", "88920000000000030012");

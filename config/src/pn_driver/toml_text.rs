@@ -134,6 +134,11 @@ fn device(t: &mut String, d: &Device, base: u16, book: &mut AddressBook) -> Resu
     let _ = writeln!(t, "name = {}", quoted(&d.name));
     if let Some(ip) = d.ip {
         let _ = writeln!(t, "ip = {}", quoted(&ip.to_string()));
+    } else if d.ip_at_device {
+        let _ = writeln!(
+            t,
+            "# Its IP address is set directly at the device: the controller keeps the device's own."
+        );
     }
     let _ = writeln!(t, "vendor_id = 0x{:04X}", d.identity.vendor_id);
     let _ = writeln!(t, "device_id = 0x{:04X}", d.identity.device_id);
