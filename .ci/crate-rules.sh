@@ -47,6 +47,8 @@ forbid procimg-agentx 'procimg-.*' \
     "the SNMP subagent serves plain data: it depends on no procimg crate"
 forbid procimg-gs20 'procimg-runtime|procimg-profinet|procimg-nic' \
     "the GS20-PN host link is a client of procimgd (its crate speaks the host protocol and the client services), not part of the daemon"
+forbid procimg-opcua 'procimg-runtime|procimg-profinet|procimg-nic' \
+    "the OPC UA server is a client of procimgd, not part of the daemon"
 
 # The test kit is a dev-dependency only: no other member's normal tree holds it.
 members=$(cargo metadata --no-deps --format-version 1 |
