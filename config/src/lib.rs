@@ -237,7 +237,8 @@ pub struct InterfaceConfig {
     /// is a diagnosis of the port, with an alarm to the programs.
     pub check_link: bool,
     /// The interface submodule's diagnostic address (key `diagnostic_address`, default
-    /// [`DEFAULT_INTERFACE_ADDRESS`]), an address of the I space.
+    /// [`DEFAULT_INTERFACE_ADDRESS`], or where a device's inputs have that one, the highest
+    /// free address below it, above all inputs when none is), an address of the I space.
     pub diagnostic_address: u32,
     /// The port submodule's diagnostic address (key `port_diagnostic_address`, default
     /// [`DEFAULT_PORT_ADDRESS`]).

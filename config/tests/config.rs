@@ -1411,12 +1411,39 @@ fn the_controllers_interface() {
         "interface.diagnostic_address",
         "io-1 slot 1",
     );
+    // A default that inputs have taken moves below them; with the I space up to 32767
+    // theirs, above them.
     let default_taken = device(
         "io-1",
-        &submodule(1, "input_length = 4\ninput_address = 16378"),
+        &submodule(1, "input_length = 4\ninput_address = 16380"),
     );
-    let e = refused(&default_taken);
-    assert!(e.to_string().contains("port_diagnostic_address"), "{e}");
+    let c = parse(&default_taken).unwrap();
+    assert_eq!(
+        (
+            c.interface.diagnostic_address,
+            c.interface.port_diagnostic_address
+        ),
+        (16379, 16378)
+    );
+    let full: String = (0..23)
+        .map(|k| {
+            device(
+                &format!("io-{k}"),
+                &submodule(
+                    1,
+                    &format!("input_length = 1439\ninput_address = {}", k * 1439),
+                ),
+            )
+        })
+        .collect();
+    let c = parse(&full).unwrap();
+    assert_eq!(
+        (
+            c.interface.diagnostic_address,
+            c.interface.port_diagnostic_address
+        ),
+        (23 * 1439, 23 * 1439 + 1)
+    );
     refused_at(
         "[interface]\ndiagnostic_address = 40000\n",
         "40000",

@@ -232,40 +232,49 @@ fn interface(
             })
         })
     };
-    // A default address is checked too: a device's inputs may have taken it.
-    let check = |value: Option<&Spanned<u32>>, default: u32, key: &str| {
-        let a = value.map_or(default, |v| *v.get_ref());
+    // What the devices' inputs and diagnostic addresses take of the I space, for a default
+    // that has to move.
+    let used: Vec<(u32, u32)> = devices
+        .iter()
+        .flat_map(|d| &d.submodules)
+        .filter(|s| s.input_address != NO_ADDRESS)
+        .map(|s| {
+            let extent = u32::from(s.input_length.max(u16::from(s.has_no_data())));
+            (s.input_address, s.input_address.saturating_add(extent))
+        })
+        .collect();
+    let check = |value: Option<&Spanned<u32>>, default: u32, avoid: Option<u32>, key: &str| {
+        let Some(v) = value else {
+            // A default that a device's inputs have taken moves to the highest free address
+            // below it (above all inputs if there is none: the I space is theirs).
+            return Ok(free_address(&used, default, avoid));
+        };
+        let a = *v.get_ref();
         let problem = match taken(a) {
             _ if a > MAX_INTERFACE_ADDRESS => Some(format!(
                 "{a} is not a diagnostic address of the controller's interface; use 0 to \
                  {MAX_INTERFACE_ADDRESS}"
             )),
-            Some(owner) if value.is_some() => Some(format!(
-                "I address {a} is {owner}'s; give the controller's interface another one"
-            )),
             Some(owner) => Some(format!(
-                "the default diagnostic address {a} of the controller's interface is {owner}'s; \
-                 set `{key}` in [interface] to a free I address"
+                "I address {a} is {owner}'s; give the controller's interface another one"
             )),
             None => None,
         };
         match problem {
-            Some(p) => Err(cx.invalid(
-                value.map_or(0..0, Spanned::span),
-                format!("interface.{key}"),
-                p,
-            )),
+            Some(p) => Err(cx.invalid(v.span(), format!("interface.{key}"), p)),
             None => Ok(a),
         }
     };
     config.diagnostic_address = check(
         raw.diagnostic_address.as_ref(),
         config.diagnostic_address,
+        raw.port_diagnostic_address.as_ref().map(|v| *v.get_ref()),
         "diagnostic_address",
     )?;
     config.port_diagnostic_address = check(
         raw.port_diagnostic_address.as_ref(),
         config.port_diagnostic_address,
+        Some(config.diagnostic_address),
         "port_diagnostic_address",
     )?;
     if config.diagnostic_address == config.port_diagnostic_address {
@@ -281,6 +290,33 @@ fn interface(
         ));
     }
     Ok(config)
+}
+
+/// `wanted` if no range of `used` (start, end) holds it and it is not `avoid`; else the
+/// highest address below it that is free, or, with none free below, the first above every
+/// range.
+fn free_address(used: &[(u32, u32)], wanted: u32, avoid: Option<u32>) -> u32 {
+    let is_free = |a: u32| Some(a) != avoid && !used.iter().any(|(s, e)| (*s..*e).contains(&a));
+    let mut a = wanted;
+    loop {
+        if is_free(a) {
+            return a;
+        }
+        // Below the range that holds it (or below `avoid`).
+        let below = used
+            .iter()
+            .find(|(s, e)| (*s..*e).contains(&a))
+            .map_or(a.checked_sub(1), |(s, _)| s.checked_sub(1));
+        match below {
+            Some(b) => a = b,
+            None => break,
+        }
+    }
+    let mut a = used.iter().map(|(_, e)| *e).max().unwrap_or(0);
+    while !is_free(a) {
+        a += 1;
+    }
+    a
 }
 
 fn instance_name(name: &str) -> Result<(), String> {
