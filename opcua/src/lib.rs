@@ -2,7 +2,14 @@
 //! procimg's process image over OPC UA: an ordinary asynchronous client of procimgd that
 //! serves the image, states, alarms and records to the plant, off the real-time path.
 //!
-//! [`items`] names what is served the way the SIMATIC NET PROFINET IO OPC server names it
-//! (`PNIO:[CTRL1]EB10`), so that a client written for that server finds its items.
+//! - [`snapshot`]: one cycle of the image, whole, taken by a thread of its own;
+//! - [`tree`]: the browsable address space under `Objects/procimg/<instance>`;
+//! - [`pnio_nodes`]: the PNIO item names of the SIMATIC NET OPC server ([`items`]) as string
+//!   NodeIds, resolved from the snapshot when read or monitored;
+//! - [`server`]: the server put together: endpoints, security, the PKI folder.
 
 pub mod items;
+pub mod pnio_nodes;
+pub mod server;
+pub mod snapshot;
+pub mod tree;

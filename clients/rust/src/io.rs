@@ -113,6 +113,22 @@ impl Client {
         Ok(self.newest_payload()?.get(..n).unwrap_or(&[]))
     }
 
+    /// The newest image as one: its inputs, the outputs as sent and the status bytes of every
+    /// submodule from the same cycle, taking a newer image first. For a reader that publishes
+    /// the whole image (an OPC UA server): calls of [`Client::newest_input`] and the like may
+    /// each take a newer image.
+    pub fn newest_image(&mut self) -> Result<ImageView<'_>, IoError> {
+        self.ensure_fresh()?;
+        let Some(sample) = &self.latest else {
+            return Err(self.no_image());
+        };
+        Ok(ImageView {
+            layout: &self.layout,
+            payload: sample.payload(),
+            cycle: sample.user_header().cycle,
+        })
+    }
+
     /// The inputs of submodule `s` in the newest image, in place, taking a newer image first;
     /// `None` when `s` is not in the layout.
     pub fn newest_input(&mut self, s: usize) -> Result<Option<&[u8]>, IoError> {
@@ -372,6 +388,40 @@ impl Client {
             .iter_mut()
             .for_each(|v| *v = None);
         Ok(())
+    }
+}
+
+/// One image of the server, whole: see [`Client::newest_image`].
+pub struct ImageView<'a> {
+    layout: &'a crate::Layout,
+    payload: &'a [u8],
+    cycle: procimg_shm_layout::CycleInfo,
+}
+
+impl ImageView<'_> {
+    /// The cycle the image is of.
+    pub fn cycle(&self) -> procimg_shm_layout::CycleInfo {
+        self.cycle
+    }
+
+    /// The inputs of submodule `s`; `None` when `s` is not in the layout.
+    pub fn input(&self, s: usize) -> Option<&[u8]> {
+        let e = self.layout.submodules.get(s)?;
+        let at = e.input_offset as usize;
+        self.payload.get(at..at + e.input_length as usize)
+    }
+
+    /// The outputs of submodule `s` as they went out.
+    pub fn outputs_sent(&self, s: usize) -> Option<&[u8]> {
+        let e = self.layout.submodules.get(s)?;
+        let at = e.output_mirror_offset as usize;
+        self.payload.get(at..at + e.output_length as usize)
+    }
+
+    /// The status bytes of submodule `s`.
+    pub fn status(&self, s: usize) -> Option<SubmoduleIoxs> {
+        let e = self.layout.submodules.get(s)?;
+        Some(read_status(self.payload, e))
     }
 }
 

@@ -54,7 +54,7 @@ pub use client::{AttachOptions, Client, Event, EventWait};
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
 pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
-pub use io::{OutputReadResult, ReadResult};
+pub use io::{ImageView, OutputReadResult, ReadResult};
 pub use layout::Layout;
 pub use procimg_control::pe;
 pub use procimg_control::services::{

@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! `procimg-opcua`: serves a procimgd instance's process image over OPC UA.
+
+use anyhow::{Context, anyhow};
+use clap::Parser;
+use procimg_client::{AttachOptions, Client};
+use procimg_opcua::server::{Endpoint, Options, assemble};
+use procimg_opcua::snapshot::{self, Snapshot};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// Serve a procimgd instance's process image, states and items over OPC UA.
+#[derive(Parser)]
+#[command(version)]
+struct Args {
+    /// The procimgd instance to serve.
+    #[arg(long, short, env = "PROCIMG_INSTANCE", default_value = "procimg")]
+    instance: String,
+    /// Its CpIndex, as IO-Base names it: the n of the items' PNIO:[CTRL<n>].
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..))]
+    cp_index: u8,
+    /// Where the server listens and clients reach it: opc.tcp://HOST:PORT.
+    #[arg(long, default_value = "opc.tcp://127.0.0.1:4840")]
+    endpoint: String,
+    /// The PKI folder: the server's certificate (made at first start), trusted/ and
+    /// rejected/ client certificates.
+    #[arg(long, default_value = "pki")]
+    pki: PathBuf,
+    /// Offer the endpoint without security (policy None) beside the secure ones.
+    #[arg(long)]
+    insecure: bool,
+}
+
+fn main() {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("procimg-opcua: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> anyhow::Result<()> {
+    let endpoint = Endpoint::parse(&args.endpoint).map_err(|e| anyhow!("--endpoint {e}"))?;
+    let mut client =
+        Client::attach(&args.instance, AttachOptions::asynchronous("procimg-opcua"))
+            .with_context(|| format!("cannot attach to procimgd instance {:?}", args.instance))?;
+    let layout = Arc::new(client.layout().clone());
+    let report = snapshot::report(&client)?;
+    let cycle = Duration::from_nanos(report.cycle_ns.max(1_000_000));
+    // The first image: the server starts with values.
+    let first = (0..1000)
+        .find_map(|_| {
+            let s = snapshot::take(&mut client, &report);
+            if s.is_none() {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            s
+        })
+        .ok_or_else(|| anyhow!("procimgd instance {:?} publishes no image", args.instance))?;
+    let (tx, mut rx) = tokio::sync::watch::channel(Arc::new(first));
+    let options = Options {
+        instance: args.instance.clone(),
+        controller: args.cp_index,
+        endpoint: endpoint.clone(),
+        pki: args.pki,
+        insecure: args.insecure,
+        cycle,
+    };
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let feeder = {
+        let stop = stop.clone();
+        std::thread::Builder::new()
+            .name("image-feed".into())
+            .spawn(move || {
+                snapshot::feed(client, report, cycle, tx, || stop.load(Ordering::Acquire))
+            })
+            .context("cannot start the image thread")?
+    };
+    let result = runtime.block_on(async {
+        let procimg_opcua::server::Assembled {
+            server,
+            handle,
+            tree_nodes,
+            mut tree,
+            items,
+        } = assemble(&options, layout.clone(), rx.clone()).map_err(|e| anyhow!("{e}"))?;
+        let publisher = tokio::spawn({
+            let handle = handle.clone();
+            async move {
+                while rx.changed().await.is_ok() {
+                    let snap: Arc<Snapshot> = rx.borrow_and_update().clone();
+                    tree.publish(&tree_nodes, handle.subscriptions(), &layout, &snap);
+                    items.notify(&snap, handle.subscriptions());
+                }
+                // The feed ended (procimgd stopped or started with another layout).
+                handle.cancel();
+            }
+        });
+        tokio::spawn({
+            let handle = handle.clone();
+            async move {
+                match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+                    Ok(mut term) => {
+                        tokio::select! {
+                            _ = tokio::signal::ctrl_c() => {}
+                            _ = term.recv() => {}
+                        }
+                    }
+                    Err(e) => {
+                        tracing::warn!("no SIGTERM handler ({e}); Ctrl-C stops the server");
+                        let _ = tokio::signal::ctrl_c().await;
+                    }
+                }
+                handle.cancel();
+            }
+        });
+        let listener =
+            tokio::net::TcpListener::bind((options.endpoint.host.as_str(), options.endpoint.port))
+                .await
+                .with_context(|| format!("cannot listen on {}", options.endpoint.url()))?;
+        tracing::info!(
+            "serving instance {:?} at {} (PNIO items as PNIO:[CTRL{}]…)",
+            options.instance,
+            options.endpoint.url(),
+            options.controller
+        );
+        let served = server.run_with(listener).await.map_err(|e| anyhow!("{e}"));
+        publisher.abort();
+        served
+    });
+    stop.store(true, Ordering::Release);
+    match feeder.join() {
+        Ok(Err(e)) => return Err(e.into()),
+        Ok(Ok(())) => {}
+        Err(_) => return Err(anyhow!("the image thread failed")),
+    }
+    result
+}

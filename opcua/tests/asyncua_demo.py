@@ -1,0 +1,162 @@
+# SPDX-License-Identifier: MIT OR Apache-2.0
+"""An independent OPC UA client (asyncua, PyPI) against procimg-opcua serving the demo.
+
+    python asyncua_demo.py URL INSTANCE PKI_DIR WORK_DIR
+
+Checks, each failure naming what a user would see: the PNIO item names of the migration
+guide by NodeId with their qualities, items of one Read of one cycle, unknown items refused,
+the browsable tree, a subscription's notifications as the counter device counts, an anonymous
+write refused, and a secure channel (Basic256Sha256, SignAndEncrypt) once the client's
+certificate is trusted. Prints "asyncua: all checks held" at the end.
+"""
+
+import asyncio
+import shutil
+import sys
+from pathlib import Path
+
+from asyncua import Client, ua
+from asyncua.crypto import security_policies
+from asyncua.crypto.cert_gen import setup_self_signed_certificate
+from cryptography.x509.oid import ExtendedKeyUsageOID
+
+URL, INSTANCE, PKI, WORK = sys.argv[1], sys.argv[2], Path(sys.argv[3]), Path(sys.argv[4])
+
+
+def check(ok, what):
+    if not ok:
+        print(f"asyncua: FAILED: {what}", flush=True)
+        sys.exit(1)
+
+
+async def read(client, node_id):
+    return await client.get_node(node_id).read_data_value(raise_on_bad_status=False)
+
+
+async def items_and_tree():
+    client = Client(URL)
+    async with client:
+        ns = await client.get_namespace_index("urn:procimg:pnio")
+        tns = await client.get_namespace_index(f"urn:procimg:{INSTANCE}")
+
+        def item(name):
+            return ua.NodeId(name, ns)
+
+        # The migration guide's items: an input byte and the mode, with value and quality.
+        eb10 = await read(client, item("PNIO:[CTRL1]EB10"))
+        check(eb10.StatusCode.is_good(), f"EB10 is {eb10.StatusCode}")
+        check(isinstance(eb10.Value.Value, int), f"EB10 is a byte: {eb10.Value}")
+        check(eb10.SourceTimestamp is not None, "EB10 has its cycle's time stamp")
+        mode = await read(client, item("PNIO:[CTRL1]mode"))
+        check(mode.Value.Value == 2, f"mode is 2 (OPERATE): {mode.Value}")
+        # Nobody writes the echo device's outputs: they go out invalid, and say so.
+        aw0 = await read(client, item("PNIO:[CTRL1]AW0"))
+        check(not aw0.StatusCode.is_good(), f"AW0 without a writer is bad: {aw0.StatusCode}")
+
+        # One Read, one cycle: the counter as a double word and as four bytes agree.
+        for _ in range(20):
+            res = await client.read_values(
+                [client.get_node(item("PNIO:[CTRL1]ED16")), client.get_node(item("PNIO:[CTRL1]IB16,4"))]
+            )
+            as_bytes = int.from_bytes(bytes(res[1]), "big")
+            check(res[0] == as_bytes, f"ED16 {res[0]} and IB16,4 {res[1]} of one Read differ")
+        # English and German letters name the same bytes; bits read as booleans.
+        bit = await read(client, item("PNIO:[CTRL1]I20.0"))
+        check(isinstance(bit.Value.Value, bool), f"I20.0 is a boolean: {bit.Value}")
+
+        # Items that name nothing are unknown.
+        for name in ["PNIO:[CTRL2]EB0", "PNIO:[CTRL1]EB9999", "PNIO:[CTRL1]MB0"]:
+            dv = await read(client, item(name))
+            check(dv.StatusCode.value == ua.StatusCodes.BadNodeIdUnknown, f"{name}: {dv.StatusCode}")
+
+        # The browsable tree: Objects/procimg/<instance>/Devices/<device>/<slot>.<subslot>.
+        objects = client.nodes.objects
+        procimg = await objects.get_child([f"{tns}:procimg"])
+        top = await procimg.get_child([f"{tns}:{INSTANCE}"])
+        devices = await top.get_child([f"{tns}:Devices"])
+        names = sorted([(await d.read_browse_name()).Name for d in await devices.get_children()])
+        check(names == ["counter", "dio", "echo"], f"the devices browsed: {names}")
+        for device, length in [("echo", 16), ("counter", 4), ("dio", 2)]:
+            inputs = await devices.get_child([f"{tns}:{device}", f"{tns}:1.1", f"{tns}:Inputs"])
+            dv = await inputs.read_data_value(raise_on_bad_status=False)
+            check(len(dv.Value.Value) == length, f"{device}'s inputs: {dv.Value}")
+        state = await devices.get_child([f"{tns}:counter", f"{tns}:State"])
+        check(await state.read_value() == "running", "the counter device's state")
+        status_mode = await top.get_child([f"{tns}:Status", f"{tns}:Mode"])
+        check(await status_mode.read_value() == "OPERATE", "the server's mode")
+
+        # A subscription sees the counter count.
+        seen = []
+
+        class Handler:
+            def datachange_notification(self, node, val, data):
+                seen.append(val)
+
+        sub = await client.create_subscription(20, Handler())
+        params = ua.MonitoringParameters()
+        params.SamplingInterval = 10
+        params.QueueSize = 10
+        params.Filter = ua.DataChangeFilter(Trigger=ua.DataChangeTrigger.StatusValue)
+        params.ClientHandle = 1
+        req = ua.MonitoredItemCreateRequest()
+        req.ItemToMonitor = ua.ReadValueId(NodeId=item("PNIO:[CTRL1]ED16"), AttributeId=ua.AttributeIds.Value)
+        req.MonitoringMode = ua.MonitoringMode.Reporting
+        req.RequestedParameters = params
+        results = await sub.create_monitored_items([req])
+        check(results[0] == 1 or isinstance(results[0], int), f"monitored item created: {results}")
+        for _ in range(200):
+            if len(seen) >= 5:
+                break
+            await asyncio.sleep(0.05)
+        check(len(seen) >= 5, f"5 notifications of the counter within 10 s: {seen}")
+        check(all(a < b for a, b in zip(seen, seen[1:])), f"the counter counts up: {seen}")
+        await sub.delete()
+
+        # An anonymous session does not write.
+        try:
+            await client.get_node(item("PNIO:[CTRL1]AB0")).write_value(ua.Variant(1, ua.VariantType.Byte))
+            check(False, "an anonymous write of AB0 was taken")
+        except ua.UaStatusCodeError as e:
+            print(f"anonymous write refused: {e}", flush=True)
+
+
+async def secure():
+    key, cert = WORK / "client-key.pem", WORK / "client-cert.der"
+    await setup_self_signed_certificate(
+        key, cert, "urn:procimg:test:asyncua", "localhost",
+        [ExtendedKeyUsageOID.CLIENT_AUTH], {"commonName": "procimg-test"},
+    )
+
+    async def connect():
+        client = Client(URL)
+        client.application_uri = "urn:procimg:test:asyncua"
+        await client.set_security(
+            security_policies.SecurityPolicyBasic256Sha256, str(cert), str(key),
+            mode=ua.MessageSecurityMode.SignAndEncrypt,
+        )
+        return client
+
+    # An unknown certificate is refused and kept in rejected/ for the administrator.
+    client = await connect()
+    try:
+        async with client:
+            check(False, "an untrusted client certificate was accepted")
+    except Exception as e:  # the server closes the channel
+        print(f"untrusted certificate refused: {type(e).__name__}", flush=True)
+    rejected = list((PKI / "rejected").glob("*.der"))
+    check(len(rejected) == 1, f"the refused certificate is in rejected/: {rejected}")
+    shutil.move(str(rejected[0]), str(PKI / "trusted" / rejected[0].name))
+    client = await connect()
+    async with client:
+        ns = await client.get_namespace_index("urn:procimg:pnio")
+        dv = await read(client, ua.NodeId("PNIO:[CTRL1]EB10", ns))
+        check(dv.StatusCode.is_good(), f"EB10 over Basic256Sha256: {dv.StatusCode}")
+
+
+async def main():
+    await items_and_tree()
+    await secure()
+    print("asyncua: all checks held", flush=True)
+
+
+asyncio.run(main())
