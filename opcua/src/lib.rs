@@ -6,10 +6,15 @@
 //! - [`tree`]: the browsable address space under `Objects/procimg/<instance>`;
 //! - [`pnio_nodes`]: the PNIO item names of the SIMATIC NET OPC server ([`items`]) as string
 //!   NodeIds, resolved from the snapshot when read or monitored;
-//! - [`server`]: the server put together: endpoints, security, the PKI folder.
+//! - [`server`]: the server put together: endpoints, security, the PKI folder;
+//! - [`users`], [`auth`]: the users file and what a session may do;
+//! - [`writer`]: writes of outputs, claimed as `procimg io write` claims them.
 
+pub mod auth;
 pub mod items;
 pub mod pnio_nodes;
 pub mod server;
 pub mod snapshot;
 pub mod tree;
+pub mod users;
+pub mod writer;

@@ -2,10 +2,11 @@
 //! `procimg-opcua`: serves a procimgd instance's process image over OPC UA.
 
 use anyhow::{Context, anyhow};
-use clap::Parser;
+use clap::{Parser, Subcommand};
 use procimg_client::{AttachOptions, Client};
 use procimg_opcua::server::{Endpoint, Options, assemble};
 use procimg_opcua::snapshot::{self, Snapshot};
+use procimg_opcua::users::{self, Role, Users};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -15,6 +16,13 @@ use std::time::Duration;
 #[derive(Parser)]
 #[command(version)]
 struct Args {
+    #[command(subcommand)]
+    command: Option<Command>,
+    /// The users file (`procimg-opcua user add` writes it): users who open sessions with a
+    /// name and password, as readers or writers. Without it, sessions are anonymous and
+    /// read only.
+    #[arg(long, value_name = "FILE", alias = "writers")]
+    users: Option<PathBuf>,
     /// The procimgd instance to serve.
     #[arg(long, short, env = "PROCIMG_INSTANCE", default_value = "procimg")]
     instance: String,
@@ -33,6 +41,36 @@ struct Args {
     insecure: bool,
 }
 
+#[derive(Subcommand)]
+enum Command {
+    /// The users file.
+    User {
+        #[command(subcommand)]
+        op: UserOp,
+    },
+}
+
+#[derive(Subcommand)]
+enum UserOp {
+    /// Add user NAME to FILE (made if missing), or give them a new password or role; the
+    /// password is read from standard input (its first line) and stored as a salted hash.
+    Add {
+        /// The users file.
+        file: PathBuf,
+        /// The user name.
+        name: String,
+        /// reader: read and subscribe; writer: also write outputs.
+        #[arg(long, value_enum, default_value = "reader")]
+        role: RoleArg,
+    },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum RoleArg {
+    Reader,
+    Writer,
+}
+
 fn main() {
     tracing_subscriber::fmt()
         .with_env_filter(
@@ -41,14 +79,55 @@ fn main() {
         )
         .with_writer(std::io::stderr)
         .init();
-    if let Err(e) = run(Args::parse()) {
+    let args = Args::parse();
+    let result = match args.command {
+        Some(Command::User {
+            op:
+                UserOp::Add {
+                    ref file,
+                    ref name,
+                    role,
+                },
+        }) => add_user(file, name, role),
+        None => run(args),
+    };
+    if let Err(e) = result {
         eprintln!("procimg-opcua: {e:#}");
         std::process::exit(1);
     }
 }
 
+fn add_user(file: &std::path::Path, name: &str, role: RoleArg) -> anyhow::Result<()> {
+    let mut password = String::new();
+    std::io::stdin()
+        .read_line(&mut password)
+        .context("cannot read the password from standard input")?;
+    let password = password.trim_end_matches(['\r', '\n']);
+    let role = match role {
+        RoleArg::Reader => Role::Reader,
+        RoleArg::Writer => Role::Writer,
+    };
+    users::add(file, name, role, password)?;
+    eprintln!("user {name:?} ({role:?}) in {}", file.display());
+    Ok(())
+}
+
 fn run(args: Args) -> anyhow::Result<()> {
     let endpoint = Endpoint::parse(&args.endpoint).map_err(|e| anyhow!("--endpoint {e}"))?;
+    let users = Arc::new(match &args.users {
+        Some(path) => Users::load(path)?,
+        None => Users::default(),
+    });
+    let writing = Client::attach(
+        &args.instance,
+        AttachOptions::asynchronous("procimg-opcua-writer").slice_access(true),
+    )
+    .with_context(|| format!("cannot attach to procimgd instance {:?}", args.instance))?;
+    let (write_tx, write_rx) = std::sync::mpsc::channel();
+    let writer = std::thread::Builder::new()
+        .name("opcua-writes".into())
+        .spawn(move || procimg_opcua::writer::run(writing, write_rx))
+        .context("cannot start the writing thread")?;
     let mut client =
         Client::attach(&args.instance, AttachOptions::asynchronous("procimg-opcua"))
             .with_context(|| format!("cannot attach to procimgd instance {:?}", args.instance))?;
@@ -73,6 +152,7 @@ fn run(args: Args) -> anyhow::Result<()> {
         pki: args.pki,
         insecure: args.insecure,
         cycle,
+        users,
     };
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -95,7 +175,7 @@ fn run(args: Args) -> anyhow::Result<()> {
             tree_nodes,
             mut tree,
             items,
-        } = assemble(&options, layout.clone(), rx.clone()).map_err(|e| anyhow!("{e}"))?;
+        } = assemble(&options, layout.clone(), rx.clone(), write_tx).map_err(|e| anyhow!("{e}"))?;
         let publisher = tokio::spawn({
             let handle = handle.clone();
             async move {
@@ -141,6 +221,9 @@ fn run(args: Args) -> anyhow::Result<()> {
         served
     });
     stop.store(true, Ordering::Release);
+    // The runtime (and with it the last sender of writes) is gone: the writer ends.
+    drop(runtime);
+    let _ = writer.join();
     match feeder.join() {
         Ok(Err(e)) => return Err(e.into()),
         Ok(Ok(())) => {}

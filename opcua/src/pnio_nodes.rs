@@ -4,24 +4,27 @@
 //! monitored, from the newest snapshot (so an image of any size costs no nodes). A Read takes
 //! one snapshot for all its items: they are of one cycle.
 
+use crate::auth::Sessions;
 use crate::items::{Area, Format, Item, ItemKind, ProcessItem, Values};
 use crate::snapshot::{Snapshot, quality};
 use crate::tree::{status_code, timestamp};
+use crate::users::Users;
+use crate::writer::{Write, WriteRefusal};
 use async_trait::async_trait;
 use opcua::nodes::DefaultTypeTree;
 use opcua::server::diagnostics::NamespaceMetadata;
 use opcua::server::node_manager::{
     DynNodeManager, MonitoredItemRef, NodeManager, NodeManagerBuilder, ReadNode, RequestContext,
-    ServerContext,
+    ServerContext, WriteNode,
 };
 use opcua::server::{CreateMonitoredItem, MonitoredItemHandle, SubscriptionCache};
 use opcua::types::{
-    AttributeId, DataTypeId, DataValue, DateTime, Identifier, LocalizedText, NodeClass, NodeId,
-    QualifiedName, StatusCode, TimestampsToReturn, Variant,
+    AttributeId, DataTypeId, DataValue, DateTime, DiagnosticInfo, Identifier, LocalizedText,
+    NodeClass, NodeId, QualifiedName, StatusCode, TimestampsToReturn, UAString, Variant,
 };
 use procimg_client::Layout;
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, mpsc};
 use tokio::sync::watch;
 
 /// The namespace URI of the item names.
@@ -35,6 +38,10 @@ pub struct PnioItems {
     snapshots: watch::Receiver<Arc<Snapshot>>,
     /// Monitored items: their node and item, and the value last notified.
     monitored: Mutex<HashMap<MonitoredItemHandle, Monitored>>,
+    /// Who may write.
+    users: Arc<Users>,
+    /// Where writes go.
+    writer: Mutex<mpsc::Sender<Write>>,
 }
 
 struct Monitored {
@@ -51,6 +58,10 @@ pub struct PnioItemsBuilder {
     pub layout: Arc<Layout>,
     /// The snapshots.
     pub snapshots: watch::Receiver<Arc<Snapshot>>,
+    /// Who may write.
+    pub users: Arc<Users>,
+    /// Where writes go.
+    pub writer: mpsc::Sender<Write>,
 }
 
 impl NodeManagerBuilder for PnioItemsBuilder {
@@ -66,6 +77,8 @@ impl NodeManagerBuilder for PnioItemsBuilder {
             layout: self.layout,
             snapshots: self.snapshots,
             monitored: Mutex::new(HashMap::new()),
+            users: self.users,
+            writer: Mutex::new(self.writer),
         })
     }
 }
@@ -152,6 +165,91 @@ impl PnioItems {
         }
     }
 
+    /// One write: the outputs an item names, in a submodule the session holds (claimed
+    /// here if nobody does).
+    async fn write_one(
+        &self,
+        context: &RequestContext,
+        may_write: bool,
+        w: &opcua::server::node_manager::ParsedWriteValue,
+    ) -> Result<(), (StatusCode, Option<String>)> {
+        let item = self.item(&w.node_id).map_err(|s| (s, None))?;
+        if w.attribute_id != AttributeId::Value {
+            return Err((StatusCode::BadNotWritable, None));
+        }
+        if !may_write {
+            return Err((
+                StatusCode::BadUserAccessDenied,
+                Some("writes need a session of a user with the writer role".to_owned()),
+            ));
+        }
+        let ItemKind::Process(p) = item.kind else {
+            return Err((StatusCode::BadNotWritable, None));
+        };
+        if p.area != Area::Output {
+            return Err((
+                StatusCode::BadNotWritable,
+                Some("inputs are the devices' to write".to_owned()),
+            ));
+        }
+        let s = self
+            .submodule_of(&p)
+            .ok_or((StatusCode::BadNodeIdUnknown, None))?;
+        let value = w
+            .value
+            .value
+            .as_ref()
+            .ok_or((StatusCode::BadTypeMismatch, None))?;
+        let values = values_from(&p, value).ok_or((
+            StatusCode::BadTypeMismatch,
+            Some(format!(
+                "{item} takes {} {:?} value(s)",
+                p.values(),
+                p.format
+            )),
+        ))?;
+        // Bits keep their neighbours: the bytes start as they went out last.
+        let (first, len) = p.span();
+        let e = self.layout.submodules[s];
+        let at = (first - e.output_address) as usize;
+        let mut bytes = self
+            .snapshots
+            .borrow()
+            .outputs
+            .get(s)
+            .and_then(|b| b.get(at..at + len))
+            .map(<[u8]>::to_vec)
+            .unwrap_or_else(|| vec![0; len]);
+        p.encode(&values, &mut bytes)
+            .map_err(|e| (StatusCode::BadTypeMismatch, Some(e.to_string())))?;
+        let session = Arc::downgrade(&context.session);
+        let (reply, outcome) = tokio::sync::oneshot::channel();
+        let job = Write {
+            session: context.session_id,
+            alive: Box::new(move || session.upgrade().is_some_and(|s| s.read().is_activated())),
+            submodule: s,
+            address: first,
+            bytes,
+            reply,
+        };
+        self.writer
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .send(job)
+            .map_err(|_| (StatusCode::BadServerHalted, None))?;
+        match outcome.await {
+            Ok(Ok(())) => Ok(()),
+            Ok(Err(WriteRefusal::Held(holder))) => Err((
+                StatusCode::BadResourceUnavailable,
+                Some(format!("the outputs are held by {holder}")),
+            )),
+            Ok(Err(WriteRefusal::Failed(why))) => {
+                Err((StatusCode::BadCommunicationError, Some(why)))
+            }
+            Err(_) => Err((StatusCode::BadServerHalted, None)),
+        }
+    }
+
     /// An attribute of `item`'s variable.
     fn attribute(
         &self,
@@ -186,12 +284,48 @@ impl PnioItems {
             AttributeId::DisplayName => Variant::from(LocalizedText::new("", &name)),
             AttributeId::DataType => Variant::from(NodeId::from(data_type)),
             AttributeId::ValueRank => Variant::from(if array { 1i32 } else { -1i32 }),
-            AttributeId::AccessLevel | AttributeId::UserAccessLevel => Variant::from(1u8),
+            AttributeId::AccessLevel | AttributeId::UserAccessLevel => {
+                // CurrentRead, and CurrentWrite for outputs.
+                let output = matches!(item.kind, ItemKind::Process(p) if p.area == Area::Output);
+                Variant::from(if output { 3u8 } else { 1u8 })
+            }
             AttributeId::MinimumSamplingInterval => Variant::from(0.0f64),
             AttributeId::Historizing => Variant::from(false),
             _ => return Err(StatusCode::BadAttributeIdInvalid),
         })
     }
+}
+
+/// The values a written Variant holds for `p`: a scalar of its format, or with `,count` an
+/// array of as many.
+fn values_from(p: &ProcessItem, v: &Variant) -> Option<Values> {
+    let scalars: Vec<&Variant> = match (v, p.count) {
+        (Variant::Array(a), Some(_)) => a.values.iter().collect(),
+        (Variant::Array(_), None) | (_, Some(_)) => return None,
+        (scalar, None) => vec![scalar],
+    };
+    macro_rules! all {
+        ($variant:ident, $values:ident) => {
+            scalars
+                .iter()
+                .map(|x| match x {
+                    Variant::$variant(y) => Some(*y),
+                    _ => None,
+                })
+                .collect::<Option<Vec<_>>>()
+                .map(Values::$values)
+        };
+    }
+    let values = match p.format {
+        Format::Bit => all!(Boolean, Bits),
+        Format::Byte => all!(Byte, Bytes),
+        Format::Word => all!(UInt16, Words),
+        Format::Int => all!(Int16, Ints),
+        Format::DWord => all!(UInt32, DWords),
+        Format::DInt => all!(Int32, DInts),
+        Format::Real => all!(Float, Reals),
+    }?;
+    (values.len() == p.values()).then_some(values)
 }
 
 /// `values` as a Variant: a scalar, or an array with `,count`.
@@ -275,6 +409,30 @@ impl NodeManager for PnioItems {
             match self.value(&item, &snap) {
                 Ok(v) => node.set_result(data_value(v, time)),
                 Err(status) => node.set_error(status),
+            }
+        }
+        Ok(())
+    }
+
+    async fn write(
+        &self,
+        context: &RequestContext,
+        nodes: &mut [&mut WriteNode],
+    ) -> Result<(), StatusCode> {
+        let may_write = Sessions::may_write(&self.users, &context.token);
+        for node in nodes {
+            let outcome = self.write_one(context, may_write, node.value()).await;
+            match outcome {
+                Ok(()) => node.set_status(StatusCode::Good),
+                Err((status, why)) => {
+                    node.set_status(status);
+                    if let Some(why) = why {
+                        node.set_diagnostic_info(DiagnosticInfo {
+                            additional_info: Some(UAString::from(why)),
+                            ..Default::default()
+                        });
+                    }
+                }
             }
         }
         Ok(())

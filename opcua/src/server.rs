@@ -3,9 +3,12 @@
 //! certificate made at first start, the two node managers (the browsable tree and the PNIO
 //! item names), and limits that let subscriptions sample at the image's pace.
 
+use crate::auth::Sessions;
 use crate::pnio_nodes::{PnioItems, PnioItemsBuilder};
 use crate::snapshot::Snapshot;
 use crate::tree::Tree;
+use crate::users::Users;
+use crate::writer::Write;
 use opcua::crypto::SecurityPolicy;
 use opcua::server::diagnostics::NamespaceMetadata;
 use opcua::server::node_manager::memory::{SimpleNodeManager, simple_node_manager};
@@ -13,7 +16,7 @@ use opcua::server::{ANONYMOUS_USER_TOKEN_ID, Server, ServerBuilder, ServerEndpoi
 use opcua::types::MessageSecurityMode;
 use procimg_client::Layout;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, mpsc};
 use std::time::Duration;
 use tokio::sync::watch;
 
@@ -75,6 +78,8 @@ pub struct Options {
     pub insecure: bool,
     /// The image's cycle time: the shortest sampling interval.
     pub cycle: Duration,
+    /// The users (none: anonymous sessions only, which read).
+    pub users: Arc<Users>,
 }
 
 /// The server, its handle, and what publishes the image into it.
@@ -115,6 +120,7 @@ pub fn assemble(
     o: &Options,
     layout: Arc<Layout>,
     snapshots: watch::Receiver<Arc<Snapshot>>,
+    writer: mpsc::Sender<Write>,
 ) -> Result<Assembled, String> {
     let users = [ANONYMOUS_USER_TOKEN_ID.to_owned()];
     let mut builder = ServerBuilder::new()
@@ -126,6 +132,7 @@ pub fn assemble(
         .discovery_urls(vec![o.endpoint.url()])
         .pki_dir(o.pki.clone())
         .create_sample_keypair(true)
+        .with_authenticator(Arc::new(Sessions::new(o.users.clone())))
         .add_endpoint(
             "basic256sha256-sign",
             ServerEndpoint::new(
@@ -176,6 +183,8 @@ pub fn assemble(
             controller: o.controller,
             layout: layout.clone(),
             snapshots,
+            users: o.users.clone(),
+            writer,
         });
     if o.insecure {
         builder = builder.add_endpoint("none", ServerEndpoint::new_none("/", &users));

@@ -4,7 +4,10 @@
 //! item names by NodeId with their qualities, one Read of one cycle, unknown items refused,
 //! the browsable tree, a subscription as the counter device counts, an anonymous write
 //! refused, and a secure channel (Basic256Sha256, SignAndEncrypt) once the client's
-//! certificate, first refused and kept in the PKI folder's rejected/, is moved to trusted/.
+//! certificate, first refused and kept in the PKI folder's rejected/, is moved to trusted/;
+//! over it, users of the users file (`procimg-opcua user add`): a writer's outputs come back
+//! through the echo device, held against a second writer until the first session ends; a
+//! reader's write and a write of the wrong type are refused.
 //!
 //! asyncua lives in a virtual environment: `ASYNCUA_PY` names its interpreter, by default
 //! `target/asyncua-venv/bin/python`, which CI makes with `python3 -m venv
@@ -58,6 +61,32 @@ fn an_independent_client_reads_browses_subscribes_and_connects_securely() {
     let pki = dir.path().join("pki");
     let port = free_port();
     let url = format!("opc.tcp://127.0.0.1:{port}");
+    let users = dir.path().join("users.toml");
+    for (name, role, password) in [
+        ("operator", "writer", "op-pw"),
+        ("second", "writer", "second-pw"),
+        ("viewer", "reader", "viewer-pw"),
+    ] {
+        let mut add = Command::new(env!("CARGO_BIN_EXE_procimg-opcua"))
+            .args(["user", "add"])
+            .arg(&users)
+            .args([name, "--role", role])
+            .stdin(Stdio::piped())
+            .spawn()
+            .expect("procimg-opcua user add");
+        use std::io::Write as _;
+        let mut stdin = add.stdin.take().expect("its standard input");
+        writeln!(stdin, "{password}").expect("the password");
+        drop(stdin);
+        assert!(
+            add.wait().expect("user add ends").success(),
+            "user add {name}"
+        );
+    }
+    assert!(
+        !std::fs::read_to_string(&users).unwrap().contains("op-pw"),
+        "passwords are stored hashed"
+    );
     let log_path = dir.path().join("procimg-opcua.log");
     let log = std::fs::File::create(&log_path).expect("the server's log file");
     let server = OpcUa(
@@ -71,6 +100,8 @@ fn an_independent_client_reads_browses_subscribes_and_connects_securely() {
             ])
             .arg("--pki")
             .arg(&pki)
+            .arg("--users")
+            .arg(&users)
             .stdout(Stdio::null())
             .stderr(log)
             .spawn()

@@ -3,11 +3,16 @@
 
     python asyncua_demo.py URL INSTANCE PKI_DIR WORK_DIR
 
+The server's users file holds "operator" and "second" (writers, passwords "op-pw" and
+"second-pw") and "viewer" (a reader, "viewer-pw").
+
 Checks, each failure naming what a user would see: the PNIO item names of the migration
 guide by NodeId with their qualities, items of one Read of one cycle, unknown items refused,
 the browsable tree, a subscription's notifications as the counter device counts, an anonymous
 write refused, and a secure channel (Basic256Sha256, SignAndEncrypt) once the client's
-certificate is trusted. Prints "asyncua: all checks held" at the end.
+certificate is trusted, over which a writer's session writes the echo device's outputs and
+reads them back as its inputs, holding them against another writer's session until it ends,
+a reader's write is refused and a write of the wrong type too. Prints "asyncua: all checks held" at the end.
 """
 
 import asyncio
@@ -127,9 +132,12 @@ async def secure():
         [ExtendedKeyUsageOID.CLIENT_AUTH], {"commonName": "procimg-test"},
     )
 
-    async def connect():
+    async def connect(user=None, password=None):
         client = Client(URL)
         client.application_uri = "urn:procimg:test:asyncua"
+        if user:
+            client.set_user(user)
+            client.set_password(password)
         await client.set_security(
             security_policies.SecurityPolicyBasic256Sha256, str(cert), str(key),
             mode=ua.MessageSecurityMode.SignAndEncrypt,
@@ -151,6 +159,74 @@ async def secure():
         ns = await client.get_namespace_index("urn:procimg:pnio")
         dv = await read(client, ua.NodeId("PNIO:[CTRL1]EB10", ns))
         check(dv.StatusCode.is_good(), f"EB10 over Basic256Sha256: {dv.StatusCode}")
+
+    # A wrong password is no session.
+    try:
+        async with await connect("operator", "wrong"):
+            check(False, "a wrong password opened a session")
+    except ua.UaStatusCodeError as e:
+        print(f"wrong password refused: {e}", flush=True)
+
+    def item(ns, name):
+        return ua.NodeId(name, ns)
+
+    pattern = list(range(0xA0, 0xB0))
+    operator = await connect("operator", "op-pw")
+    second = await connect("second", "second-pw")
+    viewer = await connect("viewer", "viewer-pw")
+    await operator.connect()
+    await second.connect()
+    await viewer.connect()
+    try:
+        ns = await operator.get_namespace_index("urn:procimg:pnio")
+        # The writer writes the echo device's 16 outputs; they come back as its inputs.
+        await operator.get_node(item(ns, "PNIO:[CTRL1]AB0,16")).write_value(
+            ua.Variant(pattern, ua.VariantType.Byte)
+        )
+        echoed = None
+        for _ in range(200):
+            echoed = await operator.get_node(item(ns, "PNIO:[CTRL1]EB0,16")).read_value()
+            if list(echoed) == pattern:
+                break
+            await asyncio.sleep(0.05)
+        check(list(echoed) == pattern, f"the echo device's inputs after the write: {echoed}")
+        aw0 = await read(operator, item(ns, "PNIO:[CTRL1]AW0"))
+        check(aw0.StatusCode.is_good() and aw0.Value.Value == 0xA0A1, f"AW0 as sent: {aw0}")
+        # The wrong type is refused, the outputs untouched.
+        try:
+            await operator.get_node(item(ns, "PNIO:[CTRL1]AW0")).write_value(ua.Variant(1, ua.VariantType.Byte))
+            check(False, "a Byte written to a word was taken")
+        except ua.UaStatusCodeError as e:
+            check("BadTypeMismatch" in type(e).__name__, f"a Byte written to AW0: {e!r}")
+        # Another writer's session finds the outputs held.
+        try:
+            await second.get_node(item(ns, "PNIO:[CTRL1]AB0")).write_value(ua.Variant(1, ua.VariantType.Byte))
+            check(False, "a second session wrote outputs the first holds")
+        except ua.UaStatusCodeError as e:
+            check("BadResourceUnavailable" in type(e).__name__, f"the second writer: {e!r}")
+        # A reader does not write.
+        try:
+            await viewer.get_node(item(ns, "PNIO:[CTRL1]AB16")).write_value(ua.Variant(1, ua.VariantType.Byte))
+            check(False, "a reader's write was taken")
+        except ua.UaStatusCodeError as e:
+            check("BadUserAccessDenied" in type(e).__name__, f"the reader's write: {e!r}")
+        # Once the first session ends, the second writes.
+        await operator.disconnect()
+        written = False
+        for _ in range(100):
+            try:
+                await second.get_node(item(ns, "PNIO:[CTRL1]AB0")).write_value(ua.Variant(7, ua.VariantType.Byte))
+                written = True
+                break
+            except ua.UaStatusCodeError:
+                await asyncio.sleep(0.1)
+        check(written, "the second writer wrote once the first session had ended")
+    finally:
+        for c in (second, viewer):
+            try:
+                await c.disconnect()
+            except Exception:
+                pass
 
 
 async def main():
