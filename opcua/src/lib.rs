@@ -8,11 +8,13 @@
 //!   NodeIds, resolved from the snapshot when read or monitored;
 //! - [`server`]: the server put together: endpoints, security, the PKI folder;
 //! - [`users`], [`auth`]: the users file and what a session may do;
-//! - [`writer`]: writes of outputs, claimed as `procimg io write` claims them.
+//! - [`writer`]: writes of outputs, claimed as `procimg io write` claims them;
+//! - [`records`]: record jobs of the record items.
 
 pub mod auth;
 pub mod items;
 pub mod pnio_nodes;
+pub mod records;
 pub mod server;
 pub mod snapshot;
 pub mod tree;

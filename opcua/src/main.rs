@@ -128,6 +128,14 @@ fn run(args: Args) -> anyhow::Result<()> {
         .name("opcua-writes".into())
         .spawn(move || procimg_opcua::writer::run(writing, write_rx))
         .context("cannot start the writing thread")?;
+    let (record_tx, record_rx) = std::sync::mpsc::channel();
+    let recorder = {
+        let instance = args.instance.clone();
+        std::thread::Builder::new()
+            .name("opcua-records".into())
+            .spawn(move || procimg_opcua::records::run(&instance, record_rx))
+            .context("cannot start the record thread")?
+    };
     let mut client =
         Client::attach(&args.instance, AttachOptions::asynchronous("procimg-opcua"))
             .with_context(|| format!("cannot attach to procimgd instance {:?}", args.instance))?;
@@ -175,7 +183,8 @@ fn run(args: Args) -> anyhow::Result<()> {
             tree_nodes,
             mut tree,
             items,
-        } = assemble(&options, layout.clone(), rx.clone(), write_tx).map_err(|e| anyhow!("{e}"))?;
+        } = assemble(&options, layout.clone(), rx.clone(), write_tx, record_tx)
+            .map_err(|e| anyhow!("{e}"))?;
         let publisher = tokio::spawn({
             let handle = handle.clone();
             async move {
@@ -224,6 +233,7 @@ fn run(args: Args) -> anyhow::Result<()> {
     // The runtime (and with it the last sender of writes) is gone: the writer ends.
     drop(runtime);
     let _ = writer.join();
+    let _ = recorder.join();
     match feeder.join() {
         Ok(Err(e)) => return Err(e.into()),
         Ok(Ok(())) => {}

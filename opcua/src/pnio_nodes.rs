@@ -5,7 +5,8 @@
 //! one snapshot for all its items: they are of one cycle.
 
 use crate::auth::Sessions;
-use crate::items::{Area, Format, Item, ItemKind, ProcessItem, Values};
+use crate::items::{Area, Format, Item, ItemKind, MAX_ITEM_BYTES, ProcessItem, RecordItem, Values};
+use crate::records::{self, Job};
 use crate::snapshot::{Snapshot, quality};
 use crate::tree::{status_code, timestamp};
 use crate::users::Users;
@@ -42,6 +43,8 @@ pub struct PnioItems {
     users: Arc<Users>,
     /// Where writes go.
     writer: Mutex<mpsc::Sender<Write>>,
+    /// Where record jobs go.
+    records: Mutex<mpsc::Sender<Job>>,
 }
 
 struct Monitored {
@@ -62,6 +65,8 @@ pub struct PnioItemsBuilder {
     pub users: Arc<Users>,
     /// Where writes go.
     pub writer: mpsc::Sender<Write>,
+    /// Where record jobs go.
+    pub records: mpsc::Sender<Job>,
 }
 
 impl NodeManagerBuilder for PnioItemsBuilder {
@@ -79,6 +84,7 @@ impl NodeManagerBuilder for PnioItemsBuilder {
             monitored: Mutex::new(HashMap::new()),
             users: self.users,
             writer: Mutex::new(self.writer),
+            records: Mutex::new(self.records),
         })
     }
 }
@@ -114,6 +120,58 @@ impl PnioItems {
         })
     }
 
+    /// The submodule a record item names: the one whose inputs (or, without data, whose
+    /// diagnostic address) hold its address, or with `ADS` whose outputs do.
+    fn record_submodule(&self, r: &RecordItem) -> Option<usize> {
+        self.layout.submodules.iter().position(|e| {
+            let (at, n) = match r.area {
+                Area::Input if e.input_length == 0 && e.output_length == 0 => (e.input_address, 1),
+                Area::Input => (e.input_address, u32::from(e.input_length)),
+                Area::Output => (e.output_address, u32::from(e.output_length)),
+            };
+            at != u32::MAX
+                && n > 0
+                && r.address >= at
+                && u64::from(r.address) < u64::from(at) + u64::from(n)
+        })
+    }
+
+    /// Sends a record job and waits for its answer.
+    async fn record_job<T>(
+        &self,
+        job: impl FnOnce(tokio::sync::oneshot::Sender<Result<T, String>>) -> Job,
+    ) -> Result<T, (StatusCode, Option<String>)> {
+        let (reply, answer) = tokio::sync::oneshot::channel();
+        self.records
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .send(job(reply))
+            .map_err(|_| (StatusCode::BadServerHalted, None))?;
+        match answer.await {
+            Ok(Ok(v)) => Ok(v),
+            Ok(Err(why)) => Err((StatusCode::BadCommunicationError, Some(why))),
+            Err(_) => Err((StatusCode::BadServerHalted, None)),
+        }
+    }
+
+    /// Reads the record a record item names.
+    async fn read_record(&self, r: &RecordItem) -> Result<Variant, (StatusCode, Option<String>)> {
+        let s = self
+            .record_submodule(r)
+            .ok_or((StatusCode::BadNodeIdUnknown, None))?;
+        let target = records::target(&self.layout, s, r.index)
+            .ok_or((StatusCode::BadNodeIdUnknown, None))?;
+        let max_len = u32::from(r.length.unwrap_or(MAX_ITEM_BYTES as u16));
+        let data = self
+            .record_job(|reply| Job::Read {
+                target,
+                max_len,
+                reply,
+            })
+            .await?;
+        Ok(Variant::from(opcua::types::ByteString::from(data)))
+    }
+
     /// The value and quality of `item` in `snap`.
     fn value(&self, item: &Item, snap: &Snapshot) -> Result<(Variant, StatusCode), StatusCode> {
         match item.kind {
@@ -134,8 +192,8 @@ impl PnioItems {
                 let q = quality(snap, &self.layout, s, p.area == Area::Output);
                 Ok((variant(&values, p.count.is_some()), status_code(q)))
             }
-            // Records are read through the tree's method for now.
-            ItemKind::Record(_) => Err(StatusCode::BadNotReadable),
+            // Read as jobs (see `read_record`), never from a snapshot.
+            ItemKind::Record(_) => Err(StatusCode::BadNotSupported),
         }
     }
 
@@ -183,8 +241,30 @@ impl PnioItems {
                 Some("writes need a session of a user with the writer role".to_owned()),
             ));
         }
-        let ItemKind::Process(p) = item.kind else {
-            return Err((StatusCode::BadNotWritable, None));
+        let p = match item.kind {
+            ItemKind::Process(p) => p,
+            ItemKind::Record(r) => {
+                let s = self
+                    .record_submodule(&r)
+                    .ok_or((StatusCode::BadNodeIdUnknown, None))?;
+                let target = records::target(&self.layout, s, r.index)
+                    .ok_or((StatusCode::BadNodeIdUnknown, None))?;
+                let Some(Variant::ByteString(data)) = w.value.value.as_ref() else {
+                    return Err((
+                        StatusCode::BadTypeMismatch,
+                        Some(format!("{item} takes a ByteString")),
+                    ));
+                };
+                let data = data.value.clone().unwrap_or_default();
+                return self
+                    .record_job(|reply| Job::Write {
+                        target,
+                        data,
+                        reply,
+                    })
+                    .await;
+            }
+            ItemKind::Mode => return Err((StatusCode::BadNotWritable, None)),
         };
         if p.area != Area::Output {
             return Err((
@@ -285,8 +365,9 @@ impl PnioItems {
             AttributeId::DataType => Variant::from(NodeId::from(data_type)),
             AttributeId::ValueRank => Variant::from(if array { 1i32 } else { -1i32 }),
             AttributeId::AccessLevel | AttributeId::UserAccessLevel => {
-                // CurrentRead, and CurrentWrite for outputs.
-                let output = matches!(item.kind, ItemKind::Process(p) if p.area == Area::Output);
+                // CurrentRead, and CurrentWrite for outputs and records.
+                let output = matches!(item.kind, ItemKind::Process(p) if p.area == Area::Output)
+                    || matches!(item.kind, ItemKind::Record(_));
                 Variant::from(if output { 3u8 } else { 1u8 })
             }
             AttributeId::MinimumSamplingInterval => Variant::from(0.0f64),
@@ -406,6 +487,21 @@ impl NodeManager for PnioItems {
                 }
                 continue;
             }
+            if let ItemKind::Record(r) = item.kind {
+                match self.read_record(&r).await {
+                    Ok(v) => node.set_result(DataValue::new_now(v)),
+                    Err((status, why)) => {
+                        node.set_error(status);
+                        if let Some(why) = why {
+                            node.set_diagnostic_info(DiagnosticInfo {
+                                additional_info: Some(UAString::from(why)),
+                                ..Default::default()
+                            });
+                        }
+                    }
+                }
+                continue;
+            }
             match self.value(&item, &snap) {
                 Ok(v) => node.set_result(data_value(v, time)),
                 Err(status) => node.set_error(status),
@@ -449,6 +545,14 @@ impl NodeManager for PnioItems {
         for m in items {
             let id = m.item_to_monitor().node_id.clone();
             let item = match self.item(&id) {
+                Ok(Item {
+                    kind: ItemKind::Record(_),
+                    ..
+                }) => {
+                    // A record is a job on the device, not a value of the image.
+                    m.set_status(StatusCode::BadNotSupported);
+                    continue;
+                }
                 Ok(i) if m.item_to_monitor().attribute_id == AttributeId::Value => i,
                 Ok(_) => {
                     m.set_status(StatusCode::BadAttributeIdInvalid);

@@ -5,6 +5,7 @@
 
 use crate::auth::Sessions;
 use crate::pnio_nodes::{PnioItems, PnioItemsBuilder};
+use crate::records::Job;
 use crate::snapshot::Snapshot;
 use crate::tree::Tree;
 use crate::users::Users;
@@ -121,6 +122,7 @@ pub fn assemble(
     layout: Arc<Layout>,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     writer: mpsc::Sender<Write>,
+    records: mpsc::Sender<Job>,
 ) -> Result<Assembled, String> {
     let users = [ANONYMOUS_USER_TOKEN_ID.to_owned()];
     let mut builder = ServerBuilder::new()
@@ -185,6 +187,7 @@ pub fn assemble(
             snapshots,
             users: o.users.clone(),
             writer,
+            records,
         });
     if o.insecure {
         builder = builder.add_endpoint("none", ServerEndpoint::new_none("/", &users));

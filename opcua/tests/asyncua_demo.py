@@ -69,8 +69,17 @@ async def items_and_tree():
         bit = await read(client, item("PNIO:[CTRL1]I20.0"))
         check(isinstance(bit.Value.Value, bool), f"I20.0 is a boolean: {bit.Value}")
 
+        # Records by logical address: the migration guide's diagnosis record (none pending),
+        # and I&M0 of the echo device's access point (its diagnostic address, I 22).
+        diag = await read(client, item("PNIO:[CTRL1]EDS10,DATA61450,10"))
+        check(diag.StatusCode.is_good(), f"EDS10,DATA61450,10: {diag.StatusCode}")
+        im0 = await read(client, item("PNIO:[CTRL1]EDS22,DATA45040,64"))
+        check(im0.StatusCode.is_good(), f"I&M0 of the echo device: {im0.StatusCode}")
+        data = bytes(im0.Value.Value)
+        check(data[:2] == b"\x00\x20" and data[6:8] == b"\x04\x93", f"I&M0 block, vendor 0x0493: {data.hex()}")
+
         # Items that name nothing are unknown.
-        for name in ["PNIO:[CTRL2]EB0", "PNIO:[CTRL1]EB9999", "PNIO:[CTRL1]MB0"]:
+        for name in ["PNIO:[CTRL2]EB0", "PNIO:[CTRL1]EB9999", "PNIO:[CTRL1]MB0", "PNIO:[CTRL1]EDS999,DATA1,4"]:
             dv = await read(client, item(name))
             check(dv.StatusCode.value == ua.StatusCodes.BadNodeIdUnknown, f"{name}: {dv.StatusCode}")
 

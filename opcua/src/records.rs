@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Record jobs of OPC UA sessions (`EDS<addr>,DATA<index>,<len>` items): read or written
+//! through procimgd's client services, by the submodule a logical address names, on a thread
+//! of their own (a job waits for the device's answer).
+
+use procimg_client::{Layout, RecordError, RecordTarget, ServiceOptions, Services};
+use std::sync::mpsc;
+use std::time::Duration;
+use tokio::sync::oneshot;
+
+/// How long a device may take to answer a record job.
+pub const RECORD_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// A record job.
+pub enum Job {
+    /// Read up to `max_len` bytes.
+    Read {
+        /// The record.
+        target: RecordTarget,
+        /// The most bytes wanted.
+        max_len: u32,
+        /// The data, or why not.
+        reply: oneshot::Sender<Result<Vec<u8>, String>>,
+    },
+    /// Write `data`.
+    Write {
+        /// The record.
+        target: RecordTarget,
+        /// The record's data.
+        data: Vec<u8>,
+        /// Done, or why not.
+        reply: oneshot::Sender<Result<(), String>>,
+    },
+}
+
+/// The record of submodule `submodule` of `layout` with index `index`.
+pub fn target(layout: &Layout, submodule: usize, index: u16) -> Option<RecordTarget> {
+    let e = layout.submodules.get(submodule)?;
+    Some(RecordTarget {
+        device: u32::from(e.device),
+        api: e.api,
+        slot: e.slot,
+        subslot: e.subslot,
+        index,
+    })
+}
+
+/// Runs record jobs for `instance` until `jobs` ends.
+pub fn run(instance: &str, jobs: mpsc::Receiver<Job>) {
+    let mut services: Option<Services> = None;
+    for job in jobs {
+        if services.is_none() {
+            services = Services::open(instance, ServiceOptions::new("procimg-opcua records"))
+                .map_err(|e| tracing::warn!("no record services of instance {instance:?}: {e}"))
+                .ok();
+        }
+        let Some(s) = services.as_mut() else {
+            let why = format!("procimgd instance {instance:?} takes no record jobs now");
+            match job {
+                Job::Read { reply, .. } => drop(reply.send(Err(why))),
+                Job::Write { reply, .. } => drop(reply.send(Err(why))),
+            }
+            continue;
+        };
+        let words = |e: RecordError| e.to_string();
+        match job {
+            Job::Read {
+                target,
+                max_len,
+                reply,
+            } => {
+                let _ = reply.send(
+                    s.read_record(target, max_len, RECORD_TIMEOUT)
+                        .map_err(words),
+                );
+            }
+            Job::Write {
+                target,
+                data,
+                reply,
+            } => {
+                let _ = reply.send(s.write_record(target, &data, RECORD_TIMEOUT).map_err(words));
+            }
+        }
+    }
+}
