@@ -72,6 +72,17 @@ impl AuthManager for Sessions {
         }
     }
 
+    fn is_user_executable(&self, token: &UserToken, method: &NodeId) -> bool {
+        let name = match &method.identifier {
+            opcua::types::Identifier::String(s) => s.as_ref().to_owned(),
+            _ => String::new(),
+        };
+        let writers_only = crate::methods::WRITER_METHODS
+            .iter()
+            .any(|m| name.ends_with(m));
+        !writers_only || Sessions::may_write(&self.users, token)
+    }
+
     fn user_token_policies(&self, endpoint: &ServerEndpoint) -> Vec<UserTokenPolicy> {
         let mut policies = vec![UserTokenPolicy {
             policy_id: UAString::from("anonymous"),

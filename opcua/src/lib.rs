@@ -9,10 +9,13 @@
 //! - [`server`]: the server put together: endpoints, security, the PKI folder;
 //! - [`users`], [`auth`]: the users file and what a session may do;
 //! - [`writer`]: writes of outputs, claimed as `procimg io write` claims them;
-//! - [`records`]: record jobs of the record items.
+//! - [`records`]: record jobs of the record items and the methods ([`methods`]);
+//! - [`events`]: procimgd's notifications as OPC UA events.
 
 pub mod auth;
+pub mod events;
 pub mod items;
+pub mod methods;
 pub mod pnio_nodes;
 pub mod records;
 pub mod server;

@@ -183,8 +183,22 @@ fn run(args: Args) -> anyhow::Result<()> {
             tree_nodes,
             mut tree,
             items,
+            tree_namespace,
         } = assemble(&options, layout.clone(), rx.clone(), write_tx, record_tx)
             .map_err(|e| anyhow!("{e}"))?;
+        let events = {
+            let instance = options.instance.clone();
+            let handle = handle.clone();
+            let stop = stop.clone();
+            std::thread::Builder::new()
+                .name("opcua-events".into())
+                .spawn(move || {
+                    procimg_opcua::events::run(&instance, tree_namespace, handle, || {
+                        stop.load(Ordering::Acquire)
+                    })
+                })
+                .context("cannot start the event thread")?
+        };
         let publisher = tokio::spawn({
             let handle = handle.clone();
             async move {
@@ -227,6 +241,8 @@ fn run(args: Args) -> anyhow::Result<()> {
         );
         let served = server.run_with(listener).await.map_err(|e| anyhow!("{e}"));
         publisher.abort();
+        stop.store(true, Ordering::Release);
+        let _ = events.join();
         served
     });
     stop.store(true, Ordering::Release);

@@ -120,20 +120,9 @@ impl PnioItems {
         })
     }
 
-    /// The submodule a record item names: the one whose inputs (or, without data, whose
-    /// diagnostic address) hold its address, or with `ADS` whose outputs do.
+    /// The submodule a record item names.
     fn record_submodule(&self, r: &RecordItem) -> Option<usize> {
-        self.layout.submodules.iter().position(|e| {
-            let (at, n) = match r.area {
-                Area::Input if e.input_length == 0 && e.output_length == 0 => (e.input_address, 1),
-                Area::Input => (e.input_address, u32::from(e.input_length)),
-                Area::Output => (e.output_address, u32::from(e.output_length)),
-            };
-            at != u32::MAX
-                && n > 0
-                && r.address >= at
-                && u64::from(r.address) < u64::from(at) + u64::from(n)
-        })
+        records::submodule_at(&self.layout, r.area == Area::Output, r.address)
     }
 
     /// Sends a record job and waits for its answer.

@@ -45,6 +45,44 @@ pub fn target(layout: &Layout, submodule: usize, index: u16) -> Option<RecordTar
     })
 }
 
+/// The submodule a record's logical address names: the one whose inputs (or, without data,
+/// whose diagnostic address) hold it, or with `output` whose outputs do.
+pub fn submodule_at(layout: &Layout, output: bool, address: u32) -> Option<usize> {
+    layout.submodules.iter().position(|e| {
+        let (at, n) = if output {
+            (e.output_address, u32::from(e.output_length))
+        } else if e.input_length == 0 && e.output_length == 0 {
+            (e.input_address, 1)
+        } else {
+            (e.input_address, u32::from(e.input_length))
+        };
+        at != u32::MAX
+            && n > 0
+            && address >= at
+            && u64::from(address) < u64::from(at) + u64::from(n)
+    })
+}
+
+/// Sends `job` to the record thread behind `jobs` and waits, blocking, for its answer: for
+/// callers outside async code (a method's callback).
+pub fn blocking<T>(
+    jobs: &std::sync::Mutex<mpsc::Sender<Job>>,
+    job: impl FnOnce(oneshot::Sender<Result<T, String>>) -> Job,
+) -> Result<T, String> {
+    let (reply, answer) = oneshot::channel();
+    jobs.lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .send(job(reply))
+        .map_err(|_| "the record thread has ended".to_owned())?;
+    let wait = || answer.blocking_recv();
+    // Inside the server's runtime the wait must not hold up its other tasks.
+    let got = match tokio::runtime::Handle::try_current() {
+        Ok(_) => tokio::task::block_in_place(wait),
+        Err(_) => wait(),
+    };
+    got.map_err(|_| "the record thread has ended".to_owned())?
+}
+
 /// Runs record jobs for `instance` until `jobs` ends.
 pub fn run(instance: &str, jobs: mpsc::Receiver<Job>) {
     let mut services: Option<Services> = None;

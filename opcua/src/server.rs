@@ -95,6 +95,8 @@ pub struct Assembled {
     pub tree: Tree,
     /// The PNIO item names.
     pub items: Arc<PnioItems>,
+    /// The tree's namespace index.
+    pub tree_namespace: u16,
 }
 
 /// The server's private key, made at first start, readable by its owner only.
@@ -187,7 +189,7 @@ pub fn assemble(
             snapshots,
             users: o.users.clone(),
             writer,
-            records,
+            records: records.clone(),
         });
     if o.insecure {
         builder = builder.add_endpoint("none", ServerEndpoint::new_none("/", &users));
@@ -214,12 +216,14 @@ pub fn assemble(
         .get_namespace_index(&tree_namespace(&o.instance))
         .ok_or("the tree's namespace is missing")?;
     let tree = Tree::build(&tree_nodes, ns, &o.instance, &layout);
+    crate::methods::add(&tree_nodes, ns, &o.instance, layout.clone(), records);
     Ok(Assembled {
         server,
         handle,
         tree_nodes,
         tree,
         items,
+        tree_namespace: ns,
     })
 }
 

@@ -6,7 +6,7 @@
 
 use crate::snapshot::{Quality, Snapshot, quality};
 use opcua::server::SubscriptionCache;
-use opcua::server::address_space::{AccessLevel, ObjectBuilder, VariableBuilder};
+use opcua::server::address_space::{AccessLevel, EventNotifier, ObjectBuilder, VariableBuilder};
 use opcua::server::node_manager::memory::SimpleNodeManager;
 use opcua::types::{
     ByteString, DataTypeId, DataValue, DateTime, NodeId, ObjectTypeId, QualifiedName, StatusCode,
@@ -80,6 +80,7 @@ impl Tree {
         let top = node_id(ns, instance);
         ObjectBuilder::new(&top, browse(instance), instance)
             .organized_by(root)
+            .event_notifier(EventNotifier::SUBSCRIBE_TO_EVENTS)
             .has_type_definition(ObjectTypeId::BaseObjectType)
             .insert(&mut *space);
         let object = |space: &mut opcua::server::address_space::AddressSpace,
@@ -153,7 +154,11 @@ impl Tree {
             let name = layout.device_name(d).to_owned();
             let dev_path = format!("{instance}/Devices/{name}");
             let dev = node_id(ns, &dev_path);
-            object(&mut space, &dev, &name, &devices);
+            ObjectBuilder::new(&dev, QualifiedName::new(ns, name.as_str()), name.as_str())
+                .component_of(devices.clone())
+                .has_type_definition(ObjectTypeId::BaseObjectType)
+                .event_notifier(EventNotifier::SUBSCRIBE_TO_EVENTS)
+                .insert(&mut *space);
             variable(
                 &mut space,
                 &dev,

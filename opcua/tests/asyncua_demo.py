@@ -126,6 +126,21 @@ async def items_and_tree():
         check(all(a < b for a, b in zip(seen, seen[1:])), f"the counter counts up: {seen}")
         await sub.delete()
 
+        # Methods of the instance: a record read by anyone; the mode changed by writers only.
+        top_id = ua.NodeId(INSTANCE, tns)
+        im0 = await client.get_node(top_id).call_method(
+            ua.NodeId(f"{INSTANCE}/ReadRecord", tns),
+            ua.Variant(22, ua.VariantType.UInt32),
+            ua.Variant(0xAFF0, ua.VariantType.UInt16),
+            ua.Variant(64, ua.VariantType.UInt32),
+        )
+        check(bytes(im0)[6:8] == b"\x04\x93", f"ReadRecord of I&M0: {bytes(im0).hex()}")
+        try:
+            await client.get_node(top_id).call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OFFLINE")
+            check(False, "an anonymous session changed the mode")
+        except ua.UaStatusCodeError as e:
+            check("BadUserAccessDenied" in type(e).__name__, f"anonymous SetMode: {e!r}")
+
         # An anonymous session does not write.
         try:
             await client.get_node(item("PNIO:[CTRL1]AB0")).write_value(ua.Variant(1, ua.VariantType.Byte))
@@ -230,6 +245,29 @@ async def secure():
             except ua.UaStatusCodeError:
                 await asyncio.sleep(0.1)
         check(written, "the second writer wrote once the first session had ended")
+
+        # A writer takes the controller OFFLINE and back to OPERATE: every device's failure
+        # and return come as events, to a subscriber of the Server object.
+        events = []
+
+        class Events:
+            def event_notification(self, event):
+                events.append((event.SourceName, event.Message.Text, event.Severity))
+
+        sub = await viewer.create_subscription(50, Events())
+        await sub.subscribe_events(viewer.nodes.server, queuesize=100)
+        tns = await second.get_namespace_index(f"urn:procimg:{INSTANCE}")
+        top = second.get_node(ua.NodeId(INSTANCE, tns))
+        await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OFFLINE")
+        await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OPERATE")
+        for _ in range(300):
+            returned = {name for name, text, _ in events if "returned" in text}
+            if returned == {"echo", "counter", "dio"}:
+                break
+            await asyncio.sleep(0.1)
+        failed = {name for name, text, _ in events if "failed" in text}
+        returned = {name for name, text, _ in events if "returned" in text}
+        check(failed == returned == {"echo", "counter", "dio"}, f"the devices' events: {events}")
     finally:
         for c in (second, viewer):
             try:
