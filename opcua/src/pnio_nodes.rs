@@ -8,7 +8,7 @@ use crate::auth::Sessions;
 use crate::items::{Area, Format, Item, ItemKind, MAX_ITEM_BYTES, ProcessItem, RecordItem, Values};
 use crate::records::{self, Job};
 use crate::snapshot::{Snapshot, quality};
-use crate::tree::{status_code, timestamp};
+use crate::tree::{data_value, status_code, timestamp};
 use crate::users::Users;
 use crate::writer::{Write, WriteRefusal};
 use async_trait::async_trait;
@@ -20,8 +20,8 @@ use opcua::server::node_manager::{
 };
 use opcua::server::{CreateMonitoredItem, MonitoredItemHandle, SubscriptionCache};
 use opcua::types::{
-    AttributeId, DataTypeId, DataValue, DateTime, DiagnosticInfo, Identifier, LocalizedText,
-    NodeClass, NodeId, QualifiedName, StatusCode, TimestampsToReturn, UAString, Variant,
+    AttributeId, DataTypeId, DataValue, DiagnosticInfo, Identifier, LocalizedText, NodeClass,
+    NodeId, QualifiedName, StatusCode, TimestampsToReturn, UAString, Variant,
 };
 use procimg_client::Layout;
 use std::collections::HashMap;
@@ -415,16 +415,6 @@ fn variant(values: &Values, array: bool) -> Variant {
         Values::DWords(v) => pick(v, array),
         Values::DInts(v) => pick(v, array),
         Values::Reals(v) => pick(v, array),
-    }
-}
-
-fn data_value((value, status): (Variant, StatusCode), time: DateTime) -> DataValue {
-    DataValue {
-        value: Some(value),
-        status: Some(status),
-        source_timestamp: Some(time),
-        server_timestamp: Some(DateTime::now()),
-        ..Default::default()
     }
 }
 

@@ -36,6 +36,18 @@ pub fn status_code(q: Quality) -> StatusCode {
     }
 }
 
+/// A value with its status, its source time stamp `time` (its cycle's) and now as the
+/// server's.
+pub fn data_value((value, status): (Variant, StatusCode), time: DateTime) -> DataValue {
+    DataValue {
+        value: Some(value),
+        status: Some(status),
+        source_timestamp: Some(time),
+        server_timestamp: Some(DateTime::now()),
+        ..Default::default()
+    }
+}
+
 /// What a variable of the tree shows.
 #[derive(Clone, Copy, Debug)]
 enum Shows {
@@ -175,63 +187,49 @@ impl Tree {
                 let sub = node_id(ns, &sub_path);
                 object(&mut space, &sub, &sub_name, &dev);
                 let empty = || Variant::from(ByteString::from(Vec::<u8>::new()));
-                if e.input_length > 0 {
-                    variable(
-                        &mut space,
-                        &sub,
-                        format!("{sub_path}/Inputs"),
-                        "Inputs",
-                        DataTypeId::ByteString,
-                        empty(),
+                // A direction's data and its two status bytes, where it has data.
+                let directions = [
+                    (
+                        e.input_length > 0,
+                        "Input",
                         Shows::Inputs(s),
-                    );
-                    variable(
-                        &mut space,
-                        &sub,
-                        format!("{sub_path}/InputIOPS"),
-                        "InputIOPS",
-                        DataTypeId::Boolean,
-                        Variant::from(false),
                         Shows::InputIops(s),
-                    );
-                    variable(
-                        &mut space,
-                        &sub,
-                        format!("{sub_path}/InputIOCS"),
-                        "InputIOCS",
-                        DataTypeId::Boolean,
-                        Variant::from(false),
                         Shows::InputIocs(s),
-                    );
-                }
-                if e.output_length > 0 {
-                    variable(
-                        &mut space,
-                        &sub,
-                        format!("{sub_path}/Outputs"),
-                        "Outputs",
-                        DataTypeId::ByteString,
-                        empty(),
+                    ),
+                    (
+                        e.output_length > 0,
+                        "Output",
                         Shows::Outputs(s),
-                    );
-                    variable(
-                        &mut space,
-                        &sub,
-                        format!("{sub_path}/OutputIOPS"),
-                        "OutputIOPS",
-                        DataTypeId::Boolean,
-                        Variant::from(false),
                         Shows::OutputIops(s),
-                    );
-                    variable(
-                        &mut space,
-                        &sub,
-                        format!("{sub_path}/OutputIOCS"),
-                        "OutputIOCS",
-                        DataTypeId::Boolean,
-                        Variant::from(false),
                         Shows::OutputIocs(s),
-                    );
+                    ),
+                ];
+                for (_, dir, data, iops, iocs) in directions.into_iter().filter(|d| d.0) {
+                    for (name, data_type, initial, shows) in [
+                        (format!("{dir}s"), DataTypeId::ByteString, empty(), data),
+                        (
+                            format!("{dir}IOPS"),
+                            DataTypeId::Boolean,
+                            Variant::from(false),
+                            iops,
+                        ),
+                        (
+                            format!("{dir}IOCS"),
+                            DataTypeId::Boolean,
+                            Variant::from(false),
+                            iocs,
+                        ),
+                    ] {
+                        variable(
+                            &mut space,
+                            &sub,
+                            format!("{sub_path}/{name}"),
+                            &name,
+                            data_type,
+                            initial,
+                            shows,
+                        );
+                    }
                 }
             }
         }
@@ -258,16 +256,7 @@ impl Tree {
                 continue;
             }
             self.last.insert(id.clone(), (value.clone(), status));
-            changed.push((
-                id,
-                DataValue {
-                    value: Some(value),
-                    status: Some(status),
-                    source_timestamp: Some(time),
-                    server_timestamp: Some(DateTime::now()),
-                    ..Default::default()
-                },
-            ));
+            changed.push((id, data_value((value, status), time)));
         }
         if changed.is_empty() {
             return;

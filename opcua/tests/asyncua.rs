@@ -20,17 +20,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 fn asyncua_py() -> PathBuf {
-    let python = std::env::var_os("ASYNCUA_PY").map_or_else(
-        || procimg_testkit::workspace_dir().join("target/asyncua-venv/bin/python"),
-        PathBuf::from,
-    );
-    assert!(
-        python.exists(),
-        "no asyncua interpreter at {}: python3 -m venv target/asyncua-venv && \
-         target/asyncua-venv/bin/pip install asyncua==2.1.0 (or set ASYNCUA_PY)",
-        python.display()
-    );
-    python
+    procimg_testkit::pypi::venv_python("ASYNCUA_PY", "asyncua-venv", "asyncua==2.1.0")
 }
 
 /// A port nobody listens on now.

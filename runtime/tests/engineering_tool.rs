@@ -19,17 +19,7 @@ use std::process::Command;
 use std::time::Duration;
 
 fn profinet_py() -> PathBuf {
-    let python = std::env::var_os("PROFINET_PY").map_or_else(
-        || procimg_testkit::workspace_dir().join("target/profinet-py-venv/bin/python"),
-        PathBuf::from,
-    );
-    assert!(
-        python.exists(),
-        "no profinet-py interpreter at {}: python3 -m venv target/profinet-py-venv && \
-         target/profinet-py-venv/bin/pip install profinet-py==0.6.6 (or set PROFINET_PY)",
-        python.display()
-    );
-    python
+    procimg_testkit::pypi::venv_python("PROFINET_PY", "profinet-py-venv", "profinet-py==0.6.6")
 }
 
 fn in_data(s: &procimg_client::StatusReport) -> bool {

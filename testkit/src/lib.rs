@@ -18,6 +18,7 @@ pub mod fixtures;
 pub use procimg_netns::netns;
 pub mod pattern;
 mod procimgd;
+pub mod pypi;
 /// Signals to child processes (the `procimg-netns` crate).
 pub use procimg_netns::signal;
 pub mod snmpd;
