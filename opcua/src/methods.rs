@@ -6,6 +6,7 @@ use crate::records::{self, Job};
 use opcua::server::address_space::MethodBuilder;
 use opcua::server::node_manager::memory::SimpleNodeManager;
 use opcua::types::{Argument, ByteString, DataTypeId, NodeId, QualifiedName, StatusCode, Variant};
+use procimg_client::access::{self, Space};
 use procimg_client::{ControlHandle, Layout, Mode};
 use std::sync::{Arc, Mutex, mpsc};
 
@@ -99,7 +100,7 @@ pub fn add(
             else {
                 return Err(StatusCode::BadTypeMismatch);
             };
-            let s = records::submodule_at(&layout, false, *address)
+            let s = access::find_module(&layout.submodules, Space::Input, *address)
                 .ok_or(StatusCode::BadNodeIdUnknown)?;
             records::target(&layout, s, *index).ok_or(StatusCode::BadNodeIdUnknown)
         }

@@ -24,6 +24,7 @@ use opcua::types::{
     NodeId, QualifiedName, StatusCode, TimestampsToReturn, UAString, Variant,
 };
 use procimg_client::Layout;
+use procimg_client::access::{self, Space};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, mpsc};
 use tokio::sync::watch;
@@ -110,19 +111,18 @@ impl PnioItems {
     /// The submodule whose data holds all of `p`'s bytes.
     fn submodule_of(&self, p: &ProcessItem) -> Option<usize> {
         let (first, len) = p.span();
-        let last = u64::from(first) + len as u64;
-        self.layout.submodules.iter().position(|e| {
-            let (at, n) = match p.area {
-                Area::Input => (e.input_address, e.input_length),
-                Area::Output => (e.output_address, e.output_length),
-            };
-            n > 0 && first >= at && last <= u64::from(at) + u64::from(n)
-        })
+        let s = access::find(&self.layout.submodules, space(p.area), first)?;
+        let e = &self.layout.submodules[s];
+        let (at, n) = match p.area {
+            Area::Input => (e.input_address, e.input_length),
+            Area::Output => (e.output_address, e.output_length),
+        };
+        (u64::from(first) + len as u64 <= u64::from(at) + u64::from(n)).then_some(s)
     }
 
-    /// The submodule a record item names.
+    /// The submodule a record item names, as IO-Base's record jobs name it.
     fn record_submodule(&self, r: &RecordItem) -> Option<usize> {
-        records::submodule_at(&self.layout, r.area == Area::Output, r.address)
+        access::find_module(&self.layout.submodules, space(r.area), r.address)
     }
 
     /// Sends a record job and waits for its answer.
@@ -396,6 +396,14 @@ fn values_from(p: &ProcessItem, v: &Variant) -> Option<Values> {
         Format::Real => all!(Float, Reals),
     }?;
     (values.len() == p.values()).then_some(values)
+}
+
+/// The client's address space of an item's area.
+fn space(area: Area) -> Space {
+    match area {
+        Area::Input => Space::Input,
+        Area::Output => Space::Output,
+    }
 }
 
 /// `values` as a Variant: a scalar, or an array with `,count`.

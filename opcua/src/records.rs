@@ -45,24 +45,6 @@ pub fn target(layout: &Layout, submodule: usize, index: u16) -> Option<RecordTar
     })
 }
 
-/// The submodule a record's logical address names: the one whose inputs (or, without data,
-/// whose diagnostic address) hold it, or with `output` whose outputs do.
-pub fn submodule_at(layout: &Layout, output: bool, address: u32) -> Option<usize> {
-    layout.submodules.iter().position(|e| {
-        let (at, n) = if output {
-            (e.output_address, u32::from(e.output_length))
-        } else if e.input_length == 0 && e.output_length == 0 {
-            (e.input_address, 1)
-        } else {
-            (e.input_address, u32::from(e.input_length))
-        };
-        at != u32::MAX
-            && n > 0
-            && address >= at
-            && u64::from(address) < u64::from(at) + u64::from(n)
-    })
-}
-
 /// Sends `job` to the record thread behind `jobs` and waits, blocking, for its answer: for
 /// callers outside async code (a method's callback).
 pub fn blocking<T>(

@@ -103,6 +103,21 @@ pub fn find(table: &[SubmoduleEntry], space: Space, address: u32) -> Option<usiz
     })
 }
 
+/// The submodule a record job names by one of its logical addresses (IO-Base's "a module by
+/// one of its logical addresses"): any address inside its range in `space`, or, in the input
+/// space, the diagnostic address of a submodule without IO data.
+pub fn find_module(table: &[SubmoduleEntry], space: Space, address: u32) -> Option<usize> {
+    find(table, space, address).or_else(|| {
+        (space == Space::Input)
+            .then(|| {
+                table
+                    .iter()
+                    .position(|e| e.diagnostic_address() == Some(address))
+            })
+            .flatten()
+    })
+}
+
 fn start_and_len(e: &SubmoduleEntry, space: Space) -> (u32, usize) {
     match space {
         Space::Input => (e.input_address, e.input_length as usize),

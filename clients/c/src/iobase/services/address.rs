@@ -58,17 +58,7 @@ pub(crate) fn resolve(layout: &Layout, addr: &PNIO_ADDR) -> Option<Resolved> {
         return None;
     }
     let space = space(addr.IODataType)?;
-    let submodule = access::find(&layout.submodules, space, addr.addr()).or_else(|| {
-        let diagnostic = Some(addr.addr());
-        (space == Space::Input)
-            .then(|| {
-                layout
-                    .submodules
-                    .iter()
-                    .position(|e| e.diagnostic_address() == diagnostic)
-            })
-            .flatten()
-    })?;
+    let submodule = access::find_module(&layout.submodules, space, addr.addr())?;
     let e = &layout.submodules[submodule];
     Some(Resolved {
         device: u32::from(e.device),
