@@ -145,7 +145,7 @@ fn run(args: Args) -> anyhow::Result<()> {
     // The first image: the server starts with values.
     let first = (0..1000)
         .find_map(|_| {
-            let s = snapshot::take(&mut client, &report);
+            let s = snapshot::take(&mut client, &report, None);
             if s.is_none() {
                 std::thread::sleep(Duration::from_millis(5));
             }

@@ -107,8 +107,13 @@ pub enum FeedError {
     },
 }
 
-/// The snapshot of `client`'s newest image with `report`; `None` while there is no image.
-pub fn take(client: &mut Client, report: &Arc<StatusReport>) -> Option<Snapshot> {
+/// The snapshot of `client`'s newest image with `report`; `None` while there is no image,
+/// or when the newest is of cycle `unless` (nothing is copied then).
+pub fn take(
+    client: &mut Client,
+    report: &Arc<StatusReport>,
+    unless: Option<u64>,
+) -> Option<Snapshot> {
     let n = client.layout().submodules.len();
     let image = match client.newest_image() {
         Ok(image) => image,
@@ -118,6 +123,9 @@ pub fn take(client: &mut Client, report: &Arc<StatusReport>) -> Option<Snapshot>
         }
     };
     let cycle = image.cycle();
+    if unless == Some(cycle.cycle_number) {
+        return None;
+    }
     let age = Duration::from_nanos(now_ns().saturating_sub(cycle.cycle_start_ns));
     let bad = SubmoduleIoxs {
         input_remote: Ioxs::Bad,
@@ -179,9 +187,9 @@ pub fn feed(
             }
             report_at = Instant::now();
         }
-        if let Some(snap) = take(&mut client, &report)
-            && (last_cycle != Some(snap.cycle) || fresh_report)
-        {
+        // A cycle already sent is sent again only with a fresh report.
+        let unless = if fresh_report { None } else { last_cycle };
+        if let Some(snap) = take(&mut client, &report, unless) {
             last_cycle = Some(snap.cycle);
             if tx.send(Arc::new(snap)).is_err() {
                 return Ok(());

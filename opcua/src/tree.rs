@@ -252,7 +252,7 @@ impl Tree {
         let mut changed = Vec::new();
         for (id, shows) in &self.vars {
             let (value, status) = value_of(*shows, layout, snap);
-            if self.last.get(id) == Some(&(value.clone(), status)) {
+            if matches!(self.last.get(id), Some((v, st)) if *v == value && *st == status) {
                 continue;
             }
             self.last.insert(id.clone(), (value.clone(), status));
