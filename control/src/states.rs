@@ -39,6 +39,20 @@ pub enum DeviceState {
 }
 
 impl DeviceState {
+    /// Every state, in the order an enumeration numbers them (OPC UA's, from 0).
+    pub const ALL: [DeviceState; 10] = [
+        DeviceState::Offline,
+        DeviceState::Deactivated,
+        DeviceState::Searching,
+        DeviceState::SettingIp,
+        DeviceState::Connecting,
+        DeviceState::Parameterizing,
+        DeviceState::WaitingForApplicationReady,
+        DeviceState::Running,
+        DeviceState::Failed,
+        DeviceState::Unknown,
+    ];
+
     /// Its word in the protocol, the status report and messages.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -81,6 +95,16 @@ pub enum ArState {
 }
 
 impl ArState {
+    /// Every state, in the order an enumeration numbers them (OPC UA's, from 1: 0 is no
+    /// AR).
+    pub const ALL: [ArState; 5] = [
+        ArState::Connected,
+        ArState::Parameterized,
+        ArState::WaitingForApplicationReadyConfirm,
+        ArState::Data,
+        ArState::Unknown,
+    ];
+
     /// Its word in the protocol, the status report and messages.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -154,6 +178,23 @@ mod tests {
             assert_eq!(decode::<ArState>(word_json(word).as_bytes()), Ok(state));
             assert_eq!(state.to_string(), word);
         }
+    }
+
+    #[test]
+    fn the_enumerations_number_every_state_once() {
+        // Every known state and Unknown, each once.
+        let devices: Vec<DeviceState> = DEVICE_STATES.iter().map(|(s, _)| *s).collect();
+        for (i, s) in DeviceState::ALL.iter().enumerate() {
+            assert!(devices.contains(s) || *s == DeviceState::Unknown, "{s}");
+            assert_eq!(DeviceState::ALL.iter().position(|x| x == s), Some(i));
+        }
+        assert_eq!(DeviceState::ALL.len(), DEVICE_STATES.len() + 1);
+        let ars: Vec<ArState> = AR_STATES.iter().map(|(s, _)| *s).collect();
+        for (i, s) in ArState::ALL.iter().enumerate() {
+            assert!(ars.contains(s) || *s == ArState::Unknown, "{s}");
+            assert_eq!(ArState::ALL.iter().position(|x| x == s), Some(i));
+        }
+        assert_eq!(ArState::ALL.len(), AR_STATES.len() + 1);
     }
 
     #[test]

@@ -1,22 +1,32 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! procimgd's notifications as OPC UA events: a device's failure and return, its alarms
-//! (with their data), a stop request. Each comes from the device's object in the tree (or
-//! the instance's), so a client subscribes to one device or, on the Server object, to all.
+//! procimgd's notifications as OPC UA events: in the controller role a device's failure and
+//! return and its alarms (with their data); in the device role the AR's life (a PLC
+//! connecting, in data exchange, the AR's end and why) and the PLC's RUN/STOP; in both a stop
+//! request. Each comes from the device's (the station's) object in the tree, or the
+//! instance's, so a client subscribes to one device or, on the Server object, to all.
 
 use opcua::crypto::random;
 use opcua::nodes::{BaseEventType, Event};
 use opcua::server::ServerHandle;
 use opcua::types::{NodeId, ObjectTypeId, UAString};
-use procimg_client::{Notification, ServiceOptions, Services};
+use procimg_client::{ArState, Notification, ServiceOptions, Services};
 use std::time::Duration;
 
 /// How long one wait for a notification lasts (the stop flag is looked at in between).
 const WAIT: Duration = Duration::from_millis(200);
 
 /// An event of a notification: its source (a tree path below the instance), severity and
-/// message; `None` for the notifications that are no events.
-pub fn event_of(n: &Notification) -> Option<(String, u16, String)> {
+/// message; `None` for the notifications that are no events. `station` is the name the tree
+/// gives the station in the device role (its notifications do not name it).
+pub fn event_of(n: &Notification, station: &str) -> Option<(String, u16, String)> {
     let device = |name: &str| format!("Devices/{name}");
+    let plc = |name: &str, mac: &str| {
+        if name.is_empty() {
+            format!("PLC {mac}")
+        } else {
+            format!("PLC {name} ({mac})")
+        }
+    };
     Some(match n {
         Notification::DeviceFailure { name, reason, .. } => {
             (device(name), 800, format!("device {name} failed: {reason}"))
@@ -43,6 +53,46 @@ pub fn event_of(n: &Notification) -> Option<(String, u16, String)> {
                 ),
             )
         }
+        Notification::StationAr {
+            state,
+            controller_name,
+            controller_mac,
+            ..
+        } => (
+            device(station),
+            if *state == ArState::Data { 300 } else { 200 },
+            format!(
+                "AR of {} with station {station}: {state}",
+                plc(controller_name, controller_mac)
+            ),
+        ),
+        Notification::StationArEnded {
+            reason,
+            aborted,
+            planned,
+            ..
+        } => (
+            device(station),
+            if *aborted && !*planned { 700 } else { 400 },
+            format!("AR with station {station} ended: {reason}"),
+        ),
+        Notification::StationPlcRunning {
+            running,
+            station_problem,
+            ..
+        } => (
+            device(station),
+            if *running { 300 } else { 500 },
+            format!(
+                "the PLC of station {station} is in {}{}",
+                if *running { "RUN" } else { "STOP" },
+                if *station_problem {
+                    " and reports a station problem"
+                } else {
+                    ""
+                }
+            ),
+        ),
         Notification::StopRequest { reason } => (
             String::new(),
             600,
@@ -53,8 +103,15 @@ pub fn event_of(n: &Notification) -> Option<(String, u16, String)> {
 }
 
 /// Raises the events of `instance`'s notifications in `handle`'s server, their sources in
-/// namespace `ns`, until `stop` says so.
-pub fn run(instance: &str, ns: u16, handle: ServerHandle, stop: impl Fn() -> bool) {
+/// namespace `ns` (in the device role the station, as `station` names it now), until `stop`
+/// says so.
+pub fn run(
+    instance: &str,
+    station: impl Fn() -> String,
+    ns: u16,
+    handle: ServerHandle,
+    stop: impl Fn() -> bool,
+) {
     let mut services = None;
     while !stop() {
         if services.is_none() {
@@ -66,7 +123,7 @@ pub fn run(instance: &str, ns: u16, handle: ServerHandle, stop: impl Fn() -> boo
         }
         let Some(s) = services.as_mut() else { continue };
         let Some(n) = s.next(WAIT) else { continue };
-        let Some((path, severity, message)) = event_of(&n) else {
+        let Some((path, severity, message)) = event_of(&n, &station()) else {
             continue;
         };
         let source = if path.is_empty() {
@@ -90,5 +147,47 @@ pub fn run(instance: &str, ns: u16, handle: ServerHandle, stop: impl Fn() -> boo
         handle
             .subscriptions()
             .notify_events([(&event as &dyn Event, &source)].into_iter());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_station_s_ar_and_plc_come_from_the_station_s_object() {
+        let data = Notification::StationAr {
+            state: ArState::Data,
+            ar_uuid: "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2".into(),
+            controller_mac: "02:50:49:fe:00:01".into(),
+            controller_name: "plc-1".into(),
+        };
+        let (source, severity, message) = event_of(&data, "station-a").unwrap();
+        assert_eq!((source.as_str(), severity), ("Devices/station-a", 300));
+        assert_eq!(
+            message,
+            "AR of PLC plc-1 (02:50:49:fe:00:01) with station station-a: data"
+        );
+        let ended = Notification::StationArEnded {
+            ar_uuid: "0f2c0a43-1b53-4a8f-9e57-8c4bd8b1f7a2".into(),
+            reason: "IO data timeout".into(),
+            aborted: true,
+            planned: false,
+            abort_code: None,
+        };
+        let (_, severity, message) = event_of(&ended, "station-a").unwrap();
+        assert_eq!(severity, 700);
+        assert!(message.ends_with("ended: IO data timeout"), "{message}");
+        let stop = Notification::StationPlcRunning {
+            running: false,
+            station_problem: true,
+            backup: false,
+        };
+        let (_, severity, message) = event_of(&stop, "station-a").unwrap();
+        assert_eq!(severity, 500);
+        assert!(
+            message.contains("STOP and reports a station problem"),
+            "{message}"
+        );
     }
 }

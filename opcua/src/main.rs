@@ -118,16 +118,30 @@ fn run(args: Args) -> anyhow::Result<()> {
         Some(path) => Users::load(path)?,
         None => Users::default(),
     });
-    let writing = Client::attach(
-        &args.instance,
-        AttachOptions::asynchronous("procimg-opcua-writer").slice_access(true),
-    )
-    .with_context(|| format!("cannot attach to procimgd instance {:?}", args.instance))?;
+    let attach = {
+        let instance = args.instance.clone();
+        move |name: &'static str, slices: bool| -> anyhow::Result<Client> {
+            Client::attach(
+                &instance,
+                AttachOptions::asynchronous(name).slice_access(slices),
+            )
+            .with_context(|| format!("cannot attach to procimgd instance {instance:?}"))
+        }
+    };
+    // After a restart of procimgd: attached again once it is back.
+    let again = |name: &'static str, slices: bool| {
+        let attach = attach.clone();
+        move || attach(name, slices).ok()
+    };
+    let writing = attach("procimg-opcua-writer", true)?;
     let (write_tx, write_rx) = std::sync::mpsc::channel();
-    let writer = std::thread::Builder::new()
-        .name("opcua-writes".into())
-        .spawn(move || procimg_opcua::writer::run(writing, write_rx))
-        .context("cannot start the writing thread")?;
+    let writer = {
+        let again = again("procimg-opcua-writer", true);
+        std::thread::Builder::new()
+            .name("opcua-writes".into())
+            .spawn(move || procimg_opcua::writer::run(writing, write_rx, again))
+            .context("cannot start the writing thread")?
+    };
     let (record_tx, record_rx) = std::sync::mpsc::channel();
     let recorder = {
         let instance = args.instance.clone();
@@ -136,16 +150,14 @@ fn run(args: Args) -> anyhow::Result<()> {
             .spawn(move || procimg_opcua::records::run(&instance, record_rx))
             .context("cannot start the record thread")?
     };
-    let mut client =
-        Client::attach(&args.instance, AttachOptions::asynchronous("procimg-opcua"))
-            .with_context(|| format!("cannot attach to procimgd instance {:?}", args.instance))?;
+    let mut client = attach("procimg-opcua", false)?;
     let layout = Arc::new(client.layout().clone());
     let report = snapshot::report(&client)?;
     let cycle = Duration::from_nanos(report.cycle_ns.max(1_000_000));
     // The first image: the server starts with values.
     let first = (0..1000)
         .find_map(|_| {
-            let s = snapshot::take(&mut client, &report, None);
+            let s = snapshot::take(&mut client, &layout, &report, None);
             if s.is_none() {
                 std::thread::sleep(Duration::from_millis(5));
             }
@@ -184,16 +196,24 @@ fn run(args: Args) -> anyhow::Result<()> {
             mut tree,
             items,
             tree_namespace,
-        } = assemble(&options, layout.clone(), rx.clone(), write_tx, record_tx)
-            .map_err(|e| anyhow!("{e}"))?;
+        } = assemble(&options, rx.clone(), write_tx, record_tx).map_err(|e| anyhow!("{e}"))?;
         let events = {
             let instance = options.instance.clone();
+            let snapshots = rx.clone();
+            let station = move || {
+                let layout = snapshots.borrow().layout.clone();
+                if layout.is_device() {
+                    layout.device_name(0).to_owned()
+                } else {
+                    String::new()
+                }
+            };
             let handle = handle.clone();
             let stop = stop.clone();
             std::thread::Builder::new()
                 .name("opcua-events".into())
                 .spawn(move || {
-                    procimg_opcua::events::run(&instance, tree_namespace, handle, || {
+                    procimg_opcua::events::run(&instance, station, tree_namespace, handle, || {
                         stop.load(Ordering::Acquire)
                     })
                 })
@@ -204,10 +224,10 @@ fn run(args: Args) -> anyhow::Result<()> {
             async move {
                 while rx.changed().await.is_ok() {
                     let snap: Arc<Snapshot> = rx.borrow_and_update().clone();
-                    tree.publish(&tree_nodes, handle.subscriptions(), &layout, &snap);
+                    tree.publish(&tree_nodes, handle.subscriptions(), &snap);
                     items.notify(&snap, handle.subscriptions());
                 }
-                // The feed ended (procimgd stopped or started with another layout).
+                // The feed ended: the server is stopping.
                 handle.cancel();
             }
         });

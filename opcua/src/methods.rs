@@ -3,12 +3,14 @@
 //! (writers only: [`WRITER_METHODS`], enforced by the authenticator).
 
 use crate::records::{self, Job};
+use crate::snapshot::Snapshot;
 use opcua::server::address_space::MethodBuilder;
 use opcua::server::node_manager::memory::SimpleNodeManager;
 use opcua::types::{Argument, ByteString, DataTypeId, NodeId, QualifiedName, StatusCode, Variant};
 use procimg_client::access::{self, Space};
-use procimg_client::{ControlHandle, Layout, Mode};
+use procimg_client::{ControlHandle, Mode};
 use std::sync::{Arc, Mutex, mpsc};
+use tokio::sync::watch;
 
 /// The methods only a writer's session may call (by the end of their NodeId).
 pub const WRITER_METHODS: [&str; 2] = ["/WriteRecord", "/SetMode"];
@@ -23,13 +25,13 @@ fn argument(name: &str, data_type: DataTypeId, description: &str) -> Argument {
     }
 }
 
-/// Adds the methods to `instance`'s object in `nm` (namespace `ns`), their records and mode
-/// changes carried out for `layout`'s instance through `records`.
+/// Adds the methods to `instance`'s object in `nm` (namespace `ns`), their records (of the
+/// newest snapshot's layout) carried out through `records`.
 pub fn add(
     nm: &SimpleNodeManager,
     ns: u16,
     instance: &str,
-    layout: Arc<Layout>,
+    snapshots: watch::Receiver<Arc<Snapshot>>,
     records: mpsc::Sender<Job>,
 ) {
     let top = NodeId::new(ns, instance);
@@ -93,13 +95,13 @@ pub fn add(
     }
     let records = Arc::new(Mutex::new(records));
     let target_of = {
-        let layout = layout.clone();
         move |args: &[Variant]| -> Result<procimg_client::RecordTarget, StatusCode> {
             let (Some(Variant::UInt32(address)), Some(Variant::UInt16(index))) =
                 (args.first(), args.get(1))
             else {
                 return Err(StatusCode::BadTypeMismatch);
             };
+            let layout = snapshots.borrow().layout.clone();
             let s = access::find_module(&layout.submodules, Space::Input, *address)
                 .ok_or(StatusCode::BadNodeIdUnknown)?;
             records::target(&layout, s, *index).ok_or(StatusCode::BadNodeIdUnknown)

@@ -23,8 +23,8 @@ use opcua::types::{
     AttributeId, DataTypeId, DataValue, DiagnosticInfo, Identifier, LocalizedText, NodeClass,
     NodeId, QualifiedName, StatusCode, TimestampsToReturn, UAString, Variant,
 };
-use procimg_client::Layout;
 use procimg_client::access::{self, Space};
+use procimg_client::{Layout, RecordTarget};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, mpsc};
 use tokio::sync::watch;
@@ -36,7 +36,6 @@ pub const PNIO_NAMESPACE: &str = "urn:procimg:pnio";
 pub struct PnioItems {
     ns: u16,
     controller: u8,
-    layout: Arc<Layout>,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     /// Monitored items: their node and item, and the value last notified.
     monitored: Mutex<HashMap<MonitoredItemHandle, Monitored>>,
@@ -58,8 +57,6 @@ struct Monitored {
 pub struct PnioItemsBuilder {
     /// The controller index items must name (`CTRL<n>`).
     pub controller: u8,
-    /// The image's layout.
-    pub layout: Arc<Layout>,
     /// The snapshots.
     pub snapshots: watch::Receiver<Arc<Snapshot>>,
     /// Who may write.
@@ -80,7 +77,6 @@ impl NodeManagerBuilder for PnioItemsBuilder {
         Arc::new(PnioItems {
             ns,
             controller: self.controller,
-            layout: self.layout,
             snapshots: self.snapshots,
             monitored: Mutex::new(HashMap::new()),
             users: self.users,
@@ -108,11 +104,11 @@ impl PnioItems {
         Ok(item)
     }
 
-    /// The submodule whose data holds all of `p`'s bytes.
-    fn submodule_of(&self, p: &ProcessItem) -> Option<usize> {
+    /// The submodule of `layout` whose data holds all of `p`'s bytes.
+    fn submodule_of(layout: &Layout, p: &ProcessItem) -> Option<usize> {
         let (first, len) = p.span();
-        let s = access::find(&self.layout.submodules, space(p.area), first)?;
-        let e = &self.layout.submodules[s];
+        let s = access::find(&layout.submodules, space(p.area), first)?;
+        let e = &layout.submodules[s];
         let (at, n) = match p.area {
             Area::Input => (e.input_address, e.input_length),
             Area::Output => (e.output_address, e.output_length),
@@ -120,9 +116,11 @@ impl PnioItems {
         (u64::from(first) + len as u64 <= u64::from(at) + u64::from(n)).then_some(s)
     }
 
-    /// The submodule a record item names, as IO-Base's record jobs name it.
-    fn record_submodule(&self, r: &RecordItem) -> Option<usize> {
-        access::find_module(&self.layout.submodules, space(r.area), r.address)
+    /// The record a record item names in `layout`: of the submodule IO-Base's record jobs
+    /// would name by its address.
+    fn record_target(layout: &Layout, r: &RecordItem) -> Option<RecordTarget> {
+        let s = access::find_module(&layout.submodules, space(r.area), r.address)?;
+        records::target(layout, s, r.index)
     }
 
     /// Sends a record job and waits for its answer.
@@ -143,13 +141,13 @@ impl PnioItems {
         }
     }
 
-    /// Reads the record a record item names.
-    async fn read_record(&self, r: &RecordItem) -> Result<Variant, (StatusCode, Option<String>)> {
-        let s = self
-            .record_submodule(r)
-            .ok_or((StatusCode::BadNodeIdUnknown, None))?;
-        let target = records::target(&self.layout, s, r.index)
-            .ok_or((StatusCode::BadNodeIdUnknown, None))?;
+    /// Reads the record a record item names in `layout`.
+    async fn read_record(
+        &self,
+        layout: &Layout,
+        r: &RecordItem,
+    ) -> Result<Variant, (StatusCode, Option<String>)> {
+        let target = Self::record_target(layout, r).ok_or((StatusCode::BadNodeIdUnknown, None))?;
         let max_len = u32::from(r.length.unwrap_or(MAX_ITEM_BYTES as u16));
         let data = self
             .record_job(|reply| Job::Read {
@@ -166,8 +164,8 @@ impl PnioItems {
         match item.kind {
             ItemKind::Mode => Ok((Variant::from(snap.mode().as_u32() as i32), StatusCode::Good)),
             ItemKind::Process(p) => {
-                let s = self.submodule_of(&p).ok_or_else(unknown)?;
-                let e = self.layout.submodules[s];
+                let s = Self::submodule_of(&snap.layout, &p).ok_or_else(unknown)?;
+                let e = snap.layout.submodules[s];
                 let (first, len) = p.span();
                 let (base, bytes) = match p.area {
                     Area::Input => (e.input_address, snap.inputs.get(s)),
@@ -178,7 +176,7 @@ impl PnioItems {
                     .and_then(|b| b.get(at..at + len))
                     .ok_or(StatusCode::BadNotConnected)?;
                 let values = p.decode(bytes).map_err(|_| StatusCode::BadInternalError)?;
-                let q = quality(snap, &self.layout, s, p.area == Area::Output);
+                let q = quality(snap, s, p.area == Area::Output);
                 Ok((variant(&values, p.count.is_some()), status_code(q)))
             }
             // Read as jobs (see `read_record`), never from a snapshot.
@@ -221,6 +219,8 @@ impl PnioItems {
         w: &opcua::server::node_manager::ParsedWriteValue,
     ) -> Result<(), (StatusCode, Option<String>)> {
         let item = self.item(&w.node_id).map_err(|s| (s, None))?;
+        // The layout and outputs the write is resolved against.
+        let snap = self.snapshots.borrow().clone();
         if w.attribute_id != AttributeId::Value {
             return Err((StatusCode::BadNotWritable, None));
         }
@@ -233,10 +233,7 @@ impl PnioItems {
         let p = match item.kind {
             ItemKind::Process(p) => p,
             ItemKind::Record(r) => {
-                let s = self
-                    .record_submodule(&r)
-                    .ok_or((StatusCode::BadNodeIdUnknown, None))?;
-                let target = records::target(&self.layout, s, r.index)
+                let target = Self::record_target(&snap.layout, &r)
                     .ok_or((StatusCode::BadNodeIdUnknown, None))?;
                 let Some(Variant::ByteString(data)) = w.value.value.as_ref() else {
                     return Err((
@@ -261,9 +258,7 @@ impl PnioItems {
                 Some("inputs are the devices' to write".to_owned()),
             ));
         }
-        let s = self
-            .submodule_of(&p)
-            .ok_or((StatusCode::BadNodeIdUnknown, None))?;
+        let s = Self::submodule_of(&snap.layout, &p).ok_or((StatusCode::BadNodeIdUnknown, None))?;
         let value = w
             .value
             .value
@@ -279,11 +274,9 @@ impl PnioItems {
         ))?;
         // Bits keep their neighbours: the bytes start as they went out last.
         let (first, len) = p.span();
-        let e = self.layout.submodules[s];
+        let e = snap.layout.submodules[s];
         let at = (first - e.output_address) as usize;
-        let mut bytes = self
-            .snapshots
-            .borrow()
+        let mut bytes = snap
             .outputs
             .get(s)
             .and_then(|b| b.get(at..at + len))
@@ -296,6 +289,7 @@ impl PnioItems {
         let job = Write {
             session: context.session_id,
             alive: Box::new(move || session.upgrade().is_some_and(|s| s.read().is_activated())),
+            layout: snap.layout.hash(),
             submodule: s,
             address: first,
             bytes,
@@ -308,6 +302,10 @@ impl PnioItems {
             .map_err(|_| (StatusCode::BadServerHalted, None))?;
         match outcome.await {
             Ok(Ok(())) => Ok(()),
+            Ok(Err(WriteRefusal::Gone)) => Err((
+                StatusCode::BadNodeIdUnknown,
+                Some("procimgd started anew with another layout".to_owned()),
+            )),
             Ok(Err(WriteRefusal::Held(holder))) => Err((
                 StatusCode::BadResourceUnavailable,
                 Some(format!("the outputs are held by {holder}")),
@@ -475,7 +473,7 @@ impl NodeManager for PnioItems {
                 continue;
             }
             if let ItemKind::Record(r) = item.kind {
-                match self.read_record(&r).await {
+                match self.read_record(&snap.layout, &r).await {
                     Ok(v) => node.set_result(DataValue::new_now(v)),
                     Err((status, why)) => {
                         node.set_error(status);

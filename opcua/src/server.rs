@@ -15,7 +15,6 @@ use opcua::server::diagnostics::NamespaceMetadata;
 use opcua::server::node_manager::memory::{SimpleNodeManager, simple_node_manager};
 use opcua::server::{ANONYMOUS_USER_TOKEN_ID, Server, ServerBuilder, ServerEndpoint, ServerHandle};
 use opcua::types::MessageSecurityMode;
-use procimg_client::Layout;
 use std::path::PathBuf;
 use std::sync::{Arc, mpsc};
 use std::time::Duration;
@@ -118,10 +117,9 @@ pub fn tree_namespace(instance: &str) -> String {
     format!("urn:procimg:{instance}")
 }
 
-/// Builds the server of `layout`, fed by `snapshots`.
+/// Builds the server, fed by `snapshots` (its tree made for the layout of the one there).
 pub fn assemble(
     o: &Options,
-    layout: Arc<Layout>,
     snapshots: watch::Receiver<Arc<Snapshot>>,
     writer: mpsc::Sender<Write>,
     records: mpsc::Sender<Job>,
@@ -185,8 +183,7 @@ pub fn assemble(
         ))
         .with_node_manager(PnioItemsBuilder {
             controller: o.controller,
-            layout: layout.clone(),
-            snapshots,
+            snapshots: snapshots.clone(),
             users: o.users.clone(),
             writer,
             records: records.clone(),
@@ -215,8 +212,9 @@ pub fn assemble(
     let ns = handle
         .get_namespace_index(&tree_namespace(&o.instance))
         .ok_or("the tree's namespace is missing")?;
-    let tree = Tree::build(&tree_nodes, ns, &o.instance, &layout);
-    crate::methods::add(&tree_nodes, ns, &o.instance, layout.clone(), records);
+    let layout = snapshots.borrow().layout.clone();
+    let tree = Tree::build(&tree_nodes, ns, &o.instance, o.controller, &layout);
+    crate::methods::add(&tree_nodes, ns, &o.instance, snapshots, records);
     Ok(Assembled {
         server,
         handle,

@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The image as the OPC UA server publishes it: one cycle's inputs, outputs as sent and
 //! status bytes of every submodule, taken whole from procimgd's newest image, with the
-//! devices' states and the server's status beside it. A thread takes one per cycle (an
-//! asynchronous client: nothing on procimgd's cycle thread) and hands it to the server.
+//! devices' states, the server's status and the layout it is laid out by beside it. A thread
+//! takes one per cycle (an asynchronous client: nothing on procimgd's cycle thread) and hands
+//! it to the server. Everything the server resolves (an item's bytes, a tree variable, a
+//! record's submodule) is resolved against one snapshot's layout, so that when procimgd
+//! starts anew with another layout, the names that went away answer `BadNodeIdUnknown` and
+//! the others carry on.
 
 use procimg_client::{
     Client, DeviceState, Ioxs, Layout, Mode, StatusReport, SubmoduleIoxs, now_ns,
@@ -29,6 +33,8 @@ pub struct Snapshot {
     pub status: Vec<SubmoduleIoxs>,
     /// The newest status report: mode, counters, devices' states.
     pub report: Arc<StatusReport>,
+    /// The layout the image is laid out by.
+    pub layout: Arc<Layout>,
 }
 
 impl Snapshot {
@@ -66,8 +72,8 @@ pub enum Quality {
 
 /// The quality of submodule `s`'s inputs (`output` false) or outputs in `snap`: one rule for
 /// the browsable variables and the PNIO items.
-pub fn quality(snap: &Snapshot, layout: &Layout, s: usize, output: bool) -> Quality {
-    let Some(e) = layout.submodules.get(s) else {
+pub fn quality(snap: &Snapshot, s: usize, output: bool) -> Quality {
+    let Some(e) = snap.layout.submodules.get(s) else {
         return Quality::NotConnected;
     };
     if !snap.device_running(usize::from(e.device)) {
@@ -91,12 +97,6 @@ pub fn quality(snap: &Snapshot, layout: &Layout, s: usize, output: bool) -> Qual
 /// Why the feed ended.
 #[derive(Debug, thiserror::Error)]
 pub enum FeedError {
-    /// procimgd went away or started with another layout: the address space is no longer
-    /// the image's.
-    #[error(
-        "procimgd's instance \"{0}\" started anew with another layout: restart procimg-opcua to serve it"
-    )]
-    LayoutChanged(String),
     /// The image could not be read.
     #[error("cannot read the image of instance \"{instance}\": {why}")]
     Image {
@@ -107,14 +107,16 @@ pub enum FeedError {
     },
 }
 
-/// The snapshot of `client`'s newest image with `report`; `None` while there is no image,
-/// or when the newest is of cycle `unless` (nothing is copied then).
+/// The snapshot of `client`'s newest image, laid out by `layout` (the client's), with
+/// `report`; `None` while there is no image, or when the newest is of cycle `unless`
+/// (nothing is copied then).
 pub fn take(
     client: &mut Client,
+    layout: &Arc<Layout>,
     report: &Arc<StatusReport>,
     unless: Option<u64>,
 ) -> Option<Snapshot> {
-    let n = client.layout().submodules.len();
+    let n = layout.submodules.len();
     let image = match client.newest_image() {
         Ok(image) => image,
         Err(e) => {
@@ -123,16 +125,10 @@ pub fn take(
         }
     };
     let cycle = image.cycle();
-    if unless == Some(cycle.cycle_number) {
+    if unless == Some(cycle.cycle_number) || image.layout().hash() != layout.hash() {
         return None;
     }
     let age = Duration::from_nanos(now_ns().saturating_sub(cycle.cycle_start_ns));
-    let bad = SubmoduleIoxs {
-        input_remote: Ioxs::Bad,
-        input_local: Ioxs::Bad,
-        output_local: Ioxs::Bad,
-        output_remote: Ioxs::Bad,
-    };
     Some(Snapshot {
         cycle: cycle.cycle_number,
         time: SystemTime::now()
@@ -144,9 +140,39 @@ pub fn take(
         outputs: (0..n)
             .map(|s| image.outputs_sent(s).unwrap_or_default().to_vec())
             .collect(),
-        status: (0..n).map(|s| image.status(s).unwrap_or(bad)).collect(),
+        status: (0..n).map(|s| image.status(s).unwrap_or(BAD)).collect(),
         report: report.clone(),
+        layout: layout.clone(),
     })
+}
+
+/// Every status byte BAD: what is known of submodules while procimgd is away.
+const BAD: SubmoduleIoxs = SubmoduleIoxs {
+    input_remote: Ioxs::Bad,
+    input_local: Ioxs::Bad,
+    output_local: Ioxs::Bad,
+    output_remote: Ioxs::Bad,
+};
+
+impl Snapshot {
+    /// This snapshot as it stands once procimgd is gone: the same values, no device (no AR)
+    /// in data exchange, every status byte BAD, so that every value reads BadNotConnected
+    /// until procimgd is back.
+    pub fn orphaned(&self) -> Snapshot {
+        let mut report = (*self.report).clone();
+        for d in &mut report.devices {
+            d.state = DeviceState::Offline;
+        }
+        if let Some(station) = report.station.as_mut() {
+            station.ar = None;
+        }
+        report.mode = Mode::Offline;
+        Snapshot {
+            status: vec![BAD; self.status.len()],
+            report: Arc::new(report),
+            ..self.clone()
+        }
+    }
 }
 
 /// The status report of `client`'s server.
@@ -161,9 +187,15 @@ pub fn report(client: &Client) -> Result<Arc<StatusReport>, FeedError> {
         })
 }
 
+/// How long procimgd may leave the status unanswered before the feed takes it for gone.
+const GONE_AFTER: Duration = Duration::from_secs(2);
+
 /// Takes `client`'s newest image every `period` and sends it on `tx` (with the status
-/// report, read every [`STATUS_EVERY`]) until `stop` says so, the receivers are gone or the
-/// layout changes. Runs on a thread of its own: the client blocks.
+/// report, read every [`STATUS_EVERY`]) until `stop` says so or the receivers are gone.
+/// When procimgd goes away (or starts anew), the image turns [`Snapshot::orphaned`] until
+/// the client is attached to the new one (it attaches again by itself) and its images
+/// come, with whatever layout procimgd has then. Runs on a thread of its own: the client
+/// blocks.
 pub fn feed(
     mut client: Client,
     mut report: Arc<StatusReport>,
@@ -172,24 +204,60 @@ pub fn feed(
     stop: impl Fn() -> bool,
 ) -> Result<(), FeedError> {
     let instance = client.instance().to_owned();
-    let hash = client.layout().hash();
+    let mut layout = Arc::new(client.layout().clone());
     let mut report_at = Instant::now();
+    let mut answered_at = Instant::now();
     let mut last_cycle = None;
+    // procimgd went away: nothing is sent until the client is attached to a new one.
+    let mut away = false;
+    let mut report_now = false;
     while !stop() {
         let mut fresh_report = false;
-        if report_at.elapsed() >= STATUS_EVERY {
-            if let Ok(r) = client.control().status() {
-                if r.layout_hash != hash {
-                    return Err(FeedError::LayoutChanged(instance));
-                }
-                report = Arc::new(r);
-                fresh_report = true;
-            }
+        if report_now || report_at.elapsed() >= STATUS_EVERY {
+            report_now = false;
             report_at = Instant::now();
+            match client.control().status() {
+                Ok(r) if r.generation == client.generation() => {
+                    answered_at = Instant::now();
+                    if r.layout_hash == layout.hash() {
+                        report = Arc::new(r);
+                        fresh_report = true;
+                        if away {
+                            tracing::info!(
+                                "procimgd instance {instance:?} is back (layout {:016x})",
+                                layout.hash()
+                            );
+                            away = false;
+                        }
+                    }
+                }
+                // Another generation: the client has not attached to it yet.
+                Ok(_) => {}
+                Err(e) => tracing::debug!("no status of instance {instance:?}: {e}"),
+            }
+            if !away && answered_at.elapsed() >= GONE_AFTER {
+                tracing::warn!(
+                    "procimgd instance {instance:?} is gone or started anew: its values read \
+                     BadNotConnected until it is back"
+                );
+                away = true;
+                let orphaned = tx.borrow().orphaned();
+                if tx.send(Arc::new(orphaned)).is_err() {
+                    return Ok(());
+                }
+            }
         }
-        // A cycle already sent is sent again only with a fresh report.
+        // Images are taken (the client attaches again in doing so) but not sent while away.
         let unless = if fresh_report { None } else { last_cycle };
-        if let Some(snap) = take(&mut client, &report, unless) {
+        let snap = take(&mut client, &layout, &report, unless);
+        if client.layout().hash() != layout.hash() {
+            // Attached to a procimgd with another layout: its status comes next.
+            layout = Arc::new(client.layout().clone());
+            last_cycle = None;
+            report_now = true;
+            continue;
+        }
+        if let Some(snap) = snap.filter(|_| !away) {
             last_cycle = Some(snap.cycle);
             if tx.send(Arc::new(snap)).is_err() {
                 return Ok(());

@@ -1,18 +1,26 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The browsable address space: `Objects/procimg/<instance>` with the server's status, and per
-//! device its state and per submodule (`<slot>.<subslot>`) its inputs and outputs with their
-//! providers' status. Its values are stored in a [`SimpleNodeManager`] and set from each
-//! snapshot, only those that changed, in one batch: a Read sees one cycle.
+//! The browsable address space: `Objects/procimg/<instance>` with the server's status, and
+//! per device (in the device role: the station) its state as an enumeration and per
+//! submodule (`<slot>.<subslot>`) its data with the providers' and consumers' status. The
+//! values are stored in a [`SimpleNodeManager`] and set from each snapshot, only those that
+//! changed, in one batch: a Read of the tree sees one cycle.
+//!
+//! The devices' part follows the snapshots' layout: when procimgd starts anew with another
+//! layout, its variables say `BadNodeIdUnknown` to their subscribers once and go, and the
+//! new layout's are made (same names, same NodeIds, where devices and submodules stayed).
 
+use crate::items::{Area, Format, Item, ItemKind, Letters, ProcessItem};
 use crate::snapshot::{Quality, Snapshot, quality};
 use opcua::server::SubscriptionCache;
-use opcua::server::address_space::{AccessLevel, EventNotifier, ObjectBuilder, VariableBuilder};
+use opcua::server::address_space::{
+    AccessLevel, AddressSpace, DataTypeBuilder, EventNotifier, ObjectBuilder, VariableBuilder,
+};
 use opcua::server::node_manager::memory::SimpleNodeManager;
 use opcua::types::{
-    ByteString, DataTypeId, DataValue, DateTime, NodeId, ObjectTypeId, QualifiedName, StatusCode,
-    Variant,
+    ByteString, DataTypeDefinition, DataTypeId, DataValue, DateTime, EnumDefinition, EnumField,
+    LocalizedText, NodeId, ObjectTypeId, QualifiedName, StatusCode, VariableTypeId, Variant,
 };
-use procimg_client::{Ioxs, Layout};
+use procimg_client::{ArState, DeviceState, Ioxs, Layout};
 use std::collections::HashMap;
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -48,6 +56,13 @@ pub fn data_value((value, status): (Variant, StatusCode), time: DateTime) -> Dat
     }
 }
 
+/// The enumeration DataType of a controller's device states: [`DeviceState::ALL`] from 0.
+pub const DEVICE_STATE_TYPE: &str = "DeviceStateEnum";
+/// The enumeration DataType of a station's AR: 0 none, then [`ArState::ALL`] from 1.
+pub const AR_STATE_TYPE: &str = "ArStateEnum";
+/// The word of [`AR_STATE_TYPE`]'s 0.
+const NO_AR: &str = "none";
+
 /// What a variable of the tree shows.
 #[derive(Clone, Copy, Debug)]
 enum Shows {
@@ -57,6 +72,8 @@ enum Shows {
     Overruns,
     OpFaults,
     DeviceState(usize),
+    Plc,
+    PlcRunning,
     Inputs(usize),
     Outputs(usize),
     InputIops(usize),
@@ -65,9 +82,22 @@ enum Shows {
     OutputIocs(usize),
 }
 
+/// A variable of the tree: its NodeId and what it shows.
+type Var = (NodeId, Shows);
+
 /// The tree's variables and what was last published of them.
 pub struct Tree {
-    vars: Vec<(NodeId, Shows)>,
+    ns: u16,
+    instance: String,
+    controller: u8,
+    /// The hash of the layout the devices' part is made for.
+    layout: u64,
+    /// The server's status variables.
+    status: Vec<Var>,
+    /// The devices' variables.
+    devices: Vec<Var>,
+    /// The devices' nodes (objects and variables), in the order made.
+    device_nodes: Vec<NodeId>,
     last: HashMap<NodeId, (Variant, StatusCode)>,
 }
 
@@ -76,53 +106,94 @@ pub fn node_id(ns: u16, path: &str) -> NodeId {
     NodeId::new(ns, path)
 }
 
+/// The names of a direction's variables in a role: the data's, and the prefix of its
+/// status bytes'. A station's directions are named from the PLC's view, as IO-Base's device
+/// interface names them: Q data is what the PLC wrote (the layout's inputs), I data what the
+/// station sends it (the layout's outputs).
+fn direction_names(device_role: bool, output: bool) -> (&'static str, &'static str) {
+    match (device_role, output) {
+        (false, false) => ("Inputs", "Input"),
+        (false, true) => ("Outputs", "Output"),
+        (true, false) => ("QData", "QData"),
+        (true, true) => ("IData", "IData"),
+    }
+}
+
+/// Adds an enumeration DataType `name` with `words` numbered from 0 to `space`.
+fn add_enumeration(space: &mut AddressSpace, ns: u16, name: &str, words: &[&str]) {
+    let id = node_id(ns, name);
+    let fields = words
+        .iter()
+        .enumerate()
+        .map(|(i, w)| EnumField {
+            value: i as i64,
+            display_name: LocalizedText::new("", w),
+            description: LocalizedText::null(),
+            name: (*w).into(),
+        })
+        .collect();
+    DataTypeBuilder::new(&id, QualifiedName::new(ns, name), name)
+        .subtype_of(DataTypeId::Enumeration)
+        .data_type_definition(DataTypeDefinition::Enum(EnumDefinition {
+            fields: Some(fields),
+        }))
+        .insert(space);
+    let strings: Vec<LocalizedText> = words.iter().map(|w| LocalizedText::new("", w)).collect();
+    VariableBuilder::new(
+        &node_id(ns, &format!("{name}/EnumStrings")),
+        QualifiedName::new(0, "EnumStrings"),
+        "EnumStrings",
+    )
+    .data_type(DataTypeId::LocalizedText)
+    .value_rank(1)
+    .value(Variant::from(strings))
+    .property_of(id)
+    .has_type_definition(VariableTypeId::PropertyType)
+    .insert(space);
+}
+
 impl Tree {
-    /// Builds the tree of `instance` with `layout` into `nm`'s address space (namespace `ns`).
-    pub fn build(nm: &SimpleNodeManager, ns: u16, instance: &str, layout: &Layout) -> Tree {
-        let mut vars = Vec::new();
+    /// Builds the tree of `instance` (CpIndex `controller`) with `layout` into `nm`'s address
+    /// space (namespace `ns`).
+    pub fn build(
+        nm: &SimpleNodeManager,
+        ns: u16,
+        instance: &str,
+        controller: u8,
+        layout: &Layout,
+    ) -> Tree {
+        let mut tree = Tree {
+            ns,
+            instance: instance.to_owned(),
+            controller,
+            layout: layout.hash(),
+            status: Vec::new(),
+            devices: Vec::new(),
+            device_nodes: Vec::new(),
+            last: HashMap::new(),
+        };
         let mut space = nm.address_space().write();
         let root = node_id(ns, "procimg");
-        let browse = |name: &str| QualifiedName::new(ns, name);
         space.add_folder(
             &root,
-            browse("procimg"),
+            QualifiedName::new(ns, "procimg"),
             "procimg",
             &NodeId::objects_folder_id(),
         );
+        let device_words: Vec<&str> = DeviceState::ALL.iter().map(|s| s.as_str()).collect();
+        add_enumeration(&mut space, ns, DEVICE_STATE_TYPE, &device_words);
+        let ar_words: Vec<&str> = std::iter::once(NO_AR)
+            .chain(ArState::ALL.iter().map(|s| s.as_str()))
+            .collect();
+        add_enumeration(&mut space, ns, AR_STATE_TYPE, &ar_words);
         let top = node_id(ns, instance);
-        ObjectBuilder::new(&top, browse(instance), instance)
+        ObjectBuilder::new(&top, QualifiedName::new(ns, instance), instance)
             .organized_by(root)
             .event_notifier(EventNotifier::SUBSCRIBE_TO_EVENTS)
             .has_type_definition(ObjectTypeId::BaseObjectType)
             .insert(&mut *space);
-        let object = |space: &mut opcua::server::address_space::AddressSpace,
-                      id: &NodeId,
-                      name: &str,
-                      parent: &NodeId| {
-            ObjectBuilder::new(id, QualifiedName::new(ns, name), name)
-                .component_of(parent.clone())
-                .has_type_definition(ObjectTypeId::BaseObjectType)
-                .insert(space);
-        };
-        let mut variable = |space: &mut opcua::server::address_space::AddressSpace,
-                            parent: &NodeId,
-                            path: String,
-                            name: &str,
-                            data_type: DataTypeId,
-                            initial: Variant,
-                            shows: Shows| {
-            let id = node_id(ns, &path);
-            VariableBuilder::new(&id, QualifiedName::new(ns, name), name)
-                .data_type(data_type)
-                .value(initial)
-                .access_level(AccessLevel::CURRENT_READ)
-                .user_access_level(AccessLevel::CURRENT_READ)
-                .component_of(parent.clone())
-                .insert(space);
-            vars.push((id, shows));
-        };
         let status = node_id(ns, &format!("{instance}/Status"));
-        object(&mut space, &status, "Status", &top);
+        tree.object(&mut space, &status, "Status", &top);
         for (name, data_type, initial, shows) in [
             ("Mode", DataTypeId::String, Variant::from(""), Shows::Mode),
             (
@@ -150,18 +221,88 @@ impl Tree {
                 Shows::OpFaults,
             ),
         ] {
-            variable(
+            let id = tree.variable(
                 &mut space,
                 &status,
                 format!("{instance}/Status/{name}"),
-                name,
-                data_type,
-                initial,
-                shows,
+                (name, data_type.into(), initial),
+                None,
             );
+            tree.status.push((id, shows));
         }
         let devices = node_id(ns, &format!("{instance}/Devices"));
-        object(&mut space, &devices, "Devices", &top);
+        tree.object(&mut space, &devices, "Devices", &top);
+        // What stays whatever the layout.
+        tree.device_nodes.clear();
+        tree.lay_out(&mut space, layout);
+        drop(space);
+        tree
+    }
+
+    /// An object `name` at `id`, a component of `parent`.
+    fn object(&mut self, space: &mut AddressSpace, id: &NodeId, name: &str, parent: &NodeId) {
+        ObjectBuilder::new(id, QualifiedName::new(self.ns, name), name)
+            .component_of(parent.clone())
+            .has_type_definition(ObjectTypeId::BaseObjectType)
+            .insert(space);
+        self.device_nodes.push(id.clone());
+    }
+
+    /// A read-only variable at `path` below `parent`: its name, DataType and first value,
+    /// and a description.
+    fn variable(
+        &mut self,
+        space: &mut AddressSpace,
+        parent: &NodeId,
+        path: String,
+        (name, data_type, initial): (&str, NodeId, Variant),
+        description: Option<String>,
+    ) -> NodeId {
+        let id = node_id(self.ns, &path);
+        let mut b = VariableBuilder::new(&id, QualifiedName::new(self.ns, name), name)
+            .data_type(data_type)
+            .value(initial)
+            .access_level(AccessLevel::CURRENT_READ)
+            .user_access_level(AccessLevel::CURRENT_READ)
+            .component_of(parent.clone());
+        if let Some(d) = description {
+            b = b.description(LocalizedText::new("", &d));
+        }
+        b.insert(space);
+        self.device_nodes.push(id.clone());
+        id
+    }
+
+    /// The PNIO item that names the same bytes as a submodule's data variable.
+    fn item_of(&self, area: Area, address: u32, length: u16) -> String {
+        Item {
+            controller: self.controller,
+            kind: ItemKind::Process(ProcessItem {
+                area,
+                letters: Letters::German,
+                format: Format::Byte,
+                address,
+                bit: 0,
+                count: Some(length),
+            }),
+        }
+        .to_string()
+    }
+
+    /// Makes the devices' part of the tree for `layout`.
+    fn lay_out(&mut self, space: &mut AddressSpace, layout: &Layout) {
+        let ns = self.ns;
+        let instance = self.instance.clone();
+        let devices = node_id(ns, &format!("{instance}/Devices"));
+        let device_role = layout.is_device();
+        let state_type = node_id(
+            ns,
+            if device_role {
+                AR_STATE_TYPE
+            } else {
+                DEVICE_STATE_TYPE
+            },
+        );
         for d in 0..layout.devices.len() {
             let name = layout.device_name(d).to_owned();
             let dev_path = format!("{instance}/Devices/{name}");
@@ -170,88 +311,149 @@ impl Tree {
                 .component_of(devices.clone())
                 .has_type_definition(ObjectTypeId::BaseObjectType)
                 .event_notifier(EventNotifier::SUBSCRIBE_TO_EVENTS)
-                .insert(&mut *space);
-            variable(
-                &mut space,
-                &dev,
-                format!("{dev_path}/State"),
+                .insert(space);
+            self.device_nodes.push(dev.clone());
+            let mut vars = vec![(
                 "State",
-                DataTypeId::String,
-                Variant::from(""),
+                state_type.clone(),
+                Variant::from(0i32),
                 Shows::DeviceState(d),
-            );
+            )];
+            if device_role {
+                vars.push((
+                    "Plc",
+                    DataTypeId::String.into(),
+                    Variant::from(""),
+                    Shows::Plc,
+                ));
+                vars.push((
+                    "PlcRunning",
+                    DataTypeId::Boolean.into(),
+                    Variant::from(false),
+                    Shows::PlcRunning,
+                ));
+            }
+            for (var, data_type, initial, shows) in vars {
+                let id = self.variable(
+                    space,
+                    &dev,
+                    format!("{dev_path}/{var}"),
+                    (var, data_type, initial),
+                    None,
+                );
+                self.devices.push((id, shows));
+            }
             for s in layout.submodules_of(d) {
                 let e = layout.submodules[s];
                 let sub_name = format!("{}.{}", e.slot, e.subslot);
                 let sub_path = format!("{dev_path}/{sub_name}");
                 let sub = node_id(ns, &sub_path);
-                object(&mut space, &sub, &sub_name, &dev);
-                let empty = || Variant::from(ByteString::from(Vec::<u8>::new()));
+                self.object(space, &sub, &sub_name, &dev);
                 // A direction's data and its two status bytes, where it has data.
                 let directions = [
                     (
-                        e.input_length > 0,
-                        "Input",
-                        Shows::Inputs(s),
-                        Shows::InputIops(s),
-                        Shows::InputIocs(s),
+                        e.input_length,
+                        e.input_address,
+                        Area::Input,
+                        [Shows::Inputs(s), Shows::InputIops(s), Shows::InputIocs(s)],
                     ),
                     (
-                        e.output_length > 0,
-                        "Output",
-                        Shows::Outputs(s),
-                        Shows::OutputIops(s),
-                        Shows::OutputIocs(s),
+                        e.output_length,
+                        e.output_address,
+                        Area::Output,
+                        [
+                            Shows::Outputs(s),
+                            Shows::OutputIops(s),
+                            Shows::OutputIocs(s),
+                        ],
                     ),
                 ];
-                for (_, dir, data, iops, iocs) in directions.into_iter().filter(|d| d.0) {
-                    for (name, data_type, initial, shows) in [
-                        (format!("{dir}s"), DataTypeId::ByteString, empty(), data),
+                for (length, address, area, [data, iops, iocs]) in directions {
+                    if length == 0 {
+                        continue;
+                    }
+                    let (data_name, prefix) = direction_names(device_role, area == Area::Output);
+                    let item = self.item_of(area, address, length);
+                    let empty = Variant::from(ByteString::from(Vec::<u8>::new()));
+                    for (var, data_type, initial, shows, description) in [
                         (
-                            format!("{dir}IOPS"),
+                            data_name.to_owned(),
+                            DataTypeId::ByteString,
+                            empty,
+                            data,
+                            Some(format!("the same bytes as the item {item}")),
+                        ),
+                        (
+                            format!("{prefix}IOPS"),
                             DataTypeId::Boolean,
                             Variant::from(false),
                             iops,
+                            None,
                         ),
                         (
-                            format!("{dir}IOCS"),
+                            format!("{prefix}IOCS"),
                             DataTypeId::Boolean,
                             Variant::from(false),
                             iocs,
+                            None,
                         ),
                     ] {
-                        variable(
-                            &mut space,
+                        let id = self.variable(
+                            space,
                             &sub,
-                            format!("{sub_path}/{name}"),
-                            &name,
-                            data_type,
-                            initial,
-                            shows,
+                            format!("{sub_path}/{var}"),
+                            (&var, data_type.into(), initial),
+                            description,
                         );
+                        self.devices.push((id, shows));
                     }
                 }
             }
         }
-        drop(space);
-        Tree {
-            vars,
-            last: HashMap::new(),
+        self.layout = layout.hash();
+    }
+
+    /// Tells the subscribers of the devices' variables that they went, and removes them.
+    fn retire(&mut self, nm: &SimpleNodeManager, subscriptions: &SubscriptionCache) {
+        let gone = data_value(
+            (Variant::Empty, StatusCode::BadNodeIdUnknown),
+            DateTime::now(),
+        );
+        let _ = nm.set_values(
+            subscriptions,
+            self.devices.iter().map(|(id, _)| (id, None, gone.clone())),
+        );
+        let mut space = nm.address_space().write();
+        for id in self.device_nodes.drain(..).rev() {
+            space.delete(&id, true);
+        }
+        for (id, _) in self.devices.drain(..) {
+            self.last.remove(&id);
         }
     }
 
-    /// Sets the variables that changed in `snap`, in one batch.
+    /// Sets the variables that changed in `snap`, in one batch; first makes the devices'
+    /// part anew if `snap` is of another layout.
     pub fn publish(
         &mut self,
         nm: &SimpleNodeManager,
         subscriptions: &SubscriptionCache,
-        layout: &Layout,
         snap: &Snapshot,
     ) {
+        if snap.layout.hash() != self.layout {
+            tracing::info!(
+                "instance {:?} has another layout ({:016x}): its devices' nodes are made anew",
+                self.instance,
+                snap.layout.hash()
+            );
+            self.retire(nm, subscriptions);
+            let mut space = nm.address_space().write();
+            self.lay_out(&mut space, &snap.layout);
+        }
         let time = timestamp(snap.time);
         let mut changed = Vec::new();
-        for (id, shows) in &self.vars {
-            let (value, status) = value_of(*shows, layout, snap);
+        for (id, shows) in self.status.iter().chain(&self.devices) {
+            let (value, status) = value_of(*shows, snap);
             if matches!(self.last.get(id), Some((v, st)) if *v == value && *st == status) {
                 continue;
             }
@@ -275,8 +477,24 @@ fn ioxs(x: Ioxs) -> Variant {
     Variant::from(x == Ioxs::Good)
 }
 
+/// The number of a state in its enumeration ([`DEVICE_STATE_TYPE`], [`AR_STATE_TYPE`]).
+fn state_number(snap: &Snapshot, d: usize) -> i32 {
+    let position = |found: Option<usize>| found.map_or(0, |i| i as i32);
+    match &snap.report.station {
+        Some(station) => station.ar.as_ref().map_or(0, |a| {
+            1 + position(ArState::ALL.iter().position(|s| *s == a.state))
+        }),
+        None => position(
+            snap.report
+                .devices
+                .get(d)
+                .and_then(|x| DeviceState::ALL.iter().position(|s| *s == x.state)),
+        ),
+    }
+}
+
 /// The value and status of a variable in `snap`.
-fn value_of(shows: Shows, layout: &Layout, snap: &Snapshot) -> (Variant, StatusCode) {
+fn value_of(shows: Shows, snap: &Snapshot) -> (Variant, StatusCode) {
     let r = &snap.report;
     let good = StatusCode::Good;
     let data = |bytes: Option<&Vec<u8>>, q: Quality| {
@@ -284,42 +502,42 @@ fn value_of(shows: Shows, layout: &Layout, snap: &Snapshot) -> (Variant, StatusC
         (Variant::from(ByteString::from(b)), status_code(q))
     };
     let st = |s: usize| snap.status.get(s).copied();
+    let ar = r.station.as_ref().and_then(|s| s.ar.as_ref());
+    let bad = |v: Variant| (v, StatusCode::BadNotConnected);
     match shows {
         Shows::Mode => (Variant::from(snap.mode().name()), good),
         Shows::CycleTime => (Variant::from(r.cycle_ns as f64 / 1e6), good),
         Shows::CycleCount => (Variant::from(snap.cycle), good),
         Shows::Overruns => (Variant::from(r.overruns), good),
         Shows::OpFaults => (Variant::from(r.opfaults), good),
-        Shows::DeviceState(d) => {
-            let state = match &r.station {
-                Some(station) => station
-                    .ar
-                    .as_ref()
-                    .map_or_else(|| "no AR".to_owned(), |a| a.state.to_string()),
-                None => r
-                    .devices
-                    .get(d)
-                    .map_or_else(String::new, |x| x.state.to_string()),
-            };
-            (Variant::from(state), good)
+        Shows::DeviceState(d) => (Variant::from(state_number(snap, d)), good),
+        Shows::Plc => match ar {
+            Some(a) if a.controller_name.is_empty() => {
+                (Variant::from(a.controller_mac.as_str()), good)
+            }
+            Some(a) => (
+                Variant::from(format!("{} ({})", a.controller_name, a.controller_mac)),
+                good,
+            ),
+            None => bad(Variant::from("")),
+        },
+        Shows::PlcRunning => match ar.and_then(|a| a.plc_running) {
+            Some(running) => (Variant::from(running), good),
+            None => bad(Variant::from(false)),
+        },
+        Shows::Inputs(s) => data(snap.inputs.get(s), quality(snap, s, false)),
+        Shows::Outputs(s) => data(snap.outputs.get(s), quality(snap, s, true)),
+        Shows::InputIops(s) => {
+            st(s).map_or(bad(Variant::from(false)), |x| (ioxs(x.input_remote), good))
         }
-        Shows::Inputs(s) => data(snap.inputs.get(s), quality(snap, layout, s, false)),
-        Shows::Outputs(s) => data(snap.outputs.get(s), quality(snap, layout, s, true)),
-        Shows::InputIops(s) => st(s)
-            .map_or((Variant::from(false), StatusCode::BadNotConnected), |x| {
-                (ioxs(x.input_remote), good)
-            }),
-        Shows::InputIocs(s) => st(s)
-            .map_or((Variant::from(false), StatusCode::BadNotConnected), |x| {
-                (ioxs(x.input_local), good)
-            }),
-        Shows::OutputIops(s) => st(s)
-            .map_or((Variant::from(false), StatusCode::BadNotConnected), |x| {
-                (ioxs(x.output_local), good)
-            }),
-        Shows::OutputIocs(s) => st(s)
-            .map_or((Variant::from(false), StatusCode::BadNotConnected), |x| {
-                (ioxs(x.output_remote), good)
-            }),
+        Shows::InputIocs(s) => {
+            st(s).map_or(bad(Variant::from(false)), |x| (ioxs(x.input_local), good))
+        }
+        Shows::OutputIops(s) => {
+            st(s).map_or(bad(Variant::from(false)), |x| (ioxs(x.output_local), good))
+        }
+        Shows::OutputIocs(s) => {
+            st(s).map_or(bad(Variant::from(false)), |x| (ioxs(x.output_remote), good))
+        }
     }
 }

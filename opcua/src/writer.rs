@@ -21,6 +21,8 @@ pub type Alive = Box<dyn Fn() -> bool + Send>;
 pub enum WriteRefusal {
     /// Another client or session holds the submodule's outputs.
     Held(String),
+    /// The write was resolved against a layout procimgd no longer has.
+    Gone,
     /// The server refused or did not answer.
     Failed(String),
 }
@@ -32,6 +34,8 @@ pub struct Write {
     pub session: u32,
     /// Whether the session still lives (checked to release its claims).
     pub alive: Alive,
+    /// The hash of the layout the write was resolved against.
+    pub layout: u64,
     /// The submodule.
     pub submodule: usize,
     /// The first byte's logical address.
@@ -42,13 +46,28 @@ pub struct Write {
     pub reply: oneshot::Sender<Result<(), WriteRefusal>>,
 }
 
-/// Runs the writer over `client` (attached with slice access) until `jobs` ends.
-pub fn run(mut client: Client, jobs: mpsc::Receiver<Write>) {
+/// Runs the writer over `client` (attached with slice access) until `jobs` ends. A write
+/// resolved against another layout than the client's (procimgd started anew) makes it
+/// attach again with `attach`; the claims of the old server went with it.
+pub fn run(mut client: Client, jobs: mpsc::Receiver<Write>, attach: impl Fn() -> Option<Client>) {
     // Submodule → the session holding it, and how to tell that session lives.
     let mut held: HashMap<usize, (u32, Alive)> = HashMap::new();
+    // The layout `held` counts submodules in: the client may have attached again by itself.
+    let mut known = client.layout().hash();
     loop {
         match jobs.recv_timeout(LOOK_EVERY) {
             Ok(w) => {
+                if w.layout != client.layout().hash() || known != client.layout().hash() {
+                    if let Some(again) = attach() {
+                        client = again;
+                    }
+                    held.clear();
+                    known = client.layout().hash();
+                    if w.layout != client.layout().hash() {
+                        let _ = w.reply.send(Err(WriteRefusal::Gone));
+                        continue;
+                    }
+                }
                 let outcome = write(
                     &mut client,
                     &mut held,

@@ -3,8 +3,7 @@
 
     python asyncua_demo.py URL INSTANCE PKI_DIR WORK_DIR
 
-The server's users file holds "operator" and "second" (writers, passwords "op-pw" and
-"second-pw") and "viewer" (a reader, "viewer-pw").
+The users file is the one asyncua_common.py names.
 
 Checks, each failure naming what a user would see: the PNIO item names of the migration
 guide by NodeId with their qualities, items of one Read of one cycle, unknown items refused,
@@ -16,33 +15,17 @@ a reader's write is refused and a write of the wrong type too. Prints "asyncua: 
 """
 
 import asyncio
-import shutil
-import sys
-from pathlib import Path
 
 from asyncua import Client, ua
-from asyncua.crypto import security_policies
-from asyncua.crypto.cert_gen import setup_self_signed_certificate
-from cryptography.x509.oid import ExtendedKeyUsageOID
 
-URL, INSTANCE, PKI, WORK = sys.argv[1], sys.argv[2], Path(sys.argv[3]), Path(sys.argv[4])
-
-
-def check(ok, what):
-    if not ok:
-        print(f"asyncua: FAILED: {what}", flush=True)
-        sys.exit(1)
-
-
-async def read(client, node_id):
-    return await client.get_node(node_id).read_data_value(raise_on_bad_status=False)
+from asyncua_common import INSTANCE, ITEMS, TREE, URL, check, disconnect_all, read, state_word, trusted_connector
 
 
 async def items_and_tree():
     client = Client(URL)
     async with client:
-        ns = await client.get_namespace_index("urn:procimg:pnio")
-        tns = await client.get_namespace_index(f"urn:procimg:{INSTANCE}")
+        ns = await client.get_namespace_index(ITEMS)
+        tns = await client.get_namespace_index(TREE)
 
         def item(name):
             return ua.NodeId(name, ns)
@@ -95,7 +78,7 @@ async def items_and_tree():
             dv = await inputs.read_data_value(raise_on_bad_status=False)
             check(len(dv.Value.Value) == length, f"{device}'s inputs: {dv.Value}")
         state = await devices.get_child([f"{tns}:counter", f"{tns}:State"])
-        check(await state.read_value() == "running", "the counter device's state")
+        check(await state_word(client, state) == "running", "the counter device's state")
         status_mode = await top.get_child([f"{tns}:Status", f"{tns}:Mode"])
         check(await status_mode.read_value() == "OPERATE", "the server's mode")
 
@@ -150,37 +133,10 @@ async def items_and_tree():
 
 
 async def secure():
-    key, cert = WORK / "client-key.pem", WORK / "client-cert.der"
-    await setup_self_signed_certificate(
-        key, cert, "urn:procimg:test:asyncua", "localhost",
-        [ExtendedKeyUsageOID.CLIENT_AUTH], {"commonName": "procimg-test"},
-    )
-
-    async def connect(user=None, password=None):
-        client = Client(URL)
-        client.application_uri = "urn:procimg:test:asyncua"
-        if user:
-            client.set_user(user)
-            client.set_password(password)
-        await client.set_security(
-            security_policies.SecurityPolicyBasic256Sha256, str(cert), str(key),
-            mode=ua.MessageSecurityMode.SignAndEncrypt,
-        )
-        return client
-
-    # An unknown certificate is refused and kept in rejected/ for the administrator.
-    client = await connect()
-    try:
-        async with client:
-            check(False, "an untrusted client certificate was accepted")
-    except Exception as e:  # the server closes the channel
-        print(f"untrusted certificate refused: {type(e).__name__}", flush=True)
-    rejected = list((PKI / "rejected").glob("*.der"))
-    check(len(rejected) == 1, f"the refused certificate is in rejected/: {rejected}")
-    shutil.move(str(rejected[0]), str(PKI / "trusted" / rejected[0].name))
+    connect = await trusted_connector()
     client = await connect()
     async with client:
-        ns = await client.get_namespace_index("urn:procimg:pnio")
+        ns = await client.get_namespace_index(ITEMS)
         dv = await read(client, ua.NodeId("PNIO:[CTRL1]EB10", ns))
         check(dv.StatusCode.is_good(), f"EB10 over Basic256Sha256: {dv.StatusCode}")
 
@@ -202,7 +158,7 @@ async def secure():
     await second.connect()
     await viewer.connect()
     try:
-        ns = await operator.get_namespace_index("urn:procimg:pnio")
+        ns = await operator.get_namespace_index(ITEMS)
         # The writer writes the echo device's 16 outputs; they come back as its inputs.
         await operator.get_node(item(ns, "PNIO:[CTRL1]AB0,16")).write_value(
             ua.Variant(pattern, ua.VariantType.Byte)
@@ -256,7 +212,7 @@ async def secure():
 
         sub = await viewer.create_subscription(50, Events())
         await sub.subscribe_events(viewer.nodes.server, queuesize=100)
-        tns = await second.get_namespace_index(f"urn:procimg:{INSTANCE}")
+        tns = await second.get_namespace_index(TREE)
         top = second.get_node(ua.NodeId(INSTANCE, tns))
         await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OFFLINE")
         await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OPERATE")
@@ -269,11 +225,7 @@ async def secure():
         returned = {name for name, text, _ in events if "returned" in text}
         check(failed == returned == {"echo", "counter", "dio"}, f"the devices' events: {events}")
     finally:
-        for c in (second, viewer):
-            try:
-                await c.disconnect()
-            except Exception:
-                pass
+        await disconnect_all([second, viewer])
 
 
 async def main():

@@ -399,6 +399,12 @@ pub struct ImageView<'a> {
 }
 
 impl ImageView<'_> {
+    /// The layout the image is laid out by: the client's, which changes when the client
+    /// attaches again to a procimgd with another layout.
+    pub fn layout(&self) -> &crate::Layout {
+        self.layout
+    }
+
     /// The cycle the image is of.
     pub fn cycle(&self) -> procimg_shm_layout::CycleInfo {
         self.cycle
