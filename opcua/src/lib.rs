@@ -3,7 +3,8 @@
 //! serves the image, states, alarms and records to the plant, off the real-time path.
 //!
 //! - [`snapshot`]: one cycle of the image, whole, taken by a thread of its own;
-//! - [`tree`]: the browsable address space under `Objects/procimg/<instance>`;
+//! - [`tree`]: the browsable address space under `Objects/procimg/<instance>`, with typed
+//!   variables where the devices' GSDML files describe the bytes ([`typed`]);
 //! - [`pnio_nodes`]: the PNIO item names of the SIMATIC NET OPC server ([`items`]) as string
 //!   NodeIds, resolved from the snapshot when read or monitored;
 //! - [`server`]: the server put together: endpoints, security, the PKI folder;
@@ -21,5 +22,6 @@ pub mod records;
 pub mod server;
 pub mod snapshot;
 pub mod tree;
+pub mod typed;
 pub mod users;
 pub mod writer;

@@ -39,6 +39,11 @@ struct Args {
     /// Offer the endpoint without security (policy None) beside the secure ones.
     #[arg(long)]
     insecure: bool,
+    /// GSDML files, or folders of them, whose DataItems type the submodules' data: the tree
+    /// then has a variable of the item's type (and one per named bit) below the bytes. A
+    /// device's file is found by its VendorID and DeviceID.
+    #[arg(long, value_name = "PATH")]
+    gsdml: Vec<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -114,6 +119,7 @@ fn add_user(file: &std::path::Path, name: &str, role: RoleArg) -> anyhow::Result
 
 fn run(args: Args) -> anyhow::Result<()> {
     let endpoint = Endpoint::parse(&args.endpoint).map_err(|e| anyhow!("--endpoint {e}"))?;
+    let catalog = procimg_opcua::typed::Catalog::load(&args.gsdml)?;
     let users = Arc::new(match &args.users {
         Some(path) => Users::load(path)?,
         None => Users::default(),
@@ -173,6 +179,8 @@ fn run(args: Args) -> anyhow::Result<()> {
         insecure: args.insecure,
         cycle,
         users,
+        pace: Arc::default(),
+        catalog: Arc::new(catalog),
     };
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -181,10 +189,13 @@ fn run(args: Args) -> anyhow::Result<()> {
     let stop = Arc::new(AtomicBool::new(false));
     let feeder = {
         let stop = stop.clone();
+        let pace = options.pace.clone();
         std::thread::Builder::new()
             .name("image-feed".into())
             .spawn(move || {
-                snapshot::feed(client, report, cycle, tx, || stop.load(Ordering::Acquire))
+                snapshot::feed(client, report, (&pace, cycle), tx, || {
+                    stop.load(Ordering::Acquire)
+                })
             })
             .context("cannot start the image thread")?
     };

@@ -7,7 +7,7 @@
 use crate::auth::Sessions;
 use crate::items::{Area, Format, Item, ItemKind, MAX_ITEM_BYTES, ProcessItem, RecordItem, Values};
 use crate::records::{self, Job};
-use crate::snapshot::{Snapshot, quality};
+use crate::snapshot::{Pace, Snapshot, quality};
 use crate::tree::{data_value, status_code, timestamp};
 use crate::users::Users;
 use crate::writer::{Write, WriteRefusal};
@@ -15,18 +15,19 @@ use async_trait::async_trait;
 use opcua::nodes::DefaultTypeTree;
 use opcua::server::diagnostics::NamespaceMetadata;
 use opcua::server::node_manager::{
-    DynNodeManager, MonitoredItemRef, NodeManager, NodeManagerBuilder, ReadNode, RequestContext,
-    ServerContext, WriteNode,
+    DynNodeManager, MonitoredItemRef, MonitoredItemUpdateRef, NodeManager, NodeManagerBuilder,
+    ReadNode, RequestContext, ServerContext, WriteNode,
 };
 use opcua::server::{CreateMonitoredItem, MonitoredItemHandle, SubscriptionCache};
 use opcua::types::{
-    AttributeId, DataTypeId, DataValue, DiagnosticInfo, Identifier, LocalizedText, NodeClass,
-    NodeId, QualifiedName, StatusCode, TimestampsToReturn, UAString, Variant,
+    AttributeId, DataTypeId, DataValue, DiagnosticInfo, Identifier, LocalizedText, MonitoringMode,
+    NodeClass, NodeId, QualifiedName, StatusCode, TimestampsToReturn, UAString, Variant,
 };
 use procimg_client::access::{self, Space};
 use procimg_client::{Layout, RecordTarget};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, mpsc};
+use std::time::{Duration, Instant};
 use tokio::sync::watch;
 
 /// The namespace URI of the item names.
@@ -45,12 +46,30 @@ pub struct PnioItems {
     writer: Mutex<mpsc::Sender<Write>>,
     /// Where record jobs go.
     records: Mutex<mpsc::Sender<Job>>,
+    /// The feed's pace, set from the monitored items' sampling intervals.
+    pace: Arc<Pace>,
 }
 
 struct Monitored {
     node: NodeId,
     item: Item,
     last: Option<(Variant, StatusCode)>,
+    /// Its sampling interval (zero: every image).
+    interval: Duration,
+    /// When it is sampled next.
+    due: Instant,
+    /// Sampled at all (its monitoring mode is not Disabled).
+    sampling: bool,
+}
+
+/// A sampling interval in ms as the server revised it; zero or less (the subscription's, or
+/// as fast as possible) samples every image.
+fn interval(ms: f64) -> Duration {
+    if ms.is_finite() && ms > 0.0 {
+        Duration::from_secs_f64(ms / 1e3)
+    } else {
+        Duration::ZERO
+    }
 }
 
 /// Builds [`PnioItems`] into a server.
@@ -65,6 +84,8 @@ pub struct PnioItemsBuilder {
     pub writer: mpsc::Sender<Write>,
     /// Where record jobs go.
     pub records: mpsc::Sender<Job>,
+    /// The feed's pace, which the monitored items set.
+    pub pace: Arc<Pace>,
 }
 
 impl NodeManagerBuilder for PnioItemsBuilder {
@@ -82,8 +103,18 @@ impl NodeManagerBuilder for PnioItemsBuilder {
             users: self.users,
             writer: Mutex::new(self.writer),
             records: Mutex::new(self.records),
+            pace: self.pace,
         })
     }
+}
+
+/// The fastest sampling interval of the items sampled now.
+fn fastest(monitored: &HashMap<MonitoredItemHandle, Monitored>) -> Option<Duration> {
+    monitored
+        .values()
+        .filter(|m| m.sampling)
+        .map(|m| m.interval)
+        .min()
 }
 
 /// Why an item has no value.
@@ -184,13 +215,20 @@ impl PnioItems {
         }
     }
 
-    /// Notifies the monitored items whose value changed in `snap`.
+    /// Notifies the monitored items due for a sample whose value changed in `snap`: an item
+    /// is looked at once per sampling interval, not once per image.
     pub fn notify(&self, snap: &Snapshot, subscriptions: &SubscriptionCache) {
         let time = timestamp(snap.time);
         let mut changes = Vec::new();
+        let at = Instant::now();
         {
             let mut monitored = self.monitored.lock().unwrap_or_else(|e| e.into_inner());
             for m in monitored.values_mut() {
+                if !m.sampling || at < m.due {
+                    continue;
+                }
+                // The next sample on the interval's grid, never in a burst after a stall.
+                m.due = (m.due + m.interval).max(at);
                 let now = self
                     .value(&m.item, snap)
                     .unwrap_or_else(|status| (Variant::Empty, status));
@@ -559,10 +597,43 @@ impl NodeManager for PnioItems {
                     node: id,
                     item,
                     last: Some(now),
+                    interval: interval(m.sampling_interval()),
+                    due: Instant::now(),
+                    sampling: m.monitoring_mode() != MonitoringMode::Disabled,
                 },
             );
         }
+        self.pace.set(fastest(&monitored));
         Ok(())
+    }
+
+    async fn modify_monitored_items(
+        &self,
+        _context: &RequestContext,
+        items: &[&MonitoredItemUpdateRef],
+    ) {
+        let mut monitored = self.monitored.lock().unwrap_or_else(|e| e.into_inner());
+        for m in items {
+            if let Some(x) = monitored.get_mut(&m.handle()) {
+                x.interval = interval(m.update().revised_sampling_interval);
+            }
+        }
+        self.pace.set(fastest(&monitored));
+    }
+
+    async fn set_monitoring_mode(
+        &self,
+        _context: &RequestContext,
+        mode: MonitoringMode,
+        items: &[&MonitoredItemRef],
+    ) {
+        let mut monitored = self.monitored.lock().unwrap_or_else(|e| e.into_inner());
+        for m in items {
+            if let Some(x) = monitored.get_mut(&m.handle()) {
+                x.sampling = mode != MonitoringMode::Disabled;
+            }
+        }
+        self.pace.set(fastest(&monitored));
     }
 
     async fn delete_monitored_items(&self, _context: &RequestContext, items: &[&MonitoredItemRef]) {
@@ -570,5 +641,6 @@ impl NodeManager for PnioItems {
         for m in items {
             monitored.remove(&m.handle());
         }
+        self.pace.set(fastest(&monitored));
     }
 }

@@ -80,6 +80,10 @@ pub struct Options {
     pub cycle: Duration,
     /// The users (none: anonymous sessions only, which read).
     pub users: Arc<Users>,
+    /// The image feed's pace, which the monitored items set.
+    pub pace: Arc<crate::snapshot::Pace>,
+    /// The GSDML files that type the submodules' data.
+    pub catalog: Arc<crate::typed::Catalog>,
 }
 
 /// The server, its handle, and what publishes the image into it.
@@ -110,6 +114,12 @@ fn keep_key_private(pki: &std::path::Path) {
             key.display()
         );
     }
+}
+
+/// The shortest publishing interval, in ms, and the subscriptions' tick: a cycle, at least
+/// 10 ms (a client that wants each image sets a queue, not a faster publication).
+fn publishing_tick_ms(cycle: Duration) -> u64 {
+    (cycle.as_millis() as u64).clamp(10, 100)
 }
 
 /// The browsable tree's namespace URI for `instance`.
@@ -171,9 +181,10 @@ pub fn assemble(
                 &users,
             ),
         )
-        // Sampling at the image's pace: the subscriptions' tick and the shortest sampling
-        // interval are the cycle (at least 1 ms, the tick's unit).
-        .subscription_poll_interval_ms(o.cycle.as_millis().clamp(1, 100) as u64)
+        // The subscriptions' tick is the shortest publishing interval: samples down to the
+        // cycle reach the subscriptions as the images come (the items' node manager pushes
+        // them); a tick of each cycle would wake the server 1000 times a second for nothing.
+        .subscription_poll_interval_ms(publishing_tick_ms(o.cycle))
         .with_node_manager(simple_node_manager(
             NamespaceMetadata {
                 namespace_uri: tree_namespace(&o.instance),
@@ -187,6 +198,7 @@ pub fn assemble(
             users: o.users.clone(),
             writer,
             records: records.clone(),
+            pace: o.pace.clone(),
         });
     if o.insecure {
         builder = builder.add_endpoint("none", ServerEndpoint::new_none("/", &users));
@@ -194,7 +206,7 @@ pub fn assemble(
     let cycle_ms = (o.cycle.as_secs_f64() * 1e3).max(1.0);
     let limits = builder.limits_mut();
     limits.subscriptions.min_sampling_interval_ms = cycle_ms;
-    limits.subscriptions.min_publishing_interval_ms = cycle_ms.max(10.0);
+    limits.subscriptions.min_publishing_interval_ms = publishing_tick_ms(o.cycle) as f64;
     // Plants monitor thousands of items: no cap per subscription, a generous one per call.
     limits.subscriptions.max_monitored_items_per_sub = 0;
     limits.subscriptions.max_monitored_item_queue_size = 100;
@@ -213,7 +225,13 @@ pub fn assemble(
         .get_namespace_index(&tree_namespace(&o.instance))
         .ok_or("the tree's namespace is missing")?;
     let layout = snapshots.borrow().layout.clone();
-    let tree = Tree::build(&tree_nodes, ns, &o.instance, o.controller, &layout);
+    let tree = Tree::build(
+        &tree_nodes,
+        ns,
+        (&o.instance, o.controller),
+        o.catalog.clone(),
+        &layout,
+    );
     crate::methods::add(&tree_nodes, ns, &o.instance, snapshots, records);
     Ok(Assembled {
         server,

@@ -12,11 +12,50 @@ use procimg_client::{
     Client, DeviceState, Ioxs, Layout, Mode, StatusReport, SubmoduleIoxs, now_ns,
 };
 use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant, SystemTime};
 use tokio::sync::watch;
 
 /// How often the status report (devices' states, counters) is read.
 const STATUS_EVERY: Duration = Duration::from_millis(200);
+
+/// How old the image a Read finds may be when nothing is monitored faster: the feed's pace
+/// without fast subscriptions (never slower than one cycle).
+pub const IDLE_PERIOD: Duration = Duration::from_millis(10);
+
+/// How often the feed takes an image: as often as the fastest monitored item samples,
+/// between one cycle and [`IDLE_PERIOD`]. Copying every image of a 1 ms cycle that nobody
+/// samples so fast would cost a server CPU for nothing.
+#[derive(Debug)]
+pub struct Pace {
+    /// The fastest sampling interval asked for, in ns (`u64::MAX`: none).
+    fastest_ns: AtomicU64,
+}
+
+impl Default for Pace {
+    fn default() -> Pace {
+        Pace {
+            fastest_ns: AtomicU64::new(u64::MAX),
+        }
+    }
+}
+
+impl Pace {
+    /// The fastest sampling interval the monitored items ask for now (`None`: none is
+    /// monitored; zero: every image).
+    pub fn set(&self, fastest: Option<Duration>) {
+        let ns = fastest.map_or(u64::MAX, |d| {
+            u64::try_from(d.as_nanos()).unwrap_or(u64::MAX)
+        });
+        self.fastest_ns.store(ns, Ordering::Relaxed);
+    }
+
+    /// The feed's period for a server of cycle `cycle`.
+    pub fn period(&self, cycle: Duration) -> Duration {
+        let fastest = Duration::from_nanos(self.fastest_ns.load(Ordering::Relaxed));
+        fastest.clamp(cycle, IDLE_PERIOD.max(cycle))
+    }
+}
 
 /// One cycle of the image, whole.
 #[derive(Clone, Debug)]
@@ -190,7 +229,7 @@ pub fn report(client: &Client) -> Result<Arc<StatusReport>, FeedError> {
 /// How long procimgd may leave the status unanswered before the feed takes it for gone.
 const GONE_AFTER: Duration = Duration::from_secs(2);
 
-/// Takes `client`'s newest image every `period` and sends it on `tx` (with the status
+/// Takes `client`'s newest image at `pace` (a cycle being `cycle`) and sends it on `tx` (with the status
 /// report, read every [`STATUS_EVERY`]) until `stop` says so or the receivers are gone.
 /// When procimgd goes away (or starts anew), the image turns [`Snapshot::orphaned`] until
 /// the client is attached to the new one (it attaches again by itself) and its images
@@ -199,7 +238,7 @@ const GONE_AFTER: Duration = Duration::from_secs(2);
 pub fn feed(
     mut client: Client,
     mut report: Arc<StatusReport>,
-    period: Duration,
+    (pace, cycle): (&Pace, Duration),
     tx: watch::Sender<Arc<Snapshot>>,
     stop: impl Fn() -> bool,
 ) -> Result<(), FeedError> {
@@ -263,7 +302,29 @@ pub fn feed(
                 return Ok(());
             }
         }
-        std::thread::sleep(period);
+        std::thread::sleep(pace.period(cycle));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_feed_keeps_the_pace_of_the_fastest_item_within_a_cycle_and_the_idle_period() {
+        let pace = Pace::default();
+        let ms = Duration::from_millis;
+        assert_eq!(pace.period(ms(1)), IDLE_PERIOD);
+        pace.set(Some(ms(4)));
+        assert_eq!(pace.period(ms(1)), ms(4));
+        pace.set(Some(Duration::ZERO));
+        assert_eq!(pace.period(ms(1)), ms(1));
+        pace.set(Some(ms(100)));
+        assert_eq!(pace.period(ms(1)), IDLE_PERIOD);
+        // A cycle slower than the idle period is the pace.
+        assert_eq!(pace.period(ms(32)), ms(32));
+        pace.set(None);
+        assert_eq!(pace.period(ms(2)), IDLE_PERIOD);
+    }
 }

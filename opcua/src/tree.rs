@@ -11,6 +11,7 @@
 
 use crate::items::{Area, Format, Item, ItemKind, Letters, ProcessItem};
 use crate::snapshot::{Quality, Snapshot, quality};
+use crate::typed::{Catalog, Kind};
 use opcua::server::SubscriptionCache;
 use opcua::server::address_space::{
     AccessLevel, AddressSpace, DataTypeBuilder, EventNotifier, ObjectBuilder, VariableBuilder,
@@ -80,6 +81,10 @@ enum Shows {
     InputIocs(usize),
     OutputIops(usize),
     OutputIocs(usize),
+    /// A data item of submodule `s`'s data in an area: its offset, length and type.
+    Typed(usize, Area, u16, u16, Kind),
+    /// A bit of such an item: the item's offset and length, and the bit.
+    Bit(usize, Area, u16, u16, u16),
 }
 
 /// A variable of the tree: its NodeId and what it shows.
@@ -90,6 +95,8 @@ pub struct Tree {
     ns: u16,
     instance: String,
     controller: u8,
+    /// The GSDML files that type the data.
+    catalog: std::sync::Arc<Catalog>,
     /// The hash of the layout the devices' part is made for.
     layout: u64,
     /// The server's status variables.
@@ -154,18 +161,19 @@ fn add_enumeration(space: &mut AddressSpace, ns: u16, name: &str, words: &[&str]
 
 impl Tree {
     /// Builds the tree of `instance` (CpIndex `controller`) with `layout` into `nm`'s address
-    /// space (namespace `ns`).
+    /// space (namespace `ns`), typed where `catalog`'s files describe the data.
     pub fn build(
         nm: &SimpleNodeManager,
         ns: u16,
-        instance: &str,
-        controller: u8,
+        (instance, controller): (&str, u8),
+        catalog: std::sync::Arc<Catalog>,
         layout: &Layout,
     ) -> Tree {
         let mut tree = Tree {
             ns,
             instance: instance.to_owned(),
             controller,
+            catalog,
             layout: layout.hash(),
             status: Vec::new(),
             devices: Vec::new(),
@@ -273,20 +281,85 @@ impl Tree {
         id
     }
 
-    /// The PNIO item that names the same bytes as a submodule's data variable.
-    fn item_of(&self, area: Area, address: u32, length: u16) -> String {
+    /// The PNIO item of `format` at `address` (`bit` for bits; `count` values, or one).
+    fn item_of(
+        &self,
+        area: Area,
+        (format, address, bit): (Format, u32, u8),
+        count: Option<u16>,
+    ) -> String {
         Item {
             controller: self.controller,
             kind: ItemKind::Process(ProcessItem {
                 area,
                 letters: Letters::German,
-                format: Format::Byte,
+                format,
                 address,
-                bit: 0,
-                count: Some(length),
+                bit,
+                count,
             }),
         }
         .to_string()
+    }
+
+    /// The typed variables of submodule `s`'s data items in `area` (which starts at logical
+    /// address `address`), below its data variable `data`.
+    fn lay_out_items(
+        &mut self,
+        space: &mut AddressSpace,
+        layout: &Layout,
+        (s, area, address): (usize, Area, u32),
+        (data, data_path): (&NodeId, &str),
+    ) {
+        let catalog = self.catalog.clone();
+        let mut names = std::collections::HashSet::new();
+        for (_, item) in catalog
+            .items(layout, s)
+            .into_iter()
+            .filter(|(a, _)| *a == area)
+        {
+            let kind = Kind::of(&item.data_type);
+            let mut name = item
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("{} {}", item.data_type, item.offset));
+            if !names.insert(name.clone()) {
+                name = format!("{name} @{}", item.offset);
+            }
+            let at = address + u32::from(item.offset);
+            let description = kind
+                .format()
+                .map(|f| format!("the item {}", self.item_of(area, (f, at, 0), None)));
+            let path = format!("{data_path}/{name}");
+            let id = self.variable(
+                space,
+                data,
+                path.clone(),
+                (&name, kind.data_type().into(), Variant::Empty),
+                description,
+            );
+            self.devices.push((
+                id.clone(),
+                Shows::Typed(s, area, item.offset, item.length, kind),
+            ));
+            for (bit, bit_name) in &item.bits {
+                let bit_name = bit_name.clone().unwrap_or_else(|| format!("Bit {bit}"));
+                let byte = at + u32::from(item.length) - 1 - u32::from(bit / 8);
+                let description = format!(
+                    "the item {}",
+                    self.item_of(area, (Format::Bit, byte, (bit % 8) as u8), None)
+                );
+                let bit_id = self.variable(
+                    space,
+                    &id,
+                    format!("{path}/{bit_name}"),
+                    (&bit_name, DataTypeId::Boolean.into(), Variant::from(false)),
+                    Some(description),
+                );
+                self.devices
+                    .push((bit_id, Shows::Bit(s, area, item.offset, item.length, *bit)));
+            }
+        }
     }
 
     /// Makes the devices' part of the tree for `layout`.
@@ -373,7 +446,7 @@ impl Tree {
                         continue;
                     }
                     let (data_name, prefix) = direction_names(device_role, area == Area::Output);
-                    let item = self.item_of(area, address, length);
+                    let item = self.item_of(area, (Format::Byte, address, 0), Some(length));
                     let empty = Variant::from(ByteString::from(Vec::<u8>::new()));
                     for (var, data_type, initial, shows, description) in [
                         (
@@ -407,6 +480,9 @@ impl Tree {
                         );
                         self.devices.push((id, shows));
                     }
+                    let data_path = format!("{sub_path}/{data_name}");
+                    let data = node_id(ns, &data_path);
+                    self.lay_out_items(space, layout, (s, area, address), (&data, &data_path));
                 }
             }
         }
@@ -493,6 +569,15 @@ fn state_number(snap: &Snapshot, d: usize) -> i32 {
     }
 }
 
+/// The bytes of a data item of submodule `s` in `snap`.
+fn item_bytes(snap: &Snapshot, s: usize, area: Area, offset: u16, length: u16) -> Option<&[u8]> {
+    let data = match area {
+        Area::Input => snap.inputs.get(s)?,
+        Area::Output => snap.outputs.get(s)?,
+    };
+    data.get(usize::from(offset)..usize::from(offset) + usize::from(length))
+}
+
 /// The value and status of a variable in `snap`.
 fn value_of(shows: Shows, snap: &Snapshot) -> (Variant, StatusCode) {
     let r = &snap.report;
@@ -525,6 +610,20 @@ fn value_of(shows: Shows, snap: &Snapshot) -> (Variant, StatusCode) {
             Some(running) => (Variant::from(running), good),
             None => bad(Variant::from(false)),
         },
+        Shows::Typed(s, area, offset, length, kind) => {
+            let q = status_code(quality(snap, s, area == Area::Output));
+            match item_bytes(snap, s, area, offset, length).and_then(|b| kind.decode(b)) {
+                Some(v) => (v, q),
+                None => bad(Variant::Empty),
+            }
+        }
+        Shows::Bit(s, area, offset, length, n) => {
+            let q = status_code(quality(snap, s, area == Area::Output));
+            match item_bytes(snap, s, area, offset, length).and_then(|b| crate::typed::bit(b, n)) {
+                Some(v) => (Variant::from(v), q),
+                None => bad(Variant::from(false)),
+            }
+        }
         Shows::Inputs(s) => data(snap.inputs.get(s), quality(snap, s, false)),
         Shows::Outputs(s) => data(snap.outputs.get(s), quality(snap, s, true)),
         Shows::InputIops(s) => {

@@ -58,7 +58,8 @@ struct Served {
 }
 
 impl Served {
-    fn start(instance: &str) -> Served {
+    /// procimg-opcua for `instance`, with `extra` arguments.
+    fn start(instance: &str, extra: &[&str]) -> Served {
         let dir = procimg_testkit::files::temp_dir("opcua");
         let port = free_port();
         let url = format!("opc.tcp://127.0.0.1:{port}");
@@ -96,6 +97,7 @@ impl Served {
                 .arg(dir.path().join("pki"))
                 .arg("--users")
                 .arg(&users)
+                .args(extra)
                 .stdout(Stdio::null())
                 .stderr(log)
                 .spawn()
@@ -156,7 +158,9 @@ impl Served {
 fn an_independent_client_reads_browses_subscribes_and_connects_securely() {
     let demo = Launch::demo("opcua").until_cycling().start();
     demo.wait_devices_running(Duration::from_secs(60));
-    let served = Served::start(&demo.instance);
+    // The demo devices' own GSDML files type their data.
+    let gsdml = procimg_testkit::workspace_dir().join("config/gsdml");
+    let served = Served::start(&demo.instance, &["--gsdml", gsdml.to_str().unwrap()]);
     served.run("asyncua_demo.py");
     demo.assert_alive();
 }
@@ -165,7 +169,7 @@ fn an_independent_client_reads_browses_subscribes_and_connects_securely() {
 #[ignore = "needs asyncua (PyPI) in target/asyncua-venv (see the module's documentation)"]
 fn the_station_is_served_and_a_new_layout_replaces_its_nodes() {
     let mut station = Launch::demo_device("opcua-dev").start();
-    let served = Served::start(&station.instance);
+    let served = Served::start(&station.instance, &[]);
     served.run("asyncua_device.py");
     station.assert_alive();
 

@@ -77,6 +77,20 @@ async def items_and_tree():
             inputs = await devices.get_child([f"{tns}:{device}", f"{tns}:1.1", f"{tns}:Inputs"])
             dv = await inputs.read_data_value(raise_on_bad_status=False)
             check(len(dv.Value.Value) == length, f"{device}'s inputs: {dv.Value}")
+        # The GSDML files (--gsdml) type the data: the counter's "Cycle number" is the
+        # UInt32 its four bytes say, in the same Read; the digital inputs' bits have names.
+        counter_in = await devices.get_child([f"{tns}:counter", f"{tns}:1.1", f"{tns}:Inputs"])
+        cycle_number = await counter_in.get_child([f"{tns}:Cycle number"])
+        check(await cycle_number.read_data_type() == ua.NodeId(ua.ObjectIds.UInt32), "Cycle number is a UInt32")
+        for _ in range(10):
+            raw, typed = await client.read_values([counter_in, cycle_number])
+            check(int.from_bytes(bytes(raw), "big") == typed, f"Cycle number {typed} is the bytes {raw}")
+        input_0 = await devices.get_child(
+            [f"{tns}:dio", f"{tns}:1.1", f"{tns}:Inputs", f"{tns}:Inputs 0..7", f"{tns}:Input 0"]
+        )
+        check(isinstance(await input_0.read_value(), bool), "the digital input 0 is a Boolean")
+        description = (await input_0.read_attribute(ua.AttributeIds.Description)).Value.Value.Text
+        check(description.endswith("PNIO:[CTRL1]E20.0"), f"Input 0 names its item: {description}")
         state = await devices.get_child([f"{tns}:counter", f"{tns}:State"])
         check(await state_word(client, state) == "running", "the counter device's state")
         status_mode = await top.get_child([f"{tns}:Status", f"{tns}:Mode"])

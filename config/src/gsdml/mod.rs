@@ -340,8 +340,31 @@ struct IoItem {
     output: bool,
     data_type: Option<String>,
     length: Option<String>,
+    /// The text of `@TextId`.
+    name: Option<String>,
+    /// Its `BitDataItem`s: bit offset and the text of their `@TextId`.
+    bits: Vec<(u16, Option<String>)>,
     line: usize,
     length_line: usize,
+}
+
+/// A `DataItem` of a submodule's IO data, where it lies: what a program (or an OPC UA
+/// server) reads its bytes as.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DataItem {
+    /// Of `IOData/Output` (the controller's outputs); else of `IOData/Input`.
+    pub output: bool,
+    /// Its first byte within its direction's data.
+    pub offset: u16,
+    /// Its bytes.
+    pub length: u16,
+    /// `@DataType` (`Unsigned16`, `Float32`, `OctetString`, …), big-endian on the wire.
+    pub data_type: String,
+    /// Its name: the primary-language text of `@TextId`.
+    pub name: Option<String>,
+    /// Its `BitDataItem`s (`@UseAsBits`): bit offset within the item (0 the lowest bit of
+    /// its last byte) and name.
+    pub bits: Vec<(u16, Option<String>)>,
 }
 
 /// An entry of a `RecordDataList`.
@@ -467,47 +490,107 @@ impl Gsdml {
         }
     }
 
+    /// The `DataItem`s of `submodule`'s `IOData/Input` and `IOData/Output`, each with its
+    /// place in its direction's data.
+    pub fn data_items(&self, submodule: &Submodule) -> Result<Vec<DataItem>, GsdmlError> {
+        let mut items = Vec::with_capacity(submodule.io.len());
+        let mut sums = [0u64; 2];
+        for item in &submodule.io {
+            let size = self.item_size(item)?;
+            let sum = &mut sums[usize::from(item.output)];
+            let too_long = || {
+                self.invalid(
+                    submodule.line,
+                    submodule.kind.element(),
+                    None,
+                    "its IO data add up to more bytes than a frame can carry".to_owned(),
+                )
+            };
+            items.push(DataItem {
+                output: item.output,
+                offset: u16::try_from(*sum).map_err(|_| too_long())?,
+                length: u16::try_from(size).map_err(|_| too_long())?,
+                data_type: item.data_type.clone().unwrap_or_default(),
+                name: item.name.clone(),
+                bits: item.bits.clone(),
+            });
+            *sum = sum.saturating_add(size);
+        }
+        Ok(items)
+    }
+
+    /// The bytes of one `DataItem`.
+    fn item_size(&self, item: &IoItem) -> Result<u64, GsdmlError> {
+        let Some(data_type) = item.data_type.as_deref() else {
+            return Err(self.invalid(
+                item.line,
+                "DataItem",
+                Some("DataType"),
+                "missing; every data item has a data type".to_owned(),
+            ));
+        };
+        let length = match &item.length {
+            Some(text) => Some(data::number(text).ok_or_else(|| {
+                self.invalid(
+                    item.length_line,
+                    "DataItem",
+                    Some("Length"),
+                    format!("{text:?} is not a number of bytes"),
+                )
+            })?),
+            None => None,
+        };
+        data::io_size(data_type, length).map_err(|e| match e {
+            SizeError::NeedsLength => self.invalid(
+                item.line,
+                "DataItem",
+                Some("Length"),
+                format!("missing; a {data_type} data item needs its Length in bytes"),
+            ),
+            SizeError::Unknown => self.invalid(
+                item.line,
+                "DataItem",
+                Some("DataType"),
+                format!(
+                    "{data_type:?} is not an IO data type this import knows ({IO_TYPES}); \
+                     give input_length and output_length in the configuration instead"
+                ),
+            ),
+        })
+    }
+
+    /// The submodule with `submodule_ident` (in `api`) of the DAP or module with
+    /// `module_ident`, one of its own or a pluggable one it takes: what a device reporting
+    /// those ident numbers has plugged, as far as the file tells.
+    pub fn find_submodule(
+        &self,
+        module_ident: u32,
+        submodule_ident: u32,
+        api: u32,
+    ) -> Option<&Submodule> {
+        let fits = |s: &&Submodule| s.submodule_ident == submodule_ident && s.api == api;
+        let daps = self
+            .daps
+            .iter()
+            .filter(|d| d.module_ident == module_ident)
+            .flat_map(|d| d.submodules.iter());
+        let modules = self
+            .modules
+            .iter()
+            .filter(|m| m.module_ident == module_ident);
+        let own = modules.clone().flat_map(|m| m.submodules.iter());
+        let pluggable = modules
+            .flat_map(|m| m.useable_submodules.iter())
+            .filter_map(|r| self.pluggable(&r.target));
+        daps.chain(own).chain(pluggable).find(|s| fits(s))
+    }
+
     /// The IO data lengths of `submodule`: the sizes of the `DataItem`s of its
     /// `IOData/Input` and `IOData/Output`, added up.
     pub fn io_lengths(&self, submodule: &Submodule) -> Result<IoLengths, GsdmlError> {
         let mut sums = [0u64; 2];
         for item in &submodule.io {
-            let Some(data_type) = item.data_type.as_deref() else {
-                return Err(self.invalid(
-                    item.line,
-                    "DataItem",
-                    Some("DataType"),
-                    "missing; every data item has a data type".to_owned(),
-                ));
-            };
-            let length = match &item.length {
-                Some(text) => Some(data::number(text).ok_or_else(|| {
-                    self.invalid(
-                        item.length_line,
-                        "DataItem",
-                        Some("Length"),
-                        format!("{text:?} is not a number of bytes"),
-                    )
-                })?),
-                None => None,
-            };
-            let size = data::io_size(data_type, length).map_err(|e| match e {
-                SizeError::NeedsLength => self.invalid(
-                    item.line,
-                    "DataItem",
-                    Some("Length"),
-                    format!("missing; a {data_type} data item needs its Length in bytes"),
-                ),
-                SizeError::Unknown => self.invalid(
-                    item.line,
-                    "DataItem",
-                    Some("DataType"),
-                    format!(
-                        "{data_type:?} is not an IO data type this import knows ({IO_TYPES}); \
-                         give input_length and output_length in the configuration instead"
-                    ),
-                ),
-            })?;
+            let size = self.item_size(item)?;
             let sum = &mut sums[usize::from(item.output)];
             *sum = sum.saturating_add(size);
         }

@@ -388,10 +388,18 @@ impl<'a, 'input> Reader<'a, 'input> {
             for (direction, output) in [("Input", false), ("Output", true)] {
                 for list in children(data, direction) {
                     for item in children(list, "DataItem") {
+                        let bits = children(item, "BitDataItem")
+                            .filter_map(|b| {
+                                let offset = b.attribute("BitOffset")?.trim().parse().ok()?;
+                                Some((offset, self.text(b.attribute("TextId"))))
+                            })
+                            .collect();
                         io.push(IoItem {
                             output,
                             data_type: item.attribute("DataType").map(str::to_owned),
                             length: item.attribute("Length").map(str::to_owned),
+                            name: self.text(item.attribute("TextId")),
+                            bits,
                             line: self.attr_line(item, "DataType"),
                             length_line: self.attr_line(item, "Length"),
                         });
