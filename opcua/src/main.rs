@@ -24,17 +24,28 @@ struct Args {
     #[arg(long, value_name = "FILE", alias = "writers")]
     users: Option<PathBuf>,
     /// The procimgd instance to serve.
-    #[arg(long, short, env = "PROCIMG_INSTANCE", default_value = "procimg")]
+    #[arg(
+        long,
+        short,
+        env = "PROCIMG_INSTANCE",
+        default_value = "procimg",
+        value_name = "NAME"
+    )]
     instance: String,
     /// Its CpIndex, as IO-Base names it: the n of the items' PNIO:[CTRL<n>].
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..))]
+    #[arg(
+        long,
+        default_value_t = 1,
+        value_name = "N",
+        value_parser = clap::value_parser!(u8).range(1..)
+    )]
     cp_index: u8,
     /// Where the server listens and clients reach it: opc.tcp://HOST:PORT.
-    #[arg(long, default_value = "opc.tcp://127.0.0.1:4840")]
+    #[arg(long, default_value = "opc.tcp://127.0.0.1:4840", value_name = "URL")]
     endpoint: String,
     /// The PKI folder: the server's certificate (made at first start), trusted/ and
     /// rejected/ client certificates.
-    #[arg(long, default_value = "pki")]
+    #[arg(long, default_value = "pki", value_name = "DIR")]
     pki: PathBuf,
     /// Offer the endpoint without security (policy None) beside the secure ones.
     #[arg(long)]
