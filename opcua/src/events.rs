@@ -3,12 +3,15 @@
 //! return and its alarms (with their data); in the device role the AR's life (a PLC
 //! connecting, in data exchange, the AR's end and why) and the PLC's RUN/STOP; in both a stop
 //! request. Each comes from the device's (the station's) object in the tree, or the
-//! instance's, so a client subscribes to one device or, on the Server object, to all.
+//! instance's, so a client subscribes to one device or, on the Server object, to all. Each is
+//! of procimg's type for it ([`crate::event_types`]), its fields what the notification says;
+//! the stop request is a BaseEventType.
 
+use crate::event_types::{AlarmEvent, ArEvent, DeviceEvent, PlcStateEvent};
 use opcua::crypto::random;
 use opcua::nodes::{BaseEventType, Event};
 use opcua::server::ServerHandle;
-use opcua::types::{NodeId, ObjectTypeId, UAString};
+use opcua::types::{ByteString, NodeId, ObjectTypeId, UAString};
 use procimg_client::{ArState, Notification, ServiceOptions, Services};
 use std::time::Duration;
 
@@ -102,13 +105,92 @@ pub fn event_of(n: &Notification, station: &str) -> Option<(String, u16, String)
     })
 }
 
+/// The event of notification `n` (`station` named as in [`event_of`]), of procimg's type for
+/// it in namespace `types`, its base made by `base` from the type's NodeId.
+pub fn typed_event(
+    n: &Notification,
+    station: &str,
+    types: u16,
+    base: impl FnOnce(NodeId) -> BaseEventType,
+) -> Option<Box<dyn Event + Send + Sync>> {
+    let of = |name: &str| NodeId::new(types, name);
+    let text = |s: &str| UAString::from(s);
+    Some(match n {
+        Notification::DeviceFailure { name, reason, .. } => Box::new(DeviceEvent {
+            base: base(of("DeviceEventType")),
+            own_namespace_index: types,
+            device: text(name),
+            in_data_exchange: false,
+            reason: text(reason),
+        }),
+        Notification::DeviceReturn { name, .. } => Box::new(DeviceEvent {
+            base: base(of("DeviceEventType")),
+            own_namespace_index: types,
+            device: text(name),
+            in_data_exchange: true,
+            reason: UAString::null(),
+        }),
+        Notification::Alarm(a) => Box::new(AlarmEvent {
+            base: base(of("AlarmEventType")),
+            own_namespace_index: types,
+            device: text(&a.device_name),
+            alarm_type: a.alarm_type,
+            slot: a.slot,
+            subslot: a.subslot,
+            high_priority: a.high_priority,
+            text: text(&a.text),
+            data: ByteString::from(a.payload.clone()),
+        }),
+        Notification::StationAr {
+            state,
+            controller_name,
+            controller_mac,
+            ..
+        } => Box::new(ArEvent {
+            base: base(of("ArEventType")),
+            own_namespace_index: types,
+            station: text(station),
+            plc: text(controller_name),
+            plc_mac: text(controller_mac),
+            ar_state: text(state.as_str()),
+            reason: UAString::null(),
+            aborted: false,
+        }),
+        Notification::StationArEnded {
+            reason, aborted, ..
+        } => Box::new(ArEvent {
+            base: base(of("ArEventType")),
+            own_namespace_index: types,
+            station: text(station),
+            plc: UAString::null(),
+            plc_mac: UAString::null(),
+            ar_state: text("ended"),
+            reason: text(reason),
+            aborted: *aborted,
+        }),
+        Notification::StationPlcRunning {
+            running,
+            station_problem,
+            ..
+        } => Box::new(PlcStateEvent {
+            base: base(of("PlcStateEventType")),
+            own_namespace_index: types,
+            station: text(station),
+            running: *running,
+            station_problem: *station_problem,
+        }),
+        Notification::StopRequest { .. } => Box::new(base(ObjectTypeId::BaseEventType.into())),
+        _ => return None,
+    })
+}
+
 /// Raises the events of `instance`'s notifications in `handle`'s server, their sources in
-/// namespace `ns` (in the device role the station, as `station` names it now), until `stop`
-/// says so.
+/// namespace `ns` (in the device role the station, as `station` names it now), of procimg's
+/// types in namespace `types`, until `stop` says so.
 pub fn run(
     instance: &str,
     station: impl Fn() -> String,
-    ns: u16,
+    (ns, types): (u16, u16),
     handle: ServerHandle,
     stop: impl Fn() -> bool,
 ) {
@@ -123,7 +205,8 @@ pub fn run(
         }
         let Some(s) = services.as_mut() else { continue };
         let Some(n) = s.next(WAIT) else { continue };
-        let Some((path, severity, message)) = event_of(&n, &station()) else {
+        let station = station();
+        let Some((path, severity, message)) = event_of(&n, &station) else {
             continue;
         };
         let source = if path.is_empty() {
@@ -136,17 +219,18 @@ pub fn run(
             .next()
             .filter(|p| !p.is_empty())
             .unwrap_or(instance);
-        let event = BaseEventType::new_now(
-            ObjectTypeId::BaseEventType,
-            random::byte_string(16),
-            message,
-        )
-        .set_source_node(source.clone())
-        .set_source_name(UAString::from(name))
-        .set_severity(severity);
+        let base = |type_id: NodeId| {
+            BaseEventType::new_now(type_id, random::byte_string(16), message)
+                .set_source_node(source.clone())
+                .set_source_name(UAString::from(name))
+                .set_severity(severity)
+        };
+        let Some(event) = typed_event(&n, &station, types, base) else {
+            continue;
+        };
         handle
             .subscriptions()
-            .notify_events([(&event as &dyn Event, &source)].into_iter());
+            .notify_events([(event.as_ref() as &dyn Event, &source)].into_iter());
     }
 }
 

@@ -11,9 +11,11 @@
 //! - [`users`], [`auth`]: the users file and what a session may do;
 //! - [`writer`]: writes of outputs, claimed as `procimg io write` claims them;
 //! - [`records`]: record jobs of the record items and the methods ([`methods`]);
-//! - [`events`]: procimgd's notifications as OPC UA events.
+//! - [`events`]: procimgd's notifications as OPC UA events of procimg's types
+//!   ([`event_types`]).
 
 pub mod auth;
+pub mod event_types;
 pub mod events;
 pub mod items;
 pub mod methods;

@@ -218,6 +218,7 @@ fn run(args: Args) -> anyhow::Result<()> {
             mut tree,
             items,
             tree_namespace,
+            types_namespace,
         } = assemble(&options, rx.clone(), write_tx, record_tx).map_err(|e| anyhow!("{e}"))?;
         let events = {
             let instance = options.instance.clone();
@@ -235,9 +236,13 @@ fn run(args: Args) -> anyhow::Result<()> {
             std::thread::Builder::new()
                 .name("opcua-events".into())
                 .spawn(move || {
-                    procimg_opcua::events::run(&instance, station, tree_namespace, handle, || {
-                        stop.load(Ordering::Acquire)
-                    })
+                    procimg_opcua::events::run(
+                        &instance,
+                        station,
+                        (tree_namespace, types_namespace),
+                        handle,
+                        || stop.load(Ordering::Acquire),
+                    )
                 })
                 .context("cannot start the event thread")?
         };

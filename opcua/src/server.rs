@@ -100,6 +100,8 @@ pub struct Assembled {
     pub items: Arc<PnioItems>,
     /// The tree's namespace index.
     pub tree_namespace: u16,
+    /// The event types' namespace index.
+    pub types_namespace: u16,
 }
 
 /// The server's private key, made at first start, readable by its owner only.
@@ -192,6 +194,13 @@ pub fn assemble(
             },
             "procimg-tree",
         ))
+        .with_node_manager(simple_node_manager(
+            NamespaceMetadata {
+                namespace_uri: crate::event_types::TYPES_NAMESPACE.to_owned(),
+                ..Default::default()
+            },
+            "procimg-types",
+        ))
         .with_node_manager(PnioItemsBuilder {
             controller: o.controller,
             snapshots: snapshots.clone(),
@@ -215,8 +224,19 @@ pub fn assemble(
     keep_key_private(&o.pki);
     let tree_nodes = handle
         .node_managers()
-        .get_of_type::<SimpleNodeManager>()
+        .get_by_name::<SimpleNodeManager>("procimg-tree")
         .ok_or("the tree's node manager is missing")?;
+    let types = handle
+        .get_namespace_index(crate::event_types::TYPES_NAMESPACE)
+        .ok_or("the event types' namespace is missing")?;
+    {
+        let type_nodes = handle
+            .node_managers()
+            .get_by_name::<SimpleNodeManager>("procimg-types")
+            .ok_or("the event types' node manager is missing")?;
+        let mut space = type_nodes.address_space().write();
+        crate::event_types::add(&mut space, &mut handle.type_tree().write(), types);
+    }
     let items = handle
         .node_managers()
         .get_of_type::<PnioItems>()
@@ -240,6 +260,7 @@ pub fn assemble(
         tree,
         items,
         tree_namespace: ns,
+        types_namespace: types,
     })
 }
 

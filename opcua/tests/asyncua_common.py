@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from asyncua import Client, ua
+from asyncua.common.events import get_filter_from_event_type
 from asyncua.crypto import security_policies
 from asyncua.crypto.cert_gen import setup_self_signed_certificate
 from cryptography.x509.oid import ExtendedKeyUsageOID
@@ -20,6 +21,7 @@ from cryptography.x509.oid import ExtendedKeyUsageOID
 URL, INSTANCE, PKI, WORK = sys.argv[1], sys.argv[2], Path(sys.argv[3]), Path(sys.argv[4])
 ITEMS = "urn:procimg:pnio"
 TREE = f"urn:procimg:{INSTANCE}"
+TYPES = "urn:procimg:types"
 
 
 def check(ok, what):
@@ -90,3 +92,16 @@ async def disconnect_all(clients):
             await c.disconnect()
         except Exception:
             pass
+
+
+async def event_filter(event_type):
+    """An event filter selecting every field of `event_type` (a Node), its events chosen by
+    OfType, as UaExpert and most clients write it. (asyncua's own filter chooses them with
+    InList on EventType, whose NodeIds async-opcua's filter does not compare.)"""
+    evfilter = await get_filter_from_event_type([event_type])
+    of_type = ua.ContentFilterElement(
+        FilterOperator=ua.FilterOperator.OfType,
+        FilterOperands=[ua.LiteralOperand(Value=ua.Variant(event_type.nodeid))],
+    )
+    evfilter.WhereClause = ua.ContentFilter(Elements=[of_type])
+    return evfilter

@@ -18,7 +18,9 @@ import asyncio
 
 from asyncua import Client, ua
 
-from asyncua_common import INSTANCE, ITEMS, TREE, URL, check, disconnect_all, read, state_word, trusted_connector
+from asyncua_common import (
+    INSTANCE, ITEMS, TREE, TYPES, URL, check, disconnect_all, event_filter, read, state_word, trusted_connector,
+)
 
 
 async def items_and_tree():
@@ -217,27 +219,32 @@ async def secure():
         check(written, "the second writer wrote once the first session had ended")
 
         # A writer takes the controller OFFLINE and back to OPERATE: every device's failure
-        # and return come as events, to a subscriber of the Server object.
+        # and return come as events of procimg's DeviceEventType, to a subscriber of the
+        # Server object that selects the type's fields.
         events = []
 
         class Events:
             def event_notification(self, event):
-                events.append((event.SourceName, event.Message.Text, event.Severity))
+                events.append((event.Device, event.InDataExchange, event.Reason, event.SourceName))
 
+        types = await viewer.get_namespace_index(TYPES)
+        device_event = viewer.get_node(ua.NodeId("DeviceEventType", types))
         sub = await viewer.create_subscription(50, Events())
-        await sub.subscribe_events(viewer.nodes.server, queuesize=100)
+        await sub.subscribe_events(
+            viewer.nodes.server, device_event, evfilter=await event_filter(device_event), queuesize=100
+        )
         tns = await second.get_namespace_index(TREE)
         top = second.get_node(ua.NodeId(INSTANCE, tns))
         await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OFFLINE")
         await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OPERATE")
+        all_three = {"echo", "counter", "dio"}
         for _ in range(300):
-            returned = {name for name, text, _ in events if "returned" in text}
-            if returned == {"echo", "counter", "dio"}:
+            if {d for d, up, _, _ in events if up} == all_three:
                 break
             await asyncio.sleep(0.1)
-        failed = {name for name, text, _ in events if "failed" in text}
-        returned = {name for name, text, _ in events if "returned" in text}
-        check(failed == returned == {"echo", "counter", "dio"}, f"the devices' events: {events}")
+        failed = {d for d, up, why, source in events if not up and why and source == d}
+        returned = {d for d, up, _, source in events if up and source == d}
+        check(failed == returned == all_three, f"the devices' events: {events}")
     finally:
         await disconnect_all([second, viewer])
 

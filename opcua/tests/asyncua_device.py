@@ -21,7 +21,7 @@ import sys
 from asyncua import Client, ua
 
 from asyncua_common import (
-    INSTANCE, ITEMS, TREE, URL, check, disconnect_all, read, refused, state_word, trusted_connector,
+    INSTANCE, ITEMS, TREE, TYPES, URL, check, disconnect_all, event_filter, read, refused, state_word, trusted_connector,
 )
 
 STATION = f"{INSTANCE}/Devices/procimg-device"
@@ -126,27 +126,34 @@ async def writes_and_events():
         )
         check(list(await item("AB0,8").read_value()) == PATTERN, "the I data after the refused writes")
 
-        # The station goes OFFLINE and back: the AR's end and its new start come as events.
+        # The station goes OFFLINE and back: the AR's end and its new start come as events
+        # of procimg's ArEventType, with their fields.
         events = []
 
         class Events:
             def event_notification(self, event):
-                events.append((event.SourceName, event.Message.Text, event.Severity))
+                events.append((event.Station, event.ArState, event.Plc, event.Reason, event.SourceName))
 
+        types = await viewer.get_namespace_index(TYPES)
+        ar_event = viewer.get_node(ua.NodeId("ArEventType", types))
         sub = await viewer.create_subscription(50, Events())
-        await sub.subscribe_events(viewer.nodes.server, queuesize=100)
+        await sub.subscribe_events(
+            viewer.nodes.server, ar_event, evfilter=await event_filter(ar_event), queuesize=100
+        )
         top = operator.get_node(ua.NodeId(INSTANCE, tns))
         await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OFFLINE")
         await top.call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OPERATE")
 
-        def seen(words):
-            return any(name == "procimg-device" and words in text for name, text, _ in events)
+        def seen(state):
+            return [e for e in events if e[0] == e[4] == "procimg-device" and e[1] == state]
 
         for _ in range(300):
-            if seen("ended") and seen(": data"):
+            if seen("ended") and seen("data"):
                 break
             await asyncio.sleep(0.1)
-        check(seen("ended") and seen(": data"), f"the AR's end and new start as events: {events}")
+        check(seen("ended") and seen("data"), f"the AR's end and new start as events: {events}")
+        check(seen("ended")[0][3], f"the AR's end says why: {seen('ended')}")
+        check(seen("data")[0][2] == "demo-plc", f"the new AR names its PLC: {seen('data')}")
         # OFFLINE forgot the I data (as IO-Base does); written again, the new AR answers.
         again = [b ^ 0x40 for b in PATTERN]
         answer = None

@@ -16,8 +16,12 @@
 //!
 //! ```text
 //! procimg-opcua-load [--items 1000] [--sampling 100] [--window 20s] [--rounds 3]
-//!                    [--python PATH] [--out DIR]
+//!                    [--cpu N] [--python PATH] [--out DIR]
 //! ```
+//!
+//! With `--cpu N` the demo's cycle thread is pinned to CPU N (its `[cycle_thread] cpu`) and
+//! procimg-opcua and the client run on the other CPUs (`taskset`), as a production machine
+//! keeps them apart.
 //!
 //! Needs procimgd and procimg-opcua beside it (`cargo build --release --bins`) and asyncua
 //! in a virtual environment (`--python`, default `target/asyncua-venv/bin/python`, which
@@ -58,6 +62,10 @@ struct Args {
     /// Where the logs go (a fresh temporary directory by default).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Pin procimgd's cycle thread to this CPU and procimg-opcua and the client to the
+    /// others, as a production machine keeps them apart (default: nothing pinned).
+    #[arg(long, value_name = "N")]
+    cpu: Option<usize>,
 }
 
 /// The figures of one window.
@@ -157,6 +165,23 @@ fn window(
     })
 }
 
+/// A command for `program`, on every CPU but `cpu` when one is given (`taskset`).
+fn others(cpu: Option<usize>, program: &Path) -> Command {
+    let cpus = std::thread::available_parallelism().map_or(2, |n| n.get());
+    match cpu {
+        Some(cpu) if cpus > 1 => {
+            let list: Vec<String> = (0..cpus)
+                .filter(|c| *c != cpu)
+                .map(|c| c.to_string())
+                .collect();
+            let mut c = Command::new("taskset");
+            c.args(["-c", &list.join(",")]).arg(program);
+            c
+        }
+        _ => Command::new(program),
+    }
+}
+
 /// A port nobody listens on now.
 fn free_port() -> anyhow::Result<u16> {
     Ok(TcpListener::bind((Ipv4Addr::LOCALHOST, 0))?
@@ -172,13 +197,14 @@ struct Load {
 
 impl Load {
     fn start(
+        cpu: Option<usize>,
         python: &Path,
         script: &Path,
         url: &str,
         (items, sampling, publishing): (u32, f64, f64),
         seconds: f64,
     ) -> anyhow::Result<Load> {
-        let mut child = Command::new(python)
+        let mut child = others(cpu, python)
             .arg(script)
             .args([url, &items.to_string(), &sampling.to_string()])
             .args([&publishing.to_string(), &seconds.to_string()])
@@ -222,9 +248,27 @@ impl Load {
 fn round(args: &Args, python: &Path, out: &Path, n: usize) -> anyhow::Result<[Window; 4]> {
     let instance = format!("opcua-load-{}-{n}", std::process::id());
     let log = |name: &str| std::fs::File::create(out.join(format!("{name}-{n}.log")));
+    let mut procimgd = Command::new(sibling("procimgd")?);
+    match args.cpu {
+        Some(cpu) => {
+            // The demo's configuration with its cycle thread pinned.
+            let demo = Command::new(sibling("procimgd")?)
+                .arg("--print-demo-config")
+                .output()
+                .context("procimgd --print-demo-config")?;
+            let text =
+                String::from_utf8_lossy(&demo.stdout).replace("# cpu = 3", &format!("cpu = {cpu}"));
+            let config = out.join(format!("demo-cpu{cpu}.toml"));
+            std::fs::write(&config, text)?;
+            procimgd.arg("-c").arg(config);
+        }
+        None => {
+            procimgd.arg("--demo");
+        }
+    }
     let procimgd = Ended(
-        Command::new(sibling("procimgd")?)
-            .args(["--demo", "--instance", &instance])
+        procimgd
+            .args(["--instance", &instance])
             .stdout(Stdio::null())
             .stderr(log("procimgd")?)
             .spawn()
@@ -254,7 +298,7 @@ fn round(args: &Args, python: &Path, out: &Path, n: usize) -> anyhow::Result<[Wi
     let port = free_port()?;
     let url = format!("opc.tcp://127.0.0.1:{port}/");
     let server = Ended(
-        Command::new(sibling("procimg-opcua")?)
+        others(args.cpu, &sibling("procimg-opcua")?)
             .args(["--instance", &instance, "--insecure"])
             .args(["--endpoint", &format!("opc.tcp://127.0.0.1:{port}")])
             .arg("--pki")
@@ -279,6 +323,7 @@ fn round(args: &Args, python: &Path, out: &Path, n: usize) -> anyhow::Result<[Wi
     let mut loaded = Vec::new();
     for (sampling, publishing) in [(args.sampling, 100.0), (0.0, 10.0)] {
         let load = Load::start(
+            args.cpu,
             python,
             &script,
             &url,
@@ -341,8 +386,12 @@ fn main() -> anyhow::Result<()> {
         ),
         format!("{} items every image, published 10 ms", args.items),
     ];
+    let pinned = args.cpu.map_or_else(
+        || "nothing pinned".to_owned(),
+        |c| format!("cycle thread on CPU {c}, the others elsewhere"),
+    );
     println!(
-        "procimgd --demo (1 ms cycle), windows of {:?}, median of {} round(s); logs in {}",
+        "procimgd --demo (1 ms cycle), {pinned}, windows of {:?}, median of {} round(s); logs in {}",
         args.window,
         rounds.len(),
         out.display()
