@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The instance object's methods: `ReadRecord` (any session), `WriteRecord` and `SetMode`
-//! (writers only: [`WRITER_METHODS`], enforced by the authenticator).
+//! The instance object's methods: `ReadRecord` (any session), `WriteRecord`, `SetMode` and
+//! `ActivateDevice` (writers only: [`WRITER_METHODS`], enforced by the authenticator).
 
 use crate::records::{self, Job};
 use crate::snapshot::Snapshot;
@@ -8,12 +8,16 @@ use opcua::server::address_space::MethodBuilder;
 use opcua::server::node_manager::memory::SimpleNodeManager;
 use opcua::types::{Argument, ByteString, DataTypeId, NodeId, QualifiedName, StatusCode, Variant};
 use procimg_client::access::{self, Space};
-use procimg_client::{ControlHandle, Mode};
+use procimg_client::{ControlHandle, Mode, ServiceOptions, Services};
 use std::sync::{Arc, Mutex, mpsc};
+use std::time::Duration;
 use tokio::sync::watch;
 
 /// The methods only a writer's session may call (by the end of their NodeId).
-pub const WRITER_METHODS: [&str; 2] = ["/WriteRecord", "/SetMode"];
+pub const WRITER_METHODS: [&str; 3] = ["/WriteRecord", "/SetMode", "/ActivateDevice"];
+
+/// How long a device's activation may take to be confirmed.
+const ACTIVATION_TIMEOUT: Duration = Duration::from_secs(5);
 
 fn argument(name: &str, data_type: DataTypeId, description: &str) -> Argument {
     Argument {
@@ -76,6 +80,18 @@ pub fn add(
                 )],
                 vec![],
             ),
+            (
+                "ActivateDevice",
+                vec![
+                    argument("Device", DataTypeId::String, "the device's name"),
+                    argument(
+                        "Active",
+                        DataTypeId::Boolean,
+                        "true: activate it; false: deactivate it",
+                    ),
+                ],
+                vec![],
+            ),
         ] {
             let method = id(name);
             let mut b = MethodBuilder::new(&method, QualifiedName::new(ns, name), name)
@@ -95,6 +111,7 @@ pub fn add(
     }
     let records = Arc::new(Mutex::new(records));
     let target_of = {
+        let snapshots = snapshots.clone();
         move |args: &[Variant]| -> Result<procimg_client::RecordTarget, StatusCode> {
             let (Some(Variant::UInt32(address)), Some(Variant::UInt16(index))) =
                 (args.first(), args.get(1))
@@ -145,6 +162,37 @@ pub fn add(
             .map_err(refused)?;
             Ok(vec![])
         });
+    {
+        let instance = instance.to_owned();
+        nm.inner()
+            .add_method_callback(id("ActivateDevice"), move |args: &[Variant]| {
+                let (Some(Variant::String(name)), Some(Variant::Boolean(active))) =
+                    (args.first(), args.get(1))
+                else {
+                    return Err(StatusCode::BadTypeMismatch);
+                };
+                let active = *active;
+                let layout = snapshots.borrow().layout.clone();
+                let device = layout
+                    .device(name.as_ref())
+                    .ok_or(StatusCode::BadNodeIdUnknown)? as u32;
+                let activate = || {
+                    let mut s =
+                        Services::open(&instance, ServiceOptions::new("procimg-opcua activate"))
+                            .map_err(|e| e.to_string())?;
+                    s.activate_confirmed(device, active, ACTIVATION_TIMEOUT)
+                        .map_err(|e| e.to_string())
+                };
+                let done = match tokio::runtime::Handle::try_current() {
+                    Ok(_) => tokio::task::block_in_place(activate),
+                    Err(_) => activate(),
+                };
+                done.map(|()| vec![]).map_err(|why| {
+                    tracing::info!("activation of device {name} refused: {why}");
+                    StatusCode::BadInvalidState
+                })
+            });
+    }
     let instance = instance.to_owned();
     nm.inner()
         .add_method_callback(id("SetMode"), move |args: &[Variant]| {

@@ -9,7 +9,9 @@
 //!   certificate, first refused and kept in the PKI folder's rejected/, is moved to
 //!   trusted/; over it, users of the users file (`procimg-opcua user add`): a writer's
 //!   outputs come back through the echo device, held against a second writer until the
-//!   first session ends; a reader's write and a write of the wrong type are refused.
+//!   first session ends; a reader's write and a write of the wrong type are refused; the
+//!   devices' failure and return as events of procimg's DeviceEventType, around OFFLINE and
+//!   a deactivation of one device by the ActivateDevice method.
 //! - `asyncua_device.py` against the device demo: the station's I data written by a writer
 //!   and the PLC's answer read back, the AR's life as events, wrong writes refused, a
 //!   client that vanishes while subscribed.

@@ -19,7 +19,8 @@ import asyncio
 from asyncua import Client, ua
 
 from asyncua_common import (
-    INSTANCE, ITEMS, TREE, TYPES, URL, check, disconnect_all, event_filter, read, state_word, trusted_connector,
+    INSTANCE, ITEMS, TREE, TYPES, URL, check, disconnect_all, event_filter, read, refused, state_word,
+    trusted_connector,
 )
 
 
@@ -134,11 +135,14 @@ async def items_and_tree():
             ua.Variant(64, ua.VariantType.UInt32),
         )
         check(bytes(im0)[6:8] == b"\x04\x93", f"ReadRecord of I&M0: {bytes(im0).hex()}")
-        try:
-            await client.get_node(top_id).call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OFFLINE")
-            check(False, "an anonymous session changed the mode")
-        except ua.UaStatusCodeError as e:
-            check("BadUserAccessDenied" in type(e).__name__, f"anonymous SetMode: {e!r}")
+        await refused(
+            client.get_node(top_id).call_method(ua.NodeId(f"{INSTANCE}/SetMode", tns), "OFFLINE"),
+            "BadUserAccessDenied", "an anonymous SetMode",
+        )
+        await refused(
+            client.get_node(top_id).call_method(ua.NodeId(f"{INSTANCE}/ActivateDevice", tns), "echo", False),
+            "BadUserAccessDenied", "an anonymous ActivateDevice",
+        )
 
         # An anonymous session does not write.
         try:
@@ -245,6 +249,24 @@ async def secure():
         failed = {d for d, up, why, source in events if not up and why and source == d}
         returned = {d for d, up, _, source in events if up and source == d}
         check(failed == returned == all_three, f"the devices' events: {events}")
+
+        # A writer deactivates the echo device (IO-Base's PNIO_device_activate) and
+        # activates it again: its failure and return come as events.
+        events.clear()
+        activate = ua.NodeId(f"{INSTANCE}/ActivateDevice", tns)
+        await top.call_method(activate, "echo", False)
+        for _ in range(300):
+            if any(d == "echo" and not up for d, up, _, _ in events):
+                break
+            await asyncio.sleep(0.1)
+        check(any(d == "echo" and not up for d, up, _, _ in events), f"echo deactivated: {events}")
+        await top.call_method(activate, "echo", True)
+        for _ in range(300):
+            if any(d == "echo" and up for d, up, _, _ in events):
+                break
+            await asyncio.sleep(0.1)
+        check(any(d == "echo" and up for d, up, _, _ in events), f"echo activated again: {events}")
+        check({d for d, _, _, _ in events} == {"echo"}, f"only echo's events: {events}")
     finally:
         await disconnect_all([second, viewer])
 

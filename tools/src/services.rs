@@ -7,7 +7,8 @@ use crate::text::hex;
 use anyhow::{Context, bail};
 use clap::Subcommand;
 use procimg_client::{
-    Notification, PortRef, RecordTarget, ServiceOptions, Services, Tailoring, TailoringRefusal,
+    ActivationError, Notification, PortRef, RecordTarget, ServiceOptions, Services, Tailoring,
+    TailoringRefusal,
 };
 use procimg_profinet::wire::record::Im0;
 use std::time::{Duration, Instant};
@@ -399,24 +400,18 @@ fn describe(n: &Notification) -> String {
 pub fn activate(instance: &str, name: &str, active: bool) -> anyhow::Result<()> {
     let mut s = open(instance, "procimg-device", false)?;
     let device = device_index(&s, name)?;
-    s.activate(device, active)?;
-    let until = Instant::now() + Duration::from_secs(5);
-    while Instant::now() < until {
-        if let Some(Notification::Activation { device: d, ok, .. }) =
-            s.next(Duration::from_millis(100))
-            && d == device
-        {
-            if !ok {
-                bail!("device {name:?} did not take the change");
+    s.activate_confirmed(device, active, Duration::from_secs(5))
+        .map_err(|e| match e {
+            ActivationError::Refused { .. } => {
+                anyhow::anyhow!("device {name:?} did not take the change")
             }
-            println!(
-                "{name} {}",
-                if active { "activated" } else { "deactivated" }
-            );
-            return Ok(());
-        }
-    }
-    bail!("no confirmation from instance \"{instance}\" within 5 s")
+            other => other.into(),
+        })?;
+    println!(
+        "{name} {}",
+        if active { "activated" } else { "deactivated" }
+    );
+    Ok(())
 }
 
 /// Why a tailoring was refused, in words.

@@ -74,8 +74,8 @@ pub use procimg_control::{
 pub use procimg_rt_alloc as rt_alloc;
 pub use procimg_shm_layout::{CycleInfo, Mode};
 pub use services::{
-    AddressChangeError, ControllerAddress, INTERFACE_SUBSLOT, PORT_SUBSLOT, RecordError,
-    RestartError, ServiceOptions, Services,
+    ActivationError, AddressChangeError, ControllerAddress, INTERFACE_SUBSLOT, PORT_SUBSLOT,
+    RecordError, RestartError, ServiceOptions, Services,
 };
 pub use station_services::{AR_REFUSED_NO_RESOURCES, RecordRefusal};
 pub use status::{Ioxs, SubmoduleIoxs};

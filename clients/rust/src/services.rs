@@ -16,10 +16,12 @@
 //!
 //! [`Client`]: crate::Client
 
+mod activation;
 mod own_interface;
 mod pe;
 mod restart;
 
+pub use activation::ActivationError;
 pub use restart::RestartError;
 
 pub use own_interface::{AddressChangeError, ControllerAddress, INTERFACE_SUBSLOT, PORT_SUBSLOT};
