@@ -72,6 +72,8 @@ enum Shows {
     CycleCount,
     Overruns,
     OpFaults,
+    /// A percentile (µs) of a latency of procimgd's cycle.
+    Latency(Latency),
     DeviceState(usize),
     Plc,
     PlcRunning,
@@ -85,6 +87,17 @@ enum Shows {
     Typed(usize, Area, u16, u16, Kind),
     /// A bit of such an item: the item's offset and length, and the bit.
     Bit(usize, Area, u16, u16, u16),
+}
+
+/// The latency percentiles the status shows: the cycle thread's wake-up and work, and the
+/// synchronous clients' handshake, since procimgd started.
+#[derive(Clone, Copy, Debug)]
+enum Latency {
+    WakeupP50,
+    WakeupP99,
+    WakeupMax,
+    CycleWorkP99,
+    HandshakeP99,
 }
 
 /// A variable of the tree: its NodeId and what it shows.
@@ -227,6 +240,36 @@ impl Tree {
                 DataTypeId::UInt64,
                 Variant::from(0u64),
                 Shows::OpFaults,
+            ),
+            (
+                "WakeupLatencyP50",
+                DataTypeId::Double,
+                Variant::from(0.0f64),
+                Shows::Latency(Latency::WakeupP50),
+            ),
+            (
+                "WakeupLatencyP99",
+                DataTypeId::Double,
+                Variant::from(0.0f64),
+                Shows::Latency(Latency::WakeupP99),
+            ),
+            (
+                "WakeupLatencyMax",
+                DataTypeId::Double,
+                Variant::from(0.0f64),
+                Shows::Latency(Latency::WakeupMax),
+            ),
+            (
+                "CycleWorkP99",
+                DataTypeId::Double,
+                Variant::from(0.0f64),
+                Shows::Latency(Latency::CycleWorkP99),
+            ),
+            (
+                "HandshakeP99",
+                DataTypeId::Double,
+                Variant::from(0.0f64),
+                Shows::Latency(Latency::HandshakeP99),
             ),
         ] {
             let id = tree.variable(
@@ -595,6 +638,16 @@ fn value_of(shows: Shows, snap: &Snapshot) -> (Variant, StatusCode) {
         Shows::CycleCount => (Variant::from(snap.cycle), good),
         Shows::Overruns => (Variant::from(r.overruns), good),
         Shows::OpFaults => (Variant::from(r.opfaults), good),
+        Shows::Latency(which) => {
+            let ns = match which {
+                Latency::WakeupP50 => r.wakeup_latency.p50_ns,
+                Latency::WakeupP99 => r.wakeup_latency.p99_ns,
+                Latency::WakeupMax => r.wakeup_latency.max_ns,
+                Latency::CycleWorkP99 => r.cycle_work.p99_ns,
+                Latency::HandshakeP99 => r.handshake_round_trip.p99_ns,
+            };
+            (Variant::from(ns as f64 / 1e3), good)
+        }
         Shows::DeviceState(d) => (Variant::from(state_number(snap, d)), good),
         Shows::Plc => match ar {
             Some(a) if a.controller_name.is_empty() => {

@@ -96,6 +96,8 @@ async def items_and_tree():
         check(description.endswith("PNIO:[CTRL1]E20.0"), f"Input 0 names its item: {description}")
         state = await devices.get_child([f"{tns}:counter", f"{tns}:State"])
         check(await state_word(client, state) == "running", "the counter device's state")
+        wakeup_p99 = await top.get_child([f"{tns}:Status", f"{tns}:WakeupLatencyP99"])
+        check(await wakeup_p99.read_value() > 0.0, "the cycle's wake-up latency p99 (µs)")
         status_mode = await top.get_child([f"{tns}:Status", f"{tns}:Mode"])
         check(await status_mode.read_value() == "OPERATE", "the server's mode")
 
