@@ -84,13 +84,13 @@ struct Window {
     updates_per_s: f64,
 }
 
-/// A child process, ended (by its id) when dropped.
+/// A child process, ended when dropped: SIGTERM (procimgd then removes its shared memory),
+/// SIGKILL after 5 s.
 struct Ended(Child);
 
 impl Drop for Ended {
     fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
+        procimg_netns::signal::stop(&mut self.0, libc::SIGTERM, Duration::from_secs(5));
     }
 }
 
