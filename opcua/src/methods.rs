@@ -183,10 +183,7 @@ pub fn add(
                     s.activate_confirmed(device, active, ACTIVATION_TIMEOUT)
                         .map_err(|e| e.to_string())
                 };
-                let done = match tokio::runtime::Handle::try_current() {
-                    Ok(_) => tokio::task::block_in_place(activate),
-                    Err(_) => activate(),
-                };
+                let done = records::blocking_call(activate);
                 done.map(|()| vec![]).map_err(|why| {
                     tracing::info!("activation of device {name} refused: {why}");
                     StatusCode::BadInvalidState
@@ -208,10 +205,7 @@ pub fn add(
                     .map_err(|e| e.to_string())
                     .and_then(|c| c.set_mode(mode).map_err(|e| e.to_string()))
             };
-            let done = match tokio::runtime::Handle::try_current() {
-                Ok(_) => tokio::task::block_in_place(set),
-                Err(_) => set(),
-            };
+            let done = records::blocking_call(set);
             done.map(|()| vec![]).map_err(|why| {
                 tracing::info!("mode change to {mode} refused: {why}");
                 StatusCode::BadInvalidState

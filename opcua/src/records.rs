@@ -56,13 +56,17 @@ pub fn blocking<T>(
         .unwrap_or_else(|e| e.into_inner())
         .send(job(reply))
         .map_err(|_| "the record thread has ended".to_owned())?;
-    let wait = || answer.blocking_recv();
-    // Inside the server's runtime the wait must not hold up its other tasks.
-    let got = match tokio::runtime::Handle::try_current() {
-        Ok(_) => tokio::task::block_in_place(wait),
-        Err(_) => wait(),
-    };
+    let got = blocking_call(|| answer.blocking_recv());
     got.map_err(|_| "the record thread has ended".to_owned())?
+}
+
+/// Runs `call`, which blocks (a wait for procimgd), from a method's callback: inside the
+/// server's runtime it must not hold up the runtime's other tasks.
+pub fn blocking_call<T>(call: impl FnOnce() -> T) -> T {
+    match tokio::runtime::Handle::try_current() {
+        Ok(_) => tokio::task::block_in_place(call),
+        Err(_) => call(),
+    }
 }
 
 /// Runs record jobs for `instance` until `jobs` ends.
