@@ -40,13 +40,13 @@ fn free_port() -> u16 {
         .expect("a free TCP port on 127.0.0.1")
 }
 
-/// A child process, ended (by its id) when dropped.
+/// A child process, ended when dropped: SIGTERM, so that procimg-opcua closes its
+/// sessions and lets go of procimgd's shared memory; SIGKILL after 10 s.
 struct Ended(Child);
 
 impl Drop for Ended {
     fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
+        procimg_testkit::signal::stop(&mut self.0, libc::SIGTERM, Duration::from_secs(10));
     }
 }
 
