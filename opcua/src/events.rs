@@ -105,17 +105,18 @@ pub fn event_of(n: &Notification, station: &str) -> Option<(String, u16, String)
     })
 }
 
-/// The event of notification `n` (`station` named as in [`event_of`]), of procimg's type for
-/// it in namespace `types`, its base made by `base` from the type's NodeId.
+/// The event of notification `n`, one [`event_of`] makes an event of (`station` named as
+/// there), of procimg's type for it in namespace `types` (a BaseEventType where procimg has
+/// none), its base made by `base` from the type's NodeId.
 pub fn typed_event(
     n: &Notification,
     station: &str,
     types: u16,
     base: impl FnOnce(NodeId) -> BaseEventType,
-) -> Option<Box<dyn Event + Send + Sync>> {
+) -> Box<dyn Event + Send + Sync> {
     let of = |name: &str| NodeId::new(types, name);
     let text = |s: &str| UAString::from(s);
-    Some(match n {
+    match n {
         Notification::DeviceFailure { name, reason, .. } => Box::new(DeviceEvent {
             base: base(of("DeviceEventType")),
             own_namespace_index: types,
@@ -179,9 +180,9 @@ pub fn typed_event(
             running: *running,
             station_problem: *station_problem,
         }),
-        Notification::StopRequest { .. } => Box::new(base(ObjectTypeId::BaseEventType.into())),
-        _ => return None,
-    })
+        // The stop request.
+        _ => Box::new(base(ObjectTypeId::BaseEventType.into())),
+    }
 }
 
 /// Raises the events of `instance`'s notifications in `handle`'s server, their sources in
@@ -225,9 +226,7 @@ pub fn run(
                 .set_source_name(UAString::from(name))
                 .set_severity(severity)
         };
-        let Some(event) = typed_event(&n, &station, types, base) else {
-            continue;
-        };
+        let event = typed_event(&n, &station, types, base);
         handle
             .subscriptions()
             .notify_events([(event.as_ref() as &dyn Event, &source)].into_iter());

@@ -145,15 +145,14 @@ fn run(args: Args) -> anyhow::Result<()> {
             .with_context(|| format!("cannot attach to procimgd instance {instance:?}"))
         }
     };
-    // After a restart of procimgd: attached again once it is back.
-    let again = |name: &'static str, slices: bool| {
-        let attach = attach.clone();
-        move || attach(name, slices).ok()
-    };
     let writing = attach("procimg-opcua-writer", true)?;
     let (write_tx, write_rx) = std::sync::mpsc::channel();
     let writer = {
-        let again = again("procimg-opcua-writer", true);
+        // After procimgd started anew with another layout: a writing client of that one.
+        let again = {
+            let attach = attach.clone();
+            move || attach("procimg-opcua-writer", true).ok()
+        };
         std::thread::Builder::new()
             .name("opcua-writes".into())
             .spawn(move || procimg_opcua::writer::run(writing, write_rx, again))
