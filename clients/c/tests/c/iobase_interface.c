@@ -294,9 +294,14 @@ int main(void) {
     memcpy(ip.IpAddress, new_ip, 4);
     memcpy(ip.NetMask, mask, 4);
     CHECK_RC(PNIO_interface_set_ip_and_nos(h, PNIO_SET_IP_MODE, ip, nos), PNIO_OK);
-    CHECK_RC(PNIO_interface_set_ip_and_nos(h, PNIO_SET_IP_MODE, ip, nos),
-             PNIO_ERR_NOT_REENTERABLE);
-    CHECK(wait_past(&confs, confs_seen), "no PNIO_CBE_IFC_SET_ADDR_CONF for the address");
+    /* A second call while the first is unconfirmed is refused. On a busy machine the first
+     * may be confirmed before the second call: then the second is a change of its own and is
+     * confirmed too. Either way every accepted change is confirmed once. */
+    PNIO_UINT32 again = PNIO_interface_set_ip_and_nos(h, PNIO_SET_IP_MODE, ip, nos);
+    CHECK(again == PNIO_ERR_NOT_REENTERABLE || again == PNIO_OK,
+          "a second change returned 0x%x, expected PNIO_ERR_NOT_REENTERABLE", (unsigned)again);
+    int expected_confs = confs_seen + (again == PNIO_OK ? 1 : 0);
+    CHECK(wait_past(&confs, expected_confs), "no PNIO_CBE_IFC_SET_ADDR_CONF for the address");
     CHECK(atomic_load(&conf_err) == PNIO_OK, "set address: 0x%x", atomic_load(&conf_err));
     /* A second change may come now; an invalid address is refused in the confirmation. */
     confs_seen = atomic_load(&confs);
