@@ -21,9 +21,11 @@
 //! `--demo` runs procimgd's built-in demo (simulated devices that answer) at the cycle
 //! given instead of the generated image: how short a cycle procimgd holds with real work.
 //! `procimg-handshake startup` times procimgd's start and a client's attach, and reads how
-//! much memory procimgd locks.
+//! much memory procimgd locks. `procimg-handshake attach-load` counts the overruns that clients
+//! attaching and detaching cause, against an idle stretch as long.
 
 mod alloc_count;
+mod attach_load;
 mod client;
 mod plant;
 mod server;
@@ -140,6 +142,22 @@ enum Role {
         #[arg(long, value_name = "FILE")]
         report: Option<PathBuf>,
     },
+    /// Counts procimgd's overruns while synchronous clients attach and detach one after the
+    /// other, and while nothing happens for as long (the demo, or the generated image).
+    AttachLoad {
+        /// The generated image with this many bytes each way instead of the demo.
+        #[arg(short = 'b', long, value_parser = parse_bytes)]
+        image_bytes: Option<usize>,
+        /// Attaches per round.
+        #[arg(short = 'n', long, default_value_t = 1000)]
+        attaches: u32,
+        /// Rounds, each an attaching window and an idle window as long.
+        #[arg(short = 'r', long, default_value_t = 1)]
+        rounds: u32,
+        /// Milliseconds between a client's detach and the next attach.
+        #[arg(long, default_value_t = 5)]
+        pause_ms: u64,
+    },
 }
 
 /// Parses a cycle time in µs, whole or decimal ("250", "187.5"), into ns; procimgd takes
@@ -214,6 +232,17 @@ fn main() {
             attaches,
             report,
         }) => startup::run(*image_bytes, *attaches, report.as_deref()),
+        Some(Role::AttachLoad {
+            image_bytes,
+            attaches,
+            rounds,
+            pause_ms,
+        }) => attach_load::run(&attach_load::Args {
+            image_bytes: *image_bytes,
+            attaches: *attaches,
+            rounds: *rounds,
+            pause: std::time::Duration::from_millis(*pause_ms),
+        }),
         None => coordinate(&args),
     };
     if let Err(e) = result {
