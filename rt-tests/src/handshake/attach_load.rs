@@ -45,20 +45,10 @@ pub fn run(args: &Args) -> Result<()> {
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let _cleanup = crate::RemoveOnDrop(dir.clone());
     let (toml, what) = match args.image_bytes {
-        Some(image_bytes) => {
-            let plant = Plant {
-                instance: instance.clone(),
-                image_bytes,
-                interval_ns: 1_000_000,
-                priority: 80,
-                cpu: None,
-                busy_poll: false,
-            };
-            (
-                plant.toml(),
-                format!("{image_bytes} B each way, nobody answering"),
-            )
-        }
+        Some(image_bytes) => (
+            Plant::at_one_ms(&instance, image_bytes).toml(),
+            format!("{image_bytes} B each way, nobody answering"),
+        ),
         None => (
             plant::demo_toml(&instance, 1_000_000).map_err(anyhow::Error::msg)?,
             "the demo".to_string(),

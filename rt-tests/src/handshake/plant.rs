@@ -32,6 +32,20 @@ pub struct Plant {
 }
 
 impl Plant {
+    /// The plant of the tools that measure procimgd beside its cycle rather than the
+    /// handshake: `image_bytes` each way, a 1 ms cycle at SCHED_FIFO 80, nothing pinned, the
+    /// server sleeping for OPDONE.
+    pub fn at_one_ms(instance: &str, image_bytes: usize) -> Plant {
+        Plant {
+            instance: instance.to_string(),
+            image_bytes,
+            interval_ns: 1_000_000,
+            priority: 80,
+            cpu: None,
+            busy_poll: false,
+        }
+    }
+
     /// The IO data bytes of each device: `image_bytes` cut into frames.
     pub fn device_sizes(&self) -> Vec<usize> {
         let mut left = self.image_bytes.max(1);

@@ -36,14 +36,7 @@ const REQUEST_PAUSE: Duration = Duration::from_millis(5);
 /// Runs the measurement and prints and writes its report.
 pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Result<()> {
     let instance = format!("startup-{}", std::process::id());
-    let plant = Plant {
-        instance: instance.clone(),
-        image_bytes,
-        interval_ns: 1_000_000,
-        priority: 80,
-        cpu: None,
-        busy_poll: false,
-    };
+    let plant = Plant::at_one_ms(&instance, image_bytes);
     let dir = std::env::temp_dir().join(format!("procimg-startup-{}", std::process::id()));
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let _cleanup = crate::RemoveOnDrop(dir.clone());
