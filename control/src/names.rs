@@ -16,10 +16,17 @@ pub fn layout_service(instance: &str, generation: u64) -> String {
     format!("procimg/{instance}/{generation:016x}/layout")
 }
 
-/// The output publish-subscribe service (clients publish, the server subscribes).
-pub fn output_service(instance: &str, generation: u64) -> String {
-    format!("procimg/{instance}/{generation:016x}/outputs")
+/// The output publish-subscribe service of one client of one server generation, named by the
+/// token of its registration: the client creates it and publishes, the server subscribes once
+/// the client asks it to (`CoreRequest::ConnectOutputs`). One service per client lets the
+/// server set up each client's connection off its cycle thread.
+pub fn client_output_service(instance: &str, generation: u64, token: u64) -> String {
+    format!("procimg/{instance}/{generation:016x}/outputs/{token:016x}")
 }
+
+/// Output samples a client's output service buffers for the server's subscriber, sent
+/// between two of its cycles.
+pub const OUTPUT_BUFFER: usize = 8;
 
 /// The event service on which the server signals NEWCYCLE, MODE, OPFAULT and shutdown, and
 /// STARTOP to clients that wait on its descriptor (the others sleep on the handshake block's

@@ -101,6 +101,11 @@ pub enum Refusal {
         /// The alarm's id.
         alarm: u64,
     },
+    /// The server could not subscribe to a client's output service.
+    OutputsNotConnected {
+        /// iceoryx2's error, naming the service.
+        detail: String,
+    },
     /// The request could not be decoded.
     BadRequest {
         /// What was wrong.
@@ -312,6 +317,12 @@ impl core::fmt::Display for Refusal {
                  (`procimg io unforce --all` clears it)"
             ),
             Refusal::BadRequest { message } => write!(f, "bad request: {message}"),
+            Refusal::OutputsNotConnected { detail } => write!(
+                f,
+                "procimgd could not connect to this client's outputs ({detail}); attach again, \
+                 and check that procimgd may open the client's files in its iceoryx2 directory \
+                 ([access] group)"
+            ),
             Refusal::StationPlug { message, .. } | Refusal::StationAlarm { message, .. } => {
                 f.write_str(message)
             }

@@ -60,6 +60,15 @@ pub fn access_group(root: &Path) -> Option<u32> {
     (meta.is_dir() && mode & GROUP_DIR_BITS == GROUP_DIR_BITS).then_some(meta.gid())
 }
 
+/// Gives the group of `root` (when it is a directory of a group, [`access_group`]) the
+/// procimg files in it that this process created, now: for a file another process opens
+/// next.
+pub fn share_with_group_now(root: &Path) {
+    if let Some(gid) = access_group(root) {
+        share_own_files(root, IOX2_PREFIX, gid);
+    }
+}
+
 /// The id of group `name` (a name from `/etc/group`, or a number).
 pub fn group_id(name: &str) -> Option<u32> {
     if let Ok(id) = name.parse() {

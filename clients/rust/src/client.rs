@@ -217,9 +217,21 @@ impl Client {
     pub fn attach(instance: &str, opts: AttachOptions) -> Result<Client, AttachError> {
         let control = ControlHandle::open(instance, &opts.name)?;
         let (slot, token, generation, server_pid) = register(&control, &opts)?;
-        let conn = Connection::open(control.node(), instance, generation, opts.timeout, &|| {
-            control.ring_server()
-        })?;
+        let conn = match Connection::open(
+            control.node(),
+            instance,
+            generation,
+            token,
+            opts.timeout,
+            &|| control.ring_server(),
+            &|| connect_outputs(&control, slot, token, opts.timeout),
+        ) {
+            Ok(c) => c,
+            Err(e) => {
+                let _ = control.request_done(CoreRequest::Unregister { slot, token });
+                return Err(e);
+            }
+        };
         control.own_ports(&conn.port_ids);
         let layout = conn.layout.clone();
         if let Some(expected) = opts.expected_layout_hash
@@ -607,8 +619,10 @@ impl Client {
             self.control.node(),
             self.instance(),
             generation,
+            token,
             REATTACH_STEP,
             &|| self.control.ring_server(),
+            &|| connect_outputs(&self.control, slot, token, REATTACH_STEP),
         ) {
             Ok(c) => c,
             Err(_) => {
@@ -815,6 +829,42 @@ impl Drop for Client {
 }
 
 /// Registers with the server: slot, token, generation and the server's process id.
+/// Asks the server to subscribe to this client's output service.
+fn connect_outputs(
+    control: &ControlHandle,
+    slot: u32,
+    token: u64,
+    timeout: Duration,
+) -> Result<(), AttachError> {
+    let instance = control.instance();
+    let what = "the connection of its outputs";
+    match control.request(CoreRequest::ConnectOutputs { slot, token }, timeout) {
+        Ok(Response::Done) => Ok(()),
+        Ok(Response::Refused(refusal)) => Err(AttachError::Refused {
+            instance: instance.to_string(),
+            refusal,
+        }),
+        Ok(other) => Err(AttachError::Shm {
+            instance: instance.to_string(),
+            what,
+            detail: format!("unexpected answer {other:?}"),
+        }),
+        Err(ControlError::NoServer { .. }) => Err(AttachError::NoServer {
+            instance: instance.to_string(),
+        }),
+        Err(ControlError::NoAnswer { timeout, .. }) => Err(AttachError::Timeout {
+            instance: instance.to_string(),
+            what,
+            timeout,
+        }),
+        Err(e) => Err(AttachError::Shm {
+            instance: instance.to_string(),
+            what,
+            detail: e.to_string(),
+        }),
+    }
+}
+
 fn register(
     control: &ControlHandle,
     opts: &AttachOptions,

@@ -133,10 +133,7 @@ pub(crate) fn share_own_files() {
 
 /// [`share_own_files`] at once, for a step that has just created files procimgd will open.
 fn share_own_files_now() {
-    let root = root_dir();
-    if let Some(gid) = share::access_group(&root) {
-        share::share_own_files(&root, control::IOX2_PREFIX, gid);
-    }
+    share::share_with_group_now(&root_dir());
 }
 
 /// A client port of the control service: JSON requests and responses in byte slices.
@@ -229,14 +226,18 @@ pub struct Connection {
 }
 
 impl Connection {
-    /// Opens the data services of `generation` and reads its layout; `ring_server` wakes the
-    /// server's control thread (`ControlHandle::ring_server`), which hands the layout over.
+    /// Opens the data services of `generation` and reads its layout, opens the output service
+    /// procimgd made for this client (registered with `token`) and has the server connect to it:
+    /// `ring_server` wakes the server's control thread (`ControlHandle::ring_server`), which
+    /// hands the layout over; `connect_outputs` asks it to connect (`CoreRequest::ConnectOutputs`).
     pub fn open(
         node: &Node<Ipc>,
         instance: &str,
         generation: u64,
+        token: u64,
         timeout: Duration,
         ring_server: &dyn Fn(),
+        connect_outputs: &dyn Fn() -> Result<(), AttachError>,
     ) -> Result<Connection, AttachError> {
         let (layout, layout_port) = read_layout(node, instance, generation, timeout, ring_server)?;
         let inputs = node
@@ -252,21 +253,13 @@ impl Connection {
             .buffer_size(1)
             .create()
             .map_err(|e| shm(instance, "an input subscriber", e))?;
-        let outputs = node
-            .service_builder(&service_name(
-                instance,
-                control::output_service(instance, generation),
-            )?)
-            .publish_subscribe::<[u8]>()
-            .user_header::<OutputHeader>()
-            .open()
-            .map_err(|e| pubsub_error(instance, "the output service", e))?
-            .publisher_builder()
-            .initial_max_slice_len(layout.header.output_payload_size as usize)
-            .backpressure_strategy(BackpressureStrategy::DiscardData)
-            .max_loaned_samples(2)
-            .create()
-            .map_err(|e| shm(instance, "an output publisher", e))?;
+        let outputs = output_publisher(
+            node,
+            instance,
+            generation,
+            token,
+            layout.header.output_payload_size as usize,
+        )?;
         let events = node
             .service_builder(&service_name(
                 instance,
@@ -297,6 +290,11 @@ impl Connection {
         // right after, not at some later receive after which nothing shares it.
         let _ = inputs.update_connections();
         share_own_files_now();
+        // The server maps this client's output samples on its control thread, never on its
+        // cycle thread, and answers once it has; the publisher then opens the connection the
+        // server made (shared with the group before the answer).
+        connect_outputs()?;
+        let _ = outputs.update_connections();
         // SAFETY: the descriptor belongs to `events`, which lives in the same Connection and
         // outlives every use of the descriptor.
         #[allow(unsafe_code)]
@@ -311,6 +309,33 @@ impl Connection {
             layout,
         })
     }
+}
+
+/// Opens the output service procimgd made for the client registered with `token` in
+/// `generation`, and creates its publisher for samples of `payload_len` bytes. The server
+/// connects to it when asked (`CoreRequest::ConnectOutputs`).
+#[doc(hidden)]
+pub fn output_publisher(
+    node: &Node<Ipc>,
+    instance: &str,
+    generation: u64,
+    token: u64,
+    payload_len: usize,
+) -> Result<Publisher<Ipc, [u8], OutputHeader>, AttachError> {
+    node.service_builder(&service_name(
+        instance,
+        control::client_output_service(instance, generation, token),
+    )?)
+    .publish_subscribe::<[u8]>()
+    .user_header::<OutputHeader>()
+    .open()
+    .map_err(|e| pubsub_error(instance, "this client's output service", e))?
+    .publisher_builder()
+    .initial_max_slice_len(payload_len)
+    .backpressure_strategy(BackpressureStrategy::DiscardData)
+    .max_loaned_samples(2)
+    .create()
+    .map_err(|e| shm(instance, "an output publisher", e))
 }
 
 fn read_layout(

@@ -51,6 +51,8 @@ mod status;
 
 pub use access::{AccessError, Space};
 pub use client::{AttachOptions, Client, Event, EventWait};
+#[doc(hidden)]
+pub use connection::output_publisher;
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
 pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};
@@ -80,8 +82,7 @@ pub use services::{
 pub use station_services::{AR_REFUSED_NO_RESOURCES, RecordRefusal};
 pub use status::{Ioxs, SubmoduleIoxs};
 
-/// Output samples the server buffers per client between two cycles (see `procimgd`).
-pub const OUTPUT_BUFFER: usize = 8;
+pub use procimg_control::OUTPUT_BUFFER;
 
 #[cfg(test)]
 mod send_tests {

@@ -41,6 +41,16 @@ pub enum CoreRequest {
         /// Token from the registration.
         token: u64,
     },
+    /// Take the outputs this client publishes on its output service
+    /// ([`client_output_service`](crate::client_output_service)), which it created after
+    /// registering: answered when the server's subscriber is connected to it, so that the
+    /// client's first sample reaches the server.
+    ConnectOutputs {
+        /// Slot from the registration.
+        slot: u32,
+        /// Token from the registration.
+        token: u64,
+    },
     /// Claim the outputs of these submodules (indices in the submodule table).
     Claim {
         /// Slot from the registration.

@@ -33,11 +33,9 @@ pub const SUBMODULES: [Shape; 5] = [
 /// and submodule shows most.
 pub const CLIENT_SHAPE: Shape = sized(16, 4096, 12 * KIB);
 
-/// Clients in the client sweep. The server's services are created with iceoryx2's default
-/// limit of 20 nodes per publish-subscribe service (`shm/ports.rs` sets no `max_nodes`), so
-/// however large MAX_CLIENTS is, the output service takes the cycle node and 19 more; the
-/// rig's writers have a node of their own, which leaves 18 clients.
-pub const CLIENTS: [usize; 6] = [1, 2, 4, 8, 16, 18];
+/// Clients in the client sweep, up to half of MAX_CLIENTS: each has an output service of its
+/// own, so the merge looks at one port per client.
+pub const CLIENTS: [usize; 6] = [1, 2, 4, 8, 16, 32];
 
 /// The device sweep of the PROFINET IO system: 1 to 256 devices, one 64-byte submodule each.
 pub const DEVICES: [Shape; 5] = [

@@ -25,7 +25,8 @@ use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::ServiceName;
-use procimg_client::{AttachOptions, Client};
+use procimg_client::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
+use procimg_control::{ClientRole, CoreRequest, Response};
 use procimg_profinet::controller::cyclic::CyclicAr;
 use procimg_runtime::config::Config;
 use procimg_runtime::cycle::{Engine, EngineSettings, Publication, Shared};
@@ -35,8 +36,9 @@ use procimg_runtime::io::pnio::channel::{Channel, ToCycle};
 use procimg_runtime::io::{CycleTime, IoSystem};
 use procimg_runtime::roles::controller::{ControllerServices, SIM_CONTROLLER_IP};
 use procimg_runtime::server::{Control, ServerInfo};
-use procimg_runtime::shm::Ipc;
+use procimg_runtime::shm::outputs::IpcThreadsafe;
 use procimg_runtime::shm::{ControlPorts, CyclePorts};
+use procimg_runtime::shm::{Ipc, server_node_of};
 use procimg_runtime::stats::stats_channel;
 use procimg_runtime::sys::clock::now_ns;
 use procimg_shm_layout::{
@@ -137,31 +139,37 @@ pub fn pnio_io(
 
 /// Sends one client's output samples: every submodule it owns written, IOPS GOOD.
 struct Writer {
-    publisher: Publisher<Ipc, [u8], OutputHeader>,
+    publisher: Publisher<IpcThreadsafe, [u8], OutputHeader>,
     /// The payload as the client library would fill it.
     payload: Vec<u8>,
     header: OutputHeader,
 }
 
 impl Writer {
+    /// The publisher of the client registered with `control` as `header` says, connected to
+    /// the server's subscriber, as the client library does it.
     fn new(
-        node: &Node<Ipc>,
-        service: &str,
+        node: &Node<IpcThreadsafe>,
+        control: &ControlHandle,
+        generation: u64,
         tables: &Tables,
         mine: &[usize],
         header: OutputHeader,
     ) -> Writer {
-        let name = ServiceName::new(service).expect("service name");
-        let publisher = node
-            .service_builder(&name)
-            .publish_subscribe::<[u8]>()
-            .user_header::<OutputHeader>()
-            .open()
-            .expect("open the output service")
-            .publisher_builder()
-            .initial_max_slice_len(tables.layout.output_payload_size as usize)
-            .create()
-            .expect("output publisher");
+        let publisher = procimg_client::output_publisher(
+            node,
+            control.instance(),
+            generation,
+            header.client_token,
+            tables.layout.output_payload_size as usize,
+        )
+        .expect("output publisher");
+        control
+            .request_done(CoreRequest::ConnectOutputs {
+                slot: header.client_slot,
+                token: header.client_token,
+            })
+            .expect("the server connects to the outputs");
         // Connected now, so that the first sample already reaches the server.
         publisher
             .update_connections()
@@ -200,11 +208,69 @@ impl Writer {
     }
 }
 
-/// One client: registered and holding its claims through the client library.
+/// One client: registered and holding its claims, as the client library does it.
 struct BenchClient {
-    writer: Writer,
-    // Dropped after its writer: unregistering ends the claims.
-    _client: Client,
+    writer: Option<Writer>,
+    control: ControlHandle,
+    slot: u32,
+    token: u64,
+    /// A node of its own: procimgd takes a second registration from one node for a retry of
+    /// the first, and replaces it. Dropped after the writer, whose port lives on it.
+    node: Node<IpcThreadsafe>,
+}
+
+impl BenchClient {
+    /// Registers an asynchronous client named `name` with a node of its own, and claims
+    /// `mine`.
+    fn register(instance: &str, name: &str, mine: &[usize]) -> BenchClient {
+        let node = server_node_of::<IpcThreadsafe>(instance, name).expect("client node");
+        let control = ControlHandle::open(instance, name).expect("control handle");
+        let registered = control.request(
+            CoreRequest::Register {
+                name: name.to_string(),
+                pid: std::process::id(),
+                role: ClientRole::Asynchronous,
+                newcycle: false,
+                node_id: node.id().to_string(),
+            },
+            DEFAULT_CONTROL_TIMEOUT,
+        );
+        let Ok(Response::Registered { slot, token, .. }) = registered else {
+            panic!("registration: {registered:?}");
+        };
+        for chunk in mine.chunks(512) {
+            let submodules = chunk.iter().map(|&s| s as u32).collect();
+            control
+                .request_done(CoreRequest::Claim {
+                    slot,
+                    token,
+                    submodules,
+                })
+                .expect("claim");
+        }
+        BenchClient {
+            writer: None,
+            control,
+            slot,
+            token,
+            node,
+        }
+    }
+
+    fn writer(&mut self) -> &mut Writer {
+        self.writer.as_mut().expect("made with the client")
+    }
+}
+
+impl Drop for BenchClient {
+    fn drop(&mut self) {
+        // The writer first; unregistering ends the claims.
+        self.writer = None;
+        let _ = self.control.request_done(CoreRequest::Unregister {
+            slot: self.slot,
+            token: self.token,
+        });
+    }
 }
 
 /// The control thread, polling fast while clients attach and leave and slowly while the
@@ -281,7 +347,6 @@ pub struct Rig {
     /// What the loop interface saw.
     pub nic: Arc<NicCounters>,
     clients: Vec<BenchClient>,
-    writer_node: Option<Node<Ipc>>,
     engine: Option<Engine>,
     control: Option<ControlThread>,
     k: u64,
@@ -325,35 +390,31 @@ impl Rig {
         let (recorder, _) = stats_channel();
         let engine = Engine::new(settings, &tables, ports, io, shared.clone(), recorder);
         let n = tables.submodules.len();
-        let writer_node = (clients > 0)
-            .then(|| procimg_runtime::shm::server_node(instance, "writers").expect("writer node"));
-        let output_service = procimg_control::output_service(instance, generation);
         let clients = (0..clients)
             .map(|i| {
-                let opts = AttachOptions::asynchronous(&format!("{instance}-{i}"));
-                let mut client = Client::attach(instance, opts).expect("attach");
                 let mine: Vec<usize> = (i * n / clients..(i + 1) * n / clients).collect();
-                for chunk in mine.chunks(512) {
-                    client.claim(chunk).expect("claim");
-                }
+                let mut client = BenchClient::register(instance, &format!("{instance}-{i}"), &mine);
                 // The control side records the claim before it answers.
-                let token = shared.owner(mine[0]);
-                assert_ne!(token, 0, "the claim is recorded");
+                assert_eq!(shared.owner(mine[0]), client.token, "the claim is recorded");
                 let header = OutputHeader {
                     magic: IMAGE_MAGIC,
                     layout_hash: tables.hash,
                     cycle_number: 0,
-                    client_token: token,
-                    client_slot: client.slot(),
+                    client_token: client.token,
+                    client_slot: client.slot,
                     flags: 0,
                     sent_ns: 0,
                 };
-                let node = writer_node.as_ref().expect("made with the first client");
-                let writer = Writer::new(node, &output_service, &tables, &mine, header);
-                BenchClient {
-                    writer,
-                    _client: client,
-                }
+                let writer = Writer::new(
+                    &client.node,
+                    &client.control,
+                    generation,
+                    &tables,
+                    &mine,
+                    header,
+                );
+                client.writer = Some(writer);
+                client
             })
             .collect();
         let mut rig = Rig {
@@ -363,7 +424,6 @@ impl Rig {
             channel,
             nic,
             clients,
-            writer_node,
             engine: Some(engine),
             control,
             k: 0,
@@ -390,7 +450,7 @@ impl Rig {
     pub fn prepare(&mut self) {
         let k = self.k;
         for c in &mut self.clients {
-            c.writer.send(k);
+            c.writer().send(k);
         }
         self.engine().maintain_connections();
     }
@@ -444,7 +504,6 @@ impl Drop for Rig {
         // Clients unregister through the control thread, so they go first; the engine's
         // ports after the control side, as procimgd ends.
         self.clients.clear();
-        self.writer_node = None;
         self.control = None;
         self.engine = None;
     }

@@ -363,7 +363,7 @@ impl State {
                     synchronous,
                     newcycle,
                 } => {
-                    ports.forget_client(slot);
+                    ports.forget_client(slot, &self.shared.outputs);
                     if let Some(cl) = self.clients.get_mut(slot as usize) {
                         *cl = ClientRt {
                             token,
@@ -386,7 +386,7 @@ impl State {
                     }
                 }
                 Command::Leave { slot } => {
-                    ports.forget_client(slot);
+                    ports.forget_client(slot, &self.shared.outputs);
                     if let Some(cl) = self.clients.get_mut(slot as usize) {
                         *cl = ClientRt::default();
                     }
@@ -397,6 +397,14 @@ impl State {
                 Command::SetMode(m) => self.target = m,
             }
         }
+        // After the commands: a port arrives after its client's Join was queued, and is taken
+        // only for the registration it was made for.
+        let clients = &self.clients;
+        ports.adopt_outputs(&self.shared.outputs, &|slot, token| {
+            clients
+                .get(slot as usize)
+                .is_some_and(|c| c.active && c.token == token)
+        });
         self.shared.take_force_plan(&mut self.force);
         for c in &mut self.clients {
             c.done = false;

@@ -5,6 +5,7 @@
 //! real clock.
 
 use crate::shm::CyclePorts;
+use crate::shm::outputs::OutputHandoff;
 use crate::sys::clock::now_ns;
 use core::ptr::NonNull;
 use iceoryx2::port::update_connections::UpdateConnections;
@@ -42,9 +43,12 @@ pub trait ClientLink {
     /// Waits until a client signalled OPDONE after `mark` was taken, or `deadline_ns` passed:
     /// polling until `spin_until_ns`, sleeping after it.
     fn wait_outputs(&mut self, mark: u32, deadline_ns: u64, spin_until_ns: u64);
-    /// Forgets what the client of `slot` left in the link's wake-up state (it joined anew,
-    /// left or died).
-    fn forget_client(&mut self, slot: u32);
+    /// Forgets what the client of `slot` left in the link (it joined anew, left or died): its
+    /// wake-up state, and its output port, which goes back through `handoff`.
+    fn forget_client(&mut self, slot: u32, handoff: &OutputHandoff);
+    /// Takes the clients' output ports that arrived through `handoff`: those of the
+    /// registrations `current(slot, token)` accepts, the others back at once.
+    fn adopt_outputs(&mut self, handoff: &OutputHandoff, current: &dyn Fn(u32, u64) -> bool);
     /// Brings the connections to clients that came or went up to date.
     fn maintain(&mut self);
 }
@@ -95,14 +99,21 @@ impl ClientLink for CyclePorts {
     }
 
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
-        match iceoryx2_call(|| self.outputs.receive()) {
-            Ok(Some(sample)) => {
-                take(sample.user_header(), sample.payload(), now_ns());
-                Taken::Sample
-            }
-            Ok(None) => Taken::Nothing,
-            Err(_) => Taken::Failed,
+        let found = self
+            .outputs
+            .find(|port| match iceoryx2_call(|| port.receive()) {
+                Ok(Some(sample)) => {
+                    take(sample.user_header(), sample.payload(), now_ns());
+                    Some(Taken::Sample)
+                }
+                Ok(None) => None,
+                Err(_) => Some(Taken::Failed),
+            });
+        if found == Some(Taken::Failed) {
+            // The next look begins with the other clients' ports.
+            self.outputs.pass();
         }
+        found.unwrap_or(Taken::Nothing)
     }
 
     fn notify(&mut self, id: usize) {
@@ -132,14 +143,23 @@ impl ClientLink for CyclePorts {
             .wait_opdone(&LinuxFutex, mark, deadline_ns, spin_until_ns);
     }
 
-    fn forget_client(&mut self, slot: u32) {
+    fn forget_client(&mut self, slot: u32, handoff: &OutputHandoff) {
         self.handshake.block().forget_slot(slot);
+        self.outputs.retire(slot, handoff);
+    }
+
+    fn adopt_outputs(&mut self, handoff: &OutputHandoff, current: &dyn Fn(u32, u64) -> bool) {
+        self.outputs.adopt(handoff, current);
     }
 
     fn maintain(&mut self) {
         iceoryx2_call(|| {
             let _ = self.inputs.update_connections();
-            let _ = self.outputs.update_connections();
+            // Connected by the control thread: nothing changes here unless a client's
+            // publisher went away (a dead client cleaned up before it was unregistered).
+            for port in self.outputs.each() {
+                let _ = port.update_connections();
+            }
             let _ = self.events.update_connections();
         });
     }
@@ -240,7 +260,9 @@ impl ClientLink for MemoryLink {
         }
     }
 
-    fn forget_client(&mut self, _slot: u32) {}
+    fn forget_client(&mut self, _slot: u32, _handoff: &OutputHandoff) {}
+
+    fn adopt_outputs(&mut self, _handoff: &OutputHandoff, _current: &dyn Fn(u32, u64) -> bool) {}
 
     fn maintain(&mut self) {}
 }

@@ -2,6 +2,7 @@
 //! What the acyclic side and the cycle thread share: lock-free only.
 
 use super::force::ForcePlan;
+use crate::shm::outputs::OutputHandoff;
 use crate::stats::Counters;
 use crossbeam_queue::ArrayQueue;
 use procimg_control::doorbell::Doorbell;
@@ -55,6 +56,9 @@ pub struct Shared {
     pub force_plans: ArrayQueue<Box<ForcePlan>>,
     /// Plans the cycle thread replaced, for the acyclic side to free: the cycle never frees.
     pub spent_force_plans: ArrayQueue<Box<ForcePlan>>,
+    /// The clients' output ports, connected by the control thread for the cycle thread and
+    /// handed back by it to be dropped.
+    pub outputs: OutputHandoff,
     /// The control thread sleeps on it between rounds; the role's thread rings it after it
     /// queues an event, clients after a request (none in tests that run no control thread).
     doorbell: Option<Doorbell>,
@@ -77,6 +81,7 @@ impl Shared {
             force_plans: ArrayQueue::new(FORCE_PLANS),
             // Room for every plan that can be on its way, and the one in use.
             spent_force_plans: ArrayQueue::new(FORCE_PLANS + 1),
+            outputs: OutputHandoff::default(),
             doorbell: None,
         }
     }

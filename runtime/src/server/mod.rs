@@ -15,7 +15,8 @@ use crate::cycle::{Command, Shared};
 use crate::image::Tables;
 use crate::roles::RoleServices;
 use crate::roles::subscribers::Subscriber;
-use crate::shm::{ControlPorts, Ipc, Notices, iox2_config};
+use crate::shm::outputs::{self, IpcThreadsafe};
+use crate::shm::{ControlPorts, Ipc, Notices, access, iox2_config};
 use crate::stats::{StatsCollector, load};
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::port::publisher::Publisher;
@@ -29,7 +30,7 @@ use procimg_control::{
 };
 use procimg_shm_layout::LayoutHeader;
 use procimg_shm_layout::{MAX_CLIENTS, Mode};
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
@@ -76,6 +77,10 @@ pub struct Control {
     restart: Option<restart::PendingRestart>,
     /// The type of station a program set, for the next start.
     type_of_station: Option<String>,
+    /// The node of the clients' output ports (which the cycle thread holds).
+    outputs_node: Node<IpcThreadsafe>,
+    /// Output ports made at registration, by slot, until their client asks to connect.
+    pending_outputs: HashMap<u32, (u64, outputs::OutputPort)>,
     // Dropped after the ports above, which live on it.
     _node: Node<Ipc>,
 }
@@ -99,6 +104,7 @@ impl Control {
             layout,
             notifications,
             notify,
+            outputs_node,
         } = ports;
         let mut notices = Notices::new(notifications, notify);
         notices.publish(&Notification::ServerStarted {
@@ -112,6 +118,8 @@ impl Control {
             notices,
             role,
             _node: node,
+            outputs_node,
+            pending_outputs: HashMap::new(),
             shared,
             stats,
             registry,
@@ -243,6 +251,8 @@ impl Control {
     /// Answers every pending request; every `LIVENESS_PERIOD` reaps dead clients. Returns
     /// the names of clients reaped in this call.
     pub fn poll(&mut self) -> Vec<String> {
+        // Ports of clients that left, unmapped here rather than in the cycle.
+        self.shared.outputs.drop_retired();
         // Before the work: a ring during it is not slept through by `idle`.
         self.rung_before_round = self.shared.control_rung();
         while let Ok(Some(active)) = self.server.receive() {
@@ -282,6 +292,55 @@ impl Control {
         gone
     }
 
+    /// Creates the output service of the client just registered as `slot`, `token`, with
+    /// the server's subscriber (see `shm::outputs`); the registration is undone if it cannot.
+    fn make_outputs(&mut self, slot: u32, token: u64) -> Result<(), Refusal> {
+        match outputs::create(
+            &self.outputs_node,
+            &self.info.instance,
+            self.info.generation,
+            token,
+        ) {
+            Ok(port) => {
+                // The client opens the service next.
+                access::share_now();
+                self.pending_outputs.insert(slot, (token, port));
+                Ok(())
+            }
+            Err(e) => {
+                self.registry.unregister(&self.shared, slot);
+                Err(Refusal::OutputsNotConnected {
+                    detail: e.to_string(),
+                })
+            }
+        }
+    }
+
+    /// Connects the output port of the client registered as `slot`, `token` to the client's
+    /// publisher, and sends it to the cycle thread (see `shm::outputs`).
+    fn connect_outputs(&mut self, slot: u32, token: u64) -> Result<(), Refusal> {
+        if !self.registry.is_registered(slot, token) {
+            return Err(Refusal::UnknownClient);
+        }
+        let port = match self.pending_outputs.remove(&slot) {
+            Some((t, port)) if t == token => port,
+            _ => return Err(Refusal::UnknownClient),
+        };
+        outputs::connect(&port, &self.info.instance).map_err(|e| Refusal::OutputsNotConnected {
+            detail: e.to_string(),
+        })?;
+        // The connection's file is this process's: the client's publisher opens it next.
+        access::share_now();
+        self.shared
+            .outputs
+            .send(outputs::Arrival {
+                slot,
+                token,
+                port: Box::new(port),
+            })
+            .map_err(|_| Refusal::ServerBusy)
+    }
+
     /// Whether the cycle is, or is becoming, CLEAR or OPERATE.
     fn online(&self) -> bool {
         self.shared.mode() != Mode::Offline
@@ -316,10 +375,13 @@ impl Control {
                 newcycle,
                 node_id,
             } => {
-                return match self
+                let registered = self
                     .registry
                     .register(shared, name, pid, role, newcycle, node_id)
-                {
+                    .and_then(|(slot, token)| {
+                        self.make_outputs(slot, token).map(|()| (slot, token))
+                    });
+                return match registered {
                     Ok((slot, token)) => Response::Registered {
                         slot,
                         token,
@@ -331,8 +393,13 @@ impl Control {
                 };
             }
             CoreRequest::Unregister { slot, token } => {
-                self.registry.unregister_checked(shared, slot, token)
+                let done = self.registry.unregister_checked(shared, slot, token);
+                if done.is_ok() {
+                    self.pending_outputs.remove(&slot);
+                }
+                done
             }
+            CoreRequest::ConnectOutputs { slot, token } => self.connect_outputs(slot, token),
             CoreRequest::Claim {
                 slot,
                 token,
@@ -577,13 +644,23 @@ impl Control {
     /// Removes clients whose process is gone, and cleans up what dead processes left.
     fn reap_dead_clients(&mut self) -> Vec<String> {
         let mut alive = HashSet::new();
+        // A dead client's ports are removed a round after it is unregistered: removed first,
+        // its output publisher would vanish under the cycle thread's port, which would then
+        // unmap the client's samples in the cycle instead of handing the port back.
+        let registered: HashSet<String> = self
+            .registry
+            .clients()
+            .map(|(_, c)| c.node_id.clone())
+            .collect();
         let listed = Node::<Ipc>::list(iox2_config(), |state| {
             match state {
                 NodeState::Alive(v) => {
                     alive.insert(v.id().to_string());
                 }
                 NodeState::Dead(v) => {
-                    let _ = v.try_remove_stale_resources();
+                    if !registered.contains(&v.id().to_string()) {
+                        let _ = v.try_remove_stale_resources();
+                    }
                 }
                 NodeState::Inaccessible(id) | NodeState::Undefined(id) => {
                     // Cannot tell: keep such clients rather than drop a live one.
@@ -604,7 +681,10 @@ impl Control {
             .collect();
         let mut gone: Vec<String> = dead
             .into_iter()
-            .filter_map(|slot| self.registry.unregister(&self.shared, slot))
+            .filter_map(|slot| {
+                self.pending_outputs.remove(&slot);
+                self.registry.unregister(&self.shared, slot)
+            })
             .map(|c| format!("{} (pid {})", c.name, c.pid))
             .collect();
         gone.extend(self.role.reap(&alive));

@@ -48,6 +48,11 @@ impl Registry {
             .filter_map(|(i, c)| c.as_ref().map(|c| (i as u32, c)))
     }
 
+    /// Whether `slot` holds the registration of `token`.
+    pub fn is_registered(&self, slot: u32, token: u64) -> bool {
+        matches!(self.slots.get(slot as usize), Some(Some(c)) if c.token == token)
+    }
+
     /// The client in `slot` if `token` matches.
     fn client_mut(&mut self, slot: u32, token: u64) -> Result<&mut ClientEntry, Refusal> {
         match self.slots.get_mut(slot as usize) {

@@ -47,6 +47,12 @@ pub enum AccessError {
     },
 }
 
+/// Gives the group of iceoryx2's directory (when it has one: `[access] group`) what this
+/// process created, now: for a file a client opens right after procimgd answered it.
+pub fn share_now() {
+    share::share_with_group_now(&directory());
+}
+
 /// The access group, while procimgd runs.
 pub struct GroupAccess {
     gid: u32,

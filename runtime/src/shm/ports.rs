@@ -2,30 +2,27 @@
 //! Creating the server's ports, with the quality of service each service needs.
 
 use super::Ipc;
+use super::node::{ShmError, err, server_node};
+use super::outputs::{IpcThreadsafe, OutputPorts};
 use crate::image::Tables;
 use core::mem::MaybeUninit;
-use iceoryx2::node::{Node, NodeBuilder, NodeState, NodeView};
+use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
-use iceoryx2::port::subscriber::Subscriber;
-use iceoryx2::prelude::{
-    AllocationStrategy, CallbackProgression, NodeName, ServiceName, ZeroCopySend,
-};
+use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, ServiceName, ZeroCopySend};
 use iceoryx2::sample_mut_uninit::SampleMutUninit;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use procimg_control::{self as control, services};
 use procimg_shm_layout::events::EVENT_ID_MAX;
 use procimg_shm_layout::handshake_map::HandshakeMap;
-use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS, OutputHeader};
+use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS};
 
 /// Readers beyond clients that may look at the image (tools such as `procimg io watch`).
 const EXTRA_READERS: usize = 16;
 /// Nodes one service may have: every client and reader, and the server's two (iceoryx2's
 /// default, 20, would stop the 20th process at attaching).
 const MAX_NODES: usize = MAX_CLIENTS + EXTRA_READERS + 2;
-/// Output samples the server buffers per client between two cycles.
-pub const OUTPUT_BUFFER: usize = 8;
 /// Notifications the control thread loans at once (it sends each at once).
 const NOTIFICATION_LOANS: usize = 1;
 /// Input images that may exist at once: the one being written, the newest (in the history and
@@ -40,46 +37,6 @@ pub const INPUT_IMAGES: usize = MAX_CLIENTS + EXTRA_READERS + 2;
 // No `payload_alignment`: iceoryx2 0.10 pads every element of a slice payload to it
 // (`align(size_of::<u8>(), alignment) × len`), so 64 made each `[u8]` sample 64 times its
 // length. The regions inside a payload are 64-byte aligned relative to its start.
-
-/// Why a shared-memory service or port could not be set up.
-#[derive(Debug, thiserror::Error)]
-pub enum ShmError {
-    /// iceoryx2 refused to create a node, service or port.
-    #[error("cannot create the shared-memory {what} for instance \"{instance}\": {detail}")]
-    Create {
-        /// Instance name.
-        instance: String,
-        /// Which service or port.
-        what: String,
-        /// iceoryx2's error.
-        detail: String,
-    },
-    /// iceoryx2's directory belongs to another user (a run as root left it).
-    #[error("cannot create the shared-memory node for instance \"{instance}\": {problem}")]
-    ForeignDirectory {
-        /// Instance name.
-        instance: String,
-        /// Whose directory, and what to do: [`super::dir::foreign_directory`].
-        problem: String,
-    },
-    /// Another server of the same instance is running.
-    #[error(
-        "another procimgd already serves instance \"{instance}\" (its node is alive); stop it \
-         first or give this one another instance name"
-    )]
-    AlreadyRunning {
-        /// Instance name.
-        instance: String,
-    },
-}
-
-fn err(instance: &str, what: impl Into<String>, e: impl core::fmt::Debug) -> ShmError {
-    ShmError::Create {
-        instance: instance.to_string(),
-        what: what.into(),
-        detail: format!("{e:?}"),
-    }
-}
 
 fn name(instance: &str, s: String) -> Result<ServiceName, ShmError> {
     ServiceName::new(&s).map_err(|e| err(instance, format!("service name {s}"), e))
@@ -106,24 +63,6 @@ fn newest_sample_service<H: core::fmt::Debug + ZeroCopySend>(
         .enable_safe_overflow(true)
         .create()
         .map_err(|e| err(instance, what, e))
-}
-
-/// Creates a node for the server of `instance` (one per thread that owns ports).
-pub fn server_node(instance: &str, role: &str) -> Result<Node<Ipc>, ShmError> {
-    let n = format!("{}/{role}", control::server_node_name(instance));
-    let node_name = NodeName::new(&n).map_err(|e| err(instance, format!("node name {n}"), e))?;
-    NodeBuilder::new()
-        .name(&node_name)
-        .config(super::iox2_config())
-        .signal_handling_mode(iceoryx2::prelude::SignalHandlingMode::Disabled)
-        .create::<Ipc>()
-        .map_err(|e| match super::dir::foreign_directory() {
-            Some(problem) => ShmError::ForeignDirectory {
-                instance: instance.to_string(),
-                problem,
-            },
-            None => err(instance, "node", e),
-        })
 }
 
 /// Removes what dead processes left behind, and checks that no other live server of the same
@@ -175,8 +114,8 @@ pub struct CyclePorts {
     pub node: Node<Ipc>,
     /// Publishes one input image per cycle.
     pub inputs: Publisher<Ipc, [u8], ImageHeader>,
-    /// Receives the clients' output samples.
-    pub outputs: Subscriber<Ipc, [u8], OutputHeader>,
+    /// Each client's output port, adopted from the control thread, which connected it.
+    pub outputs: OutputPorts,
     /// Signals NEWCYCLE, MODE, OPFAULT and shutdown, and STARTOP to clients that wait on its
     /// descriptor.
     pub events: Notifier<Ipc>,
@@ -210,28 +149,6 @@ impl CyclePorts {
         .create()
         .map_err(|e| err(instance, "input image publisher", e))?;
 
-        let outputs = node
-            .service_builder(&name(
-                instance,
-                control::output_service(instance, generation),
-            )?)
-            .publish_subscribe::<[u8]>()
-            .max_nodes(MAX_NODES)
-            .user_header::<OutputHeader>()
-            .max_publishers(MAX_CLIENTS)
-            .max_subscribers(1)
-            .subscriber_max_buffer_size(OUTPUT_BUFFER)
-            // The cycle thread takes one sample at a time and lets go of it at once.
-            .subscriber_max_borrowed_samples(1)
-            .history_size(0)
-            .enable_safe_overflow(false)
-            .create()
-            .map_err(|e| err(instance, "output service", e))?
-            .subscriber_builder()
-            .buffer_size(OUTPUT_BUFFER)
-            .create()
-            .map_err(|e| err(instance, "output subscriber", e))?;
-
         let events = node
             .service_builder(&name(
                 instance,
@@ -252,7 +169,7 @@ impl CyclePorts {
             loaned: None,
             node,
             inputs,
-            outputs,
+            outputs: OutputPorts::default(),
             events,
             handshake,
         })
@@ -271,6 +188,9 @@ pub struct ControlPorts {
     pub notifications: Publisher<Ipc, [u8], ()>,
     /// Wakes subscribers when notifications were published.
     pub notify: Notifier<Ipc>,
+    /// The node of the clients' output ports, which this thread connects for the cycle
+    /// thread.
+    pub outputs_node: Node<IpcThreadsafe>,
 }
 
 impl ControlPorts {
@@ -381,6 +301,7 @@ impl ControlPorts {
             layout,
             notifications,
             notify,
+            outputs_node: super::outputs::output_node(instance)?,
         })
     }
 }
