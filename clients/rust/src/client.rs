@@ -816,17 +816,24 @@ impl EventWait {
 
 impl Drop for Client {
     fn drop(&mut self) {
-        if self.conn.is_some() {
-            let _ = self.control.request(
+        if let Some(conn) = &self.conn {
+            let unregistered = self.control.request(
                 CoreRequest::Unregister {
                     slot: self.slot,
                     token: self.token,
                 },
                 Duration::from_millis(500),
             );
+            if matches!(unregistered, Ok(Response::Done)) {
+                conn.wait_outputs_released(OUTPUTS_RELEASE_WAIT);
+            }
         }
     }
 }
+
+/// How long a detaching client waits for procimgd to let go of its outputs: a cycle and a
+/// round of procimgd's control thread, with room for a loaded machine and slow cycles.
+const OUTPUTS_RELEASE_WAIT: Duration = Duration::from_millis(250);
 
 /// Registers with the server: slot, token, generation and the server's process id.
 /// Asks the server to subscribe to this client's output service.

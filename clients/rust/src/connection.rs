@@ -18,6 +18,8 @@ use iceoryx2::prelude::{
 use iceoryx2::service::builder::event::EventOpenError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use iceoryx2::service::builder::request_response::RequestResponseOpenError;
+use iceoryx2::service::port_factory::PortFactory as _;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use procimg_control as control;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::share;
@@ -210,7 +212,9 @@ pub struct Connection {
     /// Input images.
     pub inputs: Subscriber<Ipc, [u8], ImageHeader>,
     /// This client's outputs.
-    pub outputs: Publisher<Ipc, [u8], OutputHeader>,
+    pub outputs: OutputPublisher,
+    /// Their service, to see when procimgd let go of them.
+    outputs_service: OutputService,
     /// NEWCYCLE, MODE, OPFAULT, shutdown; STARTOP too once the client waits on its
     /// descriptor.
     pub events: Listener<Ipc>,
@@ -253,7 +257,7 @@ impl Connection {
             .buffer_size(1)
             .create()
             .map_err(|e| shm(instance, "an input subscriber", e))?;
-        let outputs = output_publisher(
+        let (outputs_service, outputs) = output_publisher(
             node,
             instance,
             generation,
@@ -303,6 +307,7 @@ impl Connection {
             port_ids: [inputs.id().value(), outputs.id().value(), layout_port],
             inputs,
             outputs,
+            outputs_service,
             events,
             events_fd,
             handshake,
@@ -310,6 +315,11 @@ impl Connection {
         })
     }
 }
+
+/// A client's output service.
+pub type OutputService = PortFactory<Ipc, [u8], OutputHeader>;
+/// A client's output publisher.
+pub type OutputPublisher = Publisher<Ipc, [u8], OutputHeader>;
 
 /// Opens the output service procimgd made for the client registered with `token` in
 /// `generation`, and creates its publisher for samples of `payload_len` bytes. The server
@@ -321,21 +331,50 @@ pub fn output_publisher(
     generation: u64,
     token: u64,
     payload_len: usize,
-) -> Result<Publisher<Ipc, [u8], OutputHeader>, AttachError> {
-    node.service_builder(&service_name(
-        instance,
-        control::client_output_service(instance, generation, token),
-    )?)
-    .publish_subscribe::<[u8]>()
-    .user_header::<OutputHeader>()
-    .open()
-    .map_err(|e| pubsub_error(instance, "this client's output service", e))?
-    .publisher_builder()
-    .initial_max_slice_len(payload_len)
-    .backpressure_strategy(BackpressureStrategy::DiscardData)
-    .max_loaned_samples(2)
-    .create()
-    .map_err(|e| shm(instance, "an output publisher", e))
+) -> Result<(OutputService, OutputPublisher), AttachError> {
+    let service = node
+        .service_builder(&service_name(
+            instance,
+            control::client_output_service(instance, generation, token),
+        )?)
+        .publish_subscribe::<[u8]>()
+        .user_header::<OutputHeader>()
+        .open()
+        .map_err(|e| pubsub_error(instance, "this client's output service", e))?;
+    let publisher = service
+        .publisher_builder()
+        .initial_max_slice_len(payload_len)
+        .backpressure_strategy(BackpressureStrategy::DiscardData)
+        .max_loaned_samples(2)
+        .create()
+        .map_err(|e| shm(instance, "an output publisher", e))?;
+    Ok((service, publisher))
+}
+
+impl Connection {
+    /// After unregistering: waits, at most `timeout`, until procimgd has let go of this
+    /// client's outputs (its cycle thread hands the port back at its next cycle, its control
+    /// thread drops it). The client's publisher, dropped after, is then the last user of the
+    /// output samples, and unmapping them (and freeing their pages) happens in this process,
+    /// not on procimgd's cycle thread, which would otherwise notice the publisher gone at
+    /// its next look at the port. Returns whether it did.
+    pub fn wait_outputs_released(&self, timeout: Duration) -> bool {
+        let deadline = Instant::now() + timeout;
+        loop {
+            if self
+                .outputs_service
+                .dynamic_config()
+                .number_of_subscribers()
+                == 0
+            {
+                return true;
+            }
+            if Instant::now() >= deadline {
+                return false;
+            }
+            std::thread::sleep(Duration::from_micros(500));
+        }
+    }
 }
 
 fn read_layout(

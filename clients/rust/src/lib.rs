@@ -52,7 +52,7 @@ mod status;
 pub use access::{AccessError, Space};
 pub use client::{AttachOptions, Client, Event, EventWait};
 #[doc(hidden)]
-pub use connection::output_publisher;
+pub use connection::{OutputPublisher, OutputService, output_publisher};
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
 pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};

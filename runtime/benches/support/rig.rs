@@ -156,7 +156,7 @@ impl Writer {
         mine: &[usize],
         header: OutputHeader,
     ) -> Writer {
-        let publisher = procimg_client::output_publisher(
+        let (_, publisher) = procimg_client::output_publisher(
             node,
             control.instance(),
             generation,

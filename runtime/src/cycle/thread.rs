@@ -57,6 +57,10 @@ pub fn spawn(
             };
             let cycle_ns = settings.cycle_ns;
             let mut engine = Engine::new(settings, &tables, ports, io(), shared.clone(), stats);
+            // Every page the cycle may touch (its images, its IO system's buffers, the
+            // process's heap and stacks), faulted in and locked before the first cycle: later
+            // mappings are locked only as they are faulted in (`sys::rt::lock_memory`).
+            crate::sys::populate::populate_all();
             let _ = ready_tx.send(Ok(rt));
             // From here on the thread must stay off the heap; the allocator counts it if not.
             crate::sys::rt_alloc::mark_current_thread_realtime();

@@ -5,14 +5,16 @@
 //! The control thread creates each client's output service
 //! (`procimg_control::client_output_service`) and its subscriber when the client registers.
 //! The client opens it, creates its publisher and asks the control thread to connect
-//! (`CoreRequest::ConnectOutputs`). The control thread connects the subscriber there: iceoryx2 maps the client's output samples (about 4 MiB at a 360 KiB
-//! image), and `mlockall(MCL_FUTURE)` faults in and locks every page of them, which costs a
-//! cycle or more. The port ready, it goes to the cycle thread through [`OutputHandoff`]; the
-//! cycle thread hands the ports of clients that left back the same way, so that the control
-//! thread unmaps them. The ports are of iceoryx2's thread-safe variant, whose ports may move
-//! between threads; only one thread uses a port at a time, so its mutex is never contended.
+//! (`CoreRequest::ConnectOutputs`). The control thread connects the subscriber there: iceoryx2
+//! maps the client's output samples (about 4 MiB at a 360 KiB image), and faulting in and
+//! locking every page of them costs a cycle or more. The port ready, it goes to the cycle
+//! thread through [`OutputHandoff`]; the cycle thread hands the ports of clients that left
+//! back the same way, so that the control thread unmaps them. The ports are of iceoryx2's
+//! thread-safe variant, whose ports may move between threads; only one thread uses a port at
+//! a time, so its mutex is never contended.
 
 use super::node::{ShmError, server_node_of};
+use crate::sys::populate;
 use crossbeam_queue::ArrayQueue;
 use iceoryx2::node::Node;
 use iceoryx2::port::subscriber::Subscriber;
@@ -124,13 +126,18 @@ pub fn create(
         .map_err(|e| err("a subscriber to", &e))
 }
 
-/// Connects `port` to the client's publisher, which maps the client's output samples.
+/// Connects `port` to the client's publisher, which maps the client's output samples, and
+/// faults them in a chunk at a time (`sys::populate`): the cycle reads them without a fault,
+/// and the memory-map lock is never held for the whole segment.
 pub fn connect(port: &OutputPort, instance: &str) -> Result<(), ShmError> {
+    let before = populate::shared_memory_starts();
     port.update_connections().map_err(|e| ShmError::Create {
         instance: instance.to_string(),
         what: "the connection to a client's output publisher".into(),
         detail: format!("{e:?}"),
-    })
+    })?;
+    populate::populate_shared_memory_since(&before);
+    Ok(())
 }
 
 /// The output ports the cycle thread holds, by client slot.

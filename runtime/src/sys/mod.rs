@@ -6,6 +6,7 @@ pub mod clock;
 pub mod doorbell;
 pub mod netlink;
 pub mod poll;
+pub mod populate;
 pub mod port_state;
 pub mod random;
 pub mod rt;

@@ -20,8 +20,8 @@ pub struct RtSetup {
     pub warnings: Vec<String>,
 }
 
-/// Stack size of the cycle thread. `mlockall(MCL_FUTURE)` populates and locks every
-/// thread's whole stack, and std's 2 MiB per thread were a fifth of procimgd's locked memory.
+/// Stack size of the cycle thread. Memory locking populates and locks every thread's whole
+/// stack (see [`super::populate::populate_all`]), and std's 2 MiB per thread were a fifth of procimgd's locked memory.
 /// The cycle thread's deepest use is [`prefault_stack`]'s 256 KiB; measured as the stack's
 /// resident pages with memory left unlocked, it touched 268 KiB in a release build and
 /// 652 KiB in a debug build (whose frames are larger).
@@ -34,6 +34,13 @@ pub const HELPER_THREAD_STACK: usize = 512 * 1024;
 /// Locks all current and future pages of the process (`mlockall`), so the cycle never waits
 /// for a page fault. Returns a warning on failure.
 ///
+/// Pages mapped from now on are locked as they are faulted in (`MCL_ONFAULT`), and what the
+/// cycle will touch is faulted in ahead of it, a chunk at a time, by
+/// [`super::populate`]: a mapping populated whole inside `mmap` holds the process's
+/// memory-map lock for milliseconds, and the cycle thread waits for it whenever it maps
+/// something itself. A kernel without `MADV_POPULATE_READ` (before 5.14) gets
+/// `MCL_FUTURE` alone, which populates at mapping time.
+///
 /// Call it before threads are started: it first keeps every thread on glibc's main heap. Each
 /// further malloc arena reserves 64 MiB of address space, which `MCL_FUTURE` counts as
 /// locked (`VmLck`, and against `RLIMIT_MEMLOCK`) though it never becomes memory; the cycle
@@ -43,8 +50,20 @@ pub fn lock_memory() -> Result<(), String> {
     // SAFETY: mallopt takes two integers and only changes the allocator's tuning; no arena
     // exists yet besides the main one when this runs before the first thread.
     unsafe { libc::mallopt(libc::M_ARENA_MAX, 1) };
-    // SAFETY: mlockall takes only flags and has no memory-safety preconditions.
-    let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) };
+    let future = if super::populate::supported() {
+        libc::MCL_FUTURE | libc::MCL_ONFAULT
+    } else {
+        libc::MCL_FUTURE
+    };
+    // SAFETY: mlockall takes only flags and has no memory-safety preconditions. The first
+    // call populates and locks what is mapped now; the second, without MCL_CURRENT, leaves
+    // that as it is and only says how later mappings are locked.
+    let rc = unsafe {
+        match libc::mlockall(libc::MCL_CURRENT) {
+            0 => libc::mlockall(future),
+            failed => failed,
+        }
+    };
     if rc == 0 {
         Ok(())
     } else {

@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Faulting memory in ahead of the cycle, a little at a time.
+//!
+//! procimgd locks its memory with `mlockall(MCL_FUTURE | MCL_ONFAULT)` (see
+//! [`super::rt::lock_memory`]): a new mapping's pages are locked as they are faulted in, not
+//! when it is mapped. Without `MCL_ONFAULT` the kernel populates a whole new mapping inside
+//! `mmap`, holding the process's memory-map lock all along: a client's output segment (4 MiB
+//! at a 360 KiB image) held it for 2 to 5 ms, and the cycle thread, which maps a few hundred
+//! bytes for each client that attaches, waited that long inside its cycle. Here the pages are
+//! faulted in with `madvise(MADV_POPULATE_*)` in chunks of [`CHUNK`] bytes, so the lock is
+//! held for one chunk at a time, off the cycle thread, before the cycle touches them.
+
+use std::collections::HashSet;
+
+/// Bytes populated per `madvise` call: 16 pages, some tens of microseconds of the lock.
+pub const CHUNK: usize = 64 * 1024;
+
+/// One line of `/proc/self/maps`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mapping {
+    /// First address.
+    pub start: usize,
+    /// Length in bytes.
+    pub len: usize,
+    /// Mapped readable.
+    pub readable: bool,
+    /// Mapped writable.
+    pub writable: bool,
+    /// The file mapped, or the kernel's name (`[stack]`), or empty.
+    pub path: String,
+}
+
+impl Mapping {
+    /// Parses one line of `/proc/self/maps`; `None` for a line of another shape.
+    pub fn parse(line: &str) -> Option<Mapping> {
+        let mut rest = line;
+        let (start, end) = field(&mut rest).split_once('-')?;
+        let start = usize::from_str_radix(start, 16).ok()?;
+        let end = usize::from_str_radix(end, 16).ok()?;
+        let perms = field(&mut rest).as_bytes();
+        // offset, device, inode, then the path (which may hold spaces).
+        for _ in 0..3 {
+            field(&mut rest);
+        }
+        Some(Mapping {
+            start,
+            len: end.checked_sub(start)?,
+            readable: perms.first() == Some(&b'r'),
+            writable: perms.get(1) == Some(&b'w'),
+            path: rest.trim().to_string(),
+        })
+    }
+
+    /// Whether this is a shared-memory segment (iceoryx2's, a handshake block).
+    pub fn is_shared_memory(&self) -> bool {
+        self.path.starts_with("/dev/shm/")
+    }
+
+    /// Whether the kernel lets it be populated: readable, and not the kernel's own pages.
+    fn populatable(&self) -> bool {
+        self.readable
+            && !matches!(
+                self.path.as_str(),
+                "[vvar]" | "[vvar_vclock]" | "[vsyscall]"
+            )
+    }
+}
+
+/// The next whitespace-separated field of `rest`, which moves past it.
+fn field<'a>(rest: &mut &'a str) -> &'a str {
+    let s = rest.trim_start();
+    let end = s.find(char::is_whitespace).unwrap_or(s.len());
+    let (f, r) = s.split_at(end);
+    *rest = r;
+    f
+}
+
+/// The process's mappings now.
+pub fn mappings() -> std::io::Result<Vec<Mapping>> {
+    let text = std::fs::read_to_string("/proc/self/maps")?;
+    Ok(text.lines().filter_map(Mapping::parse).collect())
+}
+
+/// The first addresses of the process's shared-memory segments, to tell the ones mapped after.
+pub fn shared_memory_starts() -> HashSet<usize> {
+    mappings()
+        .unwrap_or_default()
+        .into_iter()
+        .filter(Mapping::is_shared_memory)
+        .map(|m| m.start)
+        .collect()
+}
+
+/// Faults in and (the process being locked) locks the pages of `m`, [`CHUNK`] bytes per
+/// call. A mapping that goes away meanwhile ends it early, without harm: `madvise` on an
+/// address no longer mapped fails, where touching it would crash. Returns the bytes done.
+pub fn populate(m: &Mapping) -> usize {
+    if !m.populatable() {
+        return 0;
+    }
+    let advice = if m.writable {
+        libc::MADV_POPULATE_WRITE
+    } else {
+        libc::MADV_POPULATE_READ
+    };
+    let mut done = 0;
+    while done < m.len {
+        let len = CHUNK.min(m.len - done);
+        // SAFETY: MADV_POPULATE_* changes no contents and no mapping: it faults pages in as
+        // a read (or write) would. On an address no longer mapped it fails with ENOMEM
+        // instead of faulting, so a racing munmap elsewhere is harmless.
+        let rc = unsafe { libc::madvise((m.start + done) as *mut libc::c_void, len, advice) };
+        if rc != 0 {
+            break;
+        }
+        done += len;
+    }
+    done
+}
+
+/// Populates every mapping of the process: what `mlockall(MCL_FUTURE)` without
+/// `MCL_ONFAULT` would have done at mapping time, done now, a chunk at a time. Returns the
+/// bytes done.
+pub fn populate_all() -> usize {
+    mappings().unwrap_or_default().iter().map(populate).sum()
+}
+
+/// Populates the shared-memory segments mapped since `before` was taken
+/// ([`shared_memory_starts`]). Returns the bytes done.
+pub fn populate_shared_memory_since(before: &HashSet<usize>) -> usize {
+    mappings()
+        .unwrap_or_default()
+        .iter()
+        .filter(|m| m.is_shared_memory() && !before.contains(&m.start))
+        .map(populate)
+        .sum()
+}
+
+/// Whether the kernel has `MADV_POPULATE_READ` (Linux 5.14 and later).
+pub fn supported() -> bool {
+    let page = [0u8; 1];
+    let at = (page.as_ptr() as usize) & !4095;
+    // SAFETY: populating the page of a live stack variable changes no contents or mapping.
+    let rc = unsafe { libc::madvise(at as *mut libc::c_void, 1, libc::MADV_POPULATE_READ) };
+    rc == 0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_maps_lines() {
+        let m = Mapping::parse(
+            "7f3e9defc000-7f3e9e2da000 r--s 00000000 00:1a 1234   /dev/shm/iox2_abc.publisher_data",
+        )
+        .expect("a mapping");
+        assert_eq!(m.start, 0x7f3e9defc000);
+        assert_eq!(m.len, 0x7f3e9e2da000 - 0x7f3e9defc000);
+        assert!(m.readable && !m.writable && m.is_shared_memory());
+        let anon = Mapping::parse("7ffd1000-7ffd2000 rw-p 00000000 00:00 0 ").expect("anon");
+        assert_eq!(anon.path, "");
+        assert!(anon.writable);
+        let spaced = Mapping::parse("1000-2000 r--p 00000000 08:01 7 /tmp/a b (deleted)")
+            .expect("a path with spaces");
+        assert_eq!(spaced.path, "/tmp/a b (deleted)");
+        assert_eq!(Mapping::parse("garbage"), None);
+        assert_eq!(Mapping::parse("2000-1000 r--p 0 0 0"), None);
+    }
+
+    #[test]
+    fn populates_a_new_shared_segment_and_nothing_breaks_on_this_process() {
+        if !supported() {
+            return;
+        }
+        let before = shared_memory_starts();
+        let path = format!("/dev/shm/procimg_populate_test_{}", std::process::id());
+        let file = std::fs::File::options()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(true)
+            .open(&path)
+            .expect("a file in /dev/shm");
+        let _ = std::fs::remove_file(&path);
+        file.set_len(256 * 1024).expect("sized");
+        // SAFETY: a fresh shared mapping of a file this test owns, unmapped below.
+        let map = unsafe { memmap2::Mmap::map(&file) }.expect("mapped");
+        let done = populate_shared_memory_since(&before);
+        assert!(done >= map.len(), "populated {done} of {} bytes", map.len());
+        assert!(populate_all() > 0);
+        drop(map);
+    }
+}
