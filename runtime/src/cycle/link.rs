@@ -154,12 +154,9 @@ impl ClientLink for CyclePorts {
 
     fn maintain(&mut self) {
         iceoryx2_call(|| {
+            // The output ports are connected by the control thread; a publisher that went
+            // away is let go of by the port's next receive.
             let _ = self.inputs.update_connections();
-            // Connected by the control thread: nothing changes here unless a client's
-            // publisher went away (a dead client cleaned up before it was unregistered).
-            for port in self.outputs.each() {
-                let _ = port.update_connections();
-            }
             let _ = self.events.update_connections();
         });
     }

@@ -13,7 +13,7 @@
 //! thread-safe variant, whose ports may move between threads; only one thread uses a port at
 //! a time, so its mutex is never contended.
 
-use super::node::{ShmError, server_node_of};
+use super::node::{self, ShmError, server_node_of};
 use crate::sys::populate;
 use crossbeam_queue::ArrayQueue;
 use iceoryx2::node::Node;
@@ -98,11 +98,8 @@ pub fn create(
     token: u64,
 ) -> Result<OutputPort, ShmError> {
     let service = procimg_control::client_output_service(instance, generation, token);
-    let err = |what: &str, e: &dyn core::fmt::Debug| ShmError::Create {
-        instance: instance.to_string(),
-        what: format!("{what} {service}"),
-        detail: format!("{e:?}"),
-    };
+    let err =
+        |what: &str, e: &dyn core::fmt::Debug| node::err(instance, format!("{what} {service}"), e);
     let name = ServiceName::new(&service).map_err(|e| err("the service name", &e))?;
     node.service_builder(&name)
         .publish_subscribe::<[u8]>()
@@ -131,11 +128,8 @@ pub fn create(
 /// and the memory-map lock is never held for the whole segment.
 pub fn connect(port: &OutputPort, instance: &str) -> Result<(), ShmError> {
     let before = populate::shared_memory_starts();
-    port.update_connections().map_err(|e| ShmError::Create {
-        instance: instance.to_string(),
-        what: "the connection to a client's output publisher".into(),
-        detail: format!("{e:?}"),
-    })?;
+    port.update_connections()
+        .map_err(|e| node::err(instance, "the connection to a client's output publisher", e))?;
     populate::populate_shared_memory_since(&before);
     Ok(())
 }
@@ -178,11 +172,6 @@ impl OutputPorts {
         if let Some((_, port)) = self.ports.get_mut(slot as usize).and_then(Option::take) {
             handoff.retire(port);
         }
-    }
-
-    /// Each port, for upkeep.
-    pub fn each(&self) -> impl Iterator<Item = &OutputPort> {
-        self.ports.iter().flatten().map(|(_, p)| &**p)
     }
 
     /// Moves the cursor past the port it is on (whose receive failed), so that the next look
