@@ -349,20 +349,26 @@ fn startup_goals(res: &Results, s: &Settings) -> Vec<Goal> {
     };
     let big_size = table::human_bytes(big);
     let lock_bound = 16.0 * big as f64 + f64::from(16 << 20);
-    let (lck, rss) = (kib(plan::VMLCK_KIB), kib(plan::VMRSS_KIB));
+    let (lck, vmlck, rss) = (
+        kib(plan::LOCKED_KIB),
+        kib(plan::VMLCK_KIB),
+        kib(plan::VMRSS_KIB),
+    );
     let mut out = vec![Goal {
         name: format!(
             "locked memory of procimgd, {big_size} image, {} clients allowed",
             procimg_shm_layout::MAX_CLIENTS
         ),
-        measured: match (lck, rss) {
-            (Some(_), Some(r)) => Ok(format!(
-                "VmLck (VmRSS {}); goal 16 × {big_size} + 16 MiB",
+        measured: match (lck, vmlck, rss) {
+            (Some(_), Some(v), Some(r)) => Ok(format!(
+                "Locked, pages locked and resident (VmLck {}, VmRSS {}); goal 16 × {big_size} \
+                 + 16 MiB",
+                format_value(v, Unit::Bytes),
                 format_value(r, Unit::Bytes)
             )),
             _ => Err(figure(big, plan::FIRST_CYCLE)
                 .err()
-                .unwrap_or_else(|| format!("{big_key} reported no VmLck"))),
+                .unwrap_or_else(|| format!("{big_key} reported no Locked"))),
         },
         value: lck,
         unit: Unit::Bytes,
@@ -576,7 +582,8 @@ mod tests {
                 ],
             )),
         );
-        let mut startup = report(plan::ATTACH, 5_000_000, &[(plan::VMLCK_KIB, "20480")]);
+        let mut startup = report(plan::ATTACH, 5_000_000, &[(plan::LOCKED_KIB, "20480")]);
+        startup.setting(plan::VMLCK_KIB, "90000");
         startup.setting(plan::VMRSS_KIB, "30720");
         startup
             .measurements

@@ -146,6 +146,8 @@ pub const STARTUP_ATTACHES: u32 = 20;
 pub const FIRST_CYCLE: &str = "start to first cycle";
 /// See [`FIRST_CYCLE`].
 pub const ATTACH: &str = "client attach";
+/// See [`FIRST_CYCLE`]; KiB: memory locked and resident (`Locked` of smaps_rollup).
+pub const LOCKED_KIB: &str = "procimgd_locked_kib";
 /// See [`FIRST_CYCLE`]; KiB.
 pub const VMLCK_KIB: &str = "procimgd_vmlck_kib";
 /// See [`FIRST_CYCLE`]; KiB.

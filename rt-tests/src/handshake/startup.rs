@@ -5,8 +5,11 @@
 //!
 //! - **start to first cycle**: from spawning procimgd until its status first shows a cycle
 //!   run (polled every [`START_POLL`], so good to about that);
-//! - **VmLck, VmRSS** of procimgd, read from `/proc/<pid>/status` after the attaches (the
-//!   larger of that and the reading at the start);
+//! - **Locked, VmLck, VmRSS** of procimgd after the attaches (the larger of that and the
+//!   reading at the start): `Locked` from `/proc/<pid>/smaps_rollup` is the memory locked and
+//!   resident, the RAM procimgd pins; `VmLck` from `/proc/<pid>/status` counts whole mappings
+//!   flagged locked, also the pages of those locked on fault that were never faulted in (see
+//!   `procimg_runtime::shm::reserve`);
 //! - **client attach**: `Client::attach` of a synchronous client, timed call by call, each
 //!   client dropped (detached) before the next;
 //! - **control request**: a status request over the control service and its answer, timed
@@ -71,7 +74,11 @@ pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Res
     }
     drop(control);
     let after = memory(server.pid())?;
-    let (vmlck, vmrss) = (at_start.0.max(after.0), at_start.1.max(after.1));
+    let (vmlck, vmrss, locked) = (
+        at_start.0.max(after.0),
+        at_start.1.max(after.1),
+        at_start.2.max(after.2),
+    );
     drop(server);
 
     let mut first = new_histogram();
@@ -84,6 +91,7 @@ pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Res
         .setting("attaches", attaches)
         .setting("attach_role", "synchronous")
         .setting("start_poll_ms", START_POLL.as_millis())
+        .setting(LOCKED_KIB, locked)
         .setting(VMLCK_KIB, vmlck)
         .setting(VMRSS_KIB, vmrss);
     report.measurements = vec![
@@ -92,8 +100,8 @@ pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Res
         Measurement::from_histogram(REQUEST, &request),
     ];
     println!(
-        "# procimgd, {image_bytes} B each way, {} clients allowed: VmLck {vmlck} KiB, VmRSS \
-         {vmrss} KiB; start to first cycle {:.1} ms; attach (synchronous) p50 {:.2} ms, max \
+        "# procimgd, {image_bytes} B each way, {} clients allowed: Locked {locked} KiB, VmLck \
+         {vmlck} KiB, VmRSS {vmrss} KiB; start to first cycle {:.1} ms; attach (synchronous) p50 {:.2} ms, max \
          {:.2} ms over {attaches}; control request p50 {:.3} ms, max {:.3} ms over {REQUESTS}",
         procimg_shm_layout::MAX_CLIENTS,
         first_cycle.as_secs_f64() * 1000.0,
@@ -106,7 +114,10 @@ pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Res
     Ok(())
 }
 
-/// The report's settings: procimgd's locked and resident memory, KiB.
+/// The report's settings: procimgd's memory locked and resident, mappings flagged locked,
+/// and resident memory, KiB.
+pub const LOCKED_KIB: &str = "procimgd_locked_kib";
+/// See [`LOCKED_KIB`].
 pub const VMLCK_KIB: &str = "procimgd_vmlck_kib";
 /// See [`VMLCK_KIB`].
 pub const VMRSS_KIB: &str = "procimgd_vmrss_kib";
@@ -115,15 +126,20 @@ fn duration_ns(d: Duration) -> u64 {
     u64::try_from(d.as_nanos()).unwrap_or(u64::MAX).max(1)
 }
 
-/// (VmLck, VmRSS) of process `pid` in KiB.
-fn memory(pid: u32) -> Result<(u64, u64)> {
+/// (VmLck, VmRSS, Locked) of process `pid` in KiB.
+fn memory(pid: u32) -> Result<(u64, u64, u64)> {
+    let rollup = format!("/proc/{pid}/smaps_rollup");
+    let rolled =
+        std::fs::read_to_string(&rollup).with_context(|| format!("cannot read {rollup}"))?;
+    let locked = status_kib(&rolled, "Locked")
+        .with_context(|| format!("{rollup} has no Locked line (Linux 4.14 or later has it)"))?;
     let path = format!("/proc/{pid}/status");
     let text = std::fs::read_to_string(&path).with_context(|| format!("cannot read {path}"))?;
     let field = |name: &str| {
         status_kib(&text, name)
             .with_context(|| format!("{path} has no {name} line (is procfs mounted?)"))
     };
-    Ok((field("VmLck")?, field("VmRSS")?))
+    Ok((field("VmLck")?, field("VmRSS")?, locked))
 }
 
 /// The value in KiB of the line `name:` of a `/proc/<pid>/status` text.

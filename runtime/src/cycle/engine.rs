@@ -309,6 +309,11 @@ impl<L: ClientLink> Engine<L> {
     /// every client.
     pub fn maintain_connections(&mut self) {
         self.ports.maintain();
+        // A loan reached into the last input samples faulted in: the control thread faults
+        // in more, before a later loan needs them (`shm::reserve`).
+        if self.st.shared.input_reserve.needs_extending() {
+            self.st.shared.ring_control();
+        }
     }
 
     /// Counts an overrun (cycles skipped because cycle work ran past the next start).

@@ -82,6 +82,8 @@ impl ClientLink for CyclePorts {
         self.loaned = None;
         let mut sample = iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?;
         let start = NonNull::new(sample.payload_mut().as_mut_ptr().cast::<u8>());
+        self.reserve
+            .note_loan(start.map_or(0, |p| p.as_ptr() as usize), len);
         self.loaned = Some(sample);
         start
     }

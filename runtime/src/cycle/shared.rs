@@ -3,10 +3,12 @@
 
 use super::force::ForcePlan;
 use crate::shm::outputs::OutputHandoff;
+use crate::shm::reserve::InputReserve;
 use crate::stats::Counters;
 use crossbeam_queue::ArrayQueue;
 use procimg_control::doorbell::Doorbell;
 use procimg_shm_layout::Mode;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Duration;
 
@@ -59,6 +61,9 @@ pub struct Shared {
     /// The clients' output ports, connected by the control thread for the cycle thread and
     /// handed back by it to be dropped.
     pub outputs: OutputHandoff,
+    /// What of the input samples is faulted in: loans noted by the cycle thread, more
+    /// faulted in by the control thread when it asks.
+    pub input_reserve: Arc<InputReserve>,
     /// The control thread sleeps on it between rounds; the role's thread rings it after it
     /// queues an event, clients after a request (none in tests that run no control thread).
     doorbell: Option<Doorbell>,
@@ -82,6 +87,7 @@ impl Shared {
             // Room for every plan that can be on its way, and the one in use.
             spent_force_plans: ArrayQueue::new(FORCE_PLANS + 1),
             outputs: OutputHandoff::default(),
+            input_reserve: Arc::default(),
             doorbell: None,
         }
     }

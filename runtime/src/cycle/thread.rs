@@ -48,19 +48,24 @@ pub fn spawn(
                 .counters
                 .realtime
                 .store(rt.realtime, Ordering::Relaxed);
-            let ports = match CyclePorts::create(&thread.instance, settings.generation, &tables) {
+            let mut ports = match CyclePorts::create(&thread.instance, settings.generation, &tables)
+            {
                 Ok(p) => p,
                 Err(e) => {
                     let _ = ready_tx.send(Err(e));
                     return;
                 }
             };
+            // The input samples the first cycles use, faulted in; the others as they come
+            // into use, by the control thread (`shm::reserve`).
+            let len = tables.layout.input_payload_size as usize;
+            let samples = ports.set_up_reserve(shared.input_reserve.clone(), len);
             let cycle_ns = settings.cycle_ns;
             let mut engine = Engine::new(settings, &tables, ports, io(), shared.clone(), stats);
-            // Every page the cycle may touch (its images, its IO system's buffers, the
-            // process's heap and stacks), faulted in and locked before the first cycle: later
-            // mappings are locked only as they are faulted in (`sys::rt::lock_memory`).
-            crate::sys::populate::populate_all();
+            // Every other page the cycle may touch (its IO system's buffers, the process's
+            // heap and stacks), faulted in and locked before the first cycle: later mappings
+            // are locked only as they are faulted in (`sys::rt::lock_memory`).
+            crate::sys::populate::populate_all(samples);
             let _ = ready_tx.send(Ok(rt));
             // From here on the thread must stay off the heap; the allocator counts it if not.
             crate::sys::rt_alloc::mark_current_thread_realtime();

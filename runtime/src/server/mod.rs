@@ -253,6 +253,8 @@ impl Control {
     pub fn poll(&mut self) -> Vec<String> {
         // Ports of clients that left, unmapped here rather than in the cycle.
         self.shared.outputs.drop_retired();
+        // Input samples faulted in ahead of the cycle's loans, when it asked for more.
+        self.shared.input_reserve.extend();
         // Before the work: a ring during it is not slept through by `idle`.
         self.rung_before_round = self.shared.control_rung();
         while let Ok(Some(active)) = self.server.receive() {

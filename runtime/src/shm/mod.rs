@@ -16,6 +16,7 @@ mod node;
 mod notices;
 pub mod outputs;
 mod ports;
+pub mod reserve;
 
 pub use config::iox2_config;
 pub use notices::Notices;

@@ -4,7 +4,9 @@
 use super::Ipc;
 use super::node::{ShmError, err, server_node};
 use super::outputs::{IpcThreadsafe, OutputPorts};
+use super::reserve::InputReserve;
 use crate::image::Tables;
+use crate::sys::populate;
 use core::mem::MaybeUninit;
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::port::notifier::Notifier;
@@ -17,6 +19,7 @@ use procimg_control::{self as control, services};
 use procimg_shm_layout::events::EVENT_ID_MAX;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::{ImageHeader, LayoutHeader, MAX_CLIENTS};
+use std::sync::Arc;
 
 /// Readers beyond clients that may look at the image (tools such as `procimg io watch`).
 const EXTRA_READERS: usize = 16;
@@ -121,6 +124,8 @@ pub struct CyclePorts {
     pub events: Notifier<Ipc>,
     /// The futex words of STARTOP and OPDONE (see `procimg_shm_layout::handshake`).
     pub handshake: HandshakeMap,
+    /// What of the input samples is faulted in: each loan is noted there.
+    pub reserve: Arc<InputReserve>,
 }
 
 impl CyclePorts {
@@ -172,7 +177,23 @@ impl CyclePorts {
             outputs: OutputPorts::default(),
             events,
             handshake,
+            reserve: Arc::default(),
         })
+    }
+
+    /// Faults in the input samples the first cycles use, and no more (see
+    /// [`super::reserve`]), noting loans in `reserve` from now on. Returns the first address
+    /// of the input samples' segment, `None` if no sample could be loaned or found.
+    pub fn set_up_reserve(&mut self, reserve: Arc<InputReserve>, len: usize) -> Option<usize> {
+        self.reserve = reserve;
+        self.loaned = None;
+        let mut sample = self.inputs.loan_slice_uninit(len).ok()?;
+        let first = sample.payload_mut().as_mut_ptr() as usize;
+        // Back on top of the free list: the first cycle loans it again.
+        drop(sample);
+        let segment = populate::mapping_of(first)?;
+        self.reserve.set_up(&segment, first, len);
+        Some(segment.start)
     }
 }
 

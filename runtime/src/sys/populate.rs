@@ -15,6 +15,10 @@ use std::collections::HashSet;
 /// Bytes populated per `madvise` call: 16 pages, some tens of microseconds of the lock.
 pub const CHUNK: usize = 64 * 1024;
 
+/// The page size `madvise` works in (procimg's targets: x86-64 and 64-bit ARM with 4 KiB
+/// pages; a larger page only makes a range round to more than needed).
+pub const PAGE: usize = 4096;
+
 /// One line of `/proc/self/maps`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Mapping {
@@ -118,11 +122,24 @@ pub fn populate(m: &Mapping) -> usize {
     done
 }
 
-/// Populates every mapping of the process: what `mlockall(MCL_FUTURE)` without
-/// `MCL_ONFAULT` would have done at mapping time, done now, a chunk at a time. Returns the
-/// bytes done.
-pub fn populate_all() -> usize {
-    mappings().unwrap_or_default().iter().map(populate).sum()
+/// Populates every mapping of the process but the one at `except` (its first address), if
+/// any: what `mlockall(MCL_FUTURE)` without `MCL_ONFAULT` would have done at mapping time,
+/// done now, a chunk at a time. Returns the bytes done.
+pub fn populate_all(except: Option<usize>) -> usize {
+    mappings()
+        .unwrap_or_default()
+        .iter()
+        .filter(|m| Some(m.start) != except)
+        .map(populate)
+        .sum()
+}
+
+/// The mapping that holds address `at`.
+pub fn mapping_of(at: usize) -> Option<Mapping> {
+    mappings()
+        .ok()?
+        .into_iter()
+        .find(|m| m.start <= at && at < m.start + m.len)
 }
 
 /// Populates the shared-memory segments mapped since `before` was taken
@@ -188,7 +205,7 @@ mod tests {
         let map = unsafe { memmap2::Mmap::map(&file) }.expect("mapped");
         let done = populate_shared_memory_since(&before);
         assert!(done >= map.len(), "populated {done} of {} bytes", map.len());
-        assert!(populate_all() > 0);
+        assert!(populate_all(None) > 0);
         drop(map);
     }
 }
