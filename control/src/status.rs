@@ -177,6 +177,16 @@ pub struct StatusReport {
     /// so nobody got STARTOP. Must stay 0.
     #[serde(default)]
     pub unpublished_images: u64,
+    /// Bytes of the input images faulted in and locked: the samples in use so far and a few
+    /// ahead of them, out of one for every reader that may hold one (0 where memory is not
+    /// locked on fault).
+    #[serde(default)]
+    pub input_images_locked_bytes: u64,
+    /// Cycles whose input image was loaned beyond what was faulted in: each took the page
+    /// faults of a new sample in the cycle. Should stay 0; readers that come to hold many
+    /// more images at once than before move it.
+    #[serde(default)]
+    pub unready_image_loans: u64,
     /// Output writes dropped because the sender did not hold the claim.
     #[serde(default)]
     pub rejected_writes: u64,

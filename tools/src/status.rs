@@ -36,6 +36,11 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
         },
         s.rt_setup_allocations
     );
+    println!(
+        "input images locked {} KiB; loans beyond them {}",
+        s.input_images_locked_bytes / 1024,
+        s.unready_image_loans
+    );
     line("wake-up latency", &s.wakeup_latency);
     line("STARTOP→OPDONE", &s.handshake_round_trip);
     line("OPDONE one way", &s.opdone_one_way);

@@ -630,6 +630,8 @@ impl Control {
             rt_setup_allocations: crate::sys::rt_alloc::rt_setup_allocations(),
             receive_errors: load(&c.receive_errors),
             unpublished_images: load(&c.unpublished_images),
+            input_images_locked_bytes: self.shared.input_reserve.ready_bytes() as u64,
+            unready_image_loans: self.shared.input_reserve.unready_loans(),
             rejected_writes: load(&c.rejected_writes),
             wakeup_latency: self.stats.wakeup(),
             handshake_round_trip: self.stats.handshake(),

@@ -23,7 +23,7 @@ use crate::sys::populate::{self, Mapping};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
 /// Samples faulted in beyond the highest one loaned so far.
-pub const AHEAD: usize = 8;
+pub const AHEAD: usize = 6;
 
 /// Room a sample takes in the segment beyond its payload (iceoryx2's header, the user
 /// header, alignment): an upper bound, so that [`AHEAD`] samples are never short.
