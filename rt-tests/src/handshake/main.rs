@@ -129,7 +129,7 @@ enum Role {
         report: PathBuf,
     },
     /// Times procimgd's start (spawn to its first cycle) and a synchronous client's attach,
-    /// and reads procimgd's locked and resident memory (VmLck, VmRSS) while it runs.
+    /// and reads procimgd's locked and resident memory (Locked, VmLck, VmRSS) while it runs.
     Startup {
         /// Bytes of input data in the image, and as many of output data.
         #[arg(short = 'b', long, default_value = "368128", value_parser = parse_bytes)]

@@ -183,8 +183,13 @@ impl CyclePorts {
 
     /// Faults in the input samples the first cycles use, and no more (see
     /// [`super::reserve`]), noting loans in `reserve` from now on. Returns the first address
-    /// of the input samples' segment, `None` if no sample could be loaned or found.
+    /// of the input samples' segment, `None` if no sample could be loaned or found, or the
+    /// kernel cannot fault pages in ahead (before Linux 5.14 `mlockall` locks, and so faults
+    /// in, every mapping whole at mapping time).
     pub fn set_up_reserve(&mut self, reserve: Arc<InputReserve>, len: usize) -> Option<usize> {
+        if !populate::supported() {
+            return None;
+        }
         self.reserve = reserve;
         self.loaned = None;
         let mut sample = self.inputs.loan_slice_uninit(len).ok()?;
