@@ -1,18 +1,42 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! What the image's carry-over relies on from iceoryx2 (`image::region`): a sample of the
-//! input image publisher comes back to it, through readers and loans, holding exactly what
-//! it was published with. Checked against the iceoryx2 procimg is built with, so that a
-//! version that clears or reuses samples otherwise fails here first.
+//! What procimgd relies on from iceoryx2's input image samples, checked against the iceoryx2
+//! procimg is built with, so that a version that behaves otherwise fails here first:
+//!
+//! - the image's carry-over (`image::region`): a sample comes back to the publisher, through
+//!   readers and loans, holding exactly what it was published with;
+//! - faulting the samples in as they come into use (`shm::reserve`): iceoryx2 loans the free
+//!   sample at the lowest address, so that procimgd's locked memory grows with the readers
+//!   that actually hold an image, not with the readers that may.
 
 use iceoryx2::prelude::*;
 use procimg_control as control;
-use procimg_runtime::config::Config;
+use procimg_runtime::config::{Config, SubmoduleConfig};
 use procimg_runtime::cycle::ClientLink;
 use procimg_runtime::image::Tables;
-use procimg_runtime::shm::{CyclePorts, server_node};
+use procimg_runtime::shm::reserve::{AHEAD, InputReserve};
+use procimg_runtime::shm::{CyclePorts, Ipc, server_node};
 use procimg_runtime::sys::clock::now_ns;
+use procimg_runtime::sys::populate;
 use procimg_shm_layout::ImageHeader;
+use procimg_testkit::memory::resident_bytes;
 use std::collections::HashMap;
+use std::sync::Arc;
+
+/// A reader of the input images of `instance`'s server `generation`, as a client is.
+fn reader(node: &Node<Ipc>, instance: &str, generation: u64) -> InputReader {
+    let service = ServiceName::new(&control::input_service(instance, generation)).unwrap();
+    node.service_builder(&service)
+        .publish_subscribe::<[u8]>()
+        .user_header::<ImageHeader>()
+        .open()
+        .expect("the input image service")
+        .subscriber_builder()
+        .buffer_size(1)
+        .create()
+        .expect("a subscriber")
+}
+
+type InputReader = iceoryx2::port::subscriber::Subscriber<Ipc, [u8], ImageHeader>;
 
 #[test]
 fn an_input_sample_comes_back_holding_what_it_was_published_with() {
@@ -25,17 +49,7 @@ fn an_input_sample_comes_back_holding_what_it_was_published_with() {
     // A reader as a client is: it takes the newest image and holds it for a while, so the
     // publisher's loans go round more samples than two.
     let node = server_node(&instance, "reader").expect("a node");
-    let service = ServiceName::new(&control::input_service(&instance, generation)).unwrap();
-    let reader = node
-        .service_builder(&service)
-        .publish_subscribe::<[u8]>()
-        .user_header::<ImageHeader>()
-        .open()
-        .expect("the input image service")
-        .subscriber_builder()
-        .buffer_size(1)
-        .create()
-        .expect("a subscriber");
+    let reader = reader(&node, &instance, generation);
     let mut held = None;
 
     // Sample (by its payload's address) → the byte it was filled with when published.
@@ -75,5 +89,107 @@ fn an_input_sample_comes_back_holding_what_it_was_published_with() {
         published.len() > 2 && came_back > 150,
         "{} samples, {came_back} came back",
         published.len()
+    );
+}
+
+/// The demo's first device with `n` submodules of `len` bytes each way: an image of some
+/// hundred KiB, whose samples span many pages each.
+fn large_image(n: u16, len: u16) -> Tables {
+    let mut config = Config::demo();
+    let mut device = config.devices[0].clone();
+    let template = device.submodules[0].clone();
+    device.submodules = (0..n)
+        .map(|i| SubmoduleConfig {
+            slot: i + 1,
+            subslot: 1,
+            input_length: len,
+            output_length: len,
+            input_address: u32::from(i) * u32::from(len),
+            output_address: u32::from(i) * u32::from(len),
+            records: Vec::new(),
+            ..template.clone()
+        })
+        .collect();
+    config.devices = vec![device];
+    Tables::from_config(&config).expect("the layout")
+}
+
+#[test]
+fn input_samples_are_faulted_in_as_readers_come_to_hold_them() {
+    if !populate::supported() {
+        eprintln!("skipped: this kernel has no MADV_POPULATE_READ (Linux 5.14)");
+        return;
+    }
+    let tables = large_image(64, 1024);
+    let instance = procimg_testkit::unique_instance("reserve");
+    let generation = now_ns();
+    let mut ports = CyclePorts::create(&instance, generation, &tables).expect("cycle ports");
+    let len = tables.layout.input_payload_size as usize;
+    let reserve = Arc::new(InputReserve::default());
+    let segment = ports
+        .set_up_reserve(reserve.clone(), len)
+        .expect("a sample and its segment");
+    let segment_len = populate::mapping_of(segment).expect("the segment").len;
+    let span = len + 4096;
+
+    // Readers as clients and tools are: each takes the newest image every so many cycles
+    // and holds it until then, so that up to four old images are held at once.
+    let node = server_node(&instance, "readers").expect("a node");
+    let mut readers: Vec<_> = [1u32, 3, 7, 50]
+        .into_iter()
+        .map(|every| (every, reader(&node, &instance, generation), None))
+        .collect();
+
+    let mut highest = 0;
+    for round in 0..600u32 {
+        let sample = ports.loan_image(len).expect("a loan");
+        let at = sample.as_ptr() as usize;
+        highest = highest.max(at + len - segment);
+        // SAFETY: the loan is the test's until it is published, `len` bytes long.
+        #[allow(unsafe_code)]
+        unsafe {
+            core::ptr::write_bytes(sample.as_ptr(), round as u8, len)
+        };
+        assert!(
+            ports.publish(&mut |_| ImageHeader::default()),
+            "round {round}"
+        );
+        for (every, subscriber, held) in &mut readers {
+            if round.is_multiple_of(*every) {
+                drop(held.take());
+                *held = subscriber.receive().expect("receive");
+            }
+        }
+        // What the cycle thread asks and the control thread does.
+        if reserve.needs_extending() {
+            reserve.extend();
+        }
+    }
+
+    // Four readers, the newest image and the loan: iceoryx2 took the lowest samples.
+    let in_use = readers.len() + 2;
+    assert!(
+        highest <= (in_use + 1) * span,
+        "the highest sample loaned ends {highest} bytes into the segment, beyond {in_use} \
+         samples of {span}: iceoryx2 no longer loans the lowest free sample"
+    );
+    assert_eq!(
+        reserve.unready_loans(),
+        0,
+        "loans of samples not faulted in"
+    );
+    let ready = reserve.ready_bytes();
+    assert!(
+        ready >= highest && ready <= highest + (AHEAD + 1) * span,
+        "{ready} bytes faulted in for samples up to {highest}"
+    );
+    let resident = resident_bytes(segment);
+    eprintln!(
+        "samples of {span} bytes: loans up to {highest} bytes into the segment, {ready} \
+         faulted in, {resident} resident of {segment_len}"
+    );
+    assert!(
+        resident <= ready + populate::PAGE && resident * 4 < segment_len,
+        "{resident} bytes of the {segment_len}-byte segment resident, {ready} faulted in"
     );
 }

@@ -8,27 +8,11 @@
 use procimg_runtime::shm::outputs::{self, IpcThreadsafe};
 use procimg_runtime::shm::server_node_of;
 use procimg_runtime::sys::populate::{self, Mapping};
+use procimg_testkit::memory::resident_bytes;
 use procimg_testkit::unique_instance;
 
 /// An output payload of 64 pages: a segment that `connect` left unpopulated would show it.
 const PAYLOAD: usize = 256 * 1024;
-
-/// The resident bytes of the mapping at `start`, from `/proc/self/smaps`.
-fn resident_bytes(start: usize) -> usize {
-    let smaps = std::fs::read_to_string("/proc/self/smaps").expect("read /proc/self/smaps");
-    let header = format!("{start:x}-");
-    let mut lines = smaps.lines().skip_while(|l| !l.starts_with(&header));
-    assert!(lines.next().is_some(), "no mapping at {start:#x} in smaps");
-    let rss = lines
-        .find(|l| l.starts_with("Rss:"))
-        .expect("the mapping's Rss line");
-    let kib: usize = rss
-        .split_whitespace()
-        .nth(1)
-        .and_then(|v| v.parse().ok())
-        .expect("Rss in kB");
-    kib * 1024
-}
 
 #[test]
 fn a_clients_output_samples_are_faulted_in_when_procimgd_connects_them() {

@@ -14,6 +14,7 @@ pub mod c;
 pub mod exchange;
 pub mod files;
 pub mod fixtures;
+pub mod memory;
 /// Network namespaces with a veth pair (the `procimg-netns` crate, which the soak shares).
 pub use procimg_netns::netns;
 pub mod pattern;

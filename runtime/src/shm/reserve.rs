@@ -8,7 +8,7 @@
 //! the newest image, the one being built, and one per reader that lags behind. iceoryx2
 //! loans the free sample at the lowest address (its free list is a stack that starts at the
 //! segment's first sample, and a sample that comes back goes on top:
-//! `tests/input_reserve.rs` checks it), so the samples in use stay at the segment's start
+//! `tests/input_samples.rs` checks it), so the samples in use stay at the segment's start
 //! and reach further only as readers hold more of them at once.
 //!
 //! So the segment is faulted in from its start up to the highest sample loaned so far plus
