@@ -23,12 +23,13 @@
 use core::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 use crate::MAX_CLIENTS;
+use crate::pins::Pins;
 
-/// "PIMGHSK1": marks an initialised block.
-pub const HANDSHAKE_MAGIC: u64 = 0x3148_5348_474d_4950;
+/// "PIMGHSK2": marks an initialised block (2: with the busy path's [`Pins`]).
+pub const HANDSHAKE_MAGIC: u64 = 0x3248_5348_474d_4950;
 
-/// Size of the block's mapping: one page.
-pub const HANDSHAKE_BLOCK_SIZE: usize = 4096;
+/// Size of the block's mapping: two pages.
+pub const HANDSHAKE_BLOCK_SIZE: usize = 8192;
 
 /// One cache line, so that words written by different sides never share a line.
 #[repr(C, align(64))]
@@ -63,6 +64,8 @@ pub struct HandshakeBlock {
     /// Non-zero while the server sleeps on `opdone` (an OPDONE then needs a `FUTEX_WAKE`);
     /// zero while it busy-polls, so a client's OPDONE makes no system call.
     pub server_sleeps: Line<AtomicU32>,
+    /// The newest input image and the images busy clients hold (see [`crate::pins`]).
+    pub pins: Pins,
 }
 
 const _: () = assert!(core::mem::size_of::<HandshakeBlock>() <= HANDSHAKE_BLOCK_SIZE);
@@ -173,6 +176,7 @@ impl HandshakeBlock {
     pub fn forget_slot(&self, slot: u32) {
         self.sleepers.0.fetch_and(!bit(slot), Ordering::SeqCst);
         self.fd_waiters.0.fetch_and(!bit(slot), Ordering::SeqCst);
+        self.pins.forget_slot(slot);
     }
 
     // ----- a client's side -----

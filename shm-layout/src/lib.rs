@@ -35,6 +35,11 @@ mod image_layout;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod os;
+/// The busy path's hold marks on input images: used through the client library, not in the
+/// C header.
+///
+/// cbindgen:ignore
+pub mod pins;
 #[cfg(feature = "std")]
 pub mod share;
 mod table_codec;
