@@ -18,6 +18,7 @@ use procimg_runtime::shm::{CyclePorts, Ipc, server_node};
 use procimg_runtime::sys::clock::now_ns;
 use procimg_runtime::sys::populate;
 use procimg_shm_layout::ImageHeader;
+use procimg_shm_layout::pins::Pins;
 use procimg_testkit::memory::resident_bytes;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -191,5 +192,87 @@ fn input_samples_are_faulted_in_as_readers_come_to_hold_them() {
     assert!(
         resident <= ready + populate::PAGE && resident * 4 < segment_len,
         "{resident} bytes of the {segment_len}-byte segment resident, {ready} faulted in"
+    );
+}
+
+#[test]
+fn a_busy_reader_holds_its_image_by_its_mark_alone() {
+    let tables = large_image(8, 1024);
+    let instance = procimg_testkit::unique_instance("pins");
+    let generation = now_ns();
+    let mut ports = CyclePorts::create(&instance, generation, &tables).expect("cycle ports");
+    let len = tables.layout.input_payload_size as usize;
+    ports.set_up_reserve(Arc::new(InputReserve::default()), len);
+    let node = server_node(&instance, "busy").expect("a node");
+    let subscriber = reader(&node, &instance, generation);
+    let slot = 5;
+    let pins = &ports.handshake.block().pins as *const Pins;
+    // SAFETY: the handshake block lives as long as `ports`, which outlives every use here;
+    // the test reads it as a client in another process would, through shared memory.
+    #[allow(unsafe_code)]
+    let pins = unsafe { &*pins };
+    pins.join(slot);
+
+    let publish = |ports: &mut CyclePorts, round: u32| {
+        let sample = ports.loan_image(len).expect("a loan");
+        // SAFETY: the loan is the test's until it is published, `len` bytes long.
+        #[allow(unsafe_code)]
+        unsafe {
+            core::ptr::write_bytes(sample.as_ptr(), round as u8, len)
+        };
+        assert!(ports.publish(&mut |_| {
+            let mut h = ImageHeader::default();
+            h.cycle.cycle_number = u64::from(round);
+            h
+        }));
+    };
+
+    // The slow path once, as a client at its attach: where the segment starts here.
+    publish(&mut ports, 1);
+    let first = subscriber
+        .receive()
+        .expect("receive")
+        .expect("the first image");
+    let newest = pins.newest().expect("the first image's place");
+    assert_eq!(
+        u64::from(newest.cycle),
+        first.user_header().cycle.cycle_number
+    );
+    let base = first.payload().as_ptr() as usize - newest.offset as usize;
+    drop(first);
+
+    // Then only marks: the reader holds an image while 5 more are published, and a sample
+    // it holds is never written meanwhile, though iceoryx2 would have loaned it again.
+    let mut round = 1;
+    let mut aside_seen = 0;
+    for _ in 0..40 {
+        let held = pins.pin_newest(slot).expect("an image");
+        // SAFETY: the offset lies in the input segment, mapped by the subscriber's
+        // connection for as long as it lives; the sample is held by the mark.
+        #[allow(unsafe_code)]
+        let image =
+            unsafe { std::slice::from_raw_parts((base + held.offset as usize) as *const u8, len) };
+        assert!(image.iter().all(|&b| b == held.cycle as u8));
+        for _ in 0..5 {
+            round += 1;
+            publish(&mut ports, round);
+            aside_seen = aside_seen.max(ports.aside.kept());
+            assert!(
+                image.iter().all(|&b| b == held.cycle as u8),
+                "round {round}: the image of cycle {} changed while held",
+                held.cycle
+            );
+        }
+        pins.unpin(slot);
+    }
+    assert!(
+        aside_seen > 0,
+        "no loan ever met the held sample: the test tests nothing"
+    );
+    publish(&mut ports, round + 1);
+    assert_eq!(
+        ports.aside.kept(),
+        0,
+        "a sample stays aside after it was let go of"
     );
 }

@@ -12,6 +12,7 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::EventId;
 use procimg_control::futex::LinuxFutex;
 use procimg_shm_layout::events::EVENT_STARTOP;
+use procimg_shm_layout::pins::Newest;
 use procimg_shm_layout::{ImageHeader, OutputHeader};
 use std::collections::VecDeque;
 
@@ -78,14 +79,29 @@ impl ClientLink for CyclePorts {
     }
 
     fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>> {
-        // A sample still loaned (a cycle that did not get to publish it) goes back first.
+        // A sample still loaned (a cycle that did not get to publish it) goes back first,
+        // and so do the samples kept aside that no busy client holds any more.
         self.loaned = None;
-        let mut sample = iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?;
-        let start = NonNull::new(sample.payload_mut().as_mut_ptr().cast::<u8>());
-        self.reserve
-            .note_loan(start.map_or(0, |p| p.as_ptr() as usize), len);
-        self.loaned = Some(sample);
-        start
+        let pins = &self.handshake.block().pins;
+        self.aside.release(pins);
+        loop {
+            let mut sample = iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?;
+            let at = sample.payload_mut().as_mut_ptr() as usize;
+            let offset = self.aside.offset(at);
+            // A sample a busy client still reads, though a newer image replaced it: never
+            // written while it holds it (see `shm::aside`).
+            if offset.is_some_and(|off| pins.held(off)) {
+                // Without room it goes back unwritten, and this cycle publishes nothing.
+                if !self.aside.keep(sample) {
+                    return None;
+                }
+                continue;
+            }
+            self.reserve.note_loan(at, len);
+            self.loaned_offset = offset;
+            self.loaned = Some(sample);
+            return NonNull::new(at as *mut u8);
+        }
     }
 
     fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader) -> bool {
@@ -96,8 +112,17 @@ impl ClientLink for CyclePorts {
         // (`Image::carry_over_inputs` and `Image::publish_into`).
         #[allow(unsafe_code)]
         let mut sample = unsafe { sample.assume_init() };
-        *sample.user_header_mut() = header(now_ns());
-        iceoryx2_call(|| sample.send().is_ok())
+        let stamped = header(now_ns());
+        *sample.user_header_mut() = stamped;
+        let sent = iceoryx2_call(|| sample.send().is_ok());
+        if sent && let Some(offset) = self.loaned_offset.take() {
+            // Before STARTOP is announced: a busy client that sees it finds this image.
+            self.handshake.block().pins.publish(Newest {
+                cycle: stamped.cycle.cycle_number as u32,
+                offset,
+            });
+        }
+        sent
     }
 
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {

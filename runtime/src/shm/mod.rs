@@ -10,6 +10,7 @@
 //! server through the port they already hold.
 
 pub mod access;
+pub mod aside;
 mod config;
 pub mod dir;
 mod node;

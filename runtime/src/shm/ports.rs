@@ -2,18 +2,17 @@
 //! Creating the server's ports, with the quality of service each service needs.
 
 use super::Ipc;
+use super::aside::{Aside, INPUT_LOANS, InputSample};
 use super::node::{ShmError, err, server_node};
 use super::outputs::{IpcThreadsafe, OutputPorts};
 use super::reserve::InputReserve;
 use crate::image::Tables;
 use crate::sys::populate;
-use core::mem::MaybeUninit;
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
 use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, ServiceName, ZeroCopySend};
-use iceoryx2::sample_mut_uninit::SampleMutUninit;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use procimg_control::{self as control, services};
 use procimg_shm_layout::events::EVENT_ID_MAX;
@@ -112,7 +111,11 @@ pub fn cleanup_dead_nodes(instance: &str) -> Result<Vec<String>, ShmError> {
 pub struct CyclePorts {
     /// The sample this cycle's input image is being built in (first: it goes back to the
     /// publisher before the publisher goes).
-    pub loaned: Option<SampleMutUninit<Ipc, [MaybeUninit<u8>], ImageHeader>>,
+    pub loaned: Option<InputSample>,
+    /// Where the loaned sample's payload lies in the input segment (see [`Aside`]).
+    pub loaned_offset: Option<u32>,
+    /// Loaned samples busy clients hold, kept out of use.
+    pub aside: Aside,
     /// The cycle thread's node.
     pub node: Node<Ipc>,
     /// Publishes one input image per cycle.
@@ -149,7 +152,7 @@ impl CyclePorts {
         )?
         .publisher_builder()
         .initial_max_slice_len(l.input_payload_size as usize)
-        .max_loaned_samples(1)
+        .max_loaned_samples(INPUT_LOANS)
         .override_sample_preallocation(|_| INPUT_IMAGES)
         .create()
         .map_err(|e| err(instance, "input image publisher", e))?;
@@ -172,6 +175,8 @@ impl CyclePorts {
 
         Ok(CyclePorts {
             loaned: None,
+            loaned_offset: None,
+            aside: Aside::default(),
             node,
             inputs,
             outputs: OutputPorts::default(),
@@ -187,16 +192,18 @@ impl CyclePorts {
     /// kernel cannot fault pages in ahead (before Linux 5.14 `mlockall` locks, and so faults
     /// in, every mapping whole at mapping time).
     pub fn set_up_reserve(&mut self, reserve: Arc<InputReserve>, len: usize) -> Option<usize> {
-        if !populate::supported() {
-            return None;
-        }
-        self.reserve = reserve;
         self.loaned = None;
         let mut sample = self.inputs.loan_slice_uninit(len).ok()?;
         let first = sample.payload_mut().as_mut_ptr() as usize;
         // Back on top of the free list: the first cycle loans it again.
         drop(sample);
         let segment = populate::mapping_of(first)?;
+        // Busy clients' offsets count from here.
+        self.aside.set_segment(segment.start);
+        if !populate::supported() {
+            return None;
+        }
+        self.reserve = reserve;
         self.reserve.set_up(&segment, first, len);
         Some(segment.start)
     }
