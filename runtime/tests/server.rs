@@ -187,7 +187,20 @@ fn mode_changes_are_confirmed_step_by_step() {
 /// cycle, and no image is ever torn.
 #[test]
 fn eight_clients_see_the_same_consistent_untorn_images() {
-    let server = Procimgd::demo("eight");
+    clients_see_the_same_untorn_images("eight", [false; 8]);
+}
+
+/// The same with a busy-polling writer and two busy-polling readers, which find the images
+/// through the handshake block and hold them by their marks (`procimg_shm_layout::pins`),
+/// beside sleeping readers that receive them through iceoryx2.
+#[test]
+fn busy_polling_clients_see_the_same_untorn_images_as_sleeping_ones() {
+    let busy = [true, true, false, true, false, false, false, false];
+    clients_see_the_same_untorn_images("busy8", busy);
+}
+
+fn clients_see_the_same_untorn_images(tag: &str, busy: [bool; 8]) {
+    let server = Procimgd::demo(tag);
     let instance = server.instance.clone();
     // Counted in cycles, not seconds: the writer runs 500 cycles, the readers until then.
     let writer_cycles = 500;
@@ -195,7 +208,7 @@ fn eight_clients_see_the_same_consistent_untorn_images() {
     let seen: Arc<Mutex<Vec<(usize, EchoByCycle)>>> = Arc::default();
     let start = Arc::new(Barrier::new(8));
     let mut threads = Vec::new();
-    for i in 0..8 {
+    for (i, busy) in busy.into_iter().enumerate() {
         let (instance, seen, start) = (instance.clone(), seen.clone(), start.clone());
         let writer_done = writer_done.clone();
         threads.push(std::thread::spawn(move || {
@@ -203,7 +216,8 @@ fn eight_clients_see_the_same_consistent_untorn_images() {
                 AttachOptions::synchronous("writer")
             } else {
                 AttachOptions::asynchronous(&format!("reader-{i}"))
-            };
+            }
+            .busy_poll(busy);
             let mut c = Client::attach(&instance, opts).unwrap();
             let echo = c.layout().find("echo", 1, 1).unwrap();
             let counter = c.layout().find("counter", 1, 1).unwrap();

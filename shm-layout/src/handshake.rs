@@ -31,10 +31,7 @@ pub const HANDSHAKE_MAGIC: u64 = 0x3248_5348_474d_4950;
 /// Size of the block's mapping: two pages.
 pub const HANDSHAKE_BLOCK_SIZE: usize = 8192;
 
-/// One cache line, so that words written by different sides never share a line.
-#[repr(C, align(64))]
-#[derive(Debug, Default)]
-pub struct Line<T>(pub T);
+pub use crate::line::Line;
 
 /// The block's contents (`#[repr(C)]`, at the start of the page).
 ///
@@ -212,6 +209,26 @@ impl HandshakeBlock {
     /// without a system call.
     pub fn spin_event(&self, futex: &impl Futex, seen: u32, deadline_ns: u64) -> Woken {
         while self.events.0.load(Ordering::Acquire) == seen {
+            if futex.now_ns() >= deadline_ns {
+                return Woken::TimedOut;
+            }
+            core::hint::spin_loop();
+        }
+        Woken::Moved
+    }
+
+    /// Spins until a new image is named ([`Pins::newest_word`] moved from `newest`) or the
+    /// server signals an event after `seen` was read, or `deadline_ns`, without a system
+    /// call: the busy path, which learns of a new image as soon as procimgd names it, before
+    /// iceoryx2 has delivered it and STARTOP is announced.
+    pub fn spin_startop(
+        &self,
+        futex: &impl Futex,
+        seen: u32,
+        newest: u64,
+        deadline_ns: u64,
+    ) -> Woken {
+        while self.events.0.load(Ordering::Acquire) == seen && self.pins.newest_word() == newest {
             if futex.now_ns() >= deadline_ns {
                 return Woken::TimedOut;
             }

@@ -32,6 +32,9 @@ pub mod handshake;
 pub mod handshake_map;
 mod hash;
 mod image_layout;
+mod line;
+#[cfg(feature = "std")]
+pub mod maps;
 #[cfg(feature = "std")]
 #[allow(unsafe_code)]
 pub mod os;

@@ -24,7 +24,7 @@
 use core::sync::atomic::{AtomicU64, Ordering};
 
 use crate::MAX_CLIENTS;
-use crate::handshake::Line;
+use crate::line::Line;
 
 /// The newest image: its cycle number and the offset of its sample's payload in the input
 /// segment.
@@ -119,8 +119,8 @@ impl Pins {
 
     // ----- a client's side -----
 
-    /// Makes the client of `slot` one that may hold images (before its first
-    /// [`Pins::pin_newest`]).
+    /// Makes the client of `slot` one that may hold images ([`Pins::pin_newest`] does it
+    /// when needed).
     pub fn join(&self, slot: u32) {
         self.busy.0.fetch_or(bit(slot), Ordering::SeqCst);
     }
@@ -130,6 +130,11 @@ impl Pins {
     /// [`Pins::unpin`] (or the next `pin_newest`, which lets go of it).
     pub fn pin_newest(&self, slot: u32) -> Option<Newest> {
         let hold = &self.holds.get(slot as usize)?.0;
+        // Joined first (once: the server clears the bit only when it forgets the slot), so
+        // that the server looks at the mark.
+        if self.busy.0.load(Ordering::SeqCst) & bit(slot) == 0 {
+            self.join(slot);
+        }
         let mut seen = self.newest.0.load(Ordering::SeqCst);
         loop {
             let newest = Newest::from_word(seen)?;
@@ -153,6 +158,12 @@ impl Pins {
     /// The newest image, without holding it (to see whether a new one came).
     pub fn newest(&self) -> Option<Newest> {
         Newest::from_word(self.newest.0.load(Ordering::SeqCst))
+    }
+
+    /// The newest image's word as it is now: a busy client spins until it moves
+    /// ([`crate::handshake::HandshakeBlock::spin_startop`]).
+    pub fn newest_word(&self) -> u64 {
+        self.newest.0.load(Ordering::Acquire)
     }
 }
 

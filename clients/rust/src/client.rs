@@ -5,11 +5,11 @@
 use crate::connection::{Connection, Ipc, iox2_config};
 use crate::control::ControlHandle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
+use crate::input_view::{InputView, Segment};
 use crate::layout::Layout;
 use crate::status::Ioxs;
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::prelude::CallbackProgression;
-use iceoryx2::sample::Sample;
 use iceoryx2::sample_mut::SampleMut;
 use procimg_control::futex::LinuxFutex;
 use procimg_control::{ClientRole, CoreRequest, Response, server_node_name};
@@ -83,9 +83,11 @@ impl AttachOptions {
     }
 
     /// Makes [`Client::wait_startop`] poll for the next image without sleeping: the client
-    /// sees STARTOP a few µs sooner and keeps its CPU busy all the time it waits. For a
-    /// client thread with a CPU of its own (isolated, SCHED_FIFO); pair it with
-    /// `opdone_wait = "busy-poll"` on the server for the shortest round trip.
+    /// finds each image through the handshake block as soon as procimgd has completed it,
+    /// and reads it in place, held by its mark, without an iceoryx2 receive (below a
+    /// microsecond on a 2-vCPU VM, docs/PERFORMANCE.md); it keeps its CPU busy all the time
+    /// it waits. For a client thread with a CPU of its own (isolated, SCHED_FIFO); pair it
+    /// with `opdone_wait = "busy-poll"` on the server for the shortest round trip.
     pub fn busy_poll(mut self, on: bool) -> AttachOptions {
         self.busy_poll = on;
         self
@@ -182,8 +184,11 @@ pub struct Client {
     server_pid: u32,
     pub(crate) layout: Layout,
     pub(crate) claims: BTreeSet<usize>,
-    /// The newest input image received (the client's read view).
-    pub(crate) latest: Option<Sample<Ipc, [u8], ImageHeader>>,
+    /// The newest input image taken (the client's read view).
+    pub(crate) latest: Option<InputView>,
+    /// Busy-polling: where this connection's input segment lies, learnt from a received
+    /// image; from then on images are found through the handshake block (see `input_view`).
+    segment: Option<Segment>,
     /// Last cycle handed out by `wait_startop`.
     last_startop: u64,
     /// Last OPFAULT cycle seen for this client's slot.
@@ -255,6 +260,7 @@ impl Client {
             layout,
             claims: BTreeSet::new(),
             latest: None,
+            segment: None,
             last_startop: 0,
             last_opfault: 0,
             mode_changes_seen: None,
@@ -428,19 +434,44 @@ impl Client {
             return false;
         };
         let mut newer = false;
-        // The service lets a reader hold one image (procimgd keeps only a few): the one held
-        // goes before the next is taken. Nothing can be borrowing it here (`&mut self`).
-        while conn.inputs.has_samples().unwrap_or(false) {
-            self.latest = None;
-            let Ok(Some(sample)) = conn.inputs.receive() else {
-                break;
-            };
-            let h = sample.user_header();
-            if h.magic != IMAGE_MAGIC || h.layout_hash != self.layout.hash() {
-                continue;
+        let pins = &conn.handshake.block().pins;
+        if let Some(segment) = &self.segment {
+            // The busy path: the newest image, held by this client's mark, found without a
+            // receive. Nothing can be borrowing the one held before (`&mut self`).
+            let current = self
+                .latest
+                .as_ref()
+                .map(|l| l.user_header().cycle.cycle_number);
+            if let Some(newest) = pins.pin_newest(self.slot)
+                && current.is_none_or(|c| c as u32 != newest.cycle)
+                && let Some(view) = InputView::pinned(segment, newest)
+            {
+                let h = view.user_header();
+                if h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash() {
+                    self.latest = Some(view);
+                    newer = true;
+                }
             }
-            self.latest = Some(sample);
-            newer = true;
+        } else {
+            // The service lets a reader hold one image (procimgd keeps only a few): the one
+            // held goes before the next is taken. Nothing can be borrowing it here (`&mut
+            // self`).
+            while conn.inputs.has_samples().unwrap_or(false) {
+                self.latest = None;
+                let Ok(Some(sample)) = conn.inputs.receive() else {
+                    break;
+                };
+                let h = sample.user_header();
+                if h.magic != IMAGE_MAGIC || h.layout_hash != self.layout.hash() {
+                    continue;
+                }
+                if self.opts.busy_poll {
+                    // Where the segment lies, from an image the block names too.
+                    self.segment = pins.newest().and_then(|n| Segment::learn(&sample, n));
+                }
+                self.latest = Some(InputView::Received(sample));
+                newer = true;
+            }
         }
         if newer {
             self.last_image = Instant::now();
@@ -581,6 +612,7 @@ impl Client {
     /// Drops the data ports: the server is gone.
     fn disconnect(&mut self) {
         self.latest = None;
+        self.segment = None;
         self.spare_output = None;
         self.conn = None;
     }
@@ -655,6 +687,7 @@ impl Client {
             self.local_input_iocs = vec![Ioxs::Good; self.layout.submodules.len()];
             self.read_cache = None;
             self.latest = None;
+            self.segment = None;
             claims
         } else {
             self.claims.iter().copied().collect()

@@ -37,10 +37,10 @@ impl Client {
             }
             // Read before looking for the image: what the server signals after this ends the
             // wait below at once.
-            let seen = self
-                .conn
-                .as_ref()
-                .map(|c| c.handshake.block().events_seen());
+            let seen = self.conn.as_ref().map(|c| {
+                let block = c.handshake.block();
+                (block.events_seen(), block.pins.newest_word())
+            });
             self.drain_events();
             if self.conn.is_some() && self.take_new_cycle() {
                 return Ok(Cycle::new(self));
@@ -58,10 +58,10 @@ impl Client {
             let slice = (until - now).min(LIVENESS_PERIOD);
             let deadline = now_ns().saturating_add(slice.as_nanos() as u64);
             let woken = match (&self.conn, seen) {
-                (Some(conn), Some(seen)) => {
+                (Some(conn), Some((seen, newest))) => {
                     let block = conn.handshake.block();
                     if self.opts.busy_poll {
-                        block.spin_event(&LinuxFutex, seen, deadline)
+                        block.spin_startop(&LinuxFutex, seen, newest, deadline)
                     } else {
                         block.wait_event(&LinuxFutex, self.slot, seen, deadline)
                     }

@@ -114,15 +114,16 @@ impl ClientLink for CyclePorts {
         let mut sample = unsafe { sample.assume_init() };
         let stamped = header(now_ns());
         *sample.user_header_mut() = stamped;
-        let sent = iceoryx2_call(|| sample.send().is_ok());
-        if sent && let Some(offset) = self.loaned_offset.take() {
-            // Before STARTOP is announced: a busy client that sees it finds this image.
+        if let Some(offset) = self.loaned_offset.take() {
+            // Complete, so named at once: a busy client holds it by its mark and need not
+            // wait for iceoryx2 to deliver it (the next loans skip it while it is held, also
+            // should the send below fail).
             self.handshake.block().pins.publish(Newest {
                 cycle: stamped.cycle.cycle_number as u32,
                 offset,
             });
         }
-        sent
+        iceoryx2_call(|| sample.send().is_ok())
     }
 
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {

@@ -10,7 +10,13 @@
 //! faulted in with `madvise(MADV_POPULATE_*)` in chunks of [`CHUNK`] bytes, so the lock is
 //! held for one chunk at a time, off the cycle thread, before the cycle touches them.
 
+pub use procimg_shm_layout::maps::{Mapping, mapping_of, mappings};
 use std::collections::HashSet;
+
+/// Whether the kernel lets `m` be populated: readable, and not the kernel's own pages.
+fn populatable(m: &Mapping) -> bool {
+    m.readable && !matches!(m.path.as_str(), "[vvar]" | "[vvar_vclock]" | "[vsyscall]")
+}
 
 /// Bytes populated per `madvise` call: 16 pages, some tens of microseconds of the lock.
 pub const CHUNK: usize = 64 * 1024;
@@ -18,72 +24,6 @@ pub const CHUNK: usize = 64 * 1024;
 /// The page size `madvise` works in (procimg's targets: x86-64 and 64-bit ARM with 4 KiB
 /// pages; a larger page only makes a range round to more than needed).
 pub const PAGE: usize = 4096;
-
-/// One line of `/proc/self/maps`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Mapping {
-    /// First address.
-    pub start: usize,
-    /// Length in bytes.
-    pub len: usize,
-    /// Mapped readable.
-    pub readable: bool,
-    /// Mapped writable.
-    pub writable: bool,
-    /// The file mapped, or the kernel's name (`[stack]`), or empty.
-    pub path: String,
-}
-
-impl Mapping {
-    /// Parses one line of `/proc/self/maps`; `None` for a line of another shape.
-    pub fn parse(line: &str) -> Option<Mapping> {
-        let mut rest = line;
-        let (start, end) = field(&mut rest).split_once('-')?;
-        let start = usize::from_str_radix(start, 16).ok()?;
-        let end = usize::from_str_radix(end, 16).ok()?;
-        let perms = field(&mut rest).as_bytes();
-        // offset, device, inode, then the path (which may hold spaces).
-        for _ in 0..3 {
-            field(&mut rest);
-        }
-        Some(Mapping {
-            start,
-            len: end.checked_sub(start)?,
-            readable: perms.first() == Some(&b'r'),
-            writable: perms.get(1) == Some(&b'w'),
-            path: rest.trim().to_string(),
-        })
-    }
-
-    /// Whether this is a shared-memory segment (iceoryx2's, a handshake block).
-    pub fn is_shared_memory(&self) -> bool {
-        self.path.starts_with("/dev/shm/")
-    }
-
-    /// Whether the kernel lets it be populated: readable, and not the kernel's own pages.
-    fn populatable(&self) -> bool {
-        self.readable
-            && !matches!(
-                self.path.as_str(),
-                "[vvar]" | "[vvar_vclock]" | "[vsyscall]"
-            )
-    }
-}
-
-/// The next whitespace-separated field of `rest`, which moves past it.
-fn field<'a>(rest: &mut &'a str) -> &'a str {
-    let s = rest.trim_start();
-    let end = s.find(char::is_whitespace).unwrap_or(s.len());
-    let (f, r) = s.split_at(end);
-    *rest = r;
-    f
-}
-
-/// The process's mappings now.
-pub fn mappings() -> std::io::Result<Vec<Mapping>> {
-    let text = std::fs::read_to_string("/proc/self/maps")?;
-    Ok(text.lines().filter_map(Mapping::parse).collect())
-}
 
 /// The first addresses of the process's shared-memory segments, to tell the ones mapped after.
 pub fn shared_memory_starts() -> HashSet<usize> {
@@ -99,7 +39,7 @@ pub fn shared_memory_starts() -> HashSet<usize> {
 /// call. A mapping that goes away meanwhile ends it early, without harm: `madvise` on an
 /// address no longer mapped fails, where touching it would crash. Returns the bytes done.
 pub fn populate(m: &Mapping) -> usize {
-    if !m.populatable() {
+    if !populatable(m) {
         return 0;
     }
     let advice = if m.writable {
@@ -134,14 +74,6 @@ pub fn populate_all(except: Option<usize>) -> usize {
         .sum()
 }
 
-/// The mapping that holds address `at`.
-pub fn mapping_of(at: usize) -> Option<Mapping> {
-    mappings()
-        .ok()?
-        .into_iter()
-        .find(|m| m.start <= at && at < m.start + m.len)
-}
-
 /// Populates the shared-memory segments mapped since `before` was taken
 /// ([`shared_memory_starts`]). Returns the bytes done.
 pub fn populate_shared_memory_since(before: &HashSet<usize>) -> usize {
@@ -165,25 +97,6 @@ pub fn supported() -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn parses_maps_lines() {
-        let m = Mapping::parse(
-            "7f3e9defc000-7f3e9e2da000 r--s 00000000 00:1a 1234   /dev/shm/iox2_abc.publisher_data",
-        )
-        .expect("a mapping");
-        assert_eq!(m.start, 0x7f3e9defc000);
-        assert_eq!(m.len, 0x7f3e9e2da000 - 0x7f3e9defc000);
-        assert!(m.readable && !m.writable && m.is_shared_memory());
-        let anon = Mapping::parse("7ffd1000-7ffd2000 rw-p 00000000 00:00 0 ").expect("anon");
-        assert_eq!(anon.path, "");
-        assert!(anon.writable);
-        let spaced = Mapping::parse("1000-2000 r--p 00000000 08:01 7 /tmp/a b (deleted)")
-            .expect("a path with spaces");
-        assert_eq!(spaced.path, "/tmp/a b (deleted)");
-        assert_eq!(Mapping::parse("garbage"), None);
-        assert_eq!(Mapping::parse("2000-1000 r--p 0 0 0"), None);
-    }
 
     #[test]
     fn populates_a_new_shared_segment_and_nothing_breaks_on_this_process() {
