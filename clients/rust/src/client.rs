@@ -444,13 +444,14 @@ impl Client {
                 .map(|l| l.user_header().cycle.cycle_number);
             if let Some(newest) = pins.pin_newest(self.slot)
                 && current.is_none_or(|c| c as u32 != newest.cycle)
-                && let Some(view) = InputView::pinned(segment, newest)
             {
-                let h = view.user_header();
-                if h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash() {
-                    self.latest = Some(view);
-                    newer = true;
-                }
+                // The mark moved to the new image: the one held before is no longer held,
+                // so it goes whether or not the new one is taken.
+                self.latest = InputView::pinned(segment, newest).filter(|view| {
+                    let h = view.user_header();
+                    h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash()
+                });
+                newer = self.latest.is_some();
             }
         } else {
             // The service lets a reader hold one image (procimgd keeps only a few): the one
