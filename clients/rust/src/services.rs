@@ -189,7 +189,7 @@ impl Services {
 
     /// Asks the server announced to for its generation and process id; left unknown when it
     /// does not answer.
-    fn learn_server(&mut self) {
+    pub(crate) fn learn_server(&mut self) {
         match self.control.status() {
             Ok(st) => {
                 self.generation = Some(st.generation);

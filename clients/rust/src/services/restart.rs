@@ -51,6 +51,10 @@ impl Services {
         clients: RestartClients,
         timeout: Duration,
     ) -> Result<String, RestartError> {
+        // The server asked now is the one to be replaced. The generation this handle knew may
+        // be older (another program's restart since), and that restart's ServerStarted may
+        // still wait in the queue: it must not pass for this one's.
+        self.learn_server();
         let before = self.generation;
         self.restart_server(configuration, clients)?;
         let until = Instant::now() + timeout;
