@@ -187,9 +187,14 @@ pub struct StatusReport {
     /// more images at once than before move it.
     #[serde(default)]
     pub unready_image_loans: u64,
-    /// Output writes dropped because the sender did not hold the claim.
+    /// Output writes dropped: the sender did not hold the claim, or a busy client wrote its
+    /// sample again while it was read.
     #[serde(default)]
     pub rejected_writes: u64,
+    /// OPDONE samples of busy-polling clients taken where the clients wrote them, without
+    /// an iceoryx2 send and receive.
+    #[serde(default)]
+    pub outputs_in_place: u64,
     /// Wake-up latency of the cycle thread (actual minus planned cycle start).
     pub wakeup_latency: Percentiles,
     /// STARTOP → OPDONE round trip of synchronous clients.

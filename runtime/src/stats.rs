@@ -83,6 +83,8 @@ pub struct Counters {
     pub opfaults: AtomicU64,
     /// Output samples dropped because the sender did not hold the claim.
     pub rejected_writes: AtomicU64,
+    /// OPDONE samples of busy clients taken where they wrote them (no iceoryx2 send).
+    pub outputs_in_place: AtomicU64,
     /// Failed receives of client output samples (iceoryx2 could not update a connection,
     /// e.g. while a dead client's resources are being removed).
     pub receive_errors: AtomicU64,
@@ -106,6 +108,7 @@ impl Default for Counters {
             opfaults: AtomicU64::new(0),
             rejected_writes: AtomicU64::new(0),
             receive_errors: AtomicU64::new(0),
+            outputs_in_place: AtomicU64::new(0),
             unpublished_images: AtomicU64::new(0),
             mode: AtomicU32::new(0),
             realtime: AtomicBool::new(false),

@@ -202,15 +202,18 @@ fn busy_polling_clients_see_the_same_untorn_images_as_sleeping_ones() {
 fn clients_see_the_same_untorn_images(tag: &str, busy: [bool; 8]) {
     let server = Procimgd::demo(tag);
     let instance = server.instance.clone();
-    // Counted in cycles, not seconds: the writer runs 500 cycles, the readers until then.
+    // Counted in cycles, not seconds: the writer runs 500 cycles, and on until every reader
+    // has seen 20 images (a loaded machine may keep one from running for a while); the
+    // readers run until then.
     let writer_cycles = 500;
     let writer_done = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let readers_going = Arc::new(std::sync::atomic::AtomicUsize::new(0));
     let seen: Arc<Mutex<Vec<(usize, EchoByCycle)>>> = Arc::default();
     let start = Arc::new(Barrier::new(8));
     let mut threads = Vec::new();
     for (i, busy) in busy.into_iter().enumerate() {
         let (instance, seen, start) = (instance.clone(), seen.clone(), start.clone());
-        let writer_done = writer_done.clone();
+        let (writer_done, readers_going) = (writer_done.clone(), readers_going.clone());
         threads.push(std::thread::spawn(move || {
             let opts = if i == 0 {
                 AttachOptions::synchronous("writer")
@@ -234,6 +237,7 @@ fn clients_see_the_same_untorn_images(tag: &str, busy: [bool; 8]) {
                 Instant::now() < until
                     && if i == 0 {
                         mine.len() < writer_cycles
+                            || readers_going.load(std::sync::atomic::Ordering::Acquire) < 7
                     } else {
                         !writer_done.load(std::sync::atomic::Ordering::Acquire)
                     }
@@ -258,6 +262,9 @@ fn clients_see_the_same_untorn_images(tag: &str, busy: [bool; 8]) {
                 }
                 // Clients compare the whole image of a cycle: echo and counter.
                 mine.insert(k, [e, cnt.to_be_bytes().to_vec()].concat());
+                if i != 0 && mine.len() == 20 {
+                    readers_going.fetch_add(1, std::sync::atomic::Ordering::AcqRel);
+                }
                 if i == 0 {
                     cycle
                         .output_mut(echo)
@@ -275,6 +282,19 @@ fn clients_see_the_same_untorn_images(tag: &str, busy: [bool; 8]) {
     for t in threads {
         t.join().expect("a client thread failed");
     }
+    // A busy writer's OPDONE samples are taken where it wrote them (the first is sent, for
+    // the server to learn where they lie), a sleeping one's are sent; none torn.
+    let status = server.status();
+    if busy[0] {
+        assert!(
+            status.outputs_in_place >= writer_cycles as u64 / 2,
+            "{} of the busy writer's {writer_cycles} outputs taken in place",
+            status.outputs_in_place
+        );
+    } else {
+        assert_eq!(status.outputs_in_place, 0);
+    }
+    assert_eq!(status.rejected_writes, 0);
     let seen = seen.lock().unwrap();
     assert_eq!(seen.len(), 8);
     let writer = &seen

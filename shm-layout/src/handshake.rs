@@ -24,12 +24,13 @@ use core::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 use crate::MAX_CLIENTS;
 use crate::pins::Pins;
+use crate::posts::Posts;
 
-/// "PIMGHSK2": marks an initialised block (2: with the busy path's [`Pins`]).
-pub const HANDSHAKE_MAGIC: u64 = 0x3248_5348_474d_4950;
+/// "PIMGHSK3": marks an initialised block (3: with the busy path's [`Pins`] and [`Posts`]).
+pub const HANDSHAKE_MAGIC: u64 = 0x334b_5348_474d_4950;
 
-/// Size of the block's mapping: two pages.
-pub const HANDSHAKE_BLOCK_SIZE: usize = 8192;
+/// Size of the block's mapping: three pages.
+pub const HANDSHAKE_BLOCK_SIZE: usize = 12288;
 
 pub use crate::line::Line;
 
@@ -63,6 +64,8 @@ pub struct HandshakeBlock {
     pub server_sleeps: Line<AtomicU32>,
     /// The newest input image and the images busy clients hold (see [`crate::pins`]).
     pub pins: Pins,
+    /// The output samples busy clients name at OPDONE (see [`crate::posts`]).
+    pub posts: Posts,
 }
 
 const _: () = assert!(core::mem::size_of::<HandshakeBlock>() <= HANDSHAKE_BLOCK_SIZE);
@@ -174,6 +177,7 @@ impl HandshakeBlock {
         self.sleepers.0.fetch_and(!bit(slot), Ordering::SeqCst);
         self.fd_waiters.0.fetch_and(!bit(slot), Ordering::SeqCst);
         self.pins.forget_slot(slot);
+        self.posts.forget_slot(slot);
     }
 
     // ----- a client's side -----

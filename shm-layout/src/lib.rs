@@ -43,6 +43,15 @@ pub mod os;
 ///
 /// cbindgen:ignore
 pub mod pins;
+/// The busy path's places of output samples: used through the client library, not in the C
+/// header.
+///
+/// cbindgen:ignore
+pub mod posts;
+/// Samples named by their place in a segment (the busy path): not in the C header.
+///
+/// cbindgen:ignore
+pub mod segment;
 #[cfg(feature = "std")]
 pub mod share;
 mod table_codec;

@@ -21,36 +21,11 @@
 //! another) until the mark is gone; the marks are about samples, not images, so a sample
 //! that comes round again under a newer image is held just the same.
 
-use core::sync::atomic::{AtomicU64, Ordering};
+use core::sync::atomic::{AtomicU64, Ordering, fence};
 
 use crate::MAX_CLIENTS;
 use crate::line::Line;
-
-/// The newest image: its cycle number and the offset of its sample's payload in the input
-/// segment.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Newest {
-    /// The cycle number, modulo 2³².
-    pub cycle: u32,
-    /// Bytes from the start of the input segment to the sample's payload.
-    pub offset: u32,
-}
-
-impl Newest {
-    /// The word: the offset in the high half, the cycle in the low half, so that a reader
-    /// gets both with one load. Never 0 for a published image (its offset is at least the
-    /// size of iceoryx2's sample header, more than 0).
-    fn word(self) -> u64 {
-        (u64::from(self.offset) << 32) | u64::from(self.cycle)
-    }
-
-    fn from_word(w: u64) -> Option<Newest> {
-        (w != 0).then_some(Newest {
-            cycle: w as u32,
-            offset: (w >> 32) as u32,
-        })
-    }
-}
+use crate::segment::SamplePlace;
 
 /// A hold mark: the offset held, plus one, so that 0 means nothing held.
 fn mark(offset: u32) -> u64 {
@@ -63,7 +38,7 @@ fn mark(offset: u32) -> u64 {
 #[repr(C)]
 #[derive(Debug)]
 pub struct Pins {
-    /// The newest image ([`Newest`]), 0 before the first.
+    /// The newest image's place ([`SamplePlace`]), 0 before the first.
     newest: Line<AtomicU64>,
     /// Bit `slot`: that client may hold marks (it asked for the busy path), so that the
     /// server looks at the marks of those only.
@@ -90,8 +65,12 @@ impl Pins {
     // ----- the server's side -----
 
     /// Says that `newest` is the newest image (after it was published).
-    pub fn publish(&self, newest: Newest) {
+    pub fn publish(&self, newest: SamplePlace) {
         self.newest.0.store(newest.word(), Ordering::SeqCst);
+        // Before anything written later (iceoryx2 rewrites the user header of a sample it
+        // loans, also a held one): a reader that sees such a write sees the word moved
+        // ([`Pins::still_newest`]).
+        fence(Ordering::Release);
     }
 
     /// Whether any client holds the sample at `offset` (to be asked after the image that
@@ -128,7 +107,7 @@ impl Pins {
     /// Holds the newest image for the client of `slot` and returns where it is; `None`
     /// before the first image, or for a slot out of range. The image stays as it is until
     /// [`Pins::unpin`] (or the next `pin_newest`, which lets go of it).
-    pub fn pin_newest(&self, slot: u32) -> Option<Newest> {
+    pub fn pin_newest(&self, slot: u32) -> Option<SamplePlace> {
         let hold = &self.holds.get(slot as usize)?.0;
         // Joined first (once: the server clears the bit only when it forgets the slot), so
         // that the server looks at the mark.
@@ -137,7 +116,7 @@ impl Pins {
         }
         let mut seen = self.newest.0.load(Ordering::SeqCst);
         loop {
-            let newest = Newest::from_word(seen)?;
+            let newest = SamplePlace::from_word(seen)?;
             hold.store(mark(newest.offset), Ordering::SeqCst);
             let now = self.newest.0.load(Ordering::SeqCst);
             if now == seen {
@@ -155,9 +134,17 @@ impl Pins {
         }
     }
 
+    /// Whether `place` is still the newest image, after the caller read from it: `false`
+    /// when a newer one was named meanwhile, and what was read of the sample's header may
+    /// have been rewritten (see [`Pins::publish`]).
+    pub fn still_newest(&self, place: SamplePlace) -> bool {
+        fence(Ordering::Acquire);
+        self.newest.0.load(Ordering::Relaxed) == place.word()
+    }
+
     /// The newest image, without holding it (to see whether a new one came).
-    pub fn newest(&self) -> Option<Newest> {
-        Newest::from_word(self.newest.0.load(Ordering::SeqCst))
+    pub fn newest(&self) -> Option<SamplePlace> {
+        SamplePlace::from_word(self.newest.0.load(Ordering::SeqCst))
     }
 
     /// The newest image's word as it is now: a busy client spins until it moves
@@ -180,7 +167,7 @@ mod tests {
         let pins = Pins::default();
         assert_eq!(pins.pin_newest(3), None, "nothing published yet");
         pins.join(3);
-        let first = Newest {
+        let first = SamplePlace {
             cycle: 7,
             offset: 4096,
         };
@@ -188,7 +175,7 @@ mod tests {
         assert_eq!(pins.pin_newest(3), Some(first));
         assert!(pins.held(4096));
         assert!(!pins.held(8192));
-        pins.publish(Newest {
+        pins.publish(SamplePlace {
             cycle: 8,
             offset: 8192,
         });
@@ -275,7 +262,7 @@ mod tests {
             for c in &samples[i] {
                 c.store(u64::from(round), Ordering::Relaxed);
             }
-            pins.publish(Newest {
+            pins.publish(SamplePlace {
                 cycle: round,
                 offset: offset(i),
             });

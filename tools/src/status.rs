@@ -41,6 +41,10 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
         s.input_images_locked_bytes / 1024,
         s.unready_image_loans
     );
+    println!(
+        "busy clients' outputs taken in place {}; writes rejected {}",
+        s.outputs_in_place, s.rejected_writes
+    );
     line("wake-up latency", &s.wakeup_latency);
     line("STARTOP→OPDONE", &s.handshake_round_trip);
     line("OPDONE one way", &s.opdone_one_way);

@@ -5,7 +5,7 @@
 use crate::connection::{Connection, Ipc, iox2_config};
 use crate::control::ControlHandle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
-use crate::input_view::{InputView, Segment};
+use crate::input_view::{InputView, learn_segment};
 use crate::layout::Layout;
 use crate::status::Ioxs;
 use iceoryx2::node::{Node, NodeState, NodeView};
@@ -16,6 +16,8 @@ use procimg_control::{ClientRole, CoreRequest, Response, server_node_name};
 use procimg_shm_layout::events::{EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, opfault_event};
 use procimg_shm_layout::handshake::Woken;
 use procimg_shm_layout::handshake_map::HandshakeMap;
+use procimg_shm_layout::maps::mapping_of;
+use procimg_shm_layout::segment::{SamplePlace, Segment};
 use procimg_shm_layout::{
     CycleInfo, IMAGE_MAGIC, ImageHeader, MAX_CLIENTS, MODE_HISTORY, Mode, OUTPUT_SYNCHRONOUS,
     OutputHeader,
@@ -212,6 +214,12 @@ pub struct Client {
     /// An output sample loaned ahead, right after an OPDONE, so that the next cycle's window
     /// does not pay for the loan (dropped before the ports it came from).
     spare_output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
+    /// Busy-polling: the spare is last cycle's OPDONE sample, named in the handshake block
+    /// (`procimg_shm_layout::posts`): withdrawn before it is written again.
+    spare_posted: bool,
+    /// Busy-polling: where this connection's output segment starts, learnt from the first
+    /// sample named in the block.
+    output_start: Option<usize>,
     // Data ports, then the control handle (and its node) last: ports drop before the node.
     pub(crate) conn: Option<Connection>,
     pub(crate) control: ControlHandle,
@@ -273,6 +281,8 @@ impl Client {
             local_input_iocs: vec![Ioxs::Good; n],
             read_cache: None,
             spare_output: None,
+            spare_posted: false,
+            output_start: None,
             conn: Some(conn),
             control,
         };
@@ -447,7 +457,7 @@ impl Client {
             {
                 // The mark moved to the new image: the one held before is no longer held,
                 // so it goes whether or not the new one is taken.
-                self.latest = InputView::pinned(segment, newest).filter(|view| {
+                self.latest = InputView::pinned(segment, newest, pins).filter(|view| {
                     let h = view.user_header();
                     h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash()
                 });
@@ -466,9 +476,10 @@ impl Client {
                 if h.magic != IMAGE_MAGIC || h.layout_hash != self.layout.hash() {
                     continue;
                 }
-                if self.opts.busy_poll {
-                    // Where the segment lies, from an image the block names too.
-                    self.segment = pins.newest().and_then(|n| Segment::learn(&sample, n));
+                if self.opts.busy_poll && self.segment.is_none() {
+                    // Where the segment lies, from an image the block names too (learnt
+                    // once: an older image received after it must not undo it).
+                    self.segment = pins.newest().and_then(|n| learn_segment(&sample, n));
                 }
                 self.latest = Some(InputView::Received(sample));
                 newer = true;
@@ -614,7 +625,7 @@ impl Client {
     fn disconnect(&mut self) {
         self.latest = None;
         self.segment = None;
-        self.spare_output = None;
+        self.forget_outputs();
         self.conn = None;
     }
 
@@ -702,7 +713,7 @@ impl Client {
             conn.handshake.block().set_fd_waiter(slot, true);
         }
         self.other_events_seen = 0;
-        self.spare_output = None;
+        self.forget_outputs();
         self.conn = Some(conn);
         self.last_startop = 0;
         self.last_opfault = 0;
@@ -733,10 +744,33 @@ impl Client {
     pub(crate) fn loan_output(&mut self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
         match self.spare_output.take() {
             Some(mut sample) => {
+                if std::mem::take(&mut self.spare_posted) {
+                    // Last cycle's OPDONE sample: withdrawn from the block before it is
+                    // written again, and its flags cleared as a fresh loan's are.
+                    if let Some(conn) = &self.conn {
+                        conn.handshake.block().posts.withdraw(self.slot);
+                    }
+                    self.clear_flags(&mut sample);
+                }
                 *sample.user_header_mut() = self.output_header();
                 Ok(sample)
             }
             None => self.fresh_output(),
+        }
+    }
+
+    /// Drops the output samples of a connection that ends.
+    fn forget_outputs(&mut self) {
+        self.spare_output = None;
+        self.spare_posted = false;
+        self.output_start = None;
+    }
+
+    fn clear_flags(&self, sample: &mut SampleMut<Ipc, [u8], OutputHeader>) {
+        let at = self.layout.image().client_status_offset as usize;
+        let statuses = 4 * self.layout.submodules.len();
+        if let Some(flags) = sample.payload_mut().get_mut(at..at + statuses) {
+            flags.fill(0);
         }
     }
 
@@ -768,11 +802,7 @@ impl Client {
         // payload types where that would not hold).
         #[allow(unsafe_code)]
         let mut sample = unsafe { sample.assume_init() };
-        let at = image.client_status_offset as usize;
-        let statuses = 4 * self.layout.submodules.len();
-        if let Some(flags) = sample.payload_mut().get_mut(at..at + statuses) {
-            flags.fill(0);
-        }
+        self.clear_flags(&mut sample);
         *sample.user_header_mut() = self.output_header();
         Ok(sample)
     }
@@ -803,6 +833,11 @@ impl Client {
         mut sample: SampleMut<Ipc, [u8], OutputHeader>,
         opdone_cycle: Option<u64>,
     ) -> Result<(), IoError> {
+        // A busy client's OPDONE sample is named in the handshake block.
+        let place = match opdone_cycle {
+            Some(cycle) if self.opts.busy_poll => self.place_of(&sample, cycle),
+            _ => None,
+        };
         let conn = self.conn.as_ref().ok_or_else(|| IoError::ServerGone {
             instance: self.instance().to_string(),
         })?;
@@ -812,6 +847,19 @@ impl Client {
             h.flags |= OUTPUT_SYNCHRONOUS;
         }
         sample.user_header_mut().sent_ns = procimg_shm_layout::os::monotonic_ns();
+        if let Some(place) = place {
+            let posts = &conn.handshake.block().posts;
+            posts.post(self.slot, place);
+            if posts.learnt(self.slot) == self.token {
+                // The server copies the outputs from where they are: nothing is sent, and
+                // the sample stays this client's for the next window.
+                conn.handshake.block().signal_opdone(&LinuxFutex);
+                self.spare_output = Some(sample);
+                self.spare_posted = true;
+                return Ok(());
+            }
+            // Sent as well, named: the server learns from it where the segment lies.
+        }
         match sample.send() {
             Ok(0) | Err(_) => return Err(IoError::NotDelivered(crate::OUTPUT_BUFFER)),
             Ok(_) => {}
@@ -825,6 +873,25 @@ impl Client {
             }
         }
         Ok(())
+    }
+}
+
+impl Client {
+    /// Where `sample` lies in this connection's output segment, named for `cycle`.
+    fn place_of(
+        &mut self,
+        sample: &SampleMut<Ipc, [u8], OutputHeader>,
+        cycle: u64,
+    ) -> Option<SamplePlace> {
+        let payload = sample.payload().as_ptr() as usize;
+        if self.output_start.is_none() {
+            self.output_start = mapping_of(payload).map(|m| m.start);
+        }
+        let offset = u32::try_from(payload.checked_sub(self.output_start?)?).ok()?;
+        Some(SamplePlace {
+            cycle: cycle as u32,
+            offset,
+        })
     }
 }
 

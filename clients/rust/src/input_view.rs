@@ -7,77 +7,48 @@ use crate::connection::Ipc;
 use iceoryx2::sample::Sample;
 use procimg_shm_layout::ImageHeader;
 use procimg_shm_layout::maps::mapping_of;
-use procimg_shm_layout::pins::Newest;
+use procimg_shm_layout::pins::Pins;
+use procimg_shm_layout::segment::{SamplePlace, Segment};
 
 /// A received input sample.
 pub type InputSample = Sample<Ipc, [u8], ImageHeader>;
 
-/// Where the input segment lies in this process, learnt from one received sample: the
-/// busy path turns the offsets procimgd names into places, and checks each against the
-/// segment's bounds (the block's words are hints: a wrong one may name a wrong image, never
-/// an address outside the segment).
-#[derive(Debug, Clone, Copy)]
-pub struct Segment {
-    /// Where offset 0 lies.
-    base: usize,
-    /// The segment's first address and its end.
-    start: usize,
-    end: usize,
-    /// The header's place relative to the payload's (the same for every sample).
-    header_delta: isize,
-    /// The payload's length.
-    len: usize,
+/// Learns where the input segment lies in this process from `sample`, the image `newest`
+/// names (its cycle must be the sample's: else `None`, and the next image is tried).
+pub fn learn_segment(sample: &InputSample, newest: SamplePlace) -> Option<Segment> {
+    if sample.user_header().cycle.cycle_number as u32 != newest.cycle {
+        return None;
+    }
+    let payload = sample.payload().as_ptr() as usize;
+    let header = sample.user_header() as *const ImageHeader as usize;
+    let mapping = mapping_of(payload)?;
+    Segment::learn(
+        payload,
+        header,
+        sample.payload().len(),
+        newest.offset,
+        (mapping.start, mapping.start + mapping.len),
+    )
 }
 
-impl Segment {
-    /// Learns the segment from `sample`, the image `newest` names (its cycle must be the
-    /// sample's: else `None`, and the next image is tried).
-    pub fn learn(sample: &InputSample, newest: Newest) -> Option<Segment> {
-        if sample.user_header().cycle.cycle_number as u32 != newest.cycle {
-            return None;
-        }
-        let payload = sample.payload().as_ptr() as usize;
-        let header = sample.user_header() as *const ImageHeader as usize;
-        let mapping = mapping_of(payload)?;
-        Some(Segment {
-            base: payload.checked_sub(newest.offset as usize)?,
-            start: mapping.start,
-            end: mapping.start + mapping.len,
-            header_delta: header as isize - payload as isize,
-            len: sample.payload().len(),
-        })
-    }
-
-    /// The image `newest` names, if it lies in the segment.
-    fn place(&self, newest: Newest) -> Option<Pinned> {
-        let payload = self.base.checked_add(newest.offset as usize)?;
-        let header = payload.checked_add_signed(self.header_delta)?;
-        let first = payload.min(header);
-        let last = (payload + self.len).max(header + size_of::<ImageHeader>());
-        let aligned = header.is_multiple_of(align_of::<ImageHeader>());
-        (first >= self.start && last <= self.end && aligned).then_some(Pinned {
-            header: header as *const ImageHeader,
-            payload: payload as *const u8,
-            len: self.len,
-        })
-    }
-}
-
-/// An image held by the client's mark.
+/// An image held by the client's mark: its header copied, its payload in place.
 #[derive(Debug)]
 pub struct Pinned {
-    header: *const ImageHeader,
+    header: ImageHeader,
     payload: *const u8,
     len: usize,
 }
 
-// SAFETY: the pointers name shared memory the client's subscriber maps for as long as the
+// SAFETY: the pointer names shared memory the client's subscriber maps for as long as the
 // connection lives; the view is only read.
 unsafe impl Send for Pinned {}
 // SAFETY: as above.
 unsafe impl Sync for Pinned {}
 
 /// The image a client reads.
+// One view per client: the header copied inline, not boxed, as boxing would allocate for
+// every image on the busy path.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug)]
 pub enum InputView {
     /// Received through iceoryx2, held by the sample.
@@ -89,8 +60,25 @@ pub enum InputView {
 
 impl InputView {
     /// The image `newest` names in `segment`, held by a mark the caller made.
-    pub fn pinned(segment: &Segment, newest: Newest) -> Option<InputView> {
-        segment.place(newest).map(InputView::Pinned)
+    ///
+    /// The header is copied now, while the image is still the newest: iceoryx2 rewrites a
+    /// sample's user header whenever the sample is loaned, also one a mark holds (procimgd
+    /// then keeps it aside with its payload unwritten, but the header is rewritten by then).
+    /// A sample is loaned again only after a newer image was named, so a copy made before
+    /// the newest word moved is whole; one made after is not used (`None`: the next image
+    /// is taken instead).
+    pub fn pinned(segment: &Segment, newest: SamplePlace, pins: &Pins) -> Option<InputView> {
+        let p = segment.place::<ImageHeader>(newest.offset)?;
+        // SAFETY: `Segment::place` checked that the header lies in the input segment,
+        // aligned; the segment stays mapped while the connection lives. Read as a copy, its
+        // wholeness checked below.
+        let header = unsafe { core::ptr::read_volatile(p.header as *const ImageHeader) };
+        let whole = pins.still_newest(newest) && header.cycle.cycle_number as u32 == newest.cycle;
+        whole.then_some(InputView::Pinned(Pinned {
+            header,
+            payload: p.payload as *const u8,
+            len: p.len,
+        }))
     }
 
     /// The image's payload.
@@ -109,9 +97,7 @@ impl InputView {
     pub fn user_header(&self) -> &ImageHeader {
         match self {
             InputView::Received(s) => s.user_header(),
-            // SAFETY: as for the payload; the header was checked to lie in the segment,
-            // aligned.
-            InputView::Pinned(p) => unsafe { &*p.header },
+            InputView::Pinned(p) => &p.header,
         }
     }
 }

@@ -343,6 +343,13 @@ fn drain_outputs(ports: &mut impl ClientLink, st: &mut State) {
     for _ in 0..4 * MAX_CLIENTS {
         match ports.take_output(&mut |h, payload, now| st.merge(h, payload, now)) {
             Taken::Sample => {}
+            Taken::InPlace => {
+                st.shared
+                    .counters
+                    .outputs_in_place
+                    .fetch_add(1, Ordering::Relaxed);
+            }
+            Taken::Torn(slot) => st.tear(slot),
             Taken::Nothing => return,
             Taken::Failed => {
                 st.shared
@@ -379,7 +386,7 @@ impl State {
                             armed: false,
                             done: false,
                             newcycle,
-                            faulted: false,
+                            ..ClientRt::default()
                         };
                     }
                     let counters = &self.shared.counters;
@@ -552,6 +559,31 @@ impl State {
             }
             if flags & CLIENT_SET_OUTPUT_IOPS != 0 {
                 self.output_iops[s] = iops;
+            }
+        }
+    }
+
+    /// The sample of `slot` just merged was written again while it was read (a busy client
+    /// writing outside its window): not an answer (an OPFAULT follows), and no byte of it
+    /// is trusted. The client's outputs are cleared and go out BAD until it writes them
+    /// again, as after OFFLINE; a late sample (not this cycle's) wrote nothing.
+    fn tear(&mut self, slot: u32) {
+        self.shared
+            .counters
+            .rejected_writes
+            .fetch_add(1, Ordering::Relaxed);
+        let Some(c) = self.clients.get_mut(slot as usize) else {
+            return;
+        };
+        if !c.done {
+            return;
+        }
+        c.done = false;
+        let token = c.token;
+        for s in 0..self.output_iops.len() {
+            if self.shared.owner(s) == token {
+                self.image.outputs_mut(s).fill(0);
+                self.output_iops[s] = self.bad_by_us;
             }
         }
     }

@@ -301,6 +301,51 @@ fn a_late_synchronous_client_gets_one_opfault_and_is_not_waited_for_again() {
 }
 
 #[test]
+fn a_torn_opdone_sample_is_an_opfault_and_its_outputs_go_out_cleared_and_bad_until_written() {
+    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
+    let echo = rig.echo();
+    rig.join(2, 22, true);
+    rig.claim(echo, 22);
+    rig.reach(Mode::Operate);
+    let first = rig.sample(2, 22, rig.k, echo, &[0; 16]);
+    rig.engine.ports.outputs.push_back(first);
+    let k = rig.k + 1;
+    let answer = rig.sample(2, 22, k, echo, &[7; 16]);
+    rig.engine.ports.answers.push_back(answer);
+    rig.cycle();
+    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![7; 16], IOXS_GOOD));
+
+    // Written again while it was read (a busy client writing outside its window).
+    rig.engine.ports.torn_slots.push(2);
+    let k = rig.k + 1;
+    let torn = rig.sample(2, 22, k, echo, &[8; 16]);
+    rig.engine.ports.answers.push_back(torn);
+    let rejected = rig.shared.counters.rejected_writes.load(Ordering::Relaxed);
+    let events = rig.cycle();
+    assert_eq!(events.iter().filter(|&&e| e == opfault_event(2)).count(), 1);
+    let cleared = (Mode::Operate, vec![0; 16], IOXS_BAD_BY_CONTROLLER);
+    assert_eq!(rig.last_sent(echo), cleared);
+    assert_eq!(
+        rig.shared.counters.rejected_writes.load(Ordering::Relaxed),
+        rejected + 1
+    );
+    // Not one torn byte goes out later either (hold-last-outputs keeps what was sent).
+    rig.cycle();
+    assert_eq!(rig.last_sent(echo), cleared);
+
+    // Whole again: an answer re-arms it, the next one in time is used.
+    rig.engine.ports.torn_slots.clear();
+    let stale = rig.sample(2, 22, rig.k, echo, &[1; 16]);
+    rig.engine.ports.outputs.push_back(stale);
+    let k = rig.k + 1;
+    let answer = rig.sample(2, 22, k, echo, &[9; 16]);
+    rig.engine.ports.answers.push_back(answer);
+    let events = rig.cycle();
+    assert!(!events.contains(&opfault_event(2)));
+    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![9; 16], IOXS_GOOD));
+}
+
+#[test]
 fn forced_outputs_go_out_valid_over_the_owner_and_without_one() {
     let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
     let echo = rig.echo();

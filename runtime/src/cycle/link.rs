@@ -12,7 +12,7 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::EventId;
 use procimg_control::futex::LinuxFutex;
 use procimg_shm_layout::events::EVENT_STARTOP;
-use procimg_shm_layout::pins::Newest;
+use procimg_shm_layout::segment::SamplePlace;
 use procimg_shm_layout::{ImageHeader, OutputHeader};
 use std::collections::VecDeque;
 
@@ -59,10 +59,15 @@ pub trait ClientLink {
 pub enum Taken {
     /// A sample was handed over.
     Sample,
+    /// A busy client's sample was handed over from where the client wrote it.
+    InPlace,
     /// No sample waits.
     Nothing,
     /// The link could not receive (a dead client's connection being removed).
     Failed,
+    /// A busy client's sample was handed over, but the client wrote it again while it was
+    /// being read (outside its cycle window): what was handed over may mix two writes.
+    Torn(u32),
 }
 
 /// A call into iceoryx2's ports. When a client came or went since the last call, iceoryx2
@@ -118,7 +123,7 @@ impl ClientLink for CyclePorts {
             // Complete, so named at once: a busy client holds it by its mark and need not
             // wait for iceoryx2 to deliver it (the next loans skip it while it is held, also
             // should the send below fail).
-            self.handshake.block().pins.publish(Newest {
+            self.handshake.block().pins.publish(SamplePlace {
                 cycle: stamped.cycle.cycle_number as u32,
                 offset,
             });
@@ -127,21 +132,8 @@ impl ClientLink for CyclePorts {
     }
 
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
-        let found = self
-            .outputs
-            .find(|port| match iceoryx2_call(|| port.receive()) {
-                Ok(Some(sample)) => {
-                    take(sample.user_header(), sample.payload(), now_ns());
-                    Some(Taken::Sample)
-                }
-                Ok(None) => None,
-                Err(_) => Some(Taken::Failed),
-            });
-        if found == Some(Taken::Failed) {
-            // The next look begins with the other clients' ports.
-            self.outputs.pass();
-        }
-        found.unwrap_or(Taken::Nothing)
+        let posts = &self.handshake.block().posts;
+        self.outputs.take(posts, take)
     }
 
     fn notify(&mut self, id: usize) {
@@ -202,6 +194,8 @@ pub struct MemoryLink {
     /// Output samples that arrive only while the engine waits for OPDONE (as a client's
     /// answer to this cycle's STARTOP does), oldest first.
     pub answers: VecDeque<(OutputHeader, Vec<u8>)>,
+    /// Clients whose samples come out torn (as a busy client's written during the copy).
+    pub torn_slots: Vec<u32>,
     /// Every image published: its header and payload.
     pub published: Vec<(ImageHeader, Vec<u8>)>,
     /// Every event signalled, in order.
@@ -264,7 +258,11 @@ impl ClientLink for MemoryLink {
         match self.outputs.pop_front() {
             Some((h, payload)) => {
                 take(&h, &payload, self.now);
-                Taken::Sample
+                if self.torn_slots.contains(&h.client_slot) {
+                    Taken::Torn(h.client_slot)
+                } else {
+                    Taken::Sample
+                }
             }
             None => Taken::Nothing,
         }

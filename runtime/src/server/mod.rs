@@ -328,8 +328,10 @@ impl Control {
             Some((t, port)) if t == token => port,
             _ => return Err(Refusal::UnknownClient),
         };
-        outputs::connect(&port, &self.info.instance).map_err(|e| Refusal::OutputsNotConnected {
-            detail: e.to_string(),
+        let bounds = outputs::connect(&port, &self.info.instance).map_err(|e| {
+            Refusal::OutputsNotConnected {
+                detail: e.to_string(),
+            }
         })?;
         // The connection's file is this process's: the client's publisher opens it next.
         access::share_now();
@@ -339,6 +341,7 @@ impl Control {
                 slot,
                 token,
                 port: Box::new(port),
+                bounds,
             })
             .map_err(|_| Refusal::ServerBusy)
     }
@@ -633,6 +636,7 @@ impl Control {
             input_images_locked_bytes: self.shared.input_reserve.ready_bytes() as u64,
             unready_image_loans: self.shared.input_reserve.unready_loans(),
             rejected_writes: load(&c.rejected_writes),
+            outputs_in_place: load(&c.outputs_in_place),
             wakeup_latency: self.stats.wakeup(),
             handshake_round_trip: self.stats.handshake(),
             opdone_one_way: self.stats.opdone(),

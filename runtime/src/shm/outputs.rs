@@ -12,22 +12,68 @@
 //! back the same way, so that the control thread unmaps them. The ports are of iceoryx2's
 //! thread-safe variant, whose ports may move between threads; only one thread uses a port at
 //! a time, so its mutex is never contended.
+//!
+//! A busy-polling client need not send its OPDONE sample: it names it in the handshake block
+//! (`procimg_shm_layout::posts`), and the cycle thread copies the outputs straight from it.
+//! The place of the client's segment in this process is learnt from the first sample it
+//! sent while naming it, and that sample is kept borrowed for as long as the port lives:
+//! iceoryx2 keeps a connection with a borrowed sample, so the segment stays mapped even after
+//! the client is gone, and a place it named can never point at memory no longer mapped.
 
 use super::node::{self, ShmError, server_node_of};
-use crate::sys::populate;
+use crate::cycle::link::Taken;
+use crate::sys::clock::now_ns;
+use crate::sys::populate::{self, Mapping};
+use crate::sys::rt_alloc::as_connection_setup;
 use crossbeam_queue::ArrayQueue;
 use iceoryx2::node::Node;
 use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::ServiceName;
+use iceoryx2::sample::Sample;
 use procimg_control::OUTPUT_BUFFER;
-use procimg_shm_layout::{MAX_CLIENTS, OutputHeader};
+use procimg_shm_layout::posts::Posts;
+use procimg_shm_layout::segment::{SamplePlace, Segment};
+use procimg_shm_layout::{MAX_CLIENTS, OUTPUT_SYNCHRONOUS, OutputHeader};
 
 /// iceoryx2's inter-process variant whose ports may move between threads.
 pub type IpcThreadsafe = iceoryx2::service::ipc_threadsafe::Service;
 
 /// The server's subscriber to one client's outputs.
 pub type OutputPort = Subscriber<IpcThreadsafe, [u8], OutputHeader>;
+
+/// A sample received from a client.
+type OutputSample = Sample<IpcThreadsafe, [u8], OutputHeader>;
+
+/// The shared-memory mappings that connecting a port added: where the client's output
+/// samples may lie. Of fixed size, so that it goes to the cycle thread without the heap.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Bounds {
+    /// First address and end of each mapping, the largest first; (0, 0) for none.
+    ranges: [(usize, usize); 4],
+}
+
+impl Bounds {
+    /// The largest of `mappings` (the client's output segment is the largest by far; the
+    /// others are iceoryx2's small connection segments).
+    pub fn of(mappings: &[Mapping]) -> Bounds {
+        let mut by_size: Vec<&Mapping> = mappings.iter().collect();
+        by_size.sort_by_key(|m| core::cmp::Reverse(m.len));
+        let mut b = Bounds::default();
+        for (r, m) in b.ranges.iter_mut().zip(by_size) {
+            *r = (m.start, m.start + m.len);
+        }
+        b
+    }
+
+    /// The mapping `at` lies in.
+    pub fn containing(&self, at: usize) -> Option<(usize, usize)> {
+        self.ranges
+            .iter()
+            .copied()
+            .find(|&(start, end)| start <= at && at < end)
+    }
+}
 
 /// A connected output port on its way to the cycle thread.
 pub struct Arrival {
@@ -37,6 +83,8 @@ pub struct Arrival {
     pub token: u64,
     /// The port.
     pub port: Box<OutputPort>,
+    /// Where the client's samples lie in this process.
+    pub bounds: Bounds,
 }
 
 /// Output ports between the control thread and the cycle thread, both ways.
@@ -112,7 +160,8 @@ pub fn create(
         .max_publishers(1)
         .max_subscribers(1)
         .subscriber_max_buffer_size(OUTPUT_BUFFER)
-        .subscriber_max_borrowed_samples(1)
+        // One at a time, and a busy client's sample kept for its segment's place.
+        .subscriber_max_borrowed_samples(2)
         .history_size(0)
         .enable_safe_overflow(false)
         .create()
@@ -125,18 +174,111 @@ pub fn create(
 
 /// Connects `port` to the client's publisher, which maps the client's output samples, and
 /// faults them in a chunk at a time (`sys::populate`): the cycle reads them without a fault,
-/// and the memory-map lock is never held for the whole segment.
-pub fn connect(port: &OutputPort, instance: &str) -> Result<(), ShmError> {
+/// and the memory-map lock is never held for the whole segment. Returns where they lie.
+pub fn connect(port: &OutputPort, instance: &str) -> Result<Bounds, ShmError> {
     let before = populate::shared_memory_starts();
     port.update_connections()
         .map_err(|e| node::err(instance, "the connection to a client's output publisher", e))?;
-    populate::populate_shared_memory_since(&before);
-    Ok(())
+    let added = populate::shared_memory_since(&before);
+    added.iter().for_each(|m| {
+        populate::populate(m);
+    });
+    Ok(Bounds::of(&added))
+}
+
+/// A client's port as the cycle thread holds it.
+struct Held {
+    token: u64,
+    port: Box<OutputPort>,
+    bounds: Bounds,
+    /// Once learnt: where the busy client's samples lie.
+    posted: Option<Posted>,
+}
+
+/// What the cycle thread knows of a busy client's output segment.
+struct Posted {
+    /// The sample the segment's place was learnt from, kept borrowed: it keeps the segment
+    /// mapped (dropped before the port).
+    _keeps_mapped: OutputSample,
+    segment: Segment,
+    /// The sample last taken, not to be taken twice.
+    taken: Option<SamplePlace>,
+}
+
+impl Held {
+    /// Learns where the client's samples lie from `sample`, just received, when the client
+    /// names it in the block too; says so in the block. Whether the sample was kept.
+    fn learn(&mut self, slot: u32, sample: OutputSample, posts: &Posts) -> Option<OutputSample> {
+        let Some(place) = posts.posted(slot) else {
+            return Some(sample);
+        };
+        let h = sample.user_header();
+        let payload = sample.payload().as_ptr() as usize;
+        let named = h.client_token == self.token
+            && h.flags & OUTPUT_SYNCHRONOUS != 0
+            && h.cycle_number as u32 == place.cycle;
+        let header = h as *const OutputHeader as usize;
+        let segment = self
+            .bounds
+            .containing(payload)
+            .and_then(|b| Segment::learn(payload, header, sample.payload().len(), place.offset, b))
+            .filter(|seg| {
+                seg.place::<OutputHeader>(place.offset).map(|p| p.payload) == Some(payload)
+            });
+        match segment {
+            Some(segment) if named && self.posted.is_none() => {
+                self.posted = Some(Posted {
+                    _keeps_mapped: sample,
+                    segment,
+                    taken: Some(place),
+                });
+                posts.set_learnt(slot, self.token);
+                None
+            }
+            _ => Some(sample),
+        }
+    }
+
+    /// Hands the sample the busy client names to `take`, if it was not taken yet.
+    fn take_posted(
+        &mut self,
+        slot: u32,
+        posts: &Posts,
+        take: &mut dyn FnMut(&OutputHeader, &[u8], u64),
+    ) -> Option<Taken> {
+        let src = self.posted.as_mut()?;
+        let place = posts.posted(slot)?;
+        if src.taken == Some(place) {
+            return None;
+        }
+        src.taken = Some(place);
+        let p = src.segment.place::<OutputHeader>(place.offset)?;
+        // SAFETY: `Segment::place` checked that the header (aligned) and the payload lie in
+        // the client's output segment, which stays mapped while `_keeps_mapped` is borrowed
+        // from it. The client writes that memory only outside its cycle window, after it
+        // withdrew the place: a copy that overlapped such a write is found below and not
+        // used. The header is copied out before anything reads it.
+        #[allow(unsafe_code)]
+        let (header, payload) = unsafe {
+            (
+                core::ptr::read_volatile(p.header as *const OutputHeader),
+                core::slice::from_raw_parts(p.payload as *const u8, p.len),
+            )
+        };
+        take(&header, payload, now_ns());
+        Some(if posts.still_posted(slot, place) {
+            Taken::InPlace
+        } else {
+            Taken::Torn(slot)
+        })
+    }
 }
 
 /// The output ports the cycle thread holds, by client slot.
 pub struct OutputPorts {
-    ports: Vec<Option<(u64, Box<OutputPort>)>>,
+    ports: Vec<Option<Held>>,
+    /// Bit `slot`: that client's samples are taken where it names them.
+    posting: u64,
     /// Where the next look for a sample begins: the port that had the last one, so that a
     /// client's samples are taken in the order sent and the ports in turn.
     cursor: usize,
@@ -146,6 +288,7 @@ impl Default for OutputPorts {
     fn default() -> Self {
         OutputPorts {
             ports: (0..MAX_CLIENTS).map(|_| None).collect(),
+            posting: 0,
             cursor: 0,
         }
     }
@@ -155,44 +298,101 @@ impl OutputPorts {
     /// Takes the ports that arrived: those `current(slot, token)` accepts replace what their
     /// slot held; the others (their client left meanwhile) go back at once.
     pub fn adopt(&mut self, handoff: &OutputHandoff, current: &dyn Fn(u32, u64) -> bool) {
-        while let Some(Arrival { slot, token, port }) = handoff.receive() {
-            match self.ports.get_mut(slot as usize) {
-                Some(entry) if current(slot, token) => {
-                    if let Some((_, old)) = entry.replace((token, port)) {
-                        handoff.retire(old);
-                    }
-                }
-                _ => handoff.retire(port),
+        while let Some(Arrival {
+            slot,
+            token,
+            port,
+            bounds,
+        }) = handoff.receive()
+        {
+            if !current(slot, token) || slot as usize >= self.ports.len() {
+                handoff.retire(port);
+                continue;
             }
+            self.retire(slot, handoff);
+            self.ports[slot as usize] = Some(Held {
+                token,
+                port,
+                bounds,
+                posted: None,
+            });
         }
     }
 
     /// Hands back the port of `slot`, whose client left or registered anew.
     pub fn retire(&mut self, slot: u32, handoff: &OutputHandoff) {
-        if let Some((_, port)) = self.ports.get_mut(slot as usize).and_then(Option::take) {
-            handoff.retire(port);
+        self.posting &= !bit(slot);
+        if let Some(held) = self.ports.get_mut(slot as usize).and_then(Option::take) {
+            // The kept sample goes first: it is the port's.
+            drop(held.posted);
+            handoff.retire(held.port);
         }
     }
 
-    /// Moves the cursor past the port it is on (whose receive failed), so that the next look
-    /// begins with the others.
-    pub fn pass(&mut self) {
-        self.cursor = (self.cursor + 1) % self.ports.len();
+    /// Hands the oldest output waiting to `take`: samples sent through iceoryx2 first (they
+    /// were sent before any sample named now), then the samples busy clients name in
+    /// `posts`.
+    pub fn take(
+        &mut self,
+        posts: &Posts,
+        take: &mut dyn FnMut(&OutputHeader, &[u8], u64),
+    ) -> Taken {
+        match self.receive(posts, take) {
+            Taken::Nothing => self.take_posted(posts, take),
+            taken => taken,
+        }
     }
 
-    /// Looks at the ports in turn from the cursor and calls `look` on each until it returns
-    /// `Some`; the cursor stays on that port. `None` when no port gave an answer.
-    pub fn find<R>(&mut self, mut look: impl FnMut(&OutputPort) -> Option<R>) -> Option<R> {
+    /// Receives from the ports in turn, from the cursor on: the cursor stays on the port
+    /// that had a sample, and moves past one whose receive failed, so that the next look
+    /// begins with the others.
+    fn receive(&mut self, posts: &Posts, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
         let n = self.ports.len();
         for i in 0..n {
             let at = (self.cursor + i) % n;
-            if let Some((_, port)) = &self.ports[at]
-                && let Some(r) = look(port)
-            {
-                self.cursor = at;
-                return Some(r);
+            let Some(held) = &mut self.ports[at] else {
+                continue;
+            };
+            // When a client came or went, iceoryx2 sets up or tears down its connection
+            // inside the receive, which allocates: counted as connection set-up.
+            match as_connection_setup(|| held.port.receive()) {
+                Ok(Some(sample)) => {
+                    take(sample.user_header(), sample.payload(), now_ns());
+                    if held.posted.is_none() && held.learn(at as u32, sample, posts).is_none() {
+                        self.posting |= bit(at as u32);
+                    }
+                    self.cursor = at;
+                    return Taken::Sample;
+                }
+                Ok(None) => {}
+                Err(_) => {
+                    self.cursor = (at + 1) % n;
+                    return Taken::Failed;
+                }
             }
         }
-        None
+        Taken::Nothing
     }
+
+    fn take_posted(
+        &mut self,
+        posts: &Posts,
+        take: &mut dyn FnMut(&OutputHeader, &[u8], u64),
+    ) -> Taken {
+        let mut posting = self.posting;
+        while posting != 0 {
+            let slot = posting.trailing_zeros();
+            posting &= posting - 1;
+            if let Some(Some(held)) = self.ports.get_mut(slot as usize)
+                && let Some(taken) = held.take_posted(slot, posts, take)
+            {
+                return taken;
+            }
+        }
+        Taken::Nothing
+    }
+}
+
+fn bit(slot: u32) -> u64 {
+    1u64 << (slot as usize % MAX_CLIENTS)
 }

@@ -74,15 +74,13 @@ pub fn populate_all(except: Option<usize>) -> usize {
         .sum()
 }
 
-/// Populates the shared-memory segments mapped since `before` was taken
-/// ([`shared_memory_starts`]). Returns the bytes done.
-pub fn populate_shared_memory_since(before: &HashSet<usize>) -> usize {
+/// The shared-memory segments mapped since `before` was taken ([`shared_memory_starts`]).
+pub fn shared_memory_since(before: &HashSet<usize>) -> Vec<Mapping> {
     mappings()
         .unwrap_or_default()
-        .iter()
+        .into_iter()
         .filter(|m| m.is_shared_memory() && !before.contains(&m.start))
-        .map(populate)
-        .sum()
+        .collect()
 }
 
 /// Whether the kernel has `MADV_POPULATE_READ` (Linux 5.14 and later).
@@ -116,7 +114,8 @@ mod tests {
         file.set_len(256 * 1024).expect("sized");
         // SAFETY: a fresh shared mapping of a file this test owns, unmapped below.
         let map = unsafe { memmap2::Mmap::map(&file) }.expect("mapped");
-        let done = populate_shared_memory_since(&before);
+        let added = shared_memory_since(&before);
+        let done: usize = added.iter().map(populate).sum();
         assert!(done >= map.len(), "populated {done} of {} bytes", map.len());
         assert!(populate_all(None) > 0);
         drop(map);
