@@ -321,6 +321,36 @@ fn clients_see_the_same_untorn_images(tag: &str, busy: [bool; 8]) {
     }
 }
 
+/// A busy client that holds a cycle's image while the server publishes many newer ones sees
+/// it unchanged, header and all: procimgd keeps the sample its mark holds unwritten, and the
+/// header (which iceoryx2 rewrites whenever it loans the sample) was copied while the image
+/// was the newest.
+#[test]
+fn a_busy_client_holding_an_image_sees_it_unchanged_while_newer_ones_come() {
+    let server = Procimgd::demo("busyhold");
+    let opts = AttachOptions::asynchronous("holder").busy_poll(true);
+    let mut c = Client::attach(&server.instance, opts).unwrap();
+    // The busy path begins once the client has learnt where the images lie, from one it
+    // received: a few cycles in.
+    for _ in 0..20 {
+        let _ = c.wait_startop(STARTOP_TIMEOUT);
+    }
+    for _ in 0..5 {
+        let cycle = c.wait_startop(Duration::from_secs(10)).unwrap();
+        let (number, info, inputs) = (cycle.number(), cycle.info(), cycle.inputs().to_vec());
+        assert!(number > 0);
+        // Held while 20 newer images are published: the samples come round for loans.
+        server.wait_status("20 newer cycles", |s| s.cycle_count >= number + 20);
+        assert_eq!(cycle.number(), number);
+        assert_eq!(cycle.info(), info);
+        assert_eq!(
+            cycle.inputs(),
+            &inputs[..],
+            "the inputs of cycle {number} changed"
+        );
+    }
+}
+
 /// The read path hands out slices of the shared-memory segment itself: their addresses lie in
 /// a mapping of a procimg file in /dev/shm, not in this process's heap.
 #[test]

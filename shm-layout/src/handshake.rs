@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! The handshake block: the futex words of STARTOP and OPDONE, in one page of shared memory
-//! that procimgd creates per server generation and every client maps read-write.
+//! The handshake block: the futex words of STARTOP and OPDONE, in three pages of shared
+//! memory that procimgd creates per server generation and every client maps read-write.
 //!
-//! The image and the outputs still travel as iceoryx2 samples; the block only says *when*.
+//! The image and the outputs live in iceoryx2 samples; the block says *when*, and on the busy
+//! path also *where*: the newest image's place ([`crate::pins`]) and each busy client's
+//! output sample's ([`crate::posts`]), so that no sample need go through iceoryx2's queues.
 //! It replaces iceoryx2's event sockets on the hot path: one `FUTEX_WAKE` wakes every client
 //! sleeping for STARTOP at once, a client's OPDONE costs an atomic add and, only when the
 //! server sleeps, one `FUTEX_WAKE`, and the server sleeps for OPDONE with `FUTEX_WAIT_BITSET`

@@ -20,6 +20,11 @@
 //! The server keeps a sample some client holds out of use (it keeps the loan aside and loans
 //! another) until the mark is gone; the marks are about samples, not images, so a sample
 //! that comes round again under a newer image is held just the same.
+//!
+//! The payload is all a mark keeps: iceoryx2 rewrites a sample's user header when it loans
+//! the sample, before the server can see the mark and set the loan aside. A reader copies
+//! the header while the image is still the newest and checks that with
+//! [`Pins::still_newest`] afterwards.
 
 use core::sync::atomic::{AtomicU64, Ordering, fence};
 
