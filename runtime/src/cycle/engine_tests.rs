@@ -179,6 +179,32 @@ impl Rig {
         (header, payload)
     }
 
+    /// In OPERATE under `policy`: a synchronous client (`slot`, `token`) that owns the echo
+    /// submodule, waited for from its first sample on (one still setting up is not late), and
+    /// whose answer to a cycle's STARTOP (`answer` bytes) arrived while the engine waited.
+    /// Returns the echo's index and that cycle's events.
+    fn with_an_answering_client(
+        policy: LatePolicy,
+        slot: u32,
+        token: u64,
+        answer: u8,
+    ) -> (Rig, usize, Vec<usize>) {
+        let mut rig = Rig::new(policy, Mode::Operate);
+        let echo = rig.echo();
+        rig.join(slot, token, true);
+        rig.claim(echo, token);
+        rig.reach(Mode::Operate);
+        let first = rig.sample(slot, token, rig.k, echo, &[0; 16]);
+        rig.engine.ports.outputs.push_back(first);
+        let k = rig.k + 1;
+        let sample = rig.sample(slot, token, k, echo, &[answer; 16]);
+        rig.engine.ports.answers.push_back(sample);
+        let events = rig.cycle();
+        let sent = (Mode::Operate, vec![answer; 16], IOXS_GOOD);
+        assert_eq!(rig.last_sent(echo), sent);
+        (rig, echo, events)
+    }
+
     /// What the last send put out for submodule `s`.
     fn last_sent(&self, s: usize) -> (Mode, Vec<u8>, u8) {
         let sent = self.sent.lock().unwrap();
@@ -252,24 +278,11 @@ fn only_the_owners_outputs_are_taken_and_unowned_ones_go_out_bad() {
 
 #[test]
 fn a_late_synchronous_client_gets_one_opfault_and_is_not_waited_for_again() {
-    let mut rig = Rig::new(LatePolicy::IopsBad, Mode::Operate);
-    let echo = rig.echo();
-    rig.join(3, 33, true);
-    rig.claim(echo, 33);
-    rig.reach(Mode::Operate);
-
-    // A client is waited for from its first sample on (one still setting up is not late).
-    let first = rig.sample(3, 33, rig.k, echo, &[0; 16]);
-    rig.engine.ports.outputs.push_back(first);
-    // In time: its answer to this cycle's STARTOP arrives while the engine waits.
-    let k = rig.k + 1;
-    let answer = rig.sample(3, 33, k, echo, &[1; 16]);
-    rig.engine.ports.answers.push_back(answer);
-    let events = rig.cycle();
+    // In time: its answer arrives while the engine waits.
+    let (mut rig, echo, events) = Rig::with_an_answering_client(LatePolicy::IopsBad, 3, 33, 1);
     assert!(!events.contains(&opfault_event(3)));
-    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![1; 16], IOXS_GOOD));
     assert!(
-        rig.engine.ports.now < k * T + DEADLINE,
+        rig.engine.ports.now < rig.k * T + DEADLINE,
         "the engine did not wait for the deadline"
     );
 
@@ -302,18 +315,7 @@ fn a_late_synchronous_client_gets_one_opfault_and_is_not_waited_for_again() {
 
 #[test]
 fn a_torn_opdone_sample_is_an_opfault_and_its_outputs_go_out_cleared_and_bad_until_written() {
-    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
-    let echo = rig.echo();
-    rig.join(2, 22, true);
-    rig.claim(echo, 22);
-    rig.reach(Mode::Operate);
-    let first = rig.sample(2, 22, rig.k, echo, &[0; 16]);
-    rig.engine.ports.outputs.push_back(first);
-    let k = rig.k + 1;
-    let answer = rig.sample(2, 22, k, echo, &[7; 16]);
-    rig.engine.ports.answers.push_back(answer);
-    rig.cycle();
-    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![7; 16], IOXS_GOOD));
+    let (mut rig, echo, _) = Rig::with_an_answering_client(LatePolicy::HoldLastOutputs, 2, 22, 7);
 
     // Written again while it was read (a busy client writing outside its window).
     rig.engine.ports.torn_slots.push(2);
@@ -380,18 +382,7 @@ fn forced_outputs_go_out_valid_over_the_owner_and_without_one() {
 
 #[test]
 fn a_late_client_under_hold_last_outputs_keeps_its_last_outputs_valid() {
-    let mut rig = Rig::new(LatePolicy::HoldLastOutputs, Mode::Operate);
-    let echo = rig.echo();
-    rig.join(2, 22, true);
-    rig.claim(echo, 22);
-    rig.reach(Mode::Operate);
-    let first = rig.sample(2, 22, rig.k, echo, &[0; 16]);
-    rig.engine.ports.outputs.push_back(first);
-    let k = rig.k + 1;
-    let answer = rig.sample(2, 22, k, echo, &[7; 16]);
-    rig.engine.ports.answers.push_back(answer);
-    rig.cycle();
-    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![7; 16], IOXS_GOOD));
+    let (mut rig, echo, _) = Rig::with_an_answering_client(LatePolicy::HoldLastOutputs, 2, 22, 7);
 
     // Silent from here on: one OPFAULT, and the outputs it wrote last stay on the wire, valid.
     let mut opfaults = 0;

@@ -54,21 +54,7 @@ pub trait ClientLink {
     fn maintain(&mut self);
 }
 
-/// What [`ClientLink::take_output`] found.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Taken {
-    /// A sample was handed over.
-    Sample,
-    /// A busy client's sample was handed over from where the client wrote it.
-    InPlace,
-    /// No sample waits.
-    Nothing,
-    /// The link could not receive (a dead client's connection being removed).
-    Failed,
-    /// A busy client's sample was handed over, but the client wrote it again while it was
-    /// being read (outside its cycle window): what was handed over may mix two writes.
-    Torn(u32),
-}
+pub use crate::shm::outputs::Taken;
 
 /// A call into iceoryx2's ports. When a client came or went since the last call, iceoryx2
 /// sets up or tears down its connection inside such a call, and that allocates: those

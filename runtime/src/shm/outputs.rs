@@ -21,7 +21,6 @@
 //! the client is gone, and a place it named can never point at memory no longer mapped.
 
 use super::node::{self, ShmError, server_node_of};
-use crate::cycle::link::Taken;
 use crate::sys::clock::now_ns;
 use crate::sys::populate::{self, Mapping};
 use crate::sys::rt_alloc::as_connection_setup;
@@ -184,6 +183,22 @@ pub fn connect(port: &OutputPort, instance: &str) -> Result<Bounds, ShmError> {
         populate::populate(m);
     });
     Ok(Bounds::of(&added))
+}
+
+/// What a look for a client's output sample found (`cycle::link::ClientLink::take_output`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Taken {
+    /// A sample was handed over.
+    Sample,
+    /// A busy client's sample was handed over from where the client wrote it.
+    InPlace,
+    /// No sample waits.
+    Nothing,
+    /// The link could not receive (a dead client's connection being removed).
+    Failed,
+    /// A busy client's sample was handed over, but the client wrote it again while it was
+    /// being read (outside its cycle window): what was handed over may mix two writes.
+    Torn(u32),
 }
 
 /// A client's port as the cycle thread holds it.
