@@ -217,9 +217,10 @@ pub struct Client {
     /// Busy-polling: the spare is last cycle's OPDONE sample, named in the handshake block
     /// (`procimg_shm_layout::posts`): withdrawn before it is written again.
     spare_posted: bool,
-    /// Busy-polling: where this connection's output segment starts, learnt from the first
-    /// sample named in the block.
-    output_start: Option<usize>,
+    /// Busy-polling: where this connection's output segment starts, looked up once, at the
+    /// first OPDONE (`/proc/self/maps`): `Some(None)` when it could not be found, and the
+    /// outputs then go as samples, without a look per cycle.
+    output_start: Option<Option<usize>>,
     // Data ports, then the control handle (and its node) last: ports drop before the node.
     pub(crate) conn: Option<Connection>,
     pub(crate) control: ControlHandle,
@@ -884,10 +885,10 @@ impl Client {
         cycle: u64,
     ) -> Option<SamplePlace> {
         let payload = sample.payload().as_ptr() as usize;
-        if self.output_start.is_none() {
-            self.output_start = mapping_of(payload).map(|m| m.start);
-        }
-        let offset = u32::try_from(payload.checked_sub(self.output_start?)?).ok()?;
+        let start = *self
+            .output_start
+            .get_or_insert_with(|| mapping_of(payload).map(|m| m.start));
+        let offset = u32::try_from(payload.checked_sub(start?)?).ok()?;
         Some(SamplePlace {
             cycle: cycle as u32,
             offset,
