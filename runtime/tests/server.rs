@@ -546,6 +546,54 @@ fn output_address(cycle: &procimg_client::Cycle<'_>, s: usize) -> u32 {
     cycle.layout().submodules[s].output_address
 }
 
+/// A busy client whose OPDONE samples are taken where it wrote them still has an
+/// asynchronous write taken: procimgd looks at its port whenever it counted a send, so the
+/// write goes out (and shows as last sent) while the cycle's outputs keep being taken in
+/// place, none refused.
+#[test]
+fn a_busy_clients_asynchronous_write_goes_out_beside_outputs_taken_in_place() {
+    let server = Procimgd::demo("busyasync");
+    let opts = AttachOptions::synchronous("busy-writer").busy_poll(true);
+    let mut c = Client::attach(&server.instance, opts).unwrap();
+    let echo = c.layout().find("echo", 1, 1).unwrap();
+    let dio = c.layout().find("dio", 2, 1).unwrap();
+    let dio_address = c.layout().submodules[dio].output_address;
+    c.claim(&[echo, dio]).unwrap();
+    let written = [0x5a, 0xa5];
+    let mut sent = false;
+    let until = Instant::now() + Duration::from_secs(60);
+    for round in 1u64.. {
+        assert!(
+            Instant::now() < until,
+            "after {round} cycles: in place {}, asynchronous write sent {sent}",
+            server.status().outputs_in_place
+        );
+        let Ok(mut cycle) = c.wait_startop(STARTOP_TIMEOUT) else {
+            continue;
+        };
+        let k = cycle.number();
+        cycle
+            .output_mut(echo)
+            .unwrap()
+            .copy_from_slice(&pattern(k, 16));
+        cycle.set_opdone().unwrap();
+        if !sent && round % 10 == 0 && server.status().outputs_in_place >= 10 {
+            // Between two cycles: a write of its own sample, sent through iceoryx2.
+            c.data_write(dio_address, &written, Ioxs::Good).unwrap();
+            sent = true;
+        } else if sent {
+            let mut out = [0u8; 2];
+            c.output_data_read(dio_address, &mut out).unwrap();
+            if out == written {
+                break;
+            }
+        }
+    }
+    let status = server.status();
+    assert_eq!(status.rejected_writes, 0);
+    assert!(status.outputs_in_place >= 10);
+}
+
 /// A cycle whose image another call already fetched (an event, a data_read) is still handed
 /// out by wait_startop: nothing is skipped, so the client does not miss its window.
 #[test]

@@ -28,8 +28,9 @@ use crate::MAX_CLIENTS;
 use crate::pins::Pins;
 use crate::posts::Posts;
 
-/// "PIMGHSK3": marks an initialised block (3: with the busy path's [`Pins`] and [`Posts`]).
-pub const HANDSHAKE_MAGIC: u64 = 0x334b_5348_474d_4950;
+/// "PIMGHSK4": marks an initialised block (3: with the busy path's [`Pins`] and [`Posts`];
+/// 4: with the count of samples a client sent, which a server of 4 relies on).
+pub const HANDSHAKE_MAGIC: u64 = 0x344b_5348_474d_4950;
 
 /// Size of the block's mapping: three pages.
 pub const HANDSHAKE_BLOCK_SIZE: usize = 12288;

@@ -29,6 +29,10 @@ pub struct SlotPost {
     posted: AtomicU64,
     /// The token of the registration whose output segment the server has learnt, 0 before.
     learnt: AtomicU64,
+    /// Samples the client sent through iceoryx2 (wrapping), counted after each send: the
+    /// server looks at a learnt client's port only when this moved, so that a busy OPDONE
+    /// does not pay for a receive (and its port's mutex) when nothing was sent.
+    sent: AtomicU64,
 }
 
 /// The clients' posted output samples (`#[repr(C)]`, in the handshake block).
@@ -72,6 +76,14 @@ impl Posts {
         }
     }
 
+    /// Counts a sample the client just sent through iceoryx2.
+    pub fn count_sent(&self, slot: u32) {
+        if let Some(s) = self.slot(slot) {
+            // Release: a server that sees the count finds the sample in the port.
+            s.sent.fetch_add(1, Ordering::Release);
+        }
+    }
+
     /// The token of the registration whose output segment the server has learnt (0: none).
     pub fn learnt(&self, slot: u32) -> u64 {
         self.slot(slot)
@@ -93,6 +105,12 @@ impl Posts {
             .is_some_and(|s| s.posted.load(Ordering::Relaxed) == place.word())
     }
 
+    /// How many samples the client of `slot` has sent through iceoryx2 (wrapping).
+    pub fn sent(&self, slot: u32) -> u64 {
+        self.slot(slot)
+            .map_or(0, |s| s.sent.load(Ordering::Acquire))
+    }
+
     /// Says that the server learnt the output segment of the registration `token` in `slot`.
     pub fn set_learnt(&self, slot: u32, token: u64) {
         if let Some(s) = self.slot(slot) {
@@ -105,6 +123,7 @@ impl Posts {
         if let Some(s) = self.slot(slot) {
             s.learnt.store(0, Ordering::Release);
             s.posted.store(0, Ordering::Release);
+            s.sent.store(0, Ordering::Release);
         }
     }
 }
@@ -131,11 +150,19 @@ mod tests {
         assert!(!posts.still_posted(2, place));
         posts.set_learnt(2, 77);
         assert_eq!(posts.learnt(2), 77);
+        posts.count_sent(2);
+        posts.count_sent(2);
+        assert_eq!((posts.sent(2), posts.sent(3)), (2, 0));
         posts.post(2, place);
         posts.forget_slot(2);
-        assert_eq!((posts.posted(2), posts.learnt(2)), (None, 0));
+        assert_eq!(
+            (posts.posted(2), posts.learnt(2), posts.sent(2)),
+            (None, 0, 0)
+        );
         assert_eq!(posts.posted(MAX_CLIENTS as u32), None);
         posts.post(MAX_CLIENTS as u32, place);
+        posts.count_sent(MAX_CLIENTS as u32);
+        assert_eq!(posts.sent(MAX_CLIENTS as u32), 0);
     }
 
     /// A client that writes its sample over and over (as one writing outside its window

@@ -5,7 +5,7 @@
 use crate::connection::{Connection, Ipc, iox2_config};
 use crate::control::ControlHandle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
-use crate::input_view::{InputView, learn_segment};
+use crate::input_view::{InputView, SegmentKnowledge, learn_segment};
 use crate::layout::Layout;
 use crate::status::Ioxs;
 use iceoryx2::node::{Node, NodeState, NodeView};
@@ -17,7 +17,7 @@ use procimg_shm_layout::events::{EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, opf
 use procimg_shm_layout::handshake::Woken;
 use procimg_shm_layout::handshake_map::HandshakeMap;
 use procimg_shm_layout::maps::mapping_of;
-use procimg_shm_layout::segment::{SamplePlace, Segment};
+use procimg_shm_layout::segment::SamplePlace;
 use procimg_shm_layout::{
     CycleInfo, IMAGE_MAGIC, ImageHeader, MAX_CLIENTS, MODE_HISTORY, Mode, OUTPUT_SYNCHRONOUS,
     OutputHeader,
@@ -190,7 +190,7 @@ pub struct Client {
     pub(crate) latest: Option<InputView>,
     /// Busy-polling: where this connection's input segment lies, learnt from a received
     /// image; from then on images are found through the handshake block (see `input_view`).
-    segment: Option<Segment>,
+    segment: SegmentKnowledge,
     /// Last cycle handed out by `wait_startop`.
     last_startop: u64,
     /// Last OPFAULT cycle seen for this client's slot.
@@ -269,7 +269,7 @@ impl Client {
             layout,
             claims: BTreeSet::new(),
             latest: None,
-            segment: None,
+            segment: SegmentKnowledge::Unknown,
             last_startop: 0,
             last_opfault: 0,
             mode_changes_seen: None,
@@ -446,7 +446,7 @@ impl Client {
         };
         let mut newer = false;
         let pins = &conn.handshake.block().pins;
-        if let Some(segment) = &self.segment {
+        if let SegmentKnowledge::Known(segment) = &self.segment {
             // The busy path: the newest image, held by this client's mark, found without a
             // receive. Nothing can be borrowing the one held before (`&mut self`).
             let current = self
@@ -477,10 +477,13 @@ impl Client {
                 if h.magic != IMAGE_MAGIC || h.layout_hash != self.layout.hash() {
                     continue;
                 }
-                if self.opts.busy_poll && self.segment.is_none() {
-                    // Where the segment lies, from an image the block names too (learnt
+                if self.opts.busy_poll
+                    && matches!(self.segment, SegmentKnowledge::Unknown)
+                    && let Some(newest) = pins.newest()
+                {
+                    // Where the segment lies, from an image the block names too (decided
                     // once: an older image received after it must not undo it).
-                    self.segment = pins.newest().and_then(|n| learn_segment(&sample, n));
+                    self.segment = learn_segment(&sample, newest);
                 }
                 self.latest = Some(InputView::Received(sample));
                 newer = true;
@@ -625,7 +628,7 @@ impl Client {
     /// Drops the data ports: the server is gone.
     fn disconnect(&mut self) {
         self.latest = None;
-        self.segment = None;
+        self.segment = SegmentKnowledge::Unknown;
         self.forget_outputs();
         self.conn = None;
     }
@@ -700,7 +703,7 @@ impl Client {
             self.local_input_iocs = vec![Ioxs::Good; self.layout.submodules.len()];
             self.read_cache = None;
             self.latest = None;
-            self.segment = None;
+            self.segment = SegmentKnowledge::Unknown;
             claims
         } else {
             self.claims.iter().copied().collect()
@@ -863,7 +866,7 @@ impl Client {
         }
         match sample.send() {
             Ok(0) | Err(_) => return Err(IoError::NotDelivered(crate::OUTPUT_BUFFER)),
-            Ok(_) => {}
+            Ok(_) => conn.handshake.block().posts.count_sent(self.slot),
         }
         if opdone_cycle.is_some() {
             // The sample is there before the word moves: a server woken by it finds it.

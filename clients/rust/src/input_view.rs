@@ -13,22 +13,40 @@ use procimg_shm_layout::segment::{SamplePlace, Segment};
 /// A received input sample.
 pub type InputSample = Sample<Ipc, [u8], ImageHeader>;
 
+/// What a busy client knows of where its input segment lies in its address space.
+#[derive(Clone, Copy, Debug, Default)]
+pub enum SegmentKnowledge {
+    /// Not yet learnt: the next received image that the handshake block names is tried.
+    #[default]
+    Unknown,
+    /// Learnt: images are found through the handshake block from now on.
+    Known(Segment),
+    /// Cannot be learnt in this connection (no `/proc/self/maps`, or a sample outside the
+    /// mapping it names): images keep coming through iceoryx2, and nothing is tried again
+    /// until the next connection, so no image pays for another look.
+    Unknowable,
+}
+
 /// Learns where the input segment lies in this process from `sample`, the image `newest`
-/// names (its cycle must be the sample's: else `None`, and the next image is tried).
-pub fn learn_segment(sample: &InputSample, newest: SamplePlace) -> Option<Segment> {
+/// names. Its cycle must be the sample's, else the knowledge stays `Unknown` and the next
+/// image is tried.
+pub fn learn_segment(sample: &InputSample, newest: SamplePlace) -> SegmentKnowledge {
     if sample.user_header().cycle.cycle_number as u32 != newest.cycle {
-        return None;
+        return SegmentKnowledge::Unknown;
     }
     let payload = sample.payload().as_ptr() as usize;
     let header = sample.user_header() as *const ImageHeader as usize;
-    let mapping = mapping_of(payload)?;
-    Segment::learn(
-        payload,
-        header,
-        sample.payload().len(),
-        newest.offset,
-        (mapping.start, mapping.start + mapping.len),
-    )
+    mapping_of(payload)
+        .and_then(|mapping| {
+            Segment::learn(
+                payload,
+                header,
+                sample.payload().len(),
+                newest.offset,
+                (mapping.start, mapping.start + mapping.len),
+            )
+        })
+        .map_or(SegmentKnowledge::Unknowable, SegmentKnowledge::Known)
 }
 
 /// An image held by the client's mark: its header copied, its payload in place.

@@ -218,6 +218,8 @@ struct Posted {
     segment: Segment,
     /// The sample last taken, not to be taken twice.
     taken: Option<SamplePlace>,
+    /// The client's count of samples sent ([`Posts::sent`]) when its port was last looked at.
+    sent_seen: u64,
 }
 
 impl Held {
@@ -246,6 +248,9 @@ impl Held {
                     _keeps_mapped: sample,
                     segment,
                     taken: Some(place),
+                    // Below any count the client has (it sent this sample): the port is
+                    // looked at once more, for what it sent after this sample.
+                    sent_seen: 0,
                 });
                 posts.set_learnt(slot, self.token);
                 None
@@ -368,6 +373,16 @@ impl OutputPorts {
             let Some(held) = &mut self.ports[at] else {
                 continue;
             };
+            // A busy client that names its OPDONE samples sends only asynchronous writes:
+            // its port is looked at only when it counted one. (The count is read before the
+            // receive, so a sample that comes during it moves the count again.)
+            if let Some(posted) = &mut held.posted {
+                let sent = posts.sent(at as u32);
+                if sent == posted.sent_seen {
+                    continue;
+                }
+                posted.sent_seen = sent;
+            }
             // When a client came or went, iceoryx2 sets up or tears down its connection
             // inside the receive, which allocates: counted as connection set-up.
             match as_connection_setup(|| held.port.receive()) {
