@@ -44,6 +44,7 @@ pub(super) struct RawCycleThread {
     pub priority: Option<Spanned<u8>>,
     pub status_priority: Option<Spanned<u8>>,
     pub lock_memory: Option<bool>,
+    pub prefault_all: Option<bool>,
     pub opdone_wait: Option<Spanned<String>>,
     pub opdone_spin: Option<Spanned<String>>,
 }

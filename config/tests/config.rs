@@ -176,10 +176,11 @@ fn empty_file_gives_the_defaults() {
             c.cycle_thread.cpu,
             c.cycle_thread.priority,
             c.cycle_thread.lock_memory,
+            c.cycle_thread.prefault_all,
             c.cycle_thread.opdone_wait,
             c.cycle_thread.opdone_spin_ns
         ),
-        (None, 80, true, OpdoneWait::Event, 20_000)
+        (None, 80, true, false, OpdoneWait::Event, 20_000)
     );
     assert_eq!((c.access.mode, c.access.group), (0o600, None));
     assert!(c.devices.is_empty());
@@ -200,6 +201,7 @@ network = "enp1s0"
 cpu = 0
 priority = 99
 lock_memory = false
+prefault_all = true
 opdone_wait = "busy-poll"
 opdone_spin = "5us"
 
@@ -242,10 +244,11 @@ records = [ { index = 0x100, data = [1, 2, 0xFF] }, { index = 2, data = [] } ]
             c.cycle_thread.cpu,
             c.cycle_thread.priority,
             c.cycle_thread.lock_memory,
+            c.cycle_thread.prefault_all,
             c.cycle_thread.opdone_wait,
             c.cycle_thread.opdone_spin_ns
         ),
-        (Some(0), 99, false, OpdoneWait::BusyPoll, 5_000)
+        (Some(0), 99, false, true, OpdoneWait::BusyPoll, 5_000)
     );
     assert_eq!(
         (c.access.mode, c.access.group.as_deref()),
@@ -440,6 +443,12 @@ fn bad_cycle_thread_and_access() {
         "opdone_spin",
         "cycle_thread.opdone_spin",
         "e.g. \"20us\"",
+    );
+    refused_at(
+        "[cycle_thread]\nprefault_all = \"some\"",
+        "prefault_all",
+        "cycle_thread.prefault_all",
+        "expected a boolean",
     );
     refused_at(
         "[cycle_thread]\nlock_memory = \"yes\"",

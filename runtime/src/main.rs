@@ -98,6 +98,7 @@ const NO_CONFIGURATION: &str = "no configuration: give one with -c FILE, or run 
      template";
 
 fn main() {
+    procimg_runtime::sys::populate::fault_code_page_by_page();
     let args = Args::parse();
     if args.config.is_none()
         && !args.demo
@@ -357,7 +358,7 @@ fn serve(
         );
     }
     if config.cycle_thread.lock_memory
-        && let Err(w) = lock_memory()
+        && let Err(w) = lock_memory(config.cycle_thread.prefault_all)
     {
         warn!("{w}");
     }

@@ -481,6 +481,9 @@ fn cycle_thread(raw: RawCycleThread, cx: &Cx<'_>) -> Result<CycleThreadConfig, C
     if let Some(lock) = raw.lock_memory {
         config.lock_memory = lock;
     }
+    if let Some(all) = raw.prefault_all {
+        config.prefault_all = all;
+    }
     if let Some(v) = &raw.opdone_wait {
         config.opdone_wait = cx.check(
             v,

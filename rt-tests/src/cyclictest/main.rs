@@ -125,8 +125,9 @@ fn time_is_up(args: &Args, started: Instant) -> bool {
 /// Runs the measuring threads until the first has done -l loops, -D has passed or Ctrl-C,
 /// drawing the live lines meanwhile unless -q.
 fn measure_threads(args: &Args, hist_us: usize) -> Result<Vec<ThreadStats>> {
+    // All of it, as cyclictest's -m (mlockall(MCL_CURRENT | MCL_FUTURE)) locks.
     if args.mlock
-        && let Err(w) = lock_memory()
+        && let Err(w) = lock_memory(true)
     {
         eprintln!("warning: {w}");
     }

@@ -12,18 +12,32 @@
 //! and reach further only as readers hold more of them at once.
 //!
 //! So the segment is faulted in from its start up to the highest sample loaned so far plus
-//! [`AHEAD`] samples. The cycle thread notes each loan ([`InputReserve::note_loan`], two
-//! atomic operations) and, when a loan reaches into the last [`AHEAD`]` / 2` samples
-//! faulted in, asks the control thread, which faults in more ([`InputReserve::extend`]),
-//! off the cycle and a chunk at a time (`sys::populate`). A loan beyond what is faulted in
+//! [`AHEAD`] samples (fewer for large images: [`ahead_samples`]). The cycle thread notes
+//! each loan ([`InputReserve::note_loan`], two atomic operations) and, when a loan reaches
+//! into the last half of the samples faulted in ahead, asks the control thread, which
+//! faults in more ([`InputReserve::extend`]), off the cycle and a chunk at a time
+//! (`sys::populate`). A loan beyond what is faulted in
 //! still works: it costs that cycle the page faults, and is counted
 //! ([`InputReserve::unready_loans`]).
 
 use crate::sys::populate::{self, Mapping};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 
-/// Samples faulted in beyond the highest one loaned so far.
+/// Samples faulted in beyond the highest one loaned so far, at most: fewer where they would
+/// take more than [`AHEAD_BYTES`], never fewer than [`MIN_AHEAD`].
 pub const AHEAD: usize = 6;
+/// See [`AHEAD`]: the memory locked ahead is bounded where the samples are large (6 samples
+/// of a 360 KiB image each way were 4.4 MiB; the control thread extends the reserve when a
+/// loan reaches into its last half, which for one sample of that image takes some 150 µs).
+pub const AHEAD_BYTES: usize = 1024 * 1024;
+/// See [`AHEAD`]: a reader that comes to hold an image loans one more sample; with two
+/// ahead, one more can come before the control thread has extended the reserve.
+pub const MIN_AHEAD: usize = 2;
+
+/// Samples faulted in ahead for samples of `span` bytes.
+pub fn ahead_samples(span: usize) -> usize {
+    (AHEAD_BYTES / span.max(1)).clamp(MIN_AHEAD, AHEAD)
+}
 
 /// Room a sample takes in the segment beyond its payload (iceoryx2's header, the user
 /// header, alignment): an upper bound, so that [`AHEAD`] samples are never short.
@@ -50,15 +64,16 @@ pub struct InputReserve {
 impl InputReserve {
     /// Before the first cycle (cycle thread): `first` is the payload of a sample of `len`
     /// bytes just loaned from the segment `segment`. Faults in the segment from its start
-    /// to [`AHEAD`] samples past that one. Returns the bytes faulted in.
+    /// to [`ahead_samples`] past that one. Returns the bytes faulted in.
     pub fn set_up(&self, segment: &Mapping, first: usize, len: usize) -> usize {
         let end = segment.start + segment.len;
         // A new server generation's segment: nothing of it is faulted in yet.
         self.ready.store(segment.start, Ordering::Release);
         self.start.store(segment.start, Ordering::Relaxed);
         self.end.store(end, Ordering::Relaxed);
+        let span = len + SAMPLE_OVERHEAD;
         self.ahead
-            .store(AHEAD * (len + SAMPLE_OVERHEAD), Ordering::Relaxed);
+            .store(ahead_samples(span) * span, Ordering::Relaxed);
         self.used.store((first + len).min(end), Ordering::Relaxed);
         self.extend()
     }
@@ -94,7 +109,7 @@ impl InputReserve {
         !self.asked.swap(true, Ordering::AcqRel)
     }
 
-    /// Faults in the segment up to [`AHEAD`] samples past the highest loaned (control
+    /// Faults in the segment up to [`ahead_samples`] past the highest loaned (control
     /// thread; at the set-up, the cycle thread). Returns the bytes faulted in now.
     pub fn extend(&self) -> usize {
         let (start, end) = (

@@ -64,14 +64,72 @@ pub fn populate(m: &Mapping) -> usize {
 
 /// Populates every mapping of the process but the one at `except` (its first address), if
 /// any: what `mlockall(MCL_FUTURE)` without `MCL_ONFAULT` would have done at mapping time,
-/// done now, a chunk at a time. Returns the bytes done.
+/// done now, a chunk at a time. When the process locks as used
+/// ([`super::rt::locked_as_used`]), code and read-only data of files are only read ahead
+/// into the page cache, and threads' stacks are left alone: both are locked when first
+/// used (the cycle thread's stack is faulted in by `sys::rt::prefault_stack`). Returns the
+/// bytes populated.
 pub fn populate_all(except: Option<usize>) -> usize {
-    mappings()
+    let as_used = super::rt::locked_as_used();
+    let maps = mappings().unwrap_or_default();
+    let mut below: Option<&Mapping> = None;
+    let mut done = 0;
+    for m in &maps {
+        if Some(m.start) == except {
+        } else if as_used && is_code_or_read_only_data(m) {
+            read_ahead(m);
+        } else if !(as_used && below.is_some_and(|b| is_thread_stack(b, m))) {
+            done += populate(m);
+        }
+        below = Some(m);
+    }
+    done
+}
+
+/// A read-only mapping of a file that is not shared memory: a program's or library's code
+/// or read-only data. (A subscriber's view of another process's shared memory is read-only
+/// too, and is populated.)
+fn is_code_or_read_only_data(m: &Mapping) -> bool {
+    !m.writable && m.path.starts_with('/') && !m.is_shared_memory()
+}
+
+/// Whether `m` is a thread's stack, `below` the mapping just under it: anonymous memory
+/// right above an inaccessible guard, as glibc maps a thread's stack. (Its heap keeps no
+/// guard below memory; the main thread's stack is `[stack]`.)
+fn is_thread_stack(below: &Mapping, m: &Mapping) -> bool {
+    let anonymous = |m: &Mapping| m.path.is_empty();
+    below.start + below.len == m.start
+        && anonymous(below)
+        && !below.readable
+        && !below.writable
+        && anonymous(m)
+        && m.readable
+        && m.writable
+}
+
+/// Makes every later page fault on the code and read-only data of the program and its
+/// libraries map that one page, not the 16 around it that the kernel maps by default
+/// (`MADV_RANDOM` turns its fault-around off): with the code locked as used
+/// ([`super::rt::lock_memory`]), the pages around would be locked too. Call it first thing
+/// in `main`. (A kernel that keeps the file in large folios still maps a whole folio per
+/// fault.)
+pub fn fault_code_page_by_page() {
+    for m in mappings()
         .unwrap_or_default()
         .iter()
-        .filter(|m| Some(m.start) != except)
-        .map(populate)
-        .sum()
+        .filter(|m| is_code_or_read_only_data(m))
+    {
+        // SAFETY: MADV_RANDOM only changes how the kernel reads ahead and faults around in
+        // the mapping; it changes no contents and no mapping.
+        unsafe { libc::madvise(m.start as *mut libc::c_void, m.len, libc::MADV_RANDOM) };
+    }
+}
+
+/// Asks the kernel to read `m`'s file into the page cache, without mapping or locking it.
+fn read_ahead(m: &Mapping) {
+    // SAFETY: MADV_WILLNEED on a file mapping only starts readahead into the page cache; it
+    // changes no contents and no mapping, and fails harmlessly on an address unmapped meanwhile.
+    unsafe { libc::madvise(m.start as *mut libc::c_void, m.len, libc::MADV_WILLNEED) };
 }
 
 /// The shared-memory segments mapped since `before` was taken ([`shared_memory_starts`]).
@@ -95,6 +153,33 @@ pub fn supported() -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn code_and_read_only_data_of_files_are_told_from_what_the_cycle_writes_or_shares() {
+        let kind = |line: &str| is_code_or_read_only_data(&Mapping::parse(line).unwrap());
+        let code = "5581e2a00000-5581e3200000 r-xp 00200000 fd:01 1234 /usr/bin/procimgd";
+        let rodata = "7f1c2a000000-7f1c2a100000 r--p 00000000 fd:01 99 /usr/lib/libc.so.6";
+        let data = "5581e3400000-5581e3410000 rw-p 00a00000 fd:01 1234 /usr/bin/procimgd";
+        let heap = "5581e4000000-5581e4200000 rw-p 00000000 00:00 0 [heap]";
+        let stack = "7f1c28000000-7f1c28100000 rw-p 00000000 00:00 0 ";
+        let seen = "7f1c26000000-7f1c26400000 r--s 00000000 00:19 77 /dev/shm/procimg_x";
+        assert!(kind(code) && kind(rodata));
+        assert!(!kind(data) && !kind(heap) && !kind(stack) && !kind(seen));
+    }
+
+    #[test]
+    fn a_thread_stack_is_anonymous_memory_right_above_a_guard() {
+        let m = |line: &str| Mapping::parse(line).unwrap();
+        let guard = m("7f4f5c77c000-7f4f5c77d000 ---p 00000000 00:00 0 ");
+        let stack = m("7f4f5c77d000-7f4f5c87d000 rw-p 00000000 00:00 0 ");
+        let apart = m("7f4f5c77e000-7f4f5c87d000 rw-p 00000000 00:00 0 ");
+        let heap = m("7f4f5c77d000-7f4f5c87d000 rw-p 00000000 00:00 0 [heap]");
+        let code = m("7f4f5c770000-7f4f5c77d000 r-xp 00000000 fd:01 9 /usr/bin/procimgd");
+        assert!(is_thread_stack(&guard, &stack));
+        assert!(!is_thread_stack(&guard, &apart));
+        assert!(!is_thread_stack(&guard, &heap));
+        assert!(!is_thread_stack(&code, &stack));
+    }
 
     #[test]
     fn populates_a_new_shared_segment_and_nothing_breaks_on_this_process() {

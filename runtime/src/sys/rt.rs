@@ -3,6 +3,7 @@
 //! pre-faulting. Each step that lacks the privilege is reported, and the thread goes on at
 //! normal priority, so the server runs (with worse timing) without root.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use thread_priority::{
     RealtimeThreadSchedulePolicy, ScheduleParams, ThreadPriority, ThreadSchedulePolicy,
 };
@@ -38,33 +39,43 @@ pub const HELPER_THREAD_STACK: usize = 512 * 1024;
 /// cycle will touch is faulted in ahead of it, a chunk at a time, by
 /// [`super::populate`]: a mapping populated whole inside `mmap` holds the process's
 /// memory-map lock for milliseconds, and the cycle thread waits for it whenever it maps
-/// something itself. A kernel without `MADV_POPULATE_READ` (before 5.14) gets
-/// `MCL_FUTURE` alone, which populates at mapping time.
+/// something itself. Unless `prefault_all`, the pages mapped now are locked on fault too,
+/// and [`super::populate::populate_all`] leaves the code and read-only data of the program
+/// and its libraries, and the stacks of the other threads, to be locked as they are used:
+/// the cycle runs a small part of a program that also holds configuration, OPC UA, SNMP and
+/// the device role, and a helper thread uses a tenth of its stack. A kernel without
+/// `MADV_POPULATE_READ` (before 5.14) gets `MCL_CURRENT` and `MCL_FUTURE` alone, which
+/// populate at mapping time.
 ///
 /// Call it before threads are started: it first keeps every thread on glibc's main heap. Each
 /// further malloc arena reserves 64 MiB of address space, which `MCL_FUTURE` counts as
 /// locked (`VmLck`, and against `RLIMIT_MEMLOCK`) though it never becomes memory; the cycle
 /// thread does not use the heap in its cycles (see `rt_alloc`), so it loses nothing by
 /// sharing one.
-pub fn lock_memory() -> Result<(), String> {
+pub fn lock_memory(prefault_all: bool) -> Result<(), String> {
     // SAFETY: mallopt takes two integers and only changes the allocator's tuning; no arena
     // exists yet besides the main one when this runs before the first thread.
     unsafe { libc::mallopt(libc::M_ARENA_MAX, 1) };
-    let future = if super::populate::supported() {
-        libc::MCL_FUTURE | libc::MCL_ONFAULT
-    } else {
-        libc::MCL_FUTURE
+    let on_fault = super::populate::supported();
+    let (current, future) = match (on_fault, prefault_all) {
+        (false, _) => (libc::MCL_CURRENT, libc::MCL_FUTURE),
+        (true, true) => (libc::MCL_CURRENT, libc::MCL_FUTURE | libc::MCL_ONFAULT),
+        (true, false) => (
+            libc::MCL_CURRENT | libc::MCL_ONFAULT,
+            libc::MCL_FUTURE | libc::MCL_ONFAULT,
+        ),
     };
     // SAFETY: mlockall takes only flags and has no memory-safety preconditions. The first
-    // call populates and locks what is mapped now; the second, without MCL_CURRENT, leaves
-    // that as it is and only says how later mappings are locked.
+    // call locks what is mapped now (populating it unless on fault); the second, without
+    // MCL_CURRENT, leaves that as it is and only says how later mappings are locked.
     let rc = unsafe {
-        match libc::mlockall(libc::MCL_CURRENT) {
+        match libc::mlockall(current) {
             0 => libc::mlockall(future),
             failed => failed,
         }
     };
     if rc == 0 {
+        AS_USED.store(on_fault && !prefault_all, Ordering::Relaxed);
         Ok(())
     } else {
         let err = std::io::Error::last_os_error();
@@ -73,6 +84,16 @@ pub fn lock_memory() -> Result<(), String> {
              grant CAP_IPC_LOCK or raise RLIMIT_MEMLOCK (ulimit -l unlimited)"
         ))
     }
+}
+
+/// Whether [`lock_memory`] left code and other threads' stacks to be locked as used: a
+/// property of the whole process, as the locking is.
+static AS_USED: AtomicBool = AtomicBool::new(false);
+
+/// Whether the code and read-only data of the program and its libraries, and the stacks of
+/// threads, are locked as they are used rather than populated ahead (see [`lock_memory`]).
+pub fn locked_as_used() -> bool {
+    AS_USED.load(Ordering::Relaxed)
 }
 
 /// Asks the kernel to keep every CPU out of deep idle states (PM QoS `cpu_dma_latency` = 0
