@@ -2,19 +2,20 @@
 //! The handshake block: the futex words of STARTOP and OPDONE, in three pages of shared
 //! memory that procimgd creates per server generation and every client maps read-write.
 //!
-//! The image and the outputs live in iceoryx2 samples; the block says *when*, and on the busy
-//! path also *where*: the newest image's place ([`crate::pins`]) and each busy client's
-//! output sample's ([`crate::posts`]), so that no sample need go through iceoryx2's queues.
-//! It replaces iceoryx2's event sockets on the hot path: one `FUTEX_WAKE` wakes every client
-//! sleeping for STARTOP at once, a client's OPDONE costs an atomic add and, only when the
-//! server sleeps, one `FUTEX_WAKE`, and the server sleeps for OPDONE with `FUTEX_WAIT_BITSET`
-//! until its absolute deadline on `CLOCK_MONOTONIC`.
+//! The image and the outputs live in iceoryx2 samples; the block says *when*, and on the
+//! busy path also *where*: the newest image's place ([`crate::pins`]) and each busy
+//! client's output sample's ([`crate::posts`]), so that no sample need go through
+//! iceoryx2's queues. It replaces iceoryx2's event sockets on the hot path: one
+//! `FUTEX_WAKE` wakes every client sleeping for STARTOP at once, a client's OPDONE costs an
+//! atomic add and, only when the server sleeps, one `FUTEX_WAKE`, and the server sleeps for
+//! OPDONE with `FUTEX_WAIT_BITSET` until its absolute deadline on `CLOCK_MONOTONIC`.
 //!
-//! Every word is a hint, never the truth: the truth is the samples. A word that moves wakes a
-//! waiter, who then looks at the samples; a word a broken client overwrote costs at most a
-//! wake-up or a sleep until the deadline, never a wrong image. A process that dies while
+//! Every word is a hint, never the truth: the truth is the samples. A word that moves wakes
+//! a waiter, who then looks at the samples; a word a broken client overwrote costs at most
+//! a wake-up or a sleep until the deadline, never a wrong image. A process that dies while
 //! waiting holds nothing: its bits in the sleeper masks are cleared by the server when it
-//! reaps the slot ([`HandshakeBlock::forget_slot`]).
+//! reaps the slot
+//! ([`HandshakeBlock::forget_slot`](crate::handshake::HandshakeBlock::forget_slot)).
 //!
 //! Ordering: a waiter publishes that it sleeps (`fetch_or` of its bit, or `server_sleeps`)
 //! and then reads the word again; a waker moves the word and then reads whether anybody

@@ -1,30 +1,32 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Which input image each busy-polling client reads, so that the server never writes it: the
-//! newest image's place in one word of the handshake block, and one hold mark per client
-//! slot, in the way of hazard pointers.
+//! Which input image each busy-polling client reads, so that the server never writes it:
+//! the newest image's place in one word of the handshake block, and one hold mark per
+//! client slot, in the way of hazard pointers.
 //!
-//! A busy client finds the cycle's image without an iceoryx2 receive: it reads [`Pins`]'s
-//! newest word (the cycle and the offset of the image's sample in the input segment), marks
-//! that offset as held in its slot, and reads the newest word again. When it is unchanged,
-//! the mark is in time: the server, which reuses a sample only after it published a newer
-//! image and only after it looked at every mark ([`Pins::held`]), sees it. When the word
-//! moved meanwhile, the client marks the newer image instead. It clears its mark when it is
-//! done with the image ([`Pins::unpin`]), and the server clears a dead client's
-//! ([`Pins::forget_slot`]).
+//! A busy client finds the cycle's image without an iceoryx2 receive: it reads
+//! [`Pins`](crate::pins::Pins)'s newest word (the cycle and the offset of the image's
+//! sample in the input segment), marks that offset as held in its slot, and reads the
+//! newest word again. When it is unchanged, the mark is in time: the server, which reuses a
+//! sample only after it published a newer image and only after it looked at every mark
+//! ([`Pins::held`](crate::pins::Pins::held)), sees it. When the word moved meanwhile, the
+//! client marks the newer image instead. It clears its mark when it is done with the image
+//! ([`Pins::unpin`](crate::pins::Pins::unpin)), and the server clears a dead client's
+//! ([`Pins::forget_slot`](crate::pins::Pins::forget_slot)).
 //!
 //! Why one of the two sides sees the other: every access here is `SeqCst`, so all of them
 //! fall into one order. If the client's second read saw image k, it came before the
 //! server's publication of k + 1; the client's mark came before that read, and the server's
-//! look at the marks comes after its publication of k + 1. So the mark comes before the look.
+//! look at the marks comes after its publication of k + 1. So the mark comes before the
+//! look.
 //!
-//! The server keeps a sample some client holds out of use (it keeps the loan aside and loans
-//! another) until the mark is gone; the marks are about samples, not images, so a sample
-//! that comes round again under a newer image is held just the same.
+//! The server keeps a sample some client holds out of use (it keeps the loan aside and
+//! loans another) until the mark is gone; the marks are about samples, not images, so a
+//! sample that comes round again under a newer image is held just the same.
 //!
 //! The payload is all a mark keeps: iceoryx2 rewrites a sample's user header when it loans
 //! the sample, before the server can see the mark and set the loan aside. A reader copies
 //! the header while the image is still the newest and checks that with
-//! [`Pins::still_newest`] afterwards.
+//! [`Pins::still_newest`](crate::pins::Pins::still_newest) afterwards.
 
 use core::sync::atomic::{AtomicU64, Ordering, fence};
 

@@ -2,18 +2,22 @@
 //! Where each busy-polling client's outputs lie when it signals OPDONE, so that the server
 //! copies them straight from the client's sample, without an iceoryx2 send and receive.
 //!
-//! The client keeps one output sample loaned across cycles. At OPDONE it names the sample in
-//! its slot's word ([`Posts::post`]: the cycle and the payload's offset in its output
-//! segment) and moves the block's OPDONE word. The server turns the offset into an address of
-//! its own mapping of the client's segment ([`crate::segment::Segment`]), learnt once from a
-//! sample the client sent through iceoryx2 while it named it here too; it says so in the
-//! slot ([`Posts::set_learnt`]), and from then on the client only names its samples.
+//! The client keeps one output sample loaned across cycles. At OPDONE it names the sample
+//! in its slot's word ([`Posts::post`](crate::posts::Posts::post): the cycle and the
+//! payload's offset in its output segment) and moves the block's OPDONE word. The server
+//! turns the offset into an address of its own mapping of the client's segment
+//! ([`crate::segment::Segment`]), learnt once from a sample the client sent through
+//! iceoryx2 while it named it here too; it says so in the slot
+//! ([`Posts::set_learnt`](crate::posts::Posts::set_learnt)), and from then on the client
+//! only names its samples.
 //!
 //! A sample is taken whole: before the client writes its kept sample again (in its next
 //! cycle window, after the server's next STARTOP, by which time the server has long copied
-//! it) it withdraws the word ([`Posts::withdraw`]), and the server, after copying, checks
-//! that the word is still there ([`Posts::still_posted`]): a copy that overlapped a write
-//! shows as a withdrawn word (in the way of a sequence lock), and the server does not use it.
+//! it) it withdraws the word ([`Posts::withdraw`](crate::posts::Posts::withdraw)), and the
+//! server, after copying, checks that the word is still there
+//! ([`Posts::still_posted`](crate::posts::Posts::still_posted)): a copy that overlapped a
+//! write shows as a withdrawn word (in the way of a sequence lock), and the server does not
+//! use it.
 
 use core::sync::atomic::{AtomicU64, Ordering, fence};
 

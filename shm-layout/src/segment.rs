@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! Samples named by their place in an iceoryx2 data segment, for the busy path: one side
 //! names a sample by its payload's offset from the start of the segment it lies in
-//! ([`SamplePlace`], one word of the handshake block), the other turns that offset into an
-//! address of its own mapping of the segment ([`Segment`]).
+//! ([`SamplePlace`](crate::segment::SamplePlace), one word of the handshake block), the
+//! other turns that offset into an address of its own mapping of the segment
+//! ([`Segment`](crate::segment::Segment)).
 //!
-//! The two sides map the segment at different addresses, so the other side learns once where
-//! offset 0 lies in its mapping: from a sample it has in hand (received through iceoryx2)
-//! whose place was named too. Every place is then checked against the bounds of that mapping:
-//! a word of the block is a hint, and a wrong one may name a wrong sample, never an address
-//! outside the segment.
+//! The two sides map the segment at different addresses, so the other side learns once
+//! where offset 0 lies in its mapping: from a sample it has in hand (received through
+//! iceoryx2) whose place was named too. Every place is then checked against the bounds of
+//! that mapping: a word of the block is a hint, and a wrong one may name a wrong sample,
+//! never an address outside the segment.
 
 /// A sample named in the handshake block: the cycle it was written for and where its payload
 /// lies in its segment.
