@@ -12,6 +12,7 @@
 
 pub use procimg_shm_layout::maps::{Mapping, mapping_of, mappings};
 use std::collections::HashSet;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Whether the kernel lets `m` be populated: readable, and not the kernel's own pages.
 fn populatable(m: &Mapping) -> bool {
@@ -65,12 +66,12 @@ pub fn populate(m: &Mapping) -> usize {
 /// Populates every mapping of the process but the one at `except` (its first address), if
 /// any: what `mlockall(MCL_FUTURE)` without `MCL_ONFAULT` would have done at mapping time,
 /// done now, a chunk at a time. When the process locks as used
-/// ([`super::rt::locked_as_used`]), code and read-only data of files are only read ahead
+/// ([`set_locked_as_used`]), code and read-only data of files are only read ahead
 /// into the page cache, and threads' stacks are left alone: both are locked when first
 /// used (the cycle thread's stack is faulted in by `sys::rt::prefault_stack`). Returns the
 /// bytes populated.
 pub fn populate_all(except: Option<usize>) -> usize {
-    let as_used = super::rt::locked_as_used();
+    let as_used = AS_USED.load(Ordering::Relaxed);
     let maps = mappings().unwrap_or_default();
     let mut below: Option<&Mapping> = None;
     let mut done = 0;
@@ -84,6 +85,17 @@ pub fn populate_all(except: Option<usize>) -> usize {
         below = Some(m);
     }
     done
+}
+
+/// Whether the process locks code and threads' stacks as they are used: set by
+/// `sys::rt::lock_memory`, a property of the whole process, as the locking is.
+static AS_USED: AtomicBool = AtomicBool::new(false);
+
+/// Says whether the process locks the code and read-only data of files, and threads'
+/// stacks, as they are used (`mlockall` with `MCL_ONFAULT` for what is mapped now), so
+/// that [`populate_all`] leaves them alone.
+pub fn set_locked_as_used(as_used: bool) {
+    AS_USED.store(as_used, Ordering::Relaxed);
 }
 
 /// A read-only mapping of a file that is not shared memory: a program's or library's code
@@ -110,7 +122,7 @@ fn is_thread_stack(below: &Mapping, m: &Mapping) -> bool {
 /// Makes every later page fault on the code and read-only data of the program and its
 /// libraries map that one page, not the 16 around it that the kernel maps by default
 /// (`MADV_RANDOM` turns its fault-around off): with the code locked as used
-/// ([`super::rt::lock_memory`]), the pages around would be locked too. Call it first thing
+/// (`sys::rt::lock_memory`), the pages around would be locked too. Call it first thing
 /// in `main`. (A kernel that keeps the file in large folios still maps a whole folio per
 /// fault.)
 pub fn fault_code_page_by_page() {

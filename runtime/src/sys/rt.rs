@@ -3,7 +3,6 @@
 //! pre-faulting. Each step that lacks the privilege is reported, and the thread goes on at
 //! normal priority, so the server runs (with worse timing) without root.
 
-use std::sync::atomic::{AtomicBool, Ordering};
 use thread_priority::{
     RealtimeThreadSchedulePolicy, ScheduleParams, ThreadPriority, ThreadSchedulePolicy,
 };
@@ -75,7 +74,7 @@ pub fn lock_memory(prefault_all: bool) -> Result<(), String> {
         }
     };
     if rc == 0 {
-        AS_USED.store(on_fault && !prefault_all, Ordering::Relaxed);
+        super::populate::set_locked_as_used(on_fault && !prefault_all);
         Ok(())
     } else {
         let err = std::io::Error::last_os_error();
@@ -84,16 +83,6 @@ pub fn lock_memory(prefault_all: bool) -> Result<(), String> {
              grant CAP_IPC_LOCK or raise RLIMIT_MEMLOCK (ulimit -l unlimited)"
         ))
     }
-}
-
-/// Whether [`lock_memory`] left code and other threads' stacks to be locked as used: a
-/// property of the whole process, as the locking is.
-static AS_USED: AtomicBool = AtomicBool::new(false);
-
-/// Whether the code and read-only data of the program and its libraries, and the stacks of
-/// threads, are locked as they are used rather than populated ahead (see [`lock_memory`]).
-pub fn locked_as_used() -> bool {
-    AS_USED.load(Ordering::Relaxed)
 }
 
 /// Asks the kernel to keep every CPU out of deep idle states (PM QoS `cpu_dma_latency` = 0
