@@ -76,13 +76,16 @@ pub fn populate_all(except: Option<usize>) -> usize {
     let mut below: Option<&Mapping> = None;
     let mut done = 0;
     for m in &maps {
-        if Some(m.start) == except {
-        } else if as_used && is_code_or_read_only_data(m) {
+        let stack = below.is_some_and(|b| is_thread_stack(b, m));
+        below = Some(m);
+        if Some(m.start) == except || (as_used && stack) {
+            continue;
+        }
+        if as_used && is_code_or_read_only_data(m) {
             read_ahead(m);
-        } else if !(as_used && below.is_some_and(|b| is_thread_stack(b, m))) {
+        } else {
             done += populate(m);
         }
-        below = Some(m);
     }
     done
 }
@@ -107,7 +110,10 @@ fn is_code_or_read_only_data(m: &Mapping) -> bool {
 
 /// Whether `m` is a thread's stack, `below` the mapping just under it: anonymous memory
 /// right above an inaccessible guard, as glibc maps a thread's stack. (Its heap keeps no
-/// guard below memory; the main thread's stack is `[stack]`.)
+/// guard below memory; the main thread's stack is `[stack]`.) Anonymous memory that the
+/// kernel merged into a stack mapping would be taken for stack and locked only as used;
+/// since Linux 6.7 a `MAP_STACK` mapping carries `VM_NOHUGEPAGE`, which ordinary anonymous
+/// memory lacks, so the kernel keeps the two apart.
 fn is_thread_stack(below: &Mapping, m: &Mapping) -> bool {
     let anonymous = |m: &Mapping| m.path.is_empty();
     below.start + below.len == m.start
