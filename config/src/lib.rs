@@ -467,7 +467,7 @@ pub struct CycleThreadConfig {
     /// With `lock_memory`: fault in and lock every page of the process before the first
     /// cycle (key `prefault_all`, default false). By default the code and read-only data of
     /// procimgd and its libraries, and the stacks of threads other than the cycle thread, are
-    /// locked as they are first used: some 10 MiB less locked RAM, since the cycle runs a
+    /// locked as they are first used: some 4 MiB less locked RAM, since the cycle runs a
     /// small part of the program; the price is a minor page fault the first time a path
     /// that never ran before runs in a cycle (an error the cycle had not met yet), or a
     /// read from the disk if memory pressure had dropped that page of the program from the

@@ -33,7 +33,7 @@ pub fn latency_histogram() -> Histogram<u64> {
 /// grow (and `mlockall` lock) memory for, which took seconds on a loaded machine.
 pub const SERVER_DIGITS: u8 = 2;
 
-/// One of procimgd's histograms, with counts of type `C`: 3 456 of them, whatever is
+/// One of procimgd's histograms, with counts of type `C`: 3 584 of them, whatever is
 /// recorded.
 fn histogram<C: Counter>() -> Histogram<C> {
     Histogram::new_with_bounds(1, HIGHEST_NS, SERVER_DIGITS).expect("valid histogram bounds")

@@ -16,9 +16,8 @@
 //! each loan ([`InputReserve::note_loan`], two atomic operations) and, when a loan reaches
 //! into the last half of the samples faulted in ahead, asks the control thread, which
 //! faults in more ([`InputReserve::extend`]), off the cycle and a chunk at a time
-//! (`sys::populate`). A loan beyond what is faulted in
-//! still works: it costs that cycle the page faults, and is counted
-//! ([`InputReserve::unready_loans`]).
+//! (`sys::populate`). A loan beyond what is faulted in still works: it costs that cycle the
+//! page faults, and is counted ([`InputReserve::unready_loans`]).
 
 use crate::sys::populate::{self, Mapping};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -40,7 +39,7 @@ pub fn ahead_samples(span: usize) -> usize {
 }
 
 /// Room a sample takes in the segment beyond its payload (iceoryx2's header, the user
-/// header, alignment): an upper bound, so that [`AHEAD`] samples are never short.
+/// header, alignment): an upper bound, so that the samples ahead are never short.
 const SAMPLE_OVERHEAD: usize = 4096;
 
 /// What of the input publisher's data segment is faulted in, and what of it is in use.
