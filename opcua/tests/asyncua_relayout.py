@@ -36,7 +36,13 @@ async def main():
         devices = client.get_node(ua.NodeId(f"{INSTANCE}/Devices", tns))
         names = []
         for _ in range(1200):
-            names = sorted([(await d.read_browse_name()).Name for d in await devices.get_children()])
+            try:
+                children = await devices.get_children()
+                names = sorted([(await d.read_browse_name()).Name for d in children])
+            except ua.UaStatusCodeError:
+                # Browsed while the tree was being made anew: a child may be gone by the
+                # time it is read. Look again.
+                names = []
             if names == ["counter", "dio", "echo"]:
                 break
             await asyncio.sleep(0.1)
