@@ -3,12 +3,13 @@
 //! of the outputs as last sent. The IO system writes inputs into it (straight into the
 //! shared-memory sample about to be published) and reads outputs from it.
 
+use procimg_profinet::cyclic::{PRODUCED_C_SDU_OFFSET, produced_frame_len};
 use procimg_shm_layout::{
-    DeviceEntry, ImageLayout, LayoutError, ROLE_CONTROLLER, ROLE_DEVICE, STATION_NAME_LEN,
-    SubmoduleEntry, SubmoduleStatus, layout_hash,
+    DeviceEntry, ImageLayout, LayoutError, MirrorArea, ROLE_CONTROLLER, ROLE_DEVICE,
+    STATION_NAME_LEN, SubmoduleEntry, SubmoduleStatus, layout_hash,
 };
 
-use crate::config::{Config, StationConfig, SubmoduleConfig};
+use crate::config::{Config, DeviceConfig, StationConfig, SubmoduleConfig};
 use core::ptr::NonNull;
 use region::{Place, Region};
 
@@ -33,6 +34,20 @@ pub struct Tables {
     pub layout: ImageLayout,
     /// Hash over all of it.
     pub hash: u64,
+    /// Per device: its output frame in the output mirror, if the image holds one (the
+    /// controller role's devices with outputs).
+    pub output_frames: Vec<Option<OutputFrame>>,
+}
+
+/// A device's output frame as the input-image payload holds it: the frame the controller
+/// sends it, its outputs inside where the frame carries them. The cycle writes the header and
+/// status bytes around them and sends the frame from there.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OutputFrame {
+    /// Where the frame lies in the payload.
+    pub range: core::ops::Range<usize>,
+    /// How many submodules' outputs it holds.
+    pub outputs: usize,
 }
 
 impl Tables {
@@ -43,7 +58,12 @@ impl Tables {
         }
         let mut devices = Vec::with_capacity(config.devices.len());
         let mut submodules = Vec::new();
+        let (mut frames, mut framed) = (Vec::new(), Vec::new());
         for (d, dev) in config.devices.iter().enumerate() {
+            if let Some(frame) = output_frame(dev, submodules.len()) {
+                frames.push(frame);
+                framed.push(d);
+            }
             devices.push(DeviceEntry {
                 station_name: station_name(&dev.name),
                 vendor_id: dev.vendor_id,
@@ -58,7 +78,18 @@ impl Tables {
             });
             submodules.extend(dev.submodules.iter().map(|s| entry(d, s)));
         }
-        Tables::laid_out(ROLE_CONTROLLER, devices, submodules)
+        let mut tables = Tables::laid_out(ROLE_CONTROLLER, devices, submodules, &frames)?;
+        for (area, d) in frames.iter().zip(framed) {
+            // Where the area starts: its first output's place less its offset in the area.
+            if let Some(&(s, offset)) = area.placed.first() {
+                let start = tables.submodules[s].output_mirror_offset as usize - offset as usize;
+                tables.output_frames[d] = Some(OutputFrame {
+                    range: start..start + area.len as usize,
+                    outputs: area.placed.len(),
+                });
+            }
+        }
+        Ok(tables)
     }
 
     /// The device role's tables: the station as the one device, each submodule with its Q
@@ -89,23 +120,40 @@ impl Tables {
                 }
             })
             .collect();
-        Tables::laid_out(ROLE_DEVICE, devices, submodules)
+        // The PLC lays out the frames at Connect, after the image is made: the outputs are
+        // packed, and each frame is written from them.
+        Tables::laid_out(ROLE_DEVICE, devices, submodules, &[])
     }
 
     fn laid_out(
         role: u32,
         devices: Vec<DeviceEntry>,
         mut submodules: Vec<SubmoduleEntry>,
+        frames: &[MirrorArea],
     ) -> Result<Tables, LayoutError> {
-        let layout = ImageLayout::assign(&mut submodules)?;
+        let layout = ImageLayout::assign_framed(&mut submodules, frames)?;
         let hash = layout_hash(role, &layout, &devices, &submodules);
         Ok(Tables {
+            output_frames: vec![None; devices.len()],
             role,
             devices,
             submodules,
             layout,
             hash,
         })
+    }
+
+    /// Where the output mirror ends in the input-image payload: its output frames (with
+    /// their headers and status bytes around the outputs), then the packed outputs.
+    pub fn output_mirror_end(&self) -> usize {
+        let outputs = self
+            .submodules
+            .iter()
+            .map(|e| e.output_mirror_offset as usize + e.output_length as usize);
+        let frames = self.output_frames.iter().flatten().map(|f| f.range.end);
+        outputs
+            .chain(frames)
+            .fold(self.layout.output_mirror_offset as usize, usize::max)
     }
 
     /// The station name of device `d`.
@@ -115,6 +163,28 @@ impl Tables {
             .and_then(|d| d.station_name())
             .unwrap_or("?")
     }
+}
+
+/// The output frame of device `dev` as its area of the output mirror, its submodules' outputs
+/// where the frame carries them (`first` is its first submodule's table index): the cycle
+/// sends the frame from the image as it stands. `None` for a device without outputs, or
+/// whose IO does not fit a frame (its plan says so).
+fn output_frame(dev: &DeviceConfig, first: usize) -> Option<MirrorArea> {
+    let (_, layout) = crate::roles::controller::device_spec(dev).iocr_layout();
+    let output = layout.ok()?.output;
+    let placed: Vec<(usize, u32)> = output
+        .objects
+        .iter()
+        .filter(|o| o.length > 0)
+        .map(|o| {
+            let at = PRODUCED_C_SDU_OFFSET + usize::from(o.data_offset);
+            (first + o.submodule, at as u32)
+        })
+        .collect();
+    (!placed.is_empty()).then(|| MirrorArea {
+        len: produced_frame_len(usize::from(output.data_length)) as u32,
+        placed,
+    })
 }
 
 /// A station name as the device table holds it: NUL-padded, cut at the field's length.
@@ -153,6 +223,8 @@ pub struct Image {
     /// bound to a sample.
     payload: Vec<u8>,
     submodules: Vec<SubmoduleEntry>,
+    /// Per device: its output frame in the mirror, if the image holds one.
+    output_frames: Vec<Option<OutputFrame>>,
     /// The input data: the first region of the payload.
     inputs: Region,
     /// The mirror of the outputs as last sent: the last region (but for padding).
@@ -175,16 +247,18 @@ impl Image {
                 .collect()
         };
         let mirror = l.output_mirror_offset as usize;
+        let mirror_end = tables.output_mirror_end();
         let mut image = Image {
             payload: vec![0; l.input_payload_size as usize],
             submodules: tables.submodules.clone(),
+            output_frames: tables.output_frames.clone(),
             inputs: Region::new(
                 spans(|e| (e.input_offset, e.input_length)),
                 (0, l.input_size as usize),
             ),
             outputs: Region::new(
                 spans(|e| (e.output_mirror_offset, e.output_length)),
-                (mirror, mirror + l.output_size as usize),
+                (mirror, mirror_end),
             ),
         };
         use procimg_shm_layout::{IOXS_BAD_BY_CONTROLLER as BAD, IOXS_GOOD as GOOD};
@@ -345,6 +419,21 @@ impl Image {
     /// nothing written) if `data` has another length.
     pub fn set_outputs(&mut self, s: usize, data: &[u8]) -> bool {
         self.outputs.set(s, data, &mut self.payload)
+    }
+
+    /// Device `d`'s output frame in the mirror of the outputs, if the image holds one.
+    pub fn output_frame(&self, d: usize) -> Option<&OutputFrame> {
+        self.output_frames.get(d)?.as_ref()
+    }
+
+    /// Device `d`'s output frame as the next image holds it, its outputs current (carried
+    /// over first), writable around them: the cycle writes the header and status bytes and
+    /// sends it from there. No submodule counts as written. `None` if the image holds no
+    /// frame for `d`.
+    pub fn output_frame_mut(&mut self, d: usize) -> Option<&mut [u8]> {
+        let range = self.output_frames.get(d)?.as_ref()?.range.clone();
+        self.outputs
+            .range_mut(range.start, range.end, &mut self.payload)
     }
 
     /// Status bytes of submodule `s`.

@@ -98,7 +98,8 @@ impl Port for Cycle {
     }
 
     fn send(&mut self, tick: Tick) {
-        self.io.send(cycle_time(tick), Mode::Operate, &self.image);
+        self.io
+            .send(cycle_time(tick), Mode::Operate, &mut self.image);
     }
 }
 

@@ -206,7 +206,7 @@ fn a_replayed_cyclic_frame_lands_in_the_image() {
     let (di8, dio8) = (3, 5); // slots 1 and 3
 
     io.receive(t(0), Mode::Operate, &mut image);
-    io.send(t(0), Mode::Operate, &image);
+    io.send(t(0), Mode::Operate, &mut image);
     assert_eq!(image.inputs(di8), &[0], "not due yet");
     assert_eq!(image.status(di8).input_iops, IOXS_BAD);
 

@@ -359,7 +359,10 @@ typedef struct {
    */
   uint32_t output_offset;
   /**
-   * Offset of the output data's mirror in the input-image payload.
+   * Offset of the output data's mirror in the input-image payload. The mirror is not
+   * packed: in the controller role each device's outputs lie in its output frame, which
+   * the mirror holds whole (header and status bytes between the outputs), so that the
+   * frame is sent from the image. Read each submodule at its own offset.
    */
   uint32_t output_mirror_offset;
   /**
@@ -501,7 +504,8 @@ typedef struct {
    */
   uint32_t status_offset;
   /**
-   * Offset of the output mirror in the input-image payload.
+   * Offset of the output mirror in the input-image payload: where it starts. Its
+   * submodules are not packed (see `SubmoduleEntry::output_mirror_offset`).
    */
   uint32_t output_mirror_offset;
   /**

@@ -5,6 +5,8 @@ use crate::types::{
     ClientSubmoduleStatus, DeviceEntry, IMAGE_MAGIC, LAYOUT_VERSION, LayoutHeader, SubmoduleEntry,
     SubmoduleStatus,
 };
+use alloc::vec;
+use alloc::vec::Vec;
 use core::mem::size_of;
 
 /// Largest IO data of one submodule in one direction: a PROFINET frame carries at most 1440
@@ -38,6 +40,19 @@ pub struct ImageLayout {
     pub output_payload_size: u32,
 }
 
+/// A part of the output mirror laid out by the caller: `len` bytes in which each listed
+/// submodule's outputs lie at a given offset. procimgd makes one per PROFINET output frame,
+/// shaped as the frame, so that the frame goes out from the image as it stands and each
+/// output byte is copied once, from the client into the image.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct MirrorArea {
+    /// Bytes of the area.
+    pub len: u32,
+    /// The submodules in it: index in the submodule table, and where in the area its
+    /// outputs start.
+    pub placed: Vec<(usize, u32)>,
+}
+
 /// Why a submodule table cannot be laid out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LayoutError {
@@ -47,6 +62,12 @@ pub enum LayoutError {
         index: usize,
         /// Its length.
         length: u16,
+    },
+    /// A mirror area puts a submodule's outputs where they do not fit: outside the area, over
+    /// another's, a second time, or for a submodule without outputs or not in the table.
+    MisplacedOutputs {
+        /// Index in the submodule table.
+        index: usize,
     },
     /// The whole image would exceed the payload limit.
     ImageTooLarge {
@@ -62,6 +83,13 @@ impl core::fmt::Display for LayoutError {
                 f,
                 "submodule #{index} has {length} bytes of IO data in one direction; \
                  at most {MAX_SUBMODULE_DATA_LEN} fit in a frame: split it"
+            ),
+            LayoutError::MisplacedOutputs { index } => write!(
+                f,
+                "submodule #{index}'s outputs were placed in the output mirror where they do \
+                 not fit (outside their frame, over another submodule's, or twice): the \
+                 frame layout and the submodule table disagree, which is a bug; please \
+                 report it with the configuration"
             ),
             LayoutError::ImageTooLarge { bytes } => write!(
                 f,
@@ -82,6 +110,16 @@ impl ImageLayout {
     /// Assigns data and status offsets to `submodules`, packed in table order, and returns the
     /// resulting layout. Addresses, idents and lengths are left as they are.
     pub fn assign(submodules: &mut [SubmoduleEntry]) -> Result<ImageLayout, LayoutError> {
+        ImageLayout::assign_framed(submodules, &[])
+    }
+
+    /// As [`ImageLayout::assign`], with the output mirror made of `areas` first, one after
+    /// another, each on its own cache line, every placed submodule's outputs where its area
+    /// puts them; the outputs of the submodules in no area follow, packed in table order.
+    pub fn assign_framed(
+        submodules: &mut [SubmoduleEntry],
+        areas: &[MirrorArea],
+    ) -> Result<ImageLayout, LayoutError> {
         let mut input_size: u64 = 0;
         let mut output_size: u64 = 0;
         for (index, s) in submodules.iter().enumerate() {
@@ -99,7 +137,38 @@ impl ImageLayout {
             status_offset + n * size_of::<SubmoduleStatus>() as u64,
             REGION_ALIGN,
         );
-        let input_payload_size = align_up(output_mirror_offset + output_size, REGION_ALIGN).max(64);
+        // Where each area starts, and each placed submodule's outputs.
+        let mut placed: Vec<Option<u64>> = vec![None; submodules.len()];
+        let mut at = output_mirror_offset;
+        for area in areas {
+            let mut used = vec![false; area.len as usize];
+            for &(index, offset) in &area.placed {
+                let len = submodules
+                    .get(index)
+                    .map_or(0, |s| s.output_length as usize);
+                let start = offset as usize;
+                let span = used.get_mut(start..start.saturating_add(len));
+                let free = span.is_some_and(|span| {
+                    let free = span.len() == len && span.iter().all(|u| !u);
+                    span.fill(true);
+                    free
+                });
+                let slot = placed.get_mut(index).filter(|p| p.is_none());
+                match slot {
+                    Some(slot) if free && len > 0 => *slot = Some(at + offset as u64),
+                    _ => return Err(LayoutError::MisplacedOutputs { index }),
+                }
+            }
+            at = align_up(at + area.len as u64, REGION_ALIGN);
+        }
+        let packed_at = at;
+        let unplaced: u64 = submodules
+            .iter()
+            .zip(&placed)
+            .filter(|(_, p)| p.is_none())
+            .map(|(s, _)| s.output_length as u64)
+            .sum();
+        let input_payload_size = align_up(packed_at + unplaced, REGION_ALIGN).max(64);
         let client_status_offset = align_up(output_size, REGION_ALIGN);
         let output_payload_size = align_up(
             client_status_offset + n * size_of::<ClientSubmoduleStatus>() as u64,
@@ -112,11 +181,18 @@ impl ImageLayout {
         }
 
         let (mut input_at, mut output_at) = (0u32, 0u32);
-        for (i, s) in submodules.iter_mut().enumerate() {
+        let mut packed_at = packed_at as u32;
+        for (i, (s, placed)) in submodules.iter_mut().zip(placed).enumerate() {
             let i = i as u32;
             s.input_offset = input_at;
             s.output_offset = output_at;
-            s.output_mirror_offset = output_mirror_offset as u32 + output_at;
+            s.output_mirror_offset = match placed {
+                Some(at) => at as u32,
+                None => {
+                    packed_at += s.output_length as u32;
+                    packed_at - s.output_length as u32
+                }
+            };
             s.status_offset = status_offset as u32 + i * size_of::<SubmoduleStatus>() as u32;
             s.client_status_offset =
                 client_status_offset as u32 + i * size_of::<ClientSubmoduleStatus>() as u32;
@@ -227,6 +303,53 @@ mod tests {
         assert_eq!(t[3].output_mirror_offset, l.output_mirror_offset + 4);
         assert_eq!(t[2].status_offset, l.status_offset + 8);
         assert!(l.output_payload_size >= l.client_status_offset + 16);
+    }
+
+    #[test]
+    fn placed_outputs_lie_in_their_areas_and_the_rest_follow_packed() {
+        let mut t = [sub(2, 0), sub(0, 4), sub(0, 3), sub(0, 8), sub(0, 2)];
+        let areas = [
+            MirrorArea {
+                len: 30,
+                placed: vec![(3, 20), (1, 10)],
+            },
+            MirrorArea {
+                len: 10,
+                placed: vec![(4, 5)],
+            },
+        ];
+        let l = ImageLayout::assign_framed(&mut t, &areas).unwrap();
+        let m = l.output_mirror_offset;
+        assert_eq!(t[3].output_mirror_offset, m + 20);
+        assert_eq!(t[1].output_mirror_offset, m + 10);
+        // The second area on the next cache line, the unplaced submodule behind it.
+        assert_eq!(t[4].output_mirror_offset, m + 64 + 5);
+        assert_eq!(t[2].output_mirror_offset, m + 128);
+        assert!(l.input_payload_size >= m + 128 + 3);
+        // Output offsets (the client's sample) stay packed in table order.
+        assert_eq!(
+            (t[1].output_offset, t[2].output_offset, t[3].output_offset),
+            (0, 4, 7)
+        );
+        assert_eq!(l.output_size, 17);
+    }
+
+    #[test]
+    fn misplaced_outputs_are_refused() {
+        let area = |placed| [MirrorArea { len: 16, placed }];
+        let mut t = [sub(0, 4), sub(0, 4), sub(2, 0)];
+        for (placed, index) in [
+            (vec![(0, 13)], 0),        // past the area's end
+            (vec![(0, 0), (1, 3)], 1), // over another's
+            (vec![(0, 0), (0, 8)], 0), // twice
+            (vec![(2, 0)], 2),         // no outputs
+            (vec![(7, 0)], 7),         // not in the table
+        ] {
+            assert_eq!(
+                ImageLayout::assign_framed(&mut t, &area(placed)),
+                Err(LayoutError::MisplacedOutputs { index })
+            );
+        }
     }
 
     #[test]

@@ -9,7 +9,8 @@
 //!   followed by the [`DeviceEntry`] and [`SubmoduleEntry`] tables;
 //! * one **input image** sample per cycle: an [`ImageHeader`] (with this cycle's
 //!   [`CycleInfo`]) as iceoryx2 user header, and a payload holding the input data, one
-//!   [`SubmoduleStatus`] per submodule and a mirror of the outputs as last sent;
+//!   [`SubmoduleStatus`] per submodule and a mirror of the outputs as last sent (in the
+//!   controller role, each device's output frame as last sent, [`MirrorArea`]);
 //! * **output** samples from clients: an [`OutputHeader`] and a payload holding the output
 //!   data and one [`ClientSubmoduleStatus`] per submodule.
 //!
@@ -58,6 +59,6 @@ mod table_codec;
 mod types;
 
 pub use hash::layout_hash;
-pub use image_layout::{ImageLayout, LayoutError, MAX_SUBMODULE_DATA_LEN};
+pub use image_layout::{ImageLayout, LayoutError, MAX_SUBMODULE_DATA_LEN, MirrorArea};
 pub use table_codec::{decode_device, decode_submodule, encode_tables};
 pub use types::*;

@@ -188,7 +188,10 @@ pub struct SubmoduleEntry {
     pub input_offset: u32,
     /// Offset of the output data in an output-sample payload.
     pub output_offset: u32,
-    /// Offset of the output data's mirror in the input-image payload.
+    /// Offset of the output data's mirror in the input-image payload. The mirror is not
+    /// packed: in the controller role each device's outputs lie in its output frame, which
+    /// the mirror holds whole (header and status bytes between the outputs), so that the
+    /// frame is sent from the image. Read each submodule at its own offset.
     pub output_mirror_offset: u32,
     /// Offset in the input-image payload of this submodule's [`SubmoduleStatus`].
     pub status_offset: u32,
@@ -273,7 +276,8 @@ pub struct LayoutHeader {
     pub submodule_table_offset: u32,
     /// Offset of the status array in the input-image payload.
     pub status_offset: u32,
-    /// Offset of the output mirror in the input-image payload.
+    /// Offset of the output mirror in the input-image payload: where it starts. Its
+    /// submodules are not packed (see `SubmoduleEntry::output_mirror_offset`).
     pub output_mirror_offset: u32,
     /// Offset of the client status array in an output-sample payload.
     pub client_status_offset: u32,

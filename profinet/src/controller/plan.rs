@@ -102,6 +102,26 @@ pub struct DeviceSpec {
     pub programmable_ports: Vec<u16>,
 }
 
+impl DeviceSpec {
+    /// Its submodules' IO lengths, and where their data and status go in the two CRs: the
+    /// layout its ARs exchange, and procimgd lays out its image's output frames by.
+    pub fn iocr_layout(&self) -> (Vec<SubmoduleIo>, Result<IocrLayout, TooLarge>) {
+        let submodules: Vec<SubmoduleIo> = self
+            .submodules
+            .iter()
+            .map(|s| SubmoduleIo {
+                api: s.api,
+                slot: s.slot,
+                subslot: s.subslot,
+                input_length: s.input_length,
+                output_length: s.output_length,
+            })
+            .collect();
+        let layout = IocrLayout::new(&submodules);
+        (submodules, layout)
+    }
+}
+
 /// One submodule of a [`DeviceSpec`].
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SubmoduleSpec {
@@ -247,18 +267,8 @@ impl DevicePlan {
                 wire: rr,
             });
         }
-        let submodules: Vec<SubmoduleIo> = dev
-            .submodules
-            .iter()
-            .map(|s| SubmoduleIo {
-                api: s.api,
-                slot: s.slot,
-                subslot: s.subslot,
-                input_length: s.input_length,
-                output_length: s.output_length,
-            })
-            .collect();
-        let layout = IocrLayout::new(&submodules).map_err(|problem| PlanError::TooLarge {
+        let (submodules, layout) = dev.iocr_layout();
+        let layout = layout.map_err(|problem| PlanError::TooLarge {
             device: dev.name.clone(),
             problem,
         })?;

@@ -91,6 +91,16 @@ pub struct CrMap {
     pub iocs: Vec<IocsMap>,
 }
 
+/// Where the C_SDU starts in a produced frame: behind the Ethernet header with its RT VLAN
+/// tag and the FrameID.
+pub const PRODUCED_C_SDU_OFFSET: usize = ethernet::TAGGED_HEADER_LEN + 2;
+
+/// Bytes of a produced frame whose C_SDU is `data_length` bytes: header, FrameID, C_SDU,
+/// CycleCounter, DataStatus, TransferStatus.
+pub const fn produced_frame_len(data_length: usize) -> usize {
+    PRODUCED_C_SDU_OFFSET + data_length + 4
+}
+
 /// An AR's cyclic exchange.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CyclicAr {
@@ -136,6 +146,7 @@ impl CyclicAr {
         let mut pdu = output.frame_id.to_be_bytes().to_vec();
         pdu.resize(2 + output.data_length + 4, 0);
         let frame = eth.frame(&pdu, 0);
+        debug_assert_eq!(frame.len(), produced_frame_len(output.data_length));
         CyclicAr {
             device,
             epoch,

@@ -49,6 +49,15 @@ impl CyclicAr {
             {
                 dst.copy_from_slice(data);
             }
+        }
+        self.fill_status(from);
+    }
+
+    /// Writes every IOPS and IOCS of the produced CR from `from`, and no data.
+    #[inline]
+    pub fn fill_status(&mut self, from: &impl ProducedData) {
+        let (output, c_sdu) = self.c_sdu_mut();
+        for o in &output.objects {
             if let Some(b) = c_sdu.get_mut(o.iops) {
                 *b = from.iops(o.submodule);
             }
@@ -58,6 +67,44 @@ impl CyclicAr {
                 *b = from.iocs(c.submodule);
             }
         }
+    }
+
+    /// Whether the produced CR's data objects (those with data) lie in the C_SDU one after
+    /// another in the order listed, none over another: what
+    /// [`write_around_data`](Self::write_around_data) needs.
+    pub fn data_in_frame_order(&self) -> bool {
+        let mut end = 0;
+        self.output.objects.iter().filter(|o| o.len > 0).all(|o| {
+            let in_order = o.data >= end && o.data + o.len <= self.output.data_length;
+            end = o.data + o.len;
+            in_order
+        })
+    }
+
+    /// Copies every byte of the produced frame but its data objects' into `frame`, a buffer
+    /// of the frame's length that holds the data already where the frame carries them: the
+    /// header, FrameID, status bytes and APDU status [`fill_status`](Self::fill_status) and
+    /// [`seal`](Self::seal) wrote. Only for a CR whose data lie in frame order
+    /// ([`data_in_frame_order`](Self::data_in_frame_order)); `false`, and nothing written,
+    /// for a buffer of another length.
+    #[inline]
+    pub fn write_around_data(&self, frame: &mut [u8]) -> bool {
+        if frame.len() != self.frame.len() {
+            return false;
+        }
+        let at = self.payload_offset() + 2;
+        let mut copy = |range: core::ops::Range<usize>| {
+            if let (Some(dst), Some(src)) = (frame.get_mut(range.clone()), self.frame.get(range)) {
+                dst.copy_from_slice(src);
+            }
+        };
+        let mut done = 0;
+        for o in self.output.objects.iter().filter(|o| o.len > 0) {
+            copy(done..at + o.data);
+            done = at + o.data + o.len;
+        }
+        copy(done..self.frame.len());
+        true
     }
 
     /// Writes the APDU status (CycleCounter, DataStatus, TransferStatus 0) behind the
@@ -72,3 +119,7 @@ impl CyclicAr {
         &self.frame
     }
 }
+
+#[cfg(test)]
+#[path = "producer_tests.rs"]
+mod tests;

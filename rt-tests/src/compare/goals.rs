@@ -18,9 +18,11 @@ use super::table::{self, Notes};
 pub const SERVER_COPIES_PER_INPUT_BYTE: u32 = 1;
 
 /// Copies the server makes of each output byte on its way from a client to the wire: the
-/// client's sample straight into the next input sample (its mirror of the outputs, which
-/// shows the clients the outputs as last sent), that sample into the output frame.
-pub const SERVER_COPIES_PER_OUTPUT_BYTE: u32 = 2;
+/// client's sample straight into the next input sample, whose mirror of the outputs holds
+/// each device's output frame (and shows the clients the outputs as last sent); the frame
+/// is sent from there. The controller role's; in the device role, whose frames the PLC lays
+/// out at Connect, the frame is written from the mirror: 2.
+pub const SERVER_COPIES_PER_OUTPUT_BYTE: u32 = 1;
 
 /// The unit a goal's value is written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -10,5 +10,5 @@ pub struct NullIo;
 
 impl IoSystem for NullIo {
     fn receive(&mut self, _t: CycleTime, _mode: Mode, _image: &mut Image) {}
-    fn send(&mut self, _t: CycleTime, _mode: Mode, _image: &Image) {}
+    fn send(&mut self, _t: CycleTime, _mode: Mode, _image: &mut Image) {}
 }

@@ -556,7 +556,7 @@ impl PnioRig {
     /// One cycle's send: every device's output frame built from the image.
     pub fn send(&mut self) {
         let t = self.time();
-        self.io.send(t, Mode::Operate, &self.image);
+        self.io.send(t, Mode::Operate, &mut self.image);
     }
 
     /// Panics unless every frame was taken and every exchange still runs.

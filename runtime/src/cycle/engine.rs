@@ -191,7 +191,7 @@ impl<L: ClientLink> Engine<L> {
         };
         // Outputs held back for the cycle start go out in the mode they were made for.
         if st.outputs_pending {
-            self.io.send(t, st.mode, &st.image);
+            self.io.send(t, st.mode, &mut st.image);
             st.outputs_pending = false;
         }
         let mode_changed = st.step_mode();
@@ -284,7 +284,7 @@ impl<L: ClientLink> Engine<L> {
                             now_ns: self.ports.now_ns(),
                         },
                         st.mode,
-                        &st.image,
+                        &mut st.image,
                     );
                 }
                 OutputTiming::AtNextCycleStart => st.outputs_pending = true,

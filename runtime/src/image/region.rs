@@ -229,6 +229,34 @@ impl Region {
         unsafe { core::slice::from_raw_parts_mut(base.add(start), end - start) }
     }
 
+    /// The payload bytes `start..end` of the region, writable in place, with no submodule
+    /// counted as written: for the bytes between submodules' (an output frame's header and
+    /// status around its outputs). Carried over first, so that the submodules' bytes in the
+    /// range are current; a published sample is not written (as in [`Region::get_mut`]).
+    /// `None` for a range outside the region.
+    pub(super) fn range_mut<'a>(
+        &'a mut self,
+        start: usize,
+        end: usize,
+        own: &'a mut [u8],
+    ) -> Option<&'a mut [u8]> {
+        if start > end || start < self.extent.0 || end > self.extent.1 {
+            return None;
+        }
+        if matches!(self.at, Place::Published(_)) {
+            self.keep(own);
+        }
+        self.carry_over(own);
+        let base = match self.at {
+            Place::Own => own.as_mut_ptr(),
+            Place::Sample(p) | Place::Published(p) => p.as_ptr(),
+        };
+        // SAFETY: the own payload, or a loaned sample written by nobody else (`bind`);
+        // `start..end` lies inside the region, so inside the payload, and the region is
+        // borrowed mutably.
+        Some(unsafe { core::slice::from_raw_parts_mut(base.add(start), end - start) })
+    }
+
     /// Sets all bytes of submodule `s` to `data`, without carrying the old ones over.
     /// `false` (and nothing written) if `data` has another length.
     pub(super) fn set(&mut self, s: usize, data: &[u8], own: &mut [u8]) -> bool {

@@ -24,7 +24,8 @@ pub trait IoSystem: Send {
     /// Updates the inputs, the input IOPS and the output IOCS in `image` with what arrived
     /// since the last call.
     fn receive(&mut self, t: CycleTime, mode: Mode, image: &mut Image);
-    /// Sends the outputs of `image` with their IOPS (the mirror region). Not called in
-    /// OFFLINE.
-    fn send(&mut self, t: CycleTime, mode: Mode, image: &Image);
+    /// Sends the outputs of `image` with their IOPS (the mirror region). It may write the
+    /// bytes around the outputs of an output frame the image holds, never the outputs. Not
+    /// called in OFFLINE.
+    fn send(&mut self, t: CycleTime, mode: Mode, image: &mut Image);
 }

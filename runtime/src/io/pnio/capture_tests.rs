@@ -318,7 +318,7 @@ fn cyclic_frames_equal_the_captures(
         now_ns: cycle * 1_000_000,
     };
     io.receive(t(0), Mode::Operate, &mut image);
-    io.send(t(0), Mode::Operate, &image);
+    io.send(t(0), Mode::Operate, &mut image);
     let mut buf = Vec::new();
     assert!(
         wire.receive(&mut |f| buf = f.to_vec()).unwrap(),

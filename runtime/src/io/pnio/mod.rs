@@ -7,8 +7,11 @@
 //! straight into the image (data, IOPS, IOCS); acyclic PROFINET frames are handed over;
 //! anything malformed, unknown or stale is counted and dropped. Then every AR whose
 //! watchdog ran out is stopped, its inputs marked BAD and the controller told.
-//! [`IoSystem::send`] writes one output frame per AR due in this cycle, and the frames the
-//! controller queued.
+//! [`IoSystem::send`] sends one output frame per AR due in this cycle, and the frames the
+//! controller queued. A device's output frame is part of the image (its outputs where the
+//! frame carries them, see `Tables::output_frames`): the cycle writes the header and status
+//! bytes around them and sends it from there; an AR whose frame differs from the image's
+//! (the device role's, laid out by the PLC) is written from the image first.
 
 pub mod channel;
 
@@ -37,6 +40,9 @@ const MAX_FRAMES_PER_CYCLE: usize = 512;
 struct Running {
     ar: Box<CyclicAr>,
     consumer: Consumer,
+    /// Its output frame goes out from the image, where the outputs are already
+    /// ([`frame_in_image`]); otherwise it is written from the image first.
+    in_image: bool,
 }
 
 /// The PROFINET IO system of the cycle thread, over interface `N`. Generic over the
@@ -176,6 +182,7 @@ impl Exchanges {
                     self.device_by_frame_id[usize::from(ar.input.frame_id)] = d as u16 + 1;
                     self.running[d] = Some(Running {
                         consumer: Consumer::of(&ar, t.now_ns),
+                        in_image: frame_in_image(&ar, image),
                         ar,
                     });
                 }
@@ -354,7 +361,7 @@ impl<N: Nic + 'static> IoSystem for PnioIo<N> {
         ex.check_watchdogs(t.now_ns, image);
     }
 
-    fn send(&mut self, t: CycleTime, mode: Mode, image: &Image) {
+    fn send(&mut self, t: CycleTime, mode: Mode, image: &mut Image) {
         let ex = &mut self.ex;
         // The cycle's scheduled start in RT time units, modulo 2^16 (cycle_counter_at's
         // rule, without the multiplication that would overflow after years of cycles).
@@ -371,12 +378,65 @@ impl<N: Nic + 'static> IoSystem for PnioIo<N> {
             if !r.ar.due(t.cycle) {
                 continue;
             }
-            r.ar.fill(&FromImage(image));
-            if self.nic.send(r.ar.seal(counter, status)).is_err() {
+            let sent = match send_from_image(&mut self.nic, r, image, counter, status) {
+                Some(sent) => sent,
+                None => {
+                    r.ar.fill(&FromImage(image));
+                    self.nic.send(r.ar.seal(counter, status))
+                }
+            };
+            if sent.is_err() {
                 NetCounters::count(&ex.channel.counters.send_errors);
             }
         }
     }
+}
+
+/// Whether `ar`'s output frame can go out from the image as it stands: the image holds the
+/// device's frame, of this frame's length, each output the frame carries is there where the
+/// frame carries it, and no other output is in it. Then writing the frame's header and
+/// status bytes around the outputs changes no output.
+fn frame_in_image(ar: &CyclicAr, image: &Image) -> bool {
+    let Some(frame) = image.output_frame(ar.device) else {
+        return false;
+    };
+    if frame.range.len() != ar.frame.len() || !ar.data_in_frame_order() {
+        return false;
+    }
+    let c_sdu = frame.range.start + ar.payload_offset() + 2;
+    let mut outputs = 0;
+    for o in ar.output.objects.iter().filter(|o| o.len > 0) {
+        let Some(e) = image.submodules().get(o.submodule) else {
+            return false;
+        };
+        if e.output_mirror_offset as usize != c_sdu + o.data
+            || usize::from(e.output_length) != o.len
+        {
+            return false;
+        }
+        outputs += 1;
+    }
+    outputs == frame.outputs
+}
+
+/// Sends `r`'s output frame from the image, where the cycle put the outputs: its header,
+/// IOPS, IOCS and APDU status written around them. The one copy of an output byte in the
+/// server is the cycle's, from the client's sample into the image. `None` if the frame is
+/// not in the image.
+fn send_from_image(
+    nic: &mut impl Nic,
+    r: &mut Running,
+    image: &mut Image,
+    counter: u16,
+    status: u8,
+) -> Option<Result<(), procimg_nic::SendError>> {
+    if !r.in_image {
+        return None;
+    }
+    r.ar.fill_status(&FromImage(image));
+    r.ar.seal(counter, status);
+    let frame = image.output_frame_mut(r.ar.device)?;
+    r.ar.write_around_data(frame).then(|| nic.send(frame))
 }
 
 /// The image as what the cycle thread produces: the outputs and their IOPS, and the IOCS
@@ -399,6 +459,8 @@ impl ProducedData for FromImage<'_> {
 mod capture_tests;
 #[cfg(test)]
 mod hostile_tests;
+#[cfg(test)]
+mod send_tests;
 #[cfg(test)]
 mod test_rig;
 #[cfg(test)]

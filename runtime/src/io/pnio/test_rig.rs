@@ -39,25 +39,27 @@ impl Rig {
     /// The device `io` (slot 1 with 4 input bytes) with `watchdog_factor`, its AR handed to
     /// the cycle (started at the next receive).
     pub(super) fn one_device(watchdog_factor: u16) -> Rig {
-        let config = config::parse(
-            &format!(
-                r#"
-                [[device]]
-                name = "io"
-                vendor_id = 1
-                device_id = 1
-                watchdog_factor = {watchdog_factor}
-                [[device.submodule]]
-                slot = 1
-                subslot = 1
-                module_ident = 1
-                submodule_ident = 1
-                input_length = 4
-                "#
-            ),
-            "one-device.toml",
-        )
-        .unwrap();
+        Rig::of(&format!(
+            r#"
+            [[device]]
+            name = "io"
+            vendor_id = 1
+            device_id = 1
+            watchdog_factor = {watchdog_factor}
+            [[device.submodule]]
+            slot = 1
+            subslot = 1
+            module_ident = 1
+            submodule_ident = 1
+            input_length = 4
+            "#
+        ))
+    }
+
+    /// The first device of configuration `toml`, its AR handed to the cycle over an
+    /// in-process link.
+    pub(super) fn of(toml: &str) -> Rig {
+        let config = config::parse(toml, "rig.toml").unwrap();
         let tables = Tables::from_config(&config).unwrap();
         let plan = &crate::roles::controller::plan_devices(&config).unwrap()[0];
         let ar = CyclicAr::new(plan, 1, CONTROLLER, DEVICE, plan.frame_ids);
@@ -66,7 +68,7 @@ impl Rig {
         let io = PnioIo::new(
             Box::new(ours) as Box<dyn procimg_nic::Nic>,
             channel.clone(),
-            std::iter::once(0..1).collect(),
+            std::iter::once(ar.submodules.clone()).collect(),
             config.cycle_ns,
         );
         assert!(
