@@ -3,6 +3,7 @@
 
 use super::rig::Io;
 use super::shape::{self, Shape};
+use procimg_profinet::cyclic::produced_frame_len;
 use procimg_runtime::image::Tables;
 
 const KIB: usize = 1024;
@@ -78,15 +79,17 @@ pub fn label(s: Shape) -> String {
 /// The bytes the server copies per cycle, by part.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Copied {
-    /// Into the input sample besides what arrives: the status bytes and the padding. The
-    /// inputs and outputs nobody sent are not copied: each sample comes back holding them
-    /// (`image::region`), and in these cases they do not change.
+    /// Into the input sample besides what arrives: the status bytes and the padding outside
+    /// the output mirror. The inputs and outputs nobody sent are not copied: each sample
+    /// comes back holding them (`image::region`), and in these cases they do not change.
     pub publish: usize,
     /// Output samples → the next input sample: the output data the clients wrote.
     pub merge: usize,
     /// Input frames → input sample: the input data.
     pub receive: usize,
-    /// Image → output frames: output data, IOPS and IOCS, and the 4-byte APDU status.
+    /// Output frames: each frame the image holds is written around its outputs (header,
+    /// IOPS, IOCS, APDU status); a device's frame without outputs is written from the image
+    /// (IOPS, IOCS, APDU status).
     pub send: usize,
 }
 
@@ -94,10 +97,17 @@ impl Copied {
     /// The bytes of a cycle of `shape` with `io` and `clients` clients (each cycle every
     /// output is written by some client).
     pub fn cycle(shape: Shape, io: Io, clients: usize) -> Copied {
-        let tables = tables(shape);
+        let tables = match io {
+            Io::PnioDevice => {
+                let station = shape::as_station(&shape::config("bytes", shape));
+                Tables::from_config(&station).expect("the shape lays out")
+            }
+            _ => tables(shape),
+        };
         let l = &tables.layout;
+        let mirror = tables.output_mirror_end() - l.output_mirror_offset as usize;
         let mut c = Copied {
-            publish: (l.input_payload_size - l.input_size - l.output_size) as usize,
+            publish: l.input_payload_size as usize - l.input_size as usize - mirror,
             ..Copied::default()
         };
         if clients > 0 {
@@ -107,12 +117,31 @@ impl Copied {
         if io != Io::Null {
             // Every device sends every cycle.
             c.receive = l.input_size as usize;
-            c.send = Copied::frames(shape);
+            c.send = match io {
+                Io::PnioDevice => Copied::device_frames(shape),
+                _ => Copied::frames(shape),
+            };
         }
         c
     }
 
-    /// Bytes the PROFINET send puts into the output frames of one cycle.
+    /// Bytes the device role's send writes into its input frames of one cycle: the PLC lays
+    /// them out, so each is written whole from the image (data, IOPS, IOCS, APDU status).
+    pub fn device_frames(shape: Shape) -> usize {
+        let config = shape::config("bytes", shape);
+        procimg_runtime::roles::controller::plan_devices(&config)
+            .expect("the shape fits PROFINET frames")
+            .iter()
+            .map(|p| {
+                let i = &p.layout.input;
+                let data: usize = i.objects.iter().map(|d| d.length as usize + 1).sum();
+                data + i.iocs.len() + 4
+            })
+            .sum()
+    }
+
+    /// Bytes the controller's send writes into the output frames of one cycle: around the
+    /// outputs of each frame the image holds, all of a frame without outputs.
     pub fn frames(shape: Shape) -> usize {
         let config = shape::config("bytes", shape);
         procimg_runtime::roles::controller::plan_devices(&config)
@@ -120,12 +149,12 @@ impl Copied {
             .iter()
             .map(|p| {
                 let o = &p.layout.output;
-                o.objects
-                    .iter()
-                    .map(|d| d.length as usize + 1)
-                    .sum::<usize>()
-                    + o.iocs.len()
-                    + 4
+                let data: usize = o.objects.iter().map(|d| d.length as usize).sum();
+                if data > 0 {
+                    produced_frame_len(o.data_length as usize) - data
+                } else {
+                    o.objects.len() + o.iocs.len() + 4
+                }
             })
             .sum()
     }
