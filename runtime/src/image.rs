@@ -170,7 +170,7 @@ impl Tables {
 /// sends the frame from the image as it stands. `None` for a device without outputs, or
 /// whose IO does not fit a frame (its plan says so).
 fn output_frame(dev: &DeviceConfig, first: usize) -> Option<MirrorArea> {
-    let (_, layout) = crate::roles::controller::device_spec(dev).iocr_layout();
+    let (_, layout) = crate::roles::controller::plan::device_spec(dev).iocr_layout();
     let output = layout.ok()?.output;
     let placed: Vec<(usize, u32)> = output
         .objects

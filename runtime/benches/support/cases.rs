@@ -4,6 +4,7 @@
 use super::rig::Io;
 use super::shape::{self, Shape};
 use procimg_profinet::cyclic::produced_frame_len;
+use procimg_profinet::iocr_layout::IocrLayout;
 use procimg_runtime::image::Tables;
 
 const KIB: usize = 1024;
@@ -128,41 +129,41 @@ impl Copied {
     /// Bytes the device role's send writes into its input frames of one cycle: the PLC lays
     /// them out, so each is written whole from the image (data, IOPS, IOCS, APDU status).
     pub fn device_frames(shape: Shape) -> usize {
-        let config = shape::config("bytes", shape);
-        procimg_runtime::roles::controller::plan_devices(&config)
-            .expect("the shape fits PROFINET frames")
-            .iter()
-            .map(|p| {
-                let i = &p.layout.input;
-                let data: usize = i.objects.iter().map(|d| d.length as usize + 1).sum();
-                data + i.iocs.len() + 4
-            })
-            .sum()
+        per_device(shape, |layout| {
+            let i = &layout.input;
+            let data: usize = i.objects.iter().map(|d| d.length as usize + 1).sum();
+            data + i.iocs.len() + 4
+        })
     }
 
     /// Bytes the controller's send writes into the output frames of one cycle: around the
     /// outputs of each frame the image holds, all of a frame without outputs.
     pub fn frames(shape: Shape) -> usize {
-        let config = shape::config("bytes", shape);
-        procimg_runtime::roles::controller::plan_devices(&config)
-            .expect("the shape fits PROFINET frames")
-            .iter()
-            .map(|p| {
-                let o = &p.layout.output;
-                let data: usize = o.objects.iter().map(|d| d.length as usize).sum();
-                if data > 0 {
-                    produced_frame_len(o.data_length as usize) - data
-                } else {
-                    o.objects.len() + o.iocs.len() + 4
-                }
-            })
-            .sum()
+        per_device(shape, |layout| {
+            let o = &layout.output;
+            let data: usize = o.objects.iter().map(|d| d.length as usize).sum();
+            if data > 0 {
+                produced_frame_len(o.data_length as usize) - data
+            } else {
+                o.objects.len() + o.iocs.len() + 4
+            }
+        })
     }
 
     /// All of it.
     pub fn total(&self) -> usize {
         self.publish + self.merge + self.receive + self.send
     }
+}
+
+/// `bytes` of each device's CR layout in `shape`, summed.
+fn per_device(shape: Shape, bytes: impl Fn(&IocrLayout) -> usize) -> usize {
+    let config = shape::config("bytes", shape);
+    procimg_runtime::roles::controller::plan_devices(&config)
+        .expect("the shape fits PROFINET frames")
+        .iter()
+        .map(|p| bytes(&p.layout))
+        .sum()
 }
 
 /// The tables of `shape`.
