@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The input-image payload as the server builds it: input data, status bytes and the mirror
 //! of the outputs as last sent. The IO system writes inputs into it (straight into the
-//! shared-memory sample about to be published) and reads outputs from it.
+//! shared-memory sample about to be published) and reads outputs from it. In the controller
+//! role the mirror holds each device's output frame ([`Tables::output_frames`]), which the
+//! IO system completes around the outputs and sends from there.
 
 use procimg_profinet::cyclic::{PRODUCED_C_SDU_OFFSET, produced_frame_len};
 use procimg_shm_layout::{
