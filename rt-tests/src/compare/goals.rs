@@ -536,15 +536,19 @@ mod tests {
         ] {
             assert!(text.contains(name), "{name} missing:\n{text}");
         }
-        // The copies are a property of the code: always there; inputs are copied once, outputs
-        // twice today.
+        // The copies are a property of the code: always there; inputs and outputs are copied
+        // once (outputs: the controller role's).
         let copies = |d: &str| {
             text.lines()
                 .find(|l| l.contains(&format!("copies per image byte, {d}")))
                 .unwrap()
         };
         assert!(copies("inputs").contains("| yes "), "{}", copies("inputs"));
-        assert!(copies("outputs").contains("| NO "), "{}", copies("outputs"));
+        assert!(
+            copies("outputs").contains("| yes "),
+            "{}",
+            copies("outputs")
+        );
         assert!(text.contains("add 4 to --clients"), "{text}");
         let quick = Settings {
             startup_sizes: vec![64],
