@@ -324,7 +324,8 @@ impl Port for Cycle {
     }
 
     fn send(&mut self, tick: Tick) {
-        self.io.send(Cycle::time(tick), Mode::Operate, &mut self.image);
+        self.io
+            .send(Cycle::time(tick), Mode::Operate, &mut self.image);
     }
 }
 
