@@ -245,6 +245,30 @@ impl HandshakeBlock {
         Woken::Moved
     }
 
+    /// A sleeping client's wait for STARTOP that wakes ahead: sleeps on the event word until
+    /// `poll.0`, then polls as [`HandshakeBlock::spin_startop`] until `poll.1`, ending early
+    /// when the server signals or names an image after `seen` and `newest` were read;
+    /// without `poll` (or when it ends at or before the wait's start) it only sleeps, until
+    /// `deadline_ns`. A client that polls when STARTOP comes costs the server no
+    /// `FUTEX_WAKE` and finds it on a running CPU; a STARTOP after `poll.1` ends the wait
+    /// as [`Woken::TimedOut`], and the caller sleeps again.
+    pub fn wait_startop_ahead(
+        &self,
+        futex: &impl Futex,
+        slot: u32,
+        (seen, newest): (u32, u64),
+        poll: Option<(u64, u64)>,
+        deadline_ns: u64,
+    ) -> Woken {
+        let Some((from, until)) = poll.filter(|&(from, _)| from < deadline_ns) else {
+            return self.wait_event(futex, slot, seen, deadline_ns);
+        };
+        if from > futex.now_ns() && self.wait_event(futex, slot, seen, from) == Woken::Moved {
+            return Woken::Moved;
+        }
+        self.spin_startop(futex, seen, newest, until.min(deadline_ns))
+    }
+
     /// Signals OPDONE, after the output sample was sent: moves the word, and wakes the server
     /// only if it sleeps.
     pub fn signal_opdone(&self, futex: &impl Futex) {
@@ -354,6 +378,49 @@ mod tests {
         assert_eq!(b.wait_event(&f, 1, b.events_seen(), 3000), Woken::TimedOut);
         assert_eq!(b.spin_event(&f, b.events_seen(), 3500), Woken::TimedOut);
         assert_eq!(b.sleepers.0.load(Ordering::SeqCst), 0);
+    }
+
+    #[test]
+    fn waking_ahead_sleeps_until_the_window_then_polls_without_a_system_call() {
+        let (b, f) = (HandshakeBlock::default(), Model::default());
+        let seen = (b.events_seen(), b.pins.newest_word());
+        // Nothing comes: one sleep until the window, then polling until its end.
+        let woken = b.wait_startop_ahead(&f, 2, seen, Some((100, 200)), 1000);
+        assert_eq!(woken, Woken::TimedOut);
+        assert_eq!(f.waits.get(), 1);
+        assert!(f.now.get() >= 200 && f.now.get() < 1000, "{}", f.now.get());
+        assert_eq!(
+            b.sleepers.0.load(Ordering::SeqCst),
+            0,
+            "not asleep while polling"
+        );
+        // Inside the window already: no sleep at all.
+        f.now.set(150);
+        b.wait_startop_ahead(&f, 2, seen, Some((100, 200)), 1000);
+        assert_eq!(f.waits.get(), 1);
+        // A STARTOP announced while the client polls costs the server no wake-up.
+        b.announce(&f, false);
+        assert_eq!(f.wakes.get(), 0);
+        assert_eq!(
+            b.wait_startop_ahead(&f, 2, seen, Some((100, 200)), 1000),
+            Woken::Moved
+        );
+    }
+
+    #[test]
+    fn without_a_window_or_past_the_deadline_waking_ahead_only_sleeps() {
+        let (b, f) = (HandshakeBlock::default(), Model::default());
+        let seen = (b.events_seen(), b.pins.newest_word());
+        assert_eq!(
+            b.wait_startop_ahead(&f, 2, seen, None, 500),
+            Woken::TimedOut
+        );
+        assert_eq!((f.waits.get(), f.now.get()), (1, 500));
+        assert_eq!(
+            b.wait_startop_ahead(&f, 2, seen, Some((900, 950)), 800),
+            Woken::TimedOut
+        );
+        assert_eq!((f.waits.get(), f.now.get()), (2, 800));
     }
 
     #[test]

@@ -121,6 +121,14 @@ typedef struct procimg_client procimg_client_t;
 #define PROCIMG_ATTACH_EXPECT_LAYOUT_HASH 8
 
 /**
+ * Attach flag: a sleeping `procimg_wait_startop` (and an IO-Base callback thread) sleeps
+ * until procimgd signals STARTOP, instead of waking 50 µs before it is due and polling for
+ * it (the default, which finds the CPU running when STARTOP comes, for some 30 µs of CPU
+ * time a cycle).
+ */
+#define PROCIMG_ATTACH_SLEEP_ONLY 16
+
+/**
  * The default attach timeout in milliseconds.
  */
 #define PROCIMG_DEFAULT_ATTACH_TIMEOUT_MS 3000

@@ -8,6 +8,7 @@ use crate::error::{AttachError, ControlError, IoError, WaitError};
 use crate::input_view::{InputView, SegmentKnowledge, learn_segment};
 use crate::layout::Layout;
 use crate::status::Ioxs;
+use crate::wake_ahead::poll_window;
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::prelude::CallbackProgression;
 use iceoryx2::sample_mut::SampleMut;
@@ -45,7 +46,19 @@ pub struct AttachOptions {
     pub timeout: Duration,
     /// [`Client::wait_startop`] polls for the image instead of sleeping on the STARTOP event.
     pub busy_poll: bool,
+    /// How long before the next STARTOP is due a sleeping [`Client::wait_startop`] wakes and
+    /// polls for it ([`WAKE_AHEAD`] by default; zero: it sleeps until STARTOP wakes it).
+    pub wake_ahead: Duration,
 }
+
+/// How long before the next STARTOP is due a sleeping client wakes by default. A thread
+/// that sleeps until STARTOP wakes it starts on a CPU that has gone idle, which on a VM
+/// costs several microseconds at the median and tens at p99 (docs/PERFORMANCE.md, *Waking
+/// ahead*); one that wakes on its own timer this much earlier and polls is running when
+/// STARTOP comes. The lead covers the timer's own wake-up latency (some 20–30 µs on a VM)
+/// with room to spare. It costs at most this long of CPU time per cycle (less that
+/// latency), and up to three times as long when procimgd is late.
+pub const WAKE_AHEAD: Duration = Duration::from_micros(50);
 
 /// How long attaching may take by default.
 pub const ATTACH_TIMEOUT: Duration = Duration::from_secs(10);
@@ -61,6 +74,7 @@ impl AttachOptions {
             newcycle: false,
             timeout: ATTACH_TIMEOUT,
             busy_poll: false,
+            wake_ahead: WAKE_AHEAD,
         }
     }
 
@@ -92,6 +106,14 @@ impl AttachOptions {
     /// with `opdone_wait = "busy-poll"` on the server for the shortest round trip.
     pub fn busy_poll(mut self, on: bool) -> AttachOptions {
         self.busy_poll = on;
+        self
+    }
+
+    /// Sets how long before the next STARTOP is due a sleeping client wakes and polls for it
+    /// ([`WAKE_AHEAD`] by default; at most an eighth of the cycle is used). Zero: the client
+    /// sleeps until procimgd wakes it, and spends no CPU time polling.
+    pub fn wake_ahead(mut self, lead: Duration) -> AttachOptions {
+        self.wake_ahead = lead;
         self
     }
 
@@ -417,11 +439,25 @@ impl Client {
     /// signals after the wait was taken ends the sleep. `None` while the server is gone.
     pub fn event_wait(&self) -> Option<EventWait> {
         let conn = self.conn.as_ref()?;
+        let block = conn.handshake.block();
         Some(EventWait {
-            seen: conn.handshake.block().events_seen(),
+            seen: (block.events_seen(), block.pins.newest_word()),
+            poll: self.poll_window(),
             block: conn.handshake.clone(),
             slot: self.slot,
         })
+    }
+
+    /// When a sleeping synchronous client polls for the next STARTOP (see
+    /// [`AttachOptions::wake_ahead`]): `None` for an asynchronous client, which STARTOP does
+    /// not concern, and when there is no window to poll in now.
+    pub(crate) fn poll_window(&self) -> Option<(u64, u64)> {
+        if self.opts.role != ClientRole::Synchronous {
+            return None;
+        }
+        let lead = self.opts.wake_ahead.as_nanos().min(u64::MAX as u128) as u64;
+        let window = poll_window(self.header()?, lead, procimg_shm_layout::os::monotonic_ns())?;
+        Some((window.start, window.end))
     }
 
     /// Whether this client is connected to a live server (it re-attaches by itself).
@@ -477,7 +513,7 @@ impl Client {
                 if h.magic != IMAGE_MAGIC || h.layout_hash != self.layout.hash() {
                     continue;
                 }
-                if self.opts.busy_poll
+                if (self.opts.busy_poll || self.opts.role == ClientRole::Synchronous)
                     && matches!(self.segment, SegmentKnowledge::Unknown)
                     && let Some(newest) = pins.newest()
                 {
@@ -839,7 +875,7 @@ impl Client {
     ) -> Result<(), IoError> {
         // A busy client's OPDONE sample is named in the handshake block.
         let place = match opdone_cycle {
-            Some(cycle) if self.opts.busy_poll => self.place_of(&sample, cycle),
+            Some(cycle) => self.place_of(&sample, cycle),
             _ => None,
         };
         let conn = self.conn.as_ref().ok_or_else(|| IoError::ServerGone {
@@ -903,19 +939,27 @@ impl Client {
 pub struct EventWait {
     block: Arc<HandshakeMap>,
     slot: u32,
-    seen: u32,
+    /// The event word and the newest image's word when the wait was taken.
+    seen: (u32, u64),
+    /// When a synchronous client wakes ahead of STARTOP to poll for it.
+    poll: Option<(u64, u64)>,
 }
 
 impl EventWait {
     /// Sleeps until the server signals something after the wait was taken, or `timeout`.
-    /// Returns whether it did.
+    /// Returns whether it did. A synchronous client wakes ahead of the next STARTOP and polls
+    /// for it ([`AttachOptions::wake_ahead`]), and then returns as soon as procimgd names
+    /// the cycle's image, or `false` when it did not come in the window.
     pub fn wait(&self, timeout: Duration) -> bool {
         let deadline = procimg_shm_layout::os::monotonic_ns()
             .saturating_add(timeout.as_nanos().min(u64::MAX as u128) as u64);
-        self.block
-            .block()
-            .wait_event(&LinuxFutex, self.slot, self.seen, deadline)
-            == Woken::Moved
+        self.block.block().wait_startop_ahead(
+            &LinuxFutex,
+            self.slot,
+            self.seen,
+            self.poll,
+            deadline,
+        ) == Woken::Moved
     }
 }
 

@@ -63,7 +63,16 @@ impl Client {
                     if self.opts.busy_poll {
                         block.spin_startop(&LinuxFutex, seen, newest, deadline)
                     } else {
-                        block.wait_event(&LinuxFutex, self.slot, seen, deadline)
+                        // Asleep until shortly before STARTOP is due, then polling for it:
+                        // the CPU is running when it comes.
+                        let poll = self.poll_window();
+                        block.wait_startop_ahead(
+                            &LinuxFutex,
+                            self.slot,
+                            (seen, newest),
+                            poll,
+                            deadline,
+                        )
                     }
                 }
                 _ => {

@@ -51,9 +51,10 @@ mod services;
 mod station_alarms;
 mod station_services;
 mod status;
+mod wake_ahead;
 
 pub use access::{AccessError, Space};
-pub use client::{AttachOptions, Client, Event, EventWait};
+pub use client::{AttachOptions, Client, Event, EventWait, WAKE_AHEAD};
 #[doc(hidden)]
 pub use connection::{OutputPublisher, OutputService, output_publisher};
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};

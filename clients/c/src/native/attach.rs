@@ -7,6 +7,7 @@ use super::handle::{Handle, handle};
 use crate::ffi::millis;
 use procimg_client::{AttachOptions, Client};
 use std::ffi::c_char;
+use std::time::Duration;
 
 /// Role of a client that takes part in the STARTOP/OPDONE handshake: the server waits for
 /// its `procimg_set_opdone` every cycle (IO-Base's isochronous access).
@@ -27,12 +28,18 @@ pub const PROCIMG_ATTACH_BUSY_POLL: u32 = 4;
 /// Attach flag: refuse to attach (`PROCIMG_ERR_LAYOUT`) unless the server's layout hash is
 /// `layout_hash`.
 pub const PROCIMG_ATTACH_EXPECT_LAYOUT_HASH: u32 = 8;
+/// Attach flag: a sleeping `procimg_wait_startop` (and an IO-Base callback thread) sleeps
+/// until procimgd signals STARTOP, instead of waking 50 µs before it is due and polling for
+/// it (the default, which finds the CPU running when STARTOP comes, for some 30 µs of CPU
+/// time a cycle).
+pub const PROCIMG_ATTACH_SLEEP_ONLY: u32 = 16;
 
 /// Every attach flag this version knows.
 const KNOWN_FLAGS: u32 = PROCIMG_ATTACH_SLICE_ACCESS
     | PROCIMG_ATTACH_NEWCYCLE
     | PROCIMG_ATTACH_BUSY_POLL
-    | PROCIMG_ATTACH_EXPECT_LAYOUT_HASH;
+    | PROCIMG_ATTACH_EXPECT_LAYOUT_HASH
+    | PROCIMG_ATTACH_SLEEP_ONLY;
 
 /// The default attach timeout in milliseconds.
 pub const PROCIMG_DEFAULT_ATTACH_TIMEOUT_MS: u32 = 3000;
@@ -94,6 +101,9 @@ impl procimg_attach_options_t {
             .busy_poll(self.flags & PROCIMG_ATTACH_BUSY_POLL != 0);
         if self.flags & PROCIMG_ATTACH_EXPECT_LAYOUT_HASH != 0 {
             opts = opts.expect_layout_hash(self.layout_hash);
+        }
+        if self.flags & PROCIMG_ATTACH_SLEEP_ONLY != 0 {
+            opts = opts.wake_ahead(Duration::ZERO);
         }
         opts.timeout = millis(self.timeout_ms);
         Ok(opts)
