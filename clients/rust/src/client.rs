@@ -51,6 +51,11 @@ pub struct AttachOptions {
     pub wake_ahead: Duration,
 }
 
+/// How often [`Client::refresh`] tries to hold the newest image by its mark before it takes
+/// the one iceoryx2 delivered instead: each failed try means procimgd named a newer image
+/// while this thread was not running.
+const PIN_TRIES: usize = 4;
+
 /// How long before the next STARTOP is due a sleeping client wakes by default. A thread
 /// that sleeps until STARTOP wakes it starts on a CPU that has gone idle, which on a VM
 /// costs several microseconds at the median and tens at p99 (docs/PERFORMANCE.md, *Waking
@@ -482,25 +487,42 @@ impl Client {
         };
         let mut newer = false;
         let pins = &conn.handshake.block().pins;
+        let mut pinned = false;
         if let SegmentKnowledge::Known(segment) = &self.segment {
             // The busy path: the newest image, held by this client's mark, found without a
-            // receive. Nothing can be borrowing the one held before (`&mut self`).
-            let current = self
-                .latest
-                .as_ref()
-                .map(|l| l.user_header().cycle.cycle_number);
-            if let Some(newest) = pins.pin_newest(self.slot)
-                && current.is_none_or(|c| c as u32 != newest.cycle)
-            {
+            // receive. Nothing can be borrowing the one held before (`&mut self`). A try
+            // fails only when procimgd named a newer image meanwhile (this thread was
+            // preempted): the next try takes that one.
+            for _ in 0..PIN_TRIES {
+                let current = self
+                    .latest
+                    .as_ref()
+                    .map(|l| l.user_header().cycle.cycle_number);
+                let Some(newest) = pins.pin_newest(self.slot) else {
+                    break;
+                };
+                if current.is_some_and(|c| c as u32 == newest.cycle) {
+                    pinned = true;
+                    break;
+                }
                 // The mark moved to the new image: the one held before is no longer held,
                 // so it goes whether or not the new one is taken.
                 self.latest = InputView::pinned(segment, newest, pins).filter(|view| {
                     let h = view.user_header();
                     h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash()
                 });
-                newer = self.latest.is_some();
+                if self.latest.is_some() {
+                    (pinned, newer) = (true, true);
+                    break;
+                }
             }
-        } else {
+            if !pinned {
+                // No image held by the mark (tries used up on a machine that kept this
+                // thread from running, or none named yet): the one iceoryx2 delivered.
+                pins.unpin(self.slot);
+            }
+        }
+        if !pinned {
             // The service lets a reader hold one image (procimgd keeps only a few): the one
             // held goes before the next is taken. Nothing can be borrowing it here (`&mut
             // self`).
