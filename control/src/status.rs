@@ -111,6 +111,15 @@ pub struct NetworkReport {
     pub stale: u64,
     /// Frames dropped for lack of buffer or queue space.
     pub dropped: u64,
+    /// Cyclic frames sent from the image, where the clients' outputs are (one server copy
+    /// of each output byte).
+    #[serde(default)]
+    pub sent_in_place: u64,
+    /// Cyclic frames written from the image before they were sent: frames without outputs
+    /// (consumer statuses only), and the frames of an AR whose peer laid them out otherwise
+    /// than the image holds them (two server copies of each output byte).
+    #[serde(default)]
+    pub sent_copied: u64,
     /// Frames the interface refused to send.
     pub send_errors: u64,
     /// Consumer watchdog expiries (devices lost).

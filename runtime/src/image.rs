@@ -1,17 +1,21 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The input-image payload as the server builds it: input data, status bytes and the mirror
 //! of the outputs as last sent. The IO system writes inputs into it (straight into the
-//! shared-memory sample about to be published) and reads outputs from it. In the controller
-//! role the mirror holds each device's output frame ([`Tables::output_frames`]), which the
-//! IO system completes around the outputs and sends from there.
+//! shared-memory sample about to be published) and reads outputs from it. The mirror holds
+//! each frame the server produces with outputs in it ([`Tables::output_frames`]): each
+//! device's output frame in the controller role, the station's frame to its PLC in the
+//! device role. The IO system completes it around the outputs and sends it from there.
 
+use crate::roles::controller::plan::{device_spec, submodule_spec};
+use procimg_profinet::controller::plan::{DeviceSpec, SubmoduleSpec};
 use procimg_profinet::cyclic::{PRODUCED_C_SDU_OFFSET, produced_frame_len};
+use procimg_profinet::iocr_layout::CrLayout;
 use procimg_shm_layout::{
     DeviceEntry, ImageLayout, LayoutError, MirrorArea, ROLE_CONTROLLER, ROLE_DEVICE,
     STATION_NAME_LEN, SubmoduleEntry, SubmoduleStatus, layout_hash,
 };
 
-use crate::config::{Config, DeviceConfig, StationConfig, SubmoduleConfig};
+use crate::config::{Config, StationConfig, SubmoduleConfig};
 use core::ptr::NonNull;
 use region::{Place, Region};
 
@@ -36,8 +40,9 @@ pub struct Tables {
     pub layout: ImageLayout,
     /// Hash over all of it.
     pub hash: u64,
-    /// Per device: its output frame in the output mirror, if the image holds one (the
-    /// controller role's devices with outputs).
+    /// Per device: the frame with its outputs the server sends, in the output mirror, if the
+    /// image holds one (the controller role's devices with outputs; in the device role, the
+    /// station's frame to its PLC, if the station has inputs).
     pub output_frames: Vec<Option<OutputFrame>>,
 }
 
@@ -60,11 +65,14 @@ impl Tables {
         }
         let mut devices = Vec::with_capacity(config.devices.len());
         let mut submodules = Vec::new();
-        let (mut frames, mut framed) = (Vec::new(), Vec::new());
+        let mut frames = Vec::new();
         for (d, dev) in config.devices.iter().enumerate() {
-            if let Some(frame) = output_frame(dev, submodules.len()) {
-                frames.push(frame);
-                framed.push(d);
+            let (_, layout) = device_spec(dev).iocr_layout();
+            if let Some(frame) = layout
+                .ok()
+                .and_then(|l| frame_area(&l.output, submodules.len()))
+            {
+                frames.push((d, frame));
             }
             devices.push(DeviceEntry {
                 station_name: station_name(&dev.name),
@@ -80,18 +88,7 @@ impl Tables {
             });
             submodules.extend(dev.submodules.iter().map(|s| entry(d, s)));
         }
-        let mut tables = Tables::laid_out(ROLE_CONTROLLER, devices, submodules, &frames)?;
-        for (area, d) in frames.iter().zip(framed) {
-            // Where the area starts: its first output's place less its offset in the area.
-            if let Some(&(s, offset)) = area.placed.first() {
-                let start = tables.submodules[s].output_mirror_offset as usize - offset as usize;
-                tables.output_frames[d] = Some(OutputFrame {
-                    range: start..start + area.len as usize,
-                    outputs: area.placed.len(),
-                });
-            }
-        }
-        Ok(tables)
+        Tables::laid_out(ROLE_CONTROLLER, devices, submodules, &frames)
     }
 
     /// The device role's tables: the station as the one device, each submodule with its Q
@@ -122,21 +119,45 @@ impl Tables {
                 }
             })
             .collect();
-        // The PLC lays out the frames at Connect, after the image is made: the outputs are
-        // packed, and each frame is written from them.
-        Tables::laid_out(ROLE_DEVICE, devices, submodules, &[])
+        // The PLC lays out the station's frame (its input CR) at Connect, after the image is
+        // made. The image holds it as a PLC that plans the station by its configuration lays
+        // it out (an S7-1500, procimgd's own controller, the demo PLC): an AR laid out so
+        // goes out from the image, any other is written from it.
+        let specs: Vec<SubmoduleSpec> = station.submodule_configs().map(submodule_spec).collect();
+        let (_, layout) = DeviceSpec::iocr_layout_of(&specs);
+        let frames: Vec<(usize, MirrorArea)> = layout
+            .ok()
+            .and_then(|l| frame_area(&l.input, 0))
+            .map(|area| (0, area))
+            .into_iter()
+            .collect();
+        Tables::laid_out(ROLE_DEVICE, devices, submodules, &frames)
     }
 
+    /// The tables with offsets assigned, the output mirror holding `frames` (device, its
+    /// frame's area).
     fn laid_out(
         role: u32,
         devices: Vec<DeviceEntry>,
         mut submodules: Vec<SubmoduleEntry>,
-        frames: &[MirrorArea],
+        frames: &[(usize, MirrorArea)],
     ) -> Result<Tables, LayoutError> {
-        let layout = ImageLayout::assign_framed(&mut submodules, frames)?;
+        let areas: Vec<MirrorArea> = frames.iter().map(|(_, a)| a.clone()).collect();
+        let layout = ImageLayout::assign_framed(&mut submodules, &areas)?;
+        let mut output_frames = vec![None; devices.len()];
+        for (d, area) in frames {
+            // Where the area starts: its first output's place less its offset in the area.
+            if let Some(&(s, offset)) = area.placed.first() {
+                let start = submodules[s].output_mirror_offset as usize - offset as usize;
+                output_frames[*d] = Some(OutputFrame {
+                    range: start..start + area.len as usize,
+                    outputs: area.placed.len(),
+                });
+            }
+        }
         let hash = layout_hash(role, &layout, &devices, &submodules);
         Ok(Tables {
-            output_frames: vec![None; devices.len()],
+            output_frames,
             role,
             devices,
             submodules,
@@ -167,14 +188,12 @@ impl Tables {
     }
 }
 
-/// The output frame of device `dev` as its area of the output mirror, its submodules' outputs
-/// where the frame carries them (`first` is its first submodule's table index): the cycle
-/// sends the frame from the image as it stands. `None` for a device without outputs, or
-/// whose IO does not fit a frame (its plan says so).
-fn output_frame(dev: &DeviceConfig, first: usize) -> Option<MirrorArea> {
-    let (_, layout) = crate::roles::controller::plan::device_spec(dev).iocr_layout();
-    let output = layout.ok()?.output;
-    let placed: Vec<(usize, u32)> = output
+/// A frame the server produces (`cr`, the C_SDU layout of one IO CR) as its area of the
+/// output mirror: the submodules' outputs where the frame carries them (`first` is the
+/// table index of the CR's submodule 0), so that the cycle sends the frame from the image as
+/// it stands. `None` for a frame without outputs.
+fn frame_area(cr: &CrLayout, first: usize) -> Option<MirrorArea> {
+    let placed: Vec<(usize, u32)> = cr
         .objects
         .iter()
         .filter(|o| o.length > 0)
@@ -184,7 +203,7 @@ fn output_frame(dev: &DeviceConfig, first: usize) -> Option<MirrorArea> {
         })
         .collect();
     (!placed.is_empty()).then(|| MirrorArea {
-        len: produced_frame_len(usize::from(output.data_length)) as u32,
+        len: produced_frame_len(usize::from(cr.data_length)) as u32,
         placed,
     })
 }

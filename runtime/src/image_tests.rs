@@ -327,3 +327,45 @@ proptest::proptest! {
         }
     }
 }
+
+/// The device role's image holds the station's frame to its PLC as the demo PLC (which plans
+/// as an S7-1500 does) lays it out: each input the PLC consumes sits in the output mirror
+/// where the frame carries it, so that the frame goes out from the image.
+#[test]
+fn the_station_frame_is_in_the_mirror_where_the_plcs_plan_puts_each_input() {
+    use crate::roles::device::sim_plc::{SIM_PLC_MAC, SIM_STATION_MAC, plan};
+    use procimg_profinet::cyclic::CyclicAr;
+    let station = Config::demo_device().station.expect("the demo station");
+    let tables = Tables::of_station(&station).expect("the station's layout");
+    let frame = tables.output_frames[0]
+        .clone()
+        .expect("the station's frame");
+    let plans = plan(&station, 1_000_000).expect("the demo PLC's plan");
+    let plc = CyclicAr::new(
+        &plans[0],
+        1,
+        SIM_PLC_MAC,
+        SIM_STATION_MAC,
+        plans[0].frame_ids,
+    );
+    assert_eq!(frame.range.len(), produced_frame_len(plc.input.data_length));
+    let mut placed = 0;
+    for o in plc.input.objects.iter().filter(|o| o.len > 0) {
+        let e = &tables.submodules[o.submodule];
+        assert_eq!(
+            usize::from(e.output_length),
+            o.len,
+            "submodule {}",
+            o.submodule
+        );
+        assert_eq!(
+            e.output_mirror_offset as usize,
+            frame.range.start + PRODUCED_C_SDU_OFFSET + o.data,
+            "submodule {}",
+            o.submodule
+        );
+        placed += 1;
+    }
+    assert!(placed > 0);
+    assert_eq!(frame.outputs, placed);
+}

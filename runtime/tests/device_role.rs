@@ -34,6 +34,16 @@ fn the_device_demo_gives_its_clients_the_plcs_data_and_the_plc_theirs() {
     assert_eq!((station.vendor_id, station.device_id), (0x0493, 0x0100));
     assert_eq!(station.name, "procimg-device");
     assert_eq!(station.ar.map(|a| a.state), Some(ArState::Data));
+    // The demo PLC lays out the station's frame as an S7-1500 does, as the image holds it:
+    // every frame to it goes out from the image, where the clients' data is.
+    let until = Instant::now() + BRING_UP;
+    let mut network = server.status().network;
+    while network.sent_in_place == 0 && Instant::now() < until {
+        std::thread::sleep(Duration::from_millis(20));
+        network = server.status().network;
+    }
+    assert!(network.sent_in_place > 0, "{network:?}");
+    assert_eq!(network.sent_copied, 0, "{network:?}");
 
     let mut client = Client::attach(&server.instance, AttachOptions::synchronous("devapp"))
         .expect("attach to the device");

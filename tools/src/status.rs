@@ -81,9 +81,12 @@ pub fn run(instance: &str, json: bool) -> anyhow::Result<()> {
     }
     let n = &s.network;
     println!(
-        "network: {} cyclic frames; dropped: {} malformed, {} unknown, {} stale, {} no buffer; \
-         {} send errors, {} watchdog expiries",
+        "network: {} cyclic frames in; {} out ({} from the image, {} written first); dropped: \
+         {} malformed, {} unknown, {} stale, {} no buffer; {} send errors, {} watchdog expiries",
         n.cyclic_frames,
+        n.sent_in_place + n.sent_copied,
+        n.sent_in_place,
+        n.sent_copied,
         n.malformed,
         n.unknown,
         n.stale,

@@ -106,8 +106,15 @@ impl DeviceSpec {
     /// Its submodules' IO lengths, and where their data and status go in the two CRs: the
     /// layout its ARs exchange, and procimgd lays out its image's output frames by.
     pub fn iocr_layout(&self) -> (Vec<SubmoduleIo>, Result<IocrLayout, TooLarge>) {
-        let submodules: Vec<SubmoduleIo> = self
-            .submodules
+        DeviceSpec::iocr_layout_of(&self.submodules)
+    }
+
+    /// The IO lengths of `submodules`, and the layout of the ARs a controller that plans a
+    /// device with them sets up (procimgd's, and an S7-1500's: see [`IocrLayout`]).
+    pub fn iocr_layout_of(
+        submodules: &[SubmoduleSpec],
+    ) -> (Vec<SubmoduleIo>, Result<IocrLayout, TooLarge>) {
+        let submodules: Vec<SubmoduleIo> = submodules
             .iter()
             .map(|s| SubmoduleIo {
                 api: s.api,

@@ -257,6 +257,8 @@ pub(crate) fn network_report(channel: &Channel, datagrams: &DatagramCounters) ->
         unknown: load(&c.unknown),
         stale: load(&c.stale),
         dropped: load(&c.dropped),
+        sent_in_place: load(&c.sent_in_place),
+        sent_copied: load(&c.sent_copied),
         send_errors: load(&c.send_errors),
         watchdog_expiries: load(&c.watchdog_expiries),
         malformed_datagrams: load(&datagrams.malformed),

@@ -80,6 +80,13 @@ pub struct NetCounters {
     pub stale: AtomicU64,
     /// Frames dropped because a queue or the buffer pool was exhausted.
     pub dropped: AtomicU64,
+    /// Cyclic frames sent from the image, where the outputs are (one server copy of each
+    /// output byte).
+    pub sent_in_place: AtomicU64,
+    /// Cyclic frames written from the image first: a frame without outputs (consumer
+    /// statuses only), or an AR's frame the image does not hold as its peer laid it out (two
+    /// server copies of each output byte).
+    pub sent_copied: AtomicU64,
     /// Sends the interface refused.
     pub send_errors: AtomicU64,
     /// Watchdog expiries.

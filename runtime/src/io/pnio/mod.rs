@@ -11,7 +11,8 @@
 //! controller queued. A device's output frame is part of the image (its outputs where the
 //! frame carries them, see `Tables::output_frames`): the cycle writes the header and status
 //! bytes around them and sends it from there; an AR whose frame differs from the image's
-//! (the device role's, laid out by the PLC) is written from the image first.
+//! (in the device role, a PLC that laid the station's frame out otherwise than the image
+//! holds it) is written from the image first.
 
 pub mod channel;
 
@@ -378,9 +379,14 @@ impl<N: Nic + 'static> IoSystem for PnioIo<N> {
             if !r.ar.due(t.cycle) {
                 continue;
             }
+            let counters = &ex.channel.counters;
             let sent = match send_from_image(&mut self.nic, r, image, counter, status) {
-                Some(sent) => sent,
+                Some(sent) => {
+                    NetCounters::count(&counters.sent_in_place);
+                    sent
+                }
                 None => {
+                    NetCounters::count(&counters.sent_copied);
                     r.ar.fill(&FromImage(image));
                     self.nic.send(r.ar.seal(counter, status))
                 }
