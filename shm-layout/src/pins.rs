@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Which input image each busy-polling client reads, so that the server never writes it:
-//! the newest image's place in one word of the handshake block, and one hold mark per
-//! client slot, in the way of hazard pointers.
+//! Which input image each synchronous client (and each busy-polling one) reads, so that the
+//! server never writes it: the newest image's place in one word of the handshake block, and
+//! one hold mark per client slot, in the way of hazard pointers.
 //!
 //! A busy client finds the cycle's image without an iceoryx2 receive: it reads
 //! [`Pins`](crate::pins::Pins)'s newest word (the cycle and the offset of the image's

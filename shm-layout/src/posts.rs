@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! Where each busy-polling client's outputs lie when it signals OPDONE, so that the server
+//! Where each synchronous client's outputs lie when it signals OPDONE, so that the server
 //! copies them straight from the client's sample, without an iceoryx2 send and receive.
 //!
 //! The client keeps one output sample loaned across cycles. At OPDONE it names the sample

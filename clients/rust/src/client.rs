@@ -895,7 +895,7 @@ impl Client {
         mut sample: SampleMut<Ipc, [u8], OutputHeader>,
         opdone_cycle: Option<u64>,
     ) -> Result<(), IoError> {
-        // A busy client's OPDONE sample is named in the handshake block.
+        // A synchronous client's OPDONE sample is named in the handshake block.
         let place = match opdone_cycle {
             Some(cycle) => self.place_of(&sample, cycle),
             _ => None,
