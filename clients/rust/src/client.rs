@@ -461,7 +461,9 @@ impl Client {
             return None;
         }
         let lead = self.opts.wake_ahead.as_nanos().min(u64::MAX as u128) as u64;
-        let window = poll_window(self.header()?, lead, procimg_shm_layout::os::monotonic_ns())?;
+        let named = self.conn.as_ref()?.handshake.block().pins.newest();
+        let now = procimg_shm_layout::os::monotonic_ns();
+        let window = poll_window(self.header()?, named.map(|p| p.cycle), lead, now)?;
         Some((window.start, window.end))
     }
 
