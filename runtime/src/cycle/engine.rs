@@ -566,18 +566,20 @@ impl State {
     /// The sample of `slot` just merged was written again while it was read (a busy client
     /// writing outside its window): not an answer (an OPFAULT follows), and no byte of it
     /// is trusted. The client's outputs are cleared and go out BAD until it writes them
-    /// again, as after OFFLINE; a late sample (not this cycle's) wrote nothing.
+    /// again, as after OFFLINE. A late sample (not this cycle's) wrote nothing, and its
+    /// client did nothing wrong: it answered late, saw the next STARTOP and began its next
+    /// window in the sample while the cycle was still looking at the late answer.
     fn tear(&mut self, slot: u32) {
-        self.shared
-            .counters
-            .rejected_writes
-            .fetch_add(1, Ordering::Relaxed);
         let Some(c) = self.clients.get_mut(slot as usize) else {
             return;
         };
         if !c.done {
             return;
         }
+        self.shared
+            .counters
+            .rejected_writes
+            .fetch_add(1, Ordering::Relaxed);
         c.done = false;
         let token = c.token;
         for s in 0..self.output_iops.len() {

@@ -331,6 +331,25 @@ fn a_late_synchronous_client_gets_one_opfault_and_is_not_waited_for_again() {
 }
 
 #[test]
+fn a_late_answer_written_again_while_it_is_read_is_no_rejected_write() {
+    let (mut rig, echo, _) = Rig::with_an_answering_client(LatePolicy::HoldLastOutputs, 2, 22, 7);
+    let sent = rig.last_sent(echo);
+    // The answer to the last cycle, read in this one while the client, which saw this
+    // cycle's STARTOP, writes its next outputs into the same sample.
+    rig.engine.ports.torn_slots.push(2);
+    let late = rig.sample(2, 22, rig.k, echo, &[8; 16]);
+    rig.engine.ports.outputs.push_back(late);
+    let rejected = rig.shared.counters.rejected_writes.load(Ordering::Relaxed);
+    rig.cycle();
+    assert_eq!(
+        rig.shared.counters.rejected_writes.load(Ordering::Relaxed),
+        rejected,
+        "a late answer is no write outside the window"
+    );
+    assert_eq!(rig.last_sent(echo), sent, "a late answer writes nothing");
+}
+
+#[test]
 fn a_torn_opdone_sample_is_an_opfault_and_its_outputs_go_out_cleared_and_bad_until_written() {
     let (mut rig, echo, _) = Rig::with_an_answering_client(LatePolicy::HoldLastOutputs, 2, 22, 7);
 
