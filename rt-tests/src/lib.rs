@@ -7,4 +7,5 @@
 //! reads them back, puts each figure beside its baseline and draws the plots.
 
 pub mod cyclictest_json;
+pub mod names;
 pub mod report;

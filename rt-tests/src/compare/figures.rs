@@ -143,6 +143,16 @@ impl Results {
             .collect()
     }
 
+    /// Why job `key` has no report: "was not run", or the first failed round's reason.
+    pub fn failure(&self, key: &str) -> String {
+        let Some(runs) = self.runs.get(key) else {
+            return format!("{key} was not run");
+        };
+        runs.iter()
+            .find_map(|r| r.as_ref().err().cloned())
+            .unwrap_or_else(|| format!("{key} reported nothing"))
+    }
+
     /// A setting of job `key`'s first report, e.g. procimg-handshake's overruns.
     pub fn setting(&self, key: &str, name: &str) -> Option<String> {
         self.runs

@@ -15,6 +15,8 @@
 //!   handshakes over image sizes and client counts;
 //! - `procimg-handshake startup` for the largest and the smallest image (procimgd's start,
 //!   its locked memory, a client's attach);
+//! - `procimg-handshake attach-load`: clients attaching and detaching beside procimgd's
+//!   demo, its overruns against as long idle;
 //!
 //! reads their JSON back, prints one table and the goal table (also `DIR/table.md`) and
 //! draws `DIR/latency.svg`. With `--shortest-cycle` it runs instead, for each cycle time
@@ -22,6 +24,7 @@
 //! A tool that is missing or fails leaves its rows "not measured" with the reason; the run
 //! goes on.
 
+mod acceptance;
 mod figures;
 mod goals;
 mod plan;
@@ -79,6 +82,10 @@ struct Args {
     /// OPFAULTs beside cyclictest's late wake-ups.
     #[arg(long, value_name = "µs,…", value_delimiter = ',', value_parser = shortest::parse_interval)]
     shortest_cycle: Option<Vec<u64>>,
+    /// Clients that attach and detach one after the other beside procimgd's demo, its
+    /// overruns then against as long idle; 0 leaves the job out [default: 1000, --quick: 20].
+    #[arg(long, value_name = "N")]
+    attach_load: Option<u32>,
     /// How long each side of a --shortest-cycle pair runs [default: 60s, --quick: 5s].
     #[arg(long, value_parser = humantime::parse_duration)]
     duration: Option<std::time::Duration>,
@@ -128,6 +135,11 @@ fn settings(args: &Args) -> Settings {
         sizes: args.sizes.clone().unwrap_or(sizes),
         clients: args.clients.clone().unwrap_or(clients),
         startup_sizes,
+        attach_load: args.attach_load.unwrap_or(if args.quick {
+            20
+        } else {
+            acceptance::ATTACH_LOAD_ATTACHES
+        }),
     }
 }
 
@@ -274,7 +286,7 @@ fn header(s: &Settings, rounds: u32, dir: &Path, quick: bool) -> String {
          settings: {rounds} round(s), pairs alternated (table: median of the rounds' values; \
          plot: all rounds pooled); {} cycles per wake-up and handshake run at {} µs, {} round \
          trips per ping-pong; SCHED_FIFO 80; main handshake rows: {} client(s), {}; sweep: \
-         sizes {}, clients {}\n\
+         sizes {}, clients {}; attach-load: {} attaches per round beside the demo\n\
          run directory: {} (each tool's report and log in round-N/)\n\n",
         if quick {
             " (quick: timing not judged)"
@@ -292,6 +304,7 @@ fn header(s: &Settings, rounds: u32, dir: &Path, quick: bool) -> String {
         table::human_bytes(s.main_bytes()),
         list(&sizes),
         list(&clients),
+        s.attach_load,
         dir.display(),
     )
 }

@@ -40,6 +40,9 @@ pub struct Settings {
     pub clients: Vec<usize>,
     /// Image sizes of the start-up jobs (some of [`STARTUP_SIZES`]).
     pub startup_sizes: Vec<usize>,
+    /// Clients that attach and detach beside the running demo in the attach-load job
+    /// (0: no such job).
+    pub attach_load: u32,
 }
 
 impl Settings {
@@ -142,16 +145,7 @@ pub const QUICK_LEAVES_OUT_LARGE: &str = "--quick leaves the largest image's sta
      (procimgd locks some 40 MiB for it, and a quick run stays small); run without --quick";
 /// Attaches timed per start-up job.
 pub const STARTUP_ATTACHES: u32 = 20;
-/// procimg-handshake startup's measurements and settings.
-pub const FIRST_CYCLE: &str = "start to first cycle";
-/// See [`FIRST_CYCLE`].
-pub const ATTACH: &str = "client attach";
-/// See [`FIRST_CYCLE`]; KiB: memory locked and resident (`Locked` of smaps_rollup).
-pub const LOCKED_KIB: &str = "procimgd_locked_kib";
-/// See [`FIRST_CYCLE`]; KiB.
-pub const VMLCK_KIB: &str = "procimgd_vmlck_kib";
-/// See [`FIRST_CYCLE`]; KiB.
-pub const VMRSS_KIB: &str = "procimgd_vmrss_kib";
+pub use procimg_rt_tests::names::{ATTACH, FIRST_CYCLE, LOCKED_KIB, VMLCK_KIB, VMRSS_KIB};
 /// procimg-handshake's settings: allocations in the measured cycles.
 pub const SERVER_ALLOCATIONS: &str = "server_cycle_allocations";
 /// See [`SERVER_ALLOCATIONS`].
@@ -161,6 +155,10 @@ pub const CLIENT_ALLOCATIONS: &str = "client_cycle_allocations";
 pub fn startup_key(bytes: usize) -> String {
     format!("startup-{bytes}B")
 }
+
+/// Key of the attach-load job: procimgd's demo, clients attaching and detaching one after the
+/// other, then as long idle (`procimg-handshake attach-load`).
+pub const ATTACH_LOAD: &str = "attach-load";
 
 /// The job key of the futex ping-pong that starts one round trip per cycle
 /// (`procimg-baseline futex --period-us INTERVAL`): the limit of a handshake whose two sides
@@ -262,6 +260,18 @@ pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
             })
             .collect(),
     );
+    if s.attach_load > 0 {
+        groups.push(vec![Job {
+            key: ATTACH_LOAD.to_string(),
+            program: HANDSHAKE,
+            args: strings(&["attach-load", "-n", &s.attach_load.to_string(), "-r", "1"]),
+            output: Output::Report,
+            // procimgd's start and its 2 s to settle, then each attach (some 10 ms at the
+            // demo's size) and the 5 ms pause after it, twice: attaching, then idle.
+            expected: Duration::from_secs(3)
+                + Duration::from_millis(2 * 15 * u64::from(s.attach_load)),
+        }]);
+    }
     groups
 }
 
@@ -298,6 +308,7 @@ mod tests {
             sizes: vec![64, 4096],
             clients: vec![1, 4],
             startup_sizes: STARTUP_SIZES.to_vec(),
+            attach_load: 20,
         }
     }
 
@@ -310,6 +321,7 @@ mod tests {
     #[test]
     fn every_job_key_is_unique_and_outputs_are_passed_the_tools_way() {
         let groups = groups(&settings());
+        let groups_of = |s: Settings| super::groups(&s);
         let mut keys: Vec<&str> = groups.iter().flatten().map(|j| j.key.as_str()).collect();
         let n = keys.len();
         keys.sort();
@@ -329,5 +341,13 @@ mod tests {
             every_cycle.args,
             ["futex", "-l", "100", "--period-us", "1000"]
         );
+        let attach_load = groups.last().unwrap();
+        assert_eq!(attach_load[0].key, ATTACH_LOAD);
+        assert_eq!(attach_load[0].args, ["attach-load", "-n", "20", "-r", "1"]);
+        let without = groups_of(Settings {
+            attach_load: 0,
+            ..settings()
+        });
+        assert!(!without.iter().flatten().any(|j| j.key == ATTACH_LOAD));
     }
 }

@@ -18,10 +18,13 @@ use crate::plant::{self, Plant};
 use crate::server::{Counters, Server};
 use anyhow::{Context, Result};
 use procimg_client::{AttachOptions, Client};
+use procimg_rt_tests::names::{ATTACHES, OVERRUNS_ATTACHING, OVERRUNS_IDLE};
+use procimg_rt_tests::report::Report;
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// What to run.
-pub struct Args {
+pub struct Args<'a> {
     /// The generated image of this size instead of the demo.
     pub image_bytes: Option<usize>,
     /// Attaches per attaching window.
@@ -30,6 +33,8 @@ pub struct Args {
     pub rounds: u32,
     /// Between one client's detach and the next attach.
     pub pause: Duration,
+    /// Where the report goes, if anywhere.
+    pub report: Option<&'a Path>,
 }
 
 /// One window's counters and length.
@@ -39,7 +44,7 @@ struct Window {
 }
 
 /// Runs the benchmark and prints its figures.
-pub fn run(args: &Args) -> Result<()> {
+pub fn run(args: &Args<'_>) -> Result<()> {
     let instance = format!("attach-load-{}", std::process::id());
     let dir = std::env::temp_dir().join(format!("procimg-attach-load-{}", std::process::id()));
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
@@ -111,10 +116,22 @@ pub fn run(args: &Args) -> Result<()> {
     } else {
         format!("{:.2}", with as f64 / without as f64)
     };
+    let attaches = u64::from(args.attaches) * u64::from(args.rounds);
     println!(
-        "# overruns with {} attaches: {with}; idle for as long: {without}; ratio {ratio}",
-        u64::from(args.attaches) * u64::from(args.rounds)
+        "# overruns with {attaches} attaches: {with}; idle for as long: {without}; ratio {ratio}"
     );
+    let mut report = Report::new("procimg-handshake attach-load");
+    report
+        .setting(
+            "image_bytes",
+            args.image_bytes
+                .map_or("demo".to_string(), |b| b.to_string()),
+        )
+        .setting("pause_ms", args.pause.as_millis())
+        .setting(ATTACHES, attaches)
+        .setting(OVERRUNS_ATTACHING, with)
+        .setting(OVERRUNS_IDLE, without);
+    report.save(args.report, None)?;
     Ok(())
 }
 

@@ -157,6 +157,9 @@ enum Role {
         /// Milliseconds between a client's detach and the next attach.
         #[arg(long, default_value_t = 5)]
         pause_ms: u64,
+        /// Write the overruns of both windows as a procimg report (JSON).
+        #[arg(long, value_name = "FILE")]
+        report: Option<PathBuf>,
     },
 }
 
@@ -237,11 +240,13 @@ fn main() {
             attaches,
             rounds,
             pause_ms,
+            report,
         }) => attach_load::run(&attach_load::Args {
             image_bytes: *image_bytes,
             attaches: *attaches,
             rounds: *rounds,
             pause: std::time::Duration::from_millis(*pause_ms),
+            report: report.as_deref(),
         }),
         None => coordinate(&args),
     };

@@ -20,16 +20,10 @@ use crate::plant::Plant;
 use crate::server::{START_POLL, Server};
 use anyhow::{Context, Result};
 use procimg_client::{AttachOptions, Client, ControlHandle};
+use procimg_rt_tests::names::{ATTACH, FIRST_CYCLE, LOCKED_KIB, REQUEST, VMLCK_KIB, VMRSS_KIB};
 use procimg_rt_tests::report::{Measurement, Report, new_histogram};
 use std::path::Path;
 use std::time::{Duration, Instant};
-
-/// The measurement names (as procimg-compare looks them up).
-pub const FIRST_CYCLE: &str = "start to first cycle";
-/// See [`FIRST_CYCLE`].
-pub const ATTACH: &str = "client attach";
-/// See [`FIRST_CYCLE`].
-pub const REQUEST: &str = "control request";
 
 /// Control requests timed.
 const REQUESTS: u32 = 200;
@@ -113,14 +107,6 @@ pub fn run(image_bytes: usize, attaches: u32, report_path: Option<&Path>) -> Res
     report.save(report_path, None)?;
     Ok(())
 }
-
-/// The report's settings: procimgd's memory locked and resident, mappings flagged locked,
-/// and resident memory, KiB.
-pub const LOCKED_KIB: &str = "procimgd_locked_kib";
-/// See [`LOCKED_KIB`].
-pub const VMLCK_KIB: &str = "procimgd_vmlck_kib";
-/// See [`VMLCK_KIB`].
-pub const VMRSS_KIB: &str = "procimgd_vmrss_kib";
 
 fn duration_ns(d: Duration) -> u64 {
     u64::try_from(d.as_nanos()).unwrap_or(u64::MAX).max(1)
