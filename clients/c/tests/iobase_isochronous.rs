@@ -252,12 +252,28 @@ fn a_device_follows_the_cycle_with_startop_and_opdone() {
             "{}",
             last_error()
         );
+        // The STARTOP thread's lead comes from the environment: a value that is no number
+        // fails the registration, which takes no effect; 0 sleeps until STARTOP. (Setting
+        // it is sound: the tests of this file run one at a time, `SERIAL`, and the library
+        // reads it only inside the registration, on this thread.)
+        std::env::set_var("PROCIMG_WAKE_AHEAD_US", "soon");
+        assert_eq!(
+            PNIO_CP_register_cbf(h, PNIO_CP_CBE_STARTOP_IND, Some(on_startop)),
+            PNIO_ERR_INVALID_CONFIG
+        );
+        assert!(
+            last_error().contains("PROCIMG_WAKE_AHEAD_US=\"soon\""),
+            "{}",
+            last_error()
+        );
+        std::env::set_var("PROCIMG_WAKE_AHEAD_US", "0");
         assert_eq!(
             PNIO_CP_register_cbf(h, PNIO_CP_CBE_STARTOP_IND, Some(on_startop)),
             PNIO_OK,
             "{}",
             last_error()
         );
+        std::env::remove_var("PROCIMG_WAKE_AHEAD_US");
         assert_eq!(
             PNIO_CP_register_cbf(h, PNIO_CP_CBE_STARTOP_IND, Some(on_startop)),
             PNIO_ERR_ALLREADY_DONE

@@ -24,6 +24,7 @@ use super::services::{ServiceContext, ServiceWorker};
 use super::stopped;
 use super::sync::lock;
 use super::types::*;
+use super::wake_ahead_env;
 use procimg_client::{
     AttachError, AttachOptions, Client, ControlError, ControlHandle, DeviceState, Event, Layout,
     Mode, Refusal,
@@ -566,7 +567,10 @@ impl Controller {
         let newcycle = self.callbacks.get_cp(PNIO_CP_CBE_NEWCYCLE_IND).is_some();
         let name = format!("PNIO controller {} (CP {})", self.handle, self.cp_index);
         let opts = if sync {
-            AttachOptions::synchronous(&name)
+            AttachOptions::synchronous(&name).wake_ahead(
+                wake_ahead_env::from_env()
+                    .map_err(|e| fail(isochronous::REGISTER, PNIO_ERR_INVALID_CONFIG, e))?,
+            )
         } else {
             AttachOptions::asynchronous(&name)
         }

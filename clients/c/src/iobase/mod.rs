@@ -50,4 +50,5 @@ pub(crate) mod stopped;
 pub(crate) mod sync;
 pub mod types;
 mod wake;
+pub(crate) mod wake_ahead_env;
 pub mod watchdog;

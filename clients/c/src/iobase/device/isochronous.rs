@@ -28,6 +28,7 @@ use crate::iobase::errors::*;
 use crate::iobase::isochronous::{self, OPDONE, REGISTER, Window};
 use crate::iobase::sync::lock;
 use crate::iobase::types::*;
+use crate::iobase::wake_ahead_env;
 use procimg_client::{AttachOptions, Client};
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -88,7 +89,9 @@ fn reattach(dev: &Device) -> Result<(), u32> {
     let newcycle = dev.iso.callbacks.get_cp(PNIO_CP_CBE_NEWCYCLE_IND).is_some();
     let name = format!("PNIO device (CP {})", dev.cp_index);
     let opts = if sync {
-        AttachOptions::synchronous(&name)
+        AttachOptions::synchronous(&name).wake_ahead(
+            wake_ahead_env::from_env().map_err(|e| fail(REGISTER, PNIO_ERR_INVALID_CONFIG, e))?,
+        )
     } else {
         AttachOptions::asynchronous(&name)
     }
