@@ -47,7 +47,7 @@ fn a_quick_comparison_prints_the_table_and_writes_its_files() {
         "sleeping round trip / futex round trip, p50 (1 cl., 64 B)",
         "sleeping round trip / futex round trip one per cycle, p99 (1 cl., 64 B)",
         "sleeping round trip / futex round trip one per cycle, p99 (4 cl., 64 B)",
-        "(futex + copy 64 KiB)",
+        "(futex one per cycle + copy 64 KiB)",
         "server copies per image byte, inputs",
         "server copies per image byte, outputs",
         "steady-state allocations in the cycle, server",

@@ -6,7 +6,8 @@
 //! order swapped every other round so neither always goes first):
 //!
 //! - the real `cyclictest` and `procimg-cyclictest` with the same options (wake-up);
-//! - `procimg-baseline spin` and a busy-polling `procimg-handshake`;
+//! - `procimg-baseline spin`, the same ping-pong with one round trip per cycle, and a
+//!   busy-polling `procimg-handshake`;
 //! - `procimg-baseline futex`, the same ping-pong with one round trip per cycle
 //!   (`--period-us`: both sides wake from a cycle's sleep, as the handshake's do), and a
 //!   sleeping `procimg-handshake`;
@@ -371,6 +372,12 @@ fn panels(res: &Results, s: &Settings) -> Vec<plot::Panel> {
             series: [
                 series(&main(true).key(), rt, "procimg busy round trip", false),
                 series("spin", rt, "spin baseline", true),
+                series(
+                    plan::SPIN_EVERY_CYCLE,
+                    rt,
+                    "spin baseline, one per cycle",
+                    true,
+                ),
             ]
             .into_iter()
             .flatten()

@@ -165,6 +165,12 @@ pub const ATTACH_LOAD: &str = "attach-load";
 /// sleep through most of a cycle, as procimgd's cycle thread and a sleeping client do.
 pub const FUTEX_EVERY_CYCLE: &str = "futex-every-cycle";
 
+/// The job key of the spin ping-pong that starts one round trip per cycle
+/// (`procimg-baseline spin --period-us INTERVAL`): its first side sleeps through the cycle
+/// as procimgd's cycle thread does, its second spins as a busy client does, and the run is
+/// as long as the handshake's, so it meets the machine's rarer stalls as often.
+pub const SPIN_EVERY_CYCLE: &str = "spin-every-cycle";
+
 /// The groups, in order; each group runs back to back.
 pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
     let cycles = Duration::from_micros(s.loops * s.interval_us);
@@ -211,10 +217,10 @@ pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
         // Plus procimg-handshake's warm-up of up to 3000 cycles.
         expected: cycles + Duration::from_micros(3000 * s.interval_us),
     };
-    let futex_every_cycle = Job {
-        key: FUTEX_EVERY_CYCLE.to_string(),
+    let every_cycle = |key: &str, what: &str| Job {
+        key: key.to_string(),
         program: BASELINE,
-        args: strings(&["futex", "-l", &l, "--period-us", &i]),
+        args: strings(&[what, "-l", &l, "--period-us", &i]),
         output: Output::Report,
         // Plus procimg-baseline's warm-up of 1000 round trips, one per cycle too.
         expected: cycles + Duration::from_micros(1000 * s.interval_us),
@@ -230,10 +236,14 @@ pub fn groups(s: &Settings) -> Vec<Vec<Job>> {
             wake("cyclictest", CYCLICTEST, Output::CyclictestJson),
             wake("procimg-cyclictest", PROCIMG_CYCLICTEST, Output::Report),
         ],
-        vec![baseline("spin", &[]), handshake(main(true))],
+        vec![
+            baseline("spin", &[]),
+            every_cycle(SPIN_EVERY_CYCLE, "spin"),
+            handshake(main(true)),
+        ],
         vec![
             baseline("futex", &[]),
-            futex_every_cycle,
+            every_cycle(FUTEX_EVERY_CYCLE, "futex"),
             handshake(main(false)),
         ],
         vec![baseline("eventfd", &[]), baseline("socket", &[])],
@@ -340,6 +350,15 @@ mod tests {
         assert_eq!(
             every_cycle.args,
             ["futex", "-l", "100", "--period-us", "1000"]
+        );
+        let spin_every_cycle = groups
+            .iter()
+            .flatten()
+            .find(|j| j.key == SPIN_EVERY_CYCLE)
+            .unwrap();
+        assert_eq!(
+            spin_every_cycle.args,
+            ["spin", "-l", "100", "--period-us", "1000"]
         );
         let attach_load = groups.last().unwrap();
         assert_eq!(attach_load[0].key, ATTACH_LOAD);
