@@ -95,6 +95,28 @@ fn every_copy_size_is_a_measurement() {
 }
 
 #[test]
+fn every_page_count_is_a_measurement_of_every_write() {
+    let r = run(
+        &[
+            "page-writes",
+            "--pages",
+            "1,16",
+            "-l",
+            "50",
+            "--period-us",
+            "200",
+        ],
+        "page write, 16 pages",
+    );
+    let names: Vec<&str> = r.measurements.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["page write, 1 pages", "page write, 16 pages"]);
+    for m in &r.measurements {
+        assert_eq!(m.count, 50, "{}", m.name);
+    }
+    assert_eq!(r.settings["period_us"], "200");
+}
+
+#[test]
 fn spin_on_one_cpu_is_refused_with_a_reason() {
     let stderr = refusal(TOOL, &["spin", "-a", "0,0", "-l", "10"]);
     assert!(stderr.contains("different CPUs"), "{stderr}");

@@ -7,7 +7,10 @@
 //! - `futex`: the same, each side sleeping in FUTEX_WAIT: the OS limit of a sleeping one;
 //! - `eventfd`, `socket`: the same over eventfds and a unix datagram socket pair, closer to
 //!   what iceoryx2's events cost (its default is unix datagram sockets);
-//! - `memcpy`: one copy of N bytes between hot, pre-faulted buffers: the copy limit.
+//! - `memcpy`: one copy of N bytes between hot, pre-faulted buffers: the copy limit;
+//! - `page-writes`: one write per period (`--period-us`, default 1000) rotating over N
+//!   pages: what a write to a page costs once it has lain unwritten for N periods (on a VM,
+//!   the host may make it fault).
 //!
 //! With `--period-us P` a ping-pong starts one round trip every P µs instead of back to
 //! back: both processes sleep between round trips, as procimgd's cycle thread and a
@@ -23,6 +26,7 @@
 
 mod mechanism;
 mod memcpy;
+mod page_writes;
 mod pingpong;
 mod sched;
 mod shared;
@@ -85,6 +89,13 @@ enum What {
               default_value = "64,4KiB,64KiB,1MiB")]
         bytes: Vec<usize>,
     },
+    /// Time one write per period (--period-us, default 1000), rotating over N pages, for
+    /// each N given.
+    PageWrites {
+        /// Page counts, e.g. 1,16,256,2048.
+        #[arg(long, value_delimiter = ',', default_value = "1,16,256,2048")]
+        pages: Vec<usize>,
+    },
 }
 
 impl What {
@@ -95,6 +106,7 @@ impl What {
             What::Eventfd => "eventfd",
             What::Socket => "socket",
             What::Memcpy { .. } => "memcpy",
+            What::PageWrites { .. } => "page-writes",
         }
     }
 }
@@ -119,6 +131,7 @@ fn run(args: &Args) -> Result<()> {
     report.setting("cpu_dma_latency_zero", dma_latency.is_ok());
     match &args.what {
         What::Memcpy { bytes } => memcpy_sizes(args, bytes, &mut report),
+        What::PageWrites { pages } => page_write_counts(args, pages, &mut report),
         What::Spin => ping_pong(args, &Spin::new()?, &mut report),
         What::Futex => ping_pong(args, &Futex::new()?, &mut report),
         What::Eventfd => ping_pong(args, &EventFd::new()?, &mut report),
@@ -216,6 +229,35 @@ fn memcpy_sizes(args: &Args, sizes: &[usize], report: &mut Report) -> Result<()>
     Ok(())
 }
 
+fn page_write_counts(args: &Args, pages: &[usize], report: &mut Report) -> Result<()> {
+    // One thread, pinned and real-time as procimgd's cycle thread.
+    if let Some((a, _)) = placement(args)?
+        && let Err(w) = sched::pin("A", a)
+    {
+        eprintln!("procimg-baseline: warning: {w}");
+    }
+    if args.priority > 0
+        && let Err(w) = sched::set_fifo(args.priority)
+    {
+        eprintln!("procimg-baseline: warning: {w}");
+    }
+    let period_us = if args.period_us == 0 {
+        1000
+    } else {
+        args.period_us
+    };
+    report
+        .setting("loops", args.loops)
+        .setting("period_us", period_us);
+    for &n in pages {
+        let h = page_writes::measure(n, args.loops.max(1), period_us * 1000);
+        report
+            .measurements
+            .push(Measurement::from_histogram(&page_writes::name(n), &h));
+    }
+    Ok(())
+}
+
 /// The measurement name of a copy of `bytes`, as procimg-compare looks it up.
 fn copy_name(bytes: usize) -> String {
     format!("copy {bytes} B")
@@ -223,13 +265,20 @@ fn copy_name(bytes: usize) -> String {
 
 fn print_table(r: &Report) {
     let memcpy = r.settings.get("mechanism").is_some_and(|m| m == "memcpy");
-    print!("{}", table_header(16));
+    let width = r
+        .measurements
+        .iter()
+        .map(|m| m.name.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(16);
+    print!("{}", table_header(width));
     if memcpy {
         print!(" {:>9} {:>10}", "p50 ns", "ns/KiB p50");
     }
     println!();
     for m in &r.measurements {
-        print!("{}", m.table_row(16));
+        print!("{}", m.table_row(width));
         if memcpy {
             let bytes: f64 = m
                 .name
