@@ -196,8 +196,9 @@ fn ping_pong<C: Channel>(args: &Args, channel: &C, report: &mut Report) -> Resul
     Ok(())
 }
 
-fn memcpy_sizes(args: &Args, sizes: &[usize], report: &mut Report) -> Result<()> {
-    // One process is enough for a copy; pin it so that the caches stay the same.
+/// Pins this (only) thread to the first CPU of the placement and makes it SCHED_FIFO at the
+/// priority asked for; what cannot be done is a warning, and the figures are taken anyway.
+fn one_thread_setup(args: &Args) -> Result<()> {
     if let Some((a, _)) = placement(args)?
         && let Err(w) = sched::pin("A", a)
     {
@@ -208,6 +209,12 @@ fn memcpy_sizes(args: &Args, sizes: &[usize], report: &mut Report) -> Result<()>
     {
         eprintln!("procimg-baseline: warning: {w}");
     }
+    Ok(())
+}
+
+fn memcpy_sizes(args: &Args, sizes: &[usize], report: &mut Report) -> Result<()> {
+    // One process is enough for a copy; pinned so that the caches stay the same.
+    one_thread_setup(args)?;
     report
         .setting("loops", args.loops)
         .setting("clock_overhead_ns", memcpy::clock_overhead_ns())
@@ -231,16 +238,7 @@ fn memcpy_sizes(args: &Args, sizes: &[usize], report: &mut Report) -> Result<()>
 
 fn page_write_counts(args: &Args, pages: &[usize], report: &mut Report) -> Result<()> {
     // One thread, pinned and real-time as procimgd's cycle thread.
-    if let Some((a, _)) = placement(args)?
-        && let Err(w) = sched::pin("A", a)
-    {
-        eprintln!("procimg-baseline: warning: {w}");
-    }
-    if args.priority > 0
-        && let Err(w) = sched::set_fifo(args.priority)
-    {
-        eprintln!("procimg-baseline: warning: {w}");
-    }
+    one_thread_setup(args)?;
     let period_us = if args.period_us == 0 {
         1000
     } else {

@@ -342,24 +342,10 @@ mod tests {
         assert_eq!(args.last().unwrap(), "--json=/x/c.json");
         let ours = groups[0][1].args_with_output(std::path::Path::new("/x/p.json"));
         assert_eq!(&ours[ours.len() - 2..], ["--report", "/x/p.json"]);
-        let every_cycle = groups
-            .iter()
-            .flatten()
-            .find(|j| j.key == FUTEX_EVERY_CYCLE)
-            .unwrap();
-        assert_eq!(
-            every_cycle.args,
-            ["futex", "-l", "100", "--period-us", "1000"]
-        );
-        let spin_every_cycle = groups
-            .iter()
-            .flatten()
-            .find(|j| j.key == SPIN_EVERY_CYCLE)
-            .unwrap();
-        assert_eq!(
-            spin_every_cycle.args,
-            ["spin", "-l", "100", "--period-us", "1000"]
-        );
+        for (key, what) in [(FUTEX_EVERY_CYCLE, "futex"), (SPIN_EVERY_CYCLE, "spin")] {
+            let job = groups.iter().flatten().find(|j| j.key == key).unwrap();
+            assert_eq!(job.args, [what, "-l", "100", "--period-us", "1000"]);
+        }
         let attach_load = groups.last().unwrap();
         assert_eq!(attach_load[0].key, ATTACH_LOAD);
         assert_eq!(attach_load[0].args, ["attach-load", "-n", "20", "-r", "1"]);
