@@ -274,11 +274,7 @@ fn attach_load_goal(res: &Results, s: &Settings) -> Goal {
             Ok(format!(
                 "{with} overruns over {n} attaches and detaches, {idle} idle as long"
             )),
-            Some(match (with, idle) {
-                (0, _) => 0.0,
-                (_, 0) => f64::INFINITY,
-                _ => with as f64 / idle as f64,
-            }),
+            Some(names::overrun_ratio(with, idle)),
         ),
         _ if s.attach_load == 0 => (
             Err("--attach-load 0 leaves the attach-load job out".to_string()),

@@ -18,7 +18,7 @@ use crate::plant::{self, Plant};
 use crate::server::{Counters, Server};
 use anyhow::{Context, Result};
 use procimg_client::{AttachOptions, Client};
-use procimg_rt_tests::names::{ATTACHES, OVERRUNS_ATTACHING, OVERRUNS_IDLE};
+use procimg_rt_tests::names::{ATTACHES, OVERRUNS_ATTACHING, OVERRUNS_IDLE, overrun_ratio};
 use procimg_rt_tests::report::Report;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -107,14 +107,10 @@ pub fn run(args: &Args<'_>) -> Result<()> {
 
     let total = |w: &[Window]| w.iter().map(|w| w.counters.overruns).sum::<u64>();
     let (with, without) = (total(&attaching), total(&idle));
-    let ratio = if without == 0 {
-        if with == 0 {
-            "1.00 (none in either)".to_string()
-        } else {
-            "infinite (none while idle)".to_string()
-        }
-    } else {
-        format!("{:.2}", with as f64 / without as f64)
+    let ratio = match (with, without) {
+        (0, 0) => "1.00 (none in either)".to_string(),
+        (_, 0) => "infinite (none while idle)".to_string(),
+        _ => format!("{:.2}", overrun_ratio(with, without)),
     };
     let attaches = u64::from(args.attaches) * u64::from(args.rounds);
     println!(
