@@ -28,6 +28,36 @@ pub fn client_output_service(instance: &str, generation: u64, token: u64) -> Str
 /// between two of its cycles.
 pub const OUTPUT_BUFFER: usize = 8;
 
+/// Output samples a synchronous client may have sent that the server has not taken yet. Its
+/// OPDONE needs none: the server reads it where the client wrote it
+/// (`procimg_shm_layout::posts`), after the first. What is left is room for writes between
+/// two cycles, and a smaller output segment: at a 360 KiB image, half of what procimgd maps,
+/// faults in and locks for each client, and half the time that takes at attach.
+pub const SYNCHRONOUS_OUTPUT_BUFFER: usize = 2;
+
+/// Output samples the server borrows at once: one it reads, and one it keeps to hold a busy
+/// client's segment mapped (`procimg_runtime::shm::outputs`).
+pub const OUTPUT_BORROWED: usize = 2;
+
+/// Output samples a client loans at once: the one being written, and the next cycle's,
+/// loaned ahead.
+pub const OUTPUT_LOANS: usize = 2;
+
+/// Output samples a client of `role` may have sent that the server has not taken yet: more
+/// writes in one cycle are not delivered.
+pub fn output_buffer(role: crate::ClientRole) -> usize {
+    match role {
+        crate::ClientRole::Synchronous => SYNCHRONOUS_OUTPUT_BUFFER,
+        crate::ClientRole::Asynchronous => OUTPUT_BUFFER,
+    }
+}
+
+/// Output samples a client's output segment holds for `buffer` sent and not yet taken: those,
+/// and the ones borrowed and loaned.
+pub fn output_samples(buffer: usize) -> usize {
+    OUTPUT_BORROWED + buffer + OUTPUT_LOANS
+}
+
 /// The event service on which the server signals NEWCYCLE, MODE, OPFAULT and shutdown, and
 /// STARTOP to clients that wait on its descriptor (the others sleep on the handshake block's
 /// futex word, see `procimg_shm_layout::handshake`).

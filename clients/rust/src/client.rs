@@ -2,7 +2,7 @@
 //! An attached client: registration, claims, events, the cycle handshake and re-attachment
 //! after a server restart.
 
-use crate::connection::{Connection, Ipc, iox2_config};
+use crate::connection::{Connection, Ipc, Registration, iox2_config};
 use crate::control::ControlHandle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
 use crate::input_view::{InputView, SegmentKnowledge, learn_segment};
@@ -261,8 +261,7 @@ impl Client {
         let conn = match Connection::open(
             control.node(),
             instance,
-            generation,
-            token,
+            registration(generation, token, &opts),
             opts.timeout,
             &|| control.ring_server(),
             &|| connect_outputs(&control, slot, token, opts.timeout),
@@ -726,8 +725,7 @@ impl Client {
         let conn = match Connection::open(
             self.control.node(),
             self.instance(),
-            generation,
-            token,
+            registration(generation, token, &quick),
             REATTACH_STEP,
             &|| self.control.ring_server(),
             &|| connect_outputs(&self.control, slot, token, REATTACH_STEP),
@@ -859,7 +857,7 @@ impl Client {
         let sample = conn
             .outputs
             .loan_slice_uninit(len)
-            .map_err(|_| IoError::NotDelivered(crate::OUTPUT_BUFFER))?;
+            .map_err(|_| IoError::NotDelivered(procimg_control::output_buffer(self.opts.role)))?;
         // SAFETY: the payload lies in iceoryx2's data segment, a shared-memory mapping: the
         // kernel zero-fills it when it is created and it is only ever written as bytes since,
         // so every byte holds an initialised u8 (iceoryx2 types a loan as uninitialised for
@@ -925,7 +923,11 @@ impl Client {
             // Sent as well, named: the server learns from it where the segment lies.
         }
         match sample.send() {
-            Ok(0) | Err(_) => return Err(IoError::NotDelivered(crate::OUTPUT_BUFFER)),
+            Ok(0) | Err(_) => {
+                return Err(IoError::NotDelivered(procimg_control::output_buffer(
+                    self.opts.role,
+                )));
+            }
             Ok(_) => conn.handshake.block().posts.count_sent(self.slot),
         }
         if opdone_cycle.is_some() {
@@ -956,6 +958,15 @@ impl Client {
             cycle: cycle as u32,
             offset,
         })
+    }
+}
+
+/// What the connection of a client registered with (`generation`, `token`) needs to know.
+fn registration(generation: u64, token: u64, opts: &AttachOptions) -> Registration {
+    Registration {
+        generation,
+        token,
+        output_buffer: procimg_control::output_buffer(opts.role),
     }
 }
 

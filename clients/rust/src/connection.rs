@@ -230,19 +230,19 @@ pub struct Connection {
 }
 
 impl Connection {
-    /// Opens the data services of `generation` and reads its layout, opens the output service
-    /// procimgd made for this client (registered with `token`) and has the server connect to it:
+    /// Opens the data services of the generation registered with and reads its layout, opens
+    /// the output service procimgd made for this client (`reg`) and has the server connect to it:
     /// `ring_server` wakes the server's control thread (`ControlHandle::ring_server`), which
     /// hands the layout over; `connect_outputs` asks it to connect (`CoreRequest::ConnectOutputs`).
     pub fn open(
         node: &Node<Ipc>,
         instance: &str,
-        generation: u64,
-        token: u64,
+        reg: Registration,
         timeout: Duration,
         ring_server: &dyn Fn(),
         connect_outputs: &dyn Fn() -> Result<(), AttachError>,
     ) -> Result<Connection, AttachError> {
+        let generation = reg.generation;
         let (layout, layout_port) = read_layout(node, instance, generation, timeout, ring_server)?;
         let inputs = node
             .service_builder(&service_name(
@@ -260,8 +260,7 @@ impl Connection {
         let (outputs_service, outputs) = output_publisher(
             node,
             instance,
-            generation,
-            token,
+            reg,
             layout.header.output_payload_size as usize,
         )?;
         let events = node
@@ -321,21 +320,34 @@ pub type OutputService = PortFactory<Ipc, [u8], OutputHeader>;
 /// A client's output publisher.
 pub type OutputPublisher = Publisher<Ipc, [u8], OutputHeader>;
 
-/// Opens the output service procimgd made for the client registered with `token` in
-/// `generation`, and creates its publisher for samples of `payload_len` bytes. The server
-/// connects to it when asked (`CoreRequest::ConnectOutputs`).
+/// A client's registration, as its connection needs it.
+#[doc(hidden)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Registration {
+    /// The server generation registered with.
+    pub generation: u64,
+    /// The registration's token.
+    pub token: u64,
+    /// Output samples the client may have sent that the server has not taken yet
+    /// (`procimg_control::output_buffer` of its role).
+    pub output_buffer: usize,
+}
+
+/// Opens the output service procimgd made for the client of `reg`, and creates its publisher
+/// for samples of `payload_len` bytes, in a segment that holds as many as `reg` needs
+/// (`procimg_control::output_samples`). The server connects to it when asked
+/// (`CoreRequest::ConnectOutputs`).
 #[doc(hidden)]
 pub fn output_publisher(
     node: &Node<Ipc>,
     instance: &str,
-    generation: u64,
-    token: u64,
+    reg: Registration,
     payload_len: usize,
 ) -> Result<(OutputService, OutputPublisher), AttachError> {
     let service = node
         .service_builder(&service_name(
             instance,
-            control::client_output_service(instance, generation, token),
+            control::client_output_service(instance, reg.generation, reg.token),
         )?)
         .publish_subscribe::<[u8]>()
         .user_header::<OutputHeader>()
@@ -345,7 +357,11 @@ pub fn output_publisher(
         .publisher_builder()
         .initial_max_slice_len(payload_len)
         .backpressure_strategy(BackpressureStrategy::DiscardData)
-        .max_loaned_samples(2)
+        .max_loaned_samples(control::OUTPUT_LOANS)
+        // iceoryx2 makes room for as many samples as the service's subscriber may buffer
+        // (an asynchronous client's); a synchronous client's segment holds fewer, and a
+        // loan beyond them fails as a send to a full buffer would.
+        .override_sample_preallocation(move |_| control::output_samples(reg.output_buffer))
         .create()
         .map_err(|e| shm(instance, "an output publisher", e))?;
     Ok((service, publisher))

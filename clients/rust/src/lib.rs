@@ -56,7 +56,7 @@ mod wake_ahead;
 pub use access::{AccessError, Space};
 pub use client::{AttachOptions, Client, Event, EventWait, WAKE_AHEAD};
 #[doc(hidden)]
-pub use connection::{OutputPublisher, OutputService, output_publisher};
+pub use connection::{OutputPublisher, OutputService, Registration, output_publisher};
 pub use control::{ControlHandle, DEFAULT_CONTROL_TIMEOUT};
 pub use cycle::{Cycle, DetachedCycle, now_ns};
 pub use error::{AttachError, ControlError, IoError, WaitError};

@@ -156,11 +156,15 @@ impl Writer {
         mine: &[usize],
         header: OutputHeader,
     ) -> Writer {
+        let reg = procimg_client::Registration {
+            generation,
+            token: header.client_token,
+            output_buffer: procimg_client::OUTPUT_BUFFER,
+        };
         let (_, publisher) = procimg_client::output_publisher(
             node,
             control.instance(),
-            generation,
-            header.client_token,
+            reg,
             tables.layout.output_payload_size as usize,
         )
         .expect("output publisher");

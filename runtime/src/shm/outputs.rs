@@ -30,7 +30,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::ServiceName;
 use iceoryx2::sample::Sample;
-use procimg_control::OUTPUT_BUFFER;
+use procimg_control::{OUTPUT_BORROWED, OUTPUT_BUFFER};
 use procimg_shm_layout::posts::Posts;
 use procimg_shm_layout::segment::{SamplePlace, Segment};
 use procimg_shm_layout::{MAX_CLIENTS, OUTPUT_SYNCHRONOUS, OutputHeader};
@@ -160,7 +160,7 @@ pub fn create(
         .max_subscribers(1)
         .subscriber_max_buffer_size(OUTPUT_BUFFER)
         // One at a time, and a busy client's sample kept for its segment's place.
-        .subscriber_max_borrowed_samples(2)
+        .subscriber_max_borrowed_samples(OUTPUT_BORROWED)
         .history_size(0)
         .enable_safe_overflow(false)
         .create()
