@@ -230,7 +230,7 @@ pub fn report(client: &Client) -> Result<Arc<StatusReport>, FeedError> {
 const GONE_AFTER: Duration = Duration::from_secs(2);
 
 /// Takes `client`'s newest image at `pace` (a cycle being `cycle`) and sends it on `tx` (with the status
-/// report, read every [`STATUS_EVERY`]) until `stop` says so or the receivers are gone.
+/// report, read every `STATUS_EVERY`) until `stop` says so or the receivers are gone.
 /// When procimgd goes away (or starts anew), the image turns [`Snapshot::orphaned`] until
 /// the client is attached to the new one (it attaches again by itself) and its images
 /// come, with whatever layout procimgd has then. Runs on a thread of its own: the client

@@ -12,14 +12,14 @@ use procimg_config::gsdml::export::{Destination, GsdmlDate, station_gsdml};
 
 #[derive(Args)]
 pub struct GsdmlArgs {
-    /// The configuration file, with `role = "device"` and its [station].
+    /// The configuration file, with `role = "device"` and its `[station]`.
     #[arg(short, long)]
     config: PathBuf,
     /// Write the file here (atomically) instead of to standard output.
     #[arg(short, long, conflicts_with = "dir")]
     output: Option<PathBuf>,
     /// Write the file into this directory under its standard name
-    /// (GSDML-V2.4-procimg-<device_type>-<date>.xml) and print its path.
+    /// (`GSDML-V2.4-procimg-<device_type>-<date>.xml`) and print its path.
     #[arg(short, long)]
     dir: Option<PathBuf>,
     /// The file's date, YYYYMMDD or YYYY-MM-DD (default: today, UTC).

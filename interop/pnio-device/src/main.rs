@@ -76,7 +76,7 @@ struct Args {
     /// Exit after writing the GSDML file.
     #[arg(long, requires = "gsdml_out")]
     gsdml_only: bool,
-    /// Print the procimgd [[device]] table for this device and exit.
+    /// Print the procimgd `[[device]]` table for this device and exit.
     #[arg(long)]
     print_config: bool,
     /// Pin the cyclic thread to this CPU (default: not pinned).

@@ -2,7 +2,7 @@
 //! PROFIenergy at the station: a controller writes a PE request to record 0x80A0 of a
 //! submodule and reads the answer from it. A program that enabled PE (IO-Base's
 //! `PNIO_CEP_PE_MODE_ENABLE`) answers its submodules' PE records itself, as user records
-//! ([`super::delegated_records`]); for the others the station gives the standard's answer of
+//! (the station's `delegated_records`); for the others the station gives the standard's answer of
 //! a PE entity that cannot save energy: its one mode is "ready to operate" (0xFF), a
 //! Start_Pause is refused with "no PE energy-saving mode supported", an End_Pause and the
 //! status queries answer with the station operating, it has no measurements, and a service

@@ -71,7 +71,7 @@ struct Args {
     #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(usize))]
     clients: Option<Vec<usize>>,
     /// Run directory for every tool's report and log, the table and the plot
-    /// [default: target/procimg-compare/<UTC time>].
+    /// [default: a directory under target/procimg-compare named by the UTC time].
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Do not draw latency.svg.

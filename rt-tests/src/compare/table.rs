@@ -311,7 +311,7 @@ pub fn grid<const N: usize>(cells: &[[String; N]]) -> String {
     out
 }
 
-/// The numbered reasons under a table, "[1] …", after an empty line; nothing without any.
+/// The numbered reasons under a table, `"[1] …"`, after an empty line; nothing without any.
 pub fn footnotes(notes: &[String]) -> String {
     let mut out = String::new();
     if !notes.is_empty() {
@@ -328,7 +328,7 @@ pub fn footnotes(notes: &[String]) -> String {
 pub struct Notes(pub Vec<String>);
 
 impl Notes {
-    /// "not measured [n]" for `reason`.
+    /// `"not measured [n]"` for `reason`.
     pub fn not_measured(&mut self, reason: &str) -> String {
         let i = self.0.iter().position(|n| n == reason).unwrap_or_else(|| {
             self.0.push(reason.to_string());

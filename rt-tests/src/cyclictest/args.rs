@@ -62,7 +62,7 @@ pub struct Args {
     #[arg(long = "json", value_name = "FILE")]
     pub json: Option<PathBuf>,
     /// Write procimg's own latency report (JSON, read by procimg-compare): one measurement
-    /// "wake-up T:<i>" per thread, and "wake-up" (thread 0).
+    /// `"wake-up T:<i>"` per thread, and "wake-up" (thread 0).
     #[arg(long = "report", value_name = "FILE")]
     pub report: Option<PathBuf>,
     /// Write the same measurements as an HdrHistogram interval log.

@@ -9,7 +9,7 @@ use procimg_rt_tests::report::{Measurement, Report};
 /// The tool's name in reports.
 pub const TOOL: &str = "procimg-cyclictest";
 
-/// The report of a run; `mode` says what was measured ("threads" or "procimgd <instance>").
+/// The report of a run; `mode` says what was measured (`"threads"` or `"procimgd <instance>"`).
 pub fn report(threads: &[ThreadStats], mode: &str, mlock: bool) -> Report {
     let mut r = Report::new(TOOL);
     r.setting("mode", mode)

@@ -4,7 +4,7 @@
 //!
 //! An interface handle is a subscription of its own to the services of the procimgd
 //! instance CpIndex names, with a worker thread that delivers its events
-//! ([`super::interface_worker`]). The checks are PN Driver's, in its order:
+//! (`interface_worker`). The checks are PN Driver's, in its order:
 //!
 //! * open: `Handle` NULL → `PNIO_ERR_PRM_HND`; a CpIndex out of 1..255 →
 //!   `PNIO_ERR_PRM_CP_ID`; between `SERV_CP_init` and `SERV_CP_startup` →

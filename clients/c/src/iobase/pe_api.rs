@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! PROFIenergy on a controller (`pniousrx.h`): `PNIO_register_pe_cbf` and `PNIO_pe_cmd_req`;
-//! the work is the services worker's ([`super::services`]).
+//! the work is the services worker's (`services`).
 #![allow(non_snake_case)]
 
 use super::api::not_in_callback;
