@@ -52,10 +52,10 @@ pub fn output_buffer(role: crate::ClientRole) -> usize {
     }
 }
 
-/// Output samples a client's output segment holds for `buffer` sent and not yet taken: those,
-/// and the ones borrowed and loaned.
-pub fn output_samples(buffer: usize) -> usize {
-    OUTPUT_BORROWED + buffer + OUTPUT_LOANS
+/// Output samples the output segment of a client of `role` holds: those it may have sent
+/// and the server not taken yet ([`output_buffer`]), and the ones borrowed and loaned.
+pub fn output_samples(role: crate::ClientRole) -> usize {
+    OUTPUT_BORROWED + output_buffer(role) + OUTPUT_LOANS
 }
 
 /// The event service on which the server signals NEWCYCLE, MODE, OPFAULT and shutdown, and

@@ -7,7 +7,7 @@
 //! one's: what procimgd maps and locks per client.
 
 use procimg_client::Registration;
-use procimg_control::{ClientRole, output_buffer, output_samples};
+use procimg_control::{ClientRole, output_samples};
 use procimg_runtime::shm::outputs::{self, IpcThreadsafe};
 use procimg_runtime::shm::server_node_of;
 use procimg_runtime::sys::populate::{self, Mapping};
@@ -25,7 +25,7 @@ fn connect_a_client(role: ClientRole) -> (Mapping, usize) {
     let reg = Registration {
         generation: 1,
         token: 7,
-        output_buffer: output_buffer(role),
+        role,
     };
     let server = outputs::output_node(&instance).expect("the server's output node");
     let port = outputs::create(&server, &instance, reg.generation, reg.token).expect("output port");
@@ -76,7 +76,7 @@ fn a_clients_output_samples_are_faulted_in_when_procimgd_connects_them() {
 fn a_synchronous_clients_output_segment_holds_half_the_samples_of_an_asynchronous_ones() {
     let (synchronous, _) = connect_a_client(ClientRole::Synchronous);
     let (asynchronous, _) = connect_a_client(ClientRole::Asynchronous);
-    let samples = |role| output_samples(output_buffer(role));
+    let samples = output_samples;
     assert_eq!(
         (
             samples(ClientRole::Synchronous),

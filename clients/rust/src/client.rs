@@ -966,7 +966,7 @@ fn registration(generation: u64, token: u64, opts: &AttachOptions) -> Registrati
     Registration {
         generation,
         token,
-        output_buffer: procimg_control::output_buffer(opts.role),
+        role: opts.role,
     }
 }
 

@@ -328,13 +328,12 @@ pub struct Registration {
     pub generation: u64,
     /// The registration's token.
     pub token: u64,
-    /// Output samples the client may have sent that the server has not taken yet
-    /// (`procimg_control::output_buffer` of its role).
-    pub output_buffer: usize,
+    /// The client's role, which sizes its output segment (`procimg_control::output_samples`).
+    pub role: control::ClientRole,
 }
 
 /// Opens the output service procimgd made for the client of `reg`, and creates its publisher
-/// for samples of `payload_len` bytes, in a segment that holds as many as `reg` needs
+/// for samples of `payload_len` bytes, in a segment that holds as many as its role needs
 /// (`procimg_control::output_samples`). The server connects to it when asked
 /// (`CoreRequest::ConnectOutputs`).
 #[doc(hidden)]
@@ -361,7 +360,7 @@ pub fn output_publisher(
         // iceoryx2 makes room for as many samples as the service's subscriber may buffer
         // (an asynchronous client's); a synchronous client's segment holds fewer, and a
         // loan beyond them fails as a send to a full buffer would.
-        .override_sample_preallocation(move |_| control::output_samples(reg.output_buffer))
+        .override_sample_preallocation(move |_| control::output_samples(reg.role))
         .create()
         .map_err(|e| shm(instance, "an output publisher", e))?;
     Ok((service, publisher))

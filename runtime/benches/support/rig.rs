@@ -159,7 +159,7 @@ impl Writer {
         let reg = procimg_client::Registration {
             generation,
             token: header.client_token,
-            output_buffer: procimg_client::OUTPUT_BUFFER,
+            role: procimg_client::ClientRole::Asynchronous,
         };
         let (_, publisher) = procimg_client::output_publisher(
             node,
