@@ -13,6 +13,7 @@ use procimg_runtime::shm::server_node_of;
 use procimg_runtime::sys::populate::{self, Mapping};
 use procimg_testkit::memory::resident_bytes;
 use procimg_testkit::unique_instance;
+use std::sync::Mutex;
 
 /// An output payload of 64 pages: a segment that `connect` left unpopulated would show it.
 const PAYLOAD: usize = 256 * 1024;
@@ -21,6 +22,10 @@ const PAYLOAD: usize = 256 * 1024;
 /// the mapping of the client's samples that connecting added, with how much of it is
 /// resident then.
 fn connect_a_client(role: ClientRole) -> (Mapping, usize) {
+    // One at a time: the new mapping is told from the ones before by its address, and a
+    // segment another test unmapped meanwhile may leave its address to this one's.
+    static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let instance = unique_instance("populate");
     let reg = Registration {
         generation: 1,
