@@ -27,7 +27,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
-use tracing::{info, warn};
+use tracing::{debug, info, warn};
 
 /// The control thread's round when nothing rings its doorbell: it reaps dead clients, gathers
 /// the cycle's statistics and checks alarm deadlines; a request or a role event wakes it at
@@ -605,6 +605,14 @@ fn run_generation(
             procimg_runtime::sys::rt::set_fifo_named("the control thread", status_priority)
     {
         warn!("{w}");
+    }
+    // Start-up is over: the code it ran is let go, to be locked again only as it runs again.
+    let released = procimg_runtime::sys::start_up_code::release_start_up_code();
+    if released > 0 {
+        debug!(
+            "start-up done: {} KiB of code and read-only data unmapped, locked again as used",
+            released / 1024
+        );
     }
     let mut next = End::Stop;
     while !term.load(Ordering::Acquire) {

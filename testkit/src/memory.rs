@@ -1,20 +1,59 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
-//! What of this process's memory is resident, as a test of faulting in ahead checks it.
+//! What of this process's memory is resident and locked, as a test of faulting in ahead or of
+//! locking checks it.
 
 /// The resident bytes of this process's mapping that starts at `start`, from
 /// `/proc/self/smaps`. Panics when there is no such mapping.
 pub fn resident_bytes(start: usize) -> usize {
+    smaps_kib(start, "Rss") * 1024
+}
+
+/// The locked bytes of this process's mapping that starts at `start`: its share of the
+/// resident pages the kernel keeps in memory for `mlock` (a page mapped by two processes
+/// counts half in each). Panics when there is no such mapping.
+pub fn locked_bytes(start: usize) -> usize {
+    smaps_kib(start, "Locked") * 1024
+}
+
+/// The kernel's flags of the mapping that starts at `start` (`VmFlags`: `lo` locked, `ex`
+/// executable, …). Panics when there is no such mapping.
+pub fn vm_flags(start: usize) -> Vec<String> {
+    smaps_field(start, "VmFlags")
+        .split_whitespace()
+        .map(str::to_owned)
+        .collect()
+}
+
+/// A `NAME: N kB` field of the mapping that starts at `start`.
+fn smaps_kib(start: usize, name: &str) -> usize {
+    smaps_field(start, name)
+        .split_whitespace()
+        .next()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{name} in kB"))
+}
+
+/// The text after `NAME:` in the mapping that starts at `start`, from `/proc/self/smaps`.
+fn smaps_field(start: usize, name: &str) -> String {
     let smaps = std::fs::read_to_string("/proc/self/smaps").expect("read /proc/self/smaps");
     let header = format!("{start:x}-");
     let mut lines = smaps.lines().skip_while(|l| !l.starts_with(&header));
     assert!(lines.next().is_some(), "no mapping at {start:#x} in smaps");
-    let rss = lines
-        .find(|l| l.starts_with("Rss:"))
-        .expect("the mapping's Rss line");
-    let kib: usize = rss
-        .split_whitespace()
-        .nth(1)
-        .and_then(|v| v.parse().ok())
-        .expect("Rss in kB");
-    kib * 1024
+    let field = format!("{name}:");
+    lines
+        .take_while(|l| !is_header(l))
+        .find_map(|l| l.strip_prefix(&field))
+        .unwrap_or_else(|| panic!("the mapping at {start:#x} has no {name} line"))
+        .trim()
+        .to_owned()
+}
+
+/// A mapping's first line: `start-end perms …`, the range in hex.
+fn is_header(line: &str) -> bool {
+    line.split_whitespace()
+        .next()
+        .and_then(|r| r.split_once('-'))
+        .is_some_and(|(a, b)| {
+            !a.is_empty() && a.bytes().chain(b.bytes()).all(|c| c.is_ascii_hexdigit())
+        })
 }

@@ -10,6 +10,7 @@ pub mod populate;
 pub mod port_state;
 pub mod random;
 pub mod rt;
+pub mod start_up_code;
 /// The allocator of real-time threads, shared with the clients.
 pub use procimg_rt_alloc as rt_alloc;
 pub mod udp;

@@ -71,7 +71,7 @@ pub fn populate(m: &Mapping) -> usize {
 /// used (the cycle thread's stack is faulted in by `sys::rt::prefault_stack`). Returns the
 /// bytes populated.
 pub fn populate_all(except: Option<usize>) -> usize {
-    let as_used = AS_USED.load(Ordering::Relaxed);
+    let as_used = locked_as_used();
     let maps = mappings().unwrap_or_default();
     let mut below: Option<&Mapping> = None;
     let mut done = 0;
@@ -101,10 +101,15 @@ pub fn set_locked_as_used(as_used: bool) {
     AS_USED.store(as_used, Ordering::Relaxed);
 }
 
+/// Whether the process locks code and threads' stacks as they are used.
+pub(crate) fn locked_as_used() -> bool {
+    AS_USED.load(Ordering::Relaxed)
+}
+
 /// A read-only mapping of a file that is not shared memory: a program's or library's code
 /// or read-only data. (A subscriber's view of another process's shared memory is read-only
 /// too, and is populated.)
-fn is_code_or_read_only_data(m: &Mapping) -> bool {
+pub(crate) fn is_code_or_read_only_data(m: &Mapping) -> bool {
     !m.writable && m.path.starts_with('/') && !m.is_shared_memory()
 }
 

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT OR Apache-2.0
+//! Letting go of the program's start-up code once start-up is over.
+//!
+//! procimgd locks its code as it is used (`sys::rt::lock_memory` with `MCL_ONFAULT`). Start-up
+//! runs code from all over the program: reading the configuration, building the station's
+//! tables, creating the iceoryx2 services, the OPC UA certificate. The kernel keeps the
+//! program file in large folios and maps a whole folio at each fault, so by the first cycle
+//! some 90 % of the program's code was locked, most of it never to run again. Here the
+//! program's code and read-only data are unmapped once (`MADV_DONTNEED`, which for a file
+//! mapping drops only the page-table entries: the file in the page cache stays as it is) and
+//! locked again as used, so that what stays locked is what the running server executes.
+
+use super::populate::{Mapping, is_code_or_read_only_data, locked_as_used};
+
+/// Unmaps the program's code and read-only data that is mapped and locked now, to be faulted
+/// back in and locked as it is used, when the process locks its code as used. A mapping that
+/// holds a private copy of any page (a debugger's breakpoint, an uprobe, relocated
+/// read-only data) is left alone: dropping the copy would lose what was written into it.
+/// Returns the bytes of the mappings let go.
+pub fn release_start_up_code() -> usize {
+    if !locked_as_used() {
+        return 0;
+    }
+    let Some(program) = program_path() else {
+        return 0;
+    };
+    let Ok(smaps) = std::fs::read_to_string("/proc/self/smaps") else {
+        return 0;
+    };
+    let mut released = 0;
+    for (m, anonymous_kib) in mappings_with_private_pages(&smaps) {
+        if m.path == program && is_code_or_read_only_data(&m) && anonymous_kib == 0 {
+            released += release(&m);
+        }
+    }
+    released
+}
+
+/// The program's path as `/proc/self/maps` names its mappings (with " (deleted)" when the
+/// file was replaced since, as the link says too).
+fn program_path() -> Option<String> {
+    std::fs::read_link("/proc/self/exe")
+        .ok()
+        .map(|p| p.to_string_lossy().into_owned())
+}
+
+/// Each mapping of `/proc/self/smaps` text with its `Anonymous` kB: the pages it holds a
+/// private copy of rather than the file's.
+fn mappings_with_private_pages(smaps: &str) -> Vec<(Mapping, u64)> {
+    let mut out: Vec<(Mapping, u64)> = Vec::new();
+    for line in smaps.lines() {
+        if let Some(kib) = line.strip_prefix("Anonymous:") {
+            if let Some((_, anonymous)) = out.last_mut() {
+                *anonymous = kib
+                    .split_whitespace()
+                    .next()
+                    .and_then(|v| v.parse().ok())
+                    // Unreadable: taken as holding private pages, and so left alone.
+                    .unwrap_or(u64::MAX);
+            }
+        } else if let Some(m) = Mapping::parse(line).filter(|_| is_mapping_header(line)) {
+            out.push((m, 0));
+        }
+    }
+    out
+}
+
+/// A mapping's first line in smaps starts with its address range (`start-end`, in hex); the
+/// lines about it start with a field name (`Size:`, `VmFlags:`).
+fn is_mapping_header(line: &str) -> bool {
+    line.split_whitespace()
+        .next()
+        .and_then(|range| range.split_once('-'))
+        .is_some_and(|(a, b)| {
+            !a.is_empty() && a.bytes().chain(b.bytes()).all(|c| c.is_ascii_hexdigit())
+        })
+}
+
+/// Unlocks `m`, drops its pages from the process and locks it again as used. Returns its
+/// length, or 0 when the kernel refused a step (the mapping is then as locked as before, or
+/// locked as used without its pages, both of which are correct).
+fn release(m: &Mapping) -> usize {
+    let at = m.start as *mut libc::c_void;
+    // SAFETY: munlock, madvise and mlock2 take an address range of this process's own
+    // mapping and change no memory contents. The mapping is a private file mapping without a
+    // private page (checked by the caller), so MADV_DONTNEED only drops page-table entries:
+    // the next access reads the same bytes from the file again. A thread running this code
+    // meanwhile only faults it back in.
+    let done = unsafe {
+        libc::munlock(at, m.len) == 0
+            && libc::madvise(at, m.len, libc::MADV_DONTNEED) == 0
+            && libc::mlock2(at, m.len, libc::MLOCK_ONFAULT) == 0
+    };
+    if done { m.len } else { 0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smaps_mappings_come_with_their_private_pages() {
+        let smaps = "\
+55d0a0000000-55d0a0100000 r-xp 00001000 fd:01 42 /usr/bin/procimgd
+Size:               1024 kB
+Anonymous:             0 kB
+VmFlags: rd ex mr mw me lf
+55d0a0200000-55d0a0210000 r--p 00200000 fd:01 42 /usr/bin/procimgd
+Size:                 64 kB
+Anonymous:            64 kB
+VmFlags: rd mr mw me lf
+7ffd00000000-7ffd00021000 rw-p 00000000 00:00 0 [stack]
+Size:                132 kB
+Anonymous:            12 kB
+";
+        let got = mappings_with_private_pages(smaps);
+        let summary: Vec<(usize, usize, &str, u64)> = got
+            .iter()
+            .map(|(m, a)| (m.start, m.len, m.path.as_str(), *a))
+            .collect();
+        assert_eq!(
+            summary,
+            [
+                (0x55d0a0000000, 0x100000, "/usr/bin/procimgd", 0),
+                (0x55d0a0200000, 0x10000, "/usr/bin/procimgd", 64),
+                (0x7ffd00000000, 0x21000, "[stack]", 12),
+            ]
+        );
+    }
+
+    #[test]
+    fn nothing_is_let_go_by_a_process_that_does_not_lock_as_used() {
+        // Tests do not lock their memory: their code stays mapped as it is.
+        assert_eq!(release_start_up_code(), 0);
+    }
+}
