@@ -2,6 +2,8 @@
 //! What of this process's memory is resident and locked, as a test of faulting in ahead or of
 //! locking checks it.
 
+use procimg_shm_layout::maps::Mapping;
+
 /// The resident bytes of this process's mapping that starts at `start`, from
 /// `/proc/self/smaps`. Panics when there is no such mapping.
 pub fn resident_bytes(start: usize) -> usize {
@@ -41,19 +43,9 @@ fn smaps_field(start: usize, name: &str) -> String {
     assert!(lines.next().is_some(), "no mapping at {start:#x} in smaps");
     let field = format!("{name}:");
     lines
-        .take_while(|l| !is_header(l))
+        .take_while(|l| Mapping::parse(l).is_none())
         .find_map(|l| l.strip_prefix(&field))
         .unwrap_or_else(|| panic!("the mapping at {start:#x} has no {name} line"))
         .trim()
         .to_owned()
-}
-
-/// A mapping's first line: `start-end perms …`, the range in hex.
-fn is_header(line: &str) -> bool {
-    line.split_whitespace()
-        .next()
-        .and_then(|r| r.split_once('-'))
-        .is_some_and(|(a, b)| {
-            !a.is_empty() && a.bytes().chain(b.bytes()).all(|c| c.is_ascii_hexdigit())
-        })
 }

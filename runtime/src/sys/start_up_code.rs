@@ -58,22 +58,13 @@ fn mappings_with_private_pages(smaps: &str) -> Vec<(Mapping, u64)> {
                     // Unreadable: taken as holding private pages, and so left alone.
                     .unwrap_or(u64::MAX);
             }
-        } else if let Some(m) = Mapping::parse(line).filter(|_| is_mapping_header(line)) {
+        } else if let Some(m) = Mapping::parse(line) {
+            // A mapping's first line (`start-end perms …`); the lines about it start with a
+            // field name (`Size:`), which does not parse as an address range.
             out.push((m, 0));
         }
     }
     out
-}
-
-/// A mapping's first line in smaps starts with its address range (`start-end`, in hex); the
-/// lines about it start with a field name (`Size:`, `VmFlags:`).
-fn is_mapping_header(line: &str) -> bool {
-    line.split_whitespace()
-        .next()
-        .and_then(|range| range.split_once('-'))
-        .is_some_and(|(a, b)| {
-            !a.is_empty() && a.bytes().chain(b.bytes()).all(|c| c.is_ascii_hexdigit())
-        })
 }
 
 /// Unlocks `m`, drops its pages from the process and locks it again as used. Returns its
