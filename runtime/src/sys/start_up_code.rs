@@ -44,19 +44,24 @@ fn program_path() -> Option<String> {
         .map(|p| p.to_string_lossy().into_owned())
 }
 
-/// Each mapping of `/proc/self/smaps` text with its `Anonymous` kB: the pages it holds a
-/// private copy of rather than the file's.
+/// Each mapping of `/proc/self/smaps` text with its `Anonymous` and `Swap` kB: the pages it
+/// holds a private copy of rather than the file's.
 fn mappings_with_private_pages(smaps: &str) -> Vec<(Mapping, u64)> {
     let mut out: Vec<(Mapping, u64)> = Vec::new();
     for line in smaps.lines() {
-        if let Some(kib) = line.strip_prefix("Anonymous:") {
+        // Private copies in memory, and those swapped out (a file's own pages never are).
+        let private = line
+            .strip_prefix("Anonymous:")
+            .or_else(|| line.strip_prefix("Swap:"));
+        if let Some(kib) = private {
             if let Some((_, anonymous)) = out.last_mut() {
-                *anonymous = kib
+                let kib: u64 = kib
                     .split_whitespace()
                     .next()
                     .and_then(|v| v.parse().ok())
                     // Unreadable: taken as holding private pages, and so left alone.
                     .unwrap_or(u64::MAX);
+                *anonymous = anonymous.saturating_add(kib);
             }
         } else if let Some(m) = Mapping::parse(line) {
             // A mapping's first line (`start-end perms …`); the lines about it start with a
@@ -98,7 +103,8 @@ Anonymous:             0 kB
 VmFlags: rd ex mr mw me lf
 55d0a0200000-55d0a0210000 r--p 00200000 fd:01 42 /usr/bin/procimgd
 Size:                 64 kB
-Anonymous:            64 kB
+Anonymous:            60 kB
+Swap:                  4 kB
 VmFlags: rd mr mw me lf
 7ffd00000000-7ffd00021000 rw-p 00000000 00:00 0 [stack]
 Size:                132 kB
