@@ -607,12 +607,13 @@ fn run_generation(
         warn!("{w}");
     }
     // Start-up is over: the code it ran is let go, to be locked again only as it runs again.
-    let released = procimg_runtime::sys::start_up_code::release_start_up_code();
-    if released > 0 {
-        debug!(
+    match procimg_runtime::sys::start_up_code::release_start_up_code() {
+        Ok(0) => {}
+        Ok(released) => debug!(
             "start-up done: {} KiB of code and read-only data unmapped, locked again as used",
             released / 1024
-        );
+        ),
+        Err(w) => warn!("{w}"),
     }
     let mut next = End::Stop;
     while !term.load(Ordering::Acquire) {

@@ -16,24 +16,29 @@ use super::populate::{Mapping, is_code_or_read_only_data, locked_as_used};
 /// back in and locked as it is used, when the process locks its code as used. A mapping that
 /// holds a private copy of any page (a debugger's breakpoint, an uprobe, relocated
 /// read-only data) is left alone: dropping the copy would lose what was written into it.
-/// Returns the bytes of the mappings let go.
-pub fn release_start_up_code() -> usize {
+/// Returns the bytes of the mappings let go, or a warning when a mapping, once unlocked,
+/// could not be locked again (the others are still done).
+pub fn release_start_up_code() -> Result<usize, String> {
     if !locked_as_used() {
-        return 0;
+        return Ok(0);
     }
     let Some(program) = program_path() else {
-        return 0;
+        return Ok(0);
     };
     let Ok(smaps) = std::fs::read_to_string("/proc/self/smaps") else {
-        return 0;
+        return Ok(0);
     };
     let mut released = 0;
+    let mut warning = None;
     for (m, anonymous_kib) in mappings_with_private_pages(&smaps) {
         if m.path == program && is_code_or_read_only_data(&m) && anonymous_kib == 0 {
-            released += release(&m);
+            match release(&m) {
+                Ok(n) => released += n,
+                Err(w) => warning = Some(w),
+            }
         }
     }
-    released
+    warning.map_or(Ok(released), Err)
 }
 
 /// The program's path as `/proc/self/maps` names its mappings (with " (deleted)" when the
@@ -73,21 +78,29 @@ fn mappings_with_private_pages(smaps: &str) -> Vec<(Mapping, u64)> {
 }
 
 /// Unlocks `m`, drops its pages from the process and locks it again as used. Returns its
-/// length, or 0 when the kernel refused a step (the mapping is then as locked as before, or
-/// locked as used without its pages, both of which are correct).
-fn release(m: &Mapping) -> usize {
+/// length, or 0 when the kernel refused to unlock it or to drop its pages (it is locked
+/// again all the same); an error, the warning to give, when it cannot be locked again.
+fn release(m: &Mapping) -> Result<usize, String> {
     let at = m.start as *mut libc::c_void;
-    // SAFETY: munlock, madvise and mlock2 take an address range of this process's own
-    // mapping and change no memory contents. The mapping is a private file mapping without a
-    // private page (checked by the caller), so MADV_DONTNEED only drops page-table entries:
-    // the next access reads the same bytes from the file again. A thread running this code
-    // meanwhile only faults it back in.
-    let done = unsafe {
-        libc::munlock(at, m.len) == 0
-            && libc::madvise(at, m.len, libc::MADV_DONTNEED) == 0
-            && libc::mlock2(at, m.len, libc::MLOCK_ONFAULT) == 0
-    };
-    if done { m.len } else { 0 }
+    // SAFETY: munlock takes an address range of this process's own mapping and changes no
+    // memory contents.
+    if unsafe { libc::munlock(at, m.len) } != 0 {
+        return Ok(0);
+    }
+    // SAFETY: as munlock. The mapping is a private file mapping without a private page
+    // (checked by the caller), so MADV_DONTNEED only drops page-table entries: the next
+    // access reads the same bytes from the file again. A thread running this code meanwhile
+    // only faults it back in.
+    let dropped = unsafe { libc::madvise(at, m.len, libc::MADV_DONTNEED) } == 0;
+    // SAFETY: as munlock; MLOCK_ONFAULT locks the pages present and those faulted in later.
+    if unsafe { libc::mlock2(at, m.len, libc::MLOCK_ONFAULT) } != 0 {
+        return Err(format!(
+            "cannot lock {} again after letting start-up's code go ({}): the cycle may wait              for its code to be read from disk; set [cycle_thread] prefault_all = true to keep              it populated and locked",
+            m.path,
+            std::io::Error::last_os_error()
+        ));
+    }
+    Ok(if dropped { m.len } else { 0 })
 }
 
 #[cfg(test)]
@@ -128,6 +141,6 @@ Anonymous:            12 kB
     #[test]
     fn nothing_is_let_go_by_a_process_that_does_not_lock_as_used() {
         // Tests do not lock their memory: their code stays mapped as it is.
-        assert_eq!(release_start_up_code(), 0);
+        assert_eq!(release_start_up_code(), Ok(0));
     }
 }
