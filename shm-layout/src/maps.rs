@@ -73,6 +73,50 @@ pub fn mapping_of(at: usize) -> Option<Mapping> {
         .find(|m| m.start <= at && at < m.start + m.len)
 }
 
+/// One mapping of a `/proc/<pid>/smaps` text: its first line, parsed, and the lines about it
+/// (`Rss:`, `Locked:`, `VmFlags:`, …).
+#[derive(Clone, Debug)]
+pub struct SmapsEntry<'a> {
+    /// The mapping, from its first line.
+    pub mapping: Mapping,
+    lines: Vec<&'a str>,
+}
+
+impl<'a> SmapsEntry<'a> {
+    /// The text after `name:` in the mapping's lines, trimmed; `None` when it has no such line.
+    pub fn field(&self, name: &str) -> Option<&'a str> {
+        self.lines
+            .iter()
+            .find_map(|l| l.strip_prefix(name)?.strip_prefix(':'))
+            .map(str::trim)
+    }
+}
+
+/// The mappings of an smaps text, each with its lines. A mapping's first line is the one that
+/// parses as a [`Mapping`]; the lines about it start with a field name, which does not.
+pub fn smaps_entries(text: &str) -> Vec<SmapsEntry<'_>> {
+    let mut out: Vec<SmapsEntry<'_>> = Vec::new();
+    for line in text.lines() {
+        match Mapping::parse(line) {
+            Some(mapping) => out.push(SmapsEntry {
+                mapping,
+                lines: Vec::new(),
+            }),
+            None => {
+                if let Some(e) = out.last_mut() {
+                    e.lines.push(line);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The kB of a field's text as smaps and `/proc/<pid>/status` write it (`  1024 kB`).
+pub fn kib(value: &str) -> Option<u64> {
+    value.trim().strip_suffix("kB")?.trim().parse().ok()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -94,5 +138,20 @@ mod tests {
         assert_eq!(spaced.path, "/tmp/a b (deleted)");
         assert_eq!(Mapping::parse("garbage"), None);
         assert_eq!(Mapping::parse("2000-1000 r--p 0 0 0"), None);
+    }
+
+    #[test]
+    fn smaps_fields_belong_to_the_mapping_above_them() {
+        let text = "1000-2000 r-xp 00000000 08:01 7 /bin/x\nRss:   8 kB\nVmFlags: rd ex lo\n\
+                    3000-4000 rw-p 00000000 00:00 0 \nRss:   4 kB\n";
+        let e = smaps_entries(text);
+        assert_eq!(e.len(), 2);
+        assert_eq!(e[0].field("Rss").and_then(kib), Some(8));
+        assert_eq!(e[0].field("VmFlags"), Some("rd ex lo"));
+        assert_eq!(e[1].mapping.start, 0x3000);
+        assert_eq!(e[1].field("Rss").and_then(kib), Some(4));
+        assert_eq!(e[1].field("VmFlags"), None);
+        assert_eq!(kib("12 kB"), Some(12));
+        assert_eq!(kib("twelve kB"), None);
     }
 }

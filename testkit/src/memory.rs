@@ -2,7 +2,7 @@
 //! What of this process's memory is resident and locked, as a test of faulting in ahead or of
 //! locking checks it.
 
-use procimg_shm_layout::maps::Mapping;
+use procimg_shm_layout::maps::{kib, smaps_entries};
 
 /// The resident bytes of this process's mapping that starts at `start`, from
 /// `/proc/self/smaps`. Panics when there is no such mapping.
@@ -28,24 +28,20 @@ pub fn vm_flags(start: usize) -> Vec<String> {
 
 /// A `NAME: N kB` field of the mapping that starts at `start`.
 fn smaps_kib(start: usize, name: &str) -> usize {
-    smaps_field(start, name)
-        .split_whitespace()
-        .next()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("{name} in kB"))
+    let kib = kib(&smaps_field(start, name)).unwrap_or_else(|| panic!("{name} in kB"));
+    kib as usize
 }
 
 /// The text after `NAME:` in the mapping that starts at `start`, from `/proc/self/smaps`.
 fn smaps_field(start: usize, name: &str) -> String {
     let smaps = std::fs::read_to_string("/proc/self/smaps").expect("read /proc/self/smaps");
-    let header = format!("{start:x}-");
-    let mut lines = smaps.lines().skip_while(|l| !l.starts_with(&header));
-    assert!(lines.next().is_some(), "no mapping at {start:#x} in smaps");
-    let field = format!("{name}:");
-    lines
-        .take_while(|l| Mapping::parse(l).is_none())
-        .find_map(|l| l.strip_prefix(&field))
+    let entries = smaps_entries(&smaps);
+    let entry = entries
+        .iter()
+        .find(|e| e.mapping.start == start)
+        .unwrap_or_else(|| panic!("no mapping at {start:#x} in smaps"));
+    entry
+        .field(name)
         .unwrap_or_else(|| panic!("the mapping at {start:#x} has no {name} line"))
-        .trim()
         .to_owned()
 }

@@ -132,8 +132,7 @@ fn memory(pid: u32) -> Result<(u64, u64, u64)> {
 pub fn status_kib(text: &str, name: &str) -> Option<u64> {
     text.lines()
         .find_map(|l| l.strip_prefix(name)?.strip_prefix(':'))
-        .and_then(|v| v.trim().strip_suffix("kB"))
-        .and_then(|v| v.trim().parse().ok())
+        .and_then(procimg_shm_layout::maps::kib)
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@
 //! locked again as used, so that what stays locked is what the running server executes.
 
 use super::populate::{Mapping, is_code_or_read_only_data, locked_as_used};
+use procimg_shm_layout::maps::{kib, smaps_entries};
 
 /// Unmaps the program's code and read-only data that is mapped and locked now, to be faulted
 /// back in and locked as it is used, when the process locks its code as used. A mapping that
@@ -50,31 +51,21 @@ fn program_path() -> Option<String> {
 }
 
 /// Each mapping of `/proc/self/smaps` text with its `Anonymous` and `Swap` kB: the pages it
-/// holds a private copy of rather than the file's.
+/// holds a private copy of rather than the file's, in memory or swapped out (a file's own
+/// pages never are).
 fn mappings_with_private_pages(smaps: &str) -> Vec<(Mapping, u64)> {
-    let mut out: Vec<(Mapping, u64)> = Vec::new();
-    for line in smaps.lines() {
-        // Private copies in memory, and those swapped out (a file's own pages never are).
-        let private = line
-            .strip_prefix("Anonymous:")
-            .or_else(|| line.strip_prefix("Swap:"));
-        if let Some(kib) = private {
-            if let Some((_, anonymous)) = out.last_mut() {
-                let kib: u64 = kib
-                    .split_whitespace()
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    // Unreadable: taken as holding private pages, and so left alone.
-                    .unwrap_or(u64::MAX);
-                *anonymous = anonymous.saturating_add(kib);
-            }
-        } else if let Some(m) = Mapping::parse(line) {
-            // A mapping's first line (`start-end perms …`); the lines about it start with a
-            // field name (`Size:`), which does not parse as an address range.
-            out.push((m, 0));
-        }
-    }
-    out
+    smaps_entries(smaps)
+        .into_iter()
+        .map(|e| {
+            let private = ["Anonymous", "Swap"]
+                .iter()
+                .filter_map(|name| e.field(name))
+                // Unreadable: taken as holding private pages, and so left alone.
+                .map(|v| kib(v).unwrap_or(u64::MAX))
+                .fold(0u64, u64::saturating_add);
+            (e.mapping, private)
+        })
+        .collect()
 }
 
 /// Unlocks `m`, drops its pages from the process and locks it again as used. Returns its
