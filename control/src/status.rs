@@ -44,7 +44,8 @@ pub struct HistogramsReport {
     pub cycles: u64,
     /// Actual minus planned cycle start (the cycle thread's wake-up latency).
     pub wakeup: Vec<Bucket>,
-    /// STARTOP → OPDONE received, per synchronous client and cycle (the round trip).
+    /// STARTOP (the image's stamp) → OPDONE received, per synchronous client and cycle (the
+    /// round trip).
     pub handshake: Vec<Bucket>,
     /// A client's OPDONE sent → received by the cycle thread (one way).
     pub opdone: Vec<Bucket>,
@@ -183,7 +184,8 @@ pub struct StatusReport {
     #[serde(default)]
     pub receive_errors: u64,
     /// Cycles without an input image: every image slot was held (readers keep old images),
-    /// so nobody got STARTOP. Must stay 0.
+    /// so nobody got STARTOP; or whose image reached only the clients that read by their
+    /// mark (iceoryx2's send of it failed). Must stay 0.
     #[serde(default)]
     pub unpublished_images: u64,
     /// Bytes of the input images faulted in and locked: the samples in use so far and a few

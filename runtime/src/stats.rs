@@ -99,7 +99,8 @@ pub struct Counters {
     /// Failed receives of client output samples (iceoryx2 could not update a connection,
     /// e.g. while a dead client's resources are being removed).
     pub receive_errors: AtomicU64,
-    /// Cycles whose input image could not be published (no free image slot).
+    /// Cycles whose input image could not be published (no free image slot), or reached
+    /// the clients that read by their mark but not iceoryx2's readers (its send failed).
     pub unpublished_images: AtomicU64,
     /// The mode the cycle runs in (shm-layout MODE_* value).
     pub mode: AtomicU32,

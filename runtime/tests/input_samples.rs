@@ -39,6 +39,40 @@ fn reader(node: &Node<Ipc>, instance: &str, generation: u64) -> InputReader {
 
 type InputReader = iceoryx2::port::subscriber::Subscriber<Ipc, [u8], ImageHeader>;
 
+/// The cycle ports of a new instance (`what`) for `tables`, the input samples' reserve set
+/// up, the image's length, and a reader of the images with its node.
+fn ports_and_reader(tables: &Tables, what: &str) -> (CyclePorts, usize, Node<Ipc>, InputReader) {
+    let instance = procimg_testkit::unique_instance(what);
+    let generation = now_ns();
+    let mut ports = CyclePorts::create(&instance, generation, tables).expect("cycle ports");
+    let len = tables.layout.input_payload_size as usize;
+    ports.set_up_reserve(Arc::new(InputReserve::default()), len);
+    let node = server_node(&instance, what).expect("a node");
+    let reader = reader(&node, &instance, generation);
+    (ports, len, node, reader)
+}
+
+/// Loans a sample, fills it with the cycle's low byte and publishes it as that cycle's
+/// image (with `send_later`, only named); returns where it lies.
+fn publish_filled(ports: &mut CyclePorts, len: usize, cycle: u64, send_later: bool) -> usize {
+    let sample = ports.loan_image(len).expect("a loan");
+    // SAFETY: the loan is the test's until it is published, `len` bytes long.
+    #[allow(unsafe_code)]
+    unsafe {
+        core::ptr::write_bytes(sample.as_ptr(), cycle as u8, len)
+    };
+    let published = ports.publish(
+        &mut |_| {
+            let mut h = ImageHeader::default();
+            h.cycle.cycle_number = cycle;
+            h
+        },
+        send_later,
+    );
+    assert!(published, "cycle {cycle}: not published");
+    sample.as_ptr() as usize
+}
+
 #[test]
 fn an_input_sample_comes_back_holding_what_it_was_published_with() {
     let instance = procimg_testkit::unique_instance("samples");
@@ -72,7 +106,7 @@ fn an_input_sample_comes_back_holding_what_it_was_published_with() {
         payload.fill(fill);
         published.insert(sample.as_ptr() as usize, fill);
         assert!(
-            ports.publish(&mut |_| ImageHeader::default()),
+            ports.publish(&mut |_| ImageHeader::default(), false),
             "round {round}"
         );
         // Every third round the reader lets go of its image and takes the newest.
@@ -152,7 +186,7 @@ fn input_samples_are_faulted_in_as_readers_come_to_hold_them() {
             core::ptr::write_bytes(sample.as_ptr(), round as u8, len)
         };
         assert!(
-            ports.publish(&mut |_| ImageHeader::default()),
+            ports.publish(&mut |_| ImageHeader::default(), false),
             "round {round}"
         );
         for (every, subscriber, held) in &mut readers {
@@ -198,13 +232,7 @@ fn input_samples_are_faulted_in_as_readers_come_to_hold_them() {
 #[test]
 fn a_busy_reader_holds_its_image_by_its_mark_alone() {
     let tables = large_image(8, 1024);
-    let instance = procimg_testkit::unique_instance("pins");
-    let generation = now_ns();
-    let mut ports = CyclePorts::create(&instance, generation, &tables).expect("cycle ports");
-    let len = tables.layout.input_payload_size as usize;
-    ports.set_up_reserve(Arc::new(InputReserve::default()), len);
-    let node = server_node(&instance, "busy").expect("a node");
-    let subscriber = reader(&node, &instance, generation);
+    let (mut ports, len, _node, subscriber) = ports_and_reader(&tables, "pins");
     let slot = 5;
     let pins = &ports.handshake.block().pins as *const Pins;
     // SAFETY: the handshake block lives as long as `ports`, which outlives every use here;
@@ -213,18 +241,11 @@ fn a_busy_reader_holds_its_image_by_its_mark_alone() {
     let pins = unsafe { &*pins };
     pins.join(slot);
 
+    // Every other image only named, sent with the next publication (after the next loan,
+    // as the cycle does when every client reads by its mark): two loans at once, and the
+    // samples aside beside them.
     let publish = |ports: &mut CyclePorts, round: u32| {
-        let sample = ports.loan_image(len).expect("a loan");
-        // SAFETY: the loan is the test's until it is published, `len` bytes long.
-        #[allow(unsafe_code)]
-        unsafe {
-            core::ptr::write_bytes(sample.as_ptr(), round as u8, len)
-        };
-        assert!(ports.publish(&mut |_| {
-            let mut h = ImageHeader::default();
-            h.cycle.cycle_number = u64::from(round);
-            h
-        }));
+        publish_filled(ports, len, u64::from(round), round.is_multiple_of(2));
     };
 
     // The slow path once, as a client at its attach: where the segment starts here.
@@ -275,4 +296,41 @@ fn a_busy_reader_holds_its_image_by_its_mark_alone() {
         0,
         "a sample stays aside after it was let go of"
     );
+}
+
+#[test]
+fn an_image_only_named_reaches_iceoryx2_readers_when_sent() {
+    let tables = large_image(2, 1024);
+    let (mut ports, len, _node, subscriber) = ports_and_reader(&tables, "named");
+    assert!(
+        ports.read_by_mark(0),
+        "no client: nobody needs iceoryx2 first"
+    );
+    assert!(
+        !ports.read_by_mark(1 << 4),
+        "a client not reading by its mark"
+    );
+    ports.handshake.block().pins.join(4);
+    assert!(ports.read_by_mark(1 << 4));
+
+    for cycle in 1..=3u64 {
+        let named_sample = publish_filled(&mut ports, len, cycle, true);
+        let named = ports.handshake.block().pins.newest().expect("named");
+        assert_eq!(u64::from(named.cycle), cycle, "named at once");
+        assert!(
+            subscriber.receive().expect("receive").is_none(),
+            "cycle {cycle}: iceoryx2's reader had the image before it was sent"
+        );
+        // The next sample is loaned before the named one is sent, as in the cycle.
+        let next = ports.loan_image(len).expect("a second loan");
+        assert_ne!(next.as_ptr() as usize, named_sample);
+        assert!(ports.send_named());
+        let got = subscriber
+            .receive()
+            .expect("receive")
+            .expect("the image, once sent");
+        assert_eq!(got.user_header().cycle.cycle_number, cycle);
+        assert!(got.payload().iter().all(|&b| b == cycle as u8));
+        assert!(ports.send_named(), "nothing left to send");
+    }
 }

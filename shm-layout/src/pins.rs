@@ -103,6 +103,12 @@ impl Pins {
         }
     }
 
+    /// The slots of the clients that read images by their mark (bit per slot), from their
+    /// first [`Pins::pin_newest`] until the server forgets the slot.
+    pub fn joined(&self) -> u64 {
+        self.busy.0.load(Ordering::Acquire)
+    }
+
     // ----- a client's side -----
 
     /// Makes the client of `slot` one that may hold images ([`Pins::pin_newest`] does it

@@ -11,8 +11,8 @@
 //!   info, right before STARTOP) → the client running (client side);
 //! - **opdone one way**: the client sends its OPDONE → the cycle thread has its outputs
 //!   (server side, from the send time in the output sample);
-//! - **round trip**: STARTOP → OPDONE received, per client (server side), which is what
-//!   bounds the OPDONE deadline.
+//! - **round trip**: STARTOP (the image's stamp, from which a client may see it) → OPDONE
+//!   received, per client (server side), which is what bounds the OPDONE deadline.
 //!
 //! and prints p50 / p99 / p99.9 / max, with `--report` (JSON) and `--hdr-log` files, and
 //! beside them procimgd's overruns, OPFAULTs and cycle allocations and the clients' cycle

@@ -636,9 +636,10 @@ impl PublishRig {
         self.image.carry_over_inputs();
         self.header.cycle.cycle_number += 1;
         let header = self.header;
-        let sent = self
-            .publication
-            .finish(&mut self.ports, &mut self.image, &mut |_| header);
+        let sent =
+            self.publication
+                .finish(&mut self.ports, &mut self.image, &mut |_| header, false);
+        self.publication.loan_next(&mut self.ports, &mut self.image);
         self.image.carry_over_outputs();
         self.last_carried = (self.image.carried_bytes() - carried) as usize;
         sent

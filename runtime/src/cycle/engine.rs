@@ -216,19 +216,31 @@ impl<L: ClientLink> Engine<L> {
             reserved: 0,
         };
         st.header.mode = st.mode.as_u32();
+        // When every client finds the image by its mark, iceoryx2's copy of it goes out after
+        // the outputs (step 6): its send then costs the clients' window nothing.
+        let send_later = self.ports.read_by_mark(st.client_slots());
         let header = &mut st.header;
-        let published = st
-            .publication
-            .finish(&mut self.ports, &mut st.image, &mut |now| {
+        let published = st.publication.finish(
+            &mut self.ports,
+            &mut st.image,
+            &mut |now| {
                 // Stamped last: the clock in the header is when the image was complete,
                 // which clients measure their STARTOP latency from.
                 header.cycle.clock_ns = now;
                 header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
                 *header
-            });
+            },
+            send_later,
+        );
 
-        // 3. STARTOP (and the mode indication, now that the image carries the new mode).
-        st.startop_ns = self.ports.now_ns();
+        // 3. STARTOP (and the mode indication, now that the image carries the new mode). The
+        // round trip counts from the image's stamp: a client that reads by its mark may see
+        // the image from then on, before the announcement.
+        st.startop_ns = if published {
+            st.header.cycle.clock_ns
+        } else {
+            self.ports.now_ns()
+        };
         if published {
             self.ports.notify(EVENT_STARTOP);
         } else {
@@ -240,6 +252,8 @@ impl<L: ClientLink> Engine<L> {
         if mode_changed {
             self.ports.notify(EVENT_MODE);
         }
+        // The sample this cycle's outputs go into, loaned while the clients work.
+        st.publication.loan_next(&mut self.ports, &mut st.image);
 
         // 4./5. Wait for OPDONE of the armed synchronous clients, merging outputs as they come.
         // Without a published image there is nothing to answer: nobody is waited for.
@@ -289,6 +303,13 @@ impl<L: ClientLink> Engine<L> {
                 }
                 OutputTiming::AtNextCycleStart => st.outputs_pending = true,
             }
+        }
+        // iceoryx2's readers missed an image the clients reading by their mark saw.
+        if !self.ports.send_named() {
+            st.shared
+                .counters
+                .unpublished_images
+                .fetch_add(1, Ordering::Relaxed);
         }
         st.stats.work(self.ports.now_ns().saturating_sub(t0_ns));
         // Only when asked for: every notification wakes every listener.
@@ -476,6 +497,15 @@ impl State {
             };
             self.image.set_status(s, st);
         }
+    }
+
+    /// The slots of the clients registered now (bit per slot).
+    fn client_slots(&self) -> u64 {
+        self.clients
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.active)
+            .fold(0, |slots, (slot, _)| slots | 1 << slot)
     }
 
     /// The synchronous clients whose OPDONE this cycle waits for.

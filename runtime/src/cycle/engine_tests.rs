@@ -294,6 +294,36 @@ fn only_the_owners_outputs_are_taken_and_unowned_ones_go_out_bad() {
 }
 
 #[test]
+fn iceoryx2_gets_the_image_after_the_answers_only_when_every_client_reads_by_its_mark() {
+    let (mut rig, echo, _) = Rig::with_an_answering_client(LatePolicy::IopsBad, 3, 33, 1);
+    let named_at = |rig: &Rig| *rig.engine.ports.sends.last().expect("an image");
+    assert_eq!(named_at(&rig), (rig.k, None), "sent before STARTOP");
+
+    // Every client reads by its mark: the image is named, STARTOP given, the answer taken
+    // and sent out, and only then does iceoryx2's send come.
+    rig.engine.ports.all_read_by_mark = true;
+    let k = rig.k + 1;
+    let answer = rig.sample(3, 33, k, echo, &[2; 16]);
+    rig.engine.ports.answers.push_back(answer);
+    let events = rig.cycle();
+    let startop = events.iter().position(|&e| e == EVENT_STARTOP);
+    let (cycle, sent_at) = named_at(&rig);
+    assert_eq!(cycle, k);
+    assert!(
+        sent_at.is_some_and(|at| startop.is_some_and(|s| at > s)),
+        "sent at event {sent_at:?}, STARTOP at {startop:?}"
+    );
+    assert_eq!(rig.last_sent(echo), (Mode::Operate, vec![2; 16], IOXS_GOOD));
+    assert_eq!(
+        rig.shared
+            .counters
+            .unpublished_images
+            .load(Ordering::Relaxed),
+        0
+    );
+}
+
+#[test]
 fn a_late_synchronous_client_gets_one_opfault_and_is_not_waited_for_again() {
     // In time: its answer arrives while the engine waits.
     let (mut rig, echo, events) = Rig::with_an_answering_client(LatePolicy::IopsBad, 3, 33, 1);

@@ -30,8 +30,17 @@ pub trait ClientLink {
     fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>>;
     /// Publishes the loaned sample, every byte of which the caller wrote; `header` is called
     /// with the time then, to stamp when the image was complete. `false` if nothing was
-    /// loaned or it could not be published.
-    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader) -> bool;
+    /// loaned or it could not be published. With `send_later`, a sample the busy path can
+    /// name is only named now (clients that read by their mark find it at once) and goes to
+    /// iceoryx2's readers at [`ClientLink::send_named`].
+    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader, send_later: bool) -> bool;
+    /// Sends the sample [`ClientLink::publish`] named and kept back, if there is one.
+    /// `false` if it could not be sent.
+    fn send_named(&mut self) -> bool;
+    /// Whether every client of `slots` (bit per slot) reads the images by its mark and none
+    /// waits for STARTOP on iceoryx2's descriptor: nobody the cycle waits for then needs
+    /// iceoryx2's copy of the image before the outputs are out.
+    fn read_by_mark(&self, slots: u64) -> bool;
     /// Hands the oldest client output sample waiting to `take`, with the time it was taken
     /// (read only when there is one).
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken;
@@ -95,7 +104,10 @@ impl ClientLink for CyclePorts {
         }
     }
 
-    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader) -> bool {
+    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader, send_later: bool) -> bool {
+        // The engine sends an image it kept back at the end of its cycle; one left over
+        // still goes to iceoryx2's readers before a newer one.
+        let _ = self.send_named();
         let Some(sample) = self.loaned.take() else {
             return false;
         };
@@ -113,8 +125,26 @@ impl ClientLink for CyclePorts {
                 cycle: stamped.cycle.cycle_number as u32,
                 offset,
             });
+            if send_later {
+                // iceoryx2's send (some microseconds, growing with its readers) then runs
+                // after the outputs are out, not between the image and the clients' answers.
+                self.unsent = Some(sample);
+                return true;
+            }
         }
         iceoryx2_call(|| sample.send().is_ok())
+    }
+
+    fn send_named(&mut self) -> bool {
+        match self.unsent.take() {
+            Some(sample) => iceoryx2_call(|| sample.send().is_ok()),
+            None => true,
+        }
+    }
+
+    fn read_by_mark(&self, slots: u64) -> bool {
+        let block = self.handshake.block();
+        !block.has_fd_waiters() && block.pins.joined() & slots == slots
     }
 
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
@@ -188,6 +218,13 @@ pub struct MemoryLink {
     pub events: Vec<usize>,
     /// No sample can be loaned (all are held by readers).
     pub refuse_loans: bool,
+    /// Every client reads by its mark ([`ClientLink::read_by_mark`]).
+    pub all_read_by_mark: bool,
+    /// The images published: the cycle each was named in and, if it was kept back, where in
+    /// [`MemoryLink::events`] it was sent.
+    pub sends: Vec<(u64, Option<usize>)>,
+    /// A publication kept back for [`ClientLink::send_named`].
+    kept_back: bool,
     /// Payload ranges every publication writes whole (the status bytes, the padding): filled
     /// with [`UNWRITTEN`] at every loan, so that a byte of them left unwritten shows in every
     /// image, not only in a sample's first.
@@ -231,13 +268,30 @@ impl ClientLink for MemoryLink {
         NonNull::new(sample.as_mut_ptr())
     }
 
-    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader) -> bool {
+    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader, send_later: bool) -> bool {
+        self.send_named();
         if self.refuse_loans {
             return false;
         }
         let copy = self.samples[self.loaned].clone();
-        self.published.push((header(self.now), copy));
+        let h = header(self.now);
+        self.sends.push((h.cycle.cycle_number, None));
+        self.published.push((h, copy));
+        self.kept_back = send_later;
         true
+    }
+
+    fn send_named(&mut self) -> bool {
+        if std::mem::take(&mut self.kept_back)
+            && let Some(last) = self.sends.last_mut()
+        {
+            last.1 = Some(self.events.len());
+        }
+        true
+    }
+
+    fn read_by_mark(&self, _slots: u64) -> bool {
+        self.all_read_by_mark
     }
 
     fn take_output(&mut self, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {

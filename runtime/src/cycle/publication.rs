@@ -52,20 +52,29 @@ impl Publication {
         self.current = sample;
     }
 
-    /// Completes and publishes the image (`header` stamps it with the time then), and loans
-    /// the next sample, which the outputs are bound to from now on. Whether it was
-    /// published; if not, the image keeps what it had in its own payload.
+    /// Completes and publishes the image (`header` stamps it with the time then; with
+    /// `send_later` iceoryx2's send waits for [`ClientLink::send_named`]). Whether it was
+    /// published; if not, the image keeps what it had in its own payload. The outputs are
+    /// bound to a sample again at [`Publication::loan_next`].
     pub fn finish(
         &mut self,
         ports: &mut impl ClientLink,
         image: &mut Image,
         header: &mut dyn FnMut(u64) -> ImageHeader,
+        send_later: bool,
     ) -> bool {
         image.publish_into();
-        let published = self.current.take().is_some() && ports.publish(header);
+        let published = self.current.take().is_some() && ports.publish(header, send_later);
         if !published {
             image.keep_unpublished();
         }
+        published
+    }
+
+    /// Loans the next sample, which the outputs are bound to from now on: after
+    /// [`Publication::finish`], before any output is set. (Apart from `finish`, so that
+    /// STARTOP need not wait for the loan.)
+    pub fn loan_next(&mut self, ports: &mut impl ClientLink, image: &mut Image) {
         let next = ports.loan_image(image.payload_len());
         // SAFETY: as for `bind_inputs` in `begin`; the inputs are bound to it in the next
         // cycle's `begin`.
@@ -74,6 +83,5 @@ impl Publication {
             image.bind_outputs(next)
         };
         self.next = next;
-        published
     }
 }

@@ -13,6 +13,7 @@ use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::server::Server;
 use iceoryx2::prelude::{AllocationStrategy, CallbackProgression, ServiceName, ZeroCopySend};
+use iceoryx2::sample_mut::SampleMut;
 use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use procimg_control::{self as control, services};
 use procimg_shm_layout::events::EVENT_ID_MAX;
@@ -28,13 +29,15 @@ const MAX_NODES: usize = MAX_CLIENTS + EXTRA_READERS + 2;
 /// Notifications the control thread loans at once (it sends each at once).
 const NOTIFICATION_LOANS: usize = 1;
 /// Input images that may exist at once: the one being written, the newest (in the history and
-/// every subscriber's buffer: a publication replaces what a buffer holds), and one for each
+/// every subscriber's buffer: a publication replaces what a buffer holds), the one named to
+/// the clients that read by their mark and not yet sent (`CyclePorts::unsent`: the next is
+/// loaned before it is sent), and one for each
 /// reader, which holds at most one (the image it read last, until it takes the next). Fewer
 /// would let a few readers holding distinct old images (asynchronous clients, tools, a client
 /// stopped in a debugger) stop the publication for everyone. iceoryx2 would reserve
 /// `subscribers × (buffer + borrowed) + history + loans` (162 for 80 subscribers). A cycle
 /// that cannot loan an image anyway counts `unpublished_images`.
-pub const INPUT_IMAGES: usize = MAX_CLIENTS + EXTRA_READERS + 2;
+pub const INPUT_IMAGES: usize = MAX_CLIENTS + EXTRA_READERS + 3;
 
 // No `payload_alignment`: iceoryx2 0.10 pads every element of a slice payload to it
 // (`align(size_of::<u8>(), alignment) × len`), so 64 made each `[u8]` sample 64 times its
@@ -112,6 +115,9 @@ pub struct CyclePorts {
     /// The sample this cycle's input image is being built in (first: it goes back to the
     /// publisher before the publisher goes).
     pub loaned: Option<InputSample>,
+    /// The image named to the clients that read by their mark but not yet sent through
+    /// iceoryx2 (sent at the end of its cycle: `ClientLink::send_named`).
+    pub unsent: Option<SampleMut<Ipc, [u8], ImageHeader>>,
     /// Where the loaned sample's payload lies in the input segment (see [`Aside`]).
     pub loaned_offset: Option<u32>,
     /// Loaned samples busy clients hold, kept out of use.
@@ -175,6 +181,7 @@ impl CyclePorts {
 
         Ok(CyclePorts {
             loaned: None,
+            unsent: None,
             loaned_offset: None,
             aside: Aside::default(),
             node,
