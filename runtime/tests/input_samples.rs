@@ -242,10 +242,13 @@ fn a_busy_reader_holds_its_image_by_its_mark_alone() {
     pins.join(slot);
 
     // Every other image only named, sent with the next publication (after the next loan,
-    // as the cycle does when every client reads by its mark): two loans at once, and the
-    // samples aside beside them.
+    // as the cycle does when every client reads by its mark), and every third image's
+    // sample loaned ahead: two loans at once, and the samples aside beside them.
     let publish = |ports: &mut CyclePorts, round: u32| {
         publish_filled(ports, len, u64::from(round), round.is_multiple_of(2));
+        if round.is_multiple_of(3) {
+            ports.loan_ahead(len);
+        }
     };
 
     // The slow path once, as a client at its attach: where the segment starts here.
@@ -299,7 +302,7 @@ fn a_busy_reader_holds_its_image_by_its_mark_alone() {
 }
 
 #[test]
-fn an_image_only_named_reaches_iceoryx2_readers_when_sent() {
+fn an_image_only_named_reaches_iceoryx2_readers_when_sent_and_a_loan_ahead_is_used() {
     let tables = large_image(2, 1024);
     let (mut ports, len, _node, subscriber) = ports_and_reader(&tables, "named");
     assert!(
@@ -313,8 +316,15 @@ fn an_image_only_named_reaches_iceoryx2_readers_when_sent() {
     ports.handshake.block().pins.join(4);
     assert!(ports.read_by_mark(1 << 4));
 
+    let mut loaned_ahead = None;
     for cycle in 1..=3u64 {
         let named_sample = publish_filled(&mut ports, len, cycle, true);
+        if let Some(ahead) = loaned_ahead {
+            assert_eq!(
+                named_sample, ahead,
+                "the sample loaned ahead is the one used"
+            );
+        }
         let named = ports.handshake.block().pins.newest().expect("named");
         assert_eq!(u64::from(named.cycle), cycle, "named at once");
         assert!(
@@ -332,5 +342,9 @@ fn an_image_only_named_reaches_iceoryx2_readers_when_sent() {
         assert_eq!(got.user_header().cycle.cycle_number, cycle);
         assert!(got.payload().iter().all(|&b| b == cycle as u8));
         assert!(ports.send_named(), "nothing left to send");
+        // The end of the cycle: the next cycle's sample loaned ahead.
+        ports.loan_ahead(len);
+        let (ahead, _) = ports.ahead.as_mut().expect("a sample loaned ahead");
+        loaned_ahead = Some(ahead.payload_mut().as_mut_ptr() as usize);
     }
 }

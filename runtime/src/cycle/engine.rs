@@ -252,7 +252,7 @@ impl<L: ClientLink> Engine<L> {
         if mode_changed {
             self.ports.notify(EVENT_MODE);
         }
-        // The sample this cycle's outputs go into, loaned while the clients work.
+        // The sample this cycle's outputs go into (loaned at the end of the last cycle).
         st.publication.loan_next(&mut self.ports, &mut st.image);
 
         // 4./5. Wait for OPDONE of the armed synchronous clients, merging outputs as they come.
@@ -311,6 +311,9 @@ impl<L: ClientLink> Engine<L> {
                 .unpublished_images
                 .fetch_add(1, Ordering::Relaxed);
         }
+        // The sample the next cycle's outputs go into, loaned now rather than after its
+        // STARTOP.
+        self.ports.loan_ahead(st.image.payload_len());
         st.stats.work(self.ports.now_ns().saturating_sub(t0_ns));
         // Only when asked for: every notification wakes every listener.
         if st.clients.iter().any(|c| c.active && c.newcycle) {

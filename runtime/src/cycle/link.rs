@@ -5,6 +5,7 @@
 //! real clock.
 
 use crate::shm::CyclePorts;
+use crate::shm::aside::InputSample;
 use crate::shm::outputs::OutputHandoff;
 use crate::sys::clock::now_ns;
 use core::ptr::NonNull;
@@ -28,6 +29,11 @@ pub trait ClientLink {
     /// holds what the caller left in it (iceoryx2's readers map its samples read-only:
     /// `tests/input_samples.rs` checks iceoryx2 for it).
     fn loan_image(&mut self, len: usize) -> Option<NonNull<u8>>;
+    /// Loans, ahead of time, the sample the next [`ClientLink::loan_image`] returns (when
+    /// it asks for as many bytes): at the end of a cycle, so that iceoryx2's loan (some µs)
+    /// does not lie between STARTOP and the clients' answers. Nothing when one is loaned
+    /// ahead already.
+    fn loan_ahead(&mut self, len: usize);
     /// Publishes the loaned sample, every byte of which the caller wrote; `header` is called
     /// with the time then, to stamp when the image was complete. `false` if nothing was
     /// loaned or it could not be published. With `send_later`, a sample the busy path can
@@ -73,6 +79,31 @@ fn iceoryx2_call<R>(f: impl FnOnce() -> R) -> R {
     crate::sys::rt_alloc::as_connection_setup(f)
 }
 
+impl CyclePorts {
+    /// Loans a sample no busy client holds, and where it lies in the input segment; `None`
+    /// when none can be had.
+    fn loan_unheld(&mut self, len: usize) -> Option<(InputSample, Option<u32>)> {
+        let pins = &self.handshake.block().pins;
+        loop {
+            let mut sample = iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?;
+            let at = sample.payload_mut().as_mut_ptr() as usize;
+            let offset = self.aside.offset(at);
+            // A sample a busy client still reads, though a newer image replaced it: never
+            // written while it holds it (see `shm::aside`). A sample loaned ahead cannot
+            // come to be held before it is used: a client marks only the newest image.
+            if offset.is_some_and(|off| pins.held(off)) {
+                // Without room it goes back unwritten, and this cycle publishes nothing.
+                if !self.aside.keep(sample) {
+                    return None;
+                }
+                continue;
+            }
+            self.reserve.note_loan(at, len);
+            return Some((sample, offset));
+        }
+    }
+}
+
 impl ClientLink for CyclePorts {
     fn now_ns(&self) -> u64 {
         now_ns()
@@ -82,25 +113,21 @@ impl ClientLink for CyclePorts {
         // A sample still loaned (a cycle that did not get to publish it) goes back first,
         // and so do the samples kept aside that no busy client holds any more.
         self.loaned = None;
-        let pins = &self.handshake.block().pins;
-        self.aside.release(pins);
-        loop {
-            let mut sample = iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?;
-            let at = sample.payload_mut().as_mut_ptr() as usize;
-            let offset = self.aside.offset(at);
-            // A sample a busy client still reads, though a newer image replaced it: never
-            // written while it holds it (see `shm::aside`).
-            if offset.is_some_and(|off| pins.held(off)) {
-                // Without room it goes back unwritten, and this cycle publishes nothing.
-                if !self.aside.keep(sample) {
-                    return None;
-                }
-                continue;
-            }
-            self.reserve.note_loan(at, len);
-            self.loaned_offset = offset;
-            self.loaned = Some(sample);
-            return NonNull::new(at as *mut u8);
+        self.aside.release(&self.handshake.block().pins);
+        let (mut sample, offset) = match self.ahead.take() {
+            Some(ahead) if ahead.0.payload().len() == len => ahead,
+            _ => self.loan_unheld(len)?,
+        };
+        let at = sample.payload_mut().as_mut_ptr() as usize;
+        self.loaned_offset = offset;
+        self.loaned = Some(sample);
+        NonNull::new(at as *mut u8)
+    }
+
+    fn loan_ahead(&mut self, len: usize) {
+        if self.ahead.is_none() {
+            self.aside.release(&self.handshake.block().pins);
+            self.ahead = self.loan_unheld(len);
         }
     }
 
@@ -266,6 +293,10 @@ impl ClientLink for MemoryLink {
             }
         }
         NonNull::new(sample.as_mut_ptr())
+    }
+
+    fn loan_ahead(&mut self, _len: usize) {
+        // The samples go round in a fixed order: a loan ahead would change nothing.
     }
 
     fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader, send_later: bool) -> bool {

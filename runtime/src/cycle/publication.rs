@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT OR Apache-2.0
 //! The image's way through the input samples, cycle after cycle: the sample an image is
-//! built in is loaned right after the last publication (the clients' outputs go straight
-//! into it), the inputs join it at the cycle's start, and it is published whole. The one
+//! built in is bound right after the last publication (the clients' outputs go straight
+//! into it; the link loaned it ahead, at the end of the cycle before), the inputs join it
+//! at the cycle's start, and it is published whole. The one
 //! place that binds the image to samples, so the contract of [`Image::bind_inputs`] and
 //! [`Image::bind_outputs`] is kept here and nowhere else.
 
@@ -71,9 +72,9 @@ impl Publication {
         published
     }
 
-    /// Loans the next sample, which the outputs are bound to from now on: after
-    /// [`Publication::finish`], before any output is set. (Apart from `finish`, so that
-    /// STARTOP need not wait for the loan.)
+    /// Loans the next sample (the one the link loaned ahead, if any), which the outputs are
+    /// bound to from now on: after [`Publication::finish`], before any output is set.
+    /// (Apart from `finish`, so that STARTOP need not wait for it.)
     pub fn loan_next(&mut self, ports: &mut impl ClientLink, image: &mut Image) {
         let next = ports.loan_image(image.payload_len());
         // SAFETY: as for `bind_inputs` in `begin`; the inputs are bound to it in the next

@@ -19,8 +19,9 @@ use procimg_shm_layout::{ImageHeader, MAX_CLIENTS};
 /// A loaned input sample.
 pub type InputSample = SampleMutUninit<Ipc, [MaybeUninit<u8>], ImageHeader>;
 
-/// Loans the input publisher may have at once: the one being written, the one named and not
-/// yet sent (`CyclePorts::unsent`), and one kept aside per client.
+/// Loans the input publisher may have at once: two of the sample being written, the one
+/// loaned ahead for the next image (`CyclePorts::ahead`) and the one named and not yet sent
+/// (`CyclePorts::unsent`); and one kept aside per client.
 pub const INPUT_LOANS: usize = 2 + MAX_CLIENTS;
 
 /// The samples kept aside, and where the input segment starts (offsets are counted from

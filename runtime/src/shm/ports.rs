@@ -115,6 +115,9 @@ pub struct CyclePorts {
     /// The sample this cycle's input image is being built in (first: it goes back to the
     /// publisher before the publisher goes).
     pub loaned: Option<InputSample>,
+    /// The sample the next image is built in, loaned at the end of the last cycle
+    /// (`ClientLink::loan_ahead`), and where it lies in the input segment.
+    pub ahead: Option<(InputSample, Option<u32>)>,
     /// The image named to the clients that read by their mark but not yet sent through
     /// iceoryx2 (sent at the end of its cycle: `ClientLink::send_named`).
     pub unsent: Option<SampleMut<Ipc, [u8], ImageHeader>>,
@@ -181,6 +184,7 @@ impl CyclePorts {
 
         Ok(CyclePorts {
             loaned: None,
+            ahead: None,
             unsent: None,
             loaned_offset: None,
             aside: Aside::default(),
