@@ -6,9 +6,9 @@
 //! raises the port's diagnosis and the PortDataChangeNotification alarm; the right one
 //! written again clears both.
 
-use procimg_client::RecordRefusal;
 use procimg_client::pe::{PeAnswer, PeCommand};
 use procimg_client::{AlarmReport, ArState, Notification, RecordTarget, ServiceOptions, Services};
+use procimg_client::{RecordError, RecordRefusal};
 use procimg_profinet::wire::record::pe::{
     INDEX_PE_SERVICE, PeAnswer as WireAnswer, PeCommand as WirePe, PeRequest, PeResponse,
 };
@@ -261,9 +261,19 @@ fn a_topology_mismatch_raises_the_port_diagnosis_and_the_right_neighbour_clears_
     });
     let until = Instant::now() + Duration::from_secs(30);
     let answer = loop {
-        let a = services
-            .pe(head, PeCommand::StartPause { pause_ms: 60_000 })
-            .expect("Start_Pause");
+        let a = match services.pe(head, PeCommand::StartPause { pause_ms: 60_000 }) {
+            Ok(a) => a,
+            // The program took the record between this command's write, which the station
+            // answered, and its read: holding no command, it refuses the read (state
+            // conflict), as a real program would. The next command reaches it whole.
+            Err(RecordError::Failed { status, .. })
+                if status.error_code1 == 0xb5 && Instant::now() < until =>
+            {
+                std::thread::sleep(Duration::from_millis(100));
+                continue;
+            }
+            Err(e) => panic!("Start_Pause: {e}"),
+        };
         // Until the program has taken the record, the station answers itself.
         if a != (PeAnswer::Error { code: 0x06 }) || Instant::now() > until {
             break a;
