@@ -607,14 +607,14 @@ fn run_generation(
         warn!("{w}");
     }
     // Start-up is over: the code it ran is let go, to be locked again only as it runs again.
-    match procimg_runtime::sys::start_up_code::release_start_up_code() {
-        Ok(0) => {}
-        Ok(released) => debug!(
+    let released = procimg_runtime::sys::start_up_code::release_start_up_code();
+    if released.bytes > 0 {
+        debug!(
             "start-up done: {} KiB of code and read-only data unmapped, locked again as used",
-            released / 1024
-        ),
-        Err(w) => warn!("{w}"),
+            released.bytes / 1024
+        );
     }
+    released.warnings.iter().for_each(|w| warn!("{w}"));
     let mut next = End::Stop;
     while !term.load(Ordering::Acquire) {
         if let Some(n) = program.and_then(|p| p.take_next()) {

@@ -17,29 +17,37 @@ use procimg_shm_layout::maps::{kib, smaps_entries};
 /// back in and locked as it is used, when the process locks its code as used. A mapping that
 /// holds a private copy of any page (a debugger's breakpoint, an uprobe, relocated
 /// read-only data) is left alone: dropping the copy would lose what was written into it.
-/// Returns the bytes of the mappings let go, or a warning when a mapping, once unlocked,
-/// could not be locked again (the others are still done).
-pub fn release_start_up_code() -> Result<usize, String> {
+/// Returns what was let go, with a warning for each mapping that, once unlocked, could not
+/// be locked again (the others are still done).
+pub fn release_start_up_code() -> Released {
+    let mut released = Released::default();
     if !locked_as_used() {
-        return Ok(0);
+        return released;
     }
     let Some(program) = program_path() else {
-        return Ok(0);
+        return released;
     };
     let Ok(smaps) = std::fs::read_to_string("/proc/self/smaps") else {
-        return Ok(0);
+        return released;
     };
-    let mut released = 0;
-    let mut warning = None;
     for (m, anonymous_kib) in mappings_with_private_pages(&smaps) {
         if m.path == program && is_code_or_read_only_data(&m) && anonymous_kib == 0 {
             match release(&m) {
-                Ok(n) => released += n,
-                Err(w) => warning = Some(w),
+                Ok(n) => released.bytes += n,
+                Err(w) => released.warnings.push(w),
             }
         }
     }
-    warning.map_or(Ok(released), Err)
+    released
+}
+
+/// What [`release_start_up_code`] let go.
+#[derive(Debug, Default, PartialEq, Eq)]
+pub struct Released {
+    /// Bytes of the mappings let go.
+    pub bytes: usize,
+    /// One per mapping that could not be locked again: it names the mapping and what to do.
+    pub warnings: Vec<String>,
 }
 
 /// The program's path as `/proc/self/maps` names its mappings (with " (deleted)" when the
@@ -132,6 +140,6 @@ Anonymous:            12 kB
     #[test]
     fn nothing_is_let_go_by_a_process_that_does_not_lock_as_used() {
         // Tests do not lock their memory: their code stays mapped as it is.
-        assert_eq!(release_start_up_code(), Ok(0));
+        assert_eq!(release_start_up_code(), Released::default());
     }
 }
