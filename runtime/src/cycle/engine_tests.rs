@@ -296,7 +296,14 @@ fn only_the_owners_outputs_are_taken_and_unowned_ones_go_out_bad() {
 #[test]
 fn iceoryx2_gets_the_image_after_the_answers_only_when_every_client_reads_by_its_mark() {
     let (mut rig, echo, _) = Rig::with_an_answering_client(LatePolicy::IopsBad, 3, 33, 1);
-    let named_at = |rig: &Rig| *rig.engine.ports.sends.last().expect("an image");
+    let named_at = |rig: &Rig| {
+        let link = &rig.engine.ports;
+        let (header, _) = link.published.last().expect("an image");
+        (
+            header.cycle.cycle_number,
+            *link.sent_at.last().expect("an image"),
+        )
+    };
     assert_eq!(named_at(&rig), (rig.k, None), "sent before STARTOP");
 
     // Every client reads by its mark: the image is named, STARTOP given, the answer taken

@@ -247,9 +247,9 @@ pub struct MemoryLink {
     pub refuse_loans: bool,
     /// Every client reads by its mark ([`ClientLink::read_by_mark`]).
     pub all_read_by_mark: bool,
-    /// The images published: the cycle each was named in and, if it was kept back, where in
+    /// For each image of [`MemoryLink::published`] kept back: where in
     /// [`MemoryLink::events`] it was sent.
-    pub sends: Vec<(u64, Option<usize>)>,
+    pub sent_at: Vec<Option<usize>>,
     /// A publication kept back for [`ClientLink::send_named`].
     kept_back: bool,
     /// Payload ranges every publication writes whole (the status bytes, the padding): filled
@@ -305,18 +305,17 @@ impl ClientLink for MemoryLink {
             return false;
         }
         let copy = self.samples[self.loaned].clone();
-        let h = header(self.now);
-        self.sends.push((h.cycle.cycle_number, None));
-        self.published.push((h, copy));
+        self.published.push((header(self.now), copy));
+        self.sent_at.push(None);
         self.kept_back = send_later;
         true
     }
 
     fn send_named(&mut self) -> bool {
         if std::mem::take(&mut self.kept_back)
-            && let Some(last) = self.sends.last_mut()
+            && let Some(last) = self.sent_at.last_mut()
         {
-            last.1 = Some(self.events.len());
+            *last = Some(self.events.len());
         }
         true
     }
