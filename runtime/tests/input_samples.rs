@@ -344,7 +344,7 @@ fn an_image_only_named_reaches_iceoryx2_readers_when_sent_and_a_loan_ahead_is_us
         assert!(ports.send_named(), "nothing left to send");
         // The end of the cycle: the next cycle's sample loaned ahead.
         ports.loan_ahead(len);
-        let (ahead, _) = ports.ahead.as_mut().expect("a sample loaned ahead");
-        loaned_ahead = Some(ahead.payload_mut().as_mut_ptr() as usize);
+        let (ahead, _) = ports.ahead.as_ref().expect("a sample loaned ahead");
+        loaned_ahead = Some(ahead.at);
     }
 }

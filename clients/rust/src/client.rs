@@ -7,11 +7,11 @@ use crate::control::ControlHandle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
 use crate::input_view::{InputView, SegmentKnowledge, learn_segment};
 use crate::layout::Layout;
+use crate::output_sample::OutputSample;
 use crate::status::Ioxs;
 use crate::wake_ahead::poll_window;
 use iceoryx2::node::{Node, NodeState, NodeView};
 use iceoryx2::prelude::CallbackProgression;
-use iceoryx2::sample_mut::SampleMut;
 use procimg_control::futex::LinuxFutex;
 use procimg_control::{ClientRole, CoreRequest, Response, server_node_name};
 use procimg_shm_layout::events::{EVENT_MODE, EVENT_NEWCYCLE, EVENT_SHUTDOWN, opfault_event};
@@ -240,7 +240,7 @@ pub struct Client {
     pub(crate) write_cache: crate::cache::WriteCache,
     /// An output sample loaned ahead, right after an OPDONE, so that the next cycle's window
     /// does not pay for the loan (dropped before the ports it came from).
-    spare_output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
+    spare_output: Option<OutputSample>,
     /// Busy-polling: the spare is last cycle's OPDONE sample, named in the handshake block
     /// (`procimg_shm_layout::posts`): withdrawn before it is written again.
     spare_posted: bool,
@@ -508,7 +508,7 @@ impl Client {
                 }
                 // The mark moved to the new image: the one held before is no longer held,
                 // so it goes whether or not the new one is taken.
-                self.latest = InputView::pinned(segment, newest, pins).filter(|view| {
+                self.latest = InputView::pinned(segment, newest, pins, self.slot).filter(|view| {
                     let h = view.user_header();
                     h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash()
                 });
@@ -803,7 +803,7 @@ impl Client {
     /// shared memory holds them (no pass over the output image): the server takes a
     /// submodule's bytes only where its flags say written, and [`crate::Cycle`] fills a
     /// submodule from the outputs last sent before it hands it out for changing.
-    pub(crate) fn loan_output(&mut self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
+    pub(crate) fn loan_output(&mut self) -> Result<OutputSample, IoError> {
         match self.spare_output.take() {
             Some(mut sample) => {
                 if std::mem::take(&mut self.spare_posted) {
@@ -814,7 +814,7 @@ impl Client {
                     }
                     self.clear_flags(&mut sample);
                 }
-                *sample.user_header_mut() = self.output_header();
+                *sample.header_mut() = self.output_header();
                 Ok(sample)
             }
             None => self.fresh_output(),
@@ -828,7 +828,7 @@ impl Client {
         self.output_start = None;
     }
 
-    fn clear_flags(&self, sample: &mut SampleMut<Ipc, [u8], OutputHeader>) {
+    fn clear_flags(&self, sample: &mut OutputSample) {
         let at = self.layout.image().client_status_offset as usize;
         let statuses = 4 * self.layout.submodules.len();
         if let Some(flags) = sample.payload_mut().get_mut(at..at + statuses) {
@@ -848,7 +848,7 @@ impl Client {
         }
     }
 
-    fn fresh_output(&self) -> Result<SampleMut<Ipc, [u8], OutputHeader>, IoError> {
+    fn fresh_output(&self) -> Result<OutputSample, IoError> {
         let conn = self.conn.as_ref().ok_or_else(|| IoError::ServerGone {
             instance: self.instance().to_string(),
         })?;
@@ -863,9 +863,9 @@ impl Client {
         // so every byte holds an initialised u8 (iceoryx2 types a loan as uninitialised for
         // payload types where that would not hold).
         #[allow(unsafe_code)]
-        let mut sample = unsafe { sample.assume_init() };
+        let mut sample = OutputSample::new(unsafe { sample.assume_init() });
         self.clear_flags(&mut sample);
-        *sample.user_header_mut() = self.output_header();
+        *sample.header_mut() = self.output_header();
         Ok(sample)
     }
 
@@ -892,7 +892,7 @@ impl Client {
     /// Sends an output sample; as OPDONE when `synchronous`.
     pub(crate) fn send_output(
         &mut self,
-        mut sample: SampleMut<Ipc, [u8], OutputHeader>,
+        mut sample: OutputSample,
         opdone_cycle: Option<u64>,
     ) -> Result<(), IoError> {
         // A synchronous client's OPDONE sample is named in the handshake block.
@@ -904,11 +904,11 @@ impl Client {
             instance: self.instance().to_string(),
         })?;
         if let Some(cycle) = opdone_cycle {
-            let h = sample.user_header_mut();
+            let h = sample.header_mut();
             h.cycle_number = cycle;
             h.flags |= OUTPUT_SYNCHRONOUS;
         }
-        sample.user_header_mut().sent_ns = procimg_shm_layout::os::monotonic_ns();
+        sample.header_mut().sent_ns = procimg_shm_layout::os::monotonic_ns();
         if let Some(place) = place {
             let posts = &conn.handshake.block().posts;
             posts.post(self.slot, place);
@@ -944,11 +944,7 @@ impl Client {
 
 impl Client {
     /// Where `sample` lies in this connection's output segment, named for `cycle`.
-    fn place_of(
-        &mut self,
-        sample: &SampleMut<Ipc, [u8], OutputHeader>,
-        cycle: u64,
-    ) -> Option<SamplePlace> {
+    fn place_of(&mut self, sample: &OutputSample, cycle: u64) -> Option<SamplePlace> {
         let payload = sample.payload().as_ptr() as usize;
         let start = *self
             .output_start

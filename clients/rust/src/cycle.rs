@@ -9,16 +9,15 @@
 
 use crate::access::resolve_write;
 use crate::client::{Client, LIVENESS_PERIOD, REATTACH_PERIOD};
-use crate::connection::Ipc;
 use crate::error::IoError;
 use crate::error::WaitError;
 use crate::io::{ReadResult, read_inputs, stamp};
 use crate::layout::Layout;
+use crate::output_sample::OutputSample;
 use crate::status::{Ioxs, SubmoduleIoxs, read_status};
-use iceoryx2::sample_mut::SampleMut;
 use procimg_control::futex::LinuxFutex;
 use procimg_shm_layout::handshake::Woken;
-use procimg_shm_layout::{CLIENT_WROTE_OUTPUTS, CycleInfo, Mode, OutputHeader};
+use procimg_shm_layout::{CLIENT_WROTE_OUTPUTS, CycleInfo, Mode};
 use std::time::{Duration, Instant};
 
 impl Client {
@@ -91,14 +90,14 @@ impl Client {
 /// nothing: the server then counts an OPFAULT for a synchronous client).
 pub struct Cycle<'c> {
     client: &'c mut Client,
-    output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
+    output: Option<OutputSample>,
 }
 
 /// A cycle window held apart from its client, for callers that cannot keep the borrow of
 /// [`Cycle`] (a C handle, an IO-Base controller whose calls come from several threads): take
 /// it with [`Cycle::detach`], continue it with [`DetachedCycle::resume`] on the same client.
 pub struct DetachedCycle {
-    output: Option<SampleMut<Ipc, [u8], OutputHeader>>,
+    output: Option<OutputSample>,
     number: u64,
 }
 

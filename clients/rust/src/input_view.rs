@@ -5,10 +5,10 @@
 
 use crate::connection::Ipc;
 use iceoryx2::sample::Sample;
-use procimg_shm_layout::ImageHeader;
 use procimg_shm_layout::maps::mapping_of;
 use procimg_shm_layout::pins::Pins;
 use procimg_shm_layout::segment::{SamplePlace, Segment};
+use procimg_shm_layout::{ImageHeader, MAX_CLIENTS};
 
 /// A received input sample.
 pub type InputSample = Sample<Ipc, [u8], ImageHeader>;
@@ -49,7 +49,8 @@ pub fn learn_segment(sample: &InputSample, newest: SamplePlace) -> SegmentKnowle
         .map_or(SegmentKnowledge::Unknowable, SegmentKnowledge::Known)
 }
 
-/// An image held by the client's mark: its header copied, its payload in place.
+/// An image held by the client's mark: its header copied (as [`copy_header`] does), its
+/// payload in place.
 #[derive(Debug)]
 pub struct Pinned {
     header: ImageHeader,
@@ -77,20 +78,26 @@ pub enum InputView {
 }
 
 impl InputView {
-    /// The image `newest` names in `segment`, held by a mark the caller made.
+    /// The image `newest` names in `segment`, held by a mark the caller made, for the client
+    /// of `slot`.
     ///
     /// The header is copied now, while the image is still the newest: iceoryx2 rewrites a
     /// sample's user header whenever the sample is loaned, also one a mark holds (procimgd
     /// then keeps it aside with its payload unwritten, but the header is rewritten by then).
     /// A sample is loaned again only after a newer image was named, so a copy made before
     /// the newest word moved is whole; one made after is not used (`None`: the next image
-    /// is taken instead).
-    pub fn pinned(segment: &Segment, newest: SamplePlace, pins: &Pins) -> Option<InputView> {
+    /// is taken instead). What is copied is [`copy_header`]'s.
+    pub fn pinned(
+        segment: &Segment,
+        newest: SamplePlace,
+        pins: &Pins,
+        slot: u32,
+    ) -> Option<InputView> {
         let p = segment.place::<ImageHeader>(newest.offset)?;
         // SAFETY: `Segment::place` checked that the header lies in the input segment,
         // aligned; the segment stays mapped while the connection lives. Read as a copy, its
         // wholeness checked below.
-        let header = unsafe { core::ptr::read_volatile(p.header as *const ImageHeader) };
+        let header = unsafe { copy_header(p.header as *const ImageHeader, slot) };
         let whole = pins.still_newest(newest) && header.cycle.cycle_number as u32 == newest.cycle;
         whole.then_some(InputView::Pinned(Pinned {
             header,
@@ -116,6 +123,88 @@ impl InputView {
         match self {
             InputView::Received(s) => s.user_header(),
             InputView::Pinned(p) => &p.header,
+        }
+    }
+}
+
+/// A copy of the header at `src` as the client of `slot` reads it: every field but the other
+/// clients' OPFAULT cycles, which stay 0. Those are 512 of the header's 632 bytes (8 of its
+/// 10 cache lines), which the server has just written: on the busy path every line copied is
+/// a line brought over from the server's CPU between STARTOP and the client's answer.
+///
+/// # Safety
+///
+/// `src` must point to a readable, aligned `ImageHeader`. It may be written meanwhile (each
+/// field is read once, volatile); the caller checks afterwards whether the copy is whole.
+pub unsafe fn copy_header(src: *const ImageHeader, slot: u32) -> ImageHeader {
+    use core::ptr::{addr_of, read_volatile};
+    // SAFETY: every field lies inside `*src`, which the caller vouches for.
+    unsafe {
+        let mut h = ImageHeader {
+            magic: read_volatile(addr_of!((*src).magic)),
+            layout_version: read_volatile(addr_of!((*src).layout_version)),
+            header_size: read_volatile(addr_of!((*src).header_size)),
+            layout_hash: read_volatile(addr_of!((*src).layout_hash)),
+            generation: read_volatile(addr_of!((*src).generation)),
+            cycle: read_volatile(addr_of!((*src).cycle)),
+            mode: read_volatile(addr_of!((*src).mode)),
+            submodule_count: read_volatile(addr_of!((*src).submodule_count)),
+            payload_size: read_volatile(addr_of!((*src).payload_size)),
+            mode_changes: read_volatile(addr_of!((*src).mode_changes)),
+            cycle_ns: read_volatile(addr_of!((*src).cycle_ns)),
+            opdone_deadline_ns: read_volatile(addr_of!((*src).opdone_deadline_ns)),
+            opfault_cycle: [0; MAX_CLIENTS],
+            mode_history: read_volatile(addr_of!((*src).mode_history)),
+        };
+        let own = slot as usize % MAX_CLIENTS;
+        h.opfault_cycle[own] = read_volatile(addr_of!((*src).opfault_cycle[own]));
+        h
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use procimg_shm_layout::CycleInfo;
+
+    #[test]
+    fn a_held_images_header_is_copied_whole_but_for_the_other_clients_opfault_cycles() {
+        let mut h = ImageHeader {
+            magic: 1,
+            layout_version: 2,
+            header_size: 3,
+            layout_hash: 4,
+            generation: 5,
+            cycle: CycleInfo {
+                cycle_number: 6,
+                cycle_start_ns: 7,
+                clock_ns: 8,
+                since_cycle_start_ns: 9,
+                cycle_count: 10,
+                reserved: 11,
+            },
+            mode: 12,
+            submodule_count: 13,
+            payload_size: 14,
+            mode_changes: 15,
+            cycle_ns: 16,
+            opdone_deadline_ns: 17,
+            ..ImageHeader::default()
+        };
+        for (i, c) in h.opfault_cycle.iter_mut().enumerate() {
+            *c = 100 + i as u64;
+        }
+        for (i, m) in h.mode_history.iter_mut().enumerate() {
+            *m = 200 + i as u32;
+        }
+        for slot in [0u32, 7, MAX_CLIENTS as u32 - 1] {
+            // SAFETY: `h` is a live, aligned header.
+            #[allow(unsafe_code)]
+            let copy = unsafe { copy_header(&h, slot) };
+            let mut expected = h;
+            expected.opfault_cycle = [0; MAX_CLIENTS];
+            expected.opfault_cycle[slot as usize] = 100 + u64::from(slot);
+            assert_eq!(copy, expected, "slot {slot}");
         }
     }
 }

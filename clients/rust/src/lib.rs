@@ -43,6 +43,9 @@ mod input_view;
 mod io;
 pub mod iobase;
 mod layout;
+// The outputs are written where iceoryx2 loaned them, without its locks.
+#[allow(unsafe_code)]
+mod output_sample;
 mod plug;
 // SCHED_FIFO and mlockall are system calls.
 #[allow(unsafe_code)]

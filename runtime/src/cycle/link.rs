@@ -5,7 +5,7 @@
 //! real clock.
 
 use crate::shm::CyclePorts;
-use crate::shm::aside::InputSample;
+use crate::shm::aside::Loan;
 use crate::shm::outputs::OutputHandoff;
 use crate::sys::clock::now_ns;
 use core::ptr::NonNull;
@@ -82,24 +82,24 @@ fn iceoryx2_call<R>(f: impl FnOnce() -> R) -> R {
 impl CyclePorts {
     /// Loans a sample no busy client holds, and where it lies in the input segment; `None`
     /// when none can be had.
-    fn loan_unheld(&mut self, len: usize) -> Option<(InputSample, Option<u32>)> {
+    fn loan_unheld(&mut self, len: usize) -> Option<(Loan, Option<u32>)> {
         let pins = &self.handshake.block().pins;
         loop {
-            let mut sample = iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?;
-            let at = sample.payload_mut().as_mut_ptr() as usize;
+            let loan = Loan::new(iceoryx2_call(|| self.inputs.loan_slice_uninit(len)).ok()?);
+            let at = loan.at;
             let offset = self.aside.offset(at);
             // A sample a busy client still reads, though a newer image replaced it: never
             // written while it holds it (see `shm::aside`). A sample loaned ahead cannot
             // come to be held before it is used: a client marks only the newest image.
             if offset.is_some_and(|off| pins.held(off)) {
                 // Without room it goes back unwritten, and this cycle publishes nothing.
-                if !self.aside.keep(sample) {
+                if !self.aside.keep(loan) {
                     return None;
                 }
                 continue;
             }
             self.reserve.note_loan(at, len);
-            return Some((sample, offset));
+            return Some((loan, offset));
         }
     }
 }
@@ -114,14 +114,13 @@ impl ClientLink for CyclePorts {
         // and so do the samples kept aside that no busy client holds any more.
         self.loaned = None;
         self.aside.release(&self.handshake.block().pins);
-        let (mut sample, offset) = match self.ahead.take() {
-            Some(ahead) if ahead.0.payload().len() == len => ahead,
+        let (loan, offset) = match self.ahead.take() {
+            Some(ahead) if ahead.0.len == len => ahead,
             _ => self.loan_unheld(len)?,
         };
-        let at = sample.payload_mut().as_mut_ptr() as usize;
         self.loaned_offset = offset;
-        self.loaned = Some(sample);
-        NonNull::new(at as *mut u8)
+        self.loaned = Some(loan.sample);
+        NonNull::new(loan.at as *mut u8)
     }
 
     fn loan_ahead(&mut self, len: usize) {

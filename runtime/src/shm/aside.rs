@@ -19,6 +19,28 @@ use procimg_shm_layout::{ImageHeader, MAX_CLIENTS};
 /// A loaned input sample.
 pub type InputSample = SampleMutUninit<Ipc, [MaybeUninit<u8>], ImageHeader>;
 
+/// An input sample as the cycle thread loaned it, with where its payload lies noted once:
+/// iceoryx2's thread-safe services look a slice sample's length up behind two mutexes each
+/// time its payload is asked for, and the loans are used between STARTOP and the clients'
+/// answers.
+pub struct Loan {
+    /// The sample.
+    pub sample: InputSample,
+    /// The first address of its payload.
+    pub at: usize,
+    /// Its payload's length.
+    pub len: usize,
+}
+
+impl Loan {
+    /// Notes where `sample`'s payload lies.
+    pub fn new(mut sample: InputSample) -> Loan {
+        let payload = sample.payload_mut();
+        let (at, len) = (payload.as_mut_ptr() as usize, payload.len());
+        Loan { sample, at, len }
+    }
+}
+
 /// Loans the input publisher may have at once: two of the sample being written, the one
 /// loaned ahead for the next image (`CyclePorts::ahead`) and the one named and not yet sent
 /// (`CyclePorts::unsent`); and one kept aside per client.
@@ -30,7 +52,7 @@ pub struct Aside {
     /// The input segment's first address; 0 while unknown (no offsets, nothing kept aside:
     /// busy clients then take the images through iceoryx2).
     segment: usize,
-    samples: Box<[Option<InputSample>]>,
+    samples: Box<[Option<Loan>]>,
     /// How many of `samples` are `Some`.
     kept: usize,
 }
@@ -68,9 +90,8 @@ impl Aside {
         }
         let segment = self.segment;
         for entry in self.samples.iter_mut() {
-            let Some(sample) = entry else { continue };
-            let at = sample.payload().as_ptr() as usize;
-            let held = u32::try_from(at.wrapping_sub(segment)).is_ok_and(|off| pins.held(off));
+            let Some(loan) = entry else { continue };
+            let held = u32::try_from(loan.at.wrapping_sub(segment)).is_ok_and(|off| pins.held(off));
             if !held {
                 *entry = None;
                 self.kept -= 1;
@@ -78,12 +99,12 @@ impl Aside {
         }
     }
 
-    /// Keeps `sample` aside. Without room (cannot happen while each client holds at most
+    /// Keeps `loan` aside. Without room (cannot happen while each client holds at most
     /// one sample) it goes back to the free ones unwritten, and `false` says so.
-    pub fn keep(&mut self, sample: InputSample) -> bool {
+    pub fn keep(&mut self, loan: Loan) -> bool {
         match self.samples.iter_mut().find(|e| e.is_none()) {
             Some(entry) => {
-                *entry = Some(sample);
+                *entry = Some(loan);
                 self.kept += 1;
                 true
             }

@@ -2,7 +2,7 @@
 //! Creating the server's ports, with the quality of service each service needs.
 
 use super::Ipc;
-use super::aside::{Aside, INPUT_LOANS, InputSample};
+use super::aside::{Aside, INPUT_LOANS, InputSample, Loan};
 use super::node::{ShmError, err, server_node};
 use super::outputs::{IpcThreadsafe, OutputPorts};
 use super::reserve::InputReserve;
@@ -117,7 +117,7 @@ pub struct CyclePorts {
     pub loaned: Option<InputSample>,
     /// The sample the next image is built in, loaned at the end of the last cycle
     /// (`ClientLink::loan_ahead`), and where it lies in the input segment.
-    pub ahead: Option<(InputSample, Option<u32>)>,
+    pub ahead: Option<(Loan, Option<u32>)>,
     /// The image named to the clients that read by their mark but not yet sent through
     /// iceoryx2 (sent at the end of its cycle: `ClientLink::send_named`).
     pub unsent: Option<SampleMut<Ipc, [u8], ImageHeader>>,
