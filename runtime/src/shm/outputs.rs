@@ -297,6 +297,9 @@ impl Held {
 /// The output ports the cycle thread holds, by client slot.
 pub struct OutputPorts {
     ports: Vec<Option<Held>>,
+    /// Bit `slot`: that slot holds a port. The cycle thread looks only at these: a walk
+    /// over every slot touches a cache line each, between STARTOP and the answers.
+    held: u64,
     /// Bit `slot`: that client's samples are taken where it names them.
     posting: u64,
     /// Where the next look for a sample begins: the port that had the last one, so that a
@@ -308,6 +311,7 @@ impl Default for OutputPorts {
     fn default() -> Self {
         OutputPorts {
             ports: (0..MAX_CLIENTS).map(|_| None).collect(),
+            held: 0,
             posting: 0,
             cursor: 0,
         }
@@ -336,12 +340,14 @@ impl OutputPorts {
                 bounds,
                 posted: None,
             });
+            self.held |= bit(slot);
         }
     }
 
     /// Hands back the port of `slot`, whose client left or registered anew.
     pub fn retire(&mut self, slot: u32, handoff: &OutputHandoff) {
         self.posting &= !bit(slot);
+        self.held &= !bit(slot);
         if let Some(held) = self.ports.get_mut(slot as usize).and_then(Option::take) {
             // The kept sample goes first: it is the port's.
             drop(held.posted);
@@ -368,8 +374,11 @@ impl OutputPorts {
     /// begins with the others.
     fn receive(&mut self, posts: &Posts, take: &mut dyn FnMut(&OutputHeader, &[u8], u64)) -> Taken {
         let n = self.ports.len();
-        for i in 0..n {
-            let at = (self.cursor + i) % n;
+        // The slots holding a port, counted from the cursor on.
+        let mut left = self.held.rotate_right(self.cursor as u32);
+        while left != 0 {
+            let at = (self.cursor + left.trailing_zeros() as usize) % n;
+            left &= left - 1;
             let Some(held) = &mut self.ports[at] else {
                 continue;
             };
