@@ -23,6 +23,10 @@
 // protocol too, as the configuration crate uses the layout's plain types alone.
 extern crate alloc;
 
+/// The newest image's cycle info beside its word (the busy path): not in the C header.
+///
+/// cbindgen:ignore
+pub mod cycle_record;
 pub mod events;
 /// The futex words of the handshake: used through the client library, not in the C header.
 ///

@@ -26,11 +26,14 @@
 //! The payload is all a mark keeps: iceoryx2 rewrites a sample's user header when it loans
 //! the sample, before the server can see the mark and set the loan aside. A reader copies
 //! the header while the image is still the newest and checks that with
-//! [`Pins::still_newest`](crate::pins::Pins::still_newest) afterwards.
+//! [`Pins::still_newest`](crate::pins::Pins::still_newest) afterwards, or takes the image's
+//! cycle and mode from the record on the newest word's line
+//! ([`Pins::record_of`](crate::pins::Pins::record_of), `crate::cycle_record`).
 
 use core::sync::atomic::{AtomicU64, Ordering, fence};
 
 use crate::MAX_CLIENTS;
+use crate::cycle_record::{CycleRecord, Recorded};
 use crate::line::Line;
 use crate::segment::SamplePlace;
 
@@ -39,14 +42,27 @@ fn mark(offset: u32) -> u64 {
     u64::from(offset) + 1
 }
 
+/// The newest image's word, with its cycle record on the same line.
+#[repr(C)]
+#[derive(Debug, Default)]
+struct Newest {
+    /// The newest image's place ([`SamplePlace`]), 0 before the first.
+    word: AtomicU64,
+    /// The cycle info and mode of the image named (or about to be).
+    record: CycleRecord,
+}
+
+// The record shares the word's cache line.
+const _: () = assert!(core::mem::size_of::<Newest>() <= 64);
+
 /// The newest image's word and the clients' hold marks (`#[repr(C)]`, in the handshake
 /// block). Each mark is on a cache line of its own: a busy client writes its own twice per
 /// cycle and shares it with nobody but the server.
 #[repr(C)]
 #[derive(Debug)]
 pub struct Pins {
-    /// The newest image's place ([`SamplePlace`]), 0 before the first.
-    newest: Line<AtomicU64>,
+    /// The newest image's word and record.
+    newest: Line<Newest>,
     /// Bit `slot`: that client may hold marks (it asked for the busy path), so that the
     /// server looks at the marks of those only.
     busy: Line<AtomicU64>,
@@ -71,9 +87,15 @@ fn bit(slot: u32) -> u64 {
 impl Pins {
     // ----- the server's side -----
 
+    /// Records the cycle info and mode of the image about to be named, on the newest word's
+    /// cache line (`crate::cycle_record`): before [`Pins::publish`] of that image.
+    pub fn record(&self, r: &Recorded) {
+        self.newest.0.record.write(r);
+    }
+
     /// Says that `newest` is the newest image (after it was published).
     pub fn publish(&self, newest: SamplePlace) {
-        self.newest.0.store(newest.word(), Ordering::SeqCst);
+        self.newest.0.word.store(newest.word(), Ordering::SeqCst);
         // Before anything written later (iceoryx2 rewrites the user header of a sample it
         // loans, also a held one): a reader that sees such a write sees the word moved
         // ([`Pins::still_newest`]).
@@ -127,11 +149,11 @@ impl Pins {
         if self.busy.0.load(Ordering::SeqCst) & bit(slot) == 0 {
             self.join(slot);
         }
-        let mut seen = self.newest.0.load(Ordering::SeqCst);
+        let mut seen = self.newest.0.word.load(Ordering::SeqCst);
         loop {
             let newest = SamplePlace::from_word(seen)?;
             hold.store(mark(newest.offset), Ordering::SeqCst);
-            let now = self.newest.0.load(Ordering::SeqCst);
+            let now = self.newest.0.word.load(Ordering::SeqCst);
             if now == seen {
                 return Some(newest);
             }
@@ -152,18 +174,24 @@ impl Pins {
     /// have been rewritten (see [`Pins::publish`]).
     pub fn still_newest(&self, place: SamplePlace) -> bool {
         fence(Ordering::Acquire);
-        self.newest.0.load(Ordering::Relaxed) == place.word()
+        self.newest.0.word.load(Ordering::Relaxed) == place.word()
     }
 
     /// The newest image, without holding it (to see whether a new one came).
     pub fn newest(&self) -> Option<SamplePlace> {
-        SamplePlace::from_word(self.newest.0.load(Ordering::SeqCst))
+        SamplePlace::from_word(self.newest.0.word.load(Ordering::SeqCst))
+    }
+
+    /// The cycle info and mode recorded for the image `place` names, if the record is whole
+    /// and that image's ([`Pins::record`]).
+    pub fn record_of(&self, place: SamplePlace) -> Option<Recorded> {
+        self.newest.0.record.read(place.cycle)
     }
 
     /// The newest image's word as it is now: a busy client spins until it moves
     /// ([`crate::handshake::HandshakeBlock::spin_startop`]).
     pub fn newest_word(&self) -> u64 {
-        self.newest.0.load(Ordering::Acquire)
+        self.newest.0.word.load(Ordering::Acquire)
     }
 }
 
@@ -199,6 +227,36 @@ mod tests {
         pins.forget_slot(3);
         assert!(!pins.held(8192), "a forgotten client holds nothing");
         assert_eq!(pins.pin_newest(MAX_CLIENTS as u32), None);
+    }
+
+    #[test]
+    fn the_newest_words_record_is_read_for_the_image_it_names_only() {
+        let pins = Pins::default();
+        let place = SamplePlace {
+            cycle: 7,
+            offset: 4096,
+        };
+        assert_eq!(pins.record_of(place), None, "nothing recorded yet");
+        let r = Recorded {
+            cycle: crate::CycleInfo {
+                cycle_number: 7,
+                cycle_start_ns: 100,
+                clock_ns: 130,
+                since_cycle_start_ns: 30,
+                cycle_count: 224,
+                reserved: 0,
+            },
+            mode: 2,
+            mode_changes: 3,
+        };
+        pins.record(&r);
+        pins.publish(place);
+        assert_eq!(pins.record_of(place), Some(r));
+        let next = SamplePlace {
+            cycle: 8,
+            offset: 8192,
+        };
+        assert_eq!(pins.record_of(next), None, "another image's word");
     }
 
     /// Samples as cells written with relaxed stores (no data race for the model): a server

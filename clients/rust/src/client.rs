@@ -481,8 +481,20 @@ impl Client {
         self.header().map(|h| h.cycle)
     }
 
-    /// Takes the newest input image, if a newer one arrived. Returns whether it did.
+    /// Takes the newest input image, if a newer one arrived. Returns whether it did. On the
+    /// busy path only the image's cycle and mode are current in its header (see
+    /// [`Client::refresh_whole`]).
     pub(crate) fn refresh(&mut self) -> bool {
+        self.take_newest(false)
+    }
+
+    /// As [`Client::refresh`], with the whole header current: the OPFAULT record and the
+    /// mode history too, which the busy path copies only when asked.
+    pub(crate) fn refresh_whole(&mut self) -> bool {
+        self.take_newest(true)
+    }
+
+    fn take_newest(&mut self, whole: bool) -> bool {
         let Some(conn) = &self.conn else {
             return false;
         };
@@ -498,20 +510,36 @@ impl Client {
                 let current = self
                     .latest
                     .as_ref()
-                    .map(|l| l.user_header().cycle.cycle_number);
+                    .map(|l| (l.user_header().cycle.cycle_number, l.whole()));
                 let Some(newest) = pins.pin_newest(self.slot) else {
                     break;
                 };
-                if current.is_some_and(|c| c as u32 == newest.cycle) {
+                let same = current.is_some_and(|(c, _)| c as u32 == newest.cycle);
+                if same && (!whole || current.is_some_and(|(_, w)| w)) {
                     pinned = true;
                     break;
                 }
-                // The mark moved to the new image: the one held before is no longer held,
-                // so it goes whether or not the new one is taken.
-                self.latest = InputView::pinned(segment, newest, pins, self.slot).filter(|view| {
-                    let h = view.user_header();
-                    h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash()
-                });
+                // The cycle and mode from the newest word's line, which this thread has
+                // since it saw the word move; the header's lines only when asked for or
+                // when the record was being rewritten.
+                let followed = !whole
+                    && self
+                        .latest
+                        .as_mut()
+                        .is_some_and(|view| view.follow_record(segment, newest, pins));
+                if !followed {
+                    // The mark moved to the new image: the one held before is no longer
+                    // held, so it goes whether or not the new one is taken.
+                    self.latest =
+                        InputView::pinned(segment, newest, pins, self.slot).filter(|view| {
+                            let h = view.user_header();
+                            h.magic == IMAGE_MAGIC && h.layout_hash == self.layout.hash()
+                        });
+                }
+                if same && self.latest.is_some() {
+                    pinned = true;
+                    break;
+                }
                 if self.latest.is_some() {
                     (pinned, newer) = (true, true);
                     break;
@@ -581,7 +609,7 @@ impl Client {
             opfault |= id == mine;
         });
         if mode || opfault {
-            self.refresh();
+            self.refresh_whole();
         }
         if mode {
             self.replay_mode_changes();

@@ -49,13 +49,17 @@ pub fn learn_segment(sample: &InputSample, newest: SamplePlace) -> SegmentKnowle
         .map_or(SegmentKnowledge::Unknowable, SegmentKnowledge::Known)
 }
 
-/// An image held by the client's mark: its header copied (as [`copy_header`] does), its
-/// payload in place.
+/// An image held by the client's mark: its header copied (as [`copy_header`] does), or only
+/// its cycle and mode taken from the newest word's record over an earlier image's header
+/// ([`InputView::follow_record`]); its payload in place.
 #[derive(Debug)]
 pub struct Pinned {
     header: ImageHeader,
     payload: *const u8,
     len: usize,
+    /// Whether `header` was copied from this image: otherwise its OPFAULT record and mode
+    /// history are an earlier image's.
+    whole: bool,
 }
 
 // SAFETY: the pointer names shared memory the client's subscriber maps for as long as the
@@ -103,7 +107,42 @@ impl InputView {
             header,
             payload: p.payload as *const u8,
             len: p.len,
+            whole: true,
         }))
+    }
+
+    /// Moves this view, an image held by the client's mark, to the image `newest` names,
+    /// which the mark now holds, taking its cycle and mode from the newest word's record
+    /// (`procimg_shm_layout::cycle_record`): the header's other fields stay as copied from an
+    /// earlier image of this connection, whose constants they are, apart from the OPFAULT
+    /// record and the mode history ([`InputView::whole`] says so). `false`, and the view
+    /// unchanged, when the record was being rewritten or this view was received.
+    pub fn follow_record(&mut self, segment: &Segment, newest: SamplePlace, pins: &Pins) -> bool {
+        let InputView::Pinned(p) = self else {
+            return false;
+        };
+        let (Some(r), Some(place)) = (
+            pins.record_of(newest),
+            segment.place::<ImageHeader>(newest.offset),
+        ) else {
+            return false;
+        };
+        p.header.cycle = r.cycle;
+        p.header.mode = r.mode;
+        p.header.mode_changes = r.mode_changes;
+        p.payload = place.payload as *const u8;
+        p.len = place.len;
+        p.whole = false;
+        true
+    }
+
+    /// Whether the header is this image's in every field (a received image's, or one copied
+    /// from the held sample), not only in its cycle and mode.
+    pub fn whole(&self) -> bool {
+        match self {
+            InputView::Received(_) => true,
+            InputView::Pinned(p) => p.whole,
+        }
     }
 
     /// The image's payload.

@@ -12,6 +12,7 @@ use core::ptr::NonNull;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::EventId;
 use procimg_control::futex::LinuxFutex;
+use procimg_shm_layout::cycle_record::Recorded;
 use procimg_shm_layout::events::EVENT_STARTOP;
 use procimg_shm_layout::segment::SamplePlace;
 use procimg_shm_layout::{ImageHeader, OutputHeader};
@@ -147,7 +148,15 @@ impl ClientLink for CyclePorts {
             // Complete, so named at once: a busy client holds it by its mark and need not
             // wait for iceoryx2 to deliver it (the next loans skip it while it is held, also
             // should the send below fail).
-            self.handshake.block().pins.publish(SamplePlace {
+            let pins = &self.handshake.block().pins;
+            // The cycle and the mode on the word's line first: a busy client that sees the
+            // word has them without the header's lines.
+            pins.record(&Recorded {
+                cycle: stamped.cycle,
+                mode: stamped.mode,
+                mode_changes: stamped.mode_changes,
+            });
+            pins.publish(SamplePlace {
                 cycle: stamped.cycle.cycle_number as u32,
                 offset,
             });
