@@ -67,12 +67,16 @@ impl CycleRecord {
     /// cycle number, as the newest word gives them).
     pub fn read(&self, cycle: u32) -> Option<Recorded> {
         let before = self.sequence.load(Ordering::Acquire);
+        let (cycle_start_ns, clock_ns) = (
+            self.cycle_start_ns.load(Ordering::Relaxed),
+            self.clock_ns.load(Ordering::Relaxed),
+        );
         let r = Recorded {
             cycle: CycleInfo {
                 cycle_number: self.cycle_number.load(Ordering::Relaxed),
-                cycle_start_ns: self.cycle_start_ns.load(Ordering::Relaxed),
-                clock_ns: self.clock_ns.load(Ordering::Relaxed),
-                since_cycle_start_ns: 0,
+                cycle_start_ns,
+                clock_ns,
+                since_cycle_start_ns: clock_ns.saturating_sub(cycle_start_ns),
                 cycle_count: self.cycle_count.load(Ordering::Relaxed),
                 reserved: 0,
             },
@@ -83,13 +87,7 @@ impl CycleRecord {
         fence(Ordering::Acquire);
         let after = self.sequence.load(Ordering::Relaxed);
         let whole = before == after && before & 1 == 0 && before != 0;
-        (whole && r.cycle.cycle_number as u32 == cycle).then_some(Recorded {
-            cycle: CycleInfo {
-                since_cycle_start_ns: r.cycle.clock_ns.saturating_sub(r.cycle.cycle_start_ns),
-                ..r.cycle
-            },
-            ..r
-        })
+        (whole && r.cycle.cycle_number as u32 == cycle).then_some(r)
     }
 
     /// Marks the record as being written, for a test: reads fail until the next write.

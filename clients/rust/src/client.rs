@@ -528,8 +528,9 @@ impl Client {
                         .as_mut()
                         .is_some_and(|view| view.follow_record(segment, newest, pins));
                 if !followed {
-                    // The mark moved to the new image: the one held before is no longer
-                    // held, so it goes whether or not the new one is taken.
+                    // The header copied from the held sample. When the mark moved to a new
+                    // image, the one held before is no longer held, so it goes whether or
+                    // not the new one is taken.
                     self.latest =
                         InputView::pinned(segment, newest, pins, self.slot).filter(|view| {
                             let h = view.user_header();
