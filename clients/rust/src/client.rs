@@ -2,6 +2,7 @@
 //! An attached client: registration, claims, events, the cycle handshake and re-attachment
 //! after a server restart.
 
+use crate::arrivals::Arrivals;
 use crate::connection::{Connection, Ipc, Registration, iox2_config};
 use crate::control::ControlHandle;
 use crate::error::{AttachError, ControlError, IoError, WaitError};
@@ -229,8 +230,8 @@ pub struct Client {
     /// A caller waits on [`Client::event_fd`]: the server then signals STARTOP on the event
     /// service too, and every look drains it.
     fd_waiter: AtomicBool,
-    /// When the newest image arrived (to notice a server that stopped publishing).
-    last_image: Instant,
+    /// Images taken (to notice a server that stopped publishing).
+    arrivals: Arrivals,
     events: VecDeque<Event>,
     last_liveness: Instant,
     last_reattach: Instant,
@@ -301,7 +302,7 @@ impl Client {
             mode_changes_seen: None,
             other_events_seen: 0,
             fd_waiter: AtomicBool::new(false),
-            last_image: Instant::now(),
+            arrivals: Arrivals::new(),
             events: VecDeque::with_capacity(EVENT_QUEUE),
             last_liveness: Instant::now(),
             last_reattach: Instant::now(),
@@ -578,7 +579,7 @@ impl Client {
             }
         }
         if newer {
-            self.last_image = Instant::now();
+            self.arrivals.note();
             // The first image after attaching sets where mode changes are counted from.
             if self.mode_changes_seen.is_none() {
                 self.mode_changes_seen = self.header().map(|h| h.mode_changes);
@@ -702,7 +703,7 @@ impl Client {
         if self.conn.is_none() {
             let _ = self.try_reattach();
         }
-        if self.conn.is_some() && !self.refresh() && self.last_image.elapsed() > STALE_IMAGE {
+        if self.conn.is_some() && !self.refresh() && self.arrivals.since_last() > STALE_IMAGE {
             self.check_server();
         }
         if self.conn.is_none() {
@@ -726,7 +727,8 @@ impl Client {
         // A server that published an image lately is alive: a wait that ends without an
         // event during a short stall does not list nodes (which allocates, inside what may
         // be a real-time cycle loop).
-        if self.last_liveness.elapsed() < LIVENESS_PERIOD || self.last_image.elapsed() < STALE_IMAGE
+        if self.last_liveness.elapsed() < LIVENESS_PERIOD
+            || self.arrivals.since_last() < STALE_IMAGE
         {
             return;
         }

@@ -30,6 +30,7 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod access;
+mod arrivals;
 mod cache;
 mod client;
 mod connection;
