@@ -181,11 +181,7 @@ impl HandshakeBlock {
         if futex.now_ns() < deadline_ns {
             self.sleep_for_opdone(futex, seen, deadline_ns);
         }
-        if self.opdone.0.load(Ordering::Acquire) != seen {
-            Woken::Moved
-        } else {
-            Woken::TimedOut
-        }
+        woken(moved())
     }
 
     fn sleep_for_opdone(&self, futex: &impl Futex, seen: u32, deadline_ns: u64) {
@@ -227,11 +223,7 @@ impl HandshakeBlock {
             futex.wait_until(&self.events.0, seen, deadline_ns);
         }
         self.sleepers.0.fetch_and(!bit(slot), Ordering::SeqCst);
-        if self.events.0.load(Ordering::Acquire) != seen {
-            Woken::Moved
-        } else {
-            Woken::TimedOut
-        }
+        woken(self.events.0.load(Ordering::Acquire) != seen)
     }
 
     /// Spins until the server signals an event after `seen` was read, or `deadline_ns`,
