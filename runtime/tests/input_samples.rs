@@ -61,15 +61,17 @@ fn publish_filled(ports: &mut CyclePorts, len: usize, cycle: u64, send_later: bo
     unsafe {
         core::ptr::write_bytes(sample.as_ptr(), cycle as u8, len)
     };
-    let published = ports.publish(
-        &mut |_| {
-            let mut h = ImageHeader::default();
-            h.cycle.cycle_number = cycle;
-            h
-        },
-        send_later,
-    );
+    let mut header = ImageHeader::default();
+    header.cycle.cycle_number = cycle;
+    header.cycle.cycle_start_ns = now_ns();
+    let published = ports.publish(&mut header, send_later);
     assert!(published, "cycle {cycle}: not published");
+    let c = header.cycle;
+    assert!(
+        c.clock_ns >= c.cycle_start_ns && c.clock_ns <= now_ns(),
+        "cycle {cycle}: stamped while published, {c:?}"
+    );
+    assert_eq!(c.since_cycle_start_ns, c.clock_ns - c.cycle_start_ns);
     sample.as_ptr() as usize
 }
 
@@ -106,7 +108,7 @@ fn an_input_sample_comes_back_holding_what_it_was_published_with() {
         payload.fill(fill);
         published.insert(sample.as_ptr() as usize, fill);
         assert!(
-            ports.publish(&mut |_| ImageHeader::default(), false),
+            ports.publish(&mut ImageHeader::default(), false),
             "round {round}"
         );
         // Every third round the reader lets go of its image and takes the newest.
@@ -186,7 +188,7 @@ fn input_samples_are_faulted_in_as_readers_come_to_hold_them() {
             core::ptr::write_bytes(sample.as_ptr(), round as u8, len)
         };
         assert!(
-            ports.publish(&mut |_| ImageHeader::default(), false),
+            ports.publish(&mut ImageHeader::default(), false),
             "round {round}"
         );
         for (every, subscriber, held) in &mut readers {
@@ -325,8 +327,13 @@ fn an_image_only_named_reaches_iceoryx2_readers_when_sent_and_a_loan_ahead_is_us
                 "the sample loaned ahead is the one used"
             );
         }
-        let named = ports.handshake.block().pins.newest().expect("named");
+        let pins = &ports.handshake.block().pins;
+        let named = pins.newest().expect("named");
         assert_eq!(u64::from(named.cycle), cycle, "named at once");
+        let recorded = pins
+            .record_of(named)
+            .expect("the named image's record")
+            .cycle;
         assert!(
             subscriber.receive().expect("receive").is_none(),
             "cycle {cycle}: iceoryx2's reader had the image before it was sent"
@@ -339,7 +346,11 @@ fn an_image_only_named_reaches_iceoryx2_readers_when_sent_and_a_loan_ahead_is_us
             .receive()
             .expect("receive")
             .expect("the image, once sent");
-        assert_eq!(got.user_header().cycle.cycle_number, cycle);
+        assert_eq!(
+            got.user_header().cycle,
+            recorded,
+            "the sample carries the stamp the busy readers follow"
+        );
         assert!(got.payload().iter().all(|&b| b == cycle as u8));
         assert!(ports.send_named(), "nothing left to send");
         // The end of the cycle: the next cycle's sample loaned ahead.

@@ -86,6 +86,14 @@ pub struct CycleInfo {
     pub reserved: u32,
 }
 
+impl CycleInfo {
+    /// Stamps the info with `clock_ns`: the clock and the time since the cycle's start.
+    pub fn stamp(&mut self, clock_ns: u64) {
+        self.clock_ns = clock_ns;
+        self.since_cycle_start_ns = clock_ns.saturating_sub(self.cycle_start_ns);
+    }
+}
+
 /// The iceoryx2 user header of every input-image sample.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -571,5 +579,25 @@ impl Default for OutputHeader {
             flags: 0,
             sent_ns: 0,
         }
+    }
+}
+
+#[cfg(test)]
+mod stamp_tests {
+    use super::CycleInfo;
+
+    #[test]
+    fn a_stamp_sets_the_clock_and_the_time_since_the_cycle_started() {
+        let mut c = CycleInfo {
+            cycle_number: 7,
+            cycle_start_ns: 1_000,
+            ..CycleInfo::default()
+        };
+        c.stamp(1_250);
+        assert_eq!((c.clock_ns, c.since_cycle_start_ns), (1_250, 250));
+        // A clock behind the cycle's start (a start in the future) gives 0, not a wrap.
+        c.stamp(900);
+        assert_eq!((c.clock_ns, c.since_cycle_start_ns), (900, 0));
+        assert_eq!(c.cycle_number, 7, "only the stamp changes");
     }
 }

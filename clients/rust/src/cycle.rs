@@ -344,9 +344,7 @@ impl<'c> Cycle<'c> {
         };
         self.client.send_output(sample, Some(cycle))?;
         let mut info = self.info();
-        let now = now_ns();
-        info.clock_ns = now;
-        info.since_cycle_start_ns = now.saturating_sub(info.cycle_start_ns);
+        info.stamp(now_ns());
         Ok(info)
     }
 }

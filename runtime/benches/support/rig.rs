@@ -635,10 +635,9 @@ impl PublishRig {
         self.publication.begin(&mut self.ports, &mut self.image);
         self.image.carry_over_inputs();
         self.header.cycle.cycle_number += 1;
-        let header = self.header;
         let sent =
             self.publication
-                .finish(&mut self.ports, &mut self.image, &mut |_| header, false);
+                .finish(&mut self.ports, &mut self.image, &mut self.header, false);
         self.publication.loan_next(&mut self.ports, &mut self.image);
         self.image.carry_over_outputs();
         self.last_carried = (self.image.carried_bytes() - carried) as usize;

@@ -206,32 +206,21 @@ impl<L: ClientLink> Engine<L> {
         st.apply_input_iocs();
 
         // 2. Publish the input image; loan the next, which this cycle's outputs go into.
-        let now = self.ports.now_ns();
         st.header.cycle = CycleInfo {
             cycle_number: k,
             cycle_start_ns: t0_ns,
-            clock_ns: now,
-            since_cycle_start_ns: now.saturating_sub(t0_ns),
             cycle_count: cycle_count(k, st.settings.cycle_ns),
-            reserved: 0,
+            ..CycleInfo::default()
         };
         st.header.mode = st.mode.as_u32();
         // When every client finds the image by its mark, iceoryx2's copy of it goes out after
         // the outputs (step 6): its send then costs the clients' window nothing.
         let send_later = self.ports.read_by_mark(st.client_slots());
-        let header = &mut st.header;
-        let published = st.publication.finish(
-            &mut self.ports,
-            &mut st.image,
-            &mut |now| {
-                // Stamped last: the clock in the header is when the image was complete,
-                // which clients measure their STARTOP latency from.
-                header.cycle.clock_ns = now;
-                header.cycle.since_cycle_start_ns = now.saturating_sub(t0_ns);
-                *header
-            },
-            send_later,
-        );
+        // Stamped by the publication, last: the clock in the header is when the image was
+        // complete, which clients measure their STARTOP latency from.
+        let published =
+            st.publication
+                .finish(&mut self.ports, &mut st.image, &mut st.header, send_later);
 
         // 3. STARTOP (and the mode indication, now that the image carries the new mode). The
         // round trip counts from the image's stamp: a client that reads by its mark may see

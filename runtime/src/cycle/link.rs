@@ -35,12 +35,14 @@ pub trait ClientLink {
     /// does not lie between STARTOP and the clients' answers. Nothing when one is loaned
     /// ahead already.
     fn loan_ahead(&mut self, len: usize);
-    /// Publishes the loaned sample, every byte of which the caller wrote; `header` is called
-    /// with the time then, to stamp when the image was complete. `false` if nothing was
-    /// loaned or it could not be published. With `send_later`, a sample the busy path can
-    /// name is only named now (clients that read by their mark find it at once) and goes to
-    /// iceoryx2's readers at [`ClientLink::send_named`].
-    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader, send_later: bool) -> bool;
+    /// Publishes the loaned sample, every byte of which the caller wrote, with `header`. The
+    /// header is stamped last ([`procimg_shm_layout::CycleInfo::stamp`]), once the rest of
+    /// it is in the sample: its clock says when the image was complete. The stamp goes into
+    /// `header` too. `false` if nothing was loaned or it could not be published. With
+    /// `send_later`, a sample the busy path can name is only named now (clients that read by
+    /// their mark find it at once) and goes to iceoryx2's readers at
+    /// [`ClientLink::send_named`].
+    fn publish(&mut self, header: &mut ImageHeader, send_later: bool) -> bool;
     /// Sends the sample [`ClientLink::publish`] named and kept back, if there is one.
     /// `false` if it could not be sent.
     fn send_named(&mut self) -> bool;
@@ -131,7 +133,7 @@ impl ClientLink for CyclePorts {
         }
     }
 
-    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader, send_later: bool) -> bool {
+    fn publish(&mut self, header: &mut ImageHeader, send_later: bool) -> bool {
         // The engine sends an image it kept back at the end of its cycle; one left over
         // still goes to iceoryx2's readers before a newer one.
         let _ = self.send_named();
@@ -142,8 +144,12 @@ impl ClientLink for CyclePorts {
         // (`Image::carry_over_inputs` and `Image::publish_into`).
         #[allow(unsafe_code)]
         let mut sample = unsafe { sample.assume_init() };
-        let stamped = header(now_ns());
-        *sample.user_header_mut() = stamped;
+        // The header's lines are written before the clock is read: the stamp is the
+        // image's last write, as close to the word that names it as it can be.
+        *sample.user_header_mut() = *header;
+        header.cycle.stamp(now_ns());
+        sample.user_header_mut().cycle = header.cycle;
+        let stamped = *header;
         if let Some(offset) = self.loaned_offset.take() {
             // Complete, so named at once: a busy client holds it by its mark and need not
             // wait for iceoryx2 to deliver it (the next loans skip it while it is held, also
@@ -307,13 +313,14 @@ impl ClientLink for MemoryLink {
         // The samples go round in a fixed order: a loan ahead would change nothing.
     }
 
-    fn publish(&mut self, header: &mut dyn FnMut(u64) -> ImageHeader, send_later: bool) -> bool {
+    fn publish(&mut self, header: &mut ImageHeader, send_later: bool) -> bool {
         self.send_named();
         if self.refuse_loans {
             return false;
         }
         let copy = self.samples[self.loaned].clone();
-        self.published.push((header(self.now), copy));
+        header.cycle.stamp(self.now);
+        self.published.push((*header, copy));
         self.sent_at.push(None);
         self.kept_back = send_later;
         true

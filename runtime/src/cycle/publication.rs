@@ -53,15 +53,15 @@ impl Publication {
         self.current = sample;
     }
 
-    /// Completes and publishes the image (`header` stamps it with the time then; with
-    /// `send_later` iceoryx2's send waits for [`ClientLink::send_named`]). Whether it was
+    /// Completes and publishes the image with `header`, which the link stamps with the time
+    /// the image was complete ([`ClientLink::publish`]; with `send_later` iceoryx2's send waits for [`ClientLink::send_named`]). Whether it was
     /// published; if not, the image keeps what it had in its own payload. The outputs are
     /// bound to a sample again at [`Publication::loan_next`].
     pub fn finish(
         &mut self,
         ports: &mut impl ClientLink,
         image: &mut Image,
-        header: &mut dyn FnMut(u64) -> ImageHeader,
+        header: &mut ImageHeader,
         send_later: bool,
     ) -> bool {
         image.publish_into();
