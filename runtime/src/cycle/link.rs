@@ -146,10 +146,10 @@ impl ClientLink for CyclePorts {
         let mut sample = unsafe { sample.assume_init() };
         // The header's lines are written before the clock is read: the stamp is the
         // image's last write, as close to the word that names it as it can be.
-        *sample.user_header_mut() = *header;
+        let in_sample = sample.user_header_mut();
+        *in_sample = *header;
         header.cycle.stamp(now_ns());
-        sample.user_header_mut().cycle = header.cycle;
-        let stamped = *header;
+        in_sample.cycle = header.cycle;
         if let Some(offset) = self.loaned_offset.take() {
             // Complete, so named at once: a busy client holds it by its mark and need not
             // wait for iceoryx2 to deliver it (the next loans skip it while it is held, also
@@ -158,12 +158,12 @@ impl ClientLink for CyclePorts {
             // The cycle and the mode on the word's line first: a busy client that sees the
             // word has them without the header's lines.
             pins.record(&Recorded {
-                cycle: stamped.cycle,
-                mode: stamped.mode,
-                mode_changes: stamped.mode_changes,
+                cycle: header.cycle,
+                mode: header.mode,
+                mode_changes: header.mode_changes,
             });
             pins.publish(SamplePlace {
-                cycle: stamped.cycle.cycle_number as u32,
+                cycle: header.cycle.cycle_number as u32,
                 offset,
             });
             if send_later {

@@ -54,9 +54,10 @@ impl Publication {
     }
 
     /// Completes and publishes the image with `header`, which the link stamps with the time
-    /// the image was complete ([`ClientLink::publish`]; with `send_later` iceoryx2's send waits for [`ClientLink::send_named`]). Whether it was
-    /// published; if not, the image keeps what it had in its own payload. The outputs are
-    /// bound to a sample again at [`Publication::loan_next`].
+    /// the image was complete ([`ClientLink::publish`]; with `send_later` iceoryx2's send
+    /// waits for [`ClientLink::send_named`]). Whether it was published; if not, the image
+    /// keeps what it had in its own payload. The outputs are bound to a sample again at
+    /// [`Publication::loan_next`].
     pub fn finish(
         &mut self,
         ports: &mut impl ClientLink,
